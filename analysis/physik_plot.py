@@ -1,0 +1,93 @@
+"""Shared drawing helpers for the PhysIK testbed's figures (matplotlib, no physics here).
+
+Tables come from the C++ side (see physik/pose_io.h):
+  bones table       one row per bone: bone, parent, head_x..z, tail_x..z (world, rig units)
+  trajectory table  one row per step; bone columns "<bone>.head_x" ... "<bone>.tail_z"
+Views follow the paper's Blender screenshots: front looks along +Y (x right, z up), side looks
+along -X (y right, z up).
+"""
+import csv
+import os
+
+import matplotlib
+
+matplotlib.use(os.environ.get("MPLBACKEND", "Agg"))
+import matplotlib.pyplot as plt  # noqa: E402
+
+VIEWS = {"front": (0, 2, "x", "z"), "side": (1, 2, "y", "z")}
+
+
+def read_bones_csv(path):
+    """Return a list of dicts {bone, parent, head: (x,y,z), tail: (x,y,z)}."""
+    bones = []
+    with open(path, newline="") as f:
+        for row in csv.DictReader(f):
+            bones.append({
+                "bone": row["bone"],
+                "parent": row["parent"],
+                "head": tuple(float(row["head_" + a]) for a in "xyz"),
+                "tail": tuple(float(row["tail_" + a]) for a in "xyz"),
+            })
+    if not bones:
+        raise ValueError("%s: no bones" % path)
+    return bones
+
+
+def read_table(path):
+    """Read a CSV of numbers (first row = names) into {column: [values]}; text cells stay text."""
+    with open(path, newline="") as f:
+        reader = csv.reader(f)
+        header = next(reader)
+        cols = {h: [] for h in header}
+        for row in reader:
+            for h, v in zip(header, row):
+                try:
+                    cols[h].append(float(v))
+                except ValueError:
+                    cols[h].append(v)
+    return cols
+
+
+def bones_from_trajectory(table, row):
+    """The bones of one row of a trajectory table, in the bones-table form."""
+    names = [c[:-len(".head_x")] for c in table if c.endswith(".head_x")]
+    return [{
+        "bone": n, "parent": "",
+        "head": tuple(table["%s.head_%s" % (n, a)][row] for a in "xyz"),
+        "tail": tuple(table["%s.tail_%s" % (n, a)][row] for a in "xyz"),
+    } for n in names]
+
+
+def draw_pose(ax, bones, view="front", color="k", label=None, alpha=1.0, targets=None):
+    """Stick figure: one segment per bone, a dot at every joint; optional target crosses."""
+    i, j, xl, yl = VIEWS[view]
+    for k, b in enumerate(bones):
+        ax.plot([b["head"][i], b["tail"][i]], [b["head"][j], b["tail"][j]], "-", color=color,
+                lw=2, alpha=alpha, label=label if k == 0 else None, solid_capstyle="round")
+        ax.plot([b["head"][i]], [b["head"][j]], "o", color=color, ms=3, alpha=alpha)
+    if targets:
+        for t in targets:
+            ax.plot([t[i]], [t[j]], "x", color="tab:red", ms=8, mew=2)
+    ax.set_xlabel(xl)
+    ax.set_ylabel(yl)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.grid(True, lw=0.3)
+
+
+def save(fig, path):
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def plot_rest_pose(bones_csv, out_png, title=None):
+    """Front and side views of one rig at rest (paper Fig 4 for pinhead)."""
+    bones = read_bones_csv(bones_csv)
+    fig, axes = plt.subplots(1, 2, figsize=(8, 5))
+    for ax, view in zip(axes, ("front", "side")):
+        draw_pose(ax, bones, view)
+        ax.set_title(view)
+    fig.suptitle(title or os.path.splitext(os.path.basename(bones_csv))[0])
+    return save(fig, out_png)

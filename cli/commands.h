@@ -1,0 +1,18 @@
+// The `physik` command line program: each command family registers itself on the app.
+// One file per family (cmd_<family>.cpp); main.cpp only dispatches and maps errors to exit codes.
+#pragma once
+
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+namespace physik::cli {
+
+void add_rig_commands(CLI::App& app);
+void add_experiment_commands(CLI::App& app);
+
+// Where a command writes its JSON: a file (created with its parent folders) or stdout for "-" or "".
+void write_json(const nlohmann::json& doc, const std::string& path);
+
+}  // namespace physik::cli

@@ -1,0 +1,54 @@
+// physik: the testbed's command line program.
+// Exit status: 0 success, 1 an unexpected failure, 2 bad input, 3 a diverged run.
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "cli/commands.h"
+#include "physik/errors.h"
+
+namespace physik::cli {
+
+void write_json(const nlohmann::json& doc, const std::string& path) {
+  if (path.empty() || path == "-") {
+    std::cout << doc.dump(2) << "\n";
+    return;
+  }
+  const std::filesystem::path p(path);
+  if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path());
+  std::ofstream out(p);
+  if (!out) throw_input_error(path, "", "", "cannot write file");
+  out << doc.dump(2) << "\n";
+}
+
+}  // namespace physik::cli
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "physik: physics-based inverse kinematics testbed (PhysIK engine, MuJoCo reference, "
+      "Ceres tuning, classic IK baselines).\nExit status: 0 ok, 2 bad input, 3 diverged run."};
+  app.require_subcommand(1);
+  app.set_help_all_flag("--help-all", "Show help for every command");
+  physik::cli::add_rig_commands(app);
+  physik::cli::add_experiment_commands(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);  // prints the usage error
+    return physik::kExitBadInput;
+  } catch (const physik::InputError& e) {
+    std::cerr << "physik: error: " << e.what() << "\n";
+    return physik::kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "physik: internal error: " << e.what() << "\n";
+    return physik::kExitRuntimeFailure;
+  }
+  return physik::kExitOk;
+}

@@ -1,0 +1,69 @@
+// Paper Fig 4: the rest pose of every shipped rig (pinhead is the paper's rig), as bones tables
+// for the analysis script to draw in front (x-z) and side (y-z) views.
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+
+#include "experiments/experiment.h"
+#include "physik/pose_io.h"
+#include "physik/rig_io.h"
+
+namespace physik::experiments {
+
+namespace {
+
+void run(const Context& ctx) {
+  nlohmann::json rigs = nlohmann::json::array();
+  std::vector<std::filesystem::path> files;
+  for (const auto& e : std::filesystem::directory_iterator(ctx.models_dir + "/rigs")) {
+    if (e.path().extension() == ".json") files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  nlohmann::json claims = nlohmann::json::array();
+  for (const auto& path : files) {
+    const Rig rig = load_rig(path.string());
+    const std::string name = path.stem().string();
+    std::ofstream csv(ctx.out_dir + "/" + name + ".csv");
+    write_bones_csv(rig, forward_kinematics(rig, rest_pose(rig)), csv);
+    rigs.push_back({{"name", name},
+                    {"file", path.filename().string()},
+                    {"bones", rig.nbone},
+                    {"joints", rig.joints.size()},
+                    {"max_bones_per_joint", rig.max_bones_per_joint()},
+                    {"total_mass", rig.total_mass()},
+                    {"csv", name + ".csv"},
+                    {"figure", name + ".png"}});
+    if (ctx.log) *ctx.log << "  rest pose of " << name << ": " << rig.nbone << " bones\n";
+    if (name == "pinhead") {
+      claims.push_back({{"claim", "Fig 4 / Sec. 4: the test rig has 18 bones, 14 joints, at most "
+                                  "4 bones around one joint"},
+                        {"measured", std::to_string(rig.nbone) + " bones, " +
+                                         std::to_string(rig.joints.size()) + " joints, at most " +
+                                         std::to_string(rig.max_bones_per_joint()) +
+                                         " bones at one joint"},
+                        {"holds", rig.nbone == 18 && rig.joints.size() == 14 &&
+                                          rig.max_bones_per_joint() == 4
+                                      ? "yes"
+                                      : "no"}});
+    }
+  }
+  write_json_file({{"experiment", "rest_poses"},
+                   {"rigs", rigs},
+                   {"report",
+                    {{"title", "Fig 4: the rigs at rest"},
+                     {"claims", claims},
+                     {"figures", [&] {
+                        nlohmann::json f = nlohmann::json::array();
+                        for (const auto& r : rigs) f.push_back(r["figure"]);
+                        return f;
+                      }()}}}},
+                  ctx.out_dir + "/summary.json");
+}
+
+}  // namespace
+
+Experiment rest_poses_experiment() {
+  return {"rest_poses", "Fig 4", "rest pose of every shipped rig (front and side views)", run};
+}
+
+}  // namespace physik::experiments

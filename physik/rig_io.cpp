@@ -1,0 +1,172 @@
+#include "physik/rig_io.h"
+
+#include "physik/errors.h"
+
+namespace physik {
+
+namespace {
+
+const char* const kAxisName[3] = {"x", "y", "z"};
+
+BoneSpec bone_from_json(const Json& b, const JsonContext& ctx, double default_mpl,
+                        double default_radius) {
+  ctx.require_object(b, "");
+  ctx.only_keys(b, {"name", "parent", "head", "tail", "rest_frame", "roll_deg", "limits_deg",
+                    "mass_per_length", "mass", "radius", "comment"});
+  BoneSpec s;
+  s.name = ctx.string(b, "name");
+  const Json& parent = ctx.require(b, "parent");
+  if (parent.is_null()) {
+    s.parent.clear();
+  } else if (parent.is_string()) {
+    s.parent = parent.get<std::string>();
+    if (s.parent.empty()) ctx.fail("parent", "empty name (use null for the root)");
+  } else {
+    ctx.fail("parent", "expected a bone name or null");
+  }
+  s.head_world = ctx.vec3(b, "head");
+  s.tail_world = ctx.vec3(b, "tail");
+  if ((s.tail_world - s.head_world).norm() <= 1e-9) {
+    ctx.fail("tail", "zero-length bone (head and tail coincide)");
+  }
+
+  if (b.contains("rest_frame") && b.contains("roll_deg")) {
+    ctx.fail("rest_frame", "give either rest_frame or roll_deg, not both");
+  }
+  if (b.contains("rest_frame")) {
+    const Json& f = b["rest_frame"];
+    if (!f.is_array() || f.size() != 3) {
+      ctx.fail("rest_frame", "expected three axes [[x],[y],[z]]");
+    }
+    for (int c = 0; c < 3; ++c) {
+      s.rest_frame_world.col(c) =
+          ctx.vec3_value(f[c], "rest_frame[" + std::to_string(c) + "]");
+    }
+  } else {
+    const double roll = deg2rad(ctx.number_or(b, "roll_deg", 0.0));
+    s.rest_frame_world = rest_frame_from_roll(s.head_world, s.tail_world, roll);
+  }
+
+  if (b.contains("limits_deg")) {
+    const Json& lim = b["limits_deg"];
+    if (!lim.is_object()) ctx.fail("limits_deg", "expected an object {\"x\": [min, max], ...}");
+    JsonContext lctx{ctx.file, ctx.element};
+    for (auto it = lim.begin(); it != lim.end(); ++it) {
+      int axis = -1;
+      for (int a = 0; a < 3; ++a) axis = it.key() == kAxisName[a] ? a : axis;
+      const std::string field = "limits_deg." + it.key();
+      if (axis < 0) ctx.fail(field, "unknown axis (expected x, y or z)");
+      if (!it->is_array() || it->size() != 2) ctx.fail(field, "expected [min, max] in degrees");
+      AxisLimit& l = s.limit[axis];
+      l.limited = true;
+      l.min = deg2rad(ctx.number_value((*it)[0], field + "[0]"));
+      l.max = deg2rad(ctx.number_value((*it)[1], field + "[1]"));
+      if (l.min > l.max) {
+        ctx.fail(field, "min " + (*it)[0].dump() + " deg is greater than max " +
+                            (*it)[1].dump() + " deg");
+      }
+    }
+  }
+
+  const double length = (s.tail_world - s.head_world).norm();
+  if (b.contains("mass") && b.contains("mass_per_length")) {
+    ctx.fail("mass", "give either mass or mass_per_length, not both");
+  }
+  if (b.contains("mass")) {
+    s.mass = ctx.number(b, "mass");
+    if (!(s.mass > 0.0)) ctx.fail("mass", "must be positive");
+  } else {
+    const double mpl = ctx.number_or(b, "mass_per_length", default_mpl);
+    if (!(mpl > 0.0)) ctx.fail("mass_per_length", "must be positive");
+    s.mass = mpl * length;
+  }
+  s.radius = ctx.number_or(b, "radius", default_radius);
+  if (!(s.radius > 0.0)) ctx.fail("radius", "must be positive");
+  return s;
+}
+
+}  // namespace
+
+Rig rig_from_json(const Json& doc, const std::string& source) {
+  JsonContext top{source, ""};
+  top.require_object(doc, "");
+  top.only_keys(doc, {"name", "comment", "source", "units", "defaults", "bones"});
+  double default_mpl = 1.0, default_radius = 0.5;  // the original code's values
+  if (doc.contains("defaults")) {
+    const Json& d = doc["defaults"];
+    JsonContext dctx{source, "defaults"};
+    dctx.require_object(d, "defaults");
+    dctx.only_keys(d, {"mass_per_length", "radius"});
+    default_mpl = dctx.number_or(d, "mass_per_length", default_mpl);
+    default_radius = dctx.number_or(d, "radius", default_radius);
+    if (!(default_mpl > 0.0)) dctx.fail("mass_per_length", "must be positive");
+    if (!(default_radius > 0.0)) dctx.fail("radius", "must be positive");
+  }
+  const Json& bones = top.require(doc, "bones");
+  if (!bones.is_array()) top.fail("bones", "expected an array of bones");
+  std::vector<BoneSpec> specs;
+  for (std::size_t i = 0; i < bones.size(); ++i) {
+    std::string element = "bones[" + std::to_string(i) + "]";
+    if (bones[i].is_object() && bones[i].contains("name") && bones[i]["name"].is_string()) {
+      element += " '" + bones[i]["name"].get<std::string>() + "'";
+    }
+    specs.push_back(bone_from_json(bones[i], JsonContext{source, element}, default_mpl,
+                                   default_radius));
+  }
+  return build_rig(specs, source, top.string_or(doc, "name", ""));
+}
+
+Rig rig_from_json_text(const std::string& text, const std::string& source) {
+  return rig_from_json(parse_json_text(text, source), source);
+}
+
+Rig load_rig(const std::string& path) { return rig_from_json(read_json_file(path), path); }
+
+Json rig_to_json(const Rig& rig) {
+  Json bones = Json::array();
+  for (int i = 0; i < rig.nbone; ++i) {
+    Json b;
+    b["name"] = rig.bone_name[i];
+    b["parent"] = rig.bone_parent[i] < 0 ? Json(nullptr) : Json(rig.bone_name[rig.bone_parent[i]]);
+    const Vec3& h = rig.bone_rest_head_world[i];
+    const Vec3& t = rig.bone_rest_tail_world[i];
+    b["head"] = {h.x(), h.y(), h.z()};
+    b["tail"] = {t.x(), t.y(), t.z()};
+    const Mat3 f = rig.bone_rest_orient_world[i].toRotationMatrix();
+    b["rest_frame"] = Json::array();
+    for (int c = 0; c < 3; ++c) b["rest_frame"].push_back({f(0, c), f(1, c), f(2, c)});
+    Json lim = Json::object();
+    for (int a = 0; a < 3; ++a) {
+      const AxisLimit& l = rig.bone_limit[i][a];
+      if (l.limited) lim[kAxisName[a]] = {rad2deg(l.min), rad2deg(l.max)};
+    }
+    if (!lim.empty()) b["limits_deg"] = lim;
+    b["mass"] = rig.bone_mass[i];
+    b["radius"] = rig.bone_radius[i];
+    bones.push_back(b);
+  }
+  Json doc;
+  if (!rig.name.empty()) doc["name"] = rig.name;
+  doc["bones"] = bones;
+  return doc;
+}
+
+Rig make_chain_rig(int nbone, double bone_length, double radius) {
+  if (nbone < 1) throw_input_error("chain", "", "N", "a chain needs at least one bone");
+  if (!(bone_length > 0.0)) throw_input_error("chain", "", "length", "must be positive");
+  if (!(radius > 0.0)) throw_input_error("chain", "", "radius", "must be positive");
+  std::vector<BoneSpec> specs(nbone);
+  for (int i = 0; i < nbone; ++i) {
+    BoneSpec& s = specs[i];
+    s.name = "b" + std::to_string(i);
+    s.parent = i == 0 ? "" : "b" + std::to_string(i - 1);
+    s.head_world = Vec3(0, 0, i * bone_length);
+    s.tail_world = Vec3(0, 0, (i + 1) * bone_length);
+    s.rest_frame_world = rest_frame_from_roll(s.head_world, s.tail_world, 0.0);
+    s.mass = 1.0 * bone_length;  // mass_per_length 1, as the original
+    s.radius = radius;
+  }
+  return build_rig(specs, "chain", "chain" + std::to_string(nbone));
+}
+
+}  // namespace physik

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Install the Debian packages the testbed needs, only those missing. Uses sudo when not root.
+set -euo pipefail
+packages=(
+  build-essential cmake
+  libeigen3-dev nlohmann-json3-dev libcli11-dev
+  libmujoco-dev libqhull-dev libmujoco-samples
+  libceres-dev
+  libgtest-dev libbenchmark-dev
+  liborocos-kdl-dev
+  python3-matplotlib python3-numpy
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "deps: all ${#packages[@]} Debian packages present"
+  exit 0
+fi
+echo "deps: installing ${missing[*]}"
+SUDO=""
+[ "$(id -u)" -eq 0 ] || SUDO="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# The CLI's contract through the real binary: --help on every command, exit codes, error lines.
+# usage: cli_test.sh PHYSIK_BINARY SOURCE_DIR
+set -u
+bin=$1; src=$2
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+pass=0; fail=0
+check() {  # check NAME EXPECTED_STATUS CMD...
+  local name=$1 want=$2; shift 2
+  "$@" >"$tmp/out" 2>"$tmp/err"; local got=$?
+  if [ "$got" -eq "$want" ]; then pass=$((pass+1)); else
+    fail=$((fail+1)); echo "FAIL $name: exit $got, want $want"; cat "$tmp/err"; fi
+}
+expect_in() {  # expect_in NAME FILE TEXT
+  if grep -qF -- "$3" "$2"; then pass=$((pass+1)); else fail=$((fail+1)); echo "FAIL $1: '$3' not in:"; cat "$2"; fi
+}
+
+check "help" 0 "$bin" --help
+check "rig help" 0 "$bin" rig --help
+check "rig info help" 0 "$bin" rig info --help
+check "rig chain help" 0 "$bin" rig chain --help
+check "no command" 2 "$bin"
+check "unknown option" 2 "$bin" rig info "$src/models/rigs/pinhead.json" --bogus
+
+check "rig info" 0 "$bin" rig info "$src/models/rigs/pinhead.json"
+expect_in "rig info text" "$tmp/out" "bones: 18"
+check "rig info json" 0 "$bin" rig info --json "$src/models/rigs/pinhead.json"
+expect_in "rig info json bones" "$tmp/out" '"bones": 18'
+expect_in "rig info json joints" "$tmp/out" '"joints": 14'
+expect_in "rig info json max" "$tmp/out" '"max_bones_per_joint": 4'
+
+check "chain" 0 "$bin" rig chain 5 --out "$tmp/c5.json"
+check "chain info" 0 "$bin" rig info --json "$tmp/c5.json"
+expect_in "chain bones" "$tmp/out" '"bones": 5'
+check "chain zero" 2 "$bin" rig chain 0
+
+printf '{"bones": [{"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,0]}]}' > "$tmp/zero.json"
+check "zero-length bone" 2 "$bin" rig info "$tmp/zero.json"
+expect_in "zero-length message" "$tmp/err" "zero.json: bones[0] 'a': field 'tail': zero-length"
+check "missing file" 2 "$bin" rig info "$tmp/none.json"
+expect_in "missing file message" "$tmp/err" "none.json: cannot open"
+
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]

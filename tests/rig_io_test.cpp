@@ -1,0 +1,137 @@
+// Bad rig files: each gets one InputError that names the file, the bone and the field.
+#include "physik/rig_io.h"
+
+#include <gtest/gtest.h>
+
+#include "physik/errors.h"
+#include "tests/test_util.h"
+
+namespace physik {
+namespace {
+
+// Expect an InputError whose message contains every fragment.
+void expect_error(const std::string& text, std::initializer_list<const char*> fragments) {
+  try {
+    rig_from_json_text(text, "bad.json");
+    FAIL() << "no error for: " << text;
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.rfind("bad.json: ", 0), 0u) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << "one line: " << msg;
+    for (const char* f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << msg << " lacks " << f;
+  }
+}
+
+const char* kRoot = R"({"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,1]})";
+
+std::string rig_with(const std::string& second_bone) {
+  return std::string(R"({"bones": [)") + kRoot + "," + second_bone + "]}";
+}
+
+TEST(RigInput, Cycle) {
+  expect_error(R"({"bones": [
+      {"name": "r", "parent": null, "head": [0,0,-1], "tail": [0,0,0]},
+      {"name": "a", "parent": "b", "head": [0,0,0], "tail": [0,0,1]},
+      {"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,0]}]})",
+               {"'a'", "parent", "cycle"});
+}
+
+TEST(RigInput, AllBonesHaveParentsIsACycle) {
+  expect_error(R"({"bones": [
+      {"name": "a", "parent": "b", "head": [0,0,0], "tail": [0,0,1]},
+      {"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,0]}]})",
+               {"parent", "cycle"});
+}
+
+TEST(RigInput, UnknownParent) {
+  expect_error(rig_with(R"({"name": "b", "parent": "nobody", "head": [0,0,1], "tail": [0,0,2]})"),
+               {"'b'", "parent", "unknown bone 'nobody'"});
+}
+
+TEST(RigInput, DuplicateName) {
+  expect_error(rig_with(R"({"name": "a", "parent": "a", "head": [0,0,1], "tail": [0,0,2]})"),
+               {"bones[1] 'a'", "name", "duplicate"});
+}
+
+TEST(RigInput, TwoRoots) {
+  expect_error(rig_with(R"({"name": "b", "parent": null, "head": [0,0,1], "tail": [0,0,2]})"),
+               {"'b'", "parent", "second root"});
+}
+
+TEST(RigInput, ZeroLengthBone) {
+  expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,1]})"),
+               {"'b'", "tail", "zero-length"});
+}
+
+TEST(RigInput, MinGreaterThanMax) {
+  expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2],
+                            "limits_deg": {"x": [30, 10]}})"),
+               {"'b'", "limits_deg.x", "greater than max"});
+}
+
+TEST(RigInput, MissingField) {
+  expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1]})"),
+               {"'b'", "'tail'", "missing"});
+  expect_error(rig_with(R"({"name": "b", "head": [0,0,1], "tail": [0,0,2]})"),
+               {"'b'", "'parent'", "missing"});
+  expect_error(R"({"rig": []})", {"'rig'", "unknown field"});
+}
+
+TEST(RigInput, NonNumber) {
+  expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,"one"], "tail": [0,0,2]})"),
+               {"'b'", "head[2]", "expected a number"});
+  expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2],
+                            "mass": "heavy"})"),
+               {"'b'", "mass", "expected a number"});
+}
+
+TEST(RigInput, NaNIsRejected) {
+  // JSON has no NaN literal: the parser rejects it with a line and column
+  expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,NaN], "tail": [0,0,2]})"),
+               {"invalid JSON", "line 1"});
+  // an overflowing literal is not a finite number either
+  expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1e999], "tail": [0,0,2]})"),
+               {"invalid JSON", "overflow", "1e999"});
+}
+
+TEST(RigInput, ChildMustMeetParentTail) {
+  expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1.5], "tail": [0,0,2]})"),
+               {"'b'", "'head'", "does not meet the tail"});
+}
+
+TEST(RigInput, BadFrameAndMisspelledField) {
+  expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2],
+                            "rest_frame": [[1,0,0],[0,1,0],[0,0,1]]})"),
+               {"'b'", "rest_frame", "y axis"});
+  expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2],
+                            "limit_deg": {}})"),
+               {"'b'", "'limit_deg'", "unknown field"});
+}
+
+TEST(RigInput, MissingFileIsNamed) {
+  try {
+    load_rig("/nonexistent/rig.json");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/rig.json: cannot open"), std::string::npos);
+  }
+}
+
+TEST(RigInput, RoundTripThroughJson) {
+  const Rig a = load_rig(test::model_path("rigs/pinhead.json"));
+  const Rig b = rig_from_json(rig_to_json(a), "roundtrip");
+  ASSERT_EQ(a.nbone, b.nbone);
+  for (int i = 0; i < a.nbone; ++i) {
+    EXPECT_EQ(a.bone_name[i], b.bone_name[i]);
+    EXPECT_TRUE(test::near(a.bone_rest_tail_world[i], b.bone_rest_tail_world[i], 1e-12));
+    EXPECT_NEAR(a.bone_mass[i], b.bone_mass[i], 1e-12);
+    EXPECT_LT(a.bone_rest_orient_world[i].angularDistance(b.bone_rest_orient_world[i]), 1e-9);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(a.bone_limit[i][k].limited, b.bone_limit[i][k].limited);
+      EXPECT_NEAR(a.bone_limit[i][k].min, b.bone_limit[i][k].min, 1e-12);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace physik

@@ -1,0 +1,107 @@
+// Rig construction: DFS order, joints, closed-form masses and inertias, the shipped rigs.
+#include "physik/rig.h"
+
+#include <gtest/gtest.h>
+
+#include "physik/rig_io.h"
+#include "tests/test_util.h"
+
+namespace physik {
+namespace {
+
+TEST(Rig, PinheadCountsMatchThePaper) {
+  const Rig rig = load_rig(test::model_path("rigs/pinhead.json"));
+  EXPECT_EQ(rig.nbone, 18);
+  EXPECT_EQ(rig.joints.size(), 14u);       // paper Sec. 4: 14 joints
+  EXPECT_EQ(rig.max_bones_per_joint(), 4);  // at most 4 bones around a joint
+  EXPECT_EQ(rig.bone_name[0], "head");      // the file roots the hierarchy at the head
+}
+
+TEST(Rig, PinheadLimbDegreesOfFreedom) {
+  const Rig rig = load_rig(test::model_path("rigs/pinhead.json"));
+  // paper: elbows and knees 1 DOF, collars and hips welded (0 DOF), shoulders/hips 3 DOF
+  for (const char* b : {"forearm.L", "forearm.R", "shin.L", "shin.R"}) {
+    EXPECT_EQ(rig.bone_dof(rig.find_bone(b)), 1) << b;
+  }
+  for (const char* b : {"collar.L", "collar.R", "hip.L", "hip.R"}) {
+    EXPECT_EQ(rig.bone_dof(rig.find_bone(b)), 0) << b;
+  }
+  for (const char* b : {"upper_arm.L", "upper_arm.R", "thigh.L", "thigh.R"}) {
+    EXPECT_EQ(rig.bone_dof(rig.find_bone(b)), 3) << b;
+  }
+}
+
+TEST(Rig, ParentsComeBeforeChildren) {
+  for (const char* f : {"rigs/pinhead.json", "rigs/hand.json", "rigs/elbow.json",
+                        "rigs/chain3.json"}) {
+    const Rig rig = load_rig(test::model_path(f));
+    EXPECT_EQ(rig.bone_parent[0], -1) << f;
+    for (int i = 1; i < rig.nbone; ++i) {
+      EXPECT_GE(rig.bone_parent[i], 0) << f;
+      EXPECT_LT(rig.bone_parent[i], i) << f << " bone " << rig.bone_name[i];
+    }
+  }
+}
+
+TEST(Rig, DfsOrderIsRestoredFromAShuffledFile) {
+  const Rig rig = rig_from_json_text(R"({"bones": [
+    {"name": "c", "parent": "b", "head": [0,0,2], "tail": [0,0,3]},
+    {"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,1]},
+    {"name": "d", "parent": "a", "head": [0,0,1], "tail": [1,0,1]},
+    {"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2]}]})", "shuffled.json");
+  ASSERT_EQ(rig.nbone, 4);
+  EXPECT_EQ(rig.bone_name[0], "a");
+  // children keep file order: d before b, and c follows b in depth-first order
+  EXPECT_EQ(rig.bone_name[1], "d");
+  EXPECT_EQ(rig.bone_name[2], "b");
+  EXPECT_EQ(rig.bone_name[3], "c");
+  ASSERT_EQ(rig.joints.size(), 2u);
+  EXPECT_EQ(rig.joints[0].nbone(), 3);  // a's tail with d and b
+}
+
+TEST(Rig, MassAndInertiaMatchClosedForms) {
+  const Rig rig = load_rig(test::model_path("rigs/pinhead.json"));
+  double total = 0.0;
+  for (int i = 0; i < rig.nbone; ++i) {
+    const double L = (rig.bone_rest_tail_world[i] - rig.bone_rest_head_world[i]).norm();
+    const double m = 1.0 * L;  // mass_per_length 1
+    const double r = 0.5;
+    EXPECT_NEAR(rig.bone_mass[i], m, 1e-12);
+    EXPECT_NEAR(rig.bone_inertia_local[i].x(), m * (3 * r * r + L * L) / 12.0, 1e-12);
+    EXPECT_NEAR(rig.bone_inertia_local[i].y(), 0.5 * m * r * r, 1e-12);
+    EXPECT_NEAR(rig.bone_inertia_local[i].z(), rig.bone_inertia_local[i].x(), 1e-15);
+    total += m;
+  }
+  EXPECT_NEAR(rig.total_mass(), total, 1e-12);
+}
+
+TEST(Rig, TotalMassOverridesMassPerLength) {
+  const Rig rig = rig_from_json_text(R"({"bones": [
+    {"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,2], "mass": 3.0, "radius": 0.1}]})",
+                                     "m.json");
+  EXPECT_DOUBLE_EQ(rig.bone_mass[0], 3.0);
+  EXPECT_NEAR(rig.bone_inertia_local[0].x(), 3.0 * (3 * 0.01 + 4.0) / 12.0, 1e-12);
+  EXPECT_NEAR(rig.bone_inertia_local[0].y(), 0.5 * 3.0 * 0.01, 1e-12);
+}
+
+TEST(Rig, RollFrameFollowsBlender) {
+  // +Y needs no turn; roll turns x and z about the bone
+  const Mat3 f = rest_frame_from_roll(Vec3(0, 0, 0), Vec3(0, 2, 0), kPi / 2);
+  EXPECT_TRUE(test::near(f.col(1), Vec3(0, 1, 0), 1e-12));
+  EXPECT_TRUE(test::near(f.col(0), Vec3(0, 0, -1), 1e-12));
+  // a bone along -Y turns 180 deg about Z, as Blender does
+  const Mat3 g = rest_frame_from_roll(Vec3(0, 0, 0), Vec3(0, -1, 0), 0.0);
+  EXPECT_TRUE(test::near(g.col(0), Vec3(-1, 0, 0), 1e-12));
+  EXPECT_TRUE(test::near(g.col(1), Vec3(0, -1, 0), 1e-12));
+}
+
+TEST(Rig, ChainGenerator) {
+  const Rig rig = make_chain_rig(50, 0.2);
+  EXPECT_EQ(rig.nbone, 50);
+  EXPECT_EQ(rig.joints.size(), 49u);
+  EXPECT_EQ(rig.max_bones_per_joint(), 2);
+  EXPECT_NEAR(rig.bone_rest_tail_world[49].z(), 10.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace physik
