@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
   app.set_help_all_flag("--help-all", "Show help for every command");
   physik::cli::add_rig_commands(app);
   physik::cli::add_experiment_commands(app);
+  physik::cli::add_simulate_commands(app);
 
   try {
     app.parse(argc, argv);
@@ -46,6 +47,8 @@ int main(int argc, char** argv) {
   } catch (const physik::InputError& e) {
     std::cerr << "physik: error: " << e.what() << "\n";
     return physik::kExitBadInput;
+  } catch (const physik::DivergedRun&) {
+    return physik::kExitDiverged;  // already reported by the command
   } catch (const std::exception& e) {
     std::cerr << "physik: internal error: " << e.what() << "\n";
     return physik::kExitRuntimeFailure;

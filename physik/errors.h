@@ -22,6 +22,12 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A simulation that diverged (non-finite state or energy past its bound). The CLI exits 3.
+class DivergedRun : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 // Compose "<file>: <element>: field '<field>': <reason>", leaving out empty parts.
 std::string input_error_message(const std::string& file, const std::string& element,
                                 const std::string& field, const std::string& reason);
