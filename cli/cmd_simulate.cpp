@@ -11,6 +11,7 @@
 #include "physik/errors.h"
 #include "physik/pose_io.h"
 #include "physik/scene.h"
+#include "reference/compare.h"
 
 namespace physik::cli {
 
@@ -23,6 +24,7 @@ struct SimulateOptions {
   int every = 1;          // CSV row every N steps
   bool quiet = false;
   std::vector<std::string> set;  // param overrides key=value
+  std::string reference;         // "" or mujoco[:same-forces|:exact-constraints]
 };
 
 // "key=value" overrides of scene params, parsed as JSON values where possible
@@ -65,11 +67,15 @@ void add_simulate_commands(CLI::App& app) {
   cmd->add_option("--every", opt->every, "Write a CSV row every N steps")->capture_default_str();
   cmd->add_option("--set", opt->set, "Override a parameter, e.g. --set damping=20 --set preset=paper");
   cmd->add_flag("--quiet", opt->quiet, "No progress output");
+  cmd->add_option("--reference", opt->reference,
+                  "Also run MuJoCo from the same initial pose: mujoco[:same-forces|:exact-constraints]; "
+                  "writes mujoco_trajectory.csv, mujoco_summary.json and comparison.json");
   cmd->callback([opt] {
     Scene scene = load_scene(opt->scene);
     apply_overrides(scene, opt->set);
     if (opt->steps < 0) throw_input_error("--steps", "", "", "must not be negative");
     if (opt->every < 1) throw_input_error("--every", "", "", "must be at least 1");
+    if (!opt->reference.empty()) parse_reference_spec(opt->reference);  // bad spec: exit 2 first
     if (opt->steps > 0) scene.steps = opt->steps;
     std::filesystem::create_directories(opt->out);
 
@@ -114,6 +120,9 @@ void add_simulate_commands(CLI::App& app) {
                         ? 0.0
                         : *std::max_element(sum.final_residuals.begin(), sum.final_residuals.end()))
                 << " -> " << opt->out << "\n";
+    }
+    if (!opt->reference.empty()) {
+      write_reference_comparison(scene, opt->reference, opt->out, opt->every, !opt->quiet);
     }
     if (sum.diverged) {
       std::cerr << "physik: diverged: " << sum.divergence_reason << "\n";

@@ -34,6 +34,8 @@ int main(int argc, char** argv) {
   physik::cli::add_rig_commands(app);
   physik::cli::add_experiment_commands(app);
   physik::cli::add_simulate_commands(app);
+  physik::cli::add_reference_commands(app);
+  physik::cli::add_tune_commands(app);
 
   try {
     app.parse(argc, argv);

@@ -1,0 +1,271 @@
+#include "reference/compare.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+
+#include <Eigen/SVD>
+
+#include "physik/errors.h"
+#include "physik/pose_io.h"
+
+namespace physik {
+
+ReferenceMode parse_reference_spec(const std::string& spec, const std::string& source) {
+  if (spec == "mujoco" || spec == "mujoco:same-forces") return ReferenceMode::kSameForces;
+  if (spec == "mujoco:exact-constraints") return ReferenceMode::kExactConstraints;
+  throw_input_error(source, "", spec,
+                    "expected mujoco, mujoco:same-forces or mujoco:exact-constraints");
+}
+
+double pose_gap(const BoneFrames& a, const BoneFrames& b) {
+  double g = 0.0;
+  for (std::size_t i = 0; i < a.head_world.size(); ++i) {
+    g = std::max({g, (a.head_world[i] - b.head_world[i]).norm(),
+                  (a.tail_world[i] - b.tail_world[i]).norm()});
+  }
+  return g;
+}
+
+namespace {
+
+double squared_gap_sum(const BoneFrames& a, const BoneFrames& b) {
+  double s = 0.0;
+  for (std::size_t i = 0; i < a.head_world.size(); ++i) {
+    s += (a.head_world[i] - b.head_world[i]).squaredNorm() +
+         (a.tail_world[i] - b.tail_world[i]).squaredNorm();
+  }
+  return s;
+}
+
+int matrix_rank(const Eigen::MatrixXd& a) {
+  if (a.size() == 0) return 0;
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(a);
+  const auto& sv = svd.singularValues();
+  const double tol = 1e-9 * std::max(1.0, sv(0));
+  int r = 0;
+  for (int k = 0; k < sv.size(); ++k) r += sv(k) > tol ? 1 : 0;
+  return r;
+}
+
+}  // namespace
+
+GapStats trajectory_gap(const std::vector<BoneFrames>& a, const std::vector<BoneFrames>& b,
+                        const BoneFrames& final_a, const BoneFrames& final_b) {
+  GapStats g;
+  g.steps_compared = static_cast<int>(std::min(a.size(), b.size()));
+  double sum = 0.0;
+  long count = 0;
+  for (int k = 0; k < g.steps_compared; ++k) {
+    sum += squared_gap_sum(a[k], b[k]);
+    count += 2 * static_cast<long>(a[k].head_world.size());
+    g.max_gap = std::max(g.max_gap, pose_gap(a[k], b[k]));
+  }
+  g.rms_gap = count ? std::sqrt(sum / count) : 0.0;
+  g.final_pose_gap = pose_gap(final_a, final_b);
+  g.final_pose_rms_gap = std::sqrt(squared_gap_sum(final_a, final_b) /
+                                   std::max<std::size_t>(1, 2 * final_a.head_world.size()));
+  return g;
+}
+
+int free_endpoint_dof(const Scene& scene, const BoneFrames& frames) {
+  const Rig& rig = scene.rig;
+  MjcfOptions o;
+  o.joints = JointModel::kRigJoints;
+  o.dt = scene.params.dt;
+  const MjModelPtr m = rig_to_mjmodel(rig, o);
+  const MjDataPtr d(mj_makeData(m.get()));
+  SimState s;
+  init_state(scene, s);
+  s.frames = frames;
+  for (int i = 0; i < rig.nbone; ++i) {
+    s.com_world[i] = 0.5 * (frames.head_world[i] + frames.tail_world[i]);
+    s.vel_world[i].setZero();
+    s.omega_world[i].setZero();
+  }
+  local_rotations_from_world(rig, frames, s.pose);
+  set_mujoco_state(rig, s, m.get(), d.get());
+  mj_forward(m.get(), d.get());
+
+  // rows: 3 per control point, then 3 per bone endpoint
+  const int nv = m->nv, nc = static_cast<int>(scene.control_points.size());
+  Eigen::MatrixXd jc(3 * nc, nv), je(6 * rig.nbone, nv);
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> jacp(3, nv);
+  const auto jac_at = [&](int bone, const Vec3& point) {
+    const mjtNum p[3] = {point.x(), point.y(), point.z()};
+    mj_jac(m.get(), d.get(), jacp.data(), nullptr, p, bone + 1);
+    return Eigen::MatrixXd(jacp);
+  };
+  for (int c = 0; c < nc; ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    jc.middleRows(3 * c, 3) = jac_at(cp.bone, point_on_bone(frames, cp.bone, cp.alpha));
+  }
+  for (int i = 0; i < rig.nbone; ++i) {
+    je.middleRows(6 * i, 3) = jac_at(i, frames.head_world[i]);
+    je.middleRows(6 * i + 3, 3) = jac_at(i, frames.tail_world[i]);
+  }
+  Eigen::MatrixXd both(jc.rows() + je.rows(), nv);
+  both << jc, je;
+  return matrix_rank(both) - matrix_rank(jc);
+}
+
+EngineRun run_physik_recorded(const Scene& scene) {
+  EngineRun r;
+  r.summary = run_scene(scene, [&](const SimState& s, const StepStats& st) {
+    r.frames.push_back(s.frames);
+    r.stats.push_back(st);
+    r.residuals.emplace_back();
+    control_residuals(scene, s, r.residuals.back());
+  });
+  return r;
+}
+
+EngineRun run_mujoco_recorded(const Scene& scene, ReferenceMode mode) {
+  EngineRun r;
+  r.summary = run_mujoco(scene, mode, [&](const SimState& s, const StepStats& st) {
+    r.frames.push_back(s.frames);
+    r.stats.push_back(st);
+    r.residuals.emplace_back();
+    control_residuals(scene, s, r.residuals.back());
+  });
+  return r;
+}
+
+Comparison compare_with_mujoco(const Scene& scene, ReferenceMode mode) {
+  Comparison c;
+  c.mode = mode;
+  c.physik = run_physik_recorded(scene);
+  c.mujoco = run_mujoco_recorded(scene, mode);
+  Scene free_scene = scene;
+  free_scene.params.integration = Integration::kFreeRods;
+  c.free_rods = run_physik_recorded(free_scene);
+  c.gap = trajectory_gap(c.physik.frames, c.mujoco.frames, c.physik.summary.final_frames,
+                         c.mujoco.summary.final_frames);
+  c.free_rods_gap = trajectory_gap(c.free_rods.frames, c.mujoco.frames,
+                                   c.free_rods.summary.final_frames, c.mujoco.summary.final_frames);
+  c.free_endpoint_dof = free_endpoint_dof(scene, c.mujoco.summary.final_frames);
+  return c;
+}
+
+namespace {
+
+nlohmann::json run_json(const RunSummary& s) {
+  return {{"steps_run", s.steps_run},
+          {"converged", s.converged},
+          {"steps_to_converge", s.steps_to_converge < 0 ? nlohmann::json(nullptr)
+                                                         : nlohmann::json(s.steps_to_converge)},
+          {"diverged", s.diverged},
+          {"divergence_reason", s.divergence_reason},
+          {"max_limit_violation_deg", s.max_limit_violation_deg},
+          {"max_joint_separation", s.max_joint_separation},
+          {"final_residuals", s.final_residuals},
+          {"final_kinetic_energy", s.final_kinetic_energy},
+          {"wall_time_s", s.wall_time_s}};
+}
+
+nlohmann::json gap_json(const GapStats& g, double height) {
+  return {{"steps_compared", g.steps_compared},
+          {"rms_gap", g.rms_gap},
+          {"max_gap", g.max_gap},
+          {"final_pose_gap", g.final_pose_gap},
+          {"final_pose_rms_gap", g.final_pose_rms_gap},
+          {"rms_gap_over_height", g.rms_gap / height},
+          {"max_gap_over_height", g.max_gap / height},
+          {"final_pose_gap_over_height", g.final_pose_gap / height}};
+}
+
+void write_trajectory_csv(const Scene& scene, const EngineRun& r, int every, std::ostream& csv) {
+  csv << "step,time,kinetic_energy,passes,joint_mismatch,joint_separation";
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) csv << ",residual_" << c;
+  for (const std::string& name : bone_column_names(scene.rig)) csv << "," << name;
+  csv << "\n" << std::setprecision(9);
+  std::vector<double> row;
+  for (std::size_t k = 0; k < r.frames.size(); ++k) {
+    const int step = static_cast<int>(k) + 1;
+    if (step % every != 0 && step != scene.steps) continue;
+    const StepStats& st = r.stats[k];
+    csv << step << "," << step * scene.params.dt << "," << st.kinetic_energy << "," << st.passes
+        << "," << st.mismatch << "," << st.joint_separation;
+    for (double res : r.residuals[k]) csv << "," << res;
+    row.clear();
+    append_bone_values(r.frames[k], row);
+    for (double v : row) csv << "," << v;
+    csv << "\n";
+  }
+}
+
+}  // namespace
+
+nlohmann::json comparison_to_json(const Scene& scene, const Comparison& c) {
+  const double h = scene.rig.height();
+  nlohmann::json j = gap_json(c.gap, h);
+  j["scene"] = scene.file;
+  j["rig"] = scene.rig_file;
+  j["mode"] = to_string(c.mode);
+  j["mujoco_version"] = mj_versionString();
+  j["physik_integration"] = to_string(scene.params.integration);
+  j["rig_height"] = h;
+  j["free_endpoint_dof"] = c.free_endpoint_dof;
+  j["equilibrium"] =
+      c.free_endpoint_dof == 0
+          ? "unique: the control points fix every bone endpoint; the final gap measures the "
+            "joint-force heuristic"
+          : "family: the control points leave " + std::to_string(c.free_endpoint_dof) +
+                " endpoint degrees of freedom free; the final gap measures path dependence";
+  j["physik"] = run_json(c.physik.summary);
+  j["mujoco"] = run_json(c.mujoco.summary);
+  j["mujoco"]["mean_solver_iterations"] = c.mujoco.summary.mean_passes_per_step;
+  j["physik"]["mean_passes_per_step"] = c.physik.summary.mean_passes_per_step;
+  j["free_rods"] = gap_json(c.free_rods_gap, h);
+  j["free_rods"]["max_joint_separation"] = c.free_rods.summary.max_joint_separation;
+  j["free_rods"]["run"] = run_json(c.free_rods.summary);
+  j["notes"] = {
+      "gaps: bone head/tail distances (rig units) between PhysIK and MuJoCo after the same step",
+      "same-forces: MuJoCo gets PhysIK's control, torsion and damping forces from its own state, "
+      "with ball joints; exact-constraints: the rig's joint types and limits, no torsion springs",
+      "angular velocity factor f applied in MuJoCo as the torque I (f - 1) w / dt per body",
+      "MuJoCo 'passes' in mujoco_trajectory.csv are constraint-solver iterations; its "
+      "joint_mismatch is 0 (exact joints)"};
+  return j;
+}
+
+nlohmann::json write_reference_comparison(const Scene& scene, const std::string& spec,
+                                          const std::string& out_dir, int every, bool verbose) {
+  const ReferenceMode mode = parse_reference_spec(spec);
+  if (verbose) std::cerr << "reference: MuJoCo " << mj_versionString() << ", " << to_string(mode) << "\n";
+  const Comparison c = compare_with_mujoco(scene, mode);
+  std::filesystem::create_directories(out_dir);
+  {
+    std::ofstream csv(out_dir + "/mujoco_trajectory.csv");
+    if (!csv) throw_input_error(out_dir, "", "--out", "cannot write mujoco_trajectory.csv here");
+    write_trajectory_csv(scene, c.mujoco, every, csv);
+  }
+  {
+    nlohmann::json sum = summary_to_json(scene, c.mujoco.summary);
+    sum["engine"] = std::string("mujoco ") + mj_versionString();
+    sum["mode"] = to_string(mode);
+    sum["passes_are"] = "MuJoCo constraint-solver iterations";
+    std::ofstream f(out_dir + "/mujoco_summary.json");
+    f << sum.dump(2) << "\n";
+  }
+  {
+    std::ofstream pose(out_dir + "/mujoco_final_pose.csv");
+    write_bones_csv(scene.rig, c.mujoco.summary.final_frames, pose);
+  }
+  const nlohmann::json j = comparison_to_json(scene, c);
+  {
+    std::ofstream f(out_dir + "/comparison.json");
+    f << j.dump(2) << "\n";
+  }
+  if (verbose) {
+    std::cerr << "reference: rms gap " << c.gap.rms_gap << ", max gap " << c.gap.max_gap
+              << ", final pose gap " << c.gap.final_pose_gap << " (" << j["equilibrium"].get<std::string>()
+              << ") -> " << out_dir << "/comparison.json\n";
+  }
+  return j;
+}
+
+}  // namespace physik

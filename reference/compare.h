@@ -1,0 +1,79 @@
+// PhysIK against the MuJoCo reference on one scene: both runs from the same initial pose, and the
+// gap between them (DESIGN.md "MuJoCo as the reference").
+//
+// Metrics (rig units; endpoints = every bone's head and tail, world frame):
+//   per step k,  g_k  = the largest endpoint distance between the two runs
+//   rms_gap      = sqrt(mean over steps and endpoints of the squared endpoint distance)
+//   max_gap      = max_k g_k
+//   final_pose_gap = the largest endpoint distance between the two final poses
+//                (final_pose_rms_gap: the rms over endpoints)
+// Steps are compared while both runs last (a run stops early when it diverges, or when the scene
+// stops at convergence). Whether the final gap measures the joint-force heuristic or path
+// dependence depends on the equilibrium being unique: with J_c the Jacobian of every control
+// point's position and J_e that of every bone endpoint (MuJoCo's mj_jac, rig-joint model at
+// MuJoCo's final pose), the endpoints are locally fixed by the control points iff
+//   free_endpoint_dof = rank([J_c; J_e]) - rank(J_c) = 0
+// (rolls about a bone's own axis move no endpoint and do not count). Otherwise the equilibrium is
+// a family and the final gap measures path dependence.
+// The free-rods scheme is run too (PhysIK with integration = free-rods), for its joint separation
+// and its own gap to MuJoCo.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "reference/mujoco_runner.h"
+
+namespace physik {
+
+// "mujoco" (= same-forces), "mujoco:same-forces", "mujoco:exact-constraints". Throws InputError
+// naming `source` otherwise.
+ReferenceMode parse_reference_spec(const std::string& spec, const std::string& source = "--reference");
+
+struct GapStats {
+  int steps_compared = 0;
+  double rms_gap = 0.0;          // rig units
+  double max_gap = 0.0;          // rig units
+  double final_pose_gap = 0.0;   // rig units, max over endpoints
+  double final_pose_rms_gap = 0.0;
+};
+
+// Largest endpoint distance between two poses of the same rig.
+double pose_gap(const BoneFrames& a, const BoneFrames& b);
+// Gap over two per-step trajectories (index k = after step k + 1) and their final poses.
+GapStats trajectory_gap(const std::vector<BoneFrames>& a, const std::vector<BoneFrames>& b,
+                        const BoneFrames& final_a, const BoneFrames& final_b);
+
+// Endpoint degrees of freedom the control points leave free at a pose (see above).
+int free_endpoint_dof(const Scene& scene, const BoneFrames& frames);
+
+struct EngineRun {
+  RunSummary summary;
+  std::vector<BoneFrames> frames;            // after every step
+  std::vector<StepStats> stats;              // every step
+  std::vector<std::vector<double>> residuals;  // every step, per control point (rig units)
+};
+
+struct Comparison {
+  ReferenceMode mode = ReferenceMode::kSameForces;
+  EngineRun physik, mujoco, free_rods;
+  GapStats gap;             // PhysIK (the scene's integration) vs MuJoCo
+  GapStats free_rods_gap;   // PhysIK free-rods vs MuJoCo
+  int free_endpoint_dof = 0;  // at MuJoCo's final pose
+};
+
+EngineRun run_physik_recorded(const Scene& scene);
+EngineRun run_mujoco_recorded(const Scene& scene, ReferenceMode mode);
+Comparison compare_with_mujoco(const Scene& scene, ReferenceMode mode);
+
+nlohmann::json comparison_to_json(const Scene& scene, const Comparison& c);
+
+// The `simulate --reference` output: <out>/mujoco_trajectory.csv (the columns of
+// trajectory.csv), mujoco_summary.json, mujoco_final_pose.csv and comparison.json.
+// Returns comparison.json's content.
+nlohmann::json write_reference_comparison(const Scene& scene, const std::string& spec,
+                                          const std::string& out_dir, int every, bool verbose);
+
+}  // namespace physik

@@ -1,0 +1,155 @@
+#include "reference/mjcf_export.h"
+
+#include <algorithm>
+#include <cstring>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+namespace physik {
+
+namespace {
+
+const char* const kAxisName[3] = {"x", "y", "z"};
+const char* const kAxisVec[3] = {"1 0 0", "0 1 0", "0 0 1"};
+
+std::string vec(const Vec3& v) {
+  std::ostringstream s;
+  s << std::setprecision(17) << v.x() << " " << v.y() << " " << v.z();
+  return s.str();
+}
+
+std::string quat(const Quat& q) {  // MuJoCo order: w x y z
+  std::ostringstream s;
+  s << std::setprecision(17) << q.w() << " " << q.x() << " " << q.y() << " " << q.z();
+  return s.str();
+}
+
+std::string num(double x) {
+  std::ostringstream s;
+  s << std::setprecision(17) << x;
+  return s.str();
+}
+
+// the fixed rotation of a bone's locked axes (identity when none is locked away from zero)
+Quat locked_rotation(const std::array<AxisLimit, 3>& limit) {
+  Vec3 v = Vec3::Zero();
+  for (int k = 0; k < 3; ++k) {
+    if (limit[k].locked()) v[k] = limit[k].min;
+  }
+  const double angle = v.norm();
+  return angle > 0.0 ? Quat(Eigen::AngleAxisd(angle, v / angle)) : Quat::Identity();
+}
+
+void write_hinge(std::ostringstream& x, const std::string& bone, int axis, const AxisLimit& l,
+                 double half_length, const std::string& pad) {
+  x << pad << "<joint name=\"" << bone << ":" << kAxisName[axis] << "\" type=\"hinge\" axis=\""
+    << kAxisVec[axis] << "\" pos=\"0 " << num(-half_length) << " 0\"";
+  if (l.limited) {
+    x << " limited=\"true\" range=\"" << num(l.min) << " " << num(l.max) << "\"";
+  } else {
+    x << " limited=\"false\"";
+  }
+  x << "/>\n";
+}
+
+void write_joints(std::ostringstream& x, const Rig& rig, int i, JointModel model,
+                  const std::string& pad) {
+  const std::string& name = rig.bone_name[i];
+  const double half = 0.5 * rig.bone_length[i];
+  if (i == rig.root()) {
+    x << pad << "<joint name=\"" << name << ":free\" type=\"free\"/>\n";
+    return;
+  }
+  const auto& limit = rig.bone_limit[i];
+  const int dof = rig.bone_dof(i);
+  const bool any_limited = limit[0].limited || limit[1].limited || limit[2].limited;
+  if (model == JointModel::kBallJoints || (dof == 3 && !any_limited)) {
+    x << pad << "<joint name=\"" << name << ":ball\" type=\"ball\" pos=\"0 " << num(-half)
+      << " 0\" limited=\"false\"/>\n";
+    return;
+  }
+  // 1, 2 or limited 3 DOF: one hinge per axis that is not locked; 0 DOF: welded
+  for (int k = 0; k < 3; ++k) {
+    if (!limit[k].locked()) write_hinge(x, name, k, limit[k], half, pad);
+  }
+}
+
+void write_body(std::ostringstream& x, const Rig& rig, int i, const MjcfOptions& o, int depth) {
+  const std::string pad(2 * depth, ' ');
+  const double L = rig.bone_length[i];
+  Vec3 pos;
+  Quat q;
+  if (i == rig.root()) {
+    // world frame: the rest centre of mass and orientation (the free joint's qpos0)
+    q = rig.bone_rest_orient_world[i];
+    pos = 0.5 * (rig.bone_rest_head_world[i] + rig.bone_rest_tail_world[i]);
+  } else {
+    const int p = rig.bone_parent[i];
+    q = rig.bone_rest_orient_parent[i] * mjcf_joint_offset(rig, i, o.joints);
+    pos = rig.bone_head_in_parent[i] - Vec3(0, 0.5 * rig.bone_length[p], 0) + q * Vec3(0, 0.5 * L, 0);
+  }
+  q.normalize();
+  x << pad << "<body name=\"" << rig.bone_name[i] << "\" pos=\"" << vec(pos) << "\" quat=\""
+    << quat(q) << "\">\n";
+  const std::string in = pad + "  ";
+  write_joints(x, rig, i, o.joints, in);
+  x << in << "<inertial pos=\"0 0 0\" mass=\"" << num(rig.bone_mass[i]) << "\" diaginertia=\""
+    << vec(rig.bone_inertia_local[i]) << "\"/>\n";
+  x << in << "<geom name=\"" << rig.bone_name[i] << "\" type=\"capsule\" fromto=\"0 "
+    << num(-0.5 * L) << " 0 0 " << num(0.5 * L) << " 0\" size=\"" << num(0.06 * L) << "\"/>\n";
+  for (int c : rig.bone_children[i]) write_body(x, rig, c, o, depth + 1);
+  x << pad << "</body>\n";
+}
+
+}  // namespace
+
+Quat mjcf_joint_offset(const Rig& rig, int bone, JointModel joints) {
+  if (bone == rig.root() || joints == JointModel::kBallJoints) return Quat::Identity();
+  return locked_rotation(rig.bone_limit[bone]);
+}
+
+std::string rig_to_mjcf(const Rig& rig, const MjcfOptions& o) {
+  std::ostringstream x;
+  x << "<!-- PhysIK rig '" << rig.name << "' as MJCF (reference/mjcf_export.h): one body per bone "
+    << "at its centre of mass, local +Y along the bone; "
+    << (o.joints == JointModel::kBallJoints ? "ball joints (same-forces mode)"
+                                            : "joint types and limits from the rig (exact-constraints mode)")
+    << " -->\n";
+  x << "<mujoco model=\"" << (rig.name.empty() ? "rig" : rig.name) << "\">\n";
+  x << "  <compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n";
+  x << "  <option timestep=\"" << num(o.dt) << "\" gravity=\"0 0 0\" integrator=\"Euler\">\n";
+  x << "    <flag contact=\"disable\"/>\n";
+  x << "  </option>\n";
+  x << "  <default>\n";
+  x << "    <geom contype=\"0\" conaffinity=\"0\" rgba=\"0.8 0.6 0.4 1\"/>\n";
+  x << "  </default>\n";
+  x << "  <worldbody>\n";
+  write_body(x, rig, rig.root(), o, 2);
+  x << "  </worldbody>\n";
+  x << "</mujoco>\n";
+  return x.str();
+}
+
+MjModelPtr compile_mjcf(const std::string& xml) {
+  // mjVFS holds 2000 file names of 1000 chars: keep it off the stack
+  auto vfs = std::make_unique<mjVFS>();
+  mj_defaultVFS(vfs.get());
+  const char* name = "physik_rig.xml";
+  if (mj_makeEmptyFileVFS(vfs.get(), name, static_cast<int>(xml.size())) != 0) {
+    throw std::runtime_error("MuJoCo: cannot make a VFS file for the MJCF");
+  }
+  const int f = mj_findFileVFS(vfs.get(), name);
+  std::memcpy(vfs->filedata[f], xml.data(), xml.size());
+  char error[1000] = "";
+  mjModel* m = mj_loadXML(name, vfs.get(), error, sizeof(error));
+  mj_deleteVFS(vfs.get());
+  if (!m) throw std::runtime_error(std::string("MuJoCo rejected the MJCF: ") + error);
+  return MjModelPtr(m);
+}
+
+MjModelPtr rig_to_mjmodel(const Rig& rig, const MjcfOptions& options) {
+  return compile_mjcf(rig_to_mjcf(rig, options));
+}
+
+}  // namespace physik

@@ -1,0 +1,73 @@
+// Rig -> MJCF: the same rig as a MuJoCo articulated model (DESIGN.md "MuJoCo as the reference").
+//
+// Bodies: one per bone, nested in the rig's DFS order (MuJoCo body id = bone index + 1). Every
+// body frame sits at the bone's centre of mass with the bone's axes (local +Y along the bone), so
+//   xipos = xpos = centre of mass,  xquat = orientation world<-bone,
+//   head = xpos - R (0, L/2, 0),  tail = xpos + R (0, L/2, 0).
+// Each body carries <inertial pos="0 0 0" mass="m" diaginertia="Ixx Iyy Izz"/> with PhysIK's rod
+// (rig.h: solid cylinder about its centre, bone-local axes). In its parent's body frame a child
+// body sits at
+//   pos  = h - (0, L_parent/2, 0) + Q (0, L/2, 0)     h = bone_head_in_parent (the parent's tail)
+//   quat = Q = R_rest_in_parent * exp(locked angles)
+// and its joints are at its head, pos = (0, -L/2, 0).
+//
+// Joints (JointModel):
+//   kRigJoints (exact-constraints mode, `physik export-mjcf` default):
+//     root                     free joint (6 DOF; its qpos is the body's world pose)
+//     3 free, unlimited axes   ball joint (no limit)
+//     3 DOF, some axis limited three hinges x, y, z, each with its range (a ball's limit is a cone,
+//                              which cannot express per-axis intervals)
+//     2 DOF (one axis locked)  two hinges about the free local axes, in x, y, z order, with their
+//                              ranges. Their composition exp(t1 a1) exp(t2 a2) has rotation-vector
+//                              components (t1, t2) only to first order: the locked axis picks up
+//                              about t1 t2 / 2 rad (second order), which max_limit_violation sees.
+//     1 DOF                    one hinge about the free axis, range = the limit (rad)
+//     0 DOF                    no joint: welded at its locked angles
+//   kBallJoints (same-forces mode): a ball at every non-root bone and no limits, i.e. exactly the
+//     freedom of PhysIK's bones, whose limits are torsion springs applied as forces.
+// Physics: no gravity, contacts disabled and every geom contype = conaffinity = 0, the Euler
+// integrator, timestep = the scene's dt. Geoms are thin capsules for viewing only
+// (inertiafromgeom="false": they carry no mass).
+// Units: the rig's (rig units, kg, s), angles in radians (compiler angle="radian").
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <mujoco/mujoco.h>
+
+#include "physik/rig.h"
+
+namespace physik {
+
+enum class JointModel { kRigJoints, kBallJoints };
+
+struct MjcfOptions {
+  JointModel joints = JointModel::kRigJoints;
+  double dt = 0.05;  // s, <option timestep>
+};
+
+// The MJCF text of the rig.
+std::string rig_to_mjcf(const Rig& rig, const MjcfOptions& options);
+
+// The fixed rotation between bone i's rest frame and its body frame at zero joint angles:
+// exp(locked angles) for rig joints, identity for the root and for ball joints.
+Quat mjcf_joint_offset(const Rig& rig, int bone, JointModel joints);
+
+struct MjModelDeleter {
+  void operator()(mjModel* m) const { mj_deleteModel(m); }
+};
+struct MjDataDeleter {
+  void operator()(mjData* d) const { mj_deleteData(d); }
+};
+using MjModelPtr = std::unique_ptr<mjModel, MjModelDeleter>;
+using MjDataPtr = std::unique_ptr<mjData, MjDataDeleter>;
+
+// Compile MJCF text from memory (mjVFS on the heap). Throws std::runtime_error with MuJoCo's
+// message if the compiler rejects it.
+MjModelPtr compile_mjcf(const std::string& xml);
+
+// rig_to_mjcf + compile_mjcf.
+MjModelPtr rig_to_mjmodel(const Rig& rig, const MjcfOptions& options);
+
+}  // namespace physik

@@ -1,0 +1,211 @@
+#include "reference/mujoco_runner.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "physik/control_springs.h"
+#include "physik/damping.h"
+#include "physik/interpolation.h"
+#include "physik/newton_euler.h"
+#include "physik/torsion_springs.h"
+
+namespace physik {
+
+const char* to_string(ReferenceMode mode) {
+  return mode == ReferenceMode::kSameForces ? "same-forces" : "exact-constraints";
+}
+
+namespace {
+
+Vec3 vec_at(const mjtNum* p) { return Vec3(p[0], p[1], p[2]); }
+
+void put(mjtNum* p, const Vec3& v) {
+  p[0] = v.x();
+  p[1] = v.y();
+  p[2] = v.z();
+}
+
+}  // namespace
+
+void set_mujoco_state(const Rig& rig, const SimState& s, const mjModel* m, mjData* d) {
+  mj_resetData(m, d);
+  for (int i = 0; i < rig.nbone; ++i) {
+    const int b = i + 1;
+    const Quat& R = s.frames.orient_world[i];
+    const int p = rig.bone_parent[i];
+    // angular velocity relative to the parent, in the bone's own frame
+    const Vec3 w_rel_local =
+        R.conjugate() * (s.omega_world[i] - (p < 0 ? Vec3::Zero() : s.omega_world[p]));
+    for (int j = m->body_jntadr[b]; j < m->body_jntadr[b] + m->body_jntnum[b]; ++j) {
+      mjtNum* qpos = d->qpos + m->jnt_qposadr[j];
+      mjtNum* qvel = d->qvel + m->jnt_dofadr[j];
+      if (m->jnt_type[j] == mjJNT_FREE) {
+        put(qpos, s.com_world[i]);
+        qpos[3] = R.w(), qpos[4] = R.x(), qpos[5] = R.y(), qpos[6] = R.z();
+        put(qvel, s.vel_world[i]);
+        put(qvel + 3, R.conjugate() * s.omega_world[i]);
+        continue;
+      }
+      const Quat offset = mjcf_joint_offset(rig, i, m->jnt_type[j] == mjJNT_BALL
+                                                        ? JointModel::kBallJoints
+                                                        : JointModel::kRigJoints);
+      const Quat q = (offset.conjugate() * s.pose.bone_local_rotation[i]).normalized();
+      if (m->jnt_type[j] == mjJNT_BALL) {
+        qpos[0] = q.w(), qpos[1] = q.x(), qpos[2] = q.y(), qpos[3] = q.z();
+        put(qvel, w_rel_local);
+      } else if (m->jnt_type[j] == mjJNT_HINGE) {
+        const Vec3 axis = vec_at(m->jnt_axis + 3 * j);
+        qpos[0] = rotation_vector(q).dot(axis);
+        qvel[0] = w_rel_local.dot(axis);
+      }
+    }
+  }
+}
+
+void read_mujoco_state(const Rig& rig, const mjModel* m, const mjData* d, SimState& s) {
+  mjtNum vel6[6];
+  for (int i = 0; i < rig.nbone; ++i) {
+    const int b = i + 1;
+    const mjtNum* q = d->xquat + 4 * b;
+    const Quat R = Quat(q[0], q[1], q[2], q[3]).normalized();
+    const Vec3 com = vec_at(d->xpos + 3 * b);
+    const Vec3 half = R * Vec3(0, 0.5 * rig.bone_length[i], 0);
+    s.frames.orient_world[i] = R;
+    s.frames.head_world[i] = com - half;
+    s.frames.tail_world[i] = com + half;
+    s.com_world[i] = com;
+    // (rotation, translation) of the body frame origin = centre of mass, world axes
+    mj_objectVelocity(m, d, mjOBJ_BODY, b, vel6, 0);
+    s.omega_world[i] = vec_at(vel6);
+    s.vel_world[i] = vec_at(vel6 + 3);
+  }
+  local_rotations_from_world(rig, s.frames, s.pose);
+}
+
+MujocoReference::MujocoReference(const Scene& scene, ReferenceMode mode)
+    : scene_(scene), mode_(mode) {
+  MjcfOptions o;
+  o.joints = joint_model(mode);
+  o.dt = scene.params.dt;
+  m_ = rig_to_mjmodel(scene.rig, o);
+  d_.reset(mj_makeData(m_.get()));
+  reset();
+}
+
+void MujocoReference::reset() {
+  init_state(scene_, s_);  // PhysIK's initial state: pose, velocities, targets
+  set_mujoco_state(scene_.rig, s_, m_.get(), d_.get());
+  mj_step1(m_.get(), d_.get());
+  read_mujoco_state(scene_.rig, m_.get(), d_.get(), s_);
+}
+
+bool MujocoReference::bad_acceleration() const {
+  return d_->warning[mjWARN_BADQACC].number > 0 || d_->warning[mjWARN_BADQVEL].number > 0 ||
+         d_->warning[mjWARN_BADQPOS].number > 0;
+}
+
+StepStats MujocoReference::step() {
+  const Rig& rig = scene_.rig;
+  const EngineParams& p = scene_.params;
+  const mjModel* m = m_.get();
+  mjData* d = d_.get();
+
+  // PhysIK's own force stages on the PhysIK view of MuJoCo's state
+  update_targets(scene_, s_);
+  prepare_bodies(rig, p, s_);
+  apply_damping(rig, p, s_);
+  apply_control_springs(scene_, s_);
+  if (mode_ == ReferenceMode::kSameForces) apply_torsion_springs(rig, p, s_);
+
+  // the angular-velocity factor as a torque, and the external forces into MuJoCo
+  const double torque_per_w = (p.angular_velocity_factor - 1.0) / p.dt;
+  for (int i = 0; i < rig.nbone; ++i) {
+    const Vec3& w = s_.omega_world[i];
+    const Mat3 I = inertia_world(rig, s_.frames.orient_world[i], i);
+    Vec3 torque = s_.torque_world[i] + I * (torque_per_w * w);
+    if (!p.gyroscopic) torque += w.cross(I * w);
+    put(d->xfrc_applied + 6 * (i + 1), s_.force_world[i]);
+    put(d->xfrc_applied + 6 * (i + 1) + 3, torque);
+  }
+  mj_step2(m, d);
+  const int solver_iter = d->solver_iter;
+  mj_step1(m, d);
+  read_mujoco_state(rig, m, d, s_);
+  s_.step += 1;
+  s_.time += p.dt;
+
+  StepStats st;
+  st.passes = solver_iter;
+  st.mismatch = 0.0;
+  st.kinetic_energy = kinetic_energy(rig, s_);
+  std::vector<double> residuals;
+  control_residuals(scene_, s_, residuals);
+  for (double r : residuals) st.max_residual = std::max(st.max_residual, r);
+  st.joint_separation = max_joint_separation(rig, s_.frames);
+  return st;
+}
+
+RunSummary run_mujoco(const Scene& scene, ReferenceMode mode, const StepObserver& observer) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Rig& rig = scene.rig;
+  MujocoReference ref(scene, mode);
+  RunSummary out;
+
+  const double speed_tol = scene.speed_tol();
+  const double energy_bound = scene.divergence_energy();
+  const double mass = rig.total_mass();
+  int last_event = 0;
+  for (const TargetChange& t : scene.schedule) last_event = std::max(last_event, t.step);
+  int rest_run = 0;
+  long total_iter = 0;
+
+  for (int k = 0; k < scene.steps; ++k) {
+    const StepStats st = ref.step();
+    const SimState& s = ref.state();
+    out.steps_run = s.step;
+    total_iter += st.passes;
+    out.max_passes_in_a_step = std::max(out.max_passes_in_a_step, st.passes);
+    out.peak_kinetic_energy = std::max(out.peak_kinetic_energy, st.kinetic_energy);
+    out.max_joint_separation = std::max(out.max_joint_separation, st.joint_separation);
+    out.max_limit_violation_deg =
+        std::max(out.max_limit_violation_deg, rad2deg(max_limit_violation(rig, s.pose)));
+
+    if (ref.bad_acceleration() || !std::isfinite(st.kinetic_energy)) {
+      out.diverged = true;
+      out.divergence_reason = "MuJoCo: non-finite state at step " + std::to_string(s.step);
+    } else if (st.kinetic_energy > energy_bound) {
+      out.diverged = true;
+      out.divergence_reason = "MuJoCo: kinetic energy " + std::to_string(st.kinetic_energy) +
+                              " J passed the bound " + std::to_string(energy_bound) +
+                              " J at step " + std::to_string(s.step);
+    }
+    if (observer) observer(s, st);
+    if (out.diverged) break;
+
+    // the same rest test as run_scene
+    bool moving_target = false;
+    for (int left : s.interp_steps_left) moving_target = moving_target || left > 0;
+    const bool at_rest = !moving_target && s.step > last_event &&
+                         std::sqrt(2.0 * st.kinetic_energy / mass) < speed_tol;
+    rest_run = at_rest ? rest_run + 1 : 0;
+    if (rest_run >= scene.convergence.settle_steps) {
+      if (!out.converged) out.steps_to_converge = s.step - rest_run + 1;
+      out.converged = true;
+      if (scene.convergence.stop_when_converged) break;
+    } else if (rest_run == 0) {
+      out.converged = false;
+      out.steps_to_converge = -1;
+    }
+  }
+
+  control_residuals(scene, ref.state(), out.final_residuals);
+  out.final_kinetic_energy = kinetic_energy(rig, ref.state());
+  out.mean_passes_per_step = out.steps_run ? double(total_iter) / out.steps_run : 0.0;
+  out.final_pose = ref.state().pose;
+  out.final_frames = ref.state().frames;
+  out.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+}  // namespace physik

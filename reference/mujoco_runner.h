@@ -1,0 +1,88 @@
+// The MuJoCo reference run of a scene (DESIGN.md "MuJoCo as the reference").
+//
+// Every step, with the state after the previous step (MuJoCo's mj_step1 has computed positions
+// and velocities):
+//   1. the PhysIK view of MuJoCo's state is built: per bone (body b = bone + 1)
+//        com = xpos[b] (body frame at the centre of mass), R = xquat[b],
+//        head/tail = com -/+ R (0, L/2, 0),  (w, v_com) = mj_objectVelocity(body b, world axes),
+//        pose = local_rotations_from_world(frames)
+//   2. PhysIK's own stages run on that state (no formula is copied here):
+//        update_targets, prepare_bodies, apply_damping, apply_control_springs, and in
+//        same-forces mode apply_torsion_springs
+//   3. the angular-velocity factor f becomes a torque per body,
+//        tau_f = I_world (f - 1) w / dt,
+//      so that MuJoCo's Euler step w <- w + dt I^-1 (tau + tau_f - w x I w) gives
+//      w <- f w + dt alpha, PhysIK's update (integrate.h), exactly for a free body. Both use the
+//      start-of-step w, and both integrate positions with the new velocity (semi-implicit Euler),
+//      so the order of operations matches. In an articulated MuJoCo model tau_f is a generalized
+//      force J^T tau_f filtered by the mass matrix: it damps the joint velocities, which is not the
+//      same as scaling each bone's world w after the joint solve as PhysIK's articulated scheme does.
+//      If params.gyroscopic is off, +w x I w is added too, cancelling MuJoCo's own gyroscopic term.
+//   4. xfrc_applied[b] = (force_world, torque_world): the net force at the centre of mass and the
+//      torque about it, world axes; then mj_step2 (constraint solve, Euler integration) and
+//      mj_step1 for the new state.
+// Modes:
+//   same-forces:        ball joints everywhere, no limits, torsion springs applied as torques;
+//                       only PhysIK's joint-force heuristic differs from MuJoCo's exact dynamics.
+//   exact-constraints:  the rig's joint types and limits (mjcf_export.h), no torsion springs.
+// MuJoCo's limits are soft (solref 0.02 s raised to 2 dt by its refsafe rule, solimp 0.9 0.95
+// 0.001): at rest under a load that would accelerate the joint by a0 (rad/s^2) without the limit,
+// MuJoCo's soft-constraint law a = (1 - d) a0 + d (-b v - k r), k = d / (dmax^2 tau^2), gives a
+// violation r = (1 - d) dmax^2 tau^2 a0 / d^2 = (1 - d) tau^2 a0 once r > 0.001 rad (d = dmax =
+// 0.95), with tau = max(0.02, 2 dt): r = 0.05 x 0.01 s^2 x a0 = 5e-4 s^2 x a0 for dt = 0.05 s.
+#pragma once
+
+#include <string>
+
+#include "physik/engine.h"
+#include "reference/mjcf_export.h"
+
+namespace physik {
+
+enum class ReferenceMode { kSameForces, kExactConstraints };
+const char* to_string(ReferenceMode mode);
+
+// The joint model each mode uses.
+inline JointModel joint_model(ReferenceMode mode) {
+  return mode == ReferenceMode::kSameForces ? JointModel::kBallJoints : JointModel::kRigJoints;
+}
+
+// Set qpos/qvel of a model built by rig_to_mjcf from a PhysIK state (positions, velocities and
+// local rotations in state.pose). Ball joints take the local rotation exactly; hinges take the
+// component of its rotation vector along their axis (exact for one hinge, first order for
+// two or three); welded bones keep their locked angles. Non-root joint velocities are set from the
+// relative angular velocity R_i^T (w_i - w_parent) the same way.
+void set_mujoco_state(const Rig& rig, const SimState& state, const mjModel* m, mjData* d);
+
+// The PhysIK view (frames, com, velocities, pose) of MuJoCo's state; needs mj_step1 or
+// mj_forward to have run. Other fields of `state` are left as they are.
+void read_mujoco_state(const Rig& rig, const mjModel* m, const mjData* d, SimState& state);
+
+// One scene run in MuJoCo, step by step.
+class MujocoReference {
+ public:
+  MujocoReference(const Scene& scene, ReferenceMode mode);
+
+  void reset();        // the scene's initial pose, targets and velocities
+  StepStats step();    // one step (see above); passes = MuJoCo's constraint-solver iterations
+
+  const SimState& state() const { return s_; }
+  const mjModel* model() const { return m_.get(); }
+  mjData* data() { return d_.get(); }
+  ReferenceMode mode() const { return mode_; }
+  bool bad_acceleration() const;  // MuJoCo flagged a non-finite qacc (it then resets itself)
+
+ private:
+  const Scene& scene_;
+  ReferenceMode mode_;
+  MjModelPtr m_;
+  MjDataPtr d_;
+  SimState s_;
+};
+
+// The whole run, with the same convergence and divergence rules as physik::run_scene (a MuJoCo
+// bad-qacc warning counts as divergence).
+RunSummary run_mujoco(const Scene& scene, ReferenceMode mode,
+                      const StepObserver& observer = nullptr);
+
+}  // namespace physik
