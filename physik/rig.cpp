@@ -189,6 +189,18 @@ Rig build_rig(const std::vector<BoneSpec>& specs, const std::string& source,
     if (!std::isfinite(b.radius) || !(b.radius > 0.0)) {
       throw_input_error(source, el, "radius", "radius must be a positive finite number");
     }
+    if (!b.inertia_local.isZero()) {
+      const Vec3& in = b.inertia_local;
+      if (!in.allFinite() || !(in.minCoeff() > 0.0)) {
+        throw_input_error(source, el, "inertia_local", "moments must be positive finite numbers");
+      }
+      // principal moments of a real body obey the triangle inequality
+      if (in.x() + in.y() < in.z() * (1 - 1e-9) || in.y() + in.z() < in.x() * (1 - 1e-9) ||
+          in.z() + in.x() < in.y() * (1 - 1e-9)) {
+        throw_input_error(source, el, "inertia_local",
+                          "moments break the triangle inequality (no real body has them)");
+      }
+    }
   }
 
   Rig rig;
@@ -225,7 +237,8 @@ Rig build_rig(const std::vector<BoneSpec>& specs, const std::string& source,
     rig.bone_length.push_back(len);
     rig.bone_mass.push_back(b.mass);
     rig.bone_radius.push_back(b.radius);
-    rig.bone_inertia_local.push_back(cylinder_inertia(b.mass, b.radius, len));
+    rig.bone_inertia_local.push_back(b.inertia_local.isZero() ? cylinder_inertia(b.mass, b.radius, len)
+                                                              : b.inertia_local);
     rig.bone_limit.push_back(b.limit);
   }
 

@@ -45,6 +45,9 @@ struct BoneSpec {
   std::array<AxisLimit, 3> limit{};          // per local axis x, y, z
   double mass = 1.0;            // kg, total
   double radius = 0.5;          // rig units, radius of the cylinder used for the inertia
+  // optional explicit principal moments about the bone's centre, bone-local x, y, z (kg m^2);
+  // zero (the default) means the cylinder of `radius` (e.g. MuJoCo bodies imported as bones)
+  Vec3 inertia_local = Vec3::Zero();
 };
 
 struct Joint {

@@ -12,7 +12,7 @@ BoneSpec bone_from_json(const Json& b, const JsonContext& ctx, double default_mp
                         double default_radius) {
   ctx.require_object(b, "");
   ctx.only_keys(b, {"name", "parent", "head", "tail", "rest_frame", "roll_deg", "limits_deg",
-                    "mass_per_length", "mass", "radius", "comment"});
+                    "mass_per_length", "mass", "radius", "inertia_local", "comment"});
   BoneSpec s;
   s.name = ctx.string(b, "name");
   const Json& parent = ctx.require(b, "parent");
@@ -82,6 +82,10 @@ BoneSpec bone_from_json(const Json& b, const JsonContext& ctx, double default_mp
   }
   s.radius = ctx.number_or(b, "radius", default_radius);
   if (!(s.radius > 0.0)) ctx.fail("radius", "must be positive");
+  if (b.contains("inertia_local")) {
+    s.inertia_local = ctx.vec3(b, "inertia_local");
+    if (!(s.inertia_local.minCoeff() > 0.0)) ctx.fail("inertia_local", "moments must be positive");
+  }
   return s;
 }
 
@@ -143,6 +147,10 @@ Json rig_to_json(const Rig& rig) {
     if (!lim.empty()) b["limits_deg"] = lim;
     b["mass"] = rig.bone_mass[i];
     b["radius"] = rig.bone_radius[i];
+    // explicit moments only where they are not the cylinder's
+    const Vec3& in = rig.bone_inertia_local[i];
+    const Vec3 cyl = cylinder_inertia(rig.bone_mass[i], rig.bone_radius[i], rig.bone_length[i]);
+    if ((in - cyl).norm() > 1e-12 * cyl.norm()) b["inertia_local"] = {in.x(), in.y(), in.z()};
     bones.push_back(b);
   }
   Json doc;

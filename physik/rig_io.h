@@ -10,7 +10,9 @@
 //      "roll_deg": 0.0,                             Blender roll about the bone (default 0)
 //      "limits_deg": {"x": [min, max], "z": [..]},  absent axis = free, min == max = locked
 //      "mass_per_length": 1.0 | "mass": 1.36,       kg per rig unit, or kg in total
-//      "radius": 0.5}                               rig units, for the cylinder inertia
+//      "radius": 0.5,                               rig units, for the cylinder inertia
+//      "inertia_local": [Ixx, Iyy, Izz]}            optional kg m^2 about the bone's centre,
+//                                                   bone-local axes; replaces the cylinder's
 //   ]
 // }
 #pragma once
