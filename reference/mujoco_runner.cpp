@@ -94,7 +94,13 @@ MujocoReference::MujocoReference(const Scene& scene, ReferenceMode mode)
 }
 
 void MujocoReference::reset() {
-  init_state(scene_, s_);  // PhysIK's initial state: pose, velocities, targets
+  SimState s;
+  init_state(scene_, s);  // PhysIK's initial state: pose, velocities, targets
+  set_state(s);
+}
+
+void MujocoReference::set_state(const SimState& state) {
+  s_ = state;
   set_mujoco_state(scene_.rig, s_, m_.get(), d_.get());
   mj_step1(m_.get(), d_.get());
   read_mujoco_state(scene_.rig, m_.get(), d_.get(), s_);

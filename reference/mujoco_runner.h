@@ -64,6 +64,8 @@ class MujocoReference {
   MujocoReference(const Scene& scene, ReferenceMode mode);
 
   void reset();        // the scene's initial pose, targets and velocities
+  // continue from another state (positions, velocities, pose; targets are taken from it too)
+  void set_state(const SimState& state);
   StepStats step();    // one step (see above); passes = MuJoCo's constraint-solver iterations
 
   const SimState& state() const { return s_; }

@@ -1,0 +1,184 @@
+// Rig -> MJCF: every shipped rig compiles in MuJoCo, with the rig's masses, inertias, rest pose and
+// joint types (reference/mjcf_export.h).
+#include "reference/mjcf_export.h"
+
+#include <filesystem>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "physik/rig_io.h"
+#include "reference/mujoco_runner.h"
+#include "tests/reference/reference_test_util.h"
+
+namespace physik {
+namespace {
+
+std::vector<std::string> shipped_rigs() {
+  std::vector<std::string> out;
+  for (const auto& e : std::filesystem::directory_iterator(test::shipped("rigs"))) {
+    if (e.path().extension() == ".json") out.push_back(e.path().string());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// composite inertia about the total centre of mass, world axes, from per-body mass, centre and
+// world inertia
+struct Composite {
+  double mass = 0.0;
+  Vec3 com = Vec3::Zero();
+  Mat3 inertia = Mat3::Zero();
+};
+
+Composite composite(const std::vector<double>& m, const std::vector<Vec3>& c,
+                    const std::vector<Mat3>& I) {
+  Composite out;
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    out.mass += m[i];
+    out.com += m[i] * c[i];
+  }
+  out.com /= out.mass;
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    const Vec3 r = c[i] - out.com;
+    out.inertia += I[i] + m[i] * (r.squaredNorm() * Mat3::Identity() - r * r.transpose());
+  }
+  return out;
+}
+
+TEST(MjcfExport, EveryShippedRigCompilesWithTheRigsMassAndInertia) {
+  const auto rigs = shipped_rigs();
+  ASSERT_GE(rigs.size(), 4u);
+  for (const std::string& path : rigs) {
+    SCOPED_TRACE(path);
+    const Rig rig = load_rig(path);
+    for (JointModel jm : {JointModel::kRigJoints, JointModel::kBallJoints}) {
+      MjcfOptions o;
+      o.joints = jm;
+      const MjModelPtr m = rig_to_mjmodel(rig, o);
+      ASSERT_TRUE(m);
+      ASSERT_EQ(m->nbody, rig.nbone + 1);
+      EXPECT_NEAR(mj_getTotalmass(m.get()), rig.total_mass(), 1e-12 * rig.total_mass());
+
+      // per body: name, mass, principal inertia, centre at the body origin, unrotated inertia
+      std::vector<double> mass_rig, mass_mj;
+      std::vector<Vec3> com_rig, com_mj;
+      std::vector<Mat3> I_rig, I_mj;
+      const MjDataPtr d(mj_makeData(m.get()));
+      mj_forward(m.get(), d.get());
+      const BoneFrames rest = forward_kinematics(rig, rest_pose(rig));
+      for (int i = 0; i < rig.nbone; ++i) {
+        const int b = i + 1;
+        EXPECT_EQ(mj_name2id(m.get(), mjOBJ_BODY, rig.bone_name[i].c_str()), b);
+        EXPECT_NEAR(m->body_mass[b], rig.bone_mass[i], 1e-14);
+        for (int k = 0; k < 3; ++k) {
+          EXPECT_NEAR(m->body_inertia[3 * b + k], rig.bone_inertia_local[i][k], 1e-14);
+          EXPECT_NEAR(m->body_ipos[3 * b + k], 0.0, 1e-14);
+        }
+        EXPECT_NEAR(std::abs(m->body_iquat[4 * b]), 1.0, 1e-14);
+
+        const Mat3 R_rig = rest.orient_world[i].toRotationMatrix();
+        mass_rig.push_back(rig.bone_mass[i]);
+        com_rig.push_back(0.5 * (rest.head_world[i] + rest.tail_world[i]));
+        I_rig.push_back(R_rig * rig.bone_inertia_local[i].asDiagonal() * R_rig.transpose());
+        Mat3 R_mj;
+        for (int r = 0; r < 3; ++r) {
+          for (int c = 0; c < 3; ++c) R_mj(r, c) = d->ximat[9 * b + 3 * r + c];
+        }
+        const Vec3 diag(m->body_inertia[3 * b], m->body_inertia[3 * b + 1], m->body_inertia[3 * b + 2]);
+        mass_mj.push_back(m->body_mass[b]);
+        com_mj.push_back(Vec3(d->xipos[3 * b], d->xipos[3 * b + 1], d->xipos[3 * b + 2]));
+        I_mj.push_back(R_mj * diag.asDiagonal() * R_mj.transpose());
+      }
+      // the whole rig at rest: total mass, centre of mass and inertia tensor about it
+      const Composite a = composite(mass_rig, com_rig, I_rig);
+      const Composite b = composite(mass_mj, com_mj, I_mj);
+      EXPECT_NEAR(a.mass, b.mass, 1e-12);
+      EXPECT_LT((a.com - b.com).norm(), 1e-12);
+      EXPECT_LT((a.inertia - b.inertia).cwiseAbs().maxCoeff(), 1e-11 * a.inertia.norm());
+    }
+  }
+}
+
+TEST(MjcfExport, RestPoseOfTheModelIsTheRigsRestPose) {
+  for (const std::string& path : shipped_rigs()) {
+    SCOPED_TRACE(path);
+    const Rig rig = load_rig(path);
+    const BoneFrames rest = forward_kinematics(rig, rest_pose(rig));
+    for (JointModel jm : {JointModel::kRigJoints, JointModel::kBallJoints}) {
+      const MjModelPtr m = rig_to_mjmodel(rig, MjcfOptions{jm, 0.05});
+      const MjDataPtr d(mj_makeData(m.get()));
+      mj_forward(m.get(), d.get());  // qpos0
+      Scene scene = test::scene_on(rig, preset_params("original"), 1);
+      SimState s;
+      init_state(scene, s);
+      read_mujoco_state(rig, m.get(), d.get(), s);
+      for (int i = 0; i < rig.nbone; ++i) {
+        EXPECT_LT((s.frames.head_world[i] - rest.head_world[i]).norm(), 1e-12) << rig.bone_name[i];
+        EXPECT_LT((s.frames.tail_world[i] - rest.tail_world[i]).norm(), 1e-12) << rig.bone_name[i];
+      }
+      EXPECT_LT(max_joint_separation(rig, s.frames), 1e-12);
+    }
+  }
+}
+
+TEST(MjcfExport, JointTypesFollowTheDegreesOfFreedom) {
+  const Rig rig = load_rig(test::shipped("rigs/pinhead.json"));
+  const MjModelPtr m = rig_to_mjmodel(rig, MjcfOptions{});
+  const auto joints_of = [&](const std::string& bone) {
+    std::vector<int> types;
+    const int b = rig.find_bone(bone) + 1;
+    for (int j = m->body_jntadr[b]; j < m->body_jntadr[b] + m->body_jntnum[b]; ++j) {
+      types.push_back(m->jnt_type[j]);
+    }
+    return types;
+  };
+  EXPECT_EQ(joints_of("head"), std::vector<int>{mjJNT_FREE});             // the root
+  EXPECT_EQ(joints_of("thigh.L"), std::vector<int>{mjJNT_BALL});          // 3 DOF, free
+  EXPECT_EQ(joints_of("hip.L"), std::vector<int>{});                      // 0 DOF: welded
+  EXPECT_EQ(joints_of("torso"), (std::vector<int>{mjJNT_HINGE, mjJNT_HINGE}));  // 2 DOF
+  ASSERT_EQ(joints_of("forearm.L"), std::vector<int>{mjJNT_HINGE});       // 1 DOF
+  // the forearm's hinge turns about its free local z axis within [-160, 0] deg
+  const int j = m->body_jntadr[rig.find_bone("forearm.L") + 1];
+  EXPECT_EQ(m->jnt_axis[3 * j + 2], 1.0);
+  EXPECT_TRUE(m->jnt_limited[j]);
+  EXPECT_NEAR(m->jnt_range[2 * j], deg2rad(-160.0), 1e-12);
+  EXPECT_NEAR(m->jnt_range[2 * j + 1], 0.0, 1e-12);
+  // 6 (root) + 2 (torso) + 2 x (3 thigh + 1 shin + 3 foot) + 2 x (3 upper arm + 1 forearm + 3 hand)
+  EXPECT_EQ(m->nv, 6 + 2 + 2 * 7 + 2 * 7);
+
+  // ball joints everywhere in the same-forces model: 6 + 3 per non-root bone, no limits
+  const MjModelPtr mb = rig_to_mjmodel(rig, MjcfOptions{JointModel::kBallJoints, 0.05});
+  EXPECT_EQ(mb->nv, 6 + 3 * (rig.nbone - 1));
+  for (int k = 0; k < mb->njnt; ++k) EXPECT_FALSE(mb->jnt_limited[k]);
+
+  // a limited 3-DOF bone (hand rig's first phalanges) becomes three limited hinges
+  const Rig hand = load_rig(test::shipped("rigs/hand.json"));
+  const MjModelPtr mh = rig_to_mjmodel(hand, MjcfOptions{});
+  const int b = hand.find_bone("index.1") + 1;
+  EXPECT_EQ(mh->body_jntnum[b], 3);
+}
+
+TEST(MjcfExport, PhysicsOptionsAreTheEnginesOwn) {
+  const Rig rig = load_rig(test::shipped("rigs/chain3.json"));
+  const MjModelPtr m = rig_to_mjmodel(rig, MjcfOptions{JointModel::kRigJoints, 0.02});
+  EXPECT_EQ(m->opt.timestep, 0.02);
+  EXPECT_EQ(m->opt.integrator, mjINT_EULER);
+  EXPECT_EQ(m->opt.gravity[0], 0.0);
+  EXPECT_EQ(m->opt.gravity[1], 0.0);
+  EXPECT_EQ(m->opt.gravity[2], 0.0);
+  EXPECT_TRUE(m->opt.disableflags & mjDSBL_CONTACT);
+  for (int g = 0; g < m->ngeom; ++g) {
+    EXPECT_EQ(m->geom_contype[g], 0);
+    EXPECT_EQ(m->geom_conaffinity[g], 0);
+  }
+}
+
+TEST(MjcfExport, BadMjcfIsReportedWithMujocosMessage) {
+  EXPECT_THROW(compile_mjcf("<mujoco><worldbody><body><joint type=\"nonsense\"/></body></worldbody></mujoco>"),
+               std::runtime_error);
+  EXPECT_THROW(compile_mjcf("not xml"), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace physik

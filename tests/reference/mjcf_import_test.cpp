@@ -1,0 +1,196 @@
+// MJCF -> rig through MuJoCo: FK of the rig matches MuJoCo's xpos in random configurations, masses
+// and inertias carry over, hinge ranges become per-axis limits, bad files are InputErrors.
+#include "reference/mjcf_import.h"
+
+#include <cstdio>
+#include <fstream>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "physik/errors.h"
+
+namespace physik {
+namespace {
+
+// A torso (free joint) with a head, two arms (shoulder ball / hinge elbow) and a leg chain with
+// hinges about x, y and z, one body welded, one zero-offset child; capsules give the leaf tips.
+const char* kModel = R"(
+<mujoco model="testman">
+  <compiler angle="degree"/>
+  <worldbody>
+    <geom name="floor" type="plane" size="5 5 .1"/>
+    <body name="torso" pos="0 0 1.5">
+      <freejoint/>
+      <geom type="capsule" fromto="0 0 -0.3 0 0 0.3" size="0.1"/>
+      <body name="head" pos="0 0 0.4">
+        <geom type="sphere" size="0.1" pos="0 0 0.1"/>
+      </body>
+      <body name="upper_arm" pos="0.2 0 0.25" euler="0 0 10">
+        <joint name="shoulder" type="ball" range="0 60"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.04"/>
+        <body name="forearm" pos="0.3 0 0">
+          <joint name="elbow" type="hinge" axis="0 1 0" range="-150 0"/>
+          <geom type="capsule" fromto="0 0 0 0.25 0 0" size="0.035" mass="0.7"/>
+        </body>
+      </body>
+      <body name="thigh" pos="0 -0.1 -0.35">
+        <joint name="hip_x" type="hinge" axis="1 0 0" range="-30 20"/>
+        <joint name="hip_y" type="hinge" axis="0 1 0" range="-90 45"/>
+        <joint name="hip_z" type="hinge" axis="0 0 1" range="-10 60"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.4" size="0.06"/>
+        <body name="shin" pos="0 0 -0.45">
+          <joint name="knee" type="hinge" axis="0 -1 0" range="-160 -2"/>
+          <geom type="capsule" fromto="0 0 0 0 0 -0.4" size="0.05"/>
+          <body name="shin_twist" pos="0 0 0">
+            <joint name="ankle_twist" type="hinge" axis="0 0 1"/>
+            <body name="foot" pos="0 0 -0.45">
+              <geom type="box" size="0.05 0.12 0.03" pos="0 0.05 0"/>
+            </body>
+          </body>
+        </body>
+      </body>
+    </body>
+    <body name="ball" pos="2 0 0.2">
+      <freejoint/>
+      <geom type="sphere" size="0.1"/>
+    </body>
+  </worldbody>
+</mujoco>
+)";
+
+std::string write_temp(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(MjcfImport, BodiesBecomeBonesAndFkMatchesMujocoXpos) {
+  const std::string path = write_temp("testman.xml", kModel);
+  const MjcfRig mr = load_mjcf(path);
+  const Rig& rig = mr.rig();
+  EXPECT_EQ(rig.name, "testman");
+  ASSERT_EQ(mr.report.skipped_bodies.size(), 1u);
+  EXPECT_EQ(mr.report.skipped_bodies[0], "ball");
+  EXPECT_EQ(mr.report.nbody_used, 8);
+  // torso has children at 3 offsets + its own capsule is not a leaf: synthetic root "torso",
+  // torso>head, torso>upper_arm, torso>thigh, head, upper_arm, forearm, thigh, shin, foot
+  EXPECT_TRUE(mr.pivots.synthetic_root);
+  for (const char* n : {"torso", "torso>head", "torso>upper_arm", "torso>thigh", "head",
+                        "upper_arm", "forearm", "thigh", "shin", "foot"}) {
+    EXPECT_GE(rig.find_bone(n), 0) << n;
+  }
+  EXPECT_EQ(rig.nbone, 10);
+  // the shin's bone ends at the shin_twist/foot pivot chain: foot hangs from shin
+  EXPECT_EQ(rig.bone_parent[rig.find_bone("foot")], rig.find_bone("shin"));
+
+  // random configurations: FK heads (and the synthetic root's tail) at every body's xpos
+  MjModelPtr m(mj_loadXML(path.c_str(), nullptr, nullptr, 0));
+  ASSERT_TRUE(m);
+  MjDataPtr d(mj_makeData(m.get()));
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    mj_resetData(m.get(), d.get());
+    for (int i = 0; i < m->nq; ++i) d->qpos[i] += u(rng);
+    // normalise the quaternions of the free and ball joints
+    for (int j = 0; j < m->njnt; ++j) {
+      const int a = m->jnt_qposadr[j] + (m->jnt_type[j] == mjJNT_FREE ? 3 : 0);
+      if (m->jnt_type[j] == mjJNT_FREE || m->jnt_type[j] == mjJNT_BALL) mju_normalize4(d->qpos + a);
+    }
+    mj_kinematics(m.get(), d.get());
+    const Pose pose = pose_from_mujoco(mr, d.get());
+    const BoneFrames fk = forward_kinematics(rig, pose);
+    double worst = 0.0;
+    for (int b = 0; b < rig.nbone; ++b) {
+      const int body = mr.node_body[mr.pivots.bone_node[b]];
+      const Vec3 xpos(d->xpos[3 * body], d->xpos[3 * body + 1], d->xpos[3 * body + 2]);
+      const Vec3& p = (b == 0 && mr.pivots.synthetic_root) ? fk.tail_world[b] : fk.head_world[b];
+      worst = std::max(worst, (p - xpos).norm());
+      // and the tail at the child body it points to
+      const int tn = mr.pivots.bone_tail_node[b];
+      if (tn >= 0) {
+        const int cb = mr.node_body[tn];
+        worst = std::max(worst, (fk.tail_world[b] - Vec3(d->xpos[3 * cb], d->xpos[3 * cb + 1],
+                                                         d->xpos[3 * cb + 2])).norm());
+      }
+    }
+    EXPECT_LT(worst, 1e-9) << "trial " << trial;
+  }
+}
+
+TEST(MjcfImport, MassInertiaAndLimitsCarryOver) {
+  const MjcfRig mr = load_mjcf(write_temp("testman2.xml", kModel));
+  const Rig& rig = mr.rig();
+  MjModelPtr m(mj_loadXML((::testing::TempDir() + "testman2.xml").c_str(), nullptr, nullptr, 0));
+  // masses: the subtree's total, and the forearm body (one bone) exactly
+  EXPECT_NEAR(rig.total_mass(), mr.report.model_mass, 1e-12);
+  EXPECT_NEAR(mr.report.rig_mass, mr.report.model_mass, 1e-12);
+  const int forearm_body = mj_name2id(m.get(), mjOBJ_BODY, "forearm");
+  const int fa = rig.find_bone("forearm");
+  EXPECT_NEAR(rig.bone_mass[fa], m->body_mass[forearm_body], 1e-12);
+  EXPECT_NEAR(m->body_mass[forearm_body], 0.7, 1e-12);
+  // the forearm capsule lies along the bone (x in the body frame): MuJoCo's principal moments
+  // are {axial, transverse, transverse}; the bone has the axial one about its local y
+  Vec3 mi(m->body_inertia[3 * forearm_body], m->body_inertia[3 * forearm_body + 1],
+          m->body_inertia[3 * forearm_body + 2]);
+  std::sort(mi.data(), mi.data() + 3);  // axial is the smallest for a long capsule
+  EXPECT_NEAR(rig.bone_inertia_local[fa].y(), mi[0], 1e-9);
+  EXPECT_NEAR(rig.bone_inertia_local[fa].x(), mi[2], 1e-9);
+  EXPECT_NEAR(rig.bone_inertia_local[fa].z(), mi[2], 1e-9);
+  // the shared torso body is split over four bones
+  const int torso_body = mj_name2id(m.get(), mjOBJ_BODY, "torso");
+  EXPECT_NEAR(rig.bone_mass[rig.find_bone("torso>head")], m->body_mass[torso_body] / 4, 1e-12);
+
+  // elbow: hinge about body y, perpendicular to the bone (along body x) -> local x, [-150, 0]
+  EXPECT_TRUE(rig.bone_limit[fa][0].limited);
+  EXPECT_NEAR(rad2deg(rig.bone_limit[fa][0].min), -150, 1e-9);
+  EXPECT_NEAR(rad2deg(rig.bone_limit[fa][0].max), 0, 1e-9);
+  EXPECT_TRUE(rig.bone_limit[fa][1].locked());
+  EXPECT_TRUE(rig.bone_limit[fa][2].locked());
+  EXPECT_EQ(rig.bone_dof(fa), 1);
+  // the local x axis of the forearm is the hinge axis in the world
+  const Vec3 x_world = rig.bone_rest_orient_world[fa] * Vec3::UnitX();
+  MjDataPtr d(mj_makeData(m.get()));
+  mj_kinematics(m.get(), d.get());
+  const mjtNum* xm = d->xmat + 9 * forearm_body;
+  EXPECT_NEAR(std::abs(x_world.dot(Vec3(xm[1], xm[4], xm[7]))), 1.0, 1e-9);
+  // thigh: three hinges, the bone along -z: hip_z maps to local y (anti-parallel: range flipped)
+  const int th = rig.find_bone("thigh");
+  EXPECT_EQ(rig.bone_dof(th), 3);
+  EXPECT_NEAR(rad2deg(rig.bone_limit[th][1].min), -60, 1e-9);
+  EXPECT_NEAR(rad2deg(rig.bone_limit[th][1].max), 10, 1e-9);
+  // knee: hinge about -y of the body, bone along -z
+  const int sh = rig.find_bone("shin");
+  EXPECT_EQ(rig.bone_dof(sh), 1);
+  // shoulder ball limited to a 60 deg cone -> every axis [-60, 60]
+  const int ua = rig.find_bone("upper_arm");
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(rad2deg(rig.bone_limit[ua][a].max), 60, 1e-9);
+  // the foot hangs off a zero-offset twist body: the foot bone follows the foot body, welded
+  EXPECT_EQ(rig.bone_dof(rig.find_bone("foot")), 0);
+  EXPECT_EQ(mr.report.slide_joints_dropped, 0);
+}
+
+TEST(MjcfImport, RootBodyCanBeChosenAndBadInputIsAnInputError) {
+  const std::string path = write_temp("testman3.xml", kModel);
+  MjcfImportOptions o;
+  o.root_body = "ball";
+  const MjcfRig ball = load_mjcf(path, o);
+  EXPECT_EQ(ball.rig().nbone, 1);
+  o.root_body = "nobody";
+  EXPECT_THROW(load_mjcf(path, o), InputError);
+  const std::string bad = write_temp("bad.xml", "<mujoco><worldbody><body></worldbody></mujoco>");
+  try {
+    load_mjcf(bad);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.xml: MuJoCo cannot load it"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(load_mjcf(::testing::TempDir() + "missing.xml"), InputError);
+  const std::string empty = write_temp("empty.xml", "<mujoco><worldbody/></mujoco>");
+  EXPECT_THROW(load_mjcf(empty), InputError);
+}
+
+}  // namespace
+}  // namespace physik

@@ -1,0 +1,138 @@
+// The MuJoCo reference runner (reference/mujoco_runner.h): with no joints both engines integrate
+// the same equations, so they must agree to round-off; with joints, MuJoCo's limits hold up to the
+// soft-constraint slack the header states.
+#include "reference/mujoco_runner.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "physik/rig_io.h"
+#include "tests/reference/reference_test_util.h"
+
+namespace physik {
+namespace {
+
+// one free rod of length 1.5 along +Z, its tail pulled sideways and up by one spring
+Scene free_rod_scene(SpringLaw law) {
+  BoneSpec b;
+  b.name = "rod";
+  b.head_world = Vec3(0.2, -0.1, 0.0);
+  b.tail_world = Vec3(0.2, -0.1, 1.5);
+  b.rest_frame_world = rest_frame_from_roll(b.head_world, b.tail_world, 0.3);
+  b.mass = 1.5;
+  b.radius = 0.5;
+  const Rig rig = build_rig({b}, "<test>", "rod");
+  Scene s = test::scene_on(rig, preset_params("original"), 300);  // damping 3, w x 0.5, gyro on
+  s.control_points.push_back(test::pull(0, 0.8, Vec3(1.3, 0.7, 1.9), 10.0, law));
+  s.schedule.push_back(TargetChange{150, 0, Vec3(-0.8, 0.4, 0.5)});  // a second jump mid-run
+  return s;
+}
+
+void expect_same_trajectory(const Scene& scene) {
+  SimState p;
+  init_state(scene, p);
+  MujocoReference ref(scene, ReferenceMode::kSameForces);
+  double worst_pos = 0.0, worst_vel = 0.0, travel = 0.0;
+  for (int k = 0; k < scene.steps; ++k) {
+    step(scene, p);
+    ref.step();
+    const SimState& m = ref.state();
+    worst_pos = std::max({worst_pos, (p.frames.head_world[0] - m.frames.head_world[0]).norm(),
+                          (p.frames.tail_world[0] - m.frames.tail_world[0]).norm()});
+    worst_vel = std::max({worst_vel, (p.vel_world[0] - m.vel_world[0]).norm(),
+                          (p.omega_world[0] - m.omega_world[0]).norm()});
+    travel = std::max(travel, (p.frames.tail_world[0] - Vec3(0.2, -0.1, 1.5)).norm());
+  }
+  EXPECT_LT(worst_pos, 1e-9);
+  EXPECT_LT(worst_vel, 1e-9);
+  EXPECT_GT(travel, 0.5);  // the rod really moved (and turned: the spring acts off its centre)
+}
+
+TEST(MujocoReference, FreeRodWithOneSpringFollowsTheSameTrajectory) {
+  expect_same_trajectory(free_rod_scene(SpringLaw::kLinear));
+  expect_same_trajectory(free_rod_scene(SpringLaw::kCapped));
+}
+
+TEST(MujocoReference, FreeRodWithoutGyroscopicTermStillMatches) {
+  Scene s = free_rod_scene(SpringLaw::kLinear);
+  s.params.gyroscopic = false;  // MuJoCo's own w x I w is cancelled by an equal torque
+  expect_same_trajectory(s);
+}
+
+TEST(MujocoReference, AngularVelocityFactorAsATorqueHalvesASpinningRod) {
+  // no forces: w_{k+1} = f w_k exactly, as PhysIK's integrator does (spin about the rod's axis,
+  // a principal axis, so the gyroscopic term is zero)
+  Scene s = free_rod_scene(SpringLaw::kLinear);
+  s.control_points.clear();
+  s.schedule.clear();
+  s.params.damping = 0.0;
+  SimState init;
+  init_state(s, init);
+  MujocoReference ref(s, ReferenceMode::kSameForces);
+  const Vec3 axis = init.frames.orient_world[0] * Vec3(0, 1, 0);
+  init.omega_world[0] = 2.0 * axis;
+  ref.set_state(init);
+  ASSERT_NEAR(ref.state().omega_world[0].dot(axis), 2.0, 1e-14);
+  for (int k = 1; k <= 5; ++k) {
+    ref.step();
+    EXPECT_NEAR(ref.state().omega_world[0].dot(axis), 2.0 * std::pow(0.5, k), 1e-12);
+  }
+}
+
+TEST(MujocoReference, ExactConstraintsKeepTheHingeInRangeUpToTheSoftLimitSlack) {
+  // elbow: the forearm may bend 0..90 deg one way (x in [-90, 0] deg); its tip is pulled hard the
+  // other way while the upper arm is held by two springs at rest
+  const Rig rig = load_rig(test::shipped("rigs/elbow.json"));
+  Scene s = test::scene_on(rig, preset_params("original"), 400);
+  s.control_points.push_back(test::pull(0, 0.0, Vec3(0, 0, 0), 30.0));
+  s.control_points.push_back(test::pull(0, 1.0, Vec3(0, 0, 2), 30.0));
+  s.control_points.push_back(test::pull(1, 1.0, Vec3(0, -2.0, 2.5), 30.0));  // toward +x rotation
+  MujocoReference ref(s, ReferenceMode::kExactConstraints);
+  const mjModel* m = ref.model();
+  ASSERT_EQ(m->njnt, 2);  // free root + the elbow hinge
+  const int j = 1, qa = m->jnt_qposadr[j], va = m->jnt_dofadr[j];
+  const double hi = m->jnt_range[2 * j + 1];
+  double worst = 0.0, worst_load = 0.0;
+  for (int k = 0; k < s.steps; ++k) {
+    ref.step();
+    worst = std::max(worst, ref.data()->qpos[qa] - hi);
+    worst_load = std::max(worst_load, ref.data()->qacc_smooth[va]);
+  }
+  // the load drives the hinge past its limit: it is pressed against it, and held there softly
+  const double violation = ref.data()->qpos[qa] - hi;
+  const double a0 = ref.data()->qacc_smooth[va];  // unconstrained acceleration of the hinge
+  EXPECT_GT(a0, 1.0);
+  EXPECT_GT(violation, 0.0);
+  // at rest: r = (1 - d) tau^2 a0 with d = 0.95, tau = 2 dt (mujoco_runner.h); MuJoCo's
+  // regularizer uses an approximate diagonal, so allow 25%
+  const double tau = 2.0 * s.params.dt;
+  const double predicted = 0.05 * tau * tau * a0;
+  EXPECT_NEAR(violation, predicted, 0.25 * predicted);
+  // over the run, transients included
+  EXPECT_LT(worst, 2.0 * 0.05 * tau * tau * worst_load);
+  RecordProperty("final_violation_deg", std::to_string(rad2deg(violation)));
+  RecordProperty("predicted_violation_deg", std::to_string(rad2deg(predicted)));
+  RecordProperty("worst_violation_deg", std::to_string(rad2deg(worst)));
+  std::cout << "elbow limit: final violation " << rad2deg(violation) << " deg (predicted "
+            << rad2deg(predicted) << " deg, a0 " << a0 << " rad/s^2), worst over the run "
+            << rad2deg(worst) << " deg\n";
+
+  // the same pull in same-forces mode (torsion springs) bends much further past the limit
+  const RunSummary soft = run_mujoco(s, ReferenceMode::kSameForces);
+  EXPECT_GT(soft.max_limit_violation_deg, 5.0 * rad2deg(worst));
+}
+
+TEST(MujocoReference, RunReportsConvergenceLikeTheEngine) {
+  Scene s = free_rod_scene(SpringLaw::kCapped);
+  s.steps = 600;
+  const RunSummary a = run_scene(s);
+  const RunSummary b = run_mujoco(s, ReferenceMode::kSameForces);
+  ASSERT_TRUE(a.converged);
+  EXPECT_EQ(a.steps_to_converge, b.steps_to_converge);
+  EXPECT_EQ(a.steps_run, b.steps_run);
+  EXPECT_FALSE(b.diverged);
+}
+
+}  // namespace
+}  // namespace physik
