@@ -40,5 +40,19 @@ expect_in "zero-length message" "$tmp/err" "zero.json: bones[0] 'a': field 'tail
 check "missing file" 2 "$bin" rig info "$tmp/none.json"
 expect_in "missing file message" "$tmp/err" "none.json: cannot open"
 
+# MuJoCo reference (issue 4): export-mjcf prints MJCF that MuJoCo's own tools load; simulate --reference
+check "export-mjcf help" 0 "$bin" export-mjcf --help
+check "export-mjcf" 0 "$bin" export-mjcf "$src/models/rigs/pinhead.json" --out "$tmp/pinhead.xml"
+expect_in "export-mjcf free root" "$tmp/pinhead.xml" 'type="free"'
+if command -v mujoco-compile >/dev/null; then
+  check "mujoco-compile loads it" 0 mujoco-compile "$tmp/pinhead.xml" "$tmp/pinhead.mjb"
+fi
+check "export-mjcf bad rig" 2 "$bin" export-mjcf "$tmp/zero.json"
+check "export-mjcf bad joints" 2 "$bin" export-mjcf "$src/models/rigs/pinhead.json" --joints hinge
+check "simulate bad reference" 2 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --reference bullet --out "$tmp/ref"
+check "simulate reference" 0 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --steps 20 --quiet --reference mujoco:exact-constraints --out "$tmp/ref"
+expect_in "comparison.json" "$tmp/ref/comparison.json" '"final_pose_gap"'
+expect_in "mujoco csv header" "$tmp/ref/mujoco_trajectory.csv" "step,time,kinetic_energy,passes,joint_mismatch,joint_separation,residual_0"
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]
