@@ -134,7 +134,7 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
   JsonContext top{source, ""};
   top.require_object(doc, "");
   top.only_keys(doc, {"name", "comment", "rig", "params", "control_points", "schedule", "steps",
-                      "convergence", "initial_pose"});
+                      "convergence", "initial_pose", "initial_velocity"});
   Scene s;
   s.file = source;
 
@@ -235,6 +235,7 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
       }
     }
   }
+  if (doc.contains("initial_velocity")) s.initial_velocity_world = top.vec3(doc, "initial_velocity");
   return s;
 }
 
@@ -279,7 +280,9 @@ Json scene_to_json(const Scene& s) {
             {"settle_steps", s.convergence.settle_steps},
             {"stop_when_converged", s.convergence.stop_when_converged},
             {"divergence_energy", s.convergence.divergence_energy}}},
-          {"initial_pose", {{"root_head", {r.x(), r.y(), r.z()}}, {"rotation_deg", rot}}}};
+          {"initial_pose", {{"root_head", {r.x(), r.y(), r.z()}}, {"rotation_deg", rot}}},
+          {"initial_velocity",
+           {s.initial_velocity_world.x(), s.initial_velocity_world.y(), s.initial_velocity_world.z()}}};
 }
 
 }  // namespace physik

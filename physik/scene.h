@@ -53,6 +53,7 @@ struct Scene {
   int steps = 200;
   ConvergenceParams convergence;
   Pose initial_pose;
+  Vec3 initial_velocity_world = Vec3::Zero();  // rig units/s, a rigid translation of every bone
 
   double residual_tol() const;
   double speed_tol() const;

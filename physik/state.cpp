@@ -11,7 +11,7 @@ void init_state(const Scene& scene, SimState& s) {
   forward_kinematics(rig, scene.initial_pose, s.frames);
   s.com_world.resize(n);
   for (int i = 0; i < n; ++i) s.com_world[i] = 0.5 * (s.frames.head_world[i] + s.frames.tail_world[i]);
-  s.vel_world.assign(n, Vec3::Zero());
+  s.vel_world.assign(n, scene.initial_velocity_world);
   s.omega_world.assign(n, Vec3::Zero());
   s.force_world.assign(n, Vec3::Zero());
   s.torque_world.assign(n, Vec3::Zero());

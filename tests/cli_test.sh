@@ -40,6 +40,24 @@ expect_in "zero-length message" "$tmp/err" "zero.json: bones[0] 'a': field 'tail
 check "missing file" 2 "$bin" rig info "$tmp/none.json"
 expect_in "missing file message" "$tmp/err" "none.json: cannot open"
 
+# simulate: success, bad scenes (exit 2), a diverged run (exit 3)
+check "simulate help" 0 "$bin" simulate --help
+check "simulate" 0 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --out "$tmp/sim" --steps 50 --quiet
+expect_in "simulate summary" "$tmp/sim/summary.json" '"mean_passes_per_step"'
+expect_in "simulate csv" "$tmp/sim/trajectory.csv" 'step,time,kinetic_energy,passes,joint_mismatch,joint_separation,residual_0'
+check "simulate paper damping diverges" 3 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --out "$tmp/div" --set damping=20 --quiet
+expect_in "diverged message" "$tmp/err" "diverged"
+expect_in "diverged summary" "$tmp/div/summary.json" '"diverged": true'
+printf '{"rig": "%s/models/rigs/elbow.json", "control_points": [{"bone": "wrist", "target": [0,0,1]}]}' "$src" > "$tmp/s1.json"
+check "simulate unknown bone" 2 "$bin" simulate "$tmp/s1.json" --out "$tmp/x"
+expect_in "unknown bone message" "$tmp/err" "s1.json: control_points[0]: field 'bone': unknown bone 'wrist'"
+printf '{"rig": "%s/models/rigs/elbow.json", "params": {"dt": -1}}' "$src" > "$tmp/s2.json"
+check "simulate negative dt" 2 "$bin" simulate "$tmp/s2.json" --out "$tmp/x"
+expect_in "negative dt message" "$tmp/err" "s2.json: params: field 'dt'"
+printf '{"rig": "nowhere.json"}' > "$tmp/s3.json"
+check "simulate missing rig" 2 "$bin" simulate "$tmp/s3.json" --out "$tmp/x"
+check "simulate bad override" 2 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --out "$tmp/x" --set nonsense=1
+
 # MuJoCo reference (issue 4): export-mjcf prints MJCF that MuJoCo's own tools load; simulate --reference
 check "export-mjcf help" 0 "$bin" export-mjcf --help
 check "export-mjcf" 0 "$bin" export-mjcf "$src/models/rigs/pinhead.json" --out "$tmp/pinhead.xml"

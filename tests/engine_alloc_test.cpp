@@ -1,0 +1,46 @@
+// The per-step path allocates nothing: count global allocations around step().
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include <gtest/gtest.h>
+
+#include "physik/engine.h"
+#include "tests/test_util.h"
+
+namespace {
+std::atomic<bool> g_counting{false};
+std::atomic<long> g_allocations{0};
+}  // namespace
+
+void* operator new(std::size_t n) {
+  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1);
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace physik {
+namespace {
+
+TEST(EngineAllocations, StepAllocatesNothing) {
+  for (const char* integration : {"articulated", "free-rods"}) {
+    Scene scene = load_scene(test::model_path("scenes/pinhead_two_hands.json"));
+    scene.params.integration = std::string(integration) == "articulated" ? Integration::kArticulated
+                                                                         : Integration::kFreeRods;
+    scene.params.interpolation = Interpolation::kPolarCom;
+    scene.schedule.push_back({20, 0, Vec3(1.0, -1.0, 0.5)});
+    SimState s;
+    init_state(scene, s);
+    step(scene, s);  // warm up
+    g_allocations = 0;
+    g_counting = true;
+    for (int n = 0; n < 100; ++n) step(scene, s);
+    g_counting = false;
+    EXPECT_EQ(g_allocations.load(), 0) << integration;
+  }
+}
+
+}  // namespace
+}  // namespace physik

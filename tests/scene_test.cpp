@@ -1,0 +1,143 @@
+// Scene files: presets, overrides, and every bad-scene case with its error.
+#include "physik/scene.h"
+
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "physik/errors.h"
+#include "tests/test_util.h"
+
+namespace physik {
+namespace {
+
+std::string rig_dir() { return test::model_path("rigs"); }
+
+Scene parse(const std::string& text) {
+  return scene_from_json(parse_json_text(text, "bad_scene.json"), "bad_scene.json", rig_dir());
+}
+
+void expect_error(const std::string& text, std::initializer_list<const char*> fragments) {
+  try {
+    parse(text);
+    FAIL() << "no error for " << text;
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.rfind("bad_scene.json: ", 0), 0u) << msg;
+    for (const char* f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << msg << " lacks " << f;
+  }
+}
+
+std::string with_cp(const std::string& cp, const std::string& params = "{}") {
+  return R"({"rig": "elbow.json", "params": )" + params + R"(, "control_points": [)" + cp + "]}";
+}
+
+TEST(Scene, PresetsAndOverrides) {
+  const Scene a = parse(with_cp(R"({"bone": "forearm", "target": [0, 1, 3]})", R"({"preset": "paper"})"));
+  EXPECT_EQ(a.params.damping, 20.0);
+  EXPECT_EQ(a.params.dt, 0.05);
+  EXPECT_EQ(a.params.joint_eps, 1e-3);
+  EXPECT_EQ(a.control_points[0].k, 30.0);  // the paper's k is the control-point default
+  const Scene b = parse(with_cp(R"({"bone": "forearm", "target": [0, 1, 3], "k": 5})",
+                                R"({"damping": 2.5, "integration": "free-rods"})"));
+  EXPECT_EQ(b.params.preset, std::string(kDefaultPreset));
+  EXPECT_EQ(b.params.damping, 2.5);
+  EXPECT_EQ(b.params.integration, Integration::kFreeRods);
+  EXPECT_EQ(b.control_points[0].k, 5.0);
+  // round trip through JSON
+  const Scene c = scene_from_json(scene_to_json(b), "rt.json", "/");
+  EXPECT_EQ(c.params.damping, 2.5);
+  EXPECT_EQ(c.control_points[0].target_world, b.control_points[0].target_world);
+}
+
+TEST(Scene, ShippedScenesLoad) {
+  int n = 0;
+  for (const auto& e : std::filesystem::directory_iterator(test::model_path("scenes"))) {
+    if (e.path().extension() != ".json") continue;
+    EXPECT_NO_THROW(load_scene(e.path().string())) << e.path();
+    ++n;
+  }
+  EXPECT_GT(n, 0);
+}
+
+TEST(SceneInput, UnknownBone) {
+  expect_error(with_cp(R"({"bone": "wing", "target": [0, 0, 1]})"),
+               {"control_points[0]", "'bone'", "unknown bone 'wing'"});
+}
+
+TEST(SceneInput, AlphaOutsideUnitInterval) {
+  expect_error(with_cp(R"({"bone": "forearm", "alpha": 1.5, "target": [0, 0, 1]})"),
+               {"control_points[0]", "'alpha'", "[0, 1]"});
+  expect_error(with_cp(R"({"bone": "forearm", "alpha": -0.1, "target": [0, 0, 1]})"),
+               {"'alpha'"});
+}
+
+TEST(SceneInput, NegativeStiffnessOrTimeStep) {
+  expect_error(with_cp(R"({"bone": "forearm", "k": -3, "target": [0, 0, 1]})"),
+               {"control_points[0]", "'k'", "negative"});
+  expect_error(with_cp(R"({"bone": "forearm", "target": [0, 0, 1]})", R"({"dt": -0.01})"),
+               {"params", "'dt'", "positive"});
+  expect_error(with_cp(R"({"bone": "forearm", "target": [0, 0, 1]})", R"({"dt": 0})"),
+               {"params", "'dt'"});
+  expect_error(with_cp(R"({"bone": "forearm", "target": [0, 0, 1]})", R"({"damping": -1})"),
+               {"params", "'damping'"});
+}
+
+TEST(SceneInput, NonFiniteTarget) {
+  expect_error(with_cp(R"({"bone": "forearm", "target": [0, 1e999, 1]})"), {"overflow"});
+  expect_error(with_cp(R"({"bone": "forearm", "target": [0, "x", 1]})"),
+               {"control_points[0]", "target[1]", "number"});
+  expect_error(with_cp(R"({"bone": "forearm", "target": [0, 1]})"),
+               {"control_points[0]", "'target'", "3 numbers"});
+}
+
+TEST(SceneInput, MissingOrBadRig) {
+  expect_error(R"({"params": {}})", {"'rig'", "missing"});
+  expect_error(R"({"rig": "no_such_rig.json"})", {"'rig'", "does not exist"});
+}
+
+TEST(SceneInput, UnknownParamsAndValues) {
+  expect_error(with_cp("", R"({"dampng": 3})"), {"params", "'dampng'", "unknown field"});
+  expect_error(with_cp("", R"({"preset": "fast"})"), {"params", "'preset'", "unknown preset"});
+  expect_error(with_cp("", R"({"integration": "rk4"})"), {"params", "'integration'", "articulated|free-rods"});
+  expect_error(with_cp("", R"({"interpolation": "cubic"})"), {"'interpolation'"});
+  expect_error(with_cp("", R"({"torsion_spring": "stiff"})"), {"'torsion_spring'"});
+  expect_error(with_cp(R"({"bone": "forearm", "target": [0,0,1], "spring": "bungee"})"),
+               {"control_points[0]", "'spring'"});
+}
+
+TEST(SceneInput, Schedule) {
+  const std::string base = R"({"rig": "elbow.json", "steps": 50,
+      "control_points": [{"name": "tip", "bone": "forearm", "target": [0, 0, 4]}], "schedule": )";
+  EXPECT_EQ(parse(base + R"([{"step": 10, "control_point": "tip", "target": [1, 0, 3]}]})")
+                .schedule[0].control_point, 0);
+  expect_error(base + R"([{"step": 60, "control_point": 0, "target": [1, 0, 3]}]})",
+               {"schedule[0]", "'step'"});
+  expect_error(base + R"([{"step": 5, "control_point": 3, "target": [1, 0, 3]}]})",
+               {"schedule[0]", "'control_point'", "out of range"});
+  expect_error(base + R"([{"step": 5, "control_point": "toe", "target": [1, 0, 3]}]})",
+               {"schedule[0]", "no control point named 'toe'"});
+}
+
+TEST(SceneInput, InitialPoseUnknownBone) {
+  expect_error(R"({"rig": "elbow.json", "initial_pose": {"rotation_deg": {"knee": [0, 0, 10]}}})",
+               {"initial_pose", "rotation_deg.knee", "unknown bone"});
+}
+
+TEST(SceneInput, BadRigInsideSceneNamesTheRigFile) {
+  const auto dir = std::filesystem::temp_directory_path() / "physik_scene_test";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "bad_rig.json") << R"({"bones": [{"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,0]}]})";
+  std::ofstream(dir / "s.json") << R"({"rig": "bad_rig.json"})";
+  try {
+    load_scene((dir / "s.json").string());
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad_rig.json: bones[0] 'a': field 'tail'"), std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace physik
