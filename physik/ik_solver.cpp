@@ -221,7 +221,7 @@ IkReport run_ik_loop(const char* name, const IkProblem& pb, Pose& pose, const Ik
     forward_kinematics(rig, pose, frames);
     goal_residuals(frames, pb.goals, res);
     r = max_of(res);
-    if (r < best_r) {
+    if (r < best_r) {  // kept only to replace a non-finite iterate
       best_r = r;
       best = pose;
     }
@@ -234,8 +234,6 @@ IkReport run_ik_loop(const char* name, const IkProblem& pb, Pose& pose, const Ik
       break;
     }
   }
-  // hand back the best pose seen (an oscillating solver may end on a worse one)
-  if (best_r < r) pose = best;
   forward_kinematics(rig, pose, frames);
   goal_residuals(frames, pb.goals, res);
   rep.iterations = it;

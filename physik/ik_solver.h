@@ -109,9 +109,9 @@ const char* to_string(IkMethod m);
 // "fabrik", "ccd", "jt", "dls", "mass-spring", "rotation"; false when unknown.
 bool ik_method_from_string(const std::string& name, IkMethod& out);
 
-// Solve: `pose` is the start on entry and the result on exit. Goals with bad bone indices or
-// non-finite targets throw InputError. Never returns NaN: a non-finite iterate restores the best
-// pose seen.
+// Solve: `pose` is the start on entry and the result (the last iterate) on exit. Goals with bad
+// bone indices or non-finite targets throw InputError. Never returns NaN: a non-finite iterate
+// restores the best pose seen and stops.
 IkReport solve_ik(IkMethod method, const Rig& rig, const std::vector<IkGoal>& goals, Pose& pose,
                   const IkOptions& options = {});
 
