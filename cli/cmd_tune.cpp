@@ -1,0 +1,204 @@
+// physik tune SCENE: choose engine coefficients with Ceres (tune/tuner.h).
+// physik equilibrium SCENE: the exact static pose of a scene with Ceres (tune/equilibrium.h).
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+
+#include "cli/commands.h"
+#include "physik/errors.h"
+#include "physik/pose_io.h"
+#include "physik/scene.h"
+#include "tune/equilibrium.h"
+#include "tune/tuner.h"
+
+namespace physik::cli {
+
+namespace {
+
+struct TuneCliOptions {
+  std::string scene;
+  std::string params = "damping";
+  std::string objective = "settle";
+  std::string measure = "log";
+  std::vector<std::string> bounds;
+  std::string out;
+  std::string report;
+  int steps = 0;
+  int scan_points = 13;
+  int max_iterations = 50;
+  bool quiet = false;
+};
+
+struct EquilibriumCliOptions {
+  std::string scene;
+  std::string out;
+  std::string bones;
+  bool compare = false;
+  std::string start = "initial";
+};
+
+Scene load_existing_scene(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw_input_error(path, "", "", "scene file does not exist");
+  return load_scene(path);
+}
+
+double max_of(const std::vector<double>& v) {
+  return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end());
+}
+
+void add_tune(CLI::App& app) {
+  auto opt = std::make_shared<TuneCliOptions>();
+  std::string names;
+  for (const auto& t : tune::tunable_parameters()) {
+    names += (names.empty() ? "" : ", ") + t.name + " [" + std::to_string(t.lo).substr(0, 6) +
+             ", " + std::to_string(t.hi).substr(0, 7) + "] " + t.unit;
+  }
+  auto* cmd = app.add_subcommand(
+      "tune",
+      "Tune engine coefficients of a scene with Ceres: a coarse log-grid scan, then bounded "
+      "Levenberg-Marquardt on a smoothed objective. Prints Ceres' summary; writes the tuned "
+      "scene (--out) and a JSON report (--report).");
+  cmd->add_option("SCENE", opt->scene, "Scene file (JSON)")->required();
+  cmd->add_option("--params", opt->params,
+                  "Comma-separated parameters to tune, with default bounds: " + names)
+      ->capture_default_str();
+  cmd->add_option("--objective", opt->objective,
+                  "settle: control-point residuals over the run (divergence = finite penalty); "
+                  "mujoco: trajectory against MuJoCo's same-forces run")
+      ->capture_default_str();
+  cmd->add_option("--measure", opt->measure,
+                  "settle objective's residual: log = ln(1 + error/tolerance) (sees the slow "
+                  "tail), linear = error/height (integral of squared error)")
+      ->capture_default_str();
+  cmd->add_option("--bounds", opt->bounds, "Override bounds, e.g. --bounds damping=0.1:10");
+  cmd->add_option("--out", opt->out, "Write the tuned scene here (JSON; '-' = stdout)");
+  cmd->add_option("--report", opt->report, "Write a JSON report (values, costs, scan) here");
+  cmd->add_option("--steps", opt->steps, "Steps per run (default: the scene's)");
+  cmd->add_option("--scan-points", opt->scan_points, "Grid points per parameter in the scan")
+      ->capture_default_str();
+  cmd->add_option("--max-iterations", opt->max_iterations, "Ceres iterations")->capture_default_str();
+  cmd->add_flag("--quiet", opt->quiet, "No progress output");
+  cmd->callback([opt] {
+    Scene scene = load_existing_scene(opt->scene);
+    tune::TuneOptions to;
+    to.params = tune::parse_tune_params(opt->params, "--params");
+    for (const std::string& b : opt->bounds) tune::apply_bounds(to.params, b, "--bounds");
+    to.objective = tune::objective_from_string(opt->objective, "--objective");
+    to.measure = tune::measure_from_string(opt->measure, "--measure");
+    if (opt->steps < 0) throw_input_error("--steps", "", "", "must not be negative");
+    if (opt->steps > 0) scene.steps = opt->steps;
+    if (opt->scan_points < 0 || opt->scan_points == 1) {
+      throw_input_error("--scan-points", "", "", "must be 0 (no scan) or at least 2");
+    }
+    to.scan_points = opt->scan_points;
+    to.max_iterations = std::max(1, opt->max_iterations);
+    to.verbose = !opt->quiet;
+    const tune::TuneResult r = tune::tune_scene(scene, to);
+
+    std::cout << r.ceres_full << "\n";
+    std::cout << "tuned (" << tune::to_string(to.objective) << ", " << r.evaluations << " runs, "
+              << r.wall_time_s << " s):\n";
+    for (std::size_t i = 0; i < r.names.size(); ++i) {
+      std::cout << "  " << r.names[i] << ": " << r.initial_values[i] << " -> " << r.values[i] << "\n";
+    }
+    std::cout << "  objective J: " << r.initial_cost << " (scene) -> " << r.scan_cost << " (scan) -> "
+              << r.final_cost << " (ceres)\n";
+    std::cout << "  tuned run: "
+              << (r.tuned_run.diverged ? "diverged"
+                  : r.tuned_run.converged
+                      ? "converged at step " + std::to_string(r.tuned_run.steps_to_converge)
+                      : std::string("not converged"))
+              << ", max final residual " << max_of(r.tuned_run.final_residuals) << "\n";
+
+    if (!opt->out.empty()) write_json(scene_to_json(r.tuned_scene), opt->out);
+    if (!opt->report.empty()) {
+      nlohmann::json scan = nlohmann::json::array();
+      for (const auto& s : r.scan) {
+        scan.push_back({{"values", s.values},
+                        {"cost", s.cost},
+                        {"diverged", s.diverged},
+                        {"steps_to_converge", s.steps_to_converge}});
+      }
+      write_json({{"scene", scene.file},
+                  {"objective", tune::to_string(to.objective)},
+                  {"measure", tune::to_string(to.measure)},
+                  {"params", r.names},
+                  {"initial_values", r.initial_values},
+                  {"values", r.values},
+                  {"initial_cost", r.initial_cost},
+                  {"scan_cost", r.scan_cost},
+                  {"final_cost", r.final_cost},
+                  {"evaluations", r.evaluations},
+                  {"wall_time_s", r.wall_time_s},
+                  {"ceres", r.ceres_brief},
+                  {"tuned_run", summary_to_json(r.tuned_scene, r.tuned_run)},
+                  {"scan", scan}},
+                 opt->report);
+    }
+  });
+}
+
+void add_equilibrium(CLI::App& app) {
+  auto opt = std::make_shared<EquilibriumCliOptions>();
+  auto* cmd = app.add_subcommand(
+      "equilibrium",
+      "The exact static pose of a scene: the minimum of control-spring + torsion potential "
+      "over the root position and joint rotations (Ceres). Writes JSON (pose, residuals).");
+  cmd->add_option("SCENE", opt->scene, "Scene file (JSON)")->required();
+  cmd->add_option("--out", opt->out, "JSON output file (default: stdout)");
+  cmd->add_option("--bones", opt->bones, "Also write the pose as a bones CSV here");
+  cmd->add_option("--start", opt->start,
+                  "Start pose: 'initial' (the scene's) or 'physik' (PhysIK's final pose: the "
+                  "nearest exact equilibrium to it)")
+      ->capture_default_str();
+  cmd->add_flag("--compare", opt->compare,
+                "Also run PhysIK on the scene and report its final-pose distance to the equilibrium");
+  cmd->callback([opt] {
+    if (opt->start != "initial" && opt->start != "physik") {
+      throw_input_error("--start", "", "", "expected 'initial' or 'physik'");
+    }
+    const Scene scene = load_existing_scene(opt->scene);
+    RunSummary run;
+    const bool need_run = opt->compare || opt->start == "physik";
+    if (need_run) run = run_scene(scene);
+    tune::EquilibriumOptions eo;
+    if (opt->start == "physik") eo.start = &run.final_pose;
+    const tune::EquilibriumResult e = tune::solve_equilibrium(scene, eo);
+    std::cerr << "equilibrium: " << e.ceres_brief << "\n";
+    nlohmann::json doc = tune::equilibrium_to_json(scene, e);
+    doc["start"] = opt->start;
+    if (need_run) {
+      doc["physik"] = {{"converged", run.converged},
+                       {"diverged", run.diverged},
+                       {"steps_to_converge", run.steps_to_converge},
+                       {"max_final_residual", max_of(run.final_residuals)},
+                       {"potential", tune::scene_potential(scene, run.final_pose)},
+                       {"max_pose_distance", tune::max_pose_distance(run.final_frames, e.frames)},
+                       {"max_pose_distance_over_height",
+                        tune::max_pose_distance(run.final_frames, e.frames) / scene.rig.height()}};
+      std::cerr << "equilibrium: PhysIK's final pose is "
+                << tune::max_pose_distance(run.final_frames, e.frames)
+                << " rig units from it (potential " << tune::scene_potential(scene, run.final_pose)
+                << " J vs " << e.potential << " J)\n";
+    }
+    write_json(doc, opt->out);
+    if (!opt->bones.empty()) {
+      const std::filesystem::path p(opt->bones);
+      if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path());
+      std::ofstream csv(p);
+      if (!csv) throw_input_error(opt->bones, "", "", "cannot write file");
+      write_bones_csv(scene.rig, e.frames, csv);
+    }
+  });
+}
+
+}  // namespace
+
+void add_tune_commands(CLI::App& app) {
+  add_tune(app);
+  add_equilibrium(app);
+}
+
+}  // namespace physik::cli

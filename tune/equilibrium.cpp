@@ -1,0 +1,295 @@
+#include "tune/equilibrium.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include <ceres/ceres.h>
+
+#include "physik/errors.h"
+
+namespace physik::tune {
+
+std::vector<Vec3> final_targets(const Scene& scene) {
+  std::vector<Vec3> t;
+  for (const ControlPoint& cp : scene.control_points) t.push_back(cp.target_world);
+  for (const TargetChange& c : scene.schedule) t[c.control_point] = c.target_world;  // sorted by step
+  return t;
+}
+
+double control_spring_potential(SpringLaw law, double k, double cap, double d) {
+  if (law == SpringLaw::kLinear || d <= cap) return 0.5 * k * d * d;
+  return k * cap * (d - 0.5 * cap);
+}
+
+double torsion_spring_potential(SpringLaw law, double k, double cap, double excess) {
+  const double d = std::abs(excess);
+  if (law == SpringLaw::kLinear || d <= cap) return 0.5 * k * d * d;
+  return k * cap * (d - 0.5 * cap);
+}
+
+namespace {
+
+template <typename T>
+using V3 = Eigen::Matrix<T, 3, 1>;
+template <typename T>
+using Q = Eigen::Quaternion<T>;
+
+// rotation vector of a unit quaternion, w >= 0 hemisphere (as physik::rotation_vector)
+template <typename T>
+V3<T> rotation_vector_t(Q<T> q) {
+  if (q.w() < T(0)) q.coeffs() = -q.coeffs();
+  const V3<T> v = q.vec();
+  const T s2 = v.squaredNorm();
+  if (s2 < T(1e-24)) return T(2) * v / q.w();  // first order, differentiable at 0
+  const T s = sqrt(s2);
+  return v * (T(2) * atan2(s, q.w()) / s);
+}
+
+// dead-zone distance of angle theta to the engaged band of a limit (torsion_springs.h)
+template <typename T>
+T dead_zone(const AxisLimit& l, double tolerance, const T& theta) {
+  const double band = tolerance * (l.max - l.min);
+  const double lo = l.min + band, hi = l.max - band;
+  if (theta < T(lo)) return T(lo) - theta;
+  if (theta > T(hi)) return T(hi) - theta;
+  return T(0);
+}
+
+// residual r with r^2 = 2 U for a (signed) spring excess d, law with cap c
+template <typename T>
+T torsion_residual(SpringLaw law, double k, double c, const T& d) {
+  const T ad = d < T(0) ? -d : d;
+  if (law == SpringLaw::kLinear || ad <= T(c)) return sqrt(k) * d;
+  const T r = sqrt(T(k * c) * (T(2) * ad - T(c)));
+  return d < T(0) ? -r : r;
+}
+
+struct PotentialResiduals {
+  const Scene* scene;
+  std::vector<Vec3> targets;      // (ncontrol) goal targets
+  std::vector<int> limited_bones;  // non-root bones with at least one limited axis
+
+  int num_residuals() const {
+    return 3 * static_cast<int>(scene->control_points.size() + limited_bones.size());
+  }
+
+  // params[0] = root head (3), params[1 + i] = bone i's local rotation (x, y, z, w)
+  template <typename T>
+  bool operator()(T const* const* params, T* r) const {
+    const Rig& rig = scene->rig;
+    const EngineParams& ep = scene->params;
+    std::vector<Q<T>> orient(rig.nbone), local(rig.nbone);
+    std::vector<V3<T>> head(rig.nbone), tail(rig.nbone);
+    for (int i = 0; i < rig.nbone; ++i) {
+      const T* q = params[1 + i];
+      local[i] = Q<T>(q[3], q[0], q[1], q[2]).normalized();
+      const Q<T> rest = rig.bone_rest_orient_parent[i].cast<T>();
+      const int p = rig.bone_parent[i];
+      if (p < 0) {
+        orient[i] = rest * local[i];
+        head[i] = V3<T>(params[0][0], params[0][1], params[0][2]);
+      } else {
+        orient[i] = orient[p] * rest * local[i];
+        head[i] = head[p] + orient[p] * rig.bone_head_in_parent[i].cast<T>();
+      }
+      tail[i] = head[i] + orient[i] * V3<T>(T(0), T(rig.bone_length[i]), T(0));
+    }
+    int at = 0;
+    for (std::size_t c = 0; c < scene->control_points.size(); ++c) {
+      const ControlPoint& cp = scene->control_points[c];
+      const V3<T> a = head[cp.bone] + T(cp.alpha) * (tail[cp.bone] - head[cp.bone]);
+      const V3<T> d = a - targets[c].cast<T>();
+      const T d2 = d.squaredNorm();
+      T s = T(1);
+      if (cp.spring == SpringLaw::kCapped && d2 > T(cp.cap * cp.cap)) {
+        const T dn = sqrt(d2);
+        s = sqrt(T(cp.cap) * (T(2) * dn - T(cp.cap))) / dn;
+      }
+      for (int k = 0; k < 3; ++k) r[at++] = sqrt(cp.k) * s * d[k];
+    }
+    for (int i : limited_bones) {
+      const V3<T> theta = rotation_vector_t(local[i]);
+      for (int k = 0; k < 3; ++k) {
+        const AxisLimit& l = rig.bone_limit[i][k];
+        r[at++] = l.limited ? torsion_residual(ep.torsion_spring, ep.torsion_k, ep.torsion_cap,
+                                               dead_zone(l, ep.torsion_tolerance, theta[k]))
+                            : T(0);
+      }
+    }
+    return true;
+  }
+};
+
+Vec3 torsion_excess_of(const Scene& scene, const Pose& pose, int bone) {
+  const Vec3 theta = rotation_vector(pose.bone_local_rotation[bone]);
+  Vec3 d = Vec3::Zero();
+  for (int k = 0; k < 3; ++k) {
+    const AxisLimit& l = scene.rig.bone_limit[bone][k];
+    if (l.limited) d[k] = dead_zone(l, scene.params.torsion_tolerance, theta[k]);
+  }
+  return d;
+}
+
+}  // namespace
+
+double scene_potential(const Scene& scene, const Pose& pose) {
+  const BoneFrames f = forward_kinematics(scene.rig, pose);
+  const std::vector<Vec3> t = final_targets(scene);
+  double u = 0.0;
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    u += control_spring_potential(cp.spring, cp.k, cp.cap,
+                                  (point_on_bone(f, cp.bone, cp.alpha) - t[c]).norm());
+  }
+  if (scene.params.torsion_k > 0.0) {
+    for (int i = 1; i < scene.rig.nbone; ++i) {
+      const Vec3 d = torsion_excess_of(scene, pose, i);
+      for (int k = 0; k < 3; ++k) {
+        u += torsion_spring_potential(scene.params.torsion_spring, scene.params.torsion_k,
+                                      scene.params.torsion_cap, d[k]);
+      }
+    }
+  }
+  return u;
+}
+
+double max_pose_distance(const BoneFrames& a, const BoneFrames& b) {
+  double m = 0.0;
+  for (std::size_t i = 0; i < a.head_world.size() && i < b.head_world.size(); ++i) {
+    m = std::max({m, (a.head_world[i] - b.head_world[i]).norm(),
+                  (a.tail_world[i] - b.tail_world[i]).norm()});
+  }
+  return m;
+}
+
+EquilibriumResult solve_equilibrium(const Scene& scene, const EquilibriumOptions& opt) {
+  const Rig& rig = scene.rig;
+  if (scene.control_points.empty()) {
+    throw_input_error(scene.file, "control_points", "",
+                      "an equilibrium needs at least one control point (else every pose is one)");
+  }
+  const Pose start = opt.start ? *opt.start : scene.initial_pose;
+  if (static_cast<int>(start.bone_local_rotation.size()) != rig.nbone) {
+    throw_input_error(scene.file, "initial_pose", "", "start pose does not match the rig");
+  }
+
+  auto* functor = new PotentialResiduals{&scene, final_targets(scene), {}};
+  if (scene.params.torsion_k > 0.0) {
+    for (int i = 1; i < rig.nbone; ++i) {
+      const auto& l = rig.bone_limit[i];
+      if (l[0].limited || l[1].limited || l[2].limited) functor->limited_bones.push_back(i);
+    }
+  }
+  const int nres = functor->num_residuals();
+
+  // parameter blocks: root head, then one quaternion (x, y, z, w) per bone
+  std::vector<double> root(start.root_head_world.data(), start.root_head_world.data() + 3);
+  std::vector<std::array<double, 4>> quats(rig.nbone);
+  for (int i = 0; i < rig.nbone; ++i) {
+    const Quat q = start.bone_local_rotation[i].normalized();
+    quats[i] = {q.x(), q.y(), q.z(), q.w()};
+  }
+  auto* cost = new ceres::DynamicAutoDiffCostFunction<PotentialResiduals, 4>(functor);
+  std::vector<double*> blocks;
+  cost->AddParameterBlock(3);
+  blocks.push_back(root.data());
+  for (int i = 0; i < rig.nbone; ++i) {
+    cost->AddParameterBlock(4);
+    blocks.push_back(quats[i].data());
+  }
+  cost->SetNumResiduals(nres);
+
+  ceres::Problem problem;
+  problem.AddResidualBlock(cost, nullptr, blocks);
+  for (int i = 0; i < rig.nbone; ++i) {
+    problem.SetManifold(quats[i].data(), new ceres::EigenQuaternionManifold);
+  }
+
+  ceres::Solver::Options so;
+  so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.max_num_iterations = opt.max_iterations;
+  so.function_tolerance = 1e-16;
+  so.gradient_tolerance = 1e-16;
+  so.parameter_tolerance = 1e-14;
+  so.num_threads = 1;
+  so.minimizer_progress_to_stdout = opt.verbose;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+
+  EquilibriumResult out;
+  out.pose.root_head_world = Vec3(root[0], root[1], root[2]);
+  out.pose.bone_local_rotation.resize(rig.nbone);
+  for (int i = 0; i < rig.nbone; ++i) {
+    out.pose.bone_local_rotation[i] = Quat(quats[i][3], quats[i][0], quats[i][1], quats[i][2]).normalized();
+  }
+  out.frames = forward_kinematics(rig, out.pose);
+  out.targets_world = final_targets(scene);
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    const double d = (point_on_bone(out.frames, cp.bone, cp.alpha) - out.targets_world[c]).norm();
+    out.control_distance.push_back(d);
+    out.control_potential += control_spring_potential(cp.spring, cp.k, cp.cap, d);
+  }
+  out.torsion_excess.assign(rig.nbone, Vec3::Zero());
+  for (int i : functor->limited_bones) {
+    out.torsion_excess[i] = torsion_excess_of(scene, out.pose, i);
+    for (int k = 0; k < 3; ++k) {
+      out.torsion_potential +=
+          torsion_spring_potential(scene.params.torsion_spring, scene.params.torsion_k,
+                                   scene.params.torsion_cap, out.torsion_excess[i][k]);
+    }
+  }
+  out.potential = out.control_potential + out.torsion_potential;
+  out.iterations = static_cast<int>(summary.iterations.size());
+  if (!summary.iterations.empty()) out.gradient_max_norm = summary.iterations.back().gradient_max_norm;
+  out.converged = summary.termination_type == ceres::CONVERGENCE;
+  out.ceres_brief = summary.BriefReport();
+  out.ceres_full = summary.FullReport();
+  return out;
+}
+
+nlohmann::json equilibrium_to_json(const Scene& scene, const EquilibriumResult& e) {
+  using nlohmann::json;
+  const Rig& rig = scene.rig;
+  json cps = json::array();
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    const Vec3& t = e.targets_world[c];
+    const Vec3 a = point_on_bone(e.frames, cp.bone, cp.alpha);
+    cps.push_back({{"name", cp.name},
+                   {"bone", rig.bone_name[cp.bone]},
+                   {"target", {t.x(), t.y(), t.z()}},
+                   {"attachment", {a.x(), a.y(), a.z()}},
+                   {"distance", e.control_distance[c]}});
+  }
+  json rot = json::object(), excess = json::object();
+  for (int i = 0; i < rig.nbone; ++i) {
+    const Vec3 v = rotation_vector(e.pose.bone_local_rotation[i]) * (180.0 / kPi);
+    rot[rig.bone_name[i]] = {v.x(), v.y(), v.z()};
+    if (!e.torsion_excess[i].isZero(0.0)) {
+      const Vec3 d = e.torsion_excess[i] * (180.0 / kPi);
+      excess[rig.bone_name[i]] = {d.x(), d.y(), d.z()};
+    }
+  }
+  const Vec3& r = e.pose.root_head_world;
+  return {{"scene", scene.file},
+          {"rig", scene.rig_file},
+          {"converged", e.converged},
+          {"iterations", e.iterations},
+          {"potential", e.potential},
+          {"control_potential", e.control_potential},
+          {"torsion_potential", e.torsion_potential},
+          {"gradient_max_norm", e.gradient_max_norm},
+          {"max_control_distance",
+           e.control_distance.empty() ? 0.0
+                                      : *std::max_element(e.control_distance.begin(),
+                                                          e.control_distance.end())},
+          {"control_points", cps},
+          {"torsion_excess_deg", excess},
+          {"pose", {{"root_head", {r.x(), r.y(), r.z()}}, {"rotation_deg", rot}}},
+          {"ceres", e.ceres_brief}};
+}
+
+}  // namespace physik::tune

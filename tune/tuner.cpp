@@ -1,0 +1,342 @@
+#include "tune/tuner.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <sstream>
+
+#include <ceres/ceres.h>
+
+#include "physik/errors.h"
+
+namespace physik::tune {
+
+const std::vector<TunableSpec>& tunable_parameters() {
+  static const std::vector<TunableSpec> list = {
+      {"damping", 0.01, 100.0, "N s/m"},
+      {"control_k", 0.1, 1000.0, "N/m"},
+      {"torsion_k", 0.1, 1000.0, "N m/rad"},
+      {"angular_velocity_factor", 0.01, 1.0, "1"},
+      {"control_cap", 0.01, 100.0, "rig units"},
+      {"torsion_cap", 0.01, 3.2, "rad"},
+  };
+  return list;
+}
+
+namespace {
+
+std::string tunable_names() {
+  std::string s;
+  for (const TunableSpec& t : tunable_parameters()) s += (s.empty() ? "" : ", ") + t.name;
+  return s;
+}
+
+const TunableSpec* find_spec(const std::string& name) {
+  for (const TunableSpec& t : tunable_parameters()) {
+    if (t.name == name) return &t;
+  }
+  return nullptr;
+}
+
+double parse_number(const std::string& text, const std::string& source, const std::string& field) {
+  try {
+    std::size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size() && std::isfinite(v)) return v;
+  } catch (const std::exception&) {
+  }
+  throw_input_error(source, "", field, "'" + text + "' is not a number");
+}
+
+}  // namespace
+
+Objective objective_from_string(const std::string& name, const std::string& source) {
+  if (name == "settle") return Objective::kSettle;
+  if (name == "mujoco") return Objective::kMujoco;
+  throw_input_error(source, "", "objective", "unknown objective '" + name +
+                                                 "' (known: settle, mujoco)");
+}
+
+const char* to_string(Objective o) { return o == Objective::kSettle ? "settle" : "mujoco"; }
+
+SettleMeasure measure_from_string(const std::string& name, const std::string& source) {
+  if (name == "log") return SettleMeasure::kLog;
+  if (name == "linear") return SettleMeasure::kLinear;
+  throw_input_error(source, "", "measure", "unknown measure '" + name + "' (known: log, linear)");
+}
+
+const char* to_string(SettleMeasure m) { return m == SettleMeasure::kLog ? "log" : "linear"; }
+
+std::vector<TuneParam> parse_tune_params(const std::string& csv, const std::string& source) {
+  std::vector<TuneParam> out;
+  std::stringstream ss(csv);
+  std::string name;
+  while (std::getline(ss, name, ',')) {
+    if (name.empty()) continue;
+    const TunableSpec* spec = find_spec(name);
+    if (!spec) {
+      throw_input_error(source, "", name, "unknown tunable parameter (known: " + tunable_names() + ")");
+    }
+    for (const TuneParam& p : out) {
+      if (p.name == name) throw_input_error(source, "", name, "listed twice");
+    }
+    out.push_back({spec->name, spec->lo, spec->hi});
+  }
+  if (out.empty()) throw_input_error(source, "", "", "no parameter to tune");
+  return out;
+}
+
+void apply_bounds(std::vector<TuneParam>& params, const std::string& spec, const std::string& source) {
+  const auto eq = spec.find('='), colon = spec.find(':');
+  if (eq == std::string::npos || colon == std::string::npos || colon < eq) {
+    throw_input_error(source, "", spec, "expected name=lo:hi");
+  }
+  const std::string name = spec.substr(0, eq);
+  const double lo = parse_number(spec.substr(eq + 1, colon - eq - 1), source, name);
+  const double hi = parse_number(spec.substr(colon + 1), source, name);
+  if (!(lo > 0.0) || !(hi > lo)) throw_input_error(source, "", name, "bounds need 0 < lo < hi");
+  for (TuneParam& p : params) {
+    if (p.name == name) {
+      p.lo = lo;
+      p.hi = hi;
+      return;
+    }
+  }
+  throw_input_error(source, "", name, "not among the tuned parameters");
+}
+
+double get_param(const Scene& s, const std::string& name) {
+  const EngineParams& p = s.params;
+  if (name == "damping") return p.damping;
+  if (name == "control_k") return p.control_k;
+  if (name == "torsion_k") return p.torsion_k;
+  if (name == "angular_velocity_factor") return p.angular_velocity_factor;
+  if (name == "control_cap") return p.control_cap;
+  if (name == "torsion_cap") return p.torsion_cap;
+  throw_input_error("", "params", name, "unknown tunable parameter (known: " + tunable_names() + ")");
+}
+
+void set_param(Scene& s, const std::string& name, double value) {
+  EngineParams& p = s.params;
+  if (name == "control_k") {
+    for (ControlPoint& cp : s.control_points) {
+      cp.k = p.control_k > 0.0 ? cp.k * (value / p.control_k) : value;
+    }
+    p.control_k = value;
+  } else if (name == "control_cap") {
+    for (ControlPoint& cp : s.control_points) cp.cap *= value / p.control_cap;
+    p.control_cap = value;
+  } else if (name == "damping") {
+    p.damping = value;
+  } else if (name == "torsion_k") {
+    p.torsion_k = value;
+  } else if (name == "angular_velocity_factor") {
+    p.angular_velocity_factor = value;
+  } else if (name == "torsion_cap") {
+    p.torsion_cap = value;
+  } else {
+    throw_input_error("", "params", name, "unknown tunable parameter (known: " + tunable_names() + ")");
+  }
+}
+
+RunSummary settle_residuals(const Scene& scene_in, SettleMeasure measure,
+                            std::vector<double>& residuals) {
+  Scene scene = scene_in;
+  scene.convergence.stop_when_converged = false;  // every step counts: fixed residual count
+  const std::size_t nc = scene.control_points.size();
+  const double h = scene.rig.height() > 0.0 ? scene.rig.height() : 1.0;
+  const double eps = scene.residual_tol() > 0.0 ? scene.residual_tol() : 1e-3 * h;
+  const double w = std::sqrt(scene.params.dt);
+  const auto rho = [&](double e) {
+    e = std::isfinite(e) ? std::min(e, kResidualCap * h) : kResidualCap * h;
+    return w * (measure == SettleMeasure::kLog ? std::log1p(e / eps) : e / h);
+  };
+  // after a divergence the remaining entries keep the cap
+  residuals.assign(static_cast<std::size_t>(scene.steps) * nc, rho(kResidualCap * h));
+  std::vector<double> r;
+  std::size_t at = 0;
+  const auto observer = [&](const SimState& s, const StepStats&) {
+    control_residuals(scene, s, r);
+    for (std::size_t c = 0; c < nc && at < residuals.size(); ++c, ++at) residuals[at] = rho(r[c]);
+  };
+  return run_scene(scene, observer);
+}
+
+double cost_of(const std::vector<double>& residuals) {
+  double j = 0.0;
+  for (double r : residuals) j += r * r;
+  return 0.5 * j;
+}
+
+namespace {
+
+// Everything one evaluation of the objective needs: the base scene and what is tuned.
+class Objective_ {
+ public:
+  Objective_(const Scene& base, const TuneOptions& opt) : base_(base), opt_(opt) {}
+
+  int num_residuals() const {
+    return base_.steps * static_cast<int>(std::max<std::size_t>(1, base_.control_points.size()));
+  }
+
+  // residuals at parameter values p (not logs)
+  RunSummary eval(const double* p, std::vector<double>& res) const {
+    Scene s = base_;
+    for (std::size_t i = 0; i < opt_.params.size(); ++i) set_param(s, opt_.params[i].name, p[i]);
+    ++evaluations;
+    if (opt_.objective == Objective::kSettle) return settle_residuals(s, opt_.measure, res);
+    throw_input_error("--objective", "", "mujoco",
+                      "the MuJoCo same-forces objective is not available in this build");
+  }
+
+  Scene scene_with(const std::vector<double>& p) const {
+    Scene s = base_;
+    for (std::size_t i = 0; i < opt_.params.size(); ++i) set_param(s, opt_.params[i].name, p[i]);
+    return s;
+  }
+
+  mutable int evaluations = 0;
+
+ private:
+  const Scene& base_;
+  const TuneOptions& opt_;
+};
+
+// Ceres cost over u = ln p with a central-difference Jacobian of step fd_step (one-sided at
+// a bound), see the header for why not NumericDiffCostFunction.
+class SmoothedCost : public ceres::CostFunction {
+ public:
+  SmoothedCost(const Objective_& obj, const TuneOptions& opt) : obj_(obj), opt_(opt) {
+    set_num_residuals(obj.num_residuals());
+    mutable_parameter_block_sizes()->push_back(static_cast<int>(opt.params.size()));
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const int n = static_cast<int>(opt_.params.size()), m = num_residuals();
+    std::vector<double> u(parameters[0], parameters[0] + n), p(n), res;
+    const auto values = [&](const std::vector<double>& uu) {
+      for (int i = 0; i < n; ++i) p[i] = std::exp(uu[i]);
+      return p.data();
+    };
+    obj_.eval(values(u), res);
+    std::copy(res.begin(), res.end(), residuals);
+    if (!jacobians || !jacobians[0]) return true;
+    std::vector<double> plus, minus;
+    for (int j = 0; j < n; ++j) {
+      const double lo = std::log(opt_.params[j].lo), hi = std::log(opt_.params[j].hi);
+      std::vector<double> up = u, um = u;
+      up[j] = std::min(hi, u[j] + opt_.fd_step);
+      um[j] = std::max(lo, u[j] - opt_.fd_step);
+      obj_.eval(values(up), plus);
+      if (um[j] < u[j]) obj_.eval(values(um), minus);
+      else minus = res;
+      const double du = up[j] - um[j];
+      for (int r = 0; r < m; ++r) jacobians[0][r * n + j] = du > 0.0 ? (plus[r] - minus[r]) / du : 0.0;
+    }
+    return true;
+  }
+
+ private:
+  const Objective_& obj_;
+  const TuneOptions& opt_;
+};
+
+std::string values_text(const std::vector<TuneParam>& params, const std::vector<double>& v) {
+  std::ostringstream o;
+  for (std::size_t i = 0; i < params.size(); ++i) o << (i ? ", " : "") << params[i].name << " " << v[i];
+  return o.str();
+}
+
+}  // namespace
+
+TuneResult tune_scene(const Scene& scene, const TuneOptions& opt) {
+  if (opt.params.empty()) throw_input_error("--params", "", "", "no parameter to tune");
+  if (scene.control_points.empty() && opt.objective == Objective::kSettle) {
+    throw_input_error(scene.file, "control_points", "", "the settle objective needs a control point");
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const int n = static_cast<int>(opt.params.size());
+  Objective_ obj(scene, opt);
+  TuneResult out;
+  std::vector<double> res;
+
+  // start: the scene's own values, clamped into the bounds
+  std::vector<double> best(n);
+  for (int i = 0; i < n; ++i) {
+    out.names.push_back(opt.params[i].name);
+    best[i] = std::clamp(get_param(scene, opt.params[i].name), opt.params[i].lo, opt.params[i].hi);
+    out.initial_values.push_back(get_param(scene, opt.params[i].name));
+  }
+  obj.eval(best.data(), res);
+  double best_cost = out.initial_cost = cost_of(res);
+  if (opt.verbose) std::cerr << "tune: start " << values_text(opt.params, best) << "  J " << best_cost << "\n";
+
+  // 1. coarse scan, coordinate-wise on a log grid
+  for (int sweep = 0; sweep < opt.scan_sweeps && opt.scan_points > 1; ++sweep) {
+    for (int i = 0; i < n; ++i) {
+      const double lo = std::log(opt.params[i].lo), hi = std::log(opt.params[i].hi);
+      std::vector<double> trial = best;
+      double arg_best = best[i];
+      for (int g = 0; g < opt.scan_points; ++g) {
+        trial[i] = std::exp(lo + (hi - lo) * g / (opt.scan_points - 1));
+        const RunSummary sum = obj.eval(trial.data(), res);
+        const double j = cost_of(res);
+        out.scan.push_back({trial, j, sum.diverged, sum.converged ? sum.steps_to_converge : -1});
+        if (j < best_cost) {
+          best_cost = j;
+          arg_best = trial[i];
+        }
+      }
+      best[i] = arg_best;
+      if (opt.verbose) std::cerr << "tune: scan " << values_text(opt.params, best) << "  J " << best_cost << "\n";
+    }
+  }
+  out.scan_cost = best_cost;
+
+  // 2. Ceres refine in u = ln p
+  std::vector<double> u(n);
+  for (int i = 0; i < n; ++i) u[i] = std::log(best[i]);
+  ceres::Problem problem;
+  problem.AddResidualBlock(new SmoothedCost(obj, opt), nullptr, u.data());
+  for (int i = 0; i < n; ++i) {
+    problem.SetParameterLowerBound(u.data(), i, std::log(opt.params[i].lo));
+    problem.SetParameterUpperBound(u.data(), i, std::log(opt.params[i].hi));
+  }
+  ceres::Solver::Options so;
+  so.minimizer_type = ceres::TRUST_REGION;
+  so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.max_num_iterations = opt.max_iterations;
+  so.function_tolerance = 1e-7;
+  so.parameter_tolerance = 1e-5;
+  so.gradient_tolerance = 1e-12;
+  so.num_threads = 1;
+  so.minimizer_progress_to_stdout = false;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  out.ceres_brief = summary.BriefReport();
+  out.ceres_full = summary.FullReport();
+  out.ceres_usable = summary.IsSolutionUsable();
+
+  std::vector<double> refined(n);
+  for (int i = 0; i < n; ++i) refined[i] = std::clamp(std::exp(u[i]), opt.params[i].lo, opt.params[i].hi);
+  obj.eval(refined.data(), res);
+  const double refined_cost = cost_of(res);
+  // keep the scan's point if Ceres could not improve on it (it never should get worse)
+  out.values = refined_cost <= best_cost ? refined : best;
+  out.final_cost = std::min(refined_cost, best_cost);
+  out.tuned_scene = obj.scene_with(out.values);
+  out.tuned_run = run_scene(out.tuned_scene);
+  out.evaluations = obj.evaluations + 1;
+  out.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (opt.verbose) {
+    std::cerr << "tune: ceres " << values_text(opt.params, out.values) << "  J " << out.final_cost
+              << "  (" << out.evaluations << " runs, " << out.wall_time_s << " s)\n";
+  }
+  return out;
+}
+
+}  // namespace physik::tune

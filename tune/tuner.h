@@ -1,0 +1,122 @@
+// Automatic tuning of engine coefficients with Ceres (issue 6; DESIGN.md "Ceres").
+//
+// The problem. A scene's run is a map p -> trajectory. We choose p (damping, spring stiffnesses,
+// ...) inside bounds [lo, hi] to minimise a least-squares objective over the run:
+//
+//   settle:  J(p) = 1/2 sum_{n=1..N} sum_c  rho_n,c(p)^2, one residual per step and control point,
+//     log measure (default):  rho = sqrt(dt) ln(1 + e/eps)
+//     linear measure:         rho = sqrt(dt) e / H
+//   e = min(|a_c(x_n) - t_c|, R H): control point c on its bone after step n to its goal target
+//   (rig units), H the rig's height, eps the scene's residual tolerance (1e-3 H by default),
+//   dt the time step (s). Slow settling keeps residuals up for many steps, oscillation brings
+//   them back: both cost. The log measure counts every decade of error alike, so J is about
+//   (time to reach eps) x ln^2 of the error ratio: it sees the slow tail of a run, where the
+//   linear measure (the integral of squared error, ISE) is dominated by the first steps of the
+//   approach and prefers little damping (in 1 DOF: damping ratio 1/2, see tests/tune). R =
+//   kResidualCap caps an error; a run that diverges (non-finite state or energy past the scene's
+//   bound) gets the cap for every remaining step: a large but finite penalty.
+//
+//   mujoco:  the same shape with rho_n,b = sqrt(dt) * |x_n,b(PhysIK; p) - x_n,b(MuJoCo)| / H over
+//   every bone's head and tail: system identification against MuJoCo's same-forces trajectory.
+//   (Available when the MuJoCo reference layer provides a same-forces runner.)
+//
+// Why this method. The run is explicit Euler with an iterative joint solve whose pass count
+// jumps with its stopping rule, and a divergence cliff beyond a parameter-dependent bound: J(p)
+// is continuous almost everywhere but only piecewise smooth, its derivatives are useless at
+// machine-precision steps and meaningless across the cliff, and automatic differentiation
+// through the engine is not available (nor wanted in the core). So:
+//   1. coarse scan: every tuned parameter on a log-spaced grid over its bounds (coordinate-wise,
+//      the others held at their current best), which finds the basin and stays off the cliff;
+//   2. Ceres refine: Levenberg-Marquardt on the residual vector rho(u), u = ln p, started at the
+//      scan's best point, with the bounds as Ceres parameter bounds on u. The Jacobian is a
+//      central difference with a deliberately large step (du = fd_step, 2% of p by default),
+//      which averages over the small jumps of the joint solver (a smoothed objective) — Ceres'
+//      NumericDiffCostFunction only offers steps relative to |u|, which degenerate at p = 1.
+// Least squares fits: J is a sum of squares of per-step errors, LM uses J^T J as the Hessian.
+// Working in ln p makes the bounds positive by construction and the steps relative.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "physik/engine.h"
+#include "physik/scene.h"
+
+namespace physik::tune {
+
+// Names accepted by --params, with their default bounds.
+struct TunableSpec {
+  std::string name;
+  double lo = 0.0;  // default lower bound (same unit as the parameter)
+  double hi = 0.0;  // default upper bound
+  const char* unit = "";
+};
+const std::vector<TunableSpec>& tunable_parameters();
+
+enum class Objective { kSettle, kMujoco };
+enum class SettleMeasure { kLog, kLinear };
+Objective objective_from_string(const std::string& name, const std::string& source);
+const char* to_string(Objective o);
+SettleMeasure measure_from_string(const std::string& name, const std::string& source);
+const char* to_string(SettleMeasure m);
+
+struct TuneParam {
+  std::string name;
+  double lo = 0.0, hi = 0.0;  // bounds, > 0
+};
+
+// "damping,control_k" -> parameters with default bounds; throws InputError naming `source`
+// for an unknown or repeated name.
+std::vector<TuneParam> parse_tune_params(const std::string& csv, const std::string& source);
+// "damping=0.1:10" overrides the bounds of a listed parameter.
+void apply_bounds(std::vector<TuneParam>& params, const std::string& spec, const std::string& source);
+
+// The parameter's value in a scene, and a scene with it set. control_k (and control_cap) scale
+// every control point's own k (cap) by new/old, so per-point ratios survive.
+double get_param(const Scene& scene, const std::string& name);
+void set_param(Scene& scene, const std::string& name, double value);
+
+constexpr double kResidualCap = 10.0;  // R: a residual never exceeds 10 rig heights
+
+struct TuneOptions {
+  std::vector<TuneParam> params;      // what to tune
+  Objective objective = Objective::kSettle;
+  SettleMeasure measure = SettleMeasure::kLog;
+  int scan_points = 13;               // per parameter in the coarse scan (0: no scan)
+  int scan_sweeps = 1;                // coordinate-wise sweeps over the parameters
+  int max_iterations = 50;            // Ceres iterations
+  double fd_step = 0.02;              // central-difference step in ln p
+  bool verbose = false;               // progress lines on stderr
+};
+
+struct ScanPoint {
+  std::vector<double> values;  // parameter values (in params order)
+  double cost = 0.0;           // J
+  bool diverged = false;
+  int steps_to_converge = -1;
+};
+
+struct TuneResult {
+  std::vector<std::string> names;
+  std::vector<double> initial_values, values;  // before / after
+  double initial_cost = 0.0;     // J at the scene's own values
+  double scan_cost = 0.0;        // J at the scan's best point
+  double final_cost = 0.0;       // J after Ceres
+  int evaluations = 0;           // simulations run
+  double wall_time_s = 0.0;
+  std::string ceres_brief, ceres_full;
+  bool ceres_usable = false;     // Ceres' termination was not a failure
+  std::vector<ScanPoint> scan;   // the coarse scan, in order
+  RunSummary tuned_run;          // the scene run with the tuned values
+  Scene tuned_scene;
+};
+
+// The settle objective's residual vector (size steps x control points) for a scene as it is.
+// Returns the run's summary as well (diverged, steps_to_converge).
+RunSummary settle_residuals(const Scene& scene, SettleMeasure measure,
+                            std::vector<double>& residuals);
+double cost_of(const std::vector<double>& residuals);  // 1/2 sum r^2
+
+TuneResult tune_scene(const Scene& scene, const TuneOptions& options);
+
+}  // namespace physik::tune
