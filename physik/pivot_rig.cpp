@@ -122,7 +122,7 @@ PivotBones pivot_bones(const std::vector<PivotNode>& nodes, const std::string& s
   PivotBones out;
   out.synthetic_root = root_level != 1;
   auto add_spec = [&](const std::string& name, const std::string& parent, const Vec3& head,
-                      const Vec3& tail, int node, int tail_node, int tail_end) {
+                      const Vec3& tail, int node, int tail_node, int tail_end, int parent_spec) {
     BoneSpec b;
     b.name = name;
     b.parent = parent;
@@ -133,6 +133,7 @@ PivotBones pivot_bones(const std::vector<PivotNode>& nodes, const std::string& s
     b.radius = radius;
     out.specs.push_back(b);
     out.spec_node.push_back(node);
+    out.spec_parent.push_back(parent_spec);
     out.spec_tail_node.push_back(tail_node);
     out.spec_tail_end.push_back(tail_end);
   };
@@ -143,7 +144,7 @@ PivotBones pivot_bones(const std::vector<PivotNode>& nodes, const std::string& s
     synthetic_name = used.count(nodes[0].name) ? unique_name(nodes[0].name + "_root", used)
                                                : unique_name(nodes[0].name, used);
     add_spec(synthetic_name, "", nodes[0].rest_world - Vec3(0, 0, len), nodes[0].rest_world, 0,
-             -1, -1);
+             -1, -1, -1);
   }
 
   // segments in DFS order of the segment tree (children in pivot order)
@@ -166,7 +167,8 @@ PivotBones pivot_bones(const std::vector<PivotNode>& nodes, const std::string& s
         seg.parent >= 0 ? segs[seg.parent].name : (out.synthetic_root ? synthetic_name : "");
     spec_of_seg[s] = static_cast<int>(out.specs.size());
     add_spec(seg.name, parent, nodes[seg.node].rest_world, seg.tail, seg.node, seg.tail_node,
-             seg.tail_end);
+             seg.tail_end,
+             seg.parent >= 0 ? spec_of_seg[seg.parent] : (out.synthetic_root ? 0 : -1));
     for (auto it = seg_children[s].rbegin(); it != seg_children[s].rend(); ++it) {
       stack.push_back(*it);
     }

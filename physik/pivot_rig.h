@@ -41,6 +41,7 @@ struct PivotNode {
 struct PivotBones {
   std::vector<BoneSpec> specs;       // in DFS order
   std::vector<int> spec_node;        // (nspec) the pivot whose rotation the bone follows
+  std::vector<int> spec_parent;      // (nspec) parent spec, -1 for the root
   std::vector<int> spec_tail_node;   // (nspec) child pivot at the tail, or -1
   std::vector<int> spec_tail_end;    // (nspec) index into the pivot's ends_world at the tail, or -1
   bool synthetic_root = false;       // spec 0 is the synthetic root (tail = root pivot)

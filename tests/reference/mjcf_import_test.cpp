@@ -17,7 +17,7 @@ namespace {
 // hinges about x, y and z, one body welded, one zero-offset child; capsules give the leaf tips.
 const char* kModel = R"(
 <mujoco model="testman">
-  <compiler angle="degree"/>
+  <compiler angle="degree" autolimits="true"/>
   <worldbody>
     <geom name="floor" type="plane" size="5 5 .1"/>
     <body name="torso" pos="0 0 1.5">
@@ -77,12 +77,15 @@ TEST(MjcfImport, BodiesBecomeBonesAndFkMatchesMujocoXpos) {
   // torso>head, torso>upper_arm, torso>thigh, head, upper_arm, forearm, thigh, shin, foot
   EXPECT_TRUE(mr.pivots.synthetic_root);
   for (const char* n : {"torso", "torso>head", "torso>upper_arm", "torso>thigh", "head",
-                        "upper_arm", "forearm", "thigh", "shin", "foot"}) {
+                        "upper_arm", "forearm", "thigh", "shin_twist", "foot"}) {
     EXPECT_GE(rig.find_bone(n), 0) << n;
   }
   EXPECT_EQ(rig.nbone, 10);
-  // the shin's bone ends at the shin_twist/foot pivot chain: foot hangs from shin
-  EXPECT_EQ(rig.bone_parent[rig.find_bone("foot")], rig.find_bone("shin"));
+  // shin_twist sits at the shin's origin: one bone from there to the foot follows shin_twist
+  // (knee and twist together), the shin body has no bone of its own
+  EXPECT_EQ(rig.find_bone("shin"), -1);
+  EXPECT_EQ(rig.bone_parent[rig.find_bone("shin_twist")], rig.find_bone("thigh"));
+  EXPECT_EQ(rig.bone_parent[rig.find_bone("foot")], rig.find_bone("shin_twist"));
 
   // random configurations: FK heads (and the synthetic root's tail) at every body's xpos
   MjModelPtr m(mj_loadXML(path.c_str(), nullptr, nullptr, 0));
@@ -160,9 +163,17 @@ TEST(MjcfImport, MassInertiaAndLimitsCarryOver) {
   EXPECT_EQ(rig.bone_dof(th), 3);
   EXPECT_NEAR(rad2deg(rig.bone_limit[th][1].min), -60, 1e-9);
   EXPECT_NEAR(rad2deg(rig.bone_limit[th][1].max), 10, 1e-9);
-  // knee: hinge about -y of the body, bone along -z
-  const int sh = rig.find_bone("shin");
-  EXPECT_EQ(rig.bone_dof(sh), 1);
+  // knee (hinge about -y, first hinge -> local x, range kept) and the unlimited twist about the
+  // bone (local y, free) both drive the shin_twist bone; z stays locked
+  const int sh = rig.find_bone("shin_twist");
+  EXPECT_EQ(rig.bone_dof(sh), 2);
+  EXPECT_NEAR(rad2deg(rig.bone_limit[sh][0].min), -160, 1e-9);
+  EXPECT_NEAR(rad2deg(rig.bone_limit[sh][0].max), -2, 1e-9);
+  EXPECT_FALSE(rig.bone_limit[sh][1].limited);
+  EXPECT_TRUE(rig.bone_limit[sh][2].locked());
+  // the shin's mass goes to the bone that starts at its origin
+  const int shin_body = mj_name2id(m.get(), mjOBJ_BODY, "shin");
+  EXPECT_NEAR(rig.bone_mass[sh], m->body_mass[shin_body], 1e-12);
   // shoulder ball limited to a 60 deg cone -> every axis [-60, 60]
   const int ua = rig.find_bone("upper_arm");
   for (int a = 0; a < 3; ++a) EXPECT_NEAR(rad2deg(rig.bone_limit[ua][a].max), 60, 1e-9);

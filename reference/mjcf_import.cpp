@@ -1,0 +1,346 @@
+// MJCF -> rig through MuJoCo's own loader; the mapping is documented in mjcf_import.h.
+#include "reference/mjcf_import.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "physik/errors.h"
+
+namespace physik {
+
+namespace {
+
+Vec3 v3(const mjtNum* p) { return Vec3(p[0], p[1], p[2]); }
+Quat q4(const mjtNum* p) { return Quat(p[0], p[1], p[2], p[3]); }
+Mat3 m9(const mjtNum* p) {
+  Mat3 m;
+  m << p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8];
+  return m;
+}
+
+std::string body_name(const mjModel* m, int b) {
+  const char* n = mj_id2name(m, mjOBJ_BODY, b);
+  return n && *n ? std::string(n) : "body" + std::to_string(b);
+}
+
+// the geometric tip of a leaf body: farthest geom end from the body origin (rest, world)
+Vec3 leaf_tip(const mjModel* m, const mjData* d, int b, const Vec3& dir) {
+  const Vec3 origin = v3(d->xpos + 3 * b);
+  Vec3 best = origin;
+  double best_d = 0.0, rbound = 0.0;
+  auto consider = [&](const Vec3& p) {
+    const double dist = (p - origin).norm();
+    if (dist > best_d) {
+      best_d = dist;
+      best = p;
+    }
+  };
+  for (int g = m->body_geomadr[b]; g >= 0 && g < m->body_geomadr[b] + m->body_geomnum[b]; ++g) {
+    const Vec3 c = v3(d->geom_xpos + 3 * g);
+    const Mat3 r = m9(d->geom_xmat + 9 * g);
+    const mjtNum* size = m->geom_size + 3 * g;
+    rbound = std::max(rbound, static_cast<double>(m->geom_rbound[g]));
+    switch (m->geom_type[g]) {
+      case mjGEOM_CAPSULE:
+      case mjGEOM_CYLINDER: {
+        const double half = size[1] + (m->geom_type[g] == mjGEOM_CAPSULE ? size[0] : 0.0);
+        consider(c + half * r.col(2));
+        consider(c - half * r.col(2));
+        break;
+      }
+      case mjGEOM_BOX:
+      case mjGEOM_ELLIPSOID: {
+        int k = 0;
+        for (int a = 1; a < 3; ++a) k = size[a] > size[k] ? a : k;
+        consider(c + size[k] * r.col(k));
+        consider(c - size[k] * r.col(k));
+        break;
+      }
+      case mjGEOM_PLANE:
+        break;  // infinite: no tip
+      default:  // sphere, mesh, hfield...
+        consider(c + m->geom_rbound[g] * dir);
+        break;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+MjcfRig load_mjcf(const std::string& path, const MjcfImportOptions& options) {
+  char error[1000] = "";
+  mjModel* raw = mj_loadXML(path.c_str(), nullptr, error, sizeof(error));
+  if (!raw) {
+    std::string msg = error;
+    std::replace(msg.begin(), msg.end(), '\n', ' ');
+    throw_input_error(path, "", "", "MuJoCo cannot load it: " + msg);
+  }
+  MjModelPtr m(raw);
+  return import_mjcf_model(m.get(), path, options);
+}
+
+MjcfRig import_mjcf_model(const mjModel* m, const std::string& source,
+                          const MjcfImportOptions& options) {
+  MjcfRig out;
+  MjcfImportReport& rep = out.report;
+  rep.nbody_model = m->nbody - 1;
+  if (m->nbody < 2) throw_input_error(source, "", "worldbody", "the model has no body");
+
+  MjDataPtr data(mj_makeData(m));
+  mjData* d = data.get();
+  mj_resetData(m, d);  // qpos = qpos0
+  mj_kinematics(m, d);
+
+  // the subtree: a named body, or the largest top-level one
+  std::vector<int> subtree_size(m->nbody, 1);
+  for (int b = m->nbody - 1; b > 0; --b) subtree_size[m->body_parentid[b]] += subtree_size[b];
+  int root = -1;
+  if (!options.root_body.empty()) {
+    root = mj_name2id(m, mjOBJ_BODY, options.root_body.c_str());
+    if (root <= 0) {
+      throw_input_error(source, "body '" + options.root_body + "'", "--body",
+                        "no such body in the model");
+    }
+  } else {
+    for (int b = 1; b < m->nbody; ++b) {
+      if (m->body_parentid[b] == 0 && (root < 0 || subtree_size[b] > subtree_size[root])) root = b;
+    }
+  }
+  for (int b = 1; b < m->nbody; ++b) {
+    if (m->body_parentid[b] == 0 && b != root) rep.skipped_bodies.push_back(body_name(m, b));
+  }
+
+  // bodies of the subtree, parents first (MuJoCo's body order already is)
+  std::vector<int> node_of(m->nbody, -1);
+  std::vector<PivotNode> nodes;
+  for (int b = root; b < m->nbody; ++b) {
+    if (b != root && (m->body_parentid[b] <= 0 || node_of[m->body_parentid[b]] < 0)) continue;
+    node_of[b] = static_cast<int>(nodes.size());
+    PivotNode n;
+    n.name = body_name(m, b);
+    n.parent = b == root ? -1 : node_of[m->body_parentid[b]];
+    n.rest_world = v3(d->xpos + 3 * b);
+    nodes.push_back(n);
+    out.node_body.push_back(b);
+    out.node_rest_xquat.push_back(q4(d->xquat + 4 * b).normalized());
+  }
+  rep.nbody_used = static_cast<int>(nodes.size());
+  double extent = 1.0;
+  for (const PivotNode& n : nodes) extent = std::max(extent, n.rest_world.cwiseAbs().maxCoeff());
+
+  // leaves: a tail from the geometry
+  // (a child at the body's own origin passes on whether it has children away)
+  std::vector<bool> zero_offset(nodes.size(), false);
+  for (std::size_t i = 1; i < nodes.size(); ++i) {
+    zero_offset[i] =
+        (nodes[i].rest_world - nodes[nodes[i].parent].rest_world).norm() <= 1e-9 * extent;
+  }
+  std::vector<bool> has_child_away(nodes.size(), false);
+  for (std::size_t i = nodes.size() - 1; i >= 1; --i) {
+    if (!zero_offset[i] || has_child_away[i]) has_child_away[nodes[i].parent] = true;
+  }
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    if (has_child_away[i]) continue;
+    const int b = out.node_body[i];
+    // direction of the body from its nearest ancestor away from it, else +Z
+    Vec3 dir = Vec3::UnitZ();
+    double offset_len = 0.0;
+    for (int p = nodes[i].parent; p >= 0; p = nodes[p].parent) {
+      const Vec3 off = nodes[i].rest_world - nodes[p].rest_world;
+      if (off.norm() > 1e-9 * extent) {
+        dir = off.normalized();
+        offset_len = off.norm();
+        break;
+      }
+    }
+    Vec3 tip = leaf_tip(m, d, b, dir);
+    if ((tip - nodes[i].rest_world).norm() <= 1e-6 * extent) {
+      double rb = 0.0;
+      for (int g = m->body_geomadr[b]; g >= 0 && g < m->body_geomadr[b] + m->body_geomnum[b]; ++g) {
+        rb = std::max(rb, static_cast<double>(m->geom_rbound[g]));
+      }
+      tip = nodes[i].rest_world + std::max({rb, 0.1 * offset_len, 0.01}) * dir;
+    }
+    nodes[i].ends_world.push_back(tip);
+  }
+
+  PivotBones bones = pivot_bones(nodes, source);
+  const int nspec = static_cast<int>(bones.specs.size());
+
+  // joints of each body
+  struct BodyJoints {
+    std::vector<std::pair<Vec3, std::array<double, 3>>> hinges;  // world axis; lo, hi, limited
+    bool ball = false, ball_limited = false, free = false;
+    double ball_range = 0.0;
+  };
+  std::vector<BodyJoints> bj(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const int b = out.node_body[i];
+    const Mat3 xmat = m9(d->xmat + 9 * b);
+    for (int j = m->body_jntadr[b]; j >= 0 && j < m->body_jntadr[b] + m->body_jntnum[b]; ++j) {
+      const double lo = m->jnt_range[2 * j], hi = m->jnt_range[2 * j + 1];
+      const bool limited = m->jnt_limited[j] != 0;
+      switch (m->jnt_type[j]) {
+        case mjJNT_FREE: bj[i].free = true; break;
+        case mjJNT_BALL:
+          bj[i].ball = true;
+          bj[i].ball_limited = bj[i].ball_limited || limited;
+          bj[i].ball_range = std::max(lo, hi);
+          break;
+        case mjJNT_SLIDE: ++rep.slide_joints_dropped; break;
+        case mjJNT_HINGE:
+          bj[i].hinges.push_back({(xmat * v3(m->jnt_axis + 3 * j)).normalized(),
+                                  {lo, hi, limited ? 1.0 : 0.0}});
+          break;
+      }
+    }
+  }
+
+  // frames (roll to the first hinge) and limits per bone
+  const double kAlign = std::cos(deg2rad(20.0));
+  auto clamp_pi = [&](double v) {
+    if (v < -kPi || v > kPi) ++rep.clamped_ranges;
+    return std::clamp(v, -kPi, kPi);
+  };
+  // a bone's rotation relative to its parent bone is made by the joints of its own body and of
+  // the bodies between (zero-offset bodies have no bone of their own)
+  auto chain_joints = [&](int s) {
+    BodyJoints all;
+    const int stop = s == 0 ? -1 : bones.spec_node[bones.spec_parent[s]];
+    for (int n = bones.spec_node[s]; n >= 0 && n != stop; n = nodes[n].parent) {
+      const BodyJoints& j = bj[n];
+      all.hinges.insert(all.hinges.begin(), j.hinges.begin(), j.hinges.end());
+      all.ball = all.ball || j.ball;
+      all.ball_limited = all.ball_limited || j.ball_limited;
+      all.ball_range = std::max(all.ball_range, j.ball_range);
+      all.free = all.free || j.free;
+      if (s == 0) break;
+    }
+    return all;
+  };
+  for (int s = 0; s < nspec; ++s) {
+    BoneSpec& spec = bones.specs[s];
+    const BodyJoints j = chain_joints(s);
+    const Vec3 y = (spec.tail_world - spec.head_world).normalized();
+    for (const auto& h : j.hinges) {
+      const Vec3 perp = h.first - h.first.dot(y) * y;
+      if (std::abs(h.first.dot(y)) < kAlign && perp.norm() > 1e-9) {
+        const Vec3 x = perp.normalized();
+        spec.rest_frame_world.col(0) = x;
+        spec.rest_frame_world.col(1) = y;
+        spec.rest_frame_world.col(2) = x.cross(y);
+        break;
+      }
+    }
+    for (AxisLimit& l : spec.limit) l = AxisLimit{};
+    if (j.free) continue;
+    if (j.ball) {
+      if (j.ball_limited) {
+        const double r = clamp_pi(j.ball_range);
+        for (AxisLimit& l : spec.limit) l = AxisLimit{true, -r, r};
+      }
+      continue;
+    }
+    for (AxisLimit& l : spec.limit) l = AxisLimit{true, 0.0, 0.0};  // welded unless a hinge frees it
+    bool unaligned = false;
+    for (const auto& h : j.hinges) {
+      const Vec3 local = spec.rest_frame_world.transpose() * h.first;
+      int k = 0;
+      for (int a = 1; a < 3; ++a) k = std::abs(local[a]) > std::abs(local[k]) ? a : k;
+      if (std::abs(local[k]) < kAlign) {
+        unaligned = true;
+        continue;
+      }
+      rep.max_hinge_misalignment_deg = std::max(
+          rep.max_hinge_misalignment_deg, rad2deg(std::acos(std::min(1.0, std::abs(local[k])))));
+      const double lo = h.second[0], hi = h.second[1];
+      if (h.second[2] == 0.0) {
+        spec.limit[k] = AxisLimit{};
+      } else if (local[k] > 0) {
+        spec.limit[k] = AxisLimit{true, clamp_pi(lo), clamp_pi(hi)};
+      } else {
+        spec.limit[k] = AxisLimit{true, clamp_pi(-hi), clamp_pi(-lo)};
+      }
+    }
+    if (unaligned) {
+      ++rep.unaligned_hinges;
+      for (AxisLimit& l : spec.limit) l = AxisLimit{};
+    }
+  }
+
+  // mass and inertia: each body shared by the bones that follow it
+  std::vector<double> mass(nspec, 0.0);
+  std::vector<Mat3> inertia(nspec, Mat3::Zero());  // world, about the body's centre of mass
+  std::vector<std::vector<int>> followers(nodes.size());
+  for (int s = 0; s < nspec; ++s) followers[bones.spec_node[s]].push_back(s);
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const int b = out.node_body[i];
+    rep.model_mass += m->body_mass[b];
+    std::vector<int> f = followers[i];
+    // no bone of its own: the bones of its zero-offset descendants, else the bone ending here
+    for (std::size_t j = i + 1; j < nodes.size() && f.empty(); ++j) {
+      int n = static_cast<int>(j);
+      while (n > static_cast<int>(i) && zero_offset[n]) n = nodes[n].parent;
+      if (n == static_cast<int>(i)) f = followers[j];
+    }
+    if (f.empty()) f = {std::max(0, bones.node_incoming[i])};
+    const Mat3 ri = m9(d->ximat + 9 * b);
+    const Mat3 iw = ri * v3(m->body_inertia + 3 * b).asDiagonal() * ri.transpose();
+    Vec3 mid = Vec3::Zero();
+    for (int s : f) {
+      mass[s] += m->body_mass[b] / f.size();
+      inertia[s] += iw / static_cast<double>(f.size());
+      mid += 0.5 * (bones.specs[s].head_world + bones.specs[s].tail_world) / f.size();
+    }
+    if (m->body_mass[b] > 0) {
+      rep.max_com_shift = std::max(rep.max_com_shift, (mid - v3(d->xipos + 3 * b)).norm());
+    }
+  }
+  double mean = 0.0;
+  for (double v : mass) mean += v / nspec;
+  const double floor_mass = mean > 0.0 ? 1e-3 * mean : 1e-3;
+  for (int s = 0; s < nspec; ++s) {
+    BoneSpec& spec = bones.specs[s];
+    if (!(mass[s] > 0.0)) {
+      ++rep.mass_floor_bones;
+      mass[s] = floor_mass;
+    }
+    spec.mass = mass[s];
+    const Mat3 local = spec.rest_frame_world.transpose() * inertia[s] * spec.rest_frame_world;
+    const Vec3 diag = local.diagonal();
+    const bool triangle = diag.x() + diag.y() >= diag.z() * (1 - 1e-9) &&
+                          diag.y() + diag.z() >= diag.x() * (1 - 1e-9) &&
+                          diag.z() + diag.x() >= diag.y() * (1 - 1e-9);
+    if (diag.allFinite() && diag.minCoeff() > 0.0 && triangle) {
+      spec.inertia_local = diag;
+      Mat3 off = local;
+      off.diagonal().setZero();
+      rep.max_offdiag_inertia =
+          std::max(rep.max_offdiag_inertia, off.cwiseAbs().maxCoeff() / diag.maxCoeff());
+    } else {
+      spec.inertia_local.setZero();  // the cylinder of the default radius
+      ++rep.cylinder_inertia_bones;
+    }
+    rep.rig_mass += spec.mass;
+  }
+
+  const char* model_name = m->nnames > 0 ? m->names : "";  // the model name comes first
+  out.pivots = finish_pivot_rig(nodes, bones, source, model_name);
+  return out;
+}
+
+Pose pose_from_mujoco(const MjcfRig& mr, const mjData* d) {
+  const std::size_t n = mr.node_body.size();
+  std::vector<Quat> rot(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const int b = mr.node_body[i];
+    rot[i] = (q4(d->xquat + 4 * b).normalized() * mr.node_rest_xquat[i].conjugate()).normalized();
+  }
+  BoneFrames scratch;
+  Pose pose;
+  pivot_pose(mr.pivots, rot, v3(d->xpos + 3 * mr.node_body[0]), scratch, pose);
+  return pose;
+}
+
+}  // namespace physik

@@ -1,0 +1,89 @@
+// MJCF -> rig: a MuJoCo model, loaded and compiled by MuJoCo itself (mj_loadXML), as a PhysIK rig.
+//
+// Kinematic tree: every body of the chosen subtree is a pivot (pivot_rig.h) at its rest world
+// origin xpos (the model's qpos0 configuration, after mj_kinematics) turning with its world
+// rotation xquat. A body's bones run from its origin to each distinct child-body origin; a body
+// with no child away from its origin (a leaf) gets a tail from its geometry: the farthest end of
+// its geoms (capsule/cylinder: segment end plus capsule radius; box/ellipsoid: the longest
+// half-axis; sphere and others: geom centre + bounding radius along the parent -> body direction),
+// else a short stub (max(geom rbound, 0.1 x offset from parent, 0.01)) along that direction. A body
+// with several children gets one bone per child offset ("<body>><child>"); a root body with several
+// gets a synthetic root bone ending at its origin (pivot_rig.h). FK of the rig then puts every
+// bone's head at its body's xpos, for any qpos (pose_from_mujoco).
+// The model's world body is not a bone. With several top-level bodies (22_humanoids, particles)
+// one subtree is taken: the one named by MjcfImportOptions::root_body, else the largest (first on
+// ties); the others are listed in the report.
+//
+// Mass and inertia: a body's mass is shared equally by the bones that follow it (its segments,
+// and the synthetic root for the root body); a body with no bone of its own (a zero-offset child)
+// gives its mass to the bone ending at its origin. Bone masses sum to the subtree's mass (bodies
+// with zero mass give bones a floor of 1e-3 x the mean bone mass, counted in the report).
+// Each bone's inertia is explicit (BoneSpec::inertia_local): its share of the body's inertia tensor
+// about the body's centre of mass (body_inertia in the frame ximat), expressed in the bone's rest
+// frame, diagonal kept. What the rod model cannot carry is reported, not hidden: the dropped
+// off-diagonal terms (relative to the largest moment) and the shift of the centre of mass from the
+// body's xipos to the bones' midpoints.
+//
+// Joints -> limits (rig.h: per bone-local axis, intervals on the rotation-vector components):
+//   no joint (welded)        all three axes locked [0, 0]
+//   hinges                   the bone's roll is chosen so that the first hinge not along the bone
+//                            is its local x axis; each hinge maps to the bone-local axis it is
+//                            within 20 deg of (range sign-flipped if anti-parallel; an unlimited
+//                            hinge leaves its axis free); the axes no hinge maps to are locked. A
+//                            hinge more than 20 deg from every axis makes the bone free (reported).
+//   ball                     limited: every axis [-r, r] (r = its cone angle); otherwise free
+//   free (root)              free (the rig's root is free anyway)
+//   slide                    cannot be represented (bones have fixed lengths): dropped, reported
+// Ranges beyond +-180 deg are clamped (reported). MuJoCo's ranges are radians in the compiled model.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <mujoco/mujoco.h>
+
+#include "physik/kinematics.h"
+#include "physik/pivot_rig.h"
+#include "reference/mjcf_export.h"
+
+namespace physik {
+
+struct MjcfImportOptions {
+  std::string root_body;  // body whose subtree becomes the rig; empty: the largest top-level one
+};
+
+struct MjcfImportReport {
+  int nbody_model = 0;                       // bodies in the model, without the world
+  int nbody_used = 0;                        // bodies in the chosen subtree
+  std::vector<std::string> skipped_bodies;   // other top-level bodies (roots of subtrees left out)
+  double model_mass = 0.0;                   // kg, the chosen subtree in MuJoCo
+  double rig_mass = 0.0;                     // kg, sum of bone masses
+  int mass_floor_bones = 0;                  // bones given the floor mass (massless bodies)
+  int slide_joints_dropped = 0;
+  int unaligned_hinges = 0;                  // hinges > 20 deg from every bone axis (bone freed)
+  double max_hinge_misalignment_deg = 0.0;   // of the mapped hinges
+  int clamped_ranges = 0;
+  double max_offdiag_inertia = 0.0;          // dropped off-diagonal / largest moment
+  double max_com_shift = 0.0;                // rig units, xipos vs the mean of its bones' midpoints
+  int cylinder_inertia_bones = 0;            // bones whose body inertia was unusable (cylinder used)
+};
+
+struct MjcfRig {
+  PivotRig pivots;                 // the rig (pivots.rig); node i <-> MuJoCo body node_body[i]
+  std::vector<int> node_body;      // (nnode) MuJoCo body id
+  std::vector<Quat> node_rest_xquat;  // (nnode) body orientation at qpos0
+  MjcfImportReport report;
+  const Rig& rig() const { return pivots.rig; }
+};
+
+// Load with mj_loadXML (MuJoCo resolves includes, defaults, assets). Throws InputError naming the
+// file with MuJoCo's message if it cannot load it, or if the model has no body.
+MjcfRig load_mjcf(const std::string& path, const MjcfImportOptions& options = {});
+// From a compiled model; `source` names it in messages.
+MjcfRig import_mjcf_model(const mjModel* m, const std::string& source,
+                          const MjcfImportOptions& options = {});
+
+// The rig pose of a MuJoCo configuration: `d` must hold xpos/xquat (mj_kinematics done).
+Pose pose_from_mujoco(const MjcfRig& mr, const mjData* d);
+
+}  // namespace physik
