@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "cli/commands.h"
+#include "physik/bvh.h"
 #include "physik/engine.h"
 #include "physik/errors.h"
 #include "physik/pose_io.h"
@@ -25,6 +26,7 @@ struct SimulateOptions {
   bool quiet = false;
   std::vector<std::string> set;  // param overrides key=value
   std::string reference;         // "" or mujoco[:same-forces|:exact-constraints]
+  std::string bvh;               // "" or the BVH/qBVH animation to record
 };
 
 // "key=value" overrides of scene params, parsed as JSON values where possible
@@ -64,7 +66,8 @@ void add_simulate_commands(CLI::App& app) {
   cmd->add_option("SCENE", opt->scene, "Scene file (JSON, see models/README.md)")->required();
   cmd->add_option("--out", opt->out, "Output folder")->capture_default_str();
   cmd->add_option("--steps", opt->steps, "Number of steps (default: the scene's)");
-  cmd->add_option("--every", opt->every, "Write a CSV row every N steps")->capture_default_str();
+  cmd->add_option("--every", opt->every, "Write a CSV row (and a --bvh frame) every N steps")->capture_default_str();
+  cmd->add_option("--bvh", opt->bvh, "Also record the run as a BVH animation (qBVH if the name ends in .qbvh): the initial pose, then a frame every --every steps");
   cmd->add_option("--set", opt->set, "Override a parameter, e.g. --set damping=20 --set preset=paper");
   cmd->add_flag("--quiet", opt->quiet, "No progress output");
   cmd->add_option("--reference", opt->reference,
@@ -89,7 +92,13 @@ void add_simulate_commands(CLI::App& app) {
     std::vector<double> row, residuals;
     row.reserve(6 * scene.rig.nbone);
     const int report_every = std::max(1, scene.steps / 10);
+    std::unique_ptr<BvhRecorder> bvh;
+    if (!opt->bvh.empty()) {
+      bvh = std::make_unique<BvhRecorder>(scene.rig, scene.params.dt * opt->every);
+      bvh->record(scene.initial_pose);
+    }
     const auto observer = [&](const SimState& s, const StepStats& st) {
+      if (bvh && s.step % opt->every == 0 && std::isfinite(st.kinetic_energy)) bvh->record(s.frames);
       if (s.step % opt->every == 0 || s.step == scene.steps) {
         control_residuals(scene, s, residuals);
         csv << s.step << "," << s.time << "," << st.kinetic_energy << "," << st.passes << ","
@@ -107,6 +116,7 @@ void add_simulate_commands(CLI::App& app) {
     };
     const RunSummary sum = run_scene(scene, observer);
     write_json(summary_to_json(scene, sum), opt->out + "/summary.json");
+    if (bvh) bvh->save(opt->bvh);
     {
       std::ofstream pose(opt->out + "/final_pose.csv");
       write_bones_csv(scene.rig, sum.final_frames, pose);

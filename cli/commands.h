@@ -10,6 +10,7 @@
 namespace physik::cli {
 
 void add_rig_commands(CLI::App& app);
+void add_interchange_commands(CLI::App& app);  // after add_rig_commands: adds to `rig`
 void add_experiment_commands(CLI::App& app);
 void add_simulate_commands(CLI::App& app);
 void add_reference_commands(CLI::App& app);

@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Show help for every command");
   physik::cli::add_rig_commands(app);
+  physik::cli::add_interchange_commands(app);
   physik::cli::add_experiment_commands(app);
   physik::cli::add_simulate_commands(app);
   physik::cli::add_reference_commands(app);

@@ -1,0 +1,171 @@
+// Animation interchange: physik rig from-bvh | to-bvh | limits | from-mjcf, physik bvh convert.
+// The formats are documented in physik/bvh.h, physik/joint_limits.h, reference/mjcf_import.h and
+// models/README.md.
+#include <iostream>
+#include <memory>
+
+#include "cli/commands.h"
+#include "physik/bvh.h"
+#include "physik/errors.h"
+#include "physik/joint_limits.h"
+#include "physik/rig_io.h"
+#include "reference/mjcf_import.h"
+
+namespace physik::cli {
+
+namespace {
+
+BvhAxes parse_axes(const std::string& s) {
+  if (s == "y-up") return BvhAxes::kYUp;
+  if (s == "z-up") return BvhAxes::kZUp;
+  throw_input_error("--axes", "", "", "expected y-up or z-up, got '" + s + "'");
+}
+
+void add_axes_option(CLI::App* cmd, std::string& axes) {
+  cmd->add_option("--axes", axes,
+                  "y-up: the file is Y up (BVH habit, Blender's default), mapped to the rig's Z "
+                  "up; z-up: file axes used as they are")
+      ->capture_default_str();
+}
+
+}  // namespace
+
+void add_interchange_commands(CLI::App& app) {
+  CLI::App* rig = app.get_subcommand("rig");
+
+  // --- rig from-bvh
+  struct FromBvh {
+    std::string path, out, axes = "y-up";
+    double scale = 1.0;
+  };
+  auto fb = std::make_shared<FromBvh>();
+  auto* from_bvh = rig->add_subcommand(
+      "from-bvh", "Rig of a BVH/qBVH file (bones from offsets, End Sites as tails); prints JSON");
+  from_bvh->add_option("FILE", fb->path, "BVH or qBVH file")->required();
+  from_bvh->add_option("--out", fb->out, "Write the rig JSON here instead of stdout");
+  add_axes_option(from_bvh, fb->axes);
+  from_bvh->add_option("--scale", fb->scale, "Rig units per file unit (e.g. 0.01 for cm)")
+      ->capture_default_str();
+  from_bvh->callback([fb] {
+    BvhImportOptions o;
+    o.axes = parse_axes(fb->axes);
+    o.scale = fb->scale;
+    const BvhAnimation anim = load_bvh(fb->path, o);
+    std::cerr << "from-bvh: " << anim.rig().nbone << " bones, " << anim.poses.size()
+              << " frames, max |FK - BVH| = " << anim.max_position_error << " rig units\n";
+    if (anim.max_position_error > 1e-6 * std::max(1.0, anim.rig().height())) {
+      std::cerr << "from-bvh: warning: position channels on non-root joints move them along "
+                   "their bones; the rig keeps fixed lengths\n";
+    }
+    write_json(rig_to_json(anim.rig()), fb->out);
+  });
+
+  // --- rig to-bvh
+  struct ToBvh {
+    std::string path, out, axes = "y-up", order = "ZXY";
+    double scale = 1.0;
+    bool qbvh = false;
+  };
+  auto tb = std::make_shared<ToBvh>();
+  auto* to_bvh = rig->add_subcommand("to-bvh", "A rig's rest pose as BVH (or qBVH), one frame");
+  to_bvh->add_option("RIG", tb->path, "Rig file (JSON)")->required();
+  to_bvh->add_option("--out", tb->out, "Write here (a .qbvh name writes qBVH) instead of stdout");
+  to_bvh->add_flag("--qbvh", tb->qbvh, "Quaternion channels (qBVH)");
+  to_bvh->add_option("--order", tb->order, "Euler channel order")->capture_default_str();
+  add_axes_option(to_bvh, tb->axes);
+  to_bvh->add_option("--scale", tb->scale, "File units per rig unit")->capture_default_str();
+  to_bvh->callback([tb] {
+    const Rig r = load_rig(tb->path);
+    BvhExportOptions o;
+    o.axes = parse_axes(tb->axes);
+    o.euler_order = tb->order;
+    o.scale = tb->scale;
+    o.quaternion = tb->qbvh || is_qbvh_path(tb->out);
+    if (tb->out.empty() || tb->out == "-") {
+      write_bvh(r, {}, o, std::cout);
+    } else {
+      save_bvh(tb->out, r, {}, o);
+    }
+  });
+
+  // --- rig limits
+  struct Limits {
+    std::string rig, limits, out;
+  };
+  auto lo = std::make_shared<Limits>();
+  auto* limits = rig->add_subcommand(
+      "limits", "Apply a joint-limit file to a rig by bone name (unknown bone: exit 2)");
+  limits->add_option("RIG", lo->rig, "Rig file (JSON)")->required();
+  limits->add_option("LIMITS", lo->limits, "Joint-limit file (JSON, see models/README.md)")
+      ->required();
+  limits->add_option("--out", lo->out, "Write the new rig here instead of stdout");
+  limits->callback([lo] {
+    Rig r = load_rig(lo->rig);
+    apply_joint_limits(r, load_joint_limits(lo->limits));
+    write_json(rig_to_json(r), lo->out);
+  });
+
+  // --- rig from-mjcf
+  struct FromMjcf {
+    std::string path, out, body;
+  };
+  auto fm = std::make_shared<FromMjcf>();
+  auto* from_mjcf = rig->add_subcommand(
+      "from-mjcf", "Rig of a MuJoCo model (loaded by MuJoCo): bodies -> bones, joint ranges -> "
+                   "limits, masses and inertias; prints JSON");
+  from_mjcf->add_option("MODEL", fm->path, "MJCF file")->required();
+  from_mjcf->add_option("--out", fm->out, "Write the rig JSON here instead of stdout");
+  from_mjcf->add_option("--body", fm->body,
+                        "Body whose subtree becomes the rig (default: the largest top-level one)");
+  from_mjcf->callback([fm] {
+    MjcfImportOptions o;
+    o.root_body = fm->body;
+    const MjcfRig mr = load_mjcf(fm->path, o);
+    const MjcfImportReport& r = mr.report;
+    std::cerr << "from-mjcf: " << mr.rig().nbone << " bones from " << r.nbody_used << " of "
+              << r.nbody_model << " bodies; mass " << r.rig_mass << " kg (model " << r.model_mass
+              << " kg)";
+    if (!r.skipped_bodies.empty()) {
+      std::cerr << "; left out " << r.skipped_bodies.size() << " other top-level bodies (first: "
+                << r.skipped_bodies[0] << "; choose with --body)";
+    }
+    std::cerr << "\nfrom-mjcf: dropped: " << r.slide_joints_dropped << " slide joints, "
+              << r.unaligned_hinges << " bones freed by unaligned hinges (mapped hinges within "
+              << r.max_hinge_misalignment_deg << " deg), " << r.clamped_ranges
+              << " ranges clamped to +-180 deg, off-diagonal inertia up to "
+              << r.max_offdiag_inertia << " of the largest moment, centre of mass moved up to "
+              << r.max_com_shift << ", " << r.mass_floor_bones << " massless bones floored, "
+              << r.cylinder_inertia_bones << " bones with cylinder inertia\n";
+    write_json(rig_to_json(mr.rig()), fm->out);
+  });
+
+  // --- bvh convert
+  struct Convert {
+    std::string in, out, axes = "y-up", order = "ZXY";
+  };
+  auto co = std::make_shared<Convert>();
+  auto* bvh = app.add_subcommand("bvh", "BVH and qBVH animation files");
+  bvh->require_subcommand(1);
+  auto* convert = bvh->add_subcommand(
+      "convert", "Read a BVH/qBVH animation and write it again (qBVH if OUT ends in .qbvh)");
+  convert->add_option("IN", co->in, "BVH or qBVH file")->required();
+  convert->add_option("OUT", co->out, "Output file (.bvh or .qbvh)")->required();
+  convert->add_option("--order", co->order, "Euler channel order of a .bvh output")
+      ->capture_default_str();
+  add_axes_option(convert, co->axes);
+  convert->callback([co] {
+    BvhImportOptions io;
+    io.axes = parse_axes(co->axes);
+    const BvhAnimation anim = load_bvh(co->in, io);
+    BvhExportOptions o;
+    o.axes = io.axes;
+    o.euler_order = co->order;
+    o.frame_time = anim.frame_time;
+    o.quaternion = is_qbvh_path(co->out);
+    save_bvh(co->out, anim.rig(), anim.poses, o);
+    std::cerr << "bvh convert: " << anim.rig().nbone << " bones, " << anim.poses.size()
+              << " frames -> " << co->out << "\n";
+  });
+}
+
+}  // namespace physik::cli
