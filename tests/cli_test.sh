@@ -72,5 +72,38 @@ check "simulate reference" 0 "$bin" simulate "$src/models/scenes/pinhead_two_han
 expect_in "comparison.json" "$tmp/ref/comparison.json" '"final_pose_gap"'
 expect_in "mujoco csv header" "$tmp/ref/mujoco_trajectory.csv" "step,time,kinetic_energy,passes,joint_mismatch,joint_separation,residual_0"
 
+# interchange: BVH / qBVH, joint-limit files, MJCF (issue 8)
+check "from-bvh help" 0 "$bin" rig from-bvh --help
+check "to-bvh pinhead" 0 "$bin" rig to-bvh "$src/models/rigs/pinhead.json" --out "$tmp/p.bvh"
+check "from-bvh pinhead" 0 "$bin" rig from-bvh "$tmp/p.bvh" --out "$tmp/p_back.json"
+check "from-bvh info" 0 "$bin" rig info --json "$tmp/p_back.json"
+expect_in "from-bvh bones" "$tmp/out" '"bones": 18'
+check "bvh to qbvh" 0 "$bin" bvh convert "$tmp/p.bvh" "$tmp/p.qbvh"
+expect_in "qbvh channels" "$tmp/p.qbvh" "Wquaternion Xquaternion Yquaternion Zquaternion"
+check "from-bvh qbvh" 0 "$bin" rig from-bvh "$tmp/p.qbvh"
+printf 'HIERARCHY\nROOT A\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n  End Site\n  {\n    OFFSET 0 1 0\n  }\n' > "$tmp/open.bvh"
+check "bvh unbalanced braces" 2 "$bin" rig from-bvh "$tmp/open.bvh"
+expect_in "bvh unbalanced message" "$tmp/err" "open.bvh: line 9: field '}': unbalanced braces"
+printf 'HIERARCHY\nROOT A\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n}\nMOTION\nFrames: 2\nFrame Time: 0.1\n1 2 3\n' > "$tmp/frames.bvh"
+check "bvh frame count" 2 "$bin" rig from-bvh "$tmp/frames.bvh"
+expect_in "bvh frame count message" "$tmp/err" "frames.bvh: line 8: field 'Frames'"
+printf 'HIERARCHY\nROOT A\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n1 nan 3\n' > "$tmp/nan.bvh"
+check "bvh nan" 2 "$bin" rig from-bvh "$tmp/nan.bvh"
+expect_in "bvh nan message" "$tmp/err" "nan.bvh: line 10: field 'MOTION'"
+check "bvh bad axes" 2 "$bin" rig from-bvh "$tmp/p.bvh" --axes x-up
+printf '{"limits_deg": {"forearm.L": {"x": [-120, 0]}, "head": "locked"}}' > "$tmp/lim.json"
+check "rig limits" 0 "$bin" rig limits "$src/models/rigs/pinhead.json" "$tmp/lim.json" --out "$tmp/lim_rig.json"
+check "rig limits info" 0 "$bin" rig info --json "$tmp/lim_rig.json"
+printf '{"limits_deg": {"no_such_bone": {"x": [-120, 0]}}}' > "$tmp/badlim.json"
+check "rig limits unknown bone" 2 "$bin" rig limits "$src/models/rigs/pinhead.json" "$tmp/badlim.json"
+expect_in "unknown bone message" "$tmp/err" "badlim.json: limits_deg 'no_such_bone': unknown bone"
+if [ -f /usr/share/mujoco/model/humanoid/humanoid.xml ]; then
+  check "from-mjcf humanoid" 0 "$bin" rig from-mjcf /usr/share/mujoco/model/humanoid/humanoid.xml --out "$tmp/hum.json"
+  check "from-mjcf info" 0 "$bin" rig info "$tmp/hum.json"
+fi
+printf '<mujoco><worldbody><body></worldbody></mujoco>' > "$tmp/bad.xml"
+check "from-mjcf bad xml" 2 "$bin" rig from-mjcf "$tmp/bad.xml"
+expect_in "from-mjcf message" "$tmp/err" "bad.xml: MuJoCo cannot load it"
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]
