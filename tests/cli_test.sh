@@ -105,5 +105,17 @@ printf '<mujoco><worldbody><body></worldbody></mujoco>' > "$tmp/bad.xml"
 check "from-mjcf bad xml" 2 "$bin" rig from-mjcf "$tmp/bad.xml"
 expect_in "from-mjcf message" "$tmp/err" "bad.xml: MuJoCo cannot load it"
 
+# physik solve: classic IK solvers and the engine on a scene's control points
+check "solve help" 0 "$bin" solve --help
+check "solve bad solver" 2 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" --solver newton --out "$tmp/solve"
+expect_in "solve bad solver message" "$tmp/err" "unknown solver 'newton'"
+check "solve missing scene" 2 "$bin" solve "$tmp/none.json" --solver dls --out "$tmp/solve"
+check "solve negative tol" 2 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" --solver dls --tol -1 --out "$tmp/solve"
+check "solve dls" 0 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" --solver dls --out "$tmp/solve" --quiet
+expect_in "solve summary converged" "$tmp/solve/summary.json" '"converged": true'
+expect_in "solve summary residuals" "$tmp/solve/summary.json" '"final_residuals"'
+expect_in "solve summary solver" "$tmp/solve/summary.json" '"solver": "dls"'
+expect_in "solve final pose" "$tmp/solve/final_pose.csv" "hand.L"
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]
