@@ -1,17 +1,19 @@
 // PhysIK's step beside MuJoCo's mj_step on the equivalent model (issue 4), in one binary and one
-// run. Each benchmark iteration restores the same initial state and times, with steady_clock:
+// run. Each benchmark iteration restores the same initial state and times, in thread CPU time
+// (other processes on a shared machine do not count), per step over the first kSteps steps of the
+// scene (motion, not rest):
 //   physik_us     PhysIK's step() (the scene's integration, Gauss-Seidel joint forces)
 //   mj_step_us    mj_step on the MJCF of the same rig, replaying the applied forces
 //                 (xfrc_applied) recorded from a reference run, so it follows the same trajectory:
 //                 MuJoCo's own cost for the equivalent model, without PhysIK's force stages
 //   reference_us  the whole reference step: PhysIK's force stages on MuJoCo's state +
 //                 mj_step2 + mj_step1 (reference/mujoco_runner.h)
-// per step, over the first kSteps steps of the scene (motion, not rest), and the ratio
+// and the ratio
 //   physik_over_mj_step = physik_us / mj_step_us.
 // Scenes: pinhead with two hand targets and the Fig 5 running pose (8 control points).
 // The entry point is bench/bench_main.cpp (no main here).
 #include <algorithm>
-#include <chrono>
+#include <ctime>
 #include <string>
 #include <vector>
 
@@ -31,9 +33,14 @@ std::string scene_file(const std::string& name) {
 #endif
 }
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+// CPU time of this thread, s
+double thread_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return t.tv_sec + 1e-9 * t.tv_nsec;
 }
+
+double seconds_since(double t0) { return thread_seconds() - t0; }
 
 void BM_PhysikVsMujoco(benchmark::State& state, const std::string& name, physik::ReferenceMode mode) {
   const physik::Scene scene = physik::load_scene(scene_file(name));
@@ -55,12 +62,12 @@ void BM_PhysikVsMujoco(benchmark::State& state, const std::string& name, physik:
   long steps = 0;
   for (auto _ : state) {
     physik::SimState s = initial;
-    auto t0 = std::chrono::steady_clock::now();
+    double t0 = thread_seconds();
     for (int k = 0; k < kSteps; ++k) benchmark::DoNotOptimize(physik::step(scene, s).kinetic_energy);
     t_physik += seconds_since(t0);
 
     mj_copyData(d.get(), m, start.get());
-    t0 = std::chrono::steady_clock::now();
+    t0 = thread_seconds();
     for (int k = 0; k < kSteps; ++k) {
       std::copy(xfrc[k].begin(), xfrc[k].end(), d->xfrc_applied);
       mj_step(m, d.get());
@@ -69,7 +76,7 @@ void BM_PhysikVsMujoco(benchmark::State& state, const std::string& name, physik:
     t_mj += seconds_since(t0);
 
     ref.reset();
-    t0 = std::chrono::steady_clock::now();
+    t0 = thread_seconds();
     for (int k = 0; k < kSteps; ++k) benchmark::DoNotOptimize(ref.step().kinetic_energy);
     t_ref += seconds_since(t0);
     steps += kSteps;
