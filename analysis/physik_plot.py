@@ -91,3 +91,70 @@ def plot_rest_pose(bones_csv, out_png, title=None):
         ax.set_title(view)
     fig.suptitle(title or os.path.splitext(os.path.basename(bones_csv))[0])
     return save(fig, out_png)
+
+
+def pose_panels(panels, out_png, views=("front", "side"), suptitle=None, size=3.2):
+    """A grid of stick figures: one row per view, one column per panel.
+
+    panels: list of dicts {"bones": [...], "title": str, "targets": [(x,y,z)], "color": str,
+            "overlay": [{"bones": [...], "color": str, "label": str}]}
+    """
+    ncol = len(panels)
+    fig, axes = plt.subplots(len(views), ncol, figsize=(size * ncol, size * len(views)), squeeze=False)
+    for c, p in enumerate(panels):
+        for r, view in enumerate(views):
+            ax = axes[r][c]
+            draw_pose(ax, p["bones"], view, color=p.get("color", "k"), label=p.get("label"),
+                      targets=p.get("targets"))
+            for o in p.get("overlay", []):
+                draw_pose(ax, o["bones"], view, color=o.get("color", "tab:blue"), label=o.get("label"),
+                          alpha=o.get("alpha", 0.8))
+            if r == 0:
+                ax.set_title(p.get("title", ""), fontsize=9)
+            if p.get("label") or p.get("overlay"):
+                ax.legend(fontsize=7, loc="best")
+    if suptitle:
+        fig.suptitle(suptitle)
+    return save(fig, out_png)
+
+
+def curves(series, out_png, xlabel, ylabel, title=None, logy=False, markers=None):
+    """Line plot of several series: list of (x, y, label)."""
+    fig, ax = plt.subplots(figsize=(6.4, 4.0))
+    for k, (x, y, label) in enumerate(series):
+        ax.plot(x, y, "-" if not markers else markers[k], label=label, lw=1.5, ms=4)
+    if logy:
+        ax.set_yscale("log")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    if title:
+        ax.set_title(title)
+    ax.grid(True, lw=0.3)
+    if any(s[2] for s in series):
+        ax.legend(fontsize=8)
+    return save(fig, out_png)
+
+
+def load_summary(folder):
+    import json
+    with open(os.path.join(folder, "summary.json")) as f:
+        return json.load(f)
+
+
+def pose_grid(rows, out_png, view="side", suptitle=None, size=2.6):
+    """A grid of stick figures in one view: rows is a list of rows, each a list of panels
+    {"bones", "title", "color", "targets"}."""
+    nrow, ncol = len(rows), max(len(r) for r in rows)
+    fig, axes = plt.subplots(nrow, ncol, figsize=(size * ncol, size * nrow), squeeze=False)
+    for r, row in enumerate(rows):
+        for c in range(ncol):
+            ax = axes[r][c]
+            if c >= len(row):
+                ax.axis("off")
+                continue
+            p = row[c]
+            draw_pose(ax, p["bones"], view, color=p.get("color", "k"), targets=p.get("targets"))
+            ax.set_title(p.get("title", ""), fontsize=9)
+    if suptitle:
+        fig.suptitle(suptitle)
+    return save(fig, out_png)

@@ -9,10 +9,30 @@ namespace physik::experiments {
 
 Experiment rest_poses_experiment();
 Experiment ik_comparison_experiment();
+Experiment fig5_running_experiment();
+Experiment fig6_elbow_experiment();
+Experiment fig7_cannon_experiment();
+Experiment fig8_wobble_experiment();
+Experiment fig9_outstretched_experiment();
+Experiment fig10_interpolation_experiment();
+Experiment fig11_sit_experiment();
+Experiment hand_explodes_experiment();
+Experiment timing_experiment();
+Experiment damping_sweep_experiment();
 
 const std::vector<Experiment>& all_experiments() {
   static const std::vector<Experiment> list = {
       rest_poses_experiment(),
+      fig5_running_experiment(),
+      fig6_elbow_experiment(),
+      fig7_cannon_experiment(),
+      fig8_wobble_experiment(),
+      fig9_outstretched_experiment(),
+      fig10_interpolation_experiment(),
+      fig11_sit_experiment(),
+      hand_explodes_experiment(),
+      timing_experiment(),
+      damping_sweep_experiment(),
       ik_comparison_experiment(),
   };
   return list;

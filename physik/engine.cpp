@@ -52,7 +52,9 @@ StepStats step(const Scene& scene, SimState& s) {
   apply_damping(rig, p, s);
   apply_control_springs(scene, s);
   apply_torsion_springs(rig, p, s);
+  const auto t0 = std::chrono::steady_clock::now();
   const JointSolveStats js = solve_joint_forces(rig, p, s);
+  const auto t1 = std::chrono::steady_clock::now();
   integrate(rig, p, s);
 
   s.step += 1;
@@ -62,6 +64,7 @@ StepStats step(const Scene& scene, SimState& s) {
   StepStats st;
   st.passes = js.passes;
   st.mismatch = js.mismatch;
+  st.joint_solve_s = std::chrono::duration<double>(t1 - t0).count();
   st.kinetic_energy = kinetic_energy(rig, s);
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
     const ControlPoint& cp = scene.control_points[c];

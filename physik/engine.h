@@ -24,6 +24,7 @@ struct StepStats {
   double kinetic_energy = 0.0;  // J, after the step
   double max_residual = 0.0;    // rig units, largest control-point distance to its goal target
   double joint_separation = 0.0;  // rig units, largest parent-tail to child-head gap
+  double joint_solve_s = 0.0;     // s, wall time of the inter-joint force solve (profiling)
 };
 
 StepStats step(const Scene& scene, SimState& state);
