@@ -103,6 +103,9 @@ void add_tune(CLI::App& app) {
     for (std::size_t i = 0; i < r.names.size(); ++i) {
       std::cout << "  " << r.names[i] << ": " << r.initial_values[i] << " -> " << r.values[i] << "\n";
     }
+    if (to.objective == tune::Objective::kMujoco) {
+      std::cout << "  MuJoCo same-forces reference: " << r.reference_steps << " steps\n";
+    }
     std::cout << "  objective J: " << r.initial_cost << " (scene) -> " << r.scan_cost << " (scan) -> "
               << r.final_cost << " (ceres)\n";
     std::cout << "  tuned run: "
@@ -131,6 +134,7 @@ void add_tune(CLI::App& app) {
                   {"scan_cost", r.scan_cost},
                   {"final_cost", r.final_cost},
                   {"evaluations", r.evaluations},
+                  {"reference_steps", r.reference_steps},
                   {"wall_time_s", r.wall_time_s},
                   {"ceres", r.ceres_brief},
                   {"tuned_run", summary_to_json(r.tuned_scene, r.tuned_run)},

@@ -117,5 +117,25 @@ expect_in "solve summary residuals" "$tmp/solve/summary.json" '"final_residuals"
 expect_in "solve summary solver" "$tmp/solve/summary.json" '"solver": "dls"'
 expect_in "solve final pose" "$tmp/solve/final_pose.csv" "hand.L"
 
+# physik tune / equilibrium: Ceres tuning and exact equilibria
+check "tune help" 0 "$bin" tune --help
+check "equilibrium help" 0 "$bin" equilibrium --help
+check "tune unknown param" 2 "$bin" tune "$src/models/scenes/pinhead_two_hands.json" --params damping,bogus --quiet
+expect_in "tune unknown param message" "$tmp/err" "field 'bogus': unknown tunable parameter"
+check "tune missing scene" 2 "$bin" tune "$tmp/none.json" --quiet
+check "tune bad objective" 2 "$bin" tune "$src/models/scenes/pinhead_two_hands.json" --objective fast --quiet
+check "tune bad bounds" 2 "$bin" tune "$src/models/scenes/pinhead_two_hands.json" --bounds damping=5:1 --quiet
+check "tune" 0 "$bin" tune "$src/models/scenes/pinhead_two_hands.json" --scan-points 5 --max-iterations 5 --out "$tmp/tuned.json" --report "$tmp/tune_report.json" --quiet
+expect_in "tune prints ceres" "$tmp/out" "Termination:"
+expect_in "tuned scene params" "$tmp/tuned.json" '"damping"'
+expect_in "tune report values" "$tmp/tune_report.json" '"values"'
+check "tuned scene runs" 0 "$bin" simulate "$tmp/tuned.json" --out "$tmp/tuned_run" --quiet
+check "equilibrium missing scene" 2 "$bin" equilibrium "$tmp/none.json"
+check "equilibrium bad start" 2 "$bin" equilibrium "$src/models/scenes/pinhead_two_hands.json" --start middle
+check "equilibrium" 0 "$bin" equilibrium "$src/models/scenes/pinhead_two_hands.json" --compare --start physik --out "$tmp/eq.json" --bones "$tmp/eq.csv"
+expect_in "equilibrium converged" "$tmp/eq.json" '"converged": true'
+expect_in "equilibrium physik gap" "$tmp/eq.json" '"max_pose_distance"'
+expect_in "equilibrium bones" "$tmp/eq.csv" "hand.L"
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -10,6 +10,7 @@
 #include <ceres/ceres.h>
 
 #include "physik/errors.h"
+#include "reference/mujoco_runner.h"
 
 namespace physik::tune {
 
@@ -164,6 +165,42 @@ RunSummary settle_residuals(const Scene& scene_in, SettleMeasure measure,
   return run_scene(scene, observer);
 }
 
+std::vector<BoneFrames> mujoco_reference_trajectory(const Scene& scene_in) {
+  Scene scene = scene_in;
+  scene.convergence.stop_when_converged = false;
+  std::vector<BoneFrames> out;
+  out.reserve(scene.steps);
+  const RunSummary sum = run_mujoco(scene, ReferenceMode::kSameForces,
+                                    [&](const SimState& s, const StepStats&) { out.push_back(s.frames); });
+  if (sum.diverged && !out.empty()) out.pop_back();  // the diverging step itself is not a reference
+  return out;
+}
+
+RunSummary mujoco_residuals(const Scene& scene_in, const std::vector<BoneFrames>& reference,
+                            std::vector<double>& residuals) {
+  Scene scene = scene_in;
+  scene.convergence.stop_when_converged = false;
+  scene.steps = std::max<int>(1, static_cast<int>(reference.size()));
+  const int nb = scene.rig.nbone;
+  const double h = scene.rig.height() > 0.0 ? scene.rig.height() : 1.0;
+  const double w = std::sqrt(scene.params.dt);
+  const auto rho = [&](double e) {
+    return w * (std::isfinite(e) ? std::min(e / h, kResidualCap) : kResidualCap);
+  };
+  residuals.assign(reference.size() * 2 * nb, w * kResidualCap);
+  std::size_t n = 0;
+  const auto observer = [&](const SimState& s, const StepStats&) {
+    if (n >= reference.size()) return;
+    const BoneFrames& ref = reference[n];
+    for (int i = 0; i < nb; ++i) {
+      residuals[(n * nb + i) * 2] = rho((s.frames.head_world[i] - ref.head_world[i]).norm());
+      residuals[(n * nb + i) * 2 + 1] = rho((s.frames.tail_world[i] - ref.tail_world[i]).norm());
+    }
+    ++n;
+  };
+  return run_scene(scene, observer);
+}
+
 double cost_of(const std::vector<double>& residuals) {
   double j = 0.0;
   for (double r : residuals) j += r * r;
@@ -175,11 +212,20 @@ namespace {
 // Everything one evaluation of the objective needs: the base scene and what is tuned.
 class Objective_ {
  public:
-  Objective_(const Scene& base, const TuneOptions& opt) : base_(base), opt_(opt) {}
+  Objective_(const Scene& base, const TuneOptions& opt) : base_(base), opt_(opt) {
+    if (opt.objective == Objective::kMujoco) {
+      reference_ = mujoco_reference_trajectory(opt.mujoco_scene ? *opt.mujoco_scene : base);
+      if (reference_.empty()) {
+        throw_input_error(base.file, "", "", "MuJoCo's same-forces run of this scene diverged at once");
+      }
+    }
+  }
 
   int num_residuals() const {
+    if (opt_.objective == Objective::kMujoco) return static_cast<int>(reference_.size()) * 2 * base_.rig.nbone;
     return base_.steps * static_cast<int>(std::max<std::size_t>(1, base_.control_points.size()));
   }
+  int reference_steps() const { return static_cast<int>(reference_.size()); }
 
   // residuals at parameter values p (not logs)
   RunSummary eval(const double* p, std::vector<double>& res) const {
@@ -187,8 +233,7 @@ class Objective_ {
     for (std::size_t i = 0; i < opt_.params.size(); ++i) set_param(s, opt_.params[i].name, p[i]);
     ++evaluations;
     if (opt_.objective == Objective::kSettle) return settle_residuals(s, opt_.measure, res);
-    throw_input_error("--objective", "", "mujoco",
-                      "the MuJoCo same-forces objective is not available in this build");
+    return mujoco_residuals(s, reference_, res);
   }
 
   Scene scene_with(const std::vector<double>& p) const {
@@ -202,6 +247,7 @@ class Objective_ {
  private:
   const Scene& base_;
   const TuneOptions& opt_;
+  std::vector<BoneFrames> reference_;  // mujoco objective
 };
 
 // Ceres cost over u = ln p with a central-difference Jacobian of step fd_step (one-sided at
@@ -329,6 +375,7 @@ TuneResult tune_scene(const Scene& scene, const TuneOptions& opt) {
   out.values = refined_cost <= best_cost ? refined : best;
   out.final_cost = std::min(refined_cost, best_cost);
   out.tuned_scene = obj.scene_with(out.values);
+  out.reference_steps = obj.reference_steps();
   out.tuned_run = run_scene(out.tuned_scene);
   out.evaluations = obj.evaluations + 1;
   out.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

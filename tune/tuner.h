@@ -16,9 +16,12 @@
 //   kResidualCap caps an error; a run that diverges (non-finite state or energy past the scene's
 //   bound) gets the cap for every remaining step: a large but finite penalty.
 //
-//   mujoco:  the same shape with rho_n,b = sqrt(dt) * |x_n,b(PhysIK; p) - x_n,b(MuJoCo)| / H over
-//   every bone's head and tail: system identification against MuJoCo's same-forces trajectory.
-//   (Available when the MuJoCo reference layer provides a same-forces runner.)
+//   mujoco:  system identification. MuJoCo's same-forces run of the scene with its own
+//   coefficients (reference/mujoco_runner.h: exact articulated dynamics under PhysIK's control,
+//   torsion and damping forces) is recorded once, for the steps it lasts (N_ref); then
+//     rho_n,e = sqrt(dt) min(|x_n,e(PhysIK; p) - x_n,e(MuJoCo)| / H, R)
+//   over every bone endpoint e (head, tail) for n = 1..N_ref: the coefficients with which the
+//   joint-force heuristic best follows the exact trajectory. Divergence gets the cap as above.
 //
 // Why this method. The run is explicit Euler with an iterative joint solve whose pass count
 // jumps with its stopping rule, and a divergence cliff beyond a parameter-dependent bound: J(p)
@@ -87,6 +90,8 @@ struct TuneOptions {
   int max_iterations = 50;            // Ceres iterations
   double fd_step = 0.02;              // central-difference step in ln p
   bool verbose = false;               // progress lines on stderr
+  const Scene* mujoco_scene = nullptr;  // mujoco objective: the scene MuJoCo runs (same rig and
+                                        // control points; default: the tuned scene as given)
 };
 
 struct ScanPoint {
@@ -107,6 +112,7 @@ struct TuneResult {
   std::string ceres_brief, ceres_full;
   bool ceres_usable = false;     // Ceres' termination was not a failure
   std::vector<ScanPoint> scan;   // the coarse scan, in order
+  int reference_steps = 0;       // mujoco objective: steps of the MuJoCo reference compared
   RunSummary tuned_run;          // the scene run with the tuned values
   Scene tuned_scene;
 };
@@ -116,6 +122,13 @@ struct TuneResult {
 RunSummary settle_residuals(const Scene& scene, SettleMeasure measure,
                             std::vector<double>& residuals);
 double cost_of(const std::vector<double>& residuals);  // 1/2 sum r^2
+
+// The mujoco objective's reference: every bone's head and tail after each step of MuJoCo's
+// same-forces run of `scene` (as it is), until it ends or diverges.
+std::vector<BoneFrames> mujoco_reference_trajectory(const Scene& scene);
+// Its residual vector (size reference steps x 2 nbone) for a scene as it is.
+RunSummary mujoco_residuals(const Scene& scene, const std::vector<BoneFrames>& reference,
+                            std::vector<double>& residuals);
 
 TuneResult tune_scene(const Scene& scene, const TuneOptions& options);
 
