@@ -165,6 +165,26 @@ TEST(Engine, FreeRodsSchemeMeasuresJointSeparation) {
   EXPECT_TRUE(std::isfinite(r.max_joint_separation));
 }
 
+// Free rods are only held together by equal joint accelerations, so their joint points drift
+// apart by the integrator's error: with the centripetal term and no velocity factor the joint
+// velocities agree at every step and the positions separate by O(w^2 r dt^2) per step, i.e.
+// O(dt) over a fixed time. Halving dt must halve the separation (first order).
+TEST(Engine, FreeRodsSeparationIsFirstOrderInDt) {
+  const Rig rig = load_rig(test::model_path("rigs/chain3.json"));
+  std::vector<double> sep;
+  for (double dt : {0.02, 0.01, 0.005}) {
+    EngineParams p = test::bare_params(dt);
+    p.integration = Integration::kFreeRods;
+    p.centripetal = true;
+    Scene scene = test::scene_for(rig, p, static_cast<int>(std::lround(2.0 / dt)));
+    scene.control_points.push_back(test::control(2, 1.0, Vec3(1.5, 0.5, 2.0), 5.0));
+    sep.push_back(run_scene(scene).max_joint_separation);
+  }
+  EXPECT_GT(sep[0], 1e-3);
+  EXPECT_NEAR(sep[0] / sep[1], 2.0, 0.2);
+  EXPECT_NEAR(sep[1] / sep[2], 2.0, 0.2);
+}
+
 TEST(Engine, PinheadReachesTwoHandTargets) {
   const Scene scene = load_scene(test::model_path("scenes/pinhead_two_hands.json"));
   const RunSummary r = run_scene(scene);
