@@ -19,6 +19,8 @@ Experiment fig11_sit_experiment();
 Experiment hand_explodes_experiment();
 Experiment timing_experiment();
 Experiment damping_sweep_experiment();
+Experiment mujoco_gap_experiment();
+Experiment tuning_study_experiment();
 
 const std::vector<Experiment>& all_experiments() {
   static const std::vector<Experiment> list = {
@@ -33,7 +35,9 @@ const std::vector<Experiment>& all_experiments() {
       hand_explodes_experiment(),
       timing_experiment(),
       damping_sweep_experiment(),
+      mujoco_gap_experiment(),
       ik_comparison_experiment(),
+      tuning_study_experiment(),
   };
   return list;
 }

@@ -13,6 +13,7 @@ import plot_fig5_running  # noqa: E402
 import plot_fig6_elbow  # noqa: E402
 import plot_fig7_cannon  # noqa: E402
 import plot_fig8_wobble  # noqa: E402
+import plot_mujoco_gap  # noqa: E402
 import plot_timing  # noqa: E402
 
 BONES = """bone,parent,head_x,head_y,head_z,tail_x,tail_y,tail_z
@@ -77,6 +78,14 @@ class PaperFigureScripts(unittest.TestCase):
         write(self.d, "summary.json", {"rows": [
             {"scene": "s", "us_per_step": 10.0, "passes_per_step": 4.0, "passes_per_step_while_moving": 12.0}]})
         self.assertPng(plot_timing.plot(self.d))
+
+    def test_mujoco_gap(self):
+        write(self.d, "gap_over_time.csv", "scene,mode,step,gap\ns,same-forces,1,0.1\ns,same-forces,6,0.05\n"
+                                           "s,exact-constraints,1,0.2\ns,exact-constraints,6,0.3\n")
+        write(self.d, "summary.json", {"rows": [{"scene": "s", "mode": "same-forces",
+                                                 "physik_csv": "f0.csv", "mujoco_csv": "f1.csv"}]})
+        for png in plot_mujoco_gap.plot(self.d):
+            self.assertPng(png)
 
     def test_damping_sweep(self):
         write(self.d, "sweep.csv",
