@@ -11,6 +11,7 @@ import physik_plot  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 
 COLUMNS = [("success_rate", "success", lambda v: "%.1f%%" % (100 * v)),
+           ("median_residual_over_reach", "median residual/reach", lambda v: "%.2g" % v),
            ("median_iterations", "median iters", lambda v: "%.0f" % v),
            ("mean_time_ms", "ms/solve", lambda v: "%.3g" % v),
            ("max_limit_violation_deg", "max viol (deg)", lambda v: "%.2g" % v),

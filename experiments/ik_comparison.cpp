@@ -163,7 +163,7 @@ double mean(const std::vector<double>& v) {
 }
 
 struct Stats {
-  std::vector<double> reach_success, reach_iters, reach_time, unreach_notconv, unreach_excess,
+  std::vector<double> reach_success, reach_residual, reach_iters, reach_time, unreach_notconv, unreach_excess,
       violation, rotation, offpath, jump;
 };
 
@@ -268,6 +268,7 @@ void run(const Context& ctx) {
         st.violation.push_back(o.limit_violation_deg);
         if (std::string(kind) == "reachable") {
           st.reach_success.push_back(success);
+          st.reach_residual.push_back(o.residual / rc.reach);
           st.reach_iters.push_back(o.iterations);
           st.reach_time.push_back(o.time_s);
           st.rotation.push_back(rot);
@@ -299,6 +300,7 @@ void run(const Context& ctx) {
           {"reachable", nr},
           {"unreachable", nu},
           {"success_rate", mean(st.reach_success)},
+          {"median_residual_over_reach", percentile(st.reach_residual, 0.5)},
           {"median_iterations", percentile(st.reach_iters, 0.5)},
           {"p95_iterations", percentile(st.reach_iters, 0.95)},
           {"mean_time_ms", 1e3 * mean(st.reach_time)},
@@ -422,7 +424,7 @@ void run(const Context& ctx) {
                   " reachable targets (PhysIK " + std::to_string(physik_cont) + "), target moved by 1% of the reach.");
   notes.push_back("PhysIK's root is free, so it gets a second control point pinning the root's head; "
                   "classic solvers anchor the root's head and turn the root bone (pinhead's root is the head bone).");
-  notes.push_back("Columns: success = residual < 1e-3 reach; iters = median iterations (PhysIK: steps); "
+  notes.push_back("Columns: success = residual < 1e-3 reach; median res/reach = median residual on reachable targets over the reach; iters = median iterations (PhysIK: steps); "
                   "ms = mean wall time per solve; viol = largest limit violation (deg); rot = mean total joint "
                   "rotation (rad); off = mean displacement of off-path bones; unreach nc = fraction of unreachable "
                   "targets reported not converged; excess = mean residual beyond |t| - reach (over reach); "
@@ -430,7 +432,8 @@ void run(const Context& ctx) {
   for (const auto& r : table) {
     std::ostringstream s;
     s << r["rig"].get<std::string>() << " | " << r["solver"].get<std::string>() << " | success "
-      << pct(r["success_rate"].get<double>()) << " | iters " << fmt(r["median_iterations"].get<double>())
+      << pct(r["success_rate"].get<double>()) << " | median res/reach "
+      << fmt(r["median_residual_over_reach"].get<double>(), 2) << " | iters " << fmt(r["median_iterations"].get<double>())
       << " | ms " << fmt(r["mean_time_ms"].get<double>()) << " | viol " << fmt(r["max_limit_violation_deg"].get<double>())
       << " | rot " << fmt(r["mean_total_rotation_rad"].get<double>()) << " | off "
       << fmt(r["mean_offpath_motion"].get<double>()) << " | unreach nc "

@@ -76,6 +76,9 @@ struct IkOptions {
   double lambda = 0.0;             // rig units, DLS damping; 0 = lambda_fraction * reach
   double lambda_fraction = 0.02;   // 1
   double max_angle_step = 0.3;     // rad, largest joint change per iteration
+  int max_step_halvings = 8;       // backtracking line search on the squared goal error (0 = off)
+  double max_error_fraction = 0.1; // 1, each goal's error is clamped to this fraction of the
+                                   //    reach before a Jacobian step (Buss's D_max)
 
   // mass-spring (mass_spring.cpp)
   Vec3 gravity_world = Vec3::Zero();  // rig units/s^2 (e.g. (0, 0, -9.81)); zero = off

@@ -15,6 +15,11 @@
 //     without re-running FK -- and the column is (that - p_g) / eps. O(n) per column pass.
 //   transpose: dtheta = alpha J^T e,  alpha = <e, J J^T e> / |J J^T e|^2  (Buss eq. 7)
 //   DLS:       dtheta = J^T (J J^T + lambda^2 I)^-1 e      (guide d.; 3m x 3m for m goals)
+//   error clamping (Buss Sec. 6, D_max): each goal's error is shortened to at most
+//     max_error_fraction of the reach, so a far (unreachable) target does not throw DLS's
+//     linearisation far out of its range; the step then follows the clamped error;
+//   line search: the step is halved (at most max_step_halvings times) while it does not lower
+//     sum_g |t_g - p_g|^2; without it DLS on a 50-bone chain oscillates for far targets;
 //   step: scaled so that max |dtheta| <= max_angle_step; applied per bone as the rotation
 //     vector (dtheta_x, dtheta_y, dtheta_z) in its rest frame; then clamped to the rig's limits
 //     (guide: "apply the adjustment and clamp to the joint limits").
@@ -64,11 +69,21 @@ IkReport solve_jacobian(const IkProblem& pb, bool damped, Pose& pose) {
   Eigen::MatrixXd J(3 * ng, nd);
   Eigen::VectorXd e(3 * ng), dtheta(nd);
   std::vector<Vec3> turn(rig.nbone);
+  BoneFrames trial;
+  auto sq_error = [&](const BoneFrames& fr) {
+    double s = 0.0;
+    for (const IkGoal& g : pb.goals) {
+      s += (g.target_world - point_on_bone(fr, g.bone, g.alpha)).squaredNorm();
+    }
+    return s;
+  };
 
   auto iterate = [&](Pose& p, BoneFrames& f) {
     for (int g = 0; g < ng; ++g) {
-      e.segment<3>(3 * g) =
-          pb.goals[g].target_world - point_on_bone(f, pb.goals[g].bone, pb.goals[g].alpha);
+      Vec3 err = pb.goals[g].target_world - point_on_bone(f, pb.goals[g].bone, pb.goals[g].alpha);
+      const double cap = opt.max_error_fraction * pb.reach;
+      if (cap > 0.0 && err.norm() > cap) err *= cap / err.norm();  // Buss's error clamping
+      e.segment<3>(3 * g) = err;
     }
     goal_jacobian(pb, f, dof_bone, dof_axis, opt.jacobian, opt.fd_step, J);
     if (damped) {
@@ -83,15 +98,25 @@ IkReport solve_jacobian(const IkProblem& pb, bool damped, Pose& pose) {
     }
     const double biggest = nd > 0 ? dtheta.cwiseAbs().maxCoeff() : 0.0;
     if (biggest > opt.max_angle_step) dtheta *= opt.max_angle_step / biggest;
-    // apply per bone, then clamp
-    for (int c = 0; c < nd; ++c) turn[dof_bone[c]].setZero();
-    for (int c = 0; c < nd; ++c) turn[dof_bone[c]][dof_axis[c]] = dtheta[c];
-    for (int c = 0; c < nd; ++c) {
-      const int j = dof_bone[c];
-      if (c > 0 && dof_bone[c - 1] == j) continue;  // once per bone
-      Quat q = (quat_from_rotation_vector(turn[j]) * p.bone_local_rotation[j]).normalized();
-      if (opt.respect_limits) q = clamp_to_limits(rig, j, q);
-      p.bone_local_rotation[j] = q;
+    // apply per bone, then clamp; halve the step while it makes the goals' squared error worse
+    // (a backtracking line search: far from the goal the linearisation overshoots)
+    const Pose start = p;
+    const double err0 = sq_error(f);
+    for (int halving = 0; halving <= opt.max_step_halvings; ++halving) {
+      p = start;
+      for (int c = 0; c < nd; ++c) turn[dof_bone[c]].setZero();
+      for (int c = 0; c < nd; ++c) turn[dof_bone[c]][dof_axis[c]] = dtheta[c];
+      for (int c = 0; c < nd; ++c) {
+        const int j = dof_bone[c];
+        if (c > 0 && dof_bone[c - 1] == j) continue;  // once per bone
+        Quat q = (quat_from_rotation_vector(turn[j]) * p.bone_local_rotation[j]).normalized();
+        if (opt.respect_limits) q = clamp_to_limits(rig, j, q);
+        p.bone_local_rotation[j] = q;
+      }
+      if (opt.max_step_halvings == 0) break;
+      forward_kinematics(rig, p, trial);
+      if (sq_error(trial) < err0) break;
+      dtheta *= 0.5;
     }
   };
   return run_ik_loop(damped ? "dls" : "jt", pb, pose, iterate);

@@ -84,3 +84,22 @@ TEST(DampedLeastSquares, LargerLambdaTakesSmallerSteps) {
 
 }  // namespace
 }  // namespace physik
+
+namespace physik {
+namespace {
+
+TEST(DampedLeastSquares, LineSearchStretchesALongChainTowardAFarTarget) {
+  // 50 bones, target 60 away: the stretched chain (tip 50 along the target direction) is the
+  // answer; without the backtracking line search DLS oscillates far from it
+  const Rig rig = make_chain_rig(50);
+  const Vec3 target(60.0, 0.0, 0.0);
+  IkOptions opt;
+  opt.max_iterations = 3000;
+  Pose pose = rest_pose(rig);
+  const IkReport rep = solve_ik(IkMethod::kDampedLeastSquares, rig, {{49, 1.0, target}}, pose, opt);
+  EXPECT_FALSE(rep.converged);
+  EXPECT_NEAR(rep.residual, 10.0, 1e-3 * 50);
+}
+
+}  // namespace
+}  // namespace physik
