@@ -1,3 +1,4 @@
+#include "reference/mujoco_log.h"
 #include "reference/mjcf_export.h"
 
 #include <algorithm>
@@ -132,6 +133,7 @@ std::string rig_to_mjcf(const Rig& rig, const MjcfOptions& o) {
 }
 
 MjModelPtr compile_mjcf(const std::string& xml) {
+  route_mujoco_warnings_to_stderr();
   // mjVFS holds 2000 file names of 1000 chars: keep it off the stack
   auto vfs = std::make_unique<mjVFS>();
   mj_defaultVFS(vfs.get());

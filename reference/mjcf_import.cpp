@@ -1,4 +1,5 @@
 // MJCF -> rig through MuJoCo's own loader; the mapping is documented in mjcf_import.h.
+#include "reference/mujoco_log.h"
 #include "reference/mjcf_import.h"
 
 #include <algorithm>
@@ -69,6 +70,7 @@ Vec3 leaf_tip(const mjModel* m, const mjData* d, int b, const Vec3& dir) {
 }  // namespace
 
 MjcfRig load_mjcf(const std::string& path, const MjcfImportOptions& options) {
+  route_mujoco_warnings_to_stderr();
   char error[1000] = "";
   mjModel* raw = mj_loadXML(path.c_str(), nullptr, error, sizeof(error));
   if (!raw) {
