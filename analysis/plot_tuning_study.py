@@ -1,0 +1,88 @@
+#!/usr/bin/env python3
+"""Tuning study figure: steps to settle vs damping per rig variant (scale, density), the
+divergence region shaded, the Ceres optimum, the closed-form rule and the paper's / original's
+values marked. Reads results/tuning_study/{sweep.csv,summary.json}."""
+import argparse
+import csv
+import json
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import physik_plot  # noqa: E402,F401  (sets the Agg backend)
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def read_sweep(path):
+    """{variant: [(damping, steps or None, diverged)]} in file order."""
+    curves = {}
+    with open(path, newline="") as f:
+        for row in csv.DictReader(f):
+            steps = int(float(row["steps_to_converge"]))
+            curves.setdefault(row["variant"], []).append(
+                (float(row["damping"]), steps if steps >= 0 else None, row["diverged"] == "1"))
+    if not curves:
+        raise ValueError("%s: no rows" % path)
+    return curves
+
+
+def plot_tuning_study(sweep_csv, summary_json, out_png):
+    curves = read_sweep(sweep_csv)
+    rows = {r["variant"]: r for r in json.load(open(summary_json))["rows"]}
+    n = len(curves)
+    ncol = min(4, n)
+    nrow = int(math.ceil(n / ncol))
+    fig, axes = plt.subplots(nrow, ncol, figsize=(4.2 * ncol, 3.4 * nrow), squeeze=False)
+    for ax, (name, pts) in zip(axes.flat, curves.items()):
+        cs = [p[0] for p in pts]
+        ok = [(c, s) for c, s, d in pts if s is not None and not d]
+        top = max([s for _, s in ok] + [10]) * 1.5
+        if ok:
+            ax.plot([c for c, _ in ok], [s for _, s in ok], "o-", color="k", ms=3, label="steps to settle")
+        div = [c for c, _, d in pts if d]
+        if div:
+            ax.axvspan(min(div), max(cs), color="tab:red", alpha=0.12, label="diverges")
+        slow = [c for c, s, d in pts if s is None and not d]
+        if slow:
+            ax.plot(slow, [top] * len(slow), "v", color="tab:gray", ms=4, label="not settled")
+        r = rows.get(name)
+        if r:
+            marks = [("c_tuned", "tab:blue", "-", "Ceres %.3g"), ("c_rule", "tab:green", "--", "rule %.3g")]
+            for key, color, ls, fmt in marks:
+                if r.get(key, -1) > 0:
+                    ax.axvline(r[key], color=color, ls=ls, lw=1.2, label=fmt % r[key])
+            if r.get("c_tuned", -1) > 0 and ok:
+                # the optimum on the curve: the curve's value interpolated in log c
+                c0 = r["c_tuned"]
+                near = min(ok, key=lambda p: abs(math.log(p[0] / c0)))
+                ax.plot([c0], [near[1]], "*", color="tab:blue", ms=12)
+            for c, lab in ((20.0, "paper 20"), (3.0, "original 3")):
+                ax.axvline(c, color="tab:orange" if c == 20 else "tab:purple", ls=":", lw=1, label=lab)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_ylim(1, top * 1.3)
+        ax.set_title(name, fontsize=9)
+        ax.set_xlabel("damping c (N s/m)")
+        ax.set_ylabel("steps to settle")
+        ax.grid(True, lw=0.3, which="both")
+        ax.legend(fontsize=6, loc="upper left")
+    for ax in list(axes.flat)[n:]:
+        ax.axis("off")
+    physik_plot.save(fig, out_png)
+    plt.close(fig)
+    return out_png
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("folder", help="results/tuning_study")
+    args = ap.parse_args(argv)
+    png = plot_tuning_study(os.path.join(args.folder, "sweep.csv"),
+                            os.path.join(args.folder, "summary.json"),
+                            os.path.join(args.folder, "tuning_study.png"))
+    print("  wrote", png)
+
+
+if __name__ == "__main__":
+    main()
