@@ -29,32 +29,6 @@ struct SimulateOptions {
   std::string bvh;               // "" or the BVH/qBVH animation to record
 };
 
-// "key=value" overrides of scene params, parsed as JSON values where possible
-void apply_overrides(Scene& scene, const std::vector<std::string>& set) {
-  if (set.empty()) return;
-  nlohmann::json p = params_to_json(scene.params);
-  for (const std::string& kv : set) {
-    const auto eq = kv.find('=');
-    if (eq == std::string::npos) throw_input_error("--set", "", kv, "expected key=value");
-    const std::string key = kv.substr(0, eq), val = kv.substr(eq + 1);
-    if (!p.contains(key)) throw_input_error("--set", "params", key, "unknown parameter");
-    nlohmann::json v;
-    try {
-      v = nlohmann::json::parse(val);
-    } catch (const nlohmann::json::exception&) {
-      v = val;  // a bare word such as capped
-    }
-    if (key == "preset") {
-      // a preset replaces everything, then the other overrides apply
-      p = params_to_json(preset_params(val, "--set"));
-    } else {
-      p[key] = v;
-    }
-  }
-  scene.params = params_from_json(p, "--set");
-  // control points that took the scene-wide default keep their own values
-}
-
 }  // namespace
 
 void add_simulate_commands(CLI::App& app) {
@@ -68,14 +42,15 @@ void add_simulate_commands(CLI::App& app) {
   cmd->add_option("--steps", opt->steps, "Number of steps (default: the scene's)");
   cmd->add_option("--every", opt->every, "Write a CSV row (and a --bvh frame) every N steps")->capture_default_str();
   cmd->add_option("--bvh", opt->bvh, "Also record the run as a BVH animation (qBVH if the name ends in .qbvh): the initial pose, then a frame every --every steps");
-  cmd->add_option("--set", opt->set, "Override a parameter, e.g. --set damping=20 --set preset=paper");
+  cmd->add_option("--set", opt->set, "Override a scene parameter before the scene is read (control points that take their k, "
+                  "spring or cap from the params follow), e.g. --set damping=20 --set control_k=30; "
+                  "--set preset=paper swaps the base preset under the scene's own params");
   cmd->add_flag("--quiet", opt->quiet, "No progress output");
   cmd->add_option("--reference", opt->reference,
                   "Also run MuJoCo from the same initial pose: mujoco[:same-forces|:exact-constraints]; "
                   "writes mujoco_trajectory.csv, mujoco_summary.json and comparison.json");
   cmd->callback([opt] {
-    Scene scene = load_scene(opt->scene);
-    apply_overrides(scene, opt->set);
+    Scene scene = load_scene(opt->scene, parse_param_overrides(opt->set, "--set"));
     if (opt->steps < 0) throw_input_error("--steps", "", "", "must not be negative");
     if (opt->every < 1) throw_input_error("--every", "", "", "must be at least 1");
     if (!opt->reference.empty()) parse_reference_spec(opt->reference);  // bad spec: exit 2 first
@@ -99,7 +74,9 @@ void add_simulate_commands(CLI::App& app) {
     }
     const auto observer = [&](const SimState& s, const StepStats& st) {
       if (bvh && s.step % opt->every == 0 && std::isfinite(st.kinetic_energy)) bvh->record(s.frames);
-      if (s.step % opt->every == 0 || s.step == scene.steps) {
+      // a diverged state with non-finite values is reported in summary.json, not written out
+      if ((s.step % opt->every == 0 || s.step == scene.steps) && std::isfinite(st.kinetic_energy) &&
+          std::isfinite(st.max_residual)) {
         control_residuals(scene, s, residuals);
         csv << s.step << "," << s.time << "," << st.kinetic_energy << "," << st.passes << ","
             << st.mismatch << "," << st.joint_separation;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "physik/errors.h"
@@ -36,17 +37,34 @@ double JsonContext::number_or(const Json& obj, const std::string& key, double fa
   return number_value(*it, key);
 }
 
+namespace {
+
+// an integer that fits an int, without wrapping (4294967297 is not 1)
+int checked_int(const JsonContext& ctx, const Json& v, const std::string& key) {
+  if (!v.is_number_integer()) ctx.fail(key, "expected an integer");
+  if (v.is_number_unsigned()) {
+    if (v.get<unsigned long long>() > static_cast<unsigned long long>(std::numeric_limits<int>::max())) {
+      ctx.fail(key, "integer out of range");
+    }
+    return static_cast<int>(v.get<unsigned long long>());
+  }
+  const long long x = v.get<long long>();
+  if (x < std::numeric_limits<int>::min() || x > std::numeric_limits<int>::max()) {
+    ctx.fail(key, "integer out of range");
+  }
+  return static_cast<int>(x);
+}
+
+}  // namespace
+
 int JsonContext::integer(const Json& obj, const std::string& key) const {
-  const Json& v = require(obj, key);
-  if (!v.is_number_integer()) fail(key, "expected an integer");
-  return v.get<int>();
+  return checked_int(*this, require(obj, key), key);
 }
 
 int JsonContext::integer_or(const Json& obj, const std::string& key, int fallback) const {
   auto it = obj.find(key);
   if (it == obj.end() || it->is_null()) return fallback;
-  if (!it->is_number_integer()) fail(key, "expected an integer");
-  return it->get<int>();
+  return checked_int(*this, *it, key);
 }
 
 bool JsonContext::boolean_or(const Json& obj, const std::string& key, bool fallback) const {

@@ -239,10 +239,45 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
   return s;
 }
 
-Scene load_scene(const std::string& path) {
-  const Json doc = read_json_file(path);
+Scene load_scene(const std::string& path) { return load_scene(path, Json::object()); }
+
+Scene load_scene(const std::string& path, const Json& param_overrides) {
+  Json doc = read_json_file(path);
+  if (!param_overrides.empty()) {
+    if (doc.is_object() && (!doc.contains("params") || doc["params"].is_null())) {
+      doc["params"] = Json::object();
+    }
+    if (doc.is_object() && doc["params"].is_object()) {
+      for (auto it = param_overrides.begin(); it != param_overrides.end(); ++it) {
+        doc["params"][it.key()] = it.value();
+      }
+    }
+  }
   const std::string base = std::filesystem::path(path).parent_path().string();
   return scene_from_json(doc, path, base.empty() ? "." : base);
+}
+
+Json parse_param_overrides(const std::vector<std::string>& assignments, const std::string& source) {
+  const Json known = params_to_json(EngineParams{});
+  Json out = Json::object();
+  for (const std::string& kv : assignments) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      throw_input_error(source, "", kv, "expected key=value");
+    }
+    const std::string key = kv.substr(0, eq), value = kv.substr(eq + 1);
+    if (!known.contains(key)) {
+      std::string all;
+      for (auto it = known.begin(); it != known.end(); ++it) all += (all.empty() ? "" : ", ") + it.key();
+      throw_input_error(source, "params", key, "unknown parameter (known: " + all + ")");
+    }
+    try {
+      out[key] = Json::parse(value);
+    } catch (const Json::exception&) {
+      out[key] = value;  // a bare word such as capped or free-rods
+    }
+  }
+  return out;
 }
 
 Json scene_to_json(const Scene& s) {

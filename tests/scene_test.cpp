@@ -51,6 +51,41 @@ TEST(Scene, PresetsAndOverrides) {
   EXPECT_EQ(c.control_points[0].target_world, b.control_points[0].target_world);
 }
 
+TEST(Scene, ParamOverridesReachControlPointsThatInheritThem) {
+  const std::string path = test::model_path("scenes/fig6_elbow_linear.json");  // control_k 30
+  const Scene a = load_scene(path, parse_param_overrides(
+                                       {"control_k=12", "control_spring=capped", "control_cap=0.3",
+                                        "damping=1.5"}, "--set"));
+  EXPECT_EQ(a.params.damping, 1.5);
+  for (const ControlPoint& cp : a.control_points) {
+    EXPECT_EQ(cp.k, 12.0);
+    EXPECT_EQ(cp.spring, SpringLaw::kCapped);
+    EXPECT_EQ(cp.cap, 0.3);
+  }
+  // a preset override swaps the base; the scene's own params (control_k 30) stay on top
+  const Scene b = load_scene(path, parse_param_overrides({"preset=paper"}, "--set"));
+  EXPECT_EQ(b.params.damping, 20.0);
+  EXPECT_EQ(b.control_points[0].k, 30.0);
+  // an explicit per-point k is not overridden
+  const auto dir = std::filesystem::temp_directory_path() / "physik_override_test";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "s.json") << R"({"rig": ")" << test::model_path("rigs/elbow.json")
+                                << R"(", "control_points": [{"bone": "forearm", "target": [0,1,3], "k": 7},
+                                                            {"bone": "forearm", "target": [0,1,3]}]})";
+  const Scene c = load_scene((dir / "s.json").string(), parse_param_overrides({"control_k=5"}, "--set"));
+  EXPECT_EQ(c.control_points[0].k, 7.0);
+  EXPECT_EQ(c.control_points[1].k, 5.0);
+  // bad overrides name --set and the key
+  EXPECT_THROW(parse_param_overrides({"dampng=3"}, "--set"), InputError);
+  EXPECT_THROW(parse_param_overrides({"=3"}, "--set"), InputError);
+  try {
+    load_scene(path, parse_param_overrides({"dt=-1"}, "--set"));
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("field 'dt'"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Scene, ShippedScenesLoad) {
   int n = 0;
   for (const auto& e : std::filesystem::directory_iterator(test::model_path("scenes"))) {
@@ -105,6 +140,12 @@ TEST(SceneInput, UnknownParamsAndValues) {
   expect_error(with_cp("", R"({"torsion_spring": "stiff"})"), {"'torsion_spring'"});
   expect_error(with_cp(R"({"bone": "forearm", "target": [0,0,1], "spring": "bungee"})"),
                {"control_points[0]", "'spring'"});
+}
+
+TEST(SceneInput, IntegersDoNotWrap) {
+  expect_error(R"({"rig": "elbow.json", "steps": 4294967297})", {"'steps'", "out of range"});
+  expect_error(R"({"rig": "elbow.json", "steps": -9223372036854775807})", {"'steps'", "out of range"});
+  expect_error(R"({"rig": "elbow.json", "steps": 2.5})", {"'steps'", "integer"});
 }
 
 TEST(SceneInput, Schedule) {
