@@ -1,6 +1,7 @@
 // The discussion's damping sensitivity: steps to converge against the damping coefficient c on
 // pinhead, showing where explicit Euler diverges. Stability bounds per bone end (engine_test.cpp
-// derives them): translation c < m/dt, transverse rotation c < (m/dt)(r^2/L^2 + 1/3).
+// derives them): translation c < m/dt, transverse rotation c < ((1 + f)/2)(m/dt)(r^2/L^2 + 1/3),
+// f the angular-velocity factor.
 #include <algorithm>
 #include <fstream>
 

@@ -16,7 +16,8 @@
 // root b = 2 sqrt(a) - a:
 //     c_crit = (2 sqrt(K M) - K h) / (2 n)      (-> sqrt(K M)/n, critical damping, as h -> 0)
 // Stability per bone end (explicit Euler, engine_test.cpp): translation c < m/h, transverse
-// rotation c < (m/h)(r^2/L^2 + 1/3); c_stab = the smallest over bones. The rule keeps a factor
+// rotation c < ((1 + f)/2)(m/h)(r^2/L^2 + 1/3) with f the angular-velocity factor;
+// c_stab = the smallest over bones. The rule keeps a factor
 // 2 of margin:  c_rule = min(c_crit, c_stab / 2).
 // Units: c in N s/m, k in N/m, masses in kg, h in s, lengths in rig units.
 #include <algorithm>
@@ -83,7 +84,9 @@ Rule damping_rule(const Scene& scene) {
   r.c_stab = 1e300;
   for (int i = 0; i < rig.nbone; ++i) {
     const double L = rig.bone_length[i], rad = rig.bone_radius[i];
-    const double bound = rig.bone_mass[i] / h * std::min(1.0, rad * rad / (L * L) + 1.0 / 3.0);
+    const double f = scene.params.angular_velocity_factor;
+    const double bound =
+        rig.bone_mass[i] / h * std::min(1.0, 0.5 * (1.0 + f) * (rad * rad / (L * L) + 1.0 / 3.0));
     r.c_stab = std::min(r.c_stab, bound);
   }
   r.c_rule = std::min(r.c_crit, 0.5 * r.c_stab);

@@ -116,31 +116,37 @@ TEST(Engine, DampingStabilityBoundForARod) {
   }
 }
 
-// The rotational mode alone, on the original's rod (r = 0.5, L = 1): its bound 0.58 m/dt is
-// below the translational one, so c between the two must still blow up a spinning rod.
+// The rotational mode alone, on the original's rod (r = 0.5, L = 1). With the per-step factor f,
+//   w' = f w + alpha dt = (f - c L^2 dt / (2 I_perp)) w,  stable iff c <= (1 + f) 2 I_perp/(L^2 dt)
+//      = ((1 + f)/2) (m/dt)(r^2/L^2 + 1/3):
+// 11.67 N s/m for f = 1 and 8.75 for the original's f = 0.5, both below the translational m/dt = 20,
+// so c just above them must blow up a spinning rod and c just below must not.
 TEST(Engine, DampingRotationalBoundIsTheTighterOneForThinRods) {
-  const double m = 1.0, dt = 0.05, L = 1.0, r = 0.5;
-  const double rotation_bound = (m / dt) * (r * r / (L * L) + 1.0 / 3.0);  // 11.67 N s/m
-  for (double ratio : {0.95, 1.05}) {
-    EngineParams p = test::bare_params(dt);
-    p.damping = ratio * rotation_bound;  // below m/dt = 20 either way
-    Scene scene = test::scene_for(test::one_rod(L, m, r), p, 200);
-    SimState s;
-    init_state(scene, s);
-    s.omega_world[0] = Vec3(0.3, -0.2, 0.0);  // transverse spin (the rod lies along Z)
-    double prev = kinetic_energy(scene.rig, s), first = prev;
-    bool grew = false;
-    for (int n = 0; n < 200; ++n) {
-      const double e = step(scene, s).kinetic_energy;
-      grew = grew || e > prev * (1 + 1e-12);
-      prev = e;
-    }
-    if (ratio < 1.0) {
-      EXPECT_FALSE(grew);
-      EXPECT_LT(prev, first);
-    } else {
-      EXPECT_TRUE(grew);
-      EXPECT_GT(prev, first);
+  for (double f : {1.0, 0.5}) {
+    const double m = 1.0, dt = 0.05, L = 1.0, r = 0.5;
+    const double rotation_bound = 0.5 * (1.0 + f) * (m / dt) * (r * r / (L * L) + 1.0 / 3.0);
+    for (double ratio : {0.95, 1.05}) {
+      EngineParams p = test::bare_params(dt);
+      p.angular_velocity_factor = f;
+      p.damping = ratio * rotation_bound;  // below m/dt = 20 either way
+      Scene scene = test::scene_for(test::one_rod(L, m, r), p, 200);
+      SimState s;
+      init_state(scene, s);
+      s.omega_world[0] = Vec3(0.3, -0.2, 0.0);  // transverse spin (the rod lies along Z)
+      double prev = kinetic_energy(scene.rig, s), first = prev;
+      bool grew = false;
+      for (int n = 0; n < 200; ++n) {
+        const double e = step(scene, s).kinetic_energy;
+        grew = grew || e > prev * (1 + 1e-12);
+        prev = e;
+      }
+      if (ratio < 1.0) {
+        EXPECT_FALSE(grew) << "f " << f;
+        EXPECT_LT(prev, first) << "f " << f;
+      } else {
+        EXPECT_TRUE(grew) << "f " << f;
+        EXPECT_GT(prev, first) << "f " << f;
+      }
     }
   }
 }
