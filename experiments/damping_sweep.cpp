@@ -45,7 +45,8 @@ void run(const Context& ctx) {
       }
       if (c == 20.0 && r.diverged) ++paper_diverged;
       if (c == cs.front()) smallest_c_steps = r.converged ? r.steps_to_converge : base.steps;
-      any_diverged = any_diverged || r.diverged;
+      // "too large diverges": a divergence above the fastest-settling damping
+      if (r.diverged && best_c > 0 && c > best_c) any_diverged = true;
     }
     if (best_c > 0 && smallest_c_steps > 2 * best_steps) ++slow_when_small;
     if (any_diverged) ++diverge_when_large;
@@ -60,8 +61,11 @@ void run(const Context& ctx) {
           [&] {
             std::string t;
             for (auto it = best.begin(); it != best.end(); ++it) {
-              t += (t.empty() ? "" : ", ") + it.key() + " c = " + num(it.value()["damping"].get<double>()) +
-                   " (" + std::to_string(it.value()["steps_to_converge"].get<int>()) + " steps)";
+              const double c = it.value()["damping"].get<double>();
+              t += (t.empty() ? "" : ", ") + it.key() +
+                   (c < 0 ? std::string(": no damping converged")
+                          : " c = " + num(c) + " (" +
+                                std::to_string(it.value()["steps_to_converge"].get<int>()) + " steps)");
             }
             return t;
           }(),

@@ -160,9 +160,10 @@ void run(const Context& ctx) {
                              " rig units; converged: polar-com " +
                              (polar.summary.converged ? "yes" : "no") + ", linear " +
                              (linear.summary.converged ? "yes" : "no"),
-                         res_p < 0.02 * probe.rig.height() && res_l < 0.02 * probe.rig.height()
-                             ? "yes"
-                             : "partly"));
+                         res_p < 0.02 * probe.rig.height() && res_l < 0.02 * probe.rig.height() ? "yes"
+                         : res_p < 0.02 * probe.rig.height() || res_l < 0.02 * probe.rig.height()
+                             ? "partly"
+                             : "no"));
 
   const nlohmann::json notes = {
       "Secondary motion = sum of world rotation angles, against the initial pose, of the bones "

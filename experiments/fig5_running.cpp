@@ -37,31 +37,44 @@ void run(const Context& ctx) {
                       {"final_residual_over_height", s.final_residuals[c] / h},
                       {"infeasible_pair", infeasible}});
   }
-  const Vec3 a = scene.control_points[1].target_world, b = scene.control_points[2].target_world;
-  pair_gap = (a - b).norm();
+  // the pair, by name (not by position in the file)
+  int hand = -1, shoulder = -1;
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    if (scene.control_points[c].name == "hand.L") hand = static_cast<int>(c);
+    if (scene.control_points[c].name == "shoulder.L") shoulder = static_cast<int>(c);
+  }
+  if (hand < 0 || shoulder < 0) throw std::runtime_error("fig5_running: scene lacks hand.L/shoulder.L");
+  pair_gap = (scene.control_points[hand].target_world - scene.control_points[shoulder].target_world).norm();
   // the arm's reach from the shoulder: upper arm + forearm + hand
   double arm = 0.0;
   for (const char* bone : {"upper_arm.L", "forearm.L", "hand.L"}) {
     arm += scene.rig.bone_length[scene.rig.find_bone(bone)];
   }
   const double shortfall = pair_gap - arm;  // what the springs must split between them
-  const double pair_residual = s.final_residuals[1] + s.final_residuals[2];
+  const double hand_res = s.final_residuals[hand], shoulder_res = s.final_residuals[shoulder];
+  const double pair_residual = hand_res + shoulder_res;
+  // a compromise: both miss, each by at least 10% of the shortfall, and together by not much
+  // more than the shortfall (the arm stretched toward both)
+  const bool split = std::min(hand_res, shoulder_res) > 0.1 * shortfall;
   // the reachable points are "met" within 1% of the rig's height
   const bool met = worst_reachable < 0.01 * h;
 
   nlohmann::json claims = nlohmann::json::array();
   claims.push_back(claim(
       "Fig 5: the reachable control points of a running pose (k = 30) are met",
-      "largest final residual of the 6 reachable points " + num(worst_reachable) + " (" +
+      "largest final residual of the " + std::to_string(scene.control_points.size() - 2) +
+          " reachable points " + num(worst_reachable) + " (" +
           num(100 * worst_reachable / h, 2) + "% of the rig height) after " +
           std::to_string(s.steps_run) + " steps; converged: " + (s.converged ? "yes" : "no"),
       met ? "yes" : (worst_reachable < 0.03 * h ? "partly" : "no")));
   claims.push_back(claim(
       "Fig 5: an infeasible pair (left shoulder, left hand) is left as a compromise",
       "targets " + num(pair_gap) + " apart, arm reach " + num(arm) + ": shortfall " +
-          num(shortfall) + "; final residuals " + num(s.final_residuals[2]) + " (shoulder) + " +
-          num(s.final_residuals[1]) + " (hand) = " + num(pair_residual),
-      pair_residual >= shortfall - 1e-3 && pair_residual < 2.0 * shortfall ? "yes" : "partly"));
+          num(shortfall) + "; final residuals " + num(shoulder_res) + " (shoulder) + " +
+          num(hand_res) + " (hand) = " + num(pair_residual),
+      !split                            ? "no (one point takes the whole error)"
+      : pair_residual < 1.5 * shortfall ? "yes"
+                                        : "partly (the pair misses by more than the shortfall)"));
 
   write_json_file(
       {{"experiment", "fig5_running"},
