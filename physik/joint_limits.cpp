@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "physik/axis_limits.h"
 #include "physik/errors.h"
 
 namespace physik {
@@ -10,8 +11,6 @@ namespace physik {
 namespace {
 
 const char* const kAxisName[3] = {"x", "y", "z"};
-
-std::string fmt_deg(const Json& v) { return v.dump(); }
 
 }  // namespace
 
@@ -39,20 +38,7 @@ JointLimits joint_limits_from_json(const Json& doc, const std::string& source) {
       continue;
     }
     if (!v.is_object()) ctx.fail("", "expected {\"x\": [min, max], ...}, \"free\" or \"locked\"");
-    for (auto a = v.begin(); a != v.end(); ++a) {
-      int axis = -1;
-      for (int k = 0; k < 3; ++k) axis = a.key() == kAxisName[k] ? k : axis;
-      if (axis < 0) ctx.fail(a.key(), "unknown axis (expected x, y or z)");
-      if (!a->is_array() || a->size() != 2) ctx.fail(a.key(), "expected [min, max] in degrees");
-      const double lo = ctx.number_value((*a)[0], a.key() + "[0]");
-      const double hi = ctx.number_value((*a)[1], a.key() + "[1]");
-      if (lo > hi) {
-        ctx.fail(a.key(), "min " + fmt_deg((*a)[0]) + " deg is greater than max " +
-                              fmt_deg((*a)[1]) + " deg");
-      }
-      if (lo < -180.0 || hi > 180.0) ctx.fail(a.key(), "limits must lie within [-180, 180] deg");
-      b.limit[axis] = AxisLimit{true, deg2rad(lo), deg2rad(hi)};
-    }
+    b.limit = parse_axis_limits(v, ctx, "");
     out.bones.push_back(b);
   }
   return out;

@@ -1,5 +1,6 @@
 #include "physik/rig_io.h"
 
+#include "physik/axis_limits.h"
 #include "physik/errors.h"
 
 namespace physik {
@@ -47,26 +48,7 @@ BoneSpec bone_from_json(const Json& b, const JsonContext& ctx, double default_mp
     s.rest_frame_world = rest_frame_from_roll(s.head_world, s.tail_world, roll);
   }
 
-  if (b.contains("limits_deg")) {
-    const Json& lim = b["limits_deg"];
-    if (!lim.is_object()) ctx.fail("limits_deg", "expected an object {\"x\": [min, max], ...}");
-    JsonContext lctx{ctx.file, ctx.element};
-    for (auto it = lim.begin(); it != lim.end(); ++it) {
-      int axis = -1;
-      for (int a = 0; a < 3; ++a) axis = it.key() == kAxisName[a] ? a : axis;
-      const std::string field = "limits_deg." + it.key();
-      if (axis < 0) ctx.fail(field, "unknown axis (expected x, y or z)");
-      if (!it->is_array() || it->size() != 2) ctx.fail(field, "expected [min, max] in degrees");
-      AxisLimit& l = s.limit[axis];
-      l.limited = true;
-      l.min = deg2rad(ctx.number_value((*it)[0], field + "[0]"));
-      l.max = deg2rad(ctx.number_value((*it)[1], field + "[1]"));
-      if (l.min > l.max) {
-        ctx.fail(field, "min " + (*it)[0].dump() + " deg is greater than max " +
-                            (*it)[1].dump() + " deg");
-      }
-    }
-  }
+  if (b.contains("limits_deg")) s.limit = parse_axis_limits(b["limits_deg"], ctx, "limits_deg");
 
   const double length = (s.tail_world - s.head_world).norm();
   if (b.contains("mass") && b.contains("mass_per_length")) {

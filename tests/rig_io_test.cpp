@@ -69,6 +69,36 @@ TEST(RigInput, MinGreaterThanMax) {
                {"'b'", "limits_deg.x", "greater than max"});
 }
 
+TEST(RigInput, LimitOutsidePlusMinus180FailsAtLoad) {
+  // caught by the shared parser (axis_limits.h) as the file is read, one message naming the field
+  expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2],
+                            "limits_deg": {"z": [-200, 10]}})"),
+               {"bad.json: bones[1] 'b': field 'limits_deg.z': limits must lie within [-180, 180]"});
+  expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2],
+                            "limits_deg": {"x": [0, 180.5]}})"),
+               {"'b'", "field 'limits_deg.x'", "[-180, 180]"});
+  // the bounds themselves are allowed
+  const Rig rig = rig_from_json_text(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1],
+      "tail": [0,0,2], "limits_deg": {"y": [-180, 180]}})"), "ok.json");
+  EXPECT_DOUBLE_EQ(rig.bone_limit[1][1].min, -kPi);
+  EXPECT_DOUBLE_EQ(rig.bone_limit[1][1].max, kPi);
+}
+
+TEST(RigInput, LimitEntryChecksMatchTheLimitFile) {
+  expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2],
+                            "limits_deg": {"w": [0, 1]}})"),
+               {"'b'", "field 'limits_deg.w'", "unknown axis"});
+  expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2],
+                            "limits_deg": {"x": [0, "b"]}})"),
+               {"'b'", "field 'limits_deg.x[1]'", "expected a number"});
+  expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2],
+                            "limits_deg": {"x": [0]}})"),
+               {"'b'", "field 'limits_deg.x'", "expected [min, max]"});
+  expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2],
+                            "limits_deg": [0, 1]})"),
+               {"'b'", "field 'limits_deg'", "expected an object"});
+}
+
 TEST(RigInput, MissingField) {
   expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1]})"),
                {"'b'", "'tail'", "missing"});
