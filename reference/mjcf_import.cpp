@@ -1,4 +1,18 @@
 // MJCF -> rig through MuJoCo's own loader; the mapping is documented in mjcf_import.h.
+//
+// Inertia carried to a bone (world axes, kg m^2 with the model's lengths in m): a body of mass m
+// shared by k bones gives bone s the mass m/k and, about the bone's midpoint c_s,
+//   I_s = R I_body R^T / k + (m/k) (|r|^2 1 - r r^T),   r = c_s - x_com
+// where I_body = diag(body_inertia) about the body's centre of mass x_com = xipos, in the body's
+// inertial frame R = ximat (the parallel-axis / Steiner theorem; the sum over the k bones is the
+// body's inertia about each bone's own midpoint, as the rig's rod model places each bone's mass
+// there). In the bone's rest frame B (columns x, y, z): I_local = B^T I_s B; the rig keeps only
+// diag(I_local). Dropped, and reported: the products of inertia (off-diagonal of I_local, which
+// include -(m/k) r r^T whenever r is not along a bone axis; report.max_offdiag_inertia), and the
+// centre-of-mass offset itself (report.max_com_shift): the rig's bone has its mass at its
+// midpoint, so the body's first moment m r (gravity torque about the joint, translation-rotation
+// coupling) is not carried. Moments about the midpoint are exact; about the joint they follow
+// from the rig's own (midpoint) mass placement, not the body's.
 #include "reference/mujoco_log.h"
 #include "reference/mjcf_import.h"
 
@@ -273,7 +287,7 @@ MjcfRig import_mjcf_model(const mjModel* m, const std::string& source,
 
   // mass and inertia: each body shared by the bones that follow it
   std::vector<double> mass(nspec, 0.0);
-  std::vector<Mat3> inertia(nspec, Mat3::Zero());  // world, about the body's centre of mass
+  std::vector<Mat3> inertia(nspec, Mat3::Zero());  // world axes, about the bone's midpoint
   std::vector<std::vector<int>> followers(nodes.size());
   for (int s = 0; s < nspec; ++s) followers[bones.spec_node[s]].push_back(s);
   for (std::size_t i = 0; i < nodes.size(); ++i) {
@@ -289,11 +303,17 @@ MjcfRig import_mjcf_model(const mjModel* m, const std::string& source,
     if (f.empty()) f = {std::max(0, bones.node_incoming[i])};
     const Mat3 ri = m9(d->ximat + 9 * b);
     const Mat3 iw = ri * v3(m->body_inertia + 3 * b).asDiagonal() * ri.transpose();
+    const Vec3 com = v3(d->xipos + 3 * b);
+    const double share = m->body_mass[b] / static_cast<double>(f.size());
     Vec3 mid = Vec3::Zero();
     for (int s : f) {
-      mass[s] += m->body_mass[b] / f.size();
-      inertia[s] += iw / static_cast<double>(f.size());
-      mid += 0.5 * (bones.specs[s].head_world + bones.specs[s].tail_world) / f.size();
+      const Vec3 bone_mid = 0.5 * (bones.specs[s].head_world + bones.specs[s].tail_world);
+      // parallel-axis (Steiner) term: the share's inertia about the bone's midpoint
+      const Vec3 r = bone_mid - com;
+      mass[s] += share;
+      inertia[s] += iw / static_cast<double>(f.size()) +
+                    share * (r.squaredNorm() * Mat3::Identity() - r * r.transpose());
+      mid += bone_mid / static_cast<double>(f.size());
     }
     if (m->body_mass[b] > 0) {
       rep.max_com_shift = std::max(rep.max_com_shift, (mid - v3(d->xipos + 3 * b)).norm());

@@ -19,10 +19,12 @@
 // gives its mass to the bone ending at its origin. Bone masses sum to the subtree's mass (bodies
 // with zero mass give bones a floor of 1e-3 x the mean bone mass, counted in the report).
 // Each bone's inertia is explicit (BoneSpec::inertia_local): its share of the body's inertia tensor
-// about the body's centre of mass (body_inertia in the frame ximat), expressed in the bone's rest
-// frame, diagonal kept. What the rod model cannot carry is reported, not hidden: the dropped
-// off-diagonal terms (relative to the largest moment) and the shift of the centre of mass from the
-// body's xipos to the bones' midpoints.
+// (body_inertia in the frame ximat, about the body's centre of mass xipos) carried to the bone's
+// midpoint with the parallel-axis term (m/k)(|r|^2 1 - r r^T), r = midpoint - xipos (equations in
+// mjcf_import.cpp), expressed in the bone's rest frame, diagonal kept. What the rod model cannot
+// carry is reported, not hidden: the dropped off-diagonal terms (relative to the largest moment)
+// and the shift of the centre of mass from the body's xipos to the bones' midpoints (the rig puts
+// a bone's mass at its midpoint, so the body's first moment about it is not carried).
 //
 // Joints -> limits (rig.h: per bone-local axis, intervals on the rotation-vector components):
 //   no joint (welded)        all three axes locked [0, 0]

@@ -138,9 +138,14 @@ TEST(MjcfImport, MassInertiaAndLimitsCarryOver) {
   Vec3 mi(m->body_inertia[3 * forearm_body], m->body_inertia[3 * forearm_body + 1],
           m->body_inertia[3 * forearm_body + 2]);
   std::sort(mi.data(), mi.data() + 3);  // axial is the smallest for a long capsule
+  // the bone ends at the capsule's tip (0.25 + radius 0.035) while the centre of mass is at the
+  // segment's middle 0.125: the midpoint is 0.0175 further out, along the bone, so the parallel-
+  // axis term adds m r^2 to the two transverse moments and nothing to the axial one
+  const double r = 0.5 * (0.25 + 0.035) - 0.125;
+  const double steiner = 0.7 * r * r;
   EXPECT_NEAR(rig.bone_inertia_local[fa].y(), mi[0], 1e-9);
-  EXPECT_NEAR(rig.bone_inertia_local[fa].x(), mi[2], 1e-9);
-  EXPECT_NEAR(rig.bone_inertia_local[fa].z(), mi[2], 1e-9);
+  EXPECT_NEAR(rig.bone_inertia_local[fa].x(), mi[2] + steiner, 1e-9);
+  EXPECT_NEAR(rig.bone_inertia_local[fa].z(), mi[2] + steiner, 1e-9);
   // the shared torso body is split over four bones
   const int torso_body = mj_name2id(m.get(), mjOBJ_BODY, "torso");
   EXPECT_NEAR(rig.bone_mass[rig.find_bone("torso>head")], m->body_mass[torso_body] / 4, 1e-12);
@@ -180,6 +185,55 @@ TEST(MjcfImport, MassInertiaAndLimitsCarryOver) {
   // the foot hangs off a zero-offset twist body: the foot bone follows the foot body, welded
   EXPECT_EQ(rig.bone_dof(rig.find_bone("foot")), 0);
   EXPECT_EQ(mr.report.slide_joints_dropped, 0);
+}
+
+// A body whose centre of mass is off the bone: explicit inertial (pos, mass, diaginertia in the
+// body frame, which is the world frame here), bone from the body origin to the child at -z.
+const char* kOffsetModel = R"(
+<mujoco model="offset">
+  <worldbody>
+    <body name="link" pos="0 0 2">
+      <joint name="hinge" type="hinge" axis="1 0 0"/>
+      <inertial pos="0.1 0.2 -0.3" mass="2" diaginertia="0.05 0.06 0.07"/>
+      <body name="tip" pos="0 0 -1">
+        <inertial pos="0 0 0" mass="1" diaginertia="0.01 0.01 0.01"/>
+        <geom type="sphere" size="0.1" mass="0"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+)";
+
+TEST(MjcfImport, InertiaIsCarriedToTheBoneMidpointWithTheParallelAxisTerm) {
+  const MjcfRig mr = load_mjcf(write_temp("offset.xml", kOffsetModel));
+  const Rig& rig = mr.rig();
+  const int link = rig.find_bone("link");
+  ASSERT_GE(link, 0);
+  // bone from (0,0,2) to (0,0,1): local y = -z world; the hinge about world x is local x, so
+  // local z = x cross y = +y world
+  const Mat3 frame = rig.bone_rest_orient_world[link].toRotationMatrix();
+  EXPECT_NEAR(frame.col(0).dot(Vec3::UnitX()), 1.0, 1e-12);
+  EXPECT_NEAR(frame.col(1).dot(-Vec3::UnitZ()), 1.0, 1e-12);
+  EXPECT_NEAR(frame.col(2).dot(Vec3::UnitY()), 1.0, 1e-12);
+  // r = midpoint (0,0,1.5) - com (0.1,0.2,1.7) = (-0.1,-0.2,-0.2); m = 2
+  //   world Ixx = 0.05 + 2 (ry^2 + rz^2) = 0.05 + 2 (0.04 + 0.04) = 0.21
+  //   world Iyy = 0.06 + 2 (rx^2 + rz^2) = 0.06 + 2 (0.01 + 0.04) = 0.16
+  //   world Izz = 0.07 + 2 (rx^2 + ry^2) = 0.07 + 2 (0.01 + 0.04) = 0.17
+  // local (x, y, z) = world (x, -z, y)
+  EXPECT_NEAR(rig.bone_mass[link], 2.0, 1e-12);
+  EXPECT_NEAR(rig.bone_inertia_local[link].x(), 0.21, 1e-12);
+  EXPECT_NEAR(rig.bone_inertia_local[link].y(), 0.17, 1e-12);
+  EXPECT_NEAR(rig.bone_inertia_local[link].z(), 0.16, 1e-12);
+  // dropped products of inertia: -m r r^T, largest |-2 ry rz| = 0.08, relative to 0.21
+  // (the tip body's COM lies on its bone axis: no product of inertia there)
+  EXPECT_NEAR(mr.report.max_offdiag_inertia, 0.08 / 0.21, 1e-12);
+  EXPECT_NEAR(mr.report.max_com_shift, 0.3, 1e-12);
+  // tip: a leaf bone from its origin 0.1 (the sphere) along -z: r = 0.05 along the bone
+  const int tip = rig.find_bone("tip");
+  ASSERT_GE(tip, 0);
+  EXPECT_NEAR(rig.bone_inertia_local[tip].x(), 0.01 + 1.0 * 0.05 * 0.05, 1e-12);
+  EXPECT_NEAR(rig.bone_inertia_local[tip].y(), 0.01, 1e-12);
+  EXPECT_NEAR(rig.bone_inertia_local[tip].z(), 0.01 + 1.0 * 0.05 * 0.05, 1e-12);
 }
 
 TEST(MjcfImport, RootBodyCanBeChosenAndBadInputIsAnInputError) {
