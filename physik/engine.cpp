@@ -10,6 +10,7 @@
 #include "physik/interpolation.h"
 #include "physik/joint_forces.h"
 #include "physik/newton_euler.h"
+#include "physik/run_monitor.h"
 #include "physik/torsion_springs.h"
 
 namespace physik {
@@ -75,79 +76,19 @@ StepStats step(const Scene& scene, SimState& s) {
   return st;
 }
 
-namespace {
-
-bool state_finite(const SimState& s) {
-  for (std::size_t i = 0; i < s.com_world.size(); ++i) {
-    if (!s.com_world[i].allFinite() || !s.vel_world[i].allFinite() ||
-        !s.omega_world[i].allFinite() || !s.frames.orient_world[i].coeffs().allFinite()) {
-      return false;
-    }
-  }
-  return true;
-}
-
-}  // namespace
-
 RunSummary run_scene(const Scene& scene, const StepObserver& observer) {
   const auto t0 = std::chrono::steady_clock::now();
-  const Rig& rig = scene.rig;
   SimState s;
   init_state(scene, s);
-  RunSummary out;
-
-  const double speed_tol = scene.speed_tol();
-  const double energy_bound = scene.divergence_energy();
-  const double mass = rig.total_mass();
-  int last_event = 0;  // the last step at which a target changed
-  for (const TargetChange& t : scene.schedule) last_event = std::max(last_event, t.step);
-  int rest_run = 0;   // consecutive steps at rest
-  long total_passes = 0;
-
+  RunMonitor monitor(scene);  // convergence and divergence rules, run statistics
   for (int k = 0; k < scene.steps; ++k) {
     const StepStats st = step(scene, s);
-    out.steps_run = s.step;
-    total_passes += st.passes;
-    out.max_passes_in_a_step = std::max(out.max_passes_in_a_step, st.passes);
-    out.peak_kinetic_energy = std::max(out.peak_kinetic_energy, st.kinetic_energy);
-    out.max_joint_separation = std::max(out.max_joint_separation, st.joint_separation);
-    out.max_limit_violation_deg =
-        std::max(out.max_limit_violation_deg, rad2deg(max_limit_violation(rig, s.pose)));
-
-    // divergence: a non-finite state, or energy past the bound
-    if (!std::isfinite(st.kinetic_energy) || !state_finite(s)) {
-      out.diverged = true;
-      out.divergence_reason = "non-finite state at step " + std::to_string(s.step);
-    } else if (st.kinetic_energy > energy_bound) {
-      out.diverged = true;
-      out.divergence_reason = "kinetic energy " + std::to_string(st.kinetic_energy) +
-                              " J passed the bound " + std::to_string(energy_bound) +
-                              " J at step " + std::to_string(s.step);
-    }
+    const bool stop = monitor.observe(observe_step(scene, s, st));
     if (observer) observer(s, st);
-    if (out.diverged) break;
-
-    // at rest: mass-weighted rms speed below the tolerance, with no target still moving
-    bool moving_target = false;
-    for (int left : s.interp_steps_left) moving_target = moving_target || left > 0;
-    const bool at_rest = !moving_target && s.step > last_event &&
-                         std::sqrt(2.0 * st.kinetic_energy / mass) < speed_tol;
-    rest_run = at_rest ? rest_run + 1 : 0;
-    if (rest_run >= scene.convergence.settle_steps) {
-      if (!out.converged) out.steps_to_converge = s.step - rest_run + 1;
-      out.converged = true;
-      if (scene.convergence.stop_when_converged) break;
-    } else if (rest_run == 0) {
-      out.converged = false;
-      out.steps_to_converge = -1;
-    }
+    if (stop) break;
   }
-
-  control_residuals(scene, s, out.final_residuals);
-  out.final_kinetic_energy = kinetic_energy(rig, s);
-  out.mean_passes_per_step = out.steps_run ? double(total_passes) / out.steps_run : 0.0;
-  out.final_pose = s.pose;
-  out.final_frames = s.frames;
+  RunSummary out = monitor.summary();
+  fill_final_state(scene, s, out);
   out.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }

@@ -57,7 +57,8 @@ struct RunSummary {
 using StepObserver = std::function<void(const SimState&, const StepStats&)>;
 
 // Run the scene from its initial pose for scene.steps steps (or until converged when the scene
-// says so). Never throws on divergence: it is reported in the summary.
+// says so). Never throws on divergence: it is reported in the summary. The convergence and
+// divergence rules are RunMonitor's (run_monitor.h), shared with the MuJoCo reference.
 RunSummary run_scene(const Scene& scene, const StepObserver& observer = nullptr);
 
 nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s);

@@ -8,6 +8,7 @@
 #include "physik/damping.h"
 #include "physik/interpolation.h"
 #include "physik/newton_euler.h"
+#include "physik/run_monitor.h"
 #include "physik/torsion_springs.h"
 
 namespace physik {
@@ -84,7 +85,7 @@ void read_mujoco_state(const Rig& rig, const mjModel* m, const mjData* d, SimSta
 }
 
 MujocoReference::MujocoReference(const Scene& scene, ReferenceMode mode)
-    : scene_(scene), mode_(mode) {
+    : scene_(scene), mode_(mode), residuals_(scene.control_points.size()) {
   MjcfOptions o;
   o.joints = joint_model(mode);
   o.dt = scene.params.dt;
@@ -145,71 +146,27 @@ StepStats MujocoReference::step() {
   st.passes = solver_iter;
   st.mismatch = 0.0;
   st.kinetic_energy = kinetic_energy(rig, s_);
-  std::vector<double> residuals;
-  control_residuals(scene_, s_, residuals);
-  for (double r : residuals) st.max_residual = std::max(st.max_residual, r);
+  control_residuals(scene_, s_, residuals_);  // sized once in the constructor: no allocation
+  for (double r : residuals_) st.max_residual = std::max(st.max_residual, r);
   st.joint_separation = max_joint_separation(rig, s_.frames);
   return st;
 }
 
 RunSummary run_mujoco(const Scene& scene, ReferenceMode mode, const StepObserver& observer) {
   const auto t0 = std::chrono::steady_clock::now();
-  const Rig& rig = scene.rig;
   MujocoReference ref(scene, mode);
-  RunSummary out;
-
-  const double speed_tol = scene.speed_tol();
-  const double energy_bound = scene.divergence_energy();
-  const double mass = rig.total_mass();
-  int last_event = 0;
-  for (const TargetChange& t : scene.schedule) last_event = std::max(last_event, t.step);
-  int rest_run = 0;
-  long total_iter = 0;
-
+  // the same rules as run_scene; MuJoCo's bad qacc/qvel/qpos warning counts as non-finite
+  RunMonitor monitor(scene, "MuJoCo: ");
   for (int k = 0; k < scene.steps; ++k) {
     const StepStats st = ref.step();
-    const SimState& s = ref.state();
-    out.steps_run = s.step;
-    total_iter += st.passes;
-    out.max_passes_in_a_step = std::max(out.max_passes_in_a_step, st.passes);
-    out.peak_kinetic_energy = std::max(out.peak_kinetic_energy, st.kinetic_energy);
-    out.max_joint_separation = std::max(out.max_joint_separation, st.joint_separation);
-    out.max_limit_violation_deg =
-        std::max(out.max_limit_violation_deg, rad2deg(max_limit_violation(rig, s.pose)));
-
-    if (ref.bad_acceleration() || !std::isfinite(st.kinetic_energy)) {
-      out.diverged = true;
-      out.divergence_reason = "MuJoCo: non-finite state at step " + std::to_string(s.step);
-    } else if (st.kinetic_energy > energy_bound) {
-      out.diverged = true;
-      out.divergence_reason = "MuJoCo: kinetic energy " + std::to_string(st.kinetic_energy) +
-                              " J passed the bound " + std::to_string(energy_bound) +
-                              " J at step " + std::to_string(s.step);
-    }
-    if (observer) observer(s, st);
-    if (out.diverged) break;
-
-    // the same rest test as run_scene
-    bool moving_target = false;
-    for (int left : s.interp_steps_left) moving_target = moving_target || left > 0;
-    const bool at_rest = !moving_target && s.step > last_event &&
-                         std::sqrt(2.0 * st.kinetic_energy / mass) < speed_tol;
-    rest_run = at_rest ? rest_run + 1 : 0;
-    if (rest_run >= scene.convergence.settle_steps) {
-      if (!out.converged) out.steps_to_converge = s.step - rest_run + 1;
-      out.converged = true;
-      if (scene.convergence.stop_when_converged) break;
-    } else if (rest_run == 0) {
-      out.converged = false;
-      out.steps_to_converge = -1;
-    }
+    StepObservation obs = observe_step(scene, ref.state(), st);
+    obs.engine_non_finite = ref.bad_acceleration();
+    const bool stop = monitor.observe(obs);
+    if (observer) observer(ref.state(), st);
+    if (stop) break;
   }
-
-  control_residuals(scene, ref.state(), out.final_residuals);
-  out.final_kinetic_energy = kinetic_energy(rig, ref.state());
-  out.mean_passes_per_step = out.steps_run ? double(total_iter) / out.steps_run : 0.0;
-  out.final_pose = ref.state().pose;
-  out.final_frames = ref.state().frames;
+  RunSummary out = monitor.summary();
+  fill_final_state(scene, ref.state(), out);
   out.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }

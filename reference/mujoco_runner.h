@@ -33,6 +33,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "physik/engine.h"
 #include "reference/mjcf_export.h"
@@ -80,10 +81,11 @@ class MujocoReference {
   MjModelPtr m_;
   MjDataPtr d_;
   SimState s_;
+  std::vector<double> residuals_;  // (ncontrol) step()'s scratch, rig units
 };
 
-// The whole run, with the same convergence and divergence rules as physik::run_scene (a MuJoCo
-// bad-qacc warning counts as divergence).
+// The whole run, with the same convergence and divergence rules as physik::run_scene
+// (physik/run_monitor.h; a MuJoCo bad qacc/qvel/qpos warning counts as a non-finite state).
 RunSummary run_mujoco(const Scene& scene, ReferenceMode mode,
                       const StepObserver& observer = nullptr);
 
