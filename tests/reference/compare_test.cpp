@@ -8,7 +8,8 @@
 
 #include "physik/errors.h"
 #include "physik/rig_io.h"
-#include "tests/reference/reference_test_util.h"
+#include "tests/engine_test_util.h"
+#include "tests/test_util.h"
 
 namespace physik {
 namespace {
@@ -19,16 +20,16 @@ const Vec3 kJoint(0.0, 0.6, 0.8);
 const Vec3 kTip(0.8, 0.6, 1.4);
 
 Scene two_bone_scene(bool all_three) {
-  Scene s = test::scene_on(make_chain_rig(2, 1.0), preset_params("original"), 600);
+  Scene s = test::scene_for(make_chain_rig(2, 1.0), preset_params("original"), 600);
   // start bent out of the plane of the targets, so no symmetry picks the final pose
   s.initial_pose.bone_local_rotation[1] = Quat(Eigen::AngleAxisd(0.6, Vec3(1, 0, 0.5).normalized()));
   if (all_three) {
-    s.control_points.push_back(test::pull(0, 0.0, kRootHead, 10.0));
-    s.control_points.push_back(test::pull(0, 1.0, kJoint, 10.0));
+    s.control_points.push_back(test::control(0, 0.0, kRootHead, 10.0));
+    s.control_points.push_back(test::control(0, 1.0, kJoint, 10.0));
   } else {
-    s.control_points.push_back(test::pull(0, 0.0, kRootHead, 10.0));
+    s.control_points.push_back(test::control(0, 0.0, kRootHead, 10.0));
   }
-  s.control_points.push_back(test::pull(1, 1.0, kTip, 10.0));
+  s.control_points.push_back(test::control(1, 1.0, kTip, 10.0));
   return s;
 }
 

@@ -9,14 +9,15 @@
 
 #include "physik/rig_io.h"
 #include "reference/mujoco_runner.h"
-#include "tests/reference/reference_test_util.h"
+#include "tests/engine_test_util.h"
+#include "tests/test_util.h"
 
 namespace physik {
 namespace {
 
 std::vector<std::string> shipped_rigs() {
   std::vector<std::string> out;
-  for (const auto& e : std::filesystem::directory_iterator(test::shipped("rigs"))) {
+  for (const auto& e : std::filesystem::directory_iterator(test::model_path("rigs"))) {
     if (e.path().extension() == ".json") out.push_back(e.path().string());
   }
   std::sort(out.begin(), out.end());
@@ -109,7 +110,7 @@ TEST(MjcfExport, RestPoseOfTheModelIsTheRigsRestPose) {
       const MjModelPtr m = rig_to_mjmodel(rig, MjcfOptions{jm, 0.05});
       const MjDataPtr d(mj_makeData(m.get()));
       mj_forward(m.get(), d.get());  // qpos0
-      Scene scene = test::scene_on(rig, preset_params("original"), 1);
+      Scene scene = test::scene_for(rig, preset_params("original"), 1);
       SimState s;
       init_state(scene, s);
       read_mujoco_state(rig, m.get(), d.get(), s);
@@ -123,7 +124,7 @@ TEST(MjcfExport, RestPoseOfTheModelIsTheRigsRestPose) {
 }
 
 TEST(MjcfExport, JointTypesFollowTheDegreesOfFreedom) {
-  const Rig rig = load_rig(test::shipped("rigs/pinhead.json"));
+  const Rig rig = load_rig(test::model_path("rigs/pinhead.json"));
   const MjModelPtr m = rig_to_mjmodel(rig, MjcfOptions{});
   const auto joints_of = [&](const std::string& bone) {
     std::vector<int> types;
@@ -153,14 +154,14 @@ TEST(MjcfExport, JointTypesFollowTheDegreesOfFreedom) {
   for (int k = 0; k < mb->njnt; ++k) EXPECT_FALSE(mb->jnt_limited[k]);
 
   // a limited 3-DOF bone (hand rig's first phalanges) becomes three limited hinges
-  const Rig hand = load_rig(test::shipped("rigs/hand.json"));
+  const Rig hand = load_rig(test::model_path("rigs/hand.json"));
   const MjModelPtr mh = rig_to_mjmodel(hand, MjcfOptions{});
   const int b = hand.find_bone("index.1") + 1;
   EXPECT_EQ(mh->body_jntnum[b], 3);
 }
 
 TEST(MjcfExport, PhysicsOptionsAreTheEnginesOwn) {
-  const Rig rig = load_rig(test::shipped("rigs/chain3.json"));
+  const Rig rig = load_rig(test::model_path("rigs/chain3.json"));
   const MjModelPtr m = rig_to_mjmodel(rig, MjcfOptions{JointModel::kRigJoints, 0.02});
   EXPECT_EQ(m->opt.timestep, 0.02);
   EXPECT_EQ(m->opt.integrator, mjINT_EULER);

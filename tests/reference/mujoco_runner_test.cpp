@@ -8,7 +8,8 @@
 #include <gtest/gtest.h>
 
 #include "physik/rig_io.h"
-#include "tests/reference/reference_test_util.h"
+#include "tests/engine_test_util.h"
+#include "tests/test_util.h"
 
 namespace physik {
 namespace {
@@ -23,8 +24,8 @@ Scene free_rod_scene(SpringLaw law) {
   b.mass = 1.5;
   b.radius = 0.5;
   const Rig rig = build_rig({b}, "<test>", "rod");
-  Scene s = test::scene_on(rig, preset_params("original"), 300);  // damping 3, w x 0.5, gyro on
-  s.control_points.push_back(test::pull(0, 0.8, Vec3(1.3, 0.7, 1.9), 10.0, law));
+  Scene s = test::scene_for(rig, preset_params("original"), 300);  // damping 3, w x 0.5, gyro on
+  s.control_points.push_back(test::control(0, 0.8, Vec3(1.3, 0.7, 1.9), 10.0, law));
   s.schedule.push_back(TargetChange{150, 0, Vec3(-0.8, 0.4, 0.5)});  // a second jump mid-run
   return s;
 }
@@ -83,11 +84,11 @@ TEST(MujocoReference, AngularVelocityFactorAsATorqueHalvesASpinningRod) {
 TEST(MujocoReference, ExactConstraintsKeepTheHingeInRangeUpToTheSoftLimitSlack) {
   // elbow: the forearm may bend 0..90 deg one way (x in [-90, 0] deg); its tip is pulled hard the
   // other way while the upper arm is held by two springs at rest
-  const Rig rig = load_rig(test::shipped("rigs/elbow.json"));
-  Scene s = test::scene_on(rig, preset_params("original"), 400);
-  s.control_points.push_back(test::pull(0, 0.0, Vec3(0, 0, 0), 30.0));
-  s.control_points.push_back(test::pull(0, 1.0, Vec3(0, 0, 2), 30.0));
-  s.control_points.push_back(test::pull(1, 1.0, Vec3(0, -2.0, 2.5), 30.0));  // toward +x rotation
+  const Rig rig = load_rig(test::model_path("rigs/elbow.json"));
+  Scene s = test::scene_for(rig, preset_params("original"), 400);
+  s.control_points.push_back(test::control(0, 0.0, Vec3(0, 0, 0), 30.0));
+  s.control_points.push_back(test::control(0, 1.0, Vec3(0, 0, 2), 30.0));
+  s.control_points.push_back(test::control(1, 1.0, Vec3(0, -2.0, 2.5), 30.0));  // toward +x rotation
   MujocoReference ref(s, ReferenceMode::kExactConstraints);
   const mjModel* m = ref.model();
   ASSERT_EQ(m->njnt, 2);  // free root + the elbow hinge

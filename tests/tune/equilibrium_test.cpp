@@ -7,22 +7,17 @@
 #include "physik/engine.h"
 #include "physik/errors.h"
 #include "physik/rig_io.h"
+#include "tests/engine_test_util.h"
 #include "tests/test_util.h"
 #include "tune/equilibrium.h"
 
 namespace physik::tune {
 namespace {
 
+// the engine tests' helper, under this file's name
 ControlPoint point(int bone, double alpha, const Vec3& target, double k,
                    SpringLaw law = SpringLaw::kLinear, double cap = 1.0) {
-  ControlPoint cp;
-  cp.bone = bone;
-  cp.alpha = alpha;
-  cp.target_world = target;
-  cp.k = k;
-  cp.spring = law;
-  cp.cap = cap;
-  return cp;
+  return test::control(bone, alpha, target, k, law, cap);
 }
 
 Scene scene_of(const Rig& rig, int steps = 400) {
