@@ -63,7 +63,10 @@ void run_solve(const SolveOptions& o) {
   BoneFrames frames;
   int exit_diverged = 0;
   if (engine) {
-    if (o.tol > 0.0) scene.convergence.residual_tol = o.tol;
+    // stop like the classic solvers: at the residual tolerance (default 1e-4 of the chain's
+    // reach), or when the residual stalls short of it (not converged)
+    scene.convergence.residual_tol = o.tol > 0.0 ? o.tol : 1e-4 * chain_reach(scene.rig, goals);
+    scene.convergence.stop_at_residual_tol = true;
     const RunSummary s = run_scene(scene);
     summary = summary_to_json(scene, s);
     summary["iterations"] = s.steps_run;

@@ -12,7 +12,8 @@
 // the target and for the target moved by 1% of the reach; jump = largest bone-tail displacement
 // between the two solutions over the target move (1 = the pose follows the target rigidly).
 // PhysIK: the default preset with its default control spring on the effector and a second control point pinning the root's head (PhysIK's root is free), stopped
-// by the engine's own convergence test (at rest), at most 2000 steps; fewer targets, no 50-chain
+// like the classic solvers: at the residual tolerance (1e-4 of the reach), or when the residual
+// stalls short of it (not converged), at most 2000 steps; fewer targets, no 50-chain
 // (the 5 n^2 joint-pass cap makes a 50-bone step ~3 ms).
 #include <algorithm>
 #include <chrono>
@@ -85,6 +86,7 @@ Outcome physik_engine(const RigCase& rc, const Vec3& target) {
   sc.initial_pose = rest_pose(rc.rig);
   sc.steps = 2000;
   sc.convergence.stop_when_converged = true;
+  sc.convergence.stop_at_residual_tol = true;
   sc.convergence.residual_tol = 1e-4 * rc.reach;
   const RunSummary s = run_scene(sc);
   Outcome o;
@@ -411,12 +413,12 @@ void run(const Context& ctx) {
   }
   {
     const double ph = val("pinhead", "physik", "success_rate");
-    claims.push_back({{"claim", "PhysIK at rest meets a reachable target to 1e-3 of the reach (engine's own stop test, 2000-step cap)"},
+    claims.push_back({{"claim", "PhysIK meets a reachable target to 1e-3 of the reach (stops at 1e-4 of the reach or when stalled, 2000-step cap)"},
                       {"measured", "success chain3 " + pct(val("chain3", "physik", "success_rate")) + ", chain10 " +
                                        pct(val("chain10", "physik", "success_rate")) + ", pinhead " + pct(ph) +
                                        "; median steps on pinhead " + fmt(val("pinhead", "physik", "median_iterations")) +
                                        ", " + fmt(val("pinhead", "physik", "mean_time_ms")) + " ms per solve"},
-                      {"holds", ph >= 0.99 ? "yes" : "no"}});
+                      {"holds", ph >= 0.99 ? "yes" : ph >= 0.5 ? "partly" : "no"}});
   }
 
   nlohmann::json notes = nlohmann::json::array();
@@ -430,9 +432,9 @@ void run(const Context& ctx) {
                   "The pin is a spring too, so toward unreachable targets PhysIK's root is dragged along (negative "
                   "excess: the hand gets closer than |t| - reach), and its joint limits are torsion springs "
                   "(soft), hence the limit violation; classic solvers clamp and never violate.");
-  notes.push_back("PhysIK stops when its own convergence test says the rig is at rest; its residual at that "
-                  "moment (median residual column) is far above 1e-3 of the reach, so its success rate measures "
-                  "that stop test as much as the engine.");
+  notes.push_back("PhysIK stops like the classic solvers: when every control point is within 1e-4 of the "
+                  "reach (scene convergence.stop_at_residual_tol), or when its residual stalls short of it "
+                  "(no 1% improvement in 50 steps; then it has not converged).");
   notes.push_back("Columns: success = residual < 1e-3 reach; median res/reach = median residual on reachable targets over the reach; iters = median iterations (PhysIK: steps); "
                   "ms = mean wall time per solve; viol = largest limit violation (deg); rot = mean total joint "
                   "rotation (rad); off = mean displacement of off-path bones; unreach nc = fraction of unreachable "

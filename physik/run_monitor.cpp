@@ -16,6 +16,8 @@ RunRules run_rules(const Scene& scene) {
   for (const TargetChange& t : scene.schedule) r.last_event = std::max(r.last_event, t.step);
   r.settle_steps = scene.convergence.settle_steps;
   r.stop_when_converged = scene.convergence.stop_when_converged;
+  r.stop_at_residual = scene.convergence.stop_at_residual_tol;
+  r.residual_tol = scene.residual_tol();
   return r;
 }
 
@@ -38,6 +40,7 @@ StepObservation observe_step(const Scene& scene, const SimState& s, const StepSt
   o.joint_separation = st.joint_separation;
   o.limit_violation = max_limit_violation(scene.rig, s.pose);
   for (int left : s.interp_steps_left) o.target_moving = o.target_moving || left > 0;
+  o.max_residual = st.max_residual;
   return o;
 }
 
@@ -66,9 +69,23 @@ bool RunMonitor::observe(const StepObservation& o) {
   if (diverged_) return true;
 
   // at rest: mass-weighted rms speed below the tolerance, with no target still moving
-  const bool at_rest = !o.target_moving && o.step > rules_.last_event &&
+  const bool targets_still = !o.target_moving && o.step > rules_.last_event;
+  const bool at_rest = targets_still &&
                        std::sqrt(2.0 * o.kinetic_energy / rules_.total_mass) < rules_.speed_tol;
   rest_run_ = at_rest ? rest_run_ + 1 : 0;
+  if (rules_.stop_at_residual) {
+    // IK use: converged = targets met; no progress for a while short of them = stalled
+    if (targets_still && o.max_residual < rules_.residual_tol) {
+      converged_ = true;
+      steps_to_converge_ = o.step;
+      return true;
+    }
+    if (!targets_still || o.max_residual < (1.0 - rules_.stall_fraction) * best_residual_) {
+      best_residual_ = std::min(best_residual_, o.max_residual);
+      last_improvement_ = o.step;
+    }
+    return o.step - last_improvement_ >= rules_.stall_steps;
+  }
   if (rest_run_ >= rules_.settle_steps) {
     if (!converged_) steps_to_converge_ = o.step - rest_run_ + 1;
     converged_ = true;

@@ -15,6 +15,7 @@
 // violation (deg), steps_run and the joint passes (mean and max per step).
 #pragma once
 
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -30,6 +31,15 @@ struct RunRules {
   int last_event = 0;          // last step at which the schedule changes a target (0 = none)
   int settle_steps = 10;       // consecutive steps at rest to call the run converged
   bool stop_when_converged = false;
+  // IK use (scene convergence.stop_at_residual_tol): converged means every control point within
+  // residual_tol of its goal; the run stops there, or when it stalls short of it (then not
+  // converged): the largest residual has not improved by stall_fraction of itself over
+  // stall_steps steps (the classic solvers' stall window; speed alone is no test here, since an
+  // exponentially settling rig slows down long before its residual is small)
+  bool stop_at_residual = false;
+  double residual_tol = 0.0;     // rig units
+  int stall_steps = 50;          // steps
+  double stall_fraction = 0.01;  // 1
 };
 RunRules run_rules(const Scene& scene);
 
@@ -43,6 +53,7 @@ struct StepObservation {
   double joint_separation = 0.0;  // rig units, largest parent-tail to child-head gap
   double limit_violation = 0.0;   // rad, largest joint-limit violation of the pose
   bool target_moving = false;     // some target still interpolating toward its goal
+  double max_residual = 0.0;      // rig units, largest control-point distance to its goal
 };
 
 // Every position, velocity and orientation of the state is finite.
@@ -84,6 +95,8 @@ class RunMonitor {
   double peak_ke_ = 0.0;
   double max_separation_ = 0.0;
   double max_violation_deg_ = 0.0;
+  double best_residual_ = std::numeric_limits<double>::infinity();  // IK use
+  int last_improvement_ = 0;                                         // IK use: step
 };
 
 // The final-state fields of a summary: residuals to the goal targets, KE, pose and frames.

@@ -205,12 +205,13 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
     JsonContext ctx{source, "convergence"};
     ctx.require_object(c, "convergence");
     ctx.only_keys(c, {"residual_tol", "speed_tol", "settle_steps", "stop_when_converged",
-                      "divergence_energy"});
+                      "stop_at_residual_tol", "divergence_energy"});
     s.convergence.residual_tol = non_negative(ctx, c, "residual_tol", 0.0);
     s.convergence.speed_tol = non_negative(ctx, c, "speed_tol", 0.0);
     s.convergence.settle_steps = ctx.integer_or(c, "settle_steps", s.convergence.settle_steps);
     if (s.convergence.settle_steps < 1) ctx.fail("settle_steps", "must be at least 1");
     s.convergence.stop_when_converged = ctx.boolean_or(c, "stop_when_converged", false);
+    s.convergence.stop_at_residual_tol = ctx.boolean_or(c, "stop_at_residual_tol", false);
     s.convergence.divergence_energy = non_negative(ctx, c, "divergence_energy", 0.0);
   }
 
@@ -314,6 +315,7 @@ Json scene_to_json(const Scene& s) {
             {"speed_tol", s.convergence.speed_tol},
             {"settle_steps", s.convergence.settle_steps},
             {"stop_when_converged", s.convergence.stop_when_converged},
+            {"stop_at_residual_tol", s.convergence.stop_at_residual_tol},
             {"divergence_energy", s.convergence.divergence_energy}}},
           {"initial_pose", {{"root_head", {r.x(), r.y(), r.z()}}, {"rotation_deg", rot}}},
           {"initial_velocity",

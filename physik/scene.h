@@ -40,6 +40,8 @@ struct ConvergenceParams {
                                // at rest when sqrt(2 KE / total mass) is below this
   int settle_steps = 10;       // consecutive steps at rest to call the run converged
   bool stop_when_converged = false;
+  bool stop_at_residual_tol = false;  // IK use: converged = every control point within
+                                      // residual_tol; stop there, or at rest short of it
   double divergence_energy = 0.0;  // J; 0 = 1e6 * total mass * height^2. Above it: diverged
 };
 

@@ -243,3 +243,61 @@ TEST(ObserveStep, ReadsTheStateAndStats) {
 
 }  // namespace
 }  // namespace physik
+
+namespace physik {
+namespace {
+
+// IK use: converged as soon as every control point is within the tolerance (even while still
+// moving); a residual that stops improving stops the run without converging, like a stalled
+// classic solver, however fast the rig still moves
+TEST(RunMonitorResidual, StopsAtTheResidualToleranceOrWhenItStalls) {
+  RunRules r = rules(3);
+  r.stop_at_residual = true;
+  r.residual_tol = 0.01;
+  r.stall_steps = 4;
+  r.stall_fraction = 0.1;
+  {
+    RunMonitor mon(r);
+    StepObservation o = at(1, kMovingKe);
+    o.max_residual = 0.5;
+    EXPECT_FALSE(mon.observe(o));
+    o = at(2, kMovingKe);
+    o.max_residual = 0.009;  // met, while still moving
+    EXPECT_TRUE(mon.observe(o));
+    EXPECT_TRUE(mon.converged());
+    EXPECT_EQ(mon.summary().steps_to_converge, 2);
+  }
+  {
+    // improving by 20% a step never stalls; a plateau at 0.2 stalls 4 steps after its start
+    RunMonitor mon(r);
+    double res = 1.0;
+    int k = 1;
+    for (; k <= 8; ++k, res *= 0.8) {
+      StepObservation o = at(k, kMovingKe);
+      o.max_residual = res;
+      EXPECT_FALSE(mon.observe(o)) << k;
+    }
+    // the plateau's first value (0.8^8) is still a 20% improvement on step 8: the last one
+    const int last_improvement = k;
+    for (;; ++k) {
+      StepObservation o = at(k, kMovingKe);
+      o.max_residual = res;  // no longer improving
+      if (mon.observe(o)) break;
+      ASSERT_LT(k, 100);
+    }
+    EXPECT_EQ(k, last_improvement + 4);
+    EXPECT_FALSE(mon.converged());
+    EXPECT_EQ(mon.summary().steps_to_converge, -1);
+  }
+  {
+    // a target still interpolating does not count as met
+    RunMonitor mon(r);
+    StepObservation o = at(1, kMovingKe);
+    o.max_residual = 0.0;
+    o.target_moving = true;
+    EXPECT_FALSE(mon.observe(o));
+  }
+}
+
+}  // namespace
+}  // namespace physik
