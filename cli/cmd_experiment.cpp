@@ -41,7 +41,12 @@ void add_experiment_commands(CLI::App& app) {
     for (const std::string& n : opt->names) {
       const experiments::Experiment* found = nullptr;
       for (const auto& e : all) found = e.name == n ? &e : found;
-      if (!found) throw_input_error("", "", "NAME", "unknown experiment '" + n + "'");
+      if (!found) {
+        std::string known;
+        for (const auto& e : all) known += (known.empty() ? "" : ", ") + e.name;
+        throw_input_error("physik experiment run", "", "NAME",
+                          "unknown experiment '" + n + "' (known: " + known + ")");
+      }
       chosen.push_back(found);
     }
     if (chosen.empty()) {

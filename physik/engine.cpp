@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 
 #include "physik/control_springs.h"
 #include "physik/damping.h"
@@ -93,6 +95,26 @@ RunSummary run_scene(const Scene& scene, const StepObserver& observer) {
   return out;
 }
 
+std::uint64_t state_hash(const BoneFrames& f) {
+  std::uint64_t h = 1469598103934665603ull;
+  const auto mix = [&h](double v) {
+    unsigned char bytes[sizeof(double)];
+    std::memcpy(bytes, &v, sizeof(double));
+    for (unsigned char b : bytes) {
+      h ^= b;
+      h *= 1099511628211ull;
+    }
+  };
+  for (std::size_t i = 0; i < f.head_world.size(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      mix(f.head_world[i][k]);
+      mix(f.tail_world[i][k]);
+    }
+    for (int k = 0; k < 4; ++k) mix(f.orient_world[i].coeffs()[k]);
+  }
+  return h;
+}
+
 nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s) {
   const double h = scene.rig.height();
   nlohmann::json rel = nlohmann::json::array();
@@ -117,7 +139,13 @@ nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s) {
           {"max_limit_violation_deg", s.max_limit_violation_deg},
           {"speed_tol", scene.speed_tol()},
           {"residual_tol", scene.residual_tol()},
-          {"wall_time_s", s.wall_time_s}};
+          {"wall_time_s", s.wall_time_s},
+          {"final_state_hash", [&] {
+             char buf[17];
+             std::snprintf(buf, sizeof buf, "%016llx",
+                           static_cast<unsigned long long>(state_hash(s.final_frames)));
+             return std::string(buf);
+           }()}};
 }
 
 }  // namespace physik

@@ -10,6 +10,7 @@
 //   integrate             semi-implicit Euler, articulated or free rods   integrate.h
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -62,5 +63,9 @@ using StepObserver = std::function<void(const SimState&, const StepStats&)>;
 RunSummary run_scene(const Scene& scene, const StepObserver& observer = nullptr);
 
 nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s);
+
+// FNV-1a over the bit patterns of every final head, tail and orientation: equal hashes mean
+// bit-identical runs (determinism made visible, as Jolt prints a state hash).
+std::uint64_t state_hash(const BoneFrames& frames);
 
 }  // namespace physik

@@ -208,6 +208,15 @@ TEST(Engine, ThePapersDampingDivergesOnPinheadAndIsReported) {
   EXPECT_TRUE(r.diverged);
 }
 
+TEST(Engine, RunsAreDeterministicAndTheHashSeesAnyChange) {
+  Scene scene = load_scene(test::model_path("scenes/pinhead_two_hands.json"));
+  scene.steps = 60;
+  const RunSummary a = run_scene(scene), b = run_scene(scene);
+  EXPECT_EQ(state_hash(a.final_frames), state_hash(b.final_frames));
+  scene.control_points[0].target_world.x() += 1e-12;  // a change far below any tolerance
+  EXPECT_NE(state_hash(run_scene(scene).final_frames), state_hash(a.final_frames));
+}
+
 TEST(Engine, SummaryJsonHasTheDocumentedKeys) {
   const Scene scene = load_scene(test::model_path("scenes/pinhead_two_hands.json"));
   Scene short_scene = scene;
