@@ -50,7 +50,8 @@ StepStats step(const Scene& scene, SimState& s) {
   const EngineParams& p = scene.params;
 
   update_targets(scene, s);
-  local_rotations_from_world(rig, s.frames, s.pose);
+  // s.pose already holds the local rotations of s.frames (init_state and the end of every step
+  // keep them in sync), which the torsion springs read
   prepare_bodies(rig, p, s);
   apply_damping(rig, p, s);
   apply_control_springs(scene, s);

@@ -46,7 +46,9 @@ struct SimState {
   // --- bookkeeping ---
   int step = 0;        // steps taken
   double time = 0.0;   // s
-  Pose pose;           // local rotations, refreshed each step (torsion, limits, output)
+  Pose pose;           // local rotations of `frames` (torsion, limits, output); init_state
+                       // and step() keep it in sync: code that edits frames must refresh it
+                       // (local_rotations_from_world)
 };
 
 // Size every buffer for the scene and set the initial pose at rest (zero velocities).
