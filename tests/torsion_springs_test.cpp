@@ -72,5 +72,43 @@ TEST(TorsionSprings, EqualAndOppositeTorquesThatPushBackIntoRange) {
   EXPECT_NEAR(rad2deg(theta.y()), 0.0, 0.5);
 }
 
+// Explicit Euler on a torsion spring: with w' = f w + (tau/I) dt and theta' = theta + w' dt, a
+// spring tau = -k theta on a body of transverse inertia I is stable iff a = k dt^2 / I < 2 (1 + f).
+// A middle phalanx of the hand feels two such springs (its two joints) and its neighbours pull
+// the other way in the chain's alternating mode, so a ~ 4 k dt^2 / I_min. The hand's shortest
+// phalanx (L = 0.25, m = 0.25, r = 0.5) has I = m (3 r^2 + L^2)/12 = 0.0169 kg m^2; with k = 10
+// and f = 0.5: dt = 0.05 gives a ~ 5.9 > 3 (unstable: a 1 deg nudge past the engage band must
+// blow up), dt = 0.02 gives a ~ 0.95 < 3 (stable: it must settle).
+TEST(TorsionSprings, TheTightHandIsExplicitEulersStabilityLimit) {
+  const Rig rig = load_rig(test::model_path("rigs/hand.json"));
+  const double I_min = [&] {
+    double m = 1e300;
+    for (int i = 0; i < rig.nbone; ++i) m = std::min(m, rig.bone_inertia_local[i].x());
+    return m;
+  }();
+  EXPECT_NEAR(I_min, 0.25 * (3 * 0.25 + 0.0625) / 12, 1e-6 * I_min);  // file: 6 decimals
+  for (double dt : {0.05, 0.02}) {
+    EngineParams p = preset_params("original");
+    p.dt = dt;
+    const double a = 4 * p.torsion_k * dt * dt / I_min;
+    const bool predicted_stable = a < 2 * (1 + p.angular_velocity_factor);
+    Scene scene = test::scene_for(rig, p, static_cast<int>(std::lround(50.0 / 0.05 * 0.05 / dt)));
+    scene.control_points.push_back(test::control(0, 0.0, Vec3(0, 0, 0), 30.0));
+    scene.control_points.push_back(test::control(0, 1.0, Vec3(0, 0, 1), 30.0));
+    // index knuckle x in [-10, 10] deg engages at 8 deg: nudge it to 9
+    scene.initial_pose.bone_local_rotation[rig.find_bone("index.1")] =
+        Quat(Eigen::AngleAxisd(deg2rad(9.0), Vec3::UnitX()));
+    const RunSummary r = run_scene(scene);
+    // the nudge stores k (1 deg)^2 / 2 = 1.5e-3 J; an explosion releases orders of magnitude more
+    if (predicted_stable) {
+      EXPECT_TRUE(r.converged) << "dt " << dt << " a " << a;
+      EXPECT_LT(r.peak_kinetic_energy, 0.01) << "dt " << dt;
+    } else {
+      EXPECT_GT(r.peak_kinetic_energy, 1.0) << "dt " << dt << " a " << a;
+      EXPECT_FALSE(r.converged) << "dt " << dt;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace physik
