@@ -158,3 +158,17 @@ def pose_grid(rows, out_png, view="side", suptitle=None, size=2.6):
     if suptitle:
         fig.suptitle(suptitle)
     return save(fig, out_png)
+
+
+def same_limits(axes, poses, view, margin=0.2):
+    """One equal-aspect window around all the poses for every axes (frames of one sequence on a
+    common scale; matplotlib forbids datalim aspect on shared axes)."""
+    i, j = {"front": (0, 2), "side": (1, 2)}[view]
+    xs = [b[k][i] for bones in poses for b in bones for k in ("head", "tail")]
+    ys = [b[k][j] for bones in poses for b in bones for k in ("head", "tail")]
+    cx, cy = 0.5 * (min(xs) + max(xs)), 0.5 * (min(ys) + max(ys))
+    half = 0.5 * max(max(xs) - min(xs), max(ys) - min(ys)) + margin
+    for ax in axes:
+        ax.set_aspect("equal", adjustable="box")
+        ax.set_xlim(cx - half, cx + half)
+        ax.set_ylim(cy - half, cy + half)

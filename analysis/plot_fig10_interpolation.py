@@ -17,19 +17,6 @@ import physik_plot  # noqa: E402
 from physik_plot import plt  # noqa: E402
 
 
-def same_limits(axes, poses, view, margin=0.2):
-    """One equal-aspect window around all the poses for every axes (frames of one sequence on a
-    common scale; matplotlib forbids datalim aspect on shared axes)."""
-    i, j = {"front": (0, 2), "side": (1, 2)}[view]
-    xs = [b[k][i] for bones in poses for b in bones for k in ("head", "tail")]
-    ys = [b[k][j] for bones in poses for b in bones for k in ("head", "tail")]
-    cx, cy = 0.5 * (min(xs) + max(xs)), 0.5 * (min(ys) + max(ys))
-    half = 0.5 * max(max(xs) - min(xs), max(ys) - min(ys)) + margin
-    for ax in axes:
-        ax.set_aspect("equal", adjustable="box")
-        ax.set_xlim(cx - half, cx + half)
-        ax.set_ylim(cy - half, cy + half)
-
 SCHEMES = [("polar_com", "polar", "polar about the COM", "tab:blue"),
            ("linear", "linear", "linear", "tab:red")]
 
@@ -63,7 +50,7 @@ def plot_frames(folder, summary, out_png, view="front"):
                         [table["%s_tip_%s" % (prefix, axis_names[j])][k] for k in upto],
                         "-", color="0.4", lw=0.8)
             ax.set_title("%s, step %d" % (prefix, steps[col]), fontsize=9)
-    same_limits(used, drawn, view)
+    physik_plot.same_limits(used, drawn, view)
     fig.suptitle("Fig 10: raised hand, %s view (dotted red: effective target path, grey: hand tip "
                  "path)" % view, fontsize=10)
     return physik_plot.save(fig, out_png)

@@ -15,20 +15,6 @@ import physik_plot  # noqa: E402
 from physik_plot import plt  # noqa: E402
 
 
-def same_limits(axes, poses, view, margin=0.2):
-    """One equal-aspect window around all the poses for every axes (frames of one sequence on a
-    common scale; matplotlib forbids datalim aspect on shared axes)."""
-    i, j = {"front": (0, 2), "side": (1, 2)}[view]
-    xs = [b[k][i] for bones in poses for b in bones for k in ("head", "tail")]
-    ys = [b[k][j] for bones in poses for b in bones for k in ("head", "tail")]
-    cx, cy = 0.5 * (min(xs) + max(xs)), 0.5 * (min(ys) + max(ys))
-    half = 0.5 * max(max(xs) - min(xs), max(ys) - min(ys)) + margin
-    for ax in axes:
-        ax.set_aspect("equal", adjustable="box")
-        ax.set_xlim(cx - half, cx + half)
-        ax.set_ylim(cy - half, cy + half)
-
-
 def plot_frames(folder, frames, out_png, view="side", targets=None):
     """frames: [{"step": int, "file": bones csv}] in order; one panel each; targets: static
     control-point targets [(x, y, z)] drawn as crosses."""
@@ -41,7 +27,7 @@ def plot_frames(folder, frames, out_png, view="side", targets=None):
         drawn.append(physik_plot.read_bones_csv(os.path.join(folder, f["file"])))
         physik_plot.draw_pose(ax, drawn[-1], view, color="tab:blue", targets=targets)
         ax.set_title("sit-%d (step %d)" % (k, f["step"]), fontsize=9)
-    same_limits(axes[0], drawn, view)
+    physik_plot.same_limits(axes[0], drawn, view)
     fig.suptitle("Fig 11: sitting from one moving (pelvis) and four static control points, %s view"
                  % view, fontsize=10)
     return physik_plot.save(fig, out_png)

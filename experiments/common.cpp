@@ -87,6 +87,19 @@ std::vector<int> chains_to_root(const Rig& rig, const std::vector<int>& bones) {
   return out;
 }
 
+nlohmann::json settings_json(const Scene& scene, const nlohmann::json& extra) {
+  nlohmann::json j = {{"dt", scene.params.dt},
+                      {"damping", scene.params.damping},
+                      {"control_k", scene.params.control_k},
+                      {"torsion_k", scene.params.torsion_k},
+                      {"eps", scene.params.joint_eps},
+                      {"interpolation", to_string(scene.params.interpolation)},
+                      {"interpolation_steps", scene.params.interpolation_steps},
+                      {"steps", scene.steps}};
+  j.update(extra);
+  return j;
+}
+
 nlohmann::json claim(const std::string& text, const std::string& measured, const std::string& holds) {
   return {{"claim", text}, {"measured", measured}, {"holds", holds}};
 }

@@ -49,6 +49,10 @@ double off_chain_rotation(const Rig& rig, const BoneFrames& a, const BoneFrames&
 // Bones from each given bone up to the root (inclusive): the chains the control points drive.
 std::vector<int> chains_to_root(const Rig& rig, const std::vector<int>& bones);
 
+// The engine settings a report states (dt, damping, control k, torsion k, eps, interpolation,
+// steps), with `extra` fields added or overriding.
+nlohmann::json settings_json(const Scene& scene, const nlohmann::json& extra = nlohmann::json::object());
+
 // A claim row for the report.
 nlohmann::json claim(const std::string& text, const std::string& measured, const std::string& holds);
 

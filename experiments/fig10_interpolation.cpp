@@ -184,14 +184,8 @@ void run(const Context& ctx) {
                      {"claims", claims},
                      {"notes", notes},
                      {"figures", {"fig10_frames.png", "fig10_secondary_motion.png"}},
-                     {"settings",
-                      {{"dt", probe.params.dt},
-                       {"damping", probe.params.damping},
-                       {"control_k", probe.params.control_k},
-                       {"torsion_k", probe.params.torsion_k},
-                       {"eps", probe.params.joint_eps},
-                       {"interpolation_steps", interp},
-                       {"steps", probe.steps}}}}}},
+                     {"settings", settings_json(probe, {{"interpolation", "polar-com vs linear"},
+                                                       {"interpolation_steps", interp}})}}}},
                   ctx.out_dir + "/summary.json");
 }
 

@@ -188,15 +188,7 @@ void run(const Context& ctx) {
                      {"claims", claims},
                      {"notes", notes},
                      {"figures", {"fig11_frames.png", "fig11_residuals.png"}},
-                     {"settings",
-                      {{"dt", scene.params.dt},
-                       {"damping", scene.params.damping},
-                       {"control_k", scene.params.control_k},
-                       {"torsion_k", scene.params.torsion_k},
-                       {"eps", scene.params.joint_eps},
-                       {"interpolation", to_string(scene.params.interpolation)},
-                       {"interpolation_steps", scene.params.interpolation_steps},
-                       {"steps", scene.steps}}}}}},
+                     {"settings", settings_json(scene)}}}},
                   ctx.out_dir + "/summary.json");
 }
 

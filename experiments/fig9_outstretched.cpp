@@ -236,14 +236,7 @@ void run(const Context& ctx) {
          {"claims", claims},
          {"notes", notes},
          {"figures", {"fig9_poses.png", "fig9_measures.png"}},
-         {"settings",
-          {{"dt", scene.params.dt},
-           {"damping", scene.params.damping},
-           {"control_k", scene.params.control_k},
-           {"torsion_k", scene.params.torsion_k},
-           {"eps", scene.params.joint_eps},
-           {"steps", scene.steps},
-           {"dls_lambda_fraction", io.lambda_fraction}}}}}},
+         {"settings", settings_json(scene, {{"dls_lambda_fraction", io.lambda_fraction}})}}}},
       ctx.out_dir + "/summary.json");
 }
 

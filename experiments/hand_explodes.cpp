@@ -283,15 +283,7 @@ void run(const Context& ctx) {
                      {"claims", claims},
                      {"notes", notes},
                      {"figures", {"hand_timeline.png", "hand_sweep.png", "hand_poses.png"}},
-                     {"settings",
-                      {{"dt", base.params.dt},
-                       {"damping", base.params.damping},
-                       {"control_k", base.params.control_k},
-                       {"torsion_k", base.params.torsion_k},
-                       {"eps", base.params.joint_eps},
-                       {"steps", base.steps},
-                       {"sweep_torsion_k", ks},
-                       {"sweep_damping", cs}}}}}},
+                     {"settings", settings_json(base, {{"sweep_torsion_k", ks}, {"sweep_damping", cs}})}}}},
                   ctx.out_dir + "/summary.json");
 }
 
