@@ -112,25 +112,29 @@ int free_endpoint_dof(const Scene& scene, const BoneFrames& frames) {
   return matrix_rank(both) - matrix_rank(jc);
 }
 
-EngineRun run_physik_recorded(const Scene& scene) {
-  EngineRun r;
-  r.summary = run_scene(scene, [&](const SimState& s, const StepStats& st) {
+namespace {
+
+// an observer that appends every step's frames, stats and residuals to `r`
+StepObserver recorder(const Scene& scene, EngineRun& r) {
+  return [&scene, &r](const SimState& s, const StepStats& st) {
     r.frames.push_back(s.frames);
     r.stats.push_back(st);
     r.residuals.emplace_back();
     control_residuals(scene, s, r.residuals.back());
-  });
+  };
+}
+
+}  // namespace
+
+EngineRun run_physik_recorded(const Scene& scene) {
+  EngineRun r;
+  r.summary = run_scene(scene, recorder(scene, r));
   return r;
 }
 
 EngineRun run_mujoco_recorded(const Scene& scene, ReferenceMode mode) {
   EngineRun r;
-  r.summary = run_mujoco(scene, mode, [&](const SimState& s, const StepStats& st) {
-    r.frames.push_back(s.frames);
-    r.stats.push_back(st);
-    r.residuals.emplace_back();
-    control_residuals(scene, s, r.residuals.back());
-  });
+  r.summary = run_mujoco(scene, mode, recorder(scene, r));
   return r;
 }
 
