@@ -9,7 +9,8 @@
 #include <benchmark/benchmark.h>
 
 #include "bench/alloc_counter.h"
-#include "physik/engine.h"
+#include "physik/engine/engine.h"
+#include "physik/io/scene_io.h"
 
 namespace {
 

@@ -6,7 +6,7 @@
 
 #include "cli/commands.h"
 #include "experiments/experiment.h"
-#include "physik/errors.h"
+#include "physik/model/errors.h"
 
 namespace physik::cli {
 

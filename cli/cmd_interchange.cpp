@@ -5,10 +5,10 @@
 #include <memory>
 
 #include "cli/commands.h"
-#include "physik/bvh.h"
-#include "physik/errors.h"
-#include "physik/joint_limits.h"
-#include "physik/rig_io.h"
+#include "physik/io/bvh.h"
+#include "physik/model/errors.h"
+#include "physik/io/joint_limits.h"
+#include "physik/io/rig_io.h"
 #include "reference/mjcf_import.h"
 
 namespace physik::cli {

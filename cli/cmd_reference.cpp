@@ -5,8 +5,8 @@
 #include <memory>
 
 #include "cli/commands.h"
-#include "physik/errors.h"
-#include "physik/rig_io.h"
+#include "physik/model/errors.h"
+#include "physik/io/rig_io.h"
 #include "reference/mjcf_export.h"
 
 namespace physik::cli {

@@ -5,9 +5,10 @@
 #include <sstream>
 
 #include "cli/commands.h"
-#include "physik/errors.h"
-#include "physik/kinematics.h"
-#include "physik/rig_io.h"
+#include "physik/io/rig_io.h"
+#include "physik/model/errors.h"
+#include "physik/model/kinematics.h"
+#include "physik/model/rig_generators.h"
 
 namespace physik::cli {
 

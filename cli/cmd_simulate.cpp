@@ -7,11 +7,13 @@
 #include <memory>
 
 #include "cli/commands.h"
-#include "physik/bvh.h"
-#include "physik/engine.h"
-#include "physik/errors.h"
-#include "physik/pose_io.h"
-#include "physik/scene.h"
+#include "physik/engine/engine.h"
+#include "physik/io/bvh.h"
+#include "physik/io/pose_io.h"
+#include "physik/io/scene_io.h"
+#include "physik/io/summary_io.h"
+#include "physik/model/errors.h"
+#include "physik/model/scene.h"
 #include "reference/compare.h"
 
 namespace physik::cli {

@@ -7,9 +7,11 @@
 #include <memory>
 
 #include "cli/commands.h"
-#include "physik/errors.h"
-#include "physik/pose_io.h"
-#include "physik/scene.h"
+#include "physik/io/pose_io.h"
+#include "physik/io/scene_io.h"
+#include "physik/io/summary_io.h"
+#include "physik/model/errors.h"
+#include "physik/model/scene.h"
 #include "tune/equilibrium.h"
 #include "tune/tuner.h"
 

@@ -7,7 +7,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
-#include "physik/errors.h"
+#include "physik/model/errors.h"
 
 namespace physik::cli {
 

@@ -5,8 +5,9 @@
 #include <iomanip>
 #include <sstream>
 
-#include "physik/errors.h"
-#include "physik/pose_io.h"
+#include "physik/io/pose_io.h"
+#include "physik/io/scene_io.h"
+#include "physik/model/errors.h"
 
 namespace physik::experiments {
 

@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "experiments/experiment.h"
-#include "physik/engine.h"
+#include "physik/engine/engine.h"
 
 namespace physik::experiments {
 

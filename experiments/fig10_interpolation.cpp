@@ -15,8 +15,9 @@
 #include <iomanip>
 
 #include "experiments/common.h"
-#include "physik/errors.h"
-#include "physik/pose_io.h"
+#include "physik/io/pose_io.h"
+#include "physik/io/summary_io.h"
+#include "physik/model/errors.h"
 
 namespace physik::experiments {
 

@@ -19,7 +19,8 @@
 #include <iomanip>
 
 #include "experiments/common.h"
-#include "physik/errors.h"
+#include "physik/io/summary_io.h"
+#include "physik/model/errors.h"
 
 namespace physik::experiments {
 

@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "experiments/common.h"
+#include "physik/io/summary_io.h"
 
 namespace physik::experiments {
 

@@ -23,9 +23,10 @@
 #include <fstream>
 
 #include "experiments/common.h"
-#include "physik/errors.h"
-#include "physik/ik_solver.h"
-#include "physik/pose_io.h"
+#include "physik/ik/ik_solver.h"
+#include "physik/io/pose_io.h"
+#include "physik/io/summary_io.h"
+#include "physik/model/errors.h"
 #include "reference/compare.h"
 
 namespace physik::experiments {

@@ -24,8 +24,8 @@
 #include <iomanip>
 
 #include "experiments/common.h"
-#include "physik/errors.h"
-#include "physik/pose_io.h"
+#include "physik/model/errors.h"
+#include "physik/io/pose_io.h"
 
 namespace physik::experiments {
 

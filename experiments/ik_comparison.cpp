@@ -30,9 +30,10 @@
 #include <kdl/chainiksolverpos_lma.hpp>
 
 #include "experiments/experiment.h"
-#include "physik/engine.h"
-#include "physik/ik_solver.h"
-#include "physik/rig_io.h"
+#include "physik/engine/engine.h"
+#include "physik/ik/ik_solver.h"
+#include "physik/io/rig_io.h"
+#include "physik/model/rig_generators.h"
 
 namespace physik::experiments {
 

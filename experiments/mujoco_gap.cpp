@@ -9,7 +9,7 @@
 #include <fstream>
 
 #include "experiments/common.h"
-#include "physik/pose_io.h"
+#include "physik/io/pose_io.h"
 #include "reference/compare.h"
 
 namespace physik::experiments {

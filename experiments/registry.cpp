@@ -3,7 +3,7 @@
 #include <fstream>
 
 #include "experiments/experiment.h"
-#include "physik/errors.h"
+#include "physik/model/errors.h"
 
 namespace physik::experiments {
 

@@ -5,8 +5,8 @@
 #include <fstream>
 
 #include "experiments/experiment.h"
-#include "physik/pose_io.h"
-#include "physik/rig_io.h"
+#include "physik/io/pose_io.h"
+#include "physik/io/rig_io.h"
 
 namespace physik::experiments {
 

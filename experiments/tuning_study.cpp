@@ -26,7 +26,7 @@
 #include <fstream>
 
 #include "experiments/common.h"
-#include "physik/rig_io.h"
+#include "physik/io/rig_io.h"
 #include "tune/tuner.h"
 
 namespace physik::experiments {

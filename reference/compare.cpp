@@ -9,8 +9,9 @@
 
 #include <Eigen/SVD>
 
-#include "physik/errors.h"
-#include "physik/pose_io.h"
+#include "physik/io/pose_io.h"
+#include "physik/io/summary_io.h"
+#include "physik/model/errors.h"
 
 namespace physik {
 

@@ -36,7 +36,7 @@
 
 #include <mujoco/mujoco.h>
 
-#include "physik/rig.h"
+#include "physik/model/rig.h"
 
 namespace physik {
 

@@ -19,7 +19,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "physik/errors.h"
+#include "physik/model/errors.h"
 
 namespace physik {
 

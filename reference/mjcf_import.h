@@ -44,8 +44,8 @@
 
 #include <mujoco/mujoco.h>
 
-#include "physik/kinematics.h"
-#include "physik/pivot_rig.h"
+#include "physik/model/kinematics.h"
+#include "physik/io/pivot_rig.h"
 #include "reference/mjcf_export.h"
 
 namespace physik {

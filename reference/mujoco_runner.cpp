@@ -4,12 +4,12 @@
 #include <chrono>
 #include <cmath>
 
-#include "physik/control_springs.h"
-#include "physik/damping.h"
-#include "physik/interpolation.h"
-#include "physik/newton_euler.h"
-#include "physik/run_monitor.h"
-#include "physik/torsion_springs.h"
+#include "physik/engine/control_springs.h"
+#include "physik/engine/damping.h"
+#include "physik/engine/interpolation.h"
+#include "physik/engine/newton_euler.h"
+#include "physik/engine/run_monitor.h"
+#include "physik/engine/torsion_springs.h"
 
 namespace physik {
 

@@ -35,7 +35,7 @@
 #include <string>
 #include <vector>
 
-#include "physik/engine.h"
+#include "physik/engine/engine.h"
 #include "reference/mjcf_export.h"
 
 namespace physik {

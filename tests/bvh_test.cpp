@@ -1,14 +1,15 @@
 // BVH / qBVH: Euler orders against hand-computed rotations, export -> import round trips, the
 // BVH -> rig mapping reproducing the file's joint positions, and every malformed-input case.
-#include "physik/bvh.h"
+#include "physik/io/bvh.h"
 
 #include <random>
 #include <sstream>
 
 #include <gtest/gtest.h>
 
-#include "physik/errors.h"
-#include "physik/rig_io.h"
+#include "physik/io/rig_io.h"
+#include "physik/model/errors.h"
+#include "physik/model/rig_generators.h"
 #include "test_util.h"
 
 namespace physik {

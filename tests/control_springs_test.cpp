@@ -1,5 +1,5 @@
 // Control-point springs: linear and capped laws.
-#include "physik/control_springs.h"
+#include "physik/engine/control_springs.h"
 
 #include <random>
 

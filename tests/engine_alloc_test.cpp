@@ -5,7 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "physik/engine.h"
+#include "physik/engine/engine.h"
+#include "physik/io/scene_io.h"
 #include "tests/test_util.h"
 
 namespace {

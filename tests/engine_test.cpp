@@ -1,12 +1,14 @@
 // The PhysIK engine as a whole: analytic single-rod cases, damping stability, articulated
 // joints, convergence on pinhead. Stage-level checks live in the per-stage test files.
-#include "physik/engine.h"
+#include "physik/engine/engine.h"
 
 #include <cmath>
 
 #include <gtest/gtest.h>
 
-#include "physik/integrate.h"
+#include "physik/engine/integrate.h"
+#include "physik/io/scene_io.h"
+#include "physik/io/summary_io.h"
 #include "tests/engine_test_util.h"
 #include "tests/test_util.h"
 

@@ -1,8 +1,8 @@
 // Scenes built in code for the engine tests.
 #pragma once
 
-#include "physik/rig_io.h"
-#include "physik/scene.h"
+#include "physik/io/rig_io.h"
+#include "physik/model/scene.h"
 
 namespace physik::test {
 

@@ -1,10 +1,11 @@
 // The shared IK interface (ik_solver.h): goal bookkeeping, limits clamping, the colinearity bump,
 // bad input, and the cross-check that all solvers agree on reachable goals.
-#include "physik/ik_solver.h"
+#include "physik/ik/ik_solver.h"
 
 #include <gtest/gtest.h>
 
-#include "physik/errors.h"
+#include "physik/model/errors.h"
+#include "physik/model/rig_generators.h"
 #include "tests/ik_test_util.h"
 
 namespace physik {

@@ -8,8 +8,9 @@
 
 #include <gtest/gtest.h>
 
-#include "physik/ik_solver.h"
-#include "physik/rig_io.h"
+#include "physik/ik/ik_solver.h"
+#include "physik/io/rig_io.h"
+#include "physik/model/rig_generators.h"
 #include "tests/test_util.h"
 
 namespace physik::test {

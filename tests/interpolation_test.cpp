@@ -1,9 +1,9 @@
 // Target interpolation (eq. 12): exact endpoints, monotone polar radius, linear fallback.
-#include "physik/interpolation.h"
+#include "physik/engine/interpolation.h"
 
 #include <gtest/gtest.h>
 
-#include "physik/engine.h"
+#include "physik/engine/engine.h"
 #include "tests/engine_test_util.h"
 #include "tests/test_util.h"
 

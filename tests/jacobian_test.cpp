@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "physik/model/rig_generators.h"
 #include "tests/ik_test_util.h"
 
 namespace physik {

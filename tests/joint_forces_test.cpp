@@ -1,18 +1,20 @@
 // Inter-joint forces: after the solve they sum to zero at every joint, the joint-point
 // accelerations agree within eps, and (being internal) they change neither total linear nor
 // angular momentum.
-#include "physik/joint_forces.h"
+#include "physik/engine/joint_forces.h"
 
 #include <random>
 
 #include <gtest/gtest.h>
 
-#include "physik/control_springs.h"
-#include "physik/damping.h"
-#include "physik/engine.h"
-#include "physik/integrate.h"
-#include "physik/newton_euler.h"
-#include "physik/torsion_springs.h"
+#include "physik/engine/control_springs.h"
+#include "physik/engine/damping.h"
+#include "physik/engine/engine.h"
+#include "physik/engine/integrate.h"
+#include "physik/engine/newton_euler.h"
+#include "physik/engine/torsion_springs.h"
+#include "physik/io/scene_io.h"
+#include "physik/model/rig_generators.h"
 #include "tests/engine_test_util.h"
 #include "tests/test_util.h"
 

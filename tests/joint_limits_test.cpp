@@ -1,10 +1,10 @@
 // Joint-limit files: application by bone name, round trip, and every bad input.
-#include "physik/joint_limits.h"
+#include "physik/io/joint_limits.h"
 
 #include <gtest/gtest.h>
 
-#include "physik/errors.h"
-#include "physik/rig_io.h"
+#include "physik/model/errors.h"
+#include "physik/io/rig_io.h"
 #include "test_util.h"
 
 namespace physik {

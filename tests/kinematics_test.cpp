@@ -1,9 +1,10 @@
 // Forward kinematics: rest pose, rigid subtrees, joints meeting at one point, limits.
-#include "physik/kinematics.h"
+#include "physik/model/kinematics.h"
 
 #include <gtest/gtest.h>
 
-#include "physik/rig_io.h"
+#include "physik/io/rig_io.h"
+#include "physik/model/rig_generators.h"
 #include "tests/test_util.h"
 
 namespace physik {

@@ -1,6 +1,7 @@
 // mass_spring.cpp: the solver contract (ik_test_util.h) and what is particular to this solver.
 #include <gtest/gtest.h>
 
+#include "physik/model/rig_generators.h"
 #include "tests/ik_test_util.h"
 
 namespace physik {

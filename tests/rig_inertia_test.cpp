@@ -1,8 +1,8 @@
 // The optional explicit per-bone inertia (BoneSpec::inertia_local, rig field "inertia_local").
 #include <gtest/gtest.h>
 
-#include "physik/errors.h"
-#include "physik/rig_io.h"
+#include "physik/model/errors.h"
+#include "physik/io/rig_io.h"
 #include "test_util.h"
 
 namespace physik {

@@ -1,9 +1,9 @@
 // Bad rig files: each gets one InputError that names the file, the bone and the field.
-#include "physik/rig_io.h"
+#include "physik/io/rig_io.h"
 
 #include <gtest/gtest.h>
 
-#include "physik/errors.h"
+#include "physik/model/errors.h"
 #include "tests/test_util.h"
 
 namespace physik {

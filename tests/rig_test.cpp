@@ -1,9 +1,10 @@
 // Rig construction: DFS order, joints, closed-form masses and inertias, the shipped rigs.
-#include "physik/rig.h"
+#include "physik/model/rig.h"
 
 #include <gtest/gtest.h>
 
-#include "physik/rig_io.h"
+#include "physik/io/rig_io.h"
+#include "physik/model/rig_generators.h"
 #include "tests/test_util.h"
 
 namespace physik {

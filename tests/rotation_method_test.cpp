@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "physik/model/rig_generators.h"
 #include "tests/ik_test_util.h"
 
 namespace physik {

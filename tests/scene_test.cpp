@@ -1,12 +1,13 @@
 // Scene files: presets, overrides, and every bad-scene case with its error.
-#include "physik/scene.h"
+#include "physik/model/scene.h"
 
 #include <filesystem>
 #include <fstream>
 
 #include <gtest/gtest.h>
 
-#include "physik/errors.h"
+#include "physik/io/scene_io.h"
+#include "physik/model/errors.h"
 #include "tests/test_util.h"
 
 namespace physik {

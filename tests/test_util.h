@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "physik/types.h"
+#include "physik/model/types.h"
 
 namespace physik::test {
 

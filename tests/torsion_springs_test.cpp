@@ -1,11 +1,11 @@
 // Torsion springs: torque only outside the engaged band, pushing back into range, equal and
 // opposite on the parent, capped when asked.
-#include "physik/torsion_springs.h"
+#include "physik/engine/torsion_springs.h"
 
 #include <gtest/gtest.h>
 
-#include "physik/engine.h"
-#include "physik/newton_euler.h"
+#include "physik/engine/engine.h"
+#include "physik/engine/newton_euler.h"
 #include "tests/engine_test_util.h"
 #include "tests/test_util.h"
 

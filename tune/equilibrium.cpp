@@ -6,7 +6,7 @@
 
 #include <ceres/ceres.h>
 
-#include "physik/errors.h"
+#include "physik/model/errors.h"
 
 namespace physik::tune {
 

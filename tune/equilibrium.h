@@ -34,8 +34,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "physik/engine.h"
-#include "physik/scene.h"
+#include "physik/engine/engine.h"
+#include "physik/model/scene.h"
 
 namespace physik::tune {
 

@@ -9,7 +9,7 @@
 
 #include <ceres/ceres.h>
 
-#include "physik/errors.h"
+#include "physik/model/errors.h"
 #include "reference/mujoco_runner.h"
 
 namespace physik::tune {

@@ -42,8 +42,8 @@
 #include <string>
 #include <vector>
 
-#include "physik/engine.h"
-#include "physik/scene.h"
+#include "physik/engine/engine.h"
+#include "physik/model/scene.h"
 
 namespace physik::tune {
 

@@ -6,8 +6,9 @@
 
 #include <gtest/gtest.h>
 
-#include "physik/errors.h"
-#include "physik/rig_io.h"
+#include "physik/io/rig_io.h"
+#include "physik/model/errors.h"
+#include "physik/model/rig_generators.h"
 #include "tests/engine_test_util.h"
 #include "tests/test_util.h"
 

@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "physik/rig_io.h"
+#include "physik/io/rig_io.h"
 #include "reference/mujoco_runner.h"
 #include "tests/engine_test_util.h"
 #include "tests/test_util.h"

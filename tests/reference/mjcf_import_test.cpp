@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "physik/errors.h"
+#include "physik/model/errors.h"
 
 namespace physik {
 namespace {

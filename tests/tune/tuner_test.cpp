@@ -30,8 +30,8 @@
 
 #include <gtest/gtest.h>
 
-#include "physik/errors.h"
-#include "physik/rig_io.h"
+#include "physik/model/errors.h"
+#include "physik/io/rig_io.h"
 #include "tests/test_util.h"
 #include "tune/tuner.h"
 

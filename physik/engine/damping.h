@@ -1,0 +1,16 @@
+// Damping (paper Sec. 4: c = 20; original fwik.py: c = 3): a force -c v at the head and at the
+// tail of every bone, v the velocity of that point:
+//   v(p) = v_cm + w x (p - cm)
+// c in N s/m. The per-step angular-velocity factor (0.5 in the original) is applied by the
+// integrator (integrate.h), not here.
+#pragma once
+
+#include "physik/model/params.h"
+#include "physik/model/rig.h"
+#include "physik/engine/state.h"
+
+namespace physik {
+
+void apply_damping(const Rig& rig, const EngineParams& params, SimState& state);
+
+}  // namespace physik

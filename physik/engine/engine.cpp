@@ -1,0 +1,119 @@
+#include "physik/engine/engine.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "physik/engine/control_springs.h"
+#include "physik/engine/damping.h"
+#include "physik/engine/integrate.h"
+#include "physik/engine/interpolation.h"
+#include "physik/engine/joint_forces.h"
+#include "physik/engine/newton_euler.h"
+#include "physik/engine/run_monitor.h"
+#include "physik/engine/torsion_springs.h"
+
+namespace physik {
+
+double kinetic_energy(const Rig& rig, const SimState& s) {
+  double e = 0.0;
+  for (int i = 0; i < rig.nbone; ++i) {
+    const Mat3 I = inertia_world(rig, s.frames.orient_world[i], i);
+    e += 0.5 * rig.bone_mass[i] * s.vel_world[i].squaredNorm() +
+         0.5 * s.omega_world[i].dot(I * s.omega_world[i]);
+  }
+  return e;
+}
+
+double max_joint_separation(const Rig& rig, const BoneFrames& f) {
+  double gap = 0.0;
+  for (int i = 1; i < rig.nbone; ++i) {
+    const int p = rig.bone_parent[i];
+    const Vec3 joint = f.head_world[p] + f.orient_world[p] * rig.bone_head_in_parent[i];
+    gap = std::max(gap, (f.head_world[i] - joint).norm());
+  }
+  return gap;
+}
+
+void control_residuals(const Scene& scene, const SimState& s, std::vector<double>& out) {
+  out.resize(scene.control_points.size());
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    out[c] = (point_on_bone(s.frames, cp.bone, cp.alpha) - s.target_goal_world[c]).norm();
+  }
+}
+
+StepStats step(const Scene& scene, SimState& s) {
+  const Rig& rig = scene.rig;
+  const EngineParams& p = scene.params;
+
+  update_targets(scene, s);
+  // s.pose already holds the local rotations of s.frames (init_state and the end of every step
+  // keep them in sync), which the torsion springs read
+  prepare_bodies(rig, p, s);
+  apply_damping(rig, p, s);
+  apply_control_springs(scene, s);
+  apply_torsion_springs(rig, p, s);
+  const auto t0 = std::chrono::steady_clock::now();
+  const JointSolveStats js = solve_joint_forces(rig, p, s);
+  const auto t1 = std::chrono::steady_clock::now();
+  integrate(rig, p, s);
+
+  s.step += 1;
+  s.time += p.dt;
+  local_rotations_from_world(rig, s.frames, s.pose);
+
+  StepStats st;
+  st.passes = js.passes;
+  st.mismatch = js.mismatch;
+  st.joint_solve_s = std::chrono::duration<double>(t1 - t0).count();
+  st.kinetic_energy = kinetic_energy(rig, s);
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    st.max_residual = std::max(
+        st.max_residual, (point_on_bone(s.frames, cp.bone, cp.alpha) - s.target_goal_world[c]).norm());
+  }
+  st.joint_separation = max_joint_separation(rig, s.frames);
+  return st;
+}
+
+RunSummary run_scene(const Scene& scene, const StepObserver& observer) {
+  const auto t0 = std::chrono::steady_clock::now();
+  SimState s;
+  init_state(scene, s);
+  RunMonitor monitor(scene);  // convergence and divergence rules, run statistics
+  for (int k = 0; k < scene.steps; ++k) {
+    const StepStats st = step(scene, s);
+    const bool stop = monitor.observe(observe_step(scene, s, st));
+    if (observer) observer(s, st);
+    if (stop) break;
+  }
+  RunSummary out = monitor.summary();
+  fill_final_state(scene, s, out);
+  out.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+std::uint64_t state_hash(const BoneFrames& f) {
+  std::uint64_t h = 1469598103934665603ull;
+  const auto mix = [&h](double v) {
+    unsigned char bytes[sizeof(double)];
+    std::memcpy(bytes, &v, sizeof(double));
+    for (unsigned char b : bytes) {
+      h ^= b;
+      h *= 1099511628211ull;
+    }
+  };
+  for (std::size_t i = 0; i < f.head_world.size(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      mix(f.head_world[i][k]);
+      mix(f.tail_world[i][k]);
+    }
+    for (int k = 0; k < 4; ++k) mix(f.orient_world[i].coeffs()[k]);
+  }
+  return h;
+}
+
+}  // namespace physik

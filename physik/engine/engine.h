@@ -1,0 +1,37 @@
+// The PhysIK engine: one step, and a whole run of a scene with convergence and divergence
+// detection. The step reads like a table of contents (MuJoCo's mj_step, Box2D's solver stages):
+//
+//   update_targets        schedule + interpolation           interpolation.h
+//   prepare_bodies        forces cleared, I^-1, w x I w       newton_euler.h
+//   apply_damping         -c v at head and tail               damping.h
+//   apply_control_springs linear / capped springs             control_springs.h
+//   apply_torsion_springs joint-limit springs, +-tau           torsion_springs.h
+//   solve_joint_forces    Gauss-Seidel, corrected eq. 11      joint_forces.h
+//   integrate             semi-implicit Euler, articulated or free rods   integrate.h
+#pragma once
+
+#include <cstdint>
+
+#include "physik/engine/run_summary.h"
+#include "physik/engine/state.h"
+
+namespace physik {
+
+StepStats step(const Scene& scene, SimState& state);
+
+// Diagnostics over a state.
+double kinetic_energy(const Rig& rig, const SimState& state);
+double max_joint_separation(const Rig& rig, const BoneFrames& frames);
+// Distance of every control point's attachment to its goal target (not the interpolated one).
+void control_residuals(const Scene& scene, const SimState& state, std::vector<double>& out);
+
+// Run the scene from its initial pose for scene.steps steps (or until converged when the scene
+// says so). Never throws on divergence: it is reported in the summary. The convergence and
+// divergence rules are RunMonitor's (run_monitor.h), shared with the MuJoCo reference.
+RunSummary run_scene(const Scene& scene, const StepObserver& observer = nullptr);
+
+// FNV-1a over the bit patterns of every final head, tail and orientation: equal hashes mean
+// bit-identical runs (determinism made visible, as Jolt prints a state hash).
+std::uint64_t state_hash(const BoneFrames& frames);
+
+}  // namespace physik

@@ -1,0 +1,41 @@
+// Inter-joint forces (paper Sec. 3.2, eq. 6-11, with the erratum of eq. 11 corrected).
+//
+// A joint J is a parent's tail with its children's heads. For each bone i at J, the joint
+// point's acceleration is affine in an extra force F_i applied there (newton_euler.h):
+//   a_i(F_i) = a_i + M_i F_i
+// Require every a_i(F_i) equal to one v (eq. 6-7) and sum_i F_i = 0 (eq. 8, internal forces):
+//   F_i = M_i^-1 (v - a_i),   sum_i M_i^-1 (v - a_i) = 0
+//   =>  v = (sum_i M_i^-1)^-1 (sum_i M_i^-1 a_i)
+// (eq. 11 as printed gives v = (sum A_i^-1)^-1 0, wrong for affine A_i; the original code does
+// the above with 4x4 affine matrices and a homogeneous divide).
+//
+// Joints are solved one after another (Gauss-Seidel): each joint's forces are added to its
+// bones at once, so later joints see them; passes repeat until the largest difference of
+// joint-point accelerations at any joint falls below eps (rig units/s^2), or the pass cap
+// (5 n^2 in the original). M_i and the sums depend only on the pose, so they are computed once
+// per step; a pass costs a few 3x3 products per joint member.
+#pragma once
+
+#include "physik/model/params.h"
+#include "physik/model/rig.h"
+#include "physik/engine/state.h"
+
+namespace physik {
+
+struct JointSolveStats {
+  int passes = 0;          // passes that measured and corrected every joint
+  double mismatch = 0.0;   // largest pairwise joint-point acceleration difference after the solve
+};
+
+// Build the per-step caches (r, M^-1, (sum M^-1)^-1). Needs prepare_bodies first.
+void prepare_joint_solve(const Rig& rig, SimState& state);
+
+// The largest pairwise difference of joint-point accelerations over all joints, as they stand.
+double joint_accel_mismatch(const Rig& rig, const EngineParams& params, SimState& state);
+
+JointSolveStats solve_joint_forces(const Rig& rig, const EngineParams& params, SimState& state);
+
+// Build the flattened joint-member tables of the state (once, at init).
+void init_joint_tables(const Rig& rig, SimState& state);
+
+}  // namespace physik

@@ -1,0 +1,57 @@
+// Newton-Euler dynamics of one rigid rod (paper eq. 1-5).
+//
+// Per bone i, with the origin at its centre of mass, world axes:
+//   a_cm  = F / m                                            (eq. 1)
+//   alpha = I^-1 (tau - w x I w)            I = R diag(I_local) R^T, world axes
+// The acceleration of a point p = cm + r fixed on the bone (eq. 2, plus the centripetal term the
+// paper and the original omit, optional):
+//   a_r = a_cm + alpha x r  [+ w x (w x r)]
+// An extra force G applied at p changes it affinely (eq. 3-5):
+//   a_r(G) = a_r + M G,   M = m^-1 I3 + [r]x^T I^-1 [r]x     (N -> rig units/s^2)
+// Units: N, N m, kg, kg m^2, rig units, s.
+#pragma once
+
+#include "physik/model/params.h"
+#include "physik/model/rig.h"
+#include "physik/engine/state.h"
+
+namespace physik {
+
+// Start of a step: clear the force/torque accumulators, refresh I^-1 (world) and w x I w.
+void prepare_bodies(const Rig& rig, const EngineParams& params, SimState& state);
+
+// Add a force applied at a world point to bone i (force, and torque about its centre of mass).
+inline void apply_force_at(SimState& s, int bone, const Vec3& force_world, const Vec3& point_world) {
+  s.force_world[bone] += force_world;
+  s.torque_world[bone] += (point_world - s.com_world[bone]).cross(force_world);
+}
+
+inline Vec3 linear_accel(const Rig& rig, const SimState& s, int bone) {
+  return s.force_world[bone] / rig.bone_mass[bone];
+}
+
+inline Vec3 angular_accel(const SimState& s, int bone) {
+  return s.inertia_inv_world[bone] * (s.torque_world[bone] - s.gyro_world[bone]);
+}
+
+// Acceleration of the bone-fixed point at offset r from the centre of mass (eq. 2).
+inline Vec3 point_accel(const Rig& rig, const SimState& s, int bone, const Vec3& r_world,
+                        bool centripetal) {
+  Vec3 a = linear_accel(rig, s, bone) + angular_accel(s, bone).cross(r_world);
+  if (centripetal) {
+    const Vec3& w = s.omega_world[bone];
+    a += w.cross(w.cross(r_world));
+  }
+  return a;
+}
+
+// M of eq. 5: how a force at offset r accelerates that point.
+inline Mat3 force_to_accel(double mass, const Mat3& inertia_inv_world, const Vec3& r_world) {
+  const Mat3 rx = skew(r_world);
+  return Mat3::Identity() / mass + rx.transpose() * inertia_inv_world * rx;
+}
+
+// Inertia tensor of bone i in world axes (kg m^2).
+Mat3 inertia_world(const Rig& rig, const Quat& orient_world, int bone);
+
+}  // namespace physik

@@ -1,0 +1,44 @@
+// What a run reports: per step (StepStats, given to a StepObserver after every step) and for the
+// whole run (RunSummary, filled by the run monitor, physik/engine/run_monitor.h, and the final
+// state). Written to files by physik/io/summary_io.h.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "physik/engine/state.h"
+
+namespace physik {
+
+struct StepStats {
+  int passes = 0;            // joint passes used this step
+  double mismatch = 0.0;     // largest joint-point acceleration difference left, rig units/s^2
+  double kinetic_energy = 0.0;  // J, after the step
+  double max_residual = 0.0;    // rig units, largest control-point distance to its goal target
+  double joint_separation = 0.0;  // rig units, largest parent-tail to child-head gap
+  double joint_solve_s = 0.0;     // s, wall time of the inter-joint force solve (profiling)
+};
+
+struct RunSummary {
+  bool converged = false;
+  bool diverged = false;
+  std::string divergence_reason;
+  int steps_run = 0;
+  int steps_to_converge = -1;           // first step of the settled window; -1 if never
+  std::vector<double> final_residuals;  // rig units, one per control point
+  double max_joint_separation = 0.0;    // rig units over the run
+  double mean_passes_per_step = 0.0;
+  int max_passes_in_a_step = 0;
+  double peak_kinetic_energy = 0.0;     // J
+  double final_kinetic_energy = 0.0;    // J
+  double max_limit_violation_deg = 0.0; // over the run
+  double wall_time_s = 0.0;
+  Pose final_pose;
+  BoneFrames final_frames;
+};
+
+// Called after every step with the state and that step's stats (for CSV output, progress).
+using StepObserver = std::function<void(const SimState&, const StepStats&)>;
+
+}  // namespace physik

@@ -1,0 +1,57 @@
+// The simulation state (the data half of the model/data split): everything a step reads and
+// writes, allocated once for a rig. Arrays are per bone (nbone) in DFS order, world frame.
+#pragma once
+
+#include <vector>
+
+#include "physik/model/kinematics.h"
+#include "physik/model/scene.h"
+
+namespace physik {
+
+struct SimState {
+  // --- configuration and velocity (integrated) ---
+  BoneFrames frames;                  // head/tail/orientation, world, rig units
+  std::vector<Vec3> com_world;        // (nbone) centre of mass = midpoint, rig units
+  std::vector<Vec3> vel_world;        // (nbone) centre-of-mass velocity, rig units/s
+  std::vector<Vec3> omega_world;      // (nbone) angular velocity, rad/s
+
+  // --- per-step accumulators ---
+  std::vector<Vec3> force_world;      // (nbone) net force, N
+  std::vector<Vec3> torque_world;     // (nbone) net torque about the centre of mass, N m
+  std::vector<Vec3> joint_force_world;   // (nbone) inter-joint forces only (for checks)
+  std::vector<Vec3> joint_torque_world;  // (nbone) their torque about the centre of mass
+
+  // --- per-step geometry caches (fixed during the joint passes) ---
+  std::vector<Mat3> inertia_inv_world;   // (nbone) I^-1 in world axes, 1/(kg m^2)
+  std::vector<Vec3> gyro_world;          // (nbone) w x I w, N m (0 when gyroscopic is off)
+
+  // --- joint solve workspace, flattened over joint members (a joint's parent then children) ---
+  std::vector<int> member_bone;          // (nmember) bone index
+  std::vector<int> member_at_tail;       // (nmember) 1 if the joint point is the bone's tail
+  std::vector<int> joint_first_member;   // (njoint + 1) offsets into the member arrays
+  std::vector<Vec3> member_r_world;      // (nmember) joint point minus centre of mass
+  std::vector<Mat3> member_Minv;         // (nmember) inverse of M_i = m^-1 I + [r]x^T I^-1 [r]x
+  std::vector<Mat3> joint_Sinv;          // (njoint) (sum_i M_i^-1)^-1
+  std::vector<Vec3> member_accel;        // (nmember) scratch: joint-point accelerations
+  std::vector<Vec3> member_force_world;  // (nmember) inter-joint force on that bone at the
+                                         //           joint this step, N (sums to 0 per joint)
+
+  // --- control points ---
+  std::vector<Vec3> target_effective_world;  // (ncontrol) the target the spring pulls toward now
+  std::vector<Vec3> target_goal_world;       // (ncontrol) where the target is heading
+  std::vector<int> interp_steps_left;        // (ncontrol) steps of interpolation remaining
+  std::vector<Vec3> control_force_world;     // (ncontrol) last spring force, N
+
+  // --- bookkeeping ---
+  int step = 0;        // steps taken
+  double time = 0.0;   // s
+  Pose pose;           // local rotations of `frames` (torsion, limits, output); init_state
+                       // and step() keep it in sync: code that edits frames must refresh it
+                       // (local_rotations_from_world)
+};
+
+// Size every buffer for the scene and set the initial pose at rest (zero velocities).
+void init_state(const Scene& scene, SimState& state);
+
+}  // namespace physik

@@ -1,0 +1,43 @@
+#include "physik/engine/torsion_springs.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace physik {
+
+Vec3 torsion_torque_local(const std::array<AxisLimit, 3>& limits, const Vec3& theta,
+                          const EngineParams& params) {
+  Vec3 tau = Vec3::Zero();
+  for (int k = 0; k < 3; ++k) {
+    const AxisLimit& l = limits[k];
+    if (!l.limited) continue;
+    const double band = params.torsion_tolerance * (l.max - l.min);
+    const double lo = l.min + band, hi = l.max - band;
+    double d = 0.0;
+    if (theta[k] < lo) d = lo - theta[k];
+    if (theta[k] > hi) d = hi - theta[k];
+    if (d == 0.0) continue;
+    if (params.torsion_spring == SpringLaw::kCapped) {
+      d = std::copysign(std::min(std::abs(d), params.torsion_cap), d);
+    }
+    tau[k] = params.torsion_k * d;
+  }
+  return tau;
+}
+
+void apply_torsion_springs(const Rig& rig, const EngineParams& params, SimState& s) {
+  if (params.torsion_k == 0.0) return;
+  for (int i = 1; i < rig.nbone; ++i) {
+    const auto& limits = rig.bone_limit[i];
+    if (!limits[0].limited && !limits[1].limited && !limits[2].limited) continue;
+    const Vec3 tau_local =
+        torsion_torque_local(limits, rotation_vector(s.pose.bone_local_rotation[i]), params);
+    if (tau_local.isZero(0.0)) continue;
+    const int p = rig.bone_parent[i];
+    const Vec3 tau_world = s.frames.orient_world[p] * (rig.bone_rest_orient_parent[i] * tau_local);
+    s.torque_world[i] += tau_world;
+    s.torque_world[p] -= tau_world;
+  }
+}
+
+}  // namespace physik

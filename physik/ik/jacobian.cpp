@@ -1,0 +1,125 @@
+// Jacobian transpose and damped least squares, with an analytic or a memoised finite-difference
+// Jacobian, and clamping to joint limits.
+//
+// Source: the IK guide (seed 001), "Jacobian solver" (a. transpose, b. J^T e, c. J J^T,
+// d. the solver); step length of the transpose method and DLS as in Buss, "Introduction to
+// inverse kinematics with Jacobian transpose, pseudoinverse and damped least squares methods"
+// (2004). World frame, rig units, radians.
+//
+// Unknowns: one angle per free local axis k of every active bone j (locked axes left out); a
+// change theta turns the bone about a = P_j e_k through its head h_j (q_j <- exp(theta e_k) q_j).
+// Stacked goal points p (3 per goal), error e = t - p.
+//   analytic column:   dp_g/dtheta = a x (p_g - h_j)   if bone j is on goal g's path, else 0
+//   finite difference (the guide's memoised secant): the subtree below joint j is rigid, so the
+//     perturbed effector is h_j + exp(eps a)(p_g - h_j) -- the guide's _0ToI * joint * _iToN
+//     without re-running FK -- and the column is (that - p_g) / eps. O(n) per column pass.
+//   transpose: dtheta = alpha J^T e,  alpha = <e, J J^T e> / |J J^T e|^2  (Buss eq. 7)
+//   DLS:       dtheta = J^T (J J^T + lambda^2 I)^-1 e      (guide d.; 3m x 3m for m goals)
+//   error clamping (Buss Sec. 6, D_max): each goal's error is shortened to at most
+//     max_error_fraction of the reach, so a far (unreachable) target does not throw DLS's
+//     linearisation far out of its range; the step then follows the clamped error;
+//   line search: the step is halved (at most max_step_halvings times) while it does not lower
+//     sum_g |t_g - p_g|^2; without it DLS on a 50-bone chain oscillates for far targets;
+//   step: scaled so that max |dtheta| <= max_angle_step; applied per bone as the rotation
+//     vector (dtheta_x, dtheta_y, dtheta_z) in its rest frame; then clamped to the rig's limits
+//     (guide: "apply the adjustment and clamp to the joint limits").
+// lambda is in rig units (J has units of length per radian); default 0.02 of the reach.
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Dense>
+
+#include "physik/ik/ik_solver.h"
+
+namespace physik {
+
+void goal_jacobian(const IkProblem& pb, const BoneFrames& f, const std::vector<int>& dof_bone,
+                   const std::vector<int>& dof_axis, JacobianKind kind, double fd_step,
+                   Eigen::MatrixXd& J) {
+  const Rig& rig = *pb.rig;
+  const int ng = static_cast<int>(pb.goals.size());
+  const int nd = static_cast<int>(dof_bone.size());
+  J.setZero(3 * ng, nd);
+  for (int c = 0; c < nd; ++c) {
+    const int j = dof_bone[c];
+    const Vec3 a = rest_frame_world(rig, f, j) * Vec3::Unit(dof_axis[c]);
+    const Vec3& h = f.head_world[j];
+    const Quat step(Eigen::AngleAxisd(fd_step, a));
+    for (int g = 0; g < ng; ++g) {
+      // bone j must be on goal g's root path
+      int b = pb.goals[g].bone;
+      while (b > j) b = rig.bone_parent[b];
+      if (b != j) continue;
+      const Vec3 r = point_on_bone(f, pb.goals[g].bone, pb.goals[g].alpha) - h;
+      J.block<3, 1>(3 * g, c) = kind == JacobianKind::kAnalytic
+                                    ? Vec3(a.cross(r))
+                                    : Vec3((step * r - r) / fd_step);
+    }
+  }
+}
+
+IkReport solve_jacobian(const IkProblem& pb, bool damped, Pose& pose) {
+  const Rig& rig = *pb.rig;
+  const IkOptions& opt = pb.options;
+  std::vector<int> dof_bone, dof_axis;
+  ik_dofs(rig, pb.active, opt.respect_limits, dof_bone, dof_axis);
+  const int ng = static_cast<int>(pb.goals.size());
+  const int nd = static_cast<int>(dof_bone.size());
+  const double lambda = opt.lambda > 0.0 ? opt.lambda : opt.lambda_fraction * pb.reach;
+  Eigen::MatrixXd J(3 * ng, nd);
+  Eigen::VectorXd e(3 * ng), dtheta(nd);
+  std::vector<Vec3> turn(rig.nbone);
+  BoneFrames trial;
+  auto sq_error = [&](const BoneFrames& fr) {
+    double s = 0.0;
+    for (const IkGoal& g : pb.goals) {
+      s += (g.target_world - point_on_bone(fr, g.bone, g.alpha)).squaredNorm();
+    }
+    return s;
+  };
+
+  auto iterate = [&](Pose& p, BoneFrames& f) {
+    for (int g = 0; g < ng; ++g) {
+      Vec3 err = pb.goals[g].target_world - point_on_bone(f, pb.goals[g].bone, pb.goals[g].alpha);
+      const double cap = opt.max_error_fraction * pb.reach;
+      if (cap > 0.0 && err.norm() > cap) err *= cap / err.norm();  // Buss's error clamping
+      e.segment<3>(3 * g) = err;
+    }
+    goal_jacobian(pb, f, dof_bone, dof_axis, opt.jacobian, opt.fd_step, J);
+    if (damped) {
+      Eigen::MatrixXd JJt = J * J.transpose();
+      JJt.diagonal().array() += lambda * lambda;
+      dtheta = J.transpose() * JJt.ldlt().solve(e);
+    } else {
+      const Eigen::VectorXd Jte = J.transpose() * e;
+      const Eigen::VectorXd JJte = J * Jte;
+      const double den = JJte.squaredNorm();
+      dtheta = den > 0.0 ? Eigen::VectorXd(Jte * (e.dot(JJte) / den)) : Eigen::VectorXd(Jte * 0.0);
+    }
+    const double biggest = nd > 0 ? dtheta.cwiseAbs().maxCoeff() : 0.0;
+    if (biggest > opt.max_angle_step) dtheta *= opt.max_angle_step / biggest;
+    // apply per bone, then clamp; halve the step while it makes the goals' squared error worse
+    // (a backtracking line search: far from the goal the linearisation overshoots)
+    const Pose start = p;
+    const double err0 = sq_error(f);
+    for (int halving = 0; halving <= opt.max_step_halvings; ++halving) {
+      p = start;
+      for (int c = 0; c < nd; ++c) turn[dof_bone[c]].setZero();
+      for (int c = 0; c < nd; ++c) turn[dof_bone[c]][dof_axis[c]] = dtheta[c];
+      for (int c = 0; c < nd; ++c) {
+        const int j = dof_bone[c];
+        if (c > 0 && dof_bone[c - 1] == j) continue;  // once per bone
+        Quat q = (quat_from_rotation_vector(turn[j]) * p.bone_local_rotation[j]).normalized();
+        if (opt.respect_limits) q = clamp_to_limits(rig, j, q);
+        p.bone_local_rotation[j] = q;
+      }
+      if (opt.max_step_halvings == 0) break;
+      forward_kinematics(rig, p, trial);
+      if (sq_error(trial) < err0) break;
+      dtheta *= 0.5;
+    }
+  };
+  return run_ik_loop(damped ? "dls" : "jt", pb, pose, iterate);
+}
+
+}  // namespace physik

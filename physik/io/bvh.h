@@ -1,0 +1,155 @@
+// BVH (Biovision hierarchy) and qBVH: read into a Rig plus one Pose per frame, write any Rig and
+// any pose sequence.
+//
+// BVH semantics used here (as Blender's importer reads them):
+//   every joint J has a frame; at rest all frames are parallel to the file's axes. Per frame
+//     R_J = R_parent * L_J,   p_J = p_parent + R_parent * t_J        (root: R_J = L_J, p_J = t_J)
+//   t_J is the OFFSET, except that position channels replace it component by component
+//   (so a root's Xposition.. are its absolute position). L_J is the product of the rotation
+//   channels in the order listed: "Zrotation Xrotation Yrotation" means L = Rz(a) Rx(b) Ry(c),
+//   angles in degrees. An End Site's point is p_J + R_J * OFFSET.
+// qBVH (seed 002: "identical to bvh, except that instead of storing Euler rotations, it stores
+// quaternions"). Our exact format: the same file, where a joint's rotation channels are the four
+//     Wquaternion Xquaternion Yquaternion Zquaternion
+// (in any order, all four, never mixed with Euler channels). The values are the unit quaternion
+// (w, x, y, z) of L_J (Hamilton convention, L_J rotates the joint's frame into its parent's, as the
+// Euler matrix does). Readers reject a quaternion whose norm is not within 1e-3 of 1 and then
+// normalise; the writer keeps consecutive frames in the same hemisphere (w >= 0 on frame 0).
+// Files we write use the extension .qbvh.
+//
+// BVH -> rig (pivot_rig.h): every BVH joint is a pivot; its children and End Sites give bones from
+// the joint to each distinct child offset. A joint with one such offset gives one bone named after
+// the joint (Blender's convention: bone "LeftArm" starts at joint LeftArm and carries its
+// rotation). A joint whose children sit at several offsets gives one bone per offset, named
+// "<joint>><child>", all turning with the joint; children at a zero offset merge into the bone that
+// ends there. A root with several bones (Hips -> Spine, LeftUpLeg, RightUpLeg) gets a synthetic root
+// bone named after it, from 1 bone-length below (-Z) up to the root joint; it carries the root's
+// translation and rotation, and the bones below it are fixed to it (identity local rotation).
+// FK of the rig then reproduces every joint and End Site position of every frame
+// (BvhAnimation::max_position_error measures it). Position channels on non-root joints cannot be
+// represented when they differ from the OFFSET (bones have fixed lengths): their rotation is kept
+// and max_position_error reports the gap.
+//
+// Rig -> BVH: one BVH joint per bone at its head (named after the bone, spaces -> '_'), OFFSET the
+// rest head relative to the parent's rest head; a leaf gets an End Site at its tail. Rotation of
+// joint b per frame: L_b = Rw_parent^-1 Rw_b with Rw_b = O_b O_rest_b^-1 (the bone's world rotation
+// from rest). The root has position channels (its head). Exported then imported, every bone keeps
+// its name, parent, head and tail.
+//
+// Axes: BvhAxes::kYUp (default) treats the file as Y up (the BVH habit; Blender's importer default
+// axis_forward=-Z, axis_up=Y) and maps file (x, y, z) -> rig (x, -z, y) (+90 deg about X);
+// kZUp uses file coordinates as they are.
+#pragma once
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "physik/model/kinematics.h"
+#include "physik/io/pivot_rig.h"
+#include "physik/model/rig.h"
+
+namespace physik {
+
+enum class BvhChannel { kXpos, kYpos, kZpos, kXrot, kYrot, kZrot, kWquat, kXquat, kYquat, kZquat };
+
+struct BvhJoint {
+  std::string name;
+  int parent = -1;                   // joint index, -1 for the root; parents first
+  Vec3 offset = Vec3::Zero();        // file units, in the parent's frame
+  std::vector<BvhChannel> channels;  // in file order
+  int channel_start = 0;             // column of its first channel in a frame row
+  std::vector<Vec3> end_sites;       // End Site offsets, file units, in this joint's frame
+  int line = 0;                      // line of its ROOT/JOINT keyword
+};
+
+struct BvhFile {
+  std::vector<BvhJoint> joints;               // DFS order, as in the file
+  int nchannel = 0;
+  double frame_time = 1.0 / 30.0;             // s
+  std::vector<std::vector<double>> frames;    // (nframe x nchannel), degrees / file units
+};
+
+// Parse BVH or qBVH text. Throws InputError "<source>: line N: field '<what>': <reason>" on
+// unbalanced braces, a CHANNELS count that does not match its names, an unknown keyword or
+// channel, a frame whose value count differs from the channel count, a frame count that differs
+// from "Frames:", a non-number, NaN or infinity.
+BvhFile parse_bvh(const std::string& text, const std::string& source);
+BvhFile read_bvh_file(const std::string& path);
+
+// Local rotation L_J and translation t_J of joint j in a frame row (file axes; degrees -> rad).
+Quat bvh_local_rotation(const BvhJoint& joint, const std::vector<double>& row);
+Vec3 bvh_local_translation(const BvhJoint& joint, const std::vector<double>& row);
+// Reference FK in file axes: world rotation and position of every joint for frame `frame`
+// (-1 = rest: all channels zero and offsets as given).
+void bvh_world(const BvhFile& bvh, int frame, std::vector<Quat>& rot_world,
+               std::vector<Vec3>& pos_world);
+
+enum class BvhAxes { kYUp, kZUp };
+
+// file -> rig coordinates (rotation part; a vector maps as q * v, a rotation as q R q^-1)
+Quat bvh_axes_to_rig(BvhAxes axes);
+
+struct BvhImportOptions {
+  BvhAxes axes = BvhAxes::kYUp;
+  double scale = 1.0;            // rig units per file unit
+  double mass_per_length = 1.0;  // kg per rig unit (the rig format's default)
+  double radius = 0.5;           // rig units (the rig format's default)
+};
+
+struct BvhAnimation {
+  PivotRig pivots;                 // the rig (pivots.rig) and its bone -> BVH joint map
+  std::vector<Pose> poses;         // one per frame
+  double frame_time = 1.0 / 30.0;  // s
+  double max_position_error = 0.0; // rig units: largest |FK - BVH| of any joint or End Site
+  const Rig& rig() const { return pivots.rig; }
+};
+
+BvhAnimation bvh_to_rig(const BvhFile& bvh, const std::string& source,
+                        const BvhImportOptions& options = {});
+BvhAnimation load_bvh(const std::string& path, const BvhImportOptions& options = {});
+
+struct BvhExportOptions {
+  bool quaternion = false;        // write qBVH
+  std::string euler_order = "ZXY";  // rotation channel order for BVH, any permutation of XYZ
+  BvhAxes axes = BvhAxes::kYUp;
+  double scale = 1.0;             // file units per rig unit
+  double frame_time = 1.0 / 30.0; // s
+};
+
+// true for paths ending in ".qbvh" (case-insensitive)
+bool is_qbvh_path(const std::string& path);
+
+// Euler angles (rad) of R = R_a0(e0) R_a1(e1) R_a2(e2) for an order such as "ZXY"; the middle
+// angle in [-pi/2, pi/2]. Used by the writer; exposed for tests.
+Vec3 euler_from_rotation(const Quat& q, const std::string& order);
+Quat rotation_from_euler(const Vec3& angles, const std::string& order);
+
+// Writes a rig and its poses (rest pose only when `poses` is empty).
+void write_bvh(const Rig& rig, const std::vector<Pose>& poses, const BvhExportOptions& options,
+               std::ostream& out);
+void save_bvh(const std::string& path, const Rig& rig, const std::vector<Pose>& poses,
+              const BvhExportOptions& options);
+
+// Records a run as an animation: keeps the 1st, (every+1)th, ... call of record(); writes the file
+// with frame_time = dt * every. For `physik simulate --bvh OUT [--every N]`.
+class BvhRecorder {
+ public:
+  // dt: simulation step (s); every >= 1
+  BvhRecorder(const Rig& rig, double dt, int every = 1, BvhExportOptions options = {});
+  void record(const Pose& pose);
+  void record(const BoneFrames& frames);  // world frames, as the engine holds them
+  int recorded() const { return static_cast<int>(poses_.size()); }
+  // qBVH if the path ends in .qbvh; folders are created. Throws InputError if it cannot write.
+  void save(const std::string& path) const;
+  void write(std::ostream& out) const;
+
+ private:
+  const Rig& rig_;
+  int every_;
+  long calls_ = 0;
+  BvhExportOptions options_;
+  std::vector<Pose> poses_;
+};
+
+}  // namespace physik

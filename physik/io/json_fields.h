@@ -1,0 +1,51 @@
+// Typed, validated access to fields of a parsed JSON document. Every failure throws InputError
+// naming the file, the element (e.g. "bones[3] 'forearm.L'") and the field.
+// Shared by every file format in the core (rigs, scenes, limit files).
+#pragma once
+
+#include <initializer_list>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "physik/model/types.h"
+
+namespace physik {
+
+using Json = nlohmann::json;
+
+// Where a JSON object came from, for error messages.
+struct JsonContext {
+  std::string file;     // path as given by the user
+  std::string element;  // e.g. "bones[2] 'torso'" or "control_points[0]"
+
+  [[noreturn]] void fail(const std::string& field, const std::string& reason) const;
+
+  const Json& require(const Json& obj, const std::string& key) const;
+  double number(const Json& obj, const std::string& key) const;  // finite number
+  double number_or(const Json& obj, const std::string& key, double fallback) const;
+  int integer(const Json& obj, const std::string& key) const;
+  int integer_or(const Json& obj, const std::string& key, int fallback) const;
+  bool boolean_or(const Json& obj, const std::string& key, bool fallback) const;
+  std::string string(const Json& obj, const std::string& key) const;
+  std::string string_or(const Json& obj, const std::string& key,
+                        const std::string& fallback) const;
+  // one of `choices`
+  std::string choice_or(const Json& obj, const std::string& key,
+                        std::initializer_list<const char*> choices,
+                        const std::string& fallback) const;
+  Vec3 vec3(const Json& obj, const std::string& key) const;
+  Vec3 vec3_value(const Json& value, const std::string& field) const;
+  double number_value(const Json& value, const std::string& field) const;
+  // fails on any key of `obj` that is not in `known`
+  void only_keys(const Json& obj, std::initializer_list<const char*> known) const;
+  void require_object(const Json& obj, const std::string& field) const;
+};
+
+// Read and parse a JSON file; a missing file or a syntax error is an InputError naming the file
+// (and line/column for syntax errors).
+Json read_json_file(const std::string& path);
+Json parse_json_text(const std::string& text, const std::string& source);
+
+}  // namespace physik

@@ -1,0 +1,144 @@
+#include "physik/io/rig_io.h"
+
+#include "physik/io/axis_limits.h"
+#include "physik/model/errors.h"
+
+namespace physik {
+
+namespace {
+
+const char* const kAxisName[3] = {"x", "y", "z"};
+
+BoneSpec bone_from_json(const Json& b, const JsonContext& ctx, double default_mpl,
+                        double default_radius) {
+  ctx.require_object(b, "");
+  ctx.only_keys(b, {"name", "parent", "head", "tail", "rest_frame", "roll_deg", "limits_deg",
+                    "mass_per_length", "mass", "radius", "inertia_local", "comment"});
+  BoneSpec s;
+  s.name = ctx.string(b, "name");
+  const Json& parent = ctx.require(b, "parent");
+  if (parent.is_null()) {
+    s.parent.clear();
+  } else if (parent.is_string()) {
+    s.parent = parent.get<std::string>();
+    if (s.parent.empty()) ctx.fail("parent", "empty name (use null for the root)");
+  } else {
+    ctx.fail("parent", "expected a bone name or null");
+  }
+  s.head_world = ctx.vec3(b, "head");
+  s.tail_world = ctx.vec3(b, "tail");
+  if ((s.tail_world - s.head_world).norm() <= 1e-9) {
+    ctx.fail("tail", "zero-length bone (head and tail coincide)");
+  }
+
+  if (b.contains("rest_frame") && b.contains("roll_deg")) {
+    ctx.fail("rest_frame", "give either rest_frame or roll_deg, not both");
+  }
+  if (b.contains("rest_frame")) {
+    const Json& f = b["rest_frame"];
+    if (!f.is_array() || f.size() != 3) {
+      ctx.fail("rest_frame", "expected three axes [[x],[y],[z]]");
+    }
+    for (int c = 0; c < 3; ++c) {
+      s.rest_frame_world.col(c) =
+          ctx.vec3_value(f[c], "rest_frame[" + std::to_string(c) + "]");
+    }
+  } else {
+    const double roll = deg2rad(ctx.number_or(b, "roll_deg", 0.0));
+    s.rest_frame_world = rest_frame_from_roll(s.head_world, s.tail_world, roll);
+  }
+
+  if (b.contains("limits_deg")) s.limit = parse_axis_limits(b["limits_deg"], ctx, "limits_deg");
+
+  const double length = (s.tail_world - s.head_world).norm();
+  if (b.contains("mass") && b.contains("mass_per_length")) {
+    ctx.fail("mass", "give either mass or mass_per_length, not both");
+  }
+  if (b.contains("mass")) {
+    s.mass = ctx.number(b, "mass");
+    if (!(s.mass > 0.0)) ctx.fail("mass", "must be positive");
+  } else {
+    const double mpl = ctx.number_or(b, "mass_per_length", default_mpl);
+    if (!(mpl > 0.0)) ctx.fail("mass_per_length", "must be positive");
+    s.mass = mpl * length;
+  }
+  s.radius = ctx.number_or(b, "radius", default_radius);
+  if (!(s.radius > 0.0)) ctx.fail("radius", "must be positive");
+  if (b.contains("inertia_local")) {
+    s.inertia_local = ctx.vec3(b, "inertia_local");
+    if (!(s.inertia_local.minCoeff() > 0.0)) ctx.fail("inertia_local", "moments must be positive");
+  }
+  return s;
+}
+
+}  // namespace
+
+Rig rig_from_json(const Json& doc, const std::string& source) {
+  JsonContext top{source, ""};
+  top.require_object(doc, "");
+  top.only_keys(doc, {"name", "comment", "source", "units", "defaults", "bones"});
+  double default_mpl = 1.0, default_radius = 0.5;  // the original code's values
+  if (doc.contains("defaults")) {
+    const Json& d = doc["defaults"];
+    JsonContext dctx{source, "defaults"};
+    dctx.require_object(d, "defaults");
+    dctx.only_keys(d, {"mass_per_length", "radius"});
+    default_mpl = dctx.number_or(d, "mass_per_length", default_mpl);
+    default_radius = dctx.number_or(d, "radius", default_radius);
+    if (!(default_mpl > 0.0)) dctx.fail("mass_per_length", "must be positive");
+    if (!(default_radius > 0.0)) dctx.fail("radius", "must be positive");
+  }
+  const Json& bones = top.require(doc, "bones");
+  if (!bones.is_array()) top.fail("bones", "expected an array of bones");
+  std::vector<BoneSpec> specs;
+  for (std::size_t i = 0; i < bones.size(); ++i) {
+    std::string element = "bones[" + std::to_string(i) + "]";
+    if (bones[i].is_object() && bones[i].contains("name") && bones[i]["name"].is_string()) {
+      element += " '" + bones[i]["name"].get<std::string>() + "'";
+    }
+    specs.push_back(bone_from_json(bones[i], JsonContext{source, element}, default_mpl,
+                                   default_radius));
+  }
+  return build_rig(specs, source, top.string_or(doc, "name", ""));
+}
+
+Rig rig_from_json_text(const std::string& text, const std::string& source) {
+  return rig_from_json(parse_json_text(text, source), source);
+}
+
+Rig load_rig(const std::string& path) { return rig_from_json(read_json_file(path), path); }
+
+Json rig_to_json(const Rig& rig) {
+  Json bones = Json::array();
+  for (int i = 0; i < rig.nbone; ++i) {
+    Json b;
+    b["name"] = rig.bone_name[i];
+    b["parent"] = rig.bone_parent[i] < 0 ? Json(nullptr) : Json(rig.bone_name[rig.bone_parent[i]]);
+    const Vec3& h = rig.bone_rest_head_world[i];
+    const Vec3& t = rig.bone_rest_tail_world[i];
+    b["head"] = {h.x(), h.y(), h.z()};
+    b["tail"] = {t.x(), t.y(), t.z()};
+    const Mat3 f = rig.bone_rest_orient_world[i].toRotationMatrix();
+    b["rest_frame"] = Json::array();
+    for (int c = 0; c < 3; ++c) b["rest_frame"].push_back({f(0, c), f(1, c), f(2, c)});
+    Json lim = Json::object();
+    for (int a = 0; a < 3; ++a) {
+      const AxisLimit& l = rig.bone_limit[i][a];
+      if (l.limited) lim[kAxisName[a]] = {rad2deg(l.min), rad2deg(l.max)};
+    }
+    if (!lim.empty()) b["limits_deg"] = lim;
+    b["mass"] = rig.bone_mass[i];
+    b["radius"] = rig.bone_radius[i];
+    // explicit moments only where they are not the cylinder's
+    const Vec3& in = rig.bone_inertia_local[i];
+    const Vec3 cyl = cylinder_inertia(rig.bone_mass[i], rig.bone_radius[i], rig.bone_length[i]);
+    if ((in - cyl).norm() > 1e-12 * cyl.norm()) b["inertia_local"] = {in.x(), in.y(), in.z()};
+    bones.push_back(b);
+  }
+  Json doc;
+  if (!rig.name.empty()) doc["name"] = rig.name;
+  doc["bones"] = bones;
+  return doc;
+}
+
+}  // namespace physik

@@ -1,0 +1,43 @@
+#include "physik/io/summary_io.h"
+
+#include <cstdio>
+
+#include "physik/engine/engine.h"
+#include "physik/io/scene_io.h"
+
+namespace physik {
+
+nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s) {
+  const double h = scene.rig.height();
+  nlohmann::json rel = nlohmann::json::array();
+  for (double r : s.final_residuals) rel.push_back(r / h);
+  return {{"scene", scene.file},
+          {"rig", scene.rig_file},
+          {"params", params_to_json(scene.params)},
+          {"converged", s.converged},
+          {"diverged", s.diverged},
+          {"divergence_reason", s.divergence_reason},
+          {"steps_run", s.steps_run},
+          {"steps_to_converge", s.steps_to_converge < 0 ? nlohmann::json(nullptr)
+                                                         : nlohmann::json(s.steps_to_converge)},
+          {"final_residuals", s.final_residuals},
+          {"final_residuals_over_height", rel},
+          {"rig_height", h},
+          {"max_joint_separation", s.max_joint_separation},
+          {"mean_passes_per_step", s.mean_passes_per_step},
+          {"max_passes_in_a_step", s.max_passes_in_a_step},
+          {"peak_kinetic_energy", s.peak_kinetic_energy},
+          {"final_kinetic_energy", s.final_kinetic_energy},
+          {"max_limit_violation_deg", s.max_limit_violation_deg},
+          {"speed_tol", scene.speed_tol()},
+          {"residual_tol", scene.residual_tol()},
+          {"wall_time_s", s.wall_time_s},
+          {"final_state_hash", [&] {
+             char buf[17];
+             std::snprintf(buf, sizeof buf, "%016llx",
+                           static_cast<unsigned long long>(state_hash(s.final_frames)));
+             return std::string(buf);
+           }()}};
+}
+
+}  // namespace physik

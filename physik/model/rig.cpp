@@ -1,0 +1,286 @@
+#include "physik/model/rig.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <sstream>
+#include <unordered_map>
+
+#include "physik/model/errors.h"
+
+namespace physik {
+
+namespace {
+
+std::string bone_element(const BoneSpec& b, std::size_t index) {
+  std::ostringstream s;
+  s << "bones[" << index << "] '" << b.name << "'";
+  return s.str();
+}
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+Vec3 cylinder_inertia(double mass, double radius, double length) {
+  const double axial = 0.5 * mass * radius * radius;
+  const double transverse = mass * (3.0 * radius * radius + length * length) / 12.0;
+  return Vec3(transverse, axial, transverse);
+}
+
+Mat3 rest_frame_from_roll(const Vec3& head_world, const Vec3& tail_world, double roll) {
+  const Vec3 dir = (tail_world - head_world).normalized();
+  const Vec3 y(0, 1, 0);
+  Mat3 align;
+  if (dir.dot(y) < -1.0 + 1e-12) {
+    // antiparallel: Blender turns 180 deg about Z
+    align = Eigen::AngleAxisd(kPi, Vec3::UnitZ()).toRotationMatrix();
+  } else {
+    align = Quat::FromTwoVectors(y, dir).toRotationMatrix();
+  }
+  return align * Eigen::AngleAxisd(roll, y).toRotationMatrix();
+}
+
+int Rig::find_bone(const std::string& n) const {
+  auto it = std::find(bone_name.begin(), bone_name.end(), n);
+  return it == bone_name.end() ? -1 : static_cast<int>(it - bone_name.begin());
+}
+
+double Rig::total_mass() const {
+  double m = 0.0;
+  for (double b : bone_mass) m += b;
+  return m;
+}
+
+int Rig::max_bones_per_joint() const {
+  int best = 0;
+  for (const Joint& j : joints) best = std::max(best, j.nbone());
+  return best;
+}
+
+int Rig::bone_dof(int bone) const {
+  int dof = 3;
+  for (const AxisLimit& a : bone_limit[bone]) dof -= a.locked() ? 1 : 0;
+  return dof;
+}
+
+double Rig::height() const {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (int i = 0; i < nbone; ++i) {
+    for (const Vec3* p : {&bone_rest_head_world[i], &bone_rest_tail_world[i]}) {
+      lo = std::min(lo, p->z());
+      hi = std::max(hi, p->z());
+    }
+  }
+  return nbone ? hi - lo : 0.0;
+}
+
+Rig build_rig(const std::vector<BoneSpec>& specs, const std::string& source,
+              const std::string& name) {
+  if (specs.empty()) throw_input_error(source, "", "bones", "the rig has no bones");
+
+  // names: unique, non-empty
+  std::unordered_map<std::string, std::size_t> index_of;
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    const BoneSpec& b = specs[i];
+    if (b.name.empty()) throw_input_error(source, bone_element(b, i), "name", "empty bone name");
+    if (!index_of.emplace(b.name, i).second) {
+      throw_input_error(source, bone_element(b, i), "name",
+                        "duplicate bone name (first used by bones[" +
+                            std::to_string(index_of[b.name]) + "])");
+    }
+  }
+
+  // parents: known, exactly one root
+  std::vector<std::vector<std::size_t>> children(specs.size());
+  std::size_t root = specs.size();
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    const BoneSpec& b = specs[i];
+    if (b.parent.empty()) {
+      if (root != specs.size()) {
+        throw_input_error(source, bone_element(b, i), "parent",
+                          "a second root (bone '" + specs[root].name +
+                              "' is already the root; a rig has exactly one)");
+      }
+      root = i;
+      continue;
+    }
+    if (b.parent == b.name) {
+      throw_input_error(source, bone_element(b, i), "parent", "a bone cannot be its own parent");
+    }
+    auto it = index_of.find(b.parent);
+    if (it == index_of.end()) {
+      throw_input_error(source, bone_element(b, i), "parent",
+                        "unknown bone '" + b.parent + "'");
+    }
+    children[it->second].push_back(i);
+  }
+  if (root == specs.size()) {
+    throw_input_error(source, "", "parent",
+                      "no root bone (every bone has a parent, so the parents form a cycle)");
+  }
+
+  // DFS order from the root; anything unreached is on a cycle
+  std::vector<std::size_t> order;
+  order.reserve(specs.size());
+  std::function<void(std::size_t)> visit = [&](std::size_t i) {
+    order.push_back(i);
+    for (std::size_t c : children[i]) visit(c);
+  };
+  visit(root);
+  if (order.size() != specs.size()) {
+    std::vector<bool> seen(specs.size(), false);
+    for (std::size_t i : order) seen[i] = true;
+    for (std::size_t i = 0; i < specs.size(); ++i) {
+      if (!seen[i]) {
+        throw_input_error(source, bone_element(specs[i], i), "parent",
+                          "parent cycle: this bone's ancestors never reach the root '" +
+                              specs[root].name + "'");
+      }
+    }
+  }
+
+  // per-bone checks that need no tree
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    const BoneSpec& b = specs[i];
+    const std::string el = bone_element(b, i);
+    if (!b.head_world.allFinite()) throw_input_error(source, el, "head", "non-finite coordinate");
+    if (!b.tail_world.allFinite()) throw_input_error(source, el, "tail", "non-finite coordinate");
+    const double len = (b.tail_world - b.head_world).norm();
+    if (!(len > 1e-9)) {
+      throw_input_error(source, el, "tail", "zero-length bone (head and tail coincide)");
+    }
+    const Mat3& f = b.rest_frame_world;
+    if (!f.allFinite() || (f.transpose() * f - Mat3::Identity()).norm() > 1e-3 ||
+        f.determinant() < 0.0) {
+      throw_input_error(source, el, "rest_frame",
+                        "not a right-handed orthonormal frame");
+    }
+    const Vec3 dir = (b.tail_world - b.head_world) / len;
+    if (f.col(1).dot(dir) < 1.0 - 1e-3) {
+      throw_input_error(source, el, "rest_frame",
+                        "the frame's y axis does not run from head to tail");
+    }
+    static const char* kAxis[3] = {"x", "y", "z"};
+    for (int a = 0; a < 3; ++a) {
+      const AxisLimit& l = b.limit[a];
+      if (!l.limited) continue;
+      const std::string field = std::string("limits_deg.") + kAxis[a];
+      if (!std::isfinite(l.min) || !std::isfinite(l.max)) {
+        throw_input_error(source, el, field, "non-finite limit");
+      }
+      if (l.min > l.max) {
+        throw_input_error(source, el, field,
+                          "min " + fmt(rad2deg(l.min)) + " deg is greater than max " +
+                              fmt(rad2deg(l.max)) + " deg");
+      }
+      if (l.min < -kPi - 1e-9 || l.max > kPi + 1e-9) {
+        throw_input_error(source, el, field, "limits must lie within [-180, 180] deg");
+      }
+    }
+    if (!std::isfinite(b.mass) || !(b.mass > 0.0)) {
+      throw_input_error(source, el, "mass", "mass must be a positive finite number");
+    }
+    if (!std::isfinite(b.radius) || !(b.radius > 0.0)) {
+      throw_input_error(source, el, "radius", "radius must be a positive finite number");
+    }
+    if (!b.inertia_local.isZero()) {
+      const Vec3& in = b.inertia_local;
+      if (!in.allFinite() || !(in.minCoeff() > 0.0)) {
+        throw_input_error(source, el, "inertia_local", "moments must be positive finite numbers");
+      }
+      // principal moments of a real body obey the triangle inequality
+      if (in.x() + in.y() < in.z() * (1 - 1e-9) || in.y() + in.z() < in.x() * (1 - 1e-9) ||
+          in.z() + in.x() < in.y() * (1 - 1e-9)) {
+        throw_input_error(source, el, "inertia_local",
+                          "moments break the triangle inequality (no real body has them)");
+      }
+    }
+  }
+
+  Rig rig;
+  rig.name = name;
+  rig.nbone = static_cast<int>(specs.size());
+  std::vector<int> new_index(specs.size());
+  for (std::size_t k = 0; k < order.size(); ++k) new_index[order[k]] = static_cast<int>(k);
+
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const BoneSpec& b = specs[order[k]];
+    const int parent = b.parent.empty() ? -1 : new_index[index_of[b.parent]];
+    // a joint is a parent's tail with its children's heads: they must meet there at rest, and
+    // the child's head is snapped onto the parent's tail to remove the file's rounding
+    Vec3 head = b.head_world;
+    if (parent >= 0) {
+      const Vec3& parent_tail = rig.bone_rest_tail_world[parent];
+      const double gap = (head - parent_tail).norm();
+      if (gap > 1e-3 * rig.bone_length[parent]) {
+        throw_input_error(source, bone_element(b, order[k]), "head",
+                          "does not meet the tail of its parent '" + b.parent + "' (gap " +
+                              fmt(gap) + "); a joint is a parent's tail with its children's heads");
+      }
+      head = parent_tail;
+    }
+    rig.bone_name.push_back(b.name);
+    rig.bone_parent.push_back(parent);
+    rig.bone_rest_head_world.push_back(head);
+    rig.bone_rest_tail_world.push_back(b.tail_world);
+    // re-orthonormalise the file's frame (files carry 4 decimals)
+    Quat q(b.rest_frame_world);
+    q.normalize();
+    rig.bone_rest_orient_world.push_back(q);
+    const double len = (b.tail_world - head).norm();
+    rig.bone_length.push_back(len);
+    rig.bone_mass.push_back(b.mass);
+    rig.bone_radius.push_back(b.radius);
+    rig.bone_inertia_local.push_back(b.inertia_local.isZero() ? cylinder_inertia(b.mass, b.radius, len)
+                                                              : b.inertia_local);
+    rig.bone_limit.push_back(b.limit);
+  }
+
+  // the frame's y axis must be exactly the bone direction: fold the file's rounding into the
+  // frame by the minimal rotation that aligns them
+  for (int i = 0; i < rig.nbone; ++i) {
+    const Vec3 dir = (rig.bone_rest_tail_world[i] - rig.bone_rest_head_world[i]).normalized();
+    const Vec3 y = rig.bone_rest_orient_world[i] * Vec3::UnitY();
+    rig.bone_rest_orient_world[i] =
+        (Quat::FromTwoVectors(y, dir) * rig.bone_rest_orient_world[i]).normalized();
+  }
+
+  rig.bone_children.assign(rig.nbone, {});
+  rig.bone_rest_orient_parent.resize(rig.nbone);
+  rig.bone_head_in_parent.resize(rig.nbone);
+  for (int i = 0; i < rig.nbone; ++i) {
+    const int p = rig.bone_parent[i];
+    if (p < 0) {
+      rig.bone_rest_orient_parent[i] = rig.bone_rest_orient_world[i];
+      rig.bone_head_in_parent[i].setZero();
+      continue;
+    }
+    rig.bone_children[p].push_back(i);
+    rig.bone_rest_orient_parent[i] =
+        (rig.bone_rest_orient_world[p].conjugate() * rig.bone_rest_orient_world[i]).normalized();
+    rig.bone_head_in_parent[i] = rig.bone_rest_orient_world[p].conjugate() *
+                                 (rig.bone_rest_head_world[i] - rig.bone_rest_head_world[p]);
+  }
+
+  // joints: one per bone with children
+  rig.bone_joint_at_tail.assign(rig.nbone, -1);
+  rig.bone_joint_at_head.assign(rig.nbone, -1);
+  for (int i = 0; i < rig.nbone; ++i) {
+    if (rig.bone_children[i].empty()) continue;
+    Joint j;
+    j.parent = i;
+    j.children = rig.bone_children[i];
+    rig.bone_joint_at_tail[i] = static_cast<int>(rig.joints.size());
+    for (int c : j.children) rig.bone_joint_at_head[c] = static_cast<int>(rig.joints.size());
+    rig.joints.push_back(j);
+  }
+  return rig;
+}
+
+}  // namespace physik

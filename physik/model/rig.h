@@ -1,0 +1,111 @@
+// The rig: a constant description of an articulated character (the model half of the
+// MuJoCo-style model/data split). Nothing here changes during a simulation or a solve.
+//
+// Bodies (paper Sec. 3, "each bone is a rigid rod"; original fwik.py):
+//   mass    m = mass_per_length * L                       (kg), or a total mass given directly
+//   inertia of a solid cylinder of radius r and length L about its centre, in the bone frame
+//   (local +Y along the bone):
+//     I_yy = 1/2 m r^2,   I_xx = I_zz = 1/12 m (3 r^2 + L^2)   (kg m^2)
+//   The original code uses r = 0.5 and mass_per_length = 1 for every bone.
+//
+// Joints (paper Sec. 3.2; original: one joint per parent with children, [parent] + children):
+//   a joint is the tail of a parent bone together with the heads of all its children, which must
+//   meet there at rest. A bone without children has no joint at its tail.
+//
+// Limits: per bone, per local axis x, y, z, an interval [min, max] (rad) on the component of the
+// rotation vector (exponential map, as the original's quaternion log) of the bone's rotation
+// relative to its rest orientation in its parent's frame. An absent axis is free; min == max
+// locks the axis.
+//
+// Arrays are indexed by bone in DFS order: every parent comes before its children.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "physik/model/types.h"
+
+namespace physik {
+
+struct AxisLimit {
+  bool limited = false;  // false: the axis is free
+  double min = 0.0;      // rad, lower bound of the rotation-vector component
+  double max = 0.0;      // rad, upper bound
+  bool locked() const { return limited && min == max; }
+};
+
+// One bone as written in a rig file, before derived quantities are computed.
+struct BoneSpec {
+  std::string name;
+  std::string parent;           // empty for the root
+  Vec3 head_world{0, 0, 0};     // rest position of the head (rig units)
+  Vec3 tail_world{0, 1, 0};     // rest position of the tail (rig units)
+  Mat3 rest_frame_world = Mat3::Identity();  // columns: bone x, y, z axes in world at rest
+  std::array<AxisLimit, 3> limit{};          // per local axis x, y, z
+  double mass = 1.0;            // kg, total
+  double radius = 0.5;          // rig units, radius of the cylinder used for the inertia
+  // optional explicit principal moments about the bone's centre, bone-local x, y, z (kg m^2);
+  // zero (the default) means the cylinder of `radius` (e.g. MuJoCo bodies imported as bones)
+  Vec3 inertia_local = Vec3::Zero();
+};
+
+struct Joint {
+  int parent = -1;               // the bone whose tail is the joint
+  std::vector<int> children;     // bones whose heads meet there, in DFS order
+  int nbone() const { return 1 + static_cast<int>(children.size()); }
+};
+
+struct Rig {
+  std::string name;                          // from the file, or generated
+  int nbone = 0;
+
+  // per bone, DFS order
+  std::vector<std::string> bone_name;        // (nbone)
+  std::vector<int> bone_parent;              // (nbone) -1 for the root; bone_parent[i] < i
+  std::vector<std::vector<int>> bone_children;  // (nbone) x (varies)
+  std::vector<Vec3> bone_rest_head_world;    // (nbone) rig units
+  std::vector<Vec3> bone_rest_tail_world;    // (nbone) rig units
+  std::vector<Quat> bone_rest_orient_world;  // (nbone) rest frame as a rotation world<-bone
+  std::vector<Quat> bone_rest_orient_parent; // (nbone) rest frame in the parent's rest frame
+                                             //         (root: = bone_rest_orient_world)
+  std::vector<Vec3> bone_head_in_parent;     // (nbone) head, in the parent's frame, relative to
+                                             //         the parent's head (root: zero)
+  std::vector<double> bone_length;           // (nbone) rig units
+  std::vector<double> bone_mass;             // (nbone) kg
+  std::vector<double> bone_radius;           // (nbone) rig units
+  std::vector<Vec3> bone_inertia_local;      // (nbone) principal moments about the centre of
+                                             //         mass, bone-local x, y, z (kg m^2)
+  std::vector<std::array<AxisLimit, 3>> bone_limit;  // (nbone) per local axis
+  std::vector<int> bone_joint_at_tail;       // (nbone) joint index at the tail, or -1
+  std::vector<int> bone_joint_at_head;       // (nbone) joint index at the head, or -1 (root)
+
+  // joints, one per bone with children, in DFS order of the parent
+  std::vector<Joint> joints;
+
+  int find_bone(const std::string& name) const;  // -1 if absent
+  int root() const { return 0; }
+  double total_mass() const;
+  int max_bones_per_joint() const;
+  // rotational degrees of freedom of a bone relative to its parent: 3 minus locked axes
+  // (the root's 6 free DOF are not counted here)
+  int bone_dof(int bone) const;
+  // length of the longest root-to-leaf path plus nothing else: the rig's reach from its root
+  double height() const;  // extent of the rest pose along world Z (rig units)
+};
+
+// Cylinder inertia about the centre, bone-local axes (local y along the bone). kg m^2.
+Vec3 cylinder_inertia(double mass, double radius, double length);
+
+// Build a rig from bone specs in any order: validates the tree (one root, known parents, no
+// cycles, no duplicate names), lengths, frames, limits and masses, reorders to DFS (children in
+// the order given), derives joints and inertias. `source` names the file in error messages.
+// Throws InputError.
+Rig build_rig(const std::vector<BoneSpec>& specs, const std::string& source,
+              const std::string& name = "");
+
+// Blender's rest frame from head, tail and roll: the minimal rotation taking +Y to the bone
+// direction, followed by a roll about the bone's own Y (rad). Columns are bone x, y, z in world.
+Mat3 rest_frame_from_roll(const Vec3& head_world, const Vec3& tail_world, double roll);
+
+}  // namespace physik

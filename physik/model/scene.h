@@ -1,0 +1,65 @@
+// Scenes: a rig, engine parameters, control points, a schedule of target changes, and how long
+// to run. Files are read and written by physik/io/scene_io.h; the JSON format is documented in
+// models/README.md ("Scenes").
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "physik/model/kinematics.h"
+#include "physik/model/params.h"
+#include "physik/model/rig.h"
+
+namespace physik {
+
+// A point fixed on a bone, pulled toward a target by a zero-rest-length spring:
+//   linear  F = k (t - a)
+//   capped  F = k min(|t - a|, c) (t - a)/|t - a|
+// (paper Sec. 3.3; the original hard-codes c = 1). Forces in N, positions in rig units.
+struct ControlPoint {
+  std::string name;            // optional label
+  int bone = -1;               // index into the rig
+  double alpha = 1.0;          // position along the bone: 0 = head, 1 = tail
+  Vec3 target_world = Vec3::Zero();
+  SpringLaw spring = SpringLaw::kLinear;
+  double k = 10.0;             // N/m
+  double cap = 1.0;            // rig units
+};
+
+// At `step`, control point `control_point` gets a new target (interpolated per the params).
+struct TargetChange {
+  int step = 0;
+  int control_point = 0;
+  Vec3 target_world = Vec3::Zero();
+};
+
+struct ConvergenceParams {
+  double residual_tol = 0.0;   // rig units; 0 = 1e-3 of the rig's height. Reported, and a run
+                               // whose final residuals exceed it is "converged" only if at rest
+  double speed_tol = 0.0;      // rig units/s; 0 = 1e-3 of the rig's height per second.
+                               // at rest when sqrt(2 KE / total mass) is below this
+  int settle_steps = 10;       // consecutive steps at rest to call the run converged
+  bool stop_when_converged = false;
+  bool stop_at_residual_tol = false;  // IK use: converged = every control point within
+                                      // residual_tol; stop there, or at rest short of it
+  double divergence_energy = 0.0;  // J; 0 = 1e6 * total mass * height^2. Above it: diverged
+};
+
+struct Scene {
+  std::string file;            // where it came from ("" if built in code)
+  std::string rig_file;        // resolved rig path
+  Rig rig;
+  EngineParams params;
+  std::vector<ControlPoint> control_points;
+  std::vector<TargetChange> schedule;  // sorted by step
+  int steps = 200;
+  ConvergenceParams convergence;
+  Pose initial_pose;
+  Vec3 initial_velocity_world = Vec3::Zero();  // rig units/s, a rigid translation of every bone
+
+  double residual_tol() const;
+  double speed_tol() const;
+  double divergence_energy() const;
+};
+
+}  // namespace physik

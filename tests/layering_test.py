@@ -1,0 +1,152 @@
+#!/usr/bin/env python3
+"""The layers of docs/DESIGN.md ("Layers"), checked on every #include of the project's own code.
+
+    physik/model  <-  physik/engine, physik/ik  <-  physik/io  <-  reference  <-  tune
+    <-  experiments  <-  cli (and bench)
+
+A file may include its own layer and the layers below it, never one above or beside it. Besides:
+  - the core (physik/) includes neither MuJoCo nor Ceres;
+  - no header of physik/model, physik/engine or physik/ik reaches a JSON library, even through
+    other headers (only physik/io and above read or write files).
+Run: python3 tests/layering_test.py [REPO]  (ctest runs it as `layering`).
+"""
+import os
+import re
+import sys
+import tempfile
+import unittest
+
+# layer -> the layers its files may include (its own included)
+ALLOWED = {
+    "physik/model": {"physik/model"},
+    "physik/engine": {"physik/model", "physik/engine"},
+    "physik/ik": {"physik/model", "physik/ik"},
+    "physik/io": {"physik/model", "physik/engine", "physik/ik", "physik/io"},
+}
+CORE = set(ALLOWED)
+UPPER_ORDER = ["reference", "tune", "experiments", "cli"]
+for k, layer in enumerate(UPPER_ORDER):
+    ALLOWED[layer] = CORE | set(UPPER_ORDER[: k + 1])
+ALLOWED["bench"] = CORE | set(UPPER_ORDER[:3]) | {"bench"}
+ALLOWED["python"] = CORE | set(UPPER_ORDER[:3]) | {"python"}
+JSON_FREE = {"physik/model", "physik/engine", "physik/ik"}
+FORBIDDEN_IN_CORE = ("mujoco/", "ceres/")
+
+INCLUDE = re.compile(r'^\s*#\s*include\s*([<"])([^>"]+)[>"]', re.M)
+
+
+def layer_of(path):
+    """The layer a repository-relative path belongs to, or None (tests, tools)."""
+    parts = path.split("/")
+    if parts[0] == "physik" and len(parts) > 2:
+        return "physik/" + parts[1]
+    return parts[0] if parts[0] in ALLOWED else None
+
+
+def sources(repo):
+    for top in ALLOWED:
+        root = os.path.join(repo, top)
+        if not os.path.isdir(root):
+            continue
+        for base, _, files in os.walk(root):
+            for f in files:
+                if f.endswith((".h", ".cpp")):
+                    yield os.path.relpath(os.path.join(base, f), repo)
+
+
+def includes(repo, path):
+    with open(os.path.join(repo, path), encoding="utf-8") as f:
+        return INCLUDE.findall(f.read())
+
+
+def check(repo):
+    """Every broken rule, as 'file: reason' lines."""
+    problems = []
+    files = sorted(set(sources(repo)))
+    for path in files:
+        layer = layer_of(path)
+        for kind, inc in includes(repo, path):
+            if kind == "<":
+                if layer in CORE and inc.startswith(FORBIDDEN_IN_CORE):
+                    problems.append("%s: the core includes <%s> (no MuJoCo, no Ceres in physik/)" % (path, inc))
+                continue
+            target = layer_of(inc)
+            if target is None:
+                if os.path.exists(os.path.join(repo, inc)):
+                    problems.append("%s: includes \"%s\", outside every layer" % (path, inc))
+                continue
+            if target not in ALLOWED[layer]:
+                problems.append("%s: includes \"%s\": layer %s may not depend on %s"
+                                % (path, inc, layer, target))
+    # transitive: the JSON-free layers' headers never reach nlohmann
+    for path in files:
+        if layer_of(path) in JSON_FREE and path.endswith(".h"):
+            chain = reaches_json(repo, path, [])
+            if chain:
+                problems.append("%s: reaches a JSON library through %s" % (path, " -> ".join(chain)))
+    return problems
+
+
+def reaches_json(repo, path, stack):
+    if path in stack:
+        return None
+    for kind, inc in includes(repo, path):
+        if kind == "<" and inc.startswith("nlohmann/"):
+            return stack + [path, "<" + inc + ">"]
+        if kind == '"' and os.path.exists(os.path.join(repo, inc)):
+            found = reaches_json(repo, inc, stack + [path])
+            if found:
+                return found
+    return None
+
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+class LayeringTest(unittest.TestCase):
+    def test_the_tree_keeps_its_layers(self):
+        problems = check(REPO)
+        self.assertEqual(problems, [], "\n" + "\n".join(problems))
+
+    def write(self, root, path, text):
+        full = os.path.join(root, path)
+        os.makedirs(os.path.dirname(full), exist_ok=True)
+        with open(full, "w") as f:
+            f.write(text)
+
+    def test_an_upward_include_fails(self):
+        with tempfile.TemporaryDirectory() as root:
+            self.write(root, "physik/io/scene_io.h", "#pragma once\n")
+            self.write(root, "physik/engine/step.h", '#include "physik/io/scene_io.h"\n')
+            self.assertEqual(len(check(root)), 1)
+            self.assertIn("physik/engine may not depend on physik/io", check(root)[0])
+
+    def test_a_sideways_include_fails(self):
+        with tempfile.TemporaryDirectory() as root:
+            self.write(root, "physik/engine/state.h", "#pragma once\n")
+            self.write(root, "physik/ik/ccd.cpp", '#include "physik/engine/state.h"\n')
+            self.assertIn("physik/ik may not depend on physik/engine", check(root)[0])
+
+    def test_json_reached_through_a_model_header_fails(self):
+        with tempfile.TemporaryDirectory() as root:
+            self.write(root, "physik/model/a.h", '#include "physik/model/b.h"\n')
+            self.write(root, "physik/model/b.h", "#include <nlohmann/json.hpp>\n")
+            problems = check(root)
+            self.assertTrue(any("physik/model/a.h: reaches a JSON library" in p for p in problems), problems)
+
+    def test_mujoco_in_the_core_fails(self):
+        with tempfile.TemporaryDirectory() as root:
+            self.write(root, "physik/io/x.cpp", "#include <mujoco/mujoco.h>\n")
+            self.assertIn("no MuJoCo", check(root)[0])
+
+    def test_reference_may_not_include_tune(self):
+        with tempfile.TemporaryDirectory() as root:
+            self.write(root, "tune/tuner.h", "#pragma once\n")
+            self.write(root, "reference/x.cpp", '#include "tune/tuner.h"\n')
+            self.assertIn("layer reference may not depend on tune", check(root)[0])
+
+
+if __name__ == "__main__":
+    if len(sys.argv) > 1 and os.path.isdir(sys.argv[1]):
+        REPO = os.path.abspath(sys.argv.pop(1))
+    unittest.main()
