@@ -163,6 +163,25 @@ double max_pose_distance(const BoneFrames& a, const BoneFrames& b) {
   return m;
 }
 
+namespace {
+
+// Levenberg-Marquardt to machine precision: the minimum is the reference PhysIK is measured
+// against, so it stops on tiny tolerances, not on a budget
+ceres::Solver::Options solver_options(const EquilibriumOptions& opt) {
+  ceres::Solver::Options so;
+  so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.max_num_iterations = opt.max_iterations;
+  so.function_tolerance = 1e-16;
+  so.gradient_tolerance = 1e-16;
+  so.parameter_tolerance = 1e-14;
+  so.num_threads = 1;
+  so.minimizer_progress_to_stdout = opt.verbose;
+  return so;
+}
+
+}  // namespace
+
 EquilibriumResult solve_equilibrium(const Scene& scene, const EquilibriumOptions& opt) {
   const Rig& rig = scene.rig;
   if (scene.control_points.empty()) {
@@ -206,17 +225,8 @@ EquilibriumResult solve_equilibrium(const Scene& scene, const EquilibriumOptions
     problem.SetManifold(quats[i].data(), new ceres::EigenQuaternionManifold);
   }
 
-  ceres::Solver::Options so;
-  so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  so.linear_solver_type = ceres::DENSE_QR;
-  so.max_num_iterations = opt.max_iterations;
-  so.function_tolerance = 1e-16;
-  so.gradient_tolerance = 1e-16;
-  so.parameter_tolerance = 1e-14;
-  so.num_threads = 1;
-  so.minimizer_progress_to_stdout = opt.verbose;
   ceres::Solver::Summary summary;
-  ceres::Solve(so, &problem, &summary);
+  ceres::Solve(solver_options(opt), &problem, &summary);
 
   EquilibriumResult out;
   out.pose.root_head_world = Vec3(root[0], root[1], root[2]);
