@@ -25,7 +25,7 @@ their size, limits to ~1e-7 rad.
 import math
 
 import bpy
-from mathutils import Matrix, Quaternion, Vector
+from mathutils import Quaternion, Vector
 
 from . import rig_format
 from .rig_format import AXES, InputError

@@ -1,7 +1,7 @@
 """The PhysIK panel: 3D viewport sidebar (N), tab "PhysIK"."""
 import bpy
 
-from . import control_points, engine
+from . import engine
 
 
 class PHYSIK_PT_panel(bpy.types.Panel):
