@@ -126,7 +126,8 @@ def read_control_points(scene, arm):
             owner = obj.get("physik_armature")
             if owner is None:
                 raise InputError("empty '%s'" % obj.name, "", "physik_armature",
-                                 "no armature: set the armature this control point belongs to")
+                                 "no armature: set the armature this control point belongs to, or "
+                                 "delete the empty")
             if not isinstance(owner, bpy.types.Object) or owner.type != 'ARMATURE':
                 raise InputError("empty '%s'" % obj.name, "", "physik_armature", "not an armature")
             if owner == arm:

@@ -32,12 +32,18 @@ def module():
     return physik
 
 
+_AVAILABLE = None  # looked up once per session (the panel asks on every redraw)
+
+
 def available():
-    try:
-        module()
-        return True
-    except EngineUnavailable:
-        return False
+    global _AVAILABLE
+    if _AVAILABLE is None:
+        try:
+            module()
+            _AVAILABLE = True
+        except EngineUnavailable:
+            _AVAILABLE = False
+    return _AVAILABLE
 
 
 def _not_bridged(what):
