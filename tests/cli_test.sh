@@ -71,6 +71,16 @@ expect_in "override each kind: max_passes" "$tmp/kinds/summary.json" '"max_passe
 expect_in "override each kind: centripetal" "$tmp/kinds/summary.json" '"centripetal": true'
 expect_in "override each kind: torsion_spring" "$tmp/kinds/summary.json" '"torsion_spring": "capped"'
 
+# params: the parameter table, for people and for the report
+check "params help" 0 "$bin" params --help
+check "params" 0 "$bin" params
+expect_in "params text" "$tmp/out" "angular_velocity_factor"
+check "params json" 0 "$bin" params --json
+expect_in "params json damping" "$tmp/out" '"name": "damping"'
+check "params paper" 0 "$bin" params --json --preset paper
+expect_in "params paper damping" "$tmp/out" '"damping": 20.0'
+check "params bad preset" 2 "$bin" params --preset fast
+expect_in "params bad preset message" "$tmp/err" "unknown preset 'fast'"
 
 # MuJoCo reference (issue 4): export-mjcf prints MJCF that MuJoCo's own tools load; simulate --reference
 check "export-mjcf help" 0 "$bin" export-mjcf --help
