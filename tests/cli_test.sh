@@ -77,10 +77,13 @@ check "params" 0 "$bin" params
 expect_in "params text" "$tmp/out" "angular_velocity_factor"
 check "params json" 0 "$bin" params --json
 expect_in "params json damping" "$tmp/out" '"name": "damping"'
+mkdir -p "$tmp/report" && cp "$tmp/out" "$tmp/report/params.json"
 check "params paper" 0 "$bin" params --json --preset paper
 expect_in "params paper damping" "$tmp/out" '"damping": 20.0'
 check "params bad preset" 2 "$bin" params --preset fast
 expect_in "params bad preset message" "$tmp/err" "unknown preset 'fast'"
+check "report from the table" 0 /usr/bin/python3 "$src/analysis/report.py" "$tmp/report"
+expect_in "report settings row" "$tmp/report/REPORT.md" "| \`damping\` | 20 N s/m | 3 N s/m (the original code's) |"
 
 # MuJoCo reference (issue 4): export-mjcf prints MJCF that MuJoCo's own tools load; simulate --reference
 check "export-mjcf help" 0 "$bin" export-mjcf --help
