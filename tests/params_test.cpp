@@ -189,18 +189,28 @@ TEST(ParamTable, EveryBoundGivesItsMessageInSceneFilesAndSet) {
       {"interpolation_steps", "-1", "must not be negative"},
       {"interpolation_fallback", "0", "must be positive"},
   };
-  std::set<std::string> covered;
   for (const Case& c : cases) {
     SCOPED_TRACE(std::string(c.key) + " = " + c.value);
     const std::string field = std::string("params: field '") + c.key + "': " + c.reason;
     EXPECT_EQ(params_error(std::string("{\"") + c.key + "\": " + c.value + "}"), "p.json: " + field);
     EXPECT_EQ(set_error(std::string(c.key) + "=" + c.value), "--set: " + field);
-    covered.insert(c.key);
   }
-  // every ranged row has a case; the bounds that are allowed are accepted
+  // every ranged row (a new one too) refuses a value past each bound, alike in both places
   for (const ParamRow& row : param_table()) {
-    if (row.valid.lo || row.valid.hi) EXPECT_TRUE(covered.count(row.name)) << row.name;
+    const ParamRange& g = row.valid;
+    std::vector<double> bad;
+    if (g.lo) bad.push_back(g.lo_allowed ? *g.lo - 1.0 : *g.lo);
+    if (g.hi) bad.push_back(g.hi_allowed ? *g.hi + 1.0 : *g.hi);
+    for (double v : bad) {
+      const std::string text = format_param(row, v), why = range_violation(row, v);
+      SCOPED_TRACE(row.name + " = " + text);
+      EXPECT_FALSE(why.empty());
+      EXPECT_EQ(params_error("{\"" + row.name + "\": " + text + "}"),
+                "p.json: params: field '" + row.name + "': " + why);
+      EXPECT_EQ(set_error(row.name + "=" + text), "--set: params: field '" + row.name + "': " + why);
+    }
   }
+  // the bounds that are allowed are accepted
   for (const char* ok : {"angular_velocity_factor=0", "angular_velocity_factor=1", "damping=0",
                          "torsion_tolerance=0", "max_passes=0", "interpolation_steps=0"}) {
     EXPECT_EQ(set_error(ok), "") << ok;
