@@ -8,6 +8,7 @@
 #include "physik/io/bvh.h"
 #include "physik/model/errors.h"
 #include "physik/io/joint_limits.h"
+#include "physik/io/json_fields.h"
 #include "physik/io/rig_io.h"
 #include "reference/mjcf_import.h"
 

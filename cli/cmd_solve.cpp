@@ -9,6 +9,7 @@
 #include "cli/commands.h"
 #include "physik/engine/engine.h"
 #include "physik/ik/ik_solver.h"
+#include "physik/io/json_fields.h"
 #include "physik/io/pose_io.h"
 #include "physik/io/scene_io.h"
 #include "physik/io/summary_io.h"

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "cli/commands.h"
+#include "physik/io/json_fields.h"
 #include "physik/io/pose_io.h"
 #include "physik/io/scene_io.h"
 #include "physik/io/summary_io.h"

@@ -79,7 +79,7 @@ void run(const Context& ctx) {
       slow_when_small == scenes && diverge_when_large == scenes ? "yes"
       : slow_when_small + diverge_when_large > 0               ? "partly"
                                                                : "no"));
-  write_json_file({{"experiment", "damping_sweep"},
+  write_json({{"experiment", "damping_sweep"},
                    {"rows", rows},
                    {"fastest", best},
                    {"report",

@@ -12,8 +12,6 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 namespace physik::experiments {
 
 struct Context {
@@ -32,8 +30,5 @@ struct Experiment {
 
 // Every experiment, in the order `make reproduce` runs them.
 const std::vector<Experiment>& all_experiments();
-
-// Write a JSON document to a file (pretty-printed).
-void write_json_file(const nlohmann::json& doc, const std::string& path);
 
 }  // namespace physik::experiments

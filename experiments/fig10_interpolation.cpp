@@ -49,21 +49,18 @@ SchemeRun run_scheme(const Context& ctx, const std::string& scene_name, const st
   const std::vector<int> controlled = chains_to_root(rig, cp_bones);
   const std::vector<int> arm = chains_to_root(rig, {hand});
   const BoneFrames initial = forward_kinematics(rig, sc.initial_pose);
-  const std::vector<int> want = {0, 12, 25, 37, interp_steps, sc.steps};
-  r.frame_steps.push_back(0);
-  r.frames.push_back(initial);
-
-  r.summary = run_scene(sc, [&](const SimState& s, const StepStats& st) {
+  RecordOptions ro;
+  ro.frame_steps = {0, 12, 25, 37, interp_steps, sc.steps};
+  RecordedRun rec = record_run(sc, ro, [&](const SimState& s, const StepStats& st) {
     r.off_chain.push_back(off_chain_rotation(rig, initial, s.frames, controlled));
     r.off_arm.push_back(off_chain_rotation(rig, initial, s.frames, arm));
     r.ke.push_back(st.kinetic_energy);
     r.tip.push_back(point_on_bone(s.frames, hand, sc.control_points[moved].alpha));
     r.target.push_back(s.target_effective_world[moved]);
-    if (std::find(want.begin(), want.end(), s.step) != want.end()) {
-      r.frame_steps.push_back(s.step);
-      r.frames.push_back(s.frames);
-    }
   });
+  r.summary = rec.summary;
+  r.frame_steps = rec.frame_steps;
+  r.frames = rec.frames;
   for (std::size_t k = 0; k < r.off_chain.size(); ++k) {
     const bool during = static_cast<int>(k) + 1 <= interp_steps;
     (during ? r.peak_chain_during : r.peak_chain_after) =
@@ -176,7 +173,7 @@ void run(const Context& ctx) {
       "The paper's caption gives 50 steps as 250 ms (5 ms per step); we use dt = " +
           num(probe.params.dt) + " s as in the original code."};
 
-  write_json_file({{"experiment", "fig10_interpolation"},
+  write_json({{"experiment", "fig10_interpolation"},
                    {"interpolation_steps", interp},
                    {"polar_com", scheme_json(polar, polar_frames)},
                    {"linear", scheme_json(linear, linear_frames)},

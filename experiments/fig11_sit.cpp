@@ -71,11 +71,11 @@ void run(const Context& ctx) {
                                    [&](int s) { return s > scene.steps; }),
                     frame_steps.end());
 
-  RecordOptions ro;
-  ro.csv_path = ctx.out_dir + "/trajectory.csv";
-  ro.csv_every = 5;
+  RecordOptions ro = trajectory_table(ctx.out_dir + "/trajectory.csv", 5);
   ro.frame_steps = frame_steps;
-  const RecordedRun run = run_recorded(scene, ro);
+  ro.stats = true;
+  ro.residuals = true;
+  const RecordedRun run = record_run(scene, ro);
   const std::vector<std::string> frame_files = write_frames(scene, run, ctx.out_dir, "sit_");
   if (ctx.log) *ctx.log << "  " << run.summary.steps_run << " steps\n";
 
@@ -96,7 +96,7 @@ void run(const Context& ctx) {
     for (const ControlPoint& c : scene.control_points) out << ",residual_" << c.name;
     out << "\n" << std::setprecision(9);
     for (std::size_t k = 0; k < run.residuals.size(); ++k) {
-      out << k + 1 << "," << run.kinetic_energy[k];
+      out << k + 1 << "," << run.stats[k].kinetic_energy;
       for (int c = 0; c < nc; ++c) {
         const double r = run.residuals[k][c];
         out << "," << r;
@@ -158,7 +158,7 @@ void run(const Context& ctx) {
           num(run.summary.max_limit_violation_deg) + " deg, mean passes per step " +
           num(run.summary.mean_passes_per_step) + "."};
 
-  write_json_file({{"experiment", "fig11_sit"},
+  write_json({{"experiment", "fig11_sit"},
                    {"scene", scene.file},
                    {"frames", frames},
                    {"start", posture_json(start)},

@@ -14,11 +14,9 @@ namespace {
 void run(const Context& ctx) {
   Scene scene = scene_named(ctx, "fig5_running");
   if (ctx.quick) scene.steps = 100;
-  RecordOptions opt;
-  opt.csv_path = ctx.out_dir + "/trajectory.csv";
-  opt.csv_every = 10;
+  RecordOptions opt = trajectory_table(ctx.out_dir + "/trajectory.csv", 10);
   opt.frame_steps = {0, scene.steps};
-  const RecordedRun run = run_recorded(scene, opt);
+  const RecordedRun run = record_run(scene, opt);
   const auto frames = write_frames(scene, run, ctx.out_dir, "frame_");
   const RunSummary& s = run.summary;
   const double h = scene.rig.height();
@@ -77,7 +75,7 @@ void run(const Context& ctx) {
       : pair_residual < 1.5 * shortfall ? "yes"
                                         : "partly (the pair misses by more than the shortfall)"));
 
-  write_json_file(
+  write_json(
       {{"experiment", "fig5_running"},
        {"summary", summary_to_json(scene, s)},
        {"control_points", points},

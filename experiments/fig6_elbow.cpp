@@ -41,11 +41,10 @@ void run(const Context& ctx) {
       }
       if (ctx.quick) scene.steps = 150;
       const std::string tag = std::string(t == 0 ? "near" : "far") + "_" + laws[l].tag;
-      RecordOptions opt;
-      opt.csv_path = ctx.out_dir + "/" + tag + ".csv";
+      RecordOptions opt = trajectory_table(ctx.out_dir + "/" + tag + ".csv");
       opt.frame_steps = {scene.steps};
-      opt.keep_poses = true;
-      const RecordedRun run = run_recorded(scene, opt);
+      opt.poses = true;
+      const RecordedRun run = record_run(scene, opt);
       const auto frames = write_frames(scene, run, ctx.out_dir, tag + "_frame_");
       double peak = 0.0;
       for (const Pose& p : run.poses) peak = std::max(peak, overbend_deg(p));
@@ -86,7 +85,7 @@ void run(const Context& ctx) {
                                                    : "no"));
     }
   }
-  write_json_file(
+  write_json(
       {{"experiment", "fig6_elbow"},
        {"cases", cases},
        {"report",

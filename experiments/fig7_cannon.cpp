@@ -15,24 +15,25 @@ void run(const Context& ctx) {
   for (const std::string law : {"linear", "capped"}) {
     Scene scene = scene_named(ctx, "fig7_cannon_" + law);
     if (ctx.quick) scene.steps = 100;
-    RecordOptions opt;
-    opt.csv_path = ctx.out_dir + "/" + law + ".csv";
-    opt.csv_every = 5;
+    RecordOptions opt = trajectory_table(ctx.out_dir + "/" + law + ".csv", 5);
     opt.frame_steps = {0, 5, 50, 500, 1000};
-    const RecordedRun run = run_recorded(scene, opt);
+    opt.stats = true;
+    const RecordedRun run = record_run(scene, opt);
     const auto frames = write_frames(scene, run, ctx.out_dir, law + "_frame_");
     const RunSummary& s = run.summary;
     // energy growth over the first steps: the "initially diverges" part
+    std::vector<double> ke;
+    for (const StepStats& st : run.stats) ke.push_back(st.kinetic_energy);
     int growth_steps = 0;
-    for (std::size_t k = 1; k < run.kinetic_energy.size() && k < 50; ++k) {
-      if (run.kinetic_energy[k] > 1.5 * run.kinetic_energy[k - 1]) ++growth_steps;
+    for (std::size_t k = 1; k < ke.size() && k < 50; ++k) {
+      if (ke[k] > 1.5 * ke[k - 1]) ++growth_steps;
     }
-    const auto peak_it = std::max_element(run.kinetic_energy.begin(), run.kinetic_energy.end());
+    const auto peak_it = std::max_element(ke.begin(), ke.end());
     m[law] = {{"diverged", s.diverged},
               {"converged", s.converged},
               {"steps_to_converge", s.steps_to_converge},
               {"peak_kinetic_energy", s.peak_kinetic_energy},
-              {"peak_step", peak_it == run.kinetic_energy.end() ? 0 : 1 + (peak_it - run.kinetic_energy.begin())},
+              {"peak_step", peak_it == ke.end() ? 0 : 1 + (peak_it - ke.begin())},
               {"steps_with_energy_growth_over_50pct_in_first_50", growth_steps},
               {"max_limit_violation_deg", s.max_limit_violation_deg},
               {"final_residual", s.final_residuals[0]},
@@ -71,7 +72,7 @@ void run(const Context& ctx) {
       : sl < 0  ? "partly (capped converges; linear never settles, so slower is not measured)"
       : sc >= sl ? "yes"
                  : "partly (capped converges, but faster)"));
-  write_json_file({{"experiment", "fig7_cannon"},
+  write_json({{"experiment", "fig7_cannon"},
                    {"laws", m},
                    {"report",
                     {{"title", "Fig 7: a sudden far target jump, linear vs capped"},

@@ -27,11 +27,10 @@ struct Wobble {
 };
 
 Wobble measure(const Scene& scene, const std::string& csv) {
-  RecordOptions opt;
-  opt.csv_path = csv;
-  opt.csv_every = csv.empty() ? 1 : 2;
+  RecordOptions opt = trajectory_table(csv, csv.empty() ? 1 : 2);
+  opt.residuals = true;
   Wobble w;
-  w.run = run_recorded(scene, opt);
+  w.run = record_run(scene, opt);
   const auto& res = w.run.residuals;
   const std::size_t c = scene.control_points.size() - 1;  // the hand: the last control point
   auto window = [&](std::size_t from, std::size_t to) {
@@ -104,7 +103,7 @@ void run(const Context& ctx) {
       : physical > 0 ? "partly (only with weaker dissipation)"
       : sustained > 0 ? "no (only a numerical period-2 flicker)"
                       : "no"));
-  write_json_file({{"experiment", "fig8_wobble"},
+  write_json({{"experiment", "fig8_wobble"},
                    {"summary", summary_to_json(scene, base.run.summary)},
                    {"final_amplitude", base.final_amplitude},
                    {"sustained", base.sustained},

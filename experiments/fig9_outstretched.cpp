@@ -107,10 +107,7 @@ void run(const Context& ctx) {
   const std::vector<int> reach_chain = chains_to_root(rig, {bone(rig, "hand.R")});
 
   // PhysIK
-  RecordOptions ro;
-  ro.csv_path = ctx.out_dir + "/physik_trajectory.csv";
-  ro.csv_every = 5;
-  const RecordedRun pk = run_recorded(scene, ro);
+  const RecordedRun pk = record_run(scene, trajectory_table(ctx.out_dir + "/physik_trajectory.csv", 5));
   if (ctx.log) *ctx.log << "  physik: " << pk.summary.steps_run << " steps, converged "
                         << pk.summary.converged << "\n";
 
@@ -124,7 +121,7 @@ void run(const Context& ctx) {
   if (ctx.log) *ctx.log << "  dls: " << dls.iterations << " iterations, residual " << dls.residual << "\n";
 
   // MuJoCo with PhysIK's forces (exact joints): where the joint-force heuristic alone would go
-  EngineRun mj;
+  RecordedRun mj;
   mj.summary = run_mujoco(scene, ReferenceMode::kSameForces);
 
   write_bones(rig, rest, ctx.out_dir + "/rest.csv");
@@ -215,7 +212,7 @@ void run(const Context& ctx) {
           num(mm.lean_forward_deg) + " deg, head tilt " + num(mm.head_tilt_deg) +
           " deg, off-reach-chain rotation " + num(mm.off_reach_rad) + " rad."};
 
-  write_json_file(
+  write_json(
       {{"experiment", "fig9_outstretched"},
        {"scene", scene.file},
        {"targets",

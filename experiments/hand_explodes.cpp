@@ -69,19 +69,19 @@ HandRun run_hand(const Scene& base, double torsion_k, double damping,
   r.torsion_k = torsion_k;
   r.damping = damping;
   r.energy_scale = initial_spring_energy(scene);
-  r.frame_steps.push_back(0);
-  r.frames.push_back(forward_kinematics(scene.rig, scene.initial_pose));
+  RecordOptions ro;
+  ro.frame_steps = {0};
+  ro.frame_steps.insert(ro.frame_steps.end(), want_frames.begin(), want_frames.end());
   std::vector<double> res;
-  r.summary = run_scene(scene, [&](const SimState& s, const StepStats& st) {
+  RecordedRun rec = record_run(scene, ro, [&](const SimState& s, const StepStats& st) {
     r.ke.push_back(st.kinetic_energy);
     r.limit_deg.push_back(max_limit_violation(scene.rig, s.pose) * 180.0 / 3.14159265358979323846);
     control_residuals(scene, s, res);
     r.max_residual.push_back(res.empty() ? 0.0 : *std::max_element(res.begin(), res.end()));
-    if (std::find(want_frames.begin(), want_frames.end(), s.step) != want_frames.end()) {
-      r.frame_steps.push_back(s.step);
-      r.frames.push_back(s.frames);
-    }
   });
+  r.summary = std::move(rec.summary);
+  r.frame_steps = std::move(rec.frame_steps);
+  r.frames = std::move(rec.frames);
   // the last state reached (the divergence step, or the end)
   if (r.frame_steps.back() != r.summary.steps_run) {
     r.frame_steps.push_back(r.summary.steps_run);
@@ -271,7 +271,7 @@ void run(const Context& ctx) {
       "Shipped run: max joint separation " + num(shipped.summary.max_joint_separation) +
           " rig units, mean passes per step " + num(shipped.summary.mean_passes_per_step) + "."};
 
-  write_json_file({{"experiment", "hand_explodes"},
+  write_json({{"experiment", "hand_explodes"},
                    {"scene", base.file},
                    {"shipped", run_json(shipped)},
                    {"frames", frame_files},

@@ -32,6 +32,7 @@
 #include "experiments/experiment.h"
 #include "physik/engine/engine.h"
 #include "physik/ik/ik_solver.h"
+#include "physik/io/json_fields.h"
 #include "physik/io/rig_io.h"
 #include "physik/model/rig_generators.h"
 
@@ -454,7 +455,7 @@ void run(const Context& ctx) {
       << fmt(r["continuity_p95_ratio"].get<double>());
     notes.push_back(s.str());
   }
-  write_json_file({{"experiment", "ik_comparison"},
+  write_json({{"experiment", "ik_comparison"},
                    {"quick", ctx.quick},
                    {"table", table},
                    {"report",

@@ -73,7 +73,7 @@ void run(const Context& ctx) {
       }
     }
   }
-  write_json_file({{"experiment", "mujoco_gap"},
+  write_json({{"experiment", "mujoco_gap"},
                    {"rows", rows},
                    {"report",
                     {{"title", "PhysIK against MuJoCo (exact constrained dynamics)"},

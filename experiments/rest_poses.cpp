@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "experiments/experiment.h"
+#include "physik/io/json_fields.h"
 #include "physik/io/pose_io.h"
 #include "physik/io/rig_io.h"
 
@@ -47,7 +48,7 @@ void run(const Context& ctx) {
                                       : "no"}});
     }
   }
-  write_json_file({{"experiment", "rest_poses"},
+  write_json({{"experiment", "rest_poses"},
                    {"rigs", rigs},
                    {"report",
                     {{"title", "Fig 4: the rigs at rest"},

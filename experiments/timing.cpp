@@ -72,7 +72,7 @@ void run(const Context& ctx) {
                          fig5_passes_moving >= 10 && fig5_passes_moving <= 30  ? "yes"
                          : fig5_passes_moving >= 5 && fig5_passes_moving <= 40 ? "partly"
                                                                                : "no"));
-  write_json_file({{"experiment", "timing"},
+  write_json({{"experiment", "timing"},
                    {"rows", rows},
                    {"report",
                     {{"title", "Timing: microseconds and passes per step"},

@@ -302,7 +302,7 @@ void run(const Context& ctx) {
                     r["steps_original_3"].get<std::string>() + " / " +
                     r["steps_rule"].get<std::string>() + " / " + r["steps_tuned"].get<std::string>());
   }
-  write_json_file({{"experiment", "tuning_study"},
+  write_json({{"experiment", "tuning_study"},
                    {"steps", base.steps},
                    {"dt", base.params.dt},
                    {"rows", rows},

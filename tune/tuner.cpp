@@ -10,6 +10,7 @@
 #include <ceres/ceres.h>
 
 #include "physik/model/errors.h"
+#include "reference/compare.h"
 #include "reference/mujoco_runner.h"
 
 namespace physik::tune {
@@ -168,12 +169,12 @@ RunSummary settle_residuals(const Scene& scene_in, SettleMeasure measure,
 std::vector<BoneFrames> mujoco_reference_trajectory(const Scene& scene_in) {
   Scene scene = scene_in;
   scene.convergence.stop_when_converged = false;
-  std::vector<BoneFrames> out;
-  out.reserve(scene.steps);
-  const RunSummary sum = run_mujoco(scene, ReferenceMode::kSameForces,
-                                    [&](const SimState& s, const StepStats&) { out.push_back(s.frames); });
-  if (sum.diverged && !out.empty()) out.pop_back();  // the diverging step itself is not a reference
-  return out;
+  RecordOptions every_frame;
+  every_frame.all_frames = true;
+  RecordedRun run = record_mujoco(scene, ReferenceMode::kSameForces, every_frame);
+  // the diverging step itself is not a reference
+  if (run.summary.diverged && !run.frames.empty()) run.frames.pop_back();
+  return std::move(run.frames);
 }
 
 RunSummary mujoco_residuals(const Scene& scene_in, const std::vector<BoneFrames>& reference,
