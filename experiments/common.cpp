@@ -54,10 +54,6 @@ nlohmann::json settings_json(const Scene& scene, const nlohmann::json& extra) {
   return j;
 }
 
-nlohmann::json claim(const std::string& text, const std::string& measured, const std::string& holds) {
-  return {{"claim", text}, {"measured", measured}, {"holds", holds}};
-}
-
 std::string num(double v, int digits) {
   std::ostringstream s;
   s << std::setprecision(digits) << v;

@@ -1,6 +1,6 @@
 // Shared tools for the experiments: the scenes, the pose measures several figures use (secondary
-// motion), the report's settings, claims and number format. Runs are recorded with
-// physik/io/recorder.h.
+// motion), the report's settings and number format. Runs are recorded with
+// physik/io/recorder.h, reports built with experiments/report.h.
 #pragma once
 
 #include <string>
@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "experiments/experiment.h"
+#include "experiments/report.h"
 #include "physik/engine/engine.h"
 #include "physik/io/json_fields.h"
 #include "physik/io/recorder.h"
@@ -33,9 +34,6 @@ std::vector<int> chains_to_root(const Rig& rig, const std::vector<int>& bones);
 // The engine settings a report states (dt, damping, control k, torsion k, eps, interpolation,
 // steps), with `extra` fields added or overriding.
 nlohmann::json settings_json(const Scene& scene, const nlohmann::json& extra = nlohmann::json::object());
-
-// A claim row for the report.
-nlohmann::json claim(const std::string& text, const std::string& measured, const std::string& holds);
 
 // Format a double with a fixed number of significant digits.
 std::string num(double v, int digits = 3);
