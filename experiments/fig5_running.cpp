@@ -2,11 +2,11 @@
 // control points are met; an infeasible pair (left shoulder and left hand, further apart than the
 // arm reaches) is left as a compromise.
 //
-//   record        the run, its trajectory table and the first and last frames
-//   control_points per control point: target, final residual, in the infeasible pair or not
-//   measure_pair  the pair's shortfall (target distance - arm reach) and how the springs split it
-//   add_claims    met within 1% of the rig height; a compromise when both miss by > 10% of the
-//                 shortfall and together by < 1.5 x the shortfall
+//   run             the recorded run (trajectory table, first and last frames), then:
+//   measure_pair    the pair's shortfall (target distance - arm reach) and each point's residual
+//   control_points  per control point: target, final residual, in the infeasible pair or not
+//   add_claims      met within 1% of the rig height; a compromise when both miss by > 10% of the
+//                   shortfall and together by < 1.5 x the shortfall
 #include <algorithm>
 #include <stdexcept>
 

@@ -36,7 +36,7 @@ struct Case {
 // One target (0 near, 1 far) with one spring law: its table, last frame and over-bends.
 Case run_case(const Context& ctx, int t, const Law& law) {
   Scene scene = scene_named(ctx, law.scene);
-  if (t == 1) scene.control_points[2].target_world = Vec3(0.0, 3.0, 0.5);
+  if (t == 1) scene.control_points[2].target_world = Vec3(0.0, 3.0, 0.5);  // the far target
   if (law.cap > 0.0) {
     for (ControlPoint& cp : scene.control_points) cp.cap = law.cap;
   }
