@@ -124,15 +124,20 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
   Scene s;
   s.file = source;
 
-  // the rig, relative to the scene file unless absolute
-  const std::string rig_ref = top.string(doc, "rig");
-  std::filesystem::path rig_path(rig_ref);
-  if (rig_path.is_relative()) rig_path = std::filesystem::path(base_dir) / rig_path;
-  s.rig_file = rig_path.lexically_normal().string();
-  if (!std::filesystem::exists(s.rig_file)) {
-    top.fail("rig", "rig file '" + s.rig_file + "' does not exist");
+  // the rig: the rig object itself (rig_file stays empty), or a path, relative to the scene
+  // file unless absolute
+  if (doc.contains("rig") && doc["rig"].is_object()) {
+    s.rig = rig_from_json(doc["rig"], source + ": rig");
+  } else {
+    const std::string rig_ref = top.string(doc, "rig");
+    std::filesystem::path rig_path(rig_ref);
+    if (rig_path.is_relative()) rig_path = std::filesystem::path(base_dir) / rig_path;
+    s.rig_file = rig_path.lexically_normal().string();
+    if (!std::filesystem::exists(s.rig_file)) {
+      top.fail("rig", "rig file '" + s.rig_file + "' does not exist");
+    }
+    s.rig = load_rig(s.rig_file);
   }
-  s.rig = load_rig(s.rig_file);
 
   s.params = params_from_json(doc.contains("params") ? doc["params"] : Json(nullptr), source);
 
@@ -291,7 +296,8 @@ Json scene_to_json(const Scene& s) {
     if (v.norm() > 0.0) rot[s.rig.bone_name[i]] = {v.x(), v.y(), v.z()};
   }
   const Vec3& r = s.initial_pose.root_head_world;
-  return {{"rig", std::filesystem::absolute(s.rig_file).lexically_normal().string()},
+  return {{"rig", s.rig_file.empty() ? rig_to_json(s.rig)
+                                     : Json(std::filesystem::absolute(s.rig_file).lexically_normal().string())},
           {"params", params_to_json(s.params)},
           {"control_points", cps},
           {"schedule", sch},

@@ -20,13 +20,15 @@ Scene load_scene(const std::string& path, const nlohmann::json& param_overrides)
 // unknown keys are an InputError naming `source` (e.g. "--set").
 nlohmann::json parse_param_overrides(const std::vector<std::string>& assignments,
                                      const std::string& source);
-// Parse a scene from JSON; relative rig paths resolve against `base_dir`.
+// Parse a scene from JSON; relative rig paths resolve against `base_dir`. "rig" may also be the
+// rig object itself (the rig file format; rig_file is then empty).
 Scene scene_from_json(const nlohmann::json& doc, const std::string& source,
                       const std::string& base_dir);
 // Apply "params" overrides on top of `base` (shared with the tuner).
 EngineParams params_from_json(const nlohmann::json& params, const std::string& source);
 nlohmann::json params_to_json(const EngineParams& p);
-// The scene back to JSON (rig given by its path), e.g. for a tuned scene.
+// The scene back to JSON (rig given by its path, or inline when it has none), e.g. for a tuned
+// scene.
 nlohmann::json scene_to_json(const Scene& scene);
 
 }  // namespace physik
