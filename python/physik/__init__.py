@@ -46,9 +46,17 @@ class Pose:
     step() without being fetched again. From solve() and equilibrium() they are copies.
     """
 
-    __slots__ = ("heads", "tails", "orientations", "local_rotations", "root_head", "bone_names")
+    __slots__ = {
+        "heads": "(nbone, 3) bone heads, world, rig units",
+        "tails": "(nbone, 3) bone tails, world, rig units",
+        "orientations": "(nbone, 4) world<-bone rotations, quaternions (x, y, z, w)",
+        "local_rotations": "(nbone, 4) rest-relative rotations in the bone's rest frame, (x, y, z, w)",
+        "root_head": "(3,) the root bone's head, world, rig units",
+        "bone_names": "bone names, DFS order",
+    }
 
     def __init__(self, heads, tails, orientations, local_rotations, root_head, bone_names):
+        """A Pose of the given arrays (Simulation.pose, solve() and equilibrium() build them)."""
         self.heads = heads
         self.tails = tails
         self.orientations = orientations
@@ -76,6 +84,7 @@ class Simulation(_core.Simulation):
     __doc__ = _core.Simulation.__doc__
 
     def __init__(self, scene):
+        """Start a run of `scene` (a physik.Scene, copied) at step 0, in its initial pose."""
         if isinstance(scene, dict):
             raise TypeError("Simulation(scene) takes a physik.Scene; use Scene.from_dict(d) for a dict")
         super().__init__(scene)

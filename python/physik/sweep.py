@@ -293,10 +293,12 @@ def run_dask(tasks, scheduler=None, workers=None, progress=True):
 # --- outputs -----------------------------------------------------------------------------------
 
 def csv_columns(spec):
+    """results.csv's header: scene, the grid keys, the outcomes."""
     return ["scene"] + grid_keys(spec) + list(OUTCOMES)
 
 
 def write_csv(rows, spec, path):
+    """results.csv: one row per run; floats exact (repr), booleans 0/1, missing keys empty."""
     cols = csv_columns(spec)
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
@@ -314,6 +316,7 @@ def _cell(v):
 
 
 def spec_name(spec, spec_path):
+    """The spec's "name", or its file's stem."""
     return spec.get("name") or os.path.splitext(os.path.basename(spec_path))[0]
 
 
@@ -357,6 +360,7 @@ def sweep(spec_path, out=None, scheduler=None, serial=False, workers=None, progr
 
 
 def main(argv=None):
+    """The command line (python3 -m physik.sweep); returns the exit status."""
     p = argparse.ArgumentParser(
         prog="python3 -m physik.sweep",
         description="Run a grid of PhysIK runs (scenes x parameter values) on Dask or serially; "
