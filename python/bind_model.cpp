@@ -1,6 +1,6 @@
 // Rig and Scene: loading (the CLI's loaders, the same messages), building from dicts, reading
-// back. Parameters pass through as dicts in the scene file's format (models/README.md), so a new
-// parameter needs no new binding.
+// back. Parameters pass through as dicts in the scene file's format (models/README.md), read and
+// written by the parameter table (physik/model/params.h), so a new parameter needs no new binding.
 #include <pybind11/stl.h>
 
 #include "physik/io/json_fields.h"
@@ -36,16 +36,30 @@ nlohmann::json convergence_json(const ConvergenceParams& c) {
 }
 
 // Scene.update(params=..., convergence=..., steps=...): the file's rules and messages, applied
-// after loading (as the experiments set s.params.damping): control points keep their k and cap.
+// after loading (as the experiments set s.params.damping).
+//
+// params go through the parameter table: the changes are read as a scene's "params" object
+// (params_from_json: the same keys, kinds, ranges and messages), then each changed row is copied
+// over by the table's setter, so a new row needs nothing here. "preset" replaces every value by
+// the preset's, then the other changes apply.
+void update_params(Scene& s, const nlohmann::json& changes, const std::string& source) {
+  JsonContext{source, "params"}.require_object(changes, "params");
+  nlohmann::json read = changes;
+  if (!read.contains("preset")) read["preset"] = s.params.preset;
+  const EngineParams changed = params_from_json(read, source);
+  if (changes.contains("preset")) {
+    s.params = changed;
+    return;
+  }
+  for (const ParamRow& row : param_table()) {
+    const auto it = changes.find(row.name);
+    if (it != changes.end() && !it->is_null()) row.set(s.params, row.get(changed));
+  }
+}
+
 void update_scene(Scene& s, py::object params, py::object convergence, py::object steps,
                   const std::string& source) {
-  if (!params.is_none()) {
-    nlohmann::json merged = params_to_json(s.params);
-    const nlohmann::json changes = to_json(params, "params");
-    JsonContext{source, "params"}.require_object(changes, "params");
-    for (auto it = changes.begin(); it != changes.end(); ++it) merged[it.key()] = it.value();
-    s.params = params_from_json(merged, source);
-  }
+  if (!params.is_none()) update_params(s, to_json(params, "params"), source);
   if (!convergence.is_none()) {
     const nlohmann::json c = to_json(convergence, "convergence");
     const JsonContext ctx{source, "convergence"};
@@ -119,19 +133,20 @@ file's format (models/README.md "Scenes"); Scene.update changes them with the fi
       .def_static(
           "load",
           [](const std::string& path, py::object overrides, int steps) {
-            nlohmann::json over = nlohmann::json::object();
+            // exactly `--set key=value`: the same parsing, checks and messages
+            std::vector<std::string> assignments;
             if (py::isinstance<py::dict>(overrides)) {
-              // exactly `--set key=value`: the same known-key check and message
-              std::vector<std::string> assignments;
               for (const auto& kv : overrides.cast<py::dict>()) {
+                const nlohmann::json v = to_json(kv.second, "overrides");
+                // the value as --set's text: a string as it is, a number or a boolean as JSON
+                // writes it (shortest text that reads back to the same double)
                 assignments.push_back(py::str(kv.first).cast<std::string>() + "=" +
-                                      to_json(kv.second, "overrides").dump());
+                                      (v.is_string() ? v.get<std::string>() : v.dump()));
               }
-              over = parse_param_overrides(assignments, "--set");
             } else if (!overrides.is_none()) {
-              over = parse_param_overrides(overrides.cast<std::vector<std::string>>(), "--set");
+              assignments = overrides.cast<std::vector<std::string>>();
             }
-            Scene s = load_scene(path, over);
+            Scene s = load_scene(path, parse_param_overrides(assignments, "--set"));
             // as `simulate --steps N`: negative is bad input, 0 keeps the scene's
             if (steps < 0) throw_input_error("--steps", "", "", "must not be negative");
             if (steps > 0) s.steps = steps;
@@ -167,9 +182,11 @@ would.)doc")
           py::arg("steps") = py::none(),
           R"doc(Change the loaded scene in place, with the scene file's checks and messages.
 
-params: {key: value} applied to the resolved params (as an experiment sets s.params.damping; the
-control points keep their own k, spring and cap); convergence: {key: value} for the convergence
-settings; steps: the step count.)doc")
+params: {key: value} applied to the resolved params, with the parameter table's checks (as an
+experiment sets s.params.damping; control points that give no k, spring or cap follow the params,
+those that give their own keep it); "preset" first resets every parameter to that preset's values
+(physik.param_table() lists the keys); convergence: {key: value} for the convergence settings;
+steps: the step count.)doc")
       .def("copy", [](const Scene& s) { return Scene(s); }, "An independent copy.")
       .def("__copy__", [](const Scene& s) { return Scene(s); })
       .def("__deepcopy__", [](const Scene& s, py::dict) { return Scene(s); }, py::arg("memo"))
@@ -190,13 +207,14 @@ settings; steps: the step count.)doc")
                                     {"bone", s.rig.bone_name[c.bone]},
                                     {"alpha", c.alpha},
                                     {"target", vec_json(c.target_world)},
-                                    {"spring", to_string(c.spring)},
-                                    {"k", c.k},
-                                    {"cap", c.cap}}));
+                                    {"spring", to_string(c.spring_in(s.params))},
+                                    {"k", c.k_in(s.params)},
+                                    {"cap", c.cap_in(s.params)}}));
             }
             return out;
           },
-          "The control points, resolved (spring, k and cap filled in), as dicts.")
+          "The control points as dicts, spring, k and cap resolved (a point that gives none takes "
+          "the params' at use, so it follows Scene.update(params=...)).")
       .def_property_readonly(
           "schedule",
           [](const Scene& s) {
@@ -223,6 +241,14 @@ settings; steps: the step count.)doc")
 void bind_model(py::module_& m) {
   bind_rig(m);
   bind_scene(m);
+  m.def("param_table", [] { return from_json(param_table_json()); },
+        R"doc(The engine parameter table, as `physik params --json` prints it.
+
+{"presets": [...], "default_preset": name, "params": [row, ...]}, a row per scene "params" key:
+name, kind (real|integer|boolean|choice), unit, defaults {preset: value}, valid (text), doc, and
+when they apply choices, range {lo, lo_allowed, hi, hi_allowed}, zero_means, tune [lo, hi].
+Scene.load(overrides=...), Scene.update(params=...), tune(params=...) and sweep grids take these
+names.)doc");
 }
 
 }  // namespace physik::python

@@ -11,6 +11,7 @@ the Ceres tools, with the CLI's names, files and messages.
 Names (each has its own docstring):
   Rig.load(path), Rig.chain(n), Rig.from_dict(d)            rigs (models/README.md)
   Scene.load(path, overrides, steps), Scene.from_dict(d)    scenes; Scene.update(params=...)
+  param_table()                                             the parameters (`physik params --json`)
   Simulation(scene): .step(n), .run(), .pose, .summary      the engine, stepped from Python
   solve(scene, solver)                                      `physik solve`
   export_mjcf(rig), compare_mujoco(scene, mode)             the MuJoCo reference
@@ -26,9 +27,9 @@ from collections import namedtuple
 
 from .errors import DivergedError, InputError
 from . import _core
-from ._core import Rig, Scene, compare_mujoco, export_mjcf
+from ._core import Rig, Scene, compare_mujoco, export_mjcf, param_table
 
-__all__ = ["Rig", "Scene", "Simulation", "Pose", "SolveResult", "solve", "export_mjcf",
+__all__ = ["Rig", "Scene", "param_table", "Simulation", "Pose", "SolveResult", "solve", "export_mjcf",
            "compare_mujoco", "tune", "equilibrium", "InputError", "DivergedError"]
 
 

@@ -146,8 +146,9 @@ def grid_keys(spec):
 
 def _scaled_scene(path, params, scale=1.0, density=None, scale_torsion=False):
     """The tuning study's scaled scene (experiments/tuning_study.cpp, scaled_scene), built as a
-    scene dict with the rig inline: positions, radii, targets, caps and the root times `scale`,
-    masses density x length (when density is given), torsion k times density x scale^3."""
+    scene dict with the rig inline: positions, radii, targets, params.control_cap and the points'
+    own caps and the root times `scale`, masses density x length (when density is given),
+    torsion k times density x scale^3 (scale_torsion)."""
     base = physik.Scene.load(path, overrides=params)
     with open(path) as f:
         doc = json.load(f)
@@ -169,7 +170,8 @@ def _scaled_scene(path, params, scale=1.0, density=None, scale_torsion=False):
     doc["params"] = params_out
     for cp, resolved in zip(doc.get("control_points", []), base.control_points):
         cp["target"] = [v * s for v in resolved["target"]]
-        cp["cap"] = resolved["cap"] * s
+        if "cap" in cp:  # a point's own cap; the others follow params.control_cap
+            cp["cap"] = resolved["cap"] * s
     for change in doc.get("schedule", []):
         change["target"] = [v * s for v in change["target"]]
     pose = doc.setdefault("initial_pose", {})

@@ -4,6 +4,7 @@ command the module mirrors (solve, export-mjcf, simulate --reference, tune, equi
 rig chain) gives the CLI's output."""
 import csv
 import glob
+import json
 import os
 import subprocess
 import sys
@@ -95,7 +96,6 @@ def test_stop_when_converged_stops_step_too():
 
 
 def test_update_params_is_the_experiments_assignment():
-    # damping reaches no control point, so updating it after the load equals --set
     path = scene_path("fig9_outstretched")
     a = physik.Simulation(physik.Scene.load(path, overrides={"damping": 1.5})).run()
     scene = physik.Scene.load(path)
@@ -103,12 +103,60 @@ def test_update_params_is_the_experiments_assignment():
     b = physik.Simulation(scene).run()
     assert a["final_state_hash"] == b["final_state_hash"]
     assert scene.params["damping"] == 1.5
-    # control_k: --set reaches the points that take k from the params, update() does not
-    s1 = physik.Scene.load(scene_path("fig6_elbow_linear"), overrides={"control_k": 5})
-    s2 = physik.Scene.load(scene_path("fig6_elbow_linear"))
+    # control points that give no k follow params.control_k; one that gives its own keeps it
+    doc = read_json(scene_path("fig6_elbow_linear"))
+    doc["control_points"][0]["k"] = 12.0
+    s1 = physik.Scene.from_dict(doc, base_dir=SCENES)
+    s1.update(params={"control_k": 5})
+    assert [c["k"] for c in s1.control_points] == [12.0, 5.0, 5.0]
+    s2 = physik.Scene.from_dict(doc, base_dir=SCENES)
     s2.update(params={"control_k": 5})
-    assert [c["k"] for c in s1.control_points] == [5.0] * 3
-    assert [c["k"] for c in s2.control_points] == [30.0] * 3
+    s3 = physik.Scene.load(scene_path("fig6_elbow_linear"), overrides={"control_k": 5})
+    assert [c["k"] for c in s3.control_points] == [5.0] * 3
+    assert physik.Simulation(s2).run()["final_state_hash"] != physik.Simulation(s3).run()["final_state_hash"]
+
+
+def _another_value(row, current):
+    """A valid value of the row other than `current` (by its kind and range)."""
+    if row["kind"] == "boolean":
+        return not current
+    if row["kind"] == "choice":
+        return next(c for c in row["choices"] if c != current)
+    if row["kind"] == "integer":
+        return current + 1
+    hi = row.get("range", {}).get("hi")
+    value = current * 0.5 if current > 0 else 0.25
+    assert hi is None or value < hi, row
+    return value
+
+
+def test_param_table_is_the_cli_table():
+    status, out, err = cli("params", "--json")
+    assert status == 0, err
+    assert physik.param_table() == json.loads(out)
+
+
+def test_every_table_row_reaches_update_and_load():
+    # driven by the table: a row added to physik/model/params.cpp is covered without an edit here
+    path = scene_path("fig9_outstretched")
+    rows = physik.param_table()["params"]
+    base = physik.Scene.load(path).params
+    assert set(base) == {"preset"} | {r["name"] for r in rows}
+    for row in rows:
+        name = row["name"]
+        value = _another_value(row, base[name])
+        scene = physik.Scene.load(path)
+        scene.update(params={name: value})
+        assert scene.params == dict(base, **{name: value}), name
+        assert physik.Scene.load(path, overrides={name: value}).params == scene.params, name
+
+
+def test_update_preset_resets_to_the_preset():
+    status, out, err = cli("params", "--preset", "paper", "--json")
+    assert status == 0, err
+    scene = physik.Scene.load(scene_path("fig9_outstretched"), overrides={"dt": 0.01})
+    scene.update(params={"preset": "paper", "damping": 7})
+    assert scene.params == dict(json.loads(out), damping=7.0)
 
 
 def test_from_dict_equals_load_and_takes_an_inline_rig():
