@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "cli/commands.h"
+#include "physik/io/json_fields.h"
 #include "physik/io/pose_io.h"
 #include "physik/io/scene_io.h"
 #include "physik/io/scene_solve.h"
@@ -24,21 +25,32 @@ struct SolveOptions {
   SceneSolveOptions solve;  // the solver and its settings (physik/io/scene_solve.h)
 };
 
+// final_pose.csv and summary.json, both written (and closed) before a divergence is reported
+void write_solution(const Scene& scene, const SceneSolveResult& r, const std::string& out) {
+  std::filesystem::create_directories(out);
+  {
+    std::ofstream csv(out + "/final_pose.csv");
+    if (!csv) throw_input_error(out, "", "--out", "cannot write final_pose.csv here");
+    write_bones_csv(scene.rig, r.frames, csv);
+  }
+  write_json(r.summary, out + "/summary.json");
+}
+
 void run_solve(const SolveOptions& o) {
   check_solve_options(o.solve);  // before the scene: a bad flag is reported first
   const Scene scene = load_scene(o.scene);
   const SceneSolveResult r = solve_scene(scene, o.solve);
-  std::filesystem::create_directories(o.out);
-  std::ofstream csv(o.out + "/final_pose.csv");
-  if (!csv) throw_input_error(o.out, "", "--out", "cannot write final_pose.csv here");
-  write_bones_csv(scene.rig, r.frames, csv);
-  write_json(r.summary, o.out + "/summary.json");
+  write_solution(scene, r, o.out);
   if (!o.quiet) {
     std::cerr << "solve: " << o.solve.solver << " "
               << (r.summary["converged"].get<bool>() ? "converged" : "not converged") << " after "
               << r.summary["iterations"] << " iterations -> " << o.out << "\n";
   }
-  if (r.diverged) std::exit(kExitDiverged);
+  if (r.diverged) {
+    const std::string reason = r.summary.value("divergence_reason", std::string());
+    std::cerr << "physik: diverged: " << reason << "\n";
+    throw DivergedRun(reason);
+  }
 }
 
 }  // namespace
