@@ -26,6 +26,7 @@ reproduce: build
 
 bench: build
 	@$(BUILD)/physik_bench
+	@PYTHONPATH=$(BUILD)/python $(PYTHON) bench/bench_python.py --binary $(BUILD)/physik
 
 clean:
 	rm -rf $(BUILD)

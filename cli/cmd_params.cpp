@@ -21,28 +21,6 @@ struct ParamsOptions {
   std::string preset;  // "" = every preset
 };
 
-// the table for machines (analysis/report.py reads it): one object per row
-nlohmann::json table_json() {
-  nlohmann::json rows = nlohmann::json::array();
-  for (const ParamRow& r : param_table()) {
-    nlohmann::json defaults = nlohmann::json::object();
-    for (int i = 0; i < kPresetCount; ++i) defaults[kPresetNames[i]] = param_value_json(r, r.defaults[i]);
-    nlohmann::json row = {{"name", r.name},
-                          {"kind", to_string(r.kind)},
-                          {"unit", r.unit},
-                          {"defaults", defaults},
-                          {"valid", valid_text(r)},
-                          {"doc", r.doc}};
-    if (!r.choices.empty()) row["choices"] = r.choices;
-    if (r.valid.lo) row["range"].update({{"lo", *r.valid.lo}, {"lo_allowed", r.valid.lo_allowed}});
-    if (r.valid.hi) row["range"].update({{"hi", *r.valid.hi}, {"hi_allowed", r.valid.hi_allowed}});
-    if (!r.zero_means.empty()) row["zero_means"] = r.zero_means;
-    row["tune"] = r.tune ? nlohmann::json{r.tune->first, r.tune->second} : nlohmann::json(nullptr);
-    rows.push_back(row);
-  }
-  return {{"presets", kPresetNames}, {"default_preset", kDefaultPreset}, {"params", rows}};
-}
-
 // a readable table: one line per parameter, the presets' values (or one preset's) as columns
 std::string table_text(int only_preset) {
   std::vector<std::vector<std::string>> lines = {{"key", "kind", "unit"}};
@@ -90,7 +68,7 @@ void add_params_commands(CLI::App& app) {
     const int only = opt->preset.empty() ? -1 : preset_index(opt->preset);
     if (!opt->preset.empty()) preset_params(opt->preset, "--preset");  // unknown: exit 2
     if (opt->json) {
-      write_json(only < 0 ? table_json() : params_to_json(preset_params(opt->preset)), "-");
+      write_json(only < 0 ? param_table_json() : params_to_json(preset_params(opt->preset)), "-");
     } else {
       std::cout << table_text(only);
     }

@@ -14,6 +14,7 @@
 #include "physik/model/errors.h"
 #include "physik/model/scene.h"
 #include "tune/equilibrium.h"
+#include "tune/reports.h"
 #include "tune/tuner.h"
 
 namespace physik::cli {
@@ -120,31 +121,6 @@ void print_tune_result(const tune::TuneResult& r, const tune::TuneOptions& to) {
             << ", max final residual " << max_of(r.tuned_run.final_residuals) << "\n";
 }
 
-nlohmann::json tune_report(const Scene& scene, const tune::TuneResult& r, const tune::TuneOptions& to) {
-  nlohmann::json scan = nlohmann::json::array();
-  for (const auto& s : r.scan) {
-    scan.push_back({{"values", s.values},
-                    {"cost", s.cost},
-                    {"diverged", s.diverged},
-                    {"steps_to_converge", s.steps_to_converge}});
-  }
-  return {{"scene", scene.file},
-          {"objective", tune::to_string(to.objective)},
-          {"measure", tune::to_string(to.measure)},
-          {"params", r.names},
-          {"initial_values", r.initial_values},
-          {"values", r.values},
-          {"initial_cost", r.initial_cost},
-          {"scan_cost", r.scan_cost},
-          {"final_cost", r.final_cost},
-          {"evaluations", r.evaluations},
-          {"reference_steps", r.reference_steps},
-          {"wall_time_s", r.wall_time_s},
-          {"ceres", r.ceres_brief},
-          {"tuned_run", summary_to_json(r.tuned_scene, r.tuned_run)},
-          {"scan", scan}};
-}
-
 void run_tune(const TuneCliOptions& o) {
   Scene scene = load_existing_scene(o.scene);
   const tune::TuneOptions to = tune_options(o);
@@ -152,7 +128,7 @@ void run_tune(const TuneCliOptions& o) {
   const tune::TuneResult r = tune::tune_scene(scene, to);
   print_tune_result(r, to);
   if (!o.out.empty()) write_json(scene_to_json(r.tuned_scene), o.out);
-  if (!o.report.empty()) write_json(tune_report(scene, r, to), o.report);
+  if (!o.report.empty()) write_json(tune::tune_report_to_json(scene, to, r), o.report);
 }
 
 void add_tune(CLI::App& app) {
@@ -182,32 +158,16 @@ void add_equilibrium(CLI::App& app) {
   cmd->add_flag("--compare", opt->compare,
                 "Also run PhysIK on the scene and report its final-pose distance to the equilibrium");
   cmd->callback([opt] {
-    if (opt->start != "initial" && opt->start != "physik") {
-      throw_input_error("--start", "", "", "expected 'initial' or 'physik'");
-    }
+    tune::check_equilibrium_start(opt->start);
     const Scene scene = load_existing_scene(opt->scene);
-    RunSummary run;
-    const bool need_run = opt->compare || opt->start == "physik";
-    if (need_run) run = run_scene(scene);
-    tune::EquilibriumOptions eo;
-    if (opt->start == "physik") eo.start = &run.final_pose;
-    const tune::EquilibriumResult e = tune::solve_equilibrium(scene, eo);
+    const tune::EquilibriumReport rep = tune::equilibrium_report(scene, opt->start, opt->compare);
+    const tune::EquilibriumResult& e = rep.result;
+    const nlohmann::json& doc = rep.doc;
     std::cerr << "equilibrium: " << e.ceres_brief << "\n";
-    nlohmann::json doc = tune::equilibrium_to_json(scene, e);
-    doc["start"] = opt->start;
-    if (need_run) {
-      doc["physik"] = {{"converged", run.converged},
-                       {"diverged", run.diverged},
-                       {"steps_to_converge", run.steps_to_converge},
-                       {"max_final_residual", max_of(run.final_residuals)},
-                       {"potential", tune::scene_potential(scene, run.final_pose)},
-                       {"max_pose_distance", tune::max_pose_distance(run.final_frames, e.frames)},
-                       {"max_pose_distance_over_height",
-                        tune::max_pose_distance(run.final_frames, e.frames) / scene.rig.height()}};
-      std::cerr << "equilibrium: PhysIK's final pose is "
-                << tune::max_pose_distance(run.final_frames, e.frames)
-                << " rig units from it (potential " << tune::scene_potential(scene, run.final_pose)
-                << " J vs " << e.potential << " J)\n";
+    if (rep.ran_physik) {
+      std::cerr << "equilibrium: PhysIK's final pose is " << doc["physik"]["max_pose_distance"].get<double>()
+                << " rig units from it (potential " << doc["physik"]["potential"].get<double>() << " J vs "
+                << e.potential << " J)\n";
     }
     write_json(doc, opt->out);
     if (!opt->bones.empty()) {

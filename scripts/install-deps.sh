@@ -9,6 +9,7 @@ packages=(
   libgtest-dev libbenchmark-dev
   liborocos-kdl-dev
   python3-matplotlib python3-numpy
+  pybind11-dev python3-dev python3-pytest python3-distributed
   blender
 )
 missing=()

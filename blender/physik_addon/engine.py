@@ -1,16 +1,19 @@
 """The add-on's one door to the engine: issue 16's `import physik` (pybind11).
 
-Nothing else in the add-on imports physik. Until the module is built, every call raises
-EngineUnavailable, which the operators report as a Blender error (never a made-up result).
+Nothing else in the add-on imports physik. When the module cannot be imported (not built, or not
+on Blender's sys.path), every call raises EngineUnavailable; bad input the engine finds, and a
+diverged run, raise EngineError. The operators report both as one Blender error (never a made-up
+result, never a traceback).
 
-Contract (for whoever plugs the module in; the operators rely on exactly this):
+Contract (the operators rely on exactly this):
   scene   a dict in the scene file format (models/README.md "Scenes") whose "rig" is the rig
           dict itself (rig file format) instead of a path; built by scene_dict.build_scene
   Pose    (root_head_world [x, y, z], {bone name: quaternion (w, x, y, z)}): the engine's Pose,
           rotations relative to rest in the bone's rest frame (physik/model/kinematics.h);
-          armature_io.apply_pose puts it on the armature (armature_io.local_rotations_from_world
-          turns world orientations into these)
-  solve(scene)                 -> (Pose, summary dict)   run until converged (IK use)
+          armature_io.apply_pose puts it on the armature
+  solve(scene)                 -> (Pose, summary dict)   run until converged (IK use); the summary
+                                  is `physik simulate`'s, plus "heads_world" and "tails_world"
+                                  (per bone, DFS order: the engine's double-precision result)
   Live(scene); .step(n)        -> Pose                   a live simulation, n steps per call
   trajectory(scene, steps)     -> [Pose] * (steps + 1)   the start pose and one per step
 """
@@ -19,7 +22,11 @@ MISSING = ("the physik Python module is not built; see blender/README.md "
            "(build it with the project's CMake and start Blender with it on PYTHONPATH)")
 
 
-class EngineUnavailable(RuntimeError):
+class EngineError(RuntimeError):
+    """The engine refused the scene or diverged; str() is one line saying why."""
+
+
+class EngineUnavailable(EngineError):
     """The engine cannot be reached from Blender; str() says why and what to do."""
 
 
@@ -46,35 +53,66 @@ def available():
     return _AVAILABLE
 
 
-def _not_bridged(what):
-    # the module exists but this bridge is not written yet: say so instead of guessing its API
-    return EngineUnavailable("the physik module is present but the add-on's bridge '%s' is not "
-                             "written yet (blender/physik_addon/engine.py)" % what)
+def _source(scene):
+    rig = scene.get("rig")
+    name = rig.get("name") if isinstance(rig, dict) else None
+    return "armature '%s'" % name if name else "<Blender scene>"
+
+
+def _simulation(scene):
+    """physik.Simulation of the scene dict; the engine's bad-input message as EngineError."""
+    physik = module()
+    source = _source(scene)
+    params = scene.get("params") or {}
+    if params.get("damping") == "auto":
+        # the critically damped rule lives in experiments/tuning_study.cpp, not in the engine
+        raise EngineError("%s: params: field 'damping': 'auto' is not an engine setting yet "
+                          "(choose a value)" % source)
+    try:
+        return physik.Simulation(physik.Scene.from_dict(scene, source=source))
+    except physik.InputError as e:
+        raise EngineError(str(e)) from None
+
+
+def _check(sim, source):
+    """EngineError when the run diverged (the pose would be meaningless)."""
+    if sim.diverged:
+        s = sim.summary
+        raise EngineError("%s: the simulation diverged at step %s (%s); lower dt or raise the "
+                          "damping" % (source, s.get("steps_run"), s.get("divergence_reason")))
 
 
 def solve(scene):
     """Run the scene until every control point is within tolerance (or the run stalls)."""
-    module()
-    # plug in: physik.Scene.from_dict(scene) with convergence.stop_at_residual_tol, then
-    # Simulation(s).run(); return (root head, local rotations) and .summary
-    raise _not_bridged("solve")
+    sim = _simulation(scene)
+    summary = sim.run()
+    _check(sim, _source(scene))
+    pose = sim.pose
+    summary["heads_world"] = pose.heads.tolist()
+    summary["tails_world"] = pose.tails.tolist()
+    return pose.as_blender(), summary
 
 
 class Live:
-    """A live simulation for the modal Simulate operator."""
+    """A live simulation for the modal Simulate operator (steps past the scene's count go on)."""
 
     def __init__(self, scene):
-        module()
-        # plug in: self.sim = physik.Simulation(physik.Scene.from_dict(scene))
-        raise _not_bridged("Live")
+        self._source = _source(scene)
+        self.sim = _simulation(scene)
 
     def step(self, n):
         """Advance n steps; return the Pose."""
-        raise _not_bridged("Live.step")
+        self.sim.step(n)
+        _check(self.sim, self._source)
+        return self.sim.pose.as_blender()
 
 
 def trajectory(scene, steps):
     """The start pose and the pose after each of `steps` steps, for Bake."""
-    module()
-    # plug in: sim.step(1) in a loop, reading sim.pose after each step
-    raise _not_bridged("trajectory")
+    sim = _simulation(scene)
+    poses = [sim.pose.as_blender()]
+    for _ in range(steps):
+        sim.step(1)
+        poses.append(sim.pose.as_blender())
+    _check(sim, _source(scene))
+    return poses

@@ -96,7 +96,7 @@ class PHYSIK_OT_solve(bpy.types.Operator):
             arm = scene_dict.active_armature(context)
             scene = scene_dict.build_scene(context, arm, solve=True)
             (head, rotations), summary = engine.solve(scene)
-        except (InputError, engine.EngineUnavailable) as e:
+        except (InputError, engine.EngineError) as e:
             return _fail(self, e)
         _save_start_pose(arm)
         armature_io.apply_pose(arm, head, rotations)
@@ -116,7 +116,7 @@ class PHYSIK_OT_simulate(bpy.types.Operator):
         try:
             self._arm = scene_dict.active_armature(context)
             self._live = engine.Live(scene_dict.build_scene(context, self._arm))
-        except (InputError, engine.EngineUnavailable) as e:
+        except (InputError, engine.EngineError) as e:
             return _fail(self, e)
         _save_start_pose(self._arm)
         self._steps = context.scene.physik.steps_per_frame
@@ -132,7 +132,7 @@ class PHYSIK_OT_simulate(bpy.types.Operator):
         if event.type == 'TIMER':
             try:
                 head, rotations = self._live.step(self._steps)
-            except engine.EngineUnavailable as e:
+            except engine.EngineError as e:
                 context.window_manager.event_timer_remove(self._timer)
                 return _fail(self, e)
             armature_io.apply_pose(self._arm, head, rotations)
@@ -150,7 +150,7 @@ class PHYSIK_OT_bake(bpy.types.Operator):
         try:
             arm = scene_dict.active_armature(context)
             poses = engine.trajectory(scene_dict.build_scene(context, arm), s.max_steps)
-        except (InputError, engine.EngineUnavailable) as e:
+        except (InputError, engine.EngineError) as e:
             return _fail(self, e)
         _save_start_pose(arm)
         frames = armature_io.bake_keyframes(arm, poses, context.scene.frame_current, s.bake_every)

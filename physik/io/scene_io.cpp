@@ -60,8 +60,13 @@ int control_point_ref(const JsonContext& ctx, const Json& v, const std::vector<C
 
 // --- the stages of scene_from_json -----------------------------------------------------------
 
-// the rig, relative to the scene file unless absolute
+// the rig: the rig object itself (rig_file stays empty), or a path, relative to the scene file
+// unless absolute
 void read_rig(const JsonContext& top, const Json& doc, const std::string& base_dir, Scene& s) {
+  if (doc.contains("rig") && doc["rig"].is_object()) {
+    s.rig = rig_from_json(doc["rig"], top.file + ": rig");
+    return;
+  }
   const std::string rig_ref = top.string(doc, "rig");
   std::filesystem::path rig_path(rig_ref);
   if (rig_path.is_relative()) rig_path = std::filesystem::path(base_dir) / rig_path;
@@ -201,6 +206,24 @@ Json params_to_json(const EngineParams& p) {
   return j;
 }
 
+Json param_table_json() {
+  Json rows = Json::array();
+  for (const ParamRow& r : param_table()) {
+    Json defaults = Json::object();
+    for (int i = 0; i < kPresetCount; ++i) defaults[kPresetNames[i]] = param_value_json(r, r.defaults[i]);
+    Json row = {{"name", r.name},         {"kind", to_string(r.kind)},
+                {"unit", r.unit},         {"defaults", defaults},
+                {"valid", valid_text(r)}, {"doc", r.doc}};
+    if (!r.choices.empty()) row["choices"] = r.choices;
+    if (r.valid.lo) row["range"].update({{"lo", *r.valid.lo}, {"lo_allowed", r.valid.lo_allowed}});
+    if (r.valid.hi) row["range"].update({{"hi", *r.valid.hi}, {"hi_allowed", r.valid.hi_allowed}});
+    if (!r.zero_means.empty()) row["zero_means"] = r.zero_means;
+    row["tune"] = r.tune ? Json{r.tune->first, r.tune->second} : Json(nullptr);
+    rows.push_back(row);
+  }
+  return {{"presets", kPresetNames}, {"default_preset", kDefaultPreset}, {"params", rows}};
+}
+
 Scene scene_from_json(const Json& doc, const std::string& source, const std::string& base_dir,
                       const ParamOverrides& overrides) {
   const JsonContext top{source, ""};
@@ -254,7 +277,8 @@ Json scene_to_json(const Scene& s) {
     if (v.norm() > 0.0) rot[s.rig.bone_name[i]] = {v.x(), v.y(), v.z()};
   }
   const Vec3& r = s.initial_pose.root_head_world;
-  return {{"rig", std::filesystem::absolute(s.rig_file).lexically_normal().string()},
+  return {{"rig", s.rig_file.empty() ? rig_to_json(s.rig)
+                                     : Json(std::filesystem::absolute(s.rig_file).lexically_normal().string())},
           {"params", params_to_json(s.params)},
           {"control_points", cps},
           {"schedule", sch},

@@ -16,7 +16,8 @@ Scene load_scene(const std::string& path);
 // file's "params"; a preset override swaps the base preset under them. Control points that give
 // no spring, k or cap take the params' at use, so they follow the overrides too.
 Scene load_scene(const std::string& path, const ParamOverrides& overrides);
-// Parse a scene from JSON; relative rig paths resolve against `base_dir`.
+// Parse a scene from JSON; relative rig paths resolve against `base_dir`. "rig" may also be the
+// rig object itself (the rig file format; rig_file is then empty).
 Scene scene_from_json(const nlohmann::json& doc, const std::string& source,
                       const std::string& base_dir, const ParamOverrides& overrides = {});
 // A scene's "params" object (null: the default preset) by the parameter table: the preset, then
@@ -26,7 +27,12 @@ EngineParams params_from_json(const nlohmann::json& params, const std::string& s
 nlohmann::json params_to_json(const EngineParams& p);
 // One value as the scene format writes it: a number, an integer, true/false or the choice's name.
 nlohmann::json param_value_json(const ParamRow& row, ParamValue v);
-// The scene back to JSON (rig given by its path), e.g. for a tuned scene.
+// The parameter table for machines (`physik params --json`, physik.param_table(), analysis/
+// report.py): {"presets", "default_preset", "params": one object per row (name, kind, unit,
+// defaults per preset, valid, doc, choices, range, zero_means, tune)}.
+nlohmann::json param_table_json();
+// The scene back to JSON (rig given by its path, or inline when it has none), e.g. for a tuned
+// scene.
 nlohmann::json scene_to_json(const Scene& scene);
 
 }  // namespace physik

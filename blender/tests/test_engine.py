@@ -1,0 +1,227 @@
+"""Headless tests of the add-on with the engine plugged in (ctest: blender_engine):
+
+    blender -b --factory-startup --python-exit-code 1 --python blender/tests/test_engine.py -- \
+        --repo . --pythonpath build/python --binary build/physik
+
+The add-on reaches `import physik` (issue 16, on --pythonpath). What is checked (issue 17):
+  - Solve on Fig 9's control points (pinhead built from models/rigs/pinhead.json, the panel's
+    k = 30 as the scene's): the engine's final state in Blender is `physik simulate`'s on the
+    same scene dict (identical final_state_hash; every bone's world head and tail to 1e-9 from
+    final_pose.csv, written with 10 significant digits), and the operator leaves the armature in
+    that pose (1e-5: Blender keeps poses in single precision);
+  - Bake keys the frames of every N-th step and the last, in the engine's poses;
+  - a live simulation's n-step calls follow the same states as one run;
+  - damping 'auto' (no engine rule yet) and a diverged run give one Blender report, nothing
+    moved.
+"""
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import addon_utils
+import bpy
+from mathutils import Vector
+
+
+def _args():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    p = argparse.ArgumentParser()
+    here = os.path.dirname(os.path.abspath(__file__))
+    p.add_argument("--repo", default=os.path.join(here, "..", ".."))
+    p.add_argument("--pythonpath", required=True, help="the folder holding the physik package")
+    p.add_argument("--binary", required=True, help="the physik CLI")
+    return p.parse_args(argv)
+
+
+ARGS = _args()
+REPO = os.path.abspath(ARGS.repo)
+sys.path.insert(0, os.path.abspath(ARGS.pythonpath))
+sys.path.insert(0, os.path.join(REPO, "blender"))
+if addon_utils.enable("physik_addon", default_set=True, handle_error=None) is None:
+    print("test_engine.py: the add-on did not enable", file=sys.stderr)
+    sys.exit(1)
+
+from physik_addon import armature_io, control_points, engine, rig_format, scene_dict  # noqa: E402
+
+ENGINE_TOL = 1e-9  # rig units: the engine's arrays against the CLI's final_pose.csv
+POSED_TOL = 1e-5   # rig units: Blender's single-precision posed bones against the engine
+
+
+def run_op(op, **kw):
+    """Run an operator; None on success or the error report's text."""
+    try:
+        op(**kw)
+        return None
+    except RuntimeError as e:
+        return str(e)
+
+
+def clear_scene():
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    for arm in list(bpy.data.armatures):
+        bpy.data.armatures.remove(arm)
+    for action in list(bpy.data.actions):
+        bpy.data.actions.remove(action)
+
+
+def fig9_armature():
+    """pinhead with Fig 9's control points and params (models/scenes/fig9_outstretched.json)."""
+    with open(os.path.join(REPO, "models", "scenes", "fig9_outstretched.json")) as f:
+        doc = json.load(f)
+    rig = rig_format.load_rig(os.path.join(REPO, "models", "rigs", "pinhead.json"))
+    arm = armature_io.rig_to_armature(rig, bpy.context)
+    for cp in doc["control_points"]:
+        control_points.add_control_point(bpy.context, arm, cp["bone"], cp["alpha"], cp["target"],
+                                         name=cp["name"])
+    s = bpy.context.scene.physik
+    s.preset = doc["params"]["preset"]
+    s.control_k = doc["params"]["control_k"]
+    s.max_steps = doc["steps"]
+    bpy.context.view_layer.objects.active = arm
+    return arm
+
+
+def simulate_cli(scene, tmp):
+    """`physik simulate` on the scene dict: (summary, {bone: (head, tail)})."""
+    path = os.path.join(tmp, "scene.json")
+    with open(path, "w") as f:
+        json.dump(scene, f)
+    out = os.path.join(tmp, "out")
+    p = subprocess.run([ARGS.binary, "simulate", path, "--out", out, "--quiet"],
+                       capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    with open(os.path.join(out, "summary.json")) as f:
+        summary = json.load(f)
+    with open(os.path.join(out, "final_pose.csv")) as f:
+        bones = {r["bone"]: ([float(r["head_" + a]) for a in "xyz"], [float(r["tail_" + a]) for a in "xyz"])
+                 for r in csv.DictReader(f)}
+    return summary, bones
+
+
+def posed_world(arm):
+    bpy.context.view_layer.update()
+    return {name: (h.copy(), t.copy()) for name, _, h, t in armature_io.posed_bones_world(arm)}
+
+
+class Base(unittest.TestCase):
+    def setUp(self):
+        if bpy.context.object is not None and bpy.context.object.mode != 'OBJECT':
+            bpy.ops.object.mode_set(mode='OBJECT')
+        clear_scene()
+        bpy.context.scene.physik.preset = "original"
+
+
+class TestSolve(Base):
+    def test_engine_is_reachable(self):
+        self.assertTrue(engine.available())
+
+    def test_fig9_solve_equals_simulate(self):
+        arm = fig9_armature()
+        scene = scene_dict.build_scene(bpy.context, arm, solve=True)
+        (head, rotations), summary = engine.solve(scene)
+        self.assertTrue(summary["converged"], summary)
+        with tempfile.TemporaryDirectory() as tmp:
+            cli, bones = simulate_cli(scene, tmp)
+        self.assertEqual(summary["final_state_hash"], cli["final_state_hash"])
+        self.assertEqual(summary["steps_run"], cli["steps_run"])
+        names = [b["name"] for b in scene["rig"]["bones"]]
+        self.assertEqual(sorted(names), sorted(bones))
+        worst = 0.0
+        for i, name in enumerate(names):
+            for got, want in zip((summary["heads_world"][i], summary["tails_world"][i]), bones[name]):
+                worst = max(worst, max(abs(a - b) for a, b in zip(got, want)))
+        self.assertLess(worst, ENGINE_TOL)
+        print("\nFig 9 Solve: %d steps, engine in Blender vs physik simulate: same state hash, "
+              "largest head/tail difference %.2e" % (summary["steps_run"], worst))
+
+    def test_solve_operator_poses_the_armature(self):
+        arm = fig9_armature()
+        scene = scene_dict.build_scene(bpy.context, arm, solve=True)
+        _, summary = engine.solve(scene)
+        self.assertIsNone(run_op(bpy.ops.physik.solve))
+        posed = posed_world(arm)
+        worst = 0.0
+        for i, b in enumerate(scene["rig"]["bones"]):
+            h, t = posed[b["name"]]
+            worst = max(worst, (h - Vector(summary["heads_world"][i])).length,
+                        (t - Vector(summary["tails_world"][i])).length)
+        self.assertLess(worst, POSED_TOL)
+        # the hand reached its target (the scene's residual tolerance: 1e-3 x height)
+        hand = posed["hand.R"][1]
+        self.assertLess((hand - Vector((-2.4, -0.6, 1.5))).length, summary["residual_tol"])
+
+
+class TestBakeAndLive(Base):
+    def test_bake_keys_every_n_steps_in_the_engines_poses(self):
+        arm = fig9_armature()
+        s = bpy.context.scene.physik
+        s.max_steps, s.bake_every = 22, 5
+        bpy.context.scene.frame_set(3)
+        poses = engine.trajectory(scene_dict.build_scene(bpy.context, arm), 22)
+        self.assertEqual(len(poses), 23)
+        self.assertIsNone(run_op(bpy.ops.physik.bake))
+        fc = arm.animation_data.action.fcurves
+        keyed = sorted({round(k.co[0]) for f in fc for k in f.keyframe_points})
+        self.assertEqual(keyed, [3, 4, 5, 6, 7, 8])  # steps 0, 5, 10, 15, 20 and the last, 22
+        for frame, step in zip(keyed, (0, 5, 10, 15, 20, 22)):
+            bpy.context.scene.frame_set(frame)
+            head, rotations = armature_io.read_pose(arm)
+            self.assertLess((head - Vector(poses[step][0])).length, POSED_TOL, frame)
+            for name, q in poses[step][1].items():
+                got = rotations[name]
+                d = min(sum((a - b) ** 2 for a, b in zip(got, q)),
+                        sum((a + b) ** 2 for a, b in zip(got, q))) ** 0.5
+                self.assertLess(d, 1e-5, (frame, name))
+
+    def test_live_steps_follow_one_run(self):
+        arm = fig9_armature()
+        scene = scene_dict.build_scene(bpy.context, arm)
+        live = engine.Live(scene)
+        for _ in range(4):
+            pose = live.step(10)
+        self.assertEqual(live.sim.step_count, 40)
+        physik = engine.module()
+        ref = physik.Simulation(physik.Scene.from_dict(scene))
+        ref.step(40)
+        self.assertEqual(live.sim.summary["final_state_hash"], ref.summary["final_state_hash"])
+        self.assertEqual(pose, ref.pose.as_blender())
+
+
+class TestEngineErrors(Base):
+    def test_auto_damping_is_one_report(self):
+        arm = fig9_armature()
+        bpy.context.scene.physik.damping_mode = 'AUTO'
+        before = armature_io.read_pose(arm)[0].copy()
+        for op in (bpy.ops.physik.solve, bpy.ops.physik.bake):
+            msg = run_op(op)
+            self.assertIsNotNone(msg, op)
+            self.assertIn("armature 'pinhead': params: field 'damping': 'auto'", msg)
+            self.assertNotIn("Traceback", msg)
+        self.assertLess((armature_io.read_pose(arm)[0] - before).length, 1e-12)
+
+    def test_divergence_is_one_report(self):
+        arm = fig9_armature()
+        s = bpy.context.scene.physik
+        s.damping, s.control_k = 0.0, 1e6  # stiff springs, no damping, dt 0.05: explodes
+        before = armature_io.read_pose(arm)[0].copy()
+        for op in (bpy.ops.physik.solve, bpy.ops.physik.bake):
+            msg = run_op(op)
+            self.assertIsNotNone(msg, op)
+            self.assertIn("diverged", msg)
+            self.assertNotIn("Traceback", msg)
+        self.assertLess((armature_io.read_pose(arm)[0] - before).length, 1e-12)
+
+
+def main():
+    suite = unittest.defaultTestLoader.loadTestsFromModule(sys.modules[__name__])
+    result = unittest.TextTestRunner(verbosity=2, stream=sys.stdout).run(suite)
+    sys.exit(0 if result.wasSuccessful() else 1)
+
+
+main()

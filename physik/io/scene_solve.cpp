@@ -1,0 +1,105 @@
+#include "physik/io/scene_solve.h"
+
+#include "physik/engine/engine.h"
+#include "physik/io/summary_io.h"
+#include "physik/model/errors.h"
+
+namespace physik {
+
+const char* const kSceneSolvers = "fabrik|ccd|jt|dls|mass-spring|rotation|physik";
+
+void check_solve_options(const SceneSolveOptions& o) {
+  IkMethod method{};
+  if (o.solver != "physik" && !ik_method_from_string(o.solver, method)) {
+    throw_input_error("--solver", "", "", "unknown solver '" + o.solver + "'; one of " + kSceneSolvers);
+  }
+  if (o.tol < 0.0) throw_input_error("--tol", "", "", "must not be negative");
+  if (o.max_iterations < 0) throw_input_error("--max-iterations", "", "", "must not be negative");
+  if (!o.gravity.empty() && o.gravity.size() != 3) {
+    throw_input_error("--gravity", "", "", "expected three numbers");
+  }
+}
+
+std::vector<IkGoal> scene_goals(const Scene& scene) {
+  std::vector<IkGoal> goals;
+  for (const ControlPoint& c : scene.control_points) goals.push_back({c.bone, c.alpha, c.target_world});
+  for (const TargetChange& ch : scene.schedule) goals[ch.control_point].target_world = ch.target_world;
+  return goals;
+}
+
+namespace {
+
+// the engine stops like the classic solvers: at the residual tolerance (default 1e-4 of the
+// chain's reach), or when the residual stalls short of it (not converged)
+SceneSolveResult solve_with_engine(Scene& scene, const SceneSolveOptions& o,
+                                   const std::vector<IkGoal>& goals) {
+  scene.convergence.residual_tol = o.tol > 0.0 ? o.tol : 1e-4 * chain_reach(scene.rig, goals);
+  scene.convergence.stop_at_residual_tol = true;
+  const RunSummary s = run_scene(scene);
+  SceneSolveResult r;
+  r.summary = summary_to_json(scene, s);
+  r.summary["iterations"] = s.steps_run;
+  r.summary["time_s"] = s.wall_time_s;
+  r.frames = s.final_frames;
+  r.pose = s.final_pose;
+  r.diverged = s.diverged;
+  return r;
+}
+
+IkOptions classic_options(const SceneSolveOptions& o) {
+  IkOptions opt;
+  opt.tolerance = o.tol;
+  opt.max_iterations = o.max_iterations;
+  opt.lambda = o.lambda;
+  opt.respect_limits = !o.no_limits;
+  opt.rotation_damping = o.rotation_damping;
+  if (o.jacobian == "fd") opt.jacobian = JacobianKind::kFiniteDifference;
+  else if (o.jacobian != "analytic") throw_input_error("--jacobian", "", o.jacobian, "analytic or fd");
+  if (o.gravity.size() == 3) opt.gravity_world = Vec3(o.gravity[0], o.gravity[1], o.gravity[2]);
+  if (o.socket == "virtual-bone") opt.socket_mode = SocketMode::kVirtualBone;
+  else if (o.socket != "twist-bend") throw_input_error("--socket", "", o.socket, "twist-bend or virtual-bone");
+  if (o.cone == "none") opt.cone_shape = ConeShape::kNone;
+  else if (o.cone == "circular") opt.cone_shape = ConeShape::kCircular;
+  else if (o.cone != "elliptical") throw_input_error("--cone", "", o.cone, "none, circular or elliptical");
+  return opt;
+}
+
+SceneSolveResult solve_classic(const Scene& scene, const SceneSolveOptions& o,
+                               const std::vector<IkGoal>& goals) {
+  IkMethod method{};
+  ik_method_from_string(o.solver, method);
+  const IkOptions opt = classic_options(o);
+  SceneSolveResult r;
+  r.pose = scene.initial_pose;
+  const IkReport rep = solve_ik(method, scene.rig, goals, r.pose, opt);
+  r.frames = forward_kinematics(scene.rig, r.pose);
+  r.summary = {{"scene", scene.file},
+               {"rig", scene.rig_file},
+               {"converged", rep.converged},
+               {"diverged", false},
+               {"stalled", rep.stalled},
+               {"iterations", rep.iterations},
+               {"final_residuals", rep.residuals},
+               {"residual", rep.residual},
+               {"residual_tol", rep.tolerance},
+               {"reach", rep.reach},
+               {"max_limit_violation_deg", rad2deg(max_limit_violation(scene.rig, r.pose))},
+               {"time_s", rep.time_s}};
+  return r;
+}
+
+}  // namespace
+
+SceneSolveResult solve_scene(Scene scene, const SceneSolveOptions& o) {
+  check_solve_options(o);
+  if (scene.control_points.empty()) {
+    throw_input_error(scene.file, "control_points", "", "a solve needs at least one control point");
+  }
+  const std::vector<IkGoal> goals = scene_goals(scene);
+  SceneSolveResult r = o.solver == "physik" ? solve_with_engine(scene, o, goals)
+                                            : solve_classic(scene, o, goals);
+  r.summary["solver"] = o.solver;
+  return r;
+}
+
+}  // namespace physik

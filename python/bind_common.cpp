@@ -1,0 +1,133 @@
+#include "python/bind_common.h"
+
+#include <cstdint>
+
+#include "physik/model/errors.h"
+
+namespace physik::python {
+
+nlohmann::json to_json(py::handle v, const std::string& what) {
+  using nlohmann::json;
+  if (v.is_none()) return nullptr;
+  if (PyBool_Check(v.ptr())) return v.cast<bool>();  // before int: bool is an int in Python
+  if (PyLong_Check(v.ptr())) {
+    int overflow = 0;
+    const long long x = PyLong_AsLongLongAndOverflow(v.ptr(), &overflow);
+    if (overflow == 0) return x;
+    if (overflow > 0) {
+      const unsigned long long u = PyLong_AsUnsignedLongLong(v.ptr());
+      if (!PyErr_Occurred()) return u;
+      PyErr_Clear();
+    }
+    throw py::value_error(what + ": integer out of range");
+  }
+  if (PyFloat_Check(v.ptr())) return v.cast<double>();
+  if (py::isinstance<py::str>(v)) return v.cast<std::string>();
+  if (py::isinstance<py::dict>(v)) {
+    json out = json::object();
+    for (const auto& kv : v.cast<py::dict>()) {
+      if (!py::isinstance<py::str>(kv.first)) {
+        throw py::type_error(what + ": dictionary keys must be strings, got " +
+                             std::string(py::str(py::type::of(kv.first).attr("__name__"))));
+      }
+      const std::string key = kv.first.cast<std::string>();
+      out[key] = to_json(kv.second, what + "." + key);
+    }
+    return out;
+  }
+  if (py::isinstance<py::list>(v) || py::isinstance<py::tuple>(v)) {
+    json out = json::array();
+    std::size_t i = 0;
+    for (py::handle item : v) out.push_back(to_json(item, what + "[" + std::to_string(i++) + "]"));
+    return out;
+  }
+  if (py::hasattr(v, "tolist")) return to_json(v.attr("tolist")(), what);  // numpy arrays, scalars
+  if (py::hasattr(v, "__index__")) return to_json(v.attr("__index__")(), what);
+  if (py::hasattr(v, "__float__")) return to_json(v.attr("__float__")(), what);
+  throw py::type_error(what + ": cannot be written as JSON (a " +
+                       std::string(py::str(py::type::of(v).attr("__name__"))) + ")");
+}
+
+py::object from_json(const nlohmann::json& v) {
+  switch (v.type()) {
+    case nlohmann::json::value_t::null: return py::none();
+    case nlohmann::json::value_t::boolean: return py::bool_(v.get<bool>());
+    case nlohmann::json::value_t::number_integer: return py::int_(v.get<long long>());
+    case nlohmann::json::value_t::number_unsigned: return py::int_(v.get<unsigned long long>());
+    case nlohmann::json::value_t::number_float: return py::float_(v.get<double>());
+    case nlohmann::json::value_t::string: return py::str(v.get<std::string>());
+    case nlohmann::json::value_t::array: {
+      py::list out;
+      for (const auto& item : v) out.append(from_json(item));
+      return out;
+    }
+    case nlohmann::json::value_t::object: {
+      py::dict out;
+      for (auto it = v.begin(); it != v.end(); ++it) out[py::str(it.key())] = from_json(it.value());
+      return out;
+    }
+    default: return py::none();  // binary and discarded values do not occur here
+  }
+}
+
+py::array readonly_view(const double* data, py::ssize_t rows, py::ssize_t cols,
+                        py::ssize_t row_stride, py::handle owner) {
+  py::array a(py::dtype::of<double>(), {rows, cols},
+              {row_stride, static_cast<py::ssize_t>(sizeof(double))}, data, owner);
+  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return a;
+}
+
+py::array readonly_view(const double* data, py::ssize_t n, py::handle owner) {
+  py::array a(py::dtype::of<double>(), {n}, {static_cast<py::ssize_t>(sizeof(double))}, data, owner);
+  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return a;
+}
+
+namespace {
+
+template <typename T, int N>
+py::array_t<double> rows_copy(const std::vector<T>& v, const double* (*at)(const T&)) {
+  py::array_t<double> a({static_cast<py::ssize_t>(v.size()), py::ssize_t(N)});
+  auto m = a.mutable_unchecked<2>();
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    for (int k = 0; k < N; ++k) m(i, k) = at(v[i])[k];
+  }
+  return a;
+}
+
+const double* vec_data(const Vec3& v) { return v.data(); }
+const double* quat_data(const Quat& q) { return q.coeffs().data(); }
+
+}  // namespace
+
+py::dict pose_arrays(const BoneFrames& frames, const Pose& pose) {
+  py::dict d;
+  d["heads"] = rows_copy<Vec3, 3>(frames.head_world, vec_data);
+  d["tails"] = rows_copy<Vec3, 3>(frames.tail_world, vec_data);
+  d["orientations"] = rows_copy<Quat, 4>(frames.orient_world, quat_data);
+  d["local_rotations"] = rows_copy<Quat, 4>(pose.bone_local_rotation, quat_data);
+  d["root_head"] = py::array_t<double>(3, pose.root_head_world.data());
+  return d;
+}
+
+void register_errors(py::module_& m) {
+  // the classes live in pure Python (physik/errors.py); leaked on purpose: they must outlive
+  // every translation, including those during interpreter shutdown
+  py::module_ errors = py::module_::import("physik.errors");
+  static PyObject* input_error = py::object(errors.attr("InputError")).release().ptr();
+  static PyObject* diverged_error = py::object(errors.attr("DivergedError")).release().ptr();
+  m.attr("InputError") = py::handle(input_error);
+  m.attr("DivergedError") = py::handle(diverged_error);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const InputError& e) {
+      PyErr_SetString(input_error, e.what());
+    } catch (const DivergedRun& e) {
+      PyErr_SetString(diverged_error, e.what());
+    }
+  });
+}
+
+}  // namespace physik::python

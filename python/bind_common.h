@@ -1,0 +1,43 @@
+// Shared pieces of the Python bindings (issue 16): JSON <-> Python conversion, read-only numpy
+// views, and the registration functions of each area (one binding file per area).
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "physik/model/kinematics.h"
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+namespace physik::python {
+
+namespace py = pybind11;
+
+// A Python value (dict, list, tuple, str, int, float, bool, None, numpy scalars and arrays) as
+// JSON; `what` names the value in a TypeError for anything else.
+nlohmann::json to_json(py::handle value, const std::string& what);
+// JSON as plain Python values (dict, list, str, int, float, bool, None).
+py::object from_json(const nlohmann::json& value);
+
+// A read-only numpy view of `rows` x `cols` doubles at `data`, `row_stride` bytes apart, kept
+// alive by `owner` (no copy).
+py::array readonly_view(const double* data, py::ssize_t rows, py::ssize_t cols,
+                        py::ssize_t row_stride, py::handle owner);
+// The same for a 1-d view of n doubles.
+py::array readonly_view(const double* data, py::ssize_t n, py::handle owner);
+
+// A pose as numpy copies: {"heads": (n,3), "tails": (n,3), "orientations": (n,4) world<-bone,
+// "local_rotations": (n,4) rest-relative in the bone frame, both (x, y, z, w), "root_head": (3,)}.
+py::dict pose_arrays(const BoneFrames& frames, const Pose& pose);
+
+// C++ errors as the package's Python exceptions (physik.errors): InputError, DivergedError.
+void register_errors(py::module_& m);
+
+void bind_model(py::module_& m);       // Rig, Scene
+void bind_simulation(py::module_& m);  // Simulation
+void bind_solve(py::module_& m);       // solve
+void bind_reference(py::module_& m);   // export_mjcf, compare_mujoco
+void bind_tune(py::module_& m);        // tune, equilibrium
+
+}  // namespace physik::python

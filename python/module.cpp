@@ -1,0 +1,15 @@
+// physik._core: the compiled half of `import physik` (issue 16). Thin bindings of the public
+// headers, one file per area; the pure-Python half (python/physik/) adds the exceptions, the
+// Pose wrapper, the keyword-friendly functions and the Dask sweeps.
+#include "python/bind_common.h"
+
+PYBIND11_MODULE(_core, m) {
+  namespace py = pybind11;
+  m.doc() = "The PhysIK testbed's C++ core (use the `physik` package, not this module).";
+  physik::python::register_errors(m);
+  physik::python::bind_model(m);
+  physik::python::bind_simulation(m);
+  physik::python::bind_solve(m);
+  physik::python::bind_reference(m);
+  physik::python::bind_tune(m);
+}

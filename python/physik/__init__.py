@@ -1,0 +1,154 @@
+"""PhysIK from Python: the testbed's C++ engine, its classic IK solvers, the MuJoCo reference and
+the Ceres tools, with the CLI's names, files and messages.
+
+    import physik
+    scene = physik.Scene.load("models/scenes/pinhead_two_hands.json", overrides={"damping": 1})
+    sim = physik.Simulation(scene)
+    sim.step(10)
+    sim.pose.heads            # (nbone, 3) numpy view of the state, no copy, read-only
+    summary = sim.run()       # `physik simulate`'s summary.json as a dict
+
+Names (each has its own docstring):
+  Rig.load(path), Rig.chain(n), Rig.from_dict(d)            rigs (models/README.md)
+  Scene.load(path, overrides, steps), Scene.from_dict(d)    scenes; Scene.update(params=...)
+  param_table()                                             the parameters (`physik params --json`)
+  Simulation(scene): .step(n), .run(), .pose, .summary      the engine, stepped from Python
+  solve(scene, solver)                                      `physik solve`
+  export_mjcf(rig), compare_mujoco(scene, mode)             the MuJoCo reference
+  tune(scene, params, objective), equilibrium(scene)        Ceres
+  InputError (a ValueError), DivergedError                  errors
+  physik.sweep                                              grids of runs on Dask (python3 -m physik.sweep)
+
+Conventions (README "Conventions"): world Z up, rig units, kg, s, radians; arrays per bone in
+DFS order (parents first); quaternions are stored (x, y, z, w), Eigen's order (as
+scipy.spatial.transform.Rotation.from_quat reads them); Pose.as_blender() gives (w, x, y, z).
+"""
+from collections import namedtuple
+
+from .errors import DivergedError, InputError
+from . import _core
+from ._core import Rig, Scene, compare_mujoco, export_mjcf, param_table
+
+__all__ = ["Rig", "Scene", "param_table", "Simulation", "Pose", "SolveResult", "solve", "export_mjcf",
+           "compare_mujoco", "tune", "equilibrium", "InputError", "DivergedError"]
+
+
+class Pose:
+    """A rig's pose as numpy arrays, per bone in DFS order.
+
+    heads, tails        (nbone, 3) world positions, rig units
+    orientations        (nbone, 4) world<-bone rotations, quaternions (x, y, z, w)
+    local_rotations     (nbone, 4) rotations relative to rest in the bone's rest frame (the
+                        engine's Pose, Blender's pose-bone rotation), quaternions (x, y, z, w)
+    root_head           (3,) the root bone's head, world, rig units
+    bone_names          the rig's bone names, same order
+
+    From Simulation.pose the arrays are read-only views of the live state: they follow every
+    step() without being fetched again. From solve() and equilibrium() they are copies.
+    """
+
+    __slots__ = {
+        "heads": "(nbone, 3) bone heads, world, rig units",
+        "tails": "(nbone, 3) bone tails, world, rig units",
+        "orientations": "(nbone, 4) world<-bone rotations, quaternions (x, y, z, w)",
+        "local_rotations": "(nbone, 4) rest-relative rotations in the bone's rest frame, (x, y, z, w)",
+        "root_head": "(3,) the root bone's head, world, rig units",
+        "bone_names": "bone names, DFS order",
+    }
+
+    def __init__(self, heads, tails, orientations, local_rotations, root_head, bone_names):
+        """A Pose of the given arrays (Simulation.pose, solve() and equilibrium() build them)."""
+        self.heads = heads
+        self.tails = tails
+        self.orientations = orientations
+        self.local_rotations = local_rotations
+        self.root_head = root_head
+        self.bone_names = bone_names
+
+    def as_blender(self):
+        """(root_head_world [x, y, z], {bone name: (w, x, y, z)}): the pose as the Blender
+        add-on applies it (blender/physik_addon/engine.py), copied out of the arrays."""
+        rotations = {name: (float(q[3]), float(q[0]), float(q[1]), float(q[2]))
+                     for name, q in zip(self.bone_names, self.local_rotations)}
+        return [float(v) for v in self.root_head], rotations
+
+    def __repr__(self):
+        return "<physik.Pose of %d bones>" % len(self.bone_names)
+
+
+def _pose_from_arrays(arrays, bone_names):
+    return Pose(arrays["heads"], arrays["tails"], arrays["orientations"],
+                arrays["local_rotations"], arrays["root_head"], bone_names)
+
+
+class Simulation(_core.Simulation):
+    __doc__ = _core.Simulation.__doc__
+
+    def __init__(self, scene):
+        """Start a run of `scene` (a physik.Scene, copied) at step 0, in its initial pose."""
+        if isinstance(scene, dict):
+            raise TypeError("Simulation(scene) takes a physik.Scene; use Scene.from_dict(d) for a dict")
+        super().__init__(scene)
+        self._bone_names = scene.rig.bone_names
+
+    @property
+    def pose(self):
+        """The current pose as read-only numpy views of the state (a Pose; no copy).
+
+        The views stay valid, and follow the state, for as long as they are referenced (each keeps
+        this Simulation alive); writing to them raises ValueError. Orientations and local
+        rotations are quaternions (x, y, z, w). Copy (numpy.array(view)) to keep a snapshot."""
+        heads, tails, orient, local, root = self._views()
+        return Pose(heads, tails, orient, local, root, self._bone_names)
+
+
+SolveResult = namedtuple("SolveResult", ["summary", "pose"])
+SolveResult.__doc__ = """physik.solve's result: summary (`physik solve`'s summary.json as a dict)
+and pose (a Pose of copies: the solved pose)."""
+
+
+def solve(scene, solver="physik", *, tol=0.0, max_iterations=1000, lambda_=0.0,
+          jacobian="analytic", gravity=None, rotation_damping=0.8, socket="twist-bend",
+          cone="elliptical", no_limits=False, raise_on_divergence=False):
+    """Solve the scene's control points (at their final targets) as IK goals: `physik solve`.
+
+    solver: "fabrik", "ccd", "jt", "dls", "mass-spring", "rotation" (the classic solvers, from the
+    scene's initial pose) or "physik" (the engine, run until every control point is within tol,
+    or until the residual stalls). The keywords are the CLI's flags (--tol, --max-iterations,
+    --lambda, --jacobian analytic|fd, --gravity x y z, --rotation-damping, --socket
+    twist-bend|virtual-bone, --cone none|circular|elliptical, --no-limits); tol 0 = 1e-4 of the
+    chain's reach, lambda_ 0 = 0.02 of it. A bad option raises InputError naming the flag.
+    Returns SolveResult(summary, pose). The engine's divergence is the summary's flag, or
+    DivergedError with raise_on_divergence.
+    """
+    summary, arrays = _core._solve(scene, solver, tol, max_iterations, lambda_, jacobian,
+                                   list(gravity) if gravity is not None else [],
+                                   rotation_damping, socket, cone, no_limits, raise_on_divergence)
+    return SolveResult(summary, _pose_from_arrays(arrays, scene.rig.bone_names))
+
+
+def tune(scene, params="damping", objective="settle", *, bounds=None, measure="log", steps=0,
+         scan_points=13, max_iterations=50, verbose=False):
+    """Tune engine coefficients of the scene with Ceres: `physik tune SCENE --report`.
+
+    params: "damping,control_k", a list of names, or a dict {name: (lo, hi) or None}; bounds:
+    {name: (lo, hi)} (as --bounds name=lo:hi); objective: "settle" or "mujoco"; measure: "log" or
+    "linear"; steps: steps per run (0 = the scene's). Unknown names raise InputError naming
+    --params (or --bounds). Returns the CLI's report as a dict, plus "ceres_full" (Ceres' full
+    report) and "tuned_scene" (a Scene with the tuned values).
+    """
+    return _core._tune(scene, params, bounds, objective, measure, steps, scan_points,
+                       max_iterations, verbose)
+
+
+def equilibrium(scene, *, start="initial", compare=False, with_pose=False):
+    """The exact static pose of the scene (Ceres): `physik equilibrium SCENE [--start S] [--compare]`.
+
+    start: "initial" (the scene's initial pose) or "physik" (PhysIK's final pose); compare: also run
+    PhysIK and report its final-pose distance in the result's "physik" entry. Returns the CLI's
+    JSON as a dict, or (dict, Pose) with with_pose.
+    """
+    doc, arrays = _core._equilibrium(scene, start, compare)
+    if with_pose:
+        return doc, _pose_from_arrays(arrays, scene.rig.bone_names)
+    return doc

@@ -1,0 +1,138 @@
+"""Simulation.pose: numpy views of the engine's state, without copying, read-only, alive as long as
+they are referenced, following every step bit for bit (checked with the engine's own state hash
+recomputed from the views), with the documented quaternion order."""
+import gc
+import struct
+import threading
+
+import numpy as np
+import pytest
+
+import physik
+from conftest import scene_path
+
+
+def fnv1a_state_hash(heads, tails, orientations):
+    """physik::state_hash (physik/engine/engine.cpp) over the views: FNV-1a over the bytes of
+    head[k], tail[k] for k = x, y, z, then the quaternion's x, y, z, w, per bone."""
+    h = 1469598103934665603
+    for i in range(heads.shape[0]):
+        values = []
+        for k in range(3):
+            values += [heads[i, k], tails[i, k]]
+        values += list(orientations[i])
+        for b in struct.pack("<%dd" % len(values), *values):
+            h = ((h ^ b) * 1099511628211) & 0xFFFFFFFFFFFFFFFF
+    return "%016x" % h
+
+
+def quat_rotate(q, v):
+    """Rotate v by the unit quaternion q = (x, y, z, w)."""
+    u, w = np.asarray(q[:3]), q[3]
+    return v + 2.0 * np.cross(u, np.cross(u, v) + w * v)
+
+
+@pytest.fixture
+def sim():
+    return physik.Simulation(physik.Scene.load(scene_path("fig5_running")))
+
+
+def test_views_have_the_rig_shapes_and_share_the_state(sim):
+    pose = sim.pose
+    n = sim.scene.rig.nbone
+    assert pose.heads.shape == (n, 3) and pose.tails.shape == (n, 3)
+    assert pose.orientations.shape == (n, 4) and pose.local_rotations.shape == (n, 4)
+    assert pose.root_head.shape == (3,) and pose.bone_names == sim.scene.rig.bone_names
+    for a in (pose.heads, pose.tails, pose.orientations, pose.local_rotations, pose.root_head):
+        assert a.dtype == np.float64 and not a.flags.owndata
+    # no copy: two reads of .pose see the same memory
+    again = sim.pose
+    assert np.shares_memory(pose.heads, again.heads)
+    assert pose.heads.__array_interface__["data"][0] == again.heads.__array_interface__["data"][0]
+
+
+def test_views_follow_every_step(sim):
+    pose = sim.pose
+    address = pose.heads.__array_interface__["data"][0]
+    before = pose.heads.copy()
+    for n in (1, 1, 5, 20):
+        sim.step(n)
+        # the same array objects now show the new state, bit for bit
+        assert fnv1a_state_hash(pose.heads, pose.tails, pose.orientations) == sim.summary["final_state_hash"]
+        assert np.array_equal(pose.root_head, pose.heads[0])
+    assert pose.heads.__array_interface__["data"][0] == address
+    assert not np.array_equal(before, pose.heads)
+    sim.run()
+    assert fnv1a_state_hash(pose.heads, pose.tails, pose.orientations) == sim.summary["final_state_hash"]
+
+
+def test_views_refuse_writes(sim):
+    pose = sim.pose
+    for a in (pose.heads, pose.tails, pose.orientations, pose.local_rotations, pose.root_head):
+        assert not a.flags.writeable
+        with pytest.raises(ValueError):
+            a[0] = 0.0
+        with pytest.raises(ValueError):
+            a.flags.writeable = True
+        with pytest.raises(ValueError):
+            np.asarray(a)[...] = 1.0
+    with pytest.raises(ValueError):
+        np.add(pose.heads, 1.0, out=pose.heads)
+    sim.step(3)
+    assert fnv1a_state_hash(pose.heads, pose.tails, pose.orientations) == sim.summary["final_state_hash"]
+
+
+def test_views_keep_the_simulation_alive():
+    sim = physik.Simulation(physik.Scene.load(scene_path("fig9_outstretched")))
+    sim.step(10)
+    expected = sim.summary["final_state_hash"]
+    pose = sim.pose
+    del sim
+    gc.collect()
+    assert fnv1a_state_hash(pose.heads, pose.tails, pose.orientations) == expected
+
+
+def test_quaternion_order_is_xyzw_and_matches_the_bones(sim):
+    sim.step(30)
+    pose = sim.pose
+    lengths = np.array(sim.scene.rig.bone_lengths)
+    assert np.allclose(np.linalg.norm(pose.orientations, axis=1), 1.0, atol=1e-12)
+    assert np.allclose(np.linalg.norm(pose.local_rotations, axis=1), 1.0, atol=1e-12)
+    # a bone's local +Y, turned by its world orientation (x, y, z, w), runs from head to tail
+    for i in range(len(lengths)):
+        tail = pose.heads[i] + quat_rotate(pose.orientations[i], np.array([0.0, lengths[i], 0.0]))
+        assert np.allclose(tail, pose.tails[i], atol=1e-9)
+    # with the components read in any other order it would not (the check can fail)
+    wxyz = np.roll(pose.orientations, 1, axis=1)
+    bad = [i for i in range(len(lengths)) if not np.allclose(
+        pose.heads[i] + quat_rotate(wxyz[i], np.array([0.0, lengths[i], 0.0])), pose.tails[i], atol=1e-6)]
+    assert bad
+
+
+def test_local_rotations_at_rest_and_as_blender():
+    sim = physik.Simulation(physik.Scene.from_dict(
+        {"rig": physik.Rig.chain(3).to_dict(), "control_points": [{"bone": "b2", "target": [1, 0, 2]}]}))
+    pose = sim.pose
+    assert np.array_equal(pose.local_rotations, np.tile([0.0, 0.0, 0.0, 1.0], (3, 1)))
+    sim.step(40)
+    root, rotations = pose.as_blender()
+    assert root == list(pose.heads[0]) and list(rotations) == ["b0", "b1", "b2"]
+    for i, name in enumerate(["b0", "b1", "b2"]):
+        x, y, z, w = pose.local_rotations[i]
+        assert rotations[name] == (w, x, y, z)
+    assert any(abs(r[0]) < 1.0 - 1e-6 for r in rotations.values())  # it moved
+
+
+def test_run_releases_the_gil():
+    # while run() works in one thread, this thread reads the step count; it can see a count
+    # strictly between the start and the end only if run() let go of the GIL
+    scene = physik.Scene.load(scene_path("pinhead_two_hands"), steps=3000)
+    sim = physik.Simulation(scene)
+    t = threading.Thread(target=sim.run)
+    seen = set()
+    t.start()
+    while t.is_alive():
+        seen.add(sim.step_count)
+    t.join()
+    assert sim.step_count == 3000
+    assert any(0 < k < 3000 for k in seen), sorted(seen)
