@@ -33,6 +33,14 @@ check "chain" 0 "$bin" rig chain 5 --out "$tmp/c5.json"
 check "chain info" 0 "$bin" rig info --json "$tmp/c5.json"
 expect_in "chain bones" "$tmp/out" '"bones": 5'
 check "chain zero" 2 "$bin" rig chain 0
+check "rig tree help" 0 "$bin" rig tree --help
+expect_in "rig tree help text" "$tmp/out" "--branching"
+check "tree" 0 "$bin" rig tree 15 --branching 2 --out "$tmp/t15.json"
+check "tree info" 0 "$bin" rig info --json "$tmp/t15.json"
+expect_in "tree bones" "$tmp/out" '"bones": 15'
+expect_in "tree joints" "$tmp/out" '"joints": 7'
+check "tree zero branching" 2 "$bin" rig tree 5 --branching 0
+expect_in "tree branching message" "$tmp/err" "branching"
 
 printf '{"bones": [{"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,0]}]}' > "$tmp/zero.json"
 check "zero-length bone" 2 "$bin" rig info "$tmp/zero.json"
