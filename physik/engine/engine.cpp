@@ -9,6 +9,7 @@
 #include "physik/engine/control_springs.h"
 #include "physik/engine/damping.h"
 #include "physik/engine/integrate.h"
+#include "physik/engine/integrate_joint_space.h"
 #include "physik/engine/interpolation.h"
 #include "physik/engine/joint_forces.h"
 #include "physik/engine/newton_euler.h"
@@ -56,14 +57,19 @@ StepStats step(const Scene& scene, SimState& s) {
   apply_damping(rig, p, s);
   apply_control_springs(scene, s);
   apply_torsion_springs(rig, p, s);
+  const bool exact = p.joint_solve == JointSolve::kExact;
   const auto t0 = std::chrono::steady_clock::now();
-  const JointSolveStats js = solve_joint_forces(rig, p, s);
+  const JointSolveStats js = exact ? solve_articulated(rig, p, s) : solve_joint_forces(rig, p, s);
   const auto t1 = std::chrono::steady_clock::now();
-  integrate(rig, p, s);
+  if (exact) {
+    integrate_joint_space(rig, p, s);  // s.pose is its ball state: not rebuilt from the frames
+  } else {
+    integrate(rig, p, s);
+  }
 
   s.step += 1;
   s.time += p.dt;
-  local_rotations_from_world(rig, s.frames, s.pose);
+  if (!exact) local_rotations_from_world(rig, s.frames, s.pose);
 
   StepStats st;
   st.passes = js.passes;

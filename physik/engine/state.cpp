@@ -1,5 +1,6 @@
 #include "physik/engine/state.h"
 
+#include "physik/engine/integrate_joint_space.h"
 #include "physik/engine/interpolation.h"
 #include "physik/engine/joint_forces.h"
 
@@ -20,6 +21,7 @@ void init_state(const Scene& scene, SimState& s) {
   s.inertia_inv_world.assign(n, Mat3::Zero());
   s.gyro_world.assign(n, Vec3::Zero());
   init_joint_tables(rig, s);
+  if (scene.params.joint_solve == JointSolve::kExact) init_joint_space(rig, s);
 
   const std::size_t nc = scene.control_points.size();
   s.target_effective_world.resize(nc);

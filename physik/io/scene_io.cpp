@@ -56,7 +56,7 @@ EngineParams params_from_json(const Json& params, const std::string& source) {
   ctx.only_keys(params, {"preset", "dt", "damping", "angular_velocity_factor", "joint_eps",
                          "max_passes", "centripetal", "gyroscopic", "control_k",
                          "control_spring", "control_cap", "torsion_k", "torsion_spring",
-                         "torsion_cap", "torsion_tolerance", "integration", "interpolation",
+                         "torsion_cap", "torsion_tolerance", "joint_solve", "integration", "interpolation",
                          "interpolation_steps", "interpolation_fallback"});
   EngineParams p = preset_params(ctx.string_or(params, "preset", kDefaultPreset), source);
   p.dt = positive(ctx, params, "dt", p.dt);
@@ -77,6 +77,9 @@ EngineParams params_from_json(const Json& params, const std::string& source) {
   p.torsion_cap = positive(ctx, params, "torsion_cap", p.torsion_cap);
   p.torsion_tolerance = non_negative(ctx, params, "torsion_tolerance", p.torsion_tolerance);
   if (p.torsion_tolerance >= 0.5) ctx.fail("torsion_tolerance", "must lie in [0, 0.5)");
+  const std::string solve = ctx.choice_or(params, "joint_solve", {"gauss-seidel", "exact"},
+                                          to_string(p.joint_solve));
+  p.joint_solve = solve == "exact" ? JointSolve::kExact : JointSolve::kGaussSeidel;
   const std::string integ =
       ctx.choice_or(params, "integration", {"articulated", "free-rods"}, to_string(p.integration));
   p.integration = integ == "articulated" ? Integration::kArticulated : Integration::kFreeRods;
@@ -95,7 +98,7 @@ EngineParams params_from_json(const Json& params, const std::string& source) {
 }
 
 Json params_to_json(const EngineParams& p) {
-  return {{"preset", p.preset},
+  Json out = {{"preset", p.preset},
           {"dt", p.dt},
           {"damping", p.damping},
           {"angular_velocity_factor", p.angular_velocity_factor},
@@ -114,6 +117,9 @@ Json params_to_json(const EngineParams& p) {
           {"interpolation", to_string(p.interpolation)},
           {"interpolation_steps", p.interpolation_steps},
           {"interpolation_fallback", p.interpolation_fallback}};
+  // written only when not the default, so Gauss-Seidel summaries stay as they were
+  if (p.joint_solve != JointSolve::kGaussSeidel) out["joint_solve"] = to_string(p.joint_solve);
+  return out;
 }
 
 Scene scene_from_json(const Json& doc, const std::string& source, const std::string& base_dir) {

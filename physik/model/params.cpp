@@ -20,6 +20,10 @@ const char* to_string(Interpolation s) {
   return "?";
 }
 
+const char* to_string(JointSolve s) {
+  return s == JointSolve::kGaussSeidel ? "gauss-seidel" : "exact";
+}
+
 EngineParams preset_params(const std::string& name, const std::string& source) {
   EngineParams p;  // the original code's values
   p.preset = name;

@@ -14,10 +14,14 @@ namespace physik {
 enum class SpringLaw { kLinear, kCapped };
 enum class Integration { kArticulated, kFreeRods };
 enum class Interpolation { kNone, kLinear, kPolarHead, kPolarCom };
+// how the joints are solved each step: the paper's Gauss-Seidel passes (joint_forces.h), or the
+// exact articulated-body algorithm with MuJoCo's Euler step in joint space (articulated_body.h)
+enum class JointSolve { kGaussSeidel, kExact };
 
 const char* to_string(SpringLaw s);
 const char* to_string(Integration s);
 const char* to_string(Interpolation s);
+const char* to_string(JointSolve s);
 
 struct EngineParams {
   std::string preset = "original";
@@ -36,6 +40,7 @@ struct EngineParams {
   double torsion_cap = 0.5;              // rad, cap of capped torsion springs
   double torsion_tolerance = 0.1;        // 1, fraction of the range inside each limit where the
                                          //    torsion spring engages
+  JointSolve joint_solve = JointSolve::kGaussSeidel;  // exact: `integration` is not used
   Integration integration = Integration::kArticulated;
   Interpolation interpolation = Interpolation::kLinear;
   int interpolation_steps = 12;          // steps over which a target jump is spread
