@@ -73,6 +73,17 @@ expect_in "export-mjcf free root" "$tmp/pinhead.xml" 'type="free"'
 if command -v mujoco-compile >/dev/null; then
   check "mujoco-compile loads it" 0 mujoco-compile "$tmp/pinhead.xml" "$tmp/pinhead.mjb"
 fi
+# a 150-bone chain is too deep for one MJCF file: include files beside --out; stdout refuses
+check "chain 150" 0 "$bin" rig chain 150 --out "$tmp/c150.json"
+check "export-mjcf deep" 0 "$bin" export-mjcf "$tmp/c150.json" --joints ball --out "$tmp/c150.xml"
+expect_in "export-mjcf include" "$tmp/c150.xml" '<include file="c150.part1.xml"/>'
+expect_in "export-mjcf part" "$tmp/c150.part1.xml" '<mujocoinclude>'
+expect_in "export-mjcf part2" "$tmp/c150.part2.xml" '<body name="b128"'
+if command -v mujoco-compile >/dev/null; then
+  check "mujoco-compile loads the deep chain" 0 mujoco-compile "$tmp/c150.xml" "$tmp/c150.mjb"
+fi
+check "export-mjcf deep to stdout" 2 "$bin" export-mjcf "$tmp/c150.json"
+expect_in "export-mjcf deep message" "$tmp/err" "give --out FILE"
 check "export-mjcf bad rig" 2 "$bin" export-mjcf "$tmp/zero.json"
 check "export-mjcf bad joints" 2 "$bin" export-mjcf "$src/models/rigs/pinhead.json" --joints hinge
 check "simulate bad reference" 2 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --reference bullet --out "$tmp/ref"
