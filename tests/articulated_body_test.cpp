@@ -79,8 +79,8 @@ RandomTree random_tree(std::mt19937& rng, int n, bool moving) {
   for (int i = 0; i < n; ++i) s.joint_vel_local[i] = speed * Vec3(u(rng), u(rng), u(rng));
   world_from_joint_space(t.rig, s);
   for (int i = 0; i < n; ++i) {
-    s.articulated.force_ext_world[i] = 5.0 * Vec3(u(rng), u(rng), u(rng));
-    s.articulated.torque_ext_world[i] = 5.0 * Vec3(u(rng), u(rng), u(rng));
+    s.force_world[i] = 5.0 * Vec3(u(rng), u(rng), u(rng));
+    s.torque_world[i] = 5.0 * Vec3(u(rng), u(rng), u(rng));
   }
   return t;
 }
@@ -159,8 +159,11 @@ VecX generalised_force(const Rig& rig, const SimState& s) {
     jacobians(rig, s, b, Jw, Jv);
     const Mat3 I = inertia(rig, s, b);
     const Vec3& w = s.omega_world[b];
-    const Vec3 F = s.articulated.force_ext_world[b] - rig.bone_mass[b] * acc[b];
-    const Vec3 T = s.articulated.torque_ext_world[b] - I * alpha[b] - w.cross(I * w);
+    const Vec3 F = s.force_world[b] - rig.bone_mass[b] * acc[b];
+    // the external torque with the data's rotational damper and gyroscopic cancellation
+    Vec3 T = s.torque_world[b] + s.articulated.torque_per_omega * (I * w) - I * alpha[b] -
+             w.cross(I * w);
+    if (s.articulated.cancel_gyroscopic) T += w.cross(I * w);
     Q += Jv.transpose() * F + Jw.transpose() * T;
   }
   return Q;
@@ -214,14 +217,29 @@ TEST(ArticulatedBody, AccelerationsEqualADenseSolveOnRandomTrees) {
   RecordProperty("worst_relative_error", std::to_string(worst));
 }
 
+TEST(ArticulatedBody, RotationalDamperAndGyroscopicCancellationMatchTheDenseSolve) {
+  // the factor f's torque I (f - 1) w / dt and the gyroscopic-off switch as external torques
+  std::mt19937 rng(13);
+  for (int trial = 0; trial < 20; ++trial) {
+    RandomTree t = random_tree(rng, 1 + trial % 9, true);
+    t.s.articulated.torque_per_omega = -10.0;
+    t.s.articulated.cancel_gyroscopic = trial % 2 == 0;
+    articulated_accelerations(t.rig, t.s, t.s.articulated);
+    const VecX expected = mass_matrix(t.rig, t.s).ldlt().solve(generalised_force(t.rig, t.s));
+    const VecX got = aba_qacc(t.rig, t.s.articulated);
+    EXPECT_LT((got - expected).cwiseAbs().maxCoeff(),
+              1e-10 * std::max(1.0, expected.cwiseAbs().maxCoeff()));
+  }
+}
+
 TEST(ArticulatedBody, VelocityProductsAloneMatchTheDenseSolve) {
   // no external forces: qdd = -M^-1 C, all from the velocity products
   std::mt19937 rng(9);
   for (int trial = 0; trial < 20; ++trial) {
     RandomTree t = random_tree(rng, 2 + trial % 8, true);
     for (int i = 0; i < t.rig.nbone; ++i) {
-      t.s.articulated.force_ext_world[i].setZero();
-      t.s.articulated.torque_ext_world[i].setZero();
+      t.s.force_world[i].setZero();
+      t.s.torque_world[i].setZero();
     }
     articulated_accelerations(t.rig, t.s, t.s.articulated);
     const VecX expected = mass_matrix(t.rig, t.s).ldlt().solve(generalised_force(t.rig, t.s));
@@ -246,7 +264,7 @@ TEST(ArticulatedBody, ExtraBodyInertiaAndJointBlocksAddToTheMassMatrix) {
     for (int b = 0; b < rig.nbone; ++b) {
       Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Random();
       const Mat6 X = A * A.transpose() * 0.3;  // symmetric positive semi-definite
-      d.inertia_art[b] += X;
+      d.inertia_art[b].add(X);
       jacobians(rig, t.s, b, Jw, Jv);  // at the centre of mass; move the linear part to o_b
       MatX Js(6, nv(rig));
       Js.topRows<3>() = Jw;
@@ -259,6 +277,7 @@ TEST(ArticulatedBody, ExtraBodyInertiaAndJointBlocksAddToTheMassMatrix) {
       Mat3 B = Mat3::Random();
       const Mat3 K = B * B.transpose() + 0.1 * Mat3::Identity();
       d.joint_block[b] = K;
+      d.joint_blocks = true;
       const Mat3 R = t.s.frames.orient_world[b].toRotationMatrix();
       M.block<3, 3>(dof(b), dof(b)) += R.transpose() * K * R;
     }
@@ -274,14 +293,17 @@ TEST(ArticulatedBody, ExtraBodyInertiaAndJointBlocksAddToTheMassMatrix) {
 TEST(ArticulatedBody, ShiftInertiaIsTheCongruenceOfATranslation) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const Mat6 I = spatial_inertia(1.7, Vec3(0.3, 0.5, 0.4).asDiagonal(), Vec3(0.2, -0.4, 0.9));
+  const Mat6 I = spatial_inertia(1.7, Vec3(0.3, 0.5, 0.4).asDiagonal(), Vec3(0.2, -0.4, 0.9)).matrix();
   const Vec3 r(u(rng), u(rng), u(rng));
   Mat6 X = Mat6::Identity();  // motion transform parent point -> child point: v - r x w
   X.bottomLeftCorner<3, 3>() = -skew(r);
-  EXPECT_LT((shift_inertia(I, r) - X.transpose() * I * X).cwiseAbs().maxCoeff(), 1e-14);
+  SpatialInertia Is;
+  Is.add(I);
+  EXPECT_LT((shift_inertia(Is, r).matrix() - X.transpose() * I * X).cwiseAbs().maxCoeff(), 1e-14);
   // a rigid body's inertia moved from its point o to o - r is its inertia about the new point
-  EXPECT_LT((shift_inertia(I, r) -
-             spatial_inertia(1.7, Vec3(0.3, 0.5, 0.4).asDiagonal(), Vec3(0.2, -0.4, 0.9) + r))
+  EXPECT_LT((shift_inertia(Is, r).matrix() -
+             spatial_inertia(1.7, Vec3(0.3, 0.5, 0.4).asDiagonal(), Vec3(0.2, -0.4, 0.9) + r)
+                 .matrix())
                 .cwiseAbs()
                 .maxCoeff(),
             1e-14);

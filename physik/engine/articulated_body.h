@@ -39,10 +39,15 @@
 // A spatial acceleration a about o is Featherstone's (the derivative of the velocity field at the
 // fixed point o); the classical acceleration of the centre is a.lin + alpha x e + w x v_com.
 //
+// External wrench: the state's force_world/torque_world (about each centre of mass, world axes),
+// plus torque_per_omega * I w on every body (a rotational damper; the factor f's torque
+// I (f - 1) w / dt) and, with cancel_gyroscopic, +w x I w.
+//
 // Extension points, for the implicit step (DESIGN.md "Implicit step": M + h D + h^2 K is the same
 // tree with augmented inertias): after articulated_velocity_pass, a caller may add spatial inertia
-// to inertia_art[i] (about o_i, world axes) and a 3x3 joint block to joint_block[i] (world axes),
-// and change bias_force / ext forces, before articulated_backward_pass; nothing else changes.
+// to inertia_art[i] (SpatialInertia::add; about o_i, world axes), set joint_block[i] (world axes) with
+// joint_blocks = true, and change bias_force, before articulated_backward_pass; nothing else
+// changes.
 //
 // No allocation per step: every buffer is sized once by resize_articulated_data.
 // Units: kg, kg m^2, N, N m, rig units, s, rad.
@@ -60,25 +65,36 @@ struct SimState;
 
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 using Mat6 = Eigen::Matrix<double, 6, 6>;
-using Mat63 = Eigen::Matrix<double, 6, 3>;
+
+// A symmetric spatial inertia about a point, world axes, by 3x3 blocks [A B; B^T C] (A angular,
+// C translational): contiguous blocks for the recursion's 3x3 algebra.
+struct SpatialInertia {
+  Mat3 A = Mat3::Zero();  // kg m^2
+  Mat3 B = Mat3::Zero();  // kg m
+  Mat3 C = Mat3::Zero();  // kg
+  Mat6 matrix() const;
+  void add(const Mat6& I);  // I symmetric: adds its blocks
+};
 
 struct ArticulatedBodyData {
-  // --- inputs: the external wrench on every body about its centre of mass, world axes ---
-  std::vector<Vec3> force_ext_world;    // (nbone) N
-  std::vector<Vec3> torque_ext_world;   // (nbone) N m, about the centre of mass
+  // --- inputs besides the state ---
+  double torque_per_omega = 0.0;        // 1/s: torque torque_per_omega * I w on every body
+  bool cancel_gyroscopic = false;       // add +w x I w on every body (gyroscopic term off)
+  bool joint_blocks = false;            // add joint_block[i] to D_i (the implicit step's K)
+  std::vector<Mat3> joint_block;        // (nbone) 3x3, world axes, read when joint_blocks
 
   // --- pass 1 (velocity pass) ---
+  std::vector<Mat3> inertia_com_world;  // (nbone) R diag(I_local) R^T, kg m^2
   std::vector<Vec3> point_world;        // (nbone) o_i: head (i > 0) or centre of mass (root), rig units
-  std::vector<Vec6> vel_spatial;        // (nbone) V_i = (w; v at o_i), rad/s; rig units/s
   std::vector<Vec6> bias_accel;         // (nbone) c_i, rad/s^2; rig units/s^2
-  std::vector<Mat6> inertia_art;        // (nbone) I^A_i about o_i; rigid inertia after pass 1
+  std::vector<SpatialInertia> inertia_art;  // (nbone) I^A_i about o_i; rigid after pass 1
   std::vector<Vec6> bias_force;         // (nbone) p^A_i about o_i, (N m; N)
-  std::vector<Mat3> joint_block;        // (nbone) extra 3x3 added to D_i (world axes); zero after
-                                        //         pass 1; unused for the root
+  std::vector<Vec3> torque_ext_world;   // (nbone) the external torque about the centre, N m
+                                        //         (torque_world + the damper [+ w x I w])
 
   // --- pass 2 (backward pass) ---
-  std::vector<Mat63> U;                 // (nbone) I^A S'
-  std::vector<Mat3> D_inv;              // (nbone) (S'^T I^A S' + J)^-1
+  std::vector<Mat3> D_inv;              // (nbone) (S'^T I^A S' + J)^-1; U = I^A S' = [A; B^T]
+                                        //         is read from inertia_art
   std::vector<Vec3> u;                  // (nbone) -S'^T p^A
   Eigen::LDLT<Mat6> root_ldlt;          // I^A_0 factorised in pass 3
 
@@ -90,8 +106,8 @@ struct ArticulatedBodyData {
 
 void resize_articulated_data(int nbone, ArticulatedBodyData& data);
 
-// Pass 1 from the state's derived kinematics (frames, com_world, vel_world, omega_world) and the
-// external wrench in data.force_ext_world / torque_ext_world.
+// Pass 1 from the state's derived kinematics (frames, com_world, vel_world, omega_world) and
+// wrench (force_world, torque_world), with the inputs above.
 void articulated_velocity_pass(const Rig& rig, const SimState& state, ArticulatedBodyData& data);
 // Pass 2: leaves to root.
 void articulated_backward_pass(const Rig& rig, ArticulatedBodyData& data);
@@ -107,9 +123,9 @@ inline void articulated_accelerations(const Rig& rig, const SimState& state,
 }
 
 // Rigid-body spatial inertia about a point o, world axes; e = com - o.
-Mat6 spatial_inertia(double mass, const Mat3& inertia_com_world, const Vec3& e);
+SpatialInertia spatial_inertia(double mass, const Mat3& inertia_com_world, const Vec3& e);
 
 // X* I X for the translation r = o_child - o_parent: an inertia about o_child moved to o_parent.
-Mat6 shift_inertia(const Mat6& inertia, const Vec3& r);
+SpatialInertia shift_inertia(const SpatialInertia& inertia, const Vec3& r);
 
 }  // namespace physik

@@ -36,15 +36,8 @@ void init_joint_space(const Rig& rig, SimState& s) {
 
 JointSolveStats solve_articulated(const Rig& rig, const EngineParams& params, SimState& s) {
   ArticulatedBodyData& d = s.articulated;
-  const double torque_per_w = (params.angular_velocity_factor - 1.0) / params.dt;
-  for (int i = 0; i < rig.nbone; ++i) {
-    const Mat3 R = s.frames.orient_world[i].toRotationMatrix();
-    const Vec3& w = s.omega_world[i];
-    const Vec3 Iw = R * rig.bone_inertia_local[i].asDiagonal() * (R.transpose() * w);
-    d.force_ext_world[i] = s.force_world[i];
-    d.torque_ext_world[i] = s.torque_world[i] + torque_per_w * Iw;
-    if (!params.gyroscopic) d.torque_ext_world[i] += w.cross(Iw);
-  }
+  d.torque_per_omega = (params.angular_velocity_factor - 1.0) / params.dt;
+  d.cancel_gyroscopic = !params.gyroscopic;
   articulated_accelerations(rig, s, d);
 
   // the inter-joint forces this implies (for checks): what the bodies feel beyond the external
@@ -53,9 +46,8 @@ JointSolveStats solve_articulated(const Rig& rig, const EngineParams& params, Si
     const Vec3 alpha = d.accel_spatial[i].head<3>();
     const Vec3& w = s.omega_world[i];
     const Vec3 a_com = d.accel_spatial[i].tail<3>() + alpha.cross(e) + w.cross(s.vel_world[i]);
-    const Mat3 R = s.frames.orient_world[i].toRotationMatrix();
-    const Mat3 I = R * rig.bone_inertia_local[i].asDiagonal() * R.transpose();
-    s.joint_force_world[i] = rig.bone_mass[i] * a_com - d.force_ext_world[i];
+    const Mat3& I = d.inertia_com_world[i];
+    s.joint_force_world[i] = rig.bone_mass[i] * a_com - s.force_world[i];
     s.joint_torque_world[i] = I * alpha + w.cross(I * w) - d.torque_ext_world[i];
   }
   JointSolveStats stats;
@@ -64,50 +56,70 @@ JointSolveStats solve_articulated(const Rig& rig, const EngineParams& params, Si
   return stats;
 }
 
+namespace {
+
+// bone i's world view from its joint state and its parent's (already derived) world view
+inline void derive_body(const Rig& rig, SimState& s, int i) {
+  BoneFrames& f = s.frames;
+  const int p = rig.bone_parent[i];
+  const double half_length = 0.5 * rig.bone_length[i];
+  if (p < 0) {
+    f.orient_world[i] = s.root_orient_world.normalized();
+    const Mat3 R = f.orient_world[i].toRotationMatrix();
+    const Vec3 half = half_length * R.col(1);  // R (0, L/2, 0)
+    s.com_world[i] = s.root_com_world;
+    f.head_world[i] = s.root_com_world - half;
+    f.tail_world[i] = s.root_com_world + half;
+    s.omega_world[i] = R * s.joint_vel_local[i];
+    s.vel_world[i] = s.root_vel_world;
+    return;
+  }
+  // as mj_kinematics: the ball's quaternion normalised, the products not
+  const Quat& q_parent = f.orient_world[p];
+  f.orient_world[i] =
+      q_parent * rig.bone_rest_orient_parent[i] * s.pose.bone_local_rotation[i].normalized();
+  const Mat3 R = f.orient_world[i].toRotationMatrix();
+  f.head_world[i] = f.head_world[p] + q_parent * rig.bone_head_in_parent[i];
+  const Vec3 half = half_length * R.col(1);
+  s.com_world[i] = f.head_world[i] + half;
+  f.tail_world[i] = s.com_world[i] + half;
+  s.omega_world[i] = s.omega_world[p] + R * s.joint_vel_local[i];
+  s.vel_world[i] = s.vel_world[p] + s.omega_world[p].cross(f.head_world[i] - s.com_world[p]) +
+                   s.omega_world[i].cross(half);
+}
+
+// the root's entry of the pose follows its orientation (R_0 = R_rest q_0)
+void root_pose_entry(const Rig& rig, SimState& s) {
+  s.pose.root_head_world = s.frames.head_world[0];
+  s.pose.bone_local_rotation[0] =
+      (rig.bone_rest_orient_parent[0].conjugate() * s.frames.orient_world[0]).normalized();
+}
+
+}  // namespace
+
 void integrate_joint_space(const Rig& rig, const EngineParams& params, SimState& s) {
   const double h = params.dt;
   const ArticulatedBodyData& d = s.articulated;
   if (rig.nbone == 0) return;
-  // velocities first (mj_advance), then positions with the new velocities (mj_integratePos)
+  // per joint: velocity first (mj_advance), then position with the new velocity
+  // (mj_integratePos); joints are independent, so one pass, parents first, also rebuilds the
+  // world view
   s.root_vel_world += h * d.root_accel_world;
-  for (int i = 0; i < rig.nbone; ++i) s.joint_vel_local[i] += h * d.joint_accel_local[i];
+  s.joint_vel_local[0] += h * d.joint_accel_local[0];
   s.root_com_world += h * s.root_vel_world;
   quat_integrate(s.root_orient_world, s.joint_vel_local[0], h);
+  derive_body(rig, s, 0);
   for (int i = 1; i < rig.nbone; ++i) {
+    s.joint_vel_local[i] += h * d.joint_accel_local[i];
     quat_integrate(s.pose.bone_local_rotation[i], s.joint_vel_local[i], h);
+    derive_body(rig, s, i);
   }
-  world_from_joint_space(rig, s);
+  root_pose_entry(rig, s);
 }
 
 void world_from_joint_space(const Rig& rig, SimState& s) {
-  BoneFrames& f = s.frames;
-  for (int i = 0; i < rig.nbone; ++i) {
-    const int p = rig.bone_parent[i];
-    const Vec3 half_local(0, 0.5 * rig.bone_length[i], 0);
-    if (p < 0) {
-      f.orient_world[i] = s.root_orient_world.normalized();
-      const Vec3 half = f.orient_world[i] * half_local;
-      s.com_world[i] = s.root_com_world;
-      f.head_world[i] = s.root_com_world - half;
-      f.tail_world[i] = s.root_com_world + half;
-      s.omega_world[i] = f.orient_world[i] * s.joint_vel_local[i];
-      s.vel_world[i] = s.root_vel_world;
-      continue;
-    }
-    f.orient_world[i] = (f.orient_world[p] * rig.bone_rest_orient_parent[i] *
-                         s.pose.bone_local_rotation[i].normalized()).normalized();
-    f.head_world[i] = f.head_world[p] + f.orient_world[p] * rig.bone_head_in_parent[i];
-    const Vec3 half = f.orient_world[i] * half_local;
-    s.com_world[i] = f.head_world[i] + half;
-    f.tail_world[i] = s.com_world[i] + half;
-    s.omega_world[i] = s.omega_world[p] + f.orient_world[i] * s.joint_vel_local[i];
-    s.vel_world[i] = s.vel_world[p] + s.omega_world[p].cross(f.head_world[i] - s.com_world[p]) +
-                     s.omega_world[i].cross(half);
-  }
-  // the root's entry of the pose follows its orientation (R_0 = R_rest q_0)
-  s.pose.root_head_world = f.head_world[0];
-  s.pose.bone_local_rotation[0] =
-      (rig.bone_rest_orient_parent[0].conjugate() * f.orient_world[0]).normalized();
+  for (int i = 0; i < rig.nbone; ++i) derive_body(rig, s, i);
+  if (rig.nbone > 0) root_pose_entry(rig, s);
 }
 
 }  // namespace physik
