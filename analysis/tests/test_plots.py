@@ -88,6 +88,19 @@ class ReportTest(unittest.TestCase):
             with self.assertRaises(KeyError):
                 report.main([d])
 
+    def test_tables_render_as_markdown_and_a_short_row_is_an_error(self):
+        with tempfile.TemporaryDirectory() as d:
+            os.makedirs(os.path.join(d, "exp"))
+            tab = {"title": "T", "columns": ["rig", "us"], "rows": [["chain", 5.2], ["tree2", "skipped"]]}
+            write(os.path.join(d, "exp"), "summary.json", json.dumps({"report": {"title": "X", "tables": [tab]}}))
+            report.main([d])
+            text = open(os.path.join(d, "REPORT.md")).read()
+            self.assertIn("**T**\n\n| rig | us |\n|---|---|\n| chain | 5.2 |\n| tree2 | skipped |", text)
+            tab["rows"].append(["chain"])
+            write(os.path.join(d, "exp"), "summary.json", json.dumps({"report": {"title": "X", "tables": [tab]}}))
+            with self.assertRaises(ValueError):
+                report.main([d])
+
     def test_settings_table_needs_params_json(self):
         with tempfile.TemporaryDirectory() as d:
             report.main([d])
