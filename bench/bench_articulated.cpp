@@ -8,52 +8,30 @@
 //                (xfrc_applied) of a same-forces reference run: the same trajectory, MuJoCo's cost
 //                without PhysIK's force stages
 //   exact_over_mj_step = exact_us / mj_step_us  (target: <= 0.5 on pinhead)
-// Scaling (BM_Exact / BM_MjStep, rig = chain or tree2 (balanced binary tree), N bones): the rig
-// is pulled at its last bone's tail by a capped spring (k 10), the original preset. Targets:
+// Scaling (BM_Exact / BM_MjStep, rig = chain or tree2 (balanced binary tree), N bones): the
+// scaling experiment's scenario (experiments/scaling.h). Targets:
 // <= 0.5 us per bone per step at 10,000 bones; cost exponent <= 1.1 (fit us_per_step vs N).
 // mj_step grows ~N^2.7 on chains (dense ancestor blocks of M), so it is run only up to 1000 bones.
 #include <algorithm>
-#include <ctime>
 #include <string>
 #include <vector>
 
 #include <benchmark/benchmark.h>
 
 #include "bench/alloc_counter.h"
+#include "experiments/scaling.h"
 #include "physik/io/scene_io.h"
-#include "physik/model/rig_generators.h"
-#include "reference/mujoco_runner.h"
 
 namespace {
 
-double thread_seconds() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
-}
+using physik::experiments::MjStepReplay;
+using physik::experiments::record_mj_step_replay;
+using physik::experiments::scaling_scene;
+using physik::experiments::thread_seconds;
+using physik::experiments::time_mj_step_replay;
 
 std::string scene_file(const std::string& name) {
   return std::string(PHYSIK_SOURCE_DIR) + "/models/scenes/" + name + ".json";
-}
-
-// the scaling scenario: a chain or a balanced binary tree pulled at its last bone's tail
-physik::Scene scaling_scene(const std::string& kind, int n) {
-  const physik::Rig rig = kind == "chain" ? physik::make_chain_rig(n) : physik::make_tree_rig(n, 2);
-  physik::Scene s;
-  s.file = "<bench>";
-  s.rig = rig;
-  s.params = physik::preset_params("original");
-  s.params.joint_solve = physik::JointSolve::kExact;
-  s.steps = 100;
-  s.initial_pose = physik::rest_pose(rig);
-  physik::ControlPoint c;
-  c.bone = n - 1;
-  c.alpha = 1.0;
-  c.target_world = rig.bone_rest_tail_world[n - 1] + physik::Vec3(3.0, 1.0, 0.0);
-  c.k = 10.0;
-  c.spring = physik::SpringLaw::kCapped;
-  s.control_points.push_back(c);
-  return s;
 }
 
 int steps_for(int n) { return std::clamp(20000 / n, 2, 100); }
@@ -80,43 +58,6 @@ void time_physik(benchmark::State& state, const physik::Scene& scene, int steps)
   state.counters["nbone"] = scene.rig.nbone;
 }
 
-// mj_step replaying the applied forces of a same-forces reference run
-struct MjReplay {
-  physik::MjModelPtr model;
-  physik::MjDataPtr start, data;
-  std::vector<std::vector<mjtNum>> xfrc;  // (steps) x (6 nbody)
-};
-
-MjReplay record_replay(const physik::Scene& scene, int steps) {
-  physik::MujocoReference ref(scene, physik::ReferenceMode::kSameForces);
-  MjReplay r;
-  const mjModel* m = ref.model();
-  r.model.reset(mj_copyModel(nullptr, m));
-  r.start.reset(mj_makeData(m));
-  mj_copyData(r.start.get(), m, ref.data());
-  r.xfrc.resize(steps);
-  for (int k = 0; k < steps; ++k) {
-    ref.step();
-    r.xfrc[k].assign(ref.data()->xfrc_applied, ref.data()->xfrc_applied + 6 * m->nbody);
-  }
-  r.data.reset(mj_makeData(m));
-  return r;
-}
-
-// us per mj_step over the replay
-double time_replay(MjReplay& r) {
-  const mjModel* m = r.model.get();
-  mjData* d = r.data.get();
-  mj_copyData(d, m, r.start.get());
-  const double t0 = thread_seconds();
-  for (const auto& f : r.xfrc) {
-    std::copy(f.begin(), f.end(), d->xfrc_applied);
-    mj_step(m, d);
-  }
-  benchmark::DoNotOptimize(d->qpos[0]);
-  return 1e6 * (thread_seconds() - t0) / r.xfrc.size();
-}
-
 void BM_Exact(benchmark::State& state, const std::string& kind) {
   const int n = static_cast<int>(state.range(0));
   time_physik(state, scaling_scene(kind, n), steps_for(n));
@@ -125,11 +66,11 @@ void BM_Exact(benchmark::State& state, const std::string& kind) {
 void BM_MjStep(benchmark::State& state, const std::string& kind) {
   const int n = static_cast<int>(state.range(0));
   const physik::Scene scene = scaling_scene(kind, n);
-  MjReplay r = record_replay(scene, std::clamp(2000 / n, 2, 100));
+  MjStepReplay r = record_mj_step_replay(scene, std::clamp(2000 / n, 2, 100));
   double us = 0.0;
   long iters = 0;
   for (auto _ : state) {
-    us += time_replay(r);
+    us += time_mj_step_replay(r);
     ++iters;
   }
   state.counters["us_per_step"] = us / iters;
@@ -143,7 +84,7 @@ void BM_ExactVsMjStep(benchmark::State& state, const std::string& name) {
   exact.params.joint_solve = physik::JointSolve::kExact;
   const physik::Scene gs = physik::load_scene(scene_file(name));
   constexpr int kSteps = 100;
-  MjReplay r = record_replay(exact, kSteps);
+  MjStepReplay r = record_mj_step_replay(exact, kSteps);
   physik::SimState init_exact, init_gs;
   physik::init_state(exact, init_exact);
   physik::init_state(gs, init_gs);
@@ -158,7 +99,7 @@ void BM_ExactVsMjStep(benchmark::State& state, const std::string& name) {
     t0 = thread_seconds();
     for (int k = 0; k < kSteps; ++k) benchmark::DoNotOptimize(physik::step(gs, s).kinetic_energy);
     t_gs += thread_seconds() - t0;
-    t_mj += 1e-6 * kSteps * time_replay(r);
+    t_mj += 1e-6 * kSteps * time_mj_step_replay(r);
     steps += kSteps;
   }
   state.counters["exact_us"] = 1e6 * t_exact / steps;
