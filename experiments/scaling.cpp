@@ -24,6 +24,7 @@
 #include <map>
 
 #include "experiments/common.h"
+#include "experiments/report.h"
 #include "physik/engine/forces.h"
 #include "physik/engine/integrate_joint_space.h"
 #include "physik/engine/joint_forces.h"
@@ -406,32 +407,62 @@ double exponent_of(const nlohmann::json& fits, const std::string& kind, const st
   return NAN;
 }
 
-nlohmann::json target_claims(const Study& st, const nlohmann::json& fits, const nlohmann::json& pin,
-                             int largest) {
-  nlohmann::json claims = nlohmann::json::array();
+void add_target_claims(Report& report, const Study& st, const nlohmann::json& fits,
+                       const nlohmann::json& pin, int largest) {
   const double ratio = pin["exact_over_mj_step"];
-  claims.push_back(claim("Issue 13 target: on pinhead the exact step takes at most 0.5x mj_step (same run)",
-                         "exact " + num(pin["exact_us"].get<double>()) + " us/step (whole step), mj_step " +
-                             num(pin["mj_step_us"].get<double>()) + " us: ratio " + num(ratio),
-                         ratio <= 0.5 ? "yes" : "no"));
+  report.claim("Issue 13 target: on pinhead the exact step takes at most 0.5x mj_step (same run)",
+               "exact " + num(pin["exact_us"].get<double>()) + " us/step (whole step), mj_step " +
+                   num(pin["mj_step_us"].get<double>()) + " us: ratio " + num(ratio),
+               ratio <= 0.5 ? "yes" : "no");
   if (const Row* r = find_row(st, "chain", largest, "exact")) {
     const double per_bone = r->m.us_per_step / largest;
-    claims.push_back(claim("Issue 13 target: " + num(largest, 6) +
-                               "-bone chain at most 0.5 us per bone per step (exact)",
-                           num(per_bone) + " us per bone per step (" + num(r->m.us_per_step) + " us/step)",
-                           largest < 10000 ? "n/a (quick run)" : per_bone <= 0.5 ? "yes" : "no"));
+    report.claim("Issue 13 target: " + num(largest, 6) + "-bone chain at most 0.5 us per bone per step (exact)",
+                 num(per_bone) + " us per bone per step (" + num(r->m.us_per_step) + " us/step)",
+                 largest < 10000 ? "n/a (quick run)" : per_bone <= 0.5 ? "yes" : "no");
   }
   for (const std::string kind : {"chain", "tree2"}) {
     const double p = exponent_of(fits, kind, "exact");
     const std::string others = "Gauss-Seidel 1e-3 " + num(exponent_of(fits, kind, "gauss_seidel_paper"), 3) +
                                ", 1e-9 " + num(exponent_of(fits, kind, "gauss_seidel_tight"), 3) +
                                ", mj_step " + num(exponent_of(fits, kind, "mj_step"), 3);
-    claims.push_back(claim("Issue 13 target: exact cost exponent at most 1.1 from 100 to " +
-                               std::to_string(largest) + " bones (" + kind + ")",
-                           "exact " + num(p, 3) + "; " + others + " (their fits: the table below)",
-                           largest < 10000 || !std::isfinite(p) ? "n/a (quick run)" : p <= 1.1 ? "yes" : "no"));
+    report.claim("Issue 13 target: exact cost exponent at most 1.1 from 100 to " + std::to_string(largest) +
+                     " bones (" + kind + ")",
+                 "exact " + num(p, 3) + "; " + others + " (their fits: the table below)",
+                 largest < 10000 || !std::isfinite(p) ? "n/a (quick run)" : p <= 1.1 ? "yes" : "no");
   }
-  return claims;
+}
+
+void add_notes(Report& report, const Budget& b) {
+  report
+      .note("Scenario: a chain or balanced binary tree from rest, pulled at its last bone's tail by a "
+            "capped spring (k 10 N/m), `original` preset; every solve timed over the same first " +
+            std::to_string(b.steps) + " steps from rest, batches repeated while under " +
+            num(b.total_s, 2) + " s, the fastest batch kept. Table: results/scaling/scaling.csv.")
+      .note("Times are thread CPU time: PhysIK's whole step (force stages included), mj_step alone "
+            "on the ball-joint model replaying the same forces. The machine may be shared.")
+      .note("Force error: relative joint-force error of one solve against exact on the exact run's "
+            "state after the timed steps (moving), with centripetal terms on and the angular-velocity "
+            "factor 1 in both (then the Gauss-Seidel fixed point is the exact solution). mj_step gap: "
+            "largest endpoint distance to the exact run after the same steps (rig units).")
+      .note("A solve is skipped where its projected time per step passes " + num(b.limit_s, 2) +
+            " s (or MuJoCo's compile " + num(5.0 * b.limit_s, 2) + " s); the row says so.")
+      .note("Benchmark with repetitions: build/physik_bench "
+            "--benchmark_filter='BM_Exact|BM_MjStep|BM_ExactVsMjStep'.");
+}
+
+void add_tables(Report& report, const Study& st, const std::vector<int>& sizes,
+                const nlohmann::json& fits) {
+  const nlohmann::json t = time_table(st, sizes);
+  report.table(t["title"], t["columns"].get<std::vector<std::string>>(), t["rows"]);
+  nlohmann::json fit_rows = nlohmann::json::array();
+  for (const auto& f : fits) {
+    fit_rows.push_back({f["kind"], f["method"],
+                        f["exponent"].is_null() ? "n/a" : num(f["exponent"].get<double>(), 3),
+                        f["sizes"].dump()});
+  }
+  report.table("Cost exponents: us per step ~ N^p, least squares over 100..10,000 bones (over every "
+               "size run where fewer than two of those ran)",
+               {"rig", "solve", "p", "sizes fitted"}, fit_rows);
 }
 
 void run(const Context& ctx) {
@@ -444,49 +475,19 @@ void run(const Context& ctx) {
   write_csv(st, ctx.out_dir + "/scaling.csv");
   const nlohmann::json fits = exponents(st);
   const nlohmann::json pin = pinhead_ratio(ctx, st.budget);
-  nlohmann::json fit_rows = nlohmann::json::array();
-  for (const auto& f : fits) {
-    fit_rows.push_back({f["kind"], f["method"],
-                        f["exponent"].is_null() ? "n/a" : num(f["exponent"].get<double>(), 3),
-                        f["sizes"].dump()});
-  }
-  write_json_file(
-      {{"experiment", "scaling"},
-       {"table", "scaling.csv"},
-       {"exponents", fits},
-       {"pinhead", pin},
-       {"report",
-        {{"title", "Scaling: Gauss-Seidel, exact and mj_step from 10 to 10,000 bones"},
-         {"claims", target_claims(st, fits, pin, sizes.back())},
-         {"tables", {time_table(st, sizes),
-                     {{"title", "Cost exponents: us per step ~ N^p, least squares over 100..10,000 bones "
-                                "(over every size run where fewer than two of those ran)"},
-                      {"columns", {"rig", "solve", "p", "sizes fitted"}},
-                      {"rows", fit_rows}}}},
-         {"notes",
-          {"Scenario: a chain or balanced binary tree from rest, pulled at its last bone's tail by a "
-           "capped spring (k 10 N/m), `original` preset; every solve timed over the same first " +
-               std::to_string(st.budget.steps) + " steps from rest, batches repeated while under " +
-               num(st.budget.total_s, 2) + " s, the fastest batch kept. Table: results/scaling/scaling.csv.",
-           "Times are thread CPU time: PhysIK's whole step (force stages included), mj_step alone "
-           "on the ball-joint model replaying the same forces. The machine may be shared.",
-           "Force error: relative joint-force error of one solve against exact on the exact run's "
-           "state after the timed steps (moving), with centripetal terms on and the angular-velocity "
-           "factor 1 in both (then the Gauss-Seidel fixed point is the exact solution). mj_step gap: "
-           "largest endpoint distance to the exact run after the same steps (rig units).",
-           "A solve is skipped where its projected time per step passes " +
-               num(st.budget.limit_s, 2) + " s (or MuJoCo's compile " +
-               num(5.0 * st.budget.limit_s, 2) + " s); the row says so.",
-           "Benchmark with repetitions: build/physik_bench --benchmark_filter='BM_Exact|BM_MjStep|BM_ExactVsMjStep'."}},
-         {"figures", {"scaling.png"}}}}},
-      ctx.out_dir + "/summary.json");
+  Report report("Scaling: Gauss-Seidel, exact and mj_step from 10 to 10,000 bones");
+  add_target_claims(report, st, fits, pin, sizes.back());
+  add_tables(report, st, sizes, fits);
+  add_notes(report, st.budget);
+  report.figures({"scaling.png"});
+  write_summary(ctx, {{"experiment", "scaling"}, {"table", "scaling.csv"}, {"exponents", fits},
+                      {"pinhead", pin}}, report);
 }
+
+const Registration registered{
+    260, {"scaling", "issue 13",
+          "us per step vs bones (10..10,000): Gauss-Seidel (eps 1e-3, 1e-9), exact, mj_step", run}};
 
 }  // namespace
-
-Experiment scaling_experiment() {
-  return {"scaling", "issue 13",
-          "us per step vs bones (10..10,000): Gauss-Seidel (eps 1e-3, 1e-9), exact, mj_step", run};
-}
 
 }  // namespace physik::experiments
