@@ -1,5 +1,6 @@
 // physik export-mjcf RIG: the rig as MuJoCo MJCF (reference/mjcf_export.h), checked by compiling
 // it with MuJoCo before printing.
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -30,7 +31,10 @@ void add_reference_commands(CLI::App& app) {
       "root, ball/hinge/welded joints from the rig's limits (or balls everywhere), no gravity, no "
       "contacts, Euler integrator. The MJCF is compiled by MuJoCo before it is printed.");
   cmd->add_option("RIG", opt->rig, "Rig file (JSON, see models/README.md)")->required();
-  cmd->add_option("--out", opt->out, "Write to this file instead of stdout");
+  cmd->add_option("--out", opt->out,
+                  "Write to this file instead of stdout; a rig nested deeper than " +
+                      std::to_string(kMjcfBodiesPerFile) +
+                      " bodies also gets include files STEM.partK.xml beside it (STEM = FILE without .xml)");
   cmd->add_option("--joints", opt->joints,
                   "rig: joint types and limits from the rig (exact-constraints mode); ball: a "
                   "ball at every bone, no limits (same-forces mode)")
@@ -43,15 +47,27 @@ void add_reference_commands(CLI::App& app) {
     MjcfOptions o;
     o.joints = opt->joints == "ball" ? JointModel::kBallJoints : JointModel::kRigJoints;
     o.dt = opt->dt;
-    const std::string xml = rig_to_mjcf(rig, o);
-    compile_mjcf(xml);  // throws with MuJoCo's message if it does not load
-    if (opt->out.empty() || opt->out == "-") {
-      std::cout << xml;
+    // deep rigs: the main file and include files beside it (MuJoCo's parser nests ~100 deep)
+    const bool to_stdout = opt->out.empty() || opt->out == "-";
+    const std::filesystem::path out(to_stdout ? "physik_rig.xml" : opt->out);
+    const std::vector<MjcfFile> files = rig_to_mjcf_files(rig, o, out.filename().string());
+    compile_mjcf(files);  // throws with MuJoCo's message if it does not load
+    if (to_stdout) {
+      if (files.size() > 1) {
+        throw_input_error(opt->rig, "", "--out",
+                          "the rig is too deep for one MJCF file (it needs " +
+                              std::to_string(files.size() - 1) +
+                              " include files): give --out FILE, they are written beside it");
+      }
+      std::cout << files[0].text;
       return;
     }
-    std::ofstream f(opt->out);
-    if (!f) throw_input_error(opt->out, "", "--out", "cannot write file");
-    f << xml;
+    for (const MjcfFile& file : files) {
+      const std::filesystem::path path = out.parent_path() / file.name;
+      std::ofstream f(path);
+      if (!f) throw_input_error(path.string(), "", "--out", "cannot write file");
+      f << file.text;
+    }
   });
 }
 

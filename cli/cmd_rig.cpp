@@ -1,4 +1,4 @@
-// physik rig info | chain: inspect rigs and generate chains.
+// physik rig info | chain | tree: inspect rigs and generate chains and balanced trees.
 #include <iomanip>
 #include <memory>
 #include <iostream>
@@ -124,6 +124,32 @@ void add_rig_commands(CLI::App& app) {
   chain->callback([chain_opt] {
     write_json(rig_to_json(make_chain_rig(chain_opt->n, chain_opt->bone_length, chain_opt->radius)),
                chain_opt->out);
+  });
+
+  struct TreeOptions {
+    int n = 7;
+    int branching = 2;
+    double bone_length = 1.0;  // rig units
+    double radius = 0.5;       // rig units (the original code's)
+    std::string out;
+  };
+  auto tree_opt = std::make_shared<TreeOptions>();
+  auto* tree = rig->add_subcommand(
+      "tree",
+      "Generate a balanced tree of N free bones: every bone has B children at its tail (the "
+      "last level partly filled), each leaning 30 deg from its parent; the root along +Z");
+  tree->add_option("N", tree_opt->n, "Number of bones")->required();
+  tree->add_option("--branching", tree_opt->branching, "Children per bone (B; 1 = a chain)")
+      ->capture_default_str();
+  tree->add_option("--bone-length", tree_opt->bone_length, "Length of each bone (rig units)")
+      ->capture_default_str();
+  tree->add_option("--radius", tree_opt->radius, "Cylinder radius for the inertia (rig units)")
+      ->capture_default_str();
+  tree->add_option("--out", tree_opt->out, "Write the rig JSON here instead of stdout");
+  tree->callback([tree_opt] {
+    write_json(rig_to_json(make_tree_rig(tree_opt->n, tree_opt->branching, tree_opt->bone_length,
+                                         tree_opt->radius)),
+               tree_opt->out);
   });
 }
 

@@ -1,5 +1,7 @@
 #include "experiments/report.h"
 
+#include <stdexcept>
+
 #include "physik/io/json_fields.h"
 
 namespace physik::experiments {
@@ -25,6 +27,18 @@ Report& Report::figures(const std::vector<std::string>& files) {
   return *this;
 }
 
+Report& Report::table(const std::string& title, const std::vector<std::string>& columns,
+                      const nlohmann::json& rows) {
+  for (const auto& row : rows) {
+    if (!row.is_array() || row.size() != columns.size()) {
+      throw std::logic_error("report table '" + title + "': a row has " + std::to_string(row.size()) +
+                             " cells for " + std::to_string(columns.size()) + " columns");
+    }
+  }
+  tables_.push_back({{"title", title}, {"columns", columns}, {"rows", rows}});
+  return *this;
+}
+
 Report& Report::settings(const nlohmann::json& settings) {
   settings_ = settings;
   return *this;
@@ -36,6 +50,7 @@ nlohmann::json Report::to_json() const {
   if (!notes_.empty()) j["notes"] = notes_;
   if (!figures_.empty()) j["figures"] = figures_;
   if (!settings_.is_null()) j["settings"] = settings_;
+  if (!tables_.empty()) j["tables"] = tables_;
   return j;
 }
 

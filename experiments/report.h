@@ -3,9 +3,11 @@
 //
 //   "report": {"title": "...", "section": "...",
 //              "claims": [{"claim": "...", "measured": "...", "holds": "yes" | "no" | "partly" | "n/a"}],
-//              "notes": ["..."], "figures": ["x.png"], "settings": {...}}
+//              "notes": ["..."], "figures": ["x.png"], "settings": {...},
+//              "tables": [{"title": "...", "columns": ["..."], "rows": [[cell, ...]]}]}
 //
-// title and claims are always written; section, notes, figures and settings only when given.
+// title and claims are always written; section, notes, figures, settings and tables only when
+// given.
 #pragma once
 
 #include <string>
@@ -28,6 +30,9 @@ class Report {
   Report& claim(const std::string& text, const std::string& measured, const std::string& holds);
   Report& note(const std::string& text);
   Report& figures(const std::vector<std::string>& files);
+  // A table report.py renders under the section (markdown); every row has one cell per column.
+  Report& table(const std::string& title, const std::vector<std::string>& columns,
+                const nlohmann::json& rows);
   // The engine settings the report states (common.h settings_json).
   Report& settings(const nlohmann::json& settings);
 
@@ -38,6 +43,7 @@ class Report {
   nlohmann::json claims_ = nlohmann::json::array();
   std::vector<std::string> notes_, figures_;
   nlohmann::json settings_;  // null = none
+  nlohmann::json tables_ = nlohmann::json::array();
 };
 
 // Write <ctx.out_dir>/summary.json: `doc` with the report as its "report" section.

@@ -3,9 +3,11 @@
 
 #include <algorithm>
 #include <cstring>
+#include <filesystem>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 namespace physik {
 
@@ -76,7 +78,46 @@ void write_joints(std::ostringstream& x, const Rig& rig, int i, JointModel model
   }
 }
 
-void write_body(std::ostringstream& x, const Rig& rig, int i, const MjcfOptions& o, int depth) {
+// Where the bodies go: the main file, and include files once a file's bodies nest too deep.
+struct MjcfWriter {
+  const Rig& rig;
+  const MjcfOptions& o;
+  std::string stem;                   // include files are stem.partK.xml
+  int bodies_per_file;                // 0: never split
+  std::vector<MjcfFile>* includes;    // nullptr: never split
+};
+
+void write_body(std::ostringstream& x, const MjcfWriter& w, int i, int depth, int file_depth);
+
+// the children of bone i, inline or, at the file's depth limit, in a new include file
+void write_children(std::ostringstream& x, const MjcfWriter& w, int i, int depth, int file_depth) {
+  const Rig& rig = w.rig;
+  if (rig.bone_children[i].empty()) return;
+  if (!w.includes || file_depth < w.bodies_per_file) {
+    for (int c : rig.bone_children[i]) write_body(x, w, c, depth + 1, file_depth + 1);
+    return;
+  }
+  if (static_cast<int>(w.includes->size()) + 2 >= mjMAXVFS) {
+    throw std::runtime_error("MJCF: the rig needs more than " + std::to_string(mjMAXVFS - 2) +
+                             " include files (MuJoCo's VFS limit)");
+  }
+  const std::string name = w.stem + ".part" + std::to_string(w.includes->size() + 1) + ".xml";
+  const std::string pad(2 * (depth + 1), ' ');
+  x << pad << "<include file=\"" << name << "\"/>\n";
+  w.includes->push_back({name, ""});
+  const std::size_t slot = w.includes->size() - 1;
+  std::ostringstream part;
+  part << "<!-- PhysIK rig '" << rig.name << "': the bodies below '" << rig.bone_name[i]
+       << "' (included: MuJoCo's XML parser takes about 100 nested elements per file) -->\n";
+  part << "<mujocoinclude>\n";
+  for (int c : rig.bone_children[i]) write_body(part, w, c, 1, 1);
+  part << "</mujocoinclude>\n";
+  (*w.includes)[slot].text = part.str();
+}
+
+void write_body(std::ostringstream& x, const MjcfWriter& w, int i, int depth, int file_depth) {
+  const Rig& rig = w.rig;
+  const MjcfOptions& o = w.o;
   const std::string pad(2 * depth, ' ');
   const double L = rig.bone_length[i];
   Vec3 pos;
@@ -99,18 +140,14 @@ void write_body(std::ostringstream& x, const Rig& rig, int i, const MjcfOptions&
     << vec(rig.bone_inertia_local[i]) << "\"/>\n";
   x << in << "<geom name=\"" << rig.bone_name[i] << "\" type=\"capsule\" fromto=\"0 "
     << num(-0.5 * L) << " 0 0 " << num(0.5 * L) << " 0\" size=\"" << num(0.06 * L) << "\"/>\n";
-  for (int c : rig.bone_children[i]) write_body(x, rig, c, o, depth + 1);
+  write_children(x, w, i, depth, file_depth);
   x << pad << "</body>\n";
 }
 
-}  // namespace
-
-Quat mjcf_joint_offset(const Rig& rig, int bone, JointModel joints) {
-  if (bone == rig.root() || joints == JointModel::kBallJoints) return Quat::Identity();
-  return locked_rotation(rig.bone_limit[bone]);
-}
-
-std::string rig_to_mjcf(const Rig& rig, const MjcfOptions& o) {
+// the main file around the root body
+std::string write_main(const MjcfWriter& w) {
+  const Rig& rig = w.rig;
+  const MjcfOptions& o = w.o;
   std::ostringstream x;
   x << "<!-- PhysIK rig '" << rig.name << "' as MJCF (reference/mjcf_export.h): one body per bone "
     << "at its centre of mass, local +Y along the bone; "
@@ -126,32 +163,67 @@ std::string rig_to_mjcf(const Rig& rig, const MjcfOptions& o) {
   x << "    <geom contype=\"0\" conaffinity=\"0\" rgba=\"0.8 0.6 0.4 1\"/>\n";
   x << "  </default>\n";
   x << "  <worldbody>\n";
-  write_body(x, rig, rig.root(), o, 2);
+  write_body(x, w, rig.root(), 2, 1);
   x << "  </worldbody>\n";
   x << "</mujoco>\n";
   return x.str();
 }
 
+}  // namespace
+
+Quat mjcf_joint_offset(const Rig& rig, int bone, JointModel joints) {
+  if (bone == rig.root() || joints == JointModel::kBallJoints) return Quat::Identity();
+  return locked_rotation(rig.bone_limit[bone]);
+}
+
+std::string rig_to_mjcf(const Rig& rig, const MjcfOptions& o) {
+  return write_main(MjcfWriter{rig, o, "", 0, nullptr});
+}
+
+std::vector<MjcfFile> rig_to_mjcf_files(const Rig& rig, const MjcfOptions& o,
+                                        const std::string& main_name) {
+  const std::string stem = main_name.size() > 4 && main_name.substr(main_name.size() - 4) == ".xml"
+                               ? main_name.substr(0, main_name.size() - 4)
+                               : main_name;
+  std::vector<MjcfFile> includes;
+  const std::string main = write_main(MjcfWriter{rig, o, stem, kMjcfBodiesPerFile, &includes});
+  std::vector<MjcfFile> files;
+  files.reserve(includes.size() + 1);
+  files.push_back({main_name, main});
+  for (MjcfFile& f : includes) files.push_back(std::move(f));
+  return files;
+}
+
 MjModelPtr compile_mjcf(const std::string& xml) {
+  return compile_mjcf(std::vector<MjcfFile>{{"physik_rig.xml", xml}});
+}
+
+MjModelPtr compile_mjcf(const std::vector<MjcfFile>& files) {
   route_mujoco_warnings_to_stderr();
+  if (files.empty()) throw std::runtime_error("MuJoCo: no MJCF to compile");
   // mjVFS holds 2000 file names of 1000 chars: keep it off the stack
   auto vfs = std::make_unique<mjVFS>();
   mj_defaultVFS(vfs.get());
-  const char* name = "physik_rig.xml";
-  if (mj_makeEmptyFileVFS(vfs.get(), name, static_cast<int>(xml.size())) != 0) {
-    throw std::runtime_error("MuJoCo: cannot make a VFS file for the MJCF");
+  for (const MjcfFile& file : files) {
+    // VFS names are file names without their folder (the includes sit beside the main file)
+    const std::string name = std::filesystem::path(file.name).filename().string();
+    if (mj_makeEmptyFileVFS(vfs.get(), name.c_str(), static_cast<int>(file.text.size())) != 0) {
+      mj_deleteVFS(vfs.get());
+      throw std::runtime_error("MuJoCo: cannot make a VFS file for '" + name + "'");
+    }
+    const int f = mj_findFileVFS(vfs.get(), name.c_str());
+    std::memcpy(vfs->filedata[f], file.text.data(), file.text.size());
   }
-  const int f = mj_findFileVFS(vfs.get(), name);
-  std::memcpy(vfs->filedata[f], xml.data(), xml.size());
   char error[1000] = "";
-  mjModel* m = mj_loadXML(name, vfs.get(), error, sizeof(error));
+  const std::string main = std::filesystem::path(files[0].name).filename().string();
+  mjModel* m = mj_loadXML(main.c_str(), vfs.get(), error, sizeof(error));
   mj_deleteVFS(vfs.get());
   if (!m) throw std::runtime_error(std::string("MuJoCo rejected the MJCF: ") + error);
   return MjModelPtr(m);
 }
 
 MjModelPtr rig_to_mjmodel(const Rig& rig, const MjcfOptions& options) {
-  return compile_mjcf(rig_to_mjcf(rig, options));
+  return compile_mjcf(rig_to_mjcf_files(rig, options));
 }
 
 }  // namespace physik

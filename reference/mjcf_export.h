@@ -33,6 +33,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <mujoco/mujoco.h>
 
@@ -47,8 +48,23 @@ struct MjcfOptions {
   double dt = 0.05;  // s, <option timestep>
 };
 
-// The MJCF text of the rig.
+// The MJCF text of the rig, in one file. MuJoCo 2.2.2's XML parser rejects elements nested
+// about 100 deep (XML_ELEMENT_DEPTH_EXCEEDED): one file holds rigs up to about 95 bones deep.
 std::string rig_to_mjcf(const Rig& rig, const MjcfOptions& options);
+
+// The MJCF of a rig of any depth: files[0] is the main file (named main_name); once a file's
+// bodies nest kMjcfBodiesPerFile deep, the children of the deepest body go into an include file
+// stem.partK.xml (stem = main_name without .xml; <include file="..."/> inside the body, the
+// bodies inside <mujocoinclude>), which may include further files. MuJoCo resolves every include
+// relative to the main file's folder: write them all beside it. A rig within one file's depth
+// gives exactly rig_to_mjcf's text.
+struct MjcfFile {
+  std::string name;  // file name (files[0]: main_name; includes: names relative to its folder)
+  std::string text;
+};
+constexpr int kMjcfBodiesPerFile = 64;
+std::vector<MjcfFile> rig_to_mjcf_files(const Rig& rig, const MjcfOptions& options,
+                                        const std::string& main_name = "physik_rig.xml");
 
 // The fixed rotation between bone i's rest frame and its body frame at zero joint angles:
 // exp(locked angles) for rig joints, identity for the root and for ball joints.
@@ -66,8 +82,10 @@ using MjDataPtr = std::unique_ptr<mjData, MjDataDeleter>;
 // Compile MJCF text from memory (mjVFS on the heap). Throws std::runtime_error with MuJoCo's
 // message if the compiler rejects it.
 MjModelPtr compile_mjcf(const std::string& xml);
+// Compile a main file and its include files (rig_to_mjcf_files), all through the VFS.
+MjModelPtr compile_mjcf(const std::vector<MjcfFile>& files);
 
-// rig_to_mjcf + compile_mjcf.
+// rig_to_mjcf_files + compile_mjcf (any depth).
 MjModelPtr rig_to_mjmodel(const Rig& rig, const MjcfOptions& options);
 
 }  // namespace physik

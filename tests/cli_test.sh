@@ -33,6 +33,14 @@ check "chain" 0 "$bin" rig chain 5 --out "$tmp/c5.json"
 check "chain info" 0 "$bin" rig info --json "$tmp/c5.json"
 expect_in "chain bones" "$tmp/out" '"bones": 5'
 check "chain zero" 2 "$bin" rig chain 0
+check "rig tree help" 0 "$bin" rig tree --help
+expect_in "rig tree help text" "$tmp/out" "--branching"
+check "tree" 0 "$bin" rig tree 15 --branching 2 --out "$tmp/t15.json"
+check "tree info" 0 "$bin" rig info --json "$tmp/t15.json"
+expect_in "tree bones" "$tmp/out" '"bones": 15'
+expect_in "tree joints" "$tmp/out" '"joints": 7'
+check "tree zero branching" 2 "$bin" rig tree 5 --branching 0
+expect_in "tree branching message" "$tmp/err" "branching"
 
 printf '{"bones": [{"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,0]}]}' > "$tmp/zero.json"
 check "zero-length bone" 2 "$bin" rig info "$tmp/zero.json"
@@ -92,6 +100,17 @@ expect_in "export-mjcf free root" "$tmp/pinhead.xml" 'type="free"'
 if command -v mujoco-compile >/dev/null; then
   check "mujoco-compile loads it" 0 mujoco-compile "$tmp/pinhead.xml" "$tmp/pinhead.mjb"
 fi
+# a 150-bone chain is too deep for one MJCF file: include files beside --out; stdout refuses
+check "chain 150" 0 "$bin" rig chain 150 --out "$tmp/c150.json"
+check "export-mjcf deep" 0 "$bin" export-mjcf "$tmp/c150.json" --joints ball --out "$tmp/c150.xml"
+expect_in "export-mjcf include" "$tmp/c150.xml" '<include file="c150.part1.xml"/>'
+expect_in "export-mjcf part" "$tmp/c150.part1.xml" '<mujocoinclude>'
+expect_in "export-mjcf part2" "$tmp/c150.part2.xml" '<body name="b128"'
+if command -v mujoco-compile >/dev/null; then
+  check "mujoco-compile loads the deep chain" 0 mujoco-compile "$tmp/c150.xml" "$tmp/c150.mjb"
+fi
+check "export-mjcf deep to stdout" 2 "$bin" export-mjcf "$tmp/c150.json"
+expect_in "export-mjcf deep message" "$tmp/err" "give --out FILE"
 check "export-mjcf bad rig" 2 "$bin" export-mjcf "$tmp/zero.json"
 check "export-mjcf bad joints" 2 "$bin" export-mjcf "$src/models/rigs/pinhead.json" --joints hinge
 check "simulate bad reference" 2 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --reference bullet --out "$tmp/ref"

@@ -27,10 +27,11 @@ namespace physik {
 namespace {
 
 TEST(EngineAllocations, StepAllocatesNothing) {
-  for (const char* integration : {"articulated", "free-rods"}) {
+  for (const char* integration : {"articulated", "free-rods", "exact"}) {
     Scene scene = load_scene(test::model_path("scenes/pinhead_two_hands.json"));
-    scene.params.integration = std::string(integration) == "articulated" ? Integration::kArticulated
-                                                                         : Integration::kFreeRods;
+    scene.params.integration = std::string(integration) == "free-rods" ? Integration::kFreeRods
+                                                                       : Integration::kArticulated;
+    if (std::string(integration) == "exact") scene.params.joint_solve = JointSolve::kExact;
     scene.params.interpolation = Interpolation::kPolarCom;
     scene.schedule.push_back({20, 0, Vec3(1.0, -1.0, 0.5)});
     SimState s;

@@ -51,6 +51,11 @@ TEST(Scene, PresetsAndOverrides) {
   const Scene c = scene_from_json(scene_to_json(b), "rt.json", "/");
   EXPECT_EQ(c.params.damping, 2.5);
   EXPECT_EQ(c.control_points[0].target_world, b.control_points[0].target_world);
+  EXPECT_EQ(b.params.joint_solve, JointSolve::kGaussSeidel);  // the paper's scheme by default
+  const Scene d = parse(with_cp(R"({"bone": "forearm", "target": [0, 1, 3]})",
+                                R"({"joint_solve": "exact"})"));
+  EXPECT_EQ(d.params.joint_solve, JointSolve::kExact);
+  EXPECT_EQ(scene_from_json(scene_to_json(d), "rt.json", "/").params.joint_solve, JointSolve::kExact);
 }
 
 TEST(Scene, ParamOverridesReachControlPointsThatInheritThem) {
@@ -139,6 +144,8 @@ TEST(SceneInput, UnknownParamsAndValues) {
   expect_error(with_cp("", R"({"preset": "fast"})"), {"params", "'preset'", "unknown preset"});
   expect_error(with_cp("", R"({"integration": "rk4"})"), {"params", "'integration'", "articulated|free-rods"});
   expect_error(with_cp("", R"({"interpolation": "cubic"})"), {"'interpolation'"});
+  expect_error(with_cp("", R"({"joint_solve": "lu"})"),
+               {"params", "'joint_solve'", "gauss-seidel|exact"});
   expect_error(with_cp("", R"({"torsion_spring": "stiff"})"), {"'torsion_spring'"});
   expect_error(with_cp(R"({"bone": "forearm", "target": [0,0,1], "spring": "bungee"})"),
                {"control_points[0]", "'spring'"});

@@ -8,6 +8,7 @@
 
 #include "physik/engine/forces.h"
 #include "physik/engine/integrate.h"
+#include "physik/engine/integrate_joint_space.h"
 #include "physik/engine/interpolation.h"
 #include "physik/engine/joint_forces.h"
 #include "physik/engine/newton_euler.h"
@@ -52,6 +53,7 @@ void init_state(const Scene& scene, SimState& s) {
     s.vel_world[i] = scene.initial_velocity_world;
   }
   s.pose = scene.initial_pose;
+  if (scene.params.joint_solve == JointSolve::kExact) init_joint_space(rig, s);
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
     const ControlPoint& cp = scene.control_points[c];
     s.target_effective_world[c] = point_on_bone(s.frames, cp.bone, cp.alpha);
@@ -65,14 +67,19 @@ StepStats step(const Scene& scene, SimState& s) {
 
   update_targets(scene, s);
   apply_forces(scene, s);
+  const bool exact = p.joint_solve == JointSolve::kExact;
   const auto t0 = std::chrono::steady_clock::now();
-  const JointSolveStats js = solve_joint_forces(rig, p, s);
+  const JointSolveStats js = exact ? solve_articulated(rig, p, s) : solve_joint_forces(rig, p, s);
   const auto t1 = std::chrono::steady_clock::now();
-  integrate(rig, p, s);
+  if (exact) {
+    integrate_joint_space(rig, p, s);  // s.pose is its ball state: not rebuilt from the frames
+  } else {
+    integrate(rig, p, s);
+  }
 
   s.step += 1;
   s.time += p.dt;
-  local_rotations_from_world(rig, s.frames, s.pose);
+  if (!exact) local_rotations_from_world(rig, s.frames, s.pose);
 
   StepStats st;
   st.passes = js.passes;

@@ -7,6 +7,8 @@
 //                         tail, control springs, torsion springs +-tau
 //   solve_joint_forces    Gauss-Seidel, corrected eq. 11                     joint_forces.h
 //   integrate             semi-implicit Euler, articulated or free rods      integrate.h
+// With joint_solve exact the last two are solve_articulated (Featherstone's articulated-body
+// algorithm) and integrate_joint_space (MuJoCo's Euler in joint space), integrate_joint_space.h.
 #pragma once
 
 #include <cstdint>

@@ -13,6 +13,9 @@ void prepare_bodies(const Rig& rig, const EngineParams& params, SimState& s) {
     s.torque_world[i].setZero();
     s.joint_force_world[i].setZero();
     s.joint_torque_world[i].setZero();
+    // only the Gauss-Seidel solve and its integration read I^-1 and w x I w; the exact solve
+    // forms the inertias itself (articulated_body.h)
+    if (params.joint_solve == JointSolve::kExact) continue;
     const Mat3 R = s.frames.orient_world[i].toRotationMatrix();
     s.inertia_inv_world[i] =
         R * rig.bone_inertia_local[i].cwiseInverse().asDiagonal() * R.transpose();

@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "physik/engine/articulated_body.h"
 #include "physik/model/kinematics.h"
 #include "physik/model/scene.h"
 
@@ -33,6 +34,17 @@ struct SimState {
   std::vector<Vec3> member_accel;        // (nmember) scratch: joint-point accelerations
   std::vector<Vec3> member_force_world;  // (nmember) inter-joint force on that bone at the
                                          //           joint this step, N (sums to 0 per joint)
+
+  // --- joint-space state (joint_solve exact): MuJoCo's qpos/qvel of the ball-joint model ---
+  // the root's free joint, and per bone the ball's relative angular velocity; every ball's
+  // quaternion is pose.bone_local_rotation[i]. frames, com, vel and omega are derived from these
+  // after every step (integrate_joint_space.h).
+  Vec3 root_com_world = Vec3::Zero();   // rig units
+  Vec3 root_vel_world = Vec3::Zero();   // rig units/s, of the root's centre of mass
+  Quat root_orient_world = Quat::Identity();  // world<-root bone
+  std::vector<Vec3> joint_vel_local;    // (nbone) rad/s; [0] the root's w in its own frame,
+                                        //   [i] R_i^T (w_i - w_parent), in bone i's frame
+  ArticulatedBodyData articulated;      // the articulated-body algorithm's workspace
 
   // --- control points ---
   std::vector<Vec3> target_effective_world;  // (ncontrol) the target the spring pulls toward now

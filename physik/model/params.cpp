@@ -26,9 +26,15 @@ const std::vector<std::string>& choice_names(Interpolation) {
   return names;
 }
 
+const std::vector<std::string>& choice_names(JointSolve) {
+  static const std::vector<std::string> names = {"gauss-seidel", "exact"};
+  return names;
+}
+
 const char* to_string(SpringLaw s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
 const char* to_string(Integration s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
 const char* to_string(Interpolation s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
+const char* to_string(JointSolve s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
 
 const char* to_string(ParamKind k) {
   switch (k) {
@@ -104,6 +110,11 @@ ParamRow zero_means(ParamRow r, const char* text) {
   return r;
 }
 
+ParamRow omitted_at_default(ParamRow r) {
+  r.written_at_default = false;
+  return r;
+}
+
 constexpr ParamRange kAny{};
 const ParamRange kPositive{0.0, std::nullopt, false, true};
 const ParamRange kNonNegative{0.0, std::nullopt, true, true};
@@ -150,6 +161,9 @@ std::vector<ParamRow> build_table() {
             0.01, 3.2),
       row<&E::torsion_tolerance>("torsion_tolerance", "1", {0.1, 0.1}, half_open(0.0, 0.5),
                                  "the torsion spring engages this fraction of the range inside each limit"),
+      omitted_at_default(row<&E::joint_solve>(
+          "joint_solve", "", {JointSolve::kGaussSeidel, JointSolve::kGaussSeidel}, kAny,
+          "gauss-seidel (the paper's passes) or exact (articulated-body algorithm, MuJoCo's Euler)")),
       row<&E::integration>("integration", "", {Integration::kArticulated, Integration::kArticulated},
                            kAny, "articulated (the original's: FK from the root) or free-rods (the paper's text)"),
       row<&E::interpolation>("interpolation", "", {Interpolation::kLinear, Interpolation::kLinear},

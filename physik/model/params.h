@@ -24,15 +24,20 @@ namespace physik {
 enum class SpringLaw { kLinear, kCapped };
 enum class Integration { kArticulated, kFreeRods };
 enum class Interpolation { kNone, kLinear, kPolarHead, kPolarCom };
+// how the joints are solved each step: the paper's Gauss-Seidel passes (joint_forces.h), or the
+// exact articulated-body algorithm with MuJoCo's Euler step in joint space (articulated_body.h)
+enum class JointSolve { kGaussSeidel, kExact };
 
 // each enum's names in the scene format, in the enum's order (the table's choices)
 const std::vector<std::string>& choice_names(SpringLaw);
 const std::vector<std::string>& choice_names(Integration);
 const std::vector<std::string>& choice_names(Interpolation);
+const std::vector<std::string>& choice_names(JointSolve);
 
 const char* to_string(SpringLaw s);
 const char* to_string(Integration s);
 const char* to_string(Interpolation s);
+const char* to_string(JointSolve s);
 
 struct EngineParams {
   EngineParams();  // the `original` preset: the table's first column
@@ -52,6 +57,8 @@ struct EngineParams {
   double torsion_cap;                    // rad, cap of capped torsion springs
   double torsion_tolerance;              // 1, fraction of the range inside each limit where the
                                          //    torsion spring engages
+  JointSolve joint_solve;                // exact: integration, joint_eps, max_passes, centripetal
+                                         //        do not apply
   Integration integration;
   Interpolation interpolation;
   int interpolation_steps;               // steps over which a target jump is spread
@@ -96,6 +103,8 @@ struct ParamRow {
   std::optional<std::pair<double, double>> tune;    // tuning bounds lo < hi, both > 0 (reals)
   std::vector<std::string> choices;                 // kChoice: the names, in the enum's order
   std::string doc;         // one line
+  bool written_at_default = true;  // false: the scene writer leaves it out while it has its
+                                   // preset's default (a newer row keeps older summaries as they were)
   ParamValue (*get)(const EngineParams&) = nullptr;
   void (*set)(EngineParams&, ParamValue) = nullptr;
 };

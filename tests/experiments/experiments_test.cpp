@@ -33,7 +33,7 @@ TEST(Experiments, EveryExpectedExperimentIsRegisteredInRunOrder) {
       "rest_poses",    "fig5_running",      "fig6_elbow",          "fig7_cannon",
       "fig8_wobble",   "fig9_outstretched", "fig10_interpolation", "fig11_sit",
       "hand_explodes", "timing",            "damping_sweep",       "mujoco_gap",
-      "ik_comparison", "tracking",          "tuning_study"};
+      "ik_comparison", "tracking",          "tuning_study",        "scaling"};
   EXPECT_EQ(names, expected);
 }
 
@@ -53,7 +53,7 @@ TEST(Report, WritesTitleAndClaimsAndOnlyTheSectionsGiven) {
   EXPECT_EQ(b["title"], "A title");
   EXPECT_TRUE(b["claims"].is_array());
   EXPECT_TRUE(b["claims"].empty());
-  for (const char* key : {"section", "notes", "figures", "settings"}) EXPECT_FALSE(b.contains(key)) << key;
+  for (const char* key : {"section", "notes", "figures", "settings", "tables"}) EXPECT_FALSE(b.contains(key)) << key;
 
   Report full("T");
   full.section("baselines")
@@ -62,8 +62,13 @@ TEST(Report, WritesTitleAndClaimsAndOnlyTheSectionsGiven) {
       .note("n1")
       .note("n2")
       .figures({"a.png", "b.png"})
-      .settings({{"dt", 0.05}});
+      .settings({{"dt", 0.05}})
+      .table("t", {"a", "b"}, {{1, "x"}, {2, "y"}});
   const nlohmann::json f = full.to_json();
+  EXPECT_EQ(f["tables"][0]["title"], "t");
+  EXPECT_EQ(f["tables"][0]["columns"], (nlohmann::json{"a", "b"}));
+  EXPECT_EQ(f["tables"][0]["rows"][1], (nlohmann::json{2, "y"}));
+  EXPECT_THROW(full.table("short", {"a", "b"}, {{1}}), std::logic_error);
   EXPECT_EQ(f["section"], "baselines");
   ASSERT_EQ(f["claims"].size(), 2u);
   EXPECT_EQ(f["claims"][1], (nlohmann::json{{"claim", "c2"}, {"measured", "m2"}, {"holds", "partly (why)"}}));

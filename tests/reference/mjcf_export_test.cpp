@@ -3,12 +3,15 @@
 #include "physik/engine/engine.h"
 #include "reference/mjcf_export.h"
 
+#include <chrono>
 #include <filesystem>
+#include <iostream>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
 
 #include "physik/io/rig_io.h"
+#include "physik/model/rig_generators.h"
 #include "reference/mujoco_runner.h"
 #include "tests/engine_test_util.h"
 #include "tests/test_util.h"
@@ -174,6 +177,62 @@ TEST(MjcfExport, PhysicsOptionsAreTheEnginesOwn) {
     EXPECT_EQ(m->geom_contype[g], 0);
     EXPECT_EQ(m->geom_conaffinity[g], 0);
   }
+}
+
+TEST(MjcfExport, ShallowRigsStayInOneFile) {
+  const Rig rig = load_rig(test::model_path("rigs/pinhead.json"));
+  const auto files = rig_to_mjcf_files(rig, MjcfOptions{}, "pinhead.xml");
+  ASSERT_EQ(files.size(), 1u);
+  EXPECT_EQ(files[0].name, "pinhead.xml");
+  EXPECT_EQ(files[0].text, rig_to_mjcf(rig, MjcfOptions{}));
+}
+
+TEST(MjcfExport, OneFileFailsBeyondMujocosXmlDepthIncludeFilesDoNot) {
+  // MuJoCo 2.2.2's parser stops at ~100 nested elements (XML_ELEMENT_DEPTH_EXCEEDED)
+  const Rig chain = make_chain_rig(120, 0.5, 0.2);
+  EXPECT_THROW(compile_mjcf(rig_to_mjcf(chain, MjcfOptions{JointModel::kBallJoints, 0.05})),
+               std::runtime_error);
+  const auto files = rig_to_mjcf_files(chain, MjcfOptions{JointModel::kBallJoints, 0.05});
+  EXPECT_EQ(files.size(), 2u);  // 64 bodies per file
+  EXPECT_EQ(rig_to_mjmodel(chain, MjcfOptions{JointModel::kBallJoints, 0.05})->nbody, 121);
+}
+
+TEST(MjcfExport, FiveHundredBoneChainCompilesAndRunsAsTheExactSolve) {
+  // through nested include files: the model's rest pose is the rig's, and three steps of MuJoCo's
+  // same-forces run equal the exact joint solve's (the tail pulled sideways)
+  const int n = 500;
+  const Rig chain = make_chain_rig(n, 0.5, 0.2);
+  Scene scene = test::scene_for(chain, preset_params("original"), 3);
+  scene.params.joint_solve = JointSolve::kExact;
+  scene.control_points.push_back(test::control(n - 1, 1.0, Vec3(5.0, 0.0, 0.5 * n), 10.0));
+  SimState p;
+  init_state(scene, p);
+  const auto t0 = std::chrono::steady_clock::now();
+  MujocoReference ref(scene, ReferenceMode::kSameForces);  // compiles the ball-joint MJCF
+  const double compile_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::cout << "[mjcf] " << n << "-bone chain: " << rig_to_mjcf_files(chain, MjcfOptions{}).size()
+            << " files, compiled (and first mj_step1) in " << compile_s << " s\n";
+  RecordProperty("compile_s_500", std::to_string(compile_s));
+  const mjModel* m = ref.model();
+  ASSERT_EQ(m->nbody, n + 1);
+  ASSERT_EQ(m->nv, 6 + 3 * (n - 1));
+  const BoneFrames rest = forward_kinematics(chain, rest_pose(chain));
+  for (int i = 0; i < n; ++i) {
+    ASSERT_LT((ref.state().frames.tail_world[i] - rest.tail_world[i]).norm(), 1e-9) << i;
+  }
+  double gap = 0.0;
+  for (int k = 0; k < scene.steps; ++k) {
+    step(scene, p);
+    ref.step();
+    for (int i = 0; i < n; ++i) {
+      gap = std::max({gap, (p.frames.head_world[i] - ref.state().frames.head_world[i]).norm(),
+                      (p.frames.tail_world[i] - ref.state().frames.tail_world[i]).norm()});
+    }
+  }
+  std::cout << "[mjcf] " << n << "-bone chain, 3 steps: exact vs MuJoCo gap " << gap << "\n";
+  EXPECT_LT(gap, 1e-9);
+  EXPECT_GT((p.frames.tail_world[n - 1] - rest.tail_world[n - 1]).norm(), 1e-3);  // it moved
 }
 
 TEST(MjcfExport, BadMjcfIsReportedWithMujocosMessage) {

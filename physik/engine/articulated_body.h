@@ -1,0 +1,131 @@
+// Exact articulated dynamics in O(n): Featherstone's articulated-body algorithm (ABA).
+// Source: R. Featherstone, Rigid Body Dynamics Algorithms, Springer 2008, ch. 7 (Table 7.1, the
+// multi-DOF form of eq. 7.36-7.43); spatial algebra of ch. 2.
+//
+// Tree (DESIGN.md "Beyond the paper", Coordinates): the rig's bones, a free root (6 DOF at its
+// centre of mass, as MuJoCo's free joint) and a ball joint (3 DOF) at every other bone's head:
+// exactly the reference's ball-joint MuJoCo model (reference/mjcf_export.h), in MuJoCo's
+// coordinates:
+//   root   qvel = (v_com world, w local),  qacc = (a_com world, d/dt w_local = R^T alpha)
+//   ball i qvel = u_i = R_i^T (w_i - w_parent)  (relative angular velocity in the child's frame)
+//
+// Frames. Every spatial quantity of body i is in world-aligned axes about a point o_i that moves
+// with the body: its joint point (the head) for i > 0, its centre of mass for the root. Motion
+// vectors are (w; v_o), force vectors (n_o; f) (torque about o_i). Neighbouring points are one
+// bone apart, so the numbers stay moderate on long chains, and the transform between a child's
+// and its parent's point is a pure translation r = o_i - o_p:
+//   motion  X (w; v) = (w; v - r x w),    force  X* (n; f) = (n + r x f; f)   (child -> parent)
+// With the joint at o_i, a ball's motion subspace is S = [R_i; 0] (u in the child's frame), so
+// with S' = [1; 0] everything below is in world axes and u_dot = R_i^T qdd' at the end.
+//
+// Pass 1, velocities and bias (any order):
+//   I_i  = [I_c + m [e]x [e]x^T, m [e]x; m [e]x^T, m 1]      e = com_i - o_i, rigid inertia about o_i
+//   p_i  = V_i x* I_i V_i - f_ext_i                          V_i = (w_i; v_o), f_ext about o_i
+//        = (w x I_c w + e x (m w x v_com); m w x v_com) - (n_com + e x F; F)
+//   c_i  = V_i x (S u) = (w_i x w_rel; v_o x w_rel)          w_rel = w_i - w_parent   (ball)
+//   c_0  = (0; -w x v_com)                                   (root, spatial vs classical accel.)
+// Pass 2, leaves to root (articulated inertia I^A = [A B; B^T C], bias p^A; J_i an optional
+// 3x3 joint block):
+//   U = I^A S' = [A; B^T],  D = A + J_i,  u = -S'^T p^A
+//   I^a = I^A - U D^-1 U^T = [A D^-1 J, J D^-1 B; B^T D^-1 J, C - B^T D^-1 B]
+//   p^a = p^A + I^a c + U D^-1 u
+//   I^A_parent += X* I^a X,  p^A_parent += X* p^a
+// A ball (J = 0) passes on only the translational block C - B^T A^-1 B, exactly: computing the
+// top blocks as differences leaves round-off there that doubles with every link (measured: a
+// 200-bone chain's root inertia reached 1e24 and the run blew up), so they are products.
+// Pass 3, root to leaves (spatial accelerations a_i):
+//   root:  a_0 = -(I^A_0)^-1 p^A_0,  alpha = a_0.ang,  a_com = a_0.lin + w x v_com
+//   ball:  a' = X a_parent + c,  qdd' = D^-1 (u - U^T a'),  a_i = a' + S' qdd',  u_dot = R^T qdd'
+// A spatial acceleration a about o is Featherstone's (the derivative of the velocity field at the
+// fixed point o); the classical acceleration of the centre is a.lin + alpha x e + w x v_com.
+//
+// External wrench: the state's force_world/torque_world (about each centre of mass, world axes),
+// plus torque_per_omega * I w on every body (a rotational damper; the factor f's torque
+// I (f - 1) w / dt) and, with cancel_gyroscopic, +w x I w.
+//
+// Extension points, for the implicit step (DESIGN.md "Implicit step": M + h D + h^2 K is the same
+// tree with augmented inertias): after articulated_velocity_pass, a caller may add spatial inertia
+// to inertia_art[i] (SpatialInertia::add; about o_i, world axes), set joint_block[i] (world axes) with
+// joint_blocks = true, and change bias_force, before articulated_backward_pass; nothing else
+// changes.
+//
+// No allocation per step: every buffer is sized once by resize_articulated_data.
+// Units: kg, kg m^2, N, N m, rig units, s, rad.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Cholesky>
+
+#include "physik/model/rig.h"
+
+namespace physik {
+
+struct SimState;
+
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+
+// A symmetric spatial inertia about a point, world axes, by 3x3 blocks [A B; B^T C] (A angular,
+// C translational): contiguous blocks for the recursion's 3x3 algebra.
+struct SpatialInertia {
+  Mat3 A = Mat3::Zero();  // kg m^2
+  Mat3 B = Mat3::Zero();  // kg m
+  Mat3 C = Mat3::Zero();  // kg
+  Mat6 matrix() const;
+  void add(const Mat6& I);  // I symmetric: adds its blocks
+};
+
+struct ArticulatedBodyData {
+  // --- inputs besides the state ---
+  double torque_per_omega = 0.0;        // 1/s: torque torque_per_omega * I w on every body
+  bool cancel_gyroscopic = false;       // add +w x I w on every body (gyroscopic term off)
+  bool joint_blocks = false;            // add joint_block[i] to D_i (the implicit step's K)
+  std::vector<Mat3> joint_block;        // (nbone) 3x3, world axes, read when joint_blocks
+
+  // --- pass 1 (velocity pass) ---
+  std::vector<Mat3> inertia_com_world;  // (nbone) R diag(I_local) R^T, kg m^2
+  std::vector<Vec3> point_world;        // (nbone) o_i: head (i > 0) or centre of mass (root), rig units
+  std::vector<Vec6> bias_accel;         // (nbone) c_i, rad/s^2; rig units/s^2
+  std::vector<SpatialInertia> inertia_art;  // (nbone) I^A_i about o_i; rigid after pass 1
+  std::vector<Vec6> bias_force;         // (nbone) p^A_i about o_i, (N m; N)
+  std::vector<Vec3> torque_ext_world;   // (nbone) the external torque about the centre, N m
+                                        //         (torque_world + the damper [+ w x I w])
+
+  // --- pass 2 (backward pass) ---
+  std::vector<Mat3> D_inv;              // (nbone) (S'^T I^A S' + J)^-1; U = I^A S' = [A; B^T]
+                                        //         is read from inertia_art
+  std::vector<Vec3> u;                  // (nbone) -S'^T p^A
+  Eigen::LDLT<Mat6> root_ldlt;          // I^A_0 factorised in pass 3
+
+  // --- pass 3 (forward pass): MuJoCo's qacc layout ---
+  std::vector<Vec6> accel_spatial;      // (nbone) a_i about o_i
+  Vec3 root_accel_world = Vec3::Zero(); // classical acceleration of the root's centre of mass
+  std::vector<Vec3> joint_accel_local;  // (nbone) root: R^T alpha; ball: u_dot, rad/s^2
+};
+
+void resize_articulated_data(int nbone, ArticulatedBodyData& data);
+
+// Pass 1 from the state's derived kinematics (frames, com_world, vel_world, omega_world) and
+// wrench (force_world, torque_world), with the inputs above.
+void articulated_velocity_pass(const Rig& rig, const SimState& state, ArticulatedBodyData& data);
+// Pass 2: leaves to root.
+void articulated_backward_pass(const Rig& rig, ArticulatedBodyData& data);
+// Pass 3: root to leaves; the joint accelerations in MuJoCo's coordinates.
+void articulated_forward_pass(const Rig& rig, const SimState& state, ArticulatedBodyData& data);
+
+// The three passes.
+inline void articulated_accelerations(const Rig& rig, const SimState& state,
+                                      ArticulatedBodyData& data) {
+  articulated_velocity_pass(rig, state, data);
+  articulated_backward_pass(rig, data);
+  articulated_forward_pass(rig, state, data);
+}
+
+// Rigid-body spatial inertia about a point o, world axes; e = com - o.
+SpatialInertia spatial_inertia(double mass, const Mat3& inertia_com_world, const Vec3& e);
+
+// X* I X for the translation r = o_child - o_parent: an inertia about o_child moved to o_parent.
+SpatialInertia shift_inertia(const SpatialInertia& inertia, const Vec3& r);
+
+}  // namespace physik

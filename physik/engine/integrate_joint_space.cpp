@@ -1,0 +1,125 @@
+#include "physik/engine/integrate_joint_space.h"
+
+#include <cmath>
+
+namespace physik {
+
+void quat_integrate(Quat& q, const Vec3& w, double h) {
+  constexpr double kMinVal = 1e-15;  // MuJoCo's mjMINVAL
+  const double norm = w.norm();
+  const Vec3 axis = norm < kMinVal ? Vec3(1, 0, 0) : Vec3(w * (1.0 / norm));
+  const double angle = h * norm;
+  Quat rot = Quat::Identity();
+  if (angle != 0.0) {
+    const double s = std::sin(0.5 * angle);
+    rot = Quat(std::cos(0.5 * angle), axis.x() * s, axis.y() * s, axis.z() * s);
+  }
+  Quat out = q * rot;
+  const double n = out.norm();
+  q = n < kMinVal ? Quat::Identity() : Quat(out.coeffs() * (1.0 / n));
+}
+
+void init_joint_space(const Rig& rig, SimState& s) {
+  const int n = rig.nbone;
+  resize_articulated_data(n, s.articulated);
+  s.joint_vel_local.assign(n, Vec3::Zero());
+  if (n == 0) return;
+  s.root_com_world = s.com_world[0];
+  s.root_vel_world = s.vel_world[0];
+  s.root_orient_world = s.frames.orient_world[0];
+  for (int i = 0; i < n; ++i) {
+    const int p = rig.bone_parent[i];
+    const Vec3 w_rel = s.omega_world[i] - (p < 0 ? Vec3::Zero() : s.omega_world[p]);
+    s.joint_vel_local[i] = s.frames.orient_world[i].conjugate() * w_rel;
+  }
+}
+
+JointSolveStats solve_articulated(const Rig& rig, const EngineParams& params, SimState& s) {
+  ArticulatedBodyData& d = s.articulated;
+  d.torque_per_omega = (params.angular_velocity_factor - 1.0) / params.dt;
+  d.cancel_gyroscopic = !params.gyroscopic;
+  articulated_accelerations(rig, s, d);
+
+  // the inter-joint forces this implies (for checks): what the bodies feel beyond the external
+  for (int i = 0; i < rig.nbone; ++i) {
+    const Vec3 e = s.com_world[i] - d.point_world[i];
+    const Vec3 alpha = d.accel_spatial[i].head<3>();
+    const Vec3& w = s.omega_world[i];
+    const Vec3 a_com = d.accel_spatial[i].tail<3>() + alpha.cross(e) + w.cross(s.vel_world[i]);
+    const Mat3& I = d.inertia_com_world[i];
+    s.joint_force_world[i] = rig.bone_mass[i] * a_com - s.force_world[i];
+    s.joint_torque_world[i] = I * alpha + w.cross(I * w) - d.torque_ext_world[i];
+  }
+  JointSolveStats stats;
+  stats.passes = 1;  // one sweep of the recursion, no iteration
+  stats.mismatch = 0.0;
+  return stats;
+}
+
+namespace {
+
+// bone i's world view from its joint state and its parent's (already derived) world view
+inline void derive_body(const Rig& rig, SimState& s, int i) {
+  BoneFrames& f = s.frames;
+  const int p = rig.bone_parent[i];
+  const double half_length = 0.5 * rig.bone_length[i];
+  if (p < 0) {
+    f.orient_world[i] = s.root_orient_world.normalized();
+    const Mat3 R = f.orient_world[i].toRotationMatrix();
+    const Vec3 half = half_length * R.col(1);  // R (0, L/2, 0)
+    s.com_world[i] = s.root_com_world;
+    f.head_world[i] = s.root_com_world - half;
+    f.tail_world[i] = s.root_com_world + half;
+    s.omega_world[i] = R * s.joint_vel_local[i];
+    s.vel_world[i] = s.root_vel_world;
+    return;
+  }
+  // as mj_kinematics: the ball's quaternion normalised, the products not
+  const Quat& q_parent = f.orient_world[p];
+  f.orient_world[i] =
+      q_parent * rig.bone_rest_orient_parent[i] * s.pose.bone_local_rotation[i].normalized();
+  const Mat3 R = f.orient_world[i].toRotationMatrix();
+  f.head_world[i] = f.head_world[p] + q_parent * rig.bone_head_in_parent[i];
+  const Vec3 half = half_length * R.col(1);
+  s.com_world[i] = f.head_world[i] + half;
+  f.tail_world[i] = s.com_world[i] + half;
+  s.omega_world[i] = s.omega_world[p] + R * s.joint_vel_local[i];
+  s.vel_world[i] = s.vel_world[p] + s.omega_world[p].cross(f.head_world[i] - s.com_world[p]) +
+                   s.omega_world[i].cross(half);
+}
+
+// the root's entry of the pose follows its orientation (R_0 = R_rest q_0)
+void root_pose_entry(const Rig& rig, SimState& s) {
+  s.pose.root_head_world = s.frames.head_world[0];
+  s.pose.bone_local_rotation[0] =
+      (rig.bone_rest_orient_parent[0].conjugate() * s.frames.orient_world[0]).normalized();
+}
+
+}  // namespace
+
+void integrate_joint_space(const Rig& rig, const EngineParams& params, SimState& s) {
+  const double h = params.dt;
+  const ArticulatedBodyData& d = s.articulated;
+  if (rig.nbone == 0) return;
+  // per joint: velocity first (mj_advance), then position with the new velocity
+  // (mj_integratePos); joints are independent, so one pass, parents first, also rebuilds the
+  // world view
+  s.root_vel_world += h * d.root_accel_world;
+  s.joint_vel_local[0] += h * d.joint_accel_local[0];
+  s.root_com_world += h * s.root_vel_world;
+  quat_integrate(s.root_orient_world, s.joint_vel_local[0], h);
+  derive_body(rig, s, 0);
+  for (int i = 1; i < rig.nbone; ++i) {
+    s.joint_vel_local[i] += h * d.joint_accel_local[i];
+    quat_integrate(s.pose.bone_local_rotation[i], s.joint_vel_local[i], h);
+    derive_body(rig, s, i);
+  }
+  root_pose_entry(rig, s);
+}
+
+void world_from_joint_space(const Rig& rig, SimState& s) {
+  for (int i = 0; i < rig.nbone; ++i) derive_body(rig, s, i);
+  if (rig.nbone > 0) root_pose_entry(rig, s);
+}
+
+}  // namespace physik
