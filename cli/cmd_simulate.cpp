@@ -94,6 +94,9 @@ void add_simulate_commands(CLI::App& app) {
       }
     };
     const RunSummary sum = run_scene(scene, observer);
+    if (!sum.joint_solve_warning.empty()) {
+      std::cerr << "physik: warning: " << scene.file << ": " << sum.joint_solve_warning << "\n";
+    }
     write_json(summary_to_json(scene, sum), opt->out + "/summary.json");
     if (bvh) bvh->save(opt->bvh);
     {

@@ -70,6 +70,9 @@ void run_solve(const SolveOptions& o) {
     scene.convergence.residual_tol = o.tol > 0.0 ? o.tol : 1e-4 * chain_reach(scene.rig, goals);
     scene.convergence.stop_at_residual_tol = true;
     const RunSummary s = run_scene(scene);
+    if (!s.joint_solve_warning.empty()) {
+      std::cerr << "physik: warning: " << scene.file << ": " << s.joint_solve_warning << "\n";
+    }
     summary = summary_to_json(scene, s);
     summary["iterations"] = s.steps_run;
     summary["time_s"] = s.wall_time_s;

@@ -205,14 +205,15 @@ void write_trajectory_csv(const Scene& scene, const EngineRun& r, int every, std
 }  // namespace
 
 nlohmann::json comparison_to_json(const Scene& scene, const Comparison& c) {
-  const double h = scene.rig.height();
+  // over the height, or the mean bone length for a flat rig (no inf or nan in the output)
+  const double h = scene.rig.height() > 0.0 ? scene.rig.height() : scene.rig.length_scale();
   nlohmann::json j = gap_json(c.gap, h);
   j["scene"] = scene.file;
   j["rig"] = scene.rig_file;
   j["mode"] = to_string(c.mode);
   j["mujoco_version"] = mj_versionString();
   j["physik_integration"] = to_string(scene.params.integration);
-  j["rig_height"] = h;
+  j["rig_height"] = scene.rig.height();
   j["free_endpoint_dof"] = c.free_endpoint_dof;
   j["equilibrium"] =
       c.free_endpoint_dof == 0

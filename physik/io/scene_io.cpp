@@ -54,6 +54,7 @@ EngineParams params_from_json(const Json& params, const std::string& source) {
   if (params.is_null()) return preset_params(kDefaultPreset, source);
   ctx.require_object(params, "params");
   ctx.only_keys(params, {"preset", "dt", "damping", "angular_velocity_factor", "joint_eps",
+                         "joint_eps_relative",  // TODO(table)
                          "max_passes", "centripetal", "gyroscopic", "control_k",
                          "control_spring", "control_cap", "torsion_k", "torsion_spring",
                          "torsion_cap", "torsion_tolerance", "integration", "interpolation",
@@ -65,6 +66,9 @@ EngineParams params_from_json(const Json& params, const std::string& source) {
       non_negative(ctx, params, "angular_velocity_factor", p.angular_velocity_factor);
   if (p.angular_velocity_factor > 1.0) ctx.fail("angular_velocity_factor", "must lie in [0, 1]");
   p.joint_eps = positive(ctx, params, "joint_eps", p.joint_eps);
+  // TODO(table): joint_eps_relative in [0, 1)
+  p.joint_eps_relative = non_negative(ctx, params, "joint_eps_relative", p.joint_eps_relative);
+  if (p.joint_eps_relative >= 1.0) ctx.fail("joint_eps_relative", "must lie in [0, 1)");
   p.max_passes = ctx.integer_or(params, "max_passes", p.max_passes);
   if (p.max_passes < 0) ctx.fail("max_passes", "must not be negative (0 = 5 n^2)");
   p.centripetal = ctx.boolean_or(params, "centripetal", p.centripetal);
@@ -100,6 +104,7 @@ Json params_to_json(const EngineParams& p) {
           {"damping", p.damping},
           {"angular_velocity_factor", p.angular_velocity_factor},
           {"joint_eps", p.joint_eps},
+          {"joint_eps_relative", p.joint_eps_relative},  // TODO(table)
           {"max_passes", p.max_passes},
           {"centripetal", p.centripetal},
           {"gyroscopic", p.gyroscopic},

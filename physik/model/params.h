@@ -25,6 +25,10 @@ struct EngineParams {
   double damping = 3.0;                  // N s/m, force -c v at each bone end
   double angular_velocity_factor = 0.5;  // 1, every bone's angular velocity is scaled by it each step
   double joint_eps = 1e-3;               // rig units/s^2, stop the joint passes below this mismatch
+  // TODO(table): port to the parameter table (issue 12 phase A added it here and in scene_io.cpp)
+  double joint_eps_relative = 0.0;       // 1; > 0: the passes also go on until every joint's
+                                         //    mismatch is below this fraction of its accelerations
+                                         //    (joint_forces.h); 0 = off (the paper's absolute eps)
   int max_passes = 0;                    // passes per step; 0 = 5 n^2 (the original's cap)
   bool centripetal = false;              // add w x (w x r) to joint-point accelerations (eq. 2 omits it)
   bool gyroscopic = true;                // the -w x I w term of eq. 1
