@@ -81,11 +81,12 @@ struct PotentialResiduals {
       const V3<T> d = a - targets[c].cast<T>();
       const T d2 = d.squaredNorm();
       T s = T(1);
-      if (cp.spring == SpringLaw::kCapped && d2 > T(cp.cap * cp.cap)) {
+      const double cap = cp.cap_in(ep);
+      if (cp.spring_in(ep) == SpringLaw::kCapped && d2 > T(cap * cap)) {
         const T dn = sqrt(d2);
-        s = sqrt(T(cp.cap) * (T(2) * dn - T(cp.cap))) / dn;
+        s = sqrt(T(cap) * (T(2) * dn - T(cap))) / dn;
       }
-      for (int k = 0; k < 3; ++k) r[at++] = sqrt(cp.k) * s * d[k];
+      for (int k = 0; k < 3; ++k) r[at++] = sqrt(cp.k_in(ep)) * s * d[k];
     }
     for (int i : limited_bones) {
       const V3<T> theta = rotation_vector_t(local[i]);
@@ -114,7 +115,8 @@ double scene_potential(const Scene& scene, const Pose& pose) {
   double u = 0.0;
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
     const ControlPoint& cp = scene.control_points[c];
-    u += control_spring_potential(cp.spring, cp.k, cp.cap,
+    const EngineParams& ep = scene.params;
+    u += control_spring_potential(cp.spring_in(ep), cp.k_in(ep), cp.cap_in(ep),
                                   (point_on_bone(f, cp.bone, cp.alpha) - t[c]).norm());
   }
   if (scene.params.torsion_k > 0.0) {
@@ -215,7 +217,8 @@ EquilibriumResult solve_equilibrium(const Scene& scene, const EquilibriumOptions
     const ControlPoint& cp = scene.control_points[c];
     const double d = (point_on_bone(out.frames, cp.bone, cp.alpha) - out.targets_world[c]).norm();
     out.control_distance.push_back(d);
-    out.control_potential += control_spring_potential(cp.spring, cp.k, cp.cap, d);
+    const EngineParams& ep = scene.params;
+    out.control_potential += control_spring_potential(cp.spring_in(ep), cp.k_in(ep), cp.cap_in(ep), d);
   }
   out.torsion_excess.assign(rig.nbone, Vec3::Zero());
   for (int i : functor->limited_bones) {

@@ -66,7 +66,7 @@ StepObservation observe_step(const Scene& scene, const SimState& s, const StepSt
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
     const ControlPoint& cp = scene.control_points[c];
     o.potential_energy += control_spring_potential(
-        cp.spring, cp.k, cp.cap,
+        cp.spring_in(scene.params), cp.k_in(scene.params), cp.cap_in(scene.params),
         (point_on_bone(s.frames, cp.bone, cp.alpha) - s.target_effective_world[c]).norm());
   }
   o.potential_energy += torsion_potential(scene.rig, scene.params, s.pose);
@@ -96,10 +96,11 @@ double RunMonitor::step_target_work(const StepObservation& o) {
   double w = 0.0;
   for (std::size_t c = 0; c < scene_->control_points.size(); ++c) {
     const ControlPoint& cp = scene_->control_points[c];
+    const SpringLaw law = cp.spring_in(scene_->params);
+    const double k = cp.k_in(scene_->params), cap = cp.cap_in(scene_->params);
     const Vec3& a = prev_attach_world_[c];
-    w += control_spring_potential(cp.spring, cp.k, cp.cap,
-                                  (a - s.target_effective_world[c]).norm()) -
-         control_spring_potential(cp.spring, cp.k, cp.cap, (a - prev_targets_world_[c]).norm());
+    w += control_spring_potential(law, k, cap, (a - s.target_effective_world[c]).norm()) -
+         control_spring_potential(law, k, cap, (a - prev_targets_world_[c]).norm());
     prev_attach_world_[c] = point_on_bone(s.frames, cp.bone, cp.alpha);
     prev_targets_world_[c] = s.target_effective_world[c];
   }
