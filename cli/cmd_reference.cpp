@@ -43,6 +43,7 @@ void add_reference_commands(CLI::App& app) {
     MjcfOptions o;
     o.joints = opt->joints == "ball" ? JointModel::kBallJoints : JointModel::kRigJoints;
     o.dt = opt->dt;
+    o.source = opt->rig;
     const std::string xml = rig_to_mjcf(rig, o);
     compile_mjcf(xml);  // throws with MuJoCo's message if it does not load
     if (opt->out.empty() || opt->out == "-") {

@@ -77,6 +77,7 @@ int free_endpoint_dof(const Scene& scene, const BoneFrames& frames) {
   MjcfOptions o;
   o.joints = JointModel::kRigJoints;
   o.dt = scene.params.dt;
+  o.source = scene.rig_file;
   const MjModelPtr m = rig_to_mjmodel(rig, o);
   const MjDataPtr d(mj_makeData(m.get()));
   SimState s;

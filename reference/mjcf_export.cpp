@@ -1,11 +1,14 @@
 #include "reference/mujoco_log.h"
 #include "reference/mjcf_export.h"
 
+#include "physik/model/errors.h"
+
 #include <algorithm>
 #include <cstring>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 namespace physik {
 
@@ -26,6 +29,32 @@ std::string quat(const Quat& q) {  // MuJoCo order: w x y z
   return s.str();
 }
 
+// a name as an XML attribute value: the five reserved characters as entities (MuJoCo's reader
+// decodes them, so the model's names are the rig's); names are printable UTF-8 (names.h)
+std::string xml_attr(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+// text inside an XML comment, which may not hold "--" (nor end in '-')
+std::string xml_comment(std::string text) {
+  for (std::size_t i = 0; (i = text.find('-', i)) != std::string::npos; ++i) {
+    if (i + 1 == text.size() || text[i + 1] == '-') text.insert(i + 1, " ");
+  }
+  return text;
+}
+
 std::string num(double x) {
   std::ostringstream s;
   s << std::setprecision(17) << x;
@@ -44,7 +73,7 @@ Quat locked_rotation(const std::array<AxisLimit, 3>& limit) {
 
 void write_hinge(std::ostringstream& x, const std::string& bone, int axis, const AxisLimit& l,
                  double half_length, const std::string& pad) {
-  x << pad << "<joint name=\"" << bone << ":" << kAxisName[axis] << "\" type=\"hinge\" axis=\""
+  x << pad << "<joint name=\"" << xml_attr(bone) << ":" << kAxisName[axis] << "\" type=\"hinge\" axis=\""
     << kAxisVec[axis] << "\" pos=\"0 " << num(-half_length) << " 0\"";
   if (l.limited) {
     x << " limited=\"true\" range=\"" << num(l.min) << " " << num(l.max) << "\"";
@@ -59,14 +88,14 @@ void write_joints(std::ostringstream& x, const Rig& rig, int i, JointModel model
   const std::string& name = rig.bone_name[i];
   const double half = 0.5 * rig.bone_length[i];
   if (i == rig.root()) {
-    x << pad << "<joint name=\"" << name << ":free\" type=\"free\"/>\n";
+    x << pad << "<joint name=\"" << xml_attr(name) << ":free\" type=\"free\"/>\n";
     return;
   }
   const auto& limit = rig.bone_limit[i];
   const int dof = rig.bone_dof(i);
   const bool any_limited = limit[0].limited || limit[1].limited || limit[2].limited;
   if (model == JointModel::kBallJoints || (dof == 3 && !any_limited)) {
-    x << pad << "<joint name=\"" << name << ":ball\" type=\"ball\" pos=\"0 " << num(-half)
+    x << pad << "<joint name=\"" << xml_attr(name) << ":ball\" type=\"ball\" pos=\"0 " << num(-half)
       << " 0\" limited=\"false\"/>\n";
     return;
   }
@@ -76,8 +105,9 @@ void write_joints(std::ostringstream& x, const Rig& rig, int i, JointModel model
   }
 }
 
-void write_body(std::ostringstream& x, const Rig& rig, int i, const MjcfOptions& o, int depth) {
-  const std::string pad(2 * depth, ' ');
+// one body's opening tag, joints, inertial and geom (its children and </body> follow)
+void open_body(std::ostringstream& x, const Rig& rig, int i, const MjcfOptions& o,
+               const std::string& pad) {
   const double L = rig.bone_length[i];
   Vec3 pos;
   Quat q;
@@ -91,16 +121,37 @@ void write_body(std::ostringstream& x, const Rig& rig, int i, const MjcfOptions&
     pos = rig.bone_head_in_parent[i] - Vec3(0, 0.5 * rig.bone_length[p], 0) + q * Vec3(0, 0.5 * L, 0);
   }
   q.normalize();
-  x << pad << "<body name=\"" << rig.bone_name[i] << "\" pos=\"" << vec(pos) << "\" quat=\""
-    << quat(q) << "\">\n";
+  x << pad << "<body name=\"" << xml_attr(rig.bone_name[i]) << "\" pos=\"" << vec(pos)
+    << "\" quat=\"" << quat(q) << "\">\n";
   const std::string in = pad + "  ";
   write_joints(x, rig, i, o.joints, in);
   x << in << "<inertial pos=\"0 0 0\" mass=\"" << num(rig.bone_mass[i]) << "\" diaginertia=\""
     << vec(rig.bone_inertia_local[i]) << "\"/>\n";
-  x << in << "<geom name=\"" << rig.bone_name[i] << "\" type=\"capsule\" fromto=\"0 "
+  x << in << "<geom name=\"" << xml_attr(rig.bone_name[i]) << "\" type=\"capsule\" fromto=\"0 "
     << num(-0.5 * L) << " 0 0 " << num(0.5 * L) << " 0\" size=\"" << num(0.06 * L) << "\"/>\n";
-  for (int c : rig.bone_children[i]) write_body(x, rig, c, o, depth + 1);
-  x << pad << "</body>\n";
+}
+
+// the body tree, nested in DFS order with an explicit stack (a rig's depth is its input's)
+void write_bodies(std::ostringstream& x, const Rig& rig, const MjcfOptions& o, int depth0) {
+  struct Frame {
+    int bone;
+    int depth;
+    bool closing;  // true: write </body>
+  };
+  std::vector<Frame> stack{{rig.root(), depth0, false}};
+  while (!stack.empty()) {
+    const Frame f = stack.back();
+    stack.pop_back();
+    const std::string pad(2 * f.depth, ' ');
+    if (f.closing) {
+      x << pad << "</body>\n";
+      continue;
+    }
+    open_body(x, rig, f.bone, o, pad);
+    stack.push_back({f.bone, f.depth, true});
+    const auto& ch = rig.bone_children[f.bone];
+    for (auto it = ch.rbegin(); it != ch.rend(); ++it) stack.push_back({*it, f.depth + 1, false});
+  }
 }
 
 }  // namespace
@@ -111,13 +162,26 @@ Quat mjcf_joint_offset(const Rig& rig, int bone, JointModel joints) {
 }
 
 std::string rig_to_mjcf(const Rig& rig, const MjcfOptions& o) {
+  // bones in DFS order: a parent's depth is known before its children's
+  std::vector<int> depth(rig.nbone, 1);
+  int deepest = 0;
+  for (int i = 0; i < rig.nbone; ++i) {
+    if (rig.bone_parent[i] >= 0) depth[i] = depth[rig.bone_parent[i]] + 1;
+    deepest = std::max(deepest, depth[i]);
+  }
+  if (deepest > kMaxMjcfDepth) {
+    throw_input_error(o.source.empty() ? "rig '" + rig.name + "'" : o.source, "", "bones",
+                      "the rig is " + std::to_string(deepest) + " bones deep; MuJoCo's XML reader "
+                      "takes body trees at most " + std::to_string(kMaxMjcfDepth) +
+                      " deep (mjcf_export.h kMaxMjcfDepth)");
+  }
   std::ostringstream x;
-  x << "<!-- PhysIK rig '" << rig.name << "' as MJCF (reference/mjcf_export.h): one body per bone "
+  x << "<!-- PhysIK rig '" << xml_comment(rig.name) << "' as MJCF (reference/mjcf_export.h): one body per bone "
     << "at its centre of mass, local +Y along the bone; "
     << (o.joints == JointModel::kBallJoints ? "ball joints (same-forces mode)"
                                             : "joint types and limits from the rig (exact-constraints mode)")
     << " -->\n";
-  x << "<mujoco model=\"" << (rig.name.empty() ? "rig" : rig.name) << "\">\n";
+  x << "<mujoco model=\"" << xml_attr(rig.name.empty() ? "rig" : rig.name) << "\">\n";
   x << "  <compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n";
   x << "  <option timestep=\"" << num(o.dt) << "\" gravity=\"0 0 0\" integrator=\"Euler\">\n";
   x << "    <flag contact=\"disable\"/>\n";
@@ -126,7 +190,7 @@ std::string rig_to_mjcf(const Rig& rig, const MjcfOptions& o) {
   x << "    <geom contype=\"0\" conaffinity=\"0\" rgba=\"0.8 0.6 0.4 1\"/>\n";
   x << "  </default>\n";
   x << "  <worldbody>\n";
-  write_body(x, rig, rig.root(), o, 2);
+  write_bodies(x, rig, o, 2);
   x << "  </worldbody>\n";
   x << "</mujoco>\n";
   return x.str();

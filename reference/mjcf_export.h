@@ -44,10 +44,15 @@ enum class JointModel { kRigJoints, kBallJoints };
 
 struct MjcfOptions {
   JointModel joints = JointModel::kRigJoints;
-  double dt = 0.05;  // s, <option timestep>
+  double dt = 0.05;    // s, <option timestep>
+  std::string source;  // the rig's file, for error messages ("" = the rig's name)
 };
 
-// The MJCF text of the rig.
+// Deepest body tree written: MuJoCo's XML reader (tinyxml2) refuses elements nested more than
+// 500 deep, and <mujoco><worldbody> take two of them; a deeper rig is an InputError.
+constexpr int kMaxMjcfDepth = 400;  // bones from the root to the deepest leaf
+
+// The MJCF text of the rig (names as XML entities where they hold & < > " ').
 std::string rig_to_mjcf(const Rig& rig, const MjcfOptions& options);
 
 // The fixed rotation between bone i's rest frame and its body frame at zero joint angles:

@@ -123,6 +123,40 @@ TEST(EnergyRule, TheLedgerMeasuresTheTargetsWorkFromTheState) {
   EXPECT_LE(sum.peak_energy_ratio, 1.0 + 1e-9);
 }
 
+TEST(EnergyRule, ARunThatGoesNonFiniteReportsItsLastFiniteState) {
+  // final_pose.csv of an exit-3 run held nan: the summary now carries the last finite state
+  Scene scene = test::scene_for(test::one_rod(1.0, 1.0), test::bare_params(0.01), 5);
+  scene.control_points.push_back(test::control(0, 1.0, Vec3(0.5, 0, 1), 8.0));
+  SimState s;
+  init_state(scene, s);
+  RunMonitor mon(scene);
+  for (int k = 0; k < 2; ++k) mon.observe(observe_step(scene, s, step(scene, s)));
+  const Pose good = s.pose;
+  const double ke = kinetic_energy(scene.rig, s);
+  step(scene, s);
+  s.com_world[0].x() = std::nan("");  // the third step went non-finite
+  s.frames.head_world[0].x() = std::nan("");
+  const StepObservation o = observe_step(scene, s, StepStats{});
+  EXPECT_FALSE(o.state_finite);
+  EXPECT_TRUE(mon.observe(o));
+  EXPECT_NE(mon.summary().divergence_reason.find("non-finite state at step 3"), std::string::npos);
+  RunSummary out = mon.summary();
+  mon.fill_final(scene, s, out);
+  EXPECT_EQ(out.final_pose_step, 2);
+  EXPECT_DOUBLE_EQ(out.final_kinetic_energy, ke);
+  const BoneFrames f = forward_kinematics(scene.rig, good);
+  EXPECT_TRUE(test::near(out.final_frames.tail_world[0], f.tail_world[0], 0.0));
+  ASSERT_EQ(out.final_residuals.size(), 1u);
+  EXPECT_NEAR(out.final_residuals[0], (f.tail_world[0] - Vec3(0.5, 0, 1)).norm(), 1e-12);
+  // a finite end: the state itself, at its own step
+  RunSummary plain;
+  SimState fine;
+  init_state(scene, fine);
+  step(scene, fine);
+  mon.fill_final(scene, fine, plain);
+  EXPECT_EQ(plain.final_pose_step, 1);
+}
+
 // One grid point of the damping sweep: the run as the monitor judges it, plus what happened to the
 // pose, watched by a second monitor that stops only on a non-finite state.
 struct SweepRun {
@@ -188,7 +222,9 @@ TEST(EnergyRule, DampingSweepGridFlagsTheBlowUpsAndNoRunThatSettles) {
         EXPECT_TRUE(r.verdict.diverged);
       }
       // the cases: damping 4-6 on pinhead wrecked the pose and exited 0
-      if (std::string(name) == "pinhead_two_hands" && c >= 4.0) EXPECT_TRUE(r.verdict.diverged);
+      if (std::string(name) == "pinhead_two_hands" && c >= 4.0) {
+        EXPECT_TRUE(r.verdict.diverged);
+      }
     }
   }
   // both kinds occur on the grid (the test can fail either way)

@@ -87,6 +87,9 @@ RunMonitor::RunMonitor(const Scene& scene, std::string reason_prefix)
     prev_attach_world_.push_back(point_on_bone(f, cp.bone, cp.alpha));
   }
   prev_targets_world_ = prev_attach_world_;
+  last_finite_pose_ = scene.initial_pose;
+  last_finite_step_ = 0;
+  last_finite_ke_ = 0.5 * scene.rig.total_mass() * scene.initial_velocity_world.squaredNorm();
 }
 
 double RunMonitor::step_target_work(const StepObservation& o) {
@@ -145,6 +148,11 @@ bool RunMonitor::observe(const StepObservation& o) {
   if (o.unreached_joints > 0) ++unpropagated_steps_;
   max_unreached_ = std::max(max_unreached_, o.unreached_joints);
   target_work_ += step_target_work(o);
+  if (o.state && o.state_finite && std::isfinite(o.kinetic_energy)) {
+    last_finite_pose_ = o.state->pose;  // same size every step: no allocation after the first
+    last_finite_step_ = o.step;
+    last_finite_ke_ = o.kinetic_energy;
+  }
 
   diverged_ = check_divergence(o);
   if (diverged_) return true;
@@ -207,7 +215,25 @@ RunSummary RunMonitor::summary() const {
   return out;
 }
 
+void RunMonitor::fill_final(const Scene& scene, const SimState& s, RunSummary& out) const {
+  if (state_finite(s) || last_finite_step_ < 0) {
+    fill_final_state(scene, s, out);
+    return;
+  }
+  out.final_pose_step = last_finite_step_;
+  out.final_pose = last_finite_pose_;
+  out.final_frames = forward_kinematics(scene.rig, last_finite_pose_);
+  out.final_kinetic_energy = last_finite_ke_;
+  out.final_residuals.resize(scene.control_points.size());
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    out.final_residuals[c] =
+        (point_on_bone(out.final_frames, cp.bone, cp.alpha) - s.target_goal_world[c]).norm();
+  }
+}
+
 void fill_final_state(const Scene& scene, const SimState& s, RunSummary& out) {
+  out.final_pose_step = s.step;
   control_residuals(scene, s, out.final_residuals);
   out.final_kinetic_energy = kinetic_energy(scene.rig, s);
   out.final_pose = s.pose;

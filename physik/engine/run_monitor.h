@@ -125,6 +125,9 @@ class RunMonitor {
   // energy ledger (energy given, peak ratio) and the joint solve's unpropagated steps.
   // The rest (final residuals, final KE, pose, frames, wall time) is left default.
   RunSummary summary() const;
+  // The final-state fields of a summary from the state the run stopped in; when that state is
+  // not finite, from the last finite one the monitor saw (needs observations with a state).
+  void fill_final(const Scene& scene, const SimState& state, RunSummary& out) const;
 
  private:
   double step_target_work(const StepObservation& o);
@@ -136,6 +139,9 @@ class RunMonitor {
   double target_work_ = 0.0;              // J, W_k so far
   double peak_energy_ratio_ = 0.0;        // max_k E_k / (max(E_in,k, 0) + E_floor)
   int unpropagated_steps_ = 0;
+  Pose last_finite_pose_;        // the last observed finite state's pose, its step and KE (J)
+  int last_finite_step_ = -1;
+  double last_finite_ke_ = 0.0;
   int max_unreached_ = 0;
   RunRules rules_;
   std::string prefix_;

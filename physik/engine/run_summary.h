@@ -44,6 +44,9 @@ struct RunSummary {
   int max_unreached_joints = 0;
   std::string joint_solve_warning;
   double wall_time_s = 0.0;
+  // the last state the run reached, or, when it went non-finite, the last finite one (its step in
+  // final_pose_step, its KE in final_kinetic_energy, its residuals in final_residuals)
+  int final_pose_step = 0;
   Pose final_pose;
   BoneFrames final_frames;
 };

@@ -22,6 +22,7 @@ nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s) {
           {"steps_to_converge", s.steps_to_converge < 0 ? nlohmann::json(nullptr)
                                                          : nlohmann::json(s.steps_to_converge)},
           {"final_residuals", s.final_residuals},
+          {"final_pose_step", s.final_pose_step},
           {"final_residuals_over_height", rel},
           {"rig_height", scene.rig.height()},
           {"max_joint_separation", s.max_joint_separation},
