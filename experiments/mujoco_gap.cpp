@@ -22,7 +22,7 @@ void run(const Context& ctx) {
                 : std::vector<std::string>{"pinhead_two_hands", "fig5_running", "fig6_elbow_linear",
                                            "fig7_cannon_capped"};
   nlohmann::json rows = nlohmann::json::array();
-  nlohmann::json claims = nlohmann::json::array();
+  Report report("PhysIK against MuJoCo (exact constrained dynamics)");
   std::ofstream gap_csv(ctx.out_dir + "/gap_over_time.csv");
   gap_csv << "scene,mode,step,gap\n";
   std::ofstream table(ctx.out_dir + "/gaps.csv");
@@ -63,33 +63,27 @@ void run(const Context& ctx) {
       }
       if (mode == ReferenceMode::kSameForces) {
         const bool unique = c.free_endpoint_dof == 0;
-        claims.push_back(claim(
+        report.claim(
             "Sec. 3.2: Gauss-Seidel inter-joint forces approximate the exact articulated dynamics (" + name + ")",
             "same forces: rms trajectory gap " + num(c.gap.rms_gap) + ", final pose gap " +
                 num(c.gap.final_pose_gap) + " (" + num(100 * c.gap.final_pose_gap / h, 2) +
                 "% of height); " + (unique ? "unique equilibrium" : "a family of equilibria (" +
                 std::to_string(c.free_endpoint_dof) + " free endpoint DOF): the final gap is path dependence"),
-            !unique ? "n/a (path dependent)" : c.gap.final_pose_gap < 0.01 * h ? "yes" : "no"));
+            !unique ? "n/a (path dependent)" : c.gap.final_pose_gap < 0.01 * h ? "yes" : "no");
       }
     }
   }
-  write_json_file({{"experiment", "mujoco_gap"},
-                   {"rows", rows},
-                   {"report",
-                    {{"title", "PhysIK against MuJoCo (exact constrained dynamics)"},
-                     {"claims", claims},
-                     {"notes", {"Table: results/mujoco_gap/gaps.csv (rig units; pinhead is 4.69 tall).",
-                                "same-forces uses ball joints at every bone (PhysIK's own freedom) and "
-                                "PhysIK's torsion forces; exact-constraints uses the rig's joints and limits.",
-                                "The angular-velocity factor is a torque I (f - 1) w / dt in MuJoCo."}},
-                     {"figures", {"mujoco_gap.png", "mujoco_poses.png"}}}}},
-                  ctx.out_dir + "/summary.json");
+  report.note("Table: results/mujoco_gap/gaps.csv (rig units; pinhead is 4.69 tall).")
+      .note("same-forces uses ball joints at every bone (PhysIK's own freedom) and PhysIK's "
+            "torsion forces; exact-constraints uses the rig's joints and limits.")
+      .note("The angular-velocity factor is a torque I (f - 1) w / dt in MuJoCo.")
+      .figures({"mujoco_gap.png", "mujoco_poses.png"});
+  write_summary(ctx, {{"experiment", "mujoco_gap"}, {"rows", rows}}, report);
 }
+
+const Registration registered{
+    230, {"mujoco_gap", "reference", "PhysIK vs MuJoCo: trajectory and final-pose gaps", run}};
 
 }  // namespace
-
-Experiment mujoco_gap_experiment() {
-  return {"mujoco_gap", "reference", "PhysIK vs MuJoCo: trajectory and final-pose gaps", run};
-}
 
 }  // namespace physik::experiments

@@ -55,5 +55,8 @@ constexpr int kMaxJsonDepth = 256;
 // kMaxJsonDepth is an InputError naming the file (and the line).
 Json read_json_file(const std::string& path);
 Json parse_json_text(const std::string& text, const std::string& source);
+// Write a JSON document pretty-printed (2 spaces, a final newline): to a file, created with its
+// parent folders (InputError naming it if it cannot be written), or to stdout for "-" or "".
+void write_json(const Json& doc, const std::string& path);
 
 }  // namespace physik
