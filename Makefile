@@ -1,11 +1,21 @@
 # Two commands do everything on a fresh Debian bookworm machine:
 #   make test        install what is missing, build, run every test
 #   make reproduce   install what is missing, build, run the experiments, figures and report
+# and one more (not yet run by CI; see .ci/run):
+#   make sanitize    the same tests on an AddressSanitizer + UndefinedBehaviorSanitizer build
+#                    (build-sanitize/), the fuzzer included with fewer cases
 BUILD ?= build
 JOBS ?= 2
 PYTHON ?= /usr/bin/python3
 
-.PHONY: all deps configure build test reproduce bench clean
+SANITIZE_BUILD ?= build-sanitize
+SANITIZE_FUZZ_CASES ?= 600
+# halt on the first report; the uninstrumented libraries (MuJoCo, Ceres, glog) may keep memory
+# until exit, so leaks are not errors
+SANITIZE_ENV = ASAN_OPTIONS=halt_on_error=1:detect_leaks=0:abort_on_error=0 \
+	UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
+
+.PHONY: all deps configure build test reproduce bench clean sanitize
 
 all: build
 
@@ -28,5 +38,11 @@ bench: build
 	@$(BUILD)/physik_bench
 	@PYTHONPATH=$(BUILD)/python $(PYTHON) bench/bench_python.py --binary $(BUILD)/physik
 
+sanitize: deps
+	@cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPHYSIK_SANITIZE=ON \
+		-DPHYSIK_FUZZ_CASES=$(SANITIZE_FUZZ_CASES) -DPython3_EXECUTABLE=$(PYTHON) > /dev/null
+	@cmake --build $(SANITIZE_BUILD) -j $(JOBS)
+	@cd $(SANITIZE_BUILD) && $(SANITIZE_ENV) ctest --output-on-failure -j $(JOBS)
+
 clean:
-	rm -rf $(BUILD)
+	rm -rf $(BUILD) $(SANITIZE_BUILD)

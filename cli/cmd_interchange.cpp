@@ -1,6 +1,9 @@
 // Animation interchange: physik rig from-bvh | to-bvh | limits | from-mjcf, physik bvh convert.
 // The formats are documented in physik/bvh.h, physik/joint_limits.h, reference/mjcf_import.h and
 // models/README.md.
+#include <algorithm>
+#include <cctype>
+#include <cmath>
 #include <iostream>
 #include <memory>
 
@@ -20,6 +23,22 @@ BvhAxes parse_axes(const std::string& s) {
   if (s == "y-up") return BvhAxes::kYUp;
   if (s == "z-up") return BvhAxes::kZUp;
   throw_input_error("--axes", "", "", "expected y-up or z-up, got '" + s + "'");
+}
+
+// options are checked before any file is read, so their messages name the option
+void check_order_option(const std::string& order) {
+  std::string s = order;
+  for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  std::sort(s.begin(), s.end());
+  if (s != "XYZ") {
+    throw_input_error("--order", "", "", "'" + order + "' is not a permutation of XYZ");
+  }
+}
+
+void check_scale_option(double scale) {
+  if (!(scale > 0.0) || !std::isfinite(scale)) {
+    throw_input_error("--scale", "", "", "must be a positive finite number");
+  }
 }
 
 void add_axes_option(CLI::App* cmd, std::string& axes) {
@@ -44,6 +63,7 @@ void add_from_bvh(CLI::App* rig) {
   from_bvh->add_option("--scale", fb->scale, "Rig units per file unit (e.g. 0.01 for cm)")
       ->capture_default_str();
   from_bvh->callback([fb] {
+    check_scale_option(fb->scale);
     BvhImportOptions o;
     o.axes = parse_axes(fb->axes);
     o.scale = fb->scale;
@@ -74,6 +94,8 @@ void add_to_bvh(CLI::App* rig) {
   add_axes_option(to_bvh, tb->axes);
   to_bvh->add_option("--scale", tb->scale, "File units per rig unit")->capture_default_str();
   to_bvh->callback([tb] {
+    check_order_option(tb->order);
+    check_scale_option(tb->scale);
     const Rig r = load_rig(tb->path);
     BvhExportOptions o;
     o.axes = parse_axes(tb->axes);
@@ -159,6 +181,7 @@ void add_bvh_convert(CLI::App& app) {
       ->capture_default_str();
   add_axes_option(convert, co->axes);
   convert->callback([co] {
+    check_order_option(co->order);
     BvhImportOptions io;
     io.axes = parse_axes(co->axes);
     const BvhAnimation anim = load_bvh(co->in, io);

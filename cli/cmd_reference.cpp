@@ -47,6 +47,7 @@ void add_reference_commands(CLI::App& app) {
     MjcfOptions o;
     o.joints = opt->joints == "ball" ? JointModel::kBallJoints : JointModel::kRigJoints;
     o.dt = opt->dt;
+    o.source = opt->rig;
     // deep rigs: the main file and include files beside it (MuJoCo's parser nests ~100 deep)
     const bool to_stdout = opt->out.empty() || opt->out == "-";
     const std::filesystem::path out(to_stdout ? "physik_rig.xml" : opt->out);

@@ -109,6 +109,9 @@ void run_simulate(const SimulateOptions& o) {
     bvh->record(scene.initial_pose);
   }
   const RunSummary sum = record_simulation(scene, o, bvh.get());
+  if (!sum.joint_solve_warning.empty()) {
+    std::cerr << "physik: warning: " << scene.file << ": " << sum.joint_solve_warning << "\n";
+  }
   write_results(scene, sum, o, bvh.get());
   if (!o.quiet) print_outcome(sum, o.out);
   if (!o.reference.empty()) write_reference_comparison(scene, o.reference, o.out, o.every, !o.quiet);

@@ -40,6 +40,7 @@ void run_solve(const SolveOptions& o) {
   check_solve_options(o.solve);  // before the scene: a bad flag is reported first
   const Scene scene = load_scene(o.scene);
   const SceneSolveResult r = solve_scene(scene, o.solve);
+  if (!r.warning.empty()) std::cerr << "physik: warning: " << scene.file << ": " << r.warning << "\n";
   write_solution(scene, r, o.out);
   if (!o.quiet) {
     std::cerr << "solve: " << o.solve.solver << " "

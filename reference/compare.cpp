@@ -77,6 +77,7 @@ int free_endpoint_dof(const Scene& scene, const BoneFrames& frames) {
   MjcfOptions o;
   o.joints = JointModel::kRigJoints;
   o.dt = scene.params.dt;
+  o.source = scene.rig_file;
   const MjModelPtr m = rig_to_mjmodel(rig, o);
   const MjDataPtr d(mj_makeData(m.get()));
   SimState s;
@@ -174,14 +175,15 @@ nlohmann::json gap_json(const GapStats& g, double height) {
 }  // namespace
 
 nlohmann::json comparison_to_json(const Scene& scene, const Comparison& c) {
-  const double h = scene.rig.height();
+  // over the height, or the mean bone length for a flat rig (no inf or nan in the output)
+  const double h = scene.rig.height() > 0.0 ? scene.rig.height() : scene.rig.length_scale();
   nlohmann::json j = gap_json(c.gap, h);
   j["scene"] = scene.file;
   j["rig"] = scene.rig_file;
   j["mode"] = to_string(c.mode);
   j["mujoco_version"] = mj_versionString();
   j["physik_integration"] = to_string(scene.params.integration);
-  j["rig_height"] = h;
+  j["rig_height"] = scene.rig.height();
   j["free_endpoint_dof"] = c.free_endpoint_dof;
   j["equilibrium"] =
       c.free_endpoint_dof == 0

@@ -1,6 +1,8 @@
 #include "reference/mujoco_log.h"
 #include "reference/mjcf_export.h"
 
+#include "physik/model/errors.h"
+
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
@@ -28,6 +30,32 @@ std::string quat(const Quat& q) {  // MuJoCo order: w x y z
   return s.str();
 }
 
+// a name as an XML attribute value: the five reserved characters as entities (MuJoCo's reader
+// decodes them, so the model's names are the rig's); names are printable UTF-8 (names.h)
+std::string xml_attr(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+// text inside an XML comment, which may not hold "--" (nor end in '-')
+std::string xml_comment(std::string text) {
+  for (std::size_t i = 0; (i = text.find('-', i)) != std::string::npos; ++i) {
+    if (i + 1 == text.size() || text[i + 1] == '-') text.insert(i + 1, " ");
+  }
+  return text;
+}
+
 std::string num(double x) {
   std::ostringstream s;
   s << std::setprecision(17) << x;
@@ -46,7 +74,7 @@ Quat locked_rotation(const std::array<AxisLimit, 3>& limit) {
 
 void write_hinge(std::ostringstream& x, const std::string& bone, int axis, const AxisLimit& l,
                  double half_length, const std::string& pad) {
-  x << pad << "<joint name=\"" << bone << ":" << kAxisName[axis] << "\" type=\"hinge\" axis=\""
+  x << pad << "<joint name=\"" << xml_attr(bone) << ":" << kAxisName[axis] << "\" type=\"hinge\" axis=\""
     << kAxisVec[axis] << "\" pos=\"0 " << num(-half_length) << " 0\"";
   if (l.limited) {
     x << " limited=\"true\" range=\"" << num(l.min) << " " << num(l.max) << "\"";
@@ -61,14 +89,14 @@ void write_joints(std::ostringstream& x, const Rig& rig, int i, JointModel model
   const std::string& name = rig.bone_name[i];
   const double half = 0.5 * rig.bone_length[i];
   if (i == rig.root()) {
-    x << pad << "<joint name=\"" << name << ":free\" type=\"free\"/>\n";
+    x << pad << "<joint name=\"" << xml_attr(name) << ":free\" type=\"free\"/>\n";
     return;
   }
   const auto& limit = rig.bone_limit[i];
   const int dof = rig.bone_dof(i);
   const bool any_limited = limit[0].limited || limit[1].limited || limit[2].limited;
   if (model == JointModel::kBallJoints || (dof == 3 && !any_limited)) {
-    x << pad << "<joint name=\"" << name << ":ball\" type=\"ball\" pos=\"0 " << num(-half)
+    x << pad << "<joint name=\"" << xml_attr(name) << ":ball\" type=\"ball\" pos=\"0 " << num(-half)
       << " 0\" limited=\"false\"/>\n";
     return;
   }
@@ -132,13 +160,13 @@ void write_body(std::ostringstream& x, const MjcfWriter& w, int i, int depth, in
     pos = rig.bone_head_in_parent[i] - Vec3(0, 0.5 * rig.bone_length[p], 0) + q * Vec3(0, 0.5 * L, 0);
   }
   q.normalize();
-  x << pad << "<body name=\"" << rig.bone_name[i] << "\" pos=\"" << vec(pos) << "\" quat=\""
-    << quat(q) << "\">\n";
+  x << pad << "<body name=\"" << xml_attr(rig.bone_name[i]) << "\" pos=\"" << vec(pos)
+    << "\" quat=\"" << quat(q) << "\">\n";
   const std::string in = pad + "  ";
   write_joints(x, rig, i, o.joints, in);
   x << in << "<inertial pos=\"0 0 0\" mass=\"" << num(rig.bone_mass[i]) << "\" diaginertia=\""
     << vec(rig.bone_inertia_local[i]) << "\"/>\n";
-  x << in << "<geom name=\"" << rig.bone_name[i] << "\" type=\"capsule\" fromto=\"0 "
+  x << in << "<geom name=\"" << xml_attr(rig.bone_name[i]) << "\" type=\"capsule\" fromto=\"0 "
     << num(-0.5 * L) << " 0 0 " << num(0.5 * L) << " 0\" size=\"" << num(0.06 * L) << "\"/>\n";
   write_children(x, w, i, depth, file_depth);
   x << pad << "</body>\n";
@@ -148,13 +176,26 @@ void write_body(std::ostringstream& x, const MjcfWriter& w, int i, int depth, in
 std::string write_main(const MjcfWriter& w) {
   const Rig& rig = w.rig;
   const MjcfOptions& o = w.o;
+  // bones in DFS order: a parent's depth is known before its children's
+  std::vector<int> depth(rig.nbone, 1);
+  int deepest = 0;
+  for (int i = 0; i < rig.nbone; ++i) {
+    if (rig.bone_parent[i] >= 0) depth[i] = depth[rig.bone_parent[i]] + 1;
+    deepest = std::max(deepest, depth[i]);
+  }
+  if (deepest > kMaxMjcfDepth) {
+    throw_input_error(o.source.empty() ? "rig '" + rig.name + "'" : o.source, "", "bones",
+                      "the rig is " + std::to_string(deepest) + " bones deep; export-mjcf writes "
+                      "body trees at most " + std::to_string(kMaxMjcfDepth) +
+                      " deep (mjcf_export.h kMaxMjcfDepth)");
+  }
   std::ostringstream x;
-  x << "<!-- PhysIK rig '" << rig.name << "' as MJCF (reference/mjcf_export.h): one body per bone "
+  x << "<!-- PhysIK rig '" << xml_comment(rig.name) << "' as MJCF (reference/mjcf_export.h): one body per bone "
     << "at its centre of mass, local +Y along the bone; "
     << (o.joints == JointModel::kBallJoints ? "ball joints (same-forces mode)"
                                             : "joint types and limits from the rig (exact-constraints mode)")
     << " -->\n";
-  x << "<mujoco model=\"" << (rig.name.empty() ? "rig" : rig.name) << "\">\n";
+  x << "<mujoco model=\"" << xml_attr(rig.name.empty() ? "rig" : rig.name) << "\">\n";
   x << "  <compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n";
   x << "  <option timestep=\"" << num(o.dt) << "\" gravity=\"0 0 0\" integrator=\"Euler\">\n";
   x << "    <flag contact=\"disable\"/>\n";

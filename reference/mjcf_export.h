@@ -45,10 +45,16 @@ enum class JointModel { kRigJoints, kBallJoints };
 
 struct MjcfOptions {
   JointModel joints = JointModel::kRigJoints;
-  double dt = 0.05;  // s, <option timestep>
+  double dt = 0.05;    // s, <option timestep>
+  std::string source;  // the rig's file, for error messages ("" = the rig's name)
 };
 
-// The MJCF text of the rig, in one file. MuJoCo 2.2.2's XML parser rejects elements nested
+// Deepest body tree written (bones from the root to the deepest leaf): the writer recurses once
+// per level, and MuJoCo's compile grows about as N^3 on chains long before this; a deeper rig is an
+// InputError naming the rig file.
+constexpr int kMaxMjcfDepth = 5000;
+
+// The MJCF text of the rig, in one file (names as XML entities where they hold & < > " '). MuJoCo 2.2.2's XML parser rejects elements nested
 // about 100 deep (XML_ELEMENT_DEPTH_EXCEEDED): one file holds rigs up to about 95 bones deep.
 std::string rig_to_mjcf(const Rig& rig, const MjcfOptions& options);
 

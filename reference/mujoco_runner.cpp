@@ -87,6 +87,7 @@ MujocoReference::MujocoReference(const Scene& scene, ReferenceMode mode)
   MjcfOptions o;
   o.joints = joint_model(mode);
   o.dt = scene.params.dt;
+  o.source = scene.rig_file;
   m_ = rig_to_mjmodel(scene.rig, o);
   d_.reset(mj_makeData(m_.get()));
   reset();
@@ -161,7 +162,7 @@ RunSummary run_mujoco(const Scene& scene, ReferenceMode mode, const StepObserver
     if (stop) break;
   }
   RunSummary out = monitor.summary();
-  fill_final_state(scene, ref.state(), out);
+  monitor.fill_final(scene, ref.state(), out);
   out.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }

@@ -2,6 +2,7 @@
 // BVH -> rig mapping reproducing the file's joint positions, and every malformed-input case.
 #include "physik/io/bvh.h"
 
+#include <limits>
 #include <random>
 #include <sstream>
 
@@ -375,6 +376,176 @@ TEST(BvhErrors, EveryMalformedInputNamesFileAndLine) {
 
 TEST(BvhErrors, MissingFileIsAnInputError) {
   EXPECT_THROW(read_bvh_file("/nonexistent/x.bvh"), InputError);
+}
+
+// ---------------------------------------------------------------- robustness (issue 12)
+
+// a chain nested `depth` joints deep (or `siblings` End-Site joints under the root), 1 frame
+std::string deep_bvh(int depth, int siblings = 0) {
+  std::ostringstream s;
+  s << "HIERARCHY\nROOT r\n{\nOFFSET 0 0 0\nCHANNELS 6 Xposition Yposition Zposition Zrotation "
+       "Xrotation Yrotation\n";
+  int nch = 6;
+  for (int i = 0; i < depth; ++i) {
+    s << "JOINT j" << i << "\n{\nOFFSET 0 1 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n";
+    nch += 3;
+  }
+  s << "End Site\n{\nOFFSET 0 1 0\n}\n";
+  for (int i = 0; i < depth; ++i) s << "}\n";
+  for (int i = 0; i < siblings; ++i) {
+    s << "JOINT s\n{\nOFFSET " << (i % 2 ? 1 : -1) << " 0 0\nEnd Site\n{\nOFFSET 0 1 0\n}\n}\n";
+  }
+  s << "}\nMOTION\nFrames: 1\nFrame Time: 0.1\n";
+  for (int k = 0; k < nch; ++k) s << (k ? " 0" : "0");
+  s << "\n";
+  return s.str();
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_bvh(text, "bad.bvh");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(BvhRobust, WhitespaceOnlyLinesAfterMotionAreBlankWhateverTheirWhitespace) {
+  // a vertical tab or form feed alone on a line was a null dereference between MOTION and Frames:
+  for (const char* ws : {"\v", "\f", " \v\f\t ", "\r"}) {
+    const std::string text = kHead + kSite + "}\nMOTION\n" + ws + "\nFrames: 1\n" + ws +
+                             "\nFrame Time: 0.1\n" + ws + "\n1 2 3\n" + ws + "\n";
+    const BvhFile f = parse_bvh(text, "ws.bvh");
+    ASSERT_EQ(f.frames.size(), 1u);
+    EXPECT_EQ(f.frames[0][2], 3.0);
+  }
+  // a file that ends right after MOTION and a blank line names the missing field
+  EXPECT_NE(error_of(kHead + kSite + "}\nMOTION\n\v\n").find("missing 'Frames:'"), std::string::npos);
+}
+
+TEST(BvhRobust, NestingDepthIsTheFilesNotTheStacks) {
+  // 20,000 joints deep overflowed the stack of the recursive reader; now a 20,001-bone chain
+  const int depth = 20000;
+  const BvhAnimation anim = bvh_to_rig(parse_bvh(deep_bvh(depth), "deep.bvh"), "deep.bvh");
+  ASSERT_EQ(anim.rig().nbone, depth + 1);
+  EXPECT_EQ(anim.rig().bone_parent[depth], depth - 1);
+  EXPECT_NEAR(anim.rig().bone_rest_tail_world[depth].z(), depth + 1.0, 1e-6);  // y up -> z up
+  EXPECT_LT(anim.max_position_error, 1e-6);
+  // and it writes back out (the writer walks the tree without recursion, indenting at most 32)
+  std::ostringstream out;
+  write_bvh(anim.rig(), {}, BvhExportOptions{}, out);
+  const BvhFile back = parse_bvh(out.str(), "back.bvh");
+  EXPECT_EQ(static_cast<int>(back.joints.size()), depth + 1);
+  EXPECT_LT(out.str().size(), 1000u * (depth + 1));  // linear in the bone count
+}
+
+TEST(BvhRobust, TwentyThousandSiblingsGroupAndNameInLinearTime) {
+  // siblings at two offsets merge into two bones (one per offset), all named after the root
+  const BvhAnimation anim = bvh_to_rig(parse_bvh(deep_bvh(0, 20000), "wide.bvh"), "wide.bvh");
+  // the root's End Site and the two sibling offsets give 3 bones under a synthetic root; every
+  // sibling's own End Site a bone of its own, named s, s_2, ..., s_20000
+  EXPECT_EQ(anim.rig().nbone, 1 + 3 + 20000);
+  EXPECT_GE(anim.rig().find_bone("s_20000"), 0);
+  EXPECT_LT(anim.max_position_error, 1e-6);
+}
+
+TEST(BvhRobust, JointNamesMustBePrintableUtf8AndSayWhere) {
+  const std::string bad_byte =
+      "HIERARCHY\nROOT A\xff\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n" + kSite +
+      "}\n" + kMotion1 + "1 2 3\n";
+  const std::string msg = error_of(bad_byte);
+  EXPECT_EQ(msg.rfind("bad.bvh: line 2: field 'joint name': byte 0xff at offset 1 is not UTF-8", 0), 0u)
+      << msg;
+  const std::string control = "HIERARCHY\nROOT A\x01" "B\n{\n  OFFSET 0 0 0\n}\n";
+  EXPECT_NE(error_of(control).find("control character 0x01"), std::string::npos);
+  // quotes, '<' and accented letters are names like any other (escaped where written)
+  const BvhFile ok = parse_bvh("HIERARCHY\nROOT caf\xc3\xa9\"<x>\n{\n  OFFSET 0 0 0\n  CHANNELS 3 "
+                               "Zrotation Xrotation Yrotation\n" + kSite + "}\n" + kMotion1 +
+                               "1 2 3\n", "ok.bvh");
+  EXPECT_EQ(ok.joints[0].name, "caf\xc3\xa9\"<x>");
+}
+
+TEST(BvhRobust, HugeOffsetsAndPositionsFailInTheReaderWithTheirLine) {
+  // 1e308 used to fail later, in the rig builder, as a 'rest_frame' error with no line
+  std::string msg = error_of("HIERARCHY\nROOT A\n{\n  OFFSET 0 1e308 0\n}\n");
+  EXPECT_EQ(msg.rfind("bad.bvh: line 4: field 'OFFSET': '1e308' is beyond", 0), 0u) << msg;
+  msg = error_of("HIERARCHY\nROOT A\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Xposition Yposition "
+                 "Zposition\n" + kSite + "}\n" + kMotion1 + "0 -2e10 0\n");
+  EXPECT_EQ(msg.rfind("bad.bvh: line 14: field 'MOTION': '-2e10' is beyond", 0), 0u) << msg;
+  // offsets that are fine alone but sum, after the scale, past the rig's range name the joint's line
+  const std::string text = "HIERARCHY\nROOT A\n{\n  OFFSET 0 0 0\n  JOINT B\n  {\n    OFFSET 0 9e8 0\n"
+                           "    JOINT C\n    {\n      OFFSET 0 9e8 0\n" + kSite +
+                           "    }\n  }\n}\nMOTION\nFrames: 0\nFrame Time: 0.1\n";
+  try {
+    bvh_to_rig(parse_bvh(text, "sum.bvh"), "sum.bvh");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("sum.bvh: line 8: field 'OFFSET': joint 'C'", 0), 0u)
+        << e.what();
+  }
+  // underflow is a number (0), not an error
+  EXPECT_EQ(parse_bvh("HIERARCHY\nROOT A\n{\n  OFFSET 0 1e-400 0\n" + kSite +
+                          "}\nMOTION\nFrames: 0\nFrame Time: 0.1\n", "u.bvh").joints[0].offset.y(),
+            0.0);
+}
+
+TEST(BvhRobust, WriterRejectsScalesThatWouldWriteNanAndNamesTheFile) {
+  const Rig rig = make_chain_rig(3, 2.0);
+  for (double scale : {std::numeric_limits<double>::infinity(), 0.0, -1.0,
+                       std::numeric_limits<double>::quiet_NaN()}) {
+    BvhExportOptions o;
+    o.scale = scale;
+    o.target = "out.bvh";
+    std::ostringstream out;
+    try {
+      write_bvh(rig, {}, o, out);
+      ADD_FAILURE() << "no error for scale " << scale;
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("out.bvh: field 'scale'", 0), 0u) << e.what();
+    }
+  }
+  // a finite scale that overflows a coordinate
+  BvhExportOptions o;
+  o.scale = 1e308;
+  o.target = "big.bvh";
+  std::ostringstream out;
+  try {
+    write_bvh(rig, {}, o, out);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("big.bvh: bone 'b1': field 'scale'"), std::string::npos)
+        << e.what();
+  }
+  BvhExportOptions bad_order;
+  bad_order.euler_order = "XXY";
+  EXPECT_THROW(save_bvh(::testing::TempDir() + "/x.bvh", rig, {}, bad_order), InputError);
+  try {
+    save_bvh(::testing::TempDir() + "/order.bvh", rig, {}, bad_order);
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("order.bvh: field 'euler order'"), std::string::npos);
+  }
+}
+
+TEST(BvhRobust, ManyEqualNamesGetTheFirstFreeSuffix) {
+  // the writer's names: spaces become '_', duplicates get _2, _3, ... (in linear time)
+  std::vector<BoneSpec> specs;
+  for (int i = 0; i < 4; ++i) {
+    BoneSpec b;
+    b.name = i == 0 ? "a b" : i == 1 ? "a_b" : i == 2 ? "a_b_2" : "a{b";
+    b.parent = i == 0 ? "" : specs[i - 1].name;
+    b.head_world = Vec3(0, 0, i);
+    b.tail_world = Vec3(0, 0, i + 1);
+    b.rest_frame_world = rest_frame_from_roll(b.head_world, b.tail_world, 0.0);
+    specs.push_back(b);
+  }
+  std::ostringstream out;
+  write_bvh(build_rig(specs, "names"), {}, BvhExportOptions{}, out);
+  const BvhFile f = parse_bvh(out.str(), "names.bvh");
+  ASSERT_EQ(f.joints.size(), 4u);
+  EXPECT_EQ(f.joints[0].name, "a_b");
+  EXPECT_EQ(f.joints[1].name, "a_b_2");
+  EXPECT_EQ(f.joints[2].name, "a_b_2_2");
+  EXPECT_EQ(f.joints[3].name, "a_b_3");
 }
 
 }  // namespace

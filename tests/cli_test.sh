@@ -194,5 +194,56 @@ expect_in "equilibrium converged" "$tmp/eq.json" '"converged": true'
 expect_in "equilibrium physik gap" "$tmp/eq.json" '"max_pose_distance"'
 expect_in "equilibrium bones" "$tmp/eq.csv" "hand.L"
 
+# robustness (issue 12): absurd sizes, overflowing values, bad names, deep nesting, blow-ups
+check "chain absurd size" 2 "$bin" rig chain 2147483647
+expect_in "chain absurd message" "$tmp/err" "field 'N'"
+printf '{"bones": [{"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,1], "radius": 1e200}]}' > "$tmp/r200.json"
+check "radius 1e200" 2 "$bin" rig info --json "$tmp/r200.json"
+expect_in "radius message" "$tmp/err" "r200.json: bones[0] 'a': field 'radius'"
+check "to-bvh scale inf" 2 "$bin" rig to-bvh "$src/models/rigs/pinhead.json" --scale inf --out "$tmp/inf.bvh"
+expect_in "to-bvh scale message" "$tmp/err" "--scale: must be a positive finite number"
+printf 'HIERARCHY\nROOT A\xff\n{\n  OFFSET 0 0 0\n}\nMOTION\nFrames: 0\nFrame Time: 0.1\n' > "$tmp/utf.bvh"
+check "bvh non-utf8 name" 2 "$bin" rig from-bvh "$tmp/utf.bvh"
+expect_in "bvh name message" "$tmp/err" "utf.bvh: line 2: field 'joint name'"
+printf 'HIERARCHY\nROOT A\n{\n  OFFSET 0 1e308 0\n}\n' > "$tmp/far.bvh"
+check "bvh huge offset" 2 "$bin" rig from-bvh "$tmp/far.bvh"
+expect_in "bvh offset message" "$tmp/err" "far.bvh: line 4: field 'OFFSET'"
+python3 -c "print('{\"rig\": \"x.json\", \"params\": ' + '['*5000 + ']'*5000 + '}')" > "$tmp/deep.json"
+check "deep json" 2 "$bin" simulate "$tmp/deep.json" --out "$tmp/x" --quiet
+expect_in "deep json message" "$tmp/err" "deep.json: line 1: JSON nested deeper than 256"
+check "pinhead damping 5 diverges" 3 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --set damping=5 --steps 300 --out "$tmp/d5" --quiet
+expect_in "damping 5 reason" "$tmp/d5/summary.json" 'the rig was given'
+check "hand_tight diverges" 3 "$bin" simulate "$src/models/scenes/hand_tight.json" --out "$tmp/ht" --quiet
+printf '{"bones": [{"name": "a", "parent": null, "head": [0,0,0], "tail": [1,0,0]}, {"name": "b", "parent": "a", "head": [1,0,0], "tail": [2,0,0]}]}' > "$tmp/flat.json"
+printf '{"rig": "flat.json", "control_points": [{"bone": "b", "target": [2,0,0]}], "steps": 30}' > "$tmp/flat_scene.json"
+check "flat rig, target met" 0 "$bin" simulate "$tmp/flat_scene.json" --out "$tmp/flat" --quiet
+expect_in "flat rig converged" "$tmp/flat/summary.json" '"converged": true'
+"$bin" rig chain 1000 --out "$tmp/c1000.json"
+printf '{"rig": "c1000.json", "control_points": [{"bone": "b999", "target": [1,0,999.5]}], "steps": 2}' > "$tmp/c1000_scene.json"
+check "chain joint solve warning" 0 "$bin" simulate "$tmp/c1000_scene.json" --out "$tmp/c1000" --quiet
+expect_in "chain warning in summary" "$tmp/c1000/summary.json" '"joint_unpropagated_steps": 2'
+expect_in "chain warning on stderr" "$tmp/err" "c1000_scene.json: the joint solve stopped before"
+printf '{"bones": [{"name": "a\\"<b", "parent": null, "head": [0,0,0], "tail": [0,0,1]}, {"name": "c,d", "parent": "a\\"<b", "head": [0,0,1], "tail": [0,0,2]}]}' > "$tmp/names.json"
+printf '{"rig": "names.json", "control_points": [{"bone": "c,d", "target": [0.5,0,1.5]}], "steps": 5}' > "$tmp/names_scene.json"
+check "names with quote and comma" 0 "$bin" simulate "$tmp/names_scene.json" --out "$tmp/names" --quiet
+expect_in "csv quotes a comma" "$tmp/names/final_pose.csv" '"c,d"'
+check "mjcf escapes names" 0 "$bin" export-mjcf "$tmp/names.json" --out "$tmp/names.xml"
+expect_in "mjcf quote entity" "$tmp/names.xml" 'name="a&quot;&lt;b"'
+check "mjcf names load back" 0 "$bin" rig from-mjcf "$tmp/names.xml" --out "$tmp/names_back.json"
+expect_in "mjcf name round trip" "$tmp/names_back.json" 'a\"<b'
+"$bin" rig chain 6000 --out "$tmp/c6000.json"
+check "mjcf too deep" 2 "$bin" export-mjcf "$tmp/c6000.json" --out "$tmp/c6000.xml"
+expect_in "mjcf depth message" "$tmp/err" "c6000.json: field 'bones': the rig is 6000 bones deep"
+check "to-bvh bad order" 2 "$bin" rig to-bvh "$src/models/rigs/pinhead.json" --order XXY
+expect_in "bad order names the option" "$tmp/err" "--order: 'XXY' is not a permutation of XYZ"
+check "convert bad order" 2 "$bin" bvh convert "$src/tests/fuzz/corpus/vtab_after_motion.bvh" "$tmp/o.bvh" --order ABC
+expect_in "convert order names the option" "$tmp/err" "--order"
+printf '{"rig": "%s.json", "steps": 2}' "$(printf 'a%.0s' $(seq 300))" > "$tmp/longpath.json"
+check "rig path past NAME_MAX" 2 "$bin" simulate "$tmp/longpath.json" --out "$tmp/lp" --quiet
+expect_in "long path names the scene" "$tmp/err" "longpath.json: field 'rig'"
+printf '{"rig": "flat.json", "control_points": [{"bone": "b", "target": [1e155,0,0], "k": 10}], "steps": 5}' > "$tmp/far_target.json"
+check "target 1e155 refused" 2 "$bin" simulate "$tmp/far_target.json" --out "$tmp/ft" --quiet
+expect_in "far target message" "$tmp/err" "far_target.json: control_points[0]: field 'target'"
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

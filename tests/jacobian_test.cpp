@@ -104,3 +104,24 @@ TEST(DampedLeastSquares, LineSearchStretchesALongChainTowardAFarTarget) {
 
 }  // namespace
 }  // namespace physik
+
+namespace physik {
+namespace {
+
+TEST(DampedLeastSquares, TwentyThousandGoalsSolveInTheSmallSystem) {
+  // 20,000 goals on 9 unknowns: J J^T would be 60,000^2 doubles (29 GB, bad_alloc); the
+  // push-through form solves 9 x 9 and reaches the same (reachable) target as one goal does
+  const Rig rig = make_chain_rig(3);
+  const Vec3 target(1.0, 0.5, 2.0);
+  std::vector<IkGoal> many(20000, IkGoal{2, 1.0, target});
+  Pose pose = rest_pose(rig), one = rest_pose(rig);
+  IkOptions opt;
+  const IkReport rep = solve_ik(IkMethod::kDampedLeastSquares, rig, many, pose, opt);
+  const IkReport rep1 = solve_ik(IkMethod::kDampedLeastSquares, rig, {{2, 1.0, target}}, one, opt);
+  EXPECT_TRUE(rep.converged);
+  EXPECT_TRUE(rep1.converged);
+  EXPECT_LT((forward_kinematics(rig, pose).tail_world[2] - target).norm(), 2 * rep.tolerance);
+}
+
+}  // namespace
+}  // namespace physik

@@ -138,7 +138,10 @@ TEST(ParamTable, RowsAreWellFormed) {
 ParamValue other_value(const ParamRow& row) {
   const ParamValue d = row.defaults[0];
   switch (row.kind) {
-    case ParamKind::kReal: return row.valid.hi ? 0.5 * (d + *row.valid.lo) : 2.0 * d + 0.125;
+    // halfway to the lower bound, or to the upper one when the default sits on the lower
+    case ParamKind::kReal:
+      if (!row.valid.hi) return 2.0 * d + 0.125;
+      return 0.5 * (d + (d > *row.valid.lo ? *row.valid.lo : *row.valid.hi));
     case ParamKind::kInteger: return d + 3.0;
     case ParamKind::kBoolean: return d != 0.0 ? 0.0 : 1.0;
     case ParamKind::kChoice: return static_cast<ParamValue>((static_cast<int>(d) + 1) % row.choices.size());

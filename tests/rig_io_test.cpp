@@ -163,5 +163,59 @@ TEST(RigInput, RoundTripThroughJson) {
   }
 }
 
+// ---------------------------------------------------------------- robustness (issue 12)
+
+TEST(RigInput, ValuesWhoseProductsOverflowFailAtLoadNamingTheField) {
+  // a radius of 1e200 made the inertia (m r^2 / 2) overflow: rig info printed null
+  expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2],
+                            "radius": 1e200})"),
+               {"bones[1] 'b'", "field 'radius'", "out of range"});
+  expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2],
+                            "radius": 1e-200})"),
+               {"field 'radius'", "out of range"});
+  expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2],
+                            "mass": 1e300})"),
+               {"field 'mass'", "out of range"});
+  expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,1e12]})"),
+               {"field 'tail'", "beyond"});
+  expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2],
+                            "inertia_local": [1e40, 1e40, 1e40]})"),
+               {"field 'inertia_local'", "must lie in"});
+  // the edges of the ranges are fine
+  const Rig rig = rig_from_json_text(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1],
+                                                  "tail": [0,0,2], "radius": 1e9, "mass": 1e-9})"),
+                                     "ok.json");
+  EXPECT_TRUE(rig.bone_inertia_local[1].allFinite());
+  EXPECT_GT(rig.bone_inertia_local[1].minCoeff(), 0.0);
+}
+
+TEST(RigInput, BoneNamesMustBePrintable) {
+  // JSON strings are UTF-8 already (the parser checks); control characters would split BVH and
+  // CSV lines
+  expect_error(rig_with(R"({"name": "b\nc", "parent": "a", "head": [0,0,1], "tail": [0,0,2]})"),
+               {"bones[1]", "field 'name'", "control character 0x0a"});
+  expect_error(rig_with("{\"name\": \"b\xff\", \"parent\": \"a\", \"head\": [0,0,1], \"tail\": [0,0,2]}"),
+               {"invalid JSON"});
+  // quotes, commas and '<' are names like any other
+  const Rig rig = rig_from_json_text(
+      rig_with(R"({"name": "b\"<,c", "parent": "a", "head": [0,0,1], "tail": [0,0,2]})"), "ok.json");
+  EXPECT_EQ(rig.bone_name[1], "b\"<,c");
+}
+
+TEST(RigInput, JsonNestedTooDeepIsRejectedBeforeParsing) {
+  // a 200,000-deep array overflowed the stack when the document was copied
+  const std::string deep = R"({"bones": )" + std::string(200000, '[') + std::string(200000, ']') + "}";
+  expect_error(deep, {"line 1", "nested deeper than 256"});
+  // brackets inside strings do not count, nor do escaped quotes end a string
+  std::string name(300, '[');
+  const Rig rig = rig_from_json_text(
+      R"({"comment": ")" + name + R"(\"[[", "bones": [)" + std::string(kRoot) + "]}", "ok.json");
+  EXPECT_EQ(rig.nbone, 1);
+  // the limit itself is allowed
+  const std::string at_limit = std::string(kMaxJsonDepth, '[') + std::string(kMaxJsonDepth, ']');
+  EXPECT_NO_THROW(parse_json_text(at_limit, "limit.json"));
+  EXPECT_THROW(parse_json_text("[" + at_limit + "]", "over.json"), InputError);
+}
+
 }  // namespace
 }  // namespace physik

@@ -1,9 +1,12 @@
 // Rig construction: DFS order, joints, closed-form masses and inertias, the shipped rigs.
 #include "physik/model/rig.h"
 
+#include <limits>
+
 #include <gtest/gtest.h>
 
 #include "physik/io/rig_io.h"
+#include "physik/model/errors.h"
 #include "physik/model/rig_generators.h"
 #include "tests/test_util.h"
 
@@ -102,6 +105,56 @@ TEST(Rig, ChainGenerator) {
   EXPECT_EQ(rig.joints.size(), 49u);
   EXPECT_EQ(rig.max_bones_per_joint(), 2);
   EXPECT_NEAR(rig.bone_rest_tail_world[49].z(), 10.0, 1e-12);
+}
+
+// ---------------------------------------------------------------- robustness (issue 12)
+
+TEST(Rig, DepthIsTheInputsNotTheStacks) {
+  // build_rig's DFS recursed once per level: a 300,000-bone chain overflowed the stack
+  const Rig rig = make_chain_rig(300000, 1.0 / 1024);
+  ASSERT_EQ(rig.nbone, 300000);
+  EXPECT_EQ(rig.bone_parent[299999], 299998);
+  EXPECT_EQ(static_cast<int>(rig.joints.size()), 299999);
+  // a shuffled file still comes out parents first (the explicit stack keeps file order)
+  std::vector<BoneSpec> specs;
+  for (int i = 0; i < 5; ++i) {
+    BoneSpec b;
+    b.name = "b" + std::to_string(i);
+    b.parent = i == 0 ? "" : i < 3 ? "b0" : "b1";  // b0 -> b1 (-> b3, b4), b2
+    const Vec3 head = i == 0 ? Vec3(0, 0, 0) : i < 3 ? Vec3(0, 0, 1) : Vec3(0, i - 2.0, 2);
+    b.head_world = head;
+    b.tail_world = i == 0 ? Vec3(0, 0, 1) : i == 1 ? Vec3(0, 0, 2) : head + Vec3(1, 0, 0);
+    b.rest_frame_world = rest_frame_from_roll(b.head_world, b.tail_world, 0.0);
+    specs.push_back(b);
+  }
+  specs[3].head_world = Vec3(0, 0, 2);
+  specs[4].head_world = Vec3(0, 0, 2);
+  for (int i : {3, 4}) specs[i].rest_frame_world = rest_frame_from_roll(specs[i].head_world, specs[i].tail_world, 0.0);
+  const Rig r = build_rig({specs[4], specs[2], specs[3], specs[1], specs[0]}, "shuffled");
+  const std::vector<std::string> want = {"b0", "b2", "b1", "b4", "b3"};  // children in file order
+  EXPECT_EQ(r.bone_name, want);
+}
+
+TEST(Rig, AbsurdSizesFailBeforeAllocating) {
+  // 2^31 - 1 bones asked for about 600 GB before bad_alloc
+  try {
+    make_chain_rig(2147483647);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("field 'N'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("kMaxBones"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(make_chain_rig(3, std::numeric_limits<double>::infinity()), InputError);
+  EXPECT_THROW(make_chain_rig(1000, 1e7), InputError);  // reaches past kMaxCoordinate
+}
+
+TEST(Rig, LengthScaleIsTheMeanBoneLength) {
+  EXPECT_DOUBLE_EQ(make_chain_rig(300).length_scale(), 1.0);
+  EXPECT_DOUBLE_EQ(make_chain_rig(3, 0.25).length_scale(), 0.25);
+  const Rig pinhead = load_rig(test::model_path("rigs/pinhead.json"));
+  double sum = 0.0;
+  for (double l : pinhead.bone_length) sum += l;
+  EXPECT_DOUBLE_EQ(pinhead.length_scale(), sum / pinhead.nbone);
 }
 
 }  // namespace

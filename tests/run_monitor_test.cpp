@@ -197,8 +197,14 @@ TEST(RunRules, TakenFromTheScene) {
   scene.convergence.settle_steps = 7;
   scene.convergence.stop_when_converged = true;
   const RunRules r = run_rules(scene);
-  EXPECT_DOUBLE_EQ(r.speed_tol, 1e-3 * scene.rig.height());
-  EXPECT_DOUBLE_EQ(r.energy_bound, 1e6 * 3.0 * scene.rig.height() * scene.rig.height());
+  EXPECT_DOUBLE_EQ(r.speed_tol, 1e-3 * scene.rig.length_scale());  // the rod: 2e-3
+  EXPECT_EQ(r.energy_bound, 0.0);  // no fixed bound given: the energy rule
+  EXPECT_EQ(r.initial_energy, 0.0);  // at rest, no limit engaged
+  EXPECT_DOUBLE_EQ(r.energy_floor, 0.5 * 3.0 * r.speed_tol * r.speed_tol);
+  scene.convergence.divergence_energy = 50.0;
+  scene.initial_velocity_world = Vec3(0, 2, 0);
+  EXPECT_EQ(run_rules(scene).energy_bound, 50.0);
+  EXPECT_DOUBLE_EQ(run_rules(scene).initial_energy, 0.5 * 3.0 * 4.0);
   EXPECT_DOUBLE_EQ(r.total_mass, 3.0);
   EXPECT_EQ(r.last_event, 40);
   EXPECT_EQ(r.settle_steps, 7);

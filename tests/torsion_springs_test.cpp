@@ -104,7 +104,10 @@ TEST(TorsionSprings, TheTightHandIsExplicitEulersStabilityLimit) {
       EXPECT_TRUE(r.converged) << "dt " << dt << " a " << a;
       EXPECT_LT(r.peak_kinetic_energy, 0.01) << "dt " << dt;
     } else {
-      EXPECT_GT(r.peak_kinetic_energy, 1.0) << "dt " << dt << " a " << a;
+      // the energy rule (run_monitor.h) stops it once it holds 4x what it was given; by then
+      // its kinetic energy alone is well past the stored 1.5e-3 J
+      EXPECT_TRUE(r.diverged) << "dt " << dt << " a " << a;
+      EXPECT_GT(r.peak_kinetic_energy, 10 * 1.5e-3) << "dt " << dt << " a " << a;
       EXPECT_FALSE(r.converged) << "dt " << dt;
     }
   }

@@ -17,17 +17,6 @@ std::vector<Vec3> final_targets(const Scene& scene) {
   return t;
 }
 
-double control_spring_potential(SpringLaw law, double k, double cap, double d) {
-  if (law == SpringLaw::kLinear || d <= cap) return 0.5 * k * d * d;
-  return k * cap * (d - 0.5 * cap);
-}
-
-double torsion_spring_potential(SpringLaw law, double k, double cap, double excess) {
-  const double d = std::abs(excess);
-  if (law == SpringLaw::kLinear || d <= cap) return 0.5 * k * d * d;
-  return k * cap * (d - 0.5 * cap);
-}
-
 namespace {
 
 template <typename T>
@@ -44,16 +33,6 @@ V3<T> rotation_vector_t(Q<T> q) {
   if (s2 < T(1e-24)) return T(2) * v / q.w();  // first order, differentiable at 0
   const T s = sqrt(s2);
   return v * (T(2) * atan2(s, q.w()) / s);
-}
-
-// dead-zone distance of angle theta to the engaged band of a limit (torsion_springs.h)
-template <typename T>
-T dead_zone(const AxisLimit& l, double tolerance, const T& theta) {
-  const double band = tolerance * (l.max - l.min);
-  const double lo = l.min + band, hi = l.max - band;
-  if (theta < T(lo)) return T(lo) - theta;
-  if (theta > T(hi)) return T(hi) - theta;
-  return T(0);
 }
 
 // residual r with r^2 = 2 U for a (signed) spring excess d, law with cap c
@@ -114,7 +93,7 @@ struct PotentialResiduals {
       for (int k = 0; k < 3; ++k) {
         const AxisLimit& l = rig.bone_limit[i][k];
         r[at++] = l.limited ? torsion_residual(ep.torsion_spring, ep.torsion_k, ep.torsion_cap,
-                                               dead_zone(l, ep.torsion_tolerance, theta[k]))
+                                               torsion_excess(l, ep.torsion_tolerance, theta[k]))
                             : T(0);
       }
     }
@@ -122,14 +101,10 @@ struct PotentialResiduals {
   }
 };
 
+// the engine's excess (physik/engine/potential.h) of one bone of a pose
 Vec3 torsion_excess_of(const Scene& scene, const Pose& pose, int bone) {
-  const Vec3 theta = rotation_vector(pose.bone_local_rotation[bone]);
-  Vec3 d = Vec3::Zero();
-  for (int k = 0; k < 3; ++k) {
-    const AxisLimit& l = scene.rig.bone_limit[bone][k];
-    if (l.limited) d[k] = dead_zone(l, scene.params.torsion_tolerance, theta[k]);
-  }
-  return d;
+  return torsion_excess(scene.rig.bone_limit[bone], scene.params.torsion_tolerance,
+                        pose.bone_local_rotation[bone]);
 }
 
 }  // namespace

@@ -35,6 +35,7 @@
 #include <nlohmann/json.hpp>
 
 #include "physik/engine/engine.h"
+#include "physik/engine/potential.h"
 #include "physik/model/scene.h"
 
 namespace physik::tune {
@@ -63,9 +64,8 @@ struct EquilibriumResult {
 // Every control point's goal after the whole schedule has played (rig units, world).
 std::vector<Vec3> final_targets(const Scene& scene);
 
-// The potentials of one spring (J), shared with the tests.
-double control_spring_potential(SpringLaw law, double k, double cap, double distance);
-double torsion_spring_potential(SpringLaw law, double k, double cap, double excess);
+// The potentials of one spring (J) and the torsion excess are the engine's
+// (physik/engine/potential.h): control_spring_potential, torsion_spring_potential, torsion_excess.
 
 // The total potential U of a pose (J): what the solver minimises.
 double scene_potential(const Scene& scene, const Pose& pose);

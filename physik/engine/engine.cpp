@@ -107,7 +107,7 @@ RunSummary run_scene(const Scene& scene, const StepObserver& observer) {
     if (stop) break;
   }
   RunSummary out = monitor.summary();
-  fill_final_state(scene, s, out);
+  monitor.fill_final(scene, s, out);
   out.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }

@@ -26,18 +26,22 @@ void prepare_joint_solve(const Rig& rig, SimState& s) {
 namespace {
 
 // accelerations of joint j's points, into s.member_accel; returns their largest pairwise gap
-double measure_joint(const Rig& rig, const EngineParams& params, SimState& s, int j) {
+// and, in `size`, the largest of them
+double measure_joint(const Rig& rig, const EngineParams& params, SimState& s, int j,
+                     double* size = nullptr) {
   const int first = rig.joint_first_member[j], last = rig.joint_first_member[j + 1];
   for (int m = first; m < last; ++m) {
     s.member_accel[m] =
         point_accel(rig, s, rig.joint_member_bone[m], s.member_r_world[m], params.centripetal);
   }
-  double gap = 0.0;
+  double gap = 0.0, largest = 0.0;
   for (int m = first; m < last; ++m) {
+    largest = std::max(largest, s.member_accel[m].norm());
     for (int n = m + 1; n < last; ++n) {
       gap = std::max(gap, (s.member_accel[m] - s.member_accel[n]).norm());
     }
   }
+  if (size) *size = largest;
   return gap;
 }
 
@@ -58,10 +62,15 @@ JointSolveStats solve_joint_forces(const Rig& rig, const EngineParams& params, S
   prepare_joint_solve(rig, s);
   for (Vec3& f : s.member_force_world) f.setZero();
   const int cap = params.passes_cap(rig.nbone);
+  const double rel = params.joint_eps_relative, floor = 1e-9 * params.joint_eps;
   for (int pass = 0; pass < cap; ++pass) {
     double pass_mismatch = 0.0;
+    bool relative_ok = true;  // every gap below rel x its joint's largest acceleration
     for (int j = 0; j < njoint; ++j) {
-      pass_mismatch = std::max(pass_mismatch, measure_joint(rig, params, s, j));
+      double size = 0.0;
+      const double gap = measure_joint(rig, params, s, j, &size);
+      pass_mismatch = std::max(pass_mismatch, gap);
+      if (rel > 0.0 && gap > std::max(rel * size, floor)) relative_ok = false;
       const int first = rig.joint_first_member[j], last = rig.joint_first_member[j + 1];
       // v = (sum M^-1)^-1 sum M^-1 a   (corrected eq. 11)
       Vec3 rhs = Vec3::Zero();
@@ -80,10 +89,29 @@ JointSolveStats solve_joint_forces(const Rig& rig, const EngineParams& params, S
       }
     }
     stats.passes = pass + 1;
-    if (pass_mismatch < params.joint_eps) break;
+    if (pass_mismatch < params.joint_eps && relative_ok) break;
   }
   stats.mismatch = joint_accel_mismatch(rig, params, s);
   return stats;
+}
+
+int unreached_joints(const Rig& rig, const SimState& s) {
+  const int njoint = static_cast<int>(rig.joints.size());
+  // the largest point acceleration of each joint lands in the first pass; the count in the second
+  double largest = 0.0;
+  for (int m = 0; m < static_cast<int>(rig.joint_member_bone.size()); ++m) {
+    largest = std::max(largest, s.member_accel[m].norm());
+  }
+  if (!(largest > 0.0)) return 0;
+  int count = 0;
+  for (int j = 0; j < njoint; ++j) {
+    double size = 0.0;
+    for (int m = rig.joint_first_member[j]; m < rig.joint_first_member[j + 1]; ++m) {
+      size = std::max(size, s.member_accel[m].norm());
+    }
+    if (size < kUnreachedFraction * largest) ++count;
+  }
+  return count;
 }
 
 }  // namespace physik

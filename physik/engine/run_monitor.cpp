@@ -2,17 +2,37 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <utility>
 
 #include "physik/engine/engine.h"
+#include "physik/engine/joint_forces.h"
+#include "physik/engine/potential.h"
 #include "physik/model/kinematics.h"
 
 namespace physik {
 
+namespace {
+
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+}  // namespace
+
+double initial_energy(const Scene& scene) {
+  const double ke = 0.5 * scene.rig.total_mass() * scene.initial_velocity_world.squaredNorm();
+  return ke + torsion_potential(scene.rig, scene.params, scene.initial_pose);
+}
+
 RunRules run_rules(const Scene& scene) {
   RunRules r;
   r.speed_tol = scene.speed_tol();
-  r.energy_bound = scene.divergence_energy();
+  r.energy_bound = scene.convergence.divergence_energy;  // 0: the energy rule
+  r.initial_energy = initial_energy(scene);
+  r.energy_floor = 0.5 * scene.rig.total_mass() * r.speed_tol * r.speed_tol;
   r.total_mass = scene.rig.total_mass();
   for (const TargetChange& t : scene.schedule) r.last_event = std::max(r.last_event, t.step);
   r.settle_steps = scene.convergence.settle_steps;
@@ -42,11 +62,80 @@ StepObservation observe_step(const Scene& scene, const SimState& s, const StepSt
   o.limit_violation = max_limit_violation(scene.rig, s.pose);
   for (int left : s.interp_steps_left) o.target_moving = o.target_moving || left > 0;
   o.max_residual = st.max_residual;
+  // U toward this step's targets: the targets are the state's, the attachments its frames'
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    o.potential_energy += control_spring_potential(
+        cp.spring_in(scene.params), cp.k_in(scene.params), cp.cap_in(scene.params),
+        (point_on_bone(s.frames, cp.bone, cp.alpha) - s.target_effective_world[c]).norm());
+  }
+  o.potential_energy += torsion_potential(scene.rig, scene.params, s.pose);
+  o.state = &s;
+  o.unreached_joints = unreached_joints(scene.rig, s);
   return o;
 }
 
 RunMonitor::RunMonitor(const RunRules& rules, std::string reason_prefix)
     : rules_(rules), prefix_(std::move(reason_prefix)) {}
+
+RunMonitor::RunMonitor(const Scene& scene, std::string reason_prefix)
+    : RunMonitor(run_rules(scene), std::move(reason_prefix)) {
+  // the ledger starts where init_state does: every target at its attachment point
+  scene_ = &scene;
+  const BoneFrames f = forward_kinematics(scene.rig, scene.initial_pose);
+  for (const ControlPoint& cp : scene.control_points) {
+    prev_attach_world_.push_back(point_on_bone(f, cp.bone, cp.alpha));
+  }
+  prev_targets_world_ = prev_attach_world_;
+  last_finite_pose_ = scene.initial_pose;
+  last_finite_step_ = 0;
+  last_finite_ke_ = 0.5 * scene.rig.total_mass() * scene.initial_velocity_world.squaredNorm();
+}
+
+double RunMonitor::step_target_work(const StepObservation& o) {
+  if (!o.state || !scene_) return o.target_work;
+  // W = U_c(a before, t now) - U_c(a before, t before), then remember this step's a and t
+  const SimState& s = *o.state;
+  double w = 0.0;
+  for (std::size_t c = 0; c < scene_->control_points.size(); ++c) {
+    const ControlPoint& cp = scene_->control_points[c];
+    const SpringLaw law = cp.spring_in(scene_->params);
+    const double k = cp.k_in(scene_->params), cap = cp.cap_in(scene_->params);
+    const Vec3& a = prev_attach_world_[c];
+    w += control_spring_potential(law, k, cap, (a - s.target_effective_world[c]).norm()) -
+         control_spring_potential(law, k, cap, (a - prev_targets_world_[c]).norm());
+    prev_attach_world_[c] = point_on_bone(s.frames, cp.bone, cp.alpha);
+    prev_targets_world_[c] = s.target_effective_world[c];
+  }
+  return w;
+}
+
+// divergence: a non-finite state, or energy past what the rig was given (or the fixed bound)
+bool RunMonitor::check_divergence(const StepObservation& o) {
+  const std::string at = " at step " + std::to_string(o.step);
+  if (!std::isfinite(o.kinetic_energy) || !o.state_finite || o.engine_non_finite ||
+      !std::isfinite(o.max_residual) || !std::isfinite(o.potential_energy)) {
+    reason_ = prefix_ + "non-finite state" + at;
+    return true;
+  }
+  if (rules_.energy_bound > 0.0) {
+    if (o.kinetic_energy <= rules_.energy_bound) return false;
+    reason_ = prefix_ + "kinetic energy " + num(o.kinetic_energy) + " J passed the bound " +
+              num(rules_.energy_bound) + " J" + at;
+    return true;
+  }
+  const double e = o.kinetic_energy + o.potential_energy;
+  const double given = rules_.initial_energy + target_work_;
+  const double scale = std::max(given, 0.0) + rules_.energy_floor;
+  const double ratio = scale > 0.0 ? e / scale : (e > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
+  peak_energy_ratio_ = std::max(peak_energy_ratio_, ratio);
+  if (!(ratio > rules_.energy_multiple)) return false;
+  reason_ = prefix_ + "energy " + num(e) + " J (kinetic " + num(o.kinetic_energy) +
+            " J) passed " + num(rules_.energy_multiple) + " x the " + num(given) +
+            " J the rig was given (initial energy and the targets' work; floor " +
+            num(rules_.energy_floor) + " J)" + at;
+  return true;
+}
 
 bool RunMonitor::observe(const StepObservation& o) {
   steps_run_ = o.step;
@@ -56,17 +145,16 @@ bool RunMonitor::observe(const StepObservation& o) {
   peak_ke_ = std::max(peak_ke_, o.kinetic_energy);
   max_separation_ = std::max(max_separation_, o.joint_separation);
   max_violation_deg_ = std::max(max_violation_deg_, rad2deg(o.limit_violation));
-
-  // divergence: a non-finite state, or energy past the bound
-  if (!std::isfinite(o.kinetic_energy) || !o.state_finite || o.engine_non_finite) {
-    diverged_ = true;
-    reason_ = prefix_ + "non-finite state at step " + std::to_string(o.step);
-  } else if (o.kinetic_energy > rules_.energy_bound) {
-    diverged_ = true;
-    reason_ = prefix_ + "kinetic energy " + std::to_string(o.kinetic_energy) +
-              " J passed the bound " + std::to_string(rules_.energy_bound) + " J at step " +
-              std::to_string(o.step);
+  if (o.unreached_joints > 0) ++unpropagated_steps_;
+  max_unreached_ = std::max(max_unreached_, o.unreached_joints);
+  target_work_ += step_target_work(o);
+  if (o.state && o.state_finite && std::isfinite(o.kinetic_energy)) {
+    last_finite_pose_ = o.state->pose;  // same size every step: no allocation after the first
+    last_finite_step_ = o.step;
+    last_finite_ke_ = o.kinetic_energy;
   }
+
+  diverged_ = check_divergence(o);
   if (diverged_) return true;
 
   // at rest: mass-weighted rms speed below the tolerance, with no target still moving
@@ -111,10 +199,41 @@ RunSummary RunMonitor::summary() const {
   out.max_passes_in_a_step = max_passes_;
   out.peak_kinetic_energy = peak_ke_;
   out.max_limit_violation_deg = max_violation_deg_;
+  out.energy_given = rules_.initial_energy + target_work_;
+  out.peak_energy_ratio = peak_energy_ratio_;
+  out.joint_unpropagated_steps = unpropagated_steps_;
+  out.max_unreached_joints = max_unreached_;
+  if (unpropagated_steps_ > 0) {
+    out.joint_solve_warning =
+        "the joint solve stopped before its forces reached every joint in " +
+        std::to_string(unpropagated_steps_) + " of " + std::to_string(steps_run_) +
+        " steps (up to " + std::to_string(max_unreached_) +
+        " joints accelerating at under " + num(kUnreachedFraction) +
+        " of the largest joint acceleration); the motion of "
+        "the far bones is wrong: set params.joint_eps_relative (e.g. 1e-3) to solve on";
+  }
   return out;
 }
 
+void RunMonitor::fill_final(const Scene& scene, const SimState& s, RunSummary& out) const {
+  if (state_finite(s) || last_finite_step_ < 0) {
+    fill_final_state(scene, s, out);
+    return;
+  }
+  out.final_pose_step = last_finite_step_;
+  out.final_pose = last_finite_pose_;
+  out.final_frames = forward_kinematics(scene.rig, last_finite_pose_);
+  out.final_kinetic_energy = last_finite_ke_;
+  out.final_residuals.resize(scene.control_points.size());
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    out.final_residuals[c] =
+        (point_on_bone(out.final_frames, cp.bone, cp.alpha) - s.target_goal_world[c]).norm();
+  }
+}
+
 void fill_final_state(const Scene& scene, const SimState& s, RunSummary& out) {
+  out.final_pose_step = s.step;
   control_residuals(scene, s, out.final_residuals);
   out.final_kinetic_energy = kinetic_energy(scene.rig, s);
   out.final_pose = s.pose;

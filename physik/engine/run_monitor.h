@@ -3,30 +3,61 @@
 // them into a RunSummary.
 //
 // Per step k (k = state.step after the step, 1 for the first), with KE in J and M the rig's mass:
-//   diverged   if KE is not finite, the state is not finite, or the engine flagged a non-finite
-//              value of its own (MuJoCo's bad qacc/qvel/qpos warnings); else if KE > E_bound
-//              (scene.divergence_energy()). The run stops at that step.
+//   diverged   if KE, a residual or the state is not finite, or the engine flagged a non-finite
+//              value of its own (MuJoCo's bad qacc/qvel/qpos warnings); else by the energy rule
+//              below (or, when the scene gives convergence.divergence_energy, if KE passes that
+//              fixed bound). The run stops at that step.
 //   at rest    if no target is still interpolating, k > the last schedule event, and the
-//              mass-weighted rms speed v = sqrt(2 KE / M) is below speed_tol (rig units/s).
+//              mass-weighted rms speed v = sqrt(2 KE / M) is below speed_tol (rig units/s;
+//              default 1e-3 of the rig's mean bone length per second, Scene::speed_tol).
 //   converged  once settle_steps consecutive steps are at rest; steps_to_converge is the first
 //              step of that window (k - settle_steps + 1 when it is reached). One step not at
 //              rest clears both (motion resumed); the window then starts over.
 // Over the run it keeps the peak KE, the largest joint separation (rig units), the largest limit
 // violation (deg), steps_run and the joint passes (mean and max per step).
+//
+// The energy rule (issue 12). The rig's mechanical energy is E = KE + U, with U the spring
+// potential (physik/engine/potential.h: control springs toward the targets of the step, torsion
+// springs of the pose). With no gravity, the only forces that can add energy are the springs'
+// targets when they move: damping (-c v) and the angular-velocity factor (w <- f w) only remove
+// it, and the joint forces do no work on a rigid, connected rig. So along the exact motion
+//     E_k <= E_in,k = E_0 + W_k,    W_k = sum_{j<=k} [U_c(a_{j-1}, t_j) - U_c(a_{j-1}, t_{j-1})]
+// where E_0 = KE_0 + U_0 is the initial state's energy (the initial targets count as a jump from
+// the attachment points, so they enter through W_1) and W_k is the work of the targets'
+// moves, each taken at the pose before the step (a target change at fixed pose changes U). The
+// step is explicit, so the discrete E_k may exceed E_in,k; the monitor calls a run diverged when
+//     E_k > kEnergyMultiple * (max(E_in,k, 0) + E_floor),     E_floor = M speed_tol^2 / 2.
+//   kEnergyMultiple = 4: semi-implicit Euler on a spring of frequency w conserves the shadow
+//     energy E~ = E - (w dt / 2) p.x; the true energy oscillates within E~ / (1 +- w dt / 2), so a
+//     step stable by a margin of 2 (w dt <= 1, half its limit 2) stays within 1 / (1 - 1/2) = 2 of
+//     the energy it was given; the Gauss-Seidel joint solve (stopping at an absolute eps) and
+//     the torsion torque (the gradient in theta, not in the rotation) add errors of their own,
+//     which we allow another factor 2 for. Measured on the damping sweep grid (tests and issue
+//     12's closing note): runs that settle peak at E_k / E_in,k <= 1.3; the unstable ones pass 4
+//     within a few steps of leaving the stable region (peak ratios 10^2 - 10^8).
+//   E_floor: the kinetic energy of a rig moving at the rest speed, so a rig at rest is never
+//     diverged, whatever its energy (a flat rig whose target is met from the start has E_in = 0).
 #pragma once
 
 #include <limits>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "physik/engine/run_summary.h"
 
 namespace physik {
 
+constexpr double kEnergyMultiple = 4.0;  // 1, see the energy rule above
+
 // What the monitor needs to know about the scene.
 struct RunRules {
   double speed_tol = 0.0;      // rig units/s, at rest below it
-  double energy_bound = 0.0;   // J, diverged above it
+  double energy_bound = 0.0;   // J; > 0: diverged when KE passes it (a fixed bound, the scene's
+                               //    convergence.divergence_energy); 0: the energy rule
+  double initial_energy = 0.0; // J, E_0 = KE_0 + U_0 of the initial state (energy rule)
+  double energy_floor = 0.0;   // J, E_floor = M speed_tol^2 / 2 (energy rule)
+  double energy_multiple = kEnergyMultiple;  // 1 (energy rule)
   double total_mass = 1.0;     // kg
   int last_event = 0;          // last step at which the schedule changes a target (0 = none)
   int settle_steps = 10;       // consecutive steps at rest to call the run converged
@@ -54,19 +85,31 @@ struct StepObservation {
   double limit_violation = 0.0;   // rad, largest joint-limit violation of the pose
   bool target_moving = false;     // some target still interpolating toward its goal
   double max_residual = 0.0;      // rig units, largest control-point distance to its goal
+  double potential_energy = 0.0;  // J, U after the step: control springs toward this step's
+                                  //    targets, torsion springs of the pose
+  double target_work = 0.0;       // J, W of this step's target change (used when state is null)
+  const SimState* state = nullptr;  // the state after the step: the monitor then measures the
+                                    // target work itself (it keeps the step before's targets)
+  int unreached_joints = 0;       // joints the joint solve's forces did not reach (joint_forces.h)
 };
 
 // Every position, velocity and orientation of the state is finite.
 bool state_finite(const SimState& state);
-// The observation of a state after a step with stats `st` (engine_non_finite left false).
+// The observation of a state after a step with stats `st` (engine_non_finite left false):
+// also U, the joints the joint solve did not reach, and `state` itself for the target work.
 StepObservation observe_step(const Scene& scene, const SimState& state, const StepStats& st);
+
+// E_0 = KE_0 + U_0 of the scene's initial state (init_state): the rigid initial velocity and
+// the torsion springs of the initial pose (the control springs start at their attachments).
+double initial_energy(const Scene& scene);
 
 class RunMonitor {
  public:
   // reason_prefix starts every divergence reason (e.g. "MuJoCo: ").
   explicit RunMonitor(const RunRules& rules, std::string reason_prefix = "");
-  explicit RunMonitor(const Scene& scene, std::string reason_prefix = "")
-      : RunMonitor(run_rules(scene), std::move(reason_prefix)) {}
+  // with the scene, observations that carry a state get their target work measured; the scene
+  // must outlive the monitor
+  explicit RunMonitor(const Scene& scene, std::string reason_prefix = "");
 
   // Record one step; true when the run should stop here (diverged, or converged and the rules
   // say stop). Observations after that are not meant to be fed.
@@ -75,13 +118,31 @@ class RunMonitor {
   bool converged() const { return converged_; }
   bool diverged() const { return diverged_; }
   int rest_run() const { return rest_run_; }  // consecutive steps at rest so far
+  double energy_given() const { return rules_.initial_energy + target_work_; }  // J, E_in,k
 
   // The fields the monitor owns: converged, diverged, divergence_reason, steps_run,
-  // steps_to_converge, max_joint_separation, mean/max passes, peak KE, max limit violation.
+  // steps_to_converge, max_joint_separation, mean/max passes, peak KE, max limit violation, the
+  // energy ledger (energy given, peak ratio) and the joint solve's unpropagated steps.
   // The rest (final residuals, final KE, pose, frames, wall time) is left default.
   RunSummary summary() const;
+  // The final-state fields of a summary from the state the run stopped in; when that state is
+  // not finite, from the last finite one the monitor saw (needs observations with a state).
+  void fill_final(const Scene& scene, const SimState& state, RunSummary& out) const;
 
  private:
+  double step_target_work(const StepObservation& o);
+  bool check_divergence(const StepObservation& o);
+
+  const Scene* scene_ = nullptr;
+  std::vector<Vec3> prev_attach_world_;   // (ncontrol) attachment points before the step
+  std::vector<Vec3> prev_targets_world_;  // (ncontrol) targets of the step before
+  double target_work_ = 0.0;              // J, W_k so far
+  double peak_energy_ratio_ = 0.0;        // max_k E_k / (max(E_in,k, 0) + E_floor)
+  int unpropagated_steps_ = 0;
+  Pose last_finite_pose_;        // the last observed finite state's pose, its step and KE (J)
+  int last_finite_step_ = -1;
+  double last_finite_ke_ = 0.0;
+  int max_unreached_ = 0;
   RunRules rules_;
   std::string prefix_;
   bool converged_ = false;

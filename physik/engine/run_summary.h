@@ -33,7 +33,20 @@ struct RunSummary {
   double peak_kinetic_energy = 0.0;     // J
   double final_kinetic_energy = 0.0;    // J
   double max_limit_violation_deg = 0.0; // over the run
+  // the energy ledger (run_monitor.h): the energy given to the rig, E_0 + W at the last step (J),
+  // and the largest E_k / (max(E_in,k, 0) + E_floor) seen (1)
+  double energy_given = 0.0;
+  double peak_energy_ratio = 0.0;
+  // the joint solve (joint_forces.h): steps whose solve stopped before its forces reached every
+  // joint (kUnreachedFraction), the most joints left unreached in one step, and a one-line
+  // warning for the user when there were any ("" otherwise); the engine never prints it
+  int joint_unpropagated_steps = 0;
+  int max_unreached_joints = 0;
+  std::string joint_solve_warning;
   double wall_time_s = 0.0;
+  // the last state the run reached, or, when it went non-finite, the last finite one (its step in
+  // final_pose_step, its KE in final_kinetic_energy, its residuals in final_residuals)
+  int final_pose_step = 0;
   Pose final_pose;
   BoneFrames final_frames;
 };

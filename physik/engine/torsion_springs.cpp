@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "physik/engine/potential.h"
+
 namespace physik {
 
 Vec3 torsion_torque_local(const std::array<AxisLimit, 3>& limits, const Vec3& theta,
@@ -11,11 +13,8 @@ Vec3 torsion_torque_local(const std::array<AxisLimit, 3>& limits, const Vec3& th
   for (int k = 0; k < 3; ++k) {
     const AxisLimit& l = limits[k];
     if (!l.limited) continue;
-    const double band = params.torsion_tolerance * (l.max - l.min);
-    const double lo = l.min + band, hi = l.max - band;
-    double d = 0.0;
-    if (theta[k] < lo) d = lo - theta[k];
-    if (theta[k] > hi) d = hi - theta[k];
+    // the dead zone of potential.h: tau = -dU/dtheta
+    double d = torsion_excess(l, params.torsion_tolerance, theta[k]);
     if (d == 0.0) continue;
     if (params.torsion_spring == SpringLaw::kCapped) {
       d = std::copysign(std::min(std::abs(d), params.torsion_cap), d);

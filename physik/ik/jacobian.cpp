@@ -15,6 +15,7 @@
 //     without re-running FK -- and the column is (that - p_g) / eps. O(n) per column pass.
 //   transpose: dtheta = alpha J^T e,  alpha = <e, J J^T e> / |J J^T e|^2  (Buss eq. 7)
 //   DLS:       dtheta = J^T (J J^T + lambda^2 I)^-1 e      (guide d.; 3m x 3m for m goals)
+//              = (J^T J + lambda^2 I)^-1 J^T e            (n x n for n unknowns: used when 3m > n)
 //   error clamping (Buss Sec. 6, D_max): each goal's error is shortened to at most
 //     max_error_fraction of the reach, so a far (unreachable) target does not throw DLS's
 //     linearisation far out of its range; the step then follows the clamped error;
@@ -86,7 +87,14 @@ IkReport solve_jacobian(const IkProblem& pb, bool damped, Pose& pose) {
       e.segment<3>(3 * g) = err;
     }
     goal_jacobian(pb, f, dof_bone, dof_axis, opt.jacobian, opt.fd_step, J);
-    if (damped) {
+    if (damped && 3 * ng > nd && lambda > 0.0) {
+      // more goal rows than unknowns: the same step from the nd x nd system (push-through
+      // identity J^T (J J^T + l^2 I)^-1 = (J^T J + l^2 I)^-1 J^T), so 20,000 goals do not ask for
+      // a 60,000^2 matrix
+      Eigen::MatrixXd JtJ = J.transpose() * J;
+      JtJ.diagonal().array() += lambda * lambda;
+      dtheta = JtJ.ldlt().solve(J.transpose() * e);
+    } else if (damped) {
       Eigen::MatrixXd JJt = J * J.transpose();
       JJt.diagonal().array() += lambda * lambda;
       dtheta = J.transpose() * JJt.ldlt().solve(e);

@@ -9,13 +9,13 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <iomanip>
 #include <limits>
-#include <set>
 #include <sstream>
 
 #include "physik/model/errors.h"
+#include "physik/io/unique_names.h"
+#include "physik/model/names.h"
 
 namespace physik {
 
@@ -58,6 +58,23 @@ bool is_quaternion(BvhChannel c) {
          c == BvhChannel::kZquat;
 }
 
+// the words of a line, split at the whitespace std::isspace knows (space, \t, \n, \v, \f, \r):
+// the tokenizer and the MOTION reader must agree on what a blank line is
+std::vector<std::string> split_words(const std::string& line) {
+  std::vector<std::string> w;
+  std::string cur;
+  for (char c : line) {
+    if (std::isspace(static_cast<unsigned char>(c))) {
+      if (!cur.empty()) w.push_back(std::move(cur));
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  if (!cur.empty()) w.push_back(std::move(cur));
+  return w;
+}
+
 class Parser {
  public:
   Parser(const std::string& text, std::string source) : source_(std::move(source)) {
@@ -67,14 +84,14 @@ class Parser {
       if (!line.empty() && line.back() == '\r') line.pop_back();
       lines_.push_back(line);
     }
-    tokenize_from(0);
+    tokenize();
   }
 
   BvhFile parse() {
     expect_keyword("HIERARCHY");
     const Token& root = next("ROOT");
     if (upper(root.text) != "ROOT") fail(root.line, root.text, "expected ROOT");
-    parse_joint(root, -1);
+    parse_hierarchy(root);
     if (at_end()) fail(last_line(), "MOTION", "missing MOTION section after the hierarchy");
     const Token& t = peek();
     if (t.text == "}") {
@@ -84,20 +101,26 @@ class Parser {
       fail(t.line, "ROOT", "a second ROOT: the rig model has exactly one root");
     }
     if (upper(t.text) != "MOTION") fail(t.line, t.text, "expected MOTION after the hierarchy");
+    ++pos_;
     parse_motion(t.line);
     return std::move(bvh_);
   }
 
  private:
+  // a joint whose '{' is open, innermost last
+  struct OpenJoint {
+    int index;         // into bvh_.joints
+    int line;          // of its ROOT/JOINT keyword
+    bool have_offset;
+  };
+
   [[noreturn]] void fail(int line, const std::string& field, const std::string& reason) const {
     throw_input_error(source_, "line " + std::to_string(line), field, reason);
   }
   int last_line() const { return std::max<int>(1, static_cast<int>(lines_.size())); }
 
-  void tokenize_from(std::size_t first_line) {
-    tokens_.clear();
-    pos_ = 0;
-    for (std::size_t l = first_line; l < lines_.size(); ++l) {
+  void tokenize() {
+    for (std::size_t l = 0; l < lines_.size(); ++l) {
       std::string cur;
       auto flush = [&] {
         if (!cur.empty()) tokens_.push_back({cur, static_cast<int>(l) + 1});
@@ -131,13 +154,26 @@ class Parser {
   double number(const Token& t, const std::string& field) const {
     const char* s = t.text.c_str();
     char* end = nullptr;
-    errno = 0;
     const double v = std::strtod(s, &end);
     if (end == s || *end != '\0') fail(t.line, field, "'" + t.text + "' is not a number");
-    if (!std::isfinite(v) || errno == ERANGE) {
-      fail(t.line, field, "'" + t.text + "' is not a finite number");
+    // an underflow to 0 is a number; an overflow is infinite
+    if (!std::isfinite(v)) fail(t.line, field, "'" + t.text + "' is not a finite number");
+    return v;
+  }
+
+  // a coordinate (OFFSET, position channel): bounded so that sums and products stay finite
+  double coordinate(const Token& t, const std::string& field) const {
+    const double v = number(t, field);
+    if (std::abs(v) > kMaxCoordinate) {
+      fail(t.line, field, "'" + t.text + "' is beyond +-" + fmt_limit(kMaxCoordinate) +
+                              " (rig.h kMaxCoordinate)");
     }
     return v;
+  }
+  static std::string fmt_limit(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
   }
 
   Vec3 offset() {
@@ -147,12 +183,13 @@ class Parser {
       if (t.text == "}" || t.text == "{") {
         fail(t.line, "OFFSET", "expected 3 numbers, got " + std::to_string(k));
       }
-      v[k] = number(t, "OFFSET");
+      v[k] = coordinate(t, "OFFSET");
     }
     return v;
   }
 
-  // the name is the rest of the keyword's line (names may hold spaces), without braces
+  // the name is the rest of the keyword's line (names may hold spaces), without braces; it must
+  // be printable UTF-8 (names.h) since it travels into JSON, CSV and BVH files
   std::string name_after(const Token& kw) {
     std::string name;
     while (!at_end() && peek().line == kw.line && peek().text != "{" && peek().text != "}") {
@@ -160,6 +197,8 @@ class Parser {
       name += tokens_[pos_++].text;
     }
     if (name.empty()) fail(kw.line, kw.text, "missing joint name");
+    const std::string bad = name_problem(name);
+    if (!bad.empty()) fail(kw.line, "joint name", bad);
     return name;
   }
 
@@ -213,147 +252,178 @@ class Parser {
     }
   }
 
-  void parse_joint(const Token& kw, int parent) {
+  // ROOT/JOINT name {: a new joint, now the innermost open one
+  void open_joint(const Token& kw, int parent, std::vector<OpenJoint>& open) {
+    if (bvh_.joints.size() >= static_cast<std::size_t>(kMaxBones)) {
+      fail(kw.line, kw.text, "more than " + std::to_string(kMaxBones) +
+                                 " joints (rig.h kMaxBones)");
+    }
     BvhJoint j;
     j.name = name_after(kw);
     j.parent = parent;
     j.line = kw.line;
     expect_open(kw, "joint '" + j.name + "'");
-    const int index = static_cast<int>(bvh_.joints.size());
-    bvh_.joints.push_back(j);
-    bool have_offset = false;
-    for (;;) {
+    open.push_back({static_cast<int>(bvh_.joints.size()), kw.line, false});
+    bvh_.joints.push_back(std::move(j));
+  }
+
+  // End Site { OFFSET x y z }
+  void end_site(int index, const Token& kw) {
+    const Token& site = next("End Site");
+    if (upper(site.text) != "SITE") fail(site.line, "End Site", "expected 'Site' after 'End'");
+    expect_open(kw, "an End Site");
+    const Token& o = next("OFFSET");
+    if (upper(o.text) != "OFFSET") fail(o.line, "End Site", "expected OFFSET");
+    bvh_.joints[index].end_sites.push_back(offset());
+    const Token& close = next("}");
+    if (close.text != "}") {
+      fail(close.line, "}", "unbalanced braces: the End Site at line " + std::to_string(kw.line) +
+                                " is not closed after its OFFSET");
+    }
+  }
+
+  // The joint tree with an explicit stack of open joints: the file sets the nesting depth, so
+  // no recursion may follow it. Every keyword belongs to the innermost open joint.
+  void parse_hierarchy(const Token& root) {
+    std::vector<OpenJoint> open;
+    open_joint(root, -1, open);
+    while (!open.empty()) {
+      const OpenJoint top = open.back();
+      const std::string& name = bvh_.joints[top.index].name;
       if (at_end() || upper(peek().text) == "MOTION") {
         fail(at_end() ? last_line() : peek().line, "}",
-             "unbalanced braces: joint '" + j.name + "' opened at line " +
-                 std::to_string(kw.line) + " is never closed");
+             "unbalanced braces: joint '" + name + "' opened at line " +
+                 std::to_string(top.line) + " is never closed");
       }
       const Token t = next("}");
       const std::string u = upper(t.text);
-      if (u == "}") break;
-      if (u == "OFFSET") {
-        bvh_.joints[index].offset = offset();
-        have_offset = true;
+      if (u == "}") {
+        if (!top.have_offset) fail(top.line, "OFFSET", "joint '" + name + "' has no OFFSET");
+        open.pop_back();
+      } else if (u == "OFFSET") {
+        bvh_.joints[top.index].offset = offset();
+        open.back().have_offset = true;
       } else if (u == "CHANNELS") {
-        parse_channels(bvh_.joints[index], t);
+        parse_channels(bvh_.joints[top.index], t);
       } else if (u == "JOINT") {
-        parse_joint(t, index);
+        open_joint(t, top.index, open);
       } else if (u == "END") {
-        const Token& site = next("End Site");
-        if (upper(site.text) != "SITE") fail(site.line, "End Site", "expected 'Site' after 'End'");
-        expect_open(t, "an End Site");
-        const Token& o = next("OFFSET");
-        if (upper(o.text) != "OFFSET") fail(o.line, "End Site", "expected OFFSET");
-        bvh_.joints[index].end_sites.push_back(offset());
-        const Token& close = next("}");
-        if (close.text != "}") {
-          fail(close.line, "}", "unbalanced braces: the End Site at line " +
-                                    std::to_string(t.line) + " is not closed after its OFFSET");
-        }
+        end_site(top.index, t);
       } else if (u == "{") {
         fail(t.line, "{", "unbalanced braces: a '{' without ROOT, JOINT or End Site");
       } else if (u == "ROOT") {
         fail(t.line, "ROOT", "ROOT inside a joint (unbalanced braces?)");
       } else {
-        fail(t.line, t.text, "unknown keyword in joint '" + j.name + "'");
+        fail(t.line, t.text, "unknown keyword in joint '" + name + "'");
       }
     }
-    if (!have_offset) fail(kw.line, "OFFSET", "joint '" + j.name + "' has no OFFSET");
   }
 
-  void parse_motion(int motion_line) {
-    // reparse line by line from the MOTION line: "Frames: N", "Frame Time: t", then one frame a line
-    std::size_t l = static_cast<std::size_t>(motion_line);  // index of the line after MOTION
-    {
-      // anything after MOTION on its own line is not allowed
-      std::istringstream rest(lines_[motion_line - 1]);
-      std::string w;
-      rest >> w;
-      if (rest >> w) fail(motion_line, "MOTION", "unexpected '" + w + "' after MOTION");
-    }
-    auto skip_blank = [&] {
-      while (l < lines_.size() &&
-             lines_[l].find_first_not_of(" \t") == std::string::npos) {
-        ++l;
-      }
-    };
-    auto words = [&](std::size_t li) {
-      std::istringstream s(lines_[li]);
-      std::vector<std::string> w;
-      std::string x;
-      while (s >> x) w.push_back(x);
-      return w;
-    };
-    skip_blank();
-    if (l >= lines_.size()) fail(last_line(), "Frames", "missing 'Frames:' after MOTION");
-    std::vector<std::string> w = words(l);
-    const int frames_line = static_cast<int>(l) + 1;
-    // "Frames: N" or "Frames : N"
+  // ---- MOTION: read line by line from the MOTION line; blank lines are skipped anywhere
+
+  // index of the first non-blank line at or after l (lines_.size() if none)
+  std::size_t skip_blank(std::size_t l) const {
+    while (l < lines_.size() && split_words(lines_[l]).empty()) ++l;
+    return l;
+  }
+
+  // "Frames: N" or "Frames : N" at line index l; returns N
+  long frames_header(std::size_t l) const {
+    const int line = static_cast<int>(l) + 1;
+    const std::vector<std::string> w = split_words(lines_[l]);
     std::vector<std::string> value;
-    if (upper(w[0]) == "FRAMES:") {
+    if (!w.empty() && upper(w[0]) == "FRAMES:") {
       value.assign(w.begin() + 1, w.end());
-    } else if (upper(w[0]) == "FRAMES" && w.size() > 1 && w[1] == ":") {
+    } else if (w.size() > 1 && upper(w[0]) == "FRAMES" && w[1] == ":") {
       value.assign(w.begin() + 2, w.end());
     } else {
-      fail(frames_line, "Frames", "expected 'Frames: N', got '" + lines_[l] + "'");
+      fail(line, "Frames", "expected 'Frames: N', got '" + lines_[l] + "'");
     }
-    if (value.size() != 1) fail(frames_line, "Frames", "expected one frame count");
+    if (value.size() != 1) fail(line, "Frames", "expected one frame count");
     char* end = nullptr;
+    errno = 0;
     const long nframe = std::strtol(value[0].c_str(), &end, 10);
-    if (end == value[0].c_str() || *end != '\0' || nframe < 0) {
-      fail(frames_line, "Frames", "'" + value[0] + "' is not a frame count");
+    if (end == value[0].c_str() || *end != '\0' || nframe < 0 || errno == ERANGE) {
+      fail(line, "Frames", "'" + value[0] + "' is not a frame count");
     }
-    ++l;
-    skip_blank();
-    if (l >= lines_.size()) fail(last_line(), "Frame Time", "missing 'Frame Time:'");
-    w = words(l);
-    const int time_line = static_cast<int>(l) + 1;
-    if (w.size() < 2 || upper(w[0]) != "FRAME" || upper(w[1]) != "TIME:" || w.size() != 3) {
-      fail(time_line, "Frame Time", "expected 'Frame Time: t', got '" + lines_[l] + "'");
-    }
-    bvh_.frame_time = number(Token{w[2], time_line}, "Frame Time");
-    if (!(bvh_.frame_time > 0.0)) fail(time_line, "Frame Time", "must be positive");
-    ++l;
+    return nframe;
+  }
 
-    // channel columns
+  // "Frame Time: t" at line index l
+  void frame_time_header(std::size_t l) {
+    const int line = static_cast<int>(l) + 1;
+    const std::vector<std::string> w = split_words(lines_[l]);
+    if (w.size() != 3 || upper(w[0]) != "FRAME" || upper(w[1]) != "TIME:") {
+      fail(line, "Frame Time", "expected 'Frame Time: t', got '" + lines_[l] + "'");
+    }
+    bvh_.frame_time = number(Token{w[2], line}, "Frame Time");
+    if (!(bvh_.frame_time > 0.0)) fail(line, "Frame Time", "must be positive");
+  }
+
+  // every joint's first column in a frame row
+  void assign_columns() {
     int col = 0;
     for (BvhJoint& j : bvh_.joints) {
       j.channel_start = col;
       col += static_cast<int>(j.channels.size());
     }
     bvh_.nchannel = col;
+  }
 
-    for (; l < lines_.size(); ++l) {
-      w = words(l);
+  // one frame row (its words w, at 1-based line `line`): numbers, bounded positions, unit
+  // quaternions (qBVH)
+  std::vector<double> frame_row(const std::vector<std::string>& w, int line) const {
+    if (static_cast<long>(w.size()) != bvh_.nchannel) {
+      fail(line, "MOTION", "frame " + std::to_string(bvh_.frames.size()) + " has " +
+                               std::to_string(w.size()) + " values, the hierarchy has " +
+                               std::to_string(bvh_.nchannel) + " channels");
+    }
+    std::vector<double> row(w.size());
+    for (const BvhJoint& j : bvh_.joints) {
+      double n2 = 0.0;
+      bool quat = false;
+      for (std::size_t c = 0; c < j.channels.size(); ++c) {
+        const std::size_t k = j.channel_start + c;
+        const BvhChannel ch = j.channels[c];
+        const bool position = ch == BvhChannel::kXpos || ch == BvhChannel::kYpos ||
+                              ch == BvhChannel::kZpos;
+        row[k] = position ? coordinate(Token{w[k], line}, "MOTION")
+                          : number(Token{w[k], line}, "MOTION");
+        if (is_quaternion(ch)) {
+          quat = true;
+          n2 += row[k] * row[k];
+        }
+      }
+      if (quat && std::abs(std::sqrt(n2) - 1.0) > 1e-3) {
+        fail(line, "MOTION", "joint '" + j.name + "': quaternion norm " +
+                                 std::to_string(std::sqrt(n2)) + " is not 1");
+      }
+    }
+    return row;
+  }
+
+  void parse_motion(int motion_line) {
+    // nothing may follow MOTION on its line
+    if (!at_end() && peek().line == motion_line) {
+      fail(motion_line, "MOTION", "unexpected '" + peek().text + "' after MOTION");
+    }
+    std::size_t l = skip_blank(static_cast<std::size_t>(motion_line));
+    if (l >= lines_.size()) fail(last_line(), "Frames", "missing 'Frames:' after MOTION");
+    const long nframe = frames_header(l);
+    const int frames_line = static_cast<int>(l) + 1;
+    l = skip_blank(l + 1);
+    if (l >= lines_.size()) fail(last_line(), "Frame Time", "missing 'Frame Time:'");
+    frame_time_header(l);
+    assign_columns();
+    for (++l; l < lines_.size(); ++l) {
+      const std::vector<std::string> w = split_words(lines_[l]);
       if (w.empty()) continue;
       const int line = static_cast<int>(l) + 1;
       if (static_cast<long>(bvh_.frames.size()) == nframe) {
         fail(line, "Frames", "more frames than 'Frames: " + std::to_string(nframe) +
                                  "' (line " + std::to_string(frames_line) + ")");
       }
-      if (static_cast<int>(w.size()) != bvh_.nchannel) {
-        fail(line, "MOTION", "frame " + std::to_string(bvh_.frames.size()) + " has " +
-                                 std::to_string(w.size()) + " values, the hierarchy has " +
-                                 std::to_string(bvh_.nchannel) + " channels");
-      }
-      std::vector<double> row(w.size());
-      for (std::size_t k = 0; k < w.size(); ++k) row[k] = number(Token{w[k], line}, "MOTION");
-      // qBVH: unit quaternions
-      for (const BvhJoint& j : bvh_.joints) {
-        double n2 = 0.0;
-        bool quat = false;
-        for (std::size_t c = 0; c < j.channels.size(); ++c) {
-          if (is_quaternion(j.channels[c])) {
-            quat = true;
-            n2 += row[j.channel_start + c] * row[j.channel_start + c];
-          }
-        }
-        if (quat && std::abs(std::sqrt(n2) - 1.0) > 1e-3) {
-          fail(line, "MOTION", "joint '" + j.name + "': quaternion norm " +
-                                   std::to_string(std::sqrt(n2)) + " is not 1");
-        }
-      }
-      bvh_.frames.push_back(std::move(row));
+      bvh_.frames.push_back(frame_row(w, line));
     }
     if (static_cast<long>(bvh_.frames.size()) != nframe) {
       fail(frames_line, "Frames", "says " + std::to_string(nframe) + " frames but the file has " +
@@ -370,11 +440,12 @@ class Parser {
 
 int axis_index(char c) { return c == 'X' ? 0 : c == 'Y' ? 1 : 2; }
 
-void check_order(const std::string& order) {
+// `where` names the file in the message
+void check_order(const std::string& order, const std::string& where = "") {
   std::string s = upper(order);
   std::sort(s.begin(), s.end());
   if (order.size() != 3 || s != "XYZ") {
-    throw_input_error("", "", "euler order", "'" + order + "' is not a permutation of XYZ");
+    throw_input_error(where, "", "euler order", "'" + order + "' is not a permutation of XYZ");
   }
 }
 
@@ -385,14 +456,12 @@ std::string fmt(double v) {
   return s.str();
 }
 
-std::string bvh_name(std::string n, std::set<std::string>& used) {
+std::string bvh_name(std::string n, UniqueNames& used) {
   for (char& c : n) {
     if (std::isspace(static_cast<unsigned char>(c)) || c == '{' || c == '}') c = '_';
   }
   if (n.empty()) n = "bone";
-  std::string out = n;
-  for (int k = 2; !used.insert(out).second; ++k) out = n + "_" + std::to_string(k);
-  return out;
+  return used.make(n);
 }
 
 }  // namespace
@@ -485,12 +554,23 @@ BvhAnimation bvh_to_rig(const BvhFile& bvh, const std::string& source,
   std::vector<Vec3> pos;
   bvh_world(bvh, -1, rot, pos);
   std::vector<PivotNode> nodes(bvh.joints.size());
+  // rest positions in rig units must stay within the rig's coordinate range (rig.h)
+  auto rig_point = [&](const BvhJoint& j, const Vec3& file_pos) {
+    const Vec3 p = s * (a * file_pos);
+    if (!(p.cwiseAbs().maxCoeff() <= kMaxCoordinate)) {
+      throw_input_error(source, "line " + std::to_string(j.line), "OFFSET",
+                        "joint '" + j.name + "' lies beyond +-" + std::to_string(kMaxCoordinate) +
+                            " rig units at rest (sum of OFFSETs times the scale; rig.h "
+                            "kMaxCoordinate)");
+    }
+    return p;
+  };
   for (std::size_t i = 0; i < bvh.joints.size(); ++i) {
     const BvhJoint& j = bvh.joints[i];
     nodes[i].name = j.name;
     nodes[i].parent = j.parent;
-    nodes[i].rest_world = s * (a * pos[i]);
-    for (const Vec3& e : j.end_sites) nodes[i].ends_world.push_back(s * (a * (pos[i] + e)));
+    nodes[i].rest_world = rig_point(j, pos[i]);
+    for (const Vec3& e : j.end_sites) nodes[i].ends_world.push_back(rig_point(j, pos[i] + e));
   }
   const PivotBones bones =
       pivot_bones(nodes, source, options.mass_per_length, options.radius);
@@ -590,20 +670,133 @@ bool is_qbvh_path(const std::string& path) {
   return path.size() >= 5 && upper(path.substr(path.size() - 5)) == ".QBVH";
 }
 
+namespace {
+
+// the destination in messages
+std::string target_name(const BvhExportOptions& o) {
+  return o.target.empty() ? std::string("<bvh output>") : o.target;
+}
+
+// stage 1: options that would write nan, inf or an unreadable file
+void check_export_options(const BvhExportOptions& o) {
+  const std::string t = target_name(o);
+  check_order(o.euler_order, t);
+  if (!(o.scale > 0.0) || !std::isfinite(o.scale)) {
+    throw_input_error(t, "", "scale", "must be a positive finite number");
+  }
+  if (!(o.frame_time > 0.0) || !std::isfinite(o.frame_time)) {
+    throw_input_error(t, "", "frame time", "must be a positive finite number");
+  }
+}
+
+// a number for the file; a value the scale pushed past double range is bad input, not "inf"
+std::string fmt_checked(double v, const BvhExportOptions& o, const std::string& what) {
+  if (!std::isfinite(v)) {
+    throw_input_error(target_name(o), what, "scale",
+                      "the value is not finite (scale " + fmt(o.scale) + ")");
+  }
+  return fmt(v);
+}
+
+// stage 2: HIERARCHY, one joint per bone, iteratively (a rig may be a 10^6-bone chain);
+// indentation stops deepening at 32 levels so the file stays linear in the bone count
+void write_hierarchy(const Rig& rig, const std::vector<std::string>& names,
+                     const std::string& rot_channels, int nrot, const BvhExportOptions& o,
+                     std::ostream& out) {
+  const Quat ainv = bvh_axes_to_rig(o.axes).conjugate();
+  auto triple = [&](const Vec3& v_rig, const std::string& what) {
+    const Vec3 v = o.scale * (ainv * v_rig);
+    return fmt_checked(v.x(), o, what) + " " + fmt_checked(v.y(), o, what) + " " +
+           fmt_checked(v.z(), o, what);
+  };
+  auto indent = [](int depth) { return std::string(2 * std::min(depth, 32), ' '); };
+  out << "HIERARCHY\n";
+  // (bone, depth) to open; a negative bone closes joint -bone-1
+  std::vector<std::pair<int, int>> stack{{0, 0}};
+  while (!stack.empty()) {
+    const auto [b, depth] = stack.back();
+    stack.pop_back();
+    const std::string ind = indent(depth);
+    if (b < 0) {
+      out << ind << "}\n";
+      continue;
+    }
+    const int p = rig.bone_parent[b];
+    const Vec3 off = p < 0 ? rig.bone_rest_head_world[b]
+                           : Vec3(rig.bone_rest_head_world[b] - rig.bone_rest_head_world[p]);
+    const std::string el = "bone '" + names[b] + "'";
+    out << ind << (p < 0 ? "ROOT " : "JOINT ") << names[b] << "\n" << ind << "{\n";
+    out << ind << "  OFFSET " << triple(off, el) << "\n";
+    if (p < 0) {
+      out << ind << "  CHANNELS " << 3 + nrot << " Xposition Yposition Zposition " << rot_channels
+          << "\n";
+    } else {
+      out << ind << "  CHANNELS " << nrot << " " << rot_channels << "\n";
+    }
+    if (rig.bone_children[b].empty()) {
+      const Vec3 e = rig.bone_rest_tail_world[b] - rig.bone_rest_head_world[b];
+      out << ind << "  End Site\n" << ind << "  {\n" << ind << "    OFFSET " << triple(e, el)
+          << "\n" << ind << "  }\n";
+    }
+    stack.push_back({-b - 1, depth});
+    const auto& kids = rig.bone_children[b];
+    for (auto it = kids.rbegin(); it != kids.rend(); ++it) stack.push_back({*it, depth + 1});
+  }
+}
+
+// per-bone continuity across frames: Euler branch and quaternion hemisphere
+struct FrameMemory {
+  std::vector<Quat> rw;          // (nbone) world rotation from rest, this frame
+  std::vector<Vec3> prev_euler;  // (nbone) rad
+  std::vector<Quat> prev_quat;   // (nbone)
+};
+
+// stage 3: one frame row: the root's head, then every bone's rotation relative to its parent's
+void write_frame(const Rig& rig, const Pose& pose, std::size_t f, const std::string& order,
+                 const BvhExportOptions& o, BoneFrames& fk, FrameMemory& mem, std::ostream& out) {
+  const Quat a = bvh_axes_to_rig(o.axes);
+  const Quat ainv = a.conjugate();
+  const std::string el = "frame " + std::to_string(f);
+  forward_kinematics(rig, pose, fk);
+  const Vec3 root = o.scale * (ainv * fk.head_world[0]);
+  out << fmt_checked(root.x(), o, el) << " " << fmt_checked(root.y(), o, el) << " "
+      << fmt_checked(root.z(), o, el);
+  for (int b = 0; b < rig.nbone; ++b) {
+    // world rotation from rest, then relative to the parent's, in file axes
+    mem.rw[b] = (fk.orient_world[b] * rig.bone_rest_orient_world[b].conjugate()).normalized();
+    const int p = rig.bone_parent[b];
+    const Quat local = p < 0 ? mem.rw[b] : Quat(mem.rw[p].conjugate() * mem.rw[b]);
+    Quat lf = (ainv * local * a).normalized();
+    if (!lf.coeffs().allFinite()) {
+      throw_input_error(target_name(o), el, "pose", "bone " + std::to_string(b) +
+                                                        ": the rotation is not finite");
+    }
+    if (o.quaternion) {
+      if (lf.coeffs().dot(mem.prev_quat[b].coeffs()) < 0.0) lf.coeffs() *= -1.0;
+      mem.prev_quat[b] = lf;
+      out << " " << fmt(lf.w()) << " " << fmt(lf.x()) << " " << fmt(lf.y()) << " "
+          << fmt(lf.z());
+    } else {
+      Vec3 e = euler_from_rotation(lf, order);
+      if (f > 0) e = closest_euler(e, mem.prev_euler[b]);
+      mem.prev_euler[b] = e;
+      out << " " << fmt(rad2deg(e[0])) << " " << fmt(rad2deg(e[1])) << " "
+          << fmt(rad2deg(e[2]));
+    }
+  }
+  out << "\n";
+}
+
+}  // namespace
+
 void write_bvh(const Rig& rig, const std::vector<Pose>& poses_in, const BvhExportOptions& options,
                std::ostream& out) {
-  std::string order = upper(options.euler_order);
-  check_order(order);
-  if (!(options.scale > 0.0)) throw_input_error("", "", "scale", "must be positive");
-  if (!(options.frame_time > 0.0)) throw_input_error("", "", "frame time", "must be positive");
+  check_export_options(options);
+  const std::string order = upper(options.euler_order);
   const std::vector<Pose> rest{rest_pose(rig)};
   const std::vector<Pose>& poses = poses_in.empty() ? rest : poses_in;
-  const Quat a = bvh_axes_to_rig(options.axes);
-  const Quat ainv = a.conjugate();
-  const double s = options.scale;
-  auto to_file = [&](const Vec3& v) { return Vec3(s * (ainv * v)); };
 
-  std::set<std::string> used;
+  UniqueNames used;
   std::vector<std::string> names(rig.nbone);
   for (int b = 0; b < rig.nbone; ++b) names[b] = bvh_name(rig.bone_name[b], used);
 
@@ -613,73 +806,29 @@ void write_bvh(const Rig& rig, const std::vector<Pose>& poses_in, const BvhExpor
   } else {
     for (char c : order) rot_channels += std::string(rot_channels.empty() ? "" : " ") + c + "rotation";
   }
-  const int nrot = options.quaternion ? 4 : 3;
-
-  out << "HIERARCHY\n";
-  // recursive writer over the rig's DFS tree
-  std::function<void(int, int)> joint = [&](int b, int depth) {
-    const std::string ind(2 * depth, ' ');
-    const int p = rig.bone_parent[b];
-    const Vec3 off = to_file(p < 0 ? rig.bone_rest_head_world[b]
-                                   : Vec3(rig.bone_rest_head_world[b] - rig.bone_rest_head_world[p]));
-    out << ind << (p < 0 ? "ROOT " : "JOINT ") << names[b] << "\n" << ind << "{\n";
-    out << ind << "  OFFSET " << fmt(off.x()) << " " << fmt(off.y()) << " " << fmt(off.z()) << "\n";
-    if (p < 0) {
-      out << ind << "  CHANNELS " << 3 + nrot << " Xposition Yposition Zposition " << rot_channels
-          << "\n";
-    } else {
-      out << ind << "  CHANNELS " << nrot << " " << rot_channels << "\n";
-    }
-    for (int c : rig.bone_children[b]) joint(c, depth + 1);
-    if (rig.bone_children[b].empty()) {
-      const Vec3 e = to_file(rig.bone_rest_tail_world[b] - rig.bone_rest_head_world[b]);
-      out << ind << "  End Site\n" << ind << "  {\n" << ind << "    OFFSET " << fmt(e.x()) << " "
-          << fmt(e.y()) << " " << fmt(e.z()) << "\n" << ind << "  }\n";
-    }
-    out << ind << "}\n";
-  };
-  joint(0, 0);
+  write_hierarchy(rig, names, rot_channels, options.quaternion ? 4 : 3, options, out);
 
   out << "MOTION\nFrames: " << poses.size() << "\nFrame Time: " << fmt(options.frame_time)
       << "\n";
   BoneFrames fk;
-  std::vector<Quat> rw(rig.nbone);
-  std::vector<Vec3> prev_euler(rig.nbone, Vec3::Zero());
-  std::vector<Quat> prev_quat(rig.nbone, Quat::Identity());
+  FrameMemory mem{std::vector<Quat>(rig.nbone), std::vector<Vec3>(rig.nbone, Vec3::Zero()),
+                  std::vector<Quat>(rig.nbone, Quat::Identity())};
   for (std::size_t f = 0; f < poses.size(); ++f) {
-    forward_kinematics(rig, poses[f], fk);
-    const Vec3 root = to_file(fk.head_world[0]);
-    out << fmt(root.x()) << " " << fmt(root.y()) << " " << fmt(root.z());
-    for (int b = 0; b < rig.nbone; ++b) {
-      // world rotation from rest, then relative to the parent's, in file axes
-      rw[b] = (fk.orient_world[b] * rig.bone_rest_orient_world[b].conjugate()).normalized();
-      const int p = rig.bone_parent[b];
-      const Quat local = p < 0 ? rw[b] : Quat(rw[p].conjugate() * rw[b]);
-      Quat lf = (ainv * local * a).normalized();
-      if (options.quaternion) {
-        if (lf.coeffs().dot(prev_quat[b].coeffs()) < 0.0) lf.coeffs() *= -1.0;
-        prev_quat[b] = lf;
-        out << " " << fmt(lf.w()) << " " << fmt(lf.x()) << " " << fmt(lf.y()) << " "
-            << fmt(lf.z());
-      } else {
-        Vec3 e = euler_from_rotation(lf, order);
-        if (f > 0) e = closest_euler(e, prev_euler[b]);
-        prev_euler[b] = e;
-        out << " " << fmt(rad2deg(e[0])) << " " << fmt(rad2deg(e[1])) << " "
-            << fmt(rad2deg(e[2]));
-      }
-    }
-    out << "\n";
+    write_frame(rig, poses[f], f, order, options, fk, mem, out);
   }
 }
 
 void save_bvh(const std::string& path, const Rig& rig, const std::vector<Pose>& poses,
               const BvhExportOptions& options) {
+  BvhExportOptions o = options;
+  o.target = path;
+  check_export_options(o);  // before a file is created
   const std::filesystem::path p(path);
-  if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path());
+  std::error_code ec;
+  if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path(), ec);
   std::ofstream out(p);
   if (!out) throw_input_error(path, "", "", "cannot write file");
-  write_bvh(rig, poses, options, out);
+  write_bvh(rig, poses, o, out);
   if (!out) throw_input_error(path, "", "", "write failed");
 }
 

@@ -73,7 +73,9 @@ struct BvhFile {
 // Parse BVH or qBVH text. Throws InputError "<source>: line N: field '<what>': <reason>" on
 // unbalanced braces, a CHANNELS count that does not match its names, an unknown keyword or
 // channel, a frame whose value count differs from the channel count, a frame count that differs
-// from "Frames:", a non-number, NaN or infinity.
+// from "Frames:", a non-number, NaN or infinity, an OFFSET or position channel beyond
+// +-kMaxCoordinate (rig.h), a joint name that is not printable UTF-8 (names.h), more than
+// kMaxBones joints. Any nesting depth is read (no recursion).
 BvhFile parse_bvh(const std::string& text, const std::string& source);
 BvhFile read_bvh_file(const std::string& path);
 
@@ -115,6 +117,7 @@ struct BvhExportOptions {
   BvhAxes axes = BvhAxes::kYUp;
   double scale = 1.0;             // file units per rig unit
   double frame_time = 1.0 / 30.0; // s
+  std::string target;             // the file written, for error messages ("" = a stream)
 };
 
 // true for paths ending in ".qbvh" (case-insensitive)
@@ -125,7 +128,9 @@ bool is_qbvh_path(const std::string& path);
 Vec3 euler_from_rotation(const Quat& q, const std::string& order);
 Quat rotation_from_euler(const Vec3& angles, const std::string& order);
 
-// Writes a rig and its poses (rest pose only when `poses` is empty).
+// Writes a rig and its poses (rest pose only when `poses` is empty). Throws InputError naming
+// options.target (save_bvh: the path) for a bad Euler order, a scale or frame time that is not
+// positive and finite, or a value that the scale pushes past double range.
 void write_bvh(const Rig& rig, const std::vector<Pose>& poses, const BvhExportOptions& options,
                std::ostream& out);
 void save_bvh(const std::string& path, const Rig& rig, const std::vector<Pose>& poses,

@@ -141,7 +141,45 @@ void JsonContext::require_object(const Json& obj, const std::string& field) cons
   if (!obj.is_object()) fail(field, "expected a JSON object");
 }
 
+namespace {
+
+// Rejects nesting deeper than kMaxJsonDepth before nlohmann parses: its parser is iterative, but
+// copying, comparing and dumping a value recurse once per level, so a 200,000-deep array would
+// overflow the stack later. Brackets inside strings do not count; a malformed document is left
+// to the parser's own message.
+void check_json_depth(const std::string& text, const std::string& source) {
+  int depth = 0, line = 1;
+  bool in_string = false, escaped = false;
+  for (const char c : text) {
+    if (c == '\n') ++line;
+    if (in_string) {
+      if (escaped) {
+        escaped = false;
+      } else if (c == '\\') {
+        escaped = true;
+      } else if (c == '"') {
+        in_string = false;
+      }
+      continue;
+    }
+    if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth) {
+        throw_input_error(source, "line " + std::to_string(line), "",
+                          "JSON nested deeper than " + std::to_string(kMaxJsonDepth) +
+                              " levels (json_fields.h kMaxJsonDepth)");
+      }
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+}
+
+}  // namespace
+
 Json parse_json_text(const std::string& text, const std::string& source) {
+  check_json_depth(text, source);
   try {
     return Json::parse(text);
   } catch (const Json::parse_error& e) {

@@ -48,8 +48,11 @@ struct JsonContext {
   void require_object(const Json& obj, const std::string& field) const;
 };
 
-// Read and parse a JSON file; a missing file or a syntax error is an InputError naming the file
-// (and line/column for syntax errors).
+// Deepest nesting of arrays and objects a JSON input may have (the formats need 4).
+constexpr int kMaxJsonDepth = 256;
+
+// Read and parse a JSON file; a missing file, a syntax error or nesting deeper than
+// kMaxJsonDepth is an InputError naming the file (and the line).
 Json read_json_file(const std::string& path);
 Json parse_json_text(const std::string& text, const std::string& source);
 // Write a JSON document pretty-printed (2 spaces, a final newline): to a file, created with its

@@ -1,22 +1,18 @@
-// Pivot tree -> rig; see pivot_rig.h for the mapping.
+// Pivot tree -> rig; see pivot_rig.h for the mapping. Every stage is linear (or n log n) in the
+// number of pivots: 20,000 siblings or a 20,000-deep chain must not cost n^2.
 #include "physik/io/pivot_rig.h"
 
 #include <algorithm>
-#include <set>
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
 
+#include "physik/io/unique_names.h"
 #include "physik/model/errors.h"
 
 namespace physik {
 
 namespace {
-
-std::string unique_name(const std::string& base, std::set<std::string>& used) {
-  if (used.insert(base).second) return base;
-  for (int k = 2;; ++k) {
-    const std::string n = base + "_" + std::to_string(k);
-    if (used.insert(n).second) return n;
-  }
-}
 
 struct Segment {
   int node = -1;
@@ -27,71 +23,138 @@ struct Segment {
   std::string name;
 };
 
-}  // namespace
-
-PivotBones pivot_bones(const std::vector<PivotNode>& nodes, const std::string& source,
-                       double mass_per_length, double radius) {
+// stage 0: parents before children, finite positions; returns the grouping tolerance (offsets
+// shorter than it are zero)
+double check_nodes(const std::vector<PivotNode>& nodes, const std::string& source) {
   const int n = static_cast<int>(nodes.size());
   if (n == 0) throw_input_error(source, "", "", "no joints to make bones from");
-  if (nodes[0].parent != -1) throw_input_error(source, nodes[0].name, "parent", "the first joint must be the root");
+  if (nodes[0].parent != -1) {
+    throw_input_error(source, nodes[0].name, "parent", "the first joint must be the root");
+  }
   double extent = 1.0;
   for (int i = 0; i < n; ++i) {
     if (i > 0 && (nodes[i].parent < 0 || nodes[i].parent >= i)) {
       throw_input_error(source, nodes[i].name, "parent", "parents must come before children");
     }
+    if (!nodes[i].rest_world.allFinite()) {
+      throw_input_error(source, nodes[i].name, "position", "not finite");
+    }
+    for (const Vec3& e : nodes[i].ends_world) {
+      if (!e.allFinite()) throw_input_error(source, nodes[i].name, "end point", "not finite");
+    }
     extent = std::max(extent, nodes[i].rest_world.cwiseAbs().maxCoeff());
   }
-  const double tol = 1e-9 * extent;  // offsets shorter than this are zero
+  return 1e-9 * extent;
+}
 
+// Groups a pivot's tail points by position: a point joins the first (lowest-index) segment of the
+// same pivot within tol, found through a grid of cell size tol (a match lies in one of the 27
+// cells around the point), so n siblings cost O(n) instead of O(n^2).
+class SegmentGrid {
+ public:
+  explicit SegmentGrid(double tol) : tol_(tol) {}
+
+  int find(int node, const Vec3& p, const std::vector<Segment>& segs) const {
+    const Cell c = cell(p);
+    int best = -1;
+    for (std::int64_t dx = -1; dx <= 1; ++dx) {
+      for (std::int64_t dy = -1; dy <= 1; ++dy) {
+        for (std::int64_t dz = -1; dz <= 1; ++dz) {
+          auto it = grid_.find(Key{node, c.x + dx, c.y + dy, c.z + dz});
+          if (it == grid_.end()) continue;
+          for (int s : it->second) {
+            if ((segs[s].tail - p).norm() <= tol_ && (best < 0 || s < best)) best = s;
+          }
+        }
+      }
+    }
+    return best;
+  }
+
+  void add(int node, int seg, const Vec3& p) {
+    const Cell c = cell(p);
+    grid_[Key{node, c.x, c.y, c.z}].push_back(seg);
+  }
+
+ private:
+  struct Cell {
+    std::int64_t x, y, z;
+  };
+  struct Key {
+    int node;
+    std::int64_t x, y, z;
+    bool operator==(const Key& o) const {
+      return node == o.node && x == o.x && y == o.y && z == o.z;
+    }
+  };
+  struct KeyHash {
+    std::size_t operator()(const Key& k) const {
+      std::size_t h = std::hash<std::int64_t>()(k.x);
+      for (std::int64_t v : {k.y, k.z, static_cast<std::int64_t>(k.node)}) {
+        h ^= std::hash<std::int64_t>()(v) + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+      }
+      return h;
+    }
+  };
+  Cell cell(const Vec3& p) const {
+    // |p| / tol <= 1e9 (tol = 1e-9 of the extent): the cell indices fit an int64
+    return {static_cast<std::int64_t>(std::floor(p.x() / tol_)),
+            static_cast<std::int64_t>(std::floor(p.y() / tol_)),
+            static_cast<std::int64_t>(std::floor(p.z() / tol_))};
+  }
+  double tol_;
+  std::unordered_map<Key, std::vector<int>, KeyHash> grid_;
+};
+
+// stage 1: segments per pivot: children and end points grouped by offset; child_seg[c] is the
+// segment of c's parent that ends at c (-1 if c sits on its parent)
+void make_segments(const std::vector<PivotNode>& nodes, double tol, std::vector<Segment>& segs,
+                   std::vector<std::vector<int>>& node_segs, std::vector<int>& child_seg) {
+  const int n = static_cast<int>(nodes.size());
   std::vector<std::vector<int>> children(n);
   for (int i = 1; i < n; ++i) children[nodes[i].parent].push_back(i);
-
-  // 1. segments per pivot: children and ends grouped by offset
-  std::vector<Segment> segs;
-  std::vector<std::vector<int>> node_segs(n);
-  std::vector<int> child_seg(n, -1);  // the segment of the parent that ends at this child
+  node_segs.assign(n, {});
+  child_seg.assign(n, -1);
+  SegmentGrid grid(tol);
+  auto add_segment = [&](int j, const Vec3& p, int tail_node, int tail_end) {
+    Segment seg;
+    seg.node = j;
+    seg.tail = p;
+    seg.tail_node = tail_node;
+    seg.tail_end = tail_end;
+    const int s = static_cast<int>(segs.size());
+    segs.push_back(seg);
+    node_segs[j].push_back(s);
+    grid.add(j, s, p);
+    return s;
+  };
   for (int j = 0; j < n; ++j) {
-    auto find_group = [&](const Vec3& p) {
-      for (int s : node_segs[j]) {
-        if ((segs[s].tail - p).norm() <= tol) return s;
-      }
-      return -1;
-    };
     for (int c : children[j]) {
       const Vec3& p = nodes[c].rest_world;
       if ((p - nodes[j].rest_world).norm() <= tol) continue;
-      int s = find_group(p);
-      if (s < 0) {
-        Segment seg;
-        seg.node = j;
-        seg.tail = p;
-        seg.tail_node = c;
-        s = static_cast<int>(segs.size());
-        segs.push_back(seg);
-        node_segs[j].push_back(s);
-      }
-      child_seg[c] = s;
+      const int s = grid.find(j, p, segs);
+      child_seg[c] = s >= 0 ? s : add_segment(j, p, c, -1);
     }
     for (std::size_t e = 0; e < nodes[j].ends_world.size(); ++e) {
       const Vec3& p = nodes[j].ends_world[e];
       if ((p - nodes[j].rest_world).norm() <= tol) continue;
-      if (find_group(p) >= 0) continue;
-      Segment seg;
-      seg.node = j;
-      seg.tail = p;
-      seg.tail_end = static_cast<int>(e);
-      node_segs[j].push_back(static_cast<int>(segs.size()));
-      segs.push_back(seg);
+      if (grid.find(j, p, segs) < 0) add_segment(j, p, -1, static_cast<int>(e));
     }
   }
+}
 
-  // 2. the bone whose tail is at each pivot
+// stage 2: the segment whose tail is at each pivot (through zero offsets), every segment's
+// parent, and the number and mean length of the segments at the root level
+std::vector<int> link_segments(const std::vector<PivotNode>& nodes,
+                               const std::vector<int>& child_seg, std::vector<Segment>& segs,
+                               int& root_level, double& root_len) {
+  const int n = static_cast<int>(nodes.size());
   std::vector<int> incoming(n, -1);
   for (int c = 1; c < n; ++c) {
     incoming[c] = child_seg[c] >= 0 ? child_seg[c] : incoming[nodes[c].parent];
   }
-  int root_level = 0;
-  double root_len = 0.0;
+  root_level = 0;
+  root_len = 0.0;
   for (Segment& s : segs) {
     s.parent = incoming[s.node];
     if (s.parent < 0) {
@@ -99,10 +162,14 @@ PivotBones pivot_bones(const std::vector<PivotNode>& nodes, const std::string& s
       root_len += (s.tail - nodes[s.node].rest_world).norm();
     }
   }
+  return incoming;
+}
 
-  // 4. names
-  std::set<std::string> used;
-  for (int j = 0; j < n; ++j) {
+// stage 3: names (pivot_rig.h, 4.)
+void name_segments(const std::vector<PivotNode>& nodes,
+                   const std::vector<std::vector<int>>& node_segs, std::vector<Segment>& segs,
+                   UniqueNames& used) {
+  for (std::size_t j = 0; j < nodes.size(); ++j) {
     int nend = 0;
     for (int s : node_segs[j]) {
       Segment& seg = segs[s];
@@ -115,12 +182,16 @@ PivotBones pivot_bones(const std::vector<PivotNode>& nodes, const std::string& s
           base += nend == 1 ? ">end" : ">end" + std::to_string(nend);
         }
       }
-      seg.name = unique_name(base, used);
+      seg.name = used.make(base);
     }
   }
+}
 
-  PivotBones out;
-  out.synthetic_root = root_level != 1;
+// stage 4: specs, the synthetic root first if any, then the segments in DFS order of the segment
+// tree (children in pivot order; an explicit stack); returns each segment's spec index
+std::vector<int> emit_specs(const std::vector<PivotNode>& nodes, const std::vector<Segment>& segs,
+                            double mass_per_length, double radius, int root_level,
+                            double root_len, UniqueNames& used, PivotBones& out) {
   auto add_spec = [&](const std::string& name, const std::string& parent, const Vec3& head,
                       const Vec3& tail, int node, int tail_node, int tail_end, int parent_spec) {
     BoneSpec b;
@@ -137,17 +208,16 @@ PivotBones pivot_bones(const std::vector<PivotNode>& nodes, const std::string& s
     out.spec_tail_node.push_back(tail_node);
     out.spec_tail_end.push_back(tail_end);
   };
+  out.synthetic_root = root_level != 1;
   std::string synthetic_name;
   if (out.synthetic_root) {
-    // 3. a handle bone ending at the root pivot
+    // a handle bone ending at the root pivot (pivot_rig.h, 3.)
     const double len = root_level > 0 ? root_len / root_level : 1.0;
-    synthetic_name = used.count(nodes[0].name) ? unique_name(nodes[0].name + "_root", used)
-                                               : unique_name(nodes[0].name, used);
+    synthetic_name = used.taken(nodes[0].name) ? used.make(nodes[0].name + "_root")
+                                               : used.make(nodes[0].name);
     add_spec(synthetic_name, "", nodes[0].rest_world - Vec3(0, 0, len), nodes[0].rest_world, 0,
              -1, -1, -1);
   }
-
-  // segments in DFS order of the segment tree (children in pivot order)
   std::vector<std::vector<int>> seg_children(segs.size());
   std::vector<int> roots;
   for (std::size_t s = 0; s < segs.size(); ++s) {
@@ -173,12 +243,34 @@ PivotBones pivot_bones(const std::vector<PivotNode>& nodes, const std::string& s
       stack.push_back(*it);
     }
   }
+  return spec_of_seg;
+}
 
+}  // namespace
+
+PivotBones pivot_bones(const std::vector<PivotNode>& nodes, const std::string& source,
+                       double mass_per_length, double radius) {
+  const double tol = check_nodes(nodes, source);
+  std::vector<Segment> segs;
+  std::vector<std::vector<int>> node_segs;
+  std::vector<int> child_seg;
+  make_segments(nodes, tol, segs, node_segs, child_seg);
+  int root_level = 0;
+  double root_len = 0.0;
+  const std::vector<int> incoming = link_segments(nodes, child_seg, segs, root_level, root_len);
+  UniqueNames used;
+  name_segments(nodes, node_segs, segs, used);
+
+  PivotBones out;
+  const std::vector<int> spec_of_seg =
+      emit_specs(nodes, segs, mass_per_length, radius, root_level, root_len, used, out);
+  const int n = static_cast<int>(nodes.size());
   out.node_specs.assign(n, {});
   out.node_incoming.assign(n, -1);
   for (int j = 0; j < n; ++j) {
     for (int s : node_segs[j]) out.node_specs[j].push_back(spec_of_seg[s]);
-    out.node_incoming[j] = incoming[j] >= 0 ? spec_of_seg[incoming[j]] : (out.synthetic_root ? 0 : -1);
+    out.node_incoming[j] =
+        incoming[j] >= 0 ? spec_of_seg[incoming[j]] : (out.synthetic_root ? 0 : -1);
   }
   return out;
 }
@@ -192,8 +284,12 @@ PivotRig finish_pivot_rig(const std::vector<PivotNode>& nodes, const PivotBones&
   pr.bone_node.assign(pr.rig.nbone, -1);
   pr.bone_tail_node.assign(pr.rig.nbone, -1);
   pr.bone_tail_end.assign(pr.rig.nbone, -1);
+  // one name index, not a linear find_bone per spec
+  std::unordered_map<std::string, int> bone_of;
+  bone_of.reserve(pr.rig.nbone);
+  for (int b = 0; b < pr.rig.nbone; ++b) bone_of.emplace(pr.rig.bone_name[b], b);
   for (std::size_t s = 0; s < bones.specs.size(); ++s) {
-    const int b = pr.rig.find_bone(bones.specs[s].name);
+    const int b = bone_of.at(bones.specs[s].name);
     pr.bone_node[b] = bones.spec_node[s];
     pr.bone_tail_node[b] = bones.spec_tail_node[s];
     pr.bone_tail_end[b] = bones.spec_tail_end[s];

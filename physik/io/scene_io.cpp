@@ -40,6 +40,17 @@ std::optional<ParamValue> param_from_json(const JsonContext& ctx, const Json& ob
   return v;
 }
 
+// a position (rig units) or velocity (rig units/s) within +-kMaxCoordinate, so squared distances
+// and energies stay finite (rig.h)
+static_assert(kMaxCoordinate == 1e9, "the message below quotes it");
+Vec3 bounded_vec3(const JsonContext& ctx, const Json& obj, const std::string& key) {
+  const Vec3 v = ctx.vec3(obj, key);
+  if (v.cwiseAbs().maxCoeff() > kMaxCoordinate) {
+    ctx.fail(key, "a coordinate beyond +-1e9 (rig.h kMaxCoordinate)");
+  }
+  return v;
+}
+
 int control_point_ref(const JsonContext& ctx, const Json& v, const std::vector<ControlPoint>& cps) {
   if (v.is_number_integer()) {
     const int i = v.get<int>();
@@ -71,8 +82,11 @@ void read_rig(const JsonContext& top, const Json& doc, const std::string& base_d
   std::filesystem::path rig_path(rig_ref);
   if (rig_path.is_relative()) rig_path = std::filesystem::path(base_dir) / rig_path;
   s.rig_file = rig_path.lexically_normal().string();
-  if (!std::filesystem::exists(s.rig_file)) {
-    top.fail("rig", "rig file '" + s.rig_file + "' does not exist");
+  // exists() throws on a name the filesystem refuses (longer than NAME_MAX): bad input too
+  std::error_code ec;
+  if (!std::filesystem::exists(s.rig_file, ec)) {
+    top.fail("rig", "rig file '" + s.rig_file + "' " +
+                        (ec ? "cannot be read (" + ec.message() + ")" : std::string("does not exist")));
   }
   s.rig = load_rig(s.rig_file);
 }
@@ -88,7 +102,7 @@ ControlPoint control_point_from_json(const JsonContext& ctx, const Json& c, cons
   if (cp.bone < 0) ctx.fail("bone", "unknown bone '" + bone + "' in rig " + s.rig_file);
   cp.alpha = ctx.number_or(c, "alpha", 1.0);
   if (cp.alpha < 0.0 || cp.alpha > 1.0) ctx.fail("alpha", "must lie in [0, 1] (0 = head, 1 = tail)");
-  cp.target_world = ctx.vec3(c, "target");
+  cp.target_world = bounded_vec3(ctx, c, "target");
   if (const auto v = param_from_json(ctx, c, "spring", param_row("control_spring"))) {
     cp.spring = static_cast<SpringLaw>(static_cast<int>(*v));
   }
@@ -122,7 +136,7 @@ void read_schedule(const JsonContext& top, const Json& doc, Scene& s) {
       ctx.fail("step", "must lie in [0, steps) = [0, " + std::to_string(s.steps) + ")");
     }
     t.control_point = control_point_ref(ctx, ctx.require(sch[i], "control_point"), s.control_points);
-    t.target_world = ctx.vec3(sch[i], "target");
+    t.target_world = bounded_vec3(ctx, sch[i], "target");
     s.schedule.push_back(t);
   }
   std::stable_sort(s.schedule.begin(), s.schedule.end(),
@@ -153,7 +167,7 @@ void read_initial_pose(const JsonContext& top, const Json& doc, Scene& s) {
   const JsonContext ctx{top.file, "initial_pose"};
   ctx.require_object(ip, "initial_pose");
   ctx.only_keys(ip, {"root_head", "rotation_deg"});
-  if (ip.contains("root_head")) s.initial_pose.root_head_world = ctx.vec3(ip, "root_head");
+  if (ip.contains("root_head")) s.initial_pose.root_head_world = bounded_vec3(ctx, ip, "root_head");
   if (!ip.contains("rotation_deg")) return;
   const Json& rot = ip["rotation_deg"];
   ctx.require_object(rot, "rotation_deg");
@@ -245,7 +259,9 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
   read_schedule(top, doc, s);
   read_convergence(top, doc, s);
   read_initial_pose(top, doc, s);
-  if (doc.contains("initial_velocity")) s.initial_velocity_world = top.vec3(doc, "initial_velocity");
+  if (doc.contains("initial_velocity")) {
+    s.initial_velocity_world = bounded_vec3(top, doc, "initial_velocity");
+  }
   return s;
 }
 

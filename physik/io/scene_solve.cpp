@@ -43,6 +43,7 @@ SceneSolveResult solve_with_engine(Scene& scene, const SceneSolveOptions& o,
   r.frames = s.final_frames;
   r.pose = s.final_pose;
   r.diverged = s.diverged;
+  r.warning = s.joint_solve_warning;
   return r;
 }
 

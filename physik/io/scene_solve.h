@@ -41,6 +41,7 @@ struct SceneSolveResult {
   BoneFrames frames;       // the solved pose's frames
   Pose pose;               // and its local rotations
   bool diverged = false;   // the engine's run diverged (the CLI exits 3)
+  std::string warning;     // the engine's joint-solve warning (RunSummary::joint_solve_warning)
 };
 
 // Solve `scene` (taken by value: the engine's run changes its convergence settings).

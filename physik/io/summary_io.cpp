@@ -8,7 +8,8 @@
 namespace physik {
 
 nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s) {
-  const double h = scene.rig.height();
+  // a flat rig has height 0: its residuals are then over its mean bone length (no inf or nan)
+  const double h = scene.rig.height() > 0.0 ? scene.rig.height() : scene.rig.length_scale();
   nlohmann::json rel = nlohmann::json::array();
   for (double r : s.final_residuals) rel.push_back(r / h);
   return {{"scene", scene.file},
@@ -21,14 +22,20 @@ nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s) {
           {"steps_to_converge", s.steps_to_converge < 0 ? nlohmann::json(nullptr)
                                                          : nlohmann::json(s.steps_to_converge)},
           {"final_residuals", s.final_residuals},
+          {"final_pose_step", s.final_pose_step},
           {"final_residuals_over_height", rel},
-          {"rig_height", h},
+          {"rig_height", scene.rig.height()},
           {"max_joint_separation", s.max_joint_separation},
           {"mean_passes_per_step", s.mean_passes_per_step},
           {"max_passes_in_a_step", s.max_passes_in_a_step},
           {"peak_kinetic_energy", s.peak_kinetic_energy},
           {"final_kinetic_energy", s.final_kinetic_energy},
           {"max_limit_violation_deg", s.max_limit_violation_deg},
+          {"energy_given", s.energy_given},
+          {"peak_energy_ratio", s.peak_energy_ratio},
+          {"joint_unpropagated_steps", s.joint_unpropagated_steps},
+          {"max_unreached_joints", s.max_unreached_joints},
+          {"joint_solve_warning", s.joint_solve_warning},
           {"speed_tol", scene.speed_tol()},
           {"residual_tol", scene.residual_tol()},
           {"wall_time_s", s.wall_time_s},

@@ -137,6 +137,11 @@ std::vector<ParamRow> build_table() {
             0.01, 1.0),
       row<&E::joint_eps>("joint_eps", "rig units/s^2", {1e-3, 1e-3}, kPositive,
                          "joint passes stop below this acceleration mismatch"),
+      zero_means(row<&E::joint_eps_relative>(
+                     "joint_eps_relative", "1", {0.0, 0.0}, half_open(0.0, 1.0),
+                     "> 0: passes also go on until every joint's mismatch is below this fraction "
+                     "of its own accelerations (forces cross long chains)"),
+                 "off, the paper's absolute eps"),
       zero_means(row<&E::max_passes>("max_passes", "passes", {0, 0}, kNonNegative,
                                      "joint passes per step at most; 0 = 5 n^2 (the original's cap)"),
                  "5 n^2"),

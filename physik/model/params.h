@@ -46,6 +46,9 @@ struct EngineParams {
   double damping;                        // N s/m, force -c v at each bone end
   double angular_velocity_factor;        // 1, every bone's angular velocity is scaled by it each step
   double joint_eps;                      // rig units/s^2, stop the joint passes below this mismatch
+  double joint_eps_relative;             // 1; > 0: the passes also go on until every joint's
+                                         //    mismatch is below this fraction of its accelerations
+                                         //    (joint_forces.h); 0 = off (the paper's absolute eps)
   int max_passes;                        // passes per step; 0 = 5 n^2 (the original's cap)
   bool centripetal;                      // add w x (w x r) to joint-point accelerations (eq. 2 omits it)
   bool gyroscopic;                       // the -w x I w term of eq. 1

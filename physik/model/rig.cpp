@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <sstream>
 #include <unordered_map>
 
 #include "physik/model/errors.h"
+#include "physik/model/names.h"
 
 namespace physik {
 
@@ -80,15 +80,27 @@ double Rig::height() const {
   return nbone ? hi - lo : 0.0;
 }
 
+double Rig::length_scale() const {
+  double sum = 0.0;
+  for (double l : bone_length) sum += l;
+  return nbone ? sum / nbone : 0.0;
+}
+
 namespace {
 
-// stage 1: names are non-empty and unique; returns name -> index in `specs`
+// stage 1: names are non-empty, printable UTF-8 and unique; returns name -> index in `specs`
 std::unordered_map<std::string, std::size_t> index_names(const std::vector<BoneSpec>& specs,
                                                          const std::string& source) {
   std::unordered_map<std::string, std::size_t> index_of;
+  index_of.reserve(specs.size());
   for (std::size_t i = 0; i < specs.size(); ++i) {
     const BoneSpec& b = specs[i];
     if (b.name.empty()) throw_input_error(source, bone_element(b, i), "name", "empty bone name");
+    const std::string bad = name_problem(b.name);
+    // the element leaves the name out: it would carry the bad bytes into the message
+    if (!bad.empty()) {
+      throw_input_error(source, "bones[" + std::to_string(i) + "]", "name", bad);
+    }
     if (!index_of.emplace(b.name, i).second) {
       throw_input_error(source, bone_element(b, i), "name",
                         "duplicate bone name (first used by bones[" +
@@ -137,13 +149,17 @@ std::size_t link_parents(const std::vector<BoneSpec>& specs,
 std::vector<std::size_t> dfs_order(const std::vector<BoneSpec>& specs,
                                    const std::vector<std::vector<std::size_t>>& children,
                                    std::size_t root, const std::string& source) {
+  // an explicit stack (children pushed in reverse): the depth of the tree is the input's, so
+  // no recursion may follow it
   std::vector<std::size_t> order;
   order.reserve(specs.size());
-  std::function<void(std::size_t)> visit = [&](std::size_t i) {
+  std::vector<std::size_t> stack{root};
+  while (!stack.empty()) {
+    const std::size_t i = stack.back();
+    stack.pop_back();
     order.push_back(i);
-    for (std::size_t c : children[i]) visit(c);
-  };
-  visit(root);
+    for (auto it = children[i].rbegin(); it != children[i].rend(); ++it) stack.push_back(*it);
+  }
   if (order.size() != specs.size()) {
     std::vector<bool> seen(specs.size(), false);
     for (std::size_t i : order) seen[i] = true;
@@ -162,6 +178,14 @@ std::vector<std::size_t> dfs_order(const std::vector<BoneSpec>& specs,
 void check_geometry(const BoneSpec& b, const std::string& source, const std::string& el) {
   if (!b.head_world.allFinite()) throw_input_error(source, el, "head", "non-finite coordinate");
   if (!b.tail_world.allFinite()) throw_input_error(source, el, "tail", "non-finite coordinate");
+  for (const auto& [field, p] : {std::pair<const char*, const Vec3*>{"head", &b.head_world},
+                                 {"tail", &b.tail_world}}) {
+    if (p->cwiseAbs().maxCoeff() > kMaxCoordinate) {
+      throw_input_error(source, el, field,
+                        "coordinate " + fmt(p->cwiseAbs().maxCoeff()) + " is beyond +-" +
+                            fmt(kMaxCoordinate) + " rig units (rig.h kMaxCoordinate)");
+    }
+  }
   const double len = (b.tail_world - b.head_world).norm();
   if (!(len > 1e-9)) {
     throw_input_error(source, el, "tail", "zero-length bone (head and tail coincide)");
@@ -206,10 +230,24 @@ void check_mass(const BoneSpec& b, const std::string& source, const std::string&
   if (!std::isfinite(b.radius) || !(b.radius > 0.0)) {
     throw_input_error(source, el, "radius", "radius must be a positive finite number");
   }
+  // outside these the inertia m (3 r^2 + L^2) / 12, its inverse or a kinetic energy overflows
+  const std::string range = " (rig.h: [" + fmt(kMinScale) + ", " + fmt(kMaxScale) + "])";
+  if (b.mass < kMinScale || b.mass > kMaxScale) {
+    throw_input_error(source, el, "mass", "mass " + fmt(b.mass) + " kg is out of range" + range);
+  }
+  if (b.radius < kMinScale || b.radius > kMaxScale) {
+    throw_input_error(source, el, "radius",
+                      "radius " + fmt(b.radius) + " rig units is out of range" + range);
+  }
   if (b.inertia_local.isZero()) return;
   const Vec3& in = b.inertia_local;
   if (!in.allFinite() || !(in.minCoeff() > 0.0)) {
     throw_input_error(source, el, "inertia_local", "moments must be positive finite numbers");
+  }
+  const double lo = kMinScale * kMinScale * kMinScale, hi = kMaxScale * kMaxScale * kMaxScale;
+  if (in.minCoeff() < lo || in.maxCoeff() > hi) {
+    throw_input_error(source, el, "inertia_local",
+                      "moments must lie in [" + fmt(lo) + ", " + fmt(hi) + "] kg m^2");
   }
   // principal moments of a real body obey the triangle inequality
   if (in.x() + in.y() < in.z() * (1 - 1e-9) || in.y() + in.z() < in.x() * (1 - 1e-9) ||
@@ -316,6 +354,11 @@ void derive_joints(Rig& rig) {
 Rig build_rig(const std::vector<BoneSpec>& specs, const std::string& source,
               const std::string& name) {
   if (specs.empty()) throw_input_error(source, "", "bones", "the rig has no bones");
+  if (specs.size() > static_cast<std::size_t>(kMaxBones)) {
+    throw_input_error(source, "", "bones",
+                      std::to_string(specs.size()) + " bones, more than the " +
+                          std::to_string(kMaxBones) + " a rig may have (rig.h kMaxBones)");
+  }
   const auto index_of = index_names(specs, source);
   std::vector<std::vector<std::size_t>> children;
   const std::size_t root = link_parents(specs, index_of, source, children);

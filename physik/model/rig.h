@@ -18,6 +18,12 @@
 // locks the axis.
 //
 // Arrays are indexed by bone in DFS order: every parent comes before its children.
+//
+// Sizes and magnitudes (checked by build_rig, so every product the engine forms stays finite:
+// the inertia m (3 r^2 + L^2) / 12 and its inverse, squared distances, kinetic energies):
+//   at most kMaxBones bones; |coordinate| <= kMaxCoordinate rig units; mass and radius within
+//   [kMinScale, kMaxScale] (kg, rig units); explicit moments within [kMinScale^3, kMaxScale^3]
+//   kg m^2. Names are valid UTF-8 without control characters (names.h).
 #pragma once
 
 #include <array>
@@ -27,6 +33,11 @@
 #include "physik/model/types.h"
 
 namespace physik {
+
+constexpr int kMaxBones = 1000000;      // bones per rig (about 1 GB of rig and state)
+constexpr double kMaxCoordinate = 1e9;  // rig units, any head or tail coordinate
+constexpr double kMinScale = 1e-9;      // smallest mass (kg) or radius (rig units)
+constexpr double kMaxScale = 1e9;       // largest mass (kg) or radius (rig units)
 
 struct AxisLimit {
   bool limited = false;  // false: the axis is free
@@ -96,6 +107,9 @@ struct Rig {
   int bone_dof(int bone) const;
   // length of the longest root-to-leaf path plus nothing else: the rig's reach from its root
   double height() const;  // extent of the rest pose along world Z (rig units)
+  // the mean bone length (rig units): the rig's own length scale, whatever the arrangement of its
+  // bones (a flat rig has height 0, a 300-bone chain along Z a height of 300 bone lengths)
+  double length_scale() const;
 };
 
 // Cylinder inertia about the centre, bone-local axes (local y along the bone). kg m^2.

@@ -1,5 +1,6 @@
 #include "physik/model/rig_generators.h"
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -9,8 +10,23 @@ namespace physik {
 
 Rig make_chain_rig(int nbone, double bone_length, double radius) {
   if (nbone < 1) throw_input_error("chain", "", "N", "a chain needs at least one bone");
-  if (!(bone_length > 0.0)) throw_input_error("chain", "", "length", "must be positive");
-  if (!(radius > 0.0)) throw_input_error("chain", "", "radius", "must be positive");
+  // checked before anything is allocated: 2^31 bones would ask for about 600 GB
+  if (nbone > kMaxBones) {
+    throw_input_error("chain", "", "N",
+                      std::to_string(nbone) + " bones, more than the " + std::to_string(kMaxBones) +
+                          " a rig may have (rig.h kMaxBones)");
+  }
+  if (!(bone_length > 0.0) || !std::isfinite(bone_length)) {
+    throw_input_error("chain", "", "length", "must be a positive finite number");
+  }
+  if (nbone * bone_length > kMaxCoordinate) {
+    throw_input_error("chain", "", "length",
+                      "the chain would reach beyond " + std::to_string(kMaxCoordinate) +
+                          " rig units (rig.h kMaxCoordinate)");
+  }
+  if (!(radius > 0.0) || !std::isfinite(radius)) {
+    throw_input_error("chain", "", "radius", "must be a positive finite number");
+  }
   std::vector<BoneSpec> specs(nbone);
   for (int i = 0; i < nbone; ++i) {
     BoneSpec& s = specs[i];

@@ -3,11 +3,14 @@
 namespace physik {
 
 double Scene::residual_tol() const {
-  return convergence.residual_tol > 0.0 ? convergence.residual_tol : 1e-3 * rig.height();
+  if (convergence.residual_tol > 0.0) return convergence.residual_tol;
+  // a flat rig has height 0: its own length scale instead
+  const double h = rig.height();
+  return 1e-3 * (h > 0.0 ? h : rig.length_scale());
 }
 
 double Scene::speed_tol() const {
-  return convergence.speed_tol > 0.0 ? convergence.speed_tol : 1e-3 * rig.height();
+  return convergence.speed_tol > 0.0 ? convergence.speed_tol : 1e-3 * rig.length_scale();
 }
 
 double Scene::divergence_energy() const {

@@ -42,15 +42,17 @@ struct TargetChange {
 };
 
 struct ConvergenceParams {
-  double residual_tol = 0.0;   // rig units; 0 = 1e-3 of the rig's height. Reported, and a run
-                               // whose final residuals exceed it is "converged" only if at rest
-  double speed_tol = 0.0;      // rig units/s; 0 = 1e-3 of the rig's height per second.
-                               // at rest when sqrt(2 KE / total mass) is below this
+  double residual_tol = 0.0;   // rig units; 0 = 1e-3 of the rig's height (of its mean bone length
+                               // when the rig is flat). Reported, and a run whose final residuals
+                               // exceed it is "converged" only if at rest
+  double speed_tol = 0.0;      // rig units/s; 0 = 1e-3 of the rig's mean bone length per second
+                               // (Rig::length_scale). At rest when sqrt(2 KE / total mass) is below
   int settle_steps = 10;       // consecutive steps at rest to call the run converged
   bool stop_when_converged = false;
   bool stop_at_residual_tol = false;  // IK use: converged = every control point within
                                       // residual_tol; stop there, or at rest short of it
-  double divergence_energy = 0.0;  // J; 0 = 1e6 * total mass * height^2. Above it: diverged
+  double divergence_energy = 0.0;  // J; > 0: diverged when KE passes it (a fixed bound);
+                                   // 0 = the energy rule (physik/engine/run_monitor.h)
 };
 
 struct Scene {
@@ -67,6 +69,8 @@ struct Scene {
 
   double residual_tol() const;
   double speed_tol() const;
+  // the fixed bound before issue 12 (1e6 M h^2 unless given), still quoted by
+  // experiments/hand_explodes.cpp's note; the run monitor uses it only when given
   double divergence_energy() const;
 };
 

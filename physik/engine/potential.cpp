@@ -1,0 +1,55 @@
+#include "physik/engine/potential.h"
+
+#include <cmath>
+
+namespace physik {
+
+double control_spring_potential(SpringLaw law, double k, double cap, double d) {
+  if (law == SpringLaw::kLinear || d <= cap) return 0.5 * k * d * d;
+  return k * cap * (d - 0.5 * cap);
+}
+
+double torsion_spring_potential(SpringLaw law, double k, double cap, double excess) {
+  const double d = std::abs(excess);
+  if (law == SpringLaw::kLinear || d <= cap) return 0.5 * k * d * d;
+  return k * cap * (d - 0.5 * cap);
+}
+
+Vec3 torsion_excess(const std::array<AxisLimit, 3>& limits, double tolerance, const Quat& q) {
+  Vec3 e = Vec3::Zero();
+  if (!limits[0].limited && !limits[1].limited && !limits[2].limited) return e;
+  const Vec3 theta = rotation_vector(q);
+  for (int k = 0; k < 3; ++k) {
+    if (limits[k].limited) e[k] = torsion_excess(limits[k], tolerance, theta[k]);
+  }
+  return e;
+}
+
+double control_potential(const Scene& scene, const std::vector<Vec3>& attach_world,
+                         const std::vector<Vec3>& targets_world) {
+  double u = 0.0;
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    u += control_spring_potential(cp.spring_in(scene.params), cp.k_in(scene.params), cp.cap_in(scene.params),
+                                  (attach_world[c] - targets_world[c]).norm());
+  }
+  return u;
+}
+
+double torsion_potential(const Rig& rig, const EngineParams& params, const Pose& pose) {
+  if (params.torsion_k == 0.0) return 0.0;
+  double u = 0.0;
+  for (int i = 1; i < rig.nbone; ++i) {
+    const Vec3 e =
+        torsion_excess(rig.bone_limit[i], params.torsion_tolerance, pose.bone_local_rotation[i]);
+    for (int k = 0; k < 3; ++k) {
+      if (e[k] != 0.0) {
+        u += torsion_spring_potential(params.torsion_spring, params.torsion_k, params.torsion_cap,
+                                      e[k]);
+      }
+    }
+  }
+  return u;
+}
+
+}  // namespace physik

@@ -1,0 +1,19 @@
+// Names (bones, joints, control points) travel into every format the testbed writes: JSON (which
+// must be valid UTF-8), BVH (one joint per line, names end at whitespace or a brace) and CSV
+// (columns named after bones). A name is accepted at the edge where it is read when it is valid
+// UTF-8 (RFC 3629: shortest form, no surrogates, at most U+10FFFF) and holds no control character
+// (U+0000-U+001F, U+007F), so no writer can fail or split a line on it later. Characters that a
+// format reserves (a quote in CSV, '<' in XML) are escaped by that format's writer.
+#pragma once
+
+#include <string>
+
+namespace physik {
+
+// "" when `name` is acceptable, else the reason, e.g. "byte 0xff at offset 3 is not UTF-8".
+std::string name_problem(const std::string& name);
+
+// True when `text` is valid UTF-8 (control characters allowed).
+bool valid_utf8(const std::string& text);
+
+}  // namespace physik
