@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Gather every experiment's summary.json "report" section into results/REPORT.md.
 
-Each summary may carry:
+The settings table at the top takes the engine's parameters from results/params.json
+(`physik params --json`). Each summary may carry:
   "report": {"title": str, "claims": [{"claim", "measured", "holds"}], "notes": [str],
              "figures": [png names relative to the experiment folder], "settings": {...}}
 """
@@ -9,6 +10,7 @@ import argparse
 import datetime
 import json
 import os
+import re
 
 
 def collect(results):
@@ -33,32 +35,82 @@ def summary_order(results):
     return {line.strip(): k for k, line in enumerate(open(path)) if line.strip()}
 
 
+# The paper's settings beside ours. Names, values and units come from the engine's parameter
+# table (`physik params --json`, which scripts/reproduce.sh writes to results/params.json). In a
+# cell, {name} is the parameter's value and unit: in the "paper" column the `paper` preset's, in
+# "used here" the default preset's; {name:%} is a fraction as a percentage; {name@runs} the
+# values the experiments report in their settings. The rest is what the paper says and why.
 PAPER_SETTINGS = [
-    # (setting, paper, used, why)
-    ("dt", "0.05 s (captions imply 5 ms)", "0.05 s", "the text's value; 5 ms per step contradicts dt = 0.05"),
-    ("damping c", "20 N s/m", "3 N s/m (the original code's)", None),
-    ("control spring k", "30 N/m", "30 N/m in every paper scene", "as the paper"),
-    ("joint eps", "0.001", "0.001", "as the paper"),
-    ("pass cap", "not stated", "5 n^2 (the original code's)", "the original's value"),
-    ("torsion k, band", "not stated", "10 N m/rad, 10% inside each limit (the original's)", "the original's values"),
-    ("cap c of capped springs", "not stated", "1 rig unit (the original hard-codes 1)", "the original's value"),
-    ("integration", "independent rods (text)", "articulated (the original code's)",
+    # (setting: table names or text, paper, used here, why; None = the damping sweep's finding)
+    ("dt", "{dt} (captions imply 5 ms)", "{dt}", "the text's value; 5 ms per step contradicts dt = 0.05"),
+    ("damping", "{damping}", "{damping} (the original code's)", None),
+    ("control_k", "{control_k}", "{control_k@runs} in every paper scene", "as the paper"),
+    ("joint_eps", "{joint_eps}", "{joint_eps}", "as the paper"),
+    ("max_passes", "not stated", "{max_passes} (the original code's)", "the original's value"),
+    ("torsion_k, torsion_tolerance", "not stated",
+     "{torsion_k}, {torsion_tolerance:%} inside each limit (the original's)", "the original's values"),
+    ("control_cap", "not stated", "{control_cap} (the original hard-codes 1)", "the original's value"),
+    ("integration", "independent rods (text)", "{integration} (the original code's)",
      "free rods drift apart at first order in dt (see README); both are available"),
     ("knee/elbow range", "0..120 deg (text)", "0..160 deg", "the paper's own rig file says 160"),
 ]
 
 
-def settings_section(results):
+def value_text(row, value):
+    """A parameter's value with its unit, as the report writes it: 0.05 s, 5 n^2, 1 rig unit."""
+    if row["kind"] in ("boolean", "choice"):
+        return str(value).lower() if row["kind"] == "boolean" else value
+    if value == 0 and row.get("zero_means"):
+        return row["zero_means"]
+    text = "%g" % value
+    unit = row["unit"]
+    if unit in ("", "1"):
+        return text
+    if value == 1 and unit.endswith("units"):
+        unit = unit[:-1]
+    return text + " " + unit
+
+
+def fill(template, table, preset, runs):
+    """Replace {name}, {name:%} and {name@runs} in a settings cell."""
+    rows = {r["name"]: r for r in table["params"]}
+
+    def one(match):
+        name, how = match.group(1), match.group(2) or ""
+        if name not in rows:
+            raise KeyError("report settings: no parameter '%s' in params.json" % name)
+        row = rows[name]
+        if how == ":%":
+            return "%g%%" % (100 * row["defaults"][preset])
+        if how == "@runs":
+            seen = sorted({s[name] for s in runs if name in s}, key=str)
+            return " / ".join(value_text(row, v) for v in seen) or "(no run reports it)"
+        return value_text(row, row["defaults"][preset])
+
+    return re.sub(r"\{(\w+)(:%|@runs)?\}", one, template)
+
+
+def settings_section(results, sections=()):
     why_damping = "c = 20 diverges with dt = 0.05 on pinhead (see the damping sweep)"
     path = os.path.join(results, "damping_sweep", "summary.json")
     if os.path.isfile(path):
         for c in json.load(open(path)).get("report", {}).get("claims", []):
             if "c = 20" in c["claim"]:
                 why_damping = "measured: " + c["measured"]
-    out = ["## Settings: the paper's and ours", "",
-           "| setting | paper | used here | why |", "|---|---|---|---|"]
+    out = ["## Settings: the paper's and ours", ""]
+    params_path = os.path.join(results, "params.json")
+    if not os.path.isfile(params_path):
+        return out + ["(no params.json here: `physik params --json > %s` writes the table this "
+                      "section is made from)" % params_path, ""]
+    table = json.load(open(params_path))
+    runs = [rep["settings"] for _, _, rep in sections if rep.get("settings")]
+    names = {r["name"] for r in table["params"]}
+    out += ["| setting | paper | used here | why |", "|---|---|---|---|"]
     for name, paper, used, why in PAPER_SETTINGS:
-        out.append("| %s | %s | %s | %s |" % (name, paper, used, why or why_damping))
+        label = ", ".join("`%s`" % n if n in names else n for n in name.split(", "))
+        out.append("| %s | %s | %s | %s |" % (
+            label, fill(paper, table, "paper", runs),
+            fill(used, table, table["default_preset"], runs), why or why_damping))
     out.append("")
     return out
 
@@ -72,7 +124,7 @@ def render(sections, results=None):
     if figures:
         out += ["Figures: " + ", ".join("[%s](%s/%s)" % (f, n, f) for n, f in figures), ""]
     if results:
-        out += settings_section(results)
+        out += settings_section(results, sections)
     claims = [(n, c) for n, _, rep in sections for c in rep.get("claims", [])]
     out += ["## Claims", "", "| experiment | paper claim | measured | holds |", "|---|---|---|---|"]
     for name, c in claims:

@@ -19,6 +19,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "physik/engine/engine.h"
 #include "physik/io/scene_io.h"
 #include "reference/mujoco_runner.h"
 

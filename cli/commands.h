@@ -16,6 +16,7 @@ void add_simulate_commands(CLI::App& app);
 void add_reference_commands(CLI::App& app);
 void add_tune_commands(CLI::App& app);
 void add_solve_commands(CLI::App& app);
+void add_params_commands(CLI::App& app);
 
 // Where a command writes its JSON: a file (created with its parent folders) or stdout for "-" or "".
 void write_json(const nlohmann::json& doc, const std::string& path);

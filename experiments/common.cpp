@@ -89,14 +89,13 @@ std::vector<int> chains_to_root(const Rig& rig, const std::vector<int>& bones) {
 }
 
 nlohmann::json settings_json(const Scene& scene, const nlohmann::json& extra) {
-  nlohmann::json j = {{"dt", scene.params.dt},
-                      {"damping", scene.params.damping},
-                      {"control_k", scene.params.control_k},
-                      {"torsion_k", scene.params.torsion_k},
-                      {"eps", scene.params.joint_eps},
-                      {"interpolation", to_string(scene.params.interpolation)},
-                      {"interpolation_steps", scene.params.interpolation_steps},
-                      {"steps", scene.steps}};
+  // the parameters a report line shows, by the parameter table's names and values
+  nlohmann::json j = {{"steps", scene.steps}};
+  for (const char* name : {"dt", "damping", "control_k", "torsion_k", "joint_eps", "interpolation",
+                           "interpolation_steps"}) {
+    const ParamRow& row = param_row(name);
+    j[name] = param_value_json(row, row.get(scene.params));
+  }
   j.update(extra);
   return j;
 }

@@ -85,7 +85,7 @@ void run(const Context& ctx) {
        {"final_frame", frames.back()},
        {"report",
         {{"title", "Fig 5: a running pose from 8 control points"},
-         {"settings", settings_json(scene, {{"k", scene.control_points[0].k}})},
+         {"settings", settings_json(scene, {{"k", scene.control_points[0].k_in(scene.params)}})},
          {"claims", claims},
          {"notes", {"Rig pinhead; the damping is the original code's 3 N s/m because the paper's 20 "
                     "diverges on this rig (see the damping sweep).",

@@ -53,21 +53,22 @@ void run(const Context& ctx) {
       peak_over[t][l] = peak;
       double worst_residual = 0.0;
       for (double r : run.summary.final_residuals) worst_residual = std::max(worst_residual, r);
+      const double cap = scene.control_points[2].cap_in(scene.params);
       cases.push_back({{"case", tag},
                        {"target", t == 0 ? "near" : "far"},
                        {"spring", laws[l].tag},
-                       {"cap", scene.control_points[2].cap},
+                       {"cap", cap},
                        {"final_overbend_deg", final_over[t][l]},
                        {"peak_overbend_deg", peak},
                        {"final_residuals", run.summary.final_residuals},
-                       {"largest_final_residual_over_cap", worst_residual / scene.control_points[2].cap},
+                       {"largest_final_residual_over_cap", worst_residual / cap},
                        {"converged", run.summary.converged},
                        {"steps_to_converge", run.summary.steps_to_converge},
                        {"csv", tag + ".csv"},
                        {"final_frame", frames.back()}});
       if (ctx.log) {
         *ctx.log << "  " << tag << ": final over-bend " << final_over[t][l] << " deg, peak " << peak
-                 << ", largest residual/cap " << worst_residual / scene.control_points[2].cap << "\n";
+                 << ", largest residual/cap " << worst_residual / cap << "\n";
       }
     }
   }

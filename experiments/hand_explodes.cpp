@@ -39,10 +39,11 @@ double initial_spring_energy(const Scene& scene) {
   double e = 0.0;
   for (const ControlPoint& c : scene.control_points) {
     const double d = (point_on_bone(f, c.bone, c.alpha) - c.target_world).norm();
-    if (c.spring == SpringLaw::kCapped && d > c.cap) {
-      e += 0.5 * c.k * c.cap * c.cap + c.k * c.cap * (d - c.cap);
+    const double k = c.k_in(scene.params), cap = c.cap_in(scene.params);
+    if (c.spring_in(scene.params) == SpringLaw::kCapped && d > cap) {
+      e += 0.5 * k * cap * cap + k * cap * (d - cap);
     } else {
-      e += 0.5 * c.k * d * d;
+      e += 0.5 * k * d * d;
     }
   }
   return e;

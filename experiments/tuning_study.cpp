@@ -58,7 +58,7 @@ Scene scaled_scene(const Scene& base, double s, double density, bool scale_torsi
   out.rig = rig_from_json(doc, base.rig_file + " (scaled)");
   for (ControlPoint& cp : out.control_points) {
     cp.target_world *= s;
-    cp.cap *= s;
+    if (cp.cap) *cp.cap *= s;  // a point's own cap; the others follow params.control_cap
   }
   out.params.control_cap *= s;
   for (TargetChange& t : out.schedule) t.target_world *= s;
@@ -77,7 +77,7 @@ Rule damping_rule(const Scene& scene) {
   const Rig& rig = scene.rig;
   const double h = scene.params.dt;
   Rule r;
-  for (const ControlPoint& cp : scene.control_points) r.K += cp.k;
+  for (const ControlPoint& cp : scene.control_points) r.K += cp.k_in(scene.params);
   r.M = rig.total_mass();
   r.m_min = *std::min_element(rig.bone_mass.begin(), rig.bone_mass.end());
   r.c_crit = std::max(0.0, (2.0 * std::sqrt(r.K * r.M) - r.K * h) / (2.0 * rig.nbone));

@@ -96,19 +96,12 @@ MjcfRig load_mjcf(const std::string& path, const MjcfImportOptions& options) {
   return import_mjcf_model(m.get(), path, options);
 }
 
-MjcfRig import_mjcf_model(const mjModel* m, const std::string& source,
-                          const MjcfImportOptions& options) {
-  MjcfRig out;
-  MjcfImportReport& rep = out.report;
-  rep.nbody_model = m->nbody - 1;
-  if (m->nbody < 2) throw_input_error(source, "", "worldbody", "the model has no body");
+namespace {
 
-  MjDataPtr data(mj_makeData(m));
-  mjData* d = data.get();
-  mj_resetData(m, d);  // qpos = qpos0
-  mj_kinematics(m, d);
-
-  // the subtree: a named body, or the largest top-level one
+// the subtree that becomes the rig: a named body, or the largest top-level one; the other
+// top-level bodies are reported as skipped
+int choose_root(const mjModel* m, const std::string& source, const MjcfImportOptions& options,
+                MjcfImportReport& rep) {
   std::vector<int> subtree_size(m->nbody, 1);
   for (int b = m->nbody - 1; b > 0; --b) subtree_size[m->body_parentid[b]] += subtree_size[b];
   int root = -1;
@@ -126,8 +119,11 @@ MjcfRig import_mjcf_model(const mjModel* m, const std::string& source,
   for (int b = 1; b < m->nbody; ++b) {
     if (m->body_parentid[b] == 0 && b != root) rep.skipped_bodies.push_back(body_name(m, b));
   }
+  return root;
+}
 
-  // bodies of the subtree, parents first (MuJoCo's body order already is)
+// one pivot per body of the subtree at its rest origin, parents first (MuJoCo's body order is)
+std::vector<PivotNode> subtree_pivots(const mjModel* m, const mjData* d, int root, MjcfRig& out) {
   std::vector<int> node_of(m->nbody, -1);
   std::vector<PivotNode> nodes;
   for (int b = root; b < m->nbody; ++b) {
@@ -141,17 +137,23 @@ MjcfRig import_mjcf_model(const mjModel* m, const std::string& source,
     out.node_body.push_back(b);
     out.node_rest_xquat.push_back(q4(d->xquat + 4 * b).normalized());
   }
-  rep.nbody_used = static_cast<int>(nodes.size());
-  double extent = 1.0;
-  for (const PivotNode& n : nodes) extent = std::max(extent, n.rest_world.cwiseAbs().maxCoeff());
+  return nodes;
+}
 
-  // leaves: a tail from the geometry
-  // (a child at the body's own origin passes on whether it has children away)
-  std::vector<bool> zero_offset(nodes.size(), false);
+// pivots at their parent's own origin (no bone of their own)
+std::vector<bool> zero_offsets(const std::vector<PivotNode>& nodes, double extent) {
+  std::vector<bool> zero(nodes.size(), false);
   for (std::size_t i = 1; i < nodes.size(); ++i) {
-    zero_offset[i] =
-        (nodes[i].rest_world - nodes[nodes[i].parent].rest_world).norm() <= 1e-9 * extent;
+    zero[i] = (nodes[i].rest_world - nodes[nodes[i].parent].rest_world).norm() <= 1e-9 * extent;
   }
+  return zero;
+}
+
+// leaves get a tail from their geometry (a child at the body's own origin passes on whether it
+// has children away), else a short stub along the direction from their nearest ancestor away
+void add_leaf_tips(const mjModel* m, const mjData* d, const MjcfRig& out,
+                   const std::vector<bool>& zero_offset, double extent,
+                   std::vector<PivotNode>& nodes) {
   std::vector<bool> has_child_away(nodes.size(), false);
   for (std::size_t i = nodes.size() - 1; i >= 1; --i) {
     if (!zero_offset[i] || has_child_away[i]) has_child_away[nodes[i].parent] = true;
@@ -159,7 +161,6 @@ MjcfRig import_mjcf_model(const mjModel* m, const std::string& source,
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     if (has_child_away[i]) continue;
     const int b = out.node_body[i];
-    // direction of the body from its nearest ancestor away from it, else +Z
     Vec3 dir = Vec3::UnitZ();
     double offset_len = 0.0;
     for (int p = nodes[i].parent; p >= 0; p = nodes[p].parent) {
@@ -180,18 +181,19 @@ MjcfRig import_mjcf_model(const mjModel* m, const std::string& source,
     }
     nodes[i].ends_world.push_back(tip);
   }
+}
 
-  PivotBones bones = pivot_bones(nodes, source);
-  const int nspec = static_cast<int>(bones.specs.size());
+// the joints of one body, or of a chain of bodies
+struct BodyJoints {
+  std::vector<std::pair<Vec3, std::array<double, 3>>> hinges;  // world axis; lo, hi, limited
+  bool ball = false, ball_limited = false, free = false;
+  double ball_range = 0.0;
+};
 
-  // joints of each body
-  struct BodyJoints {
-    std::vector<std::pair<Vec3, std::array<double, 3>>> hinges;  // world axis; lo, hi, limited
-    bool ball = false, ball_limited = false, free = false;
-    double ball_range = 0.0;
-  };
-  std::vector<BodyJoints> bj(nodes.size());
-  for (std::size_t i = 0; i < nodes.size(); ++i) {
+std::vector<BodyJoints> body_joints(const mjModel* m, const mjData* d, const MjcfRig& out,
+                                    std::size_t nnode, MjcfImportReport& rep) {
+  std::vector<BodyJoints> bj(nnode);
+  for (std::size_t i = 0; i < nnode; ++i) {
     const int b = out.node_body[i];
     const Mat3 xmat = m9(d->xmat + 9 * b);
     for (int j = m->body_jntadr[b]; j >= 0 && j < m->body_jntadr[b] + m->body_jntnum[b]; ++j) {
@@ -212,95 +214,117 @@ MjcfRig import_mjcf_model(const mjModel* m, const std::string& source,
       }
     }
   }
+  return bj;
+}
 
-  // frames (roll to the first hinge) and limits per bone
-  const double kAlign = std::cos(deg2rad(20.0));
-  auto clamp_pi = [&](double v) {
-    if (v < -kPi || v > kPi) ++rep.clamped_ranges;
-    return std::clamp(v, -kPi, kPi);
-  };
-  // a bone's rotation relative to its parent bone is made by the joints of its own body and of
-  // the bodies between (zero-offset bodies have no bone of their own)
-  auto chain_joints = [&](int s) {
-    BodyJoints all;
-    const int stop = s == 0 ? -1 : bones.spec_node[bones.spec_parent[s]];
-    for (int n = bones.spec_node[s]; n >= 0 && n != stop; n = nodes[n].parent) {
-      const BodyJoints& j = bj[n];
-      all.hinges.insert(all.hinges.begin(), j.hinges.begin(), j.hinges.end());
-      all.ball = all.ball || j.ball;
-      all.ball_limited = all.ball_limited || j.ball_limited;
-      all.ball_range = std::max(all.ball_range, j.ball_range);
-      all.free = all.free || j.free;
-      if (s == 0) break;
-    }
-    return all;
-  };
-  for (int s = 0; s < nspec; ++s) {
-    BoneSpec& spec = bones.specs[s];
-    const BodyJoints j = chain_joints(s);
-    const Vec3 y = (spec.tail_world - spec.head_world).normalized();
-    for (const auto& h : j.hinges) {
-      const Vec3 perp = h.first - h.first.dot(y) * y;
-      if (std::abs(h.first.dot(y)) < kAlign && perp.norm() > 1e-9) {
-        const Vec3 x = perp.normalized();
-        spec.rest_frame_world.col(0) = x;
-        spec.rest_frame_world.col(1) = y;
-        spec.rest_frame_world.col(2) = x.cross(y);
-        break;
-      }
-    }
-    for (AxisLimit& l : spec.limit) l = AxisLimit{};
-    if (j.free) continue;
-    if (j.ball) {
-      if (j.ball_limited) {
-        const double r = clamp_pi(j.ball_range);
-        for (AxisLimit& l : spec.limit) l = AxisLimit{true, -r, r};
-      }
-      continue;
-    }
-    for (AxisLimit& l : spec.limit) l = AxisLimit{true, 0.0, 0.0};  // welded unless a hinge frees it
-    bool unaligned = false;
-    for (const auto& h : j.hinges) {
-      const Vec3 local = spec.rest_frame_world.transpose() * h.first;
-      int k = 0;
-      for (int a = 1; a < 3; ++a) k = std::abs(local[a]) > std::abs(local[k]) ? a : k;
-      if (std::abs(local[k]) < kAlign) {
-        unaligned = true;
-        continue;
-      }
-      rep.max_hinge_misalignment_deg = std::max(
-          rep.max_hinge_misalignment_deg, rad2deg(std::acos(std::min(1.0, std::abs(local[k])))));
-      const double lo = h.second[0], hi = h.second[1];
-      if (h.second[2] == 0.0) {
-        spec.limit[k] = AxisLimit{};
-      } else if (local[k] > 0) {
-        spec.limit[k] = AxisLimit{true, clamp_pi(lo), clamp_pi(hi)};
-      } else {
-        spec.limit[k] = AxisLimit{true, clamp_pi(-hi), clamp_pi(-lo)};
-      }
-    }
-    if (unaligned) {
-      ++rep.unaligned_hinges;
-      for (AxisLimit& l : spec.limit) l = AxisLimit{};
+// a bone's rotation relative to its parent bone is made by the joints of its own body and of
+// the bodies between (zero-offset bodies have no bone of their own)
+BodyJoints chain_joints(const PivotBones& bones, const std::vector<PivotNode>& nodes,
+                        const std::vector<BodyJoints>& bj, int s) {
+  BodyJoints all;
+  const int stop = s == 0 ? -1 : bones.spec_node[bones.spec_parent[s]];
+  for (int n = bones.spec_node[s]; n >= 0 && n != stop; n = nodes[n].parent) {
+    const BodyJoints& j = bj[n];
+    all.hinges.insert(all.hinges.begin(), j.hinges.begin(), j.hinges.end());
+    all.ball = all.ball || j.ball;
+    all.ball_limited = all.ball_limited || j.ball_limited;
+    all.ball_range = std::max(all.ball_range, j.ball_range);
+    all.free = all.free || j.free;
+    if (s == 0) break;
+  }
+  return all;
+}
+
+const double kAlign = std::cos(deg2rad(20.0));  // a hinge within 20 deg of a bone axis maps to it
+
+double clamp_pi(double v, MjcfImportReport& rep) {
+  if (v < -kPi || v > kPi) ++rep.clamped_ranges;
+  return std::clamp(v, -kPi, kPi);
+}
+
+// the bone's roll: its local x is the first hinge axis not along the bone
+void roll_to_first_hinge(const BodyJoints& j, BoneSpec& spec) {
+  const Vec3 y = (spec.tail_world - spec.head_world).normalized();
+  for (const auto& h : j.hinges) {
+    const Vec3 perp = h.first - h.first.dot(y) * y;
+    if (std::abs(h.first.dot(y)) < kAlign && perp.norm() > 1e-9) {
+      const Vec3 x = perp.normalized();
+      spec.rest_frame_world.col(0) = x;
+      spec.rest_frame_world.col(1) = y;
+      spec.rest_frame_world.col(2) = x.cross(y);
+      return;
     }
   }
+}
 
-  // mass and inertia: each body shared by the bones that follow it
-  std::vector<double> mass(nspec, 0.0);
-  std::vector<Mat3> inertia(nspec, Mat3::Zero());  // world axes, about the bone's midpoint
+// joints -> per-axis limits (see the header's table)
+void limits_from_joints(const BodyJoints& j, BoneSpec& spec, MjcfImportReport& rep) {
+  for (AxisLimit& l : spec.limit) l = AxisLimit{};
+  if (j.free) return;
+  if (j.ball) {
+    if (j.ball_limited) {
+      const double r = clamp_pi(j.ball_range, rep);
+      for (AxisLimit& l : spec.limit) l = AxisLimit{true, -r, r};
+    }
+    return;
+  }
+  for (AxisLimit& l : spec.limit) l = AxisLimit{true, 0.0, 0.0};  // welded unless a hinge frees it
+  bool unaligned = false;
+  for (const auto& h : j.hinges) {
+    const Vec3 local = spec.rest_frame_world.transpose() * h.first;
+    int k = 0;
+    for (int a = 1; a < 3; ++a) k = std::abs(local[a]) > std::abs(local[k]) ? a : k;
+    if (std::abs(local[k]) < kAlign) {
+      unaligned = true;
+      continue;
+    }
+    rep.max_hinge_misalignment_deg = std::max(
+        rep.max_hinge_misalignment_deg, rad2deg(std::acos(std::min(1.0, std::abs(local[k])))));
+    const double lo = h.second[0], hi = h.second[1];
+    if (h.second[2] == 0.0) {
+      spec.limit[k] = AxisLimit{};
+    } else if (local[k] > 0) {
+      spec.limit[k] = AxisLimit{true, clamp_pi(lo, rep), clamp_pi(hi, rep)};
+    } else {
+      spec.limit[k] = AxisLimit{true, clamp_pi(-hi, rep), clamp_pi(-lo, rep)};
+    }
+  }
+  if (unaligned) {
+    ++rep.unaligned_hinges;
+    for (AxisLimit& l : spec.limit) l = AxisLimit{};
+  }
+}
+
+// the bones that carry body i's mass: its own, else those of its zero-offset descendants, else
+// the bone ending at its origin
+std::vector<int> mass_carriers(std::size_t i, const std::vector<std::vector<int>>& followers,
+                               const std::vector<PivotNode>& nodes,
+                               const std::vector<bool>& zero_offset, const PivotBones& bones) {
+  std::vector<int> f = followers[i];
+  for (std::size_t j = i + 1; j < nodes.size() && f.empty(); ++j) {
+    int n = static_cast<int>(j);
+    while (n > static_cast<int>(i) && zero_offset[n]) n = nodes[n].parent;
+    if (n == static_cast<int>(i)) f = followers[j];
+  }
+  if (f.empty()) f = {std::max(0, bones.node_incoming[i])};
+  return f;
+}
+
+// each body's mass and inertia shared by the bones that carry it; inertia carried to each bone's
+// midpoint with the parallel-axis (Steiner) term, world axes
+void share_body_masses(const mjModel* m, const mjData* d, const MjcfRig& out,
+                       const std::vector<PivotNode>& nodes, const std::vector<bool>& zero_offset,
+                       const PivotBones& bones, std::vector<double>& mass,
+                       std::vector<Mat3>& inertia, MjcfImportReport& rep) {
+  const int nspec = static_cast<int>(bones.specs.size());
+  mass.assign(nspec, 0.0);
+  inertia.assign(nspec, Mat3::Zero());
   std::vector<std::vector<int>> followers(nodes.size());
   for (int s = 0; s < nspec; ++s) followers[bones.spec_node[s]].push_back(s);
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     const int b = out.node_body[i];
     rep.model_mass += m->body_mass[b];
-    std::vector<int> f = followers[i];
-    // no bone of its own: the bones of its zero-offset descendants, else the bone ending here
-    for (std::size_t j = i + 1; j < nodes.size() && f.empty(); ++j) {
-      int n = static_cast<int>(j);
-      while (n > static_cast<int>(i) && zero_offset[n]) n = nodes[n].parent;
-      if (n == static_cast<int>(i)) f = followers[j];
-    }
-    if (f.empty()) f = {std::max(0, bones.node_incoming[i])};
+    const std::vector<int> f = mass_carriers(i, followers, nodes, zero_offset, bones);
     const Mat3 ri = m9(d->ximat + 9 * b);
     const Mat3 iw = ri * v3(m->body_inertia + 3 * b).asDiagonal() * ri.transpose();
     const Vec3 com = v3(d->xipos + 3 * b);
@@ -308,7 +332,6 @@ MjcfRig import_mjcf_model(const mjModel* m, const std::string& source,
     Vec3 mid = Vec3::Zero();
     for (int s : f) {
       const Vec3 bone_mid = 0.5 * (bones.specs[s].head_world + bones.specs[s].tail_world);
-      // parallel-axis (Steiner) term: the share's inertia about the bone's midpoint
       const Vec3 r = bone_mid - com;
       mass[s] += share;
       inertia[s] += iw / static_cast<double>(f.size()) +
@@ -319,6 +342,14 @@ MjcfRig import_mjcf_model(const mjModel* m, const std::string& source,
       rep.max_com_shift = std::max(rep.max_com_shift, (mid - v3(d->xipos + 3 * b)).norm());
     }
   }
+}
+
+// masses (with a floor for massless bones) and the diagonal of each inertia in the bone's frame
+// into the specs; a diagonal no real body has falls back to the cylinder
+void set_spec_masses(const std::vector<double>& mass_in, const std::vector<Mat3>& inertia,
+                     PivotBones& bones, MjcfImportReport& rep) {
+  const int nspec = static_cast<int>(bones.specs.size());
+  std::vector<double> mass = mass_in;
   double mean = 0.0;
   for (double v : mass) mean += v / nspec;
   const double floor_mass = mean > 0.0 ? 1e-3 * mean : 1e-3;
@@ -346,6 +377,44 @@ MjcfRig import_mjcf_model(const mjModel* m, const std::string& source,
     }
     rep.rig_mass += spec.mass;
   }
+}
+
+}  // namespace
+
+MjcfRig import_mjcf_model(const mjModel* m, const std::string& source,
+                          const MjcfImportOptions& options) {
+  MjcfRig out;
+  MjcfImportReport& rep = out.report;
+  rep.nbody_model = m->nbody - 1;
+  if (m->nbody < 2) throw_input_error(source, "", "worldbody", "the model has no body");
+  MjDataPtr data(mj_makeData(m));
+  mjData* d = data.get();
+  mj_resetData(m, d);  // qpos = qpos0
+  mj_kinematics(m, d);
+
+  // the kinematic tree: pivots, leaf tips, bones
+  const int root = choose_root(m, source, options, rep);
+  std::vector<PivotNode> nodes = subtree_pivots(m, d, root, out);
+  rep.nbody_used = static_cast<int>(nodes.size());
+  double extent = 1.0;
+  for (const PivotNode& n : nodes) extent = std::max(extent, n.rest_world.cwiseAbs().maxCoeff());
+  const std::vector<bool> zero_offset = zero_offsets(nodes, extent);
+  add_leaf_tips(m, d, out, zero_offset, extent, nodes);
+  PivotBones bones = pivot_bones(nodes, source);
+
+  // frames (roll to the first hinge) and limits per bone
+  const std::vector<BodyJoints> bj = body_joints(m, d, out, nodes.size(), rep);
+  for (int s = 0; s < static_cast<int>(bones.specs.size()); ++s) {
+    const BodyJoints j = chain_joints(bones, nodes, bj, s);
+    roll_to_first_hinge(j, bones.specs[s]);
+    limits_from_joints(j, bones.specs[s], rep);
+  }
+
+  // mass and inertia: each body shared by the bones that follow it
+  std::vector<double> mass;
+  std::vector<Mat3> inertia;
+  share_body_masses(m, d, out, nodes, zero_offset, bones, mass, inertia, rep);
+  set_spec_masses(mass, inertia, bones, rep);
 
   const char* model_name = m->nnames > 0 ? m->names : "";  // the model name comes first
   out.pivots = finish_pivot_rig(nodes, bones, source, model_name);

@@ -4,12 +4,10 @@
 #include <chrono>
 #include <cmath>
 
-#include "physik/engine/control_springs.h"
-#include "physik/engine/damping.h"
+#include "physik/engine/forces.h"
 #include "physik/engine/interpolation.h"
 #include "physik/engine/newton_euler.h"
 #include "physik/engine/run_monitor.h"
-#include "physik/engine/torsion_springs.h"
 
 namespace physik {
 
@@ -120,10 +118,7 @@ StepStats MujocoReference::step() {
 
   // PhysIK's own force stages on the PhysIK view of MuJoCo's state
   update_targets(scene_, s_);
-  prepare_bodies(rig, p, s_);
-  apply_damping(rig, p, s_);
-  apply_control_springs(scene_, s_);
-  if (mode_ == ReferenceMode::kSameForces) apply_torsion_springs(rig, p, s_);
+  apply_forces(scene_, s_, {mode_ == ReferenceMode::kSameForces});
 
   // the angular-velocity factor as a torque, and the external forces into MuJoCo
   const double torque_per_w = (p.angular_velocity_factor - 1.0) / p.dt;

@@ -9,6 +9,7 @@ packages=(
   libgtest-dev libbenchmark-dev
   liborocos-kdl-dev
   python3-matplotlib python3-numpy
+  blender
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -10,6 +10,7 @@ export MPLBACKEND=Agg
 start=$(date +%s)
 mkdir -p "$RESULTS"
 "$PHYSIK" experiment list | cut -f1 > "$RESULTS/order.txt"
+"$PHYSIK" params --json > "$RESULTS/params.json"  # the report's settings table reads it
 echo "== experiments ($(wc -l < "$RESULTS/order.txt")) =="
 "$PHYSIK" experiment run --out "$RESULTS" --models models
 echo "== figures =="

@@ -65,6 +65,33 @@ expect_in "negative dt message" "$tmp/err" "s2.json: params: field 'dt'"
 printf '{"rig": "nowhere.json"}' > "$tmp/s3.json"
 check "simulate missing rig" 2 "$bin" simulate "$tmp/s3.json" --out "$tmp/x"
 check "simulate bad override" 2 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --out "$tmp/x" --set nonsense=1
+expect_in "bad override lists the keys" "$tmp/err" "--set: params: field 'nonsense': unknown parameter (known: preset, dt, damping,"
+check "simulate bad override value" 2 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --out "$tmp/x" --set dt=abc
+expect_in "bad override value message" "$tmp/err" "--set: params: field 'dt': expected a number, got 'abc'"
+check "simulate override out of range" 2 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --out "$tmp/x" --set torsion_tolerance=0.5
+expect_in "override range message" "$tmp/err" "--set: params: field 'torsion_tolerance': must lie in [0, 0.5)"
+check "simulate override each kind" 0 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --out "$tmp/kinds" --steps 5 --quiet \
+  --set preset=paper --set damping=2.5 --set max_passes=40 --set centripetal=true --set torsion_spring=capped
+expect_in "override each kind: preset" "$tmp/kinds/summary.json" '"preset": "paper"'
+expect_in "override each kind: damping" "$tmp/kinds/summary.json" '"damping": 2.5'
+expect_in "override each kind: scene's control_k on top of the preset" "$tmp/kinds/summary.json" '"control_k": 30.0'
+expect_in "override each kind: max_passes" "$tmp/kinds/summary.json" '"max_passes": 40'
+expect_in "override each kind: centripetal" "$tmp/kinds/summary.json" '"centripetal": true'
+expect_in "override each kind: torsion_spring" "$tmp/kinds/summary.json" '"torsion_spring": "capped"'
+
+# params: the parameter table, for people and for the report
+check "params help" 0 "$bin" params --help
+check "params" 0 "$bin" params
+expect_in "params text" "$tmp/out" "angular_velocity_factor"
+check "params json" 0 "$bin" params --json
+expect_in "params json damping" "$tmp/out" '"name": "damping"'
+mkdir -p "$tmp/report" && cp "$tmp/out" "$tmp/report/params.json"
+check "params paper" 0 "$bin" params --json --preset paper
+expect_in "params paper damping" "$tmp/out" '"damping": 20.0'
+check "params bad preset" 2 "$bin" params --preset fast
+expect_in "params bad preset message" "$tmp/err" "unknown preset 'fast'"
+check "report from the table" 0 /usr/bin/python3 "$src/analysis/report.py" "$tmp/report"
+expect_in "report settings row" "$tmp/report/REPORT.md" "| \`damping\` | 20 N s/m | 3 N s/m (the original code's) |"
 
 # MuJoCo reference (issue 4): export-mjcf prints MJCF that MuJoCo's own tools load; simulate --reference
 check "export-mjcf help" 0 "$bin" export-mjcf --help

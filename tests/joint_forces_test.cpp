@@ -7,9 +7,9 @@
 
 #include <gtest/gtest.h>
 
-#include "physik/engine/control_springs.h"
-#include "physik/engine/damping.h"
 #include "physik/engine/engine.h"
+#include "physik/engine/control_springs.h"
+#include "physik/engine/forces.h"
 #include "physik/engine/integrate.h"
 #include "physik/engine/newton_euler.h"
 #include "physik/engine/torsion_springs.h"
@@ -49,10 +49,7 @@ void randomize_velocities(std::mt19937& rng, SimState& s) {
 // every stage up to the joint solve
 JointSolveStats forces_and_solve(const Scene& scene, SimState& s) {
   local_rotations_from_world(scene.rig, s.frames, s.pose);
-  prepare_bodies(scene.rig, scene.params, s);
-  apply_damping(scene.rig, scene.params, s);
-  apply_control_springs(scene, s);
-  apply_torsion_springs(scene.rig, scene.params, s);
+  apply_forces(scene, s);
   return solve_joint_forces(scene.rig, scene.params, s);
 }
 
@@ -80,7 +77,8 @@ TEST(JointForces, SumToZeroAtEveryJointAndEqualiseAccelerations) {
       for (std::size_t j = 0; j < scene.rig.joints.size(); ++j) {
         Vec3 sum = Vec3::Zero();
         double scale = 0.0;
-        for (int m = s.joint_first_member[j]; m < s.joint_first_member[j + 1]; ++m) {
+        const Rig& rig = scene.rig;
+        for (int m = rig.joint_first_member[j]; m < rig.joint_first_member[j + 1]; ++m) {
           sum += s.member_force_world[m];
           scale = std::max(scale, s.member_force_world[m].norm());
         }

@@ -1,5 +1,6 @@
 // RunMonitor: convergence and divergence rules fed with hand-made observations, so every
 // expected step number follows from the rules in run_monitor.h.
+#include "physik/engine/engine.h"
 #include "physik/engine/run_monitor.h"
 
 #include <cmath>

@@ -102,11 +102,12 @@ struct PotentialResiduals {
       const V3<T> d = a - targets[c].cast<T>();
       const T d2 = d.squaredNorm();
       T s = T(1);
-      if (cp.spring == SpringLaw::kCapped && d2 > T(cp.cap * cp.cap)) {
+      const double cap = cp.cap_in(ep);
+      if (cp.spring_in(ep) == SpringLaw::kCapped && d2 > T(cap * cap)) {
         const T dn = sqrt(d2);
-        s = sqrt(T(cp.cap) * (T(2) * dn - T(cp.cap))) / dn;
+        s = sqrt(T(cap) * (T(2) * dn - T(cap))) / dn;
       }
-      for (int k = 0; k < 3; ++k) r[at++] = sqrt(cp.k) * s * d[k];
+      for (int k = 0; k < 3; ++k) r[at++] = sqrt(cp.k_in(ep)) * s * d[k];
     }
     for (int i : limited_bones) {
       const V3<T> theta = rotation_vector_t(local[i]);
@@ -139,7 +140,8 @@ double scene_potential(const Scene& scene, const Pose& pose) {
   double u = 0.0;
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
     const ControlPoint& cp = scene.control_points[c];
-    u += control_spring_potential(cp.spring, cp.k, cp.cap,
+    const EngineParams& ep = scene.params;
+    u += control_spring_potential(cp.spring_in(ep), cp.k_in(ep), cp.cap_in(ep),
                                   (point_on_bone(f, cp.bone, cp.alpha) - t[c]).norm());
   }
   if (scene.params.torsion_k > 0.0) {
@@ -162,6 +164,25 @@ double max_pose_distance(const BoneFrames& a, const BoneFrames& b) {
   }
   return m;
 }
+
+namespace {
+
+// Levenberg-Marquardt to machine precision: the minimum is the reference PhysIK is measured
+// against, so it stops on tiny tolerances, not on a budget
+ceres::Solver::Options solver_options(const EquilibriumOptions& opt) {
+  ceres::Solver::Options so;
+  so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.max_num_iterations = opt.max_iterations;
+  so.function_tolerance = 1e-16;
+  so.gradient_tolerance = 1e-16;
+  so.parameter_tolerance = 1e-14;
+  so.num_threads = 1;
+  so.minimizer_progress_to_stdout = opt.verbose;
+  return so;
+}
+
+}  // namespace
 
 EquilibriumResult solve_equilibrium(const Scene& scene, const EquilibriumOptions& opt) {
   const Rig& rig = scene.rig;
@@ -206,17 +227,8 @@ EquilibriumResult solve_equilibrium(const Scene& scene, const EquilibriumOptions
     problem.SetManifold(quats[i].data(), new ceres::EigenQuaternionManifold);
   }
 
-  ceres::Solver::Options so;
-  so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  so.linear_solver_type = ceres::DENSE_QR;
-  so.max_num_iterations = opt.max_iterations;
-  so.function_tolerance = 1e-16;
-  so.gradient_tolerance = 1e-16;
-  so.parameter_tolerance = 1e-14;
-  so.num_threads = 1;
-  so.minimizer_progress_to_stdout = opt.verbose;
   ceres::Solver::Summary summary;
-  ceres::Solve(so, &problem, &summary);
+  ceres::Solve(solver_options(opt), &problem, &summary);
 
   EquilibriumResult out;
   out.pose.root_head_world = Vec3(root[0], root[1], root[2]);
@@ -230,7 +242,8 @@ EquilibriumResult solve_equilibrium(const Scene& scene, const EquilibriumOptions
     const ControlPoint& cp = scene.control_points[c];
     const double d = (point_on_bone(out.frames, cp.bone, cp.alpha) - out.targets_world[c]).norm();
     out.control_distance.push_back(d);
-    out.control_potential += control_spring_potential(cp.spring, cp.k, cp.cap, d);
+    const EngineParams& ep = scene.params;
+    out.control_potential += control_spring_potential(cp.spring_in(ep), cp.k_in(ep), cp.cap_in(ep), d);
   }
   out.torsion_excess.assign(rig.nbone, Vec3::Zero());
   for (int i : functor->limited_bones) {

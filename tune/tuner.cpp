@@ -15,14 +15,14 @@
 namespace physik::tune {
 
 const std::vector<TunableSpec>& tunable_parameters() {
-  static const std::vector<TunableSpec> list = {
-      {"damping", 0.01, 100.0, "N s/m"},
-      {"control_k", 0.1, 1000.0, "N/m"},
-      {"torsion_k", 0.1, 1000.0, "N m/rad"},
-      {"angular_velocity_factor", 0.01, 1.0, "1"},
-      {"control_cap", 0.01, 100.0, "rig units"},
-      {"torsion_cap", 0.01, 3.2, "rad"},
-  };
+  // the parameter table's rows with tuning bounds, in its order
+  static const std::vector<TunableSpec> list = [] {
+    std::vector<TunableSpec> out;
+    for (const ParamRow& r : param_table()) {
+      if (r.tune) out.push_back({r.name, r.tune->first, r.tune->second, r.unit.c_str()});
+    }
+    return out;
+  }();
   return list;
 }
 
@@ -108,39 +108,20 @@ void apply_bounds(std::vector<TuneParam>& params, const std::string& spec, const
   throw_input_error(source, "", name, "not among the tuned parameters");
 }
 
-double get_param(const Scene& s, const std::string& name) {
-  const EngineParams& p = s.params;
-  if (name == "damping") return p.damping;
-  if (name == "control_k") return p.control_k;
-  if (name == "torsion_k") return p.torsion_k;
-  if (name == "angular_velocity_factor") return p.angular_velocity_factor;
-  if (name == "control_cap") return p.control_cap;
-  if (name == "torsion_cap") return p.torsion_cap;
-  throw_input_error("", "params", name, "unknown tunable parameter (known: " + tunable_names() + ")");
-}
+namespace {
 
-void set_param(Scene& s, const std::string& name, double value) {
-  EngineParams& p = s.params;
-  if (name == "control_k") {
-    for (ControlPoint& cp : s.control_points) {
-      cp.k = p.control_k > 0.0 ? cp.k * (value / p.control_k) : value;
-    }
-    p.control_k = value;
-  } else if (name == "control_cap") {
-    for (ControlPoint& cp : s.control_points) cp.cap *= value / p.control_cap;
-    p.control_cap = value;
-  } else if (name == "damping") {
-    p.damping = value;
-  } else if (name == "torsion_k") {
-    p.torsion_k = value;
-  } else if (name == "angular_velocity_factor") {
-    p.angular_velocity_factor = value;
-  } else if (name == "torsion_cap") {
-    p.torsion_cap = value;
-  } else {
+const ParamRow& tunable_row(const std::string& name) {
+  if (!find_spec(name)) {
     throw_input_error("", "params", name, "unknown tunable parameter (known: " + tunable_names() + ")");
   }
+  return param_row(name);
 }
+
+}  // namespace
+
+double get_param(const Scene& s, const std::string& name) { return tunable_row(name).get(s.params); }
+
+void set_param(Scene& s, const std::string& name, double value) { tunable_row(name).set(s.params, value); }
 
 RunSummary settle_residuals(const Scene& scene_in, SettleMeasure measure,
                             std::vector<double>& residuals) {

@@ -1,4 +1,4 @@
-// Automatic tuning of engine coefficients with Ceres (issue 6; DESIGN.md "Ceres").
+// Automatic tuning of engine coefficients with Ceres (issue 6; docs/DESIGN.md "Ceres").
 //
 // The problem. A scene's run is a map p -> trajectory. We choose p (damping, spring stiffnesses,
 // ...) inside bounds [lo, hi] to minimise a least-squares objective over the run:
@@ -47,7 +47,8 @@
 
 namespace physik::tune {
 
-// Names accepted by --params, with their default bounds.
+// Names accepted by --params, with their default bounds: the parameter table's rows with tuning
+// bounds (physik/model/params.h).
 struct TunableSpec {
   std::string name;
   double lo = 0.0;  // default lower bound (same unit as the parameter)
@@ -74,8 +75,9 @@ std::vector<TuneParam> parse_tune_params(const std::string& csv, const std::stri
 // "damping=0.1:10" overrides the bounds of a listed parameter.
 void apply_bounds(std::vector<TuneParam>& params, const std::string& spec, const std::string& source);
 
-// The parameter's value in a scene, and a scene with it set. control_k (and control_cap) scale
-// every control point's own k (cap) by new/old, so per-point ratios survive.
+// The parameter's value in a scene, and a scene with it set (through the parameter table).
+// Control points that give no k (cap) take params.control_k (control_cap) at use, so they follow;
+// a k or cap a point gives itself stays fixed.
 double get_param(const Scene& scene, const std::string& name);
 void set_param(Scene& scene, const std::string& name, double value);
 

@@ -58,6 +58,41 @@ class ReportTest(unittest.TestCase):
             self.assertIn("| exp | c1 | m1 | no |", text)
             self.assertIn("](exp/f.png)", text)
 
+    def test_settings_table_takes_values_and_units_from_params_json(self):
+        def row(name, kind, unit, original, paper, **extra):
+            return dict(name=name, kind=kind, unit=unit, defaults={"original": original, "paper": paper}, **extra)
+        table = {"presets": ["original", "paper"], "default_preset": "original", "params": [
+            row("dt", "real", "s", 0.05, 0.05), row("damping", "real", "N s/m", 7.0, 21.0),
+            row("control_k", "real", "N/m", 10.0, 30.0), row("joint_eps", "real", "rig units/s^2", 1e-3, 1e-3),
+            row("max_passes", "integer", "passes", 0, 0, zero_means="5 n^2"),
+            row("torsion_k", "real", "N m/rad", 10.0, 10.0), row("torsion_tolerance", "real", "1", 0.25, 0.1),
+            row("control_cap", "real", "rig units", 1.0, 1.0),
+            row("integration", "choice", "", "free-rods", "articulated")]}
+        with tempfile.TemporaryDirectory() as d:
+            os.makedirs(os.path.join(d, "exp"))
+            write(d, "params.json", json.dumps(table))
+            write(os.path.join(d, "exp"), "summary.json", json.dumps({"report": {
+                "title": "X", "settings": {"control_k": 12.5}}}))
+            report.main([d])
+            text = open(os.path.join(d, "REPORT.md")).read()
+            self.assertIn("| `damping` | 21 N s/m | 7 N s/m (the original code's) |", text)
+            self.assertIn("| `control_k` | 30 N/m | 12.5 N/m in every paper scene |", text)
+            self.assertIn("| `joint_eps` | 0.001 rig units/s^2 | 0.001 rig units/s^2 |", text)
+            self.assertIn("| 5 n^2 (the original code's) |", text)
+            self.assertIn("| 10 N m/rad, 25% inside each limit (the original's) |", text)
+            self.assertIn("| 1 rig unit (the original hard-codes 1) |", text)
+            self.assertIn("| free-rods (the original code's) |", text)
+            # a cell naming a parameter the table lacks is an error, not a blank
+            table["params"] = [r for r in table["params"] if r["name"] != "dt"]
+            write(d, "params.json", json.dumps(table))
+            with self.assertRaises(KeyError):
+                report.main([d])
+
+    def test_settings_table_needs_params_json(self):
+        with tempfile.TemporaryDirectory() as d:
+            report.main([d])
+            self.assertIn("no params.json here", open(os.path.join(d, "REPORT.md")).read())
+
 
 if __name__ == "__main__":
     unittest.main()

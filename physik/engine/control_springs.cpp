@@ -15,7 +15,8 @@ void apply_control_springs(const Scene& scene, SimState& s) {
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
     const ControlPoint& cp = scene.control_points[c];
     const Vec3 a = point_on_bone(s.frames, cp.bone, cp.alpha);
-    const Vec3 f = spring_force(cp.spring, cp.k, cp.cap, s.target_effective_world[c] - a);
+    const Vec3 f = spring_force(cp.spring_in(scene.params), cp.k_in(scene.params),
+                                cp.cap_in(scene.params), s.target_effective_world[c] - a);
     s.control_force_world[c] = f;
     apply_force_at(s, cp.bone, f, a);
   }

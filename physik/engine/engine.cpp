@@ -6,15 +6,13 @@
 #include <cstdio>
 #include <cstring>
 
-#include "physik/engine/control_springs.h"
-#include "physik/engine/damping.h"
+#include "physik/engine/forces.h"
 #include "physik/engine/integrate.h"
 #include "physik/engine/integrate_joint_space.h"
 #include "physik/engine/interpolation.h"
 #include "physik/engine/joint_forces.h"
 #include "physik/engine/newton_euler.h"
 #include "physik/engine/run_monitor.h"
-#include "physik/engine/torsion_springs.h"
 
 namespace physik {
 
@@ -46,17 +44,29 @@ void control_residuals(const Scene& scene, const SimState& s, std::vector<double
   }
 }
 
+void init_state(const Scene& scene, SimState& s) {
+  const Rig& rig = scene.rig;
+  size_state(rig, scene.control_points.size(), s);
+  forward_kinematics(rig, scene.initial_pose, s.frames);
+  for (int i = 0; i < rig.nbone; ++i) {
+    s.com_world[i] = 0.5 * (s.frames.head_world[i] + s.frames.tail_world[i]);
+    s.vel_world[i] = scene.initial_velocity_world;
+  }
+  s.pose = scene.initial_pose;
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    s.target_effective_world[c] = point_on_bone(s.frames, cp.bone, cp.alpha);
+    start_target_jump(scene, s, static_cast<int>(c), cp.target_world);
+  }
+  if (scene.params.joint_solve == JointSolve::kExact) init_joint_space(rig, s);
+}
+
 StepStats step(const Scene& scene, SimState& s) {
   const Rig& rig = scene.rig;
   const EngineParams& p = scene.params;
 
   update_targets(scene, s);
-  // s.pose already holds the local rotations of s.frames (init_state and the end of every step
-  // keep them in sync), which the torsion springs read
-  prepare_bodies(rig, p, s);
-  apply_damping(rig, p, s);
-  apply_control_springs(scene, s);
-  apply_torsion_springs(rig, p, s);
+  apply_forces(scene, s);
   const bool exact = p.joint_solve == JointSolve::kExact;
   const auto t0 = std::chrono::steady_clock::now();
   const JointSolveStats js = exact ? solve_articulated(rig, p, s) : solve_joint_forces(rig, p, s);

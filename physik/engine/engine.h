@@ -1,15 +1,12 @@
 // The PhysIK engine: one step, and a whole run of a scene with convergence and divergence
 // detection. The step reads like a table of contents (MuJoCo's mj_step, Box2D's solver stages):
 //
-//   update_targets        schedule + interpolation           interpolation.h
-//   prepare_bodies        forces cleared, I^-1, w x I w       newton_euler.h
-//   apply_damping         -c v at head and tail               damping.h
-//   apply_control_springs linear / capped springs             control_springs.h
-//   apply_torsion_springs joint-limit springs, +-tau           torsion_springs.h
-//   solve_joint_forces    Gauss-Seidel, corrected eq. 11      joint_forces.h
-//   integrate             semi-implicit Euler, articulated or free rods   integrate.h
-// With joint_solve exact the last two are solve_articulated (Featherstone's articulated-body
-// algorithm) and integrate_joint_space (MuJoCo's Euler in joint space), integrate_joint_space.h.
+//   update_targets        schedule + interpolation                          interpolation.h
+//   apply_forces          every force of the step, shared with the MuJoCo    forces.h
+//                         reference: bodies prepared (I^-1, w x I w), damping -c v at head and
+//                         tail, control springs, torsion springs +-tau
+//   solve_joint_forces    Gauss-Seidel, corrected eq. 11                     joint_forces.h
+//   integrate             semi-implicit Euler, articulated or free rods      integrate.h
 #pragma once
 
 #include <cstdint>
@@ -18,6 +15,10 @@
 #include "physik/engine/state.h"
 
 namespace physik {
+
+// The scene's initial state: every buffer sized (size_state), the initial pose and velocity, and
+// the initial targets, which count as a jump from where each attachment point starts.
+void init_state(const Scene& scene, SimState& state);
 
 StepStats step(const Scene& scene, SimState& state);
 

@@ -6,35 +6,14 @@
 
 namespace physik {
 
-void init_joint_tables(const Rig& rig, SimState& s) {
-  s.member_bone.clear();
-  s.member_at_tail.clear();
-  s.joint_first_member.clear();
-  for (const Joint& j : rig.joints) {
-    s.joint_first_member.push_back(static_cast<int>(s.member_bone.size()));
-    s.member_bone.push_back(j.parent);
-    s.member_at_tail.push_back(1);
-    for (int c : j.children) {
-      s.member_bone.push_back(c);
-      s.member_at_tail.push_back(0);
-    }
-  }
-  s.joint_first_member.push_back(static_cast<int>(s.member_bone.size()));
-  const std::size_t n = s.member_bone.size();
-  s.member_r_world.assign(n, Vec3::Zero());
-  s.member_Minv.assign(n, Mat3::Zero());
-  s.member_accel.assign(n, Vec3::Zero());
-  s.member_force_world.assign(n, Vec3::Zero());
-  s.joint_Sinv.assign(rig.joints.size(), Mat3::Zero());
-}
-
 void prepare_joint_solve(const Rig& rig, SimState& s) {
   const int njoint = static_cast<int>(rig.joints.size());
   for (int j = 0; j < njoint; ++j) {
     Mat3 sum = Mat3::Zero();
-    for (int m = s.joint_first_member[j]; m < s.joint_first_member[j + 1]; ++m) {
-      const int b = s.member_bone[m];
-      const Vec3& point = s.member_at_tail[m] ? s.frames.tail_world[b] : s.frames.head_world[b];
+    for (int m = rig.joint_first_member[j]; m < rig.joint_first_member[j + 1]; ++m) {
+      const int b = rig.joint_member_bone[m];
+      const Vec3& point =
+          rig.joint_member_at_tail[m] ? s.frames.tail_world[b] : s.frames.head_world[b];
       s.member_r_world[m] = point - s.com_world[b];
       s.member_Minv[m] =
           force_to_accel(rig.bone_mass[b], s.inertia_inv_world[b], s.member_r_world[m]).inverse();
@@ -48,10 +27,10 @@ namespace {
 
 // accelerations of joint j's points, into s.member_accel; returns their largest pairwise gap
 double measure_joint(const Rig& rig, const EngineParams& params, SimState& s, int j) {
-  const int first = s.joint_first_member[j], last = s.joint_first_member[j + 1];
+  const int first = rig.joint_first_member[j], last = rig.joint_first_member[j + 1];
   for (int m = first; m < last; ++m) {
     s.member_accel[m] =
-        point_accel(rig, s, s.member_bone[m], s.member_r_world[m], params.centripetal);
+        point_accel(rig, s, rig.joint_member_bone[m], s.member_r_world[m], params.centripetal);
   }
   double gap = 0.0;
   for (int m = first; m < last; ++m) {
@@ -83,14 +62,14 @@ JointSolveStats solve_joint_forces(const Rig& rig, const EngineParams& params, S
     double pass_mismatch = 0.0;
     for (int j = 0; j < njoint; ++j) {
       pass_mismatch = std::max(pass_mismatch, measure_joint(rig, params, s, j));
-      const int first = s.joint_first_member[j], last = s.joint_first_member[j + 1];
+      const int first = rig.joint_first_member[j], last = rig.joint_first_member[j + 1];
       // v = (sum M^-1)^-1 sum M^-1 a   (corrected eq. 11)
       Vec3 rhs = Vec3::Zero();
       for (int m = first; m < last; ++m) rhs += s.member_Minv[m] * s.member_accel[m];
       const Vec3 v = s.joint_Sinv[j] * rhs;
       // F_i = M_i^-1 (v - a_i), applied at the joint point; sum_i F_i = 0 up to round-off
       for (int m = first; m < last; ++m) {
-        const int b = s.member_bone[m];
+        const int b = rig.joint_member_bone[m];
         const Vec3 f = s.member_Minv[m] * (v - s.member_accel[m]);
         const Vec3 tau = s.member_r_world[m].cross(f);
         s.force_world[b] += f;

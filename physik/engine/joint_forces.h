@@ -35,7 +35,4 @@ double joint_accel_mismatch(const Rig& rig, const EngineParams& params, SimState
 
 JointSolveStats solve_joint_forces(const Rig& rig, const EngineParams& params, SimState& state);
 
-// Build the flattened joint-member tables of the state (once, at init).
-void init_joint_tables(const Rig& rig, SimState& state);
-
 }  // namespace physik

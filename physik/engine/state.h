@@ -27,10 +27,7 @@ struct SimState {
   std::vector<Mat3> inertia_inv_world;   // (nbone) I^-1 in world axes, 1/(kg m^2)
   std::vector<Vec3> gyro_world;          // (nbone) w x I w, N m (0 when gyroscopic is off)
 
-  // --- joint solve workspace, flattened over joint members (a joint's parent then children) ---
-  std::vector<int> member_bone;          // (nmember) bone index
-  std::vector<int> member_at_tail;       // (nmember) 1 if the joint point is the bone's tail
-  std::vector<int> joint_first_member;   // (njoint + 1) offsets into the member arrays
+  // --- joint solve workspace, per joint member (Rig::joint_member_bone, ...) ---
   std::vector<Vec3> member_r_world;      // (nmember) joint point minus centre of mass
   std::vector<Mat3> member_Minv;         // (nmember) inverse of M_i = m^-1 I + [r]x^T I^-1 [r]x
   std::vector<Mat3> joint_Sinv;          // (njoint) (sum_i M_i^-1)^-1
@@ -63,7 +60,8 @@ struct SimState {
                        // (local_rotations_from_world)
 };
 
-// Size every buffer for the scene and set the initial pose at rest (zero velocities).
-void init_state(const Scene& scene, SimState& state);
+// Size every buffer for a rig and `ncontrol` control points, zeroed, at step 0. init_state
+// (engine.h) then puts the scene's initial pose, velocities and targets in.
+void size_state(const Rig& rig, std::size_t ncontrol, SimState& state);
 
 }  // namespace physik

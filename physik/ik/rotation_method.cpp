@@ -66,6 +66,100 @@ Quat clamp_to_cone(const Rig& rig, int bone, const Quat& q, ConeShape shape) {
   return (quat_from_rotation_vector(sv) * Quat(Eigen::AngleAxisd(ty, Vec3::UnitY()))).normalized();
 }
 
+namespace {
+
+// One joint's turn toward one goal (the header's equations): bone j of pose p turning about its
+// head, carrying the goal's selected point along.
+class JointTurn {
+ public:
+  JointTurn(const Rig& rig, const IkOptions& opt, const BoneFrames& f, Pose& p, int j,
+            const IkGoal& goal, double weight, Vec3& point)
+      : rig_(rig), opt_(opt), f_(f), p_(p), j_(j), goal_(goal), weight_(weight), point_(point),
+        P_(rest_frame_world(rig, f, j)), h_(f.head_world[j]), L_(rig.bone_length[j]) {}
+
+  // bend joint: the one free axis, fixed in the parent
+  void bend(int axis_index) {
+    const Vec3 a = P_ * Vec3::Unit(axis_index);
+    apply(a, amount(a, goal_vec()));
+  }
+
+  // socket joint, twist then bend (the author's fix)
+  void twist_then_bend(bool twist_free) {
+    Vec3 g = goal_vec();
+    const Vec3 y = P_ * (p_.bone_local_rotation[j_] * Vec3::UnitY());
+    if (twist_free) {
+      Vec3 e = point_ - h_, t = point_ + g - h_;
+      e -= y * y.dot(e);
+      t -= y * y.dot(t);
+      if (e.norm() > 1e-9 * L_ && t.norm() > 1e-9 * L_) {
+        const double phi = std::atan2(y.dot(e.cross(t)), e.dot(t));
+        apply(y, opt_.rotation_gain * weight_ * phi);
+        g = goal_vec();
+      }
+    }
+    const Vec3 y2 = P_ * (p_.bone_local_rotation[j_] * Vec3::UnitY());
+    Vec3 a = (point_ - h_).cross(g);
+    a -= y2 * y2.dot(a);
+    if (a.norm() < 1e-12) return;
+    a.normalize();
+    apply(a, amount(a, g));
+  }
+
+  // socket joint as shipped: the axis normal to the virtual bone and the goal vector
+  void virtual_bone() {
+    const Vec3 g = goal_vec();
+    Vec3 a = (point_ - h_).cross(g);
+    if (a.norm() < 1e-12) return;  // virtual bone and goal vector aligned: no rotation
+    a.normalize();
+    apply(a, amount(a, g));
+  }
+
+ private:
+  // turn by theta (clamped) about a world axis through the head, within the limits
+  void apply(const Vec3& axis, double theta) {
+    theta = std::clamp(theta, -opt_.max_angle_step, opt_.max_angle_step);
+    const Quat q_old = p_.bone_local_rotation[j_];
+    Quat q = rotate_local(rig_, f_, j_, q_old, Quat(Eigen::AngleAxisd(theta, axis)));
+    if (opt_.respect_limits) {
+      q = clamp_to_limits(rig_, j_, clamp_to_cone(rig_, j_, q, opt_.cone_shape));
+    }
+    const Quat delta = (P_ * q * q_old.conjugate() * P_.conjugate()).normalized();
+    point_ = h_ + delta * (point_ - h_);
+    p_.bone_local_rotation[j_] = q;
+  }
+
+  // the goal vector with springiness toward the natural (rest) position
+  Vec3 goal_vec() const {
+    const Vec3 g = goal_.target_world - point_;
+    if (opt_.springiness <= 0.0) return g;
+    const Vec3 natural_tail = h_ + P_ * Vec3(0, L_, 0);
+    const Vec3 tail = h_ + P_ * (p_.bone_local_rotation[j_] * Vec3(0, L_, 0));
+    return Vec3(g + opt_.springiness * std::min(1.0, g.norm() / L_) * (natural_tail - tail));
+  }
+
+  // the rotation amount about axis a for goal vector g
+  double amount(const Vec3& a, const Vec3& g) const {
+    const Vec3 r = point_ - h_;
+    const Vec3 ra = r - a * a.dot(r);
+    const double r2 = ra.squaredNorm();
+    return r2 > 1e-24 ? opt_.rotation_gain * weight_ * a.dot(ra.cross(g)) / r2 : 0.0;
+  }
+
+  const Rig& rig_;
+  const IkOptions& opt_;
+  const BoneFrames& f_;
+  Pose& p_;
+  const int j_;
+  const IkGoal& goal_;
+  const double weight_;
+  Vec3& point_;
+  const Quat P_;
+  const Vec3 h_;
+  const double L_;
+};
+
+}  // namespace
+
 IkReport solve_rotation_method(const IkProblem& pb, Pose& pose) {
   const Rig& rig = *pb.rig;
   const IkOptions& opt = pb.options;
@@ -78,72 +172,20 @@ IkReport solve_rotation_method(const IkProblem& pb, Pose& pose) {
       if (!locked) free_axes[i].push_back(k);
     }
   }
-  const double cap = opt.max_angle_step;
-
   auto iterate = [&](Pose& p, BoneFrames& f) {
     for (const IkGoal& goal : pb.goals) {
       Vec3 point = point_on_bone(f, goal.bone, goal.alpha);
       double weight = 1.0;  // damping^k
       for (int j = goal.bone; j >= 0; j = rig.bone_parent[j], weight *= opt.rotation_damping) {
         if (free_axes[j].empty() || weight == 0.0) continue;
-        const Quat P = rest_frame_world(rig, f, j);
-        const Vec3& h = f.head_world[j];
-        const double L = rig.bone_length[j];
-        auto apply = [&](const Vec3& axis, double theta) {
-          theta = std::clamp(theta, -cap, cap);
-          const Quat q_old = p.bone_local_rotation[j];
-          Quat q = rotate_local(rig, f, j, q_old, Quat(Eigen::AngleAxisd(theta, axis)));
-          if (opt.respect_limits) {
-            q = clamp_to_limits(rig, j, clamp_to_cone(rig, j, q, opt.cone_shape));
-          }
-          const Quat delta = (P * q * q_old.conjugate() * P.conjugate()).normalized();
-          point = h + delta * (point - h);
-          p.bone_local_rotation[j] = q;
-        };
-        auto goal_vec = [&]() {
-          const Vec3 g = goal.target_world - point;
-          if (opt.springiness <= 0.0) return g;
-          const Vec3 natural_tail = h + P * Vec3(0, L, 0);
-          const Vec3 tail = h + P * (p.bone_local_rotation[j] * Vec3(0, L, 0));
-          return Vec3(g + opt.springiness * std::min(1.0, g.norm() / L) * (natural_tail - tail));
-        };
-        auto amount = [&](const Vec3& a, const Vec3& g) {
-          const Vec3 r = point - h;
-          const Vec3 ra = r - a * a.dot(r);
-          const double r2 = ra.squaredNorm();
-          return r2 > 1e-24 ? opt.rotation_gain * weight * a.dot(ra.cross(g)) / r2 : 0.0;
-        };
-        Vec3 g = goal_vec();
-        if (free_axes[j].size() == 1) {  // bend joint: the fixed axis
-          const Vec3 a = P * Vec3::Unit(free_axes[j][0]);
-          apply(a, amount(a, g));
-          continue;
-        }
-        if (opt.socket_mode == SocketMode::kTwistBend) {
-          const Vec3 y = P * (p.bone_local_rotation[j] * Vec3::UnitY());
-          const bool twist_free = std::find(free_axes[j].begin(), free_axes[j].end(), 1) !=
-                                  free_axes[j].end();
-          if (twist_free) {
-            Vec3 e = point - h, t = point + g - h;
-            e -= y * y.dot(e);
-            t -= y * y.dot(t);
-            if (e.norm() > 1e-9 * L && t.norm() > 1e-9 * L) {
-              const double phi = std::atan2(y.dot(e.cross(t)), e.dot(t));
-              apply(y, opt.rotation_gain * weight * phi);
-              g = goal_vec();
-            }
-          }
-          const Vec3 y2 = P * (p.bone_local_rotation[j] * Vec3::UnitY());
-          Vec3 a = (point - h).cross(g);
-          a -= y2 * y2.dot(a);
-          if (a.norm() < 1e-12) continue;
-          a.normalize();
-          apply(a, amount(a, g));
+        JointTurn turn(rig, opt, f, p, j, goal, weight, point);
+        if (free_axes[j].size() == 1) {
+          turn.bend(free_axes[j][0]);
+        } else if (opt.socket_mode == SocketMode::kTwistBend) {
+          const auto& axes = free_axes[j];
+          turn.twist_then_bend(std::find(axes.begin(), axes.end(), 1) != axes.end());
         } else {
-          Vec3 a = (point - h).cross(g);
-          if (a.norm() < 1e-12) continue;  // virtual bone and goal vector aligned: no rotation
-          a.normalize();
-          apply(a, amount(a, g));
+          turn.virtual_bone();
         }
       }
       forward_kinematics(rig, p, f);  // the next goal starts from the updated pose

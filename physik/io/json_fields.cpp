@@ -91,11 +91,17 @@ std::string JsonContext::string_or(const Json& obj, const std::string& key,
 std::string JsonContext::choice_or(const Json& obj, const std::string& key,
                                    std::initializer_list<const char*> choices,
                                    const std::string& fallback) const {
+  return choice_or(obj, key, std::vector<std::string>(choices.begin(), choices.end()), fallback);
+}
+
+std::string JsonContext::choice_or(const Json& obj, const std::string& key,
+                                   const std::vector<std::string>& choices,
+                                   const std::string& fallback) const {
   const std::string v = string_or(obj, key, fallback);
   std::string all;
-  for (const char* c : choices) {
+  for (const std::string& c : choices) {
     if (v == c) return v;
-    all += (all.empty() ? "" : "|") + std::string(c);
+    all += (all.empty() ? "" : "|") + c;
   }
   fail(key, "unknown value '" + v + "' (expected " + all + ")");
 }
@@ -114,12 +120,16 @@ Vec3 JsonContext::vec3(const Json& obj, const std::string& key) const {
 }
 
 void JsonContext::only_keys(const Json& obj, std::initializer_list<const char*> known) const {
+  only_keys(obj, std::vector<std::string>(known.begin(), known.end()));
+}
+
+void JsonContext::only_keys(const Json& obj, const std::vector<std::string>& known) const {
   for (auto it = obj.begin(); it != obj.end(); ++it) {
     bool ok = false;
-    for (const char* k : known) ok = ok || it.key() == k;
+    for (const std::string& k : known) ok = ok || it.key() == k;
     if (!ok) {
       std::string all;
-      for (const char* k : known) all += (all.empty() ? "" : ", ") + std::string(k);
+      for (const std::string& k : known) all += (all.empty() ? "" : ", ") + k;
       fail(it.key(), "unknown field (known fields: " + all + ")");
     }
   }

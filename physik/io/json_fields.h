@@ -6,6 +6,7 @@
 #include <initializer_list>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -35,11 +36,15 @@ struct JsonContext {
   std::string choice_or(const Json& obj, const std::string& key,
                         std::initializer_list<const char*> choices,
                         const std::string& fallback) const;
+  std::string choice_or(const Json& obj, const std::string& key,
+                        const std::vector<std::string>& choices,
+                        const std::string& fallback) const;
   Vec3 vec3(const Json& obj, const std::string& key) const;
   Vec3 vec3_value(const Json& value, const std::string& field) const;
   double number_value(const Json& value, const std::string& field) const;
   // fails on any key of `obj` that is not in `known`
   void only_keys(const Json& obj, std::initializer_list<const char*> known) const;
+  void only_keys(const Json& obj, const std::vector<std::string>& known) const;
   void require_object(const Json& obj, const std::string& field) const;
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <optional>
 
 #include "physik/io/rig_io.h"
 #include "physik/model/errors.h"
@@ -10,22 +11,32 @@ namespace physik {
 
 namespace {
 
-SpringLaw spring_law(const JsonContext& ctx, const Json& obj, const std::string& key,
-                     SpringLaw fallback) {
-  const std::string v = ctx.choice_or(obj, key, {"linear", "capped"}, to_string(fallback));
-  return v == "linear" ? SpringLaw::kLinear : SpringLaw::kCapped;
-}
-
-double positive(const JsonContext& ctx, const Json& obj, const std::string& key, double fallback) {
-  const double v = ctx.number_or(obj, key, fallback);
-  if (!(v > 0.0)) ctx.fail(key, "must be positive");
-  return v;
-}
-
 double non_negative(const JsonContext& ctx, const Json& obj, const std::string& key,
                     double fallback) {
   const double v = ctx.number_or(obj, key, fallback);
   if (v < 0.0) ctx.fail(key, "must not be negative");
+  return v;
+}
+
+// obj[key] read by the row's kind and checked against its range; absent or null: nothing
+std::optional<ParamValue> param_from_json(const JsonContext& ctx, const Json& obj,
+                                          const std::string& key, const ParamRow& row) {
+  const auto it = obj.find(key);
+  if (it == obj.end() || it->is_null()) return std::nullopt;
+  ParamValue v = 0.0;
+  switch (row.kind) {
+    case ParamKind::kReal: v = ctx.number_value(*it, key); break;
+    case ParamKind::kInteger: v = ctx.integer(obj, key); break;
+    case ParamKind::kBoolean: v = ctx.boolean_or(obj, key, false) ? 1.0 : 0.0; break;
+    case ParamKind::kChoice: {
+      const std::string name = ctx.choice_or(obj, key, row.choices, "");
+      v = static_cast<ParamValue>(
+          std::find(row.choices.begin(), row.choices.end(), name) - row.choices.begin());
+      break;
+    }
+  }
+  const std::string why = range_violation(row, v);
+  if (!why.empty()) ctx.fail(key, why);
   return v;
 }
 
@@ -47,90 +58,10 @@ int control_point_ref(const JsonContext& ctx, const Json& v, const std::vector<C
   ctx.fail("control_point", "expected an index or a control point name");
 }
 
-}  // namespace
+// --- the stages of scene_from_json -----------------------------------------------------------
 
-EngineParams params_from_json(const Json& params, const std::string& source) {
-  JsonContext ctx{source, "params"};
-  if (params.is_null()) return preset_params(kDefaultPreset, source);
-  ctx.require_object(params, "params");
-  ctx.only_keys(params, {"preset", "dt", "damping", "angular_velocity_factor", "joint_eps",
-                         "max_passes", "centripetal", "gyroscopic", "control_k",
-                         "control_spring", "control_cap", "torsion_k", "torsion_spring",
-                         "torsion_cap", "torsion_tolerance", "joint_solve", "integration", "interpolation",
-                         "interpolation_steps", "interpolation_fallback"});
-  EngineParams p = preset_params(ctx.string_or(params, "preset", kDefaultPreset), source);
-  p.dt = positive(ctx, params, "dt", p.dt);
-  p.damping = non_negative(ctx, params, "damping", p.damping);
-  p.angular_velocity_factor =
-      non_negative(ctx, params, "angular_velocity_factor", p.angular_velocity_factor);
-  if (p.angular_velocity_factor > 1.0) ctx.fail("angular_velocity_factor", "must lie in [0, 1]");
-  p.joint_eps = positive(ctx, params, "joint_eps", p.joint_eps);
-  p.max_passes = ctx.integer_or(params, "max_passes", p.max_passes);
-  if (p.max_passes < 0) ctx.fail("max_passes", "must not be negative (0 = 5 n^2)");
-  p.centripetal = ctx.boolean_or(params, "centripetal", p.centripetal);
-  p.gyroscopic = ctx.boolean_or(params, "gyroscopic", p.gyroscopic);
-  p.control_k = non_negative(ctx, params, "control_k", p.control_k);
-  p.control_spring = spring_law(ctx, params, "control_spring", p.control_spring);
-  p.control_cap = positive(ctx, params, "control_cap", p.control_cap);
-  p.torsion_k = non_negative(ctx, params, "torsion_k", p.torsion_k);
-  p.torsion_spring = spring_law(ctx, params, "torsion_spring", p.torsion_spring);
-  p.torsion_cap = positive(ctx, params, "torsion_cap", p.torsion_cap);
-  p.torsion_tolerance = non_negative(ctx, params, "torsion_tolerance", p.torsion_tolerance);
-  if (p.torsion_tolerance >= 0.5) ctx.fail("torsion_tolerance", "must lie in [0, 0.5)");
-  const std::string solve = ctx.choice_or(params, "joint_solve", {"gauss-seidel", "exact"},
-                                          to_string(p.joint_solve));
-  p.joint_solve = solve == "exact" ? JointSolve::kExact : JointSolve::kGaussSeidel;
-  const std::string integ =
-      ctx.choice_or(params, "integration", {"articulated", "free-rods"}, to_string(p.integration));
-  p.integration = integ == "articulated" ? Integration::kArticulated : Integration::kFreeRods;
-  const std::string interp = ctx.choice_or(
-      params, "interpolation", {"none", "linear", "polar-head", "polar-com"},
-      to_string(p.interpolation));
-  p.interpolation = interp == "none"         ? Interpolation::kNone
-                    : interp == "linear"     ? Interpolation::kLinear
-                    : interp == "polar-head" ? Interpolation::kPolarHead
-                                             : Interpolation::kPolarCom;
-  p.interpolation_steps = ctx.integer_or(params, "interpolation_steps", p.interpolation_steps);
-  if (p.interpolation_steps < 0) ctx.fail("interpolation_steps", "must not be negative");
-  p.interpolation_fallback =
-      positive(ctx, params, "interpolation_fallback", p.interpolation_fallback);
-  return p;
-}
-
-Json params_to_json(const EngineParams& p) {
-  Json out = {{"preset", p.preset},
-          {"dt", p.dt},
-          {"damping", p.damping},
-          {"angular_velocity_factor", p.angular_velocity_factor},
-          {"joint_eps", p.joint_eps},
-          {"max_passes", p.max_passes},
-          {"centripetal", p.centripetal},
-          {"gyroscopic", p.gyroscopic},
-          {"control_k", p.control_k},
-          {"control_spring", to_string(p.control_spring)},
-          {"control_cap", p.control_cap},
-          {"torsion_k", p.torsion_k},
-          {"torsion_spring", to_string(p.torsion_spring)},
-          {"torsion_cap", p.torsion_cap},
-          {"torsion_tolerance", p.torsion_tolerance},
-          {"integration", to_string(p.integration)},
-          {"interpolation", to_string(p.interpolation)},
-          {"interpolation_steps", p.interpolation_steps},
-          {"interpolation_fallback", p.interpolation_fallback}};
-  // written only when not the default, so Gauss-Seidel summaries stay as they were
-  if (p.joint_solve != JointSolve::kGaussSeidel) out["joint_solve"] = to_string(p.joint_solve);
-  return out;
-}
-
-Scene scene_from_json(const Json& doc, const std::string& source, const std::string& base_dir) {
-  JsonContext top{source, ""};
-  top.require_object(doc, "");
-  top.only_keys(doc, {"name", "comment", "rig", "params", "control_points", "schedule", "steps",
-                      "convergence", "initial_pose", "initial_velocity"});
-  Scene s;
-  s.file = source;
-
-  // the rig, relative to the scene file unless absolute
+// the rig, relative to the scene file unless absolute
+void read_rig(const JsonContext& top, const Json& doc, const std::string& base_dir, Scene& s) {
   const std::string rig_ref = top.string(doc, "rig");
   std::filesystem::path rig_path(rig_ref);
   if (rig_path.is_relative()) rig_path = std::filesystem::path(base_dir) / rig_path;
@@ -139,138 +70,163 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
     top.fail("rig", "rig file '" + s.rig_file + "' does not exist");
   }
   s.rig = load_rig(s.rig_file);
+}
 
-  s.params = params_from_json(doc.contains("params") ? doc["params"] : Json(nullptr), source);
+// a point's own spring, k and cap are checked like the params they stand in for
+ControlPoint control_point_from_json(const JsonContext& ctx, const Json& c, const Scene& s) {
+  ctx.require_object(c, "");
+  ctx.only_keys(c, {"name", "bone", "alpha", "target", "spring", "k", "cap", "comment"});
+  ControlPoint cp;
+  cp.name = ctx.string_or(c, "name", "");
+  const std::string bone = ctx.string(c, "bone");
+  cp.bone = s.rig.find_bone(bone);
+  if (cp.bone < 0) ctx.fail("bone", "unknown bone '" + bone + "' in rig " + s.rig_file);
+  cp.alpha = ctx.number_or(c, "alpha", 1.0);
+  if (cp.alpha < 0.0 || cp.alpha > 1.0) ctx.fail("alpha", "must lie in [0, 1] (0 = head, 1 = tail)");
+  cp.target_world = ctx.vec3(c, "target");
+  if (const auto v = param_from_json(ctx, c, "spring", param_row("control_spring"))) {
+    cp.spring = static_cast<SpringLaw>(static_cast<int>(*v));
+  }
+  cp.k = param_from_json(ctx, c, "k", param_row("control_k"));
+  cp.cap = param_from_json(ctx, c, "cap", param_row("control_cap"));
+  return cp;
+}
 
+void read_control_points(const JsonContext& top, const Json& doc, Scene& s) {
+  if (!doc.contains("control_points")) return;
+  const Json& cps = doc["control_points"];
+  if (!cps.is_array()) top.fail("control_points", "expected an array");
+  for (std::size_t i = 0; i < cps.size(); ++i) {
+    const JsonContext ctx{top.file, "control_points[" + std::to_string(i) + "]"};
+    s.control_points.push_back(control_point_from_json(ctx, cps[i], s));
+  }
+}
+
+// schedule of target changes, sorted by step
+void read_schedule(const JsonContext& top, const Json& doc, Scene& s) {
+  if (!doc.contains("schedule")) return;
+  const Json& sch = doc["schedule"];
+  if (!sch.is_array()) top.fail("schedule", "expected an array");
+  for (std::size_t i = 0; i < sch.size(); ++i) {
+    const JsonContext ctx{top.file, "schedule[" + std::to_string(i) + "]"};
+    ctx.require_object(sch[i], "");
+    ctx.only_keys(sch[i], {"step", "control_point", "target", "comment"});
+    TargetChange t;
+    t.step = ctx.integer(sch[i], "step");
+    if (t.step < 0 || t.step >= s.steps) {
+      ctx.fail("step", "must lie in [0, steps) = [0, " + std::to_string(s.steps) + ")");
+    }
+    t.control_point = control_point_ref(ctx, ctx.require(sch[i], "control_point"), s.control_points);
+    t.target_world = ctx.vec3(sch[i], "target");
+    s.schedule.push_back(t);
+  }
+  std::stable_sort(s.schedule.begin(), s.schedule.end(),
+                   [](const TargetChange& a, const TargetChange& b) { return a.step < b.step; });
+}
+
+void read_convergence(const JsonContext& top, const Json& doc, Scene& s) {
+  if (!doc.contains("convergence")) return;
+  const Json& c = doc["convergence"];
+  const JsonContext ctx{top.file, "convergence"};
+  ctx.require_object(c, "convergence");
+  ctx.only_keys(c, {"residual_tol", "speed_tol", "settle_steps", "stop_when_converged",
+                    "stop_at_residual_tol", "divergence_energy"});
+  s.convergence.residual_tol = non_negative(ctx, c, "residual_tol", 0.0);
+  s.convergence.speed_tol = non_negative(ctx, c, "speed_tol", 0.0);
+  s.convergence.settle_steps = ctx.integer_or(c, "settle_steps", s.convergence.settle_steps);
+  if (s.convergence.settle_steps < 1) ctx.fail("settle_steps", "must be at least 1");
+  s.convergence.stop_when_converged = ctx.boolean_or(c, "stop_when_converged", false);
+  s.convergence.stop_at_residual_tol = ctx.boolean_or(c, "stop_at_residual_tol", false);
+  s.convergence.divergence_energy = non_negative(ctx, c, "divergence_energy", 0.0);
+}
+
+// initial pose: rest, optionally with a root position and per-bone rotation vectors (deg)
+void read_initial_pose(const JsonContext& top, const Json& doc, Scene& s) {
+  s.initial_pose = rest_pose(s.rig);
+  if (!doc.contains("initial_pose")) return;
+  const Json& ip = doc["initial_pose"];
+  const JsonContext ctx{top.file, "initial_pose"};
+  ctx.require_object(ip, "initial_pose");
+  ctx.only_keys(ip, {"root_head", "rotation_deg"});
+  if (ip.contains("root_head")) s.initial_pose.root_head_world = ctx.vec3(ip, "root_head");
+  if (!ip.contains("rotation_deg")) return;
+  const Json& rot = ip["rotation_deg"];
+  ctx.require_object(rot, "rotation_deg");
+  for (auto it = rot.begin(); it != rot.end(); ++it) {
+    const int b = s.rig.find_bone(it.key());
+    if (b < 0) ctx.fail("rotation_deg." + it.key(), "unknown bone");
+    const Vec3 v = ctx.vec3_value(*it, "rotation_deg." + it.key()) * (kPi / 180.0);
+    const double angle = v.norm();
+    s.initial_pose.bone_local_rotation[b] =
+        angle > 0.0 ? Quat(Eigen::AngleAxisd(angle, v / angle)) : Quat::Identity();
+  }
+}
+
+}  // namespace
+
+EngineParams params_from_json(const Json& params, const std::string& source,
+                              const ParamOverrides& overrides) {
+  const JsonContext ctx{source, "params"};
+  const bool given = !params.is_null();
+  if (given) {
+    ctx.require_object(params, "params");
+    ctx.only_keys(params, param_keys());
+  }
+  // the base preset (an override swaps it), then the file's values, then the overrides
+  const std::string preset = !overrides.preset.empty() ? overrides.preset
+                             : given ? ctx.string_or(params, "preset", kDefaultPreset)
+                                     : std::string(kDefaultPreset);
+  EngineParams p = preset_params(preset, source);
+  for (const ParamRow& row : param_table()) {
+    if (!given || overrides.has(row.name)) continue;  // an overridden value is not read
+    if (const auto v = param_from_json(ctx, params, row.name, row)) row.set(p, *v);
+  }
+  overrides.apply(p);
+  return p;
+}
+
+Json param_value_json(const ParamRow& row, ParamValue v) {
+  switch (row.kind) {
+    case ParamKind::kReal: return v;
+    case ParamKind::kInteger: return static_cast<int>(v);
+    case ParamKind::kBoolean: return v != 0.0;
+    case ParamKind::kChoice: return row.choices.at(static_cast<std::size_t>(v));
+  }
+  return nullptr;
+}
+
+Json params_to_json(const EngineParams& p) {
+  Json j = {{"preset", p.preset}};
+  for (const ParamRow& row : param_table()) j[row.name] = param_value_json(row, row.get(p));
+  return j;
+}
+
+Scene scene_from_json(const Json& doc, const std::string& source, const std::string& base_dir,
+                      const ParamOverrides& overrides) {
+  const JsonContext top{source, ""};
+  top.require_object(doc, "");
+  top.only_keys(doc, {"name", "comment", "rig", "params", "control_points", "schedule", "steps",
+                      "convergence", "initial_pose", "initial_velocity"});
+  Scene s;
+  s.file = source;
+  read_rig(top, doc, base_dir, s);
+  s.params = params_from_json(doc.contains("params") ? doc["params"] : Json(nullptr), source, overrides);
   s.steps = top.integer_or(doc, "steps", s.steps);
   if (s.steps < 1) top.fail("steps", "must be at least 1");
-
-  // control points
-  if (doc.contains("control_points")) {
-    const Json& cps = doc["control_points"];
-    if (!cps.is_array()) top.fail("control_points", "expected an array");
-    for (std::size_t i = 0; i < cps.size(); ++i) {
-      JsonContext ctx{source, "control_points[" + std::to_string(i) + "]"};
-      const Json& c = cps[i];
-      ctx.require_object(c, "");
-      ctx.only_keys(c, {"name", "bone", "alpha", "target", "spring", "k", "cap", "comment"});
-      ControlPoint cp;
-      cp.name = ctx.string_or(c, "name", "");
-      const std::string bone = ctx.string(c, "bone");
-      cp.bone = s.rig.find_bone(bone);
-      if (cp.bone < 0) ctx.fail("bone", "unknown bone '" + bone + "' in rig " + s.rig_file);
-      cp.alpha = ctx.number_or(c, "alpha", 1.0);
-      if (cp.alpha < 0.0 || cp.alpha > 1.0) ctx.fail("alpha", "must lie in [0, 1] (0 = head, 1 = tail)");
-      cp.target_world = ctx.vec3(c, "target");
-      cp.spring = spring_law(ctx, c, "spring", s.params.control_spring);
-      cp.k = non_negative(ctx, c, "k", s.params.control_k);
-      cp.cap = positive(ctx, c, "cap", s.params.control_cap);
-      s.control_points.push_back(cp);
-    }
-  }
-
-  // schedule of target changes
-  if (doc.contains("schedule")) {
-    const Json& sch = doc["schedule"];
-    if (!sch.is_array()) top.fail("schedule", "expected an array");
-    for (std::size_t i = 0; i < sch.size(); ++i) {
-      JsonContext ctx{source, "schedule[" + std::to_string(i) + "]"};
-      ctx.require_object(sch[i], "");
-      ctx.only_keys(sch[i], {"step", "control_point", "target", "comment"});
-      TargetChange t;
-      t.step = ctx.integer(sch[i], "step");
-      if (t.step < 0 || t.step >= s.steps) {
-        ctx.fail("step", "must lie in [0, steps) = [0, " + std::to_string(s.steps) + ")");
-      }
-      t.control_point = control_point_ref(ctx, ctx.require(sch[i], "control_point"),
-                                          s.control_points);
-      t.target_world = ctx.vec3(sch[i], "target");
-      s.schedule.push_back(t);
-    }
-    std::stable_sort(s.schedule.begin(), s.schedule.end(),
-                     [](const TargetChange& a, const TargetChange& b) { return a.step < b.step; });
-  }
-
-  // convergence settings
-  if (doc.contains("convergence")) {
-    const Json& c = doc["convergence"];
-    JsonContext ctx{source, "convergence"};
-    ctx.require_object(c, "convergence");
-    ctx.only_keys(c, {"residual_tol", "speed_tol", "settle_steps", "stop_when_converged",
-                      "stop_at_residual_tol", "divergence_energy"});
-    s.convergence.residual_tol = non_negative(ctx, c, "residual_tol", 0.0);
-    s.convergence.speed_tol = non_negative(ctx, c, "speed_tol", 0.0);
-    s.convergence.settle_steps = ctx.integer_or(c, "settle_steps", s.convergence.settle_steps);
-    if (s.convergence.settle_steps < 1) ctx.fail("settle_steps", "must be at least 1");
-    s.convergence.stop_when_converged = ctx.boolean_or(c, "stop_when_converged", false);
-    s.convergence.stop_at_residual_tol = ctx.boolean_or(c, "stop_at_residual_tol", false);
-    s.convergence.divergence_energy = non_negative(ctx, c, "divergence_energy", 0.0);
-  }
-
-  // initial pose: rest, optionally with a root position and per-bone rotation vectors (deg)
-  s.initial_pose = rest_pose(s.rig);
-  if (doc.contains("initial_pose")) {
-    const Json& ip = doc["initial_pose"];
-    JsonContext ctx{source, "initial_pose"};
-    ctx.require_object(ip, "initial_pose");
-    ctx.only_keys(ip, {"root_head", "rotation_deg"});
-    if (ip.contains("root_head")) s.initial_pose.root_head_world = ctx.vec3(ip, "root_head");
-    if (ip.contains("rotation_deg")) {
-      const Json& rot = ip["rotation_deg"];
-      ctx.require_object(rot, "rotation_deg");
-      for (auto it = rot.begin(); it != rot.end(); ++it) {
-        const int b = s.rig.find_bone(it.key());
-        if (b < 0) ctx.fail("rotation_deg." + it.key(), "unknown bone");
-        const Vec3 v = ctx.vec3_value(*it, "rotation_deg." + it.key()) * (kPi / 180.0);
-        const double angle = v.norm();
-        s.initial_pose.bone_local_rotation[b] =
-            angle > 0.0 ? Quat(Eigen::AngleAxisd(angle, v / angle)) : Quat::Identity();
-      }
-    }
-  }
+  read_control_points(top, doc, s);
+  read_schedule(top, doc, s);
+  read_convergence(top, doc, s);
+  read_initial_pose(top, doc, s);
   if (doc.contains("initial_velocity")) s.initial_velocity_world = top.vec3(doc, "initial_velocity");
   return s;
 }
 
-Scene load_scene(const std::string& path) { return load_scene(path, Json::object()); }
+Scene load_scene(const std::string& path) { return load_scene(path, ParamOverrides{}); }
 
-Scene load_scene(const std::string& path, const Json& param_overrides) {
-  Json doc = read_json_file(path);
-  if (!param_overrides.empty()) {
-    if (doc.is_object() && (!doc.contains("params") || doc["params"].is_null())) {
-      doc["params"] = Json::object();
-    }
-    if (doc.is_object() && doc["params"].is_object()) {
-      for (auto it = param_overrides.begin(); it != param_overrides.end(); ++it) {
-        doc["params"][it.key()] = it.value();
-      }
-    }
-  }
+Scene load_scene(const std::string& path, const ParamOverrides& overrides) {
+  const Json doc = read_json_file(path);
   const std::string base = std::filesystem::path(path).parent_path().string();
-  return scene_from_json(doc, path, base.empty() ? "." : base);
-}
-
-Json parse_param_overrides(const std::vector<std::string>& assignments, const std::string& source) {
-  const Json known = params_to_json(EngineParams{});
-  Json out = Json::object();
-  for (const std::string& kv : assignments) {
-    const auto eq = kv.find('=');
-    if (eq == std::string::npos || eq == 0) {
-      throw_input_error(source, "", kv, "expected key=value");
-    }
-    const std::string key = kv.substr(0, eq), value = kv.substr(eq + 1);
-    if (!known.contains(key)) {
-      std::string all;
-      for (auto it = known.begin(); it != known.end(); ++it) all += (all.empty() ? "" : ", ") + it.key();
-      throw_input_error(source, "params", key, "unknown parameter (known: " + all + ")");
-    }
-    try {
-      out[key] = Json::parse(value);
-    } catch (const Json::exception&) {
-      out[key] = value;  // a bare word such as capped or free-rods
-    }
-  }
-  return out;
+  return scene_from_json(doc, path, base.empty() ? "." : base, overrides);
 }
 
 Json scene_to_json(const Scene& s) {
@@ -278,10 +234,11 @@ Json scene_to_json(const Scene& s) {
   for (const ControlPoint& c : s.control_points) {
     Json j = {{"bone", s.rig.bone_name[c.bone]},
               {"alpha", c.alpha},
-              {"target", {c.target_world.x(), c.target_world.y(), c.target_world.z()}},
-              {"spring", to_string(c.spring)},
-              {"k", c.k},
-              {"cap", c.cap}};
+              {"target", {c.target_world.x(), c.target_world.y(), c.target_world.z()}}};
+    // only what the point gives itself: the rest follows the params
+    if (c.spring) j["spring"] = to_string(*c.spring);
+    if (c.k) j["k"] = *c.k;
+    if (c.cap) j["cap"] = *c.cap;
     if (!c.name.empty()) j["name"] = c.name;
     cps.push_back(j);
   }

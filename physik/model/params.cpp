@@ -1,39 +1,368 @@
 #include "physik/model/params.h"
 
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <type_traits>
+
 #include "physik/model/errors.h"
 
 namespace physik {
 
-const char* to_string(SpringLaw s) { return s == SpringLaw::kLinear ? "linear" : "capped"; }
-
-const char* to_string(Integration s) {
-  return s == Integration::kArticulated ? "articulated" : "free-rods";
+const std::vector<std::string>& choice_names(SpringLaw) {
+  static const std::vector<std::string> names = {"linear", "capped"};
+  return names;
 }
 
-const char* to_string(Interpolation s) {
-  switch (s) {
-    case Interpolation::kNone: return "none";
-    case Interpolation::kLinear: return "linear";
-    case Interpolation::kPolarHead: return "polar-head";
-    case Interpolation::kPolarCom: return "polar-com";
+const std::vector<std::string>& choice_names(Integration) {
+  static const std::vector<std::string> names = {"articulated", "free-rods"};
+  return names;
+}
+
+const std::vector<std::string>& choice_names(JointSolve) {
+  static const std::vector<std::string> names = {"gauss-seidel", "exact"};
+  return names;
+}
+
+const std::vector<std::string>& choice_names(Interpolation) {
+  static const std::vector<std::string> names = {"none", "linear", "polar-head", "polar-com"};
+  return names;
+}
+
+const char* to_string(SpringLaw s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
+const char* to_string(Integration s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
+const char* to_string(Interpolation s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
+const char* to_string(JointSolve s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
+
+const char* to_string(ParamKind k) {
+  switch (k) {
+    case ParamKind::kReal: return "real";
+    case ParamKind::kInteger: return "integer";
+    case ParamKind::kBoolean: return "boolean";
+    case ParamKind::kChoice: return "choice";
   }
   return "?";
 }
 
-const char* to_string(JointSolve s) {
-  return s == JointSolve::kGaussSeidel ? "gauss-seidel" : "exact";
+namespace {
+
+// --- building a row from a field ---------------------------------------------------------------
+
+template <auto Field>
+using FieldType = std::remove_reference_t<decltype(std::declval<EngineParams&>().*Field)>;
+
+template <class T>
+ParamValue to_value(T v) {
+  if constexpr (std::is_enum_v<T>) return static_cast<ParamValue>(static_cast<int>(v));
+  else return static_cast<ParamValue>(v);
+}
+
+template <auto Field>
+ParamValue get_field(const EngineParams& p) {
+  return to_value(p.*Field);
+}
+
+template <auto Field>
+void set_field(EngineParams& p, ParamValue v) {
+  using T = FieldType<Field>;
+  if constexpr (std::is_enum_v<T>) p.*Field = static_cast<T>(static_cast<int>(v));
+  else if constexpr (std::is_same_v<T, bool>) p.*Field = v != 0.0;
+  else p.*Field = static_cast<T>(v);
+}
+
+// A row for `Field`: its kind follows the field's type (double, int, bool, an enum with
+// choice_names); `defaults` are in kPresetNames order.
+template <auto Field>
+ParamRow row(const char* name, const char* unit, std::array<FieldType<Field>, kPresetCount> defaults,
+             ParamRange valid, const char* doc) {
+  using T = FieldType<Field>;
+  ParamRow r;
+  r.name = name;
+  r.unit = unit;
+  r.valid = valid;
+  r.doc = doc;
+  r.get = &get_field<Field>;
+  r.set = &set_field<Field>;
+  if constexpr (std::is_enum_v<T>) {
+    r.kind = ParamKind::kChoice;
+    r.choices = choice_names(T{});
+  } else if constexpr (std::is_same_v<T, bool>) {
+    r.kind = ParamKind::kBoolean;
+  } else if constexpr (std::is_same_v<T, int>) {
+    r.kind = ParamKind::kInteger;
+  } else {
+    static_assert(std::is_same_v<T, double>, "a parameter is a double, int, bool or enum");
+    r.kind = ParamKind::kReal;
+  }
+  for (int i = 0; i < kPresetCount; ++i) r.defaults[i] = to_value(defaults[i]);
+  return r;
+}
+
+ParamRow tuned(ParamRow r, double lo, double hi) {
+  r.tune = std::make_pair(lo, hi);
+  return r;
+}
+
+ParamRow zero_means(ParamRow r, const char* text) {
+  r.zero_means = text;
+  return r;
+}
+
+constexpr ParamRange kAny{};
+const ParamRange kPositive{0.0, std::nullopt, false, true};
+const ParamRange kNonNegative{0.0, std::nullopt, true, true};
+ParamRange closed(double lo, double hi) { return {lo, hi, true, true}; }      // [lo, hi]
+ParamRange half_open(double lo, double hi) { return {lo, hi, true, false}; }  // [lo, hi)
+
+using E = EngineParams;
+using S = SpringLaw;
+
+// The table. Columns: key and field, unit, {original, paper}, valid range, doc; then tuning
+// bounds (the tuner's defaults for --params) and what 0 means where it is special.
+std::vector<ParamRow> build_table() {
+  return {
+      row<&E::dt>("dt", "s", {0.05, 0.05}, kPositive, "time step"),
+      tuned(row<&E::damping>("damping", "N s/m", {3.0, 20.0}, kNonNegative,
+                             "force -c v at the head and the tail of every bone"),
+            0.01, 100.0),
+      tuned(row<&E::angular_velocity_factor>("angular_velocity_factor", "1", {0.5, 0.5},
+                                             closed(0.0, 1.0), "w <- f w + alpha dt every step"),
+            0.01, 1.0),
+      row<&E::joint_eps>("joint_eps", "rig units/s^2", {1e-3, 1e-3}, kPositive,
+                         "joint passes stop below this acceleration mismatch"),
+      zero_means(row<&E::max_passes>("max_passes", "passes", {0, 0}, kNonNegative,
+                                     "joint passes per step at most; 0 = 5 n^2 (the original's cap)"),
+                 "5 n^2"),
+      row<&E::centripetal>("centripetal", "", {false, false}, kAny,
+                           "add w x (w x r) to joint-point accelerations (eq. 2 omits it)"),
+      row<&E::gyroscopic>("gyroscopic", "", {true, true}, kAny, "the -w x I w term of eq. 1"),
+      tuned(row<&E::control_k>("control_k", "N/m", {10.0, 30.0}, kNonNegative,
+                               "stiffness of the control points that give no k"),
+            0.1, 1000.0),
+      row<&E::control_spring>("control_spring", "", {S::kLinear, S::kLinear}, kAny,
+                              "spring law of the control points that give none"),
+      tuned(row<&E::control_cap>("control_cap", "rig units", {1.0, 1.0}, kPositive,
+                                 "cap c of capped control springs that give none (the original: 1)"),
+            0.01, 100.0),
+      tuned(row<&E::torsion_k>("torsion_k", "N m/rad", {10.0, 10.0}, kNonNegative,
+                               "stiffness of the joint-limit torsion springs"),
+            0.1, 1000.0),
+      row<&E::torsion_spring>("torsion_spring", "", {S::kLinear, S::kLinear}, kAny,
+                              "spring law of the joint-limit torsion springs"),
+      tuned(row<&E::torsion_cap>("torsion_cap", "rad", {0.5, 0.5}, kPositive,
+                                 "cap of capped torsion springs"),
+            0.01, 3.2),
+      row<&E::torsion_tolerance>("torsion_tolerance", "1", {0.1, 0.1}, half_open(0.0, 0.5),
+                                 "the torsion spring engages this fraction of the range inside each limit"),
+      row<&E::joint_solve>("joint_solve", "", {JointSolve::kGaussSeidel, JointSolve::kGaussSeidel},
+                           kAny, "gauss-seidel (the paper's passes) or exact (Featherstone's "
+                           "articulated-body algorithm, MuJoCo's Euler in joint space)"),
+      row<&E::integration>("integration", "", {Integration::kArticulated, Integration::kArticulated},
+                           kAny, "articulated (the original's: FK from the root) or free-rods (the paper's text)"),
+      row<&E::interpolation>("interpolation", "", {Interpolation::kLinear, Interpolation::kLinear},
+                             kAny, "how a target jump is spread over steps (eq. 12)"),
+      row<&E::interpolation_steps>("interpolation_steps", "steps", {12, 12}, kNonNegative,
+                                   "a target jump is spread over this many steps (the original: 25% of 50)"),
+      row<&E::interpolation_fallback>("interpolation_fallback", "rig units", {1e-3, 1e-3}, kPositive,
+                                      "polar interpolation falls back to linear this close to its origin"),
+  };
+}
+
+std::string number_text(double v) {
+  std::ostringstream o;
+  o << v;  // %g: 0.05, 1e-05, 20
+  return o.str();
+}
+
+[[noreturn]] void bad_value(const ParamRow& row, const std::string& source, const std::string& reason) {
+  throw_input_error(source, "params", row.name, reason);
+}
+
+// the whole text as a number of type T (no spaces, no sign prefix, no trailing characters):
+// std::errc() when it is one, result_out_of_range when it does not fit, invalid_argument else
+template <class T>
+std::errc parse_whole(const std::string& text, T& out) {
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, out);
+  if (ptr != end || text.empty()) return std::errc::invalid_argument;
+  return ec;
+}
+
+}  // namespace
+
+EngineParams::EngineParams() {
+  for (const ParamRow& r : param_table()) r.set(*this, r.defaults[0]);
+  preset = kPresetNames[0];
+}
+
+const std::vector<ParamRow>& param_table() {
+  static const std::vector<ParamRow> table = build_table();
+  return table;
+}
+
+const ParamRow* find_param(const std::string& name) {
+  for (const ParamRow& r : param_table()) {
+    if (r.name == name) return &r;
+  }
+  return nullptr;
+}
+
+const ParamRow& param_row(const std::string& name) {
+  const ParamRow* r = find_param(name);
+  if (!r) throw std::logic_error("no parameter '" + name + "' in the table");
+  return *r;
+}
+
+std::vector<std::string> param_keys() {
+  std::vector<std::string> keys = {"preset"};
+  for (const ParamRow& r : param_table()) keys.push_back(r.name);
+  return keys;
+}
+
+int preset_index(const std::string& name) {
+  for (int i = 0; i < kPresetCount; ++i) {
+    if (name == kPresetNames[i]) return i;
+  }
+  return -1;
 }
 
 EngineParams preset_params(const std::string& name, const std::string& source) {
-  EngineParams p;  // the original code's values
-  p.preset = name;
-  if (name == "original") return p;
-  if (name == "paper") {
-    p.damping = 20.0;
-    p.control_k = 30.0;
-    return p;
+  const int i = preset_index(name);
+  if (i < 0) {
+    std::string all;
+    for (const char* n : kPresetNames) all += (all.empty() ? "" : "|") + std::string(n);
+    throw_input_error(source, "params", "preset", "unknown preset '" + name + "' (" + all + ")");
   }
-  throw_input_error(source, "params", "preset", "unknown preset '" + name + "' (paper|original)");
+  EngineParams p;
+  for (const ParamRow& r : param_table()) r.set(p, r.defaults[i]);
+  p.preset = name;
+  return p;
+}
+
+std::string range_violation(const ParamRow& row, ParamValue v) {
+  if (!std::isfinite(v)) return "not a finite number";
+  const ParamRange& g = row.valid;
+  if (g.lo && (v < *g.lo || (v == *g.lo && !g.lo_allowed))) {
+    std::string why = *g.lo == 0.0 ? (g.lo_allowed ? "must not be negative" : "must be positive")
+                                    : (g.lo_allowed ? "must be at least " : "must be above ") +
+                                          number_text(*g.lo);
+    if (!row.zero_means.empty() && *g.lo == 0.0) why += " (0 = " + row.zero_means + ")";
+    return why;
+  }
+  if (g.hi && (v > *g.hi || (v == *g.hi && !g.hi_allowed))) {
+    if (!g.lo) return (g.hi_allowed ? "must be at most " : "must be below ") + number_text(*g.hi);
+    return "must lie in " + std::string(g.lo_allowed ? "[" : "(") + number_text(*g.lo) + ", " +
+           number_text(*g.hi) + (g.hi_allowed ? "]" : ")");
+  }
+  return "";
+}
+
+std::string valid_text(const ParamRow& row) {
+  if (row.kind == ParamKind::kBoolean) return "true|false";
+  if (row.kind == ParamKind::kChoice) {
+    std::string all;
+    for (const std::string& c : row.choices) all += (all.empty() ? "" : "|") + c;
+    return all;
+  }
+  const ParamRange& g = row.valid;
+  if (g.lo && g.hi) {
+    return (g.lo_allowed ? "[" : "(") + number_text(*g.lo) + ", " + number_text(*g.hi) +
+           (g.hi_allowed ? "]" : ")");
+  }
+  if (g.lo) return (g.lo_allowed ? ">= " : "> ") + number_text(*g.lo);
+  if (g.hi) return (g.hi_allowed ? "<= " : "< ") + number_text(*g.hi);
+  return "any";
+}
+
+std::string format_param(const ParamRow& row, ParamValue v) {
+  switch (row.kind) {
+    case ParamKind::kReal: return number_text(v);
+    case ParamKind::kInteger: return std::to_string(static_cast<int>(v));
+    case ParamKind::kBoolean: return v != 0.0 ? "true" : "false";
+    case ParamKind::kChoice: return row.choices.at(static_cast<std::size_t>(v));
+  }
+  return "?";
+}
+
+ParamValue parse_param_text(const ParamRow& row, const std::string& text, const std::string& source) {
+  ParamValue v = 0.0;
+  switch (row.kind) {
+    case ParamKind::kReal: {
+      const std::errc ec = parse_whole(text, v);
+      if (ec == std::errc::result_out_of_range || (ec == std::errc() && !std::isfinite(v))) {
+        bad_value(row, source, "not a finite number");
+      }
+      if (ec != std::errc()) bad_value(row, source, "expected a number, got '" + text + "'");
+      break;
+    }
+    case ParamKind::kInteger: {
+      long long i = 0;
+      const std::errc ec = parse_whole(text, i);
+      if (ec == std::errc::invalid_argument) {
+        bad_value(row, source, "expected an integer, got '" + text + "'");
+      }
+      if (ec != std::errc() || i < std::numeric_limits<int>::min() ||
+          i > std::numeric_limits<int>::max()) {
+        bad_value(row, source, "integer out of range");
+      }
+      v = static_cast<ParamValue>(i);
+      break;
+    }
+    case ParamKind::kBoolean: {
+      if (text != "true" && text != "false") {
+        bad_value(row, source, "expected true or false, got '" + text + "'");
+      }
+      v = text == "true" ? 1.0 : 0.0;
+      break;
+    }
+    case ParamKind::kChoice: {
+      std::string all;
+      for (std::size_t i = 0; i < row.choices.size(); ++i) {
+        if (text == row.choices[i]) return static_cast<ParamValue>(i);
+        all += (all.empty() ? "" : "|") + row.choices[i];
+      }
+      bad_value(row, source, "unknown value '" + text + "' (expected " + all + ")");
+    }
+  }
+  const std::string why = range_violation(row, v);
+  if (!why.empty()) bad_value(row, source, why);
+  return v;
+}
+
+bool ParamOverrides::has(const std::string& name) const {
+  for (const auto& [row, v] : values) {
+    if (row->name == name) return true;
+  }
+  return false;
+}
+
+void ParamOverrides::apply(EngineParams& p) const {
+  for (const auto& [row, v] : values) row->set(p, v);
+}
+
+ParamOverrides parse_param_overrides(const std::vector<std::string>& assignments,
+                                     const std::string& source) {
+  ParamOverrides out;
+  for (const std::string& kv : assignments) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0) throw_input_error(source, "", kv, "expected key=value");
+    const std::string key = kv.substr(0, eq), value = kv.substr(eq + 1);
+    if (key == "preset") {
+      preset_params(value, source);  // an unknown preset fails here, naming `source`
+      out.preset = value;
+      continue;
+    }
+    const ParamRow* row = find_param(key);
+    if (!row) {
+      std::string all;
+      for (const std::string& k : param_keys()) all += (all.empty() ? "" : ", ") + k;
+      throw_input_error(source, "params", key, "unknown parameter (known: " + all + ")");
+    }
+    out.values.emplace_back(row, parse_param_text(*row, value, source));
+  }
+  return out;
 }
 
 }  // namespace physik

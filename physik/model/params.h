@@ -1,13 +1,23 @@
-// Engine parameters, with the paper's and the original code's presets.
+// Engine parameters, with the paper's and the original code's presets, and the one parameter
+// table that describes them.
 //
-// Names are the scene file's "params" keys. Presets (DESIGN.md, paper Sec. 4, original fwik.py):
+// Names are the scene file's "params" keys. Presets (docs/DESIGN.md "The paper", paper Sec. 4, original fwik.py):
 //   original: dt 0.05 s, damping 3 N s/m, angular velocity x0.5 per step, eps 1e-3, pass cap
 //             5 n^2, control k 10 N/m, torsion k 10 N m/rad engaging 10% inside each limit,
 //             linear torsion, articulated integration, linear target interpolation
 //   paper:    as original but damping 20 N s/m and control k 30 N/m (paper Sec. 4 / Fig 5)
+//
+// The table (param_table(), its rows in params.cpp) holds, per parameter: the key, the field it
+// drives, its kind, unit, default per preset, valid range, tuning bounds and a doc line. The
+// scene reader and writer (physik/io/scene_io), `--set`, the tuner, the report's settings table
+// and `physik params` all loop over it: adding a parameter is a field here, one row, and its use.
 #pragma once
 
+#include <array>
+#include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace physik {
 
@@ -18,43 +28,119 @@ enum class Interpolation { kNone, kLinear, kPolarHead, kPolarCom };
 // exact articulated-body algorithm with MuJoCo's Euler step in joint space (articulated_body.h)
 enum class JointSolve { kGaussSeidel, kExact };
 
+// each enum's names in the scene format, in the enum's order (the table's choices)
+const std::vector<std::string>& choice_names(SpringLaw);
+const std::vector<std::string>& choice_names(Integration);
+const std::vector<std::string>& choice_names(Interpolation);
+const std::vector<std::string>& choice_names(JointSolve);
+
 const char* to_string(SpringLaw s);
 const char* to_string(Integration s);
 const char* to_string(Interpolation s);
 const char* to_string(JointSolve s);
 
 struct EngineParams {
-  std::string preset = "original";
-  double dt = 0.05;                      // s, time step
-  double damping = 3.0;                  // N s/m, force -c v at each bone end
-  double angular_velocity_factor = 0.5;  // 1, every bone's angular velocity is scaled by it each step
-  double joint_eps = 1e-3;               // rig units/s^2, stop the joint passes below this mismatch
-  int max_passes = 0;                    // passes per step; 0 = 5 n^2 (the original's cap)
-  bool centripetal = false;              // add w x (w x r) to joint-point accelerations (eq. 2 omits it)
-  bool gyroscopic = true;                // the -w x I w term of eq. 1
-  double control_k = 10.0;               // N/m, default stiffness of control-point springs
-  SpringLaw control_spring = SpringLaw::kLinear;  // default law of control-point springs
-  double control_cap = 1.0;              // rig units, cap c of capped springs (original: 1)
-  double torsion_k = 10.0;               // N m/rad, joint-limit torsion springs
-  SpringLaw torsion_spring = SpringLaw::kLinear;
-  double torsion_cap = 0.5;              // rad, cap of capped torsion springs
-  double torsion_tolerance = 0.1;        // 1, fraction of the range inside each limit where the
+  EngineParams();  // the `original` preset: the table's first column
+  std::string preset;                    // the preset the values started from
+  double dt;                             // s, time step
+  double damping;                        // N s/m, force -c v at each bone end
+  double angular_velocity_factor;        // 1, every bone's angular velocity is scaled by it each step
+  double joint_eps;                      // rig units/s^2, stop the joint passes below this mismatch
+  int max_passes;                        // passes per step; 0 = 5 n^2 (the original's cap)
+  bool centripetal;                      // add w x (w x r) to joint-point accelerations (eq. 2 omits it)
+  bool gyroscopic;                       // the -w x I w term of eq. 1
+  double control_k;                      // N/m, stiffness of control points that give none
+  SpringLaw control_spring;              // law of control points that give none
+  double control_cap;                    // rig units, cap c of capped springs (original: 1)
+  double torsion_k;                      // N m/rad, joint-limit torsion springs
+  SpringLaw torsion_spring;
+  double torsion_cap;                    // rad, cap of capped torsion springs
+  double torsion_tolerance;              // 1, fraction of the range inside each limit where the
                                          //    torsion spring engages
-  JointSolve joint_solve = JointSolve::kGaussSeidel;  // exact: `integration` is not used
-  Integration integration = Integration::kArticulated;
-  Interpolation interpolation = Interpolation::kLinear;
-  int interpolation_steps = 12;          // steps over which a target jump is spread
+  JointSolve joint_solve;                // exact: `integration` is not used
+  Integration integration;
+  Interpolation interpolation;
+  int interpolation_steps;               // steps over which a target jump is spread
                                          // (original: 25% of its 50 iterations)
-  double interpolation_fallback = 1e-3;  // rig units: polar falls back to linear this near the origin
+  double interpolation_fallback;         // rig units: polar falls back to linear this near the origin
 
   int passes_cap(int nbone) const { return max_passes > 0 ? max_passes : 5 * nbone * nbone; }
 };
 
-// A preset by name ("paper" or "original"); throws InputError naming `source` otherwise.
-EngineParams preset_params(const std::string& name, const std::string& source = "");
+// --- the parameter table ---------------------------------------------------------------------
+
+// The presets, in the order of each row's defaults; the first is EngineParams()'s.
+constexpr int kPresetCount = 2;
+constexpr std::array<const char*, kPresetCount> kPresetNames = {"original", "paper"};
 
 // The preset used when a scene names none: the one that converges on the paper's own rig
 // (see README "Presets" for the measurement behind this choice).
 constexpr const char* kDefaultPreset = "original";
+
+enum class ParamKind { kReal, kInteger, kBoolean, kChoice };
+const char* to_string(ParamKind k);
+
+// A parameter's value in one type for every kind: reals and integers as they are, booleans 0/1,
+// choices the index into the row's `choices`.
+using ParamValue = double;
+
+// Valid values: an optional lower and upper bound, each allowed or not (0 < dt; 0 <= damping;
+// 0 <= angular_velocity_factor <= 1; 0 <= torsion_tolerance < 0.5).
+struct ParamRange {
+  std::optional<double> lo, hi;
+  bool lo_allowed = true;  // is lo itself valid
+  bool hi_allowed = true;  // is hi itself valid
+};
+
+struct ParamRow {
+  std::string name;        // the scene's "params" key, the --set key, the EngineParams field
+  ParamKind kind = ParamKind::kReal;
+  std::string unit;        // "1" for ratios, "" for booleans and choices
+  std::array<ParamValue, kPresetCount> defaults{};  // per preset, in kPresetNames order
+  ParamRange valid;
+  std::string zero_means;  // what 0 stands for, when it is special ("5 n^2" for max_passes)
+  std::optional<std::pair<double, double>> tune;    // tuning bounds lo < hi, both > 0 (reals)
+  std::vector<std::string> choices;                 // kChoice: the names, in the enum's order
+  std::string doc;         // one line
+  ParamValue (*get)(const EngineParams&) = nullptr;
+  void (*set)(EngineParams&, ParamValue) = nullptr;
+};
+
+// Every parameter, in the order scene files document and check them.
+const std::vector<ParamRow>& param_table();
+const ParamRow* find_param(const std::string& name);  // nullptr if there is none
+const ParamRow& param_row(const std::string& name);   // std::logic_error if there is none
+// "preset, dt, damping, ...": every key a scene's "params" or --set accepts
+std::vector<std::string> param_keys();
+// the index of a preset in kPresetNames, or -1
+int preset_index(const std::string& name);
+
+// A preset by name ("paper" or "original"); throws InputError naming `source` otherwise.
+EngineParams preset_params(const std::string& name, const std::string& source = "");
+
+// "" when `v` is valid for the row, else the reason ("must be positive", "must lie in [0, 1]").
+std::string range_violation(const ParamRow& row, ParamValue v);
+// The valid values as text: "> 0", ">= 0", "[0, 1]", "[0, 0.5)", "true|false", "linear|capped".
+std::string valid_text(const ParamRow& row);
+// The value as text: 0.05, 12, true, capped (parse_param_text reads it back).
+std::string format_param(const ParamRow& row, ParamValue v);
+// Text by the row's kind (a number, an integer, true/false, one of the choices), range-checked;
+// throws InputError "<source>: params: field '<name>': <reason>".
+ParamValue parse_param_text(const ParamRow& row, const std::string& text, const std::string& source);
+
+// `--set key=value` overrides: applied after a scene's own params (so they win), and a preset
+// override swaps the base preset under them. Control points that give no k, spring or cap take
+// the params' at use, so they follow the overrides too.
+struct ParamOverrides {
+  std::string preset;  // "" = the scene's own
+  std::vector<std::pair<const ParamRow*, ParamValue>> values;  // in the order given; later wins
+  bool empty() const { return preset.empty() && values.empty(); }
+  bool has(const std::string& name) const;
+  void apply(EngineParams& p) const;
+};
+// "key=value" strings into overrides; an unknown key or a bad value is an InputError naming
+// `source` (e.g. "--set") and the key.
+ParamOverrides parse_param_overrides(const std::vector<std::string>& assignments,
+                                     const std::string& source);
 
 }  // namespace physik

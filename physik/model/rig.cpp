@@ -80,11 +80,11 @@ double Rig::height() const {
   return nbone ? hi - lo : 0.0;
 }
 
-Rig build_rig(const std::vector<BoneSpec>& specs, const std::string& source,
-              const std::string& name) {
-  if (specs.empty()) throw_input_error(source, "", "bones", "the rig has no bones");
+namespace {
 
-  // names: unique, non-empty
+// stage 1: names are non-empty and unique; returns name -> index in `specs`
+std::unordered_map<std::string, std::size_t> index_names(const std::vector<BoneSpec>& specs,
+                                                         const std::string& source) {
   std::unordered_map<std::string, std::size_t> index_of;
   for (std::size_t i = 0; i < specs.size(); ++i) {
     const BoneSpec& b = specs[i];
@@ -95,9 +95,15 @@ Rig build_rig(const std::vector<BoneSpec>& specs, const std::string& source,
                             std::to_string(index_of[b.name]) + "])");
     }
   }
+  return index_of;
+}
 
-  // parents: known, exactly one root
-  std::vector<std::vector<std::size_t>> children(specs.size());
+// stage 2: parents are known bones and exactly one bone is the root; fills each bone's children
+// (in file order) and returns the root's index in `specs`
+std::size_t link_parents(const std::vector<BoneSpec>& specs,
+                         const std::unordered_map<std::string, std::size_t>& index_of,
+                         const std::string& source, std::vector<std::vector<std::size_t>>& children) {
+  children.assign(specs.size(), {});
   std::size_t root = specs.size();
   for (std::size_t i = 0; i < specs.size(); ++i) {
     const BoneSpec& b = specs[i];
@@ -115,8 +121,7 @@ Rig build_rig(const std::vector<BoneSpec>& specs, const std::string& source,
     }
     auto it = index_of.find(b.parent);
     if (it == index_of.end()) {
-      throw_input_error(source, bone_element(b, i), "parent",
-                        "unknown bone '" + b.parent + "'");
+      throw_input_error(source, bone_element(b, i), "parent", "unknown bone '" + b.parent + "'");
     }
     children[it->second].push_back(i);
   }
@@ -124,8 +129,14 @@ Rig build_rig(const std::vector<BoneSpec>& specs, const std::string& source,
     throw_input_error(source, "", "parent",
                       "no root bone (every bone has a parent, so the parents form a cycle)");
   }
+  return root;
+}
 
-  // DFS order from the root; anything unreached is on a cycle
+// stage 3: depth-first order from the root (children in file order); a bone the walk never
+// reaches sits on a parent cycle
+std::vector<std::size_t> dfs_order(const std::vector<BoneSpec>& specs,
+                                   const std::vector<std::vector<std::size_t>>& children,
+                                   std::size_t root, const std::string& source) {
   std::vector<std::size_t> order;
   order.reserve(specs.size());
   std::function<void(std::size_t)> visit = [&](std::size_t i) {
@@ -144,76 +155,80 @@ Rig build_rig(const std::vector<BoneSpec>& specs, const std::string& source,
       }
     }
   }
+  return order;
+}
 
-  // per-bone checks that need no tree
-  for (std::size_t i = 0; i < specs.size(); ++i) {
-    const BoneSpec& b = specs[i];
-    const std::string el = bone_element(b, i);
-    if (!b.head_world.allFinite()) throw_input_error(source, el, "head", "non-finite coordinate");
-    if (!b.tail_world.allFinite()) throw_input_error(source, el, "tail", "non-finite coordinate");
-    const double len = (b.tail_world - b.head_world).norm();
-    if (!(len > 1e-9)) {
-      throw_input_error(source, el, "tail", "zero-length bone (head and tail coincide)");
+// stage 4a: head, tail and rest frame of one bone
+void check_geometry(const BoneSpec& b, const std::string& source, const std::string& el) {
+  if (!b.head_world.allFinite()) throw_input_error(source, el, "head", "non-finite coordinate");
+  if (!b.tail_world.allFinite()) throw_input_error(source, el, "tail", "non-finite coordinate");
+  const double len = (b.tail_world - b.head_world).norm();
+  if (!(len > 1e-9)) {
+    throw_input_error(source, el, "tail", "zero-length bone (head and tail coincide)");
+  }
+  const Mat3& f = b.rest_frame_world;
+  if (!f.allFinite() || (f.transpose() * f - Mat3::Identity()).norm() > 1e-3 ||
+      f.determinant() < 0.0) {
+    throw_input_error(source, el, "rest_frame", "not a right-handed orthonormal frame");
+  }
+  const Vec3 dir = (b.tail_world - b.head_world) / len;
+  if (f.col(1).dot(dir) < 1.0 - 1e-3) {
+    throw_input_error(source, el, "rest_frame", "the frame's y axis does not run from head to tail");
+  }
+}
+
+// stage 4b: per-axis limits of one bone
+void check_limits(const BoneSpec& b, const std::string& source, const std::string& el) {
+  static const char* kAxis[3] = {"x", "y", "z"};
+  for (int a = 0; a < 3; ++a) {
+    const AxisLimit& l = b.limit[a];
+    if (!l.limited) continue;
+    const std::string field = std::string("limits_deg.") + kAxis[a];
+    if (!std::isfinite(l.min) || !std::isfinite(l.max)) {
+      throw_input_error(source, el, field, "non-finite limit");
     }
-    const Mat3& f = b.rest_frame_world;
-    if (!f.allFinite() || (f.transpose() * f - Mat3::Identity()).norm() > 1e-3 ||
-        f.determinant() < 0.0) {
-      throw_input_error(source, el, "rest_frame",
-                        "not a right-handed orthonormal frame");
+    if (l.min > l.max) {
+      throw_input_error(source, el, field,
+                        "min " + fmt(rad2deg(l.min)) + " deg is greater than max " +
+                            fmt(rad2deg(l.max)) + " deg");
     }
-    const Vec3 dir = (b.tail_world - b.head_world) / len;
-    if (f.col(1).dot(dir) < 1.0 - 1e-3) {
-      throw_input_error(source, el, "rest_frame",
-                        "the frame's y axis does not run from head to tail");
-    }
-    static const char* kAxis[3] = {"x", "y", "z"};
-    for (int a = 0; a < 3; ++a) {
-      const AxisLimit& l = b.limit[a];
-      if (!l.limited) continue;
-      const std::string field = std::string("limits_deg.") + kAxis[a];
-      if (!std::isfinite(l.min) || !std::isfinite(l.max)) {
-        throw_input_error(source, el, field, "non-finite limit");
-      }
-      if (l.min > l.max) {
-        throw_input_error(source, el, field,
-                          "min " + fmt(rad2deg(l.min)) + " deg is greater than max " +
-                              fmt(rad2deg(l.max)) + " deg");
-      }
-      if (l.min < -kPi - 1e-9 || l.max > kPi + 1e-9) {
-        throw_input_error(source, el, field, "limits must lie within [-180, 180] deg");
-      }
-    }
-    if (!std::isfinite(b.mass) || !(b.mass > 0.0)) {
-      throw_input_error(source, el, "mass", "mass must be a positive finite number");
-    }
-    if (!std::isfinite(b.radius) || !(b.radius > 0.0)) {
-      throw_input_error(source, el, "radius", "radius must be a positive finite number");
-    }
-    if (!b.inertia_local.isZero()) {
-      const Vec3& in = b.inertia_local;
-      if (!in.allFinite() || !(in.minCoeff() > 0.0)) {
-        throw_input_error(source, el, "inertia_local", "moments must be positive finite numbers");
-      }
-      // principal moments of a real body obey the triangle inequality
-      if (in.x() + in.y() < in.z() * (1 - 1e-9) || in.y() + in.z() < in.x() * (1 - 1e-9) ||
-          in.z() + in.x() < in.y() * (1 - 1e-9)) {
-        throw_input_error(source, el, "inertia_local",
-                          "moments break the triangle inequality (no real body has them)");
-      }
+    if (l.min < -kPi - 1e-9 || l.max > kPi + 1e-9) {
+      throw_input_error(source, el, field, "limits must lie within [-180, 180] deg");
     }
   }
+}
 
-  Rig rig;
-  rig.name = name;
-  rig.nbone = static_cast<int>(specs.size());
+// stage 4c: mass, radius and explicit inertia of one bone
+void check_mass(const BoneSpec& b, const std::string& source, const std::string& el) {
+  if (!std::isfinite(b.mass) || !(b.mass > 0.0)) {
+    throw_input_error(source, el, "mass", "mass must be a positive finite number");
+  }
+  if (!std::isfinite(b.radius) || !(b.radius > 0.0)) {
+    throw_input_error(source, el, "radius", "radius must be a positive finite number");
+  }
+  if (b.inertia_local.isZero()) return;
+  const Vec3& in = b.inertia_local;
+  if (!in.allFinite() || !(in.minCoeff() > 0.0)) {
+    throw_input_error(source, el, "inertia_local", "moments must be positive finite numbers");
+  }
+  // principal moments of a real body obey the triangle inequality
+  if (in.x() + in.y() < in.z() * (1 - 1e-9) || in.y() + in.z() < in.x() * (1 - 1e-9) ||
+      in.z() + in.x() < in.y() * (1 - 1e-9)) {
+    throw_input_error(source, el, "inertia_local",
+                      "moments break the triangle inequality (no real body has them)");
+  }
+}
+
+// stage 5: the per-bone arrays in DFS order; a child's head must meet its parent's tail (within
+// 1e-3 of the parent's length) and is snapped onto it to remove the file's rounding
+void fill_bones(const std::vector<BoneSpec>& specs, const std::vector<std::size_t>& order,
+                const std::unordered_map<std::string, std::size_t>& index_of,
+                const std::string& source, Rig& rig) {
   std::vector<int> new_index(specs.size());
   for (std::size_t k = 0; k < order.size(); ++k) new_index[order[k]] = static_cast<int>(k);
-
   for (std::size_t k = 0; k < order.size(); ++k) {
     const BoneSpec& b = specs[order[k]];
-    const int parent = b.parent.empty() ? -1 : new_index[index_of[b.parent]];
-    // a joint is a parent's tail with its children's heads: they must meet there at rest, and
-    // the child's head is snapped onto the parent's tail to remove the file's rounding
+    const int parent = b.parent.empty() ? -1 : new_index[index_of.at(b.parent)];
     Vec3 head = b.head_world;
     if (parent >= 0) {
       const Vec3& parent_tail = rig.bone_rest_tail_world[parent];
@@ -237,20 +252,22 @@ Rig build_rig(const std::vector<BoneSpec>& specs, const std::string& source,
     rig.bone_length.push_back(len);
     rig.bone_mass.push_back(b.mass);
     rig.bone_radius.push_back(b.radius);
-    rig.bone_inertia_local.push_back(b.inertia_local.isZero() ? cylinder_inertia(b.mass, b.radius, len)
-                                                              : b.inertia_local);
+    rig.bone_inertia_local.push_back(
+        b.inertia_local.isZero() ? cylinder_inertia(b.mass, b.radius, len) : b.inertia_local);
     rig.bone_limit.push_back(b.limit);
   }
+}
 
-  // the frame's y axis must be exactly the bone direction: fold the file's rounding into the
-  // frame by the minimal rotation that aligns them
+// stage 6: rest frames exact and relative to the parent. The frame's y axis must be exactly the
+// bone direction: the file's rounding is folded into the frame by the minimal rotation that
+// aligns them. Then each bone's rest frame and head in its parent's frame.
+void derive_rest_frames(Rig& rig) {
   for (int i = 0; i < rig.nbone; ++i) {
     const Vec3 dir = (rig.bone_rest_tail_world[i] - rig.bone_rest_head_world[i]).normalized();
     const Vec3 y = rig.bone_rest_orient_world[i] * Vec3::UnitY();
     rig.bone_rest_orient_world[i] =
         (Quat::FromTwoVectors(y, dir) * rig.bone_rest_orient_world[i]).normalized();
   }
-
   rig.bone_children.assign(rig.nbone, {});
   rig.bone_rest_orient_parent.resize(rig.nbone);
   rig.bone_head_in_parent.resize(rig.nbone);
@@ -267,8 +284,10 @@ Rig build_rig(const std::vector<BoneSpec>& specs, const std::string& source,
     rig.bone_head_in_parent[i] = rig.bone_rest_orient_world[p].conjugate() *
                                  (rig.bone_rest_head_world[i] - rig.bone_rest_head_world[p]);
   }
+}
 
-  // joints: one per bone with children
+// stage 7: one joint per bone with children, and the members flattened for the joint solve
+void derive_joints(Rig& rig) {
   rig.bone_joint_at_tail.assign(rig.nbone, -1);
   rig.bone_joint_at_head.assign(rig.nbone, -1);
   for (int i = 0; i < rig.nbone; ++i) {
@@ -280,6 +299,39 @@ Rig build_rig(const std::vector<BoneSpec>& specs, const std::string& source,
     for (int c : j.children) rig.bone_joint_at_head[c] = static_cast<int>(rig.joints.size());
     rig.joints.push_back(j);
   }
+  for (const Joint& j : rig.joints) {
+    rig.joint_first_member.push_back(static_cast<int>(rig.joint_member_bone.size()));
+    rig.joint_member_bone.push_back(j.parent);
+    rig.joint_member_at_tail.push_back(1);
+    for (int c : j.children) {
+      rig.joint_member_bone.push_back(c);
+      rig.joint_member_at_tail.push_back(0);
+    }
+  }
+  rig.joint_first_member.push_back(static_cast<int>(rig.joint_member_bone.size()));
+}
+
+}  // namespace
+
+Rig build_rig(const std::vector<BoneSpec>& specs, const std::string& source,
+              const std::string& name) {
+  if (specs.empty()) throw_input_error(source, "", "bones", "the rig has no bones");
+  const auto index_of = index_names(specs, source);
+  std::vector<std::vector<std::size_t>> children;
+  const std::size_t root = link_parents(specs, index_of, source, children);
+  const std::vector<std::size_t> order = dfs_order(specs, children, root, source);
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    const std::string el = bone_element(specs[i], i);
+    check_geometry(specs[i], source, el);
+    check_limits(specs[i], source, el);
+    check_mass(specs[i], source, el);
+  }
+  Rig rig;
+  rig.name = name;
+  rig.nbone = static_cast<int>(specs.size());
+  fill_bones(specs, order, index_of, source, rig);
+  derive_rest_frames(rig);
+  derive_joints(rig);
   return rig;
 }
 

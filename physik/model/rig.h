@@ -82,6 +82,10 @@ struct Rig {
 
   // joints, one per bone with children, in DFS order of the parent
   std::vector<Joint> joints;
+  // the same joints' members flattened for the joint solve: a joint's parent, then its children
+  std::vector<int> joint_member_bone;     // (nmember) bone index
+  std::vector<int> joint_member_at_tail;  // (nmember) 1 if the joint point is that bone's tail
+  std::vector<int> joint_first_member;    // (njoint + 1) offsets into the member arrays
 
   int find_bone(const std::string& name) const;  // -1 if absent
   int root() const { return 0; }

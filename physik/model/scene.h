@@ -3,6 +3,7 @@
 // models/README.md ("Scenes").
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,14 +17,21 @@ namespace physik {
 //   linear  F = k (t - a)
 //   capped  F = k min(|t - a|, c) (t - a)/|t - a|
 // (paper Sec. 3.3; the original hard-codes c = 1). Forces in N, positions in rig units.
+// A point's own spring law, k and cap are optional: one it does not give is the params'
+// (control_spring, control_k, control_cap) at the time of use, so a tuner or a --set that
+// changes the params reaches it, while a value the scene gives per point stays fixed.
 struct ControlPoint {
   std::string name;            // optional label
   int bone = -1;               // index into the rig
   double alpha = 1.0;          // position along the bone: 0 = head, 1 = tail
   Vec3 target_world = Vec3::Zero();
-  SpringLaw spring = SpringLaw::kLinear;
-  double k = 10.0;             // N/m
-  double cap = 1.0;            // rig units
+  std::optional<SpringLaw> spring;  // unset: params.control_spring
+  std::optional<double> k;          // N/m; unset: params.control_k
+  std::optional<double> cap;        // rig units; unset: params.control_cap
+
+  SpringLaw spring_in(const EngineParams& p) const { return spring ? *spring : p.control_spring; }
+  double k_in(const EngineParams& p) const { return k ? *k : p.control_k; }
+  double cap_in(const EngineParams& p) const { return cap ? *cap : p.control_cap; }
 };
 
 // At `step`, control point `control_point` gets a new target (interpolated per the params).

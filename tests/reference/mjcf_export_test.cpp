@@ -1,5 +1,6 @@
 // Rig -> MJCF: every shipped rig compiles in MuJoCo, with the rig's masses, inertias, rest pose and
 // joint types (reference/mjcf_export.h).
+#include "physik/engine/engine.h"
 #include "reference/mjcf_export.h"
 
 #include <chrono>

@@ -1,6 +1,7 @@
 // The MuJoCo reference runner (reference/mujoco_runner.h): with no joints both engines integrate
 // the same equations, so they must agree to round-off; with joints, MuJoCo's limits hold up to the
 // soft-constraint slack the header states.
+#include "physik/engine/engine.h"
 #include "reference/mujoco_runner.h"
 
 #include <cmath>

@@ -27,6 +27,7 @@
 // the double root b = 2 sqrt(a) - a = 1). So c* = m / (2 h) is the unique global minimum of any
 // objective that is zero only at zero error, the log measure included.
 #include <cmath>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
@@ -56,9 +57,7 @@ Scene rod_scene(double m, double k, double dt) {
   cp.bone = 0;
   cp.alpha = 0.5;
   cp.target_world = Vec3(1, 0, 0.5);
-  cp.spring = SpringLaw::kLinear;
-  cp.k = k;
-  s.params.control_k = k;
+  s.params.control_k = k;  // linear (the preset's law), k from the params
   s.control_points.push_back(cp);
   s.steps = 400;
   s.initial_pose = rest_pose(s.rig);
@@ -112,14 +111,50 @@ TEST(Tuner, DivergenceIsALargeFinitePenalty) {
   EXPECT_GT(cu, 10 * cost_of(rs));
 }
 
-TEST(Tuner, ControlKScalesEveryControlPoint) {
+TEST(Tuner, ControlKAndCapReachThePointsThatGiveNone) {
   Scene s = rod_scene(1.0, 10.0, 0.05);
   s.control_points.push_back(s.control_points[0]);
-  s.control_points[1].k = 20.0;
+  s.control_points[1].k = 20.0;  // a k and cap of its own stay fixed
+  s.control_points[1].cap = 0.5;
   set_param(s, "control_k", 30.0);
-  EXPECT_DOUBLE_EQ(get_param(s, "control_k"), 30.0);
-  EXPECT_DOUBLE_EQ(s.control_points[0].k, 30.0);
-  EXPECT_DOUBLE_EQ(s.control_points[1].k, 60.0);
+  set_param(s, "control_cap", 2.0);
+  EXPECT_EQ(get_param(s, "control_k"), 30.0);
+  EXPECT_EQ(get_param(s, "control_cap"), 2.0);
+  EXPECT_EQ(s.control_points[0].k_in(s.params), 30.0);
+  EXPECT_EQ(s.control_points[1].k_in(s.params), 20.0);
+  EXPECT_EQ(s.control_points[0].cap_in(s.params), 2.0);
+  EXPECT_EQ(s.control_points[1].cap_in(s.params), 0.5);
+  // the rod tuned to k = 40 runs as the rod built with k = 40
+  Scene tuned = rod_scene(1.0, 10.0, 0.05);
+  set_param(tuned, "control_k", 40.0);
+  EXPECT_EQ(state_hash(run_scene(tuned).final_frames),
+            state_hash(run_scene(rod_scene(1.0, 40.0, 0.05)).final_frames));
+}
+
+TEST(Tuner, EveryTunableIsATableRowWithItsBounds) {
+  for (const TunableSpec& t : tunable_parameters()) {
+    const ParamRow* row = find_param(t.name);
+    ASSERT_NE(row, nullptr) << t.name;
+    ASSERT_TRUE(row->tune.has_value());
+    EXPECT_EQ(row->tune->first, t.lo);
+    EXPECT_EQ(row->tune->second, t.hi);
+    Scene s = rod_scene(1.0, 10.0, 0.05);
+    set_param(s, t.name, t.hi);  // through the table to the field
+    EXPECT_EQ(row->get(s.params), t.hi);
+    EXPECT_EQ(get_param(s, t.name), t.hi);
+  }
+  // today's bounds
+  const std::vector<std::tuple<std::string, double, double>> expected = {
+      {"damping", 0.01, 100.0},     {"angular_velocity_factor", 0.01, 1.0}, {"control_k", 0.1, 1000.0},
+      {"control_cap", 0.01, 100.0}, {"torsion_k", 0.1, 1000.0},             {"torsion_cap", 0.01, 3.2}};
+  ASSERT_EQ(tunable_parameters().size(), expected.size());
+  for (const auto& [name, lo, hi] : expected) {
+    const auto params = parse_tune_params(name, "--params");
+    EXPECT_EQ(params[0].lo, lo) << name;
+    EXPECT_EQ(params[0].hi, hi) << name;
+  }
+  Scene s = rod_scene(1.0, 10.0, 0.05);
+  EXPECT_THROW(set_param(s, "dt", 0.01), InputError);  // a row, but not a tunable one
 }
 
 TEST(Tuner, BadInputs) {

@@ -1,0 +1,52 @@
+"""The PhysIK panel: 3D viewport sidebar (N), tab "PhysIK"."""
+import bpy
+
+from . import engine
+
+
+class PHYSIK_PT_panel(bpy.types.Panel):
+    bl_label = "PhysIK"
+    bl_idname = "PHYSIK_PT_panel"
+    bl_space_type = 'VIEW_3D'
+    bl_region_type = 'UI'
+    bl_category = "PhysIK"
+
+    def draw(self, context):
+        layout = self.layout
+        s = context.scene.physik
+        row = layout.row(align=True)
+        row.operator("physik.import_rig", text="Import rig", icon='IMPORT')
+        row.operator("physik.export_rig", text="Export rig", icon='EXPORT')
+        layout.operator("physik.add_control_point", icon='EMPTY_SINGLE_ARROW')
+        obj = context.active_object
+        if obj is not None and obj.type == 'ARMATURE':
+            n = sum(1 for o in context.scene.objects if o.type == 'EMPTY'
+                    and (o.get("physik_armature") == obj or o.get("fwik_armature") == obj))
+            layout.label(text="%d control point(s)" % n)
+        col = layout.column()
+        col.prop(s, "preset")
+        col.prop(s, "integration")
+        row = col.row(align=True)
+        row.prop(s, "damping_mode", expand=True)
+        sub = row.row()
+        sub.enabled = s.damping_mode == 'VALUE'
+        sub.prop(s, "damping", text="")
+        col.prop(s, "control_spring")
+        col.prop(s, "control_k")
+        if s.control_spring == "capped":
+            col.prop(s, "control_cap")
+        col.prop(s, "interpolation")
+        col.prop(s, "steps_per_frame")
+        col.prop(s, "bake_every")
+        col.prop(s, "max_steps")
+        row = layout.row(align=True)
+        row.operator("physik.simulate", icon='PLAY')
+        row.operator("physik.solve", icon='CHECKMARK')
+        row = layout.row(align=True)
+        row.operator("physik.bake", icon='KEYINGSET')
+        row.operator("physik.reset", icon='LOOP_BACK')
+        if not engine.available():
+            layout.label(text="engine not built: see README", icon='ERROR')
+
+
+CLASSES = (PHYSIK_PT_panel,)

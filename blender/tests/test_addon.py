@@ -1,0 +1,652 @@
+"""Headless tests of the PhysIK add-on, run by Blender (ctest: blender_addon):
+
+    blender -b --factory-startup --python-exit-code 1 --python blender/tests/test_addon.py -- \
+        --repo . [--shared ../shared]
+
+The add-on is enabled from the repository folder: blender/ goes on sys.path and
+addon_utils.enable("physik_addon") imports and registers it (test_install.py covers the zip).
+What is checked: the rig read from the paper's pinhead.blend against models/rigs/pinhead.json;
+rig files round-tripping through an armature; control-point empties; poses, keyframes and reset;
+every bad input giving one Blender error report and no traceback; the missing engine reported.
+Tolerances: positions and frames 1e-6 (Blender keeps them in single precision: ~1e-7 of their
+size), limits 1e-6 rad (Blender keeps radians in single precision: 160 deg comes back as
+159.9999953 deg, 8e-8 rad off); against the 4-decimal pinhead.json, 1e-4.
+"""
+import argparse
+import json
+import math
+import os
+import sys
+import tempfile
+import unittest
+
+import addon_utils
+import bpy
+from mathutils import Quaternion, Vector
+
+
+def _args():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    p = argparse.ArgumentParser()
+    here = os.path.dirname(os.path.abspath(__file__))
+    p.add_argument("--repo", default=os.path.join(here, "..", ".."))
+    p.add_argument("--shared", default=None, help="folder with data/pinhead.blend")
+    return p.parse_args(argv)
+
+
+ARGS = _args()
+REPO = os.path.abspath(ARGS.repo)
+RIGS = os.path.join(REPO, "models", "rigs")
+sys.path.insert(0, os.path.join(REPO, "blender"))
+MOD = addon_utils.enable("physik_addon", default_set=True, handle_error=None)
+if MOD is None:
+    print("test_addon.py: the add-on did not enable", file=sys.stderr)
+    sys.exit(1)
+
+from physik_addon import (armature_io, control_points, operators, rig_format,  # noqa: E402
+                          scene_dict, settings)
+
+POS_TOL = 1e-6    # rig units
+FRAME_TOL = 1e-6  # axis components
+LIMIT_TOL = 1e-6  # rad
+
+
+def clear_scene():
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    for arm in list(bpy.data.armatures):
+        bpy.data.armatures.remove(arm)
+    for action in list(bpy.data.actions):
+        bpy.data.actions.remove(action)
+
+
+def angle_between(q1, q2):
+    """Angle (rad) of the rotation between two unit quaternions, sign-blind, in double precision
+    and without acos near 1: 4 asin(|q1 -+ q2| / 2)."""
+    a, b = [float(c) for c in q1], [float(c) for c in q2]
+    d = min(math.dist(a, b), math.dist(a, [-c for c in b]))
+    return 4.0 * math.asin(min(1.0, d / 2.0))
+
+
+def max_diff(a, b):
+    return max(abs(x - y) for x, y in zip(a, b))
+
+
+def run_op(op, **kw):
+    """Run an operator; return None on success or the error report's text."""
+    try:
+        op(**kw)
+        return None
+    except RuntimeError as e:
+        return str(e)
+
+
+def build(name, **kw):
+    rig = rig_format.load_rig(os.path.join(RIGS, name + ".json"))
+    return rig, armature_io.rig_to_armature(rig, bpy.context, **kw)
+
+
+class Base(unittest.TestCase):
+    def setUp(self):
+        if bpy.context.object is not None and bpy.context.object.mode != 'OBJECT':
+            bpy.ops.object.mode_set(mode='OBJECT')
+        clear_scene()
+
+    def assert_report(self, message, *fragments):
+        """An operator failed with one report holding every fragment, and no traceback."""
+        self.assertIsNotNone(message, "the operator succeeded; expected an error report")
+        self.assertNotIn("Traceback", message)
+        for f in fragments:
+            self.assertIn(f, message)
+
+    def assert_same_rig(self, want, got, pos_tol, frame_tol, limit_tol_deg):
+        """Canonical or file-form rigs: same bones and parents in order, positions, frames and
+        limits within the tolerances (limits in degrees)."""
+        self.assertEqual([b["name"] for b in want["bones"]], [b["name"] for b in got["bones"]])
+        for a, b in zip(want["bones"], got["bones"]):
+            self.assertEqual(a["parent"], b["parent"], a["name"])
+            self.assertLess(max_diff(a["head"], b["head"]), pos_tol, a["name"])
+            self.assertLess(max_diff(a["tail"], b["tail"]), pos_tol, a["name"])
+            for k in range(3):
+                self.assertLess(max_diff(a["rest_frame"][k], b["rest_frame"][k]), frame_tol,
+                                "%s axis %d" % (a["name"], k))
+            la, lb = a.get("limits_deg", {}), b.get("limits_deg", {})
+            self.assertEqual(sorted(la), sorted(lb), a["name"])
+            for axis in la:
+                self.assertLess(max_diff(la[axis], lb[axis]), limit_tol_deg, a["name"] + axis)
+
+
+class TestEnable(Base):
+    def test_registered(self):
+        for op in ("import_rig", "export_rig", "add_control_point", "solve", "simulate", "bake",
+                   "reset"):
+            self.assertTrue(hasattr(bpy.types, "PHYSIK_OT_" + op), op)
+        self.assertTrue(hasattr(bpy.types, "PHYSIK_PT_panel"))
+        self.assertEqual(bpy.context.scene.physik.preset, "original")
+
+    def test_unregister_and_register_again(self):
+        addon_utils.disable("physik_addon")
+        self.assertFalse(hasattr(bpy.types.Scene, "physik"))
+        self.assertIsNotNone(addon_utils.enable("physik_addon", default_set=True, handle_error=None))
+        self.assertTrue(hasattr(bpy.types.Scene, "physik"))
+
+
+def shared_blend():
+    folder = ARGS.shared
+    path = os.path.join(folder, "data", "pinhead.blend") if folder else None
+    return path if path and os.path.isfile(path) else None
+
+
+@unittest.skipIf(shared_blend() is None, "no --shared folder with data/pinhead.blend")
+class TestPaperBlend(Base):
+    """The paper's own file against the project's rig: models/rigs/pinhead.json names each bone's
+    Blender name in its comment ("Blender bone Bone.013")."""
+
+    def setUp(self):
+        bpy.ops.wm.open_mainfile(filepath=shared_blend())
+        self.arm = bpy.data.objects["Armature"]
+        with open(os.path.join(RIGS, "pinhead.json")) as f:
+            self.ref = json.load(f)
+        self.name_of = {b["comment"].split("Blender bone ")[1]: b["name"] for b in self.ref["bones"]}
+
+    def renamed(self, rig):
+        for b in rig["bones"]:
+            b["name"] = self.name_of[b["name"]]
+            b["parent"] = self.name_of[b["parent"]] if b["parent"] else None
+        return rig
+
+    def test_rig_equals_pinhead_json(self):
+        got = self.renamed(armature_io.armature_to_rig(self.arm))
+        self.assert_same_rig(self.ref, got, 1e-4, 1e-4, 1e-4)
+        worst = {"head/tail": 0.0, "frame": 0.0, "limit_deg": 0.0}
+        for a, b in zip(self.ref["bones"], got["bones"]):
+            worst["head/tail"] = max(worst["head/tail"], max_diff(a["head"], b["head"]),
+                                     max_diff(a["tail"], b["tail"]))
+            worst["frame"] = max([worst["frame"]] + [max_diff(a["rest_frame"][k], b["rest_frame"][k])
+                                                      for k in range(3)])
+            for axis, lim in a.get("limits_deg", {}).items():
+                worst["limit_deg"] = max(worst["limit_deg"], max_diff(lim, b["limits_deg"][axis]))
+            # mass: the file's fwik_mass is the original add-on's mass per length
+            self.assertEqual(b["mass_per_length"], a["mass_per_length"], a["name"])
+        self.assertEqual(got["defaults"], self.ref["defaults"])
+        print("\npinhead.blend vs models/rigs/pinhead.json, largest differences:", worst)
+
+    def test_saved_control_points(self):
+        # the original add-on's empties (fwik_*), as shared/data/pinhead_rig.json lists them
+        with open(os.path.join(os.path.dirname(shared_blend()), "pinhead_rig.json")) as f:
+            saved = json.load(f)["control_points_saved_in_file"]
+        got = control_points.read_control_points(bpy.context.scene, self.arm)
+        self.assertEqual(len(got), len(saved))
+        for want in saved:
+            match = [c for c in got if c["bone"] == want["bone"]]
+            self.assertEqual(len(match), 1, want["bone"])
+            self.assertLess(max_diff(match[0]["target"], want["target"]), 1e-4)
+            self.assertEqual(match[0]["alpha"], want["bone_alpha"])
+            self.assertEqual(match[0]["k"], want["spring_constant"])
+
+
+class TestRoundTrip(Base):
+    """Rig file -> armature -> rig: the canonical rig (what the engine builds) comes back."""
+
+    def check(self, name):
+        rig, obj = build(name)
+        back = armature_io.armature_to_rig(obj)
+        self.assert_same_rig(rig, back, POS_TOL, FRAME_TOL, math.degrees(LIMIT_TOL))
+        # the read-back file parses to the same canonical rig
+        self.assert_same_rig(rig, rig_format.parse_rig(back, "back"), POS_TOL, FRAME_TOL,
+                             math.degrees(LIMIT_TOL))
+        self.assertEqual(back["name"], rig["name"])
+        self.assertEqual(back["defaults"], rig["defaults"])
+        for a, b in zip(rig["bones"], back["bones"]):
+            for key in ("mass", "mass_per_length", "radius"):
+                self.assertEqual(a.get(key), b.get(key), a["name"] + " " + key)
+        return rig, obj
+
+    def test_pinhead(self):
+        self.check("pinhead")
+
+    def test_hand(self):
+        self.check("hand")
+
+    def test_elbow(self):
+        self.check("elbow")
+
+    def test_chain3(self):
+        self.check("chain3")
+
+    def test_locked_axis_is_locked_in_blender(self):
+        _, obj = self.check("hand")
+        pb = obj.pose.bones["index.2"]  # limits x [0, 10], y and z [0, 0]
+        self.assertEqual((pb.lock_ik_x, pb.lock_ik_y, pb.lock_ik_z), (False, True, True))
+        self.assertAlmostEqual(math.degrees(pb.ik_max_x), 10.0, places=5)
+
+    def test_lock_ik_alone_reads_as_locked(self):
+        _, obj = build("chain3")
+        pb = obj.pose.bones["b1"]
+        pb.lock_ik_z = True  # Blender's lock, no limit flag
+        pb.use_ik_limit_x, pb.ik_min_x, pb.ik_max_x = True, math.radians(-20), math.radians(30)
+        got = armature_io.armature_to_rig(obj)["bones"][1]["limits_deg"]
+        self.assertEqual(sorted(got), ["x", "z"])
+        self.assertEqual(got["z"], [0.0, 0.0])
+        self.assertLess(max_diff(got["x"], (-20, 30)), 1e-5)
+
+    def test_masses_radii_defaults(self):
+        doc = {"name": "m", "defaults": {"mass_per_length": 2.5, "radius": 0.1}, "bones": [
+            {"name": "a", "parent": None, "head": [0, 0, 0], "tail": [0, 0, 1], "mass": 3.0},
+            {"name": "b", "parent": "a", "head": [0, 0, 1], "tail": [0, 1, 1],
+             "mass_per_length": 0.5, "radius": 0.2, "roll_deg": 30}]}
+        rig = rig_format.parse_rig(doc, "m")
+        back = armature_io.armature_to_rig(armature_io.rig_to_armature(rig, bpy.context))
+        self.assertEqual(back["defaults"], {"mass_per_length": 2.5, "radius": 0.1})
+        self.assertEqual(back["bones"][0]["mass"], 3.0)
+        self.assertEqual((back["bones"][1]["mass_per_length"], back["bones"][1]["radius"]), (0.5, 0.2))
+        self.assert_same_rig(rig, back, POS_TOL, FRAME_TOL, math.degrees(LIMIT_TOL))
+
+    def test_object_transform_is_applied(self):
+        rig, obj = build("elbow")
+        obj.location = (1.0, -2.0, 0.5)
+        obj.rotation_euler = (0.3, -0.2, 1.1)
+        obj.scale = (2.0, 2.0, 2.0)
+        bpy.context.view_layer.update()
+        m = obj.matrix_world
+        r = m.to_3x3().normalized()
+        back = armature_io.armature_to_rig(obj)
+        for a, b in zip(rig["bones"], back["bones"]):
+            self.assertLess(max_diff(m @ Vector(a["head"]), b["head"]), 1e-5)
+            self.assertLess(max_diff(m @ Vector(a["tail"]), b["tail"]), 1e-5)
+            for k in range(3):
+                self.assertLess(max_diff(r @ Vector(a["rest_frame"][k]), b["rest_frame"][k]), 1e-5)
+
+    def test_operators_import_export(self):
+        path = os.path.join(RIGS, "hand.json")
+        self.assertIsNone(run_op(bpy.ops.physik.import_rig, filepath=path))
+        obj = bpy.context.active_object
+        self.assertEqual(obj.type, 'ARMATURE')
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "hand_out.json")
+            self.assertIsNone(run_op(bpy.ops.physik.export_rig, filepath=out))
+            back = rig_format.load_rig(out)
+        self.assert_same_rig(rig_format.load_rig(path), back, POS_TOL, FRAME_TOL,
+                             math.degrees(LIMIT_TOL))
+
+    def test_edit_mode_reads_edit_bones(self):
+        rig, obj = build("chain3")
+        bpy.ops.object.mode_set(mode='EDIT')
+        obj.data.edit_bones["b2"].tail = (0.0, 1.0, 2.0)  # not yet in the saved bones
+        got = armature_io.armature_to_rig(obj)
+        self.assertLess(max_diff(got["bones"][2]["tail"], (0.0, 1.0, 2.0)), 1e-6)
+        bpy.ops.object.mode_set(mode='OBJECT')
+
+
+class TestControlPoints(Base):
+    def test_round_trip(self):
+        _, arm = build("pinhead")
+        specs = [("hand.R", 1.0, (-2.4, -0.6, 1.5), 30.0, "capped", 0.5),
+                 ("foot.L", 0.0, (0.4751, 0.0, -2.4269), None, None, None),
+                 ("torso", 0.5, (0.1, 0.2, 1.0), 12.0, "linear", None)]
+        for bone, alpha, target, k, spring, cap in specs:
+            control_points.add_control_point(bpy.context, arm, bone, alpha, target, k, spring, cap)
+        bpy.context.view_layer.update()
+        got = {c["bone"]: c for c in control_points.read_control_points(bpy.context.scene, arm)}
+        self.assertEqual(sorted(got), sorted(s[0] for s in specs))
+        for bone, alpha, target, k, spring, cap in specs:
+            c = got[bone]
+            self.assertEqual(c["alpha"], alpha)
+            self.assertLess(max_diff(c["target"], target), POS_TOL)
+            self.assertEqual((c.get("k"), c.get("spring"), c.get("cap")), (k, spring, cap))
+
+    def test_default_target_is_the_attachment_point(self):
+        rig, arm = build("pinhead")
+        empty = control_points.add_control_point(bpy.context, arm, "torso", 0.25)
+        bpy.context.view_layer.update()
+        b = next(b for b in rig["bones"] if b["name"] == "torso")
+        want = Vector(b["head"]).lerp(Vector(b["tail"]), 0.25)
+        self.assertLess((empty.matrix_world.translation - want).length, POS_TOL)
+
+    def test_target_follows_a_parented_empty(self):
+        _, arm = build("elbow")
+        empty = control_points.add_control_point(bpy.context, arm, "forearm", 1.0, (1.0, 0.0, 3.0))
+        holder = bpy.data.objects.new("holder", None)
+        bpy.context.scene.collection.objects.link(holder)
+        holder.location = (0.0, 2.0, 0.0)
+        empty.parent = holder
+        bpy.context.view_layer.update()
+        (c,) = control_points.read_control_points(bpy.context.scene, arm)
+        self.assertLess(max_diff(c["target"], (1.0, 2.0, 3.0)), POS_TOL)
+
+    def test_other_armatures_points_are_not_read(self):
+        _, a = build("elbow")
+        _, b = build("chain3")
+        control_points.add_control_point(bpy.context, a, "forearm")
+        control_points.add_control_point(bpy.context, b, "b2")
+        self.assertEqual([c["bone"] for c in control_points.read_control_points(bpy.context.scene, a)],
+                         ["forearm"])
+
+    def test_operator_uses_the_active_bone(self):
+        _, arm = build("elbow")
+        arm.data.bones.active = arm.data.bones["forearm"]
+        self.assertIsNone(run_op(bpy.ops.physik.add_control_point, alpha=0.5))
+        (c,) = control_points.read_control_points(bpy.context.scene, arm)
+        self.assertEqual((c["bone"], c["alpha"]), ("forearm", 0.5))
+        self.assertLess(max_diff(c["target"], (0.0, 0.0, 3.0)), POS_TOL)
+
+
+def some_pose(obj, seed=3):
+    """A deterministic, non-trivial channel pose: every bone turned, the root moved."""
+    rot = {}
+    for i, pb in enumerate(armature_io.pose_bones_dfs(obj)):
+        axis = Vector((math.sin(seed + i), math.cos(2 * seed + i), 0.5)).normalized()
+        rot[pb.name] = Quaternion(axis, 0.1 + 0.05 * i)
+    return Vector((0.3, -0.2, 2.5)), rot
+
+
+class TestPoses(Base):
+    def world(self, obj):
+        bpy.context.view_layer.update()
+        return [(h.copy(), t.copy()) for _, _, h, t in armature_io.posed_bones_world(obj)]
+
+    def test_apply_then_read(self):
+        _, obj = build("pinhead")
+        head, rot = some_pose(obj)
+        armature_io.apply_pose(obj, head, rot)
+        got_head, got_rot = armature_io.read_pose(obj)
+        self.assertLess((got_head - head).length, POS_TOL)
+        for name, q in rot.items():
+            self.assertLess(angle_between(q, got_rot[name]), 1e-6, name)
+        self.assertLess((self.world(obj)[0][0] - head).length, POS_TOL)
+
+    def test_world_orientations_give_the_channel_rotations(self):
+        _, obj = build("pinhead")
+        obj.rotation_euler = (0.0, 0.0, 0.7)  # an object turn must not leak into the channels
+        head, rot = some_pose(obj)
+        armature_io.apply_pose(obj, head, rot)
+        bpy.context.view_layer.update()
+        r = obj.matrix_world.to_3x3().normalized()
+        world = {pb.name: (r @ pb.matrix.to_3x3()).to_quaternion() for pb in obj.pose.bones}
+        local = armature_io.local_rotations_from_world(obj, world)
+        for name, q in rot.items():
+            self.assertLess(angle_between(q, local[name]), 1e-5, name)
+
+    def test_other_rotation_modes(self):
+        _, obj = build("elbow")
+        q = Quaternion(Vector((1.0, 2.0, 0.5)).normalized(), 0.8)
+        for mode in ('XYZ', 'ZXY', 'AXIS_ANGLE', 'QUATERNION'):
+            pb = obj.pose.bones["forearm"]
+            pb.rotation_mode = mode
+            armature_io.set_rotation(pb, q)
+            self.assertLess(angle_between(q, pb.matrix_basis.to_quaternion()), 1e-6, mode)
+
+    def test_initial_pose_dict(self):
+        _, obj = build("elbow")
+        armature_io.apply_pose(obj, (0.0, 0.0, 1.0), {"forearm": Quaternion((1, 0, 0), math.radians(-30))})
+        ip = armature_io.initial_pose_dict(obj)
+        self.assertLess(max_diff(ip["root_head"], (0, 0, 1)), POS_TOL)
+        self.assertEqual(list(ip["rotation_deg"]), ["forearm"])
+        self.assertLess(max_diff(ip["rotation_deg"]["forearm"], (-30, 0, 0)), 1e-4)
+
+    def test_bones_csv(self):
+        _, obj = build("elbow")
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "bones.csv")
+            armature_io.write_bones_csv(path, armature_io.posed_bones_world(obj))
+            with open(path) as f:
+                lines = f.read().splitlines()
+        self.assertEqual(lines[0], "bone,parent,head_x,head_y,head_z,tail_x,tail_y,tail_z")
+        self.assertEqual(lines[1:], ["upper_arm,,0,0,0,0,0,2", "forearm,upper_arm,0,0,2,0,0,4"])
+
+
+class TestBakeAndReset(Base):
+    def trajectory(self, obj, n):
+        """n poses: the forearm turning 10 deg per step, the root rising 0.1 per step."""
+        return [((0.0, 0.0, 0.1 * s), {"forearm": Quaternion((1, 0, 0), math.radians(-10 * s))})
+                for s in range(n)]
+
+    def keyed_frames(self, obj, path):
+        fc = [f for f in obj.animation_data.action.fcurves if f.data_path == path]
+        return sorted({round(k.co[0]) for f in fc for k in f.keyframe_points})
+
+    def test_keys_every_n_steps_and_the_last(self):
+        _, obj = build("elbow")
+        frames = armature_io.bake_keyframes(obj, self.trajectory(obj, 11), frame_start=5, every=3)
+        self.assertEqual(frames, [5, 6, 7, 8, 9])  # steps 0, 3, 6, 9 and the last, 10
+        self.assertEqual(self.keyed_frames(obj, 'pose.bones["forearm"].rotation_quaternion'), frames)
+        self.assertEqual(self.keyed_frames(obj, 'pose.bones["upper_arm"].location'), frames)
+        for frame, step in zip(frames, (0, 3, 6, 9, 10)):
+            bpy.context.scene.frame_set(frame)
+            pb = obj.pose.bones["forearm"]
+            angle = pb.rotation_quaternion.to_axis_angle()[1]
+            self.assertAlmostEqual(math.degrees(angle), 10 * step, places=3)
+            self.assertAlmostEqual(armature_io.read_pose(obj)[0].z, 0.1 * step, places=6)
+
+    def test_bad_every(self):
+        _, obj = build("elbow")
+        with self.assertRaises(rig_format.InputError):
+            armature_io.bake_keyframes(obj, self.trajectory(obj, 3), every=0)
+
+    def test_reset_returns_to_the_saved_start(self):
+        _, obj = build("pinhead")
+        head, rot = some_pose(obj)
+        armature_io.apply_pose(obj, head, rot)
+        operators._save_start_pose(obj)
+        armature_io.apply_pose(obj, (0, 0, 0), {n: Quaternion() for n in rot})
+        self.assertIsNone(run_op(bpy.ops.physik.reset))
+        got_head, got_rot = armature_io.read_pose(obj)
+        self.assertLess((got_head - head).length, POS_TOL)
+        for name, q in rot.items():
+            self.assertLess(angle_between(q, got_rot[name]), 1e-6, name)
+
+    def test_reset_without_a_start_goes_to_rest(self):
+        rig, obj = build("pinhead")
+        head, rot = some_pose(obj)
+        armature_io.apply_pose(obj, head, rot)
+        self.assertIsNone(run_op(bpy.ops.physik.reset))
+        got_head, got_rot = armature_io.read_pose(obj)
+        self.assertLess(max_diff(got_head, rig["bones"][0]["head"]), POS_TOL)
+        self.assertTrue(all(q.angle < 1e-9 for q in got_rot.values()))
+
+
+class TestSettingsAndScene(Base):
+    def test_preset_fills_the_fields(self):
+        s = bpy.context.scene.physik
+        s.preset = "paper"
+        self.assertEqual((s.damping, s.control_k), (20.0, 30.0))
+        s.preset = "original"
+        self.assertEqual((s.damping, s.control_k), (3.0, 10.0))
+
+    def test_params(self):
+        s = bpy.context.scene.physik
+        s.damping_mode = 'AUTO'
+        s.control_spring = "capped"
+        p = settings.params_dict(s)
+        self.assertEqual((p["damping"], p["control_spring"]), ("auto", "capped"))
+        s.damping_mode = 'VALUE'
+        s.damping = 5.0
+        self.assertEqual(settings.params_dict(s)["damping"], 5.0)
+
+    def test_scene_dict_is_json_and_complete(self):
+        _, arm = build("pinhead")
+        control_points.add_control_point(bpy.context, arm, "hand.R", 1.0, (-2.4, -0.6, 1.5))
+        bpy.context.view_layer.objects.active = arm
+        scene = scene_dict.build_scene(bpy.context, arm, solve=True)
+        text = json.dumps(scene)
+        self.assertEqual(sorted(json.loads(text)), ["control_points", "convergence", "initial_pose",
+                                                    "params", "rig", "steps"])
+        self.assertEqual(len(scene["rig"]["bones"]), 18)
+        self.assertEqual(scene["control_points"][0]["bone"], "hand.R")
+
+    def test_a_control_point_selects_its_armature(self):
+        _, arm = build("elbow")
+        empty = control_points.add_control_point(bpy.context, arm, "forearm")
+        bpy.context.view_layer.objects.active = empty
+        self.assertEqual(scene_dict.active_armature(bpy.context), arm)
+
+
+def write_json(folder, name, doc):
+    path = os.path.join(folder, name)
+    with open(path, "w") as f:
+        json.dump(doc, f) if not isinstance(doc, str) else f.write(doc)
+    return path
+
+
+TWO = [{"name": "a", "parent": None, "head": [0, 0, 0], "tail": [0, 0, 1]},
+       {"name": "b", "parent": "a", "head": [0, 0, 1], "tail": [0, 0, 2]}]
+
+
+class TestBadInput(Base):
+    """Every bad input: one error report naming what is wrong, {'CANCELLED'}, no traceback, and
+    nothing half-made left behind."""
+
+    ENGINE_OPS = ("solve", "simulate", "bake")
+
+    def ops_on_active(self):
+        return [getattr(bpy.ops.physik, n) for n in self.ENGINE_OPS + ("export_rig", "reset",
+                                                                        "add_control_point")]
+
+    def armature_with_point(self):
+        _, arm = build("elbow")
+        empty = control_points.add_control_point(bpy.context, arm, "forearm", 1.0, (1.0, 0.0, 3.0))
+        bpy.context.view_layer.objects.active = arm
+        return arm, empty
+
+    def test_no_active_object(self):
+        bpy.context.view_layer.objects.active = None
+        for op in self.ops_on_active():
+            kw = {"filepath": "/tmp/never.json"} if op.idname() == "PHYSIK_OT_export_rig" else {}
+            self.assert_report(run_op(op, **kw), "no armature selected")
+
+    def test_active_object_not_an_armature(self):
+        bpy.ops.mesh.primitive_cube_add()
+        for op in self.ops_on_active():
+            kw = {"filepath": "/tmp/never.json"} if op.idname() == "PHYSIK_OT_export_rig" else {}
+            self.assert_report(run_op(op, **kw), "no armature selected", "'Cube'", "mesh")
+
+    def import_bad(self, doc, *fragments):
+        with tempfile.TemporaryDirectory() as tmp:
+            path = write_json(tmp, "bad.json", doc)
+            before = len(bpy.data.objects)
+            self.assert_report(run_op(bpy.ops.physik.import_rig, filepath=path), "bad.json", *fragments)
+            self.assertEqual(len(bpy.data.objects), before, "a failed import left an object")
+
+    def test_zero_length_bone_in_a_rig_file(self):
+        bones = [dict(TWO[0]), dict(TWO[1], tail=[0, 0, 1])]
+        self.import_bad({"bones": bones}, "bones[1] 'b'", "field 'tail'", "zero-length bone")
+
+    def test_zero_length_bone_in_edit_mode(self):
+        _, arm = build("chain3")
+        bpy.ops.object.mode_set(mode='EDIT')
+        eb = arm.data.edit_bones["b2"]
+        eb.tail = eb.head.copy()
+        with tempfile.TemporaryDirectory() as tmp:
+            msg = run_op(bpy.ops.physik.export_rig, filepath=os.path.join(tmp, "x.json"))
+            self.assertFalse(os.path.exists(os.path.join(tmp, "x.json")))
+        self.assert_report(msg, "armature 'chain3'", "bone 'b2'", "zero-length bone")
+
+    def test_invalid_bone_names_in_a_rig_file(self):
+        for name, why in (("", "empty bone name"), ("a,b", "the bones CSV"), ("x" * 64, "63 bytes"),
+                          (7, "expected a string")):
+            self.import_bad({"bones": [dict(TWO[0], name=name)]}, "field 'name'", why)
+
+    def test_invalid_bone_name_in_an_armature(self):
+        _, arm = build("elbow")
+        arm.data.bones["forearm"].name = "fore,arm"
+        bpy.context.view_layer.objects.active = arm
+        with tempfile.TemporaryDirectory() as tmp:
+            msg = run_op(bpy.ops.physik.export_rig, filepath=os.path.join(tmp, "x.json"))
+        self.assert_report(msg, "bone 'fore,arm'", "field 'name'", "the bones CSV")
+
+    def test_other_rig_file_errors(self):
+        self.import_bad("{not json", "not valid JSON")
+        self.import_bad({"bones": [TWO[0], dict(TWO[1], parent="zz")]}, "unknown bone 'zz'")
+        self.import_bad({"bones": [TWO[0], dict(TWO[1], parent=None)]}, "a second root")
+        self.import_bad({"bones": [TWO[0], dict(TWO[1], head=[0, 0, 1.5])]}, "does not meet the tail")
+        self.import_bad({"bones": [TWO[0], dict(TWO[1], limits_deg={"x": [20, 10]})]},
+                        "limits_deg.x", "greater than max")
+        self.import_bad({"bones": [TWO[0], dict(TWO[1], limits_deg={"x": [10, 20]})]},
+                        "limits_deg.x", "cannot be a Blender IK limit")
+        self.import_bad({"bones": [dict(TWO[0], wings=2)]}, "field 'wings'", "unknown field")
+        self.import_bad({"bones": [dict(TWO[0], head=[0, "a", 0])]}, "head[1]", "expected a number")
+        with tempfile.TemporaryDirectory() as tmp:
+            msg = run_op(bpy.ops.physik.import_rig, filepath=os.path.join(tmp, "absent.json"))
+        self.assert_report(msg, "absent.json", "cannot read file")
+
+    def test_control_point_with_no_bone(self):
+        arm, empty = self.armature_with_point()
+        del empty["physik_bone"]
+        for n in self.ENGINE_OPS:
+            self.assert_report(run_op(getattr(bpy.ops.physik, n)), "empty '%s'" % empty.name,
+                               "field 'physik_bone'", "no bone")
+
+    def test_control_point_with_an_unknown_bone(self):
+        arm, empty = self.armature_with_point()
+        empty["physik_bone"] = "wing"
+        self.assert_report(run_op(bpy.ops.physik.solve), "unknown bone 'wing'", "armature 'elbow'")
+
+    def test_control_point_with_an_invalid_bone_name(self):
+        arm, empty = self.armature_with_point()
+        for bad, why in ((5, "expected a string"), ("fore,arm", "the bones CSV")):
+            empty["physik_bone"] = bad
+            self.assert_report(run_op(bpy.ops.physik.solve), "not a valid bone name", why)
+
+    def test_control_point_with_no_armature_or_bad_alpha(self):
+        arm, empty = self.armature_with_point()
+        empty["physik_alpha"] = 1.5
+        self.assert_report(run_op(bpy.ops.physik.solve), "physik_alpha", "outside [0, 1]")
+        empty["physik_alpha"] = 1.0
+        empty["physik_spring"] = "rubber"
+        self.assert_report(run_op(bpy.ops.physik.solve), "physik_spring", "unknown law")
+        del empty["physik_spring"]
+        del empty["physik_armature"]
+        self.assert_report(run_op(bpy.ops.physik.solve), "physik_armature", "no armature")
+
+    def test_add_control_point_bad_bone(self):
+        _, arm = build("elbow")
+        arm.data.bones.active = None
+        self.assert_report(run_op(bpy.ops.physik.add_control_point), "no active bone")
+        self.assert_report(run_op(bpy.ops.physik.add_control_point, bone="wing"), "unknown bone 'wing'")
+        self.assertEqual([o.type for o in bpy.data.objects], ['ARMATURE'])
+
+    def test_no_control_points(self):
+        _, arm = build("elbow")
+        self.assert_report(run_op(bpy.ops.physik.solve), "control points", "none: add one")
+
+    def test_two_roots_and_a_loose_child(self):
+        _, arm = build("chain3")
+        bpy.ops.object.mode_set(mode='EDIT')
+        arm.data.edit_bones["b2"].use_connect = False
+        arm.data.edit_bones["b2"].head = (0.0, 0.5, 2.0)  # away from b1's tail
+        bpy.ops.object.mode_set(mode='OBJECT')
+        control_points.add_control_point(bpy.context, arm, "b2")
+        bpy.context.view_layer.objects.active = arm
+        self.assert_report(run_op(bpy.ops.physik.solve), "bone 'b2'", "does not meet the tail")
+        bpy.ops.object.mode_set(mode='EDIT')
+        arm.data.edit_bones["b2"].parent = None
+        bpy.ops.object.mode_set(mode='OBJECT')
+        self.assert_report(run_op(bpy.ops.physik.solve), "a second root")
+
+    def test_sheared_object(self):
+        arm, _ = self.armature_with_point()
+        arm.scale = (1.0, 2.0, 1.0)
+        bpy.context.view_layer.update()
+        self.assert_report(run_op(bpy.ops.physik.solve), "non-uniform object scale")
+
+    def test_missing_engine_is_reported(self):
+        from physik_addon import engine
+        if engine.available():
+            self.skipTest("the physik module is importable here")
+        arm, _ = self.armature_with_point()
+        head, rot = armature_io.read_pose(arm)
+        for n in self.ENGINE_OPS:
+            self.assert_report(run_op(getattr(bpy.ops.physik, n)),
+                               "the physik Python module is not built; see blender/README.md")
+        # nothing moved and no start pose was recorded
+        self.assertNotIn(operators.START_POSE, arm)
+        self.assertLess((armature_io.read_pose(arm)[0] - head).length, 1e-12)
+
+
+def main():
+    suite = unittest.defaultTestLoader.loadTestsFromModule(sys.modules[__name__])
+    result = unittest.TextTestRunner(verbosity=2, stream=sys.stdout).run(suite)
+    sys.exit(0 if result.wasSuccessful() else 1)
+
+
+main()

@@ -1,0 +1,303 @@
+// The parameter table: its defaults against the documented presets, the scene reader and writer
+// and --set driven by it (round trips, every bound's message, every kind's text), and control
+// points that inherit their spring from the params.
+#include "physik/model/params.h"
+
+#include <fstream>
+#include <map>
+#include <optional>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "physik/engine/engine.h"
+#include "physik/io/scene_io.h"
+#include "physik/model/errors.h"
+#include "tests/engine_test_util.h"
+#include "tests/test_util.h"
+
+namespace physik {
+namespace {
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::vector<std::string> split(const std::string& s, const std::string& sep) {
+  std::vector<std::string> out;
+  std::size_t at = 0;
+  for (std::size_t next; (next = s.find(sep, at)) != std::string::npos; at = next + sep.size()) {
+    out.push_back(s.substr(at, next - at));
+  }
+  out.push_back(s.substr(at));
+  return out;
+}
+
+std::string strip(std::string s) {
+  s = std::regex_replace(s, std::regex("`"), "");
+  const auto b = s.find_first_not_of(' '), e = s.find_last_not_of(' ');
+  return b == std::string::npos ? "" : s.substr(b, e - b + 1);
+}
+
+// models/README.md documents every parameter with the `original` preset's value and unit:
+// "| `control_k`, `control_spring`, `control_cap` | 10, `linear`, 1 | N/m, -, rig units | ... |"
+std::map<std::string, std::pair<std::string, std::string>> documented_original() {
+  const std::string doc = read_text(std::string(PHYSIK_SOURCE_DIR) + "/models/README.md");
+  const auto from = doc.find("Engine parameters (`params`)");
+  EXPECT_NE(from, std::string::npos);
+  std::map<std::string, std::pair<std::string, std::string>> out;  // name -> (value, unit)
+  std::istringstream lines(doc.substr(from));
+  std::string line;
+  while (std::getline(lines, line) && (out.empty() || line.rfind("|", 0) == 0)) {
+    if (line.rfind("| `", 0) != 0) continue;
+    const auto cells = split(line.substr(1), "|");  // key, default, unit, meaning
+    const auto names = split(strip(cells[0]), ", "), values = split(strip(cells[1]), ", "),
+               units = split(strip(cells[2]), ", ");
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      const std::string unit = i < units.size() ? strip(units[i]) : "";
+      out[strip(names[i])] = {strip(values[i]), unit == "-" ? "" : unit};
+    }
+  }
+  return out;
+}
+
+// a documented value ("1e-3", "0.05", "linear", "true") equals the row's
+bool same_value(const ParamRow& row, ParamValue v, const std::string& text) {
+  if (row.kind == ParamKind::kReal || row.kind == ParamKind::kInteger) {
+    return std::stod(text) == v;
+  }
+  return format_param(row, v) == text;
+}
+
+TEST(ParamTable, OriginalDefaultsAndUnitsAreTheDocumentedOnes) {
+  const auto doc = documented_original();
+  for (const ParamRow& row : param_table()) {
+    SCOPED_TRACE(row.name);
+    ASSERT_TRUE(doc.count(row.name)) << "models/README.md does not document " << row.name;
+    EXPECT_TRUE(same_value(row, row.defaults[0], doc.at(row.name).first))
+        << format_param(row, row.defaults[0]) << " vs documented " << doc.at(row.name).first;
+    EXPECT_EQ(row.unit, doc.at(row.name).second);
+  }
+  EXPECT_EQ(doc.at("preset").first, kDefaultPreset);
+}
+
+TEST(ParamTable, PaperPresetIsTheOriginalWithThePapersDampingAndStiffness) {
+  // README "Presets": paper = damping 20 N s/m and control k 30 N/m, the rest as the original
+  const std::map<std::string, std::string> paper_changes = {{"damping", "20"}, {"control_k", "30"}};
+  ASSERT_EQ(kPresetNames[1], std::string("paper"));
+  for (const ParamRow& row : param_table()) {
+    SCOPED_TRACE(row.name);
+    const auto it = paper_changes.find(row.name);
+    if (it == paper_changes.end()) EXPECT_EQ(row.defaults[1], row.defaults[0]);
+    else EXPECT_TRUE(same_value(row, row.defaults[1], it->second));
+  }
+  const EngineParams paper = preset_params("paper"), original = preset_params("original");
+  EXPECT_EQ(paper.damping, 20.0);
+  EXPECT_EQ(paper.control_k, 30.0);
+  EXPECT_EQ(paper.preset, "paper");
+  EXPECT_EQ(params_to_json(EngineParams()), params_to_json(original));  // EngineParams() is `original`
+}
+
+TEST(ParamTable, RowsAreWellFormed) {
+  std::set<std::string> names;
+  for (const ParamRow& row : param_table()) {
+    SCOPED_TRACE(row.name);
+    EXPECT_TRUE(names.insert(row.name).second) << "listed twice";
+    EXPECT_FALSE(row.doc.empty());
+    for (int i = 0; i < kPresetCount; ++i) EXPECT_EQ(range_violation(row, row.defaults[i]), "");
+    EXPECT_EQ(row.kind == ParamKind::kChoice, !row.choices.empty());
+    if (row.tune) {
+      EXPECT_EQ(row.kind, ParamKind::kReal);
+      EXPECT_GT(row.tune->first, 0.0);
+      EXPECT_LT(row.tune->first, row.tune->second);
+      EXPECT_EQ(range_violation(row, row.tune->first), "");  // the tuner stays in the valid range
+      EXPECT_EQ(range_violation(row, row.tune->second), "");
+    }
+  }
+}
+
+// a valid value other than the default, for every kind
+ParamValue other_value(const ParamRow& row) {
+  const ParamValue d = row.defaults[0];
+  switch (row.kind) {
+    case ParamKind::kReal: return row.valid.hi ? 0.5 * (d + *row.valid.lo) : 2.0 * d + 0.125;
+    case ParamKind::kInteger: return d + 3.0;
+    case ParamKind::kBoolean: return d != 0.0 ? 0.0 : 1.0;
+    case ParamKind::kChoice: return static_cast<ParamValue>((static_cast<int>(d) + 1) % row.choices.size());
+  }
+  return d;
+}
+
+TEST(ParamTable, EveryRowRoundTripsThroughTheSceneFormatAndText) {
+  for (const ParamRow& row : param_table()) {
+    SCOPED_TRACE(row.name);
+    EngineParams p = preset_params("paper");
+    const ParamValue v = other_value(row);
+    ASSERT_NE(v, row.get(p));
+    row.set(p, v);
+    EXPECT_EQ(row.get(p), v);
+    // parse -> write -> parse
+    const Json written = params_to_json(p);
+    const EngineParams back = params_from_json(written, "rt.json");
+    EXPECT_EQ(params_to_json(back), written);
+    EXPECT_EQ(row.get(back), v);
+    EXPECT_EQ(back.preset, "paper");
+    // the text form --set reads
+    EXPECT_EQ(parse_param_text(row, format_param(row, v), "--set"), v);
+  }
+}
+
+std::string params_error(const std::string& params_json) {
+  try {
+    params_from_json(parse_json_text(params_json, "p.json"), "p.json");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string set_error(const std::string& assignment) {
+  try {
+    parse_param_overrides({assignment}, "--set");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ParamTable, EveryBoundGivesItsMessageInSceneFilesAndSet) {
+  struct Case { const char* key; const char* value; const char* reason; };
+  const Case cases[] = {
+      {"dt", "0", "must be positive"},
+      {"dt", "-0.01", "must be positive"},
+      {"damping", "-1", "must not be negative"},
+      {"angular_velocity_factor", "-0.1", "must not be negative"},
+      {"angular_velocity_factor", "1.5", "must lie in [0, 1]"},
+      {"joint_eps", "0", "must be positive"},
+      {"max_passes", "-1", "must not be negative (0 = 5 n^2)"},
+      {"control_k", "-3", "must not be negative"},
+      {"control_cap", "0", "must be positive"},
+      {"torsion_k", "-1", "must not be negative"},
+      {"torsion_cap", "0", "must be positive"},
+      {"torsion_tolerance", "-0.1", "must not be negative"},
+      {"torsion_tolerance", "0.5", "must lie in [0, 0.5)"},
+      {"interpolation_steps", "-1", "must not be negative"},
+      {"interpolation_fallback", "0", "must be positive"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(std::string(c.key) + " = " + c.value);
+    const std::string field = std::string("params: field '") + c.key + "': " + c.reason;
+    EXPECT_EQ(params_error(std::string("{\"") + c.key + "\": " + c.value + "}"), "p.json: " + field);
+    EXPECT_EQ(set_error(std::string(c.key) + "=" + c.value), "--set: " + field);
+  }
+  // every ranged row (a new one too) refuses a value past each bound, alike in both places
+  for (const ParamRow& row : param_table()) {
+    const ParamRange& g = row.valid;
+    std::vector<double> bad;
+    if (g.lo) bad.push_back(g.lo_allowed ? *g.lo - 1.0 : *g.lo);
+    if (g.hi) bad.push_back(g.hi_allowed ? *g.hi + 1.0 : *g.hi);
+    for (double v : bad) {
+      const std::string text = format_param(row, v), why = range_violation(row, v);
+      SCOPED_TRACE(row.name + " = " + text);
+      EXPECT_FALSE(why.empty());
+      EXPECT_EQ(params_error("{\"" + row.name + "\": " + text + "}"),
+                "p.json: params: field '" + row.name + "': " + why);
+      EXPECT_EQ(set_error(row.name + "=" + text), "--set: params: field '" + row.name + "': " + why);
+    }
+  }
+  // the bounds that are allowed are accepted
+  for (const char* ok : {"angular_velocity_factor=0", "angular_velocity_factor=1", "damping=0",
+                         "torsion_tolerance=0", "max_passes=0", "interpolation_steps=0"}) {
+    EXPECT_EQ(set_error(ok), "") << ok;
+  }
+}
+
+TEST(ParamSet, EachKindParsesItsTextAndRejectsBadText) {
+  const ParamOverrides o = parse_param_overrides(
+      {"dt=0.025", "max_passes=40", "centripetal=true", "gyroscopic=false", "control_spring=capped",
+       "integration=free-rods", "damping=1", "damping=2.5", "preset=paper"},
+      "--set");
+  EngineParams p;
+  o.apply(p);
+  EXPECT_EQ(p.dt, 0.025);
+  EXPECT_EQ(p.max_passes, 40);
+  EXPECT_TRUE(p.centripetal);
+  EXPECT_FALSE(p.gyroscopic);
+  EXPECT_EQ(p.control_spring, SpringLaw::kCapped);
+  EXPECT_EQ(p.integration, Integration::kFreeRods);
+  EXPECT_EQ(p.damping, 2.5);  // the later one wins
+  EXPECT_EQ(o.preset, "paper");
+
+  EXPECT_EQ(set_error("dt=abc"), "--set: params: field 'dt': expected a number, got 'abc'");
+  EXPECT_EQ(set_error("dt=0.05s"), "--set: params: field 'dt': expected a number, got '0.05s'");
+  EXPECT_EQ(set_error("dt=inf"), "--set: params: field 'dt': not a finite number");
+  EXPECT_EQ(set_error("dt="), "--set: params: field 'dt': expected a number, got ''");
+  EXPECT_EQ(set_error("max_passes=2.5"), "--set: params: field 'max_passes': expected an integer, got '2.5'");
+  EXPECT_EQ(set_error("max_passes=4294967297"), "--set: params: field 'max_passes': integer out of range");
+  EXPECT_EQ(set_error("centripetal=yes"), "--set: params: field 'centripetal': expected true or false, got 'yes'");
+  EXPECT_EQ(set_error("control_spring=bungee"),
+            "--set: params: field 'control_spring': unknown value 'bungee' (expected linear|capped)");
+  EXPECT_EQ(set_error("preset=fast"), "--set: params: field 'preset': unknown preset 'fast' (original|paper)");
+  EXPECT_EQ(set_error("=3"), "--set: field '=3': expected key=value");
+  EXPECT_EQ(set_error("damping"), "--set: field 'damping': expected key=value");
+  const std::string unknown = set_error("dampng=3");
+  EXPECT_EQ(unknown.rfind("--set: params: field 'dampng': unknown parameter (known: preset, dt, damping,", 0), 0u)
+      << unknown;
+  for (const ParamRow& row : param_table()) EXPECT_NE(unknown.find(row.name), std::string::npos) << row.name;
+}
+
+// two points on one rod: the first gives no k, the second its own
+Scene two_point_scene(double params_k, std::optional<double> first_k) {
+  Scene s = test::scene_for(test::one_rod(), preset_params("original"), 40);
+  s.params.control_k = params_k;
+  ControlPoint a = test::control(0, 1.0, Vec3(0.6, 0.2, 0.7), 1.0);
+  a.k = first_k;
+  a.spring.reset();
+  a.cap.reset();
+  s.control_points = {a, test::control(0, 0.0, Vec3(0.1, -0.1, 0.1), 7.0)};
+  s.initial_pose = rest_pose(s.rig);
+  return s;
+}
+
+TEST(ControlPointInheritance, APointWithoutKFollowsTheParamsAtUse) {
+  Scene s = two_point_scene(10.0, std::nullopt);
+  s.params.control_k = 50.0;  // after the scene is built, as the tuner and --set do
+  EXPECT_EQ(s.control_points[0].k_in(s.params), 50.0);
+  EXPECT_EQ(s.control_points[1].k_in(s.params), 7.0);  // its own k stays
+  // the same run as a scene that gives the first point k = 50 itself
+  const RunSummary inherit = run_scene(s);
+  const RunSummary own = run_scene(two_point_scene(10.0, 50.0));
+  EXPECT_EQ(state_hash(inherit.final_frames), state_hash(own.final_frames));
+  const RunSummary other = run_scene(two_point_scene(10.0, std::nullopt));
+  EXPECT_NE(state_hash(inherit.final_frames), state_hash(other.final_frames));  // k matters here
+}
+
+TEST(ControlPointInheritance, TheWriterKeepsOnlyWhatAPointGives) {
+  const std::string rig = test::model_path("rigs/elbow.json");
+  const Json doc = parse_json_text(R"({"rig": ")" + rig + R"(", "params": {"control_k": 12},
+      "control_points": [{"bone": "forearm", "target": [0, 1, 3]},
+                         {"bone": "forearm", "target": [0, 1, 3], "k": 7, "spring": "capped", "cap": 0.2}]})",
+                                   "s.json");
+  const Scene s = scene_from_json(doc, "s.json", "/");
+  const Json out = scene_to_json(s);
+  const Json& cp0 = out["control_points"][0];
+  EXPECT_FALSE(cp0.contains("k") || cp0.contains("spring") || cp0.contains("cap")) << cp0.dump();
+  EXPECT_EQ(out["control_points"][1]["k"], 7.0);
+  EXPECT_EQ(out["control_points"][1]["spring"], "capped");
+  EXPECT_EQ(out["control_points"][1]["cap"], 0.2);
+  // read back, a changed control_k still reaches the first point only
+  Scene back = scene_from_json(out, "rt.json", "/");
+  back.params.control_k = 40.0;
+  EXPECT_EQ(back.control_points[0].k_in(back.params), 40.0);
+  EXPECT_EQ(back.control_points[1].k_in(back.params), 7.0);
+  EXPECT_EQ(back.control_points[1].cap_in(back.params), 0.2);
+  EXPECT_EQ(back.control_points[1].spring_in(back.params), SpringLaw::kCapped);
+}
+
+}  // namespace
+}  // namespace physik
