@@ -34,6 +34,8 @@ struct RunSummary {
   double final_kinetic_energy = 0.0;    // J
   double max_limit_violation_deg = 0.0; // over the run
   double wall_time_s = 0.0;
+  double damping_auto_value = 0.0;      // N s/m, damping_auto's last choice (params.damping_auto)
+  int damping_auto_updates = 0;         // how often it was chosen (start + target changes)
   Pose final_pose;
   BoneFrames final_frames;
 };
