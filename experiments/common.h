@@ -53,6 +53,11 @@ std::vector<int> chains_to_root(const Rig& rig, const std::vector<int>& bones);
 // steps), with `extra` fields added or overriding.
 nlohmann::json settings_json(const Scene& scene, const nlohmann::json& extra = nlohmann::json::object());
 
+// The scene on a rig scaled by s about the origin (heads, tails, radii, targets, caps, root start)
+// with every bone's mass density x length; torsion k scaled like the inertia (density x s^3)
+// when asked. k and dt stay as given. (The tuning study's 0.1x / 10x rigs.)
+Scene scaled_scene(const Scene& base, double s, double density, bool scale_torsion);
+
 // A claim row for the report.
 nlohmann::json claim(const std::string& text, const std::string& measured, const std::string& holds);
 

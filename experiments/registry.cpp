@@ -21,6 +21,7 @@ Experiment timing_experiment();
 Experiment damping_sweep_experiment();
 Experiment mujoco_gap_experiment();
 Experiment tuning_study_experiment();
+Experiment beyond_the_paper_experiment();
 
 const std::vector<Experiment>& all_experiments() {
   static const std::vector<Experiment> list = {
@@ -38,6 +39,7 @@ const std::vector<Experiment>& all_experiments() {
       mujoco_gap_experiment(),
       ik_comparison_experiment(),
       tuning_study_experiment(),
+      beyond_the_paper_experiment(),
   };
   return list;
 }

@@ -26,6 +26,7 @@
 #include <fstream>
 
 #include "experiments/common.h"
+#include "physik/engine/linear_modes.h"
 #include "physik/io/rig_io.h"
 #include "tune/tuner.h"
 
@@ -42,30 +43,6 @@ struct Variant {
     return num(scale, 2) + "x / " + num(density, 2) + " kg/unit" + (scale_torsion ? " / k_t scaled" : "");
   }
 };
-
-Scene scaled_scene(const Scene& base, double s, double density, bool scale_torsion) {
-  Json doc = rig_to_json(base.rig);
-  for (Json& b : doc["bones"]) {
-    for (const char* key : {"head", "tail"}) {
-      for (auto& v : b[key]) v = v.get<double>() * s;
-    }
-    const Vec3 head(b["head"][0], b["head"][1], b["head"][2]), tail(b["tail"][0], b["tail"][1], b["tail"][2]);
-    b["radius"] = b["radius"].get<double>() * s;
-    b["mass"] = density * (tail - head).norm();
-    b.erase("inertia_local");
-  }
-  Scene out = base;
-  out.rig = rig_from_json(doc, base.rig_file + " (scaled)");
-  for (ControlPoint& cp : out.control_points) {
-    cp.target_world *= s;
-    if (cp.cap) *cp.cap *= s;  // a point's own cap; the others follow params.control_cap
-  }
-  out.params.control_cap *= s;
-  for (TargetChange& t : out.schedule) t.target_world *= s;
-  out.initial_pose.root_head_world *= s;
-  if (scale_torsion) out.params.torsion_k *= density * s * s * s;
-  return out;
-}
 
 struct Rule {
   double K = 0, M = 0, m_min = 0, c_crit = 0, c_stab = 0, c_rule = 0;
@@ -155,7 +132,7 @@ void run(const Context& ctx) {
   std::ofstream table(ctx.out_dir + "/table.csv");
   table << "variant,scale,density,torsion_k,torsion_a,total_mass,min_bone_mass,K,c_crit,c_stab,c_rule,c_tuned,"
            "c_best_grid,c_first_diverged,steps_paper_20,steps_original_3,steps_rule,steps_tuned,"
-           "steps_best_grid,tune_wall_time_s,tune_runs\n";
+           "steps_best_grid,tune_wall_time_s,tune_runs,c_auto,steps_auto\n";
 
   nlohmann::json rows = nlohmann::json::array(), claims = nlohmann::json::array();
   nlohmann::json notes = nlohmann::json::array();
@@ -163,6 +140,7 @@ void run(const Context& ctx) {
   int stable_n = 0, torsion_unstable_n = 0, torsion_unstable_all_diverged = 0;
   double worst_rule_ratio = 1.0, tune_time_1x = 0.0;
   int tune_runs_1x = 0;
+  std::string auto_text;  // damping_auto vs the Ceres optimum vs the rule, per variant
   for (const Variant& v : variants) {
     const Scene scene = scaled_scene(base, v.scale, v.density, v.scale_torsion);
     const Rule rule = damping_rule(scene);
@@ -193,12 +171,22 @@ void run(const Context& ctx) {
 
     const Point at20 = run_at(scene, 20.0), at3 = run_at(scene, 3.0);
     const Point at_rule = run_at(scene, rule.c_rule), at_tuned = run_at(scene, c_tuned);
+    // damping_auto's choice at the start pose (linear_modes.h), run at that fixed c
+    const double c_auto = [&] {
+      Scene with_auto = scene;
+      with_auto.params.damping_auto = true;
+      SimState st;
+      init_state(with_auto, st);
+      return st.damping_auto_value;
+    }();
+    const Point at_auto = run_at(scene, c_auto);
     table << v.label() << "," << v.scale << "," << v.density << "," << scene.params.torsion_k
           << "," << rule.torsion_a << "," << rule.M << "," << rule.m_min
           << "," << rule.K << "," << rule.c_crit << "," << rule.c_stab << "," << rule.c_rule << ","
           << c_tuned << "," << best_c << "," << first_div << "," << at20.steps << "," << at3.steps
           << "," << at_rule.steps << "," << at_tuned.steps << ","
-          << (best_c > 0 ? best_steps : -1) << "," << tr.wall_time_s << "," << tr.evaluations << "\n";
+          << (best_c > 0 ? best_steps : -1) << "," << tr.wall_time_s << "," << tr.evaluations << ","
+          << c_auto << "," << at_auto.steps << "\n";
     rows.push_back({{"variant", v.label()},
                     {"scale", v.scale},
                     {"density", v.density},
@@ -222,7 +210,12 @@ void run(const Context& ctx) {
                     {"tune_cost_initial", tr.initial_cost},
                     {"tune_cost_final", tr.final_cost},
                     {"tune_wall_time_s", tr.wall_time_s},
-                    {"tune_runs", tr.evaluations}});
+                    {"tune_runs", tr.evaluations},
+                    {"c_auto", c_auto},
+                    {"steps_auto", steps_text(at_auto)}});
+    auto_text += (auto_text.empty() ? "" : "; ") + v.label() + ": auto " + num(c_auto) + " (" +
+                 steps_text(at_auto) + ") / Ceres " + num(c_tuned) + " (" + steps_text(at_tuned) +
+                 ") / rule " + num(rule.c_rule) + " (" + steps_text(at_rule) + ")";
     if (at20.diverged) ++paper_diverged;
     const bool torsion_unstable = rule.torsion_a >= rule.torsion_limit;
     if (torsion_unstable) {
@@ -279,6 +272,10 @@ void run(const Context& ctx) {
       frac_of(rule_within_2, stable_n) + " variants with a settling c; worst rule/tuned ratio " +
           num(worst_rule_ratio),
       holds(rule_within_2, stable_n)));
+  claims.push_back(claim(
+      "damping: auto (critical damping of the slowest linearised mode, physik/engine/linear_modes.h) "
+      "beside the Ceres optimum and the closed-form rule (explicit scheme; steps to settle)",
+      auto_text, "n/a"));
   claims.push_back(claim(
       "The tuned c converges in no more steps than the original's c = 3 (or c = 3 fails)",
       frac_of(tuned_not_worse_than_3, stable_n) + " variants with a settling c",
