@@ -4,7 +4,8 @@
 The settings table at the top takes the engine's parameters from results/params.json
 (`physik params --json`). Each summary may carry:
   "report": {"title": str, "claims": [{"claim", "measured", "holds"}], "notes": [str],
-             "figures": [png names relative to the experiment folder], "settings": {...}}
+             "figures": [png names relative to the experiment folder], "settings": {...},
+             "tables": [{"title": str, "columns": [str], "rows": [[cell, ...]]}]}
 """
 import argparse
 import datetime
@@ -115,6 +116,19 @@ def settings_section(results, sections=()):
     return out
 
 
+def table_lines(table):
+    """A report table as markdown: its title in bold, then the columns and rows."""
+    cols = table["columns"]
+    out = ["**%s**" % table["title"], "", "| " + " | ".join(cols) + " |",
+           "|" + "---|" * len(cols)]
+    for row in table["rows"]:
+        if len(row) != len(cols):
+            raise ValueError("table '%s': a row has %d cells for %d columns" %
+                             (table["title"], len(row), len(cols)))
+        out.append("| " + " | ".join(str(c) for c in row) + " |")
+    return out + [""]
+
+
 def render(sections, results=None):
     out = ["# PhysIK reproduction report", "",
            "Written by `analysis/report.py` from `results/*/summary.json` on %s. Every number below "
@@ -140,6 +154,8 @@ def render(sections, results=None):
             out.append("- " + note)
         if rep.get("notes"):
             out.append("")
+        for table in rep.get("tables", []):
+            out += table_lines(table)
         for fig in rep.get("figures", []):
             rel = os.path.join(name, fig)
             out.append("![%s](%s)" % (fig, rel))

@@ -22,6 +22,7 @@ Experiment damping_sweep_experiment();
 Experiment mujoco_gap_experiment();
 Experiment tuning_study_experiment();
 Experiment beyond_the_paper_experiment();
+Experiment scaling_experiment();
 
 const std::vector<Experiment>& all_experiments() {
   static const std::vector<Experiment> list = {
@@ -40,6 +41,7 @@ const std::vector<Experiment>& all_experiments() {
       ik_comparison_experiment(),
       tuning_study_experiment(),
       beyond_the_paper_experiment(),
+      scaling_experiment(),
   };
   return list;
 }

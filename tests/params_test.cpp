@@ -103,6 +103,19 @@ TEST(ParamTable, PaperPresetIsTheOriginalWithThePapersDampingAndStiffness) {
   EXPECT_EQ(params_to_json(EngineParams()), params_to_json(original));  // EngineParams() is `original`
 }
 
+TEST(ParamTable, JointSolveIsWrittenOnlyAwayFromItsDefault) {
+  // a row added after summaries existed: default runs' summaries keep their keys
+  EngineParams p = preset_params("paper");
+  EXPECT_FALSE(params_to_json(p).contains("joint_solve"));
+  p.joint_solve = JointSolve::kExact;
+  const Json j = params_to_json(p);
+  EXPECT_EQ(j["joint_solve"], "exact");
+  EXPECT_EQ(params_from_json(j, "rt.json").joint_solve, JointSolve::kExact);
+  for (const ParamRow& row : param_table()) {
+    if (row.name != "joint_solve") EXPECT_TRUE(row.written_at_default) << row.name;
+  }
+}
+
 TEST(ParamTable, RowsAreWellFormed) {
   std::set<std::string> names;
   for (const ParamRow& row : param_table()) {

@@ -80,8 +80,9 @@ class PaperFigureScripts(unittest.TestCase):
         self.assertPng(plot_timing.plot(self.d))
 
     def test_mujoco_gap(self):
-        write(self.d, "gap_over_time.csv", "scene,mode,step,gap\ns,same-forces,1,0.1\ns,same-forces,6,0.05\n"
-                                           "s,exact-constraints,1,0.2\ns,exact-constraints,6,0.3\n")
+        write(self.d, "gap_over_time.csv", "scene,mode,step,gap,exact_gap\ns,same-forces,1,0.1,1e-15\n"
+                                           "s,same-forces,6,0.05,0\ns,exact-constraints,1,0.2,0.1\n"
+                                           "s,exact-constraints,6,0.3,\n")
         write(self.d, "summary.json", {"rows": [{"scene": "s", "mode": "same-forces",
                                                  "physik_csv": "f0.csv", "mujoco_csv": "f1.csv"}]})
         for png in plot_mujoco_gap.plot(self.d):

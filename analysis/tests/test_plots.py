@@ -9,6 +9,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
 import physik_plot  # noqa: E402
 import plot_rest_poses  # noqa: E402
+import plot_scaling  # noqa: E402
 import report  # noqa: E402
 
 FIXTURE_BONES = """bone,parent,head_x,head_y,head_z,tail_x,tail_y,tail_z
@@ -88,10 +89,50 @@ class ReportTest(unittest.TestCase):
             with self.assertRaises(KeyError):
                 report.main([d])
 
+    def test_tables_render_as_markdown_and_a_short_row_is_an_error(self):
+        with tempfile.TemporaryDirectory() as d:
+            os.makedirs(os.path.join(d, "exp"))
+            tab = {"title": "T", "columns": ["rig", "us"], "rows": [["chain", 5.2], ["tree2", "skipped"]]}
+            write(os.path.join(d, "exp"), "summary.json", json.dumps({"report": {"title": "X", "tables": [tab]}}))
+            report.main([d])
+            text = open(os.path.join(d, "REPORT.md")).read()
+            self.assertIn("**T**\n\n| rig | us |\n|---|---|\n| chain | 5.2 |\n| tree2 | skipped |", text)
+            tab["rows"].append(["chain"])
+            write(os.path.join(d, "exp"), "summary.json", json.dumps({"report": {"title": "X", "tables": [tab]}}))
+            with self.assertRaises(ValueError):
+                report.main([d])
+
     def test_settings_table_needs_params_json(self):
         with tempfile.TemporaryDirectory() as d:
             report.main([d])
             self.assertIn("no params.json here", open(os.path.join(d, "REPORT.md")).read())
+
+
+SCALING_CSV = """kind,nbone,method,status,us_per_step,us_per_bone,steps,batches,passes_per_step,force_error,gap_vs_exact,compile_s
+chain,10,exact,"ok",5,0.5,100,3,1,,,
+chain,100,exact,"ok",50,0.5,100,3,1,,,
+chain,100,mj_step,"skipped: projected 3 s per step > 2 s",,,0,0,,,,
+tree2,10,exact,"ok",5,0.5,100,3,1,,,
+"""
+
+
+class ScalingPlotTest(unittest.TestCase):
+    def test_draws_the_rows_that_ran(self):
+        with tempfile.TemporaryDirectory() as d:
+            write(d, "scaling.csv", SCALING_CSV)
+            write(d, "summary.json", json.dumps({"exponents": [
+                {"kind": "chain", "method": "exact", "exponent": 1.0, "sizes": [100]}]}))
+            self.assertEqual(plot_scaling.series(physik_plot.read_table(os.path.join(d, "scaling.csv")),
+                                                 "chain", "exact"), ([10.0, 100.0], [5.0, 50.0]))
+            plot_scaling.main([d])
+            self.assertGreater(os.path.getsize(os.path.join(d, "scaling.png")), 1000)
+
+    def test_empty_table_is_an_error(self):
+        with tempfile.TemporaryDirectory() as d:
+            write(d, "scaling.csv", SCALING_CSV.splitlines()[0] + "\n")
+            write(d, "summary.json", json.dumps({"exponents": []}))
+            with self.assertRaises(ValueError):
+                plot_scaling.main([d])
 
 
 if __name__ == "__main__":

@@ -55,6 +55,7 @@ void init_state(const Scene& scene, SimState& s) {
     s.vel_world[i] = scene.initial_velocity_world;
   }
   s.pose = scene.initial_pose;
+  if (scene.params.joint_solve == JointSolve::kExact) init_joint_space(rig, s);
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
     const ControlPoint& cp = scene.control_points[c];
     s.target_effective_world[c] = point_on_bone(s.frames, cp.bone, cp.alpha);

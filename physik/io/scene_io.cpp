@@ -202,7 +202,12 @@ Json param_value_json(const ParamRow& row, ParamValue v) {
 
 Json params_to_json(const EngineParams& p) {
   Json j = {{"preset", p.preset}};
-  for (const ParamRow& row : param_table()) j[row.name] = param_value_json(row, row.get(p));
+  const int preset = std::max(0, preset_index(p.preset));
+  for (const ParamRow& row : param_table()) {
+    const ParamValue v = row.get(p);
+    if (!row.written_at_default && v == row.defaults[preset]) continue;
+    j[row.name] = param_value_json(row, v);
+  }
   return j;
 }
 

@@ -31,6 +31,11 @@ const std::vector<std::string>& choice_names(Interpolation) {
   return names;
 }
 
+const std::vector<std::string>& choice_names(JointSolve) {
+  static const std::vector<std::string> names = {"gauss-seidel", "exact"};
+  return names;
+}
+
 const char* to_string(SpringLaw s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
 const char* to_string(Integration s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
 const char* to_string(Interpolation s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
@@ -110,6 +115,11 @@ ParamRow zero_means(ParamRow r, const char* text) {
   return r;
 }
 
+ParamRow omitted_at_default(ParamRow r) {
+  r.written_at_default = false;
+  return r;
+}
+
 constexpr ParamRange kAny{};
 const ParamRange kPositive{0.0, std::nullopt, false, true};
 const ParamRange kNonNegative{0.0, std::nullopt, true, true};
@@ -127,9 +137,10 @@ std::vector<ParamRow> build_table() {
       tuned(row<&E::damping>("damping", "N s/m", {3.0, 20.0}, kNonNegative,
                              "force -c v at the head and the tail of every bone"),
             0.01, 100.0),
-      row<&E::damping_auto>("damping_auto", "", {false, false}, kAny,
-                            "damping chosen for critical damping of the slowest linearised mode "
-                            "at the start pose, again when the targets change (`damping` unused)"),
+      omitted_at_default(row<&E::damping_auto>(
+          "damping_auto", "", {false, false}, kAny,
+          "damping chosen for critical damping of the slowest linearised mode at the start pose, "
+          "again when the targets change (`damping` unused)")),
       tuned(row<&E::angular_velocity_factor>("angular_velocity_factor", "1", {0.5, 0.5},
                                              closed(0.0, 1.0), "w <- f w + alpha dt every step"),
             0.01, 1.0),
@@ -159,9 +170,9 @@ std::vector<ParamRow> build_table() {
             0.01, 3.2),
       row<&E::torsion_tolerance>("torsion_tolerance", "1", {0.1, 0.1}, half_open(0.0, 0.5),
                                  "the torsion spring engages this fraction of the range inside each limit"),
-      row<&E::joint_solve>("joint_solve", "", {JointSolve::kGaussSeidel, JointSolve::kGaussSeidel},
-                           kAny, "gauss-seidel (the paper's passes) or exact (Featherstone's "
-                           "articulated-body algorithm, MuJoCo's Euler in joint space)"),
+      omitted_at_default(row<&E::joint_solve>(
+          "joint_solve", "", {JointSolve::kGaussSeidel, JointSolve::kGaussSeidel}, kAny,
+          "gauss-seidel (the paper's passes) or exact (articulated-body algorithm, MuJoCo's Euler)")),
       row<&E::integration>("integration", "", {Integration::kArticulated, Integration::kArticulated},
                            kAny, "articulated (the original's: FK from the root), free-rods (the "
                            "paper's text) or implicit (linearised backward Euler over the exact "

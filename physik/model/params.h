@@ -62,7 +62,8 @@ struct EngineParams {
   double torsion_cap;                    // rad, cap of capped torsion springs
   double torsion_tolerance;              // 1, fraction of the range inside each limit where the
                                          //    torsion spring engages
-  JointSolve joint_solve;                // exact: `integration` articulated/free-rods unused
+  JointSolve joint_solve;                // exact: integration articulated/free-rods, joint_eps,
+                                         //        max_passes, centripetal do not apply
   Integration integration;               // implicit implies joint_solve exact
   Interpolation interpolation;
   int interpolation_steps;               // steps over which a target jump is spread
@@ -111,6 +112,8 @@ struct ParamRow {
   std::optional<std::pair<double, double>> tune;    // tuning bounds lo < hi, both > 0 (reals)
   std::vector<std::string> choices;                 // kChoice: the names, in the enum's order
   std::string doc;         // one line
+  bool written_at_default = true;  // false: the scene writer leaves it out while it has its
+                                   // preset's default (a newer row keeps older summaries as they were)
   ParamValue (*get)(const EngineParams&) = nullptr;
   void (*set)(EngineParams&, ParamValue) = nullptr;
 };
