@@ -8,6 +8,7 @@
 #include "physik/io/bvh.h"
 #include "physik/model/errors.h"
 #include "physik/io/joint_limits.h"
+#include "physik/io/json_fields.h"
 #include "physik/io/rig_io.h"
 #include "reference/mjcf_import.h"
 
@@ -28,12 +29,8 @@ void add_axes_option(CLI::App* cmd, std::string& axes) {
       ->capture_default_str();
 }
 
-}  // namespace
-
-void add_interchange_commands(CLI::App& app) {
-  CLI::App* rig = app.get_subcommand("rig");
-
-  // --- rig from-bvh
+// physik rig from-bvh
+void add_from_bvh(CLI::App* rig) {
   struct FromBvh {
     std::string path, out, axes = "y-up";
     double scale = 1.0;
@@ -59,8 +56,10 @@ void add_interchange_commands(CLI::App& app) {
     }
     write_json(rig_to_json(anim.rig()), fb->out);
   });
+}
 
-  // --- rig to-bvh
+// physik rig to-bvh
+void add_to_bvh(CLI::App* rig) {
   struct ToBvh {
     std::string path, out, axes = "y-up", order = "ZXY";
     double scale = 1.0;
@@ -87,8 +86,10 @@ void add_interchange_commands(CLI::App& app) {
       save_bvh(tb->out, r, {}, o);
     }
   });
+}
 
-  // --- rig limits
+// physik rig limits
+void add_limits(CLI::App* rig) {
   struct Limits {
     std::string rig, limits, out;
   };
@@ -104,8 +105,10 @@ void add_interchange_commands(CLI::App& app) {
     apply_joint_limits(r, load_joint_limits(lo->limits));
     write_json(rig_to_json(r), lo->out);
   });
+}
 
-  // --- rig from-mjcf
+// physik rig from-mjcf
+void add_from_mjcf(CLI::App* rig) {
   struct FromMjcf {
     std::string path, out, body;
   };
@@ -138,8 +141,10 @@ void add_interchange_commands(CLI::App& app) {
               << r.cylinder_inertia_bones << " bones with cylinder inertia\n";
     write_json(rig_to_json(mr.rig()), fm->out);
   });
+}
 
-  // --- bvh convert
+// physik bvh convert
+void add_bvh_convert(CLI::App& app) {
   struct Convert {
     std::string in, out, axes = "y-up", order = "ZXY";
   };
@@ -166,6 +171,17 @@ void add_interchange_commands(CLI::App& app) {
     std::cerr << "bvh convert: " << anim.rig().nbone << " bones, " << anim.poses.size()
               << " frames -> " << co->out << "\n";
   });
+}
+
+}  // namespace
+
+void add_interchange_commands(CLI::App& app) {
+  CLI::App* rig = app.get_subcommand("rig");
+  add_from_bvh(rig);
+  add_to_bvh(rig);
+  add_limits(rig);
+  add_from_mjcf(rig);
+  add_bvh_convert(app);
 }
 
 }  // namespace physik::cli

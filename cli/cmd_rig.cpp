@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "cli/commands.h"
+#include "physik/io/json_fields.h"
 #include "physik/io/rig_io.h"
 #include "physik/model/errors.h"
 #include "physik/model/kinematics.h"

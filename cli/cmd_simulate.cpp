@@ -1,15 +1,21 @@
 // physik simulate SCENE: run the PhysIK engine on a scene; per-step CSV + summary.json.
+//
+//   prepare_scene     load, --set, --steps; every bad option exits 2 before the run
+//   record_simulation the run, recorded (physik/io/recorder.h): trajectory.csv, --bvh, progress
+//   write_results     summary.json, the BVH file, final_pose.csv
+//   --reference       the MuJoCo run and comparison.json (reference/compare.h)
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <iomanip>
 #include <iostream>
 #include <memory>
 
 #include "cli/commands.h"
-#include "physik/engine/engine.h"
 #include "physik/io/bvh.h"
+#include "physik/io/json_fields.h"
 #include "physik/io/pose_io.h"
+#include "physik/io/recorder.h"
 #include "physik/io/scene_io.h"
 #include "physik/io/summary_io.h"
 #include "physik/model/errors.h"
@@ -31,6 +37,87 @@ struct SimulateOptions {
   std::string bvh;               // "" or the BVH/qBVH animation to record
 };
 
+void add_options(CLI::App* cmd, SimulateOptions& o) {
+  cmd->add_option("SCENE", o.scene, "Scene file (JSON, see models/README.md)")->required();
+  cmd->add_option("--out", o.out, "Output folder")->capture_default_str();
+  cmd->add_option("--steps", o.steps, "Number of steps (default: the scene's)");
+  cmd->add_option("--every", o.every, "Write a CSV row (and a --bvh frame) every N steps")->capture_default_str();
+  cmd->add_option("--bvh", o.bvh, "Also record the run as a BVH animation (qBVH if the name ends in .qbvh): the initial pose, then a frame every --every steps");
+  cmd->add_option("--set", o.set, "Override a scene parameter before the scene is read (control points that take their k, "
+                  "spring or cap from the params follow), e.g. --set damping=20 --set control_k=30; "
+                  "--set preset=paper swaps the base preset under the scene's own params");
+  cmd->add_flag("--quiet", o.quiet, "No progress output");
+  cmd->add_option("--reference", o.reference,
+                  "Also run MuJoCo from the same initial pose: mujoco[:same-forces|:exact-constraints]; "
+                  "writes mujoco_trajectory.csv, mujoco_summary.json and comparison.json");
+}
+
+Scene prepare_scene(const SimulateOptions& o) {
+  Scene scene = load_scene(o.scene, parse_param_overrides(o.set, "--set"));
+  if (o.steps < 0) throw_input_error("--steps", "", "", "must not be negative");
+  if (o.every < 1) throw_input_error("--every", "", "", "must be at least 1");
+  if (!o.reference.empty()) parse_reference_spec(o.reference);  // bad spec: exit 2 first
+  if (o.steps > 0) scene.steps = o.steps;
+  return scene;
+}
+
+// The run with trajectory.csv (a row every --every steps and the last), the BVH frames and a
+// progress line every tenth of a long run.
+RunSummary record_simulation(const Scene& scene, const SimulateOptions& o, BvhRecorder* bvh) {
+  std::ofstream csv(o.out + "/trajectory.csv");
+  if (!csv) throw_input_error(o.out, "", "--out", "cannot write trajectory.csv here");
+  RecordOptions ro;
+  ro.csv_stream = &csv;
+  ro.csv_every = o.every;
+  ro.csv_rows = RowRule::kEveryAndLast;
+  const int report_every = std::max(1, scene.steps / 10);
+  const auto also = [&](const SimState& s, const StepStats& st) {
+    if (bvh && s.step % o.every == 0 && std::isfinite(st.kinetic_energy)) bvh->record(s.frames);
+    if (!o.quiet && scene.steps >= 200 && s.step % report_every == 0) {
+      std::cerr << "  step " << s.step << "/" << scene.steps << "  KE " << st.kinetic_energy
+                << " J  passes " << st.passes << "  max residual " << st.max_residual << "\n";
+    }
+  };
+  return record_run(scene, ro, also).summary;
+}
+
+void write_results(const Scene& scene, const RunSummary& sum, const SimulateOptions& o,
+                   const BvhRecorder* bvh) {
+  write_json(summary_to_json(scene, sum), o.out + "/summary.json");
+  if (bvh) bvh->save(o.bvh);
+  std::ofstream pose(o.out + "/final_pose.csv");
+  write_bones_csv(scene.rig, sum.final_frames, pose);
+}
+
+void print_outcome(const RunSummary& sum, const std::string& out) {
+  std::cerr << "simulate: " << sum.steps_run << " steps, "
+            << (sum.converged ? "converged at step " + std::to_string(sum.steps_to_converge)
+                              : std::string("not converged"))
+            << ", mean passes/step " << sum.mean_passes_per_step << ", max residual "
+            << (sum.final_residuals.empty()
+                    ? 0.0
+                    : *std::max_element(sum.final_residuals.begin(), sum.final_residuals.end()))
+            << " -> " << out << "\n";
+}
+
+void run_simulate(const SimulateOptions& o) {
+  const Scene scene = prepare_scene(o);
+  std::filesystem::create_directories(o.out);
+  std::unique_ptr<BvhRecorder> bvh;
+  if (!o.bvh.empty()) {
+    bvh = std::make_unique<BvhRecorder>(scene.rig, scene.params.dt * o.every);
+    bvh->record(scene.initial_pose);
+  }
+  const RunSummary sum = record_simulation(scene, o, bvh.get());
+  write_results(scene, sum, o, bvh.get());
+  if (!o.quiet) print_outcome(sum, o.out);
+  if (!o.reference.empty()) write_reference_comparison(scene, o.reference, o.out, o.every, !o.quiet);
+  if (sum.diverged) {
+    std::cerr << "physik: diverged: " << sum.divergence_reason << "\n";
+    throw DivergedRun(sum.divergence_reason);
+  }
+}
+
 }  // namespace
 
 void add_simulate_commands(CLI::App& app) {
@@ -39,85 +126,8 @@ void add_simulate_commands(CLI::App& app) {
       "simulate",
       "Run the PhysIK engine on a scene: writes <out>/trajectory.csv (one row per step) and "
       "<out>/summary.json. Exit 3 if the run diverges.");
-  cmd->add_option("SCENE", opt->scene, "Scene file (JSON, see models/README.md)")->required();
-  cmd->add_option("--out", opt->out, "Output folder")->capture_default_str();
-  cmd->add_option("--steps", opt->steps, "Number of steps (default: the scene's)");
-  cmd->add_option("--every", opt->every, "Write a CSV row (and a --bvh frame) every N steps")->capture_default_str();
-  cmd->add_option("--bvh", opt->bvh, "Also record the run as a BVH animation (qBVH if the name ends in .qbvh): the initial pose, then a frame every --every steps");
-  cmd->add_option("--set", opt->set, "Override a scene parameter before the scene is read (control points that take their k, "
-                  "spring or cap from the params follow), e.g. --set damping=20 --set control_k=30; "
-                  "--set preset=paper swaps the base preset under the scene's own params");
-  cmd->add_flag("--quiet", opt->quiet, "No progress output");
-  cmd->add_option("--reference", opt->reference,
-                  "Also run MuJoCo from the same initial pose: mujoco[:same-forces|:exact-constraints]; "
-                  "writes mujoco_trajectory.csv, mujoco_summary.json and comparison.json");
-  cmd->callback([opt] {
-    Scene scene = load_scene(opt->scene, parse_param_overrides(opt->set, "--set"));
-    if (opt->steps < 0) throw_input_error("--steps", "", "", "must not be negative");
-    if (opt->every < 1) throw_input_error("--every", "", "", "must be at least 1");
-    if (!opt->reference.empty()) parse_reference_spec(opt->reference);  // bad spec: exit 2 first
-    if (opt->steps > 0) scene.steps = opt->steps;
-    std::filesystem::create_directories(opt->out);
-
-    // per-step table
-    std::ofstream csv(opt->out + "/trajectory.csv");
-    if (!csv) throw_input_error(opt->out, "", "--out", "cannot write trajectory.csv here");
-    csv << "step,time,kinetic_energy,passes,joint_mismatch,joint_separation";
-    for (std::size_t c = 0; c < scene.control_points.size(); ++c) csv << ",residual_" << c;
-    for (const std::string& name : bone_column_names(scene.rig)) csv << "," << name;
-    csv << "\n" << std::setprecision(9);
-    std::vector<double> row, residuals;
-    row.reserve(6 * scene.rig.nbone);
-    const int report_every = std::max(1, scene.steps / 10);
-    std::unique_ptr<BvhRecorder> bvh;
-    if (!opt->bvh.empty()) {
-      bvh = std::make_unique<BvhRecorder>(scene.rig, scene.params.dt * opt->every);
-      bvh->record(scene.initial_pose);
-    }
-    const auto observer = [&](const SimState& s, const StepStats& st) {
-      if (bvh && s.step % opt->every == 0 && std::isfinite(st.kinetic_energy)) bvh->record(s.frames);
-      // a diverged state with non-finite values is reported in summary.json, not written out
-      if ((s.step % opt->every == 0 || s.step == scene.steps) && std::isfinite(st.kinetic_energy) &&
-          std::isfinite(st.max_residual)) {
-        control_residuals(scene, s, residuals);
-        csv << s.step << "," << s.time << "," << st.kinetic_energy << "," << st.passes << ","
-            << st.mismatch << "," << st.joint_separation;
-        for (double r : residuals) csv << "," << r;
-        row.clear();
-        append_bone_values(s.frames, row);
-        for (double v : row) csv << "," << v;
-        csv << "\n";
-      }
-      if (!opt->quiet && scene.steps >= 200 && s.step % report_every == 0) {
-        std::cerr << "  step " << s.step << "/" << scene.steps << "  KE " << st.kinetic_energy
-                  << " J  passes " << st.passes << "  max residual " << st.max_residual << "\n";
-      }
-    };
-    const RunSummary sum = run_scene(scene, observer);
-    write_json(summary_to_json(scene, sum), opt->out + "/summary.json");
-    if (bvh) bvh->save(opt->bvh);
-    {
-      std::ofstream pose(opt->out + "/final_pose.csv");
-      write_bones_csv(scene.rig, sum.final_frames, pose);
-    }
-    if (!opt->quiet) {
-      std::cerr << "simulate: " << sum.steps_run << " steps, "
-                << (sum.converged ? "converged at step " + std::to_string(sum.steps_to_converge)
-                                  : std::string("not converged"))
-                << ", mean passes/step " << sum.mean_passes_per_step << ", max residual "
-                << (sum.final_residuals.empty()
-                        ? 0.0
-                        : *std::max_element(sum.final_residuals.begin(), sum.final_residuals.end()))
-                << " -> " << opt->out << "\n";
-    }
-    if (!opt->reference.empty()) {
-      write_reference_comparison(scene, opt->reference, opt->out, opt->every, !opt->quiet);
-    }
-    if (sum.diverged) {
-      std::cerr << "physik: diverged: " << sum.divergence_reason << "\n";
-      throw DivergedRun(sum.divergence_reason);
-    }
-  });
+  add_options(cmd, *opt);
+  cmd->callback([opt] { run_simulate(*opt); });
 }
 
 }  // namespace physik::cli

@@ -9,6 +9,7 @@
 #include "cli/commands.h"
 #include "physik/engine/engine.h"
 #include "physik/ik/ik_solver.h"
+#include "physik/io/json_fields.h"
 #include "physik/io/pose_io.h"
 #include "physik/io/scene_io.h"
 #include "physik/io/summary_io.h"
@@ -45,6 +46,81 @@ std::vector<IkGoal> scene_goals(const Scene& scene) {
   return goals;
 }
 
+// The classic solvers' options from the command line's (bad values exit 2).
+IkOptions ik_options(const SolveOptions& o) {
+  IkOptions opt;
+  opt.tolerance = o.tol;
+  opt.max_iterations = o.max_iterations;
+  opt.lambda = o.lambda;
+  opt.respect_limits = !o.no_limits;
+  opt.rotation_damping = o.rotation_damping;
+  if (o.jacobian == "fd") opt.jacobian = JacobianKind::kFiniteDifference;
+  else if (o.jacobian != "analytic") throw_input_error("--jacobian", "", o.jacobian, "analytic or fd");
+  if (o.gravity.size() == 3) opt.gravity_world = Vec3(o.gravity[0], o.gravity[1], o.gravity[2]);
+  if (o.socket == "virtual-bone") opt.socket_mode = SocketMode::kVirtualBone;
+  else if (o.socket != "twist-bend") throw_input_error("--socket", "", o.socket, "twist-bend or virtual-bone");
+  if (o.cone == "none") opt.cone_shape = ConeShape::kNone;
+  else if (o.cone == "circular") opt.cone_shape = ConeShape::kCircular;
+  else if (o.cone != "elliptical") throw_input_error("--cone", "", o.cone, "none, circular or elliptical");
+  return opt;
+}
+
+// What a solve produced: summary.json's content and the final pose.
+struct Solution {
+  nlohmann::json summary;
+  BoneFrames frames;
+  bool diverged = false;
+  std::string divergence_reason;
+};
+
+// The engine stops like the classic solvers: at the residual tolerance (default 1e-4 of the
+// chain's reach), or when the residual stalls short of it (not converged).
+Solution solve_with_engine(Scene scene, const std::vector<IkGoal>& goals, double tol) {
+  scene.convergence.residual_tol = tol > 0.0 ? tol : 1e-4 * chain_reach(scene.rig, goals);
+  scene.convergence.stop_at_residual_tol = true;
+  const RunSummary s = run_scene(scene);
+  Solution out;
+  out.summary = summary_to_json(scene, s);
+  out.summary["iterations"] = s.steps_run;
+  out.summary["time_s"] = s.wall_time_s;
+  out.frames = s.final_frames;
+  out.diverged = s.diverged;
+  out.divergence_reason = s.divergence_reason;
+  return out;
+}
+
+Solution solve_classic(IkMethod method, const Scene& scene, const std::vector<IkGoal>& goals,
+                       const IkOptions& opt) {
+  Pose pose = scene.initial_pose;
+  const IkReport rep = solve_ik(method, scene.rig, goals, pose, opt);
+  Solution out;
+  out.frames = forward_kinematics(scene.rig, pose);
+  out.summary = {{"scene", scene.file},
+                 {"rig", scene.rig_file},
+                 {"converged", rep.converged},
+                 {"diverged", false},
+                 {"stalled", rep.stalled},
+                 {"iterations", rep.iterations},
+                 {"final_residuals", rep.residuals},
+                 {"residual", rep.residual},
+                 {"residual_tol", rep.tolerance},
+                 {"reach", rep.reach},
+                 {"max_limit_violation_deg", rad2deg(max_limit_violation(scene.rig, pose))},
+                 {"time_s", rep.time_s}};
+  return out;
+}
+
+// final_pose.csv and summary.json, both written (and closed) before a divergence is reported
+void write_solution(const Scene& scene, const Solution& sol, const std::string& out) {
+  std::filesystem::create_directories(out);
+  {
+    std::ofstream csv(out + "/final_pose.csv");
+    if (!csv) throw_input_error(out, "", "--out", "cannot write final_pose.csv here");
+    write_bones_csv(scene.rig, sol.frames, csv);
+  }
+  write_json(sol.summary, out + "/summary.json");
+}
+
 void run_solve(const SolveOptions& o) {
   IkMethod method{};
   const bool engine = o.solver == "physik";
@@ -56,67 +132,23 @@ void run_solve(const SolveOptions& o) {
   if (!o.gravity.empty() && o.gravity.size() != 3) {
     throw_input_error("--gravity", "", "", "expected three numbers");
   }
-  Scene scene = load_scene(o.scene);
+  const Scene scene = load_scene(o.scene);
   if (scene.control_points.empty()) {
     throw_input_error(o.scene, "control_points", "", "a solve needs at least one control point");
   }
   const std::vector<IkGoal> goals = scene_goals(scene);
-  nlohmann::json summary;
-  BoneFrames frames;
-  int exit_diverged = 0;
-  if (engine) {
-    // stop like the classic solvers: at the residual tolerance (default 1e-4 of the chain's
-    // reach), or when the residual stalls short of it (not converged)
-    scene.convergence.residual_tol = o.tol > 0.0 ? o.tol : 1e-4 * chain_reach(scene.rig, goals);
-    scene.convergence.stop_at_residual_tol = true;
-    const RunSummary s = run_scene(scene);
-    summary = summary_to_json(scene, s);
-    summary["iterations"] = s.steps_run;
-    summary["time_s"] = s.wall_time_s;
-    frames = s.final_frames;
-    if (s.diverged) exit_diverged = kExitDiverged;
-  } else {
-    IkOptions opt;
-    opt.tolerance = o.tol;
-    opt.max_iterations = o.max_iterations;
-    opt.lambda = o.lambda;
-    opt.respect_limits = !o.no_limits;
-    opt.rotation_damping = o.rotation_damping;
-    if (o.jacobian == "fd") opt.jacobian = JacobianKind::kFiniteDifference;
-    else if (o.jacobian != "analytic") throw_input_error("--jacobian", "", o.jacobian, "analytic or fd");
-    if (o.gravity.size() == 3) opt.gravity_world = Vec3(o.gravity[0], o.gravity[1], o.gravity[2]);
-    if (o.socket == "virtual-bone") opt.socket_mode = SocketMode::kVirtualBone;
-    else if (o.socket != "twist-bend") throw_input_error("--socket", "", o.socket, "twist-bend or virtual-bone");
-    if (o.cone == "none") opt.cone_shape = ConeShape::kNone;
-    else if (o.cone == "circular") opt.cone_shape = ConeShape::kCircular;
-    else if (o.cone != "elliptical") throw_input_error("--cone", "", o.cone, "none, circular or elliptical");
-    Pose pose = scene.initial_pose;
-    const IkReport rep = solve_ik(method, scene.rig, goals, pose, opt);
-    frames = forward_kinematics(scene.rig, pose);
-    summary = {{"scene", scene.file},
-               {"rig", scene.rig_file},
-               {"converged", rep.converged},
-               {"diverged", false},
-               {"stalled", rep.stalled},
-               {"iterations", rep.iterations},
-               {"final_residuals", rep.residuals},
-               {"residual", rep.residual},
-               {"residual_tol", rep.tolerance},
-               {"reach", rep.reach},
-               {"max_limit_violation_deg", rad2deg(max_limit_violation(scene.rig, pose))},
-               {"time_s", rep.time_s}};
-  }
-  summary["solver"] = o.solver;
-  std::filesystem::create_directories(o.out);
-  std::ofstream csv(o.out + "/final_pose.csv");
-  if (!csv) throw_input_error(o.out, "", "--out", "cannot write final_pose.csv here");
-  write_bones_csv(scene.rig, frames, csv);
-  write_json(summary, o.out + "/summary.json");
+  Solution sol = engine ? solve_with_engine(scene, goals, o.tol)
+                        : solve_classic(method, scene, goals, ik_options(o));
+  sol.summary["solver"] = o.solver;
+  write_solution(scene, sol, o.out);
   if (!o.quiet) {
-    std::cerr << "solve: " << o.solver << " " << (summary["converged"].get<bool>() ? "converged" : "not converged")
-              << " after " << summary["iterations"] << " iterations -> " << o.out << "\n";
+    std::cerr << "solve: " << o.solver << " " << (sol.summary["converged"].get<bool>() ? "converged" : "not converged")
+              << " after " << sol.summary["iterations"] << " iterations -> " << o.out << "\n";
   }
-  if (exit_diverged) std::exit(exit_diverged);
+  if (sol.diverged) {
+    std::cerr << "physik: diverged: " << sol.divergence_reason << "\n";
+    throw DivergedRun(sol.divergence_reason);
+  }
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "cli/commands.h"
+#include "physik/io/json_fields.h"
 #include "physik/io/pose_io.h"
 #include "physik/io/scene_io.h"
 #include "physik/io/summary_io.h"
@@ -50,100 +51,119 @@ double max_of(const std::vector<double>& v) {
   return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end());
 }
 
-void add_tune(CLI::App& app) {
-  auto opt = std::make_shared<TuneCliOptions>();
+std::string tunable_list() {
   std::string names;
   for (const auto& t : tune::tunable_parameters()) {
     names += (names.empty() ? "" : ", ") + t.name + " [" + std::to_string(t.lo).substr(0, 6) +
              ", " + std::to_string(t.hi).substr(0, 7) + "] " + t.unit;
   }
+  return names;
+}
+
+void add_tune_options(CLI::App* cmd, TuneCliOptions& o) {
+  cmd->add_option("SCENE", o.scene, "Scene file (JSON)")->required();
+  cmd->add_option("--params", o.params,
+                  "Comma-separated parameters to tune, with default bounds: " + tunable_list())
+      ->capture_default_str();
+  cmd->add_option("--objective", o.objective,
+                  "settle: control-point residuals over the run (divergence = finite penalty); "
+                  "mujoco: trajectory against MuJoCo's same-forces run")
+      ->capture_default_str();
+  cmd->add_option("--measure", o.measure,
+                  "settle objective's residual: log = ln(1 + error/tolerance) (sees the slow "
+                  "tail), linear = error/height (integral of squared error)")
+      ->capture_default_str();
+  cmd->add_option("--bounds", o.bounds, "Override bounds, e.g. --bounds damping=0.1:10");
+  cmd->add_option("--out", o.out, "Write the tuned scene here (JSON; '-' = stdout)");
+  cmd->add_option("--report", o.report, "Write a JSON report (values, costs, scan) here");
+  cmd->add_option("--steps", o.steps, "Steps per run (default: the scene's)");
+  cmd->add_option("--scan-points", o.scan_points, "Grid points per parameter in the scan")
+      ->capture_default_str();
+  cmd->add_option("--max-iterations", o.max_iterations, "Ceres iterations")->capture_default_str();
+  cmd->add_flag("--quiet", o.quiet, "No progress output");
+}
+
+// the tuner's options from the command line's; bad values exit 2 before any run
+tune::TuneOptions tune_options(const TuneCliOptions& o) {
+  tune::TuneOptions to;
+  to.params = tune::parse_tune_params(o.params, "--params");
+  for (const std::string& b : o.bounds) tune::apply_bounds(to.params, b, "--bounds");
+  to.objective = tune::objective_from_string(o.objective, "--objective");
+  to.measure = tune::measure_from_string(o.measure, "--measure");
+  if (o.steps < 0) throw_input_error("--steps", "", "", "must not be negative");
+  if (o.scan_points < 0 || o.scan_points == 1) {
+    throw_input_error("--scan-points", "", "", "must be 0 (no scan) or at least 2");
+  }
+  to.scan_points = o.scan_points;
+  to.max_iterations = std::max(1, o.max_iterations);
+  to.verbose = !o.quiet;
+  return to;
+}
+
+void print_tune_result(const tune::TuneResult& r, const tune::TuneOptions& to) {
+  std::cout << r.ceres_full << "\n";
+  std::cout << "tuned (" << tune::to_string(to.objective) << ", " << r.evaluations << " runs, "
+            << r.wall_time_s << " s):\n";
+  for (std::size_t i = 0; i < r.names.size(); ++i) {
+    std::cout << "  " << r.names[i] << ": " << r.initial_values[i] << " -> " << r.values[i] << "\n";
+  }
+  if (to.objective == tune::Objective::kMujoco) {
+    std::cout << "  MuJoCo same-forces reference: " << r.reference_steps << " steps\n";
+  }
+  std::cout << "  objective J: " << r.initial_cost << " (scene) -> " << r.scan_cost << " (scan) -> "
+            << r.final_cost << " (ceres)\n";
+  std::cout << "  tuned run: "
+            << (r.tuned_run.diverged ? "diverged"
+                : r.tuned_run.converged
+                    ? "converged at step " + std::to_string(r.tuned_run.steps_to_converge)
+                    : std::string("not converged"))
+            << ", max final residual " << max_of(r.tuned_run.final_residuals) << "\n";
+}
+
+nlohmann::json tune_report(const Scene& scene, const tune::TuneResult& r, const tune::TuneOptions& to) {
+  nlohmann::json scan = nlohmann::json::array();
+  for (const auto& s : r.scan) {
+    scan.push_back({{"values", s.values},
+                    {"cost", s.cost},
+                    {"diverged", s.diverged},
+                    {"steps_to_converge", s.steps_to_converge}});
+  }
+  return {{"scene", scene.file},
+          {"objective", tune::to_string(to.objective)},
+          {"measure", tune::to_string(to.measure)},
+          {"params", r.names},
+          {"initial_values", r.initial_values},
+          {"values", r.values},
+          {"initial_cost", r.initial_cost},
+          {"scan_cost", r.scan_cost},
+          {"final_cost", r.final_cost},
+          {"evaluations", r.evaluations},
+          {"reference_steps", r.reference_steps},
+          {"wall_time_s", r.wall_time_s},
+          {"ceres", r.ceres_brief},
+          {"tuned_run", summary_to_json(r.tuned_scene, r.tuned_run)},
+          {"scan", scan}};
+}
+
+void run_tune(const TuneCliOptions& o) {
+  Scene scene = load_existing_scene(o.scene);
+  const tune::TuneOptions to = tune_options(o);
+  if (o.steps > 0) scene.steps = o.steps;
+  const tune::TuneResult r = tune::tune_scene(scene, to);
+  print_tune_result(r, to);
+  if (!o.out.empty()) write_json(scene_to_json(r.tuned_scene), o.out);
+  if (!o.report.empty()) write_json(tune_report(scene, r, to), o.report);
+}
+
+void add_tune(CLI::App& app) {
+  auto opt = std::make_shared<TuneCliOptions>();
   auto* cmd = app.add_subcommand(
       "tune",
       "Tune engine coefficients of a scene with Ceres: a coarse log-grid scan, then bounded "
       "Levenberg-Marquardt on a smoothed objective. Prints Ceres' summary; writes the tuned "
       "scene (--out) and a JSON report (--report).");
-  cmd->add_option("SCENE", opt->scene, "Scene file (JSON)")->required();
-  cmd->add_option("--params", opt->params,
-                  "Comma-separated parameters to tune, with default bounds: " + names)
-      ->capture_default_str();
-  cmd->add_option("--objective", opt->objective,
-                  "settle: control-point residuals over the run (divergence = finite penalty); "
-                  "mujoco: trajectory against MuJoCo's same-forces run")
-      ->capture_default_str();
-  cmd->add_option("--measure", opt->measure,
-                  "settle objective's residual: log = ln(1 + error/tolerance) (sees the slow "
-                  "tail), linear = error/height (integral of squared error)")
-      ->capture_default_str();
-  cmd->add_option("--bounds", opt->bounds, "Override bounds, e.g. --bounds damping=0.1:10");
-  cmd->add_option("--out", opt->out, "Write the tuned scene here (JSON; '-' = stdout)");
-  cmd->add_option("--report", opt->report, "Write a JSON report (values, costs, scan) here");
-  cmd->add_option("--steps", opt->steps, "Steps per run (default: the scene's)");
-  cmd->add_option("--scan-points", opt->scan_points, "Grid points per parameter in the scan")
-      ->capture_default_str();
-  cmd->add_option("--max-iterations", opt->max_iterations, "Ceres iterations")->capture_default_str();
-  cmd->add_flag("--quiet", opt->quiet, "No progress output");
-  cmd->callback([opt] {
-    Scene scene = load_existing_scene(opt->scene);
-    tune::TuneOptions to;
-    to.params = tune::parse_tune_params(opt->params, "--params");
-    for (const std::string& b : opt->bounds) tune::apply_bounds(to.params, b, "--bounds");
-    to.objective = tune::objective_from_string(opt->objective, "--objective");
-    to.measure = tune::measure_from_string(opt->measure, "--measure");
-    if (opt->steps < 0) throw_input_error("--steps", "", "", "must not be negative");
-    if (opt->steps > 0) scene.steps = opt->steps;
-    if (opt->scan_points < 0 || opt->scan_points == 1) {
-      throw_input_error("--scan-points", "", "", "must be 0 (no scan) or at least 2");
-    }
-    to.scan_points = opt->scan_points;
-    to.max_iterations = std::max(1, opt->max_iterations);
-    to.verbose = !opt->quiet;
-    const tune::TuneResult r = tune::tune_scene(scene, to);
-
-    std::cout << r.ceres_full << "\n";
-    std::cout << "tuned (" << tune::to_string(to.objective) << ", " << r.evaluations << " runs, "
-              << r.wall_time_s << " s):\n";
-    for (std::size_t i = 0; i < r.names.size(); ++i) {
-      std::cout << "  " << r.names[i] << ": " << r.initial_values[i] << " -> " << r.values[i] << "\n";
-    }
-    if (to.objective == tune::Objective::kMujoco) {
-      std::cout << "  MuJoCo same-forces reference: " << r.reference_steps << " steps\n";
-    }
-    std::cout << "  objective J: " << r.initial_cost << " (scene) -> " << r.scan_cost << " (scan) -> "
-              << r.final_cost << " (ceres)\n";
-    std::cout << "  tuned run: "
-              << (r.tuned_run.diverged ? "diverged"
-                  : r.tuned_run.converged
-                      ? "converged at step " + std::to_string(r.tuned_run.steps_to_converge)
-                      : std::string("not converged"))
-              << ", max final residual " << max_of(r.tuned_run.final_residuals) << "\n";
-
-    if (!opt->out.empty()) write_json(scene_to_json(r.tuned_scene), opt->out);
-    if (!opt->report.empty()) {
-      nlohmann::json scan = nlohmann::json::array();
-      for (const auto& s : r.scan) {
-        scan.push_back({{"values", s.values},
-                        {"cost", s.cost},
-                        {"diverged", s.diverged},
-                        {"steps_to_converge", s.steps_to_converge}});
-      }
-      write_json({{"scene", scene.file},
-                  {"objective", tune::to_string(to.objective)},
-                  {"measure", tune::to_string(to.measure)},
-                  {"params", r.names},
-                  {"initial_values", r.initial_values},
-                  {"values", r.values},
-                  {"initial_cost", r.initial_cost},
-                  {"scan_cost", r.scan_cost},
-                  {"final_cost", r.final_cost},
-                  {"evaluations", r.evaluations},
-                  {"reference_steps", r.reference_steps},
-                  {"wall_time_s", r.wall_time_s},
-                  {"ceres", r.ceres_brief},
-                  {"tuned_run", summary_to_json(r.tuned_scene, r.tuned_run)},
-                  {"scan", scan}},
-                 opt->report);
-    }
-  });
+  add_tune_options(cmd, *opt);
+  cmd->callback([opt] { run_tune(*opt); });
 }
 
 void add_equilibrium(CLI::App& app) {

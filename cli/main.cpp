@@ -1,29 +1,10 @@
 // physik: the testbed's command line program.
 // Exit status: 0 success, 1 an unexpected failure, 2 bad input, 3 a diverged run.
-#include <cstdio>
 #include <exception>
-#include <filesystem>
-#include <fstream>
 #include <iostream>
 
 #include "cli/commands.h"
 #include "physik/model/errors.h"
-
-namespace physik::cli {
-
-void write_json(const nlohmann::json& doc, const std::string& path) {
-  if (path.empty() || path == "-") {
-    std::cout << doc.dump(2) << "\n";
-    return;
-  }
-  const std::filesystem::path p(path);
-  if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path());
-  std::ofstream out(p);
-  if (!out) throw_input_error(path, "", "", "cannot write file");
-  out << doc.dump(2) << "\n";
-}
-
-}  // namespace physik::cli
 
 int main(int argc, char** argv) {
   CLI::App app{

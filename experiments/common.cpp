@@ -1,67 +1,20 @@
 #include "experiments/common.h"
 
 #include <algorithm>
-#include <fstream>
 #include <iomanip>
 #include <sstream>
 
-#include "physik/io/pose_io.h"
 #include "physik/io/rig_io.h"
 #include "physik/io/scene_io.h"
-#include "physik/model/errors.h"
 
 namespace physik::experiments {
 
-RecordedRun run_recorded(const Scene& scene, const RecordOptions& opt) {
-  RecordedRun run;
-  std::ofstream csv;
-  if (!opt.csv_path.empty()) {
-    csv.open(opt.csv_path);
-    if (!csv) throw_input_error(opt.csv_path, "", "", "cannot write file");
-    csv << "step,time,kinetic_energy,passes,joint_mismatch,joint_separation";
-    for (std::size_t c = 0; c < scene.control_points.size(); ++c) csv << ",residual_" << c;
-    for (const std::string& n : bone_column_names(scene.rig)) csv << "," << n;
-    csv << "\n" << std::setprecision(9);
-  }
-  // the initial pose, if asked for
-  if (std::find(opt.frame_steps.begin(), opt.frame_steps.end(), 0) != opt.frame_steps.end()) {
-    run.frame_steps.push_back(0);
-    run.frames.push_back(forward_kinematics(scene.rig, scene.initial_pose));
-  }
-  std::vector<double> res, row;
-  run.summary = run_scene(scene, [&](const SimState& s, const StepStats& st) {
-    control_residuals(scene, s, res);
-    run.kinetic_energy.push_back(st.kinetic_energy);
-    run.passes.push_back(st.passes);
-    run.residuals.push_back(res);
-    if (opt.keep_poses) run.poses.push_back(s.pose);
-    if (std::find(opt.frame_steps.begin(), opt.frame_steps.end(), s.step) != opt.frame_steps.end()) {
-      run.frame_steps.push_back(s.step);
-      run.frames.push_back(s.frames);
-    }
-    if (csv.is_open() && (s.step % opt.csv_every == 0 || s.step == 1)) {
-      csv << s.step << "," << s.time << "," << st.kinetic_energy << "," << st.passes << ","
-          << st.mismatch << "," << st.joint_separation;
-      for (double r : res) csv << "," << r;
-      row.clear();
-      append_bone_values(s.frames, row);
-      for (double v : row) csv << "," << v;
-      csv << "\n";
-    }
-  });
-  return run;
-}
-
-std::vector<std::string> write_frames(const Scene& scene, const RecordedRun& run,
-                                      const std::string& folder, const std::string& prefix) {
-  std::vector<std::string> names;
-  for (std::size_t k = 0; k < run.frames.size(); ++k) {
-    const std::string name = prefix + std::to_string(run.frame_steps[k]) + ".csv";
-    std::ofstream out(folder + "/" + name);
-    write_bones_csv(scene.rig, run.frames[k], out);
-    names.push_back(name);
-  }
-  return names;
+RecordOptions trajectory_table(const std::string& path, int every) {
+  RecordOptions o;
+  o.csv_path = path;
+  o.csv_every = every;
+  o.csv_rows = RowRule::kEveryAndFirst;
+  return o;
 }
 
 Scene scene_named(const Context& ctx, const std::string& name) {

@@ -1,5 +1,6 @@
-// Shared tools for the experiments: run a scene while recording a trajectory table and pose
-// frames, and the pose measures several figures use (secondary motion, joint angles).
+// Shared tools for the experiments: the scenes, the pose measures several figures use (secondary
+// motion), the report's settings and number format. Runs are recorded with
+// physik/io/recorder.h, reports built with experiments/report.h.
 #pragma once
 
 #include <string>
@@ -8,34 +9,15 @@
 #include <nlohmann/json.hpp>
 
 #include "experiments/experiment.h"
+#include "experiments/report.h"
 #include "physik/engine/engine.h"
+#include "physik/io/json_fields.h"
+#include "physik/io/recorder.h"
 
 namespace physik::experiments {
 
-struct RecordedRun {
-  RunSummary summary;
-  std::vector<int> frame_steps;      // steps whose poses were saved as frames
-  std::vector<BoneFrames> frames;    // the poses at those steps
-  std::vector<double> kinetic_energy;  // per step (index = step - 1)
-  std::vector<int> passes;             // per step
-  std::vector<std::vector<double>> residuals;  // per step, per control point (to the goal)
-  std::vector<Pose> poses;             // per step when keep_poses, else empty
-};
-
-struct RecordOptions {
-  std::string csv_path;          // per-step table (trajectory format of `physik simulate`); "" = none
-  int csv_every = 1;             // a row every N steps
-  std::vector<int> frame_steps;  // steps to save full poses for (0 = the initial pose)
-  bool keep_poses = false;       // keep every step's local pose (for secondary-motion measures)
-};
-
-// Run a scene, recording what the options ask for. Writes the CSV if a path is given.
-RecordedRun run_recorded(const Scene& scene, const RecordOptions& opt);
-
-// Write a bones table (physik/pose_io.h) for each recorded frame: <prefix><step>.csv.
-// Returns the file names (relative to the folder of the prefix).
-std::vector<std::string> write_frames(const Scene& scene, const RecordedRun& run,
-                                      const std::string& folder, const std::string& prefix);
+// The experiments' trajectory table (recorder.h): a row every `every` steps and at step 1.
+RecordOptions trajectory_table(const std::string& path, int every = 1);
 
 // Scene loaded from models/scenes/<name>.json of the context.
 Scene scene_named(const Context& ctx, const std::string& name);
@@ -58,10 +40,11 @@ nlohmann::json settings_json(const Scene& scene, const nlohmann::json& extra = n
 // when asked. k and dt stay as given. (The tuning study's 0.1x / 10x rigs.)
 Scene scaled_scene(const Scene& base, double s, double density, bool scale_torsion);
 
-// A claim row for the report.
-nlohmann::json claim(const std::string& text, const std::string& measured, const std::string& holds);
-
 // Format a double with a fixed number of significant digits.
 std::string num(double v, int digits = 3);
+
+// A claim row as JSON {claim, measured, holds} (for reports assembled by hand; Report::claim
+// builds the same row).
+nlohmann::json claim(const std::string& text, const std::string& measured, const std::string& holds);
 
 }  // namespace physik::experiments

@@ -11,6 +11,41 @@ namespace physik::experiments {
 
 namespace {
 
+// scene counts over the sweep
+struct Counts {
+  int paper_diverged, slow_when_small, diverge_when_large, scenes;
+};
+
+// best: per scene, the fastest-settling damping and its steps
+void add_claims(Report& report, const std::vector<double>& cs, const nlohmann::json& best,
+                const Counts& n) {
+  report.claim(
+      "Sec. 4: damping c = 20 with dt = 0.05 (the paper's settings) poses the rig",
+      "c = 20 diverged on " + std::to_string(n.paper_diverged) + " of " + std::to_string(n.scenes) +
+          " pinhead scenes; fastest settling: " +
+          [&] {
+            std::string t;
+            for (auto it = best.begin(); it != best.end(); ++it) {
+              const double c = it.value()["damping"].get<double>();
+              t += (t.empty() ? "" : ", ") + it.key() +
+                   (c < 0 ? std::string(": no damping converged")
+                          : " c = " + num(c) + " (" +
+                                std::to_string(it.value()["steps_to_converge"].get<int>()) + " steps)");
+            }
+            return t;
+          }(),
+      n.paper_diverged == 0 ? "yes" : "no");
+  report.claim(
+      "Sec. 5: the damping must be hand-picked; too large diverges, too small converges slowly",
+      "scenes where the smallest c (" + num(cs.front()) + ") takes over twice the fastest settling: " +
+          std::to_string(n.slow_when_small) + " of " + std::to_string(n.scenes) +
+          "; scenes that diverge at large c: " + std::to_string(n.diverge_when_large) + " of " +
+          std::to_string(n.scenes) + " (sweep.csv)",
+      n.slow_when_small == n.scenes && n.diverge_when_large == n.scenes ? "yes"
+      : n.slow_when_small + n.diverge_when_large > 0                    ? "partly"
+                                                                        : "no");
+}
+
 void run(const Context& ctx) {
   const std::vector<double> cs = ctx.quick ? std::vector<double>{1, 3, 20}
                                            : std::vector<double>{0.25, 0.5, 1, 1.5, 2, 2.5, 3, 3.5, 4, 5, 6, 8, 10, 15, 20, 30};
@@ -53,48 +88,19 @@ void run(const Context& ctx) {
     best[name] = {{"damping", best_c}, {"steps_to_converge", best_steps}};
     if (ctx.log) *ctx.log << "  " << name << ": fastest at c = " << best_c << " (" << best_steps << " steps)\n";
   }
-  nlohmann::json claims = nlohmann::json::array();
-  claims.push_back(claim(
-      "Sec. 4: damping c = 20 with dt = 0.05 (the paper's settings) poses the rig",
-      "c = 20 diverged on " + std::to_string(paper_diverged) + " of " + std::to_string(scenes) +
-          " pinhead scenes; fastest settling: " +
-          [&] {
-            std::string t;
-            for (auto it = best.begin(); it != best.end(); ++it) {
-              const double c = it.value()["damping"].get<double>();
-              t += (t.empty() ? "" : ", ") + it.key() +
-                   (c < 0 ? std::string(": no damping converged")
-                          : " c = " + num(c) + " (" +
-                                std::to_string(it.value()["steps_to_converge"].get<int>()) + " steps)");
-            }
-            return t;
-          }(),
-      paper_diverged == 0 ? "yes" : "no"));
-  claims.push_back(claim(
-      "Sec. 5: the damping must be hand-picked; too large diverges, too small converges slowly",
-      "scenes where the smallest c (" + num(cs.front()) + ") takes over twice the fastest settling: " +
-          std::to_string(slow_when_small) + " of " + std::to_string(scenes) +
-          "; scenes that diverge at large c: " + std::to_string(diverge_when_large) + " of " +
-          std::to_string(scenes) + " (sweep.csv)",
-      slow_when_small == scenes && diverge_when_large == scenes ? "yes"
-      : slow_when_small + diverge_when_large > 0               ? "partly"
-                                                               : "no"));
-  write_json_file({{"experiment", "damping_sweep"},
-                   {"rows", rows},
-                   {"fastest", best},
-                   {"report",
-                    {{"title", "Damping sensitivity"},
-                     {"claims", claims},
-                     {"notes", {"Each run stops once at rest (10 steps with rms speed < 1e-3 of the rig height per second) "
-                                "or after 1500 steps; divergence = non-finite state or kinetic energy above 1e6 M h^2."}},
-                     {"figures", {"damping_sweep.png"}}}}},
-                  ctx.out_dir + "/summary.json");
+  Report report("Damping sensitivity");
+  add_claims(report, cs, best, {paper_diverged, slow_when_small, diverge_when_large, scenes});
+  report
+      .note("Each run stops once at rest (10 steps with rms speed < 1e-3 of the rig height per second) "
+            "or after 1500 steps; divergence = non-finite state or kinetic energy above 1e6 M h^2.")
+      .figures({"damping_sweep.png"});
+  write_summary(ctx, {{"experiment", "damping_sweep"}, {"rows", rows}, {"fastest", best}}, report);
 }
+
+const Registration registered{
+    220, {"damping_sweep", "Sec. 4-5 damping",
+          "steps to converge against damping; divergence region", run}};
 
 }  // namespace
-
-Experiment damping_sweep_experiment() {
-  return {"damping_sweep", "Sec. 4-5 damping", "steps to converge against damping; divergence region", run};
-}
 
 }  // namespace physik::experiments

@@ -1,18 +1,20 @@
 // Experiments: one file per paper figure or study. Each writes CSV tables and a summary.json
 // under <out>/<name>/; the analysis scripts draw them and analysis/report.py gathers every
-// summary's "report" section into results/REPORT.md:
+// summary's "report" section (experiments/report.h builds it) into results/REPORT.md.
 //
-//   "report": {"title": "...", "section": "...", "claims": [
-//       {"claim": "...", "measured": "...", "holds": "yes" | "no" | "partly" | "n/a"}],
-//     "notes": ["..."]}
+// Each experiment registers itself from its own file, with an order key that places it in the
+// run order of `physik experiment list` and `make reproduce`:
+//
+//   const Registration registered{50, {"fig5_running", "Fig 5", "running pose ...", run}};
+//
+// No central list to edit. (physik_experiments is an OBJECT library, so the linker keeps every
+// experiment's object file although nothing names it.)
 #pragma once
 
 #include <functional>
 #include <ostream>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 namespace physik::experiments {
 
@@ -30,10 +32,14 @@ struct Experiment {
   std::function<void(const Context&)> run;  // throws on failure
 };
 
-// Every experiment, in the order `make reproduce` runs them.
-const std::vector<Experiment>& all_experiments();
+// Registers an experiment at static initialisation; `order` (unique, ascending) is its place in
+// the run order.
+struct Registration {
+  Registration(int order, Experiment experiment);
+};
 
-// Write a JSON document to a file (pretty-printed).
-void write_json_file(const nlohmann::json& doc, const std::string& path);
+// Every registered experiment, in run order. Throws std::logic_error if two share a name or an
+// order key.
+const std::vector<Experiment>& all_experiments();
 
 }  // namespace physik::experiments

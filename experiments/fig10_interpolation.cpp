@@ -15,7 +15,6 @@
 #include <iomanip>
 
 #include "experiments/common.h"
-#include "physik/io/pose_io.h"
 #include "physik/io/summary_io.h"
 #include "physik/model/errors.h"
 
@@ -26,13 +25,22 @@ namespace {
 struct SchemeRun {
   std::string name;  // "polar-com" or "linear"
   Scene scene;
-  RunSummary summary;
+  RecordedRun run;   // summary and frames at steps 0, 12, 25, 37, the interpolation's end, the last
   std::vector<double> off_chain, off_arm, ke;  // per step (index = step - 1)
   std::vector<Vec3> tip, target;               // moved hand's tip, its effective target, per step
-  std::vector<int> frame_steps;
-  std::vector<BoneFrames> frames;
   double peak_chain_during = 0, peak_chain_after = 0, peak_arm_during = 0, peak_arm_after = 0;
 };
+
+// the peaks of both measures during the interpolation (steps 1..interp_steps) and after it
+void find_peaks(SchemeRun& r, int interp_steps) {
+  for (std::size_t k = 0; k < r.off_chain.size(); ++k) {
+    const bool during = static_cast<int>(k) + 1 <= interp_steps;
+    (during ? r.peak_chain_during : r.peak_chain_after) =
+        std::max(during ? r.peak_chain_during : r.peak_chain_after, r.off_chain[k]);
+    (during ? r.peak_arm_during : r.peak_arm_after) =
+        std::max(during ? r.peak_arm_during : r.peak_arm_after, r.off_arm[k]);
+  }
+}
 
 SchemeRun run_scheme(const Context& ctx, const std::string& scene_name, const std::string& name,
                      int interp_steps) {
@@ -49,30 +57,18 @@ SchemeRun run_scheme(const Context& ctx, const std::string& scene_name, const st
   const std::vector<int> controlled = chains_to_root(rig, cp_bones);
   const std::vector<int> arm = chains_to_root(rig, {hand});
   const BoneFrames initial = forward_kinematics(rig, sc.initial_pose);
-  const std::vector<int> want = {0, 12, 25, 37, interp_steps, sc.steps};
-  r.frame_steps.push_back(0);
-  r.frames.push_back(initial);
-
-  r.summary = run_scene(sc, [&](const SimState& s, const StepStats& st) {
+  RecordOptions ro;
+  ro.frame_steps = {0, 12, 25, 37, interp_steps, sc.steps};
+  r.run = record_run(sc, ro, [&](const SimState& s, const StepStats& st) {
     r.off_chain.push_back(off_chain_rotation(rig, initial, s.frames, controlled));
     r.off_arm.push_back(off_chain_rotation(rig, initial, s.frames, arm));
     r.ke.push_back(st.kinetic_energy);
     r.tip.push_back(point_on_bone(s.frames, hand, sc.control_points[moved].alpha));
     r.target.push_back(s.target_effective_world[moved]);
-    if (std::find(want.begin(), want.end(), s.step) != want.end()) {
-      r.frame_steps.push_back(s.step);
-      r.frames.push_back(s.frames);
-    }
   });
-  for (std::size_t k = 0; k < r.off_chain.size(); ++k) {
-    const bool during = static_cast<int>(k) + 1 <= interp_steps;
-    (during ? r.peak_chain_during : r.peak_chain_after) =
-        std::max(during ? r.peak_chain_during : r.peak_chain_after, r.off_chain[k]);
-    (during ? r.peak_arm_during : r.peak_arm_after) =
-        std::max(during ? r.peak_arm_during : r.peak_arm_after, r.off_arm[k]);
-  }
+  find_peaks(r, interp_steps);
   if (ctx.log) {
-    *ctx.log << "  " << name << ": " << r.summary.steps_run << " steps, peak off-chain "
+    *ctx.log << "  " << name << ": " << r.run.summary.steps_run << " steps, peak off-chain "
              << r.peak_chain_during << " / " << r.peak_chain_after << " rad\n";
   }
   return r;
@@ -87,9 +83,62 @@ nlohmann::json scheme_json(const SchemeRun& r, const std::vector<std::string>& f
           {"peak_off_arm_during_rad", r.peak_arm_during},
           {"peak_off_arm_after_rad", r.peak_arm_after},
           {"final_off_arm_rad", r.off_arm.empty() ? 0.0 : r.off_arm.back()},
-          {"frame_steps", r.frame_steps},
+          {"frame_steps", r.run.frame_steps},
           {"frames", frame_files},
-          {"run", summary_to_json(r.scene, r.summary)}};
+          {"run", summary_to_json(r.scene, r.run.summary)}};
+}
+
+// per-step table of both schemes
+void write_secondary_motion(const std::string& path, const SchemeRun& polar, const SchemeRun& linear) {
+  std::ofstream out(path);
+  out << "step";
+  for (const SchemeRun* r : {&polar, &linear}) {
+    const std::string p = r->name == "linear" ? "linear_" : "polar_";
+    out << "," << p << "off_chain_rad," << p << "off_arm_rad," << p << "kinetic_energy," << p
+        << "tip_x," << p << "tip_y," << p << "tip_z," << p << "target_x," << p << "target_y,"
+        << p << "target_z";
+  }
+  out << "\n" << std::setprecision(9);
+  const std::size_t n = std::min(polar.off_chain.size(), linear.off_chain.size());
+  for (std::size_t k = 0; k < n; ++k) {
+    out << k + 1;
+    for (const SchemeRun* r : {&polar, &linear}) {
+      out << "," << r->off_chain[k] << "," << r->off_arm[k] << "," << r->ke[k];
+      for (int a = 0; a < 3; ++a) out << "," << r->tip[k][a];
+      for (int a = 0; a < 3; ++a) out << "," << r->target[k][a];
+    }
+    out << "\n";
+  }
+}
+
+void add_claims(Report& report, const SchemeRun& polar, const SchemeRun& linear, int interp,
+                double height) {
+  const double pf = polar.off_chain.empty() ? 0 : polar.off_chain.back();
+  const double lf = linear.off_chain.empty() ? 0 : linear.off_chain.back();
+  const double paf = polar.off_arm.empty() ? 0 : polar.off_arm.back();
+  const double laf = linear.off_arm.empty() ? 0 : linear.off_arm.back();
+  const int wins = (linear.peak_arm_during > polar.peak_arm_during) +
+                   (linear.peak_arm_after > polar.peak_arm_after) + (laf > paf);
+  report.claim(
+      "Fig 10: linear interpolation causes more secondary motion than polar about the centre of "
+      "mass",
+      "rotation of the body off the raised arm's chain, linear vs polar-com: peak in steps 1-" +
+          std::to_string(interp) + " " + num(linear.peak_arm_during) + " vs " +
+          num(polar.peak_arm_during) + " rad, peak after " + num(linear.peak_arm_after) + " vs " +
+          num(polar.peak_arm_after) + " rad, final " + num(laf) + " vs " + num(paf) +
+          " rad; off all controlled chains: peak during " + num(linear.peak_chain_during) + " vs " +
+          num(polar.peak_chain_during) + ", final " + num(lf) + " vs " + num(pf) + " rad",
+      wins == 3 ? "yes" : (wins == 0 ? "no" : "partly"));
+  const RunSummary &ps = polar.run.summary, &ls = linear.run.summary;
+  const double res_p = ps.final_residuals.empty() ? 0 : ps.final_residuals[0];
+  const double res_l = ls.final_residuals.empty() ? 0 : ls.final_residuals[0];
+  report.claim("Fig 10: both reach the raised-hand target after the interpolation",
+               "final hand residual: polar-com " + num(res_p) + ", linear " + num(res_l) +
+                   " rig units; converged: polar-com " + (ps.converged ? "yes" : "no") +
+                   ", linear " + (ls.converged ? "yes" : "no"),
+               res_p < 0.02 * height && res_l < 0.02 * height   ? "yes"
+               : res_p < 0.02 * height || res_l < 0.02 * height ? "partly"
+                                                                : "no");
 }
 
 void run(const Context& ctx) {
@@ -102,99 +151,36 @@ void run(const Context& ctx) {
     throw_input_error(polar.scene.file, "params", "interpolation_steps",
                       "differs from fig10_raise_linear's; the comparison needs the same");
   }
+  write_secondary_motion(ctx.out_dir + "/secondary_motion.csv", polar, linear);
+  const auto polar_frames = write_frames(polar.scene, polar.run, ctx.out_dir, polar.name + "_");
+  const auto linear_frames = write_frames(linear.scene, linear.run, ctx.out_dir, linear.name + "_");
 
-  // per-step table of both schemes
-  {
-    std::ofstream out(ctx.out_dir + "/secondary_motion.csv");
-    out << "step";
-    for (const SchemeRun* r : {&polar, &linear}) {
-      const std::string p = r->name == "linear" ? "linear_" : "polar_";
-      out << "," << p << "off_chain_rad," << p << "off_arm_rad," << p << "kinetic_energy," << p
-          << "tip_x," << p << "tip_y," << p << "tip_z," << p << "target_x," << p << "target_y,"
-          << p << "target_z";
-    }
-    out << "\n" << std::setprecision(9);
-    const std::size_t n = std::min(polar.off_chain.size(), linear.off_chain.size());
-    for (std::size_t k = 0; k < n; ++k) {
-      out << k + 1;
-      for (const SchemeRun* r : {&polar, &linear}) {
-        out << "," << r->off_chain[k] << "," << r->off_arm[k] << "," << r->ke[k];
-        for (int a = 0; a < 3; ++a) out << "," << r->tip[k][a];
-        for (int a = 0; a < 3; ++a) out << "," << r->target[k][a];
-      }
-      out << "\n";
-    }
-  }
-  auto frames = [&](const SchemeRun& r) {
-    std::vector<std::string> names;
-    for (std::size_t k = 0; k < r.frames.size(); ++k) {
-      const std::string name = r.name + "_" + std::to_string(r.frame_steps[k]) + ".csv";
-      std::ofstream out(ctx.out_dir + "/" + name);
-      write_bones_csv(r.scene.rig, r.frames[k], out);
-      names.push_back(name);
-    }
-    return names;
-  };
-  const auto polar_frames = frames(polar), linear_frames = frames(linear);
-
-  const double pf = polar.off_chain.empty() ? 0 : polar.off_chain.back();
-  const double lf = linear.off_chain.empty() ? 0 : linear.off_chain.back();
-  const double paf = polar.off_arm.empty() ? 0 : polar.off_arm.back();
-  const double laf = linear.off_arm.empty() ? 0 : linear.off_arm.back();
-  const int wins = (linear.peak_arm_during > polar.peak_arm_during) +
-                   (linear.peak_arm_after > polar.peak_arm_after) + (laf > paf);
-  nlohmann::json claims = nlohmann::json::array();
-  claims.push_back(claim(
-      "Fig 10: linear interpolation causes more secondary motion than polar about the centre of "
-      "mass",
-      "rotation of the body off the raised arm's chain, linear vs polar-com: peak in steps 1-" +
-          std::to_string(interp) + " " + num(linear.peak_arm_during) + " vs " +
-          num(polar.peak_arm_during) + " rad, peak after " + num(linear.peak_arm_after) + " vs " +
-          num(polar.peak_arm_after) + " rad, final " + num(laf) + " vs " + num(paf) +
-          " rad; off all controlled chains: peak during " + num(linear.peak_chain_during) + " vs " +
-          num(polar.peak_chain_during) + ", final " + num(lf) + " vs " + num(pf) + " rad",
-      wins == 3 ? "yes" : (wins == 0 ? "no" : "partly")));
-  const double res_p = polar.summary.final_residuals.empty() ? 0 : polar.summary.final_residuals[0];
-  const double res_l = linear.summary.final_residuals.empty() ? 0 : linear.summary.final_residuals[0];
-  claims.push_back(claim("Fig 10: both reach the raised-hand target after the interpolation",
-                         "final hand residual: polar-com " + num(res_p) + ", linear " + num(res_l) +
-                             " rig units; converged: polar-com " +
-                             (polar.summary.converged ? "yes" : "no") + ", linear " +
-                             (linear.summary.converged ? "yes" : "no"),
-                         res_p < 0.02 * probe.rig.height() && res_l < 0.02 * probe.rig.height() ? "yes"
-                         : res_p < 0.02 * probe.rig.height() || res_l < 0.02 * probe.rig.height()
-                             ? "partly"
-                             : "no"));
-
-  const nlohmann::json notes = {
-      "Secondary motion = sum of world rotation angles, against the initial pose, of the bones "
-      "off the raised hand's chain to the root (torso, hips, legs, the right arm); 'off all "
-      "controlled chains' leaves out the held pelvis's and right hand's chains too (only the legs "
-      "remain).",
-      "Holds = yes when linear exceeds polar-com on all three (peak during, peak after, final) of "
-      "the off-arm measure, partly on one or two, no on none.",
-      "The paper's caption gives 50 steps as 250 ms (5 ms per step); we use dt = " +
-          num(probe.params.dt) + " s as in the original code."};
-
-  write_json_file({{"experiment", "fig10_interpolation"},
-                   {"interpolation_steps", interp},
-                   {"polar_com", scheme_json(polar, polar_frames)},
-                   {"linear", scheme_json(linear, linear_frames)},
-                   {"report",
-                    {{"title", "Fig 10: target interpolation, polar about the centre of mass vs linear"},
-                     {"claims", claims},
-                     {"notes", notes},
-                     {"figures", {"fig10_frames.png", "fig10_secondary_motion.png"}},
-                     {"settings", settings_json(probe, {{"interpolation", "polar-com vs linear"},
-                                                       {"interpolation_steps", interp}})}}}},
-                  ctx.out_dir + "/summary.json");
+  Report report("Fig 10: target interpolation, polar about the centre of mass vs linear");
+  add_claims(report, polar, linear, interp, probe.rig.height());
+  report
+      .note("Secondary motion = sum of world rotation angles, against the initial pose, of the bones "
+            "off the raised hand's chain to the root (torso, hips, legs, the right arm); 'off all "
+            "controlled chains' leaves out the held pelvis's and right hand's chains too (only the legs "
+            "remain).")
+      .note("Holds = yes when linear exceeds polar-com on all three (peak during, peak after, final) of "
+            "the off-arm measure, partly on one or two, no on none.")
+      .note("The paper's caption gives 50 steps as 250 ms (5 ms per step); we use dt = " +
+            num(probe.params.dt) + " s as in the original code.")
+      .figures({"fig10_frames.png", "fig10_secondary_motion.png"})
+      .settings(settings_json(probe, {{"interpolation", "polar-com vs linear"},
+                                      {"interpolation_steps", interp}}));
+  write_summary(ctx,
+                {{"experiment", "fig10_interpolation"},
+                 {"interpolation_steps", interp},
+                 {"polar_com", scheme_json(polar, polar_frames)},
+                 {"linear", scheme_json(linear, linear_frames)}},
+                report);
 }
+
+const Registration registered{
+    100, {"fig10_interpolation", "Fig 10",
+          "raised hand: polar-about-COM vs linear target interpolation, secondary motion", run}};
 
 }  // namespace
-
-Experiment fig10_interpolation_experiment() {
-  return {"fig10_interpolation", "Fig 10",
-          "raised hand: polar-about-COM vs linear target interpolation, secondary motion", run};
-}
 
 }  // namespace physik::experiments

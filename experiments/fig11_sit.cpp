@@ -62,142 +62,152 @@ nlohmann::json posture_json(const Posture& p) {
           {"torso_tilt_deg", p.torso_tilt}};
 }
 
-void run(const Context& ctx) {
-  Scene scene = scene_named(ctx, "fig11_sit");
-  if (ctx.quick) scene.steps = std::min(scene.steps, 130);
-  const Rig& rig = scene.rig;
-  std::vector<int> frame_steps = {0, 60, 120, 180, 240, scene.steps};
-  frame_steps.erase(std::remove_if(frame_steps.begin(), frame_steps.end(),
-                                   [&](int s) { return s > scene.steps; }),
-                    frame_steps.end());
-
-  RecordOptions ro;
-  ro.csv_path = ctx.out_dir + "/trajectory.csv";
-  ro.csv_every = 5;
-  ro.frame_steps = frame_steps;
-  const RecordedRun run = run_recorded(scene, ro);
-  const std::vector<std::string> frame_files = write_frames(scene, run, ctx.out_dir, "sit_");
-  if (ctx.log) *ctx.log << "  " << run.summary.steps_run << " steps\n";
-
-  // which control points are static: those the schedule never moves
-  const int nc = static_cast<int>(scene.control_points.size());
-  std::vector<char> moving(nc, 0);
+// The control points the schedule moves (1) and those it never moves (0, the static ones).
+std::vector<char> moving_points(const Scene& scene) {
+  std::vector<char> moving(scene.control_points.size(), 0);
   for (const TargetChange& t : scene.schedule) moving[t.control_point] = 1;
-  int pelvis = -1;
-  for (int c = 0; c < nc; ++c) pelvis = moving[c] && pelvis < 0 ? c : pelvis;
-  if (pelvis < 0) throw_input_error(scene.file, "schedule", "", "no moving control point");
+  return moving;
+}
 
-  // per-step residuals
-  double max_static = 0.0, final_static = 0.0;
-  int max_static_step = 0;
-  {
-    std::ofstream out(ctx.out_dir + "/residuals.csv");
-    out << "step,kinetic_energy";
-    for (const ControlPoint& c : scene.control_points) out << ",residual_" << c.name;
-    out << "\n" << std::setprecision(9);
-    for (std::size_t k = 0; k < run.residuals.size(); ++k) {
-      out << k + 1 << "," << run.kinetic_energy[k];
-      for (int c = 0; c < nc; ++c) {
-        const double r = run.residuals[k][c];
-        out << "," << r;
-        if (!moving[c] && r > max_static) {
-          max_static = r;
-          max_static_step = static_cast<int>(k) + 1;
-        }
+struct StaticResidual {
+  double max = 0.0;    // rig units, over the run and the static points
+  int max_step = 0;
+  double final = 0.0;  // rig units, largest at the end
+};
+
+// residuals.csv (every step, every point) and the static points' largest residual
+StaticResidual write_residuals(const std::string& path, const Scene& scene, const RecordedRun& run,
+                               const std::vector<char>& moving) {
+  StaticResidual out;
+  std::ofstream csv(path);
+  csv << "step,kinetic_energy";
+  for (const ControlPoint& c : scene.control_points) csv << ",residual_" << c.name;
+  csv << "\n" << std::setprecision(9);
+  for (std::size_t k = 0; k < run.residuals.size(); ++k) {
+    csv << k + 1 << "," << run.stats[k].kinetic_energy;
+    for (std::size_t c = 0; c < moving.size(); ++c) {
+      const double r = run.residuals[k][c];
+      csv << "," << r;
+      if (!moving[c] && r > out.max) {
+        out.max = r;
+        out.max_step = static_cast<int>(k) + 1;
       }
-      out << "\n";
     }
+    csv << "\n";
   }
-  for (int c = 0; c < nc; ++c) {
-    if (!moving[c]) final_static = std::max(final_static, run.summary.final_residuals[c]);
+  for (std::size_t c = 0; c < moving.size(); ++c) {
+    if (!moving[c]) out.final = std::max(out.final, run.summary.final_residuals[c]);
   }
-  const double final_pelvis = run.summary.final_residuals[pelvis];
+  return out;
+}
 
-  // posture at each frame
+// the posture at every recorded frame
+nlohmann::json frame_postures(const Rig& rig, const RecordedRun& run,
+                              const std::vector<std::string>& files) {
   nlohmann::json frames = nlohmann::json::array();
   for (std::size_t k = 0; k < run.frames.size(); ++k) {
     nlohmann::json f = posture_json(posture(rig, run.frames[k]));
     f["step"] = run.frame_steps[k];
-    f["file"] = frame_files[k];
+    f["file"] = files[k];
     frames.push_back(f);
   }
-  const Posture start = posture(rig, forward_kinematics(rig, scene.initial_pose));
-  const Posture end = posture(rig, run.summary.final_frames);
+  return frames;
+}
+
+void add_claims(Report& report, const Rig& rig, const Posture& start, const Posture& end,
+                double final_pelvis, const StaticResidual& st) {
   const double foot_len = 0.5 * (rig.bone_length[bone(rig, "foot.L")] + rig.bone_length[bone(rig, "foot.R")]);
   const double h = rig.height();
   const double knee = std::min(end.knee_l, end.knee_r), hip = std::min(end.hip_l, end.hip_r);
-
   const bool sits = final_pelvis < 0.02 * h && knee > 45 && hip > 45;
   const bool sits_partly = start.pelvis_z - end.pelvis_z > 0.1 * h;
-  nlohmann::json claims = nlohmann::json::array();
-  claims.push_back(claim(
+  report.claim(
       "Fig 11: one moving control point (pelvis) makes the rig sit",
       "pelvis lowered by " + num(start.pelvis_z - end.pelvis_z) + " rig units (" +
           num(100 * (start.pelvis_z - end.pelvis_z) / h, 2) + "% of the rig height), final pelvis "
           "residual " + num(final_pelvis) + "; knees bent " + num(end.knee_l) + " / " +
           num(end.knee_r) + " deg, hips " + num(end.hip_l) + " / " + num(end.hip_r) +
           " deg, torso tilt " + num(end.torso_tilt) + " deg",
-      sits ? "yes" : (sits_partly ? "partly" : "no")));
-  claims.push_back(claim(
+      sits ? "yes" : (sits_partly ? "partly" : "no"));
+  report.claim(
       "Fig 11: the four static control points (heels, toes) keep the feet planted",
-      "largest static residual " + num(max_static) + " rig units at step " +
-          std::to_string(max_static_step) + " (" + num(100 * max_static / foot_len, 2) +
-          "% of a foot's length), final " + num(final_static),
-      max_static < 0.1 * foot_len ? "yes" : (final_static < 0.1 * foot_len ? "partly" : "no")));
-
-  const nlohmann::json notes = {
-      "Pelvis = tail of the torso bone. Knee flexion = angle between thigh and shin axes, hip "
-      "flexion = angle between the torso's downward axis and the thigh's axis (both 0 standing).",
-      "Sits = yes when the final pelvis residual is under 2% of the rig height and knees and hips "
-      "bend past 45 deg; partly when the pelvis drops by more than 10% of the height. Feet planted "
-      "= yes when the static points stay within 10% of a foot's length over the whole run, partly "
-      "when only at the end.",
-      "Run: " + std::to_string(run.summary.steps_run) + " steps, diverged " +
-          (run.summary.diverged ? "yes" : "no") + ", peak KE " +
-          num(run.summary.peak_kinetic_energy) + " J, max joint-limit violation " +
-          num(run.summary.max_limit_violation_deg) + " deg, mean passes per step " +
-          num(run.summary.mean_passes_per_step) + "."};
-
-  write_json_file({{"experiment", "fig11_sit"},
-                   {"scene", scene.file},
-                   {"frames", frames},
-                   {"start", posture_json(start)},
-                   {"end", posture_json(end)},
-                   {"control_points",
-                    [&] {
-                      nlohmann::json a = nlohmann::json::array();
-                      for (int c = 0; c < nc; ++c)
-                        a.push_back({{"name", scene.control_points[c].name},
-                                     {"moving", bool(moving[c])},
-                                     {"target",
-                                      {scene.control_points[c].target_world.x(),
-                                       scene.control_points[c].target_world.y(),
-                                       scene.control_points[c].target_world.z()}},
-                                     {"final_residual", run.summary.final_residuals[c]}});
-                      return a;
-                    }()},
-                   {"max_static_residual", max_static},
-                   {"schedule_steps",
-                    [&] {
-                      nlohmann::json a = nlohmann::json::array();
-                      for (const TargetChange& t : scene.schedule) a.push_back(t.step);
-                      return a;
-                    }()},
-                   {"run", summary_to_json(scene, run.summary)},
-                   {"report",
-                    {{"title", "Fig 11: sitting from one moving and four static control points"},
-                     {"claims", claims},
-                     {"notes", notes},
-                     {"figures", {"fig11_frames.png", "fig11_residuals.png"}},
-                     {"settings", settings_json(scene)}}}},
-                  ctx.out_dir + "/summary.json");
+      "largest static residual " + num(st.max) + " rig units at step " +
+          std::to_string(st.max_step) + " (" + num(100 * st.max / foot_len, 2) +
+          "% of a foot's length), final " + num(st.final),
+      st.max < 0.1 * foot_len ? "yes" : (st.final < 0.1 * foot_len ? "partly" : "no"));
 }
+
+void add_notes(Report& report, const RunSummary& s) {
+  report
+      .note("Pelvis = tail of the torso bone. Knee flexion = angle between thigh and shin axes, hip "
+            "flexion = angle between the torso's downward axis and the thigh's axis (both 0 standing).")
+      .note("Sits = yes when the final pelvis residual is under 2% of the rig height and knees and hips "
+            "bend past 45 deg; partly when the pelvis drops by more than 10% of the height. Feet planted "
+            "= yes when the static points stay within 10% of a foot's length over the whole run, partly "
+            "when only at the end.")
+      .note("Run: " + std::to_string(s.steps_run) + " steps, diverged " + (s.diverged ? "yes" : "no") +
+            ", peak KE " + num(s.peak_kinetic_energy) + " J, max joint-limit violation " +
+            num(s.max_limit_violation_deg) + " deg, mean passes per step " +
+            num(s.mean_passes_per_step) + ".");
+}
+
+nlohmann::json control_points_json(const Scene& scene, const RunSummary& s,
+                                   const std::vector<char>& moving) {
+  nlohmann::json a = nlohmann::json::array();
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const Vec3& t = scene.control_points[c].target_world;
+    a.push_back({{"name", scene.control_points[c].name},
+                 {"moving", bool(moving[c])},
+                 {"target", {t.x(), t.y(), t.z()}},
+                 {"final_residual", s.final_residuals[c]}});
+  }
+  return a;
+}
+
+void run(const Context& ctx) {
+  Scene scene = scene_named(ctx, "fig11_sit");
+  if (ctx.quick) scene.steps = std::min(scene.steps, 130);
+  const Rig& rig = scene.rig;
+  RecordOptions ro = trajectory_table(ctx.out_dir + "/trajectory.csv", 5);
+  ro.frame_steps = {0, 60, 120, 180, 240, scene.steps};
+  ro.frame_steps.erase(std::remove_if(ro.frame_steps.begin(), ro.frame_steps.end(),
+                                      [&](int s) { return s > scene.steps; }),
+                       ro.frame_steps.end());
+  ro.stats = ro.residuals = true;
+  const RecordedRun run = record_run(scene, ro);
+  const std::vector<std::string> frame_files = write_frames(scene, run, ctx.out_dir, "sit_");
+  if (ctx.log) *ctx.log << "  " << run.summary.steps_run << " steps\n";
+
+  const std::vector<char> moving = moving_points(scene);
+  const auto pelvis = std::find(moving.begin(), moving.end(), 1);  // the first moving point
+  if (pelvis == moving.end()) throw_input_error(scene.file, "schedule", "", "no moving control point");
+  const StaticResidual st = write_residuals(ctx.out_dir + "/residuals.csv", scene, run, moving);
+  const Posture start = posture(rig, forward_kinematics(rig, scene.initial_pose));
+  const Posture end = posture(rig, run.summary.final_frames);
+
+  Report report("Fig 11: sitting from one moving and four static control points");
+  add_claims(report, rig, start, end, run.summary.final_residuals[pelvis - moving.begin()], st);
+  add_notes(report, run.summary);
+  report.figures({"fig11_frames.png", "fig11_residuals.png"}).settings(settings_json(scene));
+  nlohmann::json schedule_steps = nlohmann::json::array();
+  for (const TargetChange& t : scene.schedule) schedule_steps.push_back(t.step);
+  write_summary(ctx,
+                {{"experiment", "fig11_sit"},
+                 {"scene", scene.file},
+                 {"frames", frame_postures(rig, run, frame_files)},
+                 {"start", posture_json(start)},
+                 {"end", posture_json(end)},
+                 {"control_points", control_points_json(scene, run.summary, moving)},
+                 {"max_static_residual", st.max},
+                 {"schedule_steps", schedule_steps},
+                 {"run", summary_to_json(scene, run.summary)}},
+                report);
+}
+
+const Registration registered{
+    110, {"fig11_sit", "Fig 11", "sitting animation from one moving and four static control points",
+          run}};
 
 }  // namespace
-
-Experiment fig11_sit_experiment() {
-  return {"fig11_sit", "Fig 11", "sitting animation from one moving and four static control points",
-          run};
-}
 
 }  // namespace physik::experiments

@@ -9,42 +9,46 @@ namespace physik::experiments {
 
 namespace {
 
-void run(const Context& ctx) {
-  nlohmann::json cases = nlohmann::json::array();
-  nlohmann::json m;  // per law
-  for (const std::string law : {"linear", "capped"}) {
-    Scene scene = scene_named(ctx, "fig7_cannon_" + law);
-    if (ctx.quick) scene.steps = 100;
-    RecordOptions opt;
-    opt.csv_path = ctx.out_dir + "/" + law + ".csv";
-    opt.csv_every = 5;
-    opt.frame_steps = {0, 5, 50, 500, 1000};
-    const RecordedRun run = run_recorded(scene, opt);
-    const auto frames = write_frames(scene, run, ctx.out_dir, law + "_frame_");
-    const RunSummary& s = run.summary;
-    // energy growth over the first steps: the "initially diverges" part
-    int growth_steps = 0;
-    for (std::size_t k = 1; k < run.kinetic_energy.size() && k < 50; ++k) {
-      if (run.kinetic_energy[k] > 1.5 * run.kinetic_energy[k - 1]) ++growth_steps;
-    }
-    const auto peak_it = std::max_element(run.kinetic_energy.begin(), run.kinetic_energy.end());
-    m[law] = {{"diverged", s.diverged},
-              {"converged", s.converged},
-              {"steps_to_converge", s.steps_to_converge},
-              {"peak_kinetic_energy", s.peak_kinetic_energy},
-              {"peak_step", peak_it == run.kinetic_energy.end() ? 0 : 1 + (peak_it - run.kinetic_energy.begin())},
-              {"steps_with_energy_growth_over_50pct_in_first_50", growth_steps},
-              {"max_limit_violation_deg", s.max_limit_violation_deg},
-              {"final_residual", s.final_residuals[0]},
-              {"csv", law + ".csv"},
-              {"frames", frames},
-              {"frame_steps", run.frame_steps}};
-    if (ctx.log) *ctx.log << "  " << law << ": peak KE " << s.peak_kinetic_energy << " J, converged " << s.converged << " at " << s.steps_to_converge << "\n";
+// One spring law: its table, frames and measures.
+nlohmann::json run_law(const Context& ctx, const std::string& law) {
+  Scene scene = scene_named(ctx, "fig7_cannon_" + law);
+  if (ctx.quick) scene.steps = 100;
+  RecordOptions opt = trajectory_table(ctx.out_dir + "/" + law + ".csv", 5);
+  opt.frame_steps = {0, 5, 50, 500, 1000};
+  opt.stats = true;
+  const RecordedRun run = record_run(scene, opt);
+  const auto frames = write_frames(scene, run, ctx.out_dir, law + "_frame_");
+  const RunSummary& s = run.summary;
+  // energy growth over the first steps: the "initially diverges" part
+  std::vector<double> ke;
+  for (const StepStats& st : run.stats) ke.push_back(st.kinetic_energy);
+  int growth_steps = 0;
+  for (std::size_t k = 1; k < ke.size() && k < 50; ++k) {
+    if (ke[k] > 1.5 * ke[k - 1]) ++growth_steps;
   }
-  const auto& L = m["linear"];
-  const auto& C = m["capped"];
-  nlohmann::json claims = nlohmann::json::array();
-  claims.push_back(claim(
+  const auto peak_it = std::max_element(ke.begin(), ke.end());
+  const nlohmann::json m = {
+    {"diverged", s.diverged},
+    {"converged", s.converged},
+    {"steps_to_converge", s.steps_to_converge},
+    {"peak_kinetic_energy", s.peak_kinetic_energy},
+    {"peak_step", peak_it == ke.end() ? 0 : 1 + (peak_it - ke.begin())},
+    {"steps_with_energy_growth_over_50pct_in_first_50", growth_steps},
+    {"max_limit_violation_deg", s.max_limit_violation_deg},
+    {"final_residual", s.final_residuals[0]},
+    {"csv", law + ".csv"},
+    {"frames", frames},
+    {"frame_steps", run.frame_steps}};
+  if (ctx.log) {
+    *ctx.log << "  " << law << ": peak KE " << s.peak_kinetic_energy << " J, converged "
+             << s.converged << " at " << s.steps_to_converge << "\n";
+  }
+  return m;
+}
+
+// L, C: the linear and the capped law's measures
+void add_claims(Report& report, const nlohmann::json& L, const nlohmann::json& C) {
+  report.claim(
       "Fig 7: after a sudden far target jump, a linear spring initially diverges",
       "linear: peak kinetic energy " + num(L["peak_kinetic_energy"].get<double>()) + " J at step " +
           std::to_string(L["peak_step"].get<int>()) + " vs capped " +
@@ -53,39 +57,41 @@ void run(const Context& ctx) {
       L["diverged"].get<bool>() ? "yes"
       : L["peak_kinetic_energy"].get<double>() > 10 * C["peak_kinetic_energy"].get<double>()
           ? "partly (a large transient, not a divergence)"
-          : "no"));
-  claims.push_back(claim(
+          : "no");
+  report.claim(
       "Fig 7: ...and settles into a strange pose (elbows, hips)",
       "largest joint-limit violation over the run: linear " +
           num(L["max_limit_violation_deg"].get<double>()) + " deg, capped " +
           num(C["max_limit_violation_deg"].get<double>()) + " deg",
       L["max_limit_violation_deg"].get<double>() > 2 * C["max_limit_violation_deg"].get<double>()
-          ? "yes" : "no"));
+          ? "yes" : "no");
   const int sl = L["steps_to_converge"].is_null() ? -1 : L["steps_to_converge"].get<int>();
   const int sc = C["steps_to_converge"].is_null() ? -1 : C["steps_to_converge"].get<int>();
-  claims.push_back(claim(
+  report.claim(
       "Fig 7: a capped spring converges stably, though it takes a few more iterations",
       "steps to converge: capped " + (sc < 0 ? std::string("never") : std::to_string(sc)) +
           ", linear " + (sl < 0 ? std::string("never") : std::to_string(sl)),
       sc < 0    ? "no"
       : sl < 0  ? "partly (capped converges; linear never settles, so slower is not measured)"
       : sc >= sl ? "yes"
-                 : "partly (capped converges, but faster)"));
-  write_json_file({{"experiment", "fig7_cannon"},
-                   {"laws", m},
-                   {"report",
-                    {{"title", "Fig 7: a sudden far target jump, linear vs capped"},
-                     {"claims", claims},
-                     {"notes", {"One control point at the torso's centre, target moved 12 units "
-                                "ahead at step 0 without interpolation, k = 30, cap c = 1, damping 3."}},
-                     {"figures", {"fig7_cannon_frames.png", "fig7_cannon_energy.png"}}}}},
-                  ctx.out_dir + "/summary.json");
+                 : "partly (capped converges, but faster)");
 }
+
+void run(const Context& ctx) {
+  nlohmann::json m;  // per law
+  for (const std::string law : {"linear", "capped"}) m[law] = run_law(ctx, law);
+  Report report("Fig 7: a sudden far target jump, linear vs capped");
+  add_claims(report, m["linear"], m["capped"]);
+  report
+      .note("One control point at the torso's centre, target moved 12 units ahead at step 0 "
+            "without interpolation, k = 30, cap c = 1, damping 3.")
+      .figures({"fig7_cannon_frames.png", "fig7_cannon_energy.png"});
+  write_summary(ctx, {{"experiment", "fig7_cannon"}, {"laws", m}}, report);
+}
+
+const Registration registered{
+    70, {"fig7_cannon", "Fig 7", "sudden far target jump, linear vs capped springs", run}};
 
 }  // namespace
-
-Experiment fig7_cannon_experiment() {
-  return {"fig7_cannon", "Fig 7", "sudden far target jump, linear vs capped springs", run};
-}
 
 }  // namespace physik::experiments

@@ -27,11 +27,10 @@ struct Wobble {
 };
 
 Wobble measure(const Scene& scene, const std::string& csv) {
-  RecordOptions opt;
-  opt.csv_path = csv;
-  opt.csv_every = csv.empty() ? 1 : 2;
+  RecordOptions opt = trajectory_table(csv, csv.empty() ? 1 : 2);
+  opt.residuals = true;
   Wobble w;
-  w.run = run_recorded(scene, opt);
+  w.run = record_run(scene, opt);
   const auto& res = w.run.residuals;
   const std::size_t c = scene.control_points.size() - 1;  // the hand: the last control point
   auto window = [&](std::size_t from, std::size_t to) {
@@ -60,16 +59,16 @@ Wobble measure(const Scene& scene, const std::string& csv) {
   return w;
 }
 
-void run(const Context& ctx) {
-  Scene scene = scene_named(ctx, "fig8_wobble");
-  if (ctx.quick) scene.steps = 300;
-  const Wobble base = measure(scene, ctx.out_dir + "/trajectory.csv");
+struct Grid {
+  nlohmann::json rows = nlohmann::json::array();
+  int sustained = 0, physical = 0, total = 0;
+};
 
-  // a grid over the dissipation
-  nlohmann::json grid = nlohmann::json::array();
+// A grid over the dissipation (damping x angular-velocity factor): grid.csv and the counts.
+Grid run_grid(const Context& ctx, const Scene& scene) {
+  Grid grid;
   std::ofstream csv(ctx.out_dir + "/grid.csv");
   csv << "damping,angular_velocity_factor,sustained,period_steps,final_amplitude,first_amplitude,converged,diverged\n";
-  int sustained = 0, physical = 0, total = 0;
   for (double c : {0.5, 1.0, 3.0}) {
     for (double f : {0.5, 0.9, 1.0}) {
       Scene g = scene;
@@ -79,17 +78,26 @@ void run(const Context& ctx) {
       const Wobble w = measure(g, "");
       csv << c << "," << f << "," << w.sustained << "," << w.period_steps << "," << w.final_amplitude << ","
           << w.first_amplitude << "," << w.run.summary.converged << "," << w.run.summary.diverged << "\n";
-      grid.push_back({{"damping", c}, {"angular_velocity_factor", f}, {"sustained", w.sustained},
-                      {"period_steps", w.period_steps}, {"physical", w.physical},
-                      {"final_amplitude", w.final_amplitude}, {"converged", w.run.summary.converged},
-                      {"diverged", w.run.summary.diverged}});
-      sustained += w.sustained ? 1 : 0;
-      physical += w.physical ? 1 : 0;
-      ++total;
+      grid.rows.push_back({{"damping", c}, {"angular_velocity_factor", f}, {"sustained", w.sustained},
+                           {"period_steps", w.period_steps}, {"physical", w.physical},
+                           {"final_amplitude", w.final_amplitude}, {"converged", w.run.summary.converged},
+                           {"diverged", w.run.summary.diverged}});
+      grid.sustained += w.sustained ? 1 : 0;
+      grid.physical += w.physical ? 1 : 0;
+      ++grid.total;
     }
   }
-  nlohmann::json claims = nlohmann::json::array();
-  claims.push_back(claim(
+  return grid;
+}
+
+void run(const Context& ctx) {
+  Scene scene = scene_named(ctx, "fig8_wobble");
+  if (ctx.quick) scene.steps = 300;
+  const Wobble base = measure(scene, ctx.out_dir + "/trajectory.csv");
+  const Grid grid = run_grid(ctx, scene);
+
+  Report report("Fig 8: the oscillating hand");
+  report.claim(
       "Fig 8: with a stressed limit and a 3-DOF hand, the hand tip oscillates around its target "
       "indefinitely",
       "scene settings (damping " + num(scene.params.damping) + ", factor " +
@@ -97,35 +105,33 @@ void run(const Context& ctx) {
           num(base.final_amplitude) + " in the last 100 of " + std::to_string(base.run.summary.steps_run) +
           " steps (period " + num(base.period_steps) + " steps), converged " +
           (base.run.summary.converged ? "yes" : "no") + "; sustained oscillation in " +
-          std::to_string(sustained) + " of " + std::to_string(total) +
-          " damping/factor settings, of which " + std::to_string(physical) +
+          std::to_string(grid.sustained) + " of " + std::to_string(grid.total) +
+          " damping/factor settings, of which " + std::to_string(grid.physical) +
           " with a period above 4 steps (the rest is the period-2 Euler flicker)",
-      base.physical ? "yes"
-      : physical > 0 ? "partly (only with weaker dissipation)"
-      : sustained > 0 ? "no (only a numerical period-2 flicker)"
-                      : "no"));
-  write_json_file({{"experiment", "fig8_wobble"},
-                   {"summary", summary_to_json(scene, base.run.summary)},
-                   {"final_amplitude", base.final_amplitude},
-                   {"sustained", base.sustained},
-                   {"period_steps", base.period_steps},
-                   {"physical", base.physical},
-                   {"grid", grid},
-                   {"report",
-                    {{"title", "Fig 8: the oscillating hand"},
-                     {"claims", claims},
-                     {"notes", {"Torso held at both ends, left hand tip pulled behind the back "
-                                "past the elbow's range; the hand bone is free (3 DOF).",
-                                "Grid: damping in {0.5, 1, 3} N s/m x angular-velocity factor in "
-                                "{0.5, 0.9, 1}, 1000 steps each; see grid.csv."}},
-                     {"figures", {"fig8_wobble.png"}}}}},
-                  ctx.out_dir + "/summary.json");
+      base.physical        ? "yes"
+      : grid.physical > 0  ? "partly (only with weaker dissipation)"
+      : grid.sustained > 0 ? "no (only a numerical period-2 flicker)"
+                           : "no");
+  report
+      .note("Torso held at both ends, left hand tip pulled behind the back past the elbow's range; "
+            "the hand bone is free (3 DOF).")
+      .note("Grid: damping in {0.5, 1, 3} N s/m x angular-velocity factor in {0.5, 0.9, 1}, 1000 "
+            "steps each; see grid.csv.")
+      .figures({"fig8_wobble.png"});
+  write_summary(ctx,
+                {{"experiment", "fig8_wobble"},
+                 {"summary", summary_to_json(scene, base.run.summary)},
+                 {"final_amplitude", base.final_amplitude},
+                 {"sustained", base.sustained},
+                 {"period_steps", base.period_steps},
+                 {"physical", base.physical},
+                 {"grid", grid.rows}},
+                report);
 }
+
+const Registration registered{
+    80, {"fig8_wobble", "Fig 8", "hand tip oscillating around its target", run}};
 
 }  // namespace
-
-Experiment fig8_wobble_experiment() {
-  return {"fig8_wobble", "Fig 8", "hand tip oscillating around its target", run};
-}
 
 }  // namespace physik::experiments

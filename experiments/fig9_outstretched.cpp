@@ -27,7 +27,7 @@
 #include "physik/io/pose_io.h"
 #include "physik/io/summary_io.h"
 #include "physik/model/errors.h"
-#include "reference/compare.h"
+#include "reference/mujoco_runner.h"
 
 namespace physik::experiments {
 
@@ -95,157 +95,167 @@ void write_bones(const Rig& rig, const BoneFrames& f, const std::string& path) {
   write_bones_csv(rig, f, out);
 }
 
-void run(const Context& ctx) {
-  Scene scene = scene_named(ctx, "fig9_outstretched");
-  if (ctx.quick) scene.steps = std::min(scene.steps, 100);
-  const Rig& rig = scene.rig;
-  const BoneFrames rest = forward_kinematics(rig, scene.initial_pose);
+// The three final poses from the same initial pose.
+struct Solutions {
+  RecordedRun physik;       // PhysIK, with its trajectory table
+  IkOptions dls_options;    // damped least squares: same goals and limits
+  IkReport dls;
+  BoneFrames dls_frames;
+  RunSummary mujoco;        // MuJoCo with PhysIK's forces (exact joints): where the joint-force
+                            // heuristic alone would go
+};
 
-  std::vector<int> cp_bones;
-  for (const ControlPoint& c : scene.control_points) cp_bones.push_back(c.bone);
-  const std::vector<int> controlled = chains_to_root(rig, cp_bones);
-  const std::vector<int> reach_chain = chains_to_root(rig, {bone(rig, "hand.R")});
-
-  // PhysIK
-  RecordOptions ro;
-  ro.csv_path = ctx.out_dir + "/physik_trajectory.csv";
-  ro.csv_every = 5;
-  const RecordedRun pk = run_recorded(scene, ro);
-  if (ctx.log) *ctx.log << "  physik: " << pk.summary.steps_run << " steps, converged "
-                        << pk.summary.converged << "\n";
-
-  // damped least squares, same goals and limits, from the same initial pose
+Solutions solve_three(const Context& ctx, const Scene& scene) {
+  Solutions out;
+  out.physik = record_run(scene, trajectory_table(ctx.out_dir + "/physik_trajectory.csv", 5));
+  if (ctx.log) *ctx.log << "  physik: " << out.physik.summary.steps_run << " steps, converged "
+                        << out.physik.summary.converged << "\n";
   std::vector<IkGoal> goals;
   for (const ControlPoint& c : scene.control_points) goals.push_back({c.bone, c.alpha, c.target_world});
   Pose dls_pose = scene.initial_pose;
-  IkOptions io;
-  const IkReport dls = solve_ik(IkMethod::kDampedLeastSquares, rig, goals, dls_pose, io);
-  const BoneFrames dls_frames = forward_kinematics(rig, dls_pose);
-  if (ctx.log) *ctx.log << "  dls: " << dls.iterations << " iterations, residual " << dls.residual << "\n";
+  out.dls = solve_ik(IkMethod::kDampedLeastSquares, scene.rig, goals, dls_pose, out.dls_options);
+  out.dls_frames = forward_kinematics(scene.rig, dls_pose);
+  if (ctx.log) *ctx.log << "  dls: " << out.dls.iterations << " iterations, residual " << out.dls.residual << "\n";
+  out.mujoco = run_mujoco(scene, ReferenceMode::kSameForces);
+  return out;
+}
 
-  // MuJoCo with PhysIK's forces (exact joints): where the joint-force heuristic alone would go
-  EngineRun mj;
-  mj.summary = run_mujoco(scene, ReferenceMode::kSameForces);
-
-  write_bones(rig, rest, ctx.out_dir + "/rest.csv");
-  write_bones(rig, pk.summary.final_frames, ctx.out_dir + "/physik_final.csv");
-  write_bones(rig, dls_frames, ctx.out_dir + "/dls_final.csv");
-  write_bones(rig, mj.summary.final_frames, ctx.out_dir + "/mujoco_final.csv");
-
-  const Measures mp = measure(scene, rest, pk.summary.final_frames, controlled, reach_chain);
-  const Measures md = measure(scene, rest, dls_frames, controlled, reach_chain);
-  const Measures mm = measure(scene, rest, mj.summary.final_frames, controlled, reach_chain);
-  {
-    std::ofstream out(ctx.out_dir + "/measures.csv");
-    out << "method,shoulder_turn_deg,lean_deg,lean_forward_deg,lean_side_deg,head_tilt_deg,"
-           "neck_bend_deg,off_chain_rotation_rad,off_reach_rotation_rad,max_residual\n";
-    const std::pair<const char*, const Measures*> rows[] = {
-        {"physik", &mp}, {"dls", &md}, {"mujoco_same_forces", &mm}};
-    for (const auto& [name, m] : rows) {
-      out << name << "," << m->shoulder_turn_deg << "," << m->lean_deg << ","
-          << m->lean_forward_deg << "," << m->lean_side_deg << "," << m->head_tilt_deg << ","
-          << m->neck_bend_deg << "," << m->off_chain_rad << "," << m->off_reach_rad << ","
-          << m->max_residual << "\n";
-    }
+void write_measures_csv(const std::string& path, const Measures& mp, const Measures& md,
+                        const Measures& mm) {
+  std::ofstream out(path);
+  out << "method,shoulder_turn_deg,lean_deg,lean_forward_deg,lean_side_deg,head_tilt_deg,"
+         "neck_bend_deg,off_chain_rotation_rad,off_reach_rotation_rad,max_residual\n";
+  const std::pair<const char*, const Measures*> rows[] = {
+      {"physik", &mp}, {"dls", &md}, {"mujoco_same_forces", &mm}};
+  for (const auto& [name, m] : rows) {
+    out << name << "," << m->shoulder_turn_deg << "," << m->lean_deg << ","
+        << m->lean_forward_deg << "," << m->lean_side_deg << "," << m->head_tilt_deg << ","
+        << m->neck_bend_deg << "," << m->off_chain_rad << "," << m->off_reach_rad << ","
+        << m->max_residual << "\n";
   }
+}
 
-  // claims: thresholds of 2 deg on angles (a visible change in a stick figure); stated in notes
+// thresholds of 2 deg on angles (a visible change in a stick figure); stated in the notes
+void add_claims(Report& report, const Measures& mp, const Measures& md, double height) {
   const double thr = 2.0;
   const auto turn_holds = mp.shoulder_turn_deg > thr && mp.shoulder_turn_deg > md.shoulder_turn_deg + thr
                               ? "yes"
                               : (mp.shoulder_turn_deg > 0.5 ? "partly" : "no");
   const auto lean_holds = mp.lean_forward_deg > thr ? "yes" : (mp.lean_forward_deg > 0.5 ? "partly" : "no");
   const auto tilt_holds = mp.head_tilt_deg > thr ? "yes" : (mp.head_tilt_deg > 0.5 ? "partly" : "no");
-  const bool dls_reached = md.max_residual < 0.02 * rig.height();
+  const bool dls_reached = md.max_residual < 0.02 * height;
   const auto stiff_holds = !dls_reached ? "n/a"
                            : md.off_reach_rad < 0.5 * mp.off_reach_rad
                                ? "yes"
                                : (md.off_reach_rad < mp.off_reach_rad ? "partly" : "no");
-  nlohmann::json claims = nlohmann::json::array();
-  claims.push_back(claim(
-      "Fig 9: PhysIK turns the shoulder toward the viewer",
-      "shoulder-line yaw (+ = right shoulder toward the viewer, -Y): PhysIK " +
-          num(mp.shoulder_turn_deg) + " deg, DLS " + num(md.shoulder_turn_deg) + " deg",
-      turn_holds));
-  claims.push_back(claim("Fig 9: PhysIK leans slightly forward",
-                         "torso forward lean: PhysIK " + num(mp.lean_forward_deg) + " deg (sideways " +
-                             num(mp.lean_side_deg) + " deg), DLS " + num(md.lean_forward_deg) +
-                             " deg (sideways " + num(md.lean_side_deg) + " deg)",
-                         lean_holds));
-  claims.push_back(claim("Fig 9: PhysIK tilts the head",
-                         "head axis turned: PhysIK " + num(mp.head_tilt_deg) + " deg (neck bend " +
-                             num(mp.neck_bend_deg) + " deg), DLS " + num(md.head_tilt_deg) +
-                             " deg (neck bend " + num(md.neck_bend_deg) + " deg)",
-                         tilt_holds));
-  claims.push_back(claim(
+  report.claim("Fig 9: PhysIK turns the shoulder toward the viewer",
+               "shoulder-line yaw (+ = right shoulder toward the viewer, -Y): PhysIK " +
+                   num(mp.shoulder_turn_deg) + " deg, DLS " + num(md.shoulder_turn_deg) + " deg",
+               turn_holds);
+  report.claim("Fig 9: PhysIK leans slightly forward",
+               "torso forward lean: PhysIK " + num(mp.lean_forward_deg) + " deg (sideways " +
+                   num(mp.lean_side_deg) + " deg), DLS " + num(md.lean_forward_deg) +
+                   " deg (sideways " + num(md.lean_side_deg) + " deg)",
+               lean_holds);
+  report.claim("Fig 9: PhysIK tilts the head",
+               "head axis turned: PhysIK " + num(mp.head_tilt_deg) + " deg (neck bend " +
+                   num(mp.neck_bend_deg) + " deg), DLS " + num(md.head_tilt_deg) +
+                   " deg (neck bend " + num(md.neck_bend_deg) + " deg)",
+               tilt_holds);
+  report.claim(
       "Fig 9: the classic solver (iTaSC; here DLS) gives a stiff pose",
       "rotation of bones off the reaching arm's chain: DLS " + num(md.off_reach_rad) +
           " rad vs PhysIK " + num(mp.off_reach_rad) + " rad; off all controlled chains: DLS " +
           num(md.off_chain_rad) + " vs PhysIK " + num(mp.off_chain_rad) + " rad" +
           (dls_reached ? "" : " (DLS did not reach the targets: residual " + num(md.max_residual) +
                                   ", so no comparison)"),
-      stiff_holds));
-  claims.push_back(claim(
+      stiff_holds);
+  report.claim(
       "Fig 9: both poses meet the 3 control points",
       "largest control-point residual: PhysIK " + num(mp.max_residual) + ", DLS " +
-          num(md.max_residual) + " rig units (rig height " + num(rig.height()) + ")",
-      mp.max_residual < 0.02 * rig.height() && md.max_residual < 0.02 * rig.height() ? "yes"
-      : mp.max_residual < 0.02 * rig.height() || md.max_residual < 0.02 * rig.height() ? "partly"
-                                                                                        : "no"));
-
-  const nlohmann::json notes = {
-      "Baseline: physik/ik_solver.h damped least squares (lambda = " + num(io.lambda_fraction) +
-          " x reach, joint limits respected, " + std::to_string(dls.iterations) +
-          " iterations, converged " + (dls.converged ? "yes" : "no") +
-          ") in place of Blender's iTaSC. The IK solvers anchor the root bone's head; pinhead's "
-          "root is the head bone, so the DLS pose hangs from the top of the head and cannot "
-          "translate, while PhysIK's root moves freely. DLS only moves bones on a goal's chain "
-          "(the left arm keeps its local rotations).",
-      "Holds = yes when the PhysIK angle exceeds 2 deg in the claimed direction (and, for the "
-      "shoulder, DLS's by 2 deg); partly when it is in the claimed direction but smaller; "
-      "'stiff' = yes when DLS's off-reach-chain rotation is under half of PhysIK's.",
-      "Summed rotations count every bone's full world-orientation change, rolls about its own "
-      "axis included (invisible in a stick figure).",
-      "PhysIK run: " + std::to_string(pk.summary.steps_run) + " steps, converged " +
-          (pk.summary.converged ? "yes" : "no") + " (at step " +
-          std::to_string(pk.summary.steps_to_converge) + "), peak KE " +
-          num(pk.summary.peak_kinetic_energy) + " J.",
-      "MuJoCo same forces (PhysIK's control, torsion and damping forces on an exactly jointed "
-      "model): shoulder turn " + num(mm.shoulder_turn_deg) + " deg, forward lean " +
-          num(mm.lean_forward_deg) + " deg, head tilt " + num(mm.head_tilt_deg) +
-          " deg, off-reach-chain rotation " + num(mm.off_reach_rad) + " rad."};
-
-  write_json_file(
-      {{"experiment", "fig9_outstretched"},
-       {"scene", scene.file},
-       {"targets",
-        [&] {
-          nlohmann::json t = nlohmann::json::array();
-          for (const ControlPoint& c : scene.control_points)
-            t.push_back({c.target_world.x(), c.target_world.y(), c.target_world.z()});
-          return t;
-        }()},
-       {"physik", to_json(mp)},
-       {"dls", to_json(md)},
-       {"mujoco_same_forces", to_json(mm)},
-       {"physik_run", summary_to_json(scene, pk.summary)},
-       {"dls_report",
-        {{"iterations", dls.iterations}, {"residual", dls.residual}, {"converged", dls.converged},
-         {"stalled", dls.stalled}}},
-       {"report",
-        {{"title", "Fig 9: outstretched hand, PhysIK vs damped least squares"},
-         {"claims", claims},
-         {"notes", notes},
-         {"figures", {"fig9_poses.png", "fig9_measures.png"}},
-         {"settings", settings_json(scene, {{"dls_lambda_fraction", io.lambda_fraction}})}}}},
-      ctx.out_dir + "/summary.json");
+          num(md.max_residual) + " rig units (rig height " + num(height) + ")",
+      mp.max_residual < 0.02 * height && md.max_residual < 0.02 * height ? "yes"
+      : mp.max_residual < 0.02 * height || md.max_residual < 0.02 * height ? "partly"
+                                                                            : "no");
 }
+
+void add_notes(Report& report, const Solutions& sol, const Measures& mm) {
+  const RunSummary& pk = sol.physik.summary;
+  report
+      .note("Baseline: physik/ik_solver.h damped least squares (lambda = " +
+            num(sol.dls_options.lambda_fraction) + " x reach, joint limits respected, " +
+            std::to_string(sol.dls.iterations) + " iterations, converged " +
+            (sol.dls.converged ? "yes" : "no") +
+            ") in place of Blender's iTaSC. The IK solvers anchor the root bone's head; pinhead's "
+            "root is the head bone, so the DLS pose hangs from the top of the head and cannot "
+            "translate, while PhysIK's root moves freely. DLS only moves bones on a goal's chain "
+            "(the left arm keeps its local rotations).")
+      .note("Holds = yes when the PhysIK angle exceeds 2 deg in the claimed direction (and, for the "
+            "shoulder, DLS's by 2 deg); partly when it is in the claimed direction but smaller; "
+            "'stiff' = yes when DLS's off-reach-chain rotation is under half of PhysIK's.")
+      .note("Summed rotations count every bone's full world-orientation change, rolls about its own "
+            "axis included (invisible in a stick figure).")
+      .note("PhysIK run: " + std::to_string(pk.steps_run) + " steps, converged " +
+            (pk.converged ? "yes" : "no") + " (at step " + std::to_string(pk.steps_to_converge) +
+            "), peak KE " + num(pk.peak_kinetic_energy) + " J.")
+      .note("MuJoCo same forces (PhysIK's control, torsion and damping forces on an exactly jointed "
+            "model): shoulder turn " + num(mm.shoulder_turn_deg) + " deg, forward lean " +
+            num(mm.lean_forward_deg) + " deg, head tilt " + num(mm.head_tilt_deg) +
+            " deg, off-reach-chain rotation " + num(mm.off_reach_rad) + " rad.");
+}
+
+nlohmann::json targets_json(const Scene& scene) {
+  nlohmann::json t = nlohmann::json::array();
+  for (const ControlPoint& c : scene.control_points) {
+    t.push_back({c.target_world.x(), c.target_world.y(), c.target_world.z()});
+  }
+  return t;
+}
+
+void run(const Context& ctx) {
+  Scene scene = scene_named(ctx, "fig9_outstretched");
+  if (ctx.quick) scene.steps = std::min(scene.steps, 100);
+  const Rig& rig = scene.rig;
+  const BoneFrames rest = forward_kinematics(rig, scene.initial_pose);
+  std::vector<int> cp_bones;
+  for (const ControlPoint& c : scene.control_points) cp_bones.push_back(c.bone);
+  const std::vector<int> controlled = chains_to_root(rig, cp_bones);
+  const std::vector<int> reach_chain = chains_to_root(rig, {bone(rig, "hand.R")});
+
+  const Solutions sol = solve_three(ctx, scene);
+  const BoneFrames& pk_final = sol.physik.summary.final_frames;
+  write_bones(rig, rest, ctx.out_dir + "/rest.csv");
+  write_bones(rig, pk_final, ctx.out_dir + "/physik_final.csv");
+  write_bones(rig, sol.dls_frames, ctx.out_dir + "/dls_final.csv");
+  write_bones(rig, sol.mujoco.final_frames, ctx.out_dir + "/mujoco_final.csv");
+  const Measures mp = measure(scene, rest, pk_final, controlled, reach_chain);
+  const Measures md = measure(scene, rest, sol.dls_frames, controlled, reach_chain);
+  const Measures mm = measure(scene, rest, sol.mujoco.final_frames, controlled, reach_chain);
+  write_measures_csv(ctx.out_dir + "/measures.csv", mp, md, mm);
+
+  Report report("Fig 9: outstretched hand, PhysIK vs damped least squares");
+  add_claims(report, mp, md, rig.height());
+  add_notes(report, sol, mm);
+  report.figures({"fig9_poses.png", "fig9_measures.png"})
+      .settings(settings_json(scene, {{"dls_lambda_fraction", sol.dls_options.lambda_fraction}}));
+  write_summary(ctx,
+                {{"experiment", "fig9_outstretched"},
+                 {"scene", scene.file},
+                 {"targets", targets_json(scene)},
+                 {"physik", to_json(mp)},
+                 {"dls", to_json(md)},
+                 {"mujoco_same_forces", to_json(mm)},
+                 {"physik_run", summary_to_json(scene, sol.physik.summary)},
+                 {"dls_report",
+                  {{"iterations", sol.dls.iterations}, {"residual", sol.dls.residual},
+                   {"converged", sol.dls.converged}, {"stalled", sol.dls.stalled}}}},
+                report);
+}
+
+const Registration registered{
+    90, {"fig9_outstretched", "Fig 9",
+         "outstretched hand: PhysIK vs damped least squares, secondary motion", run}};
 
 }  // namespace
-
-Experiment fig9_outstretched_experiment() {
-  return {"fig9_outstretched", "Fig 9",
-          "outstretched hand: PhysIK vs damped least squares, secondary motion", run};
-}
 
 }  // namespace physik::experiments

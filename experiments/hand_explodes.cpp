@@ -25,7 +25,6 @@
 
 #include "experiments/common.h"
 #include "physik/model/errors.h"
-#include "physik/io/pose_io.h"
 
 namespace physik::experiments {
 
@@ -52,12 +51,10 @@ double initial_spring_energy(const Scene& scene) {
 struct HandRun {
   double torsion_k = 0, damping = 0;
   double energy_scale = 0;  // J, E0
-  RunSummary summary;
+  RecordedRun run;          // summary; frames at step 0, the asked steps and the last state
   std::vector<double> ke, limit_deg, max_residual;  // per step
-  std::vector<int> frame_steps;
-  std::vector<BoneFrames> frames;
   bool explodes() const {
-    return summary.diverged || summary.peak_kinetic_energy > kExplodeFactor * energy_scale;
+    return run.summary.diverged || run.summary.peak_kinetic_energy > kExplodeFactor * energy_scale;
   }
 };
 
@@ -70,23 +67,21 @@ HandRun run_hand(const Scene& base, double torsion_k, double damping,
   r.torsion_k = torsion_k;
   r.damping = damping;
   r.energy_scale = initial_spring_energy(scene);
-  r.frame_steps.push_back(0);
-  r.frames.push_back(forward_kinematics(scene.rig, scene.initial_pose));
+  RecordOptions ro;
+  ro.frame_steps = {0};
+  ro.frame_steps.insert(ro.frame_steps.end(), want_frames.begin(), want_frames.end());
   std::vector<double> res;
-  r.summary = run_scene(scene, [&](const SimState& s, const StepStats& st) {
+  r.run = record_run(scene, ro, [&](const SimState& s, const StepStats& st) {
     r.ke.push_back(st.kinetic_energy);
     r.limit_deg.push_back(max_limit_violation(scene.rig, s.pose) * 180.0 / 3.14159265358979323846);
     control_residuals(scene, s, res);
     r.max_residual.push_back(res.empty() ? 0.0 : *std::max_element(res.begin(), res.end()));
-    if (std::find(want_frames.begin(), want_frames.end(), s.step) != want_frames.end()) {
-      r.frame_steps.push_back(s.step);
-      r.frames.push_back(s.frames);
-    }
   });
   // the last state reached (the divergence step, or the end)
-  if (r.frame_steps.back() != r.summary.steps_run) {
-    r.frame_steps.push_back(r.summary.steps_run);
-    r.frames.push_back(r.summary.final_frames);
+  RecordedRun& run = r.run;
+  if (run.frame_steps.back() != run.summary.steps_run) {
+    run.frame_steps.push_back(run.summary.steps_run);
+    run.frames.push_back(run.summary.final_frames);
   }
   return r;
 }
@@ -96,7 +91,7 @@ std::string label(const HandRun& r) {
 }
 
 nlohmann::json run_json(const HandRun& r) {
-  const RunSummary& s = r.summary;
+  const RunSummary& s = r.run.summary;
   return {{"torsion_k", r.torsion_k},
           {"damping", r.damping},
           {"steps_run", s.steps_run},
@@ -115,7 +110,7 @@ nlohmann::json run_json(const HandRun& r) {
 }
 
 std::string outcome(const HandRun& r) {
-  const RunSummary& s = r.summary;
+  const RunSummary& s = r.run.summary;
   std::string o = s.diverged ? "diverged (" + s.divergence_reason + ")"
                              : (s.converged ? "settled at step " + std::to_string(s.steps_to_converge)
                                             : "did not settle in " + std::to_string(s.steps_run) +
@@ -125,16 +120,150 @@ std::string outcome(const HandRun& r) {
          num(s.max_limit_violation_deg) + " deg";
 }
 
+// Per-step table: the shipped run (KE, limit violation, largest residual), then every sweep run
+// (KE and limit violation); cells stay empty after a run stopped (diverged).
+void write_timeline(const std::string& path, const HandRun& shipped, const std::vector<HandRun>& sweep) {
+  std::ofstream out(path);
+  out << "step,kinetic_energy,max_limit_violation_deg,max_residual";
+  for (std::size_t j = 0; j < sweep.size(); ++j) {
+    out << ",ke_k" << num(sweep[j].torsion_k) << "_c" << num(sweep[j].damping) << ",limit_k"
+        << num(sweep[j].torsion_k) << "_c" << num(sweep[j].damping);
+  }
+  out << "\n" << std::setprecision(9);
+  std::size_t n = shipped.ke.size();
+  for (const HandRun& r : sweep) n = std::max(n, r.ke.size());
+  for (std::size_t k = 0; k < n; ++k) {
+    out << k + 1;
+    auto cell = [&](const std::vector<double>& v) {
+      out << ",";
+      if (k < v.size()) out << v[k];
+    };
+    cell(shipped.ke);
+    cell(shipped.limit_deg);
+    cell(shipped.max_residual);
+    for (const HandRun& r : sweep) {
+      cell(r.ke);
+      cell(r.limit_deg);
+    }
+    out << "\n";
+  }
+}
+
+void write_sweep(const std::string& path, const std::vector<HandRun>& sweep) {
+  std::ofstream out(path);
+  out << "torsion_k,damping,steps_run,diverged,converged,peak_kinetic_energy,"
+         "max_limit_violation_deg,max_joint_separation,final_max_residual,explodes\n";
+  for (const HandRun& r : sweep) {
+    const RunSummary& s = r.run.summary;
+    const auto& fr = s.final_residuals;
+    out << r.torsion_k << "," << r.damping << "," << s.steps_run << "," << int(s.diverged) << ","
+        << int(s.converged) << "," << s.peak_kinetic_energy << "," << s.max_limit_violation_deg
+        << "," << s.max_joint_separation << ","
+        << (fr.empty() ? 0.0 : *std::max_element(fr.begin(), fr.end())) << ","
+        << int(r.explodes()) << "\n";
+  }
+}
+
+// The sweep's pattern, per damping: do the runs explode exactly above some torsion stiffness?
+struct Pattern {
+  int n_explode = 0;
+  bool threshold_in_k = true;
+  std::string exploding, calm;  // "k=.. c=..; ..."
+  double calm_limit_deg = 0.0;  // largest limit violation of a calm run
+};
+
+// sweep[ci * ks.size() + ki]: damping cs[ci], torsion ks[ki] (ascending)
+Pattern sweep_pattern(const std::vector<HandRun>& sweep, std::size_t n_damping, std::size_t n_k) {
+  Pattern p;
+  for (std::size_t ci = 0; ci < n_damping; ++ci) {
+    bool seen_explode = false, seen_calm = false;
+    for (std::size_t ki = 0; ki < n_k; ++ki) {
+      const HandRun& r = sweep[ci * n_k + ki];
+      p.n_explode += r.explodes();
+      if (r.explodes()) {
+        seen_explode = true;
+      } else {
+        p.threshold_in_k = p.threshold_in_k && !seen_explode;  // calm after an explosion: no threshold
+        seen_calm = true;
+        p.calm_limit_deg = std::max(p.calm_limit_deg, r.run.summary.max_limit_violation_deg);
+      }
+      std::string& list = r.explodes() ? p.exploding : p.calm;
+      if (!list.empty()) list += "; ";
+      list += "k=" + num(r.torsion_k) + " c=" + num(r.damping);
+    }
+    p.threshold_in_k = p.threshold_in_k && seen_explode && seen_calm;
+  }
+  return p;
+}
+
+void add_sweep_claims(Report& report, const Scene& base, const HandRun& shipped,
+                      const std::vector<HandRun>& sweep, const Pattern& p) {
+  report.claim(
+      "Sec. 5: a tightly constrained hand explodes when a control point is moved",
+      "shipped scene (torsion_k " + num(base.params.torsion_k) + ", damping " +
+          num(base.params.damping) + "): " + outcome(shipped) + "; E0 = " +
+          num(shipped.energy_scale) + " J",
+      shipped.explodes() ? "yes" : "no");
+  report.claim(
+      "Sec. 5: the explosion comes from the tight limits' torsion forces amplified by the "
+      "integration (stiffer torsion springs explode, at every damping tried)",
+      std::to_string(p.n_explode) + " of " + std::to_string(sweep.size()) +
+          " sweep runs explode; exploding: " + (p.exploding.empty() ? "none" : p.exploding) +
+          "; calm: " + (p.calm.empty() ? "none" : p.calm) +
+          (p.calm.empty() ? std::string()
+                          : " (the calm runs leave the limits by up to " + num(p.calm_limit_deg) +
+                                " deg: soft torsion springs do not hold the limits)"),
+      p.threshold_in_k ? "yes" : (p.n_explode > 0 ? "partly" : "no"));
+}
+
+// The step size: explicit Euler's limit for a torsion spring pair on light phalanges is
+// k_t dt^2 / I ~ 2 (1 + f) for the chain's alternating mode (tuning_study derives the bound); if
+// the explosion is that limit, the same scene over the same simulated time must settle with a
+// smaller dt. Returns the rows for summary.json.
+nlohmann::json smaller_dt_claim(const Context& ctx, Report& report, const Scene& base,
+                                const HandRun& shipped) {
+  nlohmann::json dt_rows = nlohmann::json::array();
+  std::string dt_text;
+  bool big_explodes = shipped.explodes(), small_settle = true;
+  for (double dt : {0.03, 0.02}) {
+    Scene fine = base;
+    fine.params.dt = dt;
+    fine.steps = static_cast<int>(std::lround(base.steps * base.params.dt / dt));
+    const HandRun r = run_hand(fine, base.params.torsion_k, base.params.damping, {});
+    small_settle = small_settle && !r.explodes() && r.run.summary.converged;
+    dt_rows.push_back({{"dt", dt}, {"run", run_json(r)}});
+    dt_text += (dt_text.empty() ? "" : "; ") + std::string("dt ") + num(dt) + ": " + outcome(r);
+    if (ctx.log) *ctx.log << "  dt=" << dt << ": " << outcome(r) << "\n";
+  }
+  report.claim(
+      "Sec. 5: the explosion is an integration error ('better methods of integration ... may "
+      "mitigate it'): the same hand with a smaller explicit-Euler step settles",
+      "dt " + num(base.params.dt) + ": " + (big_explodes ? "explodes" : "calm") + "; " + dt_text,
+      big_explodes && small_settle ? "yes" : (big_explodes ? "partly" : "no"));
+  return dt_rows;
+}
+
+void add_notes(Report& report, const Scene& base, const HandRun& shipped) {
+  report
+      .note("Explodes = the engine reports divergence (non-finite state, or kinetic energy past " +
+            num(base.divergence_energy()) + " J) or the peak kinetic energy exceeds " +
+            num(kExplodeFactor) +
+            " x E0, E0 = the control springs' potential at the start against their goals (the "
+            "energy a passive, damped rig could release).")
+      .note("The second claim is our reading of the paper's explanation; it holds when, for every "
+            "damping, the runs explode exactly above some torsion stiffness (both outcomes present), "
+            "partly when some runs explode without that pattern.")
+      .note("Shipped run: max joint separation " + num(shipped.run.summary.max_joint_separation) +
+            " rig units, mean passes per step " + num(shipped.run.summary.mean_passes_per_step) + ".");
+}
+
 void run(const Context& ctx) {
   Scene base = scene_named(ctx, "hand_tight");
   if (ctx.quick) base.steps = std::min(base.steps, 150);
-  const std::vector<int> want = {10, 50, 200, base.steps};
-
-  // base scene as shipped
-  const HandRun shipped = run_hand(base, base.params.torsion_k, base.params.damping, want);
+  // the base scene as shipped, then a sweep over torsion_k x damping
+  const HandRun shipped =
+      run_hand(base, base.params.torsion_k, base.params.damping, {10, 50, 200, base.steps});
   if (ctx.log) *ctx.log << "  shipped: " << outcome(shipped) << "\n";
-
-  // sweep
   const std::vector<double> ks = {1.0, 10.0, 100.0};
   const std::vector<double> cs = {1.0, 3.0};
   std::vector<HandRun> sweep;
@@ -144,155 +273,33 @@ void run(const Context& ctx) {
       if (ctx.log) *ctx.log << "  " << label(sweep.back()) << ": " << outcome(sweep.back()) << "\n";
     }
   }
+  write_timeline(ctx.out_dir + "/timeline.csv", shipped, sweep);
+  write_sweep(ctx.out_dir + "/sweep.csv", sweep);
+  const std::vector<std::string> frame_files = write_frames(base, shipped.run, ctx.out_dir, "hand_");
 
-  // per-step table: the shipped run, then every sweep run (KE and limit violation)
-  {
-    std::ofstream out(ctx.out_dir + "/timeline.csv");
-    out << "step,kinetic_energy,max_limit_violation_deg,max_residual";
-    for (std::size_t j = 0; j < sweep.size(); ++j) {
-      out << ",ke_k" << num(sweep[j].torsion_k) << "_c" << num(sweep[j].damping) << ",limit_k"
-          << num(sweep[j].torsion_k) << "_c" << num(sweep[j].damping);
-    }
-    out << "\n" << std::setprecision(9);
-    std::size_t n = shipped.ke.size();
-    for (const HandRun& r : sweep) n = std::max(n, r.ke.size());
-    for (std::size_t k = 0; k < n; ++k) {
-      out << k + 1;
-      auto cell = [&](const std::vector<double>& v) {
-        out << ",";
-        if (k < v.size()) out << v[k];  // empty after a run stopped (diverged)
-      };
-      cell(shipped.ke);
-      cell(shipped.limit_deg);
-      cell(shipped.max_residual);
-      for (const HandRun& r : sweep) {
-        cell(r.ke);
-        cell(r.limit_deg);
-      }
-      out << "\n";
-    }
-  }
-  {
-    std::ofstream out(ctx.out_dir + "/sweep.csv");
-    out << "torsion_k,damping,steps_run,diverged,converged,peak_kinetic_energy,"
-           "max_limit_violation_deg,max_joint_separation,final_max_residual,explodes\n";
-    for (const HandRun& r : sweep) {
-      const auto& fr = r.summary.final_residuals;
-      out << r.torsion_k << "," << r.damping << "," << r.summary.steps_run << ","
-          << int(r.summary.diverged) << "," << int(r.summary.converged) << ","
-          << r.summary.peak_kinetic_energy << "," << r.summary.max_limit_violation_deg << ","
-          << r.summary.max_joint_separation << ","
-          << (fr.empty() ? 0.0 : *std::max_element(fr.begin(), fr.end())) << ","
-          << int(r.explodes()) << "\n";
-    }
-  }
-  std::vector<std::string> frame_files;
-  for (std::size_t k = 0; k < shipped.frames.size(); ++k) {
-    const std::string name = "hand_" + std::to_string(shipped.frame_steps[k]) + ".csv";
-    std::ofstream out(ctx.out_dir + "/" + name);
-    write_bones_csv(base.rig, shipped.frames[k], out);
-    frame_files.push_back(name);
-  }
-
-  // per damping: do the runs explode exactly above some torsion stiffness (ks ascending)?
-  int n_explode = 0;
-  bool threshold_in_k = true;
-  std::string exploding, calm;
-  double calm_limit_deg = 0.0;
-  for (std::size_t ci = 0; ci < cs.size(); ++ci) {
-    bool seen_explode = false, seen_calm = false;
-    for (std::size_t ki = 0; ki < ks.size(); ++ki) {
-      const HandRun& r = sweep[ci * ks.size() + ki];
-      n_explode += r.explodes();
-      if (r.explodes()) {
-        seen_explode = true;
-      } else {
-        threshold_in_k = threshold_in_k && !seen_explode;  // calm after an explosion: no threshold
-        seen_calm = true;
-        calm_limit_deg = std::max(calm_limit_deg, r.summary.max_limit_violation_deg);
-      }
-      std::string& list = r.explodes() ? exploding : calm;
-      if (!list.empty()) list += "; ";
-      list += "k=" + num(r.torsion_k) + " c=" + num(r.damping);
-    }
-    threshold_in_k = threshold_in_k && seen_explode && seen_calm;
-  }
-  nlohmann::json claims = nlohmann::json::array();
-  claims.push_back(claim(
-      "Sec. 5: a tightly constrained hand explodes when a control point is moved",
-      "shipped scene (torsion_k " + num(base.params.torsion_k) + ", damping " +
-          num(base.params.damping) + "): " + outcome(shipped) + "; E0 = " +
-          num(shipped.energy_scale) + " J",
-      shipped.explodes() ? "yes" : "no"));
-  claims.push_back(claim(
-      "Sec. 5: the explosion comes from the tight limits' torsion forces amplified by the "
-      "integration (stiffer torsion springs explode, at every damping tried)",
-      std::to_string(n_explode) + " of " + std::to_string(sweep.size()) +
-          " sweep runs explode; exploding: " + (exploding.empty() ? "none" : exploding) +
-          "; calm: " + (calm.empty() ? "none" : calm) +
-          (calm.empty() ? std::string()
-                        : " (the calm runs leave the limits by up to " + num(calm_limit_deg) +
-                              " deg: soft torsion springs do not hold the limits)"),
-      threshold_in_k ? "yes" : (n_explode > 0 ? "partly" : "no")));
-
-  // the step size: explicit Euler's limit for a torsion spring pair on light phalanges is
-  // k_t dt^2 / I ~ 2 (1 + f) for the chain's alternating mode (tuning_study derives the bound);
-  // if the explosion is that limit, the same scene over the same simulated time must settle
-  // with a smaller dt
-  nlohmann::json dt_rows = nlohmann::json::array();
-  std::string dt_text;
-  bool big_explodes = shipped.explodes(), small_settle = true;
-  for (double dt : {0.03, 0.02}) {
-    Scene fine = base;
-    fine.params.dt = dt;
-    fine.steps = static_cast<int>(std::lround(base.steps * base.params.dt / dt));
-    const HandRun r = run_hand(fine, base.params.torsion_k, base.params.damping, {});
-    small_settle = small_settle && !r.explodes() && r.summary.converged;
-    dt_rows.push_back({{"dt", dt}, {"run", run_json(r)}});
-    dt_text += (dt_text.empty() ? "" : "; ") + std::string("dt ") + num(dt) + ": " + outcome(r);
-    if (ctx.log) *ctx.log << "  dt=" << dt << ": " << outcome(r) << "\n";
-  }
-  claims.push_back(claim(
-      "Sec. 5: the explosion is an integration error ('better methods of integration ... may "
-      "mitigate it'): the same hand with a smaller explicit-Euler step settles",
-      "dt " + num(base.params.dt) + ": " + (big_explodes ? "explodes" : "calm") + "; " + dt_text,
-      big_explodes && small_settle ? "yes" : (big_explodes ? "partly" : "no")));
-
+  Report report("Sec. 5: the tightly limited hand");
+  add_sweep_claims(report, base, shipped, sweep, sweep_pattern(sweep, cs.size(), ks.size()));
+  const nlohmann::json dt_rows = smaller_dt_claim(ctx, report, base, shipped);
+  add_notes(report, base, shipped);
+  report.figures({"hand_timeline.png", "hand_sweep.png", "hand_poses.png"})
+      .settings(settings_json(base, {{"sweep_torsion_k", ks}, {"sweep_damping", cs}}));
   nlohmann::json sweep_json = nlohmann::json::array();
   for (const HandRun& r : sweep) sweep_json.push_back(run_json(r));
-  const nlohmann::json notes = {
-      "Explodes = the engine reports divergence (non-finite state, or kinetic energy past " +
-          num(base.divergence_energy()) + " J) or the peak kinetic energy exceeds " +
-          num(kExplodeFactor) +
-          " x E0, E0 = the control springs' potential at the start against their goals (the "
-          "energy a passive, damped rig could release).",
-      "The second claim is our reading of the paper's explanation; it holds when, for every "
-      "damping, the runs explode exactly above some torsion stiffness (both outcomes present), "
-      "partly when some runs explode without that pattern.",
-      "Shipped run: max joint separation " + num(shipped.summary.max_joint_separation) +
-          " rig units, mean passes per step " + num(shipped.summary.mean_passes_per_step) + "."};
-
-  write_json_file({{"experiment", "hand_explodes"},
-                   {"scene", base.file},
-                   {"shipped", run_json(shipped)},
-                   {"frames", frame_files},
-                   {"frame_steps", shipped.frame_steps},
-                   {"sweep", sweep_json},
-                   {"smaller_dt", dt_rows},
-                   {"report",
-                    {{"title", "Sec. 5: the tightly limited hand"},
-                     {"claims", claims},
-                     {"notes", notes},
-                     {"figures", {"hand_timeline.png", "hand_sweep.png", "hand_poses.png"}},
-                     {"settings", settings_json(base, {{"sweep_torsion_k", ks}, {"sweep_damping", cs}})}}}},
-                  ctx.out_dir + "/summary.json");
+  write_summary(ctx,
+                {{"experiment", "hand_explodes"},
+                 {"scene", base.file},
+                 {"shipped", run_json(shipped)},
+                 {"frames", frame_files},
+                 {"frame_steps", shipped.run.frame_steps},
+                 {"sweep", sweep_json},
+                 {"smaller_dt", dt_rows}},
+                report);
 }
+
+const Registration registered{
+    200, {"hand_explodes", "Sec. 5",
+          "tightly limited hand: does it explode (torsion x damping sweep)", run}};
 
 }  // namespace
-
-Experiment hand_explodes_experiment() {
-  return {"hand_explodes", "Sec. 5", "tightly limited hand: does it explode (torsion x damping sweep)",
-          run};
-}
 
 }  // namespace physik::experiments

@@ -21,7 +21,6 @@
 #include <fstream>
 #include <functional>
 #include <iomanip>
-#include <map>
 #include <random>
 #include <sstream>
 
@@ -29,7 +28,7 @@
 #include <kdl/chainfksolverpos_recursive.hpp>
 #include <kdl/chainiksolverpos_lma.hpp>
 
-#include "experiments/experiment.h"
+#include "experiments/common.h"
 #include "physik/engine/engine.h"
 #include "physik/ik/ik_solver.h"
 #include "physik/io/rig_io.h"
@@ -170,18 +169,16 @@ struct Stats {
       violation, rotation, offpath, jump;
 };
 
-std::string fmt(double v, int prec = 3) {
-  std::ostringstream s;
-  s << std::setprecision(prec) << v;
-  return s.str();
+// How many targets per rig (the PhysIK engine gets fewer: it is slow on long chains)
+struct Budget {
+  int n_reach, n_unreach, n_cont, physik_reach, physik_unreach, physik_cont;
+};
+
+Budget budget(bool quick) {
+  return quick ? Budget{12, 4, 4, 3, 1, 1} : Budget{1000, 200, 100, 100, 20, 20};
 }
 
-void run(const Context& ctx) {
-  const int n_reach = ctx.quick ? 12 : 1000, n_unreach = ctx.quick ? 4 : 200;
-  const int n_cont = ctx.quick ? 4 : 100;
-  const int physik_reach = ctx.quick ? 3 : 100, physik_unreach = ctx.quick ? 1 : 20;
-  const int physik_cont = ctx.quick ? 1 : 20;
-
+std::vector<RigCase> make_rigs(const Context& ctx) {
   std::vector<RigCase> rigs;
   for (int n : {3, 10, 50}) {
     if (ctx.quick && n == 50) continue;
@@ -192,15 +189,16 @@ void run(const Context& ctx) {
     rc.chain = true;
     rigs.push_back(rc);
   }
-  {
-    RigCase rc;
-    rc.rig = load_rig(ctx.models_dir + "/rigs/pinhead.json");
-    rc.name = "pinhead";
-    rc.bone = rc.rig.find_bone("hand.L");
-    rigs.push_back(rc);
-  }
+  RigCase pinhead;
+  pinhead.rig = load_rig(ctx.models_dir + "/rigs/pinhead.json");
+  pinhead.name = "pinhead";
+  pinhead.bone = pinhead.rig.find_bone("hand.L");
+  rigs.push_back(pinhead);
   for (RigCase& rc : rigs) rc.reach = chain_reach(rc.rig, {{rc.bone, 1.0, Vec3::Zero()}});
+  return rigs;
+}
 
+std::vector<std::pair<std::string, Solver>> make_solvers() {
   std::vector<std::pair<std::string, Solver>> solvers;
   for (IkMethod m : {IkMethod::kFabrik, IkMethod::kCcd, IkMethod::kJacobianTranspose,
                      IkMethod::kDampedLeastSquares, IkMethod::kMassSpring, IkMethod::kRotation}) {
@@ -208,98 +206,97 @@ void run(const Context& ctx) {
   }
   solvers.push_back({"kdl-lma", kdl_lma});
   solvers.push_back({"physik", physik_engine});
+  return solvers;
+}
 
-  std::ofstream solves(ctx.out_dir + "/solves.csv");
-  solves << "rig,solver,kind,index,target_x,target_y,target_z,residual,residual_over_reach,success,"
-            "converged,iterations,time_s,limit_violation_deg,total_rotation_rad,offpath_motion\n";
-  std::ofstream cont(ctx.out_dir + "/continuity.csv");
-  cont << "rig,solver,index,target_move,max_tail_jump,jump_ratio\n";
-  solves << std::setprecision(9);
-  cont << std::setprecision(9);
+// A rig's targets, drawn from one fixed seed: reachable, unreachable, and the continuity moves.
+struct Targets {
+  std::vector<Vec3> reach, unreach, moves;
+};
 
-  nlohmann::json table = nlohmann::json::array();
-  std::map<std::string, std::map<std::string, Stats>> all;
-  for (const RigCase& rc : rigs) {
-    std::mt19937 rng(20240607);
-    std::vector<Vec3> reach_targets, unreach_targets, moves;
+Targets make_targets(const RigCase& rc, const Budget& b) {
+  std::mt19937 rng(20240607);
+  Targets t;
+  const Vec3 root = rc.rig.bone_rest_head_world[0];
+  for (int k = 0; k < b.n_reach; ++k) {
+    if (rc.chain) {
+      const double r = 0.95 * rc.reach * std::cbrt(std::uniform_real_distribution<double>(0, 1)(rng));
+      t.reach.push_back(root + r * random_direction(rng));
+    } else {
+      t.reach.push_back(forward_kinematics(rc.rig, random_legal_pose(rc.rig, rng)).tail_world[rc.bone]);
+    }
+  }
+  for (int k = 0; k < b.n_unreach; ++k) {
+    const double r = rc.reach * std::uniform_real_distribution<double>(1.1, 2.0)(rng);
+    t.unreach.push_back(root + r * random_direction(rng));
+  }
+  for (int k = 0; k < b.n_cont; ++k) t.moves.push_back(0.01 * rc.reach * random_direction(rng));
+  return t;
+}
+
+// The two per-solve tables, 9 significant digits.
+struct Tables {
+  std::ofstream solves, cont;
+};
+
+void open_tables(const Context& ctx, Tables& t) {
+  t.solves.open(ctx.out_dir + "/solves.csv");
+  t.solves << "rig,solver,kind,index,target_x,target_y,target_z,residual,residual_over_reach,success,"
+              "converged,iterations,time_s,limit_violation_deg,total_rotation_rad,offpath_motion\n";
+  t.cont.open(ctx.out_dir + "/continuity.csv");
+  t.cont << "rig,solver,index,target_move,max_tail_jump,jump_ratio\n";
+  t.solves << std::setprecision(9);
+  t.cont << std::setprecision(9);
+}
+
+// One rig with one solver: what a solve is measured against.
+struct SolveCase {
+  const RigCase& rc;
+  const std::string& solver;
+  const std::vector<char>& on_path;  // (nbone) bone on the root-to-effector path
+  const BoneFrames& rest;
+};
+
+// One solve into solves.csv and the stats: success, total rotation, off-path motion.
+void record_solve(const SolveCase& sc, const char* kind, int idx, const Vec3& t, const Outcome& o,
+                  std::ostream& solves, Stats& st) {
+  const RigCase& rc = sc.rc;
+  const bool success = o.residual < 1e-3 * rc.reach;
+  double rot = 0.0, off = 0.0;
+  int noff = 0;
+  for (int i = 0; i < rc.rig.nbone; ++i) {
+    rot += o.local[i].angularDistance(Quat::Identity());
+    if (!sc.on_path[i]) {
+      off += (o.tails_world[i] - sc.rest.tail_world[i]).norm();
+      ++noff;
+    }
+  }
+  off = noff ? off / noff : 0.0;
+  solves << rc.name << "," << sc.solver << "," << kind << "," << idx << "," << t.x() << ","
+         << t.y() << "," << t.z() << "," << o.residual << "," << o.residual / rc.reach << ","
+         << success << "," << o.converged << "," << o.iterations << "," << o.time_s << ","
+         << o.limit_violation_deg << "," << rot << "," << off << "\n";
+  st.violation.push_back(o.limit_violation_deg);
+  if (std::string(kind) == "reachable") {
+    st.reach_success.push_back(success);
+    st.reach_residual.push_back(o.residual / rc.reach);
+    st.reach_iters.push_back(o.iterations);
+    st.reach_time.push_back(o.time_s);
+    st.rotation.push_back(rot);
+    st.offpath.push_back(off);
+  } else {
     const Vec3 root = rc.rig.bone_rest_head_world[0];
-    for (int t = 0; t < n_reach; ++t) {
-      if (rc.chain) {
-        const double r = 0.95 * rc.reach * std::cbrt(std::uniform_real_distribution<double>(0, 1)(rng));
-        reach_targets.push_back(root + r * random_direction(rng));
-      } else {
-        reach_targets.push_back(
-            forward_kinematics(rc.rig, random_legal_pose(rc.rig, rng)).tail_world[rc.bone]);
-      }
-    }
-    for (int t = 0; t < n_unreach; ++t) {
-      const double r = rc.reach * std::uniform_real_distribution<double>(1.1, 2.0)(rng);
-      unreach_targets.push_back(root + r * random_direction(rng));
-    }
-    for (int t = 0; t < n_cont; ++t) moves.push_back(0.01 * rc.reach * random_direction(rng));
-    // path of the effector: bones off it measure secondary motion on trees
-    std::vector<char> on_path(rc.rig.nbone, 0);
-    for (int b = rc.bone; b >= 0; b = rc.rig.bone_parent[b]) on_path[b] = 1;
-    const BoneFrames rest = forward_kinematics(rc.rig, rest_pose(rc.rig));
+    st.unreach_notconv.push_back(!o.converged);
+    st.unreach_excess.push_back((o.residual - ((t - root).norm() - rc.reach)) / rc.reach);
+  }
+}
 
-    for (const auto& [sname, solve] : solvers) {
-      if (sname == "kdl-lma" && !rc.chain) continue;  // KDL: chains only
-      const bool is_physik = sname == "physik";
-      if (is_physik && rc.rig.nbone > 20) continue;
-      const int nr = is_physik ? std::min(physik_reach, n_reach) : n_reach;
-      const int nu = is_physik ? std::min(physik_unreach, n_unreach) : n_unreach;
-      const int nc = is_physik ? std::min(physik_cont, n_cont) : n_cont;
-      if (ctx.log) *ctx.log << "  " << rc.name << " / " << sname << ": " << nr << " + " << nu << " targets\n";
-      Stats& st = all[rc.name][sname];
-      std::vector<Outcome> reach_out;
-      auto record = [&](const char* kind, int idx, const Vec3& t, const Outcome& o) {
-        const bool success = o.residual < 1e-3 * rc.reach;
-        double rot = 0.0, off = 0.0;
-        int noff = 0;
-        for (int i = 0; i < rc.rig.nbone; ++i) {
-          rot += o.local[i].angularDistance(Quat::Identity());
-          if (!on_path[i]) {
-            off += (o.tails_world[i] - rest.tail_world[i]).norm();
-            ++noff;
-          }
-        }
-        off = noff ? off / noff : 0.0;
-        solves << rc.name << "," << sname << "," << kind << "," << idx << "," << t.x() << ","
-               << t.y() << "," << t.z() << "," << o.residual << "," << o.residual / rc.reach << ","
-               << success << "," << o.converged << "," << o.iterations << "," << o.time_s << ","
-               << o.limit_violation_deg << "," << rot << "," << off << "\n";
-        st.violation.push_back(o.limit_violation_deg);
-        if (std::string(kind) == "reachable") {
-          st.reach_success.push_back(success);
-          st.reach_residual.push_back(o.residual / rc.reach);
-          st.reach_iters.push_back(o.iterations);
-          st.reach_time.push_back(o.time_s);
-          st.rotation.push_back(rot);
-          st.offpath.push_back(off);
-        } else {
-          st.unreach_notconv.push_back(!o.converged);
-          st.unreach_excess.push_back((o.residual - ((t - root).norm() - rc.reach)) / rc.reach);
-        }
-      };
-      for (int t = 0; t < nr; ++t) {
-        reach_out.push_back(solve(rc, reach_targets[t]));
-        record("reachable", t, reach_targets[t], reach_out.back());
-      }
-      for (int t = 0; t < nu; ++t) record("unreachable", t, unreach_targets[t], solve(rc, unreach_targets[t]));
-      for (int t = 0; t < nc; ++t) {
-        const Outcome moved = solve(rc, reach_targets[t] + moves[t]);
-        double jump = 0.0;
-        for (int i = 0; i < rc.rig.nbone; ++i) {
-          jump = std::max(jump, (moved.tails_world[i] - reach_out[t].tails_world[i]).norm());
-        }
-        const double ratio = jump / moves[t].norm();
-        st.jump.push_back(ratio);
-        cont << rc.name << "," << sname << "," << t << "," << moves[t].norm() << "," << jump << ","
-             << ratio << "\n";
-      }
-      nlohmann::json row = {
-          {"rig", rc.name},
-          {"solver", sname},
+// One table row of the summary: a rig, a solver, its statistics.
+nlohmann::json stats_row(const RigCase& rc, const std::string& solver, int nr, int nu, const Stats& st) {
+  int jumps_over_10 = 0;
+  for (double j : st.jump) jumps_over_10 += j > 10.0;
+  return {{"rig", rc.name},
+          {"solver", solver},
           {"reachable", nr},
           {"unreachable", nu},
           {"success_rate", mean(st.reach_success)},
@@ -314,163 +311,200 @@ void run(const Context& ctx) {
           {"unreachable_excess_over_reach", mean(st.unreach_excess)},
           {"continuity_median_ratio", percentile(st.jump, 0.5)},
           {"continuity_p95_ratio", percentile(st.jump, 0.95)},
-          {"continuity_jumps_over_10", [&] {
-             int c = 0;
-             for (double j : st.jump) c += j > 10.0;
-             return st.jump.empty() ? 0.0 : static_cast<double>(c) / st.jump.size();
-           }()}};
-      table.push_back(row);
-    }
-  }
+          {"continuity_jumps_over_10",
+           st.jump.empty() ? 0.0 : static_cast<double>(jumps_over_10) / st.jump.size()}};
+}
 
-  // claims from the guide, seed 002 and the paper, measured here
-  auto row_of = [&](const std::string& rig, const std::string& solver) -> const nlohmann::json* {
-    for (const auto& r : table) {
-      if (r["rig"] == rig && r["solver"] == solver) return &r;
+// Every target of one rig with one solver: reachable, unreachable, then the continuity pairs
+// (the same start solved for a reachable target and for it moved by 1% of the reach).
+nlohmann::json run_solver(const Context& ctx, const SolveCase& sc, const Solver& solve,
+                          const Targets& targets, const Budget& b, Tables& tables) {
+  const bool is_physik = sc.solver == "physik";
+  const int nr = is_physik ? std::min(b.physik_reach, b.n_reach) : b.n_reach;
+  const int nu = is_physik ? std::min(b.physik_unreach, b.n_unreach) : b.n_unreach;
+  const int nc = is_physik ? std::min(b.physik_cont, b.n_cont) : b.n_cont;
+  if (ctx.log) *ctx.log << "  " << sc.rc.name << " / " << sc.solver << ": " << nr << " + " << nu << " targets\n";
+  Stats st;
+  std::vector<Outcome> reach_out;
+  for (int t = 0; t < nr; ++t) {
+    reach_out.push_back(solve(sc.rc, targets.reach[t]));
+    record_solve(sc, "reachable", t, targets.reach[t], reach_out.back(), tables.solves, st);
+  }
+  for (int t = 0; t < nu; ++t) {
+    record_solve(sc, "unreachable", t, targets.unreach[t], solve(sc.rc, targets.unreach[t]), tables.solves, st);
+  }
+  for (int t = 0; t < nc; ++t) {
+    const Vec3& move = targets.moves[t];
+    const Outcome moved = solve(sc.rc, targets.reach[t] + move);
+    double jump = 0.0;
+    for (int i = 0; i < sc.rc.rig.nbone; ++i) {
+      jump = std::max(jump, (moved.tails_world[i] - reach_out[t].tails_world[i]).norm());
     }
-    return nullptr;
-  };
-  auto val = [&](const std::string& rig, const std::string& solver, const char* key) {
-    const nlohmann::json* r = row_of(rig, solver);
-    return r ? (*r)[key].get<double>() : std::nan("");
-  };
-  const std::string big = ctx.quick ? "chain10" : "chain50";
-  nlohmann::json claims = nlohmann::json::array();
-  auto pct = [](double x) { return fmt(100.0 * x, 4) + "%"; };
-  {
-    std::ostringstream m;
-    bool holds = true;
-    for (const auto& r : table) {
-      if (r["solver"] == "physik") continue;
-      m << r["rig"].get<std::string>() << " " << r["solver"].get<std::string>() << " "
-        << pct(r["success_rate"].get<double>()) << "; ";
-      holds &= r["success_rate"].get<double>() >= 0.99;
-    }
-    claims.push_back({{"claim", "Every classic solver reaches reachable targets (residual < 1e-3 of the reach, rest-pose start, 1000 iterations)"},
-                      {"measured", m.str()},
-                      {"holds", holds ? "yes" : "no"}});
+    st.jump.push_back(jump / move.norm());
+    tables.cont << sc.rc.name << "," << sc.solver << "," << t << "," << move.norm() << "," << jump
+                << "," << jump / move.norm() << "\n";
   }
-  {
-    const double jt = val(big, "jt", "median_iterations"), dls = val(big, "dls", "median_iterations");
-    const double tj = val(big, "jt", "mean_time_ms"), td = val(big, "dls", "mean_time_ms");
-    claims.push_back({{"claim", "Guide: the Jacobian transpose is a slow 'C tier' solver; DLS regularises it"},
-                      {"measured", big + ": median iterations JT " + fmt(jt) + " vs DLS " + fmt(dls) +
-                                       ", time " + fmt(tj) + " vs " + fmt(td) + " ms, success JT " +
-                                       pct(val(big, "jt", "success_rate")) + " vs DLS " +
-                                       pct(val(big, "dls", "success_rate"))},
-                      {"holds", jt > 3 * dls ? "yes" : "no"}});
-  }
-  {
-    const double ccd = val(big, "ccd", "mean_total_rotation_rad"),
-                 dls = val(big, "dls", "mean_total_rotation_rad");
-    claims.push_back({{"claim", "Guide: CCD rolls the chain up (more joint rotation than the Jacobian methods for the same goals)"},
-                      {"measured", big + ": mean total rotation CCD " + fmt(ccd) + " rad vs DLS " + fmt(dls) + " rad"},
-                      {"holds", ccd > dls ? "yes" : "no"}});
-  }
-  {
-    const double chain = val("chain10", "fabrik", "success_rate"), pin = val("pinhead", "fabrik", "success_rate");
-    claims.push_back({{"claim", "Guide: FABRIK has issues with rotation constraints (pinhead's locked collar, hinge elbow) but not on free chains"},
-                      {"measured", "success chain10 " + pct(chain) + ", pinhead " + pct(pin) +
-                                       "; median iterations " + fmt(val("chain10", "fabrik", "median_iterations")) +
-                                       " vs " + fmt(val("pinhead", "fabrik", "median_iterations"))},
-                      {"holds", pin < chain ? "yes" : (pin == chain ? "no" : "no")}});
-  }
-  {
-    const double rot = val("pinhead", "rotation", "continuity_p95_ratio"),
-                 dls = val("pinhead", "dls", "continuity_p95_ratio"),
-                 jt = val("pinhead", "jt", "continuity_p95_ratio");
-    claims.push_back({{"claim", "Seed 002: the rotation method is immune to the Jacobian methods' instability near singular configurations (smoother under small target moves)"},
-                      {"measured", "pinhead p95 jump ratio (tail motion / target motion): rotation " + fmt(rot) +
-                                       ", DLS " + fmt(dls) + ", JT " + fmt(jt) + "; " + big + ": rotation " +
-                                       fmt(val(big, "rotation", "continuity_p95_ratio")) + ", DLS " +
-                                       fmt(val(big, "dls", "continuity_p95_ratio")) +
-                                       " (but the rotation method reaches only " +
-                                       pct(val(big, "rotation", "success_rate")) + " there, so it barely moves); "
-                                       "both reach ~100% on pinhead, where the comparison is fair"},
-                      {"holds", rot < std::min(dls, jt) ? "partly" : "no"}});
-  }
-  {
-    const double ph = val("pinhead", "physik", "mean_offpath_motion");
-    double best = 0.0;
-    for (const char* s : {"fabrik", "ccd", "jt", "dls", "mass-spring", "rotation"}) {
-      best = std::max(best, val("pinhead", s, "mean_offpath_motion"));
-    }
-    claims.push_back({{"claim", "Paper Fig 9: PhysIK moves the rest of the body (secondary motion) where classic IK moves only the arm chain"},
-                      {"measured", "pinhead mean displacement of bones off the head-to-hand path: PhysIK " + fmt(ph) +
-                                       " rig units, largest classic solver " + fmt(best) +
-                                       " (classic solvers turn the root head bone, which carries the body)"},
-                      {"holds", ph > best ? "yes" : "no"}});
-  }
-  {
-    std::ostringstream m;
-    for (const std::string& r : {std::string("chain3"), std::string("chain10"), big}) {
-      m << r << ": KDL " << pct(val(r, "kdl-lma", "success_rate")) << " in "
-        << fmt(val(r, "kdl-lma", "mean_time_ms")) << " ms, DLS " << pct(val(r, "dls", "success_rate"))
-        << " in " << fmt(val(r, "dls", "mean_time_ms")) << " ms; ";
-    }
-    claims.push_back({{"claim", "Outside reference: our DLS matches Orocos KDL's LMA in success on free chains"},
-                      {"measured", m.str()},
-                      {"holds", val(big, "dls", "success_rate") >= val(big, "kdl-lma", "success_rate") - 0.01 ? "yes" : "no"}});
-  }
-  {
-    const double ph = val("pinhead", "physik", "success_rate");
-    claims.push_back({{"claim", "PhysIK meets a reachable target to 1e-3 of the reach (stops at 1e-4 of the reach or when stalled, 2000-step cap)"},
-                      {"measured", "success chain3 " + pct(val("chain3", "physik", "success_rate")) + ", chain10 " +
-                                       pct(val("chain10", "physik", "success_rate")) + ", pinhead " + pct(ph) +
-                                       "; median steps on pinhead " + fmt(val("pinhead", "physik", "median_iterations")) +
-                                       ", " + fmt(val("pinhead", "physik", "mean_time_ms")) + " ms per solve"},
-                      {"holds", ph >= 0.99 ? "yes" : ph >= 0.5 ? "partly" : "no"}});
-  }
+  return stats_row(sc.rc, sc.solver, nr, nu, st);
+}
 
-  nlohmann::json notes = nlohmann::json::array();
-  notes.push_back("Targets: " + std::to_string(n_reach) + " reachable + " + std::to_string(n_unreach) +
-                  " unreachable per rig (seed 20240607); PhysIK gets " + std::to_string(physik_reach) +
-                  " + " + std::to_string(physik_unreach) + " and no 50-bone chain (its 5 n^2 joint-pass cap "
-                  "makes a 50-bone step ~3 ms); continuity on the first " + std::to_string(n_cont) +
-                  " reachable targets (PhysIK " + std::to_string(physik_cont) + "), target moved by 1% of the reach.");
-  notes.push_back("PhysIK's root is free, so it gets a second control point pinning the root's head; "
-                  "classic solvers anchor the root's head and turn the root bone (pinhead's root is the head bone). "
-                  "The pin is a spring too, so toward unreachable targets PhysIK's root is dragged along (negative "
-                  "excess: the hand gets closer than |t| - reach), and its joint limits are torsion springs "
-                  "(soft), hence the limit violation; classic solvers clamp and never violate.");
-  notes.push_back("PhysIK stops like the classic solvers: when every control point is within 1e-4 of the "
-                  "reach (scene convergence.stop_at_residual_tol), or when its residual stalls short of it "
-                  "(no 1% improvement in 50 steps; then it has not converged).");
-  notes.push_back("Columns: success = residual < 1e-3 reach; median res/reach = median residual on reachable targets over the reach; iters = median iterations (PhysIK: steps); "
-                  "ms = mean wall time per solve; viol = largest limit violation (deg); rot = mean total joint "
-                  "rotation (rad); off = mean displacement of off-path bones; unreach nc = fraction of unreachable "
-                  "targets reported not converged; excess = mean residual beyond |t| - reach (over reach); "
-                  "jump p95 = 95th percentile of tail motion / target motion.");
+// The rows of the summary table, one per rig and solver (KDL: chains only; PhysIK: up to 20 bones).
+nlohmann::json run_all(const Context& ctx, const Budget& b) {
+  Tables tables;
+  open_tables(ctx, tables);
+  const std::vector<std::pair<std::string, Solver>> solvers = make_solvers();
+  nlohmann::json table = nlohmann::json::array();
+  for (const RigCase& rc : make_rigs(ctx)) {
+    const Targets targets = make_targets(rc, b);
+    // path of the effector: bones off it measure secondary motion on trees
+    std::vector<char> on_path(rc.rig.nbone, 0);
+    for (int bone = rc.bone; bone >= 0; bone = rc.rig.bone_parent[bone]) on_path[bone] = 1;
+    const BoneFrames rest = forward_kinematics(rc.rig, rest_pose(rc.rig));
+    for (const auto& [sname, solve] : solvers) {
+      if (sname == "kdl-lma" && !rc.chain) continue;
+      if (sname == "physik" && rc.rig.nbone > 20) continue;
+      table.push_back(run_solver(ctx, {rc, sname, on_path, rest}, solve, targets, b, tables));
+    }
+  }
+  return table;
+}
+
+// A value of the table (NaN when the rig/solver pair was not run).
+struct TableView {
+  const nlohmann::json& table;
+  double operator()(const std::string& rig, const std::string& solver, const char* key) const {
+    for (const auto& r : table) {
+      if (r["rig"] == rig && r["solver"] == solver) return r[key].get<double>();
+    }
+    return std::nan("");
+  }
+};
+
+std::string pct(double x) { return num(100.0 * x, 4) + "%"; }
+
+// claims from the guide (seed 001) about the classic solvers
+void add_classic_claims(Report& report, const TableView& val, const std::string& big) {
+  std::ostringstream m;
+  bool holds = true;
+  for (const auto& r : val.table) {
+    if (r["solver"] == "physik") continue;
+    m << r["rig"].get<std::string>() << " " << r["solver"].get<std::string>() << " "
+      << pct(r["success_rate"].get<double>()) << "; ";
+    holds &= r["success_rate"].get<double>() >= 0.99;
+  }
+  report.claim("Every classic solver reaches reachable targets (residual < 1e-3 of the reach, rest-pose start, 1000 iterations)",
+               m.str(), holds ? "yes" : "no");
+  const double jt = val(big, "jt", "median_iterations"), dls = val(big, "dls", "median_iterations");
+  const double tj = val(big, "jt", "mean_time_ms"), td = val(big, "dls", "mean_time_ms");
+  report.claim("Guide: the Jacobian transpose is a slow 'C tier' solver; DLS regularises it",
+               big + ": median iterations JT " + num(jt) + " vs DLS " + num(dls) + ", time " +
+                   num(tj) + " vs " + num(td) + " ms, success JT " +
+                   pct(val(big, "jt", "success_rate")) + " vs DLS " + pct(val(big, "dls", "success_rate")),
+               jt > 3 * dls ? "yes" : "no");
+  const double ccd = val(big, "ccd", "mean_total_rotation_rad"),
+               dls_rot = val(big, "dls", "mean_total_rotation_rad");
+  report.claim("Guide: CCD rolls the chain up (more joint rotation than the Jacobian methods for the same goals)",
+               big + ": mean total rotation CCD " + num(ccd) + " rad vs DLS " + num(dls_rot) + " rad",
+               ccd > dls_rot ? "yes" : "no");
+  const double chain = val("chain10", "fabrik", "success_rate"), pin = val("pinhead", "fabrik", "success_rate");
+  report.claim("Guide: FABRIK has issues with rotation constraints (pinhead's locked collar, hinge elbow) but not on free chains",
+               "success chain10 " + pct(chain) + ", pinhead " + pct(pin) + "; median iterations " +
+                   num(val("chain10", "fabrik", "median_iterations")) + " vs " +
+                   num(val("pinhead", "fabrik", "median_iterations")),
+               pin < chain ? "yes" : (pin == chain ? "no" : "no"));
+}
+
+// claims from seed 002 (rotation method), the paper (secondary motion), KDL and PhysIK itself
+void add_other_claims(Report& report, const TableView& val, const std::string& big) {
+  const double rot = val("pinhead", "rotation", "continuity_p95_ratio"),
+               dls = val("pinhead", "dls", "continuity_p95_ratio"),
+               jt = val("pinhead", "jt", "continuity_p95_ratio");
+  report.claim("Seed 002: the rotation method is immune to the Jacobian methods' instability near singular configurations (smoother under small target moves)",
+               "pinhead p95 jump ratio (tail motion / target motion): rotation " + num(rot) +
+                   ", DLS " + num(dls) + ", JT " + num(jt) + "; " + big + ": rotation " +
+                   num(val(big, "rotation", "continuity_p95_ratio")) + ", DLS " +
+                   num(val(big, "dls", "continuity_p95_ratio")) +
+                   " (but the rotation method reaches only " +
+                   pct(val(big, "rotation", "success_rate")) + " there, so it barely moves); "
+                   "both reach ~100% on pinhead, where the comparison is fair",
+               rot < std::min(dls, jt) ? "partly" : "no");
+  const double ph = val("pinhead", "physik", "mean_offpath_motion");
+  double best = 0.0;
+  for (const char* s : {"fabrik", "ccd", "jt", "dls", "mass-spring", "rotation"}) {
+    best = std::max(best, val("pinhead", s, "mean_offpath_motion"));
+  }
+  report.claim("Paper Fig 9: PhysIK moves the rest of the body (secondary motion) where classic IK moves only the arm chain",
+               "pinhead mean displacement of bones off the head-to-hand path: PhysIK " + num(ph) +
+                   " rig units, largest classic solver " + num(best) +
+                   " (classic solvers turn the root head bone, which carries the body)",
+               ph > best ? "yes" : "no");
+  std::ostringstream m;
+  for (const std::string& r : {std::string("chain3"), std::string("chain10"), big}) {
+    m << r << ": KDL " << pct(val(r, "kdl-lma", "success_rate")) << " in "
+      << num(val(r, "kdl-lma", "mean_time_ms")) << " ms, DLS " << pct(val(r, "dls", "success_rate"))
+      << " in " << num(val(r, "dls", "mean_time_ms")) << " ms; ";
+  }
+  report.claim("Outside reference: our DLS matches Orocos KDL's LMA in success on free chains", m.str(),
+               val(big, "dls", "success_rate") >= val(big, "kdl-lma", "success_rate") - 0.01 ? "yes" : "no");
+  const double ps = val("pinhead", "physik", "success_rate");
+  report.claim("PhysIK meets a reachable target to 1e-3 of the reach (stops at 1e-4 of the reach or when stalled, 2000-step cap)",
+               "success chain3 " + pct(val("chain3", "physik", "success_rate")) + ", chain10 " +
+                   pct(val("chain10", "physik", "success_rate")) + ", pinhead " + pct(ps) +
+                   "; median steps on pinhead " + num(val("pinhead", "physik", "median_iterations")) +
+                   ", " + num(val("pinhead", "physik", "mean_time_ms")) + " ms per solve",
+               ps >= 0.99 ? "yes" : ps >= 0.5 ? "partly" : "no");
+}
+
+void add_notes(Report& report, const Budget& b, const nlohmann::json& table) {
+  report.note("Targets: " + std::to_string(b.n_reach) + " reachable + " + std::to_string(b.n_unreach) +
+              " unreachable per rig (seed 20240607); PhysIK gets " + std::to_string(b.physik_reach) +
+              " + " + std::to_string(b.physik_unreach) + " and no 50-bone chain (its 5 n^2 joint-pass cap "
+              "makes a 50-bone step ~3 ms); continuity on the first " + std::to_string(b.n_cont) +
+              " reachable targets (PhysIK " + std::to_string(b.physik_cont) + "), target moved by 1% of the reach.");
+  report.note("PhysIK's root is free, so it gets a second control point pinning the root's head; "
+              "classic solvers anchor the root's head and turn the root bone (pinhead's root is the head bone). "
+              "The pin is a spring too, so toward unreachable targets PhysIK's root is dragged along (negative "
+              "excess: the hand gets closer than |t| - reach), and its joint limits are torsion springs "
+              "(soft), hence the limit violation; classic solvers clamp and never violate.");
+  report.note("PhysIK stops like the classic solvers: when every control point is within 1e-4 of the "
+              "reach (scene convergence.stop_at_residual_tol), or when its residual stalls short of it "
+              "(no 1% improvement in 50 steps; then it has not converged).");
+  report.note("Columns: success = residual < 1e-3 reach; median res/reach = median residual on reachable targets over the reach; iters = median iterations (PhysIK: steps); "
+              "ms = mean wall time per solve; viol = largest limit violation (deg); rot = mean total joint "
+              "rotation (rad); off = mean displacement of off-path bones; unreach nc = fraction of unreachable "
+              "targets reported not converged; excess = mean residual beyond |t| - reach (over reach); "
+              "jump p95 = 95th percentile of tail motion / target motion.");
   for (const auto& r : table) {
     std::ostringstream s;
     s << r["rig"].get<std::string>() << " | " << r["solver"].get<std::string>() << " | success "
       << pct(r["success_rate"].get<double>()) << " | median res/reach "
-      << fmt(r["median_residual_over_reach"].get<double>(), 2) << " | iters " << fmt(r["median_iterations"].get<double>())
-      << " | ms " << fmt(r["mean_time_ms"].get<double>()) << " | viol " << fmt(r["max_limit_violation_deg"].get<double>())
-      << " | rot " << fmt(r["mean_total_rotation_rad"].get<double>()) << " | off "
-      << fmt(r["mean_offpath_motion"].get<double>()) << " | unreach nc "
+      << num(r["median_residual_over_reach"].get<double>(), 2) << " | iters " << num(r["median_iterations"].get<double>())
+      << " | ms " << num(r["mean_time_ms"].get<double>()) << " | viol " << num(r["max_limit_violation_deg"].get<double>())
+      << " | rot " << num(r["mean_total_rotation_rad"].get<double>()) << " | off "
+      << num(r["mean_offpath_motion"].get<double>()) << " | unreach nc "
       << pct(r["unreachable_not_converged"].get<double>()) << " | excess "
-      << fmt(r["unreachable_excess_over_reach"].get<double>()) << " | jump p95 "
-      << fmt(r["continuity_p95_ratio"].get<double>());
-    notes.push_back(s.str());
+      << num(r["unreachable_excess_over_reach"].get<double>()) << " | jump p95 "
+      << num(r["continuity_p95_ratio"].get<double>());
+    report.note(s.str());
   }
-  write_json_file({{"experiment", "ik_comparison"},
-                   {"quick", ctx.quick},
-                   {"table", table},
-                   {"report",
-                    {{"title", "Classic IK solvers, the rotation method, KDL and PhysIK"},
-                     {"section", "baselines"},
-                     {"claims", claims},
-                     {"notes", notes},
-                     {"figures", {"ik_success.png", "ik_time.png", "ik_continuity.png"}}}}},
-                  ctx.out_dir + "/summary.json");
 }
+
+void run(const Context& ctx) {
+  const Budget b = budget(ctx.quick);
+  const nlohmann::json table = run_all(ctx, b);
+  const std::string big = ctx.quick ? "chain10" : "chain50";
+  Report report("Classic IK solvers, the rotation method, KDL and PhysIK");
+  report.section("baselines");
+  add_classic_claims(report, TableView{table}, big);
+  add_other_claims(report, TableView{table}, big);
+  add_notes(report, b, table);
+  report.figures({"ik_success.png", "ik_time.png", "ik_continuity.png"});
+  write_summary(ctx, {{"experiment", "ik_comparison"}, {"quick", ctx.quick}, {"table", table}}, report);
+}
+
+const Registration registered{
+    240, {"ik_comparison", "study (issue 7)",
+          "classic IK solvers, the rotation method, KDL LMA and PhysIK on chains and pinhead", run}};
 
 }  // namespace
-
-Experiment ik_comparison_experiment() {
-  return {"ik_comparison", "study (issue 7)",
-          "classic IK solvers, the rotation method, KDL LMA and PhysIK on chains and pinhead", run};
-}
 
 }  // namespace physik::experiments

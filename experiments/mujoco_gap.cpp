@@ -14,6 +14,7 @@
 #include <fstream>
 
 #include "experiments/common.h"
+#include "physik/io/json_fields.h"
 #include "physik/io/pose_io.h"
 #include "reference/compare.h"
 
@@ -22,17 +23,19 @@ namespace physik::experiments {
 namespace {
 
 // PhysIK with joint_solve exact on the scene (same forces, MuJoCo's Euler step)
-EngineRun exact_run(const Scene& scene) {
+RecordedRun exact_run(const Scene& scene) {
   Scene exact = scene;
   exact.params.joint_solve = JointSolve::kExact;
-  return run_physik_recorded(exact);
+  RecordOptions every_frame;
+  every_frame.all_frames = true;
+  return record_run(exact, every_frame);
 }
 
 struct ExactGaps {
   GapStats exact_vs_mujoco, gauss_seidel_vs_exact;
 };
 
-ExactGaps exact_gaps(const EngineRun& exact, const Comparison& c) {
+ExactGaps exact_gaps(const RecordedRun& exact, const Comparison& c) {
   return {trajectory_gap(exact.frames, c.mujoco.frames, exact.summary.final_frames,
                          c.mujoco.summary.final_frames),
           trajectory_gap(c.physik.frames, exact.frames, c.physik.summary.final_frames,
@@ -72,7 +75,7 @@ nlohmann::json report_json(const nlohmann::json& claims, const nlohmann::json& g
 
 // one scene and mode's rows of gap_over_time.csv (every 5th step) and gaps.csv
 void write_csv_rows(const std::string& name, const std::string& m, double h, const Comparison& c,
-                    const EngineRun& exact, const ExactGaps& eg, std::ostream& gap_csv,
+                    const RecordedRun& exact, const ExactGaps& eg, std::ostream& gap_csv,
                     std::ostream& table) {
   const std::size_t n = std::min(c.physik.frames.size(), c.mujoco.frames.size());
   for (std::size_t k = 0; k < n; k += 5) {
@@ -97,7 +100,7 @@ void run(const Context& ctx) {
                 : std::vector<std::string>{"pinhead_two_hands", "fig5_running", "fig6_elbow_linear",
                                            "fig7_cannon_capped"};
   nlohmann::json rows = nlohmann::json::array();
-  nlohmann::json claims = nlohmann::json::array();
+  Report report("PhysIK against MuJoCo (exact constrained dynamics)");
   std::ofstream gap_csv(ctx.out_dir + "/gap_over_time.csv");
   gap_csv << "scene,mode,step,gap,exact_gap\n";
   std::ofstream table(ctx.out_dir + "/gaps.csv");
@@ -109,7 +112,7 @@ void run(const Context& ctx) {
   for (const std::string& name : scenes) {
     Scene scene = scene_named(ctx, name);
     if (ctx.quick) scene.steps = 60;
-    const EngineRun exact = exact_run(scene);
+    const RecordedRun exact = exact_run(scene);
     for (ReferenceMode mode : {ReferenceMode::kSameForces, ReferenceMode::kExactConstraints}) {
       const Comparison c = compare_with_mujoco(scene, mode);
       const ExactGaps eg = exact_gaps(exact, c);
@@ -138,25 +141,25 @@ void run(const Context& ctx) {
       }
       if (mode == ReferenceMode::kSameForces) {
         const bool unique = c.free_endpoint_dof == 0;
-        claims.push_back(claim(
+        report.claim(
             "Sec. 3.2: Gauss-Seidel inter-joint forces approximate the exact articulated dynamics (" + name + ")",
             "same forces: rms trajectory gap " + num(c.gap.rms_gap) + ", final pose gap " +
                 num(c.gap.final_pose_gap) + " (" + num(100 * c.gap.final_pose_gap / h, 2) +
                 "% of height); exact vs MuJoCo (same forces) largest gap " +
                 num(eg.exact_vs_mujoco.max_gap, 2) + "; " + (unique ? "unique equilibrium" : "a family of equilibria (" +
                 std::to_string(c.free_endpoint_dof) + " free endpoint DOF): the final gap is path dependence"),
-            !unique ? "n/a (path dependent)" : c.gap.final_pose_gap < 0.01 * h ? "yes" : "no"));
+            !unique ? "n/a (path dependent)" : c.gap.final_pose_gap < 0.01 * h ? "yes" : "no");
       }
     }
   }
-  write_json_file({{"experiment", "mujoco_gap"}, {"rows", rows}, {"report", report_json(claims, gap_rows)}},
-                  ctx.out_dir + "/summary.json");
+  // aba's report (its table and notes) with the claims of the Report builder
+  nlohmann::json rep = report_json(report.to_json()["claims"], gap_rows);
+  write_json({{"experiment", "mujoco_gap"}, {"rows", rows}, {"report", rep}}, ctx.out_dir + "/summary.json");
 }
+
+const Registration registered{
+    230, {"mujoco_gap", "reference", "PhysIK vs MuJoCo: trajectory and final-pose gaps", run}};
 
 }  // namespace
-
-Experiment mujoco_gap_experiment() {
-  return {"mujoco_gap", "reference", "PhysIK vs MuJoCo: trajectory and final-pose gaps", run};
-}
 
 }  // namespace physik::experiments

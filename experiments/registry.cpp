@@ -1,57 +1,48 @@
-// The list of experiments, in run order. Each lives in its own file; add one line here.
-#include <filesystem>
-#include <fstream>
+// The experiments' registry: filled by each experiment file's Registration at static
+// initialisation, read (sorted by order key) once main runs.
+#include <algorithm>
+#include <stdexcept>
+#include <utility>
 
 #include "experiments/experiment.h"
-#include "physik/model/errors.h"
 
 namespace physik::experiments {
 
-Experiment rest_poses_experiment();
-Experiment ik_comparison_experiment();
-Experiment fig5_running_experiment();
-Experiment fig6_elbow_experiment();
-Experiment fig7_cannon_experiment();
-Experiment fig8_wobble_experiment();
-Experiment fig9_outstretched_experiment();
-Experiment fig10_interpolation_experiment();
-Experiment fig11_sit_experiment();
-Experiment hand_explodes_experiment();
-Experiment timing_experiment();
-Experiment damping_sweep_experiment();
-Experiment mujoco_gap_experiment();
-Experiment tuning_study_experiment();
-Experiment beyond_the_paper_experiment();
-Experiment scaling_experiment();
+namespace {
 
-const std::vector<Experiment>& all_experiments() {
-  static const std::vector<Experiment> list = {
-      rest_poses_experiment(),
-      fig5_running_experiment(),
-      fig6_elbow_experiment(),
-      fig7_cannon_experiment(),
-      fig8_wobble_experiment(),
-      fig9_outstretched_experiment(),
-      fig10_interpolation_experiment(),
-      fig11_sit_experiment(),
-      hand_explodes_experiment(),
-      timing_experiment(),
-      damping_sweep_experiment(),
-      mujoco_gap_experiment(),
-      ik_comparison_experiment(),
-      tuning_study_experiment(),
-      beyond_the_paper_experiment(),
-      scaling_experiment(),
-  };
+// a function-local static: built on first use, so registrations from other files' static
+// initialisers never see it unconstructed (the static initialisation order is unspecified)
+std::vector<std::pair<int, Experiment>>& registered() {
+  static std::vector<std::pair<int, Experiment>> list;
   return list;
 }
 
-void write_json_file(const nlohmann::json& doc, const std::string& path) {
-  const std::filesystem::path p(path);
-  if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path());
-  std::ofstream out(p);
-  if (!out) throw_input_error(path, "", "", "cannot write file");
-  out << doc.dump(2) << "\n";
+std::vector<Experiment> sorted_experiments() {
+  std::vector<std::pair<int, Experiment>> list = registered();
+  std::sort(list.begin(), list.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<Experiment> out;
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    for (std::size_t j = 0; j < k; ++j) {
+      if (list[j].first == list[k].first || list[j].second.name == list[k].second.name) {
+        throw std::logic_error("experiments '" + list[j].second.name + "' and '" +
+                               list[k].second.name + "' share a name or an order key");
+      }
+    }
+    out.push_back(list[k].second);
+  }
+  return out;
+}
+
+}  // namespace
+
+Registration::Registration(int order, Experiment experiment) {
+  registered().emplace_back(order, std::move(experiment));
+}
+
+const std::vector<Experiment>& all_experiments() {
+  static const std::vector<Experiment> list = sorted_experiments();
+  return list;
 }
 
 }  // namespace physik::experiments

@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "experiments/experiment.h"
+#include "experiments/report.h"
 #include "physik/io/pose_io.h"
 #include "physik/io/rig_io.h"
 
@@ -19,7 +20,8 @@ void run(const Context& ctx) {
     if (e.path().extension() == ".json") files.push_back(e.path());
   }
   std::sort(files.begin(), files.end());
-  nlohmann::json claims = nlohmann::json::array();
+  Report report("Fig 4: the rigs at rest");
+  std::vector<std::string> figures;
   for (const auto& path : files) {
     const Rig rig = load_rig(path.string());
     const std::string name = path.stem().string();
@@ -33,37 +35,26 @@ void run(const Context& ctx) {
                     {"total_mass", rig.total_mass()},
                     {"csv", name + ".csv"},
                     {"figure", name + ".png"}});
+    figures.push_back(name + ".png");
     if (ctx.log) *ctx.log << "  rest pose of " << name << ": " << rig.nbone << " bones\n";
     if (name == "pinhead") {
-      claims.push_back({{"claim", "Fig 4 / Sec. 4: the test rig has 18 bones, 14 joints, at most "
-                                  "4 bones around one joint"},
-                        {"measured", std::to_string(rig.nbone) + " bones, " +
-                                         std::to_string(rig.joints.size()) + " joints, at most " +
-                                         std::to_string(rig.max_bones_per_joint()) +
-                                         " bones at one joint"},
-                        {"holds", rig.nbone == 18 && rig.joints.size() == 14 &&
-                                          rig.max_bones_per_joint() == 4
-                                      ? "yes"
-                                      : "no"}});
+      report.claim("Fig 4 / Sec. 4: the test rig has 18 bones, 14 joints, at most 4 bones around "
+                   "one joint",
+                   std::to_string(rig.nbone) + " bones, " + std::to_string(rig.joints.size()) +
+                       " joints, at most " + std::to_string(rig.max_bones_per_joint()) +
+                       " bones at one joint",
+                   rig.nbone == 18 && rig.joints.size() == 14 && rig.max_bones_per_joint() == 4
+                       ? "yes"
+                       : "no");
     }
   }
-  write_json_file({{"experiment", "rest_poses"},
-                   {"rigs", rigs},
-                   {"report",
-                    {{"title", "Fig 4: the rigs at rest"},
-                     {"claims", claims},
-                     {"figures", [&] {
-                        nlohmann::json f = nlohmann::json::array();
-                        for (const auto& r : rigs) f.push_back(r["figure"]);
-                        return f;
-                      }()}}}},
-                  ctx.out_dir + "/summary.json");
+  report.figures(figures);
+  write_summary(ctx, {{"experiment", "rest_poses"}, {"rigs", rigs}}, report);
 }
+
+const Registration registered{
+    40, {"rest_poses", "Fig 4", "rest pose of every shipped rig (front and side views)", run}};
 
 }  // namespace
-
-Experiment rest_poses_experiment() {
-  return {"rest_poses", "Fig 4", "rest pose of every shipped rig (front and side views)", run};
-}
 
 }  // namespace physik::experiments

@@ -24,6 +24,7 @@
 #include <map>
 
 #include "experiments/common.h"
+#include "physik/io/json_fields.h"
 #include "physik/engine/forces.h"
 #include "physik/engine/integrate_joint_space.h"
 #include "physik/engine/joint_forces.h"
@@ -450,7 +451,7 @@ void run(const Context& ctx) {
                         f["exponent"].is_null() ? "n/a" : num(f["exponent"].get<double>(), 3),
                         f["sizes"].dump()});
   }
-  write_json_file(
+  write_json(
       {{"experiment", "scaling"},
        {"table", "scaling.csv"},
        {"exponents", fits},
@@ -484,9 +485,8 @@ void run(const Context& ctx) {
 
 }  // namespace
 
-Experiment scaling_experiment() {
-  return {"scaling", "issue 13",
-          "us per step vs bones (10..10,000): Gauss-Seidel (eps 1e-3, 1e-9), exact, mj_step", run};
-}
+const Registration scaling_registered{
+    255, {"scaling", "issue 13",
+          "us per step vs bones (10..10,000): Gauss-Seidel (eps 1e-3, 1e-9), exact, mj_step", run}};
 
 }  // namespace physik::experiments

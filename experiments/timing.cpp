@@ -13,7 +13,6 @@ namespace {
 
 void run(const Context& ctx) {
   nlohmann::json rows = nlohmann::json::array();
-  nlohmann::json claims = nlohmann::json::array();
   double fig5_us = 0.0, fig5_joint_share = 0.0, fig5_passes_moving = 0.0;
   for (const std::string name : {"fig5_running", "pinhead_two_hands", "fig7_cannon_capped"}) {
     Scene scene = scene_named(ctx, name);
@@ -60,34 +59,30 @@ void run(const Context& ctx) {
       fig5_passes_moving = ppm;
     }
   }
-  claims.push_back(claim("Sec. 4: ~98 ms per frame for the humanoid (Python in Blender)",
-                         num(fig5_us) + " us per step for pinhead with 8 control points (C++, this "
-                         "machine): " + num(98e3 / fig5_us) + "x faster",
-                         "n/a (different implementation)"));
-  claims.push_back(claim("Sec. 4: ~70 of the 98 ms (71%) go to the inter-joint forces",
-                         num(100 * fig5_joint_share, 2) + "% of the step time in the joint solve",
-                         fig5_joint_share > 0.5 ? "yes" : fig5_joint_share > 0.3 ? "partly" : "no"));
-  claims.push_back(claim("Sec. 4: about 20 joint passes per step",
-                         num(fig5_passes_moving, 3) + " passes per step while the rig moves (eps = 1e-3)",
-                         fig5_passes_moving >= 10 && fig5_passes_moving <= 30  ? "yes"
-                         : fig5_passes_moving >= 5 && fig5_passes_moving <= 40 ? "partly"
-                                                                               : "no"));
-  write_json_file({{"experiment", "timing"},
-                   {"rows", rows},
-                   {"report",
-                    {{"title", "Timing: microseconds and passes per step"},
-                     {"claims", claims},
-                     {"notes", {"Best of 5 whole runs; a step = one frame of the paper (dt 0.05 s). "
-                                "The figure captions' 5 ms per step contradicts dt = 0.05 s; we use dt = 0.05 s.",
-                                "Google Benchmark figures (make bench) measure the same step with warm-up."}},
-                     {"figures", {"timing.png"}}}}},
-                  ctx.out_dir + "/summary.json");
+  Report report("Timing: microseconds and passes per step");
+  report.claim("Sec. 4: ~98 ms per frame for the humanoid (Python in Blender)",
+               num(fig5_us) + " us per step for pinhead with 8 control points (C++, this "
+               "machine): " + num(98e3 / fig5_us) + "x faster",
+               "n/a (different implementation)");
+  report.claim("Sec. 4: ~70 of the 98 ms (71%) go to the inter-joint forces",
+               num(100 * fig5_joint_share, 2) + "% of the step time in the joint solve",
+               fig5_joint_share > 0.5 ? "yes" : fig5_joint_share > 0.3 ? "partly" : "no");
+  report.claim("Sec. 4: about 20 joint passes per step",
+               num(fig5_passes_moving, 3) + " passes per step while the rig moves (eps = 1e-3)",
+               fig5_passes_moving >= 10 && fig5_passes_moving <= 30  ? "yes"
+               : fig5_passes_moving >= 5 && fig5_passes_moving <= 40 ? "partly"
+                                                                     : "no");
+  report
+      .note("Best of 5 whole runs; a step = one frame of the paper (dt 0.05 s). The figure "
+            "captions' 5 ms per step contradicts dt = 0.05 s; we use dt = 0.05 s.")
+      .note("Google Benchmark figures (make bench) measure the same step with warm-up.")
+      .figures({"timing.png"});
+  write_summary(ctx, {{"experiment", "timing"}, {"rows", rows}}, report);
 }
+
+const Registration registered{
+    210, {"timing", "Sec. 4 timing", "microseconds and joint passes per step", run}};
 
 }  // namespace
-
-Experiment timing_experiment() {
-  return {"timing", "Sec. 4 timing", "microseconds and joint passes per step", run};
-}
 
 }  // namespace physik::experiments

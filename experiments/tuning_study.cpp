@@ -26,7 +26,6 @@
 #include <fstream>
 
 #include "experiments/common.h"
-#include "physik/engine/linear_modes.h"
 #include "physik/io/rig_io.h"
 #include "tune/tuner.h"
 
@@ -43,6 +42,7 @@ struct Variant {
     return num(scale, 2) + "x / " + num(density, 2) + " kg/unit" + (scale_torsion ? " / k_t scaled" : "");
   }
 };
+
 
 struct Rule {
   double K = 0, M = 0, m_min = 0, c_crit = 0, c_stab = 0, c_rule = 0;
@@ -107,217 +107,251 @@ std::string steps_text(const Point& p) {
   return p.diverged ? "diverged" : p.steps < 0 ? "not converged" : std::to_string(p.steps);
 }
 
-void run(const Context& ctx) {
-  Scene base = scene_named(ctx, "pinhead_two_hands");
-  base.steps = ctx.quick ? 300 : 4000;  // the 10x, 10 kg/unit rig needs about 1000
+std::vector<Variant> make_variants(bool quick) {
   std::vector<Variant> variants;
-  for (double s : ctx.quick ? std::vector<double>{1.0} : std::vector<double>{0.1, 1.0, 10.0}) {
-    for (double d : ctx.quick ? std::vector<double>{1.0} : std::vector<double>{1.0, 10.0}) {
+  for (double s : quick ? std::vector<double>{1.0} : std::vector<double>{0.1, 1.0, 10.0}) {
+    for (double d : quick ? std::vector<double>{1.0} : std::vector<double>{1.0, 10.0}) {
       variants.push_back({s, d, false});
     }
   }
   // at 0.1x the torsion springs (N m/rad, not scaled) outgrow explicit Euler whatever the
   // damping (see Rule::torsion_a): the same rigs again with k_t scaled like the inertia
-  if (!ctx.quick) {
+  if (!quick) {
     variants.push_back({0.1, 1.0, true});
     variants.push_back({0.1, 10.0, true});
   }
-  // damping grid: log-spaced over 1e-3 .. 1e3 N s/m
-  const int per_decade = ctx.quick ? 1 : 6;
+  return variants;
+}
+
+// damping grid: log-spaced over 1e-3 .. 1e3 N s/m
+std::vector<double> damping_grid(bool quick) {
+  const int per_decade = quick ? 1 : 6;
   std::vector<double> grid;
   for (int i = 0; i <= 6 * per_decade; ++i) grid.push_back(std::pow(10.0, -3.0 + double(i) / per_decade));
+  return grid;
+}
 
-  std::ofstream sweep(ctx.out_dir + "/sweep.csv");
-  sweep << "variant,scale,density,damping,steps_to_converge,diverged\n";
-  std::ofstream table(ctx.out_dir + "/table.csv");
-  table << "variant,scale,density,torsion_k,torsion_a,total_mass,min_bone_mass,K,c_crit,c_stab,c_rule,c_tuned,"
-           "c_best_grid,c_first_diverged,steps_paper_20,steps_original_3,steps_rule,steps_tuned,"
-           "steps_best_grid,tune_wall_time_s,tune_runs,c_auto,steps_auto\n";
+// One variant: the damping sweep, the Ceres optimum, the rule, and steps at c = 20, 3, rule, tuned.
+struct VariantResult {
+  Variant v;
+  double torsion_k = 0, dt = 0;
+  Rule rule;
+  int best_steps = 1 << 30;  // fewest steps to settle on the grid
+  double best_c = -1, first_div = -1;  // -1 = none
+  tune::TuneResult tuned;
+  double c_tuned = 0;
+  Point at20, at3, at_rule, at_tuned;
+  int best_grid_steps() const { return best_c > 0 ? best_steps : -1; }
+};
 
-  nlohmann::json rows = nlohmann::json::array(), claims = nlohmann::json::array();
-  nlohmann::json notes = nlohmann::json::array();
-  int rule_within_2 = 0, tuned_not_worse_than_3 = 0, paper_diverged = 0, div_bound_ok = 0;
+// the sweep over the grid: one sweep.csv row per damping
+void sweep_grid(VariantResult& r, const Scene& scene, const std::vector<double>& grid, std::ostream& sweep) {
+  for (double c : grid) {
+    const Point p = run_at(scene, c);
+    sweep << r.v.label() << "," << r.v.scale << "," << r.v.density << "," << c << "," << p.steps << ","
+          << (p.diverged ? 1 : 0) << "\n";
+    if (p.diverged && r.first_div < 0) r.first_div = c;
+    if (!p.diverged && p.steps >= 0 && p.steps < r.best_steps) {
+      r.best_steps = p.steps;
+      r.best_c = c;
+    }
+  }
+}
+
+VariantResult study_variant(const Context& ctx, const Scene& base, const Variant& v,
+                            const std::vector<double>& grid, std::ostream& sweep) {
+  const Scene scene = scaled_scene(base, v.scale, v.density, v.scale_torsion);
+  VariantResult r;
+  r.v = v;
+  r.torsion_k = scene.params.torsion_k;
+  r.dt = scene.params.dt;
+  r.rule = damping_rule(scene);
+  sweep_grid(r, scene, grid, sweep);
+  // Ceres: the settle objective (log measure), damping bounded to the grid's range
+  tune::TuneOptions opt;
+  opt.params = tune::parse_tune_params("damping", "tuning_study");
+  opt.params[0].lo = grid.front();
+  opt.params[0].hi = grid.back();
+  opt.scan_points = ctx.quick ? 7 : 13;
+  opt.max_iterations = ctx.quick ? 5 : 50;
+  r.tuned = tune::tune_scene(scene, opt);
+  r.c_tuned = r.tuned.values[0];
+  r.at20 = run_at(scene, 20.0);
+  r.at3 = run_at(scene, 3.0);
+  r.at_rule = run_at(scene, r.rule.c_rule);
+  r.at_tuned = run_at(scene, r.c_tuned);
+  if (ctx.log) {
+    *ctx.log << "  " << v.label() << ": rule " << num(r.rule.c_rule) << ", tuned " << num(r.c_tuned)
+             << ", best grid " << num(r.best_c) << " (" << r.best_grid_steps()
+             << " steps), diverges from "
+             << num(r.first_div) << "; steps at 20/3/rule/tuned: " << steps_text(r.at20) << "/"
+             << steps_text(r.at3) << "/" << steps_text(r.at_rule) << "/" << steps_text(r.at_tuned)
+             << "  (tune " << num(r.tuned.wall_time_s) << " s)\n";
+  }
+  return r;
+}
+
+void write_table_row(std::ostream& table, const VariantResult& r) {
+  const Rule& rule = r.rule;
+  table << r.v.label() << "," << r.v.scale << "," << r.v.density << "," << r.torsion_k
+        << "," << rule.torsion_a << "," << rule.M << "," << rule.m_min
+        << "," << rule.K << "," << rule.c_crit << "," << rule.c_stab << "," << rule.c_rule << ","
+        << r.c_tuned << "," << r.best_c << "," << r.first_div << "," << r.at20.steps << "," << r.at3.steps
+        << "," << r.at_rule.steps << "," << r.at_tuned.steps << ","
+        << r.best_grid_steps() << "," << r.tuned.wall_time_s << "," << r.tuned.evaluations << "\n";
+}
+
+nlohmann::json row_json(const VariantResult& r) {
+  const Rule& rule = r.rule;
+  return {{"variant", r.v.label()},
+          {"scale", r.v.scale},
+          {"density", r.v.density},
+          {"torsion_k", r.torsion_k},
+          {"torsion_a", rule.torsion_a},
+          {"torsion_stable", rule.torsion_a < rule.torsion_limit},
+          {"any_stable_damping", r.best_c > 0},
+          {"total_mass", rule.M},
+          {"min_bone_mass", rule.m_min},
+          {"c_crit", rule.c_crit},
+          {"c_stab", rule.c_stab},
+          {"c_rule", rule.c_rule},
+          {"c_tuned", r.c_tuned},
+          {"c_best_grid", r.best_c},
+          {"c_first_diverged", r.first_div},
+          {"steps_paper_20", steps_text(r.at20)},
+          {"steps_original_3", steps_text(r.at3)},
+          {"steps_rule", steps_text(r.at_rule)},
+          {"steps_tuned", steps_text(r.at_tuned)},
+          {"steps_best_grid", r.best_grid_steps()},
+          {"tune_cost_initial", r.tuned.initial_cost},
+          {"tune_cost_final", r.tuned.final_cost},
+          {"tune_wall_time_s", r.tuned.wall_time_s},
+          {"tune_runs", r.tuned.evaluations}};
+}
+
+// The counts the claims state, over the variants.
+struct Tally {
+  int variants = 0, rule_within_2 = 0, tuned_not_worse_than_3 = 0, paper_diverged = 0, div_bound_ok = 0;
   int stable_n = 0, torsion_unstable_n = 0, torsion_unstable_all_diverged = 0;
   double worst_rule_ratio = 1.0, tune_time_1x = 0.0;
   int tune_runs_1x = 0;
-  std::string auto_text;  // damping_auto vs the Ceres optimum vs the rule, per variant
-  for (const Variant& v : variants) {
-    const Scene scene = scaled_scene(base, v.scale, v.density, v.scale_torsion);
-    const Rule rule = damping_rule(scene);
+};
 
-    // the sweep
-    int best_steps = 1 << 30;
-    double best_c = -1, first_div = -1;
-    for (double c : grid) {
-      const Point p = run_at(scene, c);
-      sweep << v.label() << "," << v.scale << "," << v.density << "," << c << "," << p.steps << ","
-            << (p.diverged ? 1 : 0) << "\n";
-      if (p.diverged && first_div < 0) first_div = c;
-      if (!p.diverged && p.steps >= 0 && p.steps < best_steps) {
-        best_steps = p.steps;
-        best_c = c;
-      }
-    }
-
-    // Ceres: the settle objective (log measure), damping bounded to the grid's range
-    tune::TuneOptions opt;
-    opt.params = tune::parse_tune_params("damping", "tuning_study");
-    opt.params[0].lo = grid.front();
-    opt.params[0].hi = grid.back();
-    opt.scan_points = ctx.quick ? 7 : 13;
-    opt.max_iterations = ctx.quick ? 5 : 50;
-    const tune::TuneResult tr = tune::tune_scene(scene, opt);
-    const double c_tuned = tr.values[0];
-
-    const Point at20 = run_at(scene, 20.0), at3 = run_at(scene, 3.0);
-    const Point at_rule = run_at(scene, rule.c_rule), at_tuned = run_at(scene, c_tuned);
-    // damping_auto's choice at the start pose (linear_modes.h), run at that fixed c
-    const double c_auto = [&] {
-      Scene with_auto = scene;
-      with_auto.params.damping_auto = true;
-      SimState st;
-      init_state(with_auto, st);
-      return st.damping_auto_value;
-    }();
-    const Point at_auto = run_at(scene, c_auto);
-    table << v.label() << "," << v.scale << "," << v.density << "," << scene.params.torsion_k
-          << "," << rule.torsion_a << "," << rule.M << "," << rule.m_min
-          << "," << rule.K << "," << rule.c_crit << "," << rule.c_stab << "," << rule.c_rule << ","
-          << c_tuned << "," << best_c << "," << first_div << "," << at20.steps << "," << at3.steps
-          << "," << at_rule.steps << "," << at_tuned.steps << ","
-          << (best_c > 0 ? best_steps : -1) << "," << tr.wall_time_s << "," << tr.evaluations << ","
-          << c_auto << "," << at_auto.steps << "\n";
-    rows.push_back({{"variant", v.label()},
-                    {"scale", v.scale},
-                    {"density", v.density},
-                    {"torsion_k", scene.params.torsion_k},
-                    {"torsion_a", rule.torsion_a},
-                    {"torsion_stable", rule.torsion_a < rule.torsion_limit},
-                    {"any_stable_damping", best_c > 0},
-                    {"total_mass", rule.M},
-                    {"min_bone_mass", rule.m_min},
-                    {"c_crit", rule.c_crit},
-                    {"c_stab", rule.c_stab},
-                    {"c_rule", rule.c_rule},
-                    {"c_tuned", c_tuned},
-                    {"c_best_grid", best_c},
-                    {"c_first_diverged", first_div},
-                    {"steps_paper_20", steps_text(at20)},
-                    {"steps_original_3", steps_text(at3)},
-                    {"steps_rule", steps_text(at_rule)},
-                    {"steps_tuned", steps_text(at_tuned)},
-                    {"steps_best_grid", best_c > 0 ? best_steps : -1},
-                    {"tune_cost_initial", tr.initial_cost},
-                    {"tune_cost_final", tr.final_cost},
-                    {"tune_wall_time_s", tr.wall_time_s},
-                    {"tune_runs", tr.evaluations},
-                    {"c_auto", c_auto},
-                    {"steps_auto", steps_text(at_auto)}});
-    auto_text += (auto_text.empty() ? "" : "; ") + v.label() + ": auto " + num(c_auto) + " (" +
-                 steps_text(at_auto) + ") / Ceres " + num(c_tuned) + " (" + steps_text(at_tuned) +
-                 ") / rule " + num(rule.c_rule) + " (" + steps_text(at_rule) + ")";
-    if (at20.diverged) ++paper_diverged;
-    const bool torsion_unstable = rule.torsion_a >= rule.torsion_limit;
-    if (torsion_unstable) {
-      ++torsion_unstable_n;
-      if (best_c < 0) ++torsion_unstable_all_diverged;
-    }
-    if (best_c > 0) {  // comparisons only where some damping settles
-      ++stable_n;
-      const double ratio = rule.c_rule / c_tuned;
-      if (ratio >= 0.5 && ratio <= 2.0) ++rule_within_2;
-      if (std::abs(std::log(ratio)) > std::abs(std::log(worst_rule_ratio))) worst_rule_ratio = ratio;
-      if (!at_tuned.diverged && at_tuned.steps >= 0 &&
-          (at3.diverged || at3.steps < 0 || at_tuned.steps <= at3.steps)) {
-        ++tuned_not_worse_than_3;
-      }
-      const double bound = rule.m_min / scene.params.dt;
-      if (first_div > 0 && first_div / bound > 0.25 && first_div / bound < 4.0) ++div_bound_ok;
-    }
-    if (v.scale == 1.0 && v.density == 1.0) {
-      tune_time_1x = tr.wall_time_s;
-      tune_runs_1x = tr.evaluations;
-    }
-    if (ctx.log) {
-      *ctx.log << "  " << v.label() << ": rule " << num(rule.c_rule) << ", tuned " << num(c_tuned)
-               << ", best grid " << num(best_c) << " (" << (best_c > 0 ? best_steps : -1)
-               << " steps), diverges from "
-               << num(first_div) << "; steps at 20/3/rule/tuned: " << steps_text(at20) << "/"
-               << steps_text(at3) << "/" << steps_text(at_rule) << "/" << steps_text(at_tuned)
-               << "  (tune " << num(tr.wall_time_s) << " s)\n";
-    }
+void tally(Tally& t, const VariantResult& r) {
+  ++t.variants;
+  if (r.at20.diverged) ++t.paper_diverged;
+  const bool torsion_unstable = r.rule.torsion_a >= r.rule.torsion_limit;
+  if (torsion_unstable) {
+    ++t.torsion_unstable_n;
+    if (r.best_c < 0) ++t.torsion_unstable_all_diverged;
   }
+  if (r.best_c > 0) {  // comparisons only where some damping settles
+    ++t.stable_n;
+    const double ratio = r.rule.c_rule / r.c_tuned;
+    if (ratio >= 0.5 && ratio <= 2.0) ++t.rule_within_2;
+    if (std::abs(std::log(ratio)) > std::abs(std::log(t.worst_rule_ratio))) t.worst_rule_ratio = ratio;
+    if (!r.at_tuned.diverged && r.at_tuned.steps >= 0 &&
+        (r.at3.diverged || r.at3.steps < 0 || r.at_tuned.steps <= r.at3.steps)) {
+      ++t.tuned_not_worse_than_3;
+    }
+    const double bound = r.rule.m_min / r.dt;
+    if (r.first_div > 0 && r.first_div / bound > 0.25 && r.first_div / bound < 4.0) ++t.div_bound_ok;
+  }
+  if (r.v.scale == 1.0 && r.v.density == 1.0) {
+    t.tune_time_1x = r.tuned.wall_time_s;
+    t.tune_runs_1x = r.tuned.evaluations;
+  }
+}
 
-  const int nv = static_cast<int>(variants.size());
+void add_claims(Report& report, const Tally& t) {
+  const int nv = t.variants;
   const auto frac_of = [](int k, int n) { return std::to_string(k) + " of " + std::to_string(n); };
   const auto frac = [&](int k) { return frac_of(k, nv); };
   const auto holds = [](int k, int n) { return n == 0 ? "n/a" : k == n ? "yes" : k ? "partly" : "no"; };
-  claims.push_back(claim(
+  report.claim(
       "Prediction: where the torsion springs on the lightest bone exceed explicit Euler's bound "
       "k_t dt^2 / I_min < 2 (1 + f), no damping can help: every c diverges",
-      "every c diverged in " + frac_of(torsion_unstable_all_diverged, torsion_unstable_n) +
+      "every c diverged in " + frac_of(t.torsion_unstable_all_diverged, t.torsion_unstable_n) +
           " torsion-unstable variants",
-      holds(torsion_unstable_all_diverged, torsion_unstable_n)));
-  claims.push_back(claim(
+      holds(t.torsion_unstable_all_diverged, t.torsion_unstable_n));
+  report.claim(
       "Discussion: the damping must be picked per rig scale and mass; too large diverges under "
       "explicit Euler. The first diverging c on the grid lies within a factor 4 of the per-bone "
       "bound m_min/dt",
-      frac_of(div_bound_ok, stable_n) + " variants with a settling c", holds(div_bound_ok, stable_n)));
-  claims.push_back(claim("Sec. 4: the paper's c = 20 (dt = 0.05) diverges on pinhead-like rigs",
-                         "diverges in " + frac(paper_diverged) + " variants",
-                         paper_diverged == nv ? "yes" : paper_diverged ? "partly" : "no"));
-  claims.push_back(claim(
+      frac_of(t.div_bound_ok, t.stable_n) + " variants with a settling c", holds(t.div_bound_ok, t.stable_n));
+  report.claim("Sec. 4: the paper's c = 20 (dt = 0.05) diverges on pinhead-like rigs",
+               "diverges in " + frac(t.paper_diverged) + " variants",
+               t.paper_diverged == nv ? "yes" : t.paper_diverged ? "partly" : "no");
+  report.claim(
       "Closed-form rule c = min((2 sqrt(K M) - K dt)/(2 n), c_stab/2) lands within a factor 2 of "
       "the Ceres optimum",
-      frac_of(rule_within_2, stable_n) + " variants with a settling c; worst rule/tuned ratio " +
-          num(worst_rule_ratio),
-      holds(rule_within_2, stable_n)));
-  claims.push_back(claim(
-      "damping: auto (critical damping of the slowest linearised mode, physik/engine/linear_modes.h) "
-      "beside the Ceres optimum and the closed-form rule (explicit scheme; steps to settle)",
-      auto_text, "n/a"));
-  claims.push_back(claim(
+      frac_of(t.rule_within_2, t.stable_n) + " variants with a settling c; worst rule/tuned ratio " +
+          num(t.worst_rule_ratio),
+      holds(t.rule_within_2, t.stable_n));
+  report.claim(
       "The tuned c converges in no more steps than the original's c = 3 (or c = 3 fails)",
-      frac_of(tuned_not_worse_than_3, stable_n) + " variants with a settling c",
-      holds(tuned_not_worse_than_3, stable_n)));
-  notes.push_back("One Ceres tuning run of the damping on pinhead (1x / 1 kg/unit, " +
-                  std::to_string(base.steps) + " steps per run): " + num(tune_time_1x) + " s, " +
-                  std::to_string(tune_runs_1x) + " simulations.");
-  notes.push_back(
+      frac_of(t.tuned_not_worse_than_3, t.stable_n) + " variants with a settling c",
+      holds(t.tuned_not_worse_than_3, t.stable_n));
+}
+
+void add_notes(Report& report, const Tally& t, int steps, const nlohmann::json& rows) {
+  report.note("One Ceres tuning run of the damping on pinhead (1x / 1 kg/unit, " +
+              std::to_string(steps) + " steps per run): " + num(t.tune_time_1x) + " s, " +
+              std::to_string(t.tune_runs_1x) + " simulations.");
+  report.note(
       "Steps to settle = the first step from which every later step has every control point within "
       "1e-3 of the rig's height of its target and the rig at rest (rms speed below 1e-3 height/s). "
       "The settle objective (log measure) weighs control-point errors only, not the body's rest, "
       "so its optimum and the fewest steps to settle need not coincide.");
   for (const auto& r : rows) {
-    notes.push_back(r["variant"].get<std::string>() + ": c_rule " + num(r["c_rule"].get<double>()) +
-                    " (c_crit " + num(r["c_crit"].get<double>()) + ", c_stab " +
-                    num(r["c_stab"].get<double>()) + "), c_tuned " + num(r["c_tuned"].get<double>()) +
-                    ", best grid c " + num(r["c_best_grid"].get<double>()) + " (" +
-                    std::to_string(r["steps_best_grid"].get<int>()) + " steps), first diverging c " +
-                    num(r["c_first_diverged"].get<double>()) + "; steps at c = 20 / 3 / rule / tuned: " +
-                    r["steps_paper_20"].get<std::string>() + " / " +
-                    r["steps_original_3"].get<std::string>() + " / " +
-                    r["steps_rule"].get<std::string>() + " / " + r["steps_tuned"].get<std::string>());
+    report.note(r["variant"].get<std::string>() + ": c_rule " + num(r["c_rule"].get<double>()) +
+                " (c_crit " + num(r["c_crit"].get<double>()) + ", c_stab " +
+                num(r["c_stab"].get<double>()) + "), c_tuned " + num(r["c_tuned"].get<double>()) +
+                ", best grid c " + num(r["c_best_grid"].get<double>()) + " (" +
+                std::to_string(r["steps_best_grid"].get<int>()) + " steps), first diverging c " +
+                num(r["c_first_diverged"].get<double>()) + "; steps at c = 20 / 3 / rule / tuned: " +
+                r["steps_paper_20"].get<std::string>() + " / " +
+                r["steps_original_3"].get<std::string>() + " / " +
+                r["steps_rule"].get<std::string>() + " / " + r["steps_tuned"].get<std::string>());
   }
-  write_json_file({{"experiment", "tuning_study"},
-                   {"steps", base.steps},
-                   {"dt", base.params.dt},
-                   {"rows", rows},
-                   {"report",
-                    {{"title", "Tuning study: damping vs scale and mass, Ceres optimum, a closed-form rule"},
-                     {"claims", claims},
-                     {"notes", notes},
-                     {"figures", {"tuning_study.png"}}}}},
-                  ctx.out_dir + "/summary.json");
 }
 
-}  // namespace
+void run(const Context& ctx) {
+  Scene base = scene_named(ctx, "pinhead_two_hands");
+  base.steps = ctx.quick ? 300 : 4000;  // the 10x, 10 kg/unit rig needs about 1000
+  const std::vector<double> grid = damping_grid(ctx.quick);
+  std::ofstream sweep(ctx.out_dir + "/sweep.csv");
+  sweep << "variant,scale,density,damping,steps_to_converge,diverged\n";
+  std::ofstream table(ctx.out_dir + "/table.csv");
+  table << "variant,scale,density,torsion_k,torsion_a,total_mass,min_bone_mass,K,c_crit,c_stab,c_rule,c_tuned,"
+           "c_best_grid,c_first_diverged,steps_paper_20,steps_original_3,steps_rule,steps_tuned,"
+           "steps_best_grid,tune_wall_time_s,tune_runs\n";
+  nlohmann::json rows = nlohmann::json::array();
+  Tally t;
+  for (const Variant& v : make_variants(ctx.quick)) {
+    const VariantResult r = study_variant(ctx, base, v, grid, sweep);
+    write_table_row(table, r);
+    rows.push_back(row_json(r));
+    tally(t, r);
+  }
+  Report report("Tuning study: damping vs scale and mass, Ceres optimum, a closed-form rule");
+  add_claims(report, t);
+  add_notes(report, t, base.steps, rows);
+  report.figures({"tuning_study.png"});
+  write_summary(ctx,
+                {{"experiment", "tuning_study"},
+                 {"steps", base.steps},
+                 {"dt", base.params.dt},
+                 {"rows", rows}},
+                report);
+}
 
-Experiment tuning_study_experiment() {
-  return {"tuning_study", "Discussion (damping sensitivity), issue 6",
+const Registration registered{
+    250, {"tuning_study", "Discussion (damping sensitivity), issue 6",
           "steps to converge vs damping at 0.1x/1x/10x and two densities; Ceres optimum; "
           "closed-form rule",
-          run};
-}
+          run}};
+
+}  // namespace
 
 }  // namespace physik::experiments

@@ -4,11 +4,11 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <iomanip>
 #include <iostream>
 
 #include <Eigen/SVD>
 
+#include "physik/io/json_fields.h"
 #include "physik/io/pose_io.h"
 #include "physik/io/summary_io.h"
 #include "physik/model/errors.h"
@@ -113,40 +113,29 @@ int free_endpoint_dof(const Scene& scene, const BoneFrames& frames) {
   return matrix_rank(both) - matrix_rank(jc);
 }
 
-namespace {
-
-// an observer that appends every step's frames, stats and residuals to `r`
-StepObserver recorder(const Scene& scene, EngineRun& r) {
-  return [&scene, &r](const SimState& s, const StepStats& st) {
-    r.frames.push_back(s.frames);
-    r.stats.push_back(st);
-    r.residuals.emplace_back();
-    control_residuals(scene, s, r.residuals.back());
-  };
+RecordedRun record_mujoco(const Scene& scene, ReferenceMode mode, const RecordOptions& options,
+                          const StepObserver& also) {
+  Recorder rec(scene, options);
+  RunSummary summary = run_mujoco(scene, mode, [&](const SimState& s, const StepStats& st) {
+    rec.observe(s, st);
+    if (also) also(s, st);
+  });
+  return rec.finish(std::move(summary));
 }
 
-}  // namespace
-
-EngineRun run_physik_recorded(const Scene& scene) {
-  EngineRun r;
-  r.summary = run_scene(scene, recorder(scene, r));
-  return r;
-}
-
-EngineRun run_mujoco_recorded(const Scene& scene, ReferenceMode mode) {
-  EngineRun r;
-  r.summary = run_mujoco(scene, mode, recorder(scene, r));
-  return r;
-}
-
-Comparison compare_with_mujoco(const Scene& scene, ReferenceMode mode) {
+Comparison compare_with_mujoco(const Scene& scene, ReferenceMode mode,
+                               const RecordOptions& mujoco_record) {
+  RecordOptions every_frame;
+  every_frame.all_frames = true;
+  RecordOptions mujoco_options = mujoco_record;
+  mujoco_options.all_frames = true;
   Comparison c;
   c.mode = mode;
-  c.physik = run_physik_recorded(scene);
-  c.mujoco = run_mujoco_recorded(scene, mode);
+  c.physik = record_run(scene, every_frame);
+  c.mujoco = record_mujoco(scene, mode, mujoco_options);
   Scene free_scene = scene;
   free_scene.params.integration = Integration::kFreeRods;
-  c.free_rods = run_physik_recorded(free_scene);
+  c.free_rods = record_run(free_scene, every_frame);
   c.gap = trajectory_gap(c.physik.frames, c.mujoco.frames, c.physik.summary.final_frames,
                          c.mujoco.summary.final_frames);
   c.free_rods_gap = trajectory_gap(c.free_rods.frames, c.mujoco.frames,
@@ -180,26 +169,6 @@ nlohmann::json gap_json(const GapStats& g, double height) {
           {"rms_gap_over_height", g.rms_gap / height},
           {"max_gap_over_height", g.max_gap / height},
           {"final_pose_gap_over_height", g.final_pose_gap / height}};
-}
-
-void write_trajectory_csv(const Scene& scene, const EngineRun& r, int every, std::ostream& csv) {
-  csv << "step,time,kinetic_energy,passes,joint_mismatch,joint_separation";
-  for (std::size_t c = 0; c < scene.control_points.size(); ++c) csv << ",residual_" << c;
-  for (const std::string& name : bone_column_names(scene.rig)) csv << "," << name;
-  csv << "\n" << std::setprecision(9);
-  std::vector<double> row;
-  for (std::size_t k = 0; k < r.frames.size(); ++k) {
-    const int step = static_cast<int>(k) + 1;
-    if (step % every != 0 && step != scene.steps) continue;
-    const StepStats& st = r.stats[k];
-    csv << step << "," << step * scene.params.dt << "," << st.kinetic_energy << "," << st.passes
-        << "," << st.mismatch << "," << st.joint_separation;
-    for (double res : r.residuals[k]) csv << "," << res;
-    row.clear();
-    append_bone_values(r.frames[k], row);
-    for (double v : row) csv << "," << v;
-    csv << "\n";
-  }
 }
 
 }  // namespace
@@ -241,30 +210,26 @@ nlohmann::json write_reference_comparison(const Scene& scene, const std::string&
                                           const std::string& out_dir, int every, bool verbose) {
   const ReferenceMode mode = parse_reference_spec(spec);
   if (verbose) std::cerr << "reference: MuJoCo " << mj_versionString() << ", " << to_string(mode) << "\n";
-  const Comparison c = compare_with_mujoco(scene, mode);
   std::filesystem::create_directories(out_dir);
-  {
-    std::ofstream csv(out_dir + "/mujoco_trajectory.csv");
-    if (!csv) throw_input_error(out_dir, "", "--out", "cannot write mujoco_trajectory.csv here");
-    write_trajectory_csv(scene, c.mujoco, every, csv);
-  }
-  {
-    nlohmann::json sum = summary_to_json(scene, c.mujoco.summary);
-    sum["engine"] = std::string("mujoco ") + mj_versionString();
-    sum["mode"] = to_string(mode);
-    sum["passes_are"] = "MuJoCo constraint-solver iterations";
-    std::ofstream f(out_dir + "/mujoco_summary.json");
-    f << sum.dump(2) << "\n";
-  }
+  std::ofstream csv(out_dir + "/mujoco_trajectory.csv");
+  if (!csv) throw_input_error(out_dir, "", "--out", "cannot write mujoco_trajectory.csv here");
+  RecordOptions table;
+  table.csv_stream = &csv;
+  table.csv_every = every;
+  table.csv_rows = RowRule::kEveryAndLast;
+  const Comparison c = compare_with_mujoco(scene, mode, table);
+  csv.close();
+  nlohmann::json sum = summary_to_json(scene, c.mujoco.summary);
+  sum["engine"] = std::string("mujoco ") + mj_versionString();
+  sum["mode"] = to_string(mode);
+  sum["passes_are"] = "MuJoCo constraint-solver iterations";
+  write_json(sum, out_dir + "/mujoco_summary.json");
   {
     std::ofstream pose(out_dir + "/mujoco_final_pose.csv");
     write_bones_csv(scene.rig, c.mujoco.summary.final_frames, pose);
   }
   const nlohmann::json j = comparison_to_json(scene, c);
-  {
-    std::ofstream f(out_dir + "/comparison.json");
-    f << j.dump(2) << "\n";
-  }
+  write_json(j, out_dir + "/comparison.json");
   if (verbose) {
     std::cerr << "reference: rms gap " << c.gap.rms_gap << ", max gap " << c.gap.max_gap
               << ", final pose gap " << c.gap.final_pose_gap << " (" << j["equilibrium"].get<std::string>()

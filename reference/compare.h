@@ -24,6 +24,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "physik/io/recorder.h"
 #include "reference/mujoco_runner.h"
 
 namespace physik {
@@ -49,24 +50,22 @@ GapStats trajectory_gap(const std::vector<BoneFrames>& a, const std::vector<Bone
 // Endpoint degrees of freedom the control points leave free at a pose (see above).
 int free_endpoint_dof(const Scene& scene, const BoneFrames& frames);
 
-struct EngineRun {
-  RunSummary summary;
-  std::vector<BoneFrames> frames;            // after every step
-  std::vector<StepStats> stats;              // every step
-  std::vector<std::vector<double>> residuals;  // every step, per control point (rig units)
-};
-
 struct Comparison {
   ReferenceMode mode = ReferenceMode::kSameForces;
-  EngineRun physik, mujoco, free_rods;
+  RecordedRun physik, mujoco, free_rods;  // each with its frames after every step
   GapStats gap;             // PhysIK (the scene's integration) vs MuJoCo
   GapStats free_rods_gap;   // PhysIK free-rods vs MuJoCo
   int free_endpoint_dof = 0;  // at MuJoCo's final pose
 };
 
-EngineRun run_physik_recorded(const Scene& scene);
-EngineRun run_mujoco_recorded(const Scene& scene, ReferenceMode mode);
-Comparison compare_with_mujoco(const Scene& scene, ReferenceMode mode);
+// MuJoCo's run of a scene (run_mujoco) with a recorder (physik/io/recorder.h); `also` (if given)
+// sees every step after it.
+RecordedRun record_mujoco(const Scene& scene, ReferenceMode mode, const RecordOptions& options,
+                          const StepObserver& also = nullptr);
+// The three runs and their gaps. `mujoco_record`: what else to record of the MuJoCo run (e.g.
+// its trajectory table); every run keeps its frames after every step regardless.
+Comparison compare_with_mujoco(const Scene& scene, ReferenceMode mode,
+                               const RecordOptions& mujoco_record = {});
 
 nlohmann::json comparison_to_json(const Scene& scene, const Comparison& c);
 

@@ -165,6 +165,14 @@ expect_in "solve summary converged" "$tmp/solve/summary.json" '"converged": true
 expect_in "solve summary residuals" "$tmp/solve/summary.json" '"final_residuals"'
 expect_in "solve summary solver" "$tmp/solve/summary.json" '"solver": "dls"'
 expect_in "solve final pose" "$tmp/solve/final_pose.csv" "hand.L"
+# a diverging engine solve (the paper's damping on pinhead): exit 3 after writing both files
+printf '{"rig": "%s/models/rigs/pinhead.json", "params": {"preset": "original", "control_k": 30, "damping": 20}, "control_points": [{"bone": "hand.L", "target": [1.5, -0.5, 1.2], "spring": "capped"}, {"bone": "hand.R", "target": [-1.0, -0.9, 1.0], "spring": "capped"}], "steps": 400}' "$src" > "$tmp/s4.json"
+check "solve diverges" 3 "$bin" solve "$tmp/s4.json" --solver physik --out "$tmp/solve_div" --quiet
+expect_in "solve diverged message" "$tmp/err" "diverged"
+expect_in "solve diverged summary" "$tmp/solve_div/summary.json" '"diverged": true'
+rows=$(( $(wc -l < "$tmp/solve_div/final_pose.csv") - 1 ))
+if [ "$rows" -eq 18 ]; then pass=$((pass+1)); else
+  fail=$((fail+1)); echo "FAIL solve diverged final pose: $rows rows, want 18 (one per pinhead bone)"; fi
 
 # physik tune / equilibrium: Ceres tuning and exact equilibria
 check "tune help" 0 "$bin" tune --help

@@ -7,6 +7,7 @@
 
 #include "physik/engine/engine.h"
 #include "physik/io/scene_io.h"
+#include "physik/posing/posing_session.h"
 #include "tests/test_util.h"
 
 namespace {
@@ -46,6 +47,24 @@ TEST(EngineAllocations, StepAllocatesNothing) {
     g_counting = false;
     EXPECT_EQ(g_allocations.load(), 0) << integration;
   }
+}
+
+// The embedding API's per-frame calls allocate nothing either: a target moved, a few steps, and
+// a physics-only solve.
+TEST(EngineAllocations, PosingSessionCallsAllocateNothing) {
+  PosingSession session(load_scene(test::model_path("scenes/pinhead_two_hands.json")));
+  const Vec3 start = session.state().target_goal_world[0];
+  session.advance(1);  // warm up
+  g_allocations = 0;
+  g_counting = true;
+  for (int frame = 0; frame < 20; ++frame) {
+    session.set_target(0, start + Vec3(0.0, 0.0, 0.01 * frame));
+    session.advance(3);
+  }
+  const SolveResult r = session.solve();
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_TRUE(r.converged);
 }
 
 }  // namespace

@@ -1,12 +1,12 @@
 #!/usr/bin/env python3
 """The layers of docs/DESIGN.md ("Layers"), checked on every #include of the project's own code.
 
-    physik/model  <-  physik/engine, physik/ik  <-  physik/io  <-  reference  <-  tune
+    physik/model  <-  physik/engine, physik/ik  <-  physik/posing  <-  physik/io  <-  reference  <-  tune
     <-  experiments  <-  cli (and bench)
 
 A file may include its own layer and the layers below it, never one above or beside it. Besides:
   - the core (physik/) includes neither MuJoCo nor Ceres;
-  - no header of physik/model, physik/engine or physik/ik reaches a JSON library, even through
+  - no header of physik/model, physik/engine, physik/ik or physik/posing reaches a JSON library, even through
     other headers (only physik/io and above read or write files).
 Run: python3 tests/layering_test.py [REPO]  (ctest runs it as `layering`).
 """
@@ -21,7 +21,8 @@ ALLOWED = {
     "physik/model": {"physik/model"},
     "physik/engine": {"physik/model", "physik/engine"},
     "physik/ik": {"physik/model", "physik/ik"},
-    "physik/io": {"physik/model", "physik/engine", "physik/ik", "physik/io"},
+    "physik/posing": {"physik/model", "physik/engine", "physik/ik", "physik/posing"},
+    "physik/io": {"physik/model", "physik/engine", "physik/ik", "physik/posing", "physik/io"},
 }
 CORE = set(ALLOWED)
 UPPER_ORDER = ["reference", "tune", "experiments", "cli"]
@@ -29,7 +30,7 @@ for k, layer in enumerate(UPPER_ORDER):
     ALLOWED[layer] = CORE | set(UPPER_ORDER[: k + 1])
 ALLOWED["bench"] = CORE | set(UPPER_ORDER[:3]) | {"bench"}
 ALLOWED["python"] = CORE | set(UPPER_ORDER[:3]) | {"python"}
-JSON_FREE = {"physik/model", "physik/engine", "physik/ik"}
+JSON_FREE = {"physik/model", "physik/engine", "physik/ik", "physik/posing"}
 FORBIDDEN_IN_CORE = ("mujoco/", "ceres/")
 
 INCLUDE = re.compile(r'^\s*#\s*include\s*([<"])([^>"]+)[>"]', re.M)
@@ -126,6 +127,12 @@ class LayeringTest(unittest.TestCase):
             self.write(root, "physik/engine/state.h", "#pragma once\n")
             self.write(root, "physik/ik/ccd.cpp", '#include "physik/engine/state.h"\n')
             self.assertIn("physik/ik may not depend on physik/engine", check(root)[0])
+
+    def test_posing_may_not_include_io(self):
+        with tempfile.TemporaryDirectory() as root:
+            self.write(root, "physik/io/scene_io.h", "#pragma once\n")
+            self.write(root, "physik/posing/s.cpp", '#include "physik/io/scene_io.h"\n')
+            self.assertIn("physik/posing may not depend on physik/io", check(root)[0])
 
     def test_json_reached_through_a_model_header_fails(self):
         with tempfile.TemporaryDirectory() as root:

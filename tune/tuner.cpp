@@ -10,6 +10,7 @@
 #include <ceres/ceres.h>
 
 #include "physik/model/errors.h"
+#include "reference/compare.h"
 #include "reference/mujoco_runner.h"
 
 namespace physik::tune {
@@ -149,12 +150,12 @@ RunSummary settle_residuals(const Scene& scene_in, SettleMeasure measure,
 std::vector<BoneFrames> mujoco_reference_trajectory(const Scene& scene_in) {
   Scene scene = scene_in;
   scene.convergence.stop_when_converged = false;
-  std::vector<BoneFrames> out;
-  out.reserve(scene.steps);
-  const RunSummary sum = run_mujoco(scene, ReferenceMode::kSameForces,
-                                    [&](const SimState& s, const StepStats&) { out.push_back(s.frames); });
-  if (sum.diverged && !out.empty()) out.pop_back();  // the diverging step itself is not a reference
-  return out;
+  RecordOptions every_frame;
+  every_frame.all_frames = true;
+  RecordedRun run = record_mujoco(scene, ReferenceMode::kSameForces, every_frame);
+  // the diverging step itself is not a reference
+  if (run.summary.diverged && !run.frames.empty()) run.frames.pop_back();
+  return std::move(run.frames);
 }
 
 RunSummary mujoco_residuals(const Scene& scene_in, const std::vector<BoneFrames>& reference,
@@ -279,29 +280,30 @@ std::string values_text(const std::vector<TuneParam>& params, const std::vector<
 
 }  // namespace
 
-TuneResult tune_scene(const Scene& scene, const TuneOptions& opt) {
-  if (opt.params.empty()) throw_input_error("--params", "", "", "no parameter to tune");
-  if (scene.control_points.empty() && opt.objective == Objective::kSettle) {
-    throw_input_error(scene.file, "control_points", "", "the settle objective needs a control point");
-  }
-  const auto t0 = std::chrono::steady_clock::now();
-  const int n = static_cast<int>(opt.params.size());
-  Objective_ obj(scene, opt);
-  TuneResult out;
-  std::vector<double> res;
+namespace {
 
-  // start: the scene's own values, clamped into the bounds
-  std::vector<double> best(n);
+// The scene's own values, clamped into the bounds; out.initial_* record where the search starts.
+std::vector<double> start_values(const Scene& scene, const TuneOptions& opt, const Objective_& obj,
+                                 TuneResult& out) {
+  const int n = static_cast<int>(opt.params.size());
+  std::vector<double> start(n), res;
   for (int i = 0; i < n; ++i) {
     out.names.push_back(opt.params[i].name);
-    best[i] = std::clamp(get_param(scene, opt.params[i].name), opt.params[i].lo, opt.params[i].hi);
+    start[i] = std::clamp(get_param(scene, opt.params[i].name), opt.params[i].lo, opt.params[i].hi);
     out.initial_values.push_back(get_param(scene, opt.params[i].name));
   }
-  obj.eval(best.data(), res);
-  double best_cost = out.initial_cost = cost_of(res);
-  if (opt.verbose) std::cerr << "tune: start " << values_text(opt.params, best) << "  J " << best_cost << "\n";
+  obj.eval(start.data(), res);
+  out.initial_cost = cost_of(res);
+  if (opt.verbose) std::cerr << "tune: start " << values_text(opt.params, start) << "  J " << out.initial_cost << "\n";
+  return start;
+}
 
-  // 1. coarse scan, coordinate-wise on a log grid
+// Stage 1: a coarse scan, coordinate-wise on a log grid; best and best_cost move to the best
+// point seen, every trial is kept in out.scan.
+void scan_log_grid(const TuneOptions& opt, const Objective_& obj, std::vector<double>& best,
+                   double& best_cost, TuneResult& out) {
+  const int n = static_cast<int>(opt.params.size());
+  std::vector<double> res;
   for (int sweep = 0; sweep < opt.scan_sweeps && opt.scan_points > 1; ++sweep) {
     for (int i = 0; i < n; ++i) {
       const double lo = std::log(opt.params[i].lo), hi = std::log(opt.params[i].hi);
@@ -321,11 +323,15 @@ TuneResult tune_scene(const Scene& scene, const TuneOptions& opt) {
       if (opt.verbose) std::cerr << "tune: scan " << values_text(opt.params, best) << "  J " << best_cost << "\n";
     }
   }
-  out.scan_cost = best_cost;
+}
 
-  // 2. Ceres refine in u = ln p
+// Stage 2: Levenberg-Marquardt in u = ln p within the bounds, from the scan's best point;
+// returns the refined values (clamped into the bounds) and Ceres' reports in out.
+std::vector<double> refine_with_ceres(const TuneOptions& opt, const Objective_& obj,
+                                      const std::vector<double>& from, TuneResult& out) {
+  const int n = static_cast<int>(opt.params.size());
   std::vector<double> u(n);
-  for (int i = 0; i < n; ++i) u[i] = std::log(best[i]);
+  for (int i = 0; i < n; ++i) u[i] = std::log(from[i]);
   ceres::Problem problem;
   problem.AddResidualBlock(new SmoothedCost(obj, opt), nullptr, u.data());
   for (int i = 0; i < n; ++i) {
@@ -347,9 +353,27 @@ TuneResult tune_scene(const Scene& scene, const TuneOptions& opt) {
   out.ceres_brief = summary.BriefReport();
   out.ceres_full = summary.FullReport();
   out.ceres_usable = summary.IsSolutionUsable();
-
   std::vector<double> refined(n);
   for (int i = 0; i < n; ++i) refined[i] = std::clamp(std::exp(u[i]), opt.params[i].lo, opt.params[i].hi);
+  return refined;
+}
+
+}  // namespace
+
+TuneResult tune_scene(const Scene& scene, const TuneOptions& opt) {
+  if (opt.params.empty()) throw_input_error("--params", "", "", "no parameter to tune");
+  if (scene.control_points.empty() && opt.objective == Objective::kSettle) {
+    throw_input_error(scene.file, "control_points", "", "the settle objective needs a control point");
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  Objective_ obj(scene, opt);
+  TuneResult out;
+  std::vector<double> best = start_values(scene, opt, obj, out), res;
+  double best_cost = out.initial_cost;
+  scan_log_grid(opt, obj, best, best_cost, out);
+  out.scan_cost = best_cost;
+
+  const std::vector<double> refined = refine_with_ceres(opt, obj, best, out);
   obj.eval(refined.data(), res);
   const double refined_cost = cost_of(res);
   // keep the scan's point if Ceres could not improve on it (it never should get worse)

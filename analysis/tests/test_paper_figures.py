@@ -15,6 +15,7 @@ import plot_fig7_cannon  # noqa: E402
 import plot_fig8_wobble  # noqa: E402
 import plot_mujoco_gap  # noqa: E402
 import plot_timing  # noqa: E402
+import plot_tracking  # noqa: E402
 
 BONES = """bone,parent,head_x,head_y,head_z,tail_x,tail_y,tail_z
 a,,0,0,0,0,0,1
@@ -78,6 +79,11 @@ class PaperFigureScripts(unittest.TestCase):
         write(self.d, "summary.json", {"rows": [
             {"scene": "s", "us_per_step": 10.0, "passes_per_step": 4.0, "passes_per_step_while_moving": 12.0}]})
         self.assertPng(plot_timing.plot(self.d))
+
+    def test_tracking(self):
+        write(self.d, "frames.csv", "solver,frame,cost_us,lag,jump_ratio\nphysik k=3,1,5.0,0.01,1.2\n"
+                                    "physik k=3,2,5.0,0.0,1.1\ndls,1,9.0,1e-5,2.0\ndls,2,8.0,1e-5,1.5\n")
+        self.assertPng(plot_tracking.plot(self.d))
 
     def test_mujoco_gap(self):
         write(self.d, "gap_over_time.csv", "scene,mode,step,gap,exact_gap\ns,same-forces,1,0.1,1e-15\n"

@@ -1,7 +1,9 @@
 #include "physik/io/json_fields.h"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <limits>
 #include <sstream>
 
@@ -164,6 +166,18 @@ Json read_json_file(const std::string& path) {
   std::stringstream buf;
   buf << in.rdbuf();
   return parse_json_text(buf.str(), path);
+}
+
+void write_json(const Json& doc, const std::string& path) {
+  if (path.empty() || path == "-") {
+    std::cout << doc.dump(2) << "\n";
+    return;
+  }
+  const std::filesystem::path p(path);
+  if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path());
+  std::ofstream out(p);
+  if (!out) throw_input_error(path, "", "", "cannot write file");
+  out << doc.dump(2) << "\n";
 }
 
 }  // namespace physik

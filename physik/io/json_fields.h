@@ -52,5 +52,8 @@ struct JsonContext {
 // (and line/column for syntax errors).
 Json read_json_file(const std::string& path);
 Json parse_json_text(const std::string& text, const std::string& source);
+// Write a JSON document pretty-printed (2 spaces, a final newline): to a file, created with its
+// parent folders (InputError naming it if it cannot be written), or to stdout for "-" or "".
+void write_json(const Json& doc, const std::string& path);
 
 }  // namespace physik

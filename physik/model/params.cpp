@@ -31,11 +31,6 @@ const std::vector<std::string>& choice_names(Interpolation) {
   return names;
 }
 
-const std::vector<std::string>& choice_names(JointSolve) {
-  static const std::vector<std::string> names = {"gauss-seidel", "exact"};
-  return names;
-}
-
 const char* to_string(SpringLaw s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
 const char* to_string(Integration s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
 const char* to_string(Interpolation s) { return choice_names(s)[static_cast<int>(s)].c_str(); }

@@ -2,7 +2,10 @@
 // with fewer control points the final gap is path dependence; the gap metrics themselves.
 #include "reference/compare.h"
 
+#include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <sstream>
 
 #include <gtest/gtest.h>
 
@@ -107,6 +110,35 @@ TEST(Compare, ComparisonJsonHasTheIssuesFields) {
   }
   EXPECT_TRUE(j["free_rods"].contains("max_joint_separation"));
   EXPECT_EQ(j["mode"], "exact-constraints");
+}
+
+// `simulate --reference` writes MuJoCo's trajectory table with the recorder: the same bytes as a
+// recorder on MuJoCo's run, a row every N steps and the scene's last step
+TEST(Compare, ReferenceTableIsTheRecordersTable) {
+  Scene s = two_bone_scene(true);
+  s.steps = 40;
+  const std::string out = ::testing::TempDir() + "/compare_reference_table";
+  std::filesystem::remove_all(out);
+  write_reference_comparison(s, "mujoco", out, 3, false);
+  std::ostringstream csv;
+  RecordOptions o;
+  o.csv_stream = &csv;
+  o.csv_every = 3;
+  o.csv_rows = RowRule::kEveryAndLast;
+  const RecordedRun run = record_mujoco(s, ReferenceMode::kSameForces, o);
+  ASSERT_EQ(run.summary.steps_run, 40);
+  std::ifstream in(out + "/mujoco_trajectory.csv");
+  std::stringstream written;
+  written << in.rdbuf();
+  EXPECT_EQ(written.str(), csv.str());
+  std::vector<int> steps;
+  std::string line;
+  std::getline(written, line);  // header
+  while (std::getline(written, line)) steps.push_back(std::stoi(line.substr(0, line.find(','))));
+  ASSERT_EQ(steps.size(), 14u);  // 3, 6, ..., 39, then 40
+  EXPECT_EQ(steps.front(), 3);
+  EXPECT_EQ(steps[12], 39);
+  EXPECT_EQ(steps.back(), 40);
 }
 
 }  // namespace

@@ -1,0 +1,46 @@
+// The "report" section of an experiment's summary.json, which analysis/report.py gathers into
+// results/REPORT.md:
+//
+//   "report": {"title": "...", "section": "...",
+//              "claims": [{"claim": "...", "measured": "...", "holds": "yes" | "no" | "partly" | "n/a"}],
+//              "notes": ["..."], "figures": ["x.png"], "settings": {...}}
+//
+// title and claims are always written; section, notes, figures and settings only when given.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "experiments/experiment.h"
+
+namespace physik::experiments {
+
+class Report {
+ public:
+  explicit Report(std::string title) : title_(std::move(title)) {}
+
+  Report& section(const std::string& name);
+  // One claim row: the claim, what was measured, and whether it holds (yes, no, partly, n/a, or
+  // one of those with a reason in parentheses).
+  Report& claim(const std::string& text, const std::string& measured, const std::string& holds);
+  Report& note(const std::string& text);
+  Report& figures(const std::vector<std::string>& files);
+  // The engine settings the report states (common.h settings_json).
+  Report& settings(const nlohmann::json& settings);
+
+  nlohmann::json to_json() const;
+
+ private:
+  std::string title_, section_;
+  nlohmann::json claims_ = nlohmann::json::array();
+  std::vector<std::string> notes_, figures_;
+  nlohmann::json settings_;  // null = none
+};
+
+// Write <ctx.out_dir>/summary.json: `doc` with the report as its "report" section.
+void write_summary(const Context& ctx, nlohmann::json doc, const Report& report);
+
+}  // namespace physik::experiments

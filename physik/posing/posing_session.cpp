@@ -1,0 +1,120 @@
+// PosingSession: see posing_session.h (the solve rule and the hybrid switch-over).
+#include "physik/posing/posing_session.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "physik/engine/engine.h"
+#include "physik/engine/interpolation.h"
+#include "physik/engine/run_monitor.h"
+#include "physik/model/errors.h"
+
+namespace physik {
+
+PosingSession::PosingSession(const Scene& scene) : scene_(scene) {
+  for (std::size_t c = 0; c < scene_.control_points.size(); ++c) {
+    const ControlPoint& cp = scene_.control_points[c];
+    if (cp.bone < 0 || cp.bone >= scene_.rig.nbone) {
+      throw_input_error(scene_.file, "control_points[" + std::to_string(c) + "]", "bone",
+                        "no such bone in the rig");
+    }
+    goals_.push_back({cp.bone, cp.alpha, cp.target_world});
+  }
+  init_state(scene_, state_);
+  residuals_.resize(goals_.size());
+  reach_ = goals_.empty() ? 0.0 : chain_reach(scene_.rig, goals_);
+  start_pose_ = state_.pose;
+}
+
+void PosingSession::set_target(int c, const Vec3& target_world, bool interpolate) {
+  if (c < 0 || c >= num_control_points()) {
+    throw_input_error("set_target", "", "control point",
+                      "no control point " + std::to_string(c) + " (the scene has " +
+                          std::to_string(num_control_points()) + ")");
+  }
+  if (!target_world.allFinite()) {
+    throw_input_error("set_target", "", "target", "not finite");
+  }
+  if (interpolate) {
+    start_target_jump(scene_, state_, c, target_world);
+  } else {
+    state_.target_goal_world[c] = target_world;
+    state_.target_effective_world[c] = target_world;
+    state_.interp_steps_left[c] = 0;
+  }
+}
+
+StepStats PosingSession::advance(int steps) {
+  StepStats st;
+  for (int k = 0; k < steps; ++k) st = step(scene_, state_);
+  return st;
+}
+
+void PosingSession::set_pose(const Pose& pose) {
+  forward_kinematics(scene_.rig, pose, state_.frames);
+  for (int i = 0; i < scene_.rig.nbone; ++i) {
+    state_.com_world[i] = 0.5 * (state_.frames.head_world[i] + state_.frames.tail_world[i]);
+    state_.vel_world[i].setZero();
+    state_.omega_world[i].setZero();
+  }
+  state_.pose = pose;
+}
+
+double PosingSession::residual() const {
+  double r = 0.0;
+  for (std::size_t c = 0; c < goals_.size(); ++c) {
+    const ControlPoint& cp = scene_.control_points[c];
+    r = std::max(r, (point_on_bone(state_.frames, cp.bone, cp.alpha) - state_.target_goal_world[c]).norm());
+  }
+  return r;
+}
+
+SolveResult PosingSession::solve(const SolveRule& rule) {
+  if (goals_.empty()) throw_input_error(scene_.file, "control_points", "", "a solve needs a control point");
+  SolveResult out;
+  start_pose_ = state_.pose;  // same size: no allocation
+  out.tolerance = rule.tolerance > 0.0 ? rule.tolerance : rule.tolerance_fraction * reach_;
+  RunRules rules = run_rules(scene_);
+  rules.stop_at_residual = true;
+  rules.residual_tol = out.tolerance;
+  rules.stall_steps = rule.stall_steps;
+  rules.stall_fraction = rule.stall_fraction;
+  rules.last_event = std::min(rules.last_event, state_.step);  // past events are history
+  RunMonitor monitor(rules);
+  bool stop = false;
+  while (!stop && out.steps < rule.max_steps) {
+    const StepStats st = step(scene_, state_);
+    ++out.steps;
+    stop = monitor.observe(observe_step(scene_, state_, st));
+  }
+  out.diverged = monitor.diverged();
+  if (out.diverged) set_pose(start_pose_);
+  out.converged = monitor.converged();
+  out.stalled = !out.converged && !out.diverged;
+  out.residual = residual();
+  if (!out.converged && !out.diverged && rule.finish != SolveFinish::kNone) {
+    finish_with(rule, out.tolerance, out);
+  }
+  return out;
+}
+
+// The classic finish: the physics' pose is the start; the solved pose is put in at rest.
+bool PosingSession::finish_with(const SolveRule& rule, double tolerance, SolveResult& out) {
+  for (std::size_t c = 0; c < goals_.size(); ++c) goals_[c].target_world = state_.target_goal_world[c];
+  IkOptions opt = rule.finish_options;
+  opt.tolerance = tolerance;
+  Pose pose = state_.pose;
+  const IkReport rep = solve_ik(rule.finish == SolveFinish::kCcd ? IkMethod::kCcd
+                                                                  : IkMethod::kDampedLeastSquares,
+                                scene_.rig, goals_, pose, opt);
+  out.finish_iterations = rep.iterations;
+  if (rep.residual > out.residual) return false;  // never hand back a worse pose
+  set_pose(pose);
+  out.residual = residual();
+  out.converged = out.residual < tolerance;
+  out.stalled = !out.converged;
+  return true;
+}
+
+}  // namespace physik

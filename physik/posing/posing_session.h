@@ -1,0 +1,102 @@
+// PhysIK embedded in an animation tool: a session owns a scene's rig, parameters and simulation
+// state, takes target updates as the tool sends them (once per frame, as a user drags a control
+// point), and either advances the physics a few steps (live, with its secondary motion) or solves
+// the pose.
+//
+//   PosingSession session(scene);                 // allocates every buffer, once
+//   session.set_target(0, p);                     // no allocation
+//   session.advance(k);                           // k steps of the scene's engine; no allocation
+//   SolveResult r = session.solve(rule);          // until the residual rule says stop
+//
+// solve() is the paper's run-to-convergence used as an IK solver (Choi 2019, Sec. 6: "it may be
+// beneficial to pair the physical simulation with CCD or some other fast IK solver. The challenge
+// here would be figuring out when to stop the physical simulation and switch over"): the physics
+// runs until every control point is within the tolerance of its target, or until the residual
+// stops improving (the run monitor's stall rule, physik/engine/run_monitor.h), and then, when the
+// rule names a finish, hands the pose to CCD or DLS (physik/ik/ik_solver.h) to close the rest.
+// The switch-over rule is therefore the stall rule: "the residual stopped improving by
+// stall_fraction of itself over stall_steps steps".
+//
+// Frames and units: targets and poses are world frame, rig units; the state is the engine's
+// SimState (physik/engine/state.h). Nothing is allocated by set_target, advance, or a solve
+// without a finish (tests/posing/posing_session_test.cpp counts allocations); a classic finish
+// allocates inside the IK solver.
+#pragma once
+
+#include <vector>
+
+#include "physik/engine/run_summary.h"
+#include "physik/engine/state.h"
+#include "physik/ik/ik_solver.h"
+
+namespace physik {
+
+enum class SolveFinish {
+  kNone,  // physics only
+  kCcd,   // physics for the transient, then CCD
+  kDls,   // physics for the transient, then damped least squares
+};
+
+struct SolveRule {
+  double tolerance = 0.0;          // rig units; 0 = tolerance_fraction * reach
+  double tolerance_fraction = 1e-4;  // 1, of the chain's reach (as the classic solvers)
+  int max_steps = 2000;            // physics steps at most
+  int stall_steps = 50;            // steps; the residual stalled when it improved by less than
+  double stall_fraction = 0.01;    //   stall_fraction of itself over stall_steps steps
+  SolveFinish finish = SolveFinish::kNone;
+  IkOptions finish_options;        // the classic finish's options (its tolerance is ours)
+};
+
+struct SolveResult {
+  bool converged = false;    // every control point within the tolerance at the end
+  bool diverged = false;     // the physics diverged; the session is back at the pose the solve
+                             // started from, at rest
+  bool stalled = false;      // the physics stopped improving short of the tolerance
+  int steps = 0;             // physics steps taken by this solve
+  int finish_iterations = 0; // iterations of the classic finish (0 = none ran)
+  double residual = 0.0;     // rig units, the largest control-point distance at the end
+  double tolerance = 0.0;    // rig units, the one used
+};
+
+class PosingSession {
+ public:
+  // Copies the scene and puts its initial pose in (init_state). Throws InputError for a scene
+  // whose control points name bones the rig does not have.
+  explicit PosingSession(const Scene& scene);
+
+  int num_control_points() const { return static_cast<int>(scene_.control_points.size()); }
+  // Move control point c's target. interpolate = false jumps (a drag: the spring pulls toward
+  // the new point at once); true moves it along the scene's interpolation, as a schedule would.
+  // Throws InputError for a bad index or a non-finite target.
+  void set_target(int c, const Vec3& target_world, bool interpolate = false);
+
+  // `steps` steps of the scene's engine (its integration, joint solve and dt).
+  StepStats advance(int steps = 1);
+
+  // Run to the rule (see the top of this file). The session continues from the result.
+  // Throws InputError when the scene has no control point.
+  SolveResult solve(const SolveRule& rule = {});
+
+  // Put a pose in, at rest (velocities zero); the targets stay.
+  void set_pose(const Pose& pose);
+
+  // Largest distance of any control point from its target, rig units.
+  double residual() const;
+
+  const Scene& scene() const { return scene_; }
+  const SimState& state() const { return state_; }
+  const BoneFrames& frames() const { return state_.frames; }
+  const Pose& pose() const { return state_.pose; }
+
+ private:
+  bool finish_with(const SolveRule& rule, double tolerance, SolveResult& out);
+
+  Scene scene_;
+  SimState state_;
+  std::vector<IkGoal> goals_;        // (ncontrol) the control points as IK goals
+  std::vector<double> residuals_;    // (ncontrol) scratch, rig units
+  double reach_ = 0.0;               // rig units, chain_reach of the goals
+  Pose start_pose_;                  // where the current solve started (a divergence returns)
+};
+
+}  // namespace physik

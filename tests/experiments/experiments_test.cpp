@@ -1,0 +1,110 @@
+// The experiments register themselves (experiments/experiment.h): every expected one is there,
+// in the run order of `make reproduce`; the report builder (experiments/report.h) writes the
+// "report" section analysis/report.py reads; an experiment's trajectory table is the recorder's.
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "experiments/common.h"
+#include "experiments/experiment.h"
+#include "experiments/report.h"
+#include "physik/io/json_fields.h"
+#include "physik/io/scene_io.h"
+
+namespace physik::experiments {
+namespace {
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream buf;
+  buf << in.rdbuf();
+  return buf.str();
+}
+
+TEST(Experiments, EveryExpectedExperimentIsRegisteredInRunOrder) {
+  std::vector<std::string> names;
+  for (const Experiment& e : all_experiments()) names.push_back(e.name);
+  const std::vector<std::string> expected = {
+      "rest_poses",    "fig5_running",      "fig6_elbow",          "fig7_cannon",
+      "fig8_wobble",   "fig9_outstretched", "fig10_interpolation", "fig11_sit",
+      "hand_explodes", "timing",            "damping_sweep",       "mujoco_gap",
+      "ik_comparison", "tracking",          "tuning_study",        "scaling",
+      "beyond_the_paper"};
+  EXPECT_EQ(names, expected);
+}
+
+TEST(Experiments, EachHasAFigureADescriptionAndARun) {
+  std::set<std::string> names;
+  for (const Experiment& e : all_experiments()) {
+    EXPECT_FALSE(e.figure.empty()) << e.name;
+    EXPECT_FALSE(e.description.empty()) << e.name;
+    EXPECT_TRUE(static_cast<bool>(e.run)) << e.name;
+    EXPECT_TRUE(names.insert(e.name).second) << "registered twice: " << e.name;
+  }
+}
+
+TEST(Report, WritesTitleAndClaimsAndOnlyTheSectionsGiven) {
+  Report bare("A title");
+  const nlohmann::json b = bare.to_json();
+  EXPECT_EQ(b["title"], "A title");
+  EXPECT_TRUE(b["claims"].is_array());
+  EXPECT_TRUE(b["claims"].empty());
+  for (const char* key : {"section", "notes", "figures", "settings"}) EXPECT_FALSE(b.contains(key)) << key;
+
+  Report full("T");
+  full.section("baselines")
+      .claim("c1", "m1", "yes")
+      .claim("c2", "m2", "partly (why)")
+      .note("n1")
+      .note("n2")
+      .figures({"a.png", "b.png"})
+      .settings({{"dt", 0.05}});
+  const nlohmann::json f = full.to_json();
+  EXPECT_EQ(f["section"], "baselines");
+  ASSERT_EQ(f["claims"].size(), 2u);
+  EXPECT_EQ(f["claims"][1], (nlohmann::json{{"claim", "c2"}, {"measured", "m2"}, {"holds", "partly (why)"}}));
+  EXPECT_EQ(f["notes"], (nlohmann::json{"n1", "n2"}));
+  EXPECT_EQ(f["figures"], (nlohmann::json{"a.png", "b.png"}));
+  EXPECT_EQ(f["settings"]["dt"], 0.05);
+}
+
+// fig5_running (quick): its summary carries the report, and its trajectory table is the bytes a
+// recorder writes with the experiments' rule (a row every 10 steps and at step 1)
+TEST(Experiments, Fig5WritesItsReportAndTheRecordersTable) {
+  Context ctx;
+  ctx.out_dir = ::testing::TempDir() + "/experiments_fig5";
+  std::filesystem::remove_all(ctx.out_dir);
+  std::filesystem::create_directories(ctx.out_dir);
+  ctx.models_dir = std::string(PHYSIK_SOURCE_DIR) + "/models";
+  ctx.quick = true;
+  const Experiment* fig5 = nullptr;
+  for (const Experiment& e : all_experiments()) fig5 = e.name == "fig5_running" ? &e : fig5;
+  ASSERT_NE(fig5, nullptr);
+  fig5->run(ctx);
+
+  const nlohmann::json summary = read_json_file(ctx.out_dir + "/summary.json");
+  const nlohmann::json& report = summary["report"];
+  EXPECT_EQ(report["title"], "Fig 5: a running pose from 8 control points");
+  ASSERT_EQ(report["claims"].size(), 2u);
+  for (const auto& c : report["claims"]) {
+    for (const char* key : {"claim", "measured", "holds"}) EXPECT_TRUE(c[key].is_string()) << key;
+  }
+  EXPECT_TRUE(report["settings"].is_object());
+
+  Scene scene = load_scene(ctx.models_dir + "/scenes/fig5_running.json");
+  scene.steps = 100;  // the quick run's
+  std::ostringstream csv;
+  RecordOptions o = trajectory_table("", 10);
+  o.csv_stream = &csv;
+  record_run(scene, o);
+  EXPECT_EQ(read_file(ctx.out_dir + "/trajectory.csv"), csv.str());
+  EXPECT_EQ(csv.str().substr(csv.str().find('\n') + 1, 2), "1,");  // the first row is step 1
+}
+
+}  // namespace
+}  // namespace physik::experiments
