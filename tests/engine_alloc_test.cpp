@@ -27,11 +27,15 @@ namespace physik {
 namespace {
 
 TEST(EngineAllocations, StepAllocatesNothing) {
-  for (const char* integration : {"articulated", "free-rods", "exact"}) {
+  for (const char* integration : {"articulated", "free-rods", "exact", "implicit"}) {
     Scene scene = load_scene(test::model_path("scenes/pinhead_two_hands.json"));
     scene.params.integration = std::string(integration) == "free-rods" ? Integration::kFreeRods
                                                                        : Integration::kArticulated;
     if (std::string(integration) == "exact") scene.params.joint_solve = JointSolve::kExact;
+    if (std::string(integration) == "implicit") {
+      scene.params.integration = Integration::kImplicit;
+      scene.params.torsion_spring = SpringLaw::kCapped;
+    }
     scene.params.interpolation = Interpolation::kPolarCom;
     scene.schedule.push_back({20, 0, Vec3(1.0, -1.0, 0.5)});
     SimState s;

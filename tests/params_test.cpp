@@ -111,8 +111,16 @@ TEST(ParamTable, JointSolveIsWrittenOnlyAwayFromItsDefault) {
   const Json j = params_to_json(p);
   EXPECT_EQ(j["joint_solve"], "exact");
   EXPECT_EQ(params_from_json(j, "rt.json").joint_solve, JointSolve::kExact);
+  // damping_auto likewise (and "damping": "auto" reads as it)
+  EXPECT_FALSE(params_to_json(p).contains("damping_auto"));
+  p.damping_auto = true;
+  EXPECT_TRUE(params_to_json(p)["damping_auto"].get<bool>());
+  const Json a = {{"damping", "auto"}};
+  EXPECT_TRUE(params_from_json(a, "auto.json").damping_auto);
   for (const ParamRow& row : param_table()) {
-    if (row.name != "joint_solve") EXPECT_TRUE(row.written_at_default) << row.name;
+    if (row.name != "joint_solve" && row.name != "damping_auto") {
+      EXPECT_TRUE(row.written_at_default) << row.name;
+    }
   }
 }
 

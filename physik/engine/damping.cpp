@@ -5,7 +5,7 @@
 namespace physik {
 
 void apply_damping(const Rig& rig, const EngineParams& params, SimState& s) {
-  const double c = params.damping;
+  const double c = step_damping(params, s);
   if (c == 0.0) return;
   for (int i = 0; i < rig.nbone; ++i) {
     for (const Vec3* p : {&s.frames.head_world[i], &s.frames.tail_world[i]}) {

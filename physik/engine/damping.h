@@ -11,6 +11,12 @@
 
 namespace physik {
 
+// The damping a step uses (N s/m): params.damping, or the auto value (damping_auto,
+// linear_modes.h) kept in the state.
+inline double step_damping(const EngineParams& p, const SimState& s) {
+  return p.damping_auto ? s.damping_auto_value : p.damping;
+}
+
 void apply_damping(const Rig& rig, const EngineParams& params, SimState& state);
 
 }  // namespace physik

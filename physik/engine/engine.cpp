@@ -7,10 +7,12 @@
 #include <cstring>
 
 #include "physik/engine/forces.h"
+#include "physik/engine/implicit_step.h"
 #include "physik/engine/integrate.h"
 #include "physik/engine/integrate_joint_space.h"
 #include "physik/engine/interpolation.h"
 #include "physik/engine/joint_forces.h"
+#include "physik/engine/linear_modes.h"
 #include "physik/engine/newton_euler.h"
 #include "physik/engine/run_monitor.h"
 
@@ -59,17 +61,33 @@ void init_state(const Scene& scene, SimState& s) {
     s.target_effective_world[c] = point_on_bone(s.frames, cp.bone, cp.alpha);
     start_target_jump(scene, s, static_cast<int>(c), cp.target_world);
   }
+  if (scene.params.articulated_solve()) init_joint_space(rig, s);
+  if (scene.params.damping_auto) update_auto_damping(scene, s);
 }
+
+namespace {
+
+bool targets_change_now(const Scene& scene, const SimState& s) {
+  for (const TargetChange& t : scene.schedule) {
+    if (t.step == s.step) return true;
+  }
+  return false;
+}
+
+}  // namespace
 
 StepStats step(const Scene& scene, SimState& s) {
   const Rig& rig = scene.rig;
   const EngineParams& p = scene.params;
 
   update_targets(scene, s);
+  if (p.damping_auto && s.step > 0 && targets_change_now(scene, s)) update_auto_damping(scene, s);
   apply_forces(scene, s);
-  const bool exact = p.joint_solve == JointSolve::kExact;
+  const bool exact = p.articulated_solve();
   const auto t0 = std::chrono::steady_clock::now();
-  const JointSolveStats js = exact ? solve_articulated(rig, p, s) : solve_joint_forces(rig, p, s);
+  const JointSolveStats js = p.integration == Integration::kImplicit ? solve_implicit(scene, s)
+                             : exact ? solve_articulated(rig, p, s)
+                                     : solve_joint_forces(rig, p, s);
   const auto t1 = std::chrono::steady_clock::now();
   if (exact) {
     integrate_joint_space(rig, p, s);  // s.pose is its ball state: not rebuilt from the frames

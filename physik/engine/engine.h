@@ -8,7 +8,9 @@
 //   solve_joint_forces    Gauss-Seidel, corrected eq. 11                     joint_forces.h
 //   integrate             semi-implicit Euler, articulated or free rods      integrate.h
 // With joint_solve exact the last two are solve_articulated (Featherstone's articulated-body
-// algorithm) and integrate_joint_space (MuJoCo's Euler in joint space), integrate_joint_space.h.
+// algorithm) and integrate_joint_space (MuJoCo's Euler in joint space), integrate_joint_space.h;
+// with integration implicit, solve_implicit (linearised backward Euler, implicit_step.h) and
+// integrate_joint_space.
 #pragma once
 
 #include <cstdint>

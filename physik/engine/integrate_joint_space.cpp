@@ -34,13 +34,9 @@ void init_joint_space(const Rig& rig, SimState& s) {
   }
 }
 
-JointSolveStats solve_articulated(const Rig& rig, const EngineParams& params, SimState& s) {
-  ArticulatedBodyData& d = s.articulated;
-  d.torque_per_omega = (params.angular_velocity_factor - 1.0) / params.dt;
-  d.cancel_gyroscopic = !params.gyroscopic;
-  articulated_accelerations(rig, s, d);
-
-  // the inter-joint forces this implies (for checks): what the bodies feel beyond the external
+void articulated_joint_forces(const Rig& rig, SimState& s) {
+  const ArticulatedBodyData& d = s.articulated;
+  // what the bodies feel beyond the external wrench
   for (int i = 0; i < rig.nbone; ++i) {
     const Vec3 e = s.com_world[i] - d.point_world[i];
     const Vec3 alpha = d.accel_spatial[i].head<3>();
@@ -50,6 +46,15 @@ JointSolveStats solve_articulated(const Rig& rig, const EngineParams& params, Si
     s.joint_force_world[i] = rig.bone_mass[i] * a_com - s.force_world[i];
     s.joint_torque_world[i] = I * alpha + w.cross(I * w) - d.torque_ext_world[i];
   }
+}
+
+JointSolveStats solve_articulated(const Rig& rig, const EngineParams& params, SimState& s) {
+  ArticulatedBodyData& d = s.articulated;
+  d.torque_per_omega = (params.angular_velocity_factor - 1.0) / params.dt;
+  d.cancel_gyroscopic = !params.gyroscopic;
+  articulated_accelerations(rig, s, d);
+
+  articulated_joint_forces(rig, s);
   JointSolveStats stats;
   stats.passes = 1;  // one sweep of the recursion, no iteration
   stats.mismatch = 0.0;

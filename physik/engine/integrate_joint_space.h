@@ -41,6 +41,10 @@ void init_joint_space(const Rig& rig, SimState& state);
 // I alpha + w x I w - tau). force_world/torque_world are left as the force stages made them.
 JointSolveStats solve_articulated(const Rig& rig, const EngineParams& params, SimState& state);
 
+// joint_force_world/joint_torque_world from state.articulated's accelerations: m a - F and
+// I alpha + w x I w - tau (the implicit step's element forces of the step count among them)
+void articulated_joint_forces(const Rig& rig, SimState& state);
+
 // MuJoCo's Euler step of the joint state with state.articulated's accelerations, then the world
 // view (frames, com, vel, omega, the root's pose entry).
 void integrate_joint_space(const Rig& rig, const EngineParams& params, SimState& state);

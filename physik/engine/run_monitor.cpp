@@ -238,6 +238,8 @@ void fill_final_state(const Scene& scene, const SimState& s, RunSummary& out) {
   out.final_kinetic_energy = kinetic_energy(scene.rig, s);
   out.final_pose = s.pose;
   out.final_frames = s.frames;
+  out.damping_auto_value = s.damping_auto_value;
+  out.damping_auto_updates = s.damping_auto_updates;
 }
 
 }  // namespace physik

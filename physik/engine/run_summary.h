@@ -47,6 +47,8 @@ struct RunSummary {
   // the last state the run reached, or, when it went non-finite, the last finite one (its step in
   // final_pose_step, its KE in final_kinetic_energy, its residuals in final_residuals)
   int final_pose_step = 0;
+  double damping_auto_value = 0.0;      // N s/m, damping_auto's last choice (params.damping_auto)
+  int damping_auto_updates = 0;         // how often it was chosen (start + target changes)
   Pose final_pose;
   BoneFrames final_frames;
 };

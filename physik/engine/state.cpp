@@ -22,6 +22,12 @@ void size_state(const Rig& rig, std::size_t ncontrol, SimState& s) {
   s.member_force_world.assign(nmember, Vec3::Zero());
   s.joint_Sinv.assign(rig.joints.size(), Mat3::Zero());
 
+  s.accel_bias.assign(n, Vec6::Zero());
+  s.torsion_stiffness.assign(n, Vec3::Zero());
+  s.control_tangent.assign(ncontrol, Mat3::Zero());
+  s.damping_auto_value = 0.0;
+  s.damping_auto_updates = 0;
+
   s.target_effective_world.assign(ncontrol, Vec3::Zero());
   s.target_goal_world.assign(ncontrol, Vec3::Zero());
   s.interp_steps_left.assign(ncontrol, 0);

@@ -46,6 +46,16 @@ struct SimState {
                                         //   [i] R_i^T (w_i - w_parent), in bone i's frame
   ArticulatedBodyData articulated;      // the articulated-body algorithm's workspace
 
+  // --- implicit step workspace (integration implicit, implicit_step.h) ---
+  std::vector<Vec6> accel_bias;         // (nbone) velocity-product spatial accelerations a0_i
+                                        //   (qacc = 0) about o_i, (rad/s^2; rig units/s^2)
+  std::vector<Mat3> control_tangent;    // (ncontrol) K_c = dF/d(t - a) this step, N/m
+  std::vector<Vec3> torsion_stiffness;  // (nbone) -d tau/d theta per rest axis this step, N m/rad
+
+  // --- damping_auto (linear_modes.h) ---
+  double damping_auto_value = 0.0;      // N s/m, the damping chosen at the last target change
+  int damping_auto_updates = 0;         // how many times it was chosen this run
+
   // --- control points ---
   std::vector<Vec3> target_effective_world;  // (ncontrol) the target the spring pulls toward now
   std::vector<Vec3> target_goal_world;       // (ncontrol) where the target is heading

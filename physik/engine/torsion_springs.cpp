@@ -24,6 +24,24 @@ Vec3 torsion_torque_local(const std::array<AxisLimit, 3>& limits, const Vec3& th
   return tau;
 }
 
+Vec3 torsion_stiffness_local(const std::array<AxisLimit, 3>& limits, const Vec3& theta,
+                             const EngineParams& params) {
+  Vec3 k = Vec3::Zero();
+  for (int a = 0; a < 3; ++a) {
+    const AxisLimit& l = limits[a];
+    if (!l.limited) continue;
+    const double band = params.torsion_tolerance * (l.max - l.min);
+    const double lo = l.min + band, hi = l.max - band;
+    double d = 0.0;
+    if (theta[a] < lo) d = lo - theta[a];
+    if (theta[a] > hi) d = hi - theta[a];
+    if (d == 0.0) continue;
+    if (params.torsion_spring == SpringLaw::kCapped && std::abs(d) > params.torsion_cap) continue;
+    k[a] = params.torsion_k;
+  }
+  return k;
+}
+
 void apply_torsion_springs(const Rig& rig, const EngineParams& params, SimState& s) {
   if (params.torsion_k == 0.0) return;
   for (int i = 1; i < rig.nbone; ++i) {

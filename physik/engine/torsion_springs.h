@@ -22,6 +22,11 @@ namespace physik {
 Vec3 torsion_torque_local(const std::array<AxisLimit, 3>& limits, const Vec3& theta,
                           const EngineParams& params);
 
+// Its stiffness per axis, -d tau_k / d theta_k (N m/rad): k on an engaged axis (linear, or capped
+// within the cap), 0 outside the band or beyond the cap. For the implicit step and the modes.
+Vec3 torsion_stiffness_local(const std::array<AxisLimit, 3>& limits, const Vec3& theta,
+                             const EngineParams& params);
+
 // Requires state.pose to hold the current local rotations.
 void apply_torsion_springs(const Rig& rig, const EngineParams& params, SimState& state);
 

@@ -196,8 +196,13 @@ EngineParams params_from_json(const Json& params, const std::string& source,
                              : given ? ctx.string_or(params, "preset", kDefaultPreset)
                                      : std::string(kDefaultPreset);
   EngineParams p = preset_params(preset, source);
+  // "damping": "auto" is damping_auto: true (the damping row keeps the preset's value)
+  const bool damping_auto = given && params.contains("damping") && params["damping"].is_string() &&
+                            params["damping"].get<std::string>() == "auto";
+  if (damping_auto && !overrides.has("damping_auto")) p.damping_auto = true;
   for (const ParamRow& row : param_table()) {
     if (!given || overrides.has(row.name)) continue;  // an overridden value is not read
+    if (damping_auto && row.name == "damping") continue;
     if (const auto v = param_from_json(ctx, params, row.name, row)) row.set(p, *v);
   }
   overrides.apply(p);

@@ -12,7 +12,7 @@ nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s) {
   const double h = scene.rig.height() > 0.0 ? scene.rig.height() : scene.rig.length_scale();
   nlohmann::json rel = nlohmann::json::array();
   for (double r : s.final_residuals) rel.push_back(r / h);
-  return {{"scene", scene.file},
+  nlohmann::json out = {{"scene", scene.file},
           {"rig", scene.rig_file},
           {"params", params_to_json(scene.params)},
           {"converged", s.converged},
@@ -45,6 +45,12 @@ nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s) {
                            static_cast<unsigned long long>(state_hash(s.final_frames)));
              return std::string(buf);
            }()}};
+  // damping_auto's choice (N s/m), only when it was asked for: other summaries stay as they were
+  if (scene.params.damping_auto) {
+    out["damping_auto_value"] = s.damping_auto_value;
+    out["damping_auto_updates"] = s.damping_auto_updates;
+  }
+  return out;
 }
 
 }  // namespace physik

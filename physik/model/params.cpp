@@ -17,17 +17,17 @@ const std::vector<std::string>& choice_names(SpringLaw) {
 }
 
 const std::vector<std::string>& choice_names(Integration) {
-  static const std::vector<std::string> names = {"articulated", "free-rods"};
-  return names;
-}
-
-const std::vector<std::string>& choice_names(Interpolation) {
-  static const std::vector<std::string> names = {"none", "linear", "polar-head", "polar-com"};
+  static const std::vector<std::string> names = {"articulated", "free-rods", "implicit"};
   return names;
 }
 
 const std::vector<std::string>& choice_names(JointSolve) {
   static const std::vector<std::string> names = {"gauss-seidel", "exact"};
+  return names;
+}
+
+const std::vector<std::string>& choice_names(Interpolation) {
+  static const std::vector<std::string> names = {"none", "linear", "polar-head", "polar-com"};
   return names;
 }
 
@@ -132,6 +132,10 @@ std::vector<ParamRow> build_table() {
       tuned(row<&E::damping>("damping", "N s/m", {3.0, 20.0}, kNonNegative,
                              "force -c v at the head and the tail of every bone"),
             0.01, 100.0),
+      omitted_at_default(row<&E::damping_auto>(
+          "damping_auto", "", {false, false}, kAny,
+          "damping chosen for critical damping of the slowest linearised mode at the start pose, "
+          "again when the targets change (`damping` unused)")),
       tuned(row<&E::angular_velocity_factor>("angular_velocity_factor", "1", {0.5, 0.5},
                                              closed(0.0, 1.0), "w <- f w + alpha dt every step"),
             0.01, 1.0),
@@ -170,7 +174,9 @@ std::vector<ParamRow> build_table() {
           "joint_solve", "", {JointSolve::kGaussSeidel, JointSolve::kGaussSeidel}, kAny,
           "gauss-seidel (the paper's passes) or exact (articulated-body algorithm, MuJoCo's Euler)")),
       row<&E::integration>("integration", "", {Integration::kArticulated, Integration::kArticulated},
-                           kAny, "articulated (the original's: FK from the root) or free-rods (the paper's text)"),
+                           kAny, "articulated (the original's: FK from the root), free-rods (the "
+                           "paper's text) or implicit (linearised backward Euler over the exact "
+                           "solve; implies joint_solve exact)"),
       row<&E::interpolation>("interpolation", "", {Interpolation::kLinear, Interpolation::kLinear},
                              kAny, "how a target jump is spread over steps (eq. 12)"),
       row<&E::interpolation_steps>("interpolation_steps", "steps", {12, 12}, kNonNegative,
@@ -362,6 +368,10 @@ ParamOverrides parse_param_overrides(const std::vector<std::string>& assignments
     if (key == "preset") {
       preset_params(value, source);  // an unknown preset fails here, naming `source`
       out.preset = value;
+      continue;
+    }
+    if (key == "damping" && value == "auto") {  // sugar for damping_auto=true
+      out.values.emplace_back(&param_row("damping_auto"), 1.0);
       continue;
     }
     const ParamRow* row = find_param(key);

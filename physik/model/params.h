@@ -22,7 +22,9 @@
 namespace physik {
 
 enum class SpringLaw { kLinear, kCapped };
-enum class Integration { kArticulated, kFreeRods };
+// kImplicit: linearised backward Euler over the exact articulated solve (implicit_step.h); it
+// implies joint_solve exact
+enum class Integration { kArticulated, kFreeRods, kImplicit };
 enum class Interpolation { kNone, kLinear, kPolarHead, kPolarCom };
 // how the joints are solved each step: the paper's Gauss-Seidel passes (joint_forces.h), or the
 // exact articulated-body algorithm with MuJoCo's Euler step in joint space (articulated_body.h)
@@ -44,6 +46,9 @@ struct EngineParams {
   std::string preset;                    // the preset the values started from
   double dt;                             // s, time step
   double damping;                        // N s/m, force -c v at each bone end
+  bool damping_auto;                     // choose damping for critical damping of the slowest
+                                         // linearised mode (linear_modes.h) at the start pose
+                                         // and whenever the targets change
   double angular_velocity_factor;        // 1, every bone's angular velocity is scaled by it each step
   double joint_eps;                      // rig units/s^2, stop the joint passes below this mismatch
   double joint_eps_relative;             // 1; > 0: the passes also go on until every joint's
@@ -60,15 +65,19 @@ struct EngineParams {
   double torsion_cap;                    // rad, cap of capped torsion springs
   double torsion_tolerance;              // 1, fraction of the range inside each limit where the
                                          //    torsion spring engages
-  JointSolve joint_solve;                // exact: integration, joint_eps, max_passes, centripetal
-                                         //        do not apply
-  Integration integration;
+  JointSolve joint_solve;                // exact: integration articulated/free-rods, joint_eps,
+                                         //        max_passes, centripetal do not apply
+  Integration integration;               // implicit implies joint_solve exact
   Interpolation interpolation;
   int interpolation_steps;               // steps over which a target jump is spread
                                          // (original: 25% of its 50 iterations)
   double interpolation_fallback;         // rig units: polar falls back to linear this near the origin
 
   int passes_cap(int nbone) const { return max_passes > 0 ? max_passes : 5 * nbone * nbone; }
+  // the exact articulated solve runs (joint_solve exact, or the implicit step)
+  bool articulated_solve() const {
+    return joint_solve == JointSolve::kExact || integration == Integration::kImplicit;
+  }
 };
 
 // --- the parameter table ---------------------------------------------------------------------

@@ -1,0 +1,154 @@
+#include "physik/engine/implicit_step.h"
+
+#include "physik/engine/articulated_body.h"
+#include "physik/engine/control_springs.h"
+#include "physik/engine/integrate_joint_space.h"
+#include "physik/engine/newton_euler.h"
+#include "physik/engine/torsion_springs.h"
+
+namespace physik {
+
+void element_tangents(const Scene& scene, SimState& s) {
+  const EngineParams& p = scene.params;
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    const Vec3 a = point_on_bone(s.frames, cp.bone, cp.alpha);
+    s.control_tangent[c] =
+        spring_tangent(cp.spring_in(p), cp.k_in(p), cp.cap_in(p), s.target_effective_world[c] - a);
+  }
+  const Rig& rig = scene.rig;
+  for (int i = 0; i < rig.nbone; ++i) {
+    const auto& limits = rig.bone_limit[i];
+    const bool limited = limits[0].limited || limits[1].limited || limits[2].limited;
+    s.torsion_stiffness[i] =
+        i == 0 || !limited || p.torsion_k == 0.0
+            ? Vec3::Zero()
+            : torsion_stiffness_local(limits, rotation_vector(s.pose.bone_local_rotation[i]), p);
+  }
+}
+
+Mat3 torsion_block_world(const Rig& rig, const SimState& s, int i) {
+  const Mat3 R = (s.frames.orient_world[rig.bone_parent[i]] * rig.bone_rest_orient_parent[i])
+                     .toRotationMatrix();
+  return R * s.torsion_stiffness[i].asDiagonal() * R.transpose();
+}
+
+void add_point_inertia(const Mat3& A, const Vec3& r, SpatialInertia& I) {
+  const Mat3 RA = skew(r) * A;  // [r]x A
+  I.A.noalias() += RA * skew(r).transpose();
+  I.B += RA;
+  I.C += A;
+}
+
+namespace {
+
+// -Phi^T A Phi a0 into the body's bias force: the element force's velocity-product share
+inline void add_point_bias(const Mat3& A, const Vec3& r, const Vec6& a0, Vec6& bias) {
+  const Vec3 f = A * (a0.tail<3>() + a0.head<3>().cross(r));  // A times the point's a0
+  bias.head<3>() -= r.cross(f);
+  bias.tail<3>() -= f;
+}
+
+// the stiffness' share of the step on the right-hand side: -h K v per element
+void add_stiffness_rate_forces(const Scene& scene, double h, SimState& s) {
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    const Vec3 a = point_on_bone(s.frames, cp.bone, cp.alpha);
+    const Vec3 v = s.vel_world[cp.bone] + s.omega_world[cp.bone].cross(a - s.com_world[cp.bone]);
+    apply_force_at(s, cp.bone, -h * (s.control_tangent[c] * v), a);
+  }
+  const Rig& rig = scene.rig;
+  for (int i = 1; i < rig.nbone; ++i) {
+    if (s.torsion_stiffness[i].isZero(0.0)) continue;
+    const int p = rig.bone_parent[i];
+    const Vec3 tau = -h * (torsion_block_world(rig, s, i) * (s.omega_world[i] - s.omega_world[p]));
+    s.torque_world[i] += tau;
+    s.torque_world[p] -= tau;
+  }
+}
+
+// a0_i = X a0_p + c_i (root: c_0): the spatial accelerations when qacc = 0
+void velocity_product_accels(const Rig& rig, const ArticulatedBodyData& d, std::vector<Vec6>& a0) {
+  if (rig.nbone == 0) return;
+  a0[0] = d.bias_accel[0];
+  for (int i = 1; i < rig.nbone; ++i) {
+    const Vec6& ap = a0[rig.bone_parent[i]];
+    const Vec3 r = d.point_world[i] - d.point_world[rig.bone_parent[i]];
+    a0[i].head<3>() = ap.head<3>() + d.bias_accel[i].head<3>();
+    a0[i].tail<3>() = ap.tail<3>() - r.cross(ap.head<3>()) + d.bias_accel[i].tail<3>();
+  }
+}
+
+// h D + h^2 K of the body elements into the articulated inertias and bias forces
+void augment_bodies(const Scene& scene, double h, double c, SimState& s) {
+  const Rig& rig = scene.rig;
+  ArticulatedBodyData& d = s.articulated;
+  const double rot = 1.0 - scene.params.angular_velocity_factor;  // h D of the factor / I_com
+  const Mat3 damper = h * c * Mat3::Identity();
+  for (int i = 0; i < rig.nbone; ++i) {
+    const Vec3& o = d.point_world[i];
+    const Vec6& a0 = s.accel_bias[i];
+    SpatialInertia& I = d.inertia_art[i];
+    Vec6& bias = d.bias_force[i];
+    if (rot != 0.0) {
+      const Mat3 Ir = rot * d.inertia_com_world[i];
+      I.A += Ir;
+      bias.head<3>() -= Ir * a0.head<3>();
+    }
+    if (c != 0.0) {
+      for (const Vec3* p : {&s.frames.head_world[i], &s.frames.tail_world[i]}) {
+        add_point_inertia(damper, *p - o, I);
+        add_point_bias(damper, *p - o, a0, bias);
+      }
+    }
+  }
+  for (std::size_t k = 0; k < scene.control_points.size(); ++k) {
+    const ControlPoint& cp = scene.control_points[k];
+    const Mat3 A = h * h * s.control_tangent[k];
+    const Vec3 r = point_on_bone(s.frames, cp.bone, cp.alpha) - d.point_world[cp.bone];
+    add_point_inertia(A, r, d.inertia_art[cp.bone]);
+    add_point_bias(A, r, s.accel_bias[cp.bone], d.bias_force[cp.bone]);
+  }
+}
+
+// h^2 K_j of the torsion springs as joint blocks
+void joint_blocks(const Rig& rig, double h, SimState& s) {
+  ArticulatedBodyData& d = s.articulated;
+  d.joint_blocks = false;
+  for (int i = 1; i < rig.nbone; ++i) {
+    if (s.torsion_stiffness[i].isZero(0.0)) {
+      d.joint_block[i].setZero();
+      continue;
+    }
+    d.joint_block[i] = h * h * torsion_block_world(rig, s, i);
+    d.joint_blocks = true;
+  }
+}
+
+}  // namespace
+
+JointSolveStats solve_implicit(const Scene& scene, SimState& s) {
+  const Rig& rig = scene.rig;
+  const EngineParams& p = scene.params;
+  const double h = p.dt;
+  ArticulatedBodyData& d = s.articulated;
+  d.torque_per_omega = (p.angular_velocity_factor - 1.0) / h;  // the explicit factor torque
+  d.cancel_gyroscopic = !p.gyroscopic;
+
+  element_tangents(scene, s);
+  add_stiffness_rate_forces(scene, h, s);             // tau - h K v
+  articulated_velocity_pass(rig, s, d);               // rigid inertias, bias forces
+  velocity_product_accels(rig, d, s.accel_bias);
+  augment_bodies(scene, h, step_damping(p, s), s);    // + h D + h^2 K of body elements
+  joint_blocks(rig, h, s);                            // + h^2 K of joint elements
+  articulated_backward_pass(rig, d);
+  articulated_forward_pass(rig, s, d);
+  articulated_joint_forces(rig, s);
+
+  JointSolveStats stats;
+  stats.passes = 1;  // one sweep of the recursion, no iteration
+  stats.mismatch = 0.0;
+  return stats;
+}
+
+}  // namespace physik

@@ -1,0 +1,72 @@
+// The implicit step (integration implicit; DESIGN.md "Implicit step"): linearised backward Euler
+// over the exact articulated solve, in O(n), with no allocation per step.
+//
+// Sources: D. Baraff and A. Witkin, "Large steps in cloth simulation", SIGGRAPH 1998, eq. 6-7
+// (one Newton step of backward Euler, forces linearised about the start of the step); MuJoCo's
+// `implicit` integrator does the same for damping (mj_implicit: M - h dqfrc/dqvel); R. Featherstone,
+// Rigid Body Dynamics Algorithms, 2008, ch. 7 (the articulated-body algorithm, here
+// articulated_body.h).
+//
+// Derivation. Joint space as joint_solve exact: qvel v (root v_com world, root w local, ball u
+// local), M(q) v' + C(q, v) = tau(q, v). Backward Euler, v+ = v + h a, q+ = q (+) h v+, with tau
+// taken at the end of the step and linearised (K = -d tau/dq, D = -d tau/dv, both at the start):
+//   tau(q+, v+) ~ tau - K h (v + h a) - D h a
+// gives
+//   (M + h D + h^2 K) a = tau - C - h K v                                            (1)
+// then the same Euler update as the explicit exact step (integrate_joint_space.h): v += h a,
+// positions from the new v. Velocity products C and the gyroscopic term stay explicit.
+//
+// Every PhysIK force is an element whose D and K are known in closed form (Gauss-Newton: the
+// curvature of the attachment point p(q) and of the torsion's log map is dropped, so K is
+// symmetric positive semi-definite and M + h D + h^2 K positive definite for every h > 0):
+//   point element with 3x3 matrix A at a point p of body b: J_p^T A J_p, J_p the point's velocity
+//     Jacobian. With J_p = Phi J_b, Phi = [-[r]x, 1] on b's spatial velocity (w; v_o) about o_b,
+//     r = p - o_b, this is body b's spatial inertia plus Phi^T A Phi = [[r]x A [r]x^T, [r]x A;
+//     A [r]x^T, A] (a "point mass" A at r): the augmented inertia. Elements:
+//       end damper        A = h c 1                     (head and tail of every bone)
+//       control spring    A = h^2 K_c, K_c = spring_tangent (control_springs.h; the capped law's
+//                         tangent beyond the cap)
+//   angular-velocity factor f: the explicit torque I (f - 1) w / h (as the exact step) is a
+//     rotational damper D = (1 - f) / h I_com, so h D = (1 - f) I_com on the body's angular block
+//     (zero when f = 1, "off")
+//   torsion spring at bone i (joint element): tau_world = R_pr tau_local(theta), R_pr = R_p R_rest,
+//     theta the rotation vector of the ball; d theta ~ R_pr^T (w_i - w_p) dt, so on the ball's
+//     world-axes rate (w_i - w_p) = R_i u: K_j = R_pr diag(k_axis) R_pr^T (torsion_stiffness_local);
+//     h^2 K_j is the joint's 3x3 block (articulated_body.h joint_block: D_i = U_i... + J_i)
+// Right-hand side of (1): the start-of-step forces (force stages unchanged), plus -h K v per
+// stiffness element: the force -h K_c v_p at each control point, the torque pair -h K_j (w_i - w_p)
+// at each torsion spring.
+// The augmented inertia also multiplies the velocity-product part of the body's spatial
+// acceleration (a_b = J_b a + a0_b, a0_b the accelerations at a = 0): the element force is
+// -A Phi (a_b - a0_b), so each body's bias force gets -Phi^T A Phi a0_b as well; then the
+// recursion solves (1) exactly (tests/implicit_step_test.cpp: against a dense M + h D + h^2 K
+// from finite differences).
+// Large h: (1) tends to K (v + h a) = tau / h, i.e. q+ - q = K^-1 tau, a Gauss-Newton step on the
+// spring and torsion potential: large steps are the static solve (tune/equilibrium.h).
+// One DOF (mass m, damper c, spring k): x+ = ((m + h c) x + h m v) / S, v+ = (m v - h k x) / S,
+// S = m + h c + h^2 k; det = m / S < 1, both eigenvalues inside the unit circle for all h, c, k > 0,
+// and E = (m v^2 + k x^2) / 2 never grows: E+ - E = -h c v+^2 - m (v+ - v)^2 / 2 - k (x+ - x)^2 / 2.
+// Units: s, kg, N, N m, rig units, rad.
+#pragma once
+
+#include "physik/engine/damping.h"
+#include "physik/engine/joint_forces.h"
+#include "physik/engine/state.h"
+#include "physik/model/scene.h"
+
+namespace physik {
+
+// After the force stages (apply_forces): the implicit solve of (1). state.articulated then holds
+// the accelerations a for integrate_joint_space, as solve_articulated's would.
+JointSolveStats solve_implicit(const Scene& scene, SimState& state);
+
+// Pieces, exposed for the tests and the linear modes:
+// the tangents of this step: state.control_tangent (per control point) and
+// state.torsion_stiffness (per bone, local axes)
+void element_tangents(const Scene& scene, SimState& state);
+// R_pr diag(k) R_pr^T: bone i's torsion stiffness on its world-axes relative rate, N m/rad
+Mat3 torsion_block_world(const Rig& rig, const SimState& state, int bone);
+// Phi^T A Phi for a point element A at offset r from the body's point: adds to `inertia`
+void add_point_inertia(const Mat3& A, const Vec3& r, SpatialInertia& inertia);
+
+}  // namespace physik

@@ -1,0 +1,320 @@
+// The implicit step (physik/engine/implicit_step.h): the one-DOF spring-damper recurrence against
+// its closed form for every h, c, k > 0; energy never grows on linear cases; the capped and torsion
+// tangents against finite differences; the augmented-inertia recursion against a dense
+// (M + h D + h^2 K) a = tau - C - h K v with K and D built from finite differences of the force laws
+// and point Jacobians, on random trees; no allocation per step is in engine_alloc_test.
+#include "physik/engine/implicit_step.h"
+
+#include <cmath>
+#include <complex>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "physik/engine/control_springs.h"
+#include "physik/engine/engine.h"
+#include "physik/engine/forces.h"
+#include "physik/engine/torsion_springs.h"
+#include "tests/dense_dynamics.h"
+#include "tests/engine_test_util.h"
+#include "tests/test_util.h"
+
+namespace physik {
+namespace {
+
+using dense::MatX;
+using dense::VecX;
+
+// A rod translating on a spring at its centre with dampers at both ends: m x'' = -k x - 2 c x'.
+Scene rod_scene(double h, double c, double k, const Vec3& offset, const Vec3& v0) {
+  EngineParams p = test::bare_params(h);
+  p.integration = Integration::kImplicit;
+  p.damping = c;
+  Scene s = test::scene_for(test::one_rod(2.0, 1.7), p, 60);
+  s.control_points = {test::control(0, 0.5, Vec3(0, 0, 1) - offset, k)};
+  s.initial_velocity_world = v0;
+  return s;
+}
+
+// the closed form of the recurrence (implicit_step.h): [x+; v+] = A [x; v]
+Eigen::Matrix2d recurrence(double m, double h, double c, double k) {
+  const double S = m + h * c + h * h * k;
+  Eigen::Matrix2d A;
+  A << m + h * c, h * m, -h * k, m;
+  return A / S;
+}
+
+TEST(ImplicitStep, OneDofRecurrenceMatchesItsClosedFormAndIsStableForEveryStep) {
+  const double m = 1.7;
+  for (double h : {1e-3, 0.05, 1.0, 100.0}) {
+    for (double c : {1e-3, 3.0, 1000.0}) {
+      for (double k : {0.1, 10.0, 1e4}) {
+        const Scene s = rod_scene(h, c, k, Vec3(0.7, 0, 0), Vec3(0, 0, 0));
+        SimState st;
+        init_state(s, st);
+        const Eigen::Matrix2d A = recurrence(m, h, c + c, k);  // two end dampers
+        // eigenvalues of the closed form: inside the unit circle
+        const double tr = A.trace(), det = A.determinant();
+        const std::complex<double> disc = std::sqrt(std::complex<double>(tr * tr - 4 * det));
+        const double rho = std::max(std::abs(0.5 * (tr + disc)), std::abs(0.5 * (tr - disc)));
+        EXPECT_LT(rho, 1.0) << "h " << h << " c " << c << " k " << k;
+        EXPECT_NEAR(det, m / (m + 2 * h * c + h * h * k), 1e-15);
+        Eigen::Vector2d xv(0.7, 0.0);
+        for (int n = 0; n < 60; ++n) {
+          step(s, st);
+          xv = A * xv;
+          const double x = st.com_world[0].x() - s.control_points[0].target_world.x();
+          ASSERT_NEAR(x, xv[0], 1e-12 * (1.0 + std::abs(xv[0])) + 1e-14)
+              << "step " << n << " h " << h << " c " << c << " k " << k;
+          ASSERT_NEAR(st.vel_world[0].x(), xv[1], 1e-11 * (1.0 + std::abs(xv[1])) + 1e-14);
+          ASSERT_TRUE(st.omega_world[0].norm() < 1e-12);
+        }
+      }
+    }
+  }
+}
+
+TEST(ImplicitStep, EnergyNeverGrowsOnLinearCases) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> lg(-3.0, 3.0), u(-1.0, 1.0);
+  for (int trial = 0; trial < 60; ++trial) {
+    const double h = std::pow(10.0, lg(rng)), c = std::pow(10.0, lg(rng)),
+                 k = std::pow(10.0, lg(rng));
+    const Vec3 offset(u(rng), u(rng), u(rng)), v0(u(rng), u(rng), u(rng));
+    const Scene s = rod_scene(h, c, k, offset, 3.0 * v0);
+    SimState st;
+    init_state(s, st);
+    const Vec3 target = s.control_points[0].target_world;
+    const auto energy = [&] {
+      return kinetic_energy(s.rig, st) + 0.5 * k * (st.com_world[0] - target).squaredNorm();
+    };
+    double e = energy();
+    const double round_off = 1e-13 * e;  // J: position round-off once the energy has decayed
+    for (int n = 0; n < 40; ++n) {
+      step(s, st);
+      const double e_next = energy();
+      ASSERT_LE(e_next, e + round_off) << "h " << h << " c " << c << " k " << k << " step " << n;
+      e = e_next;
+    }
+  }
+}
+
+TEST(ImplicitStep, CappedTangentEqualsFiniteDifferences) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  const double eps = 1e-6;
+  for (int trial = 0; trial < 200; ++trial) {
+    const SpringLaw law = trial % 2 ? SpringLaw::kCapped : SpringLaw::kLinear;
+    const double k = 0.1 + std::abs(u(rng)) * 20.0, cap = 0.05 + std::abs(u(rng));
+    const Vec3 d(u(rng), u(rng), u(rng));
+    if (std::abs(d.norm() - cap) < 1e-3) continue;  // the kink of the capped law
+    const Mat3 K = spring_tangent(law, k, cap, d);
+    Mat3 fd;
+    for (int j = 0; j < 3; ++j) {
+      const Vec3 e = eps * Vec3::Unit(j);
+      fd.col(j) = (spring_force(law, k, cap, d + e) - spring_force(law, k, cap, d - e)) / (2 * eps);
+    }
+    EXPECT_LT((K - fd).norm(), 1e-7 * k) << "law " << to_string(law) << " |d| " << d.norm();
+    EXPECT_LT((K - K.transpose()).norm(), 1e-14 * k);
+    EXPECT_GE(Eigen::SelfAdjointEigenSolver<Mat3>(K).eigenvalues().minCoeff(), -1e-12 * k);
+  }
+}
+
+TEST(ImplicitStep, TorsionStiffnessEqualsFiniteDifferences) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  const double eps = 1e-7;
+  for (int trial = 0; trial < 200; ++trial) {
+    EngineParams p = preset_params("original");
+    p.torsion_k = 7.0;
+    p.torsion_spring = trial % 2 ? SpringLaw::kCapped : SpringLaw::kLinear;
+    p.torsion_cap = 0.3;
+    std::array<AxisLimit, 3> limits;
+    for (int a = 0; a < 3; ++a) {
+      const double lo = std::min(u(rng), 0.0), hi = lo + std::abs(u(rng)) * (a == 1 ? 0.0 : 1.0);
+      limits[a] = {trial % 5 != a, lo, hi};  // some axes free, y locked
+    }
+    const Vec3 theta(u(rng), u(rng), u(rng));
+    const Vec3 k = torsion_stiffness_local(limits, theta, p);
+    for (int a = 0; a < 3; ++a) {
+      const Vec3 e = eps * Vec3::Unit(a);
+      const Vec3 fd = (torsion_torque_local(limits, theta + e, p) -
+                       torsion_torque_local(limits, theta - e, p)) / (2 * eps);
+      if (std::abs(fd[a] + k[a]) > 1e-5) {
+        // only at a kink (the band edge or the cap) may the two differ
+        const Vec3 fd1 = (torsion_torque_local(limits, theta + 1e3 * e, p) -
+                          torsion_torque_local(limits, theta - 1e3 * e, p)) / (2e3 * eps);
+        ADD_FAILURE() << "axis " << a << " stiffness " << k[a] << " finite difference " << -fd[a]
+                      << " (wider " << -fd1[a] << ")";
+      }
+      for (int b = 0; b < 3; ++b) {
+        if (b != a) {
+          EXPECT_NEAR(fd[b], 0.0, 1e-6);  // axes independent: a diagonal stiffness
+        }
+      }
+    }
+  }
+}
+
+// --- the recursion against a dense solve -----------------------------------------------------
+
+struct Case {
+  Scene scene;
+  SimState s;
+};
+
+// a random tree with a random moving joint state, limits some of which are violated (engaged
+// torsion springs), control points of both laws with random targets
+Case random_case(std::mt19937& rng, int n, double h, double c, double f) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Case out;
+  Scene& sc = out.scene;
+  sc.file = "<random>";
+  sc.rig = dense::random_rig(rng, n);
+  for (int i = 1; i < n; ++i) {
+    for (int a = 0; a < 3; ++a) {
+      if ((i + a) % 3 == 0) sc.rig.bone_limit[i][a] = {true, -0.2, 0.1 + 0.1 * a};
+    }
+  }
+  sc.params = preset_params("original");
+  sc.params.integration = Integration::kImplicit;
+  sc.params.dt = h;
+  sc.params.damping = c;
+  sc.params.angular_velocity_factor = f;
+  sc.params.torsion_k = 13.0;
+  sc.params.torsion_spring = n % 2 ? SpringLaw::kCapped : SpringLaw::kLinear;
+  sc.params.torsion_cap = 0.4;
+  sc.initial_pose = rest_pose(sc.rig);
+  const int ncp = 1 + n / 2;
+  for (int k = 0; k < ncp; ++k) {
+    const int bone = std::uniform_int_distribution<int>(0, n - 1)(rng);
+    sc.control_points.push_back(test::control(bone, 0.5 + 0.5 * u(rng), 2.0 * Vec3(u(rng), u(rng), u(rng)),
+                                              5.0 + 20.0 * std::abs(u(rng)),
+                                              k % 2 ? SpringLaw::kCapped : SpringLaw::kLinear, 0.3));
+  }
+  SimState& s = out.s;
+  size_state(sc.rig, sc.control_points.size(), s);
+  s.pose = rest_pose(sc.rig);
+  forward_kinematics(sc.rig, s.pose, s.frames);
+  init_joint_space(sc.rig, s);
+  for (int i = 1; i < n; ++i) {
+    s.pose.bone_local_rotation[i] = Quat(Eigen::AngleAxisd(1.5 * u(rng), dense::random_unit(rng)));
+  }
+  s.root_com_world = Vec3(u(rng), u(rng), u(rng));
+  s.root_orient_world = Quat(Eigen::AngleAxisd(3.0 * u(rng), dense::random_unit(rng)));
+  s.root_vel_world = 2.0 * Vec3(u(rng), u(rng), u(rng));
+  for (int i = 0; i < n; ++i) s.joint_vel_local[i] = 2.0 * Vec3(u(rng), u(rng), u(rng));
+  world_from_joint_space(sc.rig, s);
+  for (std::size_t k = 0; k < sc.control_points.size(); ++k) {
+    s.target_effective_world[k] = sc.control_points[k].target_world;
+  }
+  return out;
+}
+
+// the torsion spring's torque in world axes as a function of the ball's rotation vector
+Vec3 torsion_world(const Scene& sc, const SimState& s, int i, const Vec3& theta) {
+  const Quat Rpr = s.frames.orient_world[sc.rig.bone_parent[i]] * sc.rig.bone_rest_orient_parent[i];
+  return Rpr * torsion_torque_local(sc.rig.bone_limit[i], theta, sc.params);
+}
+
+// K and D of every element from finite differences of the force laws, assembled through the
+// dense Jacobians (Gauss-Newton: J^T (-dF/dx) J)
+void dense_K_D(const Case& cs, MatX& K, MatX& D) {
+  const Scene& sc = cs.scene;
+  const SimState& s = cs.s;
+  const Rig& rig = sc.rig;
+  const int nv = dense::nv(rig);
+  const double eps = 1e-6, h = sc.params.dt;
+  K.setZero(nv, nv);
+  D.setZero(nv, nv);
+  for (const ControlPoint& cp : sc.control_points) {
+    const Vec3 a = point_on_bone(s.frames, cp.bone, cp.alpha);
+    const Vec3 d = cp.target_world - a;
+    Mat3 Kc;  // -dF/da by central differences
+    for (int j = 0; j < 3; ++j) {
+      const Vec3 e = eps * Vec3::Unit(j);
+      Kc.col(j) = -(spring_force(*cp.spring, *cp.k, *cp.cap, d - e) -
+                    spring_force(*cp.spring, *cp.k, *cp.cap, d + e)) / (2 * eps);
+    }
+    Kc = 0.5 * (Kc + Kc.transpose());
+    const MatX Jp = dense::point_jacobian(rig, s, cp.bone, a);
+    K += Jp.transpose() * Kc * Jp;
+  }
+  MatX Jw, Jv, Jwp, Jvp;
+  for (int b = 0; b < rig.nbone; ++b) {
+    for (const Vec3* p : {&s.frames.head_world[b], &s.frames.tail_world[b]}) {
+      const MatX Jp = dense::point_jacobian(rig, s, b, *p);
+      D += sc.params.damping * Jp.transpose() * Jp;
+    }
+    dense::jacobians(rig, s, b, Jw, Jv);
+    D += Jw.transpose() * ((1.0 - sc.params.angular_velocity_factor) / h * dense::inertia(rig, s, b)) * Jw;
+    if (b == 0) continue;
+    const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[b]);
+    Mat3 dtau;  // d tau_world / d theta_local
+    for (int j = 0; j < 3; ++j) {
+      const Vec3 e = eps * Vec3::Unit(j);
+      dtau.col(j) = (torsion_world(sc, s, b, theta + e) - torsion_world(sc, s, b, theta - e)) / (2 * eps);
+    }
+    // d theta_local ~ R_pr^T (w_b - w_p) dt: K_j = -dtau R_pr^T on the relative rate
+    const Mat3 Rpr = (s.frames.orient_world[rig.bone_parent[b]] * rig.bone_rest_orient_parent[b])
+                         .toRotationMatrix();
+    Mat3 Kj = -dtau * Rpr.transpose();
+    Kj = 0.5 * (Kj + Kj.transpose());
+    dense::jacobians(rig, s, rig.bone_parent[b], Jwp, Jvp);
+    const MatX Jrel = Jw - Jwp;
+    K += Jrel.transpose() * Kj * Jrel;
+  }
+}
+
+TEST(ImplicitStep, AugmentedInertiaRecursionEqualsADenseSolve) {
+  std::mt19937 rng(21);
+  int engaged_total = 0, capped_beyond = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const double h = std::pow(10.0, -2.0 + 3.0 * (trial % 7) / 6.0);  // 0.01 .. 10 s
+    const double c = trial % 3 == 0 ? 0.0 : 0.5 + trial;
+    const double f = trial % 4 == 0 ? 1.0 : 0.5;
+    Case cs = random_case(rng, 1 + trial % 9, h, c, f);
+    const Rig& rig = cs.scene.rig;
+    SimState& s = cs.s;
+    apply_forces(cs.scene, s);
+    for (std::size_t k = 0; k < cs.scene.control_points.size(); ++k) {
+      const ControlPoint& cp = cs.scene.control_points[k];
+      if (*cp.spring == SpringLaw::kCapped &&
+          (cp.target_world - point_on_bone(s.frames, cp.bone, cp.alpha)).norm() > *cp.cap) {
+        ++capped_beyond;
+      }
+    }
+    // tau - C from the explicit exact solve at the same forces: M qacc_explicit
+    SimState explicit_state = s;
+    solve_articulated(rig, cs.scene.params, explicit_state);
+    const MatX M = dense::mass_matrix(rig, s);
+    const VecX tau_minus_C = M * dense::aba_qacc(rig, explicit_state.articulated);
+    MatX K, D;
+    dense_K_D(cs, K, D);
+    const VecX v = dense::qvel(rig, s);
+    const VecX expected = (M + h * D + h * h * K).ldlt().solve(tau_minus_C - h * K * v);
+
+    solve_implicit(cs.scene, s);
+    for (int i = 1; i < rig.nbone; ++i) engaged_total += s.torsion_stiffness[i].count() > 0;
+    const VecX got = dense::aba_qacc(rig, s.articulated);
+    EXPECT_LT((got - expected).norm(), 1e-8 * (1.0 + expected.norm()))
+        << "trial " << trial << " n " << rig.nbone << " h " << h << " c " << c << " f " << f
+        << "\n got      " << got.transpose() << "\n expected " << expected.transpose();
+  }
+  // the cases exercised the joint blocks and the capped tangent beyond the cap
+  EXPECT_GT(engaged_total, 10);
+  EXPECT_GT(capped_beyond, 5);
+}
+
+TEST(ImplicitStep, DefaultRunsStayTheExplicitScheme) {
+  // the default integration is the paper's; implicit is opt-in and implies the exact solve
+  EXPECT_EQ(preset_params("original").integration, Integration::kArticulated);
+  EXPECT_EQ(preset_params("paper").integration, Integration::kArticulated);
+  EngineParams p = preset_params("original");
+  EXPECT_FALSE(p.articulated_solve());
+  p.integration = Integration::kImplicit;
+  EXPECT_TRUE(p.articulated_solve());
+}
+
+}  // namespace
+}  // namespace physik
