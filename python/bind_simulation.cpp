@@ -20,7 +20,7 @@ static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 arrays must be packed do
 static_assert(sizeof(Quat) == 4 * sizeof(double), "Quat arrays must be packed doubles (x, y, z, w)");
 
 struct Simulation {
-  explicit Simulation(const Scene& s) : scene(s), monitor(s) {
+  explicit Simulation(const Scene& s) : scene(s), monitor(scene) {  // the monitor keeps &scene
     const auto t0 = std::chrono::steady_clock::now();
     init_state(scene, state);
     wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -53,7 +53,7 @@ struct Simulation {
 
   RunSummary summary() const {
     RunSummary out = monitor.summary();
-    fill_final_state(scene, state, out);
+    monitor.fill_final(scene, state, out);  // as run_scene: the last finite state on a blow-up
     out.wall_time_s = wall_s;
     return out;
   }

@@ -92,6 +92,36 @@ RunMonitor::RunMonitor(const Scene& scene, std::string reason_prefix)
   last_finite_ke_ = 0.5 * scene.rig.total_mass() * scene.initial_velocity_world.squaredNorm();
 }
 
+void RunMonitor::restart(const Scene& scene, const SimState& s, const RunRules& rules) {
+  rules_ = rules;
+  scene_ = &scene;
+  const double ke = kinetic_energy(scene.rig, s);
+  rules_.initial_energy = ke + observe_step(scene, s, StepStats{}).potential_energy;
+  const std::size_t n = scene.control_points.size();
+  prev_attach_world_.resize(n);
+  prev_targets_world_.resize(n);
+  for (std::size_t c = 0; c < n; ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    prev_attach_world_[c] = point_on_bone(s.frames, cp.bone, cp.alpha);
+    prev_targets_world_[c] = s.target_effective_world[c];
+  }
+  last_finite_pose_ = s.pose;
+  last_finite_step_ = s.step;
+  last_finite_ke_ = ke;
+  target_work_ = peak_energy_ratio_ = 0.0;
+  unpropagated_steps_ = max_unreached_ = 0;
+  converged_ = diverged_ = false;
+  reason_.clear();
+  steps_run_ = s.step;
+  steps_to_converge_ = -1;
+  rest_run_ = 0;
+  total_passes_ = 0;
+  max_passes_ = 0;
+  peak_ke_ = max_separation_ = max_violation_deg_ = 0.0;
+  best_residual_ = std::numeric_limits<double>::infinity();
+  last_improvement_ = s.step;
+}
+
 double RunMonitor::step_target_work(const StepObservation& o) {
   if (!o.state || !scene_) return o.target_work;
   // W = U_c(a before, t now) - U_c(a before, t before), then remember this step's a and t

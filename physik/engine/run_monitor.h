@@ -111,6 +111,12 @@ class RunMonitor {
   // must outlive the monitor
   explicit RunMonitor(const Scene& scene, std::string reason_prefix = "");
 
+  // Start over for a run that continues from `state` (physik/posing: a solve after live steps
+  // and target moves): the ledger's E_0 is the state's own KE + U toward its current targets,
+  // its attachments and targets are the state's, every count is reset. The buffers are reused:
+  // no allocation after the first restart. `scene` must outlive the monitor.
+  void restart(const Scene& scene, const SimState& state, const RunRules& rules);
+
   // Record one step; true when the run should stop here (diverged, or converged and the rules
   // say stop). Observations after that are not meant to be fed.
   bool observe(const StepObservation& obs);

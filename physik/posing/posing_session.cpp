@@ -25,6 +25,7 @@ PosingSession::PosingSession(const Scene& scene) : scene_(scene) {
   residuals_.resize(goals_.size());
   reach_ = goals_.empty() ? 0.0 : chain_reach(scene_.rig, goals_);
   start_pose_ = state_.pose;
+  monitor_.restart(scene_, state_, run_rules(scene_));  // sizes its buffers once
 }
 
 void PosingSession::set_target(int c, const Vec3& target_world, bool interpolate) {
@@ -81,16 +82,16 @@ SolveResult PosingSession::solve(const SolveRule& rule) {
   rules.stall_steps = rule.stall_steps;
   rules.stall_fraction = rule.stall_fraction;
   rules.last_event = std::min(rules.last_event, state_.step);  // past events are history
-  RunMonitor monitor(rules);
+  monitor_.restart(scene_, state_, rules);  // energy ledger from the state as it is now
   bool stop = false;
   while (!stop && out.steps < rule.max_steps) {
     const StepStats st = step(scene_, state_);
     ++out.steps;
-    stop = monitor.observe(observe_step(scene_, state_, st));
+    stop = monitor_.observe(observe_step(scene_, state_, st));
   }
-  out.diverged = monitor.diverged();
+  out.diverged = monitor_.diverged();
   if (out.diverged) set_pose(start_pose_);
-  out.converged = monitor.converged();
+  out.converged = monitor_.converged();
   out.stalled = !out.converged && !out.diverged;
   out.residual = residual();
   if (!out.converged && !out.diverged && rule.finish != SolveFinish::kNone) {

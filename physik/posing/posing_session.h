@@ -25,6 +25,7 @@
 
 #include <vector>
 
+#include "physik/engine/run_monitor.h"
 #include "physik/engine/run_summary.h"
 #include "physik/engine/state.h"
 #include "physik/ik/ik_solver.h"
@@ -97,6 +98,7 @@ class PosingSession {
   std::vector<double> residuals_;    // (ncontrol) scratch, rig units
   double reach_ = 0.0;               // rig units, chain_reach of the goals
   Pose start_pose_;                  // where the current solve started (a divergence returns)
+  RunMonitor monitor_{RunRules{}};   // the solve's verdicts, restarted from the state each solve
 };
 
 }  // namespace physik
