@@ -124,12 +124,22 @@ Arrays are copies, per bone in DFS order; positions in rig units, world frame (Z
       });
 }
 
+void bind_scene_reading(py::class_<Scene>& cls);
+void bind_scene_views(py::class_<Scene>& cls);
+
 void bind_scene(py::module_& m) {
-  py::class_<Scene>(m, "Scene", R"doc(A scene: a rig, engine parameters, control points, a schedule, steps.
+  py::class_<Scene> cls(m, "Scene", R"doc(A scene: a rig, engine parameters, control points, a schedule, steps.
 
 Build one with Scene.load (a file, as the CLI reads it) or Scene.from_dict (the same format as a
 dict). Parameters, control points and the convergence settings read back as dicts in the scene
-file's format (models/README.md "Scenes"); Scene.update changes them with the file's checks.)doc")
+file's format (models/README.md "Scenes"); Scene.update changes them with the file's checks.)doc");
+  bind_scene_reading(cls);
+  bind_scene_views(cls);
+}
+
+// load, from_dict, to_dict, update: the scene file's format both ways
+void bind_scene_reading(py::class_<Scene>& cls) {
+  cls
       .def_static(
           "load",
           [](const std::string& path, py::object overrides, int steps) {
@@ -189,8 +199,12 @@ those that give their own keep it); "preset" first resets every parameter to tha
 steps: the step count.)doc")
       .def("copy", [](const Scene& s) { return Scene(s); }, "An independent copy.")
       .def("__copy__", [](const Scene& s) { return Scene(s); })
-      .def("__deepcopy__", [](const Scene& s, py::dict) { return Scene(s); }, py::arg("memo"))
-      .def_readonly("file", &Scene::file, "Where the scene came from (its path or source name).")
+      .def("__deepcopy__", [](const Scene& s, py::dict) { return Scene(s); }, py::arg("memo"));
+}
+
+// what a scene holds, read back as the scene file's dicts
+void bind_scene_views(py::class_<Scene>& cls) {
+  cls.def_readonly("file", &Scene::file, "Where the scene came from (its path or source name).")
       .def_readonly("rig_file", &Scene::rig_file, "The resolved rig path (\"\" for an inline rig).")
       .def_property_readonly("rig", [](const Scene& s) { return s.rig; }, "The scene's rig (a copy).")
       .def_readonly("steps", &Scene::steps, "Steps to run.")

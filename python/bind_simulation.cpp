@@ -85,6 +85,9 @@ py::dict stats_dict(const StepStats& st) {
 
 }  // namespace
 
+void bind_simulation_running(py::class_<Simulation>& cls);
+void bind_simulation_state(py::class_<Simulation>& cls);
+
 void bind_simulation(py::module_& m) {
   m.def(
       "run_scene",
@@ -99,14 +102,21 @@ void bind_simulation(py::module_& m) {
       py::arg("scene"),
       "physik::run_scene in one C++ call (no Python in the loop): the C++ side of "
       "bench/bench_python.py and a cross-check of Simulation.run(). Returns the summary dict.");
-  py::class_<Simulation>(m, "Simulation", R"doc(A run of the PhysIK engine on a scene, stepped from Python.
+  py::class_<Simulation> cls(m, "Simulation", R"doc(A run of the PhysIK engine on a scene, stepped from Python.
 
 Simulation(scene) copies the scene and puts the rig in its initial pose (step 0). step(n) and
 run() advance it; .summary is `physik simulate`'s summary.json as a dict; .pose gives numpy views
 of the state (no copy, read-only, valid as long as the Simulation, which they keep alive).
 The run stops for good when it diverges, or when it converges and the scene says to stop there
 (convergence.stop_when_converged / stop_at_residual_tol); later step() calls take no step.
-A Simulation is not thread-safe; step() and run() release the GIL while the engine runs.)doc")
+A Simulation is not thread-safe; step() and run() release the GIL while the engine runs.)doc");
+  bind_simulation_running(cls);
+  bind_simulation_state(cls);
+}
+
+// construction, step, run and the pose views
+void bind_simulation_running(py::class_<Simulation>& cls) {
+  cls
       .def(py::init<const Scene&>(), py::arg("scene"))
       .def(
           "step",
@@ -158,8 +168,12 @@ raise_on_divergence it raises DivergedError instead.)doc")
                 readonly_view(s.state.pose.bone_local_rotation[0].coeffs().data(), n, 4, sizeof(Quat), self),
                 readonly_view(s.state.pose.root_head_world.data(), 3, self));
           },
-          "(heads, tails, orientations, local_rotations, root_head) as read-only numpy views.")
-      .def_property_readonly("scene", [](const Simulation& s) { return s.scene; }, "The scene (a copy).")
+          "(heads, tails, orientations, local_rotations, root_head) as read-only numpy views.");
+}
+
+// what the run has reached: its scene, step count, time and the monitor's verdicts
+void bind_simulation_state(py::class_<Simulation>& cls) {
+  cls.def_property_readonly("scene", [](const Simulation& s) { return s.scene; }, "The scene (a copy).")
       .def_property_readonly("step_count", [](const Simulation& s) { return s.state.step; },
                              "Steps taken so far.")
       .def_property_readonly("time", [](const Simulation& s) { return s.state.time; },
