@@ -1,5 +1,5 @@
 // The articulated-body algorithm (physik/engine/articulated_body.h) against a dense solve
-// M(q) qdd = tau - C(q, qdot) assembled here independently: M = sum_b J_b^T diag(I_b, m_b) J_b
+// M(q) qdd = tau - C(q, qdot) assembled independently (tests/dense_dynamics.h): M = sum_b J_b^T diag(I_b, m_b) J_b
 // from body Jacobians, C from a classical (not spatial) Newton-Euler recursion of the velocity-
 // product accelerations; on random trees with random shapes, masses, inertias, poses, velocities
 // and forces. Also: the world view rebuilt from the joint state equals forward kinematics and
@@ -13,168 +13,15 @@
 
 #include "physik/engine/integrate_joint_space.h"
 #include "physik/engine/state.h"
+#include "tests/dense_dynamics.h"
 #include "tests/test_util.h"
 
 namespace physik {
 namespace {
 
-using MatX = Eigen::MatrixXd;
-using VecX = Eigen::VectorXd;
-
-struct RandomTree {
-  Rig rig;
-  SimState s;
-};
-
-Vec3 random_unit(std::mt19937& rng) {
-  std::normal_distribution<double> g(0.0, 1.0);
-  return Vec3(g(rng), g(rng), g(rng)).normalized();
-}
-
-// a random tree of n bones, each child's head at a random earlier bone's tail
-Rig random_rig(std::mt19937& rng, int n) {
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::vector<BoneSpec> specs(n);
-  for (int i = 0; i < n; ++i) {
-    BoneSpec& b = specs[i];
-    b.name = "b" + std::to_string(i);
-    if (i == 0) {
-      b.head_world = Vec3(u(rng), u(rng), u(rng));
-    } else {
-      const int p = std::uniform_int_distribution<int>(0, i - 1)(rng);
-      b.parent = specs[p].name;
-      b.head_world = specs[p].tail_world;
-    }
-    b.tail_world = b.head_world + (0.3 + 1.7 * u(rng)) * random_unit(rng);
-    b.rest_frame_world = rest_frame_from_roll(b.head_world, b.tail_world, 6.0 * u(rng));
-    b.mass = 0.2 + 2.8 * u(rng);
-    // principal moments that satisfy the triangle inequality: sums of two of three positives
-    const Vec3 a(0.02 + u(rng), 0.02 + u(rng), 0.02 + u(rng));
-    b.inertia_local = Vec3(a.y() + a.z(), a.x() + a.z(), a.x() + a.y()) * b.mass * 0.3;
-  }
-  return build_rig(specs, "<random>", "random");
-}
-
-// random joint state (poses, velocities) and forces; the world view from the joint state
-RandomTree random_tree(std::mt19937& rng, int n, bool moving) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  RandomTree t;
-  t.rig = random_rig(rng, n);
-  SimState& s = t.s;
-  s.pose = rest_pose(t.rig);
-  forward_kinematics(t.rig, s.pose, s.frames);
-  s.com_world.assign(n, Vec3::Zero());
-  s.vel_world.assign(n, Vec3::Zero());
-  s.omega_world.assign(n, Vec3::Zero());
-  s.force_world.assign(n, Vec3::Zero());
-  s.torque_world.assign(n, Vec3::Zero());
-  init_joint_space(t.rig, s);
-  for (int i = 1; i < n; ++i) {
-    s.pose.bone_local_rotation[i] = Quat(Eigen::AngleAxisd(3.0 * u(rng), random_unit(rng)));
-  }
-  s.root_com_world = 3.0 * Vec3(u(rng), u(rng), u(rng));
-  s.root_orient_world = Quat(Eigen::AngleAxisd(3.0 * u(rng), random_unit(rng)));
-  const double speed = moving ? 2.0 : 0.0;
-  s.root_vel_world = speed * Vec3(u(rng), u(rng), u(rng));
-  for (int i = 0; i < n; ++i) s.joint_vel_local[i] = speed * Vec3(u(rng), u(rng), u(rng));
-  world_from_joint_space(t.rig, s);
-  for (int i = 0; i < n; ++i) {
-    s.force_world[i] = 5.0 * Vec3(u(rng), u(rng), u(rng));
-    s.torque_world[i] = 5.0 * Vec3(u(rng), u(rng), u(rng));
-  }
-  return t;
-}
-
-int nv(const Rig& rig) { return 6 + 3 * (rig.nbone - 1); }
-int dof(int bone) { return bone == 0 ? 3 : 3 + 3 * bone; }  // first rotational dof of a bone
-
-bool in_subtree(const Rig& rig, int bone, int root) {
-  for (int b = bone; b >= 0; b = rig.bone_parent[b]) {
-    if (b == root) return true;
-  }
-  return false;
-}
-
-// body b's Jacobians: w_b = Jw qdot, v_com_b = Jv qdot (MuJoCo's qvel: root v world, root w
-// local, ball u local); each column is the motion of a unit rate about that dof's axis and point
-void jacobians(const Rig& rig, const SimState& s, int b, MatX& Jw, MatX& Jv) {
-  Jw.setZero(3, nv(rig));
-  Jv.setZero(3, nv(rig));
-  Jv.leftCols<3>().setIdentity();
-  for (int j = 0; j < rig.nbone; ++j) {
-    if (!in_subtree(rig, b, j)) continue;
-    const Vec3 pivot = j == 0 ? s.com_world[0] : s.frames.head_world[j];
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 axis = s.frames.orient_world[j] * Vec3::Unit(k);
-      Jw.col(dof(j) + k) = axis;
-      Jv.col(dof(j) + k) = axis.cross(s.com_world[b] - pivot);
-    }
-  }
-}
-
-VecX qvel(const Rig& rig, const SimState& s) {
-  VecX q(nv(rig));
-  q.head<3>() = s.root_vel_world;
-  for (int i = 0; i < rig.nbone; ++i) q.segment<3>(dof(i)) = s.joint_vel_local[i];
-  return q;
-}
-
-Mat3 inertia(const Rig& rig, const SimState& s, int i) {
-  const Mat3 R = s.frames.orient_world[i].toRotationMatrix();
-  return R * rig.bone_inertia_local[i].asDiagonal() * R.transpose();
-}
-
-// M = sum_b Jw^T I Jw + Jv^T m Jv
-MatX mass_matrix(const Rig& rig, const SimState& s) {
-  MatX M = MatX::Zero(nv(rig), nv(rig));
-  MatX Jw, Jv;
-  for (int b = 0; b < rig.nbone; ++b) {
-    jacobians(rig, s, b, Jw, Jv);
-    M += Jw.transpose() * inertia(rig, s, b) * Jw + rig.bone_mass[b] * Jv.transpose() * Jv;
-  }
-  return M;
-}
-
-// tau - C: the external wrench minus the velocity products, as generalised forces. The
-// accelerations with qdd = 0 come from a classical recursion (world axes, centres of mass):
-//   alpha_i = alpha_p + w_i x w_rel,   a_head = a_p + alpha_p x d + w_p x (w_p x d),
-//   a_i = a_head + alpha_i x e + w_i x (w_i x e)        d = head_i - com_p,  e = com_i - head_i
-VecX generalised_force(const Rig& rig, const SimState& s) {
-  const int n = rig.nbone;
-  std::vector<Vec3> alpha(n, Vec3::Zero()), acc(n, Vec3::Zero());
-  for (int i = 1; i < n; ++i) {
-    const int p = rig.bone_parent[i];
-    const Vec3 w_rel = s.omega_world[i] - s.omega_world[p];
-    alpha[i] = alpha[p] + s.omega_world[i].cross(w_rel);
-    const Vec3 d = s.frames.head_world[i] - s.com_world[p];
-    const Vec3 e = s.com_world[i] - s.frames.head_world[i];
-    const Vec3& wp = s.omega_world[p];
-    const Vec3& w = s.omega_world[i];
-    acc[i] = acc[p] + alpha[p].cross(d) + wp.cross(wp.cross(d)) + alpha[i].cross(e) +
-             w.cross(w.cross(e));
-  }
-  VecX Q = VecX::Zero(nv(rig));
-  MatX Jw, Jv;
-  for (int b = 0; b < n; ++b) {
-    jacobians(rig, s, b, Jw, Jv);
-    const Mat3 I = inertia(rig, s, b);
-    const Vec3& w = s.omega_world[b];
-    const Vec3 F = s.force_world[b] - rig.bone_mass[b] * acc[b];
-    // the external torque with the data's rotational damper and gyroscopic cancellation
-    Vec3 T = s.torque_world[b] + s.articulated.torque_per_omega * (I * w) - I * alpha[b] -
-             w.cross(I * w);
-    if (s.articulated.cancel_gyroscopic) T += w.cross(I * w);
-    Q += Jv.transpose() * F + Jw.transpose() * T;
-  }
-  return Q;
-}
-
-VecX aba_qacc(const Rig& rig, const ArticulatedBodyData& d) {
-  VecX q(nv(rig));
-  q.head<3>() = d.root_accel_world;
-  for (int i = 0; i < rig.nbone; ++i) q.segment<3>(dof(i)) = d.joint_accel_local[i];
-  return q;
-}
+// the dense reference (body Jacobians, M(q), tau - C): tests/dense_dynamics.h, shared with the
+// implicit step's tests
+using namespace dense;
 
 TEST(ArticulatedBody, WorldViewEqualsForwardKinematicsAndJacobianVelocities) {
   std::mt19937 rng(11);
