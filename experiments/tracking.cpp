@@ -4,7 +4,8 @@
 // on a circle of radius 0.3 rig units in the body's frontal (x-z) plane, 0.05 rig units per
 // frame, for 120 frames (three turns and a bit), starting from the scene solved. Each frame:
 //   - PhysIK (the PosingSession of physik/posing: the scene's own engine) takes k = 1, 3 or 10
-//     steps toward the moved target: the body follows with its secondary motion;
+//     steps toward the moved target: the body follows with its secondary motion; the same with
+//     integration implicit, k = 1 and 3;
 //   - DLS and the rotation method solve the frame's goals to their tolerance, starting from the
 //     previous frame's pose (as an interactive tool calls them).
 // Per frame: cost (wall time of the frame's call, us), lag (the largest control-point residual
@@ -55,8 +56,8 @@ double us_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
 }
 
-Track track_physik(const Scene& scene, int k) {
-  Track t{"physik k=" + std::to_string(k), {}, {}, {}};
+Track track_physik(const Scene& scene, int k, const std::string& tag = "physik") {
+  Track t{tag + " k=" + std::to_string(k), {}, {}, {}};
   PosingSession session(scene);
   session.solve();  // the drag starts from the solved pose (not timed)
   const Vec3 start = session.state().target_goal_world[0];
@@ -141,6 +142,9 @@ void run(const Context& ctx) {
   const Scene scene = scene_named(ctx, "pinhead_two_hands");
   std::vector<Track> tracks;
   for (int k : {1, 3, 10}) tracks.push_back(track_physik(scene, k));
+  Scene implicit = scene;  // the same scene on the implicit step (its exact joint solve)
+  implicit.params.integration = Integration::kImplicit;
+  for (int k : {1, 3}) tracks.push_back(track_physik(implicit, k, "physik implicit"));
   tracks.push_back(track_classic(scene, IkMethod::kDampedLeastSquares));
   tracks.push_back(track_classic(scene, IkMethod::kRotation));
   write_frames_csv(ctx.out_dir + "/frames.csv", tracks);
