@@ -86,6 +86,31 @@ TEST(PosingSession, DlsFinishClosesWhatThePhysicsLeft) {
   }
 }
 
+// The solve mode: on the implicit step, a step that lengthens as the motion settles reaches the
+// tolerance in fewer steps than the physical dt alone, lands on the same pose (the scene's
+// equilibrium for these reachable targets) and gives the scene its dt back.
+TEST(PosingSession, ALengtheningImplicitStepSolvesInFewerSteps) {
+  Scene scene = two_hands();
+  scene.params.integration = Integration::kImplicit;
+  PosingSession fixed(scene), lengthening(scene);
+  const SolveResult a = fixed.solve();
+  SolveRule rule;
+  rule.dt_growth = 1.5;
+  const SolveResult b = lengthening.solve(rule);
+  ASSERT_TRUE(a.converged);
+  ASSERT_TRUE(b.converged) << "residual " << b.residual;
+  EXPECT_LT(b.steps, a.steps);
+  EXPECT_EQ(lengthening.scene().params.dt, scene.params.dt);
+  for (int c = 0; c < 2; ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    EXPECT_LT((point_on_bone(lengthening.frames(), cp.bone, cp.alpha) - cp.target_world).norm(), b.tolerance);
+  }
+  std::cout << "[solve mode] pinhead_two_hands implicit: dt fixed " << a.steps << " steps, lengthening x1.5 "
+            << b.steps << " steps\n";
+  PosingSession explicit_session(two_hands());
+  expect_input_error([&] { explicit_session.solve(rule); }, "needs integration implicit");
+}
+
 // The paper's damping diverges on this scene: reported, and the session is back where the
 // solve started, at rest, with finite frames.
 TEST(PosingSession, ADivergedSolveReturnsToItsStart) {

@@ -83,12 +83,24 @@ SolveResult PosingSession::solve(const SolveRule& rule) {
   rules.stall_fraction = rule.stall_fraction;
   rules.last_event = std::min(rules.last_event, state_.step);  // past events are history
   monitor_.restart(scene_, state_, rules);  // energy ledger from the state as it is now
+  const bool grow = rule.dt_growth > 1.0;
+  if (grow && scene_.params.integration != Integration::kImplicit) {
+    throw_input_error(scene_.file, "params", "integration",
+                      "a lengthening step (dt_growth > 1) needs integration implicit");
+  }
+  const double dt0 = scene_.params.dt;
+  double previous_ke = kinetic_energy(scene_.rig, state_);
   bool stop = false;
   while (!stop && out.steps < rule.max_steps) {
     const StepStats st = step(scene_, state_);
     ++out.steps;
     stop = monitor_.observe(observe_step(scene_, state_, st));
+    if (grow && st.kinetic_energy <= previous_ke) {
+      scene_.params.dt = std::min(scene_.params.dt * rule.dt_growth, std::max(rule.max_dt, dt0));
+    }
+    previous_ke = st.kinetic_energy;
   }
+  scene_.params.dt = dt0;
   out.diverged = monitor_.diverged();
   if (out.diverged) set_pose(start_pose_);
   out.converged = monitor_.converged();

@@ -44,6 +44,13 @@ struct SolveRule {
   int max_steps = 2000;            // physics steps at most
   int stall_steps = 50;            // steps; the residual stalled when it improved by less than
   double stall_fraction = 0.01;    //   stall_fraction of itself over stall_steps steps
+  // The solve mode on the implicit step (issue 15): the step starts at the scene's dt, so the
+  // body follows with its secondary motion, and lengthens by dt_growth each step the kinetic
+  // energy falls, up to max_dt, carrying the dynamics into a quasi-static solve (a large implicit
+  // step is a Gauss-Newton step on the spring and torsion potential, docs/DESIGN.md). 1 = off.
+  // The scene's dt is back in place when the solve returns. InputError unless implicit.
+  double dt_growth = 1.0;          // 1, per settling step
+  double max_dt = 1.0;             // s
   SolveFinish finish = SolveFinish::kNone;
   IkOptions finish_options;        // the classic finish's options (its tolerance is ours)
 };
