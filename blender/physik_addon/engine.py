@@ -63,11 +63,7 @@ def _simulation(scene):
     """physik.Simulation of the scene dict; the engine's bad-input message as EngineError."""
     physik = module()
     source = _source(scene)
-    params = scene.get("params") or {}
-    if params.get("damping") == "auto":
-        # the critically damped rule lives in experiments/tuning_study.cpp, not in the engine
-        raise EngineError("%s: params: field 'damping': 'auto' is not an engine setting yet "
-                          "(choose a value)" % source)
+    # "damping": "auto" is the engine's damping_auto (physik/engine/linear_modes.h)
     try:
         return physik.Simulation(physik.Scene.from_dict(scene, source=source))
     except physik.InputError as e:

@@ -31,11 +31,13 @@ class PhysikSettings(bpy.types.PropertyGroup):
     integration: EnumProperty(
         name="Integration", default="articulated",
         items=[("articulated", "Articulated", "the original's: bones turn, FK from the root"),
-               ("free-rods", "Free rods", "the paper's text: independent rods held by joint forces")])
+               ("free-rods", "Free rods", "the paper's text: independent rods held by joint forces"),
+               ("implicit", "Implicit", "linearised backward Euler over the exact articulated solve: "
+                "stable for any dt and damping")])
     damping_mode: EnumProperty(
         name="Damping", default='VALUE',
         items=[('VALUE', "Value", "force -c v at both ends of every bone"),
-               ('AUTO', "Auto", "let the engine choose the damping")])
+               ('AUTO', "Auto", "critical damping of the slowest linearised mode, chosen by the engine")])
     damping: FloatProperty(name="c (N s/m)", default=3.0, min=0.0, soft_max=50.0)
     control_spring: EnumProperty(
         name="Spring law", default="linear",
