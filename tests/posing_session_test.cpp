@@ -42,6 +42,26 @@ TEST(PosingSession, SolveIsTheEnginesRunToTheResidualTolerance) {
   EXPECT_EQ(state_hash(s.final_frames), state_hash(session.frames()));
 }
 
+// A target the schedule still has to move is waited for: the solve goes on toward the moved
+// target and stops where run_scene does (the same steps, verdict and state).
+TEST(PosingSession, SolveWaitsForAScheduledTargetChange) {
+  Scene scene = two_hands();
+  const Vec3 moved = scene.control_points[0].target_world + Vec3(0.0, 0.0, 0.3);
+  scene.schedule.push_back({120, 0, moved});
+  PosingSession session(scene);
+  const SolveResult r = session.solve();
+  EXPECT_GT(r.steps, 120);  // not stopped at the first target, met by step ~90
+  const ControlPoint& cp = scene.control_points[0];
+  const Vec3 tip = point_on_bone(session.frames(), cp.bone, cp.alpha);
+  EXPECT_LT((tip - moved).norm(), 0.1 * (tip - cp.target_world).norm());
+  scene.convergence.stop_at_residual_tol = true;
+  scene.convergence.residual_tol = r.tolerance;
+  const RunSummary engine = run_scene(scene);
+  EXPECT_EQ(engine.steps_run, r.steps);
+  EXPECT_EQ(engine.converged, r.converged);
+  EXPECT_EQ(state_hash(engine.final_frames), state_hash(session.frames()));
+}
+
 // A dragged point: each jump of the target is followed, the residual shrinks while advancing,
 // and a solve from there meets the new target.
 TEST(PosingSession, FollowsADraggedTarget) {

@@ -142,16 +142,17 @@ double RunMonitor::step_target_work(const StepObservation& o) {
 
 // divergence: a non-finite state, or energy past what the rig was given (or the fixed bound)
 bool RunMonitor::check_divergence(const StepObservation& o) {
-  const std::string at = " at step " + std::to_string(o.step);
+  // the reason's text is built only on a divergence: nothing allocated on a healthy step
+  const auto at = [&] { return " at step " + std::to_string(o.step); };
   if (!std::isfinite(o.kinetic_energy) || !o.state_finite || o.engine_non_finite ||
       !std::isfinite(o.max_residual) || !std::isfinite(o.potential_energy)) {
-    reason_ = prefix_ + "non-finite state" + at;
+    reason_ = prefix_ + "non-finite state" + at();
     return true;
   }
   if (rules_.energy_bound > 0.0) {
     if (o.kinetic_energy <= rules_.energy_bound) return false;
     reason_ = prefix_ + "kinetic energy " + num(o.kinetic_energy) + " J passed the bound " +
-              num(rules_.energy_bound) + " J" + at;
+              num(rules_.energy_bound) + " J" + at();
     return true;
   }
   const double e = o.kinetic_energy + o.potential_energy;
@@ -163,7 +164,7 @@ bool RunMonitor::check_divergence(const StepObservation& o) {
   reason_ = prefix_ + "energy " + num(e) + " J (kinetic " + num(o.kinetic_energy) +
             " J) passed " + num(rules_.energy_multiple) + " x the " + num(given) +
             " J the rig was given (initial energy and the targets' work; floor " +
-            num(rules_.energy_floor) + " J)" + at;
+            num(rules_.energy_floor) + " J)" + at();
   return true;
 }
 

@@ -81,7 +81,7 @@ SolveResult PosingSession::solve(const SolveRule& rule) {
   rules.residual_tol = out.tolerance;
   rules.stall_steps = rule.stall_steps;
   rules.stall_fraction = rule.stall_fraction;
-  rules.last_event = std::min(rules.last_event, state_.step);  // past events are history
+  // rules.last_event stays the scene's: a target the schedule still has to move is waited for
   monitor_.restart(scene_, state_, rules);  // energy ledger from the state as it is now
   const bool grow = rule.dt_growth > 1.0;
   if (grow && scene_.params.integration != Integration::kImplicit) {
