@@ -8,9 +8,14 @@
 //                (xfrc_applied) of a same-forces reference run: the same trajectory, MuJoCo's cost
 //                without PhysIK's force stages
 //   exact_over_mj_step = exact_us / mj_step_us  (target: <= 0.5 on pinhead)
+//   implicit_us  PhysIK's step() with integration implicit (linearised backward Euler over the
+//                exact solve, implicit_step.h; issue 14)
+//   implicit_over_mj_step = implicit_us / mj_step_us  (issue 14's target: <= 1.0 on pinhead)
 // Scaling (BM_Exact / BM_MjStep, rig = chain or tree2 (balanced binary tree), N bones): the
 // scaling experiment's scenario (experiments/scaling.h). Targets:
 // <= 0.5 us per bone per step at 10,000 bones; cost exponent <= 1.1 (fit us_per_step vs N).
+// BM_Implicit: the same scenario with integration implicit (issue 14's target: <= 1 us per bone
+// per step at 10,000 bones).
 // mj_step grows ~N^2.7 on chains (dense ancestor blocks of M), so it is run only up to 1000 bones.
 #include <algorithm>
 #include <string>
@@ -63,6 +68,13 @@ void BM_Exact(benchmark::State& state, const std::string& kind) {
   time_physik(state, scaling_scene(kind, n), steps_for(n));
 }
 
+void BM_Implicit(benchmark::State& state, const std::string& kind) {
+  const int n = static_cast<int>(state.range(0));
+  physik::Scene scene = scaling_scene(kind, n);
+  scene.params.integration = physik::Integration::kImplicit;
+  time_physik(state, scene, steps_for(n));
+}
+
 void BM_MjStep(benchmark::State& state, const std::string& kind) {
   const int n = static_cast<int>(state.range(0));
   const physik::Scene scene = scaling_scene(kind, n);
@@ -83,12 +95,15 @@ void BM_ExactVsMjStep(benchmark::State& state, const std::string& name) {
   physik::Scene exact = physik::load_scene(scene_file(name));
   exact.params.joint_solve = physik::JointSolve::kExact;
   const physik::Scene gs = physik::load_scene(scene_file(name));
+  physik::Scene implicit = physik::load_scene(scene_file(name));
+  implicit.params.integration = physik::Integration::kImplicit;
   constexpr int kSteps = 100;
   MjStepReplay r = record_mj_step_replay(exact, kSteps);
-  physik::SimState init_exact, init_gs;
+  physik::SimState init_exact, init_gs, init_implicit;
   physik::init_state(exact, init_exact);
   physik::init_state(gs, init_gs);
-  double t_exact = 0.0, t_gs = 0.0, t_mj = 0.0;
+  physik::init_state(implicit, init_implicit);
+  double t_exact = 0.0, t_gs = 0.0, t_implicit = 0.0, t_mj = 0.0;
   long steps = 0;
   for (auto _ : state) {
     physik::SimState s = init_exact;
@@ -99,6 +114,10 @@ void BM_ExactVsMjStep(benchmark::State& state, const std::string& name) {
     t0 = thread_seconds();
     for (int k = 0; k < kSteps; ++k) benchmark::DoNotOptimize(physik::step(gs, s).kinetic_energy);
     t_gs += thread_seconds() - t0;
+    s = init_implicit;
+    t0 = thread_seconds();
+    for (int k = 0; k < kSteps; ++k) benchmark::DoNotOptimize(physik::step(implicit, s).kinetic_energy);
+    t_implicit += thread_seconds() - t0;
     t_mj += 1e-6 * kSteps * time_mj_step_replay(r);
     steps += kSteps;
   }
@@ -106,6 +125,8 @@ void BM_ExactVsMjStep(benchmark::State& state, const std::string& name) {
   state.counters["gs_us"] = 1e6 * t_gs / steps;
   state.counters["mj_step_us"] = 1e6 * t_mj / steps;
   state.counters["exact_over_mj_step"] = t_exact / t_mj;
+  state.counters["implicit_us"] = 1e6 * t_implicit / steps;
+  state.counters["implicit_over_mj_step"] = t_implicit / t_mj;
   state.counters["nbone"] = exact.rig.nbone;
 }
 
@@ -119,6 +140,10 @@ BENCHMARK_CAPTURE(BM_Exact, chain, std::string("chain"))
 BENCHMARK_CAPTURE(BM_Exact, tree2, std::string("tree2"))
     ->RangeMultiplier(10)->Range(10, 10000)->Arg(30)->Arg(300)->Arg(3000)
     ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Implicit, chain, std::string("chain"))
+    ->RangeMultiplier(10)->Range(10, 10000)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Implicit, tree2, std::string("tree2"))
+    ->RangeMultiplier(10)->Range(10, 10000)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_MjStep, chain, std::string("chain"))
     ->RangeMultiplier(10)->Range(10, 1000)->Arg(30)->Arg(300)
     ->Unit(benchmark::kMillisecond);

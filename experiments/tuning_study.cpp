@@ -3,6 +3,8 @@
 // 10x and mass densities 1 and 10 kg per rig unit; the Ceres optimum of the settle objective
 // (tune/tuner.h, log measure) on each curve; a closed-form rule for c, and steps to converge at
 // the paper's c = 20, the original's c = 3, the rule's and the tuned value.
+// Beside them (issue 14): damping auto's c at the start pose (critical damping of the slowest
+// linearised mode, physik/engine/linear_modes.h), run explicit at that c and implicit with auto.
 //
 // Scaled rigs are built in code: every head and tail (world, about the origin), the cylinder
 // radius, the targets, the spring caps and the initial root position are multiplied by the
@@ -85,9 +87,14 @@ struct Point {
 // point within the residual tolerance and the rig at rest (rms speed below the speed tolerance).
 // (The engine's steps_to_converge asks only for rest, which a heavily over-damped rig crawling
 // toward its targets also satisfies.)
-Point run_at(const Scene& scene, double c) {
+// implicit_auto: the implicit step with damping auto instead (c is then only the fallback).
+Point run_at(const Scene& scene, double c, bool implicit_auto = false) {
   Scene s = scene;
   s.params.damping = c;
+  if (implicit_auto) {
+    s.params.integration = Integration::kImplicit;
+    s.params.damping_auto = true;
+  }
   s.convergence.stop_when_converged = false;
   const double rtol = s.residual_tol(), vtol = s.speed_tol(), mass = s.rig.total_mass();
   int last_unsettled = 0;
@@ -141,6 +148,10 @@ struct VariantResult {
   tune::TuneResult tuned;
   double c_tuned = 0;
   Point at20, at3, at_rule, at_tuned;
+  // damping: auto (physik/engine/linear_modes.h): its c at the start pose, the explicit run at
+  // that c, and the implicit run with damping auto (integration implicit)
+  double c_auto = 0;
+  Point at_auto, at_auto_implicit;
   int best_grid_steps() const { return best_c > 0 ? best_steps : -1; }
 };
 
@@ -156,6 +167,15 @@ void sweep_grid(VariantResult& r, const Scene& scene, const std::vector<double>&
       r.best_c = c;
     }
   }
+}
+
+// damping_auto's choice at the start pose
+double auto_damping(const Scene& scene) {
+  Scene with_auto = scene;
+  with_auto.params.damping_auto = true;
+  SimState st;
+  init_state(with_auto, st);
+  return st.damping_auto_value;
 }
 
 VariantResult study_variant(const Context& ctx, const Scene& base, const Variant& v,
@@ -180,12 +200,17 @@ VariantResult study_variant(const Context& ctx, const Scene& base, const Variant
   r.at3 = run_at(scene, 3.0);
   r.at_rule = run_at(scene, r.rule.c_rule);
   r.at_tuned = run_at(scene, r.c_tuned);
+  r.c_auto = auto_damping(scene);
+  r.at_auto = run_at(scene, r.c_auto);
+  r.at_auto_implicit = run_at(scene, r.c_auto, true);
   if (ctx.log) {
     *ctx.log << "  " << v.label() << ": rule " << num(r.rule.c_rule) << ", tuned " << num(r.c_tuned)
              << ", best grid " << num(r.best_c) << " (" << r.best_grid_steps()
              << " steps), diverges from "
              << num(r.first_div) << "; steps at 20/3/rule/tuned: " << steps_text(r.at20) << "/"
              << steps_text(r.at3) << "/" << steps_text(r.at_rule) << "/" << steps_text(r.at_tuned)
+             << "; auto " << num(r.c_auto) << ": " << steps_text(r.at_auto) << " (implicit "
+             << steps_text(r.at_auto_implicit) << ")"
              << "  (tune " << num(r.tuned.wall_time_s) << " s)\n";
   }
   return r;
@@ -198,7 +223,8 @@ void write_table_row(std::ostream& table, const VariantResult& r) {
         << "," << rule.K << "," << rule.c_crit << "," << rule.c_stab << "," << rule.c_rule << ","
         << r.c_tuned << "," << r.best_c << "," << r.first_div << "," << r.at20.steps << "," << r.at3.steps
         << "," << r.at_rule.steps << "," << r.at_tuned.steps << ","
-        << r.best_grid_steps() << "," << r.tuned.wall_time_s << "," << r.tuned.evaluations << "\n";
+        << r.best_grid_steps() << "," << r.tuned.wall_time_s << "," << r.tuned.evaluations << ","
+        << r.c_auto << "," << r.at_auto.steps << "," << r.at_auto_implicit.steps << "\n";
 }
 
 nlohmann::json row_json(const VariantResult& r) {
@@ -226,7 +252,10 @@ nlohmann::json row_json(const VariantResult& r) {
           {"tune_cost_initial", r.tuned.initial_cost},
           {"tune_cost_final", r.tuned.final_cost},
           {"tune_wall_time_s", r.tuned.wall_time_s},
-          {"tune_runs", r.tuned.evaluations}};
+          {"tune_runs", r.tuned.evaluations},
+          {"c_auto", r.c_auto},
+          {"steps_auto", steps_text(r.at_auto)},
+          {"steps_auto_implicit", steps_text(r.at_auto_implicit)}};
 }
 
 // The counts the claims state, over the variants.
@@ -294,6 +323,23 @@ void add_claims(Report& report, const Tally& t) {
       holds(t.tuned_not_worse_than_3, t.stable_n));
 }
 
+// damping: auto beside the Ceres optimum and the closed-form rule, per variant (issue 14)
+void add_auto_row(Report& report, const nlohmann::json& rows) {
+  std::string text;
+  for (const auto& r : rows) {
+    text += (text.empty() ? "" : "; ") + r["variant"].get<std::string>() + ": auto " +
+            num(r["c_auto"].get<double>()) + " (" + r["steps_auto"].get<std::string>() + ", implicit " +
+            r["steps_auto_implicit"].get<std::string>() + ") / Ceres " + num(r["c_tuned"].get<double>()) +
+            " (" + r["steps_tuned"].get<std::string>() + ") / rule " + num(r["c_rule"].get<double>()) +
+            " (" + r["steps_rule"].get<std::string>() + ")";
+  }
+  report.claim(
+      "damping: auto (critical damping of the slowest linearised mode at the start pose, "
+      "physik/engine/linear_modes.h) beside the Ceres optimum and the closed-form rule: c (steps to "
+      "settle, explicit at that c; implicit with damping auto)",
+      text, "n/a");
+}
+
 void add_notes(Report& report, const Tally& t, int steps, const nlohmann::json& rows) {
   report.note("One Ceres tuning run of the damping on pinhead (1x / 1 kg/unit, " +
               std::to_string(steps) + " steps per run): " + num(t.tune_time_1x) + " s, " +
@@ -325,7 +371,7 @@ void run(const Context& ctx) {
   std::ofstream table(ctx.out_dir + "/table.csv");
   table << "variant,scale,density,torsion_k,torsion_a,total_mass,min_bone_mass,K,c_crit,c_stab,c_rule,c_tuned,"
            "c_best_grid,c_first_diverged,steps_paper_20,steps_original_3,steps_rule,steps_tuned,"
-           "steps_best_grid,tune_wall_time_s,tune_runs\n";
+           "steps_best_grid,tune_wall_time_s,tune_runs,c_auto,steps_auto,steps_auto_implicit\n";
   nlohmann::json rows = nlohmann::json::array();
   Tally t;
   for (const Variant& v : make_variants(ctx.quick)) {
@@ -336,6 +382,7 @@ void run(const Context& ctx) {
   }
   Report report("Tuning study: damping vs scale and mass, Ceres optimum, a closed-form rule");
   add_claims(report, t);
+  add_auto_row(report, rows);
   add_notes(report, t, base.steps, rows);
   report.figures({"tuning_study.png"});
   write_summary(ctx,
