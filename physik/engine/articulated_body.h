@@ -96,7 +96,9 @@ struct ArticulatedBodyData {
   std::vector<Mat3> D_inv;              // (nbone) (S'^T I^A S' + J)^-1; U = I^A S' = [A; B^T]
                                         //         is read from inertia_art
   std::vector<Vec3> u;                  // (nbone) -S'^T p^A
-  Eigen::LDLT<Mat6> root_ldlt;          // I^A_0 factorised in pass 3
+  // I^A_0 factorised in pass 3; constructed factorised (of 1) so that a copy made before the
+  // first step never reads Eigen's uninitialised ComputationInfo (UndefinedBehaviorSanitizer)
+  Eigen::LDLT<Mat6> root_ldlt{Mat6::Identity()};
 
   // --- pass 3 (forward pass): MuJoCo's qacc layout ---
   std::vector<Vec6> accel_spatial;      // (nbone) a_i about o_i
