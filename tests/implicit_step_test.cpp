@@ -14,6 +14,7 @@
 #include "physik/engine/control_springs.h"
 #include "physik/engine/engine.h"
 #include "physik/engine/forces.h"
+#include "physik/engine/potential.h"
 #include "physik/engine/torsion_springs.h"
 #include "tests/dense_dynamics.h"
 #include "tests/engine_test_util.h"
@@ -118,6 +119,45 @@ TEST(ImplicitStep, CappedTangentEqualsFiniteDifferences) {
     EXPECT_LT((K - K.transpose()).norm(), 1e-14 * k);
     EXPECT_GE(Eigen::SelfAdjointEigenSolver<Mat3>(K).eigenvalues().minCoeff(), -1e-12 * k);
   }
+}
+
+// The step's stiffness beyond the cap (spring_step_stiffness, torsion_step_stiffness_local) makes
+// the quadratic model of the potential lie above it everywhere: U(x) <= U(d) + F(d).(x - d) +
+// (x - d)^T K (x - d) / 2 for every x (F = dU/dd, d = t - a), equality at x = d. The tangent alone
+// does not (the model is linear along the pull and falls below U past the target).
+TEST(ImplicitStep, CappedStepStiffnessMajorisesThePotential) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  int tangent_below = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const SpringLaw law = trial % 4 ? SpringLaw::kCapped : SpringLaw::kLinear;
+    const double k = 0.1 + std::abs(u(rng)) * 20.0, cap = 0.05 + 0.3 * std::abs(u(rng));
+    const Vec3 d(u(rng), u(rng), u(rng)), x(u(rng), u(rng), u(rng));
+    const auto model = [&](const Mat3& K) {
+      return control_spring_potential(law, k, cap, d.norm()) + spring_force(law, k, cap, d).dot(x - d) +
+             0.5 * (x - d).dot(K * (x - d));
+    };
+    const double U = control_spring_potential(law, k, cap, x.norm());
+    EXPECT_GE(model(spring_step_stiffness(law, k, cap, d)), U - 1e-12 * (1.0 + U))
+        << "law " << to_string(law) << " |d| " << d.norm() << " |x| " << x.norm() << " cap " << cap;
+    tangent_below += model(spring_tangent(law, k, cap, d)) < U - 1e-9;
+    // the torsion spring's per-axis law is the same function of the excess
+    EngineParams p = preset_params("original");
+    p.torsion_k = k;
+    p.torsion_cap = cap;
+    p.torsion_spring = law;
+    p.torsion_tolerance = 0.0;
+    const std::array<AxisLimit, 3> locked = {AxisLimit{true, 0.0, 0.0}, AxisLimit{false, 0.0, 0.0},
+                                             AxisLimit{false, 0.0, 0.0}};
+    const Vec3 th(d.x(), 0.0, 0.0), th1(x.x(), 0.0, 0.0);
+    const double Kt = torsion_step_stiffness_local(locked, th, p)[0];
+    const double mt = torsion_spring_potential(law, k, cap, -th.x()) -
+                      torsion_torque_local(locked, th, p)[0] * (th1.x() - th.x()) +
+                      0.5 * Kt * (th1.x() - th.x()) * (th1.x() - th.x());
+    const double Ut = torsion_spring_potential(law, k, cap, -th1.x());
+    EXPECT_GE(mt, Ut - 1e-12 * (1.0 + Ut)) << "torsion, law " << to_string(law) << " theta " << th.x();
+  }
+  EXPECT_GT(tangent_below, 100);  // the test can tell the two apart
 }
 
 TEST(ImplicitStep, TorsionStiffnessEqualsFiniteDifferences) {
@@ -237,6 +277,11 @@ void dense_K_D(const Case& cs, MatX& K, MatX& D) {
                     spring_force(*cp.spring, *cp.k, *cp.cap, d + e)) / (2 * eps);
     }
     Kc = 0.5 * (Kc + Kc.transpose());
+    // beyond the cap the step adds the secant along the pull, where the tangent has none
+    // (spring_step_stiffness): k c / |d| d^ d^T
+    if (*cp.spring == SpringLaw::kCapped && d.norm() > *cp.cap) {
+      Kc += (*cp.k * *cp.cap / d.norm()) * d.normalized() * d.normalized().transpose();
+    }
     const MatX Jp = dense::point_jacobian(rig, s, cp.bone, a);
     K += Jp.transpose() * Kc * Jp;
   }
@@ -259,6 +304,17 @@ void dense_K_D(const Case& cs, MatX& K, MatX& D) {
     const Mat3 Rpr = (s.frames.orient_world[rig.bone_parent[b]] * rig.bone_rest_orient_parent[b])
                          .toRotationMatrix();
     Mat3 Kj = -dtau * Rpr.transpose();
+    // a capped torsion axis beyond its cap: the secant k c / |e| (torsion_step_stiffness_local)
+    const EngineParams& prm = sc.params;
+    if (prm.torsion_spring == SpringLaw::kCapped) {
+      for (int a = 0; a < 3; ++a) {
+        if (!rig.bone_limit[b][a].limited) continue;
+        const double e = torsion_excess(rig.bone_limit[b][a], prm.torsion_tolerance, theta[a]);
+        if (std::abs(e) > prm.torsion_cap) {
+          Kj += (prm.torsion_k * prm.torsion_cap / std::abs(e)) * Rpr.col(a) * Rpr.col(a).transpose();
+        }
+      }
+    }
     Kj = 0.5 * (Kj + Kj.transpose());
     dense::jacobians(rig, s, rig.bone_parent[b], Jwp, Jvp);
     const MatX Jrel = Jw - Jwp;

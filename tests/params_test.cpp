@@ -117,8 +117,13 @@ TEST(ParamTable, JointSolveIsWrittenOnlyAwayFromItsDefault) {
   EXPECT_TRUE(params_to_json(p)["damping_auto"].get<bool>());
   const Json a = {{"damping", "auto"}};
   EXPECT_TRUE(params_from_json(a, "auto.json").damping_auto);
+  // implicit_max_splits likewise (the implicit step's energy guard, added with it)
+  EXPECT_FALSE(params_to_json(p).contains("implicit_max_splits"));
+  p.implicit_max_splits = 0;
+  EXPECT_EQ(params_to_json(p)["implicit_max_splits"].get<int>(), 0);
+  EXPECT_EQ(params_from_json(params_to_json(p), "rt.json").implicit_max_splits, 0);
   for (const ParamRow& row : param_table()) {
-    if (row.name != "joint_solve" && row.name != "damping_auto") {
+    if (row.name != "joint_solve" && row.name != "damping_auto" && row.name != "implicit_max_splits") {
       EXPECT_TRUE(row.written_at_default) << row.name;
     }
   }

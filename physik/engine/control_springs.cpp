@@ -18,6 +18,12 @@ Mat3 spring_tangent(SpringLaw law, double k, double cap, const Vec3& d) {
   return (k * cap / len) * (Mat3::Identity() - n * n.transpose());
 }
 
+Mat3 spring_step_stiffness(SpringLaw law, double k, double cap, const Vec3& d) {
+  const double len = d.norm();
+  if (law == SpringLaw::kLinear || len <= cap) return k * Mat3::Identity();
+  return (k * cap / len) * Mat3::Identity();
+}
+
 void apply_control_springs(const Scene& scene, SimState& s) {
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
     const ControlPoint& cp = scene.control_points[c];

@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "physik/engine/forces.h"
+#include "physik/engine/implicit_advance.h"
 #include "physik/engine/implicit_step.h"
 #include "physik/engine/integrate.h"
 #include "physik/engine/integrate_joint_space.h"
@@ -62,6 +63,14 @@ void init_state(const Scene& scene, SimState& s) {
     start_target_jump(scene, s, static_cast<int>(c), cp.target_world);
   }
   if (scene.params.articulated_solve()) init_joint_space(rig, s);
+  if (scene.params.integration == Integration::kImplicit) {
+    // the energy guard's snapshots, one per halving depth (implicit_advance.h)
+    s.implicit_snapshots.resize(static_cast<std::size_t>(scene.params.implicit_max_splits) + 1);
+    for (JointStateSnapshot& snap : s.implicit_snapshots) {
+      snap.joint_vel_local.assign(rig.nbone, Vec3::Zero());
+      snap.bone_local_rotation.assign(rig.nbone, Quat::Identity());
+    }
+  }
   if (scene.params.damping_auto) update_auto_damping(scene, s);
 }
 
@@ -82,16 +91,22 @@ StepStats step(const Scene& scene, SimState& s) {
 
   update_targets(scene, s);
   if (p.damping_auto && s.step > 0 && targets_change_now(scene, s)) update_auto_damping(scene, s);
-  apply_forces(scene, s);
   const bool exact = p.articulated_solve();
+  const bool implicit = p.integration == Integration::kImplicit;
   const auto t0 = std::chrono::steady_clock::now();
-  const JointSolveStats js = p.integration == Integration::kImplicit ? solve_implicit(scene, s)
-                             : exact ? solve_articulated(rig, p, s)
-                                     : solve_joint_forces(rig, p, s);
-  const auto t1 = std::chrono::steady_clock::now();
-  if (exact) {
-    integrate_joint_space(rig, p, s);  // s.pose is its ball state: not rebuilt from the frames
+  JointSolveStats js;
+  if (implicit) {
+    // forces, the implicit solve and the joint-space update in one: a step that adds energy is
+    // taken again in halves (implicit_advance.h), so the three cannot be separate stages here
+    js = advance_implicit(scene, s);
   } else {
+    apply_forces(scene, s);
+    js = exact ? solve_articulated(rig, p, s) : solve_joint_forces(rig, p, s);
+  }
+  const auto t1 = std::chrono::steady_clock::now();
+  if (!implicit && exact) {
+    integrate_joint_space(rig, p, s);  // s.pose is its ball state: not rebuilt from the frames
+  } else if (!implicit) {
     integrate(rig, p, s);
   }
 

@@ -9,8 +9,9 @@
 //   integrate             semi-implicit Euler, articulated or free rods      integrate.h
 // With joint_solve exact the last two are solve_articulated (Featherstone's articulated-body
 // algorithm) and integrate_joint_space (MuJoCo's Euler in joint space), integrate_joint_space.h;
-// with integration implicit, solve_implicit (linearised backward Euler, implicit_step.h) and
-// integrate_joint_space.
+// with integration implicit, the last three are advance_implicit (implicit_advance.h):
+// apply_forces, solve_implicit (linearised backward Euler, implicit_step.h) and
+// integrate_joint_space, the step taken again in halves where it adds energy.
 #pragma once
 
 #include <cstdint>

@@ -13,8 +13,8 @@ void element_tangents(const Scene& scene, SimState& s) {
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
     const ControlPoint& cp = scene.control_points[c];
     const Vec3 a = point_on_bone(s.frames, cp.bone, cp.alpha);
-    s.control_tangent[c] =
-        spring_tangent(cp.spring_in(p), cp.k_in(p), cp.cap_in(p), s.target_effective_world[c] - a);
+    s.control_stiffness[c] =
+        spring_step_stiffness(cp.spring_in(p), cp.k_in(p), cp.cap_in(p), s.target_effective_world[c] - a);
   }
   const Rig& rig = scene.rig;
   for (int i = 0; i < rig.nbone; ++i) {
@@ -23,7 +23,7 @@ void element_tangents(const Scene& scene, SimState& s) {
     s.torsion_stiffness[i] =
         i == 0 || !limited || p.torsion_k == 0.0
             ? Vec3::Zero()
-            : torsion_stiffness_local(limits, rotation_vector(s.pose.bone_local_rotation[i]), p);
+            : torsion_step_stiffness_local(limits, rotation_vector(s.pose.bone_local_rotation[i]), p);
   }
 }
 
@@ -55,7 +55,7 @@ void add_stiffness_rate_forces(const Scene& scene, double h, SimState& s) {
     const ControlPoint& cp = scene.control_points[c];
     const Vec3 a = point_on_bone(s.frames, cp.bone, cp.alpha);
     const Vec3 v = s.vel_world[cp.bone] + s.omega_world[cp.bone].cross(a - s.com_world[cp.bone]);
-    apply_force_at(s, cp.bone, -h * (s.control_tangent[c] * v), a);
+    apply_force_at(s, cp.bone, -h * (s.control_stiffness[c] * v), a);
   }
   const Rig& rig = scene.rig;
   for (int i = 1; i < rig.nbone; ++i) {
@@ -83,7 +83,8 @@ void velocity_product_accels(const Rig& rig, const ArticulatedBodyData& d, std::
 void augment_bodies(const Scene& scene, double h, double c, SimState& s) {
   const Rig& rig = scene.rig;
   ArticulatedBodyData& d = s.articulated;
-  const double rot = 1.0 - scene.params.angular_velocity_factor;  // h D of the factor / I_com
+  // h D of the factor / I_com: the damper (1 - f) / dt I_com times h (1 - f at h = dt)
+  const double rot = (1.0 - scene.params.angular_velocity_factor) * (h / scene.params.dt);
   const Mat3 damper = h * c * Mat3::Identity();
   for (int i = 0; i < rig.nbone; ++i) {
     const Vec3& o = d.point_world[i];
@@ -104,7 +105,7 @@ void augment_bodies(const Scene& scene, double h, double c, SimState& s) {
   }
   for (std::size_t k = 0; k < scene.control_points.size(); ++k) {
     const ControlPoint& cp = scene.control_points[k];
-    const Mat3 A = h * h * s.control_tangent[k];
+    const Mat3 A = h * h * s.control_stiffness[k];
     const Vec3 r = point_on_bone(s.frames, cp.bone, cp.alpha) - d.point_world[cp.bone];
     add_point_inertia(A, r, d.inertia_art[cp.bone]);
     add_point_bias(A, r, s.accel_bias[cp.bone], d.bias_force[cp.bone]);
@@ -128,11 +129,14 @@ void joint_blocks(const Rig& rig, double h, SimState& s) {
 }  // namespace
 
 JointSolveStats solve_implicit(const Scene& scene, SimState& s) {
+  return solve_implicit(scene, s, scene.params.dt);
+}
+
+JointSolveStats solve_implicit(const Scene& scene, SimState& s, double h) {
   const Rig& rig = scene.rig;
   const EngineParams& p = scene.params;
-  const double h = p.dt;
   ArticulatedBodyData& d = s.articulated;
-  d.torque_per_omega = (p.angular_velocity_factor - 1.0) / h;  // the explicit factor torque
+  d.torque_per_omega = (p.angular_velocity_factor - 1.0) / p.dt;  // the explicit factor torque
   d.cancel_gyroscopic = !p.gyroscopic;
 
   element_tangents(scene, s);

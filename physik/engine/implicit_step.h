@@ -24,14 +24,17 @@
 //     r = p - o_b, this is body b's spatial inertia plus Phi^T A Phi = [[r]x A [r]x^T, [r]x A;
 //     A [r]x^T, A] (a "point mass" A at r): the augmented inertia. Elements:
 //       end damper        A = h c 1                     (head and tail of every bone)
-//       control spring    A = h^2 K_c, K_c = spring_tangent (control_springs.h; the capped law's
-//                         tangent beyond the cap)
-//   angular-velocity factor f: the explicit torque I (f - 1) w / h (as the exact step) is a
-//     rotational damper D = (1 - f) / h I_com, so h D = (1 - f) I_com on the body's angular block
-//     (zero when f = 1, "off")
+//       control spring    A = h^2 K_c, K_c = spring_step_stiffness (control_springs.h): the
+//                         tangent, and beyond the cap the secant k c / |d| along the pull,
+//                         where the tangent has none (a majoriser of the capped potential: a
+//                         long step lands at most on the target instead of past it)
+//   angular-velocity factor f: the explicit torque I (f - 1) w / dt (as the exact step) is a
+//     rotational damper D = (1 - f) / dt I_com, so h D = (1 - f) I_com on the body's angular
+//     block at h = dt (zero when f = 1, "off"; (h / dt) (1 - f) I_com over a substep h)
 //   torsion spring at bone i (joint element): tau_world = R_pr tau_local(theta), R_pr = R_p R_rest,
 //     theta the rotation vector of the ball; d theta ~ R_pr^T (w_i - w_p) dt, so on the ball's
-//     world-axes rate (w_i - w_p) = R_i u: K_j = R_pr diag(k_axis) R_pr^T (torsion_stiffness_local);
+//     world-axes rate (w_i - w_p) = R_i u: K_j = R_pr diag(k_axis) R_pr^T (torsion_step_stiffness_local;
+//     the capped law beyond its cap at its secant, as the control spring);
 //     h^2 K_j is the joint's 3x3 block (articulated_body.h joint_block: D_i = U_i... + J_i)
 // Right-hand side of (1): the start-of-step forces (force stages unchanged), plus -h K v per
 // stiffness element: the force -h K_c v_p at each control point, the torque pair -h K_j (w_i - w_p)
@@ -59,9 +62,12 @@ namespace physik {
 // After the force stages (apply_forces): the implicit solve of (1). state.articulated then holds
 // the accelerations a for integrate_joint_space, as solve_articulated's would.
 JointSolveStats solve_implicit(const Scene& scene, SimState& state);
+// The same over a step h (s) other than params.dt, for the substeps of implicit_advance.h: the
+// ODE is the scene's (the factor's damper stays (1 - f) / dt I_com), only the step changes.
+JointSolveStats solve_implicit(const Scene& scene, SimState& state, double h);
 
 // Pieces, exposed for the tests and the linear modes:
-// the tangents of this step: state.control_tangent (per control point) and
+// the stiffnesses of this step: state.control_stiffness (per control point) and
 // state.torsion_stiffness (per bone, local axes)
 void element_tangents(const Scene& scene, SimState& state);
 // R_pr diag(k) R_pr^T: bone i's torsion stiffness on its world-axes relative rate, N m/rad

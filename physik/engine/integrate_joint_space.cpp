@@ -103,7 +103,10 @@ void root_pose_entry(const Rig& rig, SimState& s) {
 }  // namespace
 
 void integrate_joint_space(const Rig& rig, const EngineParams& params, SimState& s) {
-  const double h = params.dt;
+  integrate_joint_space(rig, params.dt, s);
+}
+
+void integrate_joint_space(const Rig& rig, double h, SimState& s) {
   const ArticulatedBodyData& d = s.articulated;
   if (rig.nbone == 0) return;
   // per joint: velocity first (mj_advance), then position with the new velocity

@@ -48,6 +48,8 @@ void articulated_joint_forces(const Rig& rig, SimState& state);
 // MuJoCo's Euler step of the joint state with state.articulated's accelerations, then the world
 // view (frames, com, vel, omega, the root's pose entry).
 void integrate_joint_space(const Rig& rig, const EngineParams& params, SimState& state);
+// The same with step h (s) instead of params.dt: the implicit step's substeps (implicit_advance.h).
+void integrate_joint_space(const Rig& rig, double h, SimState& state);
 
 // The world view from the joint state alone.
 void world_from_joint_space(const Rig& rig, SimState& state);

@@ -52,4 +52,15 @@ double torsion_potential(const Rig& rig, const EngineParams& params, const Pose&
   return u;
 }
 
+double spring_potential(const Scene& scene, const SimState& s) {
+  double u = 0.0;
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    u += control_spring_potential(
+        cp.spring_in(scene.params), cp.k_in(scene.params), cp.cap_in(scene.params),
+        (point_on_bone(s.frames, cp.bone, cp.alpha) - s.target_effective_world[c]).norm());
+  }
+  return u + torsion_potential(scene.rig, scene.params, s.pose);
+}
+
 }  // namespace physik

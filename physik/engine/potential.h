@@ -16,6 +16,7 @@
 #include <array>
 #include <vector>
 
+#include "physik/engine/state.h"
 #include "physik/model/rig.h"
 #include "physik/model/scene.h"
 
@@ -44,5 +45,9 @@ double control_potential(const Scene& scene, const std::vector<Vec3>& attach_wor
 
 // U of the torsion springs of a pose (0 when torsion_k is 0).
 double torsion_potential(const Rig& rig, const EngineParams& params, const Pose& pose);
+
+// U of a state: its control springs toward its effective targets, and its torsion springs
+// (the run monitor's energy ledger, the implicit step's energy guard). Allocates nothing.
+double spring_potential(const Scene& scene, const SimState& state);
 
 }  // namespace physik

@@ -63,13 +63,7 @@ StepObservation observe_step(const Scene& scene, const SimState& s, const StepSt
   for (int left : s.interp_steps_left) o.target_moving = o.target_moving || left > 0;
   o.max_residual = st.max_residual;
   // U toward this step's targets: the targets are the state's, the attachments its frames'
-  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
-    const ControlPoint& cp = scene.control_points[c];
-    o.potential_energy += control_spring_potential(
-        cp.spring_in(scene.params), cp.k_in(scene.params), cp.cap_in(scene.params),
-        (point_on_bone(s.frames, cp.bone, cp.alpha) - s.target_effective_world[c]).norm());
-  }
-  o.potential_energy += torsion_potential(scene.rig, scene.params, s.pose);
+  o.potential_energy = spring_potential(scene, s);
   o.state = &s;
   o.unreached_joints = unreached_joints(scene.rig, s);
   return o;
@@ -271,6 +265,8 @@ void fill_final_state(const Scene& scene, const SimState& s, RunSummary& out) {
   out.final_frames = s.frames;
   out.damping_auto_value = s.damping_auto_value;
   out.damping_auto_updates = s.damping_auto_updates;
+  out.implicit_split_steps = s.implicit_split_steps;
+  out.implicit_max_substeps = s.implicit_max_substeps;
 }
 
 }  // namespace physik

@@ -49,6 +49,8 @@ struct RunSummary {
   int final_pose_step = 0;
   double damping_auto_value = 0.0;      // N s/m, damping_auto's last choice (params.damping_auto)
   int damping_auto_updates = 0;         // how often it was chosen (start + target changes)
+  int implicit_split_steps = 0;         // integration implicit: steps the energy guard split in
+  int implicit_max_substeps = 0;        //   halves, and the most substeps of one (implicit_advance.h)
   Pose final_pose;
   BoneFrames final_frames;
 };

@@ -10,6 +10,15 @@
 
 namespace physik {
 
+// The joint-space state at the start of an implicit (sub)step, to undo it (implicit_advance.h).
+struct JointStateSnapshot {
+  Vec3 root_com_world = Vec3::Zero();
+  Vec3 root_vel_world = Vec3::Zero();
+  Quat root_orient_world = Quat::Identity();
+  std::vector<Vec3> joint_vel_local;      // (nbone)
+  std::vector<Quat> bone_local_rotation;  // (nbone)
+};
+
 struct SimState {
   // --- configuration and velocity (integrated) ---
   BoneFrames frames;                  // head/tail/orientation, world, rig units
@@ -49,8 +58,12 @@ struct SimState {
   // --- implicit step workspace (integration implicit, implicit_step.h) ---
   std::vector<Vec6> accel_bias;         // (nbone) velocity-product spatial accelerations a0_i
                                         //   (qacc = 0) about o_i, (rad/s^2; rig units/s^2)
-  std::vector<Mat3> control_tangent;    // (ncontrol) K_c = dF/d(t - a) this step, N/m
-  std::vector<Vec3> torsion_stiffness;  // (nbone) -d tau/d theta per rest axis this step, N m/rad
+  std::vector<Mat3> control_stiffness;  // (ncontrol) K_c this step (spring_step_stiffness), N/m
+  std::vector<Vec3> torsion_stiffness;  // (nbone) per rest axis this step
+                                        //   (torsion_step_stiffness_local), N m/rad
+  std::vector<JointStateSnapshot> implicit_snapshots;  // (implicit_max_splits + 1) the energy guard's
+  int implicit_split_steps = 0;         // steps the energy guard split (implicit_advance.h)
+  int implicit_max_substeps = 0;        // the most substeps one step took
 
   // --- damping_auto (linear_modes.h) ---
   double damping_auto_value = 0.0;      // N s/m, the damping chosen at the last target change

@@ -24,22 +24,35 @@ Vec3 torsion_torque_local(const std::array<AxisLimit, 3>& limits, const Vec3& th
   return tau;
 }
 
-Vec3 torsion_stiffness_local(const std::array<AxisLimit, 3>& limits, const Vec3& theta,
-                             const EngineParams& params) {
+namespace {
+
+// per axis: k on an engaged axis within the cap; beyond the cap 0 (tangent) or k c / |d| (secant)
+Vec3 axis_stiffness(const std::array<AxisLimit, 3>& limits, const Vec3& theta,
+                    const EngineParams& params, bool secant_beyond_cap) {
   Vec3 k = Vec3::Zero();
   for (int a = 0; a < 3; ++a) {
     const AxisLimit& l = limits[a];
     if (!l.limited) continue;
-    const double band = params.torsion_tolerance * (l.max - l.min);
-    const double lo = l.min + band, hi = l.max - band;
-    double d = 0.0;
-    if (theta[a] < lo) d = lo - theta[a];
-    if (theta[a] > hi) d = hi - theta[a];
+    const double d = torsion_excess(l, params.torsion_tolerance, theta[a]);
     if (d == 0.0) continue;
-    if (params.torsion_spring == SpringLaw::kCapped && std::abs(d) > params.torsion_cap) continue;
     k[a] = params.torsion_k;
+    if (params.torsion_spring == SpringLaw::kCapped && std::abs(d) > params.torsion_cap) {
+      k[a] = secant_beyond_cap ? params.torsion_k * params.torsion_cap / std::abs(d) : 0.0;
+    }
   }
   return k;
+}
+
+}  // namespace
+
+Vec3 torsion_stiffness_local(const std::array<AxisLimit, 3>& limits, const Vec3& theta,
+                             const EngineParams& params) {
+  return axis_stiffness(limits, theta, params, false);
+}
+
+Vec3 torsion_step_stiffness_local(const std::array<AxisLimit, 3>& limits, const Vec3& theta,
+                                  const EngineParams& params) {
+  return axis_stiffness(limits, theta, params, true);
 }
 
 void apply_torsion_springs(const Rig& rig, const EngineParams& params, SimState& s) {

@@ -27,6 +27,12 @@ Vec3 torsion_torque_local(const std::array<AxisLimit, 3>& limits, const Vec3& th
 Vec3 torsion_stiffness_local(const std::array<AxisLimit, 3>& limits, const Vec3& theta,
                              const EngineParams& params);
 
+// The stiffness the implicit step uses: the same, but beyond the cap of a capped spring the
+// secant k c / |d| instead of 0, a majoriser of the potential as for the capped control spring
+// (spring_step_stiffness, control_springs.h).
+Vec3 torsion_step_stiffness_local(const std::array<AxisLimit, 3>& limits, const Vec3& theta,
+                                  const EngineParams& params);
+
 // Requires state.pose to hold the current local rotations.
 void apply_torsion_springs(const Rig& rig, const EngineParams& params, SimState& state);
 

@@ -50,6 +50,11 @@ nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s) {
     out["damping_auto_value"] = s.damping_auto_value;
     out["damping_auto_updates"] = s.damping_auto_updates;
   }
+  // the implicit step's energy guard (implicit_advance.h), only for implicit runs
+  if (scene.params.integration == Integration::kImplicit) {
+    out["implicit_split_steps"] = s.implicit_split_steps;
+    out["implicit_max_substeps"] = s.implicit_max_substeps;
+  }
   return out;
 }
 

@@ -177,6 +177,11 @@ std::vector<ParamRow> build_table() {
                            kAny, "articulated (the original's: FK from the root), free-rods (the "
                            "paper's text) or implicit (linearised backward Euler over the exact "
                            "solve; implies joint_solve exact)"),
+      zero_means(omitted_at_default(row<&E::implicit_max_splits>(
+                     "implicit_max_splits", "halvings", {8, 8}, closed(0.0, 20.0),
+                     "integration implicit: a step that adds energy is taken again as two half "
+                     "steps, at most this many halvings deep (the smallest substep dt / 2^N)")),
+                 "the bare linearised step, never split"),
       row<&E::interpolation>("interpolation", "", {Interpolation::kLinear, Interpolation::kLinear},
                              kAny, "how a target jump is spread over steps (eq. 12)"),
       row<&E::interpolation_steps>("interpolation_steps", "steps", {12, 12}, kNonNegative,

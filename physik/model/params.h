@@ -68,6 +68,9 @@ struct EngineParams {
   JointSolve joint_solve;                // exact: integration articulated/free-rods, joint_eps,
                                          //        max_passes, centripetal do not apply
   Integration integration;               // implicit implies joint_solve exact
+  int implicit_max_splits;               // integration implicit: a step that adds energy is taken
+                                         // again in halves, at most this deep (implicit_advance.h);
+                                         // 0 = the bare linearised step
   Interpolation interpolation;
   int interpolation_steps;               // steps over which a target jump is spread
                                          // (original: 25% of its 50 iterations)

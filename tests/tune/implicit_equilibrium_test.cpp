@@ -4,10 +4,9 @@
 // larger lands on the pose `physik equilibrium` (Ceres, tune/equilibrium.h) finds, to 1e-8 rig
 // units within 20 steps (dt >= 2; dt = 1 takes 22 at c = 3); at dt = 0.05 it lands there too,
 // slowly, with the secondary motion.
-// Not covered, measured: with a capped spring pulling far beyond its cap the Gauss-Newton K lacks
-// the geometric stiffness of the persistent force (a pendulum's F L), and implicit steps of
-// dt >= 1 overshoot and diverge on a two-bone chain (the linearised step is unconditionally
-// stable for linear springs only).
+// Capped springs pulled far beyond their cap: tests/implicit_advance_test.cpp (the tangent alone
+// has no stiffness along the pull, and implicit steps of dt >= 1 overshot and diverged on a
+// two-bone chain; the step now takes the secant there, control_springs.h spring_step_stiffness).
 #include <cmath>
 #include <iostream>
 

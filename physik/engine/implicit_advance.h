@@ -1,0 +1,46 @@
+// One implicit step of the scene's dt (integration implicit), guarded by the rig's energy: where
+// the linearisation adds energy, the step is taken again as two half steps (DESIGN.md "Implicit
+// step"; issue 14: stable for any coefficients).
+//
+// solve_implicit (implicit_step.h) is one Newton step of backward Euler with the forces
+// linearised at the start of the step. On a linear spring and damper it never adds energy
+// (implicit_step.h: E+ - E = -h c v+^2 - ... <= 0, for every h, c, k). On the rig it is linear
+// only to first order in the step's rotations; measured on the tuning study's 0.1x rig at
+// c = 100 (dt 0.05): the first step spins the forearm 0.94 rad about its own (locked) axis, where
+// its inertia is tiny, and the rig's energy grows 4.5x in that one step (the exact dynamics,
+// dt = 1e-4, reach 0.28 rad and lose energy). So every step is checked. With the targets held
+// for the step, the mechanical energy
+//   E = KE + U_control(this step's targets) + U_torsion          (J; potential.h)
+// may not grow by more than kEnergyGrowthTolerance (E + E_floor), E_floor = M speed_tol^2 / 2
+// (the run monitor's floor: the kinetic energy of the rig moving at its rest speed). A step that
+// grows it more is undone and taken as two half steps, each checked in turn, at most
+// params.implicit_max_splits halvings deep (default 8: a substep of dt / 256 is accepted as it
+// is; 0: the bare linearised step, never split). The substeps
+// integrate the same equations of motion (damping c, the factor's damper (1 - f) / dt I_com,
+// every spring); as h -> 0 the step tends to the exact dynamics, which add no energy with the
+// targets held, so the halving ends. On every shipped scene no step is split (their largest
+// growth in a step is 2.3e-7 of E, hand_tight), so their runs are as before, bit for bit.
+// The world view, the ball state and the velocities are undone from a snapshot of the joint
+// state (the joint-space state is the whole state: integrate_joint_space.h), held in
+// state.implicit_snapshots (one per depth, sized by init_state): no allocation per step.
+// Units: s, J.
+#pragma once
+
+#include "physik/engine/joint_forces.h"
+#include "physik/engine/state.h"
+#include "physik/model/scene.h"
+
+namespace physik {
+
+constexpr double kEnergyGrowthTolerance = 1e-6;  // 1, of E + E_floor
+
+// The step after update_targets: forces, the implicit solve and the joint-space Euler update, split
+// as above. Returns the joint solve's stats with passes = the recursion sweeps taken (the
+// substeps); counts a split step in state.implicit_split_steps and the most substeps of one step
+// in state.implicit_max_substeps.
+JointSolveStats advance_implicit(const Scene& scene, SimState& state);
+
+// The mechanical energy the guard holds: KE + spring_potential (J).
+double mechanical_energy(const Scene& scene, const SimState& state);
+
+}  // namespace physik

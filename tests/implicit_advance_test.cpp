@@ -1,0 +1,124 @@
+// The implicit step's energy guard (physik/engine/implicit_advance.h): a step that adds energy is
+// taken again in halves. Checked on the case that needs it (the tuning study's 0.1x pinhead at
+// c = 100, whose bare first step gains 4.5x its energy), on the cases that must not notice it
+// (every shipped scene: no step split, the run bit for bit the bare step's), and on capped
+// springs pulled far beyond their cap at steps of 1..100 s (spring_step_stiffness).
+#include "physik/engine/implicit_advance.h"
+
+#include <cmath>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "physik/engine/engine.h"
+#include "physik/io/scene_io.h"
+#include "physik/model/rig_generators.h"
+#include "tests/engine_test_util.h"
+#include "tests/test_util.h"
+
+namespace physik {
+namespace {
+
+// pinhead_two_hands at 0.1x, 1 kg per rig unit, implicit at damping c, targets fixed from the start
+Scene small_pinhead(double c) {
+  Scene s = test::scaled_scene(load_scene(test::model_path("scenes/pinhead_two_hands.json")), 0.1, 1.0);
+  s.params.integration = Integration::kImplicit;
+  s.params.interpolation = Interpolation::kNone;
+  s.params.damping = c;
+  return s;
+}
+
+struct EnergyTrace {
+  double first_step_gain = 0.0;  // E_1 / E_0 (the first step's energy over the start's, targets held)
+  double worst_growth = 0.0;     // the largest (E_k - E_k-1) / (E_k-1 + floor) over k >= 1
+  RunSummary summary;
+};
+
+// E (KE + spring potential) after every step; targets are fixed (interpolation none), so from
+// step 1 on (the initial jump is taken in step 1's update_targets) the steps hold them
+EnergyTrace trace(const Scene& scene) {
+  SimState s;
+  init_state(scene, s);
+  const double v = scene.speed_tol(), floor = 0.5 * scene.rig.total_mass() * v * v;
+  EnergyTrace t;
+  double before = -1.0;
+  t.summary = run_scene(scene, [&](const SimState& st, const StepStats&) {
+    const double e = mechanical_energy(scene, st);
+    if (before >= 0.0) t.worst_growth = std::max(t.worst_growth, (e - before) / (before + floor));
+    before = e;
+  });
+  // the first step against the start with its targets (interpolation none: the goal)
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    s.target_effective_world[c] = scene.control_points[c].target_world;
+  }
+  const double e0 = mechanical_energy(scene, s);
+  step(scene, s);
+  t.first_step_gain = mechanical_energy(scene, s) / e0;
+  return t;
+}
+
+TEST(ImplicitAdvance, TheBareStepAddsEnergyOnTheSmallRigAndTheGuardSplitsIt) {
+  Scene bare = small_pinhead(100.0);
+  bare.steps = 60;
+  bare.params.implicit_max_splits = 0;
+  const EnergyTrace b = trace(bare);
+  std::cout << "0.1x pinhead, c = 100, bare step: E_1 / E_0 = " << b.first_step_gain
+            << ", diverged " << b.summary.diverged << "\n";
+  EXPECT_GT(b.first_step_gain, 2.0) << "the case the guard is for: its bare first step gains energy";
+
+  Scene guarded = bare;
+  guarded.params.implicit_max_splits = 8;
+  const EnergyTrace g = trace(guarded);
+  std::cout << "guarded: E_1 / E_0 = " << g.first_step_gain << ", worst growth in a step "
+            << g.worst_growth << ", split steps " << g.summary.implicit_split_steps
+            << ", most substeps " << g.summary.implicit_max_substeps << "\n";
+  EXPECT_FALSE(g.summary.diverged) << g.summary.divergence_reason;
+  EXPECT_LE(g.first_step_gain, 1.0 + 1e-6);
+  EXPECT_LE(g.worst_growth, 2e-6);  // the tolerance of each (sub)step, a few of them
+  EXPECT_GT(g.summary.implicit_split_steps, 0);
+  EXPECT_GT(g.summary.implicit_max_substeps, 1);
+  EXPECT_LE(g.summary.implicit_max_substeps, 256);
+}
+
+TEST(ImplicitAdvance, NoShippedSceneIsSplitAndItsRunIsTheBareStepsBitForBit) {
+  for (const char* name : {"pinhead_two_hands", "fig5_running", "fig9_outstretched", "hand_tight",
+                           "fig7_cannon_capped", "fig11_sit"}) {
+    Scene s = load_scene(test::model_path(std::string("scenes/") + name + ".json"));
+    s.params.integration = Integration::kImplicit;
+    s.steps = 300;
+    const RunSummary guarded = run_scene(s);
+    s.params.implicit_max_splits = 0;
+    const RunSummary bare = run_scene(s);
+    EXPECT_EQ(guarded.implicit_split_steps, 0) << name;
+    EXPECT_EQ(guarded.implicit_max_substeps, 1) << name;
+    EXPECT_EQ(state_hash(guarded.final_frames), state_hash(bare.final_frames)) << name;
+  }
+}
+
+// A two-bone chain pinned at its root, its tip pulled 1.6 rig units away by a capped spring of
+// cap 0.1: beyond the cap the tangent has no stiffness along the pull, so a long step would
+// overshoot; the step's stiffness (its secant there) lands it on the target instead.
+TEST(ImplicitAdvance, CappedSpringsFarBeyondTheirCapLandAtEveryStepSize) {
+  const Rig rig = make_chain_rig(2, 1.0);
+  for (double dt : {0.05, 1.0, 10.0, 100.0}) {
+    Scene s = test::scene_for(rig, preset_params("original"), dt < 0.5 ? 2000 : 60);
+    s.params.integration = Integration::kImplicit;
+    s.params.interpolation = Interpolation::kNone;
+    s.params.dt = dt;
+    s.control_points = {test::control(0, 0.0, Vec3::Zero(), 30.0),
+                        test::control(1, 1.0, Vec3(1.5, 0.0, 0.5), 30.0, SpringLaw::kCapped, 0.1)};
+    s.convergence.stop_when_converged = true;
+    const EnergyTrace t = trace(s);
+    ASSERT_FALSE(t.summary.diverged) << "dt " << dt << ": " << t.summary.divergence_reason;
+    EXPECT_TRUE(t.summary.converged) << "dt " << dt;
+    // at rest: large steps on the target, the physical dt within the rest rule's creep
+    const double tol = dt < 0.5 ? s.residual_tol() : 1e-9;
+    for (double r : t.summary.final_residuals) EXPECT_LT(r, tol) << "dt " << dt;
+    EXPECT_LE(t.worst_growth, 2e-6) << "dt " << dt;
+    std::cout << "capped chain dt " << dt << ": converged at step " << t.summary.steps_to_converge
+              << ", split steps " << t.summary.implicit_split_steps << "\n";
+  }
+}
+
+}  // namespace
+}  // namespace physik
