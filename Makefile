@@ -1,9 +1,9 @@
 # Two commands do everything on a fresh Debian bookworm machine:
 #   make test        install what is missing, build, run every test
 #   make reproduce   install what is missing, build, run the experiments, figures and report
-# and one more (not yet run by CI; see .ci/run):
+# and one more, which CI runs after make test (.ci/run):
 #   make sanitize    the same tests on an AddressSanitizer + UndefinedBehaviorSanitizer build
-#                    (build-sanitize/), the fuzzer included with fewer cases
+#                    (build-sanitize/), the fuzzer included with fewer cases (~20 min on 2 cores)
 BUILD ?= build
 JOBS ?= 2
 PYTHON ?= /usr/bin/python3
