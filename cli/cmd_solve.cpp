@@ -61,7 +61,9 @@ void add_solve_commands(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "solve",
       "Solve a scene's control points (at their final targets) as IK goals with a classic solver "
-      "or the PhysIK engine: writes <out>/final_pose.csv and <out>/summary.json.");
+      "or the PhysIK engine (physik: the implicit step, lengthening from the scene's dt into a "
+      "quasi-static solve; physik-explicit: the scene's engine at its dt, the paper's scheme by "
+      "default): writes <out>/final_pose.csv and <out>/summary.json.");
   cmd->add_option("SCENE", opt->scene, "Scene file (JSON, see models/README.md)")->required();
   cmd->add_option("--solver", opt->solve.solver, kSceneSolvers)->required();
   cmd->add_option("--out", opt->out, "Output folder")->capture_default_str();
@@ -80,6 +82,15 @@ void add_solve_commands(CLI::App& app) {
   cmd->add_option("--cone", opt->solve.cone, "rotation method cone limits: none | circular | elliptical")
       ->capture_default_str();
   cmd->add_flag("--no-limits", opt->solve.no_limits, "classic solvers ignore the rig's joint limits");
+  cmd->add_option("--dt-growth", opt->solve.dt_growth,
+                  "physik: the implicit step lengthens by this factor every step the kinetic energy "
+                  "falls (1 = the scene's dt throughout)")
+      ->capture_default_str();
+  cmd->add_option("--max-dt", opt->solve.max_dt, "physik: the longest step, s")->capture_default_str();
+  cmd->add_option("--finish", opt->solve.finish,
+                  "physik, physik-explicit: when the residual stops improving, finish with ccd or dls "
+                  "(the paper's hybrid) | none")
+      ->capture_default_str();
   cmd->add_flag("--quiet", opt->quiet, "No progress output");
   cmd->callback([opt] { run_solve(*opt); });
 }

@@ -167,12 +167,22 @@ expect_in "solve summary solver" "$tmp/solve/summary.json" '"solver": "dls"'
 expect_in "solve final pose" "$tmp/solve/final_pose.csv" "hand.L"
 # a diverging engine solve (the paper's damping on pinhead): exit 3 after writing both files
 printf '{"rig": "%s/models/rigs/pinhead.json", "params": {"preset": "original", "control_k": 30, "damping": 20}, "control_points": [{"bone": "hand.L", "target": [1.5, -0.5, 1.2], "spring": "capped"}, {"bone": "hand.R", "target": [-1.0, -0.9, 1.0], "spring": "capped"}], "steps": 400}' "$src" > "$tmp/s4.json"
-check "solve diverges" 3 "$bin" solve "$tmp/s4.json" --solver physik --out "$tmp/solve_div" --quiet
+check "solve diverges" 3 "$bin" solve "$tmp/s4.json" --solver physik-explicit --out "$tmp/solve_div" --quiet
 expect_in "solve diverged message" "$tmp/err" "diverged"
 expect_in "solve diverged summary" "$tmp/solve_div/summary.json" '"diverged": true'
 rows=$(( $(wc -l < "$tmp/solve_div/final_pose.csv") - 1 ))
 if [ "$rows" -eq 18 ]; then pass=$((pass+1)); else
   fail=$((fail+1)); echo "FAIL solve diverged final pose: $rows rows, want 18 (one per pinhead bone)"; fi
+# the same scene in the solve mode (the implicit step): the paper's damping poses it
+check "solve mode at the paper's damping" 0 "$bin" solve "$tmp/s4.json" --solver physik --out "$tmp/solve_mode" --quiet
+expect_in "solve mode converged" "$tmp/solve_mode/summary.json" '"converged": true'
+expect_in "solve mode growth" "$tmp/solve_mode/summary.json" '"dt_growth"'
+check "solve hybrid" 0 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" --solver physik-explicit --finish dls --out "$tmp/solve_hyb" --quiet
+expect_in "solve hybrid finish" "$tmp/solve_hyb/summary.json" '"finish": "dls"'
+check "solve bad growth" 2 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" --solver physik --dt-growth 0.5 --out "$tmp/solve" --quiet
+expect_in "solve bad growth message" "$tmp/err" "--dt-growth"
+check "solve bad finish" 2 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" --solver physik --finish newton --out "$tmp/solve" --quiet
+expect_in "solve bad finish message" "$tmp/err" "unknown finish 'newton'"
 
 # physik tune / equilibrium: Ceres tuning and exact equilibria
 check "tune help" 0 "$bin" tune --help

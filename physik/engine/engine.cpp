@@ -16,6 +16,7 @@
 #include "physik/engine/linear_modes.h"
 #include "physik/engine/newton_euler.h"
 #include "physik/engine/run_monitor.h"
+#include "physik/model/errors.h"
 
 namespace physik {
 
@@ -83,9 +84,8 @@ bool targets_change_now(const Scene& scene, const SimState& s) {
   return false;
 }
 
-}  // namespace
-
-StepStats step(const Scene& scene, SimState& s) {
+// one step of h (s): the table of contents of engine.h
+StepStats take_step(const Scene& scene, SimState& s, double h) {
   const Rig& rig = scene.rig;
   const EngineParams& p = scene.params;
 
@@ -98,7 +98,7 @@ StepStats step(const Scene& scene, SimState& s) {
   if (implicit) {
     // forces, the implicit solve and the joint-space update in one: a step that adds energy is
     // taken again in halves (implicit_advance.h), so the three cannot be separate stages here
-    js = advance_implicit(scene, s);
+    js = advance_implicit(scene, s, h);
   } else {
     apply_forces(scene, s);
     js = exact ? solve_articulated(rig, p, s) : solve_joint_forces(rig, p, s);
@@ -111,7 +111,7 @@ StepStats step(const Scene& scene, SimState& s) {
   }
 
   s.step += 1;
-  s.time += p.dt;
+  s.time += h;
   if (!exact) local_rotations_from_world(rig, s.frames, s.pose);
 
   StepStats st;
@@ -121,11 +121,26 @@ StepStats step(const Scene& scene, SimState& s) {
   st.kinetic_energy = kinetic_energy(rig, s);
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
     const ControlPoint& cp = scene.control_points[c];
-    st.max_residual = std::max(
-        st.max_residual, (point_on_bone(s.frames, cp.bone, cp.alpha) - s.target_goal_world[c]).norm());
+    const double r = (point_on_bone(s.frames, cp.bone, cp.alpha) - s.target_goal_world[c]).norm();
+    if (!(r <= st.max_residual)) st.max_residual = r;  // a NaN residual stays NaN (std::max drops it)
   }
   st.joint_separation = max_joint_separation(rig, s.frames);
   return st;
+}
+
+}  // namespace
+
+StepStats step(const Scene& scene, SimState& s) { return take_step(scene, s, scene.params.dt); }
+
+StepStats step(const Scene& scene, SimState& s, double h) {
+  if (scene.params.integration != Integration::kImplicit) {
+    throw_input_error(scene.file, "params", "integration",
+                      "a step of another length than dt needs integration implicit");
+  }
+  if (!(h > 0.0) || !std::isfinite(h)) {
+    throw_input_error(scene.file, "step", "h", "the step length must be positive and finite");
+  }
+  return take_step(scene, s, h);
 }
 
 RunSummary run_scene(const Scene& scene, const StepObserver& observer) {

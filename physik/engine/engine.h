@@ -26,6 +26,12 @@ namespace physik {
 void init_state(const Scene& scene, SimState& state);
 
 StepStats step(const Scene& scene, SimState& state);
+// One step of length h (s) of the scene's equations of motion, integration implicit only (the
+// explicit schemes' angular-velocity factor is per step of params.dt): its damping, the factor's
+// damper (1 - f) / params.dt I and every spring are the scene's; only the step is longer or
+// shorter. The solve mode (physik/posing) lengthens it as the motion settles. InputError when
+// the integration is not implicit, or h is not positive and finite.
+StepStats step(const Scene& scene, SimState& state, double h);
 
 // Diagnostics over a state.
 double kinetic_energy(const Rig& rig, const SimState& state);

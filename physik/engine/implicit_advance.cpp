@@ -1,6 +1,7 @@
 #include "physik/engine/implicit_advance.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "physik/engine/engine.h"
 #include "physik/engine/forces.h"
@@ -35,6 +36,14 @@ void restore(const Rig& rig, const JointStateSnapshot& snap, SimState& s) {
   world_from_joint_space(rig, s);
 }
 
+// the largest joint rotation of a step of h just taken, rad: h |u| of every ball and of the root's
+// w (their new velocities, which the step turned them by)
+double largest_rotation(const SimState& s, double h) {
+  double w = 0.0;
+  for (const Vec3& u : s.joint_vel_local) w = std::max(w, u.squaredNorm());
+  return h * std::sqrt(w);
+}
+
 // one substep of h at `depth`, split in two while it adds energy (below max_depth); returns the
 // recursion sweeps taken
 int substep(const Scene& scene, SimState& s, double h, int depth, int max_depth, double floor) {
@@ -44,8 +53,8 @@ int substep(const Scene& scene, SimState& s, double h, int depth, int max_depth,
   apply_forces(scene, s);
   solve_implicit(scene, s, h);
   integrate_joint_space(scene.rig, h, s);
-  if (!guarded ||
-      mechanical_energy(scene, s) <= e0 + kEnergyGrowthTolerance * (std::max(e0, 0.0) + floor)) {
+  if (!guarded || (largest_rotation(s, h) <= kMaxStepRotation &&
+                   mechanical_energy(scene, s) <= e0 + kEnergyGrowthTolerance * (std::max(e0, 0.0) + floor))) {
     return 1;
   }
   restore(scene.rig, s.implicit_snapshots[depth], s);
@@ -55,13 +64,13 @@ int substep(const Scene& scene, SimState& s, double h, int depth, int max_depth,
 
 }  // namespace
 
-JointSolveStats advance_implicit(const Scene& scene, SimState& s) {
+JointSolveStats advance_implicit(const Scene& scene, SimState& s, double h) {
   const double v = scene.speed_tol();
   const double floor = 0.5 * scene.rig.total_mass() * v * v;  // J, E_floor
   // init_state sized one snapshot per depth; the bound guards a state sized for other params
   const int max_depth = std::min(scene.params.implicit_max_splits,
                                  static_cast<int>(s.implicit_snapshots.size()) - 1);
-  const int sweeps = substep(scene, s, scene.params.dt, 0, max_depth, floor);
+  const int sweeps = substep(scene, s, h, 0, max_depth, floor);
   if (sweeps > 1) ++s.implicit_split_steps;
   s.implicit_max_substeps = std::max(s.implicit_max_substeps, sweeps);
   JointSolveStats stats;

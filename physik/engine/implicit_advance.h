@@ -12,8 +12,13 @@
 // for the step, the mechanical energy
 //   E = KE + U_control(this step's targets) + U_torsion          (J; potential.h)
 // may not grow by more than kEnergyGrowthTolerance (E + E_floor), E_floor = M speed_tol^2 / 2
-// (the run monitor's floor: the kinetic energy of the rig moving at its rest speed). A step that
-// grows it more is undone and taken as two half steps, each checked in turn, at most
+// (the run monitor's floor: the kinetic energy of the rig moving at its rest speed), and no joint
+// may turn by more than kMaxStepRotation in it (1 rad: the step is linear in the rotations only to
+// first order, and where it turns a joint this far the energy test can pass by chance: at
+// dt = 25.6 s a solve of pinhead's hand turned it 5.6 rad about its own axis, a direction with
+// almost no stiffness and no end damping; the substeps of a split that held energy alone then
+// blew up to NaN; the shipped scenes turn a joint at most 0.48 rad in a step at dt 0.05). A step
+// that does either is undone and taken as two half steps, each checked in turn, at most
 // params.implicit_max_splits halvings deep (default 8: a substep of dt / 256 is accepted as it
 // is; 0: the bare linearised step, never split). The substeps
 // integrate the same equations of motion (damping c, the factor's damper (1 - f) / dt I_com,
@@ -33,12 +38,15 @@
 namespace physik {
 
 constexpr double kEnergyGrowthTolerance = 1e-6;  // 1, of E + E_floor
+constexpr double kMaxStepRotation = 1.0;         // rad, the most a (sub)step may turn a joint
 
 // The step after update_targets: forces, the implicit solve and the joint-space Euler update, split
 // as above. Returns the joint solve's stats with passes = the recursion sweeps taken (the
 // substeps); counts a split step in state.implicit_split_steps and the most substeps of one step
 // in state.implicit_max_substeps.
-JointSolveStats advance_implicit(const Scene& scene, SimState& state);
+// h: the step's length, s (step() passes params.dt; a longer one integrates the same equations
+// of motion, whose dampers are set by params.dt, with a longer step: the solve mode).
+JointSolveStats advance_implicit(const Scene& scene, SimState& state, double h);
 
 // The mechanical energy the guard holds: KE + spring_potential (J).
 double mechanical_energy(const Scene& scene, const SimState& state);

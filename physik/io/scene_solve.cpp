@@ -1,17 +1,36 @@
 #include "physik/io/scene_solve.h"
 
+#include <chrono>
+#include <cmath>
+
 #include "physik/engine/engine.h"
 #include "physik/io/summary_io.h"
 #include "physik/model/errors.h"
+#include "physik/posing/posing_session.h"
 
 namespace physik {
 
-const char* const kSceneSolvers = "fabrik|ccd|jt|dls|mass-spring|rotation|physik";
+const char* const kSceneSolvers = "fabrik|ccd|jt|dls|mass-spring|rotation|physik|physik-explicit";
+
+namespace {
+
+bool engine_solver(const std::string& s) { return s == "physik" || s == "physik-explicit"; }
+
+}  // namespace
 
 void check_solve_options(const SceneSolveOptions& o) {
   IkMethod method{};
-  if (o.solver != "physik" && !ik_method_from_string(o.solver, method)) {
+  if (!engine_solver(o.solver) && !ik_method_from_string(o.solver, method)) {
     throw_input_error("--solver", "", "", "unknown solver '" + o.solver + "'; one of " + kSceneSolvers);
+  }
+  if (!(o.dt_growth >= 1.0) || !std::isfinite(o.dt_growth)) {
+    throw_input_error("--dt-growth", "", "", "must be a number >= 1 (1 = a fixed step)");
+  }
+  if (!(o.max_dt > 0.0) || !std::isfinite(o.max_dt)) {
+    throw_input_error("--max-dt", "", "", "must be a positive number of seconds");
+  }
+  if (o.finish != "none" && o.finish != "ccd" && o.finish != "dls") {
+    throw_input_error("--finish", "", "", "unknown finish '" + o.finish + "'; one of none|ccd|dls");
   }
   if (o.tol < 0.0) throw_input_error("--tol", "", "", "must not be negative");
   if (o.max_iterations < 0) throw_input_error("--max-iterations", "", "", "must not be negative");
@@ -29,20 +48,41 @@ std::vector<IkGoal> scene_goals(const Scene& scene) {
 
 namespace {
 
-// the engine stops like the classic solvers: at the residual tolerance (default 1e-4 of the
-// chain's reach), or when the residual stalls short of it (not converged)
+// the engine in a posing session (physik/posing/posing_session.h): the solve mode (physik) or the
+// scene's engine at its dt (physik-explicit); see scene_solve.h
 SceneSolveResult solve_with_engine(Scene& scene, const SceneSolveOptions& o,
                                    const std::vector<IkGoal>& goals) {
-  scene.convergence.residual_tol = o.tol > 0.0 ? o.tol : 1e-4 * chain_reach(scene.rig, goals);
-  scene.convergence.stop_at_residual_tol = true;
-  const RunSummary s = run_scene(scene);
+  const bool mode = o.solver == "physik";
+  if (mode) scene.params.integration = Integration::kImplicit;
+  SolveRule rule;
+  rule.tolerance = o.tol > 0.0 ? o.tol : 1e-4 * chain_reach(scene.rig, goals);
+  rule.max_steps = scene.steps;
+  rule.dt_growth = mode ? o.dt_growth : 1.0;
+  rule.max_dt = o.max_dt;
+  rule.finish = o.finish == "ccd" ? SolveFinish::kCcd : o.finish == "dls" ? SolveFinish::kDls
+                                                                          : SolveFinish::kNone;
+  PosingSession session(scene);  // the solver object: rig, state and buffers, before the clock
+  const auto t0 = std::chrono::steady_clock::now();
+  const SolveResult res = session.solve(rule);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  RunSummary s = session.summary(res);
+  s.wall_time_s = seconds;
   SceneSolveResult r;
-  r.summary = summary_to_json(scene, s);
-  r.summary["iterations"] = s.steps_run;
-  r.summary["time_s"] = s.wall_time_s;
+  r.summary = summary_to_json(session.scene(), s);
+  r.summary["iterations"] = res.steps;
+  r.summary["time_s"] = seconds;
+  r.summary["residual"] = res.residual;
+  r.summary["residual_tol"] = res.tolerance;
+  r.summary["stalled"] = res.stalled;
+  r.summary["finish"] = o.finish;
+  r.summary["finish_iterations"] = res.finish_iterations;
+  if (mode) {
+    r.summary["dt_growth"] = rule.dt_growth;
+    r.summary["max_dt"] = rule.max_dt;
+  }
   r.frames = s.final_frames;
   r.pose = s.final_pose;
-  r.diverged = s.diverged;
+  r.diverged = res.diverged;
   r.warning = s.joint_solve_warning;
   return r;
 }
@@ -97,8 +137,8 @@ SceneSolveResult solve_scene(Scene scene, const SceneSolveOptions& o) {
     throw_input_error(scene.file, "control_points", "", "a solve needs at least one control point");
   }
   const std::vector<IkGoal> goals = scene_goals(scene);
-  SceneSolveResult r = o.solver == "physik" ? solve_with_engine(scene, o, goals)
-                                            : solve_classic(scene, o, goals);
+  SceneSolveResult r = engine_solver(o.solver) ? solve_with_engine(scene, o, goals)
+                                                : solve_classic(scene, o, goals);
   r.summary["solver"] = o.solver;
   return r;
 }

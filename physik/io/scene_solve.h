@@ -2,6 +2,19 @@
 // the PhysIK engine run to its residual tolerance: what `physik solve` does, shared by the CLI
 // and the Python module. The summary has `physik simulate`'s keys for the engine and the classic
 // solvers' report keys otherwise, plus "solver", "iterations" and "time_s".
+//
+// The engine as a solver (issue 15), both through physik::PosingSession (physik/posing):
+//   physik           the solve mode: integration implicit (linearised backward Euler over the
+//                    exact articulated solve), the step starting at the scene's dt (the body
+//                    follows with its secondary motion) and lengthening by dt_growth every step
+//                    the kinetic energy falls, up to max_dt (a long implicit step is a
+//                    Gauss-Newton step on the spring and torsion potential: the quasi-static
+//                    solve)
+//   physik-explicit  the scene's engine as it stands (by default the paper's scheme) at its dt
+// Both stop at the residual tolerance (1e-4 of the chain's reach unless --tol), or when the
+// residual stops improving (no 1% in 50 steps), and then, with finish ccd|dls, hand the pose
+// to CCD or DLS (the paper's suggested hybrid). time_s is the solve's alone: the session (the
+// rig, the state, every buffer) is built before the clock starts, as a tool holds it.
 #pragma once
 
 #include <string>
@@ -14,9 +27,14 @@
 
 namespace physik {
 
+// The solve mode's defaults (physik): chosen on the ik_comparison targets (README "PhysIK as an
+// IK solver")
+constexpr double kSolveDtGrowth = 2.0;
+constexpr double kSolveMaxDt = 1000.0;
+
 // The options of `physik solve`; errors name the CLI's flags (--solver, --tol, ...).
 struct SceneSolveOptions {
-  std::string solver;               // fabrik|ccd|jt|dls|mass-spring|rotation|physik
+  std::string solver;               // fabrik|ccd|jt|dls|mass-spring|rotation|physik|physik-explicit
   double tol = 0.0;                 // rig units; 0 = 1e-4 of the reach
   int max_iterations = 1000;        // classic solvers
   double lambda = 0.0;              // rig units, DLS damping; 0 = 0.02 of the reach
@@ -26,9 +44,13 @@ struct SceneSolveOptions {
   std::string socket = "twist-bend";   // twist-bend | virtual-bone
   std::string cone = "elliptical";     // none | circular | elliptical
   bool no_limits = false;           // classic solvers ignore the rig's limits
+  // the engine's solvers (physik, physik-explicit)
+  double dt_growth = kSolveDtGrowth;  // 1, physik: the step's growth per settling step
+  double max_dt = kSolveMaxDt;        // s, physik: the longest step
+  std::string finish = "none";        // none | ccd | dls: the classic finish after a stall
 };
 
-extern const char* const kSceneSolvers;  // "fabrik|ccd|jt|dls|mass-spring|rotation|physik"
+extern const char* const kSceneSolvers;  // "fabrik|...|rotation|physik|physik-explicit"
 
 // The checks that need no scene (solver name, tolerance, iterations, gravity); InputError.
 void check_solve_options(const SceneSolveOptions& options);

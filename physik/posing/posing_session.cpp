@@ -88,19 +88,23 @@ SolveResult PosingSession::solve(const SolveRule& rule) {
     throw_input_error(scene_.file, "params", "integration",
                       "a lengthening step (dt_growth > 1) needs integration implicit");
   }
-  const double dt0 = scene_.params.dt;
-  double previous_ke = kinetic_energy(scene_.rig, state_);
+  // the step h: the scene's dt at first; longer by dt_growth after a step whose kinetic energy
+  // fell, shorter by it (not below dt) after one the energy guard had to split
+  const double dt0 = scene_.params.dt, longest = std::max(rule.max_dt, dt0);
+  double h = dt0, previous_ke = kinetic_energy(scene_.rig, state_);
   bool stop = false;
   while (!stop && out.steps < rule.max_steps) {
-    const StepStats st = step(scene_, state_);
+    const StepStats st = grow ? step(scene_, state_, h) : step(scene_, state_);
     ++out.steps;
     stop = monitor_.observe(observe_step(scene_, state_, st));
-    if (grow && st.kinetic_energy <= previous_ke) {
-      scene_.params.dt = std::min(scene_.params.dt * rule.dt_growth, std::max(rule.max_dt, dt0));
+    if (grow && st.passes > 1) {
+      h = std::max(h / rule.dt_growth, dt0);
+    } else if (grow && st.kinetic_energy <= previous_ke) {
+      h = std::min(h * rule.dt_growth, longest);
     }
     previous_ke = st.kinetic_energy;
   }
-  scene_.params.dt = dt0;
+  out.final_dt = h;
   out.diverged = monitor_.diverged();
   if (out.diverged) set_pose(start_pose_);
   out.converged = monitor_.converged();
@@ -109,6 +113,13 @@ SolveResult PosingSession::solve(const SolveRule& rule) {
   if (!out.converged && !out.diverged && rule.finish != SolveFinish::kNone) {
     finish_with(rule, out.tolerance, out);
   }
+  return out;
+}
+
+RunSummary PosingSession::summary(const SolveResult& result) const {
+  RunSummary out = monitor_.summary();
+  monitor_.fill_final(scene_, state_, out);
+  out.converged = result.converged;
   return out;
 }
 

@@ -47,8 +47,12 @@ struct SolveRule {
   // The solve mode on the implicit step (issue 15): the step starts at the scene's dt, so the
   // body follows with its secondary motion, and lengthens by dt_growth each step the kinetic
   // energy falls, up to max_dt, carrying the dynamics into a quasi-static solve (a large implicit
-  // step is a Gauss-Newton step on the spring and torsion potential, docs/DESIGN.md). 1 = off.
-  // The scene's dt is back in place when the solve returns. InputError unless implicit.
+  // step is a Gauss-Newton step on the spring and torsion potential, damped by the rig's own
+  // inertia and dampers, docs/DESIGN.md). A step the energy guard had to split
+  // (physik/engine/implicit_advance.h) shortens the next by dt_growth, not below dt: a trust
+  // region, as Levenberg-Marquardt's damping. The equations of motion stay the scene's (its
+  // dampers are set by its dt: physik::step(scene, state, h)); only the step changes. 1 = off.
+  // InputError unless implicit.
   double dt_growth = 1.0;          // 1, per settling step
   double max_dt = 1.0;             // s
   SolveFinish finish = SolveFinish::kNone;
@@ -63,6 +67,7 @@ struct SolveResult {
   int steps = 0;             // physics steps taken by this solve
   int finish_iterations = 0; // iterations of the classic finish (0 = none ran)
   double residual = 0.0;     // rig units, the largest control-point distance at the end
+  double final_dt = 0.0;     // s, the step length the solve ended with
   double tolerance = 0.0;    // rig units, the one used
 };
 
@@ -90,6 +95,12 @@ class PosingSession {
 
   // Largest distance of any control point from its target, rig units.
   double residual() const;
+
+  // The run monitor's summary of the last solve (its steps, energy ledger, limit violation, ...)
+  // with the session's state as the final one, as run_scene's summary of the same run; after a
+  // classic finish the final pose is the finished one and `converged` the solve's verdict.
+  // Allocates (the summary's vectors).
+  RunSummary summary(const SolveResult& result) const;
 
   const Scene& scene() const { return scene_; }
   const SimState& state() const { return state_; }

@@ -109,21 +109,26 @@ and pose (a Pose of copies: the solved pose)."""
 
 def solve(scene, solver="physik", *, tol=0.0, max_iterations=1000, lambda_=0.0,
           jacobian="analytic", gravity=None, rotation_damping=0.8, socket="twist-bend",
-          cone="elliptical", no_limits=False, raise_on_divergence=False):
+          cone="elliptical", no_limits=False, dt_growth=_core._SOLVE_DT_GROWTH,
+          max_dt=_core._SOLVE_MAX_DT, finish="none", raise_on_divergence=False):
     """Solve the scene's control points (at their final targets) as IK goals: `physik solve`.
 
     solver: "fabrik", "ccd", "jt", "dls", "mass-spring", "rotation" (the classic solvers, from the
-    scene's initial pose) or "physik" (the engine, run until every control point is within tol,
-    or until the residual stalls). The keywords are the CLI's flags (--tol, --max-iterations,
-    --lambda, --jacobian analytic|fd, --gravity x y z, --rotation-damping, --socket
-    twist-bend|virtual-bone, --cone none|circular|elliptical, --no-limits); tol 0 = 1e-4 of the
+    scene's initial pose), "physik" (the engine's solve mode: the implicit step from the scene's
+    dt, lengthening by dt_growth each settling step up to max_dt) or "physik-explicit" (the
+    scene's engine at its dt), both run until every control point is within tol, or until the
+    residual stalls, then finished by finish "ccd" or "dls" if given. The keywords are the CLI's
+    flags (--tol, --max-iterations, --lambda, --jacobian analytic|fd, --gravity x y z,
+    --rotation-damping, --socket twist-bend|virtual-bone, --cone none|circular|elliptical,
+    --no-limits, --dt-growth, --max-dt, --finish none|ccd|dls); tol 0 = 1e-4 of the
     chain's reach, lambda_ 0 = 0.02 of it. A bad option raises InputError naming the flag.
     Returns SolveResult(summary, pose). The engine's divergence is the summary's flag, or
     DivergedError with raise_on_divergence.
     """
     summary, arrays = _core._solve(scene, solver, tol, max_iterations, lambda_, jacobian,
                                    list(gravity) if gravity is not None else [],
-                                   rotation_damping, socket, cone, no_limits, raise_on_divergence)
+                                   rotation_damping, socket, cone, no_limits, dt_growth, max_dt,
+                                   finish, raise_on_divergence)
     return SolveResult(summary, _pose_from_arrays(arrays, scene.rig.bone_names))
 
 

@@ -212,7 +212,8 @@ def read_bones_csv(path):
     return [r["bone"] for r in rows], heads, tails
 
 
-@pytest.mark.parametrize("solver", ["fabrik", "ccd", "jt", "dls", "mass-spring", "rotation", "physik"])
+@pytest.mark.parametrize("solver", ["fabrik", "ccd", "jt", "dls", "mass-spring", "rotation", "physik",
+                                    "physik-explicit"])
 def test_solve_equals_the_cli(solver, tmp):
     path = scene_path("pinhead_two_hands")
     status, _, err = cli("solve", path, "--solver", solver, "--out", tmp, "--quiet")
@@ -229,9 +230,9 @@ def test_solve_equals_the_cli(solver, tmp):
 
 
 def test_solve_with_engine_equals_simulation_with_its_settings():
-    # solve(physik) is the engine run with stop_at_residual_tol at 1e-4 of the reach
+    # solve(physik-explicit) is the scene's engine run with stop_at_residual_tol
     scene = physik.Scene.load(scene_path("fig9_outstretched"))
-    result = physik.solve(scene, "physik", tol=1e-3)
+    result = physik.solve(scene, "physik-explicit", tol=1e-3)
     s = scene.copy()
     s.update(convergence={"stop_at_residual_tol": True, "residual_tol": 1e-3})
     run = physik.Simulation(s).run()
