@@ -17,6 +17,7 @@ COLUMNS = [("success_rate", "success", lambda v: "%.1f%%" % (100 * v)),
            ("max_limit_violation_deg", "max viol (deg)", lambda v: "%.2g" % v),
            ("mean_total_rotation_rad", "total rot (rad)", lambda v: "%.3g" % v),
            ("mean_offpath_motion", "off-path motion", lambda v: "%.3g" % v),
+           ("mean_offpath_rotation_rad", "off-path rot (rad)", lambda v: "%.3g" % v),
            ("unreachable_not_converged", "unreach: not conv", lambda v: "%.0f%%" % (100 * v)),
            ("unreachable_excess_over_reach", "unreach: excess/reach", lambda v: "%.2g" % v),
            ("continuity_median_ratio", "jump median", lambda v: "%.3g" % v),
@@ -41,7 +42,7 @@ def grouped_bars(rows, key, ylabel, path, log=False):
         raise ValueError("no rows to plot")
     rigs = list(dict.fromkeys(r["rig"] for r in rows))
     solvers = list(dict.fromkeys(r["solver"] for r in rows))
-    fig, ax = plt.subplots(figsize=(10, 4))
+    fig, ax = plt.subplots(figsize=(12, 4))
     width = 0.8 / len(solvers)
     for k, s in enumerate(solvers):
         xs, ys = [], []
@@ -50,7 +51,7 @@ def grouped_bars(rows, key, ylabel, path, log=False):
                 if r["rig"] == rig and r["solver"] == s and r.get(key) is not None:
                     xs.append(i + (k - (len(solvers) - 1) / 2) * width)
                     ys.append(max(r[key], 1e-6) if log else r[key])
-        ax.bar(xs, ys, width, label=s)
+        ax.bar(xs, ys, width, label=s, color=plt.cm.tab20(k % 20))
     ax.set_xticks(range(len(rigs)))
     ax.set_xticklabels(rigs)
     ax.set_ylabel(ylabel)

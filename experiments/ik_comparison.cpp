@@ -11,15 +11,23 @@
 // displacement of bones off the root-to-hand path), and continuity: the same start solved for
 // the target and for the target moved by 1% of the reach; jump = largest bone-tail displacement
 // between the two solutions over the target move (1 = the pose follows the target rigidly).
-// PhysIK: the default preset with its default control spring on the effector and a second control point pinning the root's head (PhysIK's root is free), stopped
-// like the classic solvers: at the residual tolerance (1e-4 of the reach), or when the residual
-// stalls short of it (not converged), at most 2000 steps; fewer targets, no 50-chain
-// (the 5 n^2 joint-pass cap makes a 50-bone step ~3 ms).
+// PhysIK: the default preset with its default control spring on the effector and a second
+// control point pinning the root's head (PhysIK's root is free), in a PosingSession per rig
+// (physik/posing; the time is the solve alone), stopped like the classic solvers: at the residual
+// tolerance (1e-4 of the reach), or when the residual stalls short of it (not converged), at most
+// 2000 steps; fewer targets. Four rows (issue 15): physik, the solve mode (integration implicit,
+// the potential's torsion torque, the step from the physical dt lengthening as the motion settles:
+// physik solve --solver physik); physik-explicit, the paper's engine at its dt (no 50-chain: the
+// 5 n^2 joint-pass cap makes a 50-bone step ~3 ms); and each with a DLS finish once the residual
+// stops improving for 10 steps (the paper's suggested hybrid). Secondary motion on pinhead also
+// as the rotation of the bones off the root-to-hand path.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <map>
+#include <memory>
 #include <iomanip>
 #include <random>
 #include <sstream>
@@ -32,7 +40,9 @@
 #include "physik/engine/engine.h"
 #include "physik/ik/ik_solver.h"
 #include "physik/io/rig_io.h"
+#include "physik/io/scene_solve.h"
 #include "physik/model/rig_generators.h"
+#include "physik/posing/posing_session.h"
 
 namespace physik::experiments {
 
@@ -66,38 +76,68 @@ Outcome classic(IkMethod m, const RigCase& rc, const Vec3& target) {
           rep.converged, rad2deg(max_limit_violation(rc.rig, pose))};
 }
 
-Outcome physik_engine(const RigCase& rc, const Vec3& target) {
+// The engine as an IK solver (physik/posing/posing_session.h), as a tool embeds it: one session
+// per rig, built once; each target is solved from the rest pose at rest, the effector's target
+// moved along the scene's interpolation (as a scene's initial jump), the root's head pinned by a
+// second control point (PhysIK's root is free). The time is the solve alone.
+struct EngineRow {
+  bool solve_mode = false;                 // physik: implicit, lengthening step; else the scene's engine
+  SolveFinish finish = SolveFinish::kNone; // the paper's hybrid: a classic finish after a stall
+};
+
+Scene engine_scene(const RigCase& rc, bool solve_mode) {
   Scene sc;
   sc.file = "ik_comparison";
   sc.rig = rc.rig;
   sc.params = preset_params(kDefaultPreset);
+  if (solve_mode) {
+    sc.params.integration = Integration::kImplicit;
+    sc.params.torsion_torque = TorsionTorque::kGradient;  // as physik solve --solver physik
+  }
   ControlPoint effector, pin;
   effector.bone = rc.bone;
   effector.alpha = 1.0;
-  effector.target_world = target;
-  effector.k = sc.params.control_k;
-  effector.spring = sc.params.control_spring;
+  effector.target_world = forward_kinematics(rc.rig, rest_pose(rc.rig)).tail_world[rc.bone];
   pin.bone = 0;
   pin.alpha = 0.0;
   pin.target_world = rc.rig.bone_rest_head_world[0];
-  pin.k = sc.params.control_k;
-  pin.spring = sc.params.control_spring;
   sc.control_points = {effector, pin};
   sc.initial_pose = rest_pose(rc.rig);
-  sc.steps = 2000;
-  sc.convergence.stop_when_converged = true;
-  sc.convergence.stop_at_residual_tol = true;
-  sc.convergence.residual_tol = 1e-4 * rc.reach;
-  const RunSummary s = run_scene(sc);
-  Outcome o;
-  o.tails_world = s.final_frames.tail_world;
-  o.local = s.final_pose.bone_local_rotation;
-  o.residual = s.final_residuals[0];
-  o.iterations = s.steps_run;
-  o.time_s = s.wall_time_s;
-  o.converged = s.converged && !s.diverged;
-  o.limit_violation_deg = rad2deg(max_limit_violation(rc.rig, s.final_pose));
-  return o;
+  return sc;
+}
+
+Solver engine_solver(EngineRow row) {
+  auto sessions = std::make_shared<std::map<std::string, std::unique_ptr<PosingSession>>>();
+  return [row, sessions](const RigCase& rc, const Vec3& target) {
+    std::unique_ptr<PosingSession>& session = (*sessions)[rc.name];
+    if (!session) session = std::make_unique<PosingSession>(engine_scene(rc, row.solve_mode));
+    SolveRule rule;
+    rule.tolerance = 1e-4 * rc.reach;
+    rule.max_steps = 2000;
+    if (row.solve_mode) {
+      rule.dt_growth = kSolveDtGrowth;
+      rule.max_dt = kSolveMaxDt;
+    }
+    if (row.finish != SolveFinish::kNone) {
+      rule.finish = row.finish;
+      rule.stall_steps = 10;  // the hybrid switches once the residual stops improving
+    }
+    session->set_pose(rest_pose(rc.rig));
+    session->set_target(0, target, true);
+    session->set_target(1, rc.rig.bone_rest_head_world[0], false);
+    const auto t0 = std::chrono::steady_clock::now();
+    const SolveResult r = session->solve(rule);
+    Outcome o;
+    o.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    o.tails_world = session->frames().tail_world;
+    o.local = session->pose().bone_local_rotation;
+    const ControlPoint& cp = session->scene().control_points[0];
+    o.residual = (point_on_bone(session->frames(), cp.bone, cp.alpha) - target).norm();
+    o.iterations = r.steps + r.finish_iterations;
+    o.converged = r.converged && !r.diverged;
+    o.limit_violation_deg = rad2deg(max_limit_violation(rc.rig, session->pose()));
+    return o;
+  };
 }
 
 // KDL: each bone is three revolute joints (x, y, z) at its head and a segment of its length
@@ -166,7 +206,7 @@ double mean(const std::vector<double>& v) {
 
 struct Stats {
   std::vector<double> reach_success, reach_residual, reach_iters, reach_time, unreach_notconv, unreach_excess,
-      violation, rotation, offpath, jump;
+      violation, rotation, offpath, offpath_rotation, jump;
 };
 
 // How many targets per rig (the PhysIK engine gets fewer: it is slow on long chains)
@@ -205,7 +245,10 @@ std::vector<std::pair<std::string, Solver>> make_solvers() {
     solvers.push_back({to_string(m), [m](const RigCase& rc, const Vec3& t) { return classic(m, rc, t); }});
   }
   solvers.push_back({"kdl-lma", kdl_lma});
-  solvers.push_back({"physik", physik_engine});
+  solvers.push_back({"physik", engine_solver({true, SolveFinish::kNone})});
+  solvers.push_back({"physik+dls", engine_solver({true, SolveFinish::kDls})});
+  solvers.push_back({"physik-explicit", engine_solver({false, SolveFinish::kNone})});
+  solvers.push_back({"physik-explicit+dls", engine_solver({false, SolveFinish::kDls})});
   return solvers;
 }
 
@@ -242,7 +285,8 @@ struct Tables {
 void open_tables(const Context& ctx, Tables& t) {
   t.solves.open(ctx.out_dir + "/solves.csv");
   t.solves << "rig,solver,kind,index,target_x,target_y,target_z,residual,residual_over_reach,success,"
-              "converged,iterations,time_s,limit_violation_deg,total_rotation_rad,offpath_motion\n";
+              "converged,iterations,time_s,limit_violation_deg,total_rotation_rad,offpath_motion,"
+              "offpath_rotation_rad\n";
   t.cont.open(ctx.out_dir + "/continuity.csv");
   t.cont << "rig,solver,index,target_move,max_tail_jump,jump_ratio\n";
   t.solves << std::setprecision(9);
@@ -262,12 +306,14 @@ void record_solve(const SolveCase& sc, const char* kind, int idx, const Vec3& t,
                   std::ostream& solves, Stats& st) {
   const RigCase& rc = sc.rc;
   const bool success = o.residual < 1e-3 * rc.reach;
-  double rot = 0.0, off = 0.0;
+  double rot = 0.0, off = 0.0, off_rot = 0.0;
   int noff = 0;
   for (int i = 0; i < rc.rig.nbone; ++i) {
-    rot += o.local[i].angularDistance(Quat::Identity());
+    const double angle = o.local[i].angularDistance(Quat::Identity());
+    rot += angle;
     if (!sc.on_path[i]) {
       off += (o.tails_world[i] - sc.rest.tail_world[i]).norm();
+      off_rot += angle;
       ++noff;
     }
   }
@@ -275,7 +321,7 @@ void record_solve(const SolveCase& sc, const char* kind, int idx, const Vec3& t,
   solves << rc.name << "," << sc.solver << "," << kind << "," << idx << "," << t.x() << ","
          << t.y() << "," << t.z() << "," << o.residual << "," << o.residual / rc.reach << ","
          << success << "," << o.converged << "," << o.iterations << "," << o.time_s << ","
-         << o.limit_violation_deg << "," << rot << "," << off << "\n";
+         << o.limit_violation_deg << "," << rot << "," << off << "," << off_rot << "\n";
   st.violation.push_back(o.limit_violation_deg);
   if (std::string(kind) == "reachable") {
     st.reach_success.push_back(success);
@@ -284,6 +330,7 @@ void record_solve(const SolveCase& sc, const char* kind, int idx, const Vec3& t,
     st.reach_time.push_back(o.time_s);
     st.rotation.push_back(rot);
     st.offpath.push_back(off);
+    st.offpath_rotation.push_back(off_rot);
   } else {
     const Vec3 root = rc.rig.bone_rest_head_world[0];
     st.unreach_notconv.push_back(!o.converged);
@@ -307,6 +354,7 @@ nlohmann::json stats_row(const RigCase& rc, const std::string& solver, int nr, i
           {"max_limit_violation_deg", *std::max_element(st.violation.begin(), st.violation.end())},
           {"mean_total_rotation_rad", mean(st.rotation)},
           {"mean_offpath_motion", mean(st.offpath)},
+          {"mean_offpath_rotation_rad", mean(st.offpath_rotation)},
           {"unreachable_not_converged", mean(st.unreach_notconv)},
           {"unreachable_excess_over_reach", mean(st.unreach_excess)},
           {"continuity_median_ratio", percentile(st.jump, 0.5)},
@@ -319,7 +367,7 @@ nlohmann::json stats_row(const RigCase& rc, const std::string& solver, int nr, i
 // (the same start solved for a reachable target and for it moved by 1% of the reach).
 nlohmann::json run_solver(const Context& ctx, const SolveCase& sc, const Solver& solve,
                           const Targets& targets, const Budget& b, Tables& tables) {
-  const bool is_physik = sc.solver == "physik";
+  const bool is_physik = sc.solver.rfind("physik", 0) == 0;
   const int nr = is_physik ? std::min(b.physik_reach, b.n_reach) : b.n_reach;
   const int nu = is_physik ? std::min(b.physik_unreach, b.n_unreach) : b.n_unreach;
   const int nc = is_physik ? std::min(b.physik_cont, b.n_cont) : b.n_cont;
@@ -361,7 +409,8 @@ nlohmann::json run_all(const Context& ctx, const Budget& b) {
     const BoneFrames rest = forward_kinematics(rc.rig, rest_pose(rc.rig));
     for (const auto& [sname, solve] : solvers) {
       if (sname == "kdl-lma" && !rc.chain) continue;
-      if (sname == "physik" && rc.rig.nbone > 20) continue;
+      // the explicit engine's 5 n^2 joint-pass cap makes a 50-bone step ~3 ms
+      if (sname.rfind("physik-explicit", 0) == 0 && rc.rig.nbone > 20) continue;
       table.push_back(run_solver(ctx, {rc, sname, on_path, rest}, solve, targets, b, tables));
     }
   }
@@ -386,7 +435,7 @@ void add_classic_claims(Report& report, const TableView& val, const std::string&
   std::ostringstream m;
   bool holds = true;
   for (const auto& r : val.table) {
-    if (r["solver"] == "physik") continue;
+    if (r["solver"].get<std::string>().rfind("physik", 0) == 0) continue;
     m << r["rig"].get<std::string>() << " " << r["solver"].get<std::string>() << " "
       << pct(r["success_rate"].get<double>()) << "; ";
     holds &= r["success_rate"].get<double>() >= 0.99;
@@ -427,13 +476,13 @@ void add_other_claims(Report& report, const TableView& val, const std::string& b
                    pct(val(big, "rotation", "success_rate")) + " there, so it barely moves); "
                    "both reach ~100% on pinhead, where the comparison is fair",
                rot < std::min(dls, jt) ? "partly" : "no");
-  const double ph = val("pinhead", "physik", "mean_offpath_motion");
+  const double ph = val("pinhead", "physik-explicit", "mean_offpath_motion");
   double best = 0.0;
   for (const char* s : {"fabrik", "ccd", "jt", "dls", "mass-spring", "rotation"}) {
     best = std::max(best, val("pinhead", s, "mean_offpath_motion"));
   }
   report.claim("Paper Fig 9: PhysIK moves the rest of the body (secondary motion) where classic IK moves only the arm chain",
-               "pinhead mean displacement of bones off the head-to-hand path: PhysIK " + num(ph) +
+               "pinhead mean displacement of bones off the head-to-hand path: PhysIK (explicit) " + num(ph) +
                    " rig units, largest classic solver " + num(best) +
                    " (classic solvers turn the root head bone, which carries the body)",
                ph > best ? "yes" : "no");
@@ -445,13 +494,56 @@ void add_other_claims(Report& report, const TableView& val, const std::string& b
   }
   report.claim("Outside reference: our DLS matches Orocos KDL's LMA in success on free chains", m.str(),
                val(big, "dls", "success_rate") >= val(big, "kdl-lma", "success_rate") - 0.01 ? "yes" : "no");
-  const double ps = val("pinhead", "physik", "success_rate");
-  report.claim("PhysIK meets a reachable target to 1e-3 of the reach (stops at 1e-4 of the reach or when stalled, 2000-step cap)",
-               "success chain3 " + pct(val("chain3", "physik", "success_rate")) + ", chain10 " +
-                   pct(val("chain10", "physik", "success_rate")) + ", pinhead " + pct(ps) +
-                   "; median steps on pinhead " + num(val("pinhead", "physik", "median_iterations")) +
-                   ", " + num(val("pinhead", "physik", "mean_time_ms")) + " ms per solve",
+  const double ps = val("pinhead", "physik-explicit", "success_rate");
+  report.claim("PhysIK (the paper's explicit engine) meets a reachable target to 1e-3 of the reach (stops at 1e-4 of the reach or when stalled, 2000-step cap)",
+               "success chain3 " + pct(val("chain3", "physik-explicit", "success_rate")) + ", chain10 " +
+                   pct(val("chain10", "physik-explicit", "success_rate")) + ", pinhead " + pct(ps) +
+                   "; median steps on pinhead " + num(val("pinhead", "physik-explicit", "median_iterations")) +
+                   ", " + num(val("pinhead", "physik-explicit", "mean_time_ms")) + " ms per solve",
                ps >= 0.99 ? "yes" : ps >= 0.5 ? "partly" : "no");
+}
+
+// issue 15: the solve mode (implicit, lengthening step) against DLS and the explicit engine
+void add_solve_mode_claims(Report& report, const TableView& val, const std::vector<std::string>& rigs) {
+  std::ostringstream succ, speed, jump;
+  bool all_succ = true, all_fast = true, all_smooth = true;
+  for (const std::string& r : rigs) {
+    const double s = val(r, "physik", "success_rate"), t = val(r, "physik", "mean_time_ms"),
+                 td = val(r, "dls", "mean_time_ms"), j = val(r, "physik", "continuity_p95_ratio"),
+                 jd = val(r, "dls", "continuity_p95_ratio");
+    succ << r << " " << pct(s) << " (explicit " << pct(val(r, "physik-explicit", "success_rate")) << "); ";
+    speed << r << " " << num(t) << " ms in " << num(val(r, "physik", "median_iterations"))
+          << " steps vs DLS " << num(td) << " ms (" << num(t / td) << "x); ";
+    jump << r << " " << num(j) << " vs DLS " << num(jd) << "; ";
+    all_succ &= s >= 1.0;
+    all_fast &= t <= td;
+    all_smooth &= j <= jd;
+  }
+  report.claim("Solve mode (physik: implicit, the step lengthening from the physical dt): every reachable target met",
+               succ.str(), all_succ ? "yes" : "no");
+  report.claim("Solve mode: ms per solve at most DLS's, in the same run", speed.str(),
+               all_fast ? "yes" : "no");
+  report.claim("Solve mode: p95 jump ratio (tail motion / target motion) at most DLS's", jump.str(),
+               all_smooth ? "yes" : "no");
+  const double rot = val("pinhead", "physik", "mean_offpath_rotation_rad"),
+               rot_x = val("pinhead", "physik-explicit", "mean_offpath_rotation_rad"),
+               off = val("pinhead", "physik", "mean_offpath_motion"),
+               off_x = val("pinhead", "physik-explicit", "mean_offpath_motion");
+  report.claim("Solve mode: secondary motion (rotation of the bones off the controlled chain) at least 80% of the explicit engine's",
+               "pinhead: rotation off the head-to-hand path " + num(rot) + " rad vs explicit " + num(rot_x) +
+                   " (" + pct(rot / rot_x) + "); their displacement " + num(off) + " vs " + num(off_x) +
+                   " rig units (" + pct(off / off_x) + ")",
+               rot >= 0.8 * rot_x ? "yes" : "no");
+  std::ostringstream hy;
+  for (const std::string& r : rigs) {
+    hy << r << ": physik+dls " << pct(val(r, "physik+dls", "success_rate")) << " in "
+       << num(val(r, "physik+dls", "mean_time_ms")) << " ms, physik-explicit+dls "
+       << pct(val(r, "physik-explicit+dls", "success_rate")) << " in "
+       << num(val(r, "physik-explicit+dls", "mean_time_ms")) << " ms, physik " << num(val(r, "physik", "mean_time_ms"))
+       << " ms; ";
+  }
+  report.claim("The paper's hybrid (physics for the transient, DLS once the residual stops improving for 10 steps) against the solve mode",
+               hy.str() + "(NaN: not run, the explicit engine skips the 50-bone chain)", "measured");
 }
 
 void add_notes(Report& report, const Budget& b, const nlohmann::json& table) {
@@ -496,6 +588,11 @@ void run(const Context& ctx) {
   report.section("baselines");
   add_classic_claims(report, TableView{table}, big);
   add_other_claims(report, TableView{table}, big);
+  report.section("PhysIK as an IK solver (issue 15)");
+  std::vector<std::string> rigs = {"chain3", "chain10"};
+  if (!ctx.quick) rigs.push_back("chain50");
+  rigs.push_back("pinhead");
+  add_solve_mode_claims(report, TableView{table}, rigs);
   add_notes(report, b, table);
   report.figures({"ik_success.png", "ik_time.png", "ik_continuity.png"});
   write_summary(ctx, {{"experiment", "ik_comparison"}, {"quick", ctx.quick}, {"table", table}}, report);

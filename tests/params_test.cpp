@@ -122,8 +122,13 @@ TEST(ParamTable, JointSolveIsWrittenOnlyAwayFromItsDefault) {
   p.implicit_max_splits = 0;
   EXPECT_EQ(params_to_json(p)["implicit_max_splits"].get<int>(), 0);
   EXPECT_EQ(params_from_json(params_to_json(p), "rt.json").implicit_max_splits, 0);
+  EXPECT_FALSE(params_to_json(p).contains("torsion_torque"));
+  p.torsion_torque = TorsionTorque::kGradient;
+  EXPECT_EQ(params_to_json(p)["torsion_torque"], "gradient");
+  EXPECT_EQ(params_from_json(params_to_json(p), "rt.json").torsion_torque, TorsionTorque::kGradient);
   for (const ParamRow& row : param_table()) {
-    if (row.name != "joint_solve" && row.name != "damping_auto" && row.name != "implicit_max_splits") {
+    if (row.name != "joint_solve" && row.name != "damping_auto" && row.name != "implicit_max_splits" &&
+        row.name != "torsion_torque") {
       EXPECT_TRUE(row.written_at_default) << row.name;
     }
   }

@@ -131,6 +131,30 @@ TEST(PosingSession, ALengtheningImplicitStepSolvesInFewerSteps) {
   expect_input_error([&] { explicit_session.solve(rule); }, "needs integration implicit");
 }
 
+// set_pose puts a pose in at rest for every integration: a solve from it equals a fresh
+// session's (the exact and implicit steps integrate the joint-space state, which set_pose rebuilds)
+TEST(PosingSession, SetPoseRestartsTheImplicitStepFromThatPose) {
+  Scene scene = two_hands();
+  scene.params.integration = Integration::kImplicit;
+  scene.params.interpolation = Interpolation::kNone;  // both sessions start with targets in place
+  SolveRule rule;
+  rule.dt_growth = 2.0;
+  rule.max_dt = 100.0;
+  const Vec3 other = scene.control_points[0].target_world + Vec3(-0.4, 0.2, 0.3);
+  PosingSession reused(scene);
+  ASSERT_TRUE(reused.solve(rule).converged);
+  reused.set_pose(scene.initial_pose);
+  reused.set_target(0, other);
+  const SolveResult a = reused.solve(rule);
+  PosingSession fresh(scene);
+  fresh.set_target(0, other);
+  const SolveResult b = fresh.solve(rule);
+  ASSERT_TRUE(b.converged);
+  EXPECT_TRUE(a.converged);
+  EXPECT_EQ(a.steps, b.steps);
+  EXPECT_EQ(state_hash(reused.frames()), state_hash(fresh.frames()));
+}
+
 // The paper's damping diverges on this scene: reported, and the session is back where the
 // solve started, at rest, with finite frames.
 TEST(PosingSession, ADivergedSolveReturnsToItsStart) {

@@ -2,10 +2,15 @@
 // opposite on the parent, capped when asked.
 #include "physik/engine/torsion_springs.h"
 
+#include <cmath>
+#include <iostream>
+#include <random>
+
 #include <gtest/gtest.h>
 
 #include "physik/engine/engine.h"
 #include "physik/engine/newton_euler.h"
+#include "physik/engine/potential.h"
 #include "tests/engine_test_util.h"
 #include "tests/test_util.h"
 
@@ -79,6 +84,64 @@ TEST(TorsionSprings, EqualAndOppositeTorquesThatPushBackIntoRange) {
 // phalanx (L = 0.25, m = 0.25, r = 0.5) has I = m (3 r^2 + L^2)/12 = 0.0169 kg m^2; with k = 10
 // and f = 0.5: dt = 0.05 gives a ~ 5.9 > 3 (unstable: a 1 deg nudge past the engage band must
 // blow up), dt = 0.02 gives a ~ 0.95 < 3 (stable: it must settle).
+// the rotation of rotation vector v
+Quat exp_map(const Vec3& v) {
+  const double a = v.norm();
+  return a == 0.0 ? Quat::Identity() : Quat(Eigen::AngleAxisd(a, v / a));
+}
+
+// torsion_torque gradient is the potential's own torque: for a small turn e of the joint's
+// rotation in the parent-rest frame (q -> exp(e) q), the work tau_pr . e equals -dU, by central
+// differences of the potential (physik/engine/potential.h), on random rotations, for linear and
+// capped springs. The paper's per-axis torque (axes) agrees near rest and where theta is along the
+// excess, and fails on a bent 1-DOF joint (the test checks it can tell them apart).
+TEST(TorsionSprings, GradientTorqueIsMinusTheDerivativeOfThePotential) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  EngineParams p = preset_params("original");
+  p.torsion_torque = TorsionTorque::kGradient;
+  // an elbow: x in [0, 160] deg, y and z locked
+  const std::array<AxisLimit, 3> elbow = {AxisLimit{true, 0.0, deg2rad(160)}, AxisLimit{true, 0.0, 0.0},
+                                          AxisLimit{true, 0.0, 0.0}};
+  const double eps = 1e-6;
+  double worst_gradient = 0.0, worst_axes = 0.0;
+  for (int trial = 0; trial < 300; ++trial) {
+    p.torsion_spring = trial % 2 ? SpringLaw::kCapped : SpringLaw::kLinear;
+    p.torsion_cap = 0.2;
+    // bent up to 2.6 rad about x, the locked axes off by up to 0.3 rad
+    const Vec3 theta(2.6 * std::abs(u(rng)), 0.3 * u(rng), 0.3 * u(rng));
+    const Quat q = exp_map(theta);
+    const Vec3 tau_axes = torsion_torque_local(elbow, theta, p);
+    const Vec3 tau_grad = left_jacobian_inverse_transpose(theta) * tau_axes;
+    const auto U = [&](const Quat& r) {
+      const Vec3 e = torsion_excess(elbow, p.torsion_tolerance, r);
+      double sum = 0.0;
+      for (int a = 0; a < 3; ++a) sum += torsion_spring_potential(p.torsion_spring, p.torsion_k, p.torsion_cap, e[a]);
+      return sum;
+    };
+    for (int a = 0; a < 3; ++a) {
+      const Vec3 d = eps * Vec3::Unit(a);
+      const double minus_dU = -(U(exp_map(d) * q) - U(exp_map(-d) * q)) / (2 * eps);
+      worst_gradient = std::max(worst_gradient, std::abs(tau_grad[a] - minus_dU));
+      worst_axes = std::max(worst_axes, std::abs(tau_axes[a] - minus_dU));
+    }
+  }
+  std::cout << "torsion torque vs -dU/d(turn): gradient " << worst_gradient << " N m, axes " << worst_axes
+            << " N m\n";
+  EXPECT_LT(worst_gradient, 1e-5);
+  EXPECT_GT(worst_axes, 0.1);  // the paper's torque is not the potential's at large bends
+}
+
+// On a joint locked on every axis (theta along the excess) the two torques are the same.
+TEST(TorsionSprings, GradientAndAxesAgreeOnALockedJoint) {
+  EngineParams p = preset_params("original");
+  const std::array<AxisLimit, 3> locked = {AxisLimit{true, 0.0, 0.0}, AxisLimit{true, 0.0, 0.0},
+                                           AxisLimit{true, 0.0, 0.0}};
+  const Vec3 theta(0.7, -0.4, 1.1);
+  const Vec3 tau = torsion_torque_local(locked, theta, p);
+  EXPECT_LT((left_jacobian_inverse_transpose(theta) * tau - tau).norm(), 1e-12 * tau.norm());
+}
+
 TEST(TorsionSprings, TheTightHandIsExplicitEulersStabilityLimit) {
   const Rig rig = load_rig(test::model_path("rigs/hand.json"));
   const double I_min = [&] {

@@ -20,17 +20,20 @@ void element_tangents(const Scene& scene, SimState& s) {
   for (int i = 0; i < rig.nbone; ++i) {
     const auto& limits = rig.bone_limit[i];
     const bool limited = limits[0].limited || limits[1].limited || limits[2].limited;
-    s.torsion_stiffness[i] =
-        i == 0 || !limited || p.torsion_k == 0.0
-            ? Vec3::Zero()
-            : torsion_step_stiffness_local(limits, rotation_vector(s.pose.bone_local_rotation[i]), p);
+    if (i == 0 || !limited || p.torsion_k == 0.0) {
+      s.torsion_stiffness[i].setZero();
+      continue;
+    }
+    const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[i]);
+    s.torsion_stiffness[i] = torsion_step_stiffness_local(limits, theta, p);
+    s.torsion_frame_world[i] =
+        torsion_torque_frame(rig, p, s.frames.orient_world[rig.bone_parent[i]], i, theta);
   }
 }
 
-Mat3 torsion_block_world(const Rig& rig, const SimState& s, int i) {
-  const Mat3 R = (s.frames.orient_world[rig.bone_parent[i]] * rig.bone_rest_orient_parent[i])
-                     .toRotationMatrix();
-  return R * s.torsion_stiffness[i].asDiagonal() * R.transpose();
+Mat3 torsion_block_world(const Rig&, const SimState& s, int i) {
+  const Mat3& T = s.torsion_frame_world[i];
+  return T * s.torsion_stiffness[i].asDiagonal() * T.transpose();
 }
 
 void add_point_inertia(const Mat3& A, const Vec3& r, SpatialInertia& I) {

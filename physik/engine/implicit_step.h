@@ -34,7 +34,9 @@
 //   torsion spring at bone i (joint element): tau_world = R_pr tau_local(theta), R_pr = R_p R_rest,
 //     theta the rotation vector of the ball; d theta ~ R_pr^T (w_i - w_p) dt, so on the ball's
 //     world-axes rate (w_i - w_p) = R_i u: K_j = R_pr diag(k_axis) R_pr^T (torsion_step_stiffness_local;
-//     the capped law beyond its cap at its secant, as the control spring);
+//     the capped law beyond its cap at its secant, as the control spring); with torsion_torque
+//     gradient, theta' = J_l^-1 R_pr^T (w_i - w_p) and K_j = T diag(k) T^T, T = R_pr J_l^-T
+//     (torsion_springs.h);
 //     h^2 K_j is the joint's 3x3 block (articulated_body.h joint_block: D_i = U_i... + J_i)
 // Right-hand side of (1): the start-of-step forces (force stages unchanged), plus -h K v per
 // stiffness element: the force -h K_c v_p at each control point, the torque pair -h K_j (w_i - w_p)
@@ -70,7 +72,8 @@ JointSolveStats solve_implicit(const Scene& scene, SimState& state, double h);
 // the stiffnesses of this step: state.control_stiffness (per control point) and
 // state.torsion_stiffness (per bone, local axes)
 void element_tangents(const Scene& scene, SimState& state);
-// R_pr diag(k) R_pr^T: bone i's torsion stiffness on its world-axes relative rate, N m/rad
+// T diag(k) T^T: bone i's torsion stiffness on its world-axes relative rate, N m/rad
+// (T = torsion_torque_frame: R_pr, or R_pr J_l^-T for torsion_torque gradient; element_tangents)
 Mat3 torsion_block_world(const Rig& rig, const SimState& state, int bone);
 // Phi^T A Phi for a point element A at offset r from the body's point: adds to `inertia`
 void add_point_inertia(const Mat3& A, const Vec3& r, SpatialInertia& inertia);

@@ -64,14 +64,13 @@ LinearModes linear_modes(const Scene& scene, const SimState& s, const std::vecto
       D1 += Jp.transpose() * Jp;
     }
     if (b == 0 || prm.torsion_k == 0.0) continue;
-    const Vec3 k = torsion_stiffness_local(rig.bone_limit[b],
-                                           rotation_vector(s.pose.bone_local_rotation[b]), prm);
+    const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[b]);
+    const Vec3 k = torsion_stiffness_local(rig.bone_limit[b], theta, prm);
     if (k.isZero(0.0)) continue;
-    const Mat3 R = (s.frames.orient_world[rig.bone_parent[b]] * rig.bone_rest_orient_parent[b])
-                       .toRotationMatrix();
+    const Mat3 T = torsion_torque_frame(rig, prm, s.frames.orient_world[rig.bone_parent[b]], b, theta);
     body_jacobians(rig, s, rig.bone_parent[b], s.com_world[b], Jwp, Jdummy);
     const MatX Jrel = Jw - Jwp;
-    K += Jrel.transpose() * (R * k.asDiagonal() * R.transpose()) * Jrel;
+    K += Jrel.transpose() * (T * k.asDiagonal() * T.transpose()) * Jrel;
   }
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
     const ControlPoint& cp = scene.control_points[c];

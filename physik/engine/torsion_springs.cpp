@@ -55,14 +55,30 @@ Vec3 torsion_step_stiffness_local(const std::array<AxisLimit, 3>& limits, const 
   return axis_stiffness(limits, theta, params, true);
 }
 
+Mat3 left_jacobian_inverse_transpose(const Vec3& theta) {
+  const double t2 = theta.squaredNorm(), t = std::sqrt(t2);
+  // b = 1/t^2 - cot(t/2) / (2 t), its series near 0 (the two terms cancel there)
+  const double b = t < 1e-3 ? 1.0 / 12.0 + t2 / 720.0 : 1.0 / t2 - 0.5 / (t * std::tan(0.5 * t));
+  const Mat3 W = skew(theta);
+  return Mat3::Identity() + 0.5 * W + b * (W * W);
+}
+
+Mat3 torsion_torque_frame(const Rig& rig, const EngineParams& params, const Quat& parent_orient_world,
+                          int bone, const Vec3& theta) {
+  const Mat3 R = (parent_orient_world * rig.bone_rest_orient_parent[bone]).toRotationMatrix();
+  return params.torsion_torque == TorsionTorque::kGradient ? R * left_jacobian_inverse_transpose(theta) : R;
+}
+
 void apply_torsion_springs(const Rig& rig, const EngineParams& params, SimState& s) {
   if (params.torsion_k == 0.0) return;
+  const bool gradient = params.torsion_torque == TorsionTorque::kGradient;
   for (int i = 1; i < rig.nbone; ++i) {
     const auto& limits = rig.bone_limit[i];
     if (!limits[0].limited && !limits[1].limited && !limits[2].limited) continue;
-    const Vec3 tau_local =
-        torsion_torque_local(limits, rotation_vector(s.pose.bone_local_rotation[i]), params);
+    const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[i]);
+    Vec3 tau_local = torsion_torque_local(limits, theta, params);
     if (tau_local.isZero(0.0)) continue;
+    if (gradient) tau_local = left_jacobian_inverse_transpose(theta) * tau_local;  // tau_pr
     const int p = rig.bone_parent[i];
     const Vec3 tau_world = s.frames.orient_world[p] * (rig.bone_rest_orient_parent[i] * tau_local);
     s.torque_world[i] += tau_world;

@@ -10,6 +10,20 @@
 // A locked axis (min == max) always pulls toward its value. The torque, turned to world axes
 // (tau_world = R_p R_rest_in_parent tau_local), acts on the bone; its opposite acts on the parent.
 // k in N m/rad, c in rad. The root has no parent and no limits.
+//
+// torsion_torque (params): `axes` is the above, the paper's (seed 000 Sec. 3.4, the original
+// fwik.py). It is -dU/dtheta, the gradient in the rotation vector, not in the rotation: the
+// relative angular velocity in the parent-rest frame w_pr = R_pr^T (w_i - w_p) turns theta at
+// theta' = J_l(theta)^-1 w_pr (J_l the left Jacobian of SO(3)), so the torque that does the
+// potential's work, tau.w_pr = -dU/dt, is
+//   tau_pr = J_l(theta)^-T tau_local,  J_l^-T = 1 + [theta]x / 2 + b [theta]x^2,
+//   b = 1/|theta|^2 - cot(|theta|/2) / (2 |theta|)   (1/12 at 0, 1/pi^2 at pi)
+// (`gradient`). The two agree to first order in theta, and exactly where theta is along the
+// excess (a joint locked on every axis, or one axis away from zero); on a bent 1-DOF joint (an
+// elbow at 120 deg with its locked axes pulled) `axes` is not conservative: it adds energy along
+// some closed paths, which no integrator can take out (measured: the implicit solve mode's
+// energy guard split steps of pinhead's bent elbows thousands of times). `gradient` is the force
+// of the potential that `physik equilibrium` minimises (tune/equilibrium.h).
 #pragma once
 
 #include "physik/model/params.h"
@@ -32,6 +46,15 @@ Vec3 torsion_stiffness_local(const std::array<AxisLimit, 3>& limits, const Vec3&
 // (spring_step_stiffness, control_springs.h).
 Vec3 torsion_step_stiffness_local(const std::array<AxisLimit, 3>& limits, const Vec3& theta,
                                   const EngineParams& params);
+
+// The matrix T that turns a local per-axis torque (torsion_torque_local) into the torque on the
+// bone in world axes: R_pr for `axes`, R_pr J_l(theta)^-T for `gradient` (then the stiffness of
+// the relative rate is T diag(k) T^T, Gauss-Newton).
+Mat3 torsion_torque_frame(const Rig& rig, const EngineParams& params, const Quat& parent_orient_world,
+                          int bone, const Vec3& theta);
+
+// J_l(theta)^-T (above).
+Mat3 left_jacobian_inverse_transpose(const Vec3& theta);
 
 // Requires state.pose to hold the current local rotations.
 void apply_torsion_springs(const Rig& rig, const EngineParams& params, SimState& state);

@@ -5,11 +5,12 @@
 //
 // The engine as a solver (issue 15), both through physik::PosingSession (physik/posing):
 //   physik           the solve mode: integration implicit (linearised backward Euler over the
-//                    exact articulated solve), the step starting at the scene's dt (the body
-//                    follows with its secondary motion) and lengthening by dt_growth every step
-//                    the kinetic energy falls, up to max_dt (a long implicit step is a
-//                    Gauss-Newton step on the spring and torsion potential: the quasi-static
-//                    solve)
+//                    exact articulated solve) with torsion_torque gradient (the potential's own
+//                    torque, conservative at every bend), the step starting at the scene's dt
+//                    (the body follows with its secondary motion) and lengthening by dt_growth
+//                    every step the kinetic energy falls, up to max_dt, shorter again after a
+//                    step the energy guard split (a long implicit step is a Gauss-Newton step on
+//                    the spring and torsion potential: the quasi-static solve)
 //   physik-explicit  the scene's engine as it stands (by default the paper's scheme) at its dt
 // Both stop at the residual tolerance (1e-4 of the chain's reach unless --tol), or when the
 // residual stops improving (no 1% in 50 steps), and then, with finish ccd|dls, hand the pose

@@ -26,6 +26,11 @@ const std::vector<std::string>& choice_names(JointSolve) {
   return names;
 }
 
+const std::vector<std::string>& choice_names(TorsionTorque) {
+  static const std::vector<std::string> names = {"axes", "gradient"};
+  return names;
+}
+
 const std::vector<std::string>& choice_names(Interpolation) {
   static const std::vector<std::string> names = {"none", "linear", "polar-head", "polar-com"};
   return names;
@@ -35,6 +40,7 @@ const char* to_string(SpringLaw s) { return choice_names(s)[static_cast<int>(s)]
 const char* to_string(Integration s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
 const char* to_string(Interpolation s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
 const char* to_string(JointSolve s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
+const char* to_string(TorsionTorque s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
 
 const char* to_string(ParamKind k) {
   switch (k) {
@@ -170,6 +176,10 @@ std::vector<ParamRow> build_table() {
             0.01, 3.2),
       row<&E::torsion_tolerance>("torsion_tolerance", "1", {0.1, 0.1}, half_open(0.0, 0.5),
                                  "the torsion spring engages this fraction of the range inside each limit"),
+      omitted_at_default(row<&E::torsion_torque>(
+          "torsion_torque", "", {TorsionTorque::kAxes, TorsionTorque::kAxes}, kAny,
+          "axes (the paper's: k x excess about each rest axis; not the gradient of the torsion "
+          "potential at large bends) or gradient (its exact gradient: conservative)")),
       omitted_at_default(row<&E::joint_solve>(
           "joint_solve", "", {JointSolve::kGaussSeidel, JointSolve::kGaussSeidel}, kAny,
           "gauss-seidel (the paper's passes) or exact (articulated-body algorithm, MuJoCo's Euler)")),

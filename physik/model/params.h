@@ -29,17 +29,22 @@ enum class Interpolation { kNone, kLinear, kPolarHead, kPolarCom };
 // how the joints are solved each step: the paper's Gauss-Seidel passes (joint_forces.h), or the
 // exact articulated-body algorithm with MuJoCo's Euler step in joint space (articulated_body.h)
 enum class JointSolve { kGaussSeidel, kExact };
+// the torsion spring's torque (torsion_springs.h): the paper's k x excess about each rest axis, or
+// the exact gradient of the same potential (conservative at every angle)
+enum class TorsionTorque { kAxes, kGradient };
 
 // each enum's names in the scene format, in the enum's order (the table's choices)
 const std::vector<std::string>& choice_names(SpringLaw);
 const std::vector<std::string>& choice_names(Integration);
 const std::vector<std::string>& choice_names(Interpolation);
 const std::vector<std::string>& choice_names(JointSolve);
+const std::vector<std::string>& choice_names(TorsionTorque);
 
 const char* to_string(SpringLaw s);
 const char* to_string(Integration s);
 const char* to_string(Interpolation s);
 const char* to_string(JointSolve s);
+const char* to_string(TorsionTorque s);
 
 struct EngineParams {
   EngineParams();  // the `original` preset: the table's first column
@@ -65,6 +70,7 @@ struct EngineParams {
   double torsion_cap;                    // rad, cap of capped torsion springs
   double torsion_tolerance;              // 1, fraction of the range inside each limit where the
                                          //    torsion spring engages
+  TorsionTorque torsion_torque;          // axes (the paper's) or gradient (torsion_springs.h)
   JointSolve joint_solve;                // exact: integration articulated/free-rods, joint_eps,
                                          //        max_passes, centripetal do not apply
   Integration integration;               // implicit implies joint_solve exact

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "physik/engine/engine.h"
+#include "physik/engine/integrate_joint_space.h"
 #include "physik/engine/interpolation.h"
 #include "physik/engine/run_monitor.h"
 #include "physik/model/errors.h"
@@ -60,6 +61,8 @@ void PosingSession::set_pose(const Pose& pose) {
     state_.omega_world[i].setZero();
   }
   state_.pose = pose;
+  // the exact and implicit steps integrate the joint-space state: take it from the new world view
+  if (scene_.params.articulated_solve()) init_joint_space(scene_.rig, state_);
 }
 
 double PosingSession::residual() const {
