@@ -153,7 +153,10 @@ class PHYSIK_OT_bake(bpy.types.Operator):
         except (InputError, engine.EngineError) as e:
             return _fail(self, e)
         _save_start_pose(arm)
-        frames = armature_io.bake_keyframes(arm, poses, context.scene.frame_current, s.bake_every)
+        frame = context.scene.frame_current
+        frames = armature_io.bake_keyframes(arm, poses, frame, s.bake_every)
+        # show the keyed pose of the current frame (the channels hold the last key's until then)
+        context.scene.frame_set(frame)
         self.report({'INFO'}, "PhysIK: %d keyframes, frames %d..%d" % (len(frames), frames[0], frames[-1]))
         return {'FINISHED'}
 
