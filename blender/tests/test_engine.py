@@ -201,6 +201,17 @@ class TestBakeAndLive(Base):
 
 
 class TestEngineErrors(Base):
+    def test_simulate_in_background_mode_is_one_report(self):
+        # no event loop in -b: the modal operator would never step (tests/test_window.py runs it)
+        arm = fig9_armature()
+        before = armature_io.read_pose(arm)[0].copy()
+        msg = run_op(bpy.ops.physik.simulate)
+        self.assertIsNotNone(msg)
+        self.assertIn("background mode", msg)
+        self.assertNotIn("Traceback", msg)
+        self.assertLess((armature_io.read_pose(arm)[0] - before).length, 1e-12)
+
+
     def test_auto_damping_and_implicit_solve(self):
         # the panel's Auto is the engine's damping_auto; Implicit its implicit step: both solve
         arm = fig9_armature()
