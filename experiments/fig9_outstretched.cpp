@@ -280,6 +280,7 @@ std::string itasc_note(const ItascRun& run) {
   const auto str = [&](const char* key) {
     if (!it.contains(key)) return std::string("?");
     const nlohmann::json& v = it[key];
+    if (v.is_number_integer()) return std::to_string(v.get<long long>());
     return v.is_string() ? v.get<std::string>() : v.is_number() ? num(v.get<double>()) : v.dump();
   };
   return "Blender's iTaSC (Blender " + run.report.value("blender", std::string("?")) +
