@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
-"""Paper Fig 9: PhysIK vs damped least squares on the outstretched hand (results/fig9_outstretched).
+"""Paper Fig 9: PhysIK vs Blender's iTaSC and damped least squares on the outstretched hand
+(results/fig9_outstretched).
 
-fig9_poses.png     both final poses (and MuJoCo with PhysIK's forces, if present) in front and side
-                   views, the rest pose faint behind, control-point targets as red crosses
-fig9_measures.png  the secondary-motion measures of measures.csv as grouped bars
+fig9_poses.png     the final poses present (PhysIK, DLS, Blender's iTaSC when the experiment found
+                   Blender, MuJoCo with PhysIK's forces) in front and side views, the rest pose faint
+                   behind, control-point targets as red crosses
+fig9_measures.png  the secondary-motion measures of measures.csv as grouped bars, one per method
 """
 import argparse
 import json
@@ -16,7 +18,10 @@ from physik_plot import plt  # noqa: E402
 
 POSES = [("physik_final.csv", "PhysIK", "tab:blue"),
          ("dls_final.csv", "damped least squares", "tab:orange"),
+         ("itasc_final.csv", "Blender iTaSC", "tab:purple"),
          ("mujoco_final.csv", "MuJoCo, same forces", "tab:green")]
+COLORS = {"physik": "tab:blue", "dls": "tab:orange", "itasc": "tab:purple",
+          "mujoco_same_forces": "tab:green"}
 
 ANGLES = [("shoulder_turn_deg", "shoulder turn\n(+ = right sh. fwd)"),
           ("lean_forward_deg", "forward lean"),
@@ -27,10 +32,15 @@ ROTATIONS = [("off_reach_rotation_rad", "off reaching\narm's chain"),
              ("off_chain_rotation_rad", "off all\ncontrolled chains")]
 
 
+def poses_present(folder):
+    """The (file, label, colour) of POSES whose file the experiment wrote."""
+    return [p for p in POSES if os.path.isfile(os.path.join(folder, p[0]))]
+
+
 def plot_poses(folder, out_png, targets=None):
-    """One column per method (PhysIK, DLS, MuJoCo if present), front and side rows."""
+    """One column per method present (PhysIK, DLS, iTaSC, MuJoCo), front and side rows."""
     rest = physik_plot.read_bones_csv(os.path.join(folder, "rest.csv"))
-    present = [p for p in POSES if os.path.isfile(os.path.join(folder, p[0]))]
+    present = poses_present(folder)
     fig, axes = plt.subplots(2, len(present), figsize=(4 * len(present), 8), squeeze=False)
     for col, (name, label, color) in enumerate(present):
         bones = physik_plot.read_bones_csv(os.path.join(folder, name))
@@ -49,14 +59,13 @@ def plot_measures(measures_csv, out_png):
     """Angles (deg) and summed off-chain rotations (rad) per method, as grouped bars."""
     t = physik_plot.read_table(measures_csv)
     methods = t["method"]
-    colors = {"physik": "tab:blue", "dls": "tab:orange", "mujoco_same_forces": "tab:green"}
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.2), gridspec_kw={"width_ratios": [5, 2]})
     for ax, group, unit in ((a1, ANGLES, "deg"), (a2, ROTATIONS, "rad")):
         width = 0.8 / max(len(methods), 1)
         for m, method in enumerate(methods):
             xs = [g + (m - (len(methods) - 1) / 2) * width for g in range(len(group))]
             ax.bar(xs, [t[key][m] for key, _ in group], width, label=method,
-                   color=colors.get(method, None))
+                   color=COLORS.get(method, None))
         ax.set_xticks(range(len(group)))
         ax.set_xticklabels([lab for _, lab in group], fontsize=8)
         ax.set_ylabel(unit)

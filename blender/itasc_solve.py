@@ -2,7 +2,8 @@
 paper's Fig 9 peer), and write the posed bones as the project's bones CSV.
 
     blender -b --factory-startup --python-exit-code 1 --python blender/itasc_solve.py -- \
-        --scene models/scenes/fig9_outstretched.json --out itasc_final.csv [--report itasc.json]
+        --scene models/scenes/fig9_outstretched.json --out itasc_final.csv [--report itasc.json] \
+        [--pose itasc_pose.json]
 
 Exit status: 0 solved (whether or not the pose meets the targets: see the report's
 "meets_control_points"), 2 bad input (one line naming the file, the element and the field).
@@ -29,6 +30,8 @@ How the solve is set up, and why:
   mode     ANIMATION: stateless, starts from the channel pose (the scene's initial pose, or
            rest) and reiterates until the largest joint or end-effector change per iteration is
            below --precision, at most --iterations times: one IK solve, no frame history.
+           Blender 3.4.1 raises a precision below 1e-4 to 1e-4 (measured: 1e-5 reads back as
+           1e-4), so 1e-4 is the default and the tightest; the report holds the value used.
            SIMULATION would make the pose depend on previous frames and on velocity limits, which
            an IK comparison must not.
   solver   --solver SDLS (Blender's default; selective damping per singular value) or DLS
@@ -39,6 +42,11 @@ How the solve is set up, and why:
            engine). The pose is also measured against the rig's limits in the project's
            convention (rotation-vector components relative to rest): iTaSC enforces the same
            numbers on its own joint parametrisation (Euler angle for 1 DOF, swing + twist for 3).
+  pose     --pose writes the solved pose in the scene file's `initial_pose` form (root head, and
+           every bone's rotation relative to rest as a rotation vector in degrees, the project's
+           convention), so the C++ side rebuilds the full pose (rolls included, which heads and
+           tails do not show) with its own forward kinematics: the fig9 experiment measures
+           iTaSC's pose with the same functions as PhysIK's and DLS's.
 """
 import argparse
 import json
@@ -62,11 +70,13 @@ def parse_args(argv):
     p.add_argument("--rig", help="rig file instead of the scene's")
     p.add_argument("--out", required=True, help="bones CSV of the solved pose")
     p.add_argument("--report", help="JSON report: settings, chains, residuals, limits")
+    p.add_argument("--pose", help="JSON {\"initial_pose\": ...}: the solved pose in the scene format")
     p.add_argument("--chain", choices=("root", "fixed"), default="root")
     p.add_argument("--solver", choices=("SDLS", "DLS"), default="SDLS")
     p.add_argument("--iterations", type=int, default=1000, help="at most (Blender: 0..1000)")
-    p.add_argument("--precision", type=float, default=1e-5,
-                   help="stop when a joint or end effector moves less per iteration (Blender: 0..0.1)")
+    p.add_argument("--precision", type=float, default=1e-4,
+                   help="stop when a joint or end effector moves less per iteration (Blender 3.4.1 "
+                        "keeps it within 1e-4..0.1)")
     p.add_argument("--save-blend", help="also save the solved scene as this .blend")
     return p.parse_args(argv)
 
@@ -158,15 +168,35 @@ def posed(obj, rig):
     return out
 
 
+def local_rotations(rig, pose):
+    """{bone: rotation relative to rest in its rest frame} in the project's convention
+    (kinematics.h): q = Rrest^-1 Rrest_parent R_parent^-1 R, the root's Rrest^-1 R."""
+    rest = {b["name"]: matrix_from_axes(b["rest_frame"]).to_quaternion() for b in rig["bones"]}
+    out = {}
+    for b in rig["bones"]:
+        p = b["parent"]
+        if p is None:
+            out[b["name"]] = rest[b["name"]].inverted() @ pose[b["name"]][2]
+        else:
+            out[b["name"]] = (rest[b["name"]].inverted() @ rest[p] @ pose[p][2].inverted()
+                              @ pose[b["name"]][2])
+    return out
+
+
+def pose_dict(rig, pose):
+    """The scene format's initial_pose of the solved pose (rotation vectors in degrees)."""
+    rot = {name: [math.degrees(a) for a in rig_format.rotation_vector(tuple(q))]
+           for name, q in local_rotations(rig, pose).items()}
+    return {"root_head": list(pose[rig["bones"][0]["name"]][0]), "rotation_deg": rot}
+
+
 def limit_violations(rig, pose):
     """Largest amount (deg) by which each limited axis is outside its range, in the project's
-    convention: the rotation vector of q = Rrest^-1 Rrest_parent R_parent^-1 R (kinematics.h)."""
-    rest = {b["name"]: matrix_from_axes(b["rest_frame"]).to_quaternion() for b in rig["bones"]}
+    convention: the rotation vector of the local rotation (local_rotations)."""
+    local = local_rotations(rig, pose)
     worst = {"deg": 0.0, "bone": None, "axis": None}
     for b in rig["bones"][1:]:
-        p = b["parent"]
-        q = rest[b["name"]].inverted() @ rest[p] @ pose[p][2].inverted() @ pose[b["name"]][2]
-        angles = [math.degrees(a) for a in rig_format.rotation_vector(tuple(q))]
+        angles = [math.degrees(a) for a in rig_format.rotation_vector(tuple(local[b["name"]]))]
         for k, axis in enumerate("xyz"):
             lim = b.get("limits_deg", {}).get(axis)
             if lim is None:
@@ -198,6 +228,9 @@ def solve(args):
     ik.solver = args.solver
     ik.iterations = args.iterations
     ik.precision = args.precision
+    if abs(ik.precision - args.precision) > 1e-6 * args.precision:
+        print("itasc_solve.py: Blender keeps precision at %.3g (asked %.3g)"
+              % (ik.precision, args.precision), file=sys.stderr)
     constraints, chains = [], {}
     for cp in scene["control_points"]:
         con, chain = add_target(context, obj, rig, cp, args.chain, helpers)
@@ -231,6 +264,9 @@ def solve(args):
     if args.report:
         with open(args.report, "w", encoding="utf-8") as f:
             json.dump(report, f, indent=1)
+    if args.pose:
+        with open(args.pose, "w", encoding="utf-8") as f:
+            json.dump({"initial_pose": pose_dict(rig, pose)}, f, indent=1)
     if args.save_blend:
         bpy.ops.wm.save_as_mainfile(filepath=os.path.abspath(args.save_blend))
     return report

@@ -10,7 +10,7 @@ packages=(
   liborocos-kdl-dev
   python3-matplotlib python3-numpy
   pybind11-dev python3-dev python3-pytest python3-distributed
-  blender
+  blender xvfb
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -21,6 +21,9 @@ Contract (the operators rely on exactly this):
 MISSING = ("the physik Python module is not built; see blender/README.md "
            "(build it with the project's CMake and start Blender with it on PYTHONPATH)")
 
+NO_NUMPY = ("numpy cannot be imported in Blender's Python (%s); Debian: apt-get install "
+            "python3-numpy (Blender must run the system Python, not another one found on PATH)")
+
 
 class EngineError(RuntimeError):
     """The engine refused the scene or diverged; str() is one line saying why."""
@@ -36,6 +39,10 @@ def module():
         import physik  # noqa: F401  (issue 16)
     except ImportError as e:
         raise EngineUnavailable(MISSING) from e
+    try:
+        import numpy  # noqa: F401  (physik's poses are numpy arrays)
+    except ImportError as e:
+        raise EngineUnavailable(NO_NUMPY % (e,)) from e
     return physik
 
 

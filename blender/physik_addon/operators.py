@@ -2,9 +2,10 @@
 (self.report({'ERROR'}, ...), {'CANCELLED'}), never a traceback; the engine is reached only
 through engine.py. Operators that change the scene are undoable (bl_options UNDO)."""
 import json
+import time
 
 import bpy
-from bpy.props import FloatProperty, StringProperty
+from bpy.props import FloatProperty, IntProperty, StringProperty
 from bpy_extras.io_utils import ExportHelper, ImportHelper
 
 from . import armature_io, control_points, engine, rig_format, scene_dict
@@ -105,38 +106,86 @@ class PHYSIK_OT_solve(bpy.types.Operator):
         return {'FINISHED'}
 
 
+# The running or last Simulate, for tests and blender/bench_live.py (one at a time is shown):
+#   running, frames (timer events stepped), steps_per_frame, steps (the engine's step count),
+#   seconds (first to last frame), busy_seconds (in the operator: engine and pose),
+#   final_state_hash (the engine's, once stopped), stopped_by ('esc', 'max_frames', 'error',
+#   'cancel')
+LIVE = {}
+
+
 class PHYSIK_OT_simulate(bpy.types.Operator):
     """Simulate PhysIK live on the active armature (Esc or right click stops, keeping the pose)"""
     bl_idname = "physik.simulate"
     bl_label = "Simulate"
     bl_options = {'REGISTER', 'UNDO'}
+    max_frames: IntProperty(name="Frames", default=0, min=0, options={'SKIP_SAVE'},
+                            description="stop after this many frames (0: run until Esc)")
     _timer = None
 
     def execute(self, context):
         try:
-            self._arm = scene_dict.active_armature(context)
-            self._live = engine.Live(scene_dict.build_scene(context, self._arm))
+            arm = scene_dict.active_armature(context)
+            self._live = engine.Live(scene_dict.build_scene(context, arm))
         except (InputError, engine.EngineError) as e:
             return _fail(self, e)
-        _save_start_pose(self._arm)
+        if context.window is None or bpy.app.background:
+            return _fail(self, "Simulate runs in Blender's window (a timer steps it every frame, "
+                               "and timers do not run in background mode); use Bake or Solve")
+        _save_start_pose(arm)
+        self._arm_name = arm.name  # looked up every frame: an undo replaces the object
         self._steps = context.scene.physik.steps_per_frame
+        self._last_duration = None
+        LIVE.clear()
+        LIVE.update(running=True, frames=0, steps_per_frame=self._steps, steps=0, seconds=0.0,
+                    busy_seconds=0.0, final_state_hash=None, stopped_by=None)
         fps = context.scene.render.fps / context.scene.render.fps_base
         self._timer = context.window_manager.event_timer_add(1.0 / fps, window=context.window)
         context.window_manager.modal_handler_add(self)
         return {'RUNNING_MODAL'}
 
+    def _stop(self, context, why):
+        if self._timer is not None:
+            context.window_manager.event_timer_remove(self._timer)
+            self._timer = None
+        LIVE.update(running=False, stopped_by=why, steps=self._live.sim.step_count,
+                    final_state_hash=self._live.sim.summary["final_state_hash"])
+
     def modal(self, context, event):
         if event.type in {'ESC', 'RIGHTMOUSE'}:
-            context.window_manager.event_timer_remove(self._timer)
+            self._stop(context, "esc")
+            self.report({'INFO'}, "PhysIK: live run stopped after %d frames (%d steps)"
+                        % (LIVE["frames"], LIVE["steps"]))
             return {'FINISHED'}
-        if event.type == 'TIMER':
-            try:
-                head, rotations = self._live.step(self._steps)
-            except engine.EngineError as e:
-                context.window_manager.event_timer_remove(self._timer)
-                return _fail(self, e)
-            armature_io.apply_pose(self._arm, head, rotations)
+        # other timers of the window send TIMER events too: step only on this one's
+        if event.type != 'TIMER' or self._timer.time_duration == self._last_duration:
+            return {'PASS_THROUGH'}
+        self._last_duration = self._timer.time_duration
+        t0 = time.perf_counter()
+        arm = bpy.data.objects.get(self._arm_name)
+        if arm is None or arm.type != 'ARMATURE':
+            self._stop(context, "error")
+            return _fail(self, "armature '%s' is gone; the live simulation stopped" % self._arm_name)
+        try:
+            head, rotations = self._live.step(self._steps)
+        except engine.EngineError as e:
+            self._stop(context, "error")
+            return _fail(self, e)
+        armature_io.apply_pose(arm, head, rotations)
+        t1 = time.perf_counter()
+        if LIVE["frames"] == 0:
+            self._t_first = t1
+        LIVE["frames"] += 1
+        LIVE["seconds"] = t1 - self._t_first
+        LIVE["busy_seconds"] += t1 - t0
+        if self.max_frames and LIVE["frames"] >= self.max_frames:
+            self._stop(context, "max_frames")
+            return {'FINISHED'}
         return {'PASS_THROUGH'}
+
+    def cancel(self, context):
+        """Blender ends the operator (a file is loaded, the window closes)."""
+        self._stop(context, "cancel")
 
 
 class PHYSIK_OT_bake(bpy.types.Operator):
@@ -153,7 +202,10 @@ class PHYSIK_OT_bake(bpy.types.Operator):
         except (InputError, engine.EngineError) as e:
             return _fail(self, e)
         _save_start_pose(arm)
-        frames = armature_io.bake_keyframes(arm, poses, context.scene.frame_current, s.bake_every)
+        frame = context.scene.frame_current
+        frames = armature_io.bake_keyframes(arm, poses, frame, s.bake_every)
+        # show the keyed pose of the current frame (the channels hold the last key's until then)
+        context.scene.frame_set(frame)
         self.report({'INFO'}, "PhysIK: %d keyframes, frames %d..%d" % (len(frames), frames[0], frames[-1]))
         return {'FINISHED'}
 

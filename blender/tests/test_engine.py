@@ -12,7 +12,14 @@ The add-on reaches `import physik` (issue 16, on --pythonpath). What is checked 
   - Bake keys the frames of every N-th step and the last, in the engine's poses;
   - a live simulation's n-step calls follow the same states as one run;
   - damping 'auto' with the implicit step solves (the engine's damping_auto); a diverged run gives one Blender report, nothing
-    moved.
+    moved;
+  - Blender's undo works across Solve, Bake and Reset: each operator, called as the panel's
+    button calls it (with an undo push: bpy.ops.physik.solve('EXEC_DEFAULT', True)), is one undo
+    step; bpy.ops.ed.undo() returns the armature to exactly the pose before it (the channels and
+    the posed heads and tails compare equal: the memfile undo restores the stored floats; Bake's
+    keyframes are gone) and bpy.ops.ed.redo() gives exactly the operator's result again.
+    Headless (-b) Blender keeps a real undo stack (a window manager with one window is set up);
+    tests/test_window.py does the same with real Ctrl+Z key events in a window (Xvfb).
 """
 import argparse
 import csv
@@ -194,6 +201,17 @@ class TestBakeAndLive(Base):
 
 
 class TestEngineErrors(Base):
+    def test_simulate_in_background_mode_is_one_report(self):
+        # no event loop in -b: the modal operator would never step (tests/test_window.py runs it)
+        arm = fig9_armature()
+        before = armature_io.read_pose(arm)[0].copy()
+        msg = run_op(bpy.ops.physik.simulate)
+        self.assertIsNotNone(msg)
+        self.assertIn("background mode", msg)
+        self.assertNotIn("Traceback", msg)
+        self.assertLess((armature_io.read_pose(arm)[0] - before).length, 1e-12)
+
+
     def test_auto_damping_and_implicit_solve(self):
         # the panel's Auto is the engine's damping_auto; Implicit its implicit step: both solve
         arm = fig9_armature()
@@ -221,6 +239,90 @@ class TestEngineErrors(Base):
             self.assertIn("diverged", msg)
             self.assertNotIn("Traceback", msg)
         self.assertLess((armature_io.read_pose(arm)[0] - before).length, 1e-12)
+
+
+def snapshot(name):
+    """The armature's pose, exactly: every channel's location and rotation as stored, and the
+    posed heads and tails. Looked up by name: an undo replaces the Python objects."""
+    arm = bpy.data.objects[name]
+    bpy.context.view_layer.update()
+    channels = {pb.name: (tuple(pb.location), tuple(pb.rotation_quaternion), tuple(pb.rotation_euler),
+                          tuple(pb.rotation_axis_angle)) for pb in arm.pose.bones}
+    posed = {n: (tuple(h), tuple(t)) for n, _, h, t in armature_io.posed_bones_world(arm)}
+    return channels, posed
+
+
+def keyed_frames(name):
+    arm = bpy.data.objects[name]
+    action = arm.animation_data.action if arm.animation_data else None
+    if action is None:
+        return []
+    return sorted({round(k.co[0]) for f in action.fcurves for k in f.keyframe_points})
+
+
+class TestUndo(Base):
+    """Undo across Solve, Bake and Reset (tolerance: none, the poses compare equal)."""
+
+    def setUp(self):
+        super().setUp()
+        self.name = fig9_armature().name
+        bpy.ops.ed.undo_push(message="fig9 set up")
+        self.before = snapshot(self.name)
+
+    def undo_step(self, op):
+        """Run op as one undo step (what a button press does); return its pose."""
+        self.assertEqual(op('EXEC_DEFAULT', True), {'FINISHED'})
+        return snapshot(self.name)
+
+    def test_undo_and_redo_across_solve(self):
+        solved = self.undo_step(bpy.ops.physik.solve)
+        hand = Vector(solved[1]["hand.R"][1])
+        self.assertLess((hand - Vector((-2.4, -0.6, 1.5))).length, 5e-3)  # the Solve moved it
+        self.assertEqual(bpy.ops.ed.undo(), {'FINISHED'})
+        self.assertEqual(snapshot(self.name), self.before)
+        self.assertEqual(bpy.ops.ed.redo(), {'FINISHED'})
+        self.assertEqual(snapshot(self.name), solved)
+
+    def test_undo_and_redo_across_bake(self):
+        s = bpy.context.scene.physik
+        s.max_steps, s.bake_every = 12, 4
+        bpy.context.scene.frame_set(1)
+        self.assertEqual(keyed_frames(self.name), [])
+        baked = self.undo_step(bpy.ops.physik.bake)
+        self.assertEqual(keyed_frames(self.name), [1, 2, 3, 4])
+        # Bake shows the current frame's key: the start pose (single precision)
+        for n, (h, t) in baked[1].items():
+            self.assertLess((Vector(h) - Vector(self.before[1][n][0])).length, 1e-6, n)
+        self.assertEqual(bpy.ops.ed.undo(), {'FINISHED'})
+        self.assertEqual(keyed_frames(self.name), [])
+        self.assertEqual(snapshot(self.name), self.before)
+        self.assertEqual(bpy.ops.ed.redo(), {'FINISHED'})
+        self.assertEqual(keyed_frames(self.name), [1, 2, 3, 4])
+        self.assertEqual(snapshot(self.name), baked)
+
+    def test_undo_and_redo_across_reset(self):
+        solved = self.undo_step(bpy.ops.physik.solve)
+        self.assertNotEqual(solved, self.before)
+        self.assertEqual(self.undo_step(bpy.ops.physik.reset), self.before)
+        self.assertEqual(bpy.ops.ed.undo(), {'FINISHED'})
+        self.assertEqual(snapshot(self.name), solved)
+        self.assertEqual(bpy.ops.ed.undo(), {'FINISHED'})
+        self.assertEqual(snapshot(self.name), self.before)
+        self.assertEqual(bpy.ops.ed.redo(), {'FINISHED'})
+        self.assertEqual(bpy.ops.ed.redo(), {'FINISHED'})
+        self.assertEqual(snapshot(self.name), self.before)  # Reset's result: the start pose again
+
+    def test_a_failed_solve_adds_no_undo_step(self):
+        # a cancelled operator pushes nothing: after Solve and a diverging Solve, one undo goes
+        # back to the set-up (an extra step would hold the solved pose)
+        solved = self.undo_step(bpy.ops.physik.solve)
+        s = bpy.context.scene.physik
+        s.damping, s.control_k = 0.0, 1e6
+        with self.assertRaises(RuntimeError):
+            bpy.ops.physik.solve('EXEC_DEFAULT', True)
+        self.assertEqual(snapshot(self.name), solved)
+        self.assertEqual(bpy.ops.ed.undo(), {'FINISHED'})
+        self.assertEqual(snapshot(self.name), self.before)
 
 
 def main():
