@@ -13,6 +13,7 @@
 #include "physik/engine/engine.h"
 #include "physik/io/json_fields.h"
 #include "physik/io/recorder.h"
+#include "physik/io/scaled_scene.h"
 
 namespace physik::experiments {
 
@@ -35,10 +36,6 @@ std::vector<int> chains_to_root(const Rig& rig, const std::vector<int>& bones);
 // steps), with `extra` fields added or overriding.
 nlohmann::json settings_json(const Scene& scene, const nlohmann::json& extra = nlohmann::json::object());
 
-// The scene on a rig scaled by s about the origin (heads, tails, radii, targets, caps, root start)
-// with every bone's mass density x length; torsion k scaled like the inertia (density x s^3)
-// when asked. k and dt stay as given. (The tuning study's 0.1x / 10x rigs.)
-Scene scaled_scene(const Scene& base, double s, double density, bool scale_torsion);
 
 // Format a double with a fixed number of significant digits.
 std::string num(double v, int digits = 3);

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "physik/engine/engine.h"
+#include "physik/io/scaled_scene.h"
 #include "physik/io/scene_io.h"
 #include "physik/posing/posing_session.h"
 #include "tests/engine_test_util.h"
@@ -60,7 +61,7 @@ TEST(EngineAllocations, StepAllocatesNothing) {
 // The implicit step's energy guard splits a step without allocating: its snapshots are sized by
 // init_state (the 0.1x pinhead at c = 100 splits its first steps, implicit_advance_test.cpp).
 TEST(EngineAllocations, ASplitImplicitStepAllocatesNothing) {
-  Scene scene = test::scaled_scene(load_scene(test::model_path("scenes/pinhead_two_hands.json")), 0.1, 1.0);
+  Scene scene = scaled_scene(load_scene(test::model_path("scenes/pinhead_two_hands.json")), 0.1, 1.0);
   scene.params.integration = Integration::kImplicit;
   scene.params.interpolation = Interpolation::kNone;
   scene.params.damping = 100.0;

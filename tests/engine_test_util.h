@@ -40,32 +40,6 @@ inline ControlPoint control(int bone, double alpha, const Vec3& target, double k
   return c;
 }
 
-// The tuning study's scaled scene (experiments/common.cpp scaled_scene): positions, radii, targets
-// and caps times s, masses density x length (kg per rig unit), inertias recomputed.
-inline Scene scaled_scene(const Scene& base, double s, double density) {
-  Json doc = rig_to_json(base.rig);
-  for (Json& b : doc["bones"]) {
-    for (const char* key : {"head", "tail"}) {
-      for (auto& v : b[key]) v = v.get<double>() * s;
-    }
-    const Vec3 head(b["head"][0], b["head"][1], b["head"][2]);
-    const Vec3 tail(b["tail"][0], b["tail"][1], b["tail"][2]);
-    b["radius"] = b["radius"].get<double>() * s;
-    b["mass"] = density * (tail - head).norm();
-    b.erase("inertia_local");
-  }
-  Scene out = base;
-  out.rig = rig_from_json(doc, base.rig_file + " (scaled)");
-  for (ControlPoint& cp : out.control_points) {
-    cp.target_world *= s;
-    if (cp.cap) *cp.cap *= s;
-  }
-  out.params.control_cap *= s;
-  for (TargetChange& t : out.schedule) t.target_world *= s;
-  out.initial_pose.root_head_world *= s;
-  return out;
-}
-
 // Parameters with nothing but the dynamics: no damping, no velocity factor, no interpolation.
 inline EngineParams bare_params(double dt = 0.05) {
   EngineParams p = preset_params("original");

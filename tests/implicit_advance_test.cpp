@@ -12,6 +12,7 @@
 
 #include "physik/engine/engine.h"
 #include "physik/io/rig_io.h"
+#include "physik/io/scaled_scene.h"
 #include "physik/io/scene_io.h"
 #include "physik/model/rig_generators.h"
 #include "physik/posing/posing_session.h"
@@ -23,7 +24,7 @@ namespace {
 
 // pinhead_two_hands at 0.1x, 1 kg per rig unit, implicit at damping c, targets fixed from the start
 Scene small_pinhead(double c) {
-  Scene s = test::scaled_scene(load_scene(test::model_path("scenes/pinhead_two_hands.json")), 0.1, 1.0);
+  Scene s = scaled_scene(load_scene(test::model_path("scenes/pinhead_two_hands.json")), 0.1, 1.0);
   s.params.integration = Integration::kImplicit;
   s.params.interpolation = Interpolation::kNone;
   s.params.damping = c;

@@ -12,7 +12,6 @@ Tolerances: positions and frames 1e-6 (Blender keeps them in single precision: ~
 size), limits 1e-6 rad (Blender keeps radians in single precision: 160 deg comes back as
 159.9999953 deg, 8e-8 rad off); against the 4-decimal pinhead.json, 1e-4.
 """
-import argparse
 import json
 import math
 import os
@@ -25,23 +24,13 @@ import bpy
 from mathutils import Quaternion, Vector
 
 
-def _args():
-    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    p = argparse.ArgumentParser()
-    here = os.path.dirname(os.path.abspath(__file__))
-    p.add_argument("--repo", default=os.path.join(here, "..", ".."))
-    p.add_argument("--shared", default=None, help="folder with data/pinhead.blend")
-    return p.parse_args(argv)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from blender_harness import clear_scene, enable_addon, script_args  # noqa: E402
 
-
-ARGS = _args()
+ARGS = script_args((["--shared"], {"default": None, "help": "folder with data/pinhead.blend"}))
 REPO = os.path.abspath(ARGS.repo)
 RIGS = os.path.join(REPO, "models", "rigs")
-sys.path.insert(0, os.path.join(REPO, "blender"))
-MOD = addon_utils.enable("physik_addon", default_set=True, handle_error=None)
-if MOD is None:
-    print("test_addon.py: the add-on did not enable", file=sys.stderr)
-    sys.exit(1)
+MOD = enable_addon(REPO, "test_addon.py")
 
 from physik_addon import (armature_io, control_points, operators, rig_format,  # noqa: E402
                           scene_dict, settings)
@@ -51,13 +40,6 @@ FRAME_TOL = 1e-6  # axis components
 LIMIT_TOL = 1e-6  # rad
 
 
-def clear_scene():
-    for obj in list(bpy.data.objects):
-        bpy.data.objects.remove(obj)
-    for arm in list(bpy.data.armatures):
-        bpy.data.armatures.remove(arm)
-    for action in list(bpy.data.actions):
-        bpy.data.actions.remove(action)
 
 
 def angle_between(q1, q2):

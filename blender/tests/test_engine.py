@@ -21,7 +21,6 @@ The add-on reaches `import physik` (issue 16, on --pythonpath). What is checked 
     Headless (-b) Blender keeps a real undo stack (a window manager with one window is set up);
     tests/test_window.py does the same with real Ctrl+Z key events in a window (Xvfb).
 """
-import argparse
 import csv
 import json
 import os
@@ -30,28 +29,17 @@ import sys
 import tempfile
 import unittest
 
-import addon_utils
 import bpy
 from mathutils import Vector
 
 
-def _args():
-    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    p = argparse.ArgumentParser()
-    here = os.path.dirname(os.path.abspath(__file__))
-    p.add_argument("--repo", default=os.path.join(here, "..", ".."))
-    p.add_argument("--pythonpath", required=True, help="the folder holding the physik package")
-    p.add_argument("--binary", required=True, help="the physik CLI")
-    return p.parse_args(argv)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from blender_harness import clear_scene, enable_addon, script_args  # noqa: E402
 
-
-ARGS = _args()
+ARGS = script_args((["--pythonpath"], {"required": True, "help": "the folder holding the physik package"}),
+                   (["--binary"], {"required": True, "help": "the physik CLI"}))
 REPO = os.path.abspath(ARGS.repo)
-sys.path.insert(0, os.path.abspath(ARGS.pythonpath))
-sys.path.insert(0, os.path.join(REPO, "blender"))
-if addon_utils.enable("physik_addon", default_set=True, handle_error=None) is None:
-    print("test_engine.py: the add-on did not enable", file=sys.stderr)
-    sys.exit(1)
+enable_addon(REPO, "test_engine.py", ARGS.pythonpath)
 
 from physik_addon import armature_io, control_points, engine, rig_format, scene_dict  # noqa: E402
 
@@ -68,13 +56,6 @@ def run_op(op, **kw):
         return str(e)
 
 
-def clear_scene():
-    for obj in list(bpy.data.objects):
-        bpy.data.objects.remove(obj)
-    for arm in list(bpy.data.armatures):
-        bpy.data.armatures.remove(arm)
-    for action in list(bpy.data.actions):
-        bpy.data.actions.remove(action)
 
 
 def fig9_armature():

@@ -25,7 +25,6 @@ event loop runs; the result goes to --result (JSON) and the exit status.
                          the operator keeps stepping on it (no traceback, no error), and after
                          Esc the counts, hash and pose are as above.
 """
-import argparse
 import json
 import math
 import os
@@ -33,28 +32,17 @@ import sys
 import time
 import traceback
 
-import addon_utils
 import bpy
 
 
-def _args():
-    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    p = argparse.ArgumentParser()
-    here = os.path.dirname(os.path.abspath(__file__))
-    p.add_argument("--repo", default=os.path.join(here, "..", ".."))
-    p.add_argument("--pythonpath", required=True, help="the folder holding the physik package")
-    p.add_argument("--result", required=True, help="JSON file: passed and failed cases")
-    return p.parse_args(argv)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from blender_harness import clear_scene, enable_addon, script_args  # noqa: E402
 
-
-ARGS = _args()
+ARGS = script_args((["--pythonpath"], {"required": True, "help": "the folder holding the physik package"}),
+                   (["--result"], {"required": True, "help": "JSON file: passed and failed cases"}))
 REPO = os.path.abspath(ARGS.repo)
-sys.path.insert(0, os.path.abspath(ARGS.pythonpath))
-sys.path.insert(0, os.path.join(REPO, "blender"))
 bpy.context.preferences.view.show_splash = False  # its popup would take the key events
-if addon_utils.enable("physik_addon", default_set=True, handle_error=None) is None:
-    print("test_window.py: the add-on did not enable", file=sys.stderr)
-    sys.exit(1)
+enable_addon(REPO, "test_window.py", ARGS.pythonpath)
 
 from physik_addon import (armature_io, control_points, engine, operators,  # noqa: E402
                           rig_format, scene_dict)
@@ -66,13 +54,6 @@ WAIT = 60.0       # seconds any one wait may take (a software-rendered frame tak
 
 # --- the scene ---------------------------------------------------------------------------------
 
-def clear_scene():
-    for obj in list(bpy.data.objects):
-        bpy.data.objects.remove(obj)
-    for arm in list(bpy.data.armatures):
-        bpy.data.armatures.remove(arm)
-    for action in list(bpy.data.actions):
-        bpy.data.actions.remove(action)
 
 
 def fig9_armature(steps_per_frame):
