@@ -338,10 +338,10 @@ void large_steps(const Context& ctx, nlohmann::json& doc, nlohmann::json& claims
   }
   // the solve mode (physik/posing): from the physical dt, lengthening as the motion settles; the
   // elbow's three points are met exactly at its equilibrium, so it runs to a residual of 1e-10
-  PosingSession session(s);
-  SolveRule rule;
-  rule.dt_growth = 2.0;
-  rule.max_dt = 1000.0;
+  Scene solve_scene = s;
+  use_solve_mode(solve_scene.params);  // as physik solve --solver physik
+  PosingSession session(solve_scene);
+  SolveRule rule = solve_mode_rule();
   rule.tolerance = 1e-10;
   rule.max_steps = 400;
   const SolveResult solved = session.solve(rule);

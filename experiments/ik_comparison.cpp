@@ -40,7 +40,6 @@
 #include "physik/engine/engine.h"
 #include "physik/ik/ik_solver.h"
 #include "physik/io/rig_io.h"
-#include "physik/io/scene_solve.h"
 #include "physik/model/rig_generators.h"
 #include "physik/posing/posing_session.h"
 
@@ -90,10 +89,7 @@ Scene engine_scene(const RigCase& rc, bool solve_mode) {
   sc.file = "ik_comparison";
   sc.rig = rc.rig;
   sc.params = preset_params(kDefaultPreset);
-  if (solve_mode) {
-    sc.params.integration = Integration::kImplicit;
-    sc.params.torsion_torque = TorsionTorque::kGradient;  // as physik solve --solver physik
-  }
+  if (solve_mode) use_solve_mode(sc.params);  // as physik solve --solver physik
   ControlPoint effector, pin;
   effector.bone = rc.bone;
   effector.alpha = 1.0;
@@ -111,13 +107,9 @@ Solver engine_solver(EngineRow row) {
   return [row, sessions](const RigCase& rc, const Vec3& target) {
     std::unique_ptr<PosingSession>& session = (*sessions)[rc.name];
     if (!session) session = std::make_unique<PosingSession>(engine_scene(rc, row.solve_mode));
-    SolveRule rule;
+    SolveRule rule = row.solve_mode ? solve_mode_rule() : SolveRule{};
     rule.tolerance = 1e-4 * rc.reach;
     rule.max_steps = 2000;
-    if (row.solve_mode) {
-      rule.dt_growth = kSolveDtGrowth;
-      rule.max_dt = kSolveMaxDt;
-    }
     if (row.finish != SolveFinish::kNone) {
       rule.finish = row.finish;
       rule.stall_steps = 10;  // the hybrid switches once the residual stops improving

@@ -6,7 +6,6 @@
 #include "physik/engine/engine.h"
 #include "physik/io/summary_io.h"
 #include "physik/model/errors.h"
-#include "physik/posing/posing_session.h"
 
 namespace physik {
 
@@ -53,12 +52,7 @@ namespace {
 SceneSolveResult solve_with_engine(Scene& scene, const SceneSolveOptions& o,
                                    const std::vector<IkGoal>& goals) {
   const bool mode = o.solver == "physik";
-  if (mode) {
-    scene.params.integration = Integration::kImplicit;
-    // the potential's own torque: the paper's per-axis torque is not conservative at large bends,
-    // which long steps reach (physik/engine/torsion_springs.h)
-    scene.params.torsion_torque = TorsionTorque::kGradient;
-  }
+  if (mode) use_solve_mode(scene.params);
   SolveRule rule;
   rule.tolerance = o.tol > 0.0 ? o.tol : 1e-4 * chain_reach(scene.rig, goals);
   rule.max_steps = scene.steps;

@@ -25,13 +25,9 @@
 
 #include "physik/ik/ik_solver.h"
 #include "physik/model/scene.h"
+#include "physik/posing/posing_session.h"
 
 namespace physik {
-
-// The solve mode's defaults (physik): chosen on the ik_comparison targets (README "PhysIK as an
-// IK solver")
-constexpr double kSolveDtGrowth = 2.0;
-constexpr double kSolveMaxDt = 1000.0;
 
 // The options of `physik solve`; errors name the CLI's flags (--solver, --tol, ...).
 struct SceneSolveOptions {

@@ -13,6 +13,18 @@
 
 namespace physik {
 
+void use_solve_mode(EngineParams& params) {
+  params.integration = Integration::kImplicit;
+  params.torsion_torque = TorsionTorque::kGradient;
+}
+
+SolveRule solve_mode_rule() {
+  SolveRule rule;
+  rule.dt_growth = kSolveDtGrowth;
+  rule.max_dt = kSolveMaxDt;
+  return rule;
+}
+
 PosingSession::PosingSession(const Scene& scene) : scene_(scene) {
   for (std::size_t c = 0; c < scene_.control_points.size(); ++c) {
     const ControlPoint& cp = scene_.control_points[c];

@@ -38,6 +38,11 @@ enum class SolveFinish {
   kDls,   // physics for the transient, then damped least squares
 };
 
+// The solve mode's defaults (physik solve --solver physik, ik_comparison's physik rows): chosen on
+// the ik_comparison targets (README "PhysIK as an IK solver")
+constexpr double kSolveDtGrowth = 2.0;   // 1, per settling step
+constexpr double kSolveMaxDt = 1000.0;   // s
+
 struct SolveRule {
   double tolerance = 0.0;          // rig units; 0 = tolerance_fraction * reach
   double tolerance_fraction = 1e-4;  // 1, of the chain's reach (as the classic solvers)
@@ -70,6 +75,14 @@ struct SolveResult {
   double final_dt = 0.0;     // s, the step length the solve ended with
   double tolerance = 0.0;    // rig units, the one used
 };
+
+// The engine settings of the solve mode: integration implicit, and the potential's own torsion
+// torque (torsion_torque gradient; the paper's per-axis torque is not conservative at the large
+// bends long steps reach, physik/engine/torsion_springs.h).
+void use_solve_mode(EngineParams& params);
+
+// The solve rule of the solve mode: the step growing by kSolveDtGrowth up to kSolveMaxDt.
+SolveRule solve_mode_rule();
 
 class PosingSession {
  public:
