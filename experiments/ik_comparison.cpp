@@ -6,7 +6,8 @@
 // for the free chains, and pinhead's hand tip in random legal poses; unreachable ones at 1.1..2
 // times the reach in a uniform direction. Every solve starts from the rest pose with the root's
 // head anchored. Per solve: residual (rig units), success (residual < 1e-3 of the reach),
-// iterations (PhysIK: steps), wall time, the largest joint-limit violation, secondary motion
+// iterations (PhysIK: steps; its hybrids: steps + DLS iterations), wall time, the largest
+// joint-limit violation, secondary motion
 // (sum over bones of the rotation angle relative to the start; on pinhead also the mean
 // displacement of bones off the root-to-hand path), and continuity: the same start solved for
 // the target and for the target moved by 1% of the reach; jump = largest bone-tail displacement
@@ -129,7 +130,7 @@ Solver engine_solver(EngineRow row) {
     o.local = session->pose().bone_local_rotation;
     const ControlPoint& cp = session->scene().control_points[0];
     o.residual = (point_on_bone(session->frames(), cp.bone, cp.alpha) - target).norm();
-    o.iterations = r.steps + r.finish_iterations;
+    o.iterations = r.steps + r.finish_iterations;  // the hybrids: physics steps + DLS iterations
     o.converged = r.converged && !r.diverged;
     o.limit_violation_deg = rad2deg(max_limit_violation(rc.rig, session->pose()));
     return o;

@@ -93,5 +93,25 @@ TEST(EngineAllocations, PosingSessionCallsAllocateNothing) {
   EXPECT_TRUE(r.converged);
 }
 
+// The solve mode's calls as ik_comparison makes them: the pose reset, a target moved along the
+// interpolation, a lengthening implicit solve.
+TEST(EngineAllocations, SolveModeCallsAllocateNothing) {
+  Scene scene = load_scene(test::model_path("scenes/pinhead_two_hands.json"));
+  use_solve_mode(scene.params);
+  PosingSession session(scene);
+  const Vec3 start = session.state().target_goal_world[0];
+  session.solve(solve_mode_rule());  // warm up
+  g_allocations = 0;
+  g_counting = true;
+  for (int k = 1; k <= 5; ++k) {
+    session.set_pose(scene.initial_pose);
+    session.set_target(0, start + Vec3(0.05 * k, 0.0, -0.05 * k), true);
+    session.solve(solve_mode_rule());
+  }
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_TRUE(session.solve(solve_mode_rule()).converged);
+}
+
 }  // namespace
 }  // namespace physik

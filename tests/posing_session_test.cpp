@@ -77,8 +77,10 @@ TEST(PosingSession, FollowsADraggedTarget) {
   const SolveResult r = session.solve();
   EXPECT_TRUE(r.converged);
   EXPECT_LT(session.residual(), r.tolerance);
-  EXPECT_NEAR((point_on_bone(session.frames(), 2, 1.0) - (tip + Vec3(0.3, 0.0, -0.2))).norm(),
-              session.residual(), 1e-15);
+  // the residual is the pose's: from the pose's own forward kinematics, not the session's frames
+  const BoneFrames from_pose = forward_kinematics(scene.rig, session.pose());
+  EXPECT_NEAR((point_on_bone(from_pose, 2, 1.0) - (tip + Vec3(0.3, 0.0, -0.2))).norm(),
+              session.residual(), 1e-12);
 }
 
 // The hybrid: physics for 15 steps, then DLS closes the rest; the physics alone is short.
@@ -155,18 +157,98 @@ TEST(PosingSession, SetPoseRestartsTheImplicitStepFromThatPose) {
   EXPECT_EQ(state_hash(reused.frames()), state_hash(fresh.frames()));
 }
 
+// With the targets moved along the interpolation (ik_comparison's rows), a session reused
+// through set_pose solves as a fresh one: each pull starts again from the point on the new pose,
+// not from the previous solve's target; and the summary is this solve's, not the session's.
+TEST(PosingSession, AReusedSessionSolvesAsAFreshOne) {
+  for (bool implicit : {false, true}) {
+    Scene scene = two_hands();
+    ASSERT_NE(scene.params.interpolation, Interpolation::kNone);
+    if (implicit) use_solve_mode(scene.params);
+    const SolveRule rule = implicit ? solve_mode_rule() : SolveRule{};
+    const Vec3 first = scene.control_points[0].target_world + Vec3(0.3, -0.2, 0.1);
+    const Vec3 other = scene.control_points[0].target_world + Vec3(-0.4, 0.2, 0.3);
+    PosingSession reused(scene), fresh(scene);
+    reused.set_target(0, first, true);
+    ASSERT_TRUE(reused.solve(rule).converged);
+    reused.set_pose(scene.initial_pose);
+    reused.set_target(0, other, true);
+    const SolveResult a = reused.solve(rule);
+    fresh.set_target(0, other, true);
+    const SolveResult b = fresh.solve(rule);
+    ASSERT_TRUE(b.converged);
+    EXPECT_EQ(a.steps, b.steps) << (implicit ? "implicit" : "explicit");
+    EXPECT_EQ(state_hash(reused.frames()), state_hash(fresh.frames()));
+    const RunSummary sa = reused.summary(a), sb = fresh.summary(b);
+    EXPECT_EQ(sa.steps_run, a.steps);
+    EXPECT_EQ(sa.steps_to_converge, sb.steps_to_converge);
+    EXPECT_EQ(sa.mean_passes_per_step, sb.mean_passes_per_step);
+    EXPECT_EQ(sa.implicit_split_steps, sb.implicit_split_steps);
+    EXPECT_EQ(sa.implicit_max_substeps, sb.implicit_max_substeps);
+  }
+}
+
+// The two ways a solve ends short of the tolerance are told apart.
+TEST(PosingSession, StalledIsTheStallRuleNotTheStepCap) {
+  SolveRule capped;
+  capped.max_steps = 15;
+  PosingSession a(two_hands());
+  const SolveResult ra = a.solve(capped);
+  EXPECT_FALSE(ra.converged);
+  EXPECT_TRUE(ra.out_of_steps);
+  EXPECT_FALSE(ra.stalled);
+  EXPECT_EQ(ra.steps, 15);
+  SolveRule impatient;  // improve by 99% every step or stall
+  impatient.stall_steps = 1;
+  impatient.stall_fraction = 0.99;
+  PosingSession b(two_hands());
+  const SolveResult rb = b.solve(impatient);
+  EXPECT_FALSE(rb.converged);
+  EXPECT_TRUE(rb.stalled);
+  EXPECT_FALSE(rb.out_of_steps);
+  EXPECT_LT(rb.steps, impatient.max_steps);
+}
+
 // The paper's damping diverges on this scene: reported, and the session is back where the
-// solve started, at rest, with finite frames.
+// solve started (pose at rest, step, targets and their interpolation), so a retry is the same
+// solve.
 TEST(PosingSession, ADivergedSolveReturnsToItsStart) {
   Scene scene = two_hands();
   scene.params.damping = 20.0;
   PosingSession session(scene);
   const BoneFrames start = session.frames();
+  const SimState before = session.state();
   const SolveResult r = session.solve();
   EXPECT_TRUE(r.diverged);
   EXPECT_FALSE(r.converged);
+  EXPECT_FALSE(r.stalled);
   EXPECT_EQ(state_hash(start), state_hash(session.frames()));
   EXPECT_EQ(kinetic_energy(scene.rig, session.state()), 0.0);
+  EXPECT_EQ(session.state().step, before.step);
+  EXPECT_EQ(session.state().interp_steps_left, before.interp_steps_left);
+  for (int c = 0; c < session.num_control_points(); ++c) {
+    EXPECT_EQ(session.state().target_effective_world[c], before.target_effective_world[c]);
+    EXPECT_EQ(session.state().target_goal_world[c], before.target_goal_world[c]);
+  }
+  const SolveResult again = session.solve();
+  EXPECT_TRUE(again.diverged);
+  EXPECT_EQ(again.steps, r.steps);
+}
+
+// damping auto: a target moved through the session chooses the damping again at the current
+// pose, as a run does when its schedule moves a target
+TEST(PosingSession, DampingAutoIsChosenAgainWhenATargetMoves) {
+  Scene scene = two_hands();
+  scene.params.damping_auto = true;
+  scene.params.integration = Integration::kImplicit;
+  PosingSession session(scene);
+  const int updates = session.state().damping_auto_updates;
+  const double at_start = session.state().damping_auto_value;
+  session.advance(40);  // the pose has moved: its modes differ
+  session.set_target(0, scene.control_points[0].target_world + Vec3(0.0, 0.0, 0.2));
+  EXPECT_EQ(session.state().damping_auto_updates, updates + 1);
+  EXPECT_NE(session.state().damping_auto_value, at_start);
+  EXPECT_GT(session.state().damping_auto_value, 0.0);
 }
 
 TEST(PosingSession, BadInputIsAnInputError) {
@@ -175,6 +257,23 @@ TEST(PosingSession, BadInputIsAnInputError) {
                            "no control point 2 (the scene has 2)");
   expect_input_error([&] { session.set_target(-1, Vec3::Zero()); }, "no control point -1");
   expect_input_error([&] { session.set_target(0, Vec3(0, std::nan(""), 0)); }, "not finite");
+  Pose short_pose = session.pose();
+  short_pose.bone_local_rotation.pop_back();
+  expect_input_error([&] { session.set_pose(short_pose); }, "17 bone rotations for a rig of 18 bones");
+  Pose nan_pose = session.pose();
+  nan_pose.bone_local_rotation[3] = Quat(std::nan(""), 0, 0, 0);
+  expect_input_error([&] { session.set_pose(nan_pose); }, "not a finite unit quaternion");
+  const auto rule_error = [&](auto edit, const std::string& text) {
+    SolveRule rule;
+    edit(rule);
+    expect_input_error([&] { session.solve(rule); }, text);
+  };
+  rule_error([](SolveRule& r) { r.stall_steps = 0; }, "stall_steps");
+  rule_error([](SolveRule& r) { r.max_dt = std::nan(""); }, "max_dt");
+  rule_error([](SolveRule& r) { r.dt_growth = 0.5; }, "dt_growth");
+  rule_error([](SolveRule& r) { r.tolerance = -1.0; }, "tolerance");
+  rule_error([](SolveRule& r) { r.stall_fraction = 1.0; }, "stall_fraction");
+  rule_error([](SolveRule& r) { r.max_steps = -1; }, "max_steps");
   Scene none = test::scene_for(make_chain_rig(2), EngineParams());
   PosingSession empty(none);
   expect_input_error([&] { empty.solve(); }, "a solve needs a control point");

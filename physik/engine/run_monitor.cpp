@@ -106,7 +106,7 @@ void RunMonitor::restart(const Scene& scene, const SimState& s, const RunRules& 
   unpropagated_steps_ = max_unreached_ = 0;
   converged_ = diverged_ = false;
   reason_.clear();
-  steps_run_ = s.step;
+  first_step_ = steps_run_ = s.step;
   steps_to_converge_ = -1;
   rest_run_ = 0;
   total_passes_ = 0;
@@ -217,10 +217,11 @@ RunSummary RunMonitor::summary() const {
   out.converged = converged_;
   out.diverged = diverged_;
   out.divergence_reason = reason_;
-  out.steps_run = steps_run_;
-  out.steps_to_converge = steps_to_converge_;
+  const int run = steps_run_ - first_step_;
+  out.steps_run = run;
+  out.steps_to_converge = steps_to_converge_ < 0 ? -1 : steps_to_converge_ - first_step_;
   out.max_joint_separation = max_separation_;
-  out.mean_passes_per_step = steps_run_ ? double(total_passes_) / steps_run_ : 0.0;
+  out.mean_passes_per_step = run ? double(total_passes_) / run : 0.0;
   out.max_passes_in_a_step = max_passes_;
   out.peak_kinetic_energy = peak_ke_;
   out.max_limit_violation_deg = max_violation_deg_;
@@ -231,7 +232,7 @@ RunSummary RunMonitor::summary() const {
   if (unpropagated_steps_ > 0) {
     out.joint_solve_warning =
         "the joint solve stopped before its forces reached every joint in " +
-        std::to_string(unpropagated_steps_) + " of " + std::to_string(steps_run_) +
+        std::to_string(unpropagated_steps_) + " of " + std::to_string(run) +
         " steps (up to " + std::to_string(max_unreached_) +
         " joints accelerating at under " + num(kUnreachedFraction) +
         " of the largest joint acceleration); the motion of "

@@ -113,7 +113,8 @@ class RunMonitor {
 
   // Start over for a run that continues from `state` (physik/posing: a solve after live steps
   // and target moves): the ledger's E_0 is the state's own KE + U toward its current targets,
-  // its attachments and targets are the state's, every count is reset. The buffers are reused:
+  // its attachments and targets are the state's, every count is reset (the summary's steps are
+  // this run's: from the state's step at the restart). The buffers are reused:
   // no allocation after the first restart. `scene` must outlive the monitor.
   void restart(const Scene& scene, const SimState& state, const RunRules& rules);
 
@@ -154,8 +155,9 @@ class RunMonitor {
   bool converged_ = false;
   bool diverged_ = false;
   std::string reason_;
-  int steps_run_ = 0;
-  int steps_to_converge_ = -1;
+  int first_step_ = 0;           // the state's step at the (re)start: counts are of this run
+  int steps_run_ = 0;            // the state's step at the last observation
+  int steps_to_converge_ = -1;   // the state's step
   int rest_run_ = 0;
   long total_passes_ = 0;
   int max_passes_ = 0;

@@ -47,6 +47,8 @@ std::vector<IkGoal> scene_goals(const Scene& scene) {
 
 namespace {
 
+IkOptions classic_options(const SceneSolveOptions& o);
+
 // the engine in a posing session (physik/posing/posing_session.h): the solve mode (physik) or the
 // scene's engine at its dt (physik-explicit); see scene_solve.h
 SceneSolveResult solve_with_engine(Scene& scene, const SceneSolveOptions& o,
@@ -60,6 +62,7 @@ SceneSolveResult solve_with_engine(Scene& scene, const SceneSolveOptions& o,
   rule.max_dt = o.max_dt;
   rule.finish = o.finish == "ccd" ? SolveFinish::kCcd : o.finish == "dls" ? SolveFinish::kDls
                                                                           : SolveFinish::kNone;
+  rule.finish_options = classic_options(o);  // --lambda, --max-iterations, --no-limits, ...
   PosingSession session(scene);  // the solver object: rig, state and buffers, before the clock
   const auto t0 = std::chrono::steady_clock::now();
   const SolveResult res = session.solve(rule);
@@ -73,6 +76,7 @@ SceneSolveResult solve_with_engine(Scene& scene, const SceneSolveOptions& o,
   r.summary["residual"] = res.residual;
   r.summary["residual_tol"] = res.tolerance;
   r.summary["stalled"] = res.stalled;
+  r.summary["out_of_steps"] = res.out_of_steps;
   r.summary["finish"] = o.finish;
   r.summary["finish_iterations"] = res.finish_iterations;
   if (mode) {

@@ -8,6 +8,7 @@
 #include "physik/engine/engine.h"
 #include "physik/engine/integrate_joint_space.h"
 #include "physik/engine/interpolation.h"
+#include "physik/engine/linear_modes.h"
 #include "physik/engine/run_monitor.h"
 #include "physik/model/errors.h"
 
@@ -38,6 +39,9 @@ PosingSession::PosingSession(const Scene& scene) : scene_(scene) {
   residuals_.resize(goals_.size());
   reach_ = goals_.empty() ? 0.0 : chain_reach(scene_.rig, goals_);
   start_pose_ = state_.pose;
+  start_goal_world_ = state_.target_goal_world;  // sized once: a solve copies without allocating
+  start_effective_world_ = state_.target_effective_world;
+  start_interp_left_ = state_.interp_steps_left;
   monitor_.restart(scene_, state_, run_rules(scene_));  // sizes its buffers once
 }
 
@@ -57,6 +61,8 @@ void PosingSession::set_target(int c, const Vec3& target_world, bool interpolate
     state_.target_effective_world[c] = target_world;
     state_.interp_steps_left[c] = 0;
   }
+  // as take_step does when the schedule moves a target (engine.cpp)
+  if (scene_.params.damping_auto) update_auto_damping(scene_, state_);
 }
 
 StepStats PosingSession::advance(int steps) {
@@ -66,6 +72,29 @@ StepStats PosingSession::advance(int steps) {
 }
 
 void PosingSession::set_pose(const Pose& pose) {
+  const Rig& rig = scene_.rig;
+  if (static_cast<int>(pose.bone_local_rotation.size()) != rig.nbone) {
+    throw_input_error("set_pose", "", "pose",
+                      std::to_string(pose.bone_local_rotation.size()) + " bone rotations for a rig of " +
+                          std::to_string(rig.nbone) + " bones");
+  }
+  for (int i = 0; i < rig.nbone; ++i) {
+    const Quat& q = pose.bone_local_rotation[i];
+    if (!q.coeffs().allFinite() || std::abs(q.norm() - 1.0) > 1e-6) {
+      throw_input_error("set_pose", "", "pose", "bone '" + rig.bone_name[i] +
+                                                   "': its rotation is not a finite unit quaternion");
+    }
+  }
+  put_pose(pose);
+  // each pull starts again from the point on the new pose, as init_state starts a scene
+  for (std::size_t c = 0; c < scene_.control_points.size(); ++c) {
+    const ControlPoint& cp = scene_.control_points[c];
+    state_.target_effective_world[c] = point_on_bone(state_.frames, cp.bone, cp.alpha);
+    start_target_jump(scene_, state_, static_cast<int>(c), state_.target_goal_world[c]);
+  }
+}
+
+void PosingSession::put_pose(const Pose& pose) {
   forward_kinematics(scene_.rig, pose, state_.frames);
   for (int i = 0; i < scene_.rig.nbone; ++i) {
     state_.com_world[i] = 0.5 * (state_.frames.head_world[i] + state_.frames.tail_world[i]);
@@ -86,10 +115,43 @@ double PosingSession::residual() const {
   return r;
 }
 
+namespace {
+
+// a rule out of range is the caller's bad input (physik solve checks its own flags first)
+void check_rule(const SolveRule& r) {
+  const auto bad = [](const char* field, const std::string& why) {
+    throw_input_error("SolveRule", "", field, why);
+  };
+  if (!(r.tolerance >= 0.0) || !std::isfinite(r.tolerance)) bad("tolerance", "must be finite and >= 0");
+  if (!(r.tolerance_fraction > 0.0) || !std::isfinite(r.tolerance_fraction)) {
+    bad("tolerance_fraction", "must be finite and > 0");
+  }
+  if (r.max_steps < 0) bad("max_steps", "must not be negative");
+  if (r.stall_steps < 1) bad("stall_steps", "must be at least 1");
+  if (!(r.stall_fraction >= 0.0 && r.stall_fraction < 1.0)) bad("stall_fraction", "must be in [0, 1)");
+  if (!(r.dt_growth >= 1.0) || !std::isfinite(r.dt_growth)) bad("dt_growth", "must be finite and >= 1");
+  if (!(r.max_dt > 0.0) || !std::isfinite(r.max_dt)) bad("max_dt", "must be finite and > 0");
+}
+
+}  // namespace
+
 SolveResult PosingSession::solve(const SolveRule& rule) {
   if (goals_.empty()) throw_input_error(scene_.file, "control_points", "", "a solve needs a control point");
+  check_rule(rule);
+  const bool grow = rule.dt_growth > 1.0;
+  if (grow && scene_.params.integration != Integration::kImplicit) {
+    throw_input_error(scene_.file, "params", "integration",
+                      "a lengthening step (dt_growth > 1) needs integration implicit");
+  }
   SolveResult out;
-  start_pose_ = state_.pose;  // same size: no allocation
+  // where the solve starts, for a divergence to return to (same sizes: no allocation)
+  start_pose_ = state_.pose;
+  start_step_ = state_.step;
+  start_goal_world_ = state_.target_goal_world;
+  start_effective_world_ = state_.target_effective_world;
+  start_interp_left_ = state_.interp_steps_left;
+  start_damping_auto_ = state_.damping_auto_value;
+  state_.implicit_split_steps = state_.implicit_max_substeps = 0;  // the summary's are this solve's
   out.tolerance = rule.tolerance > 0.0 ? rule.tolerance : rule.tolerance_fraction * reach_;
   RunRules rules = run_rules(scene_);
   rules.stop_at_residual = true;
@@ -98,11 +160,6 @@ SolveResult PosingSession::solve(const SolveRule& rule) {
   rules.stall_fraction = rule.stall_fraction;
   // rules.last_event stays the scene's: a target the schedule still has to move is waited for
   monitor_.restart(scene_, state_, rules);  // energy ledger from the state as it is now
-  const bool grow = rule.dt_growth > 1.0;
-  if (grow && scene_.params.integration != Integration::kImplicit) {
-    throw_input_error(scene_.file, "params", "integration",
-                      "a lengthening step (dt_growth > 1) needs integration implicit");
-  }
   // the step h: the scene's dt at first; longer by dt_growth after a step whose kinetic energy
   // fell, shorter by it (not below dt) after one the energy guard had to split
   const double dt0 = scene_.params.dt, longest = std::max(rule.max_dt, dt0);
@@ -111,6 +168,7 @@ SolveResult PosingSession::solve(const SolveRule& rule) {
   while (!stop && out.steps < rule.max_steps) {
     const StepStats st = grow ? step(scene_, state_, h) : step(scene_, state_);
     ++out.steps;
+    out.final_dt = h;
     stop = monitor_.observe(observe_step(scene_, state_, st));
     if (grow && st.passes > 1) {
       h = std::max(h / rule.dt_growth, dt0);
@@ -119,11 +177,18 @@ SolveResult PosingSession::solve(const SolveRule& rule) {
     }
     previous_ke = st.kinetic_energy;
   }
-  out.final_dt = h;
   out.diverged = monitor_.diverged();
-  if (out.diverged) set_pose(start_pose_);
+  if (out.diverged) {
+    put_pose(start_pose_);
+    state_.step = start_step_;
+    state_.target_goal_world = start_goal_world_;
+    state_.target_effective_world = start_effective_world_;
+    state_.interp_steps_left = start_interp_left_;
+    state_.damping_auto_value = start_damping_auto_;
+  }
   out.converged = monitor_.converged();
-  out.stalled = !out.converged && !out.diverged;
+  out.out_of_steps = !out.converged && !out.diverged && !stop;
+  out.stalled = !out.converged && !out.diverged && stop;  // the stall rule stopped it
   out.residual = residual();
   if (!out.converged && !out.diverged && rule.finish != SolveFinish::kNone) {
     finish_with(rule, out.tolerance, out);
@@ -149,10 +214,9 @@ bool PosingSession::finish_with(const SolveRule& rule, double tolerance, SolveRe
                                 scene_.rig, goals_, pose, opt);
   out.finish_iterations = rep.iterations;
   if (rep.residual > out.residual) return false;  // never hand back a worse pose
-  set_pose(pose);
+  put_pose(pose);  // the targets stay met: their pulls are not restarted
   out.residual = residual();
   out.converged = out.residual < tolerance;
-  out.stalled = !out.converged;
   return true;
 }
 

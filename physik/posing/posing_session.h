@@ -18,9 +18,10 @@
 // stall_fraction of itself over stall_steps steps".
 //
 // Frames and units: targets and poses are world frame, rig units; the state is the engine's
-// SimState (physik/engine/state.h). Nothing is allocated by set_target, advance, or a solve
-// without a finish (tests/posing/posing_session_test.cpp counts allocations); a classic finish
-// allocates inside the IK solver.
+// SimState (physik/engine/state.h). Nothing is allocated by set_target, set_pose, advance, or a
+// solve without a finish (tests/engine_alloc_test.cpp counts allocations; the behaviour is tested
+// in tests/posing_session_test.cpp); a classic finish allocates inside the IK solver, and so does
+// set_target under damping auto (it recomputes the linearised modes).
 #pragma once
 
 #include <vector>
@@ -57,7 +58,9 @@ struct SolveRule {
   // (physik/engine/implicit_advance.h) shortens the next by dt_growth, not below dt: a trust
   // region, as Levenberg-Marquardt's damping. The equations of motion stay the scene's (its
   // dampers are set by its dt: physik::step(scene, state, h)); only the step changes. 1 = off.
-  // InputError unless implicit.
+  // InputError unless implicit. solve() throws InputError for a rule out of range (tolerances
+  // negative or not finite, max_steps < 0, stall_steps < 1, stall_fraction outside [0, 1),
+  // dt_growth < 1, max_dt not positive, any NaN).
   double dt_growth = 1.0;          // 1, per settling step
   double max_dt = 1.0;             // s
   SolveFinish finish = SolveFinish::kNone;
@@ -68,11 +71,14 @@ struct SolveResult {
   bool converged = false;    // every control point within the tolerance at the end
   bool diverged = false;     // the physics diverged; the session is back at the pose the solve
                              // started from, at rest
-  bool stalled = false;      // the physics stopped improving short of the tolerance
+  bool stalled = false;      // the physics stopped improving short of the tolerance (the stall
+                             // rule stopped it)
+  bool out_of_steps = false; // the physics reached rule.max_steps short of the tolerance, still
+                             // improving (a classic finish may then have converged)
   int steps = 0;             // physics steps taken by this solve
   int finish_iterations = 0; // iterations of the classic finish (0 = none ran)
   double residual = 0.0;     // rig units, the largest control-point distance at the end
-  double final_dt = 0.0;     // s, the step length the solve ended with
+  double final_dt = 0.0;     // s, the length of the last step taken
   double tolerance = 0.0;    // rig units, the one used
 };
 
@@ -92,8 +98,10 @@ class PosingSession {
 
   int num_control_points() const { return static_cast<int>(scene_.control_points.size()); }
   // Move control point c's target. interpolate = false jumps (a drag: the spring pulls toward
-  // the new point at once); true moves it along the scene's interpolation, as a schedule would.
-  // Throws InputError for a bad index or a non-finite target.
+  // the new point at once); true moves it along the scene's interpolation, as a schedule would
+  // (from where its pull is now: the old target, or after set_pose the point on the new pose).
+  // Under damping auto the damping is chosen again for the new targets, as a run does when its
+  // schedule moves one (allocates). Throws InputError for a bad index or a non-finite target.
   void set_target(int c, const Vec3& target_world, bool interpolate = false);
 
   // `steps` steps of the scene's engine (its integration, joint solve and dt).
@@ -103,16 +111,19 @@ class PosingSession {
   // Throws InputError when the scene has no control point.
   SolveResult solve(const SolveRule& rule = {});
 
-  // Put a pose in, at rest (velocities zero); the targets stay.
+  // Put a pose in, at rest (velocities zero). The targets stay; each control point's pull
+  // starts again from its point on the new pose and moves to its target along the scene's
+  // interpolation, as at the scene's start, so a solve from here is a fresh session's with this
+  // initial pose. Throws InputError for a pose of the wrong size or a non-unit rotation.
   void set_pose(const Pose& pose);
 
   // Largest distance of any control point from its target, rig units.
   double residual() const;
 
-  // The run monitor's summary of the last solve (its steps, energy ledger, limit violation, ...)
-  // with the session's state as the final one, as run_scene's summary of the same run; after a
-  // classic finish the final pose is the finished one and `converged` the solve's verdict.
-  // Allocates (the summary's vectors).
+  // The run monitor's summary of the last solve (its steps, energy ledger, limit violation, the
+  // energy guard's split steps, ...) with the session's state as the final one, as run_scene's
+  // summary of the same run; after a classic finish the final pose is the finished one and
+  // `converged` the solve's verdict. Allocates (the summary's vectors).
   RunSummary summary(const SolveResult& result) const;
 
   const Scene& scene() const { return scene_; }
@@ -122,13 +133,21 @@ class PosingSession {
 
  private:
   bool finish_with(const SolveRule& rule, double tolerance, SolveResult& out);
+  // the pose into the frames and the joint-space state, at rest; the targets untouched
+  void put_pose(const Pose& pose);
 
   Scene scene_;
   SimState state_;
   std::vector<IkGoal> goals_;        // (ncontrol) the control points as IK goals
   std::vector<double> residuals_;    // (ncontrol) scratch, rig units
   double reach_ = 0.0;               // rig units, chain_reach of the goals
-  Pose start_pose_;                  // where the current solve started (a divergence returns)
+  // where the current solve started (a divergence returns there): the pose, the state's step,
+  // and the targets with their interpolation (a schedule may move them during the solve)
+  Pose start_pose_;
+  int start_step_ = 0;
+  std::vector<Vec3> start_goal_world_, start_effective_world_;  // (ncontrol) rig units
+  std::vector<int> start_interp_left_;                           // (ncontrol) steps
+  double start_damping_auto_ = 0.0;                              // N s/m
   RunMonitor monitor_{RunRules{}};   // the solve's verdicts, restarted from the state each solve
 };
 
