@@ -179,6 +179,11 @@ expect_in "solve mode converged" "$tmp/solve_mode/summary.json" '"converged": tr
 expect_in "solve mode growth" "$tmp/solve_mode/summary.json" '"dt_growth"'
 check "solve hybrid" 0 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" --solver physik-explicit --finish dls --out "$tmp/solve_hyb" --quiet
 expect_in "solve hybrid finish" "$tmp/solve_hyb/summary.json" '"finish": "dls"'
+# the finish takes the classic solvers' flags: 15 physics steps, then DLS held to 2 iterations
+printf '{"rig": "%s/models/rigs/pinhead.json", "control_points": [{"bone": "hand.L", "target": [0.6, -0.3, 1.0]}, {"bone": "hand.R", "target": [-0.6, -0.3, 1.0]}], "steps": 15}' "$src" > "$tmp/s15.json"
+check "solve hybrid capped" 0 "$bin" solve "$tmp/s15.json" --solver physik-explicit --finish dls --max-iterations 2 --out "$tmp/solve_hyb2" --quiet
+expect_in "solve hybrid out of steps" "$tmp/solve_hyb2/summary.json" '"out_of_steps": true'
+expect_in "solve hybrid --max-iterations" "$tmp/solve_hyb2/summary.json" '"finish_iterations": 2'
 check "solve bad growth" 2 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" --solver physik --dt-growth 0.5 --out "$tmp/solve" --quiet
 expect_in "solve bad growth message" "$tmp/err" "--dt-growth"
 check "solve bad finish" 2 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" --solver physik --finish newton --out "$tmp/solve" --quiet
