@@ -69,8 +69,9 @@ struct SolveRule {
 
 struct SolveResult {
   bool converged = false;    // every control point within the tolerance at the end
-  bool diverged = false;     // the physics diverged; the session is back at the pose the solve
-                             // started from, at rest
+  bool diverged = false;     // the physics diverged; the session is back where the solve
+                             // started: its pose at rest, step count, targets and their
+                             // interpolation (a retry is the same solve)
   bool stalled = false;      // the physics stopped improving short of the tolerance (the stall
                              // rule stopped it)
   bool out_of_steps = false; // the physics reached rule.max_steps short of the tolerance, still
@@ -114,7 +115,8 @@ class PosingSession {
   // Put a pose in, at rest (velocities zero). The targets stay; each control point's pull
   // starts again from its point on the new pose and moves to its target along the scene's
   // interpolation, as at the scene's start, so a solve from here is a fresh session's with this
-  // initial pose. Throws InputError for a pose of the wrong size or a non-unit rotation.
+  // initial pose (the step count goes on: a scene's schedule, keyed by step, is not replayed).
+  // Throws InputError for a pose of the wrong size or a non-unit rotation.
   void set_pose(const Pose& pose);
 
   // Largest distance of any control point from its target, rig units.
