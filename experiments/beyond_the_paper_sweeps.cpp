@@ -355,13 +355,7 @@ void large_steps(const Context& ctx, nlohmann::json& doc, nlohmann::json& claims
   SimState st;
   init_state(at_rest, st);
   const LinearModes modes = linear_modes(at_rest, st, e.targets_world);
-  double omega_min = 0.0;
-  for (double w : modes.omega) {
-    if (w > 1e-6 * modes.omega.back()) {
-      omega_min = w;
-      break;
-    }
-  }
+  const double omega_min = modes.first_constrained >= 0 ? modes.omega[modes.first_constrained] : 0.0;
   text += "; slowest constrained mode at the equilibrium: omega " + num(omega_min) + " rad/s (h omega " +
           num(omega_min) + " at dt 1, " + num(2.0 * omega_min) + " at dt 2)";
   doc["large_steps_slowest_omega"] = omega_min;

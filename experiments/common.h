@@ -36,7 +36,6 @@ std::vector<int> chains_to_root(const Rig& rig, const std::vector<int>& bones);
 // steps), with `extra` fields added or overriding.
 nlohmann::json settings_json(const Scene& scene, const nlohmann::json& extra = nlohmann::json::object());
 
-
 // Format a double with a fixed number of significant digits.
 std::string num(double v, int digits = 3);
 

@@ -16,7 +16,7 @@
 // control point pinning the root's head (PhysIK's root is free), in a PosingSession per rig
 // (physik/posing; the time is the solve alone), stopped like the classic solvers: at the residual
 // tolerance (1e-4 of the reach), or when the residual stalls short of it (not converged), at most
-// 2000 steps; fewer targets. Four rows (issue 15): physik, the solve mode (integration implicit,
+// 2000 steps; the explicit rows on fewer targets. Four rows (issue 15): physik, the solve mode (integration implicit,
 // the potential's torsion torque, the step from the physical dt lengthening as the motion settles:
 // physik solve --solver physik); physik-explicit, the paper's engine at its dt (no 50-chain: the
 // 5 n^2 joint-pass cap makes a 50-bone step ~3 ms); and each with a DLS finish once the residual
@@ -77,9 +77,9 @@ Outcome classic(IkMethod m, const RigCase& rc, const Vec3& target) {
 }
 
 // The engine as an IK solver (physik/posing/posing_session.h), as a tool embeds it: one session
-// per rig, built once; each target is solved from the rest pose at rest, the effector's target
-// moved along the scene's interpolation (as a scene's initial jump), the root's head pinned by a
-// second control point (PhysIK's root is free). The time is the solve alone.
+// per rig, built once; each target is solved from the rest pose at rest (the effector's target
+// moved as engine_solver says), the root's head pinned by a second control point (PhysIK's root
+// is free). The time is the solve alone.
 struct EngineRow {
   bool solve_mode = false;                 // physik: implicit, lengthening step; else the scene's engine
   SolveFinish finish = SolveFinish::kNone; // the paper's hybrid: a classic finish after a stall

@@ -11,6 +11,7 @@
 #include "physik/engine/engine.h"
 #include "physik/engine/newton_euler.h"
 #include "physik/engine/potential.h"
+#include "physik/ik/ik_solver.h"
 #include "tests/engine_test_util.h"
 #include "tests/test_util.h"
 
@@ -77,19 +78,6 @@ TEST(TorsionSprings, EqualAndOppositeTorquesThatPushBackIntoRange) {
   EXPECT_NEAR(rad2deg(theta.y()), 0.0, 0.5);
 }
 
-// Explicit Euler on a torsion spring: with w' = f w + (tau/I) dt and theta' = theta + w' dt, a
-// spring tau = -k theta on a body of transverse inertia I is stable iff a = k dt^2 / I < 2 (1 + f).
-// A middle phalanx of the hand feels two such springs (its two joints) and its neighbours pull
-// the other way in the chain's alternating mode, so a ~ 4 k dt^2 / I_min. The hand's shortest
-// phalanx (L = 0.25, m = 0.25, r = 0.5) has I = m (3 r^2 + L^2)/12 = 0.0169 kg m^2; with k = 10
-// and f = 0.5: dt = 0.05 gives a ~ 5.9 > 3 (unstable: a 1 deg nudge past the engage band must
-// blow up), dt = 0.02 gives a ~ 0.95 < 3 (stable: it must settle).
-// the rotation of rotation vector v
-Quat exp_map(const Vec3& v) {
-  const double a = v.norm();
-  return a == 0.0 ? Quat::Identity() : Quat(Eigen::AngleAxisd(a, v / a));
-}
-
 // torsion_torque gradient is the potential's own torque: for a small turn e of the joint's
 // rotation in the parent-rest frame (q -> exp(e) q), the work tau_pr . e equals -dU, by central
 // differences of the potential (physik/engine/potential.h), on random rotations, for linear and
@@ -110,7 +98,7 @@ TEST(TorsionSprings, GradientTorqueIsMinusTheDerivativeOfThePotential) {
     p.torsion_cap = 0.2;
     // bent up to 2.6 rad about x, the locked axes off by up to 0.3 rad
     const Vec3 theta(2.6 * std::abs(u(rng)), 0.3 * u(rng), 0.3 * u(rng));
-    const Quat q = exp_map(theta);
+    const Quat q = quat_from_rotation_vector(theta);
     const Vec3 tau_axes = torsion_torque_local(elbow, theta, p);
     const Vec3 tau_grad = left_jacobian_inverse_transpose(theta) * tau_axes;
     const auto U = [&](const Quat& r) {
@@ -121,7 +109,8 @@ TEST(TorsionSprings, GradientTorqueIsMinusTheDerivativeOfThePotential) {
     };
     for (int a = 0; a < 3; ++a) {
       const Vec3 d = eps * Vec3::Unit(a);
-      const double minus_dU = -(U(exp_map(d) * q) - U(exp_map(-d) * q)) / (2 * eps);
+      const double minus_dU =
+          -(U(quat_from_rotation_vector(d) * q) - U(quat_from_rotation_vector(-d) * q)) / (2 * eps);
       worst_gradient = std::max(worst_gradient, std::abs(tau_grad[a] - minus_dU));
       worst_axes = std::max(worst_axes, std::abs(tau_axes[a] - minus_dU));
     }
@@ -142,6 +131,13 @@ TEST(TorsionSprings, GradientAndAxesAgreeOnALockedJoint) {
   EXPECT_LT((left_jacobian_inverse_transpose(theta) * tau - tau).norm(), 1e-12 * tau.norm());
 }
 
+// Explicit Euler on a torsion spring: with w' = f w + (tau/I) dt and theta' = theta + w' dt, a
+// spring tau = -k theta on a body of transverse inertia I is stable iff a = k dt^2 / I < 2 (1 + f).
+// A middle phalanx of the hand feels two such springs (its two joints) and its neighbours pull
+// the other way in the chain's alternating mode, so a ~ 4 k dt^2 / I_min. The hand's shortest
+// phalanx (L = 0.25, m = 0.25, r = 0.5) has I = m (3 r^2 + L^2)/12 = 0.0169 kg m^2; with k = 10
+// and f = 0.5: dt = 0.05 gives a ~ 5.9 > 3 (unstable: a 1 deg nudge past the engage band must
+// blow up), dt = 0.02 gives a ~ 0.95 < 3 (stable: it must settle).
 TEST(TorsionSprings, TheTightHandIsExplicitEulersStabilityLimit) {
   const Rig rig = load_rig(test::model_path("rigs/hand.json"));
   const double I_min = [&] {

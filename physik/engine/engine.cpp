@@ -59,9 +59,7 @@ void init_state(const Scene& scene, SimState& s) {
   s.pose = scene.initial_pose;
   if (scene.params.joint_solve == JointSolve::kExact) init_joint_space(rig, s);
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
-    const ControlPoint& cp = scene.control_points[c];
-    s.target_effective_world[c] = point_on_bone(s.frames, cp.bone, cp.alpha);
-    start_target_jump(scene, s, static_cast<int>(c), cp.target_world);
+    start_pull_from_attachment(scene, s, static_cast<int>(c), scene.control_points[c].target_world);
   }
   if (scene.params.articulated_solve()) init_joint_space(rig, s);
   if (scene.params.integration == Integration::kImplicit) {

@@ -37,6 +37,12 @@ void start_target_jump(const Scene& scene, SimState& s, int c, const Vec3& goal)
   }
 }
 
+void start_pull_from_attachment(const Scene& scene, SimState& s, int c, const Vec3& goal) {
+  const ControlPoint& cp = scene.control_points[c];
+  s.target_effective_world[c] = point_on_bone(s.frames, cp.bone, cp.alpha);
+  start_target_jump(scene, s, c, goal);
+}
+
 void update_targets(const Scene& scene, SimState& s) {
   for (const TargetChange& t : scene.schedule) {
     if (t.step == s.step) start_target_jump(scene, s, t.control_point, t.target_world);

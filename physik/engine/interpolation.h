@@ -29,4 +29,8 @@ void update_targets(const Scene& scene, SimState& state);
 // Begin moving control point c's target to `goal` (interpolated per the scene's params).
 void start_target_jump(const Scene& scene, SimState& state, int c, const Vec3& goal);
 
+// The same from the control point's attachment on the state's frames (the effective target
+// starts there): a scene's start (init_state), and a pose put into a posing session.
+void start_pull_from_attachment(const Scene& scene, SimState& state, int c, const Vec3& goal);
+
 }  // namespace physik

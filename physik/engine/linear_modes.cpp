@@ -89,6 +89,7 @@ LinearModes linear_modes(const Scene& scene, const SimState& s, const std::vecto
   const double d1_scale = D1.diagonal().maxCoeff();
   for (int i = 0; i < nv && tiny > 0.0; ++i) {
     if (w2[i] <= tiny) continue;
+    if (out.first_constrained < 0) out.first_constrained = i;
     const Eigen::VectorXd phi = eig.eigenvectors().col(i);
     const double d1 = phi.dot(D1 * phi);
     if (d1 <= 1e-12 * d1_scale) continue;  // the end dampers do not reach this mode

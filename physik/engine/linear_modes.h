@@ -32,6 +32,7 @@ constexpr int kMaxModeBones = 400;
 
 struct LinearModes {
   std::vector<double> omega;           // rad/s, every mode's angular frequency, ascending
+  int first_constrained = -1;          // index of the first mode above the zero-mode threshold
   int slowest = -1;                    // index of the slowest constrained mode; -1 if none
   double slowest_d1 = 0.0;             // phi^T D1 phi of that mode (N s/m per unit c)
   double slowest_dr = 0.0;             // phi^T Dr phi (N s/m)

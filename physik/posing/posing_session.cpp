@@ -87,10 +87,8 @@ void PosingSession::set_pose(const Pose& pose) {
   }
   put_pose(pose);
   // each pull starts again from the point on the new pose, as init_state starts a scene
-  for (std::size_t c = 0; c < scene_.control_points.size(); ++c) {
-    const ControlPoint& cp = scene_.control_points[c];
-    state_.target_effective_world[c] = point_on_bone(state_.frames, cp.bone, cp.alpha);
-    start_target_jump(scene_, state_, static_cast<int>(c), state_.target_goal_world[c]);
+  for (int c = 0; c < num_control_points(); ++c) {
+    start_pull_from_attachment(scene_, state_, c, state_.target_goal_world[c]);
   }
 }
 
