@@ -4,8 +4,11 @@
 #include <iomanip>
 #include <sstream>
 
+#include "physik/ik/ik_solver.h"
 #include "physik/io/rig_io.h"
 #include "physik/io/scene_io.h"
+#include "physik/model/params.h"
+#include "physik/posing/posing_session.h"
 
 namespace physik::experiments {
 
@@ -64,5 +67,42 @@ std::string num(double v, int digits) {
   return s.str();
 }
 
+Vec3 random_direction(std::mt19937& rng) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  Vec3 v(n(rng), n(rng), n(rng));
+  return v.normalized();
+}
+
+Pose random_legal_pose(const Rig& rig, std::mt19937& rng) {
+  Pose p = rest_pose(rig);
+  for (int i = 0; i < rig.nbone; ++i) {
+    Vec3 v;
+    for (int k = 0; k < 3; ++k) {
+      const AxisLimit& l = rig.bone_limit[i][k];
+      const bool lim = l.limited && i > 0;
+      v[k] = std::uniform_real_distribution<double>(lim ? l.min : -1.0, lim ? l.max : 1.0)(rng);
+    }
+    p.bone_local_rotation[i] = quat_from_rotation_vector(v);
+  }
+  return p;
+}
+
+Scene effector_scene(const std::string& file, const Rig& rig, int bone, bool solve_mode) {
+  Scene sc;
+  sc.file = file;
+  sc.rig = rig;
+  sc.params = preset_params(kDefaultPreset);
+  if (solve_mode) use_solve_mode(sc.params);  // as physik solve --solver physik
+  ControlPoint effector, pin;
+  effector.bone = bone;
+  effector.alpha = 1.0;
+  effector.target_world = forward_kinematics(rig, rest_pose(rig)).tail_world[bone];
+  pin.bone = 0;
+  pin.alpha = 0.0;
+  pin.target_world = rig.bone_rest_head_world[0];
+  sc.control_points = {effector, pin};
+  sc.initial_pose = rest_pose(rig);
+  return sc;
+}
 
 }  // namespace physik::experiments

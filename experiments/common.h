@@ -3,6 +3,7 @@
 // physik/io/recorder.h, reports built with experiments/report.h.
 #pragma once
 
+#include <random>
 #include <string>
 #include <vector>
 
@@ -42,5 +43,18 @@ std::string num(double v, int digits = 3);
 // A claim row as JSON {claim, measured, holds} (for reports assembled by hand; Report::claim
 // builds the same row).
 nlohmann::json claim(const std::string& text, const std::string& measured, const std::string& holds);
+
+// A uniformly random unit vector.
+Vec3 random_direction(std::mt19937& rng);
+
+// A random pose within the rig's limits: each limited axis of a non-root bone uniform in its
+// range, every other axis uniform in [-1, 1] rad (a rotation vector per bone).
+Pose random_legal_pose(const Rig& rig, std::mt19937& rng);
+
+// The engine as an IK solver on one effector (ik_comparison, linearisation): control point 0 on
+// `bone`'s tail, its target at the rest tail until moved; control point 1 pins the root's head
+// (PhysIK's root is free). The default preset, from the rest pose; with solve_mode the solve
+// mode's engine (posing_session.h use_solve_mode: implicit, the gradient torsion torque).
+Scene effector_scene(const std::string& file, const Rig& rig, int bone, bool solve_mode);
 
 }  // namespace physik::experiments

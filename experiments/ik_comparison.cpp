@@ -85,29 +85,11 @@ struct EngineRow {
   SolveFinish finish = SolveFinish::kNone; // the paper's hybrid: a classic finish after a stall
 };
 
-Scene engine_scene(const RigCase& rc, bool solve_mode) {
-  Scene sc;
-  sc.file = "ik_comparison";
-  sc.rig = rc.rig;
-  sc.params = preset_params(kDefaultPreset);
-  if (solve_mode) use_solve_mode(sc.params);  // as physik solve --solver physik
-  ControlPoint effector, pin;
-  effector.bone = rc.bone;
-  effector.alpha = 1.0;
-  effector.target_world = forward_kinematics(rc.rig, rest_pose(rc.rig)).tail_world[rc.bone];
-  pin.bone = 0;
-  pin.alpha = 0.0;
-  pin.target_world = rc.rig.bone_rest_head_world[0];
-  sc.control_points = {effector, pin};
-  sc.initial_pose = rest_pose(rc.rig);
-  return sc;
-}
-
 Solver engine_solver(EngineRow row) {
   auto sessions = std::make_shared<std::map<std::string, std::unique_ptr<PosingSession>>>();
   return [row, sessions](const RigCase& rc, const Vec3& target) {
     std::unique_ptr<PosingSession>& session = (*sessions)[rc.name];
-    if (!session) session = std::make_unique<PosingSession>(engine_scene(rc, row.solve_mode));
+    if (!session) session = std::make_unique<PosingSession>(effector_scene("ik_comparison", rc.rig, rc.bone, row.solve_mode));
     SolveRule rule = row.solve_mode ? solve_mode_rule() : SolveRule{};
     rule.tolerance = 1e-4 * rc.reach;
     rule.max_steps = 2000;
@@ -171,26 +153,6 @@ Outcome kdl_lma(const RigCase& rc, const Vec3& target) {
   o.residual = (o.tails_world.back() - target).norm();
   o.converged = o.residual <= 1e-4 * rc.reach;
   return o;
-}
-
-Vec3 random_direction(std::mt19937& rng) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  Vec3 v(n(rng), n(rng), n(rng));
-  return v.normalized();
-}
-
-Pose random_legal_pose(const Rig& rig, std::mt19937& rng) {
-  Pose p = rest_pose(rig);
-  for (int i = 0; i < rig.nbone; ++i) {
-    Vec3 v;
-    for (int k = 0; k < 3; ++k) {
-      const AxisLimit& l = rig.bone_limit[i][k];
-      const bool lim = l.limited && i > 0;
-      v[k] = std::uniform_real_distribution<double>(lim ? l.min : -1.0, lim ? l.max : 1.0)(rng);
-    }
-    p.bone_local_rotation[i] = quat_from_rotation_vector(v);
-  }
-  return p;
 }
 
 double percentile(std::vector<double> v, double q) {

@@ -33,8 +33,8 @@ TEST(Experiments, EveryExpectedExperimentIsRegisteredInRunOrder) {
       "rest_poses",    "fig5_running",      "fig6_elbow",          "fig7_cannon",
       "fig8_wobble",   "fig9_outstretched", "fig10_interpolation", "fig11_sit",
       "hand_explodes", "timing",            "damping_sweep",       "mujoco_gap",
-      "ik_comparison", "tracking",          "tuning_study",        "scaling",
-      "beyond_the_paper"};
+      "ik_comparison", "tracking",          "linearisation",       "tuning_study",
+      "scaling",       "beyond_the_paper"};
   EXPECT_EQ(names, expected);
 }
 

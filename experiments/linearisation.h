@@ -1,0 +1,76 @@
+// What the implicit step's linearisation leaves out (issue 15's chain50 finding), measured with
+// a dense reference step: the solve mode's rule (physik/posing/posing_session.h) and energy
+// guard (physik/engine/implicit_advance.h) around either the shipped O(n) implicit step or a
+// dense Newton step of backward Euler that linearises everything.
+//
+// The shipped step (physik/engine/implicit_step.h) solves (M + h D + h^2 K) a = tau - C - h K v:
+// Gauss-Newton springs (the attachment's curvature dropped), M at the start of the step, and
+// the velocity products C (Coriolis, centripetal, gyroscopic) explicit. MuJoCo's `implicitfast`
+// integrator also skips the velocity products' derivative; its `implicit` includes it (MuJoCo
+// 2.3.3 changelog, "Improvements to implicit integration").
+//
+// The dense step. The exact accelerations a(q, v) = M(q)^-1 (tau(q, v) - C(q, v)) are the
+// articulated solve's (integrate_joint_space.h, solve_articulated) after the force stages;
+// linearised about the start of the step, with q+ = q (+) h v+ and v+ = v + h a+ (the same Euler
+// update as the shipped step):
+//   a+ ~ a + A_q h (v + h a+) + A_v h a+   =>   (1 - h A_v - h^2 A_q) a+ = a + h A_q v     (L)
+// A_q = da/dq, A_v = da/dv by central differences (eps 1e-6) in MuJoCo's qvel layout: root
+// v_com world and w local, each ball's u local; a position perturbation turns a quaternion by
+// its local axis (quat_integrate), as the Euler update does. Dense, O(n^3), allocating: a
+// measuring instrument, not an engine (the core stays O(n)).
+// Variants of (L):
+//   newton            A_q, A_v at the state: every term (velocity products, M(q), the springs'
+//                     and the torsion's full tangents, the dampers)
+//   newton_at_rest    A_q, A_v at the same pose with v = 0: the velocity products' derivatives
+//                     dropped (C is quadratic in v, so its derivatives vanish at rest), the pose
+//                     terms kept
+//   newton_no_gyro    A_v from the scene with the gyroscopic torque off: the derivative of
+//                     w x I w dropped, the rest of the velocity products kept
+// and the shipped step with the velocity products' derivative added, what an O(n) recursion with
+// non-symmetric articulated inertias would solve (DESIGN.md "What the linearisation leaves out"):
+//   shipped_dcdv      (P + h C_v) a+ = r, where P a_s = r is the shipped step's system
+//                     (P = M + h D + h^2 K): (1 + h P^-1 M (M^-1 C_v)) a+ = a_s, with
+//                     M^-1 C_v = A_v(pose, 0) - A_v(pose, v) (C is quadratic in v; the dampers
+//                     are linear), and P^-1 and M^-1 column by column from the shipped implicit
+//                     solve and the exact explicit solve, each with a unit generalised force
+//                     added (both are linear in the applied forces)
+// Units: s, rig units, kg, rad.
+#pragma once
+
+#include <Eigen/Dense>
+
+#include "physik/engine/state.h"
+#include "physik/model/scene.h"
+
+namespace physik::experiments::linearisation {
+
+enum class Variant { kShipped, kNewton, kNewtonAtRest, kNewtonNoGyro, kShippedDcdv };
+const char* variant_name(Variant v);
+
+// qvel (root v_com world, root w local, ball u local): 3 + 3 nbone entries
+Eigen::VectorXd joint_velocity(const SimState& state);
+// A_q and A_v of (L) for a Newton variant (kNewton, kNewtonAtRest, kNewtonNoGyro), at the state
+void derivatives(const Scene& scene, const SimState& state, Variant v, Eigen::MatrixXd& A_q,
+                 Eigen::MatrixXd& A_v);
+// The response of the shipped implicit solve of h (implicit) or of the exact explicit solve to a
+// unit generalised force on each dof, column by column: P^-1 = (M + h D + h^2 K)^-1, or M^-1
+Eigen::MatrixXd unit_force_response(const Scene& scene, const SimState& state, bool implicit, double h);
+// one unguarded step of h of the variant (kShipped: physik::step with no splits)
+void bare_step(const Scene& scene, SimState& state, double h, Variant v);
+
+struct SolveCount {
+  bool converged = false;  // every control point within the tolerance of its goal
+  bool diverged = false;   // the state went non-finite
+  int steps = 0;           // steps of the rule
+  int substeps = 0;        // bare steps taken, the guard's rejected ones included
+  double residual = 0.0;   // rig units, the largest at the end
+};
+
+// The solve mode's rule with the guard around bare_step: h starts at dt, doubles after a step
+// whose kinetic energy fell, halves (not below dt) after a split step, at most kSolveMaxDt; a
+// bare step that adds energy or turns a joint more than kMaxStepRotation is undone and taken as
+// two halves, params.implicit_max_splits deep. Stops at `tolerance` or after max_steps. With
+// kShipped this is PosingSession::solve's step sequence (tests/experiments/linearisation_test.cpp).
+SolveCount solve(const Scene& scene, SimState& state, double tolerance, int max_steps, Variant v);
+
+}  // namespace physik::experiments::linearisation

@@ -1,0 +1,262 @@
+// The dense reference step and the solve rule of the linearisation study (linearisation.h).
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "experiments/linearisation.h"
+#include "physik/engine/engine.h"
+#include "physik/engine/forces.h"
+#include "physik/engine/implicit_advance.h"
+#include "physik/engine/implicit_step.h"
+#include "physik/engine/integrate_joint_space.h"
+#include "physik/engine/run_monitor.h"
+#include "physik/posing/posing_session.h"
+
+namespace physik::experiments::linearisation {
+
+using MatX = Eigen::MatrixXd;
+using VecX = Eigen::VectorXd;
+
+const char* variant_name(Variant v) {
+  switch (v) {
+    case Variant::kShipped: return "shipped";
+    case Variant::kNewton: return "newton";
+    case Variant::kNewtonAtRest: return "newton_at_rest";
+    case Variant::kNewtonNoGyro: return "newton_no_gyro";
+    case Variant::kShippedDcdv: return "shipped_dcdv";
+  }
+  return "?";
+}
+
+namespace {
+
+constexpr double kEps = 1e-6;  // central differences: rig units, rad, rig units/s, rad/s
+
+int nv(const SimState& s) { return 3 + 3 * static_cast<int>(s.joint_vel_local.size()); }
+
+void set_joint_velocity(SimState& s, const VecX& v) {
+  s.root_vel_world = v.head<3>();
+  for (std::size_t i = 0; i < s.joint_vel_local.size(); ++i) s.joint_vel_local[i] = v.segment<3>(3 + 3 * i);
+}
+
+// q (+) e along dof k: the root's centre, or a quaternion turned about its local axis
+void perturb_position(SimState& s, int k, double e) {
+  if (k < 3) {
+    s.root_com_world[k] += e;
+    return;
+  }
+  const int bone = (k - 3) / 3;
+  Quat& q = bone == 0 ? s.root_orient_world : s.pose.bone_local_rotation[bone];
+  quat_integrate(q, e * Vec3::Unit((k - 3) % 3), 1.0);
+}
+
+// a scratch copy of a state: assigning into one that has the same sizes reuses its buffers (the
+// study copies a state per force evaluation)
+SimState& scratch(const SimState& from) {
+  thread_local SimState work;
+  work = from;
+  return work;
+}
+
+// the exact accelerations at the joint state (the world view rebuilt from it)
+VecX accelerations(const Scene& scene, const SimState& state) {
+  SimState& s = scratch(state);
+  world_from_joint_space(scene.rig, s);
+  apply_forces(scene, s);
+  solve_articulated(scene.rig, scene.params, s);
+  VecX a(nv(s));
+  a.head<3>() = s.articulated.root_accel_world;
+  for (int i = 0; i < scene.rig.nbone; ++i) a.segment<3>(3 + 3 * i) = s.articulated.joint_accel_local[i];
+  return a;
+}
+
+// a unit generalised force on dof k (qvel layout) added to the state's wrench: a force at the
+// root's centre, a torque about the root's local axis, or a torque pair about a ball's local axis
+// (+ on the bone, - on its parent: its virtual power is the ball's rate u_k)
+void add_unit_force(const Rig& rig, SimState& s, int k) {
+  if (k < 3) {
+    s.force_world[0][k] += 1.0;
+    return;
+  }
+  const int bone = (k - 3) / 3;
+  const Vec3 t = s.frames.orient_world[bone] * Vec3::Unit((k - 3) % 3);
+  s.torque_world[bone] += t;
+  if (bone > 0) s.torque_world[rig.bone_parent[bone]] -= t;
+}
+
+// the accelerations of the shipped implicit solve (implicit = true) or the exact explicit one,
+// with a unit generalised force on dof k added (k < 0: none)
+VecX solve_with_force(const Scene& scene, const SimState& state, int k, bool implicit, double h) {
+  SimState& s = scratch(state);
+  world_from_joint_space(scene.rig, s);
+  apply_forces(scene, s);
+  if (k >= 0) add_unit_force(scene.rig, s, k);
+  if (implicit) {
+    solve_implicit(scene, s, h);
+  } else {
+    solve_articulated(scene.rig, scene.params, s);
+  }
+  VecX a(nv(s));
+  a.head<3>() = s.articulated.root_accel_world;
+  for (int i = 0; i < scene.rig.nbone; ++i) a.segment<3>(3 + 3 * i) = s.articulated.joint_accel_local[i];
+  return a;
+}
+
+// A_v = da/dv at the state, by central differences
+MatX rate_derivative(const Scene& scene, const SimState& base) {
+  const int n = nv(base);
+  const VecX v0 = joint_velocity(base);
+  MatX A_v(n, n);
+  SimState plus = base, minus = base;
+  for (int k = 0; k < n; ++k) {
+    VecX vp = v0, vm = v0;
+    vp[k] += kEps;
+    vm[k] -= kEps;
+    set_joint_velocity(plus, vp);
+    set_joint_velocity(minus, vm);
+    A_v.col(k) = (accelerations(scene, plus) - accelerations(scene, minus)) / (2.0 * kEps);
+  }
+  return A_v;
+}
+
+// shipped_dcdv's accelerations (linearisation.h)
+VecX shipped_with_dcdv(const Scene& scene, const SimState& s, double h) {
+  const int n = nv(s);
+  SimState at_rest = s;
+  set_joint_velocity(at_rest, VecX::Zero(n));
+  const MatX Minv_Cv = rate_derivative(scene, at_rest) - rate_derivative(scene, s);
+  const MatX M = unit_force_response(scene, s, false, h).inverse();
+  const MatX S = MatX::Identity(n, n) + h * unit_force_response(scene, s, true, h) * M * Minv_Cv;
+  return S.partialPivLu().solve(solve_with_force(scene, s, -1, true, h));
+}
+
+double largest_rotation(const SimState& s, double h) {  // as implicit_advance.cpp's guard
+  double w = 0.0;
+  for (const Vec3& u : s.joint_vel_local) w = std::max(w, u.squaredNorm());
+  return h * std::sqrt(w);
+}
+
+double max_residual(const Scene& scene, const SimState& s) {
+  double r = 0.0;
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    const double d = (point_on_bone(s.frames, cp.bone, cp.alpha) - s.target_goal_world[c]).norm();
+    if (!(d <= r)) r = d;  // NaN stays
+  }
+  return r;
+}
+
+// the guard of implicit_advance.cpp around bare_step; returns the bare steps taken
+int guarded(const Scene& scene, SimState& s, double h, int depth, double floor, Variant v, int& taken) {
+  ++taken;
+  if (depth >= scene.params.implicit_max_splits) {
+    bare_step(scene, s, h, v);
+    return 1;
+  }
+  const SimState start = s;
+  const double e0 = mechanical_energy(scene, s);
+  bare_step(scene, s, h, v);
+  if (largest_rotation(s, h) <= kMaxStepRotation &&
+      mechanical_energy(scene, s) <= e0 + kEnergyGrowthTolerance * (std::max(e0, 0.0) + floor)) {
+    return 1;
+  }
+  s = start;
+  const int first = guarded(scene, s, 0.5 * h, depth + 1, floor, v, taken);
+  return first + guarded(scene, s, 0.5 * h, depth + 1, floor, v, taken);
+}
+
+}  // namespace
+
+MatX unit_force_response(const Scene& scene, const SimState& s, bool implicit, double h) {
+  const int n = nv(s);
+  const VecX base = solve_with_force(scene, s, -1, implicit, h);
+  MatX out(n, n);
+  for (int k = 0; k < n; ++k) out.col(k) = solve_with_force(scene, s, k, implicit, h) - base;
+  return out;
+}
+
+VecX joint_velocity(const SimState& s) {
+  VecX v(nv(s));
+  v.head<3>() = s.root_vel_world;
+  for (std::size_t i = 0; i < s.joint_vel_local.size(); ++i) v.segment<3>(3 + 3 * i) = s.joint_vel_local[i];
+  return v;
+}
+
+void derivatives(const Scene& scene, const SimState& state, Variant variant, MatX& A_q, MatX& A_v) {
+  if (variant == Variant::kShipped || variant == Variant::kShippedDcdv) {
+    throw std::invalid_argument("derivatives: only the Newton variants have dense derivatives");
+  }
+  const int n = nv(state);
+  SimState at_rest = state;
+  set_joint_velocity(at_rest, VecX::Zero(n));
+  const SimState& base = variant == Variant::kNewtonAtRest ? at_rest : state;
+  Scene no_gyro = scene;
+  no_gyro.params.gyroscopic = false;
+  const Scene& rate_scene = variant == Variant::kNewtonNoGyro ? no_gyro : scene;
+  A_q.resize(n, n);
+  SimState plus = base, minus = base;
+  for (int k = 0; k < n; ++k) {
+    plus = base;
+    minus = base;
+    perturb_position(plus, k, kEps);
+    perturb_position(minus, k, -kEps);
+    A_q.col(k) = (accelerations(scene, plus) - accelerations(scene, minus)) / (2.0 * kEps);
+  }
+  A_v = rate_derivative(rate_scene, base);
+}
+
+void bare_step(const Scene& scene, SimState& s, double h, Variant variant) {
+  if (variant == Variant::kShipped) {
+    Scene bare = scene;
+    bare.params.implicit_max_splits = 0;
+    step(bare, s, h);
+    return;
+  }
+  VecX next;
+  if (variant == Variant::kShippedDcdv) {
+    next = shipped_with_dcdv(scene, s, h);
+  } else {
+    MatX A_q, A_v;
+    derivatives(scene, s, variant, A_q, A_v);
+    const int n = nv(s);
+    const VecX a = accelerations(scene, s), v = joint_velocity(s);
+    const MatX S = MatX::Identity(n, n) - h * A_v - h * h * A_q;
+    next = S.partialPivLu().solve(a + h * (A_q * v));  // (L)
+  }
+  s.articulated.root_accel_world = next.head<3>();
+  for (int i = 0; i < scene.rig.nbone; ++i) s.articulated.joint_accel_local[i] = next.segment<3>(3 + 3 * i);
+  integrate_joint_space(scene.rig, h, s);
+  s.step += 1;
+  s.time += h;
+}
+
+SolveCount solve(const Scene& scene, SimState& s, double tolerance, int max_steps, Variant variant) {
+  const double v = scene.speed_tol();
+  const double floor = 0.5 * scene.rig.total_mass() * v * v;  // J, as advance_implicit's
+  const double dt = scene.params.dt;
+  double h = dt, previous_ke = kinetic_energy(scene.rig, s);
+  SolveCount out;
+  while (out.steps < max_steps) {
+    const int sweeps = guarded(scene, s, h, 0, floor, variant, out.substeps);
+    ++out.steps;
+    out.residual = max_residual(scene, s);
+    if (!state_finite(s)) {
+      out.diverged = true;
+      break;
+    }
+    if (out.residual < tolerance) {
+      out.converged = true;
+      break;
+    }
+    const double ke = kinetic_energy(scene.rig, s);
+    if (sweeps > 1) {
+      h = std::max(h / kSolveDtGrowth, dt);
+    } else if (ke <= previous_ke) {
+      h = std::min(h * kSolveDtGrowth, kSolveMaxDt);
+    }
+    previous_ke = ke;
+  }
+  return out;
+}
+
+}  // namespace physik::experiments::linearisation
