@@ -76,10 +76,17 @@ void run(const Context& ctx) {
     pinhead.bone = pinhead.rig.find_bone("hand.L");
     rigs.push_back(pinhead);
   }
-  const std::vector<Variant> variants =
-      ctx.quick ? std::vector<Variant>{Variant::kShipped, Variant::kNewton}
-                : std::vector<Variant>{Variant::kShipped, Variant::kShippedDcdv, Variant::kNewton,
-                                       Variant::kNewtonAtRest, Variant::kNewtonNoGyro};
+  // the pose split's variants on the rigs up to 20 bones: on chain50 pose_forces takes thousands
+  // of bare steps of O(n^3) each
+  const auto variants_of = [&](const StudyRig& r) {
+    if (ctx.quick) return std::vector<Variant>{Variant::kShipped, Variant::kNewton};
+    std::vector<Variant> v = {Variant::kShipped, Variant::kShippedDcdv, Variant::kNewton,
+                              Variant::kNewtonAtRest, Variant::kNewtonNoGyro};
+    if (r.rig.nbone <= 20) {
+      for (Variant x : {Variant::kPoseForces, Variant::kPoseInertia, Variant::kShippedDense}) v.push_back(x);
+    }
+    return v;
+  };
   const int n_targets = ctx.quick ? 1 : 6;
   const int max_steps = 2000;
 
@@ -90,7 +97,7 @@ void run(const Context& ctx) {
     const Scene scene = study_scene(r);
     const double reach = chain_reach(r.rig, {{r.bone, 1.0, Vec3::Zero()}});
     const std::vector<Vec3> targets = study_targets(r, reach, n_targets);
-    for (Variant v : variants) {
+    for (Variant v : variants_of(r)) {
       Cell& cell = cells[r.name][linearisation::variant_name(v)];
       for (std::size_t t = 0; t < targets.size(); ++t) {
         SimState s;
@@ -115,7 +122,7 @@ void run(const Context& ctx) {
 
   nlohmann::json rows = nlohmann::json::array(), table = nlohmann::json::array();
   for (const StudyRig& r : rigs) {
-    for (Variant v : variants) {
+    for (Variant v : variants_of(r)) {
       const Cell& c = cells[r.name][linearisation::variant_name(v)];
       rows.push_back({{"rig", r.name}, {"variant", linearisation::variant_name(v)},
                       {"median_steps", median(c.steps)}, {"median_substeps", median(c.substeps)},
@@ -142,7 +149,9 @@ void run(const Context& ctx) {
             "shipped_dcdv = the same with the velocity products' derivative dC/dv added; newton = a dense step of backward Euler linearising every term, from central differences of "
             "the exact accelerations; newton_at_rest = the same linearised at the pose with v = 0 (the "
             "velocity products' derivatives dropped); newton_no_gyro = newton without the derivative of "
-            "w x I w. Same rule and guard for all (experiments/linearisation.h).")
+            "w x I w; pose_forces, pose_inertia = newton_at_rest's two pose terms apart (the forces' and the "
+            "inertia's; chain10 and pinhead only); shipped_dense = the shipped step rebuilt densely, a check. "
+            "Same rule and guard for all (experiments/linearisation.h).")
       .note("The dense step costs O(n^3) per step and is a measuring instrument, not a solver: the "
             "table counts steps, not time.");
   if (!ctx.quick) {
@@ -163,6 +172,25 @@ void run(const Context& ctx) {
                  "on chain50",
                  pair("chain50", Variant::kNewtonAtRest, Variant::kNewton),
                  steps("chain50", Variant::kNewtonAtRest) > 1.25 * steps("chain50", Variant::kNewton) ? "yes" : "no");
+    const auto no_better = [&](const std::string& rig, Variant v) {
+      return steps(rig, v) >= steps(rig, Variant::kShipped);
+    };
+    report.claim("Neither pose term helps alone: pose_forces (the forces' full tangent, M held) and "
+                 "pose_inertia (the inertia's term on the shipped K) each need at least the shipped step's "
+                 "median steps on chain10, where both together (newton_at_rest) need fewer",
+                 pair("chain10", Variant::kPoseForces, Variant::kShipped) + "; " +
+                     pair("chain10", Variant::kPoseInertia, Variant::kShipped) + "; " +
+                     pair("chain10", Variant::kNewtonAtRest, Variant::kShipped),
+                 no_better("chain10", Variant::kPoseForces) && no_better("chain10", Variant::kPoseInertia) &&
+                         steps("chain10", Variant::kNewtonAtRest) < steps("chain10", Variant::kShipped)
+                     ? "yes" : "no");
+    report.claim("The pieces hold together: the shipped step rebuilt densely (shipped_dense, from the unit-force "
+                 "responses) takes the shipped step's median steps on chain10 and pinhead",
+                 pair("chain10", Variant::kShippedDense, Variant::kShipped) + "; " +
+                     pair("pinhead", Variant::kShippedDense, Variant::kShipped),
+                 steps("chain10", Variant::kShippedDense) == steps("chain10", Variant::kShipped) &&
+                         steps("pinhead", Variant::kShippedDense) == steps("pinhead", Variant::kShipped)
+                     ? "yes" : "no");
     bool gyro_flat = true;
     std::string gyro_text;
     for (const StudyRig& r : rigs) {

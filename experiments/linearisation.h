@@ -26,6 +26,16 @@
 //                     terms kept
 //   newton_no_gyro    A_v from the scene with the gyroscopic torque off: the derivative of
 //                     w x I w dropped, the rest of the velocity products kept
+// At rest the pose terms are two: A_q(pose, 0) = M^-1 dtau/dq + (dM^-1/dq) tau, the forces'
+// dependence on the pose (dtau/dq = -K + the attachments' curvature) and the inertia's. Split:
+//   pose_forces       A_q = M^-1 dtau/dq (M held at the start of the step), A_v at rest; dtau/dq
+//                     from central differences of the applied wrench's generalised force
+//                     (applied_generalised_force)
+//   pose_inertia      A_q = -M^-1 K + (dM^-1/dq) tau (the shipped step's Gauss-Newton K, plus
+//                     the inertia's term: newton_at_rest's A_q less pose_forces'), A_v at rest
+//   shipped_dense     A_q = -M^-1 K, A_v at rest: the shipped step rebuilt densely (a check of
+//                     the pieces: it takes the shipped step's steps). K = (P - M - h D) / h^2,
+//                     with P, M as below and D = -M A_v(pose, 0)
 // and the shipped step with the velocity products' derivative added, what an O(n) recursion with
 // non-symmetric articulated inertias would solve (DESIGN.md "What the linearisation leaves out"):
 //   shipped_dcdv      (P + h C_v) a+ = r, where P a_s = r is the shipped step's system
@@ -44,14 +54,20 @@
 
 namespace physik::experiments::linearisation {
 
-enum class Variant { kShipped, kNewton, kNewtonAtRest, kNewtonNoGyro, kShippedDcdv };
+enum class Variant {
+  kShipped, kNewton, kNewtonAtRest, kNewtonNoGyro, kShippedDcdv, kPoseForces, kPoseInertia, kShippedDense
+};
 const char* variant_name(Variant v);
 
 // qvel (root v_com world, root w local, ball u local): 3 + 3 nbone entries
 Eigen::VectorXd joint_velocity(const SimState& state);
-// A_q and A_v of (L) for a Newton variant (kNewton, kNewtonAtRest, kNewtonNoGyro), at the state
+// A_q and A_v of (L) for a dense variant (every one but kShipped and kShippedDcdv), at the state
+// for a step of h (the variants built on the shipped step's K depend on it)
 void derivatives(const Scene& scene, const SimState& state, Variant v, Eigen::MatrixXd& A_q,
-                 Eigen::MatrixXd& A_v);
+                 Eigen::MatrixXd& A_v, double h = 0.05);
+// The generalised force of the applied wrench at the joint state (the force stages' force_world
+// and torque_world, from apply_forces): Q = sum_b J_b^T (F_b; T_b), O(n depth)
+Eigen::VectorXd applied_generalised_force(const Scene& scene, const SimState& state);
 // The response of the shipped implicit solve of h (implicit) or of the exact explicit solve to a
 // unit generalised force on each dof, column by column: P^-1 = (M + h D + h^2 K)^-1, or M^-1
 Eigen::MatrixXd unit_force_response(const Scene& scene, const SimState& state, bool implicit, double h);

@@ -24,6 +24,9 @@ const char* variant_name(Variant v) {
     case Variant::kNewtonAtRest: return "newton_at_rest";
     case Variant::kNewtonNoGyro: return "newton_no_gyro";
     case Variant::kShippedDcdv: return "shipped_dcdv";
+    case Variant::kPoseForces: return "pose_forces";
+    case Variant::kPoseInertia: return "pose_inertia";
+    case Variant::kShippedDense: return "shipped_dense";
   }
   return "?";
 }
@@ -182,27 +185,78 @@ VecX joint_velocity(const SimState& s) {
   return v;
 }
 
-void derivatives(const Scene& scene, const SimState& state, Variant variant, MatX& A_q, MatX& A_v) {
-  if (variant == Variant::kShipped || variant == Variant::kShippedDcdv) {
-    throw std::invalid_argument("derivatives: only the Newton variants have dense derivatives");
+VecX applied_generalised_force(const Scene& scene, const SimState& state) {
+  SimState& s = scratch(state);
+  world_from_joint_space(scene.rig, s);
+  apply_forces(scene, s);
+  const Rig& rig = scene.rig;
+  VecX Q = VecX::Zero(nv(s));
+  for (int b = 0; b < rig.nbone; ++b) Q.head<3>() += s.force_world[b];
+  // a ball's (or the root's) rate turns its subtree about its point o_i, about axis R_i e_k
+  for (int i = 0; i < rig.nbone; ++i) {
+    const Vec3 o = i == 0 ? s.com_world[0] : s.frames.head_world[i];
+    Vec3 moment = Vec3::Zero();
+    for (int b = 0; b < rig.nbone; ++b) {
+      int a = b;
+      while (a > i) a = rig.bone_parent[a];  // parents come first: b is in i's subtree iff a == i
+      if (a == i) moment += s.torque_world[b] + (s.com_world[b] - o).cross(s.force_world[b]);
+    }
+    for (int k = 0; k < 3; ++k) Q[3 + 3 * i + k] = (s.frames.orient_world[i] * Vec3::Unit(k)).dot(moment);
   }
-  const int n = nv(state);
-  SimState at_rest = state;
-  set_joint_velocity(at_rest, VecX::Zero(n));
-  const SimState& base = variant == Variant::kNewtonAtRest ? at_rest : state;
-  Scene no_gyro = scene;
-  no_gyro.params.gyroscopic = false;
-  const Scene& rate_scene = variant == Variant::kNewtonNoGyro ? no_gyro : scene;
-  A_q.resize(n, n);
+  return Q;
+}
+
+namespace {
+
+// d/dq of `f` at the state, by central differences on the joint manifold
+template <typename F>
+MatX pose_derivative(const SimState& base, F f) {
+  const int n = nv(base);
+  MatX out(n, n);
   SimState plus = base, minus = base;
   for (int k = 0; k < n; ++k) {
     plus = base;
     minus = base;
     perturb_position(plus, k, kEps);
     perturb_position(minus, k, -kEps);
-    A_q.col(k) = (accelerations(scene, plus) - accelerations(scene, minus)) / (2.0 * kEps);
+    out.col(k) = (f(plus) - f(minus)) / (2.0 * kEps);
   }
-  A_v = rate_derivative(rate_scene, base);
+  return out;
+}
+
+}  // namespace
+
+void derivatives(const Scene& scene, const SimState& state, Variant variant, MatX& A_q, MatX& A_v, double h) {
+  if (variant == Variant::kShipped || variant == Variant::kShippedDcdv) {
+    throw std::invalid_argument("derivatives: only the dense variants have dense derivatives");
+  }
+  const int n = nv(state);
+  SimState at_rest = state;
+  set_joint_velocity(at_rest, VecX::Zero(n));
+  const auto accel = [&](const SimState& x) { return accelerations(scene, x); };
+  if (variant == Variant::kNewton || variant == Variant::kNewtonNoGyro) {
+    Scene no_gyro = scene;
+    no_gyro.params.gyroscopic = false;
+    A_q = pose_derivative(state, accel);
+    A_v = rate_derivative(variant == Variant::kNewtonNoGyro ? no_gyro : scene, state);
+    return;
+  }
+  A_v = rate_derivative(scene, at_rest);
+  if (variant == Variant::kNewtonAtRest) {
+    A_q = pose_derivative(at_rest, accel);
+    return;
+  }
+  const MatX M_inv = unit_force_response(scene, at_rest, false, h);
+  const auto force = [&](const SimState& x) { return applied_generalised_force(scene, x); };
+  const MatX pose_forces = M_inv * pose_derivative(at_rest, force);  // M^-1 dtau/dq
+  if (variant == Variant::kPoseForces) {
+    A_q = pose_forces;
+    return;
+  }
+  // -M^-1 K of the shipped step: M^-1 P = 1 + h M^-1 D + h^2 M^-1 K, M^-1 D = -A_v(pose, 0)
+  const MatX P = unit_force_response(scene, at_rest, true, h).inverse();
+  A_q = -(M_inv * P - MatX::Identity(n, n) + h * A_v) / (h * h);
+  if (variant == Variant::kPoseInertia) A_q += pose_derivative(at_rest, accel) - pose_forces;
 }
 
 void bare_step(const Scene& scene, SimState& s, double h, Variant variant) {
@@ -217,7 +271,7 @@ void bare_step(const Scene& scene, SimState& s, double h, Variant variant) {
     next = shipped_with_dcdv(scene, s, h);
   } else {
     MatX A_q, A_v;
-    derivatives(scene, s, variant, A_q, A_v);
+    derivatives(scene, s, variant, A_q, A_v, h);
     const int n = nv(s);
     const VecX a = accelerations(scene, s), v = joint_velocity(s);
     const MatX S = MatX::Identity(n, n) - h * A_v - h * h * A_q;

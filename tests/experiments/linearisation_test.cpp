@@ -8,8 +8,10 @@
 //    Newton-Euler recursion's (tests/dense_dynamics.h);
 //  - shipped_dcdv's unit-force responses are M^-1 and (M + h D)^-1 (dampers only), and from
 //    rest its step is the shipped step;
+//  - the applied wrench's generalised force is the dense Jacobians' J^T F, and the shipped step
+//    rebuilt densely from the pieces (shipped_dense) is the shipped step;
 //  - the dense Newton step solves a target as the shipped one does (to the tolerance);
-//  - only the Newton variants have dense derivatives: asking the others is an error.
+//  - the shipped step and shipped_dcdv have no dense derivatives: asking is an error.
 #include "experiments/linearisation.h"
 
 #include <random>
@@ -18,6 +20,7 @@
 
 #include "experiments/common.h"
 #include "physik/engine/engine.h"
+#include "physik/engine/forces.h"
 #include "physik/engine/integrate_joint_space.h"
 #include "physik/engine/interpolation.h"
 #include "physik/ik/ik_solver.h"
@@ -173,6 +176,29 @@ TEST(Linearisation, TheUnitForceResponsesAreTheInverseOperators) {
   EXPECT_LT((joint_velocity(a) - joint_velocity(b)).norm(), 1e-9 * joint_velocity(a).norm());
 }
 
+// the pose split's pieces: the applied wrench's generalised force is the dense Jacobians' J^T F,
+// and the shipped step rebuilt densely from them (shipped_dense) is the shipped step
+TEST(Linearisation, TheShippedStepRebuiltDenselyIsTheShippedStep) {
+  const Scene sc = chain_scene(5, Vec3(1.5, -1.0, 3.0));
+  const SimState rest = random_pose_at_rest(sc, 3);
+  SimState forced = rest;
+  apply_forces(sc, forced);
+  EXPECT_LT((applied_generalised_force(sc, rest) - dense::generalised_force(sc.rig, forced)).norm(),
+            1e-10 * dense::generalised_force(sc.rig, forced).norm());
+
+  SimState moving = rest;  // a few shipped steps on: moving, pulled
+  for (int k = 0; k < 3; ++k) bare_step(sc, moving, 0.05, Variant::kShipped);
+  for (double h : {0.05, 1.0}) {
+    SCOPED_TRACE(h);
+    SimState a = moving, b = moving;
+    bare_step(sc, a, h, Variant::kShipped);
+    bare_step(sc, b, h, Variant::kShippedDense);
+    const Eigen::VectorXd dv = joint_velocity(a) - joint_velocity(moving);
+    ASSERT_GT(dv.norm(), 1e-3);
+    EXPECT_LT((joint_velocity(a) - joint_velocity(b)).norm(), 1e-5 * dv.norm());
+  }
+}
+
 TEST(Linearisation, TheDenseNewtonStepSolvesATargetAsTheShippedStepDoes) {
   const Scene sc = chain_scene(5, Vec3(1.5, -1.0, 3.0));
   const double tol = 1e-4 * chain_reach(sc.rig, {{4, 1.0, Vec3::Zero()}});
@@ -189,7 +215,7 @@ TEST(Linearisation, TheDenseNewtonStepSolvesATargetAsTheShippedStepDoes) {
   EXPECT_LT((shipped.frames.tail_world[4] - newton.frames.tail_world[4]).norm(), 2.0 * tol);
 }
 
-TEST(Linearisation, OnlyTheNewtonVariantsHaveDenseDerivatives) {
+TEST(Linearisation, TheShippedStepsHaveNoDenseDerivatives) {
   const Scene sc = chain_scene(3, Vec3(1.0, 0.0, 2.0));
   SimState s;
   init_state(sc, s);
