@@ -22,12 +22,14 @@
 //   newton            A_q, A_v at the state: every term (velocity products, M(q), the springs'
 //                     and the torsion's full tangents, the dampers)
 //   newton_at_rest    A_q, A_v at the same pose with v = 0: the velocity products' derivatives
-//                     dropped (C is quadratic in v, so its derivatives vanish at rest), the pose
-//                     terms kept
+//                     dropped (C is quadratic in v, so its derivatives vanish at rest), and with
+//                     them the pose derivatives of every velocity-dependent term (C, the dampers,
+//                     the factor's torque); the pose terms of the forces and the inertia kept
 //   newton_no_gyro    A_v from the scene with the gyroscopic torque off: the derivative of
 //                     w x I w dropped, the rest of the velocity products kept
 // At rest the pose terms are two: A_q(pose, 0) = M^-1 dtau/dq + (dM^-1/dq) tau, the forces'
-// dependence on the pose (dtau/dq = -K + the attachments' curvature) and the inertia's. Split:
+// dependence on the pose (dtau/dq = -K + the curvature of the springs' attachments and of the
+// torsion springs' log map, which Gauss-Newton drops) and the inertia's. Split:
 //   pose_forces       A_q = M^-1 dtau/dq (M held at the start of the step), A_v at rest; dtau/dq
 //                     from central differences of the applied wrench's generalised force
 //                     (applied_generalised_force)
@@ -62,11 +64,11 @@ const char* variant_name(Variant v);
 // qvel (root v_com world, root w local, ball u local): 3 + 3 nbone entries
 Eigen::VectorXd joint_velocity(const SimState& state);
 // A_q and A_v of (L) for a dense variant (every one but kShipped and kShippedDcdv), at the state
-// for a step of h (the variants built on the shipped step's K depend on it)
+// (h: the step; the variants built on the shipped step's K take its P^-1 at h)
 void derivatives(const Scene& scene, const SimState& state, Variant v, Eigen::MatrixXd& A_q,
                  Eigen::MatrixXd& A_v, double h = 0.05);
 // The generalised force of the applied wrench at the joint state (the force stages' force_world
-// and torque_world, from apply_forces): Q = sum_b J_b^T (F_b; T_b), O(n depth)
+// and torque_world, from apply_forces): Q = sum_b J_b^T (F_b; T_b), summed leaves to root, O(n)
 Eigen::VectorXd applied_generalised_force(const Scene& scene, const SimState& state);
 // The response of the shipped implicit solve of h (implicit) or of the exact explicit solve to a
 // unit generalised force on each dof, column by column: P^-1 = (M + h D + h^2 K)^-1, or M^-1
@@ -82,11 +84,16 @@ struct SolveCount {
   double residual = 0.0;   // rig units, the largest at the end
 };
 
+// The exact accelerations at the joint state (the force stages, then the exact explicit solve)
+Eigen::VectorXd accelerations(const Scene& scene, const SimState& state);
+
 // The solve mode's rule with the guard around bare_step: h starts at dt, doubles after a step
 // whose kinetic energy fell, halves (not below dt) after a split step, at most kSolveMaxDt; a
 // bare step that adds energy or turns a joint more than kMaxStepRotation is undone and taken as
 // two halves, params.implicit_max_splits deep. Stops at `tolerance` or after max_steps. With
 // kShipped this is PosingSession::solve's step sequence (tests/experiments/linearisation_test.cpp).
+// The targets must hold still (the dense steps do not move them): std::invalid_argument for a
+// scene with a schedule, an interpolation, or damping auto.
 SolveCount solve(const Scene& scene, SimState& state, double tolerance, int max_steps, Variant v);
 
 }  // namespace physik::experiments::linearisation

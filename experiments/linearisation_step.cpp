@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 #include "experiments/linearisation.h"
 #include "physik/engine/engine.h"
@@ -62,7 +63,7 @@ SimState& scratch(const SimState& from) {
 }
 
 // the exact accelerations at the joint state (the world view rebuilt from it)
-VecX accelerations(const Scene& scene, const SimState& state) {
+VecX exact_accelerations(const Scene& scene, const SimState& state) {
   SimState& s = scratch(state);
   world_from_joint_space(scene.rig, s);
   apply_forces(scene, s);
@@ -117,7 +118,7 @@ MatX rate_derivative(const Scene& scene, const SimState& base) {
     vm[k] -= kEps;
     set_joint_velocity(plus, vp);
     set_joint_velocity(minus, vm);
-    A_v.col(k) = (accelerations(scene, plus) - accelerations(scene, minus)) / (2.0 * kEps);
+    A_v.col(k) = (exact_accelerations(scene, plus) - exact_accelerations(scene, minus)) / (2.0 * kEps);
   }
   return A_v;
 }
@@ -149,7 +150,8 @@ double max_residual(const Scene& scene, const SimState& s) {
   return r;
 }
 
-// the guard of implicit_advance.cpp around bare_step; returns the bare steps taken
+// the guard of implicit_advance.cpp around bare_step; returns the accepted substeps (the engine's
+// sweeps), and counts every bare step taken, rejected ones included, in `taken`
 int guarded(const Scene& scene, SimState& s, double h, int depth, double floor, Variant v, int& taken) {
   ++taken;
   if (depth >= scene.params.implicit_max_splits) {
@@ -185,23 +187,32 @@ VecX joint_velocity(const SimState& s) {
   return v;
 }
 
+VecX accelerations(const Scene& scene, const SimState& state) { return exact_accelerations(scene, state); }
+
 VecX applied_generalised_force(const Scene& scene, const SimState& state) {
   SimState& s = scratch(state);
   world_from_joint_space(scene.rig, s);
   apply_forces(scene, s);
   const Rig& rig = scene.rig;
-  VecX Q = VecX::Zero(nv(s));
-  for (int b = 0; b < rig.nbone; ++b) Q.head<3>() += s.force_world[b];
-  // a ball's (or the root's) rate turns its subtree about its point o_i, about axis R_i e_k
-  for (int i = 0; i < rig.nbone; ++i) {
-    const Vec3 o = i == 0 ? s.com_world[0] : s.frames.head_world[i];
-    Vec3 moment = Vec3::Zero();
-    for (int b = 0; b < rig.nbone; ++b) {
-      int a = b;
-      while (a > i) a = rig.bone_parent[a];  // parents come first: b is in i's subtree iff a == i
-      if (a == i) moment += s.torque_world[b] + (s.com_world[b] - o).cross(s.force_world[b]);
-    }
-    for (int k = 0; k < 3; ++k) Q[3 + 3 * i + k] = (s.frames.orient_world[i] * Vec3::Unit(k)).dot(moment);
+  const int n = rig.nbone;
+  // each bone's subtree wrench about its point o_i (head; the root's centre), leaves to root
+  // (parents come first); a ball's (or the root's) rate u_k turns that subtree about o_i, about
+  // the world axis R_i e_k, so its generalised force is R_i e_k . moment_i
+  std::vector<Vec3> force(n), moment(n);
+  const auto point = [&](int i) { return i == 0 ? s.com_world[0] : s.frames.head_world[i]; };
+  for (int i = 0; i < n; ++i) {
+    force[i] = s.force_world[i];
+    moment[i] = s.torque_world[i] + (s.com_world[i] - point(i)).cross(s.force_world[i]);
+  }
+  for (int i = n - 1; i > 0; --i) {
+    const int p = rig.bone_parent[i];
+    force[p] += force[i];
+    moment[p] += moment[i] + (point(i) - point(p)).cross(force[i]);
+  }
+  VecX Q(nv(s));
+  Q.head<3>() = force[0];
+  for (int i = 0; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) Q[3 + 3 * i + k] = (s.frames.orient_world[i] * Vec3::Unit(k)).dot(moment[i]);
   }
   return Q;
 }
@@ -233,7 +244,7 @@ void derivatives(const Scene& scene, const SimState& state, Variant variant, Mat
   const int n = nv(state);
   SimState at_rest = state;
   set_joint_velocity(at_rest, VecX::Zero(n));
-  const auto accel = [&](const SimState& x) { return accelerations(scene, x); };
+  const auto accel = [&](const SimState& x) { return exact_accelerations(scene, x); };
   if (variant == Variant::kNewton || variant == Variant::kNewtonNoGyro) {
     Scene no_gyro = scene;
     no_gyro.params.gyroscopic = false;
@@ -273,7 +284,7 @@ void bare_step(const Scene& scene, SimState& s, double h, Variant variant) {
     MatX A_q, A_v;
     derivatives(scene, s, variant, A_q, A_v, h);
     const int n = nv(s);
-    const VecX a = accelerations(scene, s), v = joint_velocity(s);
+    const VecX a = exact_accelerations(scene, s), v = joint_velocity(s);
     const MatX S = MatX::Identity(n, n) - h * A_v - h * h * A_q;
     next = S.partialPivLu().solve(a + h * (A_q * v));  // (L)
   }
@@ -285,6 +296,10 @@ void bare_step(const Scene& scene, SimState& s, double h, Variant variant) {
 }
 
 SolveCount solve(const Scene& scene, SimState& s, double tolerance, int max_steps, Variant variant) {
+  if (!scene.schedule.empty() || scene.params.interpolation != Interpolation::kNone || scene.params.damping_auto) {
+    throw std::invalid_argument(scene.file + ": the linearisation study needs targets that hold still "
+                                "(no schedule, interpolation none, no damping auto)");
+  }
   const double v = scene.speed_tol();
   const double floor = 0.5 * scene.rig.total_mass() * v * v;  // J, as advance_implicit's
   const double dt = scene.params.dt;
