@@ -1,7 +1,7 @@
 // What the implicit step's linearisation leaves out (issue 15's chain50 finding), measured with
 // a dense reference step: the solve mode's rule (physik/posing/posing_session.h) and energy
-// guard (physik/engine/implicit_advance.h) around either the shipped O(n) implicit step or a
-// dense Newton step of backward Euler that linearises everything.
+// guard (physik/engine/implicit_advance.h) around either the shipped O(n) implicit step or dense
+// steps of backward Euler that linearise more of its terms (the variants below).
 //
 // The shipped step (physik/engine/implicit_step.h) solves (M + h D + h^2 K) a = tau - C - h K v:
 // Gauss-Newton springs (the attachment's curvature dropped), M at the start of the step, and

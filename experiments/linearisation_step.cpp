@@ -246,10 +246,14 @@ void derivatives(const Scene& scene, const SimState& state, Variant variant, Mat
   set_joint_velocity(at_rest, VecX::Zero(n));
   const auto accel = [&](const SimState& x) { return exact_accelerations(scene, x); };
   if (variant == Variant::kNewton || variant == Variant::kNewtonNoGyro) {
-    Scene no_gyro = scene;
-    no_gyro.params.gyroscopic = false;
     A_q = pose_derivative(state, accel);
-    A_v = rate_derivative(variant == Variant::kNewtonNoGyro ? no_gyro : scene, state);
+    if (variant == Variant::kNewton) {
+      A_v = rate_derivative(scene, state);
+    } else {
+      Scene no_gyro = scene;
+      no_gyro.params.gyroscopic = false;
+      A_v = rate_derivative(no_gyro, state);
+    }
     return;
   }
   A_v = rate_derivative(scene, at_rest);
