@@ -44,17 +44,23 @@ def insensitivity_panel(ax, t):
 
 
 def large_steps_panel(ax, t):
-    for dt in sorted(set(t["dt"])):
-        idx = [i for i, d in enumerate(t["dt"]) if d == dt]
-        ax.plot([t["step"][i] for i in idx], [max(t["distance_to_equilibrium"][i], 1e-16) for i in idx],
-                label="dt = %g" % dt)
+    # the preset's runs, one line per (torsion torque, dt): the paper's torque solid, the gradient dashed
+    torques = t["torsion_torque"]
+    for torque in sorted(set(torques)):
+        for k, dt in enumerate(sorted(set(t["dt"]))):
+            idx = [i for i, d in enumerate(t["dt"]) if d == dt and torques[i] == torque]
+            if not idx:
+                continue
+            ax.plot([t["step"][i] for i in idx], [max(t["distance_to_equilibrium"][i], 1e-16) for i in idx],
+                    color="C%d" % k, ls="--" if torque == "gradient" else "-",
+                    label="dt = %g, %s torque" % (dt, torque))
     ax.axhline(1e-8, color="k", lw=0.8, ls=":")
     ax.set_yscale("log")
     ax.set_xscale("log")
     ax.set_xlabel("step")
     ax.set_ylabel("distance to the Ceres equilibrium")
     ax.set_title("large steps are the static solve (elbow)", fontsize=9)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=5)
 
 
 def plot(folder):

@@ -16,6 +16,8 @@
 #include "physik/engine/forces.h"
 #include "physik/engine/potential.h"
 #include "physik/engine/torsion_springs.h"
+#include "physik/ik/ik_solver.h"
+#include "physik/io/rig_io.h"
 #include "tests/dense_dynamics.h"
 #include "tests/engine_test_util.h"
 #include "tests/test_util.h"
@@ -192,6 +194,61 @@ TEST(ImplicitStep, TorsionStiffnessEqualsFiniteDifferences) {
           EXPECT_NEAR(fd[b], 0.0, 1e-6);  // axes independent: a diagonal stiffness
         }
       }
+    }
+  }
+}
+
+// The torsion joint block against the torque's exact tangent in the rotation. With the parent
+// held, turning the child by dphi (world axes) moves the ball's rotation vector by
+// J_l^-1(theta) R_pr^T dphi, so the exact tangent of the world torque is -dtau/dphi =
+// T diag(k) T'^T with a J_l^-1 the step's block (T diag(k) T^T, torsion_block_world) drops for the
+// paper's torque (T = R_pr). On the elbow bent 45 degrees about its hinge (x free there, y and z
+// locked and just engaged, so the torque almost vanishes):
+//   gradient torque (T = R_pr J_l^-T): the block is the exact tangent (up to the torque's own
+//     size: the frame's turn times tau);
+//   the paper's: the exact tangent has the antisymmetric part R_pr diag(k) (W / 2) R_pr^T, W =
+//     [theta]x, of norm sqrt(2) k |theta_x| / 2 (k_y = k_z), which no symmetric block can hold
+//     (the beyond_the_paper large-steps rows: dt 1 takes 22 steps with it, 17 with the gradient).
+TEST(ImplicitStep, TorsionBlockIsTheExactTangentOnlyForTheGradientTorque) {
+  for (const TorsionTorque torque : {TorsionTorque::kAxes, TorsionTorque::kGradient}) {
+    Scene sc;
+    sc.file = "<elbow>";
+    sc.rig = load_rig(test::model_path("rigs/elbow.json"));
+    sc.params = preset_params("original");
+    sc.params.integration = Integration::kImplicit;
+    sc.params.torsion_torque = torque;
+    const Vec3 theta(-0.25 * kPi, 1e-4, -2e-4);
+    SimState s;
+    size_state(sc.rig, 0, s);
+    s.pose = rest_pose(sc.rig);
+    s.pose.bone_local_rotation[1] = quat_from_rotation_vector(theta);
+    forward_kinematics(sc.rig, s.pose, s.frames);
+    element_tangents(sc, s);
+    const Mat3 block = torsion_block_world(sc.rig, s, 1);
+    ASSERT_GT(block.norm(), 10.0) << "y and z engaged";
+
+    const Quat parent = s.frames.orient_world[0];
+    const Mat3 Rpr = (parent * sc.rig.bone_rest_orient_parent[1]).toRotationMatrix();
+    const auto torque_world = [&](const Vec3& dphi_world) {
+      const Quat q = quat_from_rotation_vector(Rpr.transpose() * dphi_world) * s.pose.bone_local_rotation[1];
+      const Vec3 th = rotation_vector(q);
+      return Vec3(torsion_torque_frame(sc.rig, sc.params, parent, 1, th) *
+                  torsion_torque_local(sc.rig.bone_limit[1], th, sc.params));
+    };
+    const double eps = 1e-7;
+    Mat3 exact;  // -dtau_world / dphi_world, by central differences
+    for (int j = 0; j < 3; ++j) {
+      exact.col(j) = -(torque_world(eps * Vec3::Unit(j)) - torque_world(-eps * Vec3::Unit(j))) / (2 * eps);
+    }
+    const double tau = torque_world(Vec3::Zero()).norm();
+    const Mat3 antisym = 0.5 * (exact - exact.transpose());
+    if (torque == TorsionTorque::kGradient) {
+      EXPECT_LT((exact - block).norm(), 2.0 * tau + 1e-6) << "exact\n" << exact << "\nblock\n" << block;
+    } else {
+      const double expected = std::sqrt(2.0) * sc.params.torsion_k * std::abs(theta.x()) / 2.0;
+      EXPECT_NEAR(antisym.norm(), expected, 1e-3 * expected) << "exact\n" << exact;
+      EXPECT_GT((exact - block).norm(), 0.25 * block.norm());
+      EXPECT_NEAR((block - block.transpose()).norm(), 0.0, 1e-12);
     }
   }
 }

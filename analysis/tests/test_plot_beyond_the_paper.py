@@ -23,7 +23,8 @@ class PlotBeyondThePaper(unittest.TestCase):
             write(d, "insensitivity.csv", "scene,scheme,damping,outcome,converged,diverged,steps_to_converge,"
                   "steps_run,max_final_residual\ns,explicit,1,settled,1,0,60,70,0.1\ns,explicit,20,diverged,0,1,-1,5,9\n"
                   "s,implicit,1,settled,1,0,70,80,0.1\ns,implicit,20,settled,1,0,200,210,0.1\n")
-            write(d, "large_steps.csv", "dt,step,distance_to_equilibrium\n1,1,0.1\n1,2,1e-9\n0.05,1,0.5\n0.05,2,0.4\n")
+            write(d, "large_steps.csv", "torsion_torque,dt,step,distance_to_equilibrium\naxes,1,1,0.1\naxes,1,2,1e-9\n"
+                  "axes,0.05,1,0.5\naxes,0.05,2,0.4\ngradient,1,1,0.1\ngradient,1,2,1e-10\n")
             png = plot_beyond_the_paper.plot(d)
             self.assertTrue(os.path.getsize(png) > 1000)
 
