@@ -9,7 +9,8 @@
 //   insensitivity.csv    steps to converge for c from 0.25 to 1000 on each pinhead scene
 //   stability_map.csv    (dt, c) grid on pinhead_two_hands: diverged / settled / neither
 //   scaled.csv           the tuning study's 0.1x and 10x rigs (tuning_study.cpp) over c
-//   auto.csv             damping_auto (linear_modes.h) against the fastest c of a fine grid
+//   auto.csv             damping_auto (linear_modes.h) against the fastest c of a fine grid, and the
+//                        rule evaluated again at the pose the auto run settled in
 // "Converged" is the run monitor's (at rest for 10 steps, physik/engine/run_monitor.h); a run
 // at rest farther than residual_tol from the smallest final residual any run of that scene
 // reached is reported as "stopped short" (large c moves slowly: the at-rest test fires early).
