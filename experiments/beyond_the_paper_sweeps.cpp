@@ -329,7 +329,10 @@ void large_steps(const Context& ctx, nlohmann::json& doc, nlohmann::json& claims
     int reached = -1;
     run_scene(run, [&](const SimState& st, const StepStats&) {
       const double d = tune::max_pose_distance(st.frames, e.frames);
-      if (log) csv << to_string(torque) << "," << dt << "," << c << "," << f << "," << st.step << "," << d << "\n";
+      if (log) {
+        csv << to_string(torque) << "," << dt << "," << (c < 0.0 ? std::string("auto") : num(c)) << "," << f << ","
+            << st.step << "," << d << "\n";
+      }
       if (reached < 0 && d < 1e-8) reached = st.step;
     });
     return reached;
@@ -382,18 +385,20 @@ void large_steps(const Context& ctx, nlohmann::json& doc, nlohmann::json& claims
                                    {"distance_to_equilibrium", solve_distance}};
   const auto verdict = [](int worst) { return worst > 0 && worst <= 20 ? "yes" : "no"; };
   claims.push_back(claim("Implicit large steps are the static solve, with the gradient torsion torque (the conservative "
-                         "one; the solve mode's): the uniquely posed elbow lands on the Ceres equilibrium to 1e-8 rig "
-                         "units within 20 steps at dt = 1 and larger (the preset: c 3, f 0.5; the other rows: less "
-                         "end damping, the angular-velocity factor off, damping auto)",
+                         "one; the solve mode's): the uniquely posed elbow at the preset's c 3, f 0.5 lands on the "
+                         "Ceres equilibrium to 1e-8 rig units (bone heads and tails) within 20 steps at dt = 1 and "
+                         "larger (the other rows, measured only: less end damping, the angular-velocity factor off, "
+                         "damping auto)",
                          "steps: " + text[1] + "; Ceres: " + e.ceres_brief.substr(0, 60) + "... (large_steps.csv)",
                          verdict(worst_at_large[1])));
-  claims.push_back(claim("Implicit large steps with the paper's torsion torque (the default): the same within 20 steps",
+  claims.push_back(claim("Implicit large steps with the paper's torsion torque (the default): the same, at the preset, "
+                         "within 20 steps",
                          "steps: " + text[0] + ". The paper's torque about the rest axes is not a potential's gradient: "
-                         "its tangent R diag(k) J_l^-1(theta) R^T on the bent elbow has an antisymmetric part "
-                         "(k theta / 2 at the 45-degree bend) that the step's symmetric K leaves out "
-                         "(tests/implicit_step_test.cpp), so long steps converge as a quasi-Newton iteration; the "
-                         "gradient torque's K is its tangent where the torque vanishes; slowest constrained mode at "
-                         "the equilibrium: omega " + num(omega_min) + " rad/s",
+                         "its tangent R diag(k) J_l^-1(theta) R^T is not symmetric on the bent elbow (antisymmetric "
+                         "part of norm sqrt(2) k |theta_x| / 2 at the 45-degree bend) and the step's symmetric K "
+                         "leaves that out (tests/implicit_step_test.cpp), so long steps converge as a quasi-Newton "
+                         "iteration; the gradient torque's K is its tangent where the torque vanishes; slowest "
+                         "constrained mode at the equilibrium: omega " + num(omega_min) + " rad/s",
                          verdict(worst_at_large[0])));
   claims.push_back(claim("Large steps: the solve mode (physik solve --solver physik's rule, from dt = 0.05) lands on "
                          "the Ceres equilibrium",

@@ -200,55 +200,74 @@ TEST(ImplicitStep, TorsionStiffnessEqualsFiniteDifferences) {
 
 // The torsion joint block against the torque's exact tangent in the rotation. With the parent
 // held, turning the child by dphi (world axes) moves the ball's rotation vector by
-// J_l^-1(theta) R_pr^T dphi, so the exact tangent of the world torque is -dtau/dphi =
-// T diag(k) T'^T with a J_l^-1 the step's block (T diag(k) T^T, torsion_block_world) drops for the
-// paper's torque (T = R_pr). On the elbow bent 45 degrees about its hinge (x free there, y and z
-// locked and just engaged, so the torque almost vanishes):
-//   gradient torque (T = R_pr J_l^-T): the block is the exact tangent (up to the torque's own
-//     size: the frame's turn times tau);
-//   the paper's: the exact tangent has the antisymmetric part R_pr diag(k) (W / 2) R_pr^T, W =
-//     [theta]x, of norm sqrt(2) k |theta_x| / 2 (k_y = k_z), which no symmetric block can hold
-//     (the beyond_the_paper large-steps rows: dt 1 takes 22 steps with it, 17 with the gradient).
+// J_l^-1(theta) R_pr^T dphi (J_l^-1 = I - W/2 + b W^2, W = [theta]x; torsion_springs.h has its
+// transpose), so the exact tangent of the world torque T tau_local(theta) is
+//   -dtau/dphi = T diag(k) J_l^-1 R_pr^T + (T's own turn with theta) tau_local.
+// The step's block (torsion_block_world) is T diag(k) T^T:
+//   gradient torque (T = R_pr J_l^-T): the exact tangent up to the second term, the torque's own
+//     size;
+//   the paper's (T = R_pr): the exact tangent less R_pr diag(k) (J_l^-1 - I) R_pr^T, which is
+//     not symmetric on a bent joint. On the elbow bent 45 degrees about its hinge (k_y = k_z,
+//     theta along x) its antisymmetric part is -R_pr diag(k) (W / 2) R_pr^T, of norm
+//     sqrt(2) k |theta_x| / 2, which no symmetric block can hold (the beyond_the_paper large-steps
+//     rows: dt 1 takes 22 steps with it, 17 with the gradient torque).
+// Two poses: the elbow's (y and z locked and just engaged, so the torque almost vanishes), and
+// one off the hinge with only y locked (diag(k) and W do not commute there, so a block built
+// with J_l^-1 in place of J_l^-T fails it).
 TEST(ImplicitStep, TorsionBlockIsTheExactTangentOnlyForTheGradientTorque) {
-  for (const TorsionTorque torque : {TorsionTorque::kAxes, TorsionTorque::kGradient}) {
-    Scene sc;
-    sc.file = "<elbow>";
-    sc.rig = load_rig(test::model_path("rigs/elbow.json"));
-    sc.params = preset_params("original");
-    sc.params.integration = Integration::kImplicit;
-    sc.params.torsion_torque = torque;
-    const Vec3 theta(-0.25 * kPi, 1e-4, -2e-4);
-    SimState s;
-    size_state(sc.rig, 0, s);
-    s.pose = rest_pose(sc.rig);
-    s.pose.bone_local_rotation[1] = quat_from_rotation_vector(theta);
-    forward_kinematics(sc.rig, s.pose, s.frames);
-    element_tangents(sc, s);
-    const Mat3 block = torsion_block_world(sc.rig, s, 1);
-    ASSERT_GT(block.norm(), 10.0) << "y and z engaged";
+  for (const bool elbow : {true, false}) {
+    for (const TorsionTorque torque : {TorsionTorque::kAxes, TorsionTorque::kGradient}) {
+      Scene sc;
+      sc.file = "<elbow>";
+      sc.rig = load_rig(test::model_path("rigs/elbow.json"));
+      sc.params = preset_params("original");
+      sc.params.integration = Integration::kImplicit;
+      sc.params.torsion_torque = torque;
+      if (!elbow) sc.rig.bone_limit[1][2].limited = false;  // z free: only y locked
+      const Vec3 theta = elbow ? Vec3(-0.25 * kPi, 1e-4, -2e-4) : Vec3(-0.6, 1e-4, 0.5);
+      SimState s;
+      size_state(sc.rig, 0, s);
+      s.pose = rest_pose(sc.rig);
+      s.pose.bone_local_rotation[1] = quat_from_rotation_vector(theta);
+      forward_kinematics(sc.rig, s.pose, s.frames);
+      element_tangents(sc, s);
+      const Mat3 block = torsion_block_world(sc.rig, s, 1);
+      ASSERT_GT(block.norm(), 5.0) << "the locked axes engaged";
 
-    const Quat parent = s.frames.orient_world[0];
-    const Mat3 Rpr = (parent * sc.rig.bone_rest_orient_parent[1]).toRotationMatrix();
-    const auto torque_world = [&](const Vec3& dphi_world) {
-      const Quat q = quat_from_rotation_vector(Rpr.transpose() * dphi_world) * s.pose.bone_local_rotation[1];
-      const Vec3 th = rotation_vector(q);
-      return Vec3(torsion_torque_frame(sc.rig, sc.params, parent, 1, th) *
-                  torsion_torque_local(sc.rig.bone_limit[1], th, sc.params));
-    };
-    const double eps = 1e-7;
-    Mat3 exact;  // -dtau_world / dphi_world, by central differences
-    for (int j = 0; j < 3; ++j) {
-      exact.col(j) = -(torque_world(eps * Vec3::Unit(j)) - torque_world(-eps * Vec3::Unit(j))) / (2 * eps);
-    }
-    const double tau = torque_world(Vec3::Zero()).norm();
-    const Mat3 antisym = 0.5 * (exact - exact.transpose());
-    if (torque == TorsionTorque::kGradient) {
-      EXPECT_LT((exact - block).norm(), 2.0 * tau + 1e-6) << "exact\n" << exact << "\nblock\n" << block;
-    } else {
-      const double expected = std::sqrt(2.0) * sc.params.torsion_k * std::abs(theta.x()) / 2.0;
-      EXPECT_NEAR(antisym.norm(), expected, 1e-3 * expected) << "exact\n" << exact;
-      EXPECT_GT((exact - block).norm(), 0.25 * block.norm());
-      EXPECT_NEAR((block - block.transpose()).norm(), 0.0, 1e-12);
+      const Quat parent = s.frames.orient_world[0];
+      const Mat3 Rpr = (parent * sc.rig.bone_rest_orient_parent[1]).toRotationMatrix();
+      const auto torque_world = [&](const Vec3& dphi_world) {
+        const Quat q = quat_from_rotation_vector(Rpr.transpose() * dphi_world) * s.pose.bone_local_rotation[1];
+        const Vec3 th = rotation_vector(q);
+        return Vec3(torsion_torque_frame(sc.rig, sc.params, parent, 1, th) *
+                    torsion_torque_local(sc.rig.bone_limit[1], th, sc.params));
+      };
+      // the test's torque is the engine's
+      for (Vec3& t : s.torque_world) t.setZero();
+      apply_torsion_springs(sc.rig, sc.params, s);
+      const double tau = torque_world(Vec3::Zero()).norm();
+      ASSERT_GT(tau, 0.0);
+      EXPECT_LT((s.torque_world[1] - torque_world(Vec3::Zero())).norm(), 1e-12 * tau);
+
+      const double eps = 1e-7;
+      Mat3 exact;  // -dtau_world / dphi_world, by central differences
+      for (int j = 0; j < 3; ++j) {
+        exact.col(j) = -(torque_world(eps * Vec3::Unit(j)) - torque_world(-eps * Vec3::Unit(j))) / (2 * eps);
+      }
+      const std::string where = std::string(elbow ? "elbow" : "off the hinge") + ", " + to_string(torque);
+      if (torque == TorsionTorque::kGradient) {
+        EXPECT_LT((exact - block).norm(), 2.0 * tau + 1e-6) << where << "\nexact\n" << exact << "\nblock\n" << block;
+      } else {
+        // the block is the tangent with J_l^-1 dropped
+        const Vec3 k = torsion_stiffness_local(sc.rig.bone_limit[1], theta, sc.params);
+        const Mat3 Jinv = left_jacobian_inverse_transpose(theta).transpose();
+        const Mat3 dropped = Rpr * k.asDiagonal() * (Jinv - Mat3::Identity()) * Rpr.transpose();
+        EXPECT_LT((exact - block - dropped).norm(), 2.0 * tau + 1e-6) << where << "\nexact\n" << exact;
+        if (elbow) {
+          const double expected = std::sqrt(2.0) * sc.params.torsion_k * std::abs(theta.x()) / 2.0;
+          EXPECT_NEAR((0.5 * (exact - exact.transpose())).norm(), expected, 1e-3 * expected) << where;
+        }
+      }
     }
   }
 }
