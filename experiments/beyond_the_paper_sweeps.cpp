@@ -329,10 +329,7 @@ void large_steps(const Context& ctx, nlohmann::json& doc, nlohmann::json& claims
     int reached = -1;
     run_scene(run, [&](const SimState& st, const StepStats&) {
       const double d = tune::max_pose_distance(st.frames, e.frames);
-      if (log) {
-        csv << to_string(torque) << "," << dt << "," << (c < 0.0 ? std::string("auto") : num(c)) << "," << f << ","
-            << st.step << "," << d << "\n";
-      }
+      if (log) csv << to_string(torque) << "," << dt << "," << c << "," << f << "," << st.step << "," << d << "\n";
       if (reached < 0 && d < 1e-8) reached = st.step;
     });
     return reached;
@@ -348,7 +345,7 @@ void large_steps(const Context& ctx, nlohmann::json& doc, nlohmann::json& claims
       const bool preset = c == 3.0 && f == 0.5;
       std::string line;
       for (double dt : dts) {
-        const int n = reach(s, torque, dt, c, f, preset);
+        const int n = reach(s, torque, dt, c, f, preset);  // large_steps.csv: the preset's traces
         if (preset && dt >= 1.0) worst_at_large[t] = n < 0 || worst_at_large[t] < 0 ? -1 : std::max(worst_at_large[t], n);
         rows.push_back({{"torsion_torque", to_string(torque)}, {"dt", dt}, {"damping", c < 0.0 ? nlohmann::json("auto") : nlohmann::json(c)},
                         {"angular_velocity_factor", f}, {"steps_to_1e-8", n}});
