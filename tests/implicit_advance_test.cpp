@@ -99,14 +99,15 @@ TEST(ImplicitAdvance, NoShippedSceneIsSplitAndItsRunIsTheBareStepsBitForBit) {
 }
 
 // pinhead's left hand pulled up over its head (an ik_comparison target that bends the elbow far)
-// with its root head pinned, solved with long implicit steps (the solve mode: physik/posing): with
-// the paper's per-axis torsion torque, not conservative at such a bend, the energy guard has to
-// split step after step (and the solve stalls short of the target); with the potential's own
-// torque (torsion_torque gradient) it rarely does, and converges
-TEST(ImplicitAdvance, LongStepsOnABentElbowNeedTheConservativeTorsionTorque) {
+// with its root head pinned, solved with long implicit steps (the solve mode: physik/posing).
+// Either torsion torque converges with at most a few split steps (measured: 25 steps, 1 split,
+// for both). The paper's per-axis torque is not conservative at such a bend, but what stalled it
+// here was the step's block: a symmetric R_pr diag(k) R_pr^T instead of its tangent
+// R_pr diag(k) J_l^-1 R_pr^T (implicit_step.h) stalled at residual ~9e-3 after 75 steps, 30 of
+// them split by the energy guard.
+TEST(ImplicitAdvance, LongStepsOnABentElbowConvergeWithEitherTorsionTorque) {
   const Rig rig = load_rig(test::model_path("rigs/pinhead.json"));
   const int hand = rig.find_bone("hand.L");
-  int splits[2] = {0, 0};
   for (TorsionTorque torque : {TorsionTorque::kAxes, TorsionTorque::kGradient}) {
     Scene s = test::scene_for(rig, preset_params("original"), 2000);
     s.params.integration = Integration::kImplicit;
@@ -118,14 +119,12 @@ TEST(ImplicitAdvance, LongStepsOnABentElbowNeedTheConservativeTorsionTorque) {
     rule.dt_growth = 2.0;
     rule.max_dt = 1000.0;
     const SolveResult r = session.solve(rule);
-    // measured: axes stalls at residual ~9e-3 after 75 steps, 30 of them split
-    if (torque == TorsionTorque::kGradient) EXPECT_TRUE(r.converged) << "residual " << r.residual;
-    splits[static_cast<int>(torque)] = session.state().implicit_split_steps;
     std::cout << "bent elbow, torsion_torque " << to_string(torque) << ": " << r.steps << " steps, "
               << session.state().implicit_split_steps << " split, residual " << r.residual << "\n";
+    EXPECT_TRUE(r.converged) << to_string(torque) << ": residual " << r.residual;
+    EXPECT_LE(r.steps, 40) << to_string(torque);
+    EXPECT_LE(session.state().implicit_split_steps, 3) << to_string(torque);
   }
-  EXPECT_LE(splits[1], 3);
-  EXPECT_GT(splits[0], 3 * splits[1] + 10);
 }
 
 // A two-bone chain pinned at its root, its tip pulled 1.6 rig units away by a capped spring of

@@ -14,6 +14,7 @@ void resize_articulated_data(int n, ArticulatedBodyData& d) {
   d.torque_ext_world.assign(n, Vec3::Zero());
   d.D_inv.assign(n, Mat3::Zero());
   d.u.assign(n, Vec3::Zero());
+  d.inertia_lower.assign(n, Mat3::Zero());
   d.accel_spatial.assign(n, Vec6::Zero());
   d.joint_accel_local.assign(n, Vec3::Zero());
   d.root_accel_world.setZero();
@@ -37,16 +38,6 @@ SpatialInertia spatial_inertia(double m, const Mat3& I_com, const Vec3& e) {
   out.A = I_com + m * (e.squaredNorm() * Mat3::Identity() - e * e.transpose());
   out.B = m * skew(e);
   out.C = m * Mat3::Identity();
-  return out;
-}
-
-SpatialInertia shift_inertia(const SpatialInertia& I, const Vec3& r) {
-  // [A B; B^T C] -> [A + R B^T + B' R^T, B'; B'^T, C],  B' = B + R C,  R = [r]x
-  const Mat3 R = skew(r);
-  SpatialInertia out;
-  out.B = I.B + R * I.C;
-  out.A = I.A + R * I.B.transpose() + out.B * R.transpose();
-  out.C = I.C;
   return out;
 }
 
@@ -88,32 +79,35 @@ void articulated_velocity_pass(const Rig& rig, const SimState& s, ArticulatedBod
 }
 
 void articulated_backward_pass(const Rig& rig, ArticulatedBodyData& d) {
+  const bool ball = !d.joint_blocks;  // every J = 0: I^A stays symmetric, E = B^T
+  if (!ball) {
+    // E starts as each body's own (symmetric) B^T; children add theirs below
+    for (int i = 0; i < rig.nbone; ++i) d.inertia_lower[i] = d.inertia_art[i].B.transpose();
+  }
   for (int i = rig.nbone - 1; i > 0; --i) {
     const int p = rig.bone_parent[i];
     const SpatialInertia& IA = d.inertia_art[i];
     const Mat3& A = IA.A;
     const Mat3& B = IA.B;
-    const Mat3& J = d.joint_block[i];
-    const bool ball = !d.joint_blocks;  // J = 0
-    // S' = [1; 0]: U = I^A S' = [A; B^T], D = A + J, u = -S'^T p^A
-    d.D_inv[i] = ball ? A.inverse() : Mat3(A + J).inverse();
+    const Vec6& c = d.bias_accel[i];
     const Vec3 u = -d.bias_force[i].head<3>();
     d.u[i] = u;
-    // I^a = I^A - U D^-1 U^T without cancellation (articulated_body.h):
-    //   [A D^-1 J, J D^-1 B; B^T D^-1 J, K],  K = C - B^T D^-1 B
-    Mat3 DinvB;
-    DinvB.noalias() = d.D_inv[i] * B;
-    Mat3 K = IA.C;
-    K.noalias() -= B.transpose() * DinvB;
-    K = (0.5 * (K + K.transpose())).eval();
-    // p^a = p^A + I^a c + U D^-1 u
-    const Vec6& c = d.bias_accel[i];
-    const Vec3 Dinv_u = d.D_inv[i] * u;
-    Vec3 pa_ang = d.bias_force[i].head<3>() + A * Dinv_u;
-    Vec3 pa_lin = d.bias_force[i].tail<3>() + K * c.tail<3>() + B.transpose() * Dinv_u;
     const Vec3 r = d.point_world[i] - d.point_world[p];  // to the parent's point
     SpatialInertia& IP = d.inertia_art[p];
+    Vec3 pa_ang, pa_lin;
     if (ball) {
+      // S' = [1; 0]: U = I^A S' = [A; B^T], D = A, u = -S'^T p^A; I^a = [0, 0; 0, K] with
+      // K = C - B^T A^-1 B (articulated_body.h)
+      d.D_inv[i] = A.inverse();
+      Mat3 DinvB;
+      DinvB.noalias() = d.D_inv[i] * B;
+      Mat3 K = IA.C;
+      K.noalias() -= B.transpose() * DinvB;
+      K = (0.5 * (K + K.transpose())).eval();
+      // p^a = p^A + I^a c + U D^-1 u
+      const Vec3 Dinv_u = d.D_inv[i] * u;
+      pa_ang = d.bias_force[i].head<3>() + A * Dinv_u;
+      pa_lin = d.bias_force[i].tail<3>() + K * c.tail<3>() + B.transpose() * Dinv_u;
       // a pure translational inertia K at r: X* I^a X = [R K R^T, R K; K R^T, K],  R = [r]x,
       // by cross products: column j of [r]x K is r x K_j; [r]x K [r]x^T is symmetric, its
       // column j is r x (row j of [r]x K)
@@ -123,16 +117,35 @@ void articulated_backward_pass(const Rig& rig, ArticulatedBodyData& d) {
       IP.B += RK;
       IP.C += K;
     } else {
-      SpatialInertia Ia;
-      Ia.A = A * d.D_inv[i] * J;
-      Ia.B = J * DinvB;
-      Ia.C = K;
-      pa_ang += Ia.A * c.head<3>() + Ia.B * c.tail<3>();
-      pa_lin += Ia.B.transpose() * c.head<3>();
-      const SpatialInertia shifted = shift_inertia(Ia, r);
-      IP.A += shifted.A;
-      IP.B += shifted.B;
-      IP.C += shifted.C;
+      // general blocks: I^A = [A B; E C], D = A + J,
+      //   I^a = [A D^-1 J, J D^-1 B; E D^-1 J, C - E D^-1 B] (products, no cancellation)
+      const Mat3& E = d.inertia_lower[i];
+      const Mat3& J = d.joint_block[i];
+      d.D_inv[i] = Mat3(A + J).inverse();
+      const Mat3& Dinv = d.D_inv[i];
+      Mat3 DinvB, EDinv;
+      DinvB.noalias() = Dinv * B;
+      EDinv.noalias() = E * Dinv;
+      Mat3 Aa, Ba, Ea, Ca = IA.C;
+      Aa.noalias() = A * Dinv * J;
+      Ba.noalias() = J * DinvB;
+      Ea.noalias() = EDinv * J;
+      Ca.noalias() -= E * DinvB;
+      // p^a = p^A + I^a c + U D^-1 u,  U = [A; E]
+      const Vec3 Dinv_u = Dinv * u;
+      pa_ang = d.bias_force[i].head<3>() + A * Dinv_u + Aa * c.head<3>() + Ba * c.tail<3>();
+      pa_lin = d.bias_force[i].tail<3>() + E * Dinv_u + Ea * c.head<3>() + Ca * c.tail<3>();
+      // X* I^a X = [A - B R + R (E - C R), B + R C; E - C R, C],  R = [r]x
+      const Mat3 R = skew(r);
+      Mat3 Es = Ea;
+      Es.noalias() -= Ca * R;
+      IP.A += Aa;
+      IP.A.noalias() -= Ba * R;
+      IP.A.noalias() += R * Es;
+      IP.B += Ba;
+      IP.B.noalias() += R * Ca;
+      d.inertia_lower[p] += Es;
+      IP.C += Ca;
     }
     d.bias_force[p].head<3>() += pa_ang + r.cross(pa_lin);
     d.bias_force[p].tail<3>() += pa_lin;
@@ -142,8 +155,15 @@ void articulated_backward_pass(const Rig& rig, ArticulatedBodyData& d) {
 void articulated_forward_pass(const Rig& rig, const SimState& s, ArticulatedBodyData& d) {
   if (rig.nbone == 0) return;
   // the free root: I^A a = -p^A (no joint force), then classical accelerations
-  d.root_ldlt.compute(d.inertia_art[0].matrix());
-  d.accel_spatial[0] = d.root_ldlt.solve(-d.bias_force[0]);
+  if (d.joint_blocks) {
+    Mat6 I0;
+    I0 << d.inertia_art[0].A, d.inertia_art[0].B, d.inertia_lower[0], d.inertia_art[0].C;
+    d.root_lu.compute(I0);
+    d.accel_spatial[0] = d.root_lu.solve(-d.bias_force[0]);
+  } else {
+    d.root_ldlt.compute(d.inertia_art[0].matrix());
+    d.accel_spatial[0] = d.root_ldlt.solve(-d.bias_force[0]);
+  }
   const Vec3 alpha0 = d.accel_spatial[0].head<3>();
   d.root_accel_world =
       d.accel_spatial[0].tail<3>() + s.omega_world[0].cross(s.vel_world[0]);
@@ -155,7 +175,7 @@ void articulated_forward_pass(const Rig& rig, const SimState& s, ArticulatedBody
     const Vec6& ap = d.accel_spatial[p];
     const Vec3 alpha = ap.head<3>() + d.bias_accel[i].head<3>();
     const Vec3 lin = ap.tail<3>() - r.cross(ap.head<3>()) + d.bias_accel[i].tail<3>();
-    // qdd' = D^-1 (u - U^T a'),  U^T a' = A alpha + B lin
+    // qdd' = D^-1 (u - S'^T I^A a'),  S'^T I^A a' = A alpha + B lin
     const SpatialInertia& IA = d.inertia_art[i];
     const Vec3 qdd = d.D_inv[i] * (d.u[i] - IA.A * alpha - IA.B * lin);  // world axes
     d.accel_spatial[i] << alpha + qdd, lin;

@@ -24,18 +24,23 @@
 //        = (w x I_c w + e x (m w x v_com); m w x v_com) - (n_com + e x F; F)
 //   c_i  = V_i x (S u) = (w_i x w_rel; v_o x w_rel)          w_rel = w_i - w_parent   (ball)
 //   c_0  = (0; -w x v_com)                                   (root, spatial vs classical accel.)
-// Pass 2, leaves to root (articulated inertia I^A = [A B; B^T C], bias p^A; J_i an optional
-// 3x3 joint block):
-//   U = I^A S' = [A; B^T],  D = A + J_i,  u = -S'^T p^A
-//   I^a = I^A - U D^-1 U^T = [A D^-1 J, J D^-1 B; B^T D^-1 J, C - B^T D^-1 B]
+// Pass 2, leaves to root (articulated inertia I^A = [A B; E C], E = B^T while every joint block
+// is symmetric; bias p^A; J_i an optional 3x3 joint block, world axes, not necessarily symmetric):
+//   U = I^A S' = [A; E] (column),  S'^T I^A = [A B] (row),  D = A + J_i,  u = -S'^T p^A
+//   I^a = I^A - U D^-1 S'^T I^A = [A D^-1 J, J D^-1 B; E D^-1 J, C - E D^-1 B]
 //   p^a = p^A + I^a c + U D^-1 u
 //   I^A_parent += X* I^a X,  p^A_parent += X* p^a
-// A ball (J = 0) passes on only the translational block C - B^T A^-1 B, exactly: computing the
-// top blocks as differences leaves round-off there that doubles with every link (measured: a
-// 200-bone chain's root inertia reached 1e24 and the run blew up), so they are products.
+// (Schur complements of the joint's block: no symmetry is needed, only D invertible.) A ball
+// (J = 0) passes on only the translational block C - E A^-1 B, exactly: computing the top blocks
+// as differences leaves round-off there that doubles with every link (measured: a 200-bone
+// chain's root inertia reached 1e24 and the run blew up), so they are products. Without joint
+// blocks every I^A stays symmetric and the pass keeps only [A B; . C]; with them it carries E
+// (inertia_lower), as a non-symmetric block (the paper's torsion torque's tangent,
+// implicit_step.h) makes the articulated inertias of its ancestors general 6x6 matrices.
 // Pass 3, root to leaves (spatial accelerations a_i):
-//   root:  a_0 = -(I^A_0)^-1 p^A_0,  alpha = a_0.ang,  a_com = a_0.lin + w x v_com
-//   ball:  a' = X a_parent + c,  qdd' = D^-1 (u - U^T a'),  a_i = a' + S' qdd',  u_dot = R^T qdd'
+//   root:  a_0 = -(I^A_0)^-1 p^A_0 (LDL^T; LU with joint blocks),  alpha = a_0.ang,
+//          a_com = a_0.lin + w x v_com
+//   ball:  a' = X a_parent + c,  qdd' = D^-1 (u - S'^T I^A a'),  a_i = a' + S' qdd',  u_dot = R^T qdd'
 // A spatial acceleration a about o is Featherstone's (the derivative of the velocity field at the
 // fixed point o); the classical acceleration of the centre is a.lin + alpha x e + w x v_com.
 //
@@ -56,6 +61,7 @@
 #include <vector>
 
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
 
 #include "physik/model/rig.h"
 
@@ -81,7 +87,8 @@ struct ArticulatedBodyData {
   double torque_per_omega = 0.0;        // 1/s: torque torque_per_omega * I w on every body
   bool cancel_gyroscopic = false;       // add +w x I w on every body (gyroscopic term off)
   bool joint_blocks = false;            // add joint_block[i] to D_i (the implicit step's K)
-  std::vector<Mat3> joint_block;        // (nbone) 3x3, world axes, read when joint_blocks
+  std::vector<Mat3> joint_block;        // (nbone) 3x3, world axes, read when joint_blocks; need
+                                        //         not be symmetric
 
   // --- pass 1 (velocity pass) ---
   std::vector<Mat3> inertia_com_world;  // (nbone) R diag(I_local) R^T, kg m^2
@@ -96,9 +103,13 @@ struct ArticulatedBodyData {
   std::vector<Mat3> D_inv;              // (nbone) (S'^T I^A S' + J)^-1; U = I^A S' = [A; B^T]
                                         //         is read from inertia_art
   std::vector<Vec3> u;                  // (nbone) -S'^T p^A
-  // I^A_0 factorised in pass 3; constructed factorised (of 1) so that a copy made before the
-  // first step never reads Eigen's uninitialised ComputationInfo (UndefinedBehaviorSanitizer)
+  std::vector<Mat3> inertia_lower;      // (nbone) E, I^A's lower-left block, kg m; written only
+                                        //         with joint_blocks (else E = B^T)
+  // I^A_0 factorised in pass 3 (LDL^T, or LU with joint blocks); constructed factorised (of 1)
+  // so that a copy made before the first step never reads Eigen's uninitialised ComputationInfo
+  // (UndefinedBehaviorSanitizer)
   Eigen::LDLT<Mat6> root_ldlt{Mat6::Identity()};
+  Eigen::PartialPivLU<Mat6> root_lu{Mat6::Identity()};
 
   // --- pass 3 (forward pass): MuJoCo's qacc layout ---
   std::vector<Vec6> accel_spatial;      // (nbone) a_i about o_i
@@ -126,8 +137,5 @@ inline void articulated_accelerations(const Rig& rig, const SimState& state,
 
 // Rigid-body spatial inertia about a point o, world axes; e = com - o.
 SpatialInertia spatial_inertia(double mass, const Mat3& inertia_com_world, const Vec3& e);
-
-// X* I X for the translation r = o_child - o_parent: an inertia about o_child moved to o_parent.
-SpatialInertia shift_inertia(const SpatialInertia& inertia, const Vec3& r);
 
 }  // namespace physik

@@ -26,14 +26,15 @@ void element_tangents(const Scene& scene, SimState& s) {
     }
     const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[i]);
     s.torsion_stiffness[i] = torsion_step_stiffness_local(limits, theta, p);
-    s.torsion_frame_world[i] =
-        torsion_torque_frame(rig, p, s.frames.orient_world[rig.bone_parent[i]], i, theta);
+    const Quat& parent = s.frames.orient_world[rig.bone_parent[i]];
+    s.torsion_frame_world[i] = torsion_torque_frame(rig, p, parent, i, theta);
+    s.torsion_rate_frame_world[i] = torsion_rate_frame(rig, parent, i, theta);
   }
 }
 
 Mat3 torsion_block_world(const Rig&, const SimState& s, int i) {
-  const Mat3& T = s.torsion_frame_world[i];
-  return T * s.torsion_stiffness[i].asDiagonal() * T.transpose();
+  return s.torsion_frame_world[i] * s.torsion_stiffness[i].asDiagonal() *
+         s.torsion_rate_frame_world[i].transpose();
 }
 
 void add_point_inertia(const Mat3& A, const Vec3& r, SpatialInertia& I) {

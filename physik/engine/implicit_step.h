@@ -17,8 +17,11 @@
 // positions from the new v. Velocity products C and the gyroscopic term stay explicit.
 //
 // Every PhysIK force is an element whose D and K are known in closed form (Gauss-Newton: the
-// curvature of the attachment point p(q) and of the torsion's log map is dropped, so K is
-// symmetric positive semi-definite and M + h D + h^2 K positive definite for every h > 0):
+// curvature of the attachment point p(q) and the turn of a torsion torque's frame with the parent
+// are dropped; both are multiplied by the element's force, so they vanish where it does). The
+// point elements give a symmetric positive semi-definite K; the paper's torsion torque gives a
+// joint block that is not symmetric on a bent joint (below), so M + h D + h^2 K is then a general
+// matrix, solved by the same recursion with general articulated inertias (articulated_body.h):
 //   point element with 3x3 matrix A at a point p of body b: J_p^T A J_p, J_p the point's velocity
 //     Jacobian. With J_p = Phi J_b, Phi = [-[r]x, 1] on b's spatial velocity (w; v_o) about o_b,
 //     r = p - o_b, this is body b's spatial inertia plus Phi^T A Phi = [[r]x A [r]x^T, [r]x A;
@@ -31,13 +34,22 @@
 //   angular-velocity factor f: the explicit torque I (f - 1) w / dt (as the exact step) is a
 //     rotational damper D = (1 - f) / dt I_com, so h D = (1 - f) I_com on the body's angular
 //     block at h = dt (zero when f = 1, "off"; (h / dt) (1 - f) I_com over a substep h)
-//   torsion spring at bone i (joint element): tau_world = R_pr tau_local(theta), R_pr = R_p R_rest,
-//     theta the rotation vector of the ball; d theta ~ R_pr^T (w_i - w_p) dt, so on the ball's
-//     world-axes rate (w_i - w_p) = R_i u: K_j = R_pr diag(k_axis) R_pr^T (torsion_step_stiffness_local;
-//     the capped law beyond its cap at its secant, as the control spring); with torsion_torque
-//     gradient, theta' = J_l^-1 R_pr^T (w_i - w_p) and K_j = T diag(k) T^T, T = R_pr J_l^-T
-//     (torsion_springs.h);
-//     h^2 K_j is the joint's 3x3 block (articulated_body.h joint_block: D_i = U_i... + J_i)
+//   torsion spring at bone i (joint element): tau_world = T tau_local(theta), T the torque frame
+//     (torsion_torque_frame: R_pr = R_p R_rest for the paper's torque `axes`, R_pr J_l^-T for
+//     torsion_torque gradient), theta the rotation vector of the ball. With the parent held, a
+//     relative turn dphi (world axes) moves theta by J_l(theta)^-1 R_pr^T dphi = T_r^T dphi,
+//     T_r = R_pr J_l^-T (torsion_rate_frame), so on the ball's world-axes rate
+//     (w_i - w_p) = R_i u the block is
+//       K_j = T diag(k_axis) T_r^T          (torsion_block_world; k: torsion_step_stiffness_local,
+//                                            the capped law beyond its cap at its secant)
+//     gradient: T = T_r, symmetric, the potential's Hessian where the torque vanishes; axes:
+//     R_pr diag(k) J_l^-1 R_pr^T, the exact tangent of the paper's torque in theta, whose
+//     antisymmetric part (-R_pr diag(k) (W / 2) R_pr^T where diag(k) commutes with W = [theta]x;
+//     norm sqrt(2) k |theta_x| / 2 on an elbow bent by theta_x with locked y and z) a symmetric
+//     block would drop: long steps then converge only as a quasi-Newton iteration (0.396 per step
+//     on the 45-degree elbow at dt 100; with the full block, as Newton's method;
+//     tests/tune/implicit_equilibrium_test.cpp). h^2 K_j is the joint's 3x3 block
+//     (articulated_body.h joint_block: D_i = A_i + J_i)
 // Right-hand side of (1): the start-of-step forces (force stages unchanged), plus -h K v per
 // stiffness element: the force -h K_c v_p at each control point, the torque pair -h K_j (w_i - w_p)
 // at each torsion spring.
@@ -47,7 +59,10 @@
 // recursion solves (1) exactly (tests/implicit_step_test.cpp: against a dense M + h D + h^2 K
 // from finite differences).
 // Large h: (1) tends to K (v + h a) = tau / h, i.e. q+ - q = K^-1 tau, a Gauss-Newton step on the
-// spring and torsion potential: large steps are the static solve (tune/equilibrium.h).
+// force balance tau(q) = 0 (on the spring and torsion potential, with the gradient torque): large
+// steps are the static solve (tune/equilibrium.h).
+// The energy statement below holds for the symmetric elements; the paper's torsion torque is the
+// gradient of no potential, and implicit_advance.h guards every step's energy.
 // One DOF (mass m, damper c, spring k): x+ = ((m + h c) x + h m v) / S, v+ = (m v - h k x) / S,
 // S = m + h c + h^2 k; det = m / S < 1, both eigenvalues inside the unit circle for all h, c, k > 0,
 // and E = (m v^2 + k x^2) / 2 never grows: E+ - E = -h c v+^2 - m (v+ - v)^2 / 2 - k (x+ - x)^2 / 2.
@@ -72,8 +87,9 @@ JointSolveStats solve_implicit(const Scene& scene, SimState& state, double h);
 // the stiffnesses of this step: state.control_stiffness (per control point) and
 // state.torsion_stiffness (per bone, local axes)
 void element_tangents(const Scene& scene, SimState& state);
-// T diag(k) T^T: bone i's torsion stiffness on its world-axes relative rate, N m/rad
-// (T = torsion_torque_frame: R_pr, or R_pr J_l^-T for torsion_torque gradient; element_tangents)
+// T diag(k) T_r^T: bone i's torsion stiffness on its world-axes relative rate, N m/rad
+// (T = torsion_torque_frame: R_pr, or R_pr J_l^-T for torsion_torque gradient; T_r =
+// torsion_rate_frame, R_pr J_l^-T; element_tangents). Symmetric only for the gradient torque.
 Mat3 torsion_block_world(const Rig& rig, const SimState& state, int bone);
 // Phi^T A Phi for a point element A at offset r from the body's point: adds to `inertia`
 void add_point_inertia(const Mat3& A, const Vec3& r, SpatialInertia& inertia);

@@ -69,6 +69,11 @@ Mat3 torsion_torque_frame(const Rig& rig, const EngineParams& params, const Quat
   return params.torsion_torque == TorsionTorque::kGradient ? R * left_jacobian_inverse_transpose(theta) : R;
 }
 
+Mat3 torsion_rate_frame(const Rig& rig, const Quat& parent_orient_world, int bone, const Vec3& theta) {
+  const Mat3 R = (parent_orient_world * rig.bone_rest_orient_parent[bone]).toRotationMatrix();
+  return R * left_jacobian_inverse_transpose(theta);
+}
+
 void apply_torsion_springs(const Rig& rig, const EngineParams& params, SimState& s) {
   if (params.torsion_k == 0.0) return;
   const bool gradient = params.torsion_torque == TorsionTorque::kGradient;

@@ -20,10 +20,14 @@
 //   b = 1/|theta|^2 - cot(|theta|/2) / (2 |theta|)   (1/12 at 0, 1/pi^2 at pi)
 // (`gradient`). The two agree to first order in theta, and exactly where theta is along the
 // excess (a joint locked on every axis, or one axis away from zero); on a bent 1-DOF joint (an
-// elbow at 120 deg with its locked axes pulled) `axes` is not conservative: it adds energy along
-// some closed paths, which no integrator can take out (measured: the implicit solve mode's
-// energy guard split steps of pinhead's bent elbows thousands of times). `gradient` is the force
-// of the potential that `physik equilibrium` minimises (tune/equilibrium.h).
+// elbow at 120 deg with its locked axes pulled) `axes` is not conservative: it does work around
+// some closed paths. `gradient` is the force of the potential that `physik equilibrium`
+// minimises (tune/equilibrium.h). The implicit step linearises either by its tangent in theta
+// (implicit_step.h: T diag(k) T_r^T with torsion_rate_frame below); for `axes` that block is not
+// symmetric, and a symmetric one in its place (R_pr diag(k) R_pr^T, this engine's until it
+// could solve unsymmetric blocks) made long steps on bent joints stall: on 200 pinhead hand
+// targets the solve mode split 886 steps and left 3 unconverged, against 42 split and all
+// converged with the tangent (the gradient torque: 41 and all).
 #pragma once
 
 #include "physik/model/params.h"
@@ -48,10 +52,16 @@ Vec3 torsion_step_stiffness_local(const std::array<AxisLimit, 3>& limits, const 
                                   const EngineParams& params);
 
 // The matrix T that turns a local per-axis torque (torsion_torque_local) into the torque on the
-// bone in world axes: R_pr for `axes`, R_pr J_l(theta)^-T for `gradient` (then the stiffness of
-// the relative rate is T diag(k) T^T, Gauss-Newton).
+// bone in world axes: R_pr for `axes`, R_pr J_l(theta)^-T for `gradient`.
 Mat3 torsion_torque_frame(const Rig& rig, const EngineParams& params, const Quat& parent_orient_world,
                           int bone, const Vec3& theta);
+
+// The matrix T_r that turns the relative angular velocity (world axes) into the rate of the
+// joint angles: theta' = T_r^T (w_i - w_p), T_r = R_pr J_l(theta)^-T, whichever the torque. The
+// torque's tangent in the relative rotation (the parent's frame held, as Gauss-Newton holds the
+// attachment points' curvature) is then T diag(k) T_r^T: symmetric for `gradient` (T = T_r), not
+// for `axes` on a bent joint (implicit_step.h).
+Mat3 torsion_rate_frame(const Rig& rig, const Quat& parent_orient_world, int bone, const Vec3& theta);
 
 // J_l(theta)^-T (above).
 Mat3 left_jacobian_inverse_transpose(const Vec3& theta);

@@ -6,7 +6,7 @@
 // The engine as a solver (issue 15), both through physik::PosingSession (physik/posing):
 //   physik           the solve mode: integration implicit (linearised backward Euler over the
 //                    exact articulated solve) with torsion_torque gradient (the potential's own
-//                    torque, conservative at every bend), the step starting at the scene's dt
+//                    torque, whose rest poses are the potential's minima), the step starting at the scene's dt
 //                    (the body follows with its secondary motion) and lengthening by dt_growth
 //                    every step the kinetic energy falls, up to max_dt, shorter again after a
 //                    step the energy guard split (a long implicit step is a Gauss-Newton step on

@@ -84,8 +84,10 @@ struct SolveResult {
 };
 
 // The engine settings of the solve mode: integration implicit, and the potential's own torsion
-// torque (torsion_torque gradient; the paper's per-axis torque is not conservative at the large
-// bends long steps reach, physik/engine/torsion_springs.h).
+// torque (torsion_torque gradient), so that a solved pose with loaded torsion springs is a
+// minimum of the potential `physik equilibrium` minimises (the paper's per-axis torque is not
+// its gradient at large bends; with its tangent in the step it solves as fast:
+// physik/engine/torsion_springs.h).
 void use_solve_mode(EngineParams& params);
 
 // The solve rule of the solve mode: the step growing by kSolveDtGrowth up to kSolveMaxDt.

@@ -1,12 +1,12 @@
 // Large implicit steps are the static solve (issue 14 item 4; physik/engine/implicit_step.h): as dt
-// grows, a step of (M + h D + h^2 K) a = tau - C - h K v becomes a Gauss-Newton step on the spring
-// and torsion potential, so on a scene with a unique equilibrium the implicit run at dt = 1 and
-// larger lands on the pose `physik equilibrium` (Ceres, tune/equilibrium.h) finds, to 1e-8 rig
-// units within 20 steps with the gradient torsion torque (torsion_torque gradient: 17 at dt 1 and
-// c 3). With the paper's torque dt = 1 takes 22: its tangent has an antisymmetric part that the
-// step's symmetric K leaves out (tests/implicit_step_test.cpp
-// TorsionBlockIsTheExactTangentOnlyForTheGradientTorque). At dt = 0.05 both land there too,
-// slowly, with the secondary motion.
+// grows, a step of (M + h D + h^2 K) a = tau - C - h K v becomes a Gauss-Newton step on the force
+// balance (on the spring and torsion potential, with the gradient torque), so on a scene with a
+// unique equilibrium the implicit run at dt = 1 and larger lands on the pose `physik equilibrium`
+// (Ceres, tune/equilibrium.h) finds, to 1e-8 rig units within 20 steps, with either torsion torque
+// (17 at dt 1 and c 3). The paper's torque needs its step block unsymmetric for that: its
+// tangent's antisymmetric part (tests/implicit_step_test.cpp TorsionBlockIsTheTorquesTangent),
+// which a symmetric block left out (22 steps at dt 1). At dt = 0.05 both land there too, slowly,
+// with the secondary motion.
 // Capped springs pulled far beyond their cap: tests/implicit_advance_test.cpp (the tangent alone
 // has no stiffness along the pull, and implicit steps of dt >= 1 overshot and diverged on a
 // two-bone chain; the step now takes the secant there, control_springs.h spring_step_stiffness).
@@ -59,13 +59,12 @@ int steps_to_reach(Scene s, double dt, int steps, const BoneFrames& target, doub
   return reached;
 }
 
-// budget_at_1: the steps allowed at dt = 1 (dt >= 2: 20)
-void expect_lands(const Scene& s, const char* name, int budget_at_1) {
+void expect_lands(const Scene& s, const char* name) {
   const EquilibriumResult e = solve_equilibrium(s);
   ASSERT_TRUE(e.converged) << e.ceres_brief;
   for (double dt : {1.0, 2.0, 10.0, 100.0}) {
     double last = 0.0;
-    const int budget = dt < 2.0 ? budget_at_1 : 20;
+    const int budget = 20;
     const int n = steps_to_reach(s, dt, budget, e.frames, 1e-8, &last);
     std::cout << name << " implicit dt " << dt << ": within 1e-8 of the Ceres equilibrium after "
               << n << " steps (distance after " << budget << ": " << last << ")\n";
@@ -79,26 +78,28 @@ void expect_lands(const Scene& s, const char* name, int budget_at_1) {
   EXPECT_LT(last, 1e-8);
 }
 
-// the original preset's c = 3, f = 0.5, the paper's torsion torque: dt 1 needs 22 steps
-TEST(ImplicitEquilibrium, ElbowLandsOnTheCeresPoseAtLargeSteps) {
-  expect_lands(elbow_scene(), "elbow", 30);
+// the original preset's c = 3, f = 0.5, the paper's torsion torque: 17 steps at dt 1
+TEST(ImplicitEquilibrium, ElbowLandsOnTheCeresPoseWithin20StepsAtLargeSteps) {
+  expect_lands(elbow_scene(), "elbow");
 }
 
 // the same with the gradient torque (the solve mode's): within 20 steps at every dt >= 1
 TEST(ImplicitEquilibrium, ElbowWithTheGradientTorqueLandsWithin20StepsAtLargeSteps) {
   Scene s = elbow_scene();
   s.params.torsion_torque = TorsionTorque::kGradient;
-  expect_lands(s, "elbow, gradient torque", 20);
+  expect_lands(s, "elbow, gradient torque");
 }
 
-// The mechanism behind the two torques' step counts, as a prediction. At dt = 100 a step is
-// nearly x+ = x - K_step^-1 g(x), a quasi-Newton iteration. On the elbow's locked y and z axes
-// (k_y = k_z = k, theta along x at the equilibrium) the paper's torque k d(theta) has the tangent
-// k J_l^-1 (J_l^-1 = I - W/2 + b W^2), the step's block k I, so the error contracts by
-// I - J_l^-1 = b theta^2 I + (theta / 2) [[0, -1], [1, 0]] on that block: by
-// sqrt((b theta^2)^2 + (theta / 2)^2) per step (0.396 at the 45-degree bend), whatever k is.
-// With the gradient torque the block is the tangent, and the iteration is Newton's.
-TEST(ImplicitEquilibrium, LongStepsOfThePaperTorqueContractAtTheQuasiNewtonRate) {
+// The mechanism behind the step counts, as a prediction. At dt = 100 a step is nearly
+// x+ = x - K_step^-1 g(x). On the elbow's locked y and z axes (k_y = k_z = k, theta along x at
+// the equilibrium) the paper's torque k d(theta) has the tangent k J_l^-1 (J_l^-1 = I - W/2 +
+// b W^2). A symmetric block k I (this engine's step before its blocks could be unsymmetric) made
+// that a quasi-Newton iteration, contracting by |I - J_l^-1| = sqrt((b theta^2)^2 + (theta / 2)^2)
+// = 0.396 per step at the 45-degree bend (measured: 0.3961 on each of 16 steps, 22 steps to 1e-8
+// at dt 1). The step's block is now the tangent for both torques (implicit_step.h), so both
+// converge as Newton's method: the locked axes' error falls from its first step's 0.35 to below
+// 1e-8 at the second.
+TEST(ImplicitEquilibrium, LongStepsConvergeAsNewtonsMethodWithEitherTorque) {
   for (const TorsionTorque torque : {TorsionTorque::kAxes, TorsionTorque::kGradient}) {
     Scene s = elbow_scene();
     s.params.torsion_torque = torque;
@@ -112,23 +113,14 @@ TEST(ImplicitEquilibrium, LongStepsOfThePaperTorqueContractAtTheQuasiNewtonRate)
       theta_x = th.x();
     });
     ASSERT_EQ(yz.size(), 20u);
-    EXPECT_NEAR(theta_x, -deg2rad(45.0), 1e-9);
-    if (torque == TorsionTorque::kAxes) {
-      const double t = std::abs(theta_x);
-      const double b = 1.0 / (t * t) - 0.5 / (t * std::tan(0.5 * t));
-      const double predicted = std::hypot(b * t * t, 0.5 * t);
-      int checked = 0;
-      for (std::size_t k = 1; k < yz.size(); ++k) {
-        if (yz[k - 1] > 1e-4 || yz[k] < 1e-11) continue;  // the linear regime, above round-off
-        EXPECT_NEAR(yz[k] / yz[k - 1], predicted, 1e-3) << "step " << k + 1;
-        ++checked;
-      }
-      std::cout << "paper's torque, dt 100: predicted contraction " << predicted << " per step, checked on "
-                << checked << " steps\n";
-      EXPECT_GE(checked, 10);
-    } else {
-      EXPECT_LT(yz[2], 1e-8) << "Newton: three steps";
-    }
+    EXPECT_NEAR(theta_x, -deg2rad(45.0), 1e-9) << to_string(torque);
+    const double t = std::abs(theta_x);
+    const double b = 1.0 / (t * t) - 0.5 / (t * std::tan(0.5 * t));
+    const double quasi_newton = std::hypot(b * t * t, 0.5 * t);  // 0.396
+    std::cout << to_string(torque) << " torque, dt 100: locked axes " << yz[0] << ", " << yz[1] << ", " << yz[2]
+              << " (a symmetric block would contract by " << quasi_newton << " per step)\n";
+    EXPECT_GT(yz[0], 0.1) << "the first step leaves the locked axes off";
+    EXPECT_LT(yz[1], 1e-8) << to_string(torque) << ": Newton, not " << quasi_newton << " per step";
   }
 }
 
