@@ -30,7 +30,9 @@
 //   I^a = I^A - U D^-1 S'^T I^A = [A D^-1 J, J D^-1 B; E D^-1 J, C - E D^-1 B]
 //   p^a = p^A + I^a c + U D^-1 u
 //   I^A_parent += X* I^a X,  p^A_parent += X* p^a
-// (Schur complements of the joint's block: no symmetry is needed, only D invertible.) A ball
+// (Schur complements of the joint's block: no symmetry is needed, only D invertible, which the
+// implicit step's blocks guarantee by keeping their symmetric parts positive semi-definite:
+// implicit_step.h.) A ball
 // (J = 0) passes on only the translational block C - E A^-1 B, exactly: computing the top blocks
 // as differences leaves round-off there that doubles with every link (measured: a 200-bone
 // chain's root inertia reached 1e24 and the run blew up), so they are products. Without joint
@@ -72,8 +74,11 @@ struct SimState;
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 using Mat6 = Eigen::Matrix<double, 6, 6>;
 
-// A symmetric spatial inertia about a point, world axes, by 3x3 blocks [A B; B^T C] (A angular,
-// C translational): contiguous blocks for the recursion's 3x3 algebra.
+// A spatial inertia about a point, world axes, by 3x3 blocks [A B; B^T C] (A angular,
+// C translational): contiguous blocks for the recursion's 3x3 algebra. Symmetric as built and as
+// augmented (add, implicit_step.h); with joint blocks the backward pass makes the articulated
+// inertias general, their lower-left block in ArticulatedBodyData::inertia_lower (then matrix(),
+// which assumes B^T there, does not describe them).
 struct SpatialInertia {
   Mat3 A = Mat3::Zero();  // kg m^2
   Mat3 B = Mat3::Zero();  // kg m
@@ -100,8 +105,8 @@ struct ArticulatedBodyData {
                                         //         (torque_world + the damper [+ w x I w])
 
   // --- pass 2 (backward pass) ---
-  std::vector<Mat3> D_inv;              // (nbone) (S'^T I^A S' + J)^-1; U = I^A S' = [A; B^T]
-                                        //         is read from inertia_art
+  std::vector<Mat3> D_inv;              // (nbone) (S'^T I^A S' + J)^-1; the forward pass reads
+                                        //         the row S'^T I^A = [A B] from inertia_art
   std::vector<Vec3> u;                  // (nbone) -S'^T p^A
   std::vector<Mat3> inertia_lower;      // (nbone) E, I^A's lower-left block, kg m; written only
                                         //         with joint_blocks (else E = B^T)

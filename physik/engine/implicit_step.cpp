@@ -26,16 +26,14 @@ void element_tangents(const Scene& scene, SimState& s) {
     }
     const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[i]);
     s.torsion_stiffness[i] = torsion_step_stiffness_local(limits, theta, p);
-    const Quat& parent = s.frames.orient_world[rig.bone_parent[i]];
-    s.torsion_frame_world[i] = torsion_torque_frame(rig, p, parent, i, theta);
-    s.torsion_rate_frame_world[i] = torsion_rate_frame(rig, parent, i, theta);
+    const Mat3 R = (s.frames.orient_world[rig.bone_parent[i]] * rig.bone_rest_orient_parent[i])
+                       .toRotationMatrix();  // R_pr
+    s.torsion_block_world[i] =
+        R * torsion_step_block_local(s.torsion_stiffness[i], theta, p.torsion_torque) * R.transpose();
   }
 }
 
-Mat3 torsion_block_world(const Rig&, const SimState& s, int i) {
-  return s.torsion_frame_world[i] * s.torsion_stiffness[i].asDiagonal() *
-         s.torsion_rate_frame_world[i].transpose();
-}
+Mat3 torsion_block_world(const Rig&, const SimState& s, int i) { return s.torsion_block_world[i]; }
 
 void add_point_inertia(const Mat3& A, const Vec3& r, SpatialInertia& I) {
   const Mat3 RA = skew(r) * A;  // [r]x A

@@ -17,11 +17,14 @@
 // positions from the new v. Velocity products C and the gyroscopic term stay explicit.
 //
 // Every PhysIK force is an element whose D and K are known in closed form (Gauss-Newton: the
-// curvature of the attachment point p(q) and the turn of a torsion torque's frame with the parent
+// curvature of the attachment point p(q), and the turn of a torsion torque's frame with the pose,
 // are dropped; both are multiplied by the element's force, so they vanish where it does). The
 // point elements give a symmetric positive semi-definite K; the paper's torsion torque gives a
 // joint block that is not symmetric on a bent joint (below), so M + h D + h^2 K is then a general
-// matrix, solved by the same recursion with general articulated inertias (articulated_body.h):
+// matrix, solved by the same recursion with general articulated inertias (articulated_body.h).
+// Every block keeps a positive semi-definite symmetric part, so the symmetric part of
+// M + h D + h^2 K is positive definite: the matrix, and every pivot of the recursion (Schur
+// complements keep that property), is invertible at every h.
 //   point element with 3x3 matrix A at a point p of body b: J_p^T A J_p, J_p the point's velocity
 //     Jacobian. With J_p = Phi J_b, Phi = [-[r]x, 1] on b's spatial velocity (w; v_o) about o_b,
 //     r = p - o_b, this is body b's spatial inertia plus Phi^T A Phi = [[r]x A [r]x^T, [r]x A;
@@ -37,17 +40,23 @@
 //   torsion spring at bone i (joint element): tau_world = T tau_local(theta), T the torque frame
 //     (torsion_torque_frame: R_pr = R_p R_rest for the paper's torque `axes`, R_pr J_l^-T for
 //     torsion_torque gradient), theta the rotation vector of the ball. With the parent held, a
-//     relative turn dphi (world axes) moves theta by J_l(theta)^-1 R_pr^T dphi = T_r^T dphi,
-//     T_r = R_pr J_l^-T (torsion_rate_frame), so on the ball's world-axes rate
-//     (w_i - w_p) = R_i u the block is
-//       K_j = T diag(k_axis) T_r^T          (torsion_block_world; k: torsion_step_stiffness_local,
-//                                            the capped law beyond its cap at its secant)
-//     gradient: T = T_r, symmetric, the potential's Hessian where the torque vanishes; axes:
-//     R_pr diag(k) J_l^-1 R_pr^T, the exact tangent of the paper's torque in theta, whose
-//     antisymmetric part (-R_pr diag(k) (W / 2) R_pr^T where diag(k) commutes with W = [theta]x;
-//     norm sqrt(2) k |theta_x| / 2 on an elbow bent by theta_x with locked y and z) a symmetric
-//     block would drop: long steps then converge only as a quasi-Newton iteration (0.396 per step
-//     on the 45-degree elbow at dt 100; with the full block, as Newton's method;
+//     relative turn dphi (world axes) moves theta by J_l(theta)^-1 R_pr^T dphi, so on the ball's
+//     world-axes rate (w_i - w_p) = R_i u the block is
+//       K_j = R_pr B R_pr^T,  B = torsion_step_block_local (torsion_springs.h), per-axis k from
+//             torsion_step_stiffness_local (the capped law beyond its cap at its secant):
+//       gradient: B = J_l^-T diag(k) J_l^-1, symmetric, the potential's Hessian where the torque
+//                 vanishes;
+//       axes:     B = diag(k) J_l^-1, the exact tangent of the paper's torque in theta, its
+//                 symmetric part's negative eigenvalues clipped (they occur only where the engaged
+//                 axes do not turn with the bend, and could make the step's matrix singular: on
+//                 pinhead, posed at random with rotation vectors up to 1.5 rad per axis, a pivot
+//                 of the recursion turned negative in 27 of 1000 poses from h ~ 1 s and the whole
+//                 matrix went singular in 4 before the clip; tests/implicit_step_test.cpp).
+//     The tangent's antisymmetric part (-R_pr diag(k) (W / 2) R_pr^T where diag(k) commutes with
+//     W = [theta]x; norm sqrt(2) k |theta_x| / 2 on an elbow bent by theta_x with locked y and z)
+//     is what a symmetric block drops: long steps then converge only as a quasi-Newton iteration
+//     (0.396 per step on the 45-degree elbow at dt 100, when this engine's block was
+//     R_pr diag(k) R_pr^T; with the tangent, as Newton's method;
 //     tests/tune/implicit_equilibrium_test.cpp). h^2 K_j is the joint's 3x3 block
 //     (articulated_body.h joint_block: D_i = A_i + J_i)
 // Right-hand side of (1): the start-of-step forces (force stages unchanged), plus -h K v per
@@ -87,9 +96,9 @@ JointSolveStats solve_implicit(const Scene& scene, SimState& state, double h);
 // the stiffnesses of this step: state.control_stiffness (per control point) and
 // state.torsion_stiffness (per bone, local axes)
 void element_tangents(const Scene& scene, SimState& state);
-// T diag(k) T_r^T: bone i's torsion stiffness on its world-axes relative rate, N m/rad
-// (T = torsion_torque_frame: R_pr, or R_pr J_l^-T for torsion_torque gradient; T_r =
-// torsion_rate_frame, R_pr J_l^-T; element_tangents). Symmetric only for the gradient torque.
+// K_j = R_pr B R_pr^T: bone i's torsion block on its world-axes relative rate, N m/rad
+// (B = torsion_step_block_local; element_tangents). Symmetric only for the gradient torque; its
+// symmetric part is positive semi-definite for both.
 Mat3 torsion_block_world(const Rig& rig, const SimState& state, int bone);
 // Phi^T A Phi for a point element A at offset r from the body's point: adds to `inertia`
 void add_point_inertia(const Mat3& A, const Vec3& r, SpatialInertia& inertia);

@@ -7,9 +7,10 @@
 //   M  = sum_b J_b^T diag(I_b, m_b) J_b                                   (the rigid mass matrix)
 //   K  = sum_control J_p^T K_c J_p + sum_torsion J_rel^T K_j J_rel        (Gauss-Newton, as the
 //        implicit step: K_c the spring's tangent; K_j = T diag(k) T^T, T the torque frame
-//        (torsion_torque_frame): the step's block for the gradient torque, and for the paper's
-//        torque R_pr diag(k) R_pr^T, its step block's value at theta = 0 (on a bent joint the
-//        step's block is not symmetric, implicit_step.h; the modes need a symmetric K))
+//        (torsion_torque_frame): within the caps the step's block for the gradient torque, and
+//        for the paper's torque R_pr diag(k) R_pr^T, its step block's value at theta = 0 (on a
+//        bent joint the step's block is not symmetric, implicit_step.h; the modes need a
+//        symmetric K))
 //   D1 = sum_bones (J_head^T J_head + J_tail^T J_tail)                   (the end dampers per unit c)
 //   Dr = sum_b J_w^T ((1 - f) / dt) I_b J_w                               (the angular-velocity factor)
 // The modes solve K phi = w^2 M phi (Eigen's GeneralizedSelfAdjointEigenSolver, phi^T M phi = 1).

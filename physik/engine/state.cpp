@@ -25,8 +25,7 @@ void size_state(const Rig& rig, std::size_t ncontrol, SimState& s) {
   s.accel_bias.assign(n, Vec6::Zero());
   s.torsion_stiffness.assign(n, Vec3::Zero());
   s.control_stiffness.assign(ncontrol, Mat3::Zero());
-  s.torsion_frame_world.assign(n, Mat3::Identity());
-  s.torsion_rate_frame_world.assign(n, Mat3::Identity());
+  s.torsion_block_world.assign(n, Mat3::Zero());
   s.implicit_snapshots.clear();  // sized by init_state for implicit scenes (implicit_advance.h)
   s.implicit_split_steps = 0;
   s.implicit_max_substeps = 0;

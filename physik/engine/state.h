@@ -61,8 +61,8 @@ struct SimState {
   std::vector<Mat3> control_stiffness;  // (ncontrol) K_c this step (spring_step_stiffness), N/m
   std::vector<Vec3> torsion_stiffness;  // (nbone) per rest axis this step
                                         //   (torsion_step_stiffness_local), N m/rad
-  std::vector<Mat3> torsion_frame_world;  // (nbone) T of torsion_torque_frame this step
-  std::vector<Mat3> torsion_rate_frame_world;  // (nbone) T_r of torsion_rate_frame this step
+  std::vector<Mat3> torsion_block_world;  // (nbone) the torsion block K_j this step, world axes,
+                                         //   N m/rad (implicit_step.h torsion_block_world)
   std::vector<JointStateSnapshot> implicit_snapshots;  // (implicit_max_splits + 1) the energy guard's
   int implicit_split_steps = 0;         // steps the energy guard split (implicit_advance.h)
   int implicit_max_substeps = 0;        // the most substeps one step took

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
+
 #include "physik/engine/potential.h"
 
 namespace physik {
@@ -69,9 +71,18 @@ Mat3 torsion_torque_frame(const Rig& rig, const EngineParams& params, const Quat
   return params.torsion_torque == TorsionTorque::kGradient ? R * left_jacobian_inverse_transpose(theta) : R;
 }
 
-Mat3 torsion_rate_frame(const Rig& rig, const Quat& parent_orient_world, int bone, const Vec3& theta) {
-  const Mat3 R = (parent_orient_world * rig.bone_rest_orient_parent[bone]).toRotationMatrix();
-  return R * left_jacobian_inverse_transpose(theta);
+Mat3 torsion_step_block_local(const Vec3& k, const Vec3& theta, TorsionTorque torque) {
+  const Mat3 Jt = left_jacobian_inverse_transpose(theta);  // J_l^-T
+  const Mat3 tangent = k.asDiagonal() * Jt.transpose();     // diag(k) J_l^-1
+  if (torque == TorsionTorque::kGradient) return Jt * tangent;
+  // the symmetric part's negative eigenvalues clipped; the antisymmetric part kept
+  const Mat3 sym = 0.5 * (tangent + tangent.transpose());
+  Eigen::SelfAdjointEigenSolver<Mat3> eig;
+  eig.computeDirect(sym);
+  if (eig.eigenvalues().minCoeff() >= 0.0) return tangent;
+  const Vec3 clipped = eig.eigenvalues().cwiseMax(0.0);
+  return eig.eigenvectors() * clipped.asDiagonal() * eig.eigenvectors().transpose() +
+         0.5 * (tangent - tangent.transpose());
 }
 
 void apply_torsion_springs(const Rig& rig, const EngineParams& params, SimState& s) {

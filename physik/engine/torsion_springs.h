@@ -22,12 +22,14 @@
 // excess (a joint locked on every axis, or one axis away from zero); on a bent 1-DOF joint (an
 // elbow at 120 deg with its locked axes pulled) `axes` is not conservative: it does work around
 // some closed paths. `gradient` is the force of the potential that `physik equilibrium`
-// minimises (tune/equilibrium.h). The implicit step linearises either by its tangent in theta
-// (implicit_step.h: T diag(k) T_r^T with torsion_rate_frame below); for `axes` that block is not
-// symmetric, and a symmetric one in its place (R_pr diag(k) R_pr^T, this engine's until it
-// could solve unsymmetric blocks) made long steps on bent joints stall: on 200 pinhead hand
-// targets the solve mode split 886 steps and left 3 unconverged, against 42 split and all
-// converged with the tangent (the gradient torque: 41 and all).
+// minimises (tune/equilibrium.h). The implicit step linearises `axes` by its tangent in theta
+// (torsion_step_block_local below), which is not symmetric on a bent joint; a symmetric block in
+// its place (R_pr diag(k) R_pr^T, this engine's until it could solve unsymmetric blocks) made
+// long steps on bent joints stall: on 200 pinhead hand targets (a scratch program, not in the
+// repository: ik_comparison's setting with the paper's torque) the solve mode split 886 steps
+// and left 3 unconverged, against 42 split and all converged with the tangent (the gradient
+// torque: 41 and all). `gradient` enters by its Gauss-Newton block (the turn of J_l^-T with theta,
+// times the torque, dropped): its tangent where the torque vanishes.
 #pragma once
 
 #include "physik/model/params.h"
@@ -56,12 +58,18 @@ Vec3 torsion_step_stiffness_local(const std::array<AxisLimit, 3>& limits, const 
 Mat3 torsion_torque_frame(const Rig& rig, const EngineParams& params, const Quat& parent_orient_world,
                           int bone, const Vec3& theta);
 
-// The matrix T_r that turns the relative angular velocity (world axes) into the rate of the
-// joint angles: theta' = T_r^T (w_i - w_p), T_r = R_pr J_l(theta)^-T, whichever the torque. The
-// torque's tangent in the relative rotation (the parent's frame held, as Gauss-Newton holds the
-// attachment points' curvature) is then T diag(k) T_r^T: symmetric for `gradient` (T = T_r), not
-// for `axes` on a bent joint (implicit_step.h).
-Mat3 torsion_rate_frame(const Rig& rig, const Quat& parent_orient_world, int bone, const Vec3& theta);
+// The implicit step's torsion block in the parent-rest frame (N m/rad; implicit_step.h), from the
+// per-axis step stiffness k (torsion_step_stiffness_local) at joint angles theta. A relative turn
+// dphi_pr moves theta by J_l^-1 dphi_pr, so the torque's tangent (its frame held) is
+//   axes:      diag(k) J_l^-1                 (not symmetric on a bent joint)
+//   gradient:  J_l^-T diag(k) J_l^-1          (symmetric, positive semi-definite)
+// For `axes` the symmetric part loses its negative eigenvalues (clipped to 0), keeping the
+// antisymmetric part: where the engaged axes turn with the bend (all three axes, or y and z of
+// an elbow bent about x) that part is already positive semi-definite and the block is the
+// tangent; where they do not (x alone engaged, bent about y: the x-z block of the symmetric part
+// is [k (1 - b theta^2), -k theta / 4; -k theta / 4, 0]) the tangent's symmetric part is
+// indefinite, and with it the step's matrix could be singular at some step length.
+Mat3 torsion_step_block_local(const Vec3& k, const Vec3& theta, TorsionTorque torque);
 
 // J_l(theta)^-T (above).
 Mat3 left_jacobian_inverse_transpose(const Vec3& theta);
