@@ -386,7 +386,8 @@ void large_steps(const Context& ctx, nlohmann::json& doc, nlohmann::json& claims
                          "units (bone heads and tails) within 20 steps at dt = 1 and larger (the other rows, measured "
                          "only: less end damping, the angular-velocity factor off, damping auto)",
                          "steps: " + text[0] + ". The step's torsion block is the torque's tangent R diag(k) "
-                         "J_l^-1(theta) R^T, not symmetric on the bent elbow (antisymmetric part of norm "
+                         "J_l^-1(theta) R^T (its symmetric part's negative eigenvalues clipped, none at this "
+                         "equilibrium), not symmetric on the bent elbow (antisymmetric part of norm "
                          "sqrt(2) k |theta_x| / 2 at the 45-degree bend; implicit_step.h), solved by the recursion "
                          "with general articulated inertias (a symmetric block in its place took 22 steps at dt 1 and "
                          "5 at dt 100); slowest constrained mode at the equilibrium: omega " + num(omega_min) +

@@ -209,8 +209,9 @@ TEST(ImplicitStep, TorsionStiffnessEqualsFiniteDifferences) {
 // The step's block (torsion_block_world, torsion_step_block_local):
 //   the paper's torque (T = R_pr): T does not turn with theta, so the block is the exact tangent
 //     less the negative part of its symmetric part, and it is not symmetric on a bent joint. On
-//     the elbow bent 45 degrees about its hinge (k_y = k_z, theta along x) nothing is clipped and
-//     its antisymmetric part is -R_pr diag(k) (W / 2) R_pr^T, of norm sqrt(2) k |theta_x| / 2 (a
+//     the elbow bent 45 degrees about its hinge (k_y = k_z, theta along x; the pose below is 2e-4
+//     rad off it, where the clip removes a part of order 1e-9, below the check's bound) its
+//     antisymmetric part is -R_pr diag(k) (W / 2) R_pr^T, of norm sqrt(2) k |theta_x| / 2 (a
 //     symmetric block dropped it: the beyond_the_paper large-steps rows took 22 steps at dt 1
 //     with it, against 17 with the gradient torque);
 //   gradient torque (T = R_pr J_l^-T): symmetric, the exact tangent up to the second term, the
@@ -268,7 +269,7 @@ TEST(ImplicitStep, TorsionBlockIsTheTorquesTangent) {
         EXPECT_LT(antisymmetric.norm(), 1e-12 * block.norm()) << where;
       } else {
         // no frame turns: the block is the tangent, to the differences' round-off, less the
-        // negative part of its symmetric part (none on the elbow; off the hinge, y alone engaged
+        // negative part of its symmetric part (on the elbow ~1e-9, below the bound; off the hinge, y alone engaged
         // and theta not along y, the tangent's symmetric part is indefinite)
         const Eigen::SelfAdjointEigenSolver<Mat3> sym(0.5 * (exact + exact.transpose()));
         const Mat3 negative = sym.eigenvectors() * sym.eigenvalues().cwiseMin(0.0).asDiagonal() *
@@ -467,11 +468,12 @@ TEST(ImplicitStep, AugmentedInertiaRecursionEqualsADenseSolve) {
 
 // Every pivot of the recursion keeps a positive definite symmetric part at every step length.
 // Pinhead with the paper's torque, posed at random (rotation vectors up to 1.5 rad per axis), at
-// h from 1 ms to 10^4 s: the torsion blocks' symmetric parts are positive semi-definite, so the
-// symmetric part of M + h D + h^2 K is positive definite and so is every Schur complement the
-// recursion forms (its D_i and the root's 6x6). With the tangents unclipped, a pivot's
+// h from 1 ms to 4.8e3 s (by factors of 3): the torsion blocks' symmetric parts are positive
+// semi-definite, so the symmetric part of M + h D + h^2 K is positive definite and so is every
+// Schur complement the recursion forms (its D_i and the root's 6x6). With the tangents unclipped, a pivot's
 // determinant turned negative in 27 of 1000 such poses from h ~ 1 s, and the whole matrix went
-// singular in 4 (implicit_step.h); the clip is exercised here (clipped > 0).
+// singular in 4 (a review's scratch program, implicit_step.h); the clip is exercised here (more
+// than 10 tangents with an indefinite symmetric part).
 TEST(ImplicitStep, EveryPivotKeepsAPositiveDefiniteSymmetricPart) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1.0, 1.0);

@@ -22,6 +22,7 @@ void element_tangents(const Scene& scene, SimState& s) {
     const bool limited = limits[0].limited || limits[1].limited || limits[2].limited;
     if (i == 0 || !limited || p.torsion_k == 0.0) {
       s.torsion_stiffness[i].setZero();
+      s.torsion_block_world[i].setZero();  // torsion_block_world() reads it without the stiffness
       continue;
     }
     const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[i]);

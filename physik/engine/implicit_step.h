@@ -47,11 +47,13 @@
 //       gradient: B = J_l^-T diag(k) J_l^-1, symmetric, the potential's Hessian where the torque
 //                 vanishes;
 //       axes:     B = diag(k) J_l^-1, the exact tangent of the paper's torque in theta, its
-//                 symmetric part's negative eigenvalues clipped (they occur only where the engaged
-//                 axes do not turn with the bend, and could make the step's matrix singular: on
-//                 pinhead, posed at random with rotation vectors up to 1.5 rad per axis, a pivot
-//                 of the recursion turned negative in 27 of 1000 poses from h ~ 1 s and the whole
-//                 matrix went singular in 4 before the clip; tests/implicit_step_test.cpp).
+//                 symmetric part's negative eigenvalues clipped (they occur where an axis that
+//                 is not engaged couples to an engaged one, or the engaged axes' k differ:
+//                 torsion_springs.h; they could make the step's matrix singular: on pinhead,
+//                 posed at random with rotation vectors up to 1.5 rad per axis, a pivot of the
+//                 recursion turned negative in 27 of 1000 poses from h ~ 1 s and the whole matrix
+//                 went singular in 4 before the clip, in an independent review's scratch
+//                 program; tests/implicit_step_test.cpp checks every pivot on 300 such poses).
 //     The tangent's antisymmetric part (-R_pr diag(k) (W / 2) R_pr^T where diag(k) commutes with
 //     W = [theta]x; norm sqrt(2) k |theta_x| / 2 on an elbow bent by theta_x with locked y and z)
 //     is what a symmetric block drops: long steps then converge only as a quasi-Newton iteration

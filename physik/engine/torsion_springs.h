@@ -25,10 +25,11 @@
 // minimises (tune/equilibrium.h). The implicit step linearises `axes` by its tangent in theta
 // (torsion_step_block_local below), which is not symmetric on a bent joint; a symmetric block in
 // its place (R_pr diag(k) R_pr^T, this engine's until it could solve unsymmetric blocks) made
-// long steps on bent joints stall: on 200 pinhead hand targets (a scratch program, not in the
-// repository: ik_comparison's setting with the paper's torque) the solve mode split 886 steps
-// and left 3 unconverged, against 42 split and all converged with the tangent (the gradient
-// torque: 41 and all). `gradient` enters by its Gauss-Newton block (the turn of J_l^-T with theta,
+// long steps on bent joints stall: on ik_comparison's first 200 reachable pinhead hand targets
+// (its session and solve rule with the paper's torque; tests/experiments/solve_mode_test.cpp)
+// the solve mode split 819 steps and left 5 unconverged (up to 214 steps), against 40 split and
+// all converged within 22 steps with the clipped tangent (the same as with the bare tangent
+// there; the gradient torque: 40 and all). `gradient` enters by its Gauss-Newton block (the turn of J_l^-T with theta,
 // times the torque, dropped): its tangent where the torque vanishes.
 #pragma once
 
@@ -64,11 +65,16 @@ Mat3 torsion_torque_frame(const Rig& rig, const EngineParams& params, const Quat
 //   axes:      diag(k) J_l^-1                 (not symmetric on a bent joint)
 //   gradient:  J_l^-T diag(k) J_l^-1          (symmetric, positive semi-definite)
 // For `axes` the symmetric part loses its negative eigenvalues (clipped to 0), keeping the
-// antisymmetric part: where the engaged axes turn with the bend (all three axes, or y and z of
-// an elbow bent about x) that part is already positive semi-definite and the block is the
-// tangent; where they do not (x alone engaged, bent about y: the x-z block of the symmetric part
-// is [k (1 - b theta^2), -k theta / 4; -k theta / 4, 0]) the tangent's symmetric part is
-// indefinite, and with it the step's matrix could be singular at some step length.
+// antisymmetric part. The symmetric part is positive semi-definite, and the block the tangent,
+// where every axis is engaged with one k (it is then k (1 + b W^2), W = [theta]x, eigenvalues
+// 1 - b |theta|^2 > 0 below pi) and on an elbow bent exactly about its free axis. It is
+// indefinite where an axis that is not engaged couples to an engaged one (x alone engaged, bent
+// about y: the x-z block is [k (1 - b theta^2), -k theta / 4; -k theta / 4, 0]; an elbow bent a
+// little off its hinge, by a part second order in the off-hinge angle: -6.7e-6 k at theta =
+// (-0.785, 0.01, 0)) or where the engaged axes' k differ (a capped spring at its secant), and
+// with it the step's matrix could be singular at some step length. So the clip acts during
+// many transients; at a converged elbow it removes nothing, and near it only that second-order
+// part, so long steps still converge as Newton's method there.
 Mat3 torsion_step_block_local(const Vec3& k, const Vec3& theta, TorsionTorque torque);
 
 // J_l(theta)^-T (above).
