@@ -269,8 +269,8 @@ TEST(ImplicitStep, TorsionBlockIsTheTorquesTangent) {
         EXPECT_LT(antisymmetric.norm(), 1e-12 * block.norm()) << where;
       } else {
         // no frame turns: the block is the tangent, to the differences' round-off, less the
-        // negative part of its symmetric part (on the elbow ~1e-9, below the bound; off the hinge, y alone engaged
-        // and theta not along y, the tangent's symmetric part is indefinite)
+        // negative part of its symmetric part (on the elbow ~1e-9, below the bound; off the hinge,
+        // y alone engaged and theta not along y, the tangent's symmetric part is indefinite)
         const Eigen::SelfAdjointEigenSolver<Mat3> sym(0.5 * (exact + exact.transpose()));
         const Mat3 negative = sym.eigenvectors() * sym.eigenvalues().cwiseMin(0.0).asDiagonal() *
                               sym.eigenvectors().transpose();
@@ -467,13 +467,13 @@ TEST(ImplicitStep, AugmentedInertiaRecursionEqualsADenseSolve) {
 }
 
 // Every pivot of the recursion keeps a positive definite symmetric part at every step length.
-// Pinhead with the paper's torque, posed at random (rotation vectors up to 1.5 rad per axis), at
-// h from 1 ms to 4.8e3 s (by factors of 3): the torsion blocks' symmetric parts are positive
+// Pinhead with the paper's torque, posed at random (rotation vectors up to 1.5 rad per axis), at h
+// from 1 ms to 4.8e3 s (by factors of 3): the torsion blocks' symmetric parts are positive
 // semi-definite, so the symmetric part of M + h D + h^2 K is positive definite and so is every
-// Schur complement the recursion forms (its D_i and the root's 6x6). With the tangents unclipped, a pivot's
-// determinant turned negative in 27 of 1000 such poses from h ~ 1 s, and the whole matrix went
-// singular in 4 (a review's scratch program, implicit_step.h); the clip is exercised here (more
-// than 10 tangents with an indefinite symmetric part).
+// Schur complement the recursion forms (its D_i and the root's 6x6). With the tangents unclipped, a
+// pivot's determinant turned negative in 27 of 1000 such poses from h ~ 1 s, and the whole matrix
+// went singular in 4 (a review's scratch program, implicit_step.h); the clip is exercised here
+// (more than 10 tangents with an indefinite symmetric part).
 TEST(ImplicitStep, EveryPivotKeepsAPositiveDefiniteSymmetricPart) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1.0, 1.0);

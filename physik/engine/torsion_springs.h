@@ -24,12 +24,12 @@
 // some closed paths. `gradient` is the force of the potential that `physik equilibrium`
 // minimises (tune/equilibrium.h). The implicit step linearises `axes` by its tangent in theta
 // (torsion_step_block_local below), which is not symmetric on a bent joint; a symmetric block in
-// its place (R_pr diag(k) R_pr^T, this engine's until it could solve unsymmetric blocks) made
-// long steps on bent joints stall: on ik_comparison's first 200 reachable pinhead hand targets
-// (its session and solve rule with the paper's torque; tests/experiments/solve_mode_test.cpp)
-// the solve mode split 819 steps and left 5 unconverged (up to 214 steps), against 40 split and
-// all converged within 22 steps with the clipped tangent (the same as with the bare tangent
-// there; the gradient torque: 40 and all). `gradient` enters by its Gauss-Newton block (the turn of J_l^-T with theta,
+// its place (R_pr diag(k) R_pr^T, this engine's until it could solve unsymmetric blocks) made long
+// steps on bent joints stall: on ik_comparison's first 200 reachable pinhead hand targets (its
+// session and solve rule with the paper's torque; tests/experiments/solve_mode_test.cpp) the solve
+// mode split 819 steps and left 5 unconverged (up to 214 steps), against 40 split and all converged
+// within 22 steps with the clipped tangent (the same as with the bare tangent there; the gradient
+// torque: 40 and all). `gradient` enters by its Gauss-Newton block (the turn of J_l^-T with theta,
 // times the torque, dropped): its tangent where the torque vanishes.
 #pragma once
 

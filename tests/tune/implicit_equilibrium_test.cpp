@@ -91,14 +91,14 @@ TEST(ImplicitEquilibrium, ElbowWithTheGradientTorqueLandsWithin20StepsAtLargeSte
 }
 
 // The mechanism behind the step counts, as a prediction. At dt = 100 a step is nearly
-// x+ = x - K_step^-1 g(x). On the elbow's locked y and z axes (k_y = k_z = k, theta along x at
-// the equilibrium) the paper's torque k d(theta) has the tangent k J_l^-1 (J_l^-1 = I - W/2 +
-// b W^2). A symmetric block k I (this engine's step before its blocks could be unsymmetric) made
-// that a quasi-Newton iteration, contracting by |I - J_l^-1| = sqrt((b theta^2)^2 + (theta / 2)^2)
-// = 0.396 per step at the 45-degree bend (measured: 0.3961 on each of 16 steps, 22 steps to 1e-8
-// at dt 1). The step's block is now the tangent for both torques (implicit_step.h; the clip of
-// the paper's block removes nothing at this equilibrium), so both converge as Newton's method: the locked axes' error falls from its first step's 0.35 to below
-// 1e-8 at the second.
+// x+ = x - K_step^-1 g(x). On the elbow's locked y and z axes (k_y = k_z = k, theta along x at the
+// equilibrium) the paper's torque k d(theta) has the tangent k J_l^-1 (J_l^-1 = I - W/2 + b W^2). A
+// symmetric block k I (this engine's step before its blocks could be unsymmetric) made that a
+// quasi-Newton iteration, contracting by |I - J_l^-1| = sqrt((b theta^2)^2 + (theta / 2)^2) = 0.396
+// per step at the 45-degree bend (measured: 0.3961 on each of 16 steps, 22 steps to 1e-8 at dt 1).
+// The step's block is now the tangent for both torques (implicit_step.h; the clip of the paper's
+// block removes nothing at this equilibrium), so both converge as Newton's method: the locked axes'
+// error falls from its first step's 0.35 to below 1e-8 at the second.
 TEST(ImplicitEquilibrium, LongStepsConvergeAsNewtonsMethodWithEitherTorque) {
   for (const TorsionTorque torque : {TorsionTorque::kAxes, TorsionTorque::kGradient}) {
     Scene s = elbow_scene();
