@@ -15,7 +15,7 @@ SANITIZE_FUZZ_CASES ?= 600
 SANITIZE_ENV = ASAN_OPTIONS=halt_on_error=1:detect_leaks=0:abort_on_error=0 \
 	UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 
-.PHONY: all deps configure build test reproduce bench clean sanitize
+.PHONY: all deps configure build build-cli test reproduce bench clean sanitize
 
 all: build
 
@@ -28,10 +28,14 @@ configure: deps
 build: configure
 	@cmake --build $(BUILD) -j $(JOBS)
 
+# the experiments need only the command-line program (not the tests, benchmarks or Python module)
+build-cli: configure
+	@cmake --build $(BUILD) -j $(JOBS) --target physik_cli
+
 test: build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
-reproduce: build
+reproduce: build-cli
 	@PHYSIK=$(BUILD)/physik PYTHON=$(PYTHON) bash scripts/reproduce.sh
 
 bench: build
