@@ -5,6 +5,7 @@
 
 #include "cli/commands.h"
 #include "physik/model/errors.h"
+#include "physik/model/version.h"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -12,6 +13,7 @@ int main(int argc, char** argv) {
       "Ceres tuning, classic IK baselines).\nExit status: 0 ok, 2 bad input, 3 diverged run."};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Show help for every command");
+  app.set_version_flag("--version", physik::kVersion, "Print the version and exit");
   physik::cli::add_rig_commands(app);
   physik::cli::add_interchange_commands(app);
   physik::cli::add_experiment_commands(app);
@@ -26,6 +28,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     app.exit(e);  // prints the usage error

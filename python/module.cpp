@@ -1,11 +1,13 @@
 // physik._core: the compiled half of `import physik` (issue 16). Thin bindings of the public
 // headers, one file per area; the pure-Python half (python/physik/) adds the exceptions, the
 // Pose wrapper, the keyword-friendly functions and the Dask sweeps.
+#include "physik/model/version.h"
 #include "python/bind_common.h"
 
 PYBIND11_MODULE(_core, m) {
   namespace py = pybind11;
   m.doc() = "The PhysIK testbed's C++ core (use the `physik` package, not this module).";
+  m.attr("__version__") = physik::kVersion;  // the one definition, as `physik --version`
   physik::python::register_errors(m);
   physik::python::bind_model(m);
   physik::python::bind_simulation(m);

@@ -17,6 +17,7 @@ Names (each has its own docstring):
   export_mjcf(rig), compare_mujoco(scene, mode)             the MuJoCo reference
   tune(scene, params, objective), equilibrium(scene)        Ceres
   InputError (a ValueError), DivergedError                  errors
+  __version__                                               `physik --version`
   physik.sweep                                              grids of runs on Dask (python3 -m physik.sweep)
 
 Conventions (README "Conventions"): world Z up, rig units, kg, s, radians; arrays per bone in
@@ -27,7 +28,7 @@ from collections import namedtuple
 
 from .errors import DivergedError, InputError
 from . import _core
-from ._core import Rig, Scene, compare_mujoco, export_mjcf, param_table
+from ._core import Rig, Scene, __version__, compare_mujoco, export_mjcf, param_table
 
 __all__ = ["Rig", "Scene", "param_table", "Simulation", "Pose", "SolveResult", "solve", "export_mjcf",
            "compare_mujoco", "tune", "equilibrium", "InputError", "DivergedError"]

@@ -6,6 +6,7 @@ import csv
 import glob
 import json
 import os
+import re
 import subprocess
 import sys
 
@@ -307,3 +308,17 @@ def test_fig6_example_reproduces_the_experiment(tmp):
         final, peak = float(lines[law][1]), float(lines[law][2])
         assert abs(final - cases["near_" + law]["final_overbend_deg"]) < 1e-9
         assert abs(peak - cases["near_" + law]["peak_overbend_deg"]) < 1e-9
+
+
+def test_version_is_the_clis_from_one_definition():
+    status, out, err = cli("--version")
+    assert status == 0, err
+    assert out == physik.__version__ + "\n"
+    assert re.fullmatch(r"\d+\.\d+\.\d+", physik.__version__)
+    # the one definition both read (physik/model/version.h)
+    with open(os.path.join(SOURCE_DIR, "physik", "model", "version.h")) as f:
+        defined = re.findall(r'kVersion\[\] = "([^"]*)"', f.read())
+    assert defined == [physik.__version__]
+    # before a command too, and listed in the help
+    assert cli("--version", "params")[:2] == (0, out)
+    assert "--version" in cli("--help")[1]
