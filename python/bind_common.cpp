@@ -3,6 +3,7 @@
 #include <cstdint>
 
 #include "physik/model/errors.h"
+#include "physik/model/joint_angles.h"
 
 namespace physik::python {
 
@@ -70,18 +71,38 @@ py::object from_json(const nlohmann::json& v) {
   }
 }
 
+namespace {
+
+// NumPy's own constructor with the dimensions on the stack: py::array's takes them in vectors,
+// which would be C++ allocations on every read of a view (the posing session reads its pose
+// each frame). Not writeable from the start; the owner is the array's base, kept alive by it.
+py::array view_of(const double* data, int ndim, const Py_intptr_t* dims,
+                  const Py_intptr_t* strides, py::handle owner) {
+  auto& api = py::detail::npy_api::get();
+  py::object a = py::reinterpret_steal<py::object>(api.PyArray_NewFromDescr_(
+      api.PyArray_Type_, py::dtype::of<double>().release().ptr(), ndim,
+      const_cast<Py_intptr_t*>(dims), const_cast<Py_intptr_t*>(strides),
+      const_cast<double*>(data), 0, nullptr));
+  if (!a) throw py::error_already_set();
+  if (api.PyArray_SetBaseObject_(a.ptr(), owner.inc_ref().ptr()) != 0) {
+    throw py::error_already_set();
+  }
+  return py::reinterpret_steal<py::array>(a.release());
+}
+
+}  // namespace
+
 py::array readonly_view(const double* data, py::ssize_t rows, py::ssize_t cols,
                         py::ssize_t row_stride, py::handle owner) {
-  py::array a(py::dtype::of<double>(), {rows, cols},
-              {row_stride, static_cast<py::ssize_t>(sizeof(double))}, data, owner);
-  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
-  return a;
+  const Py_intptr_t dims[2] = {rows, cols};
+  const Py_intptr_t strides[2] = {row_stride, static_cast<Py_intptr_t>(sizeof(double))};
+  return view_of(data, 2, dims, strides, owner);
 }
 
 py::array readonly_view(const double* data, py::ssize_t n, py::handle owner) {
-  py::array a(py::dtype::of<double>(), {n}, {static_cast<py::ssize_t>(sizeof(double))}, data, owner);
-  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
-  return a;
+  const Py_intptr_t dims[1] = {n};
+  const Py_intptr_t strides[1] = {static_cast<Py_intptr_t>(sizeof(double))};
+  return view_of(data, 1, dims, strides, owner);
 }
 
 namespace {
@@ -101,13 +122,23 @@ const double* quat_data(const Quat& q) { return q.coeffs().data(); }
 
 }  // namespace
 
-py::dict pose_arrays(const BoneFrames& frames, const Pose& pose) {
+py::tuple joint_angle_arrays(const Rig& rig, const Pose& pose, std::vector<Vec3>& angles,
+                             std::vector<Vec3>& excess) {
+  joint_angles_and_excess(rig, pose, angles, excess);
+  return py::make_tuple(rows_copy<Vec3, 3>(angles, vec_data), rows_copy<Vec3, 3>(excess, vec_data));
+}
+
+py::dict pose_arrays(const Rig& rig, const BoneFrames& frames, const Pose& pose) {
   py::dict d;
   d["heads"] = rows_copy<Vec3, 3>(frames.head_world, vec_data);
   d["tails"] = rows_copy<Vec3, 3>(frames.tail_world, vec_data);
   d["orientations"] = rows_copy<Quat, 4>(frames.orient_world, quat_data);
   d["local_rotations"] = rows_copy<Quat, 4>(pose.bone_local_rotation, quat_data);
   d["root_head"] = py::array_t<double>(3, pose.root_head_world.data());
+  std::vector<Vec3> angles, excess;
+  const py::tuple a = joint_angle_arrays(rig, pose, angles, excess);
+  d["joint_angles"] = a[0];
+  d["limit_excess"] = a[1];
   return d;
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -28,8 +29,14 @@ py::array readonly_view(const double* data, py::ssize_t rows, py::ssize_t cols,
 py::array readonly_view(const double* data, py::ssize_t n, py::handle owner);
 
 // A pose as numpy copies: {"heads": (n,3), "tails": (n,3), "orientations": (n,4) world<-bone,
-// "local_rotations": (n,4) rest-relative in the bone frame, both (x, y, z, w), "root_head": (3,)}.
-py::dict pose_arrays(const BoneFrames& frames, const Pose& pose);
+// "local_rotations": (n,4) rest-relative in the bone frame, both (x, y, z, w), "root_head": (3,),
+// "joint_angles": (n,3), "limit_excess": (n,3) (physik/model/joint_angles.h)}.
+py::dict pose_arrays(const Rig& rig, const BoneFrames& frames, const Pose& pose);
+
+// (joint_angles, limit_excess) of `pose` as new (nbone, 3) arrays, rad (joint_angles.h),
+// computed in the caller's scratch vectors (no C++ allocation once they are sized).
+py::tuple joint_angle_arrays(const Rig& rig, const Pose& pose, std::vector<Vec3>& angles,
+                             std::vector<Vec3>& excess);
 
 // C++ errors as the package's Python exceptions (physik.errors): InputError, DivergedError.
 void register_errors(py::module_& m);
@@ -39,5 +46,6 @@ void bind_simulation(py::module_& m);  // Simulation
 void bind_solve(py::module_& m);       // solve
 void bind_reference(py::module_& m);   // export_mjcf, compare_mujoco
 void bind_tune(py::module_& m);        // tune, equilibrium
+void bind_posing(py::module_& m);      // PosingSession
 
 }  // namespace physik::python

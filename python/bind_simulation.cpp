@@ -3,8 +3,11 @@
 // fill_final_state), so Simulation(scene).run() gives run_scene's summary, bit for bit.
 // The pose is read through numpy views of the SimState's arrays (no copy): the vectors are sized
 // once by init_state and never reallocated, and each view keeps the Simulation alive.
+// run(record_every=N) keeps `physik simulate --every N`'s trajectory.csv rows as arrays.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "physik/engine/engine.h"
 #include "physik/engine/run_monitor.h"
@@ -18,6 +21,81 @@ namespace {
 
 static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 arrays must be packed doubles");
 static_assert(sizeof(Quat) == 4 * sizeof(double), "Quat arrays must be packed doubles (x, y, z, w)");
+
+// The rows of Simulation.run(record_every=N): trajectory.csv's (physik/io/recorder.h), as
+// arrays. A row for the state the run starts from, then step k when k % N == 0 or k is the
+// scene's last step (RowRule::kEveryAndLast); a row with a non-finite value is left out, as the
+// table leaves it out.
+struct TrajectoryRows {
+  int every = 0;  // N; 0 = not recording
+  std::vector<int> steps, passes;
+  std::vector<double> times, kinetic_energy, mismatch, separation;
+  std::vector<double> residuals, heads, tails;  // per row: ncontrol, 3 nbone, 3 nbone values
+  std::vector<double> res;                      // scratch: one row's residuals
+
+  bool wants(const Scene& scene, int step) const {
+    return every > 0 && (step % every == 0 || step == scene.steps);
+  }
+
+  void add(const Scene& scene, const SimState& s, const StepStats& st) {
+    control_residuals(scene, s, res);
+    const auto finite = [](const std::vector<Vec3>& v) {
+      for (const Vec3& x : v) {
+        if (!x.allFinite()) return false;
+      }
+      return true;
+    };
+    bool ok = std::isfinite(s.time) && std::isfinite(st.kinetic_energy) &&
+              std::isfinite(st.mismatch) && std::isfinite(st.joint_separation) &&
+              finite(s.frames.head_world) && finite(s.frames.tail_world);
+    for (double r : res) ok = ok && std::isfinite(r);
+    if (!ok) return;
+    steps.push_back(s.step);
+    passes.push_back(st.passes);
+    times.push_back(s.time);
+    kinetic_energy.push_back(st.kinetic_energy);
+    mismatch.push_back(st.mismatch);
+    separation.push_back(st.joint_separation);
+    residuals.insert(residuals.end(), res.begin(), res.end());
+    for (int i = 0; i < scene.rig.nbone; ++i) {
+      heads.insert(heads.end(), s.frames.head_world[i].data(), s.frames.head_world[i].data() + 3);
+      tails.insert(tails.end(), s.frames.tail_world[i].data(), s.frames.tail_world[i].data() + 3);
+    }
+  }
+
+  // the state a run starts from: no step taken (no passes, no mismatch)
+  void add_start(const Scene& scene, const SimState& s) {
+    StepStats st;
+    st.kinetic_energy = physik::kinetic_energy(scene.rig, s);  // the member hides the function
+    st.joint_separation = max_joint_separation(scene.rig, s.frames);
+    add(scene, s, st);
+  }
+};
+
+template <typename T>
+py::array_t<T> array_of(const std::vector<T>& v, std::vector<py::ssize_t> shape) {
+  py::array_t<T> a(shape);
+  std::copy(v.begin(), v.end(), a.mutable_data());
+  return a;
+}
+
+// The recorded rows as {name: array} (Python's Trajectory namedtuple takes them as keywords).
+py::dict trajectory_dict(const Scene& scene, const TrajectoryRows& t) {
+  const py::ssize_t rows = static_cast<py::ssize_t>(t.steps.size());
+  const py::ssize_t nc = static_cast<py::ssize_t>(scene.control_points.size());
+  const py::ssize_t nb = scene.rig.nbone;
+  py::dict d;
+  d["steps"] = array_of(t.steps, {rows});
+  d["times"] = array_of(t.times, {rows});
+  d["kinetic_energy"] = array_of(t.kinetic_energy, {rows});
+  d["passes"] = array_of(t.passes, {rows});
+  d["joint_mismatch"] = array_of(t.mismatch, {rows});
+  d["joint_separation"] = array_of(t.separation, {rows});
+  d["residuals"] = array_of(t.residuals, {rows, nc});
+  d["heads"] = array_of(t.heads, {rows, nb, 3});
+  d["tails"] = array_of(t.tails, {rows, nb, 3});
+  return d;
+}
 
 struct Simulation {
   explicit Simulation(const Scene& s) : scene(s), monitor(scene) {  // the monitor keeps &scene
@@ -37,6 +115,7 @@ struct Simulation {
     // and the rig at rest; a NaN fails both comparisons
     const bool settled = last.max_residual <= rtol && std::sqrt(2.0 * last.kinetic_energy / mass) < vtol;
     if (!settled) last_unsettled = state.step;
+    if (trajectory.wants(scene, state.step)) trajectory.add(scene, state, last);
   }
 
   // up to n steps (fewer once the run stops); the GIL is released by the caller
@@ -70,6 +149,8 @@ struct Simulation {
   double wall_s = 0.0;
   int last_unsettled = 0;
   double rtol = 0.0, vtol = 0.0, mass = 1.0;
+  TrajectoryRows trajectory;           // run(record_every=N)'s rows while it runs
+  std::vector<Vec3> angles, excess;    // scratch of the pose's joint angles
 };
 
 py::dict stats_dict(const StepStats& st) {
@@ -86,6 +167,7 @@ py::dict stats_dict(const StepStats& st) {
 }  // namespace
 
 void bind_simulation_running(py::class_<Simulation>& cls);
+void bind_simulation_views(py::class_<Simulation>& cls);
 void bind_simulation_state(py::class_<Simulation>& cls);
 
 void bind_simulation(py::module_& m) {
@@ -111,10 +193,11 @@ The run stops for good when it diverges, or when it converges and the scene says
 (convergence.stop_when_converged / stop_at_residual_tol); later step() calls take no step.
 A Simulation is not thread-safe; step() and run() release the GIL while the engine runs.)doc");
   bind_simulation_running(cls);
+  bind_simulation_views(cls);
   bind_simulation_state(cls);
 }
 
-// construction, step, run and the pose views
+// construction, step, run and the summary
 void bind_simulation_running(py::class_<Simulation>& cls) {
   cls
       .def(py::init<const Scene&>(), py::arg("scene"))
@@ -136,26 +219,37 @@ void bind_simulation_running(py::class_<Simulation>& cls) {
 Steps past the scene's step count are allowed (a live simulation). With raise_on_divergence, a
 diverged run raises DivergedError (the summary still says why).)doc")
       .def(
-          "run",
-          [](Simulation& s, bool raise_on_divergence) {
+          "_run",
+          [](Simulation& s, bool raise_on_divergence, long record_every) -> py::object {
+            if (record_every < 0) {
+              throw_input_error("run", "", "record_every", "must not be negative");
+            }
+            s.trajectory = TrajectoryRows{};
+            s.trajectory.every =
+                static_cast<int>(std::min<long>(record_every, std::numeric_limits<int>::max()));
+            if (record_every > 0) s.trajectory.add_start(s.scene, s.state);
             {
               py::gil_scoped_release release;
               s.advance_n(0, true);
             }
+            const TrajectoryRows rows = std::move(s.trajectory);
+            s.trajectory = TrajectoryRows{};  // later step() calls record nothing
             s.raise_if_diverged(raise_on_divergence);
-            return from_json(summary_to_json(s.scene, s.summary()));
+            py::object summary = from_json(summary_to_json(s.scene, s.summary()));
+            if (record_every == 0) return summary;
+            return py::make_tuple(summary, trajectory_dict(s.scene, rows));
           },
-          py::arg("raise_on_divergence") = false,
-          R"doc(Run to the scene's step count (or until the run stops) and return the summary.
-
-From a fresh Simulation this is `physik simulate SCENE`: the same summary.json keys and values
-(and final_state_hash), wall_time_s aside. Divergence is the summary's "diverged" flag; with
-raise_on_divergence it raises DivergedError instead.)doc")
+          py::arg("raise_on_divergence"), py::arg("record_every"),
+          "Simulation.run's C++ half: the summary, or (summary, trajectory arrays).")
       .def_property_readonly(
           "summary", [](const Simulation& s) { return from_json(summary_to_json(s.scene, s.summary())); },
           "The run so far as `physik simulate`'s summary.json (a dict); wall_time_s counts the time "
-          "spent in the constructor, step() and run().")
-      .def(
+          "spent in the constructor, step() and run().");
+}
+
+// the pose: numpy views of the state, and its joint angles
+void bind_simulation_views(py::class_<Simulation>& cls) {
+  cls.def(
           "_views",
           [](py::object self) {
             Simulation& s = self.cast<Simulation&>();
@@ -168,7 +262,13 @@ raise_on_divergence it raises DivergedError instead.)doc")
                 readonly_view(s.state.pose.bone_local_rotation[0].coeffs().data(), n, 4, sizeof(Quat), self),
                 readonly_view(s.state.pose.root_head_world.data(), 3, self));
           },
-          "(heads, tails, orientations, local_rotations, root_head) as read-only numpy views.");
+          "(heads, tails, orientations, local_rotations, root_head) as read-only numpy views.")
+      .def(
+          "_joint_angles",
+          [](Simulation& s) {
+            return joint_angle_arrays(s.scene.rig, s.state.pose, s.angles, s.excess);
+          },
+          "(joint_angles, limit_excess) of the state's pose now, as new (nbone, 3) arrays.");
 }
 
 // what the run has reached: its scene, step count, time and the monitor's verdicts

@@ -39,7 +39,7 @@ void bind_solve(py::module_& m) {
         if (raise_on_divergence && r.diverged) {
           throw DivergedRun(r.summary.value("divergence_reason", std::string("diverged")));
         }
-        return py::make_tuple(from_json(r.summary), pose_arrays(r.frames, r.pose));
+        return py::make_tuple(from_json(r.summary), pose_arrays(scene.rig, r.frames, r.pose));
       },
       py::arg("scene"), py::arg("solver"), py::arg("tol"), py::arg("max_iterations"),
       py::arg("lambda_"), py::arg("jacobian"), py::arg("gravity"), py::arg("rotation_damping"),

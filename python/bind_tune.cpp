@@ -85,7 +85,7 @@ void bind_tune(py::module_& m) {
           rep = tune::equilibrium_report(scene, start, compare);
         }
         py::dict doc = from_json(rep.doc);
-        return py::make_tuple(doc, pose_arrays(rep.result.frames, rep.result.pose));
+        return py::make_tuple(doc, pose_arrays(scene.rig, rep.result.frames, rep.result.pose));
       },
       py::arg("scene"), py::arg("start"), py::arg("compare"), "physik.equilibrium's C++ half.");
 }

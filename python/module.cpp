@@ -14,4 +14,5 @@ PYBIND11_MODULE(_core, m) {
   physik::python::bind_solve(m);
   physik::python::bind_reference(m);
   physik::python::bind_tune(m);
+  physik::python::bind_posing(m);
 }

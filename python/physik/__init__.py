@@ -13,6 +13,8 @@ Names (each has its own docstring):
   Scene.load(path, overrides, steps), Scene.from_dict(d)    scenes; Scene.update(params=...)
   param_table()                                             the parameters (`physik params --json`)
   Simulation(scene): .step(n), .run(), .pose, .summary      the engine, stepped from Python
+  Simulation.run(record_every=N)                            and its trajectory as arrays
+  PosingSession(scene): .set_target, .advance, .solve, .pose  the engine embedded in a tool
   solve(scene, solver)                                      `physik solve`
   export_mjcf(rig), compare_mujoco(scene, mode)             the MuJoCo reference
   tune(scene, params, objective), equilibrium(scene)        Ceres
@@ -28,10 +30,13 @@ from collections import namedtuple
 
 from .errors import DivergedError, InputError
 from . import _core
-from ._core import Rig, Scene, __version__, compare_mujoco, export_mjcf, param_table
+from ._core import (PosingSolveResult, Rig, Scene, __version__, compare_mujoco, export_mjcf,
+                    param_table, solve_mode_rule)
 
-__all__ = ["Rig", "Scene", "param_table", "Simulation", "Pose", "SolveResult", "solve", "export_mjcf",
-           "compare_mujoco", "tune", "equilibrium", "InputError", "DivergedError"]
+__all__ = ["Rig", "Scene", "param_table", "Simulation", "Pose", "Trajectory", "RunResult",
+           "PosingSession", "PosingSolveResult", "solve_mode_rule", "SolveResult", "solve",
+           "export_mjcf", "compare_mujoco", "tune", "equilibrium", "InputError", "DivergedError",
+           "__version__"]
 
 
 class Pose:
@@ -43,9 +48,18 @@ class Pose:
                         engine's Pose, Blender's pose-bone rotation), quaternions (x, y, z, w)
     root_head           (3,) the root bone's head, world, rig units
     bone_names          the rig's bone names, same order
+    joint_angles        (nbone, 3) each local rotation's rotation vector (its log map), rad:
+                        component k is the angle about the bone's rest axis k that the rig's
+                        limit on axis k bounds, as the torsion springs measure it (|angle| <= pi)
+    limit_excess        (nbone, 3) how far each angle is past its limit, rad, signed: angle - max
+                        above the max, angle - min (negative) below the min, 0 within the limits,
+                        on a free axis and on the root; max |limit_excess| is the summary's
+                        max_limit_violation_deg (in rad)
 
-    From Simulation.pose the arrays are read-only views of the live state: they follow every
-    step() without being fetched again. From solve() and equilibrium() they are copies.
+    From Simulation.pose and PosingSession.pose the arrays are read-only views of the live state:
+    they follow every step without being fetched again; joint_angles and limit_excess are
+    computed from the state each time they are read (new arrays). From solve() and equilibrium()
+    every array is a copy.
     """
 
     __slots__ = {
@@ -55,16 +69,36 @@ class Pose:
         "local_rotations": "(nbone, 4) rest-relative rotations in the bone's rest frame, (x, y, z, w)",
         "root_head": "(3,) the root bone's head, world, rig units",
         "bone_names": "bone names, DFS order",
+        "_angles": "(joint_angles, limit_excess), or a function that computes them now",
     }
 
-    def __init__(self, heads, tails, orientations, local_rotations, root_head, bone_names):
-        """A Pose of the given arrays (Simulation.pose, solve() and equilibrium() build them)."""
+    def __init__(self, heads, tails, orientations, local_rotations, root_head, bone_names,
+                 angles=None):
+        """A Pose of the given arrays (Simulation.pose, PosingSession.pose, solve() and
+        equilibrium() build them); angles: (joint_angles, limit_excess), or a function returning
+        them for a live pose."""
         self.heads = heads
         self.tails = tails
         self.orientations = orientations
         self.local_rotations = local_rotations
         self.root_head = root_head
         self.bone_names = bone_names
+        self._angles = angles
+
+    def _angle_arrays(self):
+        if self._angles is None:
+            raise AttributeError("this Pose was built without its joint angles")
+        return self._angles() if callable(self._angles) else self._angles
+
+    @property
+    def joint_angles(self):
+        """(nbone, 3) rotation vectors of the local rotations, rad, per rest axis x, y, z."""
+        return self._angle_arrays()[0]
+
+    @property
+    def limit_excess(self):
+        """(nbone, 3) signed excess of each joint angle past its limit, rad (0 within it)."""
+        return self._angle_arrays()[1]
 
     def as_blender(self):
         """(root_head_world [x, y, z], {bone name: (w, x, y, z)}): the pose as the Blender
@@ -79,7 +113,27 @@ class Pose:
 
 def _pose_from_arrays(arrays, bone_names):
     return Pose(arrays["heads"], arrays["tails"], arrays["orientations"],
-                arrays["local_rotations"], arrays["root_head"], bone_names)
+                arrays["local_rotations"], arrays["root_head"], bone_names,
+                (arrays["joint_angles"], arrays["limit_excess"]))
+
+
+Trajectory = namedtuple("Trajectory", ["steps", "times", "kinetic_energy", "passes",
+                                       "joint_mismatch", "joint_separation", "residuals",
+                                       "heads", "tails"])
+Trajectory.__doc__ = """Simulation.run(record_every=N)'s trajectory: `physik simulate --every N`'s
+trajectory.csv as numpy arrays, one row per recorded state, in step order.
+
+steps (rows,) int, times (rows,) s, kinetic_energy (rows,) J, passes (rows,) int (joint passes
+of the step), joint_mismatch (rows,) rig units/s^2, joint_separation (rows,) rig units,
+residuals (rows, ncontrol) each control point's distance to its goal target, rig units,
+heads and tails (rows, nbone, 3) world, rig units. The first row is the state run() started from
+(step 0 for a fresh Simulation: no step taken, so passes and joint_mismatch are 0); then every
+N-th step and the scene's last step. A row with a non-finite value (a diverging state) is left
+out, as the CSV leaves it out."""
+
+RunResult = namedtuple("RunResult", ["summary", "trajectory"])
+RunResult.__doc__ = """Simulation.run(record_every=N)'s result: summary (`physik simulate`'s
+summary.json as a dict) and trajectory (a Trajectory)."""
 
 
 class Simulation(_core.Simulation):
@@ -92,15 +146,67 @@ class Simulation(_core.Simulation):
         super().__init__(scene)
         self._bone_names = scene.rig.bone_names
 
+    def run(self, raise_on_divergence=False, record_every=0):
+        """Run to the scene's step count (or until the run stops) and return the summary.
+
+        From a fresh Simulation this is `physik simulate SCENE`: the same summary.json keys and
+        values (and final_state_hash), wall_time_s aside. Divergence is the summary's "diverged"
+        flag; with raise_on_divergence it raises DivergedError instead.
+
+        record_every=N (N >= 1) also keeps `physik simulate --every N`'s trajectory and returns
+        RunResult(summary, trajectory) (see Trajectory): a row for the state the run starts from,
+        then every N-th step and the scene's last. 0 (the default) keeps none and returns the
+        summary alone."""
+        out = self._run(raise_on_divergence, record_every)
+        if not record_every:
+            return out
+        summary, arrays = out
+        return RunResult(summary, Trajectory(**arrays))
+
     @property
     def pose(self):
         """The current pose as read-only numpy views of the state (a Pose; no copy).
 
         The views stay valid, and follow the state, for as long as they are referenced (each keeps
         this Simulation alive); writing to them raises ValueError. Orientations and local
-        rotations are quaternions (x, y, z, w). Copy (numpy.array(view)) to keep a snapshot."""
+        rotations are quaternions (x, y, z, w). Copy (numpy.array(view)) to keep a snapshot.
+        joint_angles and limit_excess are computed from the state when read."""
         heads, tails, orient, local, root = self._views()
-        return Pose(heads, tails, orient, local, root, self._bone_names)
+        return Pose(heads, tails, orient, local, root, self._bone_names, self._joint_angles)
+
+
+class PosingSession(_core.PosingSession):
+    __doc__ = _core.PosingSession.__doc__
+
+    def __init__(self, scene, solve_mode=False):
+        """Hold `scene` (a physik.Scene, copied) open in its initial pose; solve_mode=True gives
+        it the solve mode's engine settings (integration implicit, torsion_torque gradient)."""
+        if isinstance(scene, dict):
+            raise TypeError("PosingSession(scene) takes a physik.Scene; use Scene.from_dict(d) "
+                            "for a dict")
+        super().__init__(scene, solve_mode)
+        self._bone_names = scene.rig.bone_names
+
+    def set_pose(self, pose, root_head=None):
+        """Put a pose in, at rest: a Pose (its local_rotations and root_head), or (nbone, 4)
+        local rotations (x, y, z, w) and root_head (3,). The targets stay; each control point's
+        pull starts again from its point on the new pose. A wrong shape or a rotation that is not
+        a finite unit quaternion raises InputError."""
+        if isinstance(pose, Pose):
+            if root_head is not None:
+                raise TypeError("set_pose(pose): a Pose carries its own root_head")
+            self._set_pose(pose.local_rotations, pose.root_head)
+        elif root_head is None:
+            raise TypeError("set_pose(local_rotations, root_head): root_head is missing")
+        else:
+            self._set_pose(pose, root_head)
+
+    @property
+    def pose(self):
+        """The session's pose as read-only numpy views of its state (a Pose; no copy), as
+        Simulation.pose: they follow set_target, set_pose, advance and solve."""
+        heads, tails, orient, local, root = self._views()
+        return Pose(heads, tails, orient, local, root, self._bone_names, self._joint_angles)
 
 
 SolveResult = namedtuple("SolveResult", ["summary", "pose"])
@@ -158,3 +264,4 @@ def equilibrium(scene, *, start="initial", compare=False, with_pose=False):
     if with_pose:
         return doc, _pose_from_arrays(arrays, scene.rig.bone_names)
     return doc
+

@@ -136,3 +136,52 @@ def test_run_releases_the_gil():
     t.join()
     assert sim.step_count == 3000
     assert any(0 < k < 3000 for k in seen), sorted(seen)
+
+
+def log_map(quaternions):
+    """Rotation vectors of (n, 4) unit quaternions (x, y, z, w), angle in [0, pi]."""
+    q = np.where(quaternions[:, 3:4] < 0.0, -quaternions, quaternions)
+    s = np.linalg.norm(q[:, :3], axis=1)
+    angle = 2.0 * np.arctan2(s, q[:, 3])
+    scale = np.where(s > 1e-12, angle / np.where(s > 1e-12, s, 1.0), 2.0)
+    return q[:, :3] * scale[:, None]
+
+
+def limit_excess(rig, angles):
+    """Each angle's signed excess past the rig's limit on its axis (rig.to_dict's limits_deg)."""
+    out = np.zeros_like(angles)
+    for i, bone in enumerate(rig.to_dict()["bones"]):
+        if bone["parent"] is None:
+            continue  # the root is never limited
+        for k, axis in enumerate("xyz"):
+            if axis in bone.get("limits_deg", {}):
+                lo, hi = np.radians(bone["limits_deg"][axis])
+                a = angles[i, k]
+                out[i, k] = a - hi if a > hi else a - lo if a < lo else 0.0
+    return out
+
+
+def test_joint_angles_are_the_log_map_and_their_excess_past_the_limits(sim):
+    pose = sim.pose
+    assert np.array_equal(pose.joint_angles, np.zeros((sim.scene.rig.nbone, 3)))  # at rest
+    sim.step(60)
+    angles, excess = pose.joint_angles, pose.limit_excess  # read now: the state after 60 steps
+    assert angles.shape == excess.shape == (sim.scene.rig.nbone, 3)
+    assert np.allclose(angles, log_map(np.array(pose.local_rotations)), atol=1e-12, rtol=0)
+    assert np.abs(angles).max() > 0.1
+    assert np.allclose(excess, limit_excess(sim.scene.rig, angles), atol=1e-12, rtol=0)
+    assert np.degrees(np.abs(excess).max()) <= sim.summary["max_limit_violation_deg"] + 1e-9
+    sim.step(5)
+    assert not np.array_equal(pose.joint_angles, angles)  # computed from the state when read
+
+
+def test_a_pose_past_its_limits_reports_the_excess():
+    # CCD without limits bends the pinhead past them; the largest excess is the summary's
+    scene = physik.Scene.load(scene_path("pinhead_two_hands"))
+    result = physik.solve(scene, "ccd", no_limits=True)
+    excess = result.pose.limit_excess
+    assert result.summary["max_limit_violation_deg"] > 1.0
+    assert abs(np.degrees(np.abs(excess).max()) - result.summary["max_limit_violation_deg"]) < 1e-9
+    expected = limit_excess(scene.rig, result.pose.joint_angles)
+    assert np.allclose(excess, expected, atol=1e-12, rtol=0)
+    assert np.array_equal(excess[0], np.zeros(3))
