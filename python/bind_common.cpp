@@ -1,5 +1,6 @@
 #include "python/bind_common.h"
 
+#include <algorithm>
 #include <cstdint>
 
 #include "physik/model/errors.h"
@@ -142,6 +143,23 @@ py::dict pose_arrays(const Rig& rig, const BoneFrames& frames, const Pose& pose)
   return d;
 }
 
+namespace {
+
+// The CLI names an option by its flag ("--max-dt: must be ..."); Python by its keyword
+// ("max_dt: must be ..."). The messages the shared C++ writes for the CLI's flags (physik solve's
+// options, tune's) get the keyword in place of a leading flag.
+std::string python_wording(const char* what) {
+  const std::string m = what;
+  if (m.rfind("--", 0) != 0) return m;
+  const std::size_t end = std::min(m.find_first_of(": ", 2), m.size());
+  std::string name = m.substr(2, end - 2);
+  std::replace(name.begin(), name.end(), '-', '_');
+  if (name == "lambda") name = "lambda_";  // physik.solve's keyword (lambda is Python's)
+  return name + m.substr(end);
+}
+
+}  // namespace
+
 void register_errors(py::module_& m) {
   // the classes live in pure Python (physik/errors.py); leaked on purpose: they must outlive
   // every translation, including those during interpreter shutdown
@@ -154,7 +172,7 @@ void register_errors(py::module_& m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const InputError& e) {
-      PyErr_SetString(input_error, e.what());
+      PyErr_SetString(input_error, python_wording(e.what()).c_str());
     } catch (const DivergedRun& e) {
       PyErr_SetString(diverged_error, e.what());
     }

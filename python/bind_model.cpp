@@ -143,7 +143,8 @@ void bind_scene_reading(py::class_<Scene>& cls) {
       .def_static(
           "load",
           [](const std::string& path, py::object overrides, int steps) {
-            // exactly `--set key=value`: the same parsing, checks and messages
+            // exactly `--set key=value`: the same parsing, checks and messages, with the
+            // keyword, "overrides", as their source
             std::vector<std::string> assignments;
             if (py::isinstance<py::dict>(overrides)) {
               for (const auto& kv : overrides.cast<py::dict>()) {
@@ -156,9 +157,9 @@ void bind_scene_reading(py::class_<Scene>& cls) {
             } else if (!overrides.is_none()) {
               assignments = overrides.cast<std::vector<std::string>>();
             }
-            Scene s = load_scene(path, parse_param_overrides(assignments, "--set"));
+            Scene s = load_scene(path, parse_param_overrides(assignments, "overrides"));
             // as `simulate --steps N`: negative is bad input, 0 keeps the scene's
-            if (steps < 0) throw_input_error("--steps", "", "", "must not be negative");
+            if (steps < 0) throw_input_error("steps", "", "", "must not be negative");
             if (steps > 0) s.steps = steps;
             return s;
           },
@@ -167,7 +168,7 @@ void bind_scene_reading(py::class_<Scene>& cls) {
 
 overrides: a dict {param: value} or a list of "key=value" strings: `--set`, merged into the file's
 params before the scene is read (control points that take their k, spring or cap from the params
-follow; "preset" swaps the base preset); an unknown key raises InputError naming --set.
+follow; "preset" swaps the base preset); an unknown key raises InputError naming overrides.
 steps: replaces the scene's step count (0 keeps it, as --steps). Relative rig paths resolve against the scene's folder.)doc")
       .def_static(
           "from_dict",

@@ -11,9 +11,9 @@ void bind_reference(py::module_& m) {
   m.def(
       "export_mjcf",
       [](const Rig& rig, const std::string& joints, double dt) {
-        if (!(dt > 0.0)) throw_input_error("--dt", "", "", "must be positive");
+        if (!(dt > 0.0)) throw_input_error("dt", "", "", "must be positive");
         if (joints != "rig" && joints != "ball") {
-          throw_input_error("--joints", "", "", "unknown value '" + joints + "' (expected rig|ball)");
+          throw_input_error("joints", "", "", "unknown value '" + joints + "' (expected rig|ball)");
         }
         MjcfOptions o;
         o.joints = joints == "ball" ? JointModel::kBallJoints : JointModel::kRigJoints;
@@ -34,7 +34,7 @@ ball at every bone, no limits: the same-forces model); dt: the model's time step
       [](const Scene& scene, const std::string& mode) {
         const bool short_name = mode == "same-forces" || mode == "exact-constraints";
         const std::string spec = short_name ? "mujoco:" + mode : mode;
-        const ReferenceMode rm = parse_reference_spec(spec, "--reference");
+        const ReferenceMode rm = parse_reference_spec(spec, "mode");
         nlohmann::json doc;
         {
           py::gil_scoped_release release;

@@ -34,11 +34,11 @@ tune::TuneOptions tune_options(py::object params, py::object bounds) {
   } else {
     for (const std::string& n : params.cast<std::vector<std::string>>()) add(n);
   }
-  to.params = tune::parse_tune_params(names, "--params");
+  to.params = tune::parse_tune_params(names, "params");
   if (!bounds.is_none()) {
     for (const auto& kv : bounds.cast<py::dict>()) bound(py::str(kv.first), kv.second);
   }
-  for (const std::string& b : bound_specs) tune::apply_bounds(to.params, b, "--bounds");
+  for (const std::string& b : bound_specs) tune::apply_bounds(to.params, b, "bounds");
   return to;
 }
 
@@ -51,12 +51,12 @@ void bind_tune(py::module_& m) {
          const std::string& measure, int steps, int scan_points, int max_iterations, bool verbose) {
         Scene scene = scene_in;
         tune::TuneOptions to = tune_options(params, bounds);
-        to.objective = tune::objective_from_string(objective, "--objective");
-        to.measure = tune::measure_from_string(measure, "--measure");
-        if (steps < 0) throw_input_error("--steps", "", "", "must not be negative");
+        to.objective = tune::objective_from_string(objective, "objective");
+        to.measure = tune::measure_from_string(measure, "measure");
+        if (steps < 0) throw_input_error("steps", "", "", "must not be negative");
         if (steps > 0) scene.steps = steps;
         if (scan_points < 0 || scan_points == 1) {
-          throw_input_error("--scan-points", "", "", "must be 0 (no scan) or at least 2");
+          throw_input_error("scan_points", "", "", "must be 0 (no scan) or at least 2");
         }
         to.scan_points = scan_points;
         to.max_iterations = std::max(1, max_iterations);

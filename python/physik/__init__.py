@@ -228,7 +228,7 @@ def solve(scene, solver="physik", *, tol=0.0, max_iterations=1000, lambda_=0.0,
     flags (--tol, --max-iterations, --lambda, --jacobian analytic|fd, --gravity x y z,
     --rotation-damping, --socket twist-bend|virtual-bone, --cone none|circular|elliptical,
     --no-limits, --dt-growth, --max-dt, --finish none|ccd|dls); tol 0 = 1e-4 of the
-    chain's reach, lambda_ 0 = 0.02 of it. A bad option raises InputError naming the flag.
+    chain's reach, lambda_ 0 = 0.02 of it. A bad option raises InputError naming the keyword.
     Returns SolveResult(summary, pose). The engine's divergence is the summary's flag, or
     DivergedError with raise_on_divergence.
     """
@@ -246,7 +246,7 @@ def tune(scene, params="damping", objective="settle", *, bounds=None, measure="l
     params: "damping,control_k", a list of names, or a dict {name: (lo, hi) or None}; bounds:
     {name: (lo, hi)} (as --bounds name=lo:hi); objective: "settle" or "mujoco"; measure: "log" or
     "linear"; steps: steps per run (0 = the scene's). Unknown names raise InputError naming
-    --params (or --bounds). Returns the CLI's report as a dict, plus "ceres_full" (Ceres' full
+    params (or bounds). Returns the CLI's report as a dict, plus "ceres_full" (Ceres' full
     report) and "tuned_scene" (a Scene with the tuned values).
     """
     return _core._tune(scene, params, bounds, objective, measure, steps, scan_points,
@@ -265,3 +265,23 @@ def equilibrium(scene, *, start="initial", compare=False, with_pose=False):
         return doc, _pose_from_arrays(arrays, scene.rig.bone_names)
     return doc
 
+
+def _wrap_the_api():
+    """Bad arguments to any public name raise a one-line TypeError naming the valid keywords
+    (physik/_arguments.py)."""
+    from . import _arguments as args
+    names = globals()
+    for name in ("param_table", "export_mjcf", "compare_mujoco", "solve_mode_rule"):
+        names[name] = args.compiled(getattr(_core, name), name)
+    for name in ("solve", "tune", "equilibrium"):
+        names[name] = args.python(names[name], name)
+    args.wrap_class(Rig, ["load", "chain", "from_dict", "to_dict", "find_bone"])
+    args.wrap_class(Scene, ["load", "from_dict", "to_dict", "update", "copy"])
+    args.wrap_class(_core.Simulation, ["step"])
+    args.wrap_class(Simulation, ["__init__", "run"])
+    args.wrap_class(_core.PosingSession, ["set_target", "advance", "solve", "residual", "summary"])
+    args.wrap_class(PosingSession, ["__init__", "set_pose"])
+    args.wrap_class(Pose, ["__init__", "as_blender"])
+
+
+_wrap_the_api()

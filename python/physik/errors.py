@@ -9,7 +9,9 @@ class InputError(ValueError):
     """Bad input: a malformed or contradictory file, dict or argument.
 
     str(error) is the CLI's one-line message, "<file>: <element>: field '<field>': <reason>"
-    (the same text `physik` prints after "physik: error: " before it exits with status 2).
+    (the same text `physik` prints after "physik: error: " before it exits with status 2), with
+    an option named by its Python keyword where the CLI names its flag ("tol: ..." for
+    "--tol: ...", "overrides: ..." for "--set: ...").
     """
 
 

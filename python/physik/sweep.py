@@ -49,6 +49,7 @@ import time
 import uuid
 
 import physik
+from physik import _arguments
 
 TRANSFORMS = ("scale", "density", "scale_torsion")
 OUTCOMES = ("converged", "diverged", "steps_to_converge", "steps_to_settle", "steps_run",
@@ -394,6 +395,10 @@ def main(argv=None):
         sys.stderr.write("physik.sweep: %d runs, %d converged, %d diverged\n" % (len(rows), n_conv, n_div))
     return 0
 
+
+# a bad argument to the entry points: one line naming the valid keywords (physik/_arguments.py)
+for _name in ("load_spec", "run_serial", "run_dask", "sweep"):
+    globals()[_name] = _arguments.python(globals()[_name], _name)
 
 if __name__ == "__main__":
     sys.exit(main())

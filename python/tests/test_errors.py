@@ -116,15 +116,31 @@ def test_dict_errors_name_the_source():
         physik.Scene.from_dict({"rig": ELBOW, "steps": object()})
 
 
-def test_unknown_override(tmp):
+def keyword(message, flag, name):
+    """The CLI's message for an option, as Python words it: the keyword for the flag."""
+    assert message.startswith(flag + ":"), message
+    return name + message[len(flag):]
+
+
+def test_an_unknown_override_names_the_keyword_and_the_closest_key():
+    # Python names its keyword, not the CLI's --set
+    path = scene_path("pinhead_two_hands")
+    expected = "overrides: unknown parameter 'dampng' (did you mean 'damping'?)"
+    assert raises_input_error(physik.Scene.load, path, overrides={"dampng": 1}) == expected
+    assert raises_input_error(physik.Scene.load, path, overrides=["dampng=1"]) == expected
+
+
+def test_bad_overrides_have_the_clis_message_for_the_keyword(tmp):
     path = scene_path("pinhead_two_hands")
     expected = cli_error("simulate", path, "--out", tmp, "--set", "bogus=1")
-    assert raises_input_error(physik.Scene.load, path, overrides={"bogus": 1}) == expected
-    assert raises_input_error(physik.Scene.load, path, overrides=["bogus=1"]) == expected
+    assert raises_input_error(physik.Scene.load, path, overrides={"bogus": 1}) == \
+        keyword(expected, "--set", "overrides")
     expected = cli_error("simulate", path, "--out", tmp, "--set", "damping=-2")
-    assert raises_input_error(physik.Scene.load, path, overrides={"damping": -2}) == expected
+    assert raises_input_error(physik.Scene.load, path, overrides={"damping": -2}) == \
+        keyword(expected, "--set", "overrides")
     expected = cli_error("simulate", path, "--out", tmp, "--steps", "-1")
-    assert raises_input_error(physik.Scene.load, path, steps=-1) == expected
+    assert raises_input_error(physik.Scene.load, path, steps=-1) == \
+        keyword(expected, "--steps", "steps")
 
 
 def test_update_checks_like_the_file():
@@ -141,12 +157,19 @@ def test_update_checks_like_the_file():
 
 def test_unknown_solver(tmp):
     path = scene_path("pinhead_two_hands")
+    scene = physik.Scene.load(path)
     expected = cli_error("solve", path, "--solver", "newton", "--out", tmp)
-    assert raises_input_error(physik.solve, physik.Scene.load(path), "newton") == expected
+    assert raises_input_error(physik.solve, scene, "newton") == \
+        keyword(expected, "--solver", "solver")
     expected = cli_error("solve", path, "--solver", "dls", "--tol", "-1", "--out", tmp)
-    assert raises_input_error(physik.solve, physik.Scene.load(path), "dls", tol=-1) == expected
+    assert raises_input_error(physik.solve, scene, "dls", tol=-1) == \
+        keyword(expected, "--tol", "tol")
     expected = cli_error("solve", path, "--solver", "dls", "--jacobian", "exact", "--out", tmp)
-    assert raises_input_error(physik.solve, physik.Scene.load(path), "dls", jacobian="exact") == expected
+    assert raises_input_error(physik.solve, scene, "dls", jacobian="exact") == \
+        keyword(expected, "--jacobian", "jacobian")
+    expected = cli_error("solve", path, "--solver", "physik", "--max-dt", "0", "--out", tmp)
+    assert raises_input_error(physik.solve, scene, "physik", max_dt=0) == \
+        keyword(expected, "--max-dt", "max_dt")
 
 
 def test_solve_needs_control_points(tmp):
@@ -158,25 +181,34 @@ def test_solve_needs_control_points(tmp):
 def test_unknown_tune_parameter_and_bad_options():
     path = scene_path("pinhead_two_hands")
     scene = physik.Scene.load(path)
-    expected = cli_error("tune", path, "--params", "damping,bogus", "--quiet")
+    expected = keyword(cli_error("tune", path, "--params", "damping,bogus", "--quiet"), "--params",
+                       "params")
     assert raises_input_error(physik.tune, scene, "damping,bogus") == expected
     assert raises_input_error(physik.tune, scene, ["damping", "bogus"]) == expected
     expected = cli_error("tune", path, "--objective", "fast", "--quiet")
-    assert raises_input_error(physik.tune, scene, "damping", "fast") == expected
-    expected = cli_error("tune", path, "--bounds", "damping=5:1", "--quiet")
+    assert raises_input_error(physik.tune, scene, "damping", "fast") == \
+        keyword(expected, "--objective", "objective")
+    expected = keyword(cli_error("tune", path, "--bounds", "damping=5:1", "--quiet"), "--bounds",
+                       "bounds")
     assert raises_input_error(physik.tune, scene, "damping", bounds={"damping": (5, 1)}) == expected
     assert raises_input_error(physik.tune, scene, {"damping": (5, 1)}) == expected
+    expected = cli_error("tune", path, "--scan-points", "1", "--quiet")
+    assert raises_input_error(physik.tune, scene, scan_points=1) == \
+        keyword(expected, "--scan-points", "scan_points")
 
 
 def test_equilibrium_and_mujoco_options():
     path = scene_path("pinhead_two_hands")
     scene = physik.Scene.load(path)
     expected = cli_error("equilibrium", path, "--start", "middle")
-    assert raises_input_error(physik.equilibrium, scene, start="middle") == expected
+    assert raises_input_error(physik.equilibrium, scene, start="middle") == \
+        keyword(expected, "--start", "start")
     expected = cli_error("simulate", path, "--reference", "bullet", "--out", "/nonexistent/x")
-    assert raises_input_error(physik.compare_mujoco, scene, "bullet") == expected
+    assert raises_input_error(physik.compare_mujoco, scene, "bullet") == \
+        keyword(expected, "--reference", "mode")
     expected = cli_error("export-mjcf", os.path.join(RIGS, "pinhead.json"), "--dt", "0")
-    assert raises_input_error(physik.export_mjcf, scene.rig, dt=0) == expected
+    assert raises_input_error(physik.export_mjcf, scene.rig, dt=0) == \
+        keyword(expected, "--dt", "dt")
 
 
 def test_step_count_must_not_be_negative():
@@ -214,3 +246,66 @@ def test_bad_sweep_spec_exits_2_naming_file_and_field(name, spec, needle, tmp):
 def test_sweep_help():
     p = subprocess.run([sys.executable, "-m", "physik.sweep", "--help"], capture_output=True, text=True)
     assert p.returncode == 0 and "--scheduler" in p.stdout and "--serial" in p.stdout
+
+
+SESSION_RULE = ("tolerance, tolerance_fraction, max_steps, stall_steps, stall_fraction, dt_growth, "
+                "max_dt, finish, finish_options")
+# (a call with a misspelt keyword, its name, the misspelt key, the valid keywords)
+UNKNOWN_KEYWORDS = [
+    (lambda s: physik.solve(s, tole=1), "solve", "tole",
+     "scene, solver, tol, max_iterations, lambda_, jacobian, gravity, rotation_damping, socket, "
+     "cone, no_limits, dt_growth, max_dt, finish, raise_on_divergence"),
+    (lambda s: physik.Scene.load(s.file, overides={}), "Scene.load", "overides",
+     "path, overrides, steps"),
+    (lambda s: s.update(param={}), "Scene.update", "param", "params, convergence, steps"),
+    (lambda s: physik.Simulation(s, steps=3), "Simulation", "steps", "scene"),
+    (lambda s: physik.Simulation(s).step(m=2), "Simulation.step", "m", "n, raise_on_divergence"),
+    (lambda s: physik.Simulation(s).run(every=2), "Simulation.run", "every",
+     "raise_on_divergence, record_every"),
+    (lambda s: physik.PosingSession(s, mode=True), "PosingSession", "mode", "scene, solve_mode"),
+    (lambda s: physik.PosingSession(s).solve(tole=1), "PosingSession.solve", "tole", SESSION_RULE),
+    (lambda s: physik.PosingSession(s).set_target(0, [0, 0, 1], smooth=True),
+     "PosingSession.set_target", "smooth", "c, target, interpolate"),
+    (lambda s: physik.export_mjcf(s.rig, joint="ball"), "export_mjcf", "joint", "rig, joints, dt"),
+    (lambda s: physik.compare_mujoco(s, model="x"), "compare_mujoco", "model", "scene, mode"),
+    (lambda s: physik.tune(s, param="damping"), "tune", "param",
+     "scene, params, objective, bounds, measure, steps, scan_points, max_iterations, verbose"),
+    (lambda s: physik.equilibrium(s, begin="x"), "equilibrium", "begin",
+     "scene, start, compare, with_pose"),
+    (lambda s: physik.Rig.chain(3, length=2), "Rig.chain", "length", "n, bone_length, radius"),
+    (lambda s: physik.param_table(x=1), "param_table", "x", None),
+    (lambda s: physik.sweep.sweep("x.json", outdir="y"), "sweep", "outdir",
+     "spec_path, out, scheduler, serial, workers, progress"),
+]
+
+
+@pytest.mark.parametrize("call,name,key,valid", UNKNOWN_KEYWORDS,
+                         ids=[c[1] for c in UNKNOWN_KEYWORDS])
+def test_an_unknown_keyword_names_the_valid_ones(call, name, key, valid):
+    import physik.sweep  # noqa: F401 -- the sweep module is a name of the package too
+    scene = physik.Scene.load(scene_path("pinhead_two_hands"))
+    with pytest.raises(TypeError) as e:
+        call(scene)
+    tail = "valid: " + valid if valid else "it takes no arguments"
+    assert str(e.value) == "%s() got an unexpected keyword argument '%s'; %s" % (name, key, tail)
+
+
+def test_other_bad_arguments_are_one_line():
+    scene = physik.Scene.load(scene_path("pinhead_two_hands"))
+    sim = physik.Simulation(scene)
+    with pytest.raises(TypeError) as e:
+        sim.step("ten")
+    assert str(e.value) == "Simulation.step(): bad arguments (str); expected " \
+                           "(n: int = 1, raise_on_divergence: bool = False)"
+    with pytest.raises(TypeError) as e:
+        physik.Scene.load(3.5)
+    assert str(e.value).startswith("Scene.load(): bad arguments (float); expected (path: str, ")
+    with pytest.raises(TypeError) as e:
+        physik.solve()
+    assert str(e.value).startswith("solve(): missing 1 required positional argument: 'scene'; "
+                                   "valid: scene, solver, ")
+    # a TypeError raised inside a call is the call's own, unchanged
+    with pytest.raises(TypeError, match=r"^scene.steps: cannot be written as JSON"):
+        physik.Scene.from_dict({"rig": ELBOW, "steps": object()})
+    # and a call that matches runs as before
+    assert sim.step(n=2) == 2 and sim.step_count == 2
