@@ -233,6 +233,10 @@ void bind_posing_solve(py::class_<Session>& cls, py::object result_type) {
             rule.dt_growth = dt_growth;
             rule.max_dt = max_dt;
             rule.finish = finish_from(finish);
+            if (rule.finish == SolveFinish::kNone && !options.is_none()) {  // never unused
+              throw_input_error("solve", "", "finish_options",
+                                "given without a finish (ccd or dls)");
+            }
             finish_options(options, rule.finish_options);
             {
               py::gil_scoped_release release;

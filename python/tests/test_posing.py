@@ -186,6 +186,10 @@ def test_bad_input_is_input_error():
     assert raises_input_error(s.solve, finish="newton") == \
         "solve: field 'finish': unknown finish 'newton' (expected none|ccd|dls)"
     assert "unknown field" in raises_input_error(s.solve, finish="dls", finish_options={"lamda": 1})
+    assert raises_input_error(s.solve, finish_options={"lambda": 1}) == \
+        "solve: field 'finish_options': given without a finish (ccd or dls)"
+    assert raises_input_error(s.solve, finish="ccd", finish_options={"max_iterations": -1}) == \
+        "solve: finish_options: field 'max_iterations': must not be negative"
     assert raises_input_error(s.summary) == "summary: no solve yet"
     n = scene.rig.nbone
     assert raises_input_error(s.set_pose, np.zeros((3, 4)), np.zeros(3)).startswith(
