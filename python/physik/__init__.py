@@ -53,8 +53,8 @@ class Pose:
                         limit on axis k bounds, as the torsion springs measure it (|angle| <= pi)
     limit_excess        (nbone, 3) how far each angle is past its limit, rad, signed: angle - max
                         above the max, angle - min (negative) below the min, 0 within the limits,
-                        on a free axis and on the root; max |limit_excess| is the summary's
-                        max_limit_violation_deg (in rad)
+                        on a free axis and on the root; its largest |value| is the pose's limit
+                        violation (what the summaries' max_limit_violation_deg give in degrees)
 
     From Simulation.pose and PosingSession.pose the arrays are read-only views of the live state:
     they follow every step without being fetched again; joint_angles and limit_excess are
