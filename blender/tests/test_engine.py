@@ -41,7 +41,8 @@ ARGS = script_args((["--pythonpath"], {"required": True, "help": "the folder hol
 REPO = os.path.abspath(ARGS.repo)
 enable_addon(REPO, "test_engine.py", ARGS.pythonpath)
 
-from physik_addon import armature_io, control_points, engine, rig_format, scene_dict  # noqa: E402
+from physik_addon import (armature_io, control_points, engine, operators,  # noqa: E402
+                          rig_format, scene_dict, settings)
 
 ENGINE_TOL = 1e-9  # rig units: the engine's arrays against the CLI's final_pose.csv
 POSED_TOL = 1e-5   # rig units: Blender's single-precision posed bones against the engine
@@ -103,6 +104,67 @@ class Base(unittest.TestCase):
             bpy.ops.object.mode_set(mode='OBJECT')
         clear_scene()
         bpy.context.scene.physik.preset = "original"
+
+
+class TestSettingsFromTheEngine(Base):
+    """The panel's presets, fields and defaults are the engine's parameter table's."""
+
+    def setUp(self):
+        super().setUp()
+        self.table = engine.param_table()
+        self.rows = {r["name"]: r for r in self.table["params"]}
+        self.s = bpy.context.scene.physik
+
+    def assert_fields_hold(self, preset):
+        for name in settings.PANEL_ROWS:
+            want = self.rows[name]["defaults"][preset]
+            got = getattr(self.s, name)
+            if isinstance(want, float):
+                self.assertAlmostEqual(got, want, delta=1e-7 * abs(want), msg=(preset, name))
+            else:
+                self.assertEqual(got, want, (preset, name))
+        auto = self.rows["damping_auto"]["defaults"][preset]
+        self.assertEqual(self.s.damping_mode, 'AUTO' if auto else 'VALUE', preset)
+
+    def test_the_panel_has_every_row_it_shows(self):
+        for name in settings.PANEL_ROWS + ("damping_auto",):
+            self.assertIn(name, self.rows)  # a renamed row fails here, not silently
+        for name in settings.PANEL_ROWS:
+            if self.rows[name]["kind"] == "choice":
+                items = self.s.bl_rna.properties[name].enum_items.keys()
+                self.assertEqual(list(items), self.rows[name]["choices"], name)
+
+    def test_a_new_scene_has_the_engines_default_preset(self):
+        default = self.table["default_preset"]
+        fresh = bpy.data.scenes.new("fresh")
+        try:
+            self.s = fresh.physik
+            self.assertEqual(self.s.preset, default)
+            self.assert_fields_hold(default)
+            self.assertEqual(settings.params_dict(self.s), {"preset": default})
+        finally:
+            bpy.data.scenes.remove(fresh)
+
+    def test_each_preset_fills_the_fields(self):
+        presets = [p for p, _, _ in settings._preset_items(self.table)]
+        self.assertEqual(presets, self.table["presets"])
+        for preset in presets + presets[:1]:
+            self.s.preset = preset
+            self.assert_fields_hold(preset)
+            self.assertEqual(settings.params_dict(self.s), {"preset": preset})
+
+    def test_changed_fields_are_sent(self):
+        self.s.preset = "original"
+        self.s.control_k = self.rows["control_k"]["defaults"]["original"] + 2.0
+        self.s.control_spring = "capped"
+        p = settings.params_dict(self.s)
+        self.assertEqual((p["control_k"], p["control_spring"]),
+                         (self.s.control_k, "capped"))
+        self.s.damping_mode = 'AUTO'
+        self.assertEqual(settings.params_dict(self.s)["damping"], "auto")
+        self.s.damping_mode = 'VALUE'
+        self.s.damping = 5.0
+        self.assertEqual(settings.params_dict(self.s)["damping"], 5.0)
 
 
 class TestSolve(Base):
@@ -209,17 +271,52 @@ class TestEngineErrors(Base):
         self.assertGreater(sim.summary["damping_auto_value"], 0.0)
         self.assertFalse(sim.summary["diverged"])
 
-    def test_divergence_is_one_report(self):
+    def test_divergence_is_one_error_and_nothing_applied(self):
         arm = fig9_armature()
         s = bpy.context.scene.physik
         s.damping, s.control_k = 0.0, 1e6  # stiff springs, no damping, dt 0.05: explodes
-        before = armature_io.read_pose(arm)[0].copy()
+        before = snapshot(arm.name)
         for op in (bpy.ops.physik.solve, bpy.ops.physik.bake):
             msg = run_op(op)
             self.assertIsNotNone(msg, op)
             self.assertIn("diverged", msg)
             self.assertNotIn("Traceback", msg)
-        self.assertLess((armature_io.read_pose(arm)[0] - before).length, 1e-12)
+            self.assertEqual(operators.LAST_REPORT["level"], 'ERROR')
+            self.assertEqual(snapshot(arm.name), before)  # every channel, exactly
+        self.assertNotIn(operators.START_POSE, arm)
+        self.assertIsNone(arm.animation_data)  # Bake keyed nothing
+
+
+class TestSolveReports(Base):
+    """Solve says whether the control points were met, with the largest residual."""
+
+    def solve_and_report(self, steps=None):
+        arm = fig9_armature()
+        if steps is not None:
+            bpy.context.scene.physik.max_steps = steps
+        _, summary = engine.solve(scene_dict.build_scene(bpy.context, arm, solve=True))
+        before = snapshot(arm.name)
+        self.assertIsNone(run_op(bpy.ops.physik.solve))
+        self.assertNotEqual(snapshot(arm.name), before)  # the pose is applied either way
+        worst = max(summary["final_residuals"])
+        self.assertIn("largest residual %.3g (tolerance %.3g)" % (worst, summary["residual_tol"]),
+                      operators.LAST_REPORT["text"])
+        return summary, worst
+
+    def test_converged_is_info(self):
+        summary, worst = self.solve_and_report()
+        self.assertTrue(summary["converged"])
+        self.assertLess(worst, summary["residual_tol"])
+        self.assertEqual(operators.LAST_REPORT["level"], 'INFO')
+        self.assertIn("converged", operators.LAST_REPORT["text"])
+
+    def test_not_converged_is_a_warning_with_the_residual(self):
+        summary, worst = self.solve_and_report(steps=5)  # far too few for Fig 9 (about 110)
+        self.assertFalse(summary["converged"])
+        self.assertFalse(summary["diverged"])
+        self.assertGreater(worst, summary["residual_tol"])
+        self.assertEqual(operators.LAST_REPORT["level"], 'WARNING')
+        self.assertIn("not converged: 5 steps", operators.LAST_REPORT["text"])
 
 
 def snapshot(name):
