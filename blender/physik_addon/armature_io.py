@@ -50,8 +50,8 @@ def _world_similarity(obj):
     s = det ** (1.0 / 3.0)
     gram = (m.transposed() @ m) * (1.0 / (s * s))
     if max(abs(gram[r][c] - (1.0 if r == c else 0.0)) for r in range(3) for c in range(3)) > 1e-5:
-        raise InputError(armature_source(obj), "", "scale",
-                         "non-uniform object scale or shear; apply it first (Object > Apply > Scale)")
+        raise InputError(armature_source(obj), "", "scale", "non-uniform object scale or "
+                         "shear; apply it first (Object > Apply > Scale)")
     return m, s
 
 
@@ -91,7 +91,8 @@ def _limits_of(pb):
         if getattr(pb, "lock_ik_" + a):
             out[a] = [0.0, 0.0]
         elif getattr(pb, "use_ik_limit_" + a):
-            out[a] = [math.degrees(getattr(pb, "ik_min_" + a)), math.degrees(getattr(pb, "ik_max_" + a))]
+            out[a] = [math.degrees(getattr(pb, "ik_min_" + a)),
+                      math.degrees(getattr(pb, "ik_max_" + a))]
     return out
 
 
@@ -397,7 +398,8 @@ def read_pose(obj):
     set on the channels (Blender's matrix_basis; constraints not applied)."""
     root = pose_bones_dfs(obj)[0]
     m = obj.matrix_world
-    head_arm = root.bone.head_local + root.bone.matrix_local.to_3x3() @ root.matrix_basis.to_translation()
+    rest = root.bone.matrix_local.to_3x3()
+    head_arm = root.bone.head_local + rest @ root.matrix_basis.to_translation()
     return m @ head_arm, {pb.name: pb.matrix_basis.to_quaternion() for pb in obj.pose.bones}
 
 
@@ -469,7 +471,8 @@ def write_bones_csv(path, rows):
     with open(path, "w", encoding="utf-8", newline="") as f:
         f.write("bone,parent,head_x,head_y,head_z,tail_x,tail_y,tail_z\n")
         for name, parent, head, tail in rows:
-            f.write(",".join([name, parent] + ["%.10g" % c for c in list(head) + list(tail)]) + "\n")
+            numbers = ["%.10g" % c for c in list(head) + list(tail)]
+            f.write(",".join([name, parent] + numbers) + "\n")
 
 
 def bake_keyframes(obj, poses, frame_start=1, every=1):

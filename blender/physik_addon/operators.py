@@ -71,7 +71,7 @@ class PHYSIK_OT_export_rig(bpy.types.Operator, ExportHelper):
 
 
 class PHYSIK_OT_add_control_point(bpy.types.Operator):
-    """Add an empty that pulls a bone of the active armature at alpha (the active bone by default)"""
+    """Add an empty pulling a bone of the active armature at alpha (default: the active bone)"""
     bl_idname = "physik.add_control_point"
     bl_label = "Add control point"
     bl_options = {'REGISTER', 'UNDO'}
@@ -187,7 +187,8 @@ class PHYSIK_OT_simulate(bpy.types.Operator):
         arm = bpy.data.objects.get(self._arm_name)
         if arm is None or arm.type != 'ARMATURE':
             self._stop(context, "error")
-            return _fail(self, "armature '%s' is gone; the live simulation stopped" % self._arm_name)
+            return _fail(self, "armature '%s' is gone; the live simulation stopped"
+                         % self._arm_name)
         try:
             head, rotations = self._live.step(self._steps)
         except engine.EngineError as e:
@@ -211,7 +212,7 @@ class PHYSIK_OT_simulate(bpy.types.Operator):
 
 
 class PHYSIK_OT_bake(bpy.types.Operator):
-    """Run PhysIK for the panel's steps and keyframe the pose every N steps from the current frame"""
+    """Run PhysIK for the panel's steps; keyframe the pose every N steps from the current frame"""
     bl_idname = "physik.bake"
     bl_label = "Bake"
     bl_options = {'REGISTER', 'UNDO'}
@@ -234,7 +235,7 @@ class PHYSIK_OT_bake(bpy.types.Operator):
 
 
 class PHYSIK_OT_reset(bpy.types.Operator):
-    """Return the active armature to the pose before the last Solve, Simulate or Bake (or to rest)"""
+    """Return the armature to the pose before the last Solve, Simulate or Bake (or to rest)"""
     bl_idname = "physik.reset"
     bl_label = "Reset"
     bl_options = {'REGISTER', 'UNDO'}

@@ -537,7 +537,7 @@ def load_json(path):
     except OSError:
         raise InputError(path, "", "", "cannot open file") from None
     try:
-        text = raw.decode("utf-8")
+        text = raw.decode("utf-8-sig")  # a byte order mark is skipped, as nlohmann does
     except UnicodeDecodeError as e:
         raise InputError(path, "", "", "invalid JSON: %s" % e) from None
     _check_json_depth(text, path)

@@ -116,7 +116,8 @@ class TestEnable(Base):
     def test_unregister_and_register_again(self):
         addon_utils.disable("physik_addon")
         self.assertFalse(hasattr(bpy.types.Scene, "physik"))
-        self.assertIsNotNone(addon_utils.enable("physik_addon", default_set=True, handle_error=None))
+        self.assertIsNotNone(addon_utils.enable("physik_addon", default_set=True,
+                                                handle_error=None))
         self.assertTrue(hasattr(bpy.types.Scene, "physik"))
 
 
@@ -136,7 +137,8 @@ class TestPaperBlend(Base):
         self.arm = bpy.data.objects["Armature"]
         with open(os.path.join(RIGS, "pinhead.json")) as f:
             self.ref = json.load(f)
-        self.name_of = {b["comment"].split("Blender bone ")[1]: b["name"] for b in self.ref["bones"]}
+        self.name_of = {b["comment"].split("Blender bone ")[1]: b["name"]
+                        for b in self.ref["bones"]}
 
     def renamed(self, rig):
         for b in rig["bones"]:
@@ -151,8 +153,8 @@ class TestPaperBlend(Base):
         for a, b in zip(self.ref["bones"], got["bones"]):
             worst["head/tail"] = max(worst["head/tail"], max_diff(a["head"], b["head"]),
                                      max_diff(a["tail"], b["tail"]))
-            worst["frame"] = max([worst["frame"]] + [max_diff(a["rest_frame"][k], b["rest_frame"][k])
-                                                      for k in range(3)])
+            worst["frame"] = max([worst["frame"]] + [
+                max_diff(a["rest_frame"][k], b["rest_frame"][k]) for k in range(3)])
             for axis, lim in a.get("limits_deg", {}).items():
                 worst["limit_deg"] = max(worst["limit_deg"], max_diff(lim, b["limits_deg"][axis]))
             # mass: the file's fwik_mass is the original add-on's mass per length
@@ -228,7 +230,8 @@ class TestRoundTrip(Base):
         back = armature_io.armature_to_rig(armature_io.rig_to_armature(rig, bpy.context))
         self.assertEqual(back["defaults"], {"mass_per_length": 2.5, "radius": 0.1})
         self.assertEqual(back["bones"][0]["mass"], 3.0)
-        self.assertEqual((back["bones"][1]["mass_per_length"], back["bones"][1]["radius"]), (0.5, 0.2))
+        self.assertEqual((back["bones"][1]["mass_per_length"], back["bones"][1]["radius"]),
+                         (0.5, 0.2))
         self.assert_same_rig(rig, back, POS_TOL, FRAME_TOL, math.degrees(LIMIT_TOL))
 
     def test_object_transform_is_applied(self):
@@ -412,8 +415,8 @@ class TestControlPoints(Base):
         _, b = build("chain3")
         control_points.add_control_point(bpy.context, a, "forearm")
         control_points.add_control_point(bpy.context, b, "b2")
-        self.assertEqual([c["bone"] for c in control_points.read_control_points(bpy.context.scene, a)],
-                         ["forearm"])
+        points = control_points.read_control_points(bpy.context.scene, a)
+        self.assertEqual([c["bone"] for c in points], ["forearm"])
 
     def test_operator_uses_the_active_bone(self):
         _, arm = build("elbow")
@@ -471,7 +474,8 @@ class TestPoses(Base):
 
     def test_initial_pose_dict(self):
         _, obj = build("elbow")
-        armature_io.apply_pose(obj, (0.0, 0.0, 1.0), {"forearm": Quaternion((1, 0, 0), math.radians(-30))})
+        armature_io.apply_pose(obj, (0.0, 0.0, 1.0),
+                               {"forearm": Quaternion((1, 0, 0), math.radians(-30))})
         ip = armature_io.initial_pose_dict(obj)
         self.assertLess(max_diff(ip["root_head"], (0, 0, 1)), POS_TOL)
         self.assertEqual(list(ip["rotation_deg"]), ["forearm"])
@@ -502,7 +506,8 @@ class TestBakeAndReset(Base):
         _, obj = build("elbow")
         frames = armature_io.bake_keyframes(obj, self.trajectory(obj, 11), frame_start=5, every=3)
         self.assertEqual(frames, [5, 6, 7, 8, 9])  # steps 0, 3, 6, 9 and the last, 10
-        self.assertEqual(self.keyed_frames(obj, 'pose.bones["forearm"].rotation_quaternion'), frames)
+        self.assertEqual(self.keyed_frames(obj, 'pose.bones["forearm"].rotation_quaternion'),
+                         frames)
         self.assertEqual(self.keyed_frames(obj, 'pose.bones["upper_arm"].location'), frames)
         for frame, step in zip(frames, (0, 3, 6, 9, 10)):
             bpy.context.scene.frame_set(frame)
@@ -600,7 +605,8 @@ class TestBadInput(Base):
         with tempfile.TemporaryDirectory() as tmp:
             path = write_json(tmp, "bad.json", doc)
             before = len(bpy.data.objects)
-            self.assert_report(run_op(bpy.ops.physik.import_rig, filepath=path), "bad.json", *fragments)
+            self.assert_report(run_op(bpy.ops.physik.import_rig, filepath=path), "bad.json",
+                               *fragments)
             self.assertEqual(len(bpy.data.objects), before, "a failed import left an object")
 
     def test_zero_length_bone_in_a_rig_file(self):
@@ -634,7 +640,8 @@ class TestBadInput(Base):
         self.import_bad("{not json", "invalid JSON")
         self.import_bad({"bones": [TWO[0], dict(TWO[1], parent="zz")]}, "unknown bone 'zz'")
         self.import_bad({"bones": [TWO[0], dict(TWO[1], parent=None)]}, "a second root")
-        self.import_bad({"bones": [TWO[0], dict(TWO[1], head=[0, 0, 1.5])]}, "does not meet the tail")
+        self.import_bad({"bones": [TWO[0], dict(TWO[1], head=[0, 0, 1.5])]},
+                        "does not meet the tail")
         self.import_bad({"bones": [TWO[0], dict(TWO[1], limits_deg={"x": [20, 10]})]},
                         "limits_deg.x", "greater than max")
         self.import_bad({"bones": [TWO[0], dict(TWO[1], limits_deg={"x": [10, 20]})]},
@@ -678,7 +685,8 @@ class TestBadInput(Base):
         _, arm = build("elbow")
         arm.data.bones.active = None
         self.assert_report(run_op(bpy.ops.physik.add_control_point), "no active bone")
-        self.assert_report(run_op(bpy.ops.physik.add_control_point, bone="wing"), "unknown bone 'wing'")
+        self.assert_report(run_op(bpy.ops.physik.add_control_point, bone="wing"),
+                           "unknown bone 'wing'")
         self.assertEqual([o.type for o in bpy.data.objects], ['ARMATURE'])
 
     def test_no_control_points(self):

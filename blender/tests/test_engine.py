@@ -3,7 +3,7 @@
     blender -b --factory-startup --python-exit-code 1 --python blender/tests/test_engine.py -- \
         --repo . --pythonpath build/python --binary build/physik
 
-The add-on reaches `import physik` (issue 16, on --pythonpath). What is checked (issue 17):
+The add-on reaches `import physik` (on --pythonpath). What is checked:
   - Solve on Fig 9's control points (pinhead built from models/rigs/pinhead.json, the panel's
     k = 30 as the scene's): the engine's final state in Blender is `physik simulate`'s on the
     same scene dict (identical final_state_hash; every bone's world head and tail to 1e-9 from
@@ -11,8 +11,10 @@ The add-on reaches `import physik` (issue 16, on --pythonpath). What is checked 
     that pose (1e-5: Blender keeps poses in single precision);
   - Bake keys the frames of every N-th step and the last, in the engine's poses;
   - a live simulation's n-step calls follow the same states as one run;
-  - damping 'auto' with the implicit step solves (the engine's damping_auto); a diverged run gives one Blender report, nothing
-    moved;
+  - the panel's presets, fields and defaults are the engine's parameter table's;
+  - Solve reports INFO when converged, a WARNING with the largest residual when not;
+  - damping 'auto' with the implicit step solves (the engine's damping_auto); a diverged Solve or
+    Bake gives one Blender error, nothing changed;
   - Blender's undo works across Solve, Bake and Reset: each operator, called as the panel's
     button calls it (with an undo push: bpy.ops.physik.solve('EXEC_DEFAULT', True)), is one undo
     step; bpy.ops.ed.undo() returns the armature to exactly the pose before it (the channels and
@@ -36,8 +38,9 @@ from mathutils import Vector
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from blender_harness import clear_scene, enable_addon, script_args  # noqa: E402
 
-ARGS = script_args((["--pythonpath"], {"required": True, "help": "the folder holding the physik package"}),
-                   (["--binary"], {"required": True, "help": "the physik CLI"}))
+ARGS = script_args(
+    (["--pythonpath"], {"required": True, "help": "the folder holding the physik package"}),
+    (["--binary"], {"required": True, "help": "the physik CLI"}))
 REPO = os.path.abspath(ARGS.repo)
 enable_addon(REPO, "test_engine.py", ARGS.pythonpath)
 
@@ -88,8 +91,8 @@ def simulate_cli(scene, tmp):
     with open(os.path.join(out, "summary.json")) as f:
         summary = json.load(f)
     with open(os.path.join(out, "final_pose.csv")) as f:
-        bones = {r["bone"]: ([float(r["head_" + a]) for a in "xyz"], [float(r["tail_" + a]) for a in "xyz"])
-                 for r in csv.DictReader(f)}
+        bones = {r["bone"]: ([float(r["head_" + a]) for a in "xyz"],
+                             [float(r["tail_" + a]) for a in "xyz"]) for r in csv.DictReader(f)}
     return summary, bones
 
 
@@ -184,7 +187,8 @@ class TestSolve(Base):
         self.assertEqual(sorted(names), sorted(bones))
         worst = 0.0
         for i, name in enumerate(names):
-            for got, want in zip((summary["heads_world"][i], summary["tails_world"][i]), bones[name]):
+            ends = (summary["heads_world"][i], summary["tails_world"][i])
+            for got, want in zip(ends, bones[name]):
                 worst = max(worst, max(abs(a - b) for a, b in zip(got, want)))
         self.assertLess(worst, ENGINE_TOL)
         print("\nFig 9 Solve: %d steps, engine in Blender vs physik simulate: same state hash, "
@@ -324,8 +328,9 @@ def snapshot(name):
     posed heads and tails. Looked up by name: an undo replaces the Python objects."""
     arm = bpy.data.objects[name]
     bpy.context.view_layer.update()
-    channels = {pb.name: (tuple(pb.location), tuple(pb.rotation_quaternion), tuple(pb.rotation_euler),
-                          tuple(pb.rotation_axis_angle)) for pb in arm.pose.bones}
+    channels = {pb.name: (tuple(pb.location), tuple(pb.rotation_quaternion),
+                          tuple(pb.rotation_euler), tuple(pb.rotation_axis_angle))
+                for pb in arm.pose.bones}
     posed = {n: (tuple(h), tuple(t)) for n, _, h, t in armature_io.posed_bones_world(arm)}
     return channels, posed
 

@@ -133,6 +133,10 @@ class TestAgainstTheEngine(unittest.TestCase):
             json.dump(EVERY_FIELD, f)
         self.assert_canonical_as_the_engine(path)
 
+    def test_a_byte_order_mark_is_skipped_as_the_engine_does(self):
+        path = self.write("bom.json", b"\xef\xbb\xbf" + json.dumps(EVERY_FIELD).encode())
+        self.assert_canonical_as_the_engine(path)
+
     def engine_message(self, path):
         run = cli("rig", "limits", path, self.nolimits)
         self.assertEqual(run.returncode, 2, path)
