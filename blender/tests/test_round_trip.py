@@ -18,6 +18,8 @@ the operator (the engine's reader: physik.Rig.load) and exported with the operat
   - Blender's own values (the records removed) are the engine's canonical rig within single
     precision (positions 1e-6 of the rig's size, frame components 1e-5, limits 1e-4 deg); their
     run's hash is printed, not asserted (it may or may not differ);
+  - Solve on the imported humanoid with a control point is `physik simulate` on the rig file
+    with the same control points and settings (same state hash, steps, converged);
   - the add-on's own reader (rig_format.py, used without the module) builds the same armature
     as the engine's reader, bit for bit (heads, tails, rest matrices, IK settings, properties),
     which is why the add-on keeps it.
@@ -46,7 +48,8 @@ ARGS = script_args(
 REPO = os.path.abspath(ARGS.repo)
 enable_addon(REPO, "test_round_trip.py", ARGS.pythonpath)
 
-from physik_addon import armature_io, engine, rig_format, rig_record  # noqa: E402
+from physik_addon import (armature_io, control_points, engine, rig_format,  # noqa: E402
+                          rig_record, scene_dict)
 
 POS_TOL = 1e-6     # x the rig's size: Blender's single-precision positions
 FRAME_TOL = 1e-5   # frame components: single precision, chained from the parents in object mode
@@ -233,6 +236,36 @@ class TestRoundTrip(unittest.TestCase):
             "--out", out, "--quiet")
         self.assertEqual(load(os.path.join(out, "summary.json"))["final_state_hash"],
                          got["final_state_hash"])
+
+    def test_solve_on_the_imported_humanoid_is_the_cli_on_its_file(self):
+        # what a user does: import a converted model, add a control point, Solve; the CLI on
+        # the rig file with the same control points and settings runs the same steps
+        path = rig_files()["humanoid (from-mjcf)"]
+        arm = import_rig(path)
+        s = bpy.context.scene.physik
+        s.max_steps, s.integration, s.damping_mode = 400, "implicit", 'AUTO'  # stable here
+        control_points.add_control_point(bpy.context, arm, "right_lower_arm", 1.0,
+                                         (0.4, -0.5, 1.3))
+        bpy.context.view_layer.objects.active = arm
+        scene = scene_dict.build_scene(bpy.context, arm, solve=True)
+        self.assertEqual(scene["rig"], load(path))
+        self.assertEqual(scene["initial_pose"], {"rotation_deg": {}})
+        _, summary = engine.solve(scene)
+        file_scene = dict(scene, rig=path)
+        scene_path = os.path.join(TMP.name, "humanoid_scene.json")
+        with open(scene_path, "w") as f:
+            json.dump(file_scene, f)
+        out = os.path.join(TMP.name, "humanoid_run")
+        p = subprocess.run([ARGS.binary, "simulate", scene_path, "--out", out, "--quiet"],
+                           capture_output=True, text=True)
+        self.assertIn(p.returncode, (0, 3), p.stderr)
+        cli_summary = load(os.path.join(out, "summary.json"))
+        for key in ("final_state_hash", "steps_run", "converged", "diverged"):
+            self.assertEqual(summary[key], cli_summary[key], key)
+        print("\nSolve on the imported humanoid: %d steps, converged %s, largest residual %.3g; "
+              "physik simulate on its file: the same state hash %s"
+              % (summary["steps_run"], summary["converged"], max(summary["final_residuals"]),
+                 cli_summary["final_state_hash"]))
 
     def test_the_add_ons_own_reader_builds_the_same_armature(self):
         for name, path in rig_files().items():
