@@ -12,22 +12,27 @@ numbers with its own joint parametrisation; the project reads them as rotation-v
 Mass: pose-bone properties `physik_mass` (kg) or `physik_mass_per_length` (kg per rig unit), else
 the original add-on's `fwik_mass` (per length: its final wrappers.py, FWIKBone.get_mass, returns
 fwik_mass x length), else the armature's `physik_mass_per_length` default; radius likewise from
-`physik_radius`. Absent = the rig defaults (1 kg per unit, radius 0.5).
+`physik_radius`; explicit moments from `physik_inertia_local` (3 numbers, kg m^2); free text
+from `physik_comment` (bones and armature data), `physik_source`, `physik_units`; the rig's name
+from `physik_rig_name`. Absent = the rig defaults (1 kg per unit, radius 0.5).
 
 Writing (rig_to_armature): one edit bone per rig bone, connected to its parent, its roll set so
 that the bone's z axis is the rig frame's z (EditBone.align_roll); limits back as above ([0, 0]
 sets lock_ik and a zero-width limit). Blender only holds min <= 0 <= max (ik_min in [-180, 0],
 ik_max in [0, 180]): other limits are refused, not clamped.
 
-Blender stores all of this in single precision: positions and frames come back to ~1e-7 of
-their size, limits to ~1e-7 rad.
+Blender stores bones and limits in single precision: its own values come back to ~1e-7 of their
+size (limits to ~1e-7 rad). An armature imported from a rig file keeps the file's doubles beside
+them (rig_record.py), and reading it gives those back wherever Blender's values are unchanged:
+export then reproduces the file, and a run on it is the run on the file. Custom properties hold
+doubles, so masses, radii, moments and defaults are exact either way.
 """
 import math
 
 import bpy
 from mathutils import Quaternion, Vector
 
-from . import rig_format
+from . import rig_format, rig_record
 from .rig_format import AXES, InputError
 
 
@@ -45,8 +50,8 @@ def _world_similarity(obj):
     s = det ** (1.0 / 3.0)
     gram = (m.transposed() @ m) * (1.0 / (s * s))
     if max(abs(gram[r][c] - (1.0 if r == c else 0.0)) for r in range(3) for c in range(3)) > 1e-5:
-        raise InputError(armature_source(obj), "", "scale",
-                         "non-uniform object scale or shear; apply it first (Object > Apply > Scale)")
+        raise InputError(armature_source(obj), "", "scale", "non-uniform object scale or "
+                         "shear; apply it first (Object > Apply > Scale)")
     return m, s
 
 
@@ -86,7 +91,8 @@ def _limits_of(pb):
         if getattr(pb, "lock_ik_" + a):
             out[a] = [0.0, 0.0]
         elif getattr(pb, "use_ik_limit_" + a):
-            out[a] = [math.degrees(getattr(pb, "ik_min_" + a)), math.degrees(getattr(pb, "ik_max_" + a))]
+            out[a] = [math.degrees(getattr(pb, "ik_min_" + a)),
+                      math.degrees(getattr(pb, "ik_max_" + a))]
     return out
 
 
@@ -120,6 +126,24 @@ def _mass_fields(pb, source, element):
     return out
 
 
+def _bone_props(pb, source, element):
+    """The rig fields a pose bone holds as custom properties: masses, radius, moments,
+    comment."""
+    out = _mass_fields(pb, source, element)
+    moments = pb.get("physik_inertia_local")
+    if moments is not None:
+        values = list(moments) if hasattr(moments, "__len__") else None
+        if values is None or len(values) != 3 or not all(
+                isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+                and v > 0 for v in values):
+            raise InputError(source, element, "physik_inertia_local",
+                             "must be 3 positive numbers (got %r)" % (values or moments,))
+        out["inertia_local"] = [float(v) for v in values]
+    if isinstance(pb.get("physik_comment"), str):
+        out["comment"] = pb["physik_comment"]
+    return out
+
+
 def require_armature(obj, what="an armature"):
     """obj if it is an armature object; a clear InputError otherwise."""
     if obj is None:
@@ -130,58 +154,99 @@ def require_armature(obj, what="an armature"):
     return obj
 
 
-def armature_to_rig(obj):
-    """The rig of an armature object, as a dict in the rig file format (see the module doc).
+def _world_bone(m3, s, mw, head, tail, rest):
+    """World head, tail and rest frame (x, y, z axes) of an armature-space bone."""
+    axes = [(m3 @ rest.col[c]) / s for c in range(3)]
+    return list(mw @ head), list(mw @ tail), [list(a.normalized()) for a in axes]
 
-    Raises InputError: not an armature, no bones or two roots, a bone name the project cannot
-    carry, a zero-length bone (edit mode), a child head away from its parent's tail, a bad mass
-    or radius property, a sheared or mirrored object.
-    """
-    require_armature(obj)
-    source = armature_source(obj)
+
+def _read_bones(obj, source):
+    """Blender's own values of every bone, world, DFS: dicts with name, parent, head, tail,
+    rest_frame, limits_deg (when any), masses and radius, inertia_local, comment. Raises
+    InputError as armature_to_rig does."""
     m3, s = _world_similarity(obj)
-    mw = obj.matrix_world
-    data = obj.data
-    defaults = {"mass_per_length": rig_format.DEFAULT_MASS_PER_LENGTH,
-                "radius": rig_format.DEFAULT_RADIUS}
-    for key in defaults:
-        v = _positive_prop(data, "physik_" + key, source, "armature data")
-        if v is not None:
-            defaults[key] = v
-    records = _dfs(_bone_records(obj), source)
     tails, lengths, bones = {}, {}, []
-    for name, parent, head, tail, rest in records:
+    for name, parent, head, tail, rest in _dfs(_bone_records(obj), source):
         el = "bone '%s'" % name
         problem = rig_format.bone_name_problem(name)
         if problem:
             raise InputError(source, el, "name", problem)
-        hw, tw = mw @ head, mw @ tail
-        length = (tw - hw).length
+        hw, tw, frame = _world_bone(m3, s, obj.matrix_world, head, tail, rest)
+        length = (Vector(tw) - Vector(hw)).length
         if not length > 1e-9:
             raise InputError(source, el, "tail", "zero-length bone (head and tail coincide)")
         if parent is not None:
-            gap = (hw - tails[parent]).length
+            gap = (Vector(hw) - Vector(tails[parent])).length
             if gap > 1e-3 * lengths[parent]:
                 raise InputError(source, el, "head", "does not meet the tail of its parent '%s' "
-                                 "(gap %.6g); PhysIK joints are a parent's tail with its children's "
-                                 "heads: connect the bone" % (parent, gap))
+                                 "(gap %.6g); PhysIK joints are a parent's tail with its "
+                                 "children's heads: connect the bone" % (parent, gap))
         tails[name], lengths[name] = tw, length
-        axes = [(m3 @ rest.col[c]) / s for c in range(3)]
-        bone = {"name": name, "parent": parent, "head": list(hw), "tail": list(tw),
-                "rest_frame": [list(a.normalized()) for a in axes]}
+        bone = {"name": name, "parent": parent, "head": hw, "tail": tw, "rest_frame": frame}
         pb = obj.pose.bones.get(name) if obj.pose else None
         if pb is not None:
             limits = _limits_of(pb)
             if limits:
                 bone["limits_deg"] = limits
-            bone.update(_mass_fields(pb, source, el))
-            if isinstance(pb.get("physik_comment"), str):
-                bone["comment"] = pb["physik_comment"]
+            bone.update(_bone_props(pb, source, el))
         bones.append(bone)
+    return bones
+
+
+def _rig_fields(obj, source):
+    """The rig's top-level fields but bones: from the armature data's custom properties and,
+    for an armature imported from a file, its record (rig_record.py)."""
+    data = obj.data
+    text = data.get(rig_record.PROP)
+    keys, extra = rig_record.load_rig_record(text, source) if text is not None else (None, {})
+    out = {}
     name = data.get("physik_rig_name")
-    return {"name": name if isinstance(name, str) and name else obj.name,
-            "comment": "read from Blender armature '%s' by physik_addon" % obj.name,
-            "defaults": defaults, "bones": bones}
+    if isinstance(name, str):
+        out["name"] = name
+    elif keys is None:
+        out["name"] = obj.name
+    for key in rig_record.FREE_TEXT:
+        value = data.get("physik_" + key)
+        if isinstance(value, str):
+            out[key] = value
+        elif key in extra:
+            out[key] = extra[key]
+    if keys is None and "comment" not in out:
+        out["comment"] = "read from Blender armature '%s' by physik_addon" % obj.name
+    defaults = {} if keys is not None else {
+        "mass_per_length": rig_format.DEFAULT_MASS_PER_LENGTH,
+        "radius": rig_format.DEFAULT_RADIUS}
+    for key in ("mass_per_length", "radius"):
+        v = _positive_prop(data, "physik_" + key, source, "armature data")
+        if v is not None:
+            defaults[key] = v
+    if defaults or (keys is not None and "defaults" in keys):
+        out["defaults"] = defaults
+    return out
+
+
+def armature_to_rig(obj):
+    """The rig of an armature object, as a dict in the rig file format (see the module doc).
+
+    An armature imported from a rig file gives the file's own values for every field Blender
+    still holds as imported (rig_record.py), so an unchanged rig comes back as the file was.
+    Raises InputError: not an armature, no bones or two roots, a bone name the project cannot
+    carry, a zero-length bone (edit mode), a child head away from its parent's tail, a bad mass,
+    radius or moments property, a sheared or mirrored object.
+    """
+    require_armature(obj)
+    source = armature_source(obj)
+    rig = _rig_fields(obj, source)
+    bones = []
+    for bone in _read_bones(obj, source):
+        pb = obj.pose.bones.get(bone["name"]) if obj.pose else None
+        text = pb.get(rig_record.PROP) if pb is not None else None
+        if text is not None:
+            bone = rig_record.merge(bone, text, obj.mode == 'EDIT', source,
+                                    "bone '%s'" % bone["name"])
+        bones.append(bone)
+    rig["bones"] = bones
+    return rig
 
 
 def check_blender_limits(rig, source):
@@ -192,6 +257,14 @@ def check_blender_limits(rig, source):
                 raise InputError(source, "bones[%d] '%s'" % (i, b["name"]), "limits_deg." + a,
                                  "[%g, %g] deg cannot be a Blender IK limit (Blender holds "
                                  "min <= 0 <= max)" % (lo, hi))
+
+
+def check_blender_names(rig, source):
+    """Bone names Blender and the add-on's bones CSV can hold (rig_format.bone_name_problem)."""
+    for i, b in enumerate(rig["bones"]):
+        problem = rig_format.bone_name_problem(b["name"])
+        if problem:
+            raise InputError(source, "bones[%d] '%s'" % (i, b["name"]), "name", problem)
 
 
 def _set_limits(pb, limits):
@@ -209,49 +282,96 @@ def _enter_object_mode(context):
         bpy.ops.object.mode_set(mode='OBJECT')
 
 
-def rig_to_armature(rig, context, name=None, source="<rig>", origin=(0.0, 0.0, 0.0)):
-    """A new armature object for a canonical rig (rig_format.parse_rig), in the active
-    collection, selected and active, in object mode. The object sits at `origin` (world) and
-    the bones keep their world rest positions. Raises InputError before creating anything
-    when a limit cannot be held by Blender."""
-    check_blender_limits(rig, source)
-    _enter_object_mode(context)
-    name = name or rig.get("name") or "rig"
+def _new_armature_object(context, name, origin):
+    """An empty armature object at `origin`, linked, selected and active, in edit mode."""
     data = bpy.data.armatures.new(name)
     obj = bpy.data.objects.new(name, data)
-    origin = Vector(origin)
     obj.location = origin
     (context.collection or context.scene.collection).objects.link(obj)
     for o in context.selected_objects:
         o.select_set(False)
     obj.select_set(True)
     context.view_layer.objects.active = obj
+    context.view_layer.update()  # the object's world matrix, for the edit-mode reading
     bpy.ops.object.mode_set(mode='EDIT')
+    return obj
+
+
+def _edit_frames(obj):
+    """{bone: rest frame} read in edit mode, as _read_bones reads it there."""
+    m3, s = _world_similarity(obj)
+    return {name: _world_bone(m3, s, obj.matrix_world, head, tail, rest)[2]
+            for name, _, head, tail, rest in _bone_records(obj)}
+
+
+def _build_bones(obj, rig, origin):
+    """The edit bones of a canonical rig (in edit mode); returns their frames read there."""
+    edit = {}
+    for b in rig["bones"]:
+        eb = obj.data.edit_bones.new(b["name"])
+        eb.head, eb.tail = Vector(b["head"]) - origin, Vector(b["tail"]) - origin
+        eb.align_roll(Vector(b["rest_frame"][2]))  # the roll that puts z on the rig's z
+        if b["parent"] is not None:
+            eb.parent = edit[b["parent"]]
+            eb.use_connect = True  # heads are already on their parents' tails
+        edit[b["name"]] = eb
+    return _edit_frames(obj)
+
+
+def _put_bone_fields(pb, b):
+    """A file bone's masses, radius, moments and comment as the pose bone's properties."""
+    for key in ("mass", "mass_per_length", "radius"):
+        if b.get(key) is not None:
+            pb["physik_" + key] = float(b[key])
+    if b.get("inertia_local") is not None:
+        pb["physik_inertia_local"] = [float(v) for v in b["inertia_local"]]
+    if isinstance(b.get("comment"), str):
+        pb["physik_comment"] = b["comment"]
+
+
+def _put_rig_fields(data, doc):
+    """The file's top-level fields as the armature data's properties and record."""
+    if isinstance(doc.get("name"), str):
+        data["physik_rig_name"] = doc["name"]
+    for key in rig_record.FREE_TEXT:
+        if isinstance(doc.get(key), str):
+            data["physik_" + key] = doc[key]
+    given = doc.get("defaults") if isinstance(doc.get("defaults"), dict) else {}
+    for key in ("mass_per_length", "radius"):
+        if given.get(key) is not None:
+            data["physik_" + key] = float(given[key])
+    data[rig_record.PROP] = rig_record.rig_record(doc)
+
+
+def rig_to_armature(rig, context, name=None, source="<rig>", origin=(0.0, 0.0, 0.0),
+                    doc=None):
+    """A new armature object for a canonical rig (rig_io.load, rig_format.parse_rig), in the
+    active collection, selected and active, in object mode. The object sits at `origin`
+    (world) and the bones keep their world rest positions. `doc`, the rig file's own dict
+    (default: `rig` itself), gives the masses, radii, moments, defaults and free text, and each
+    bone's record (rig_record.py), so armature_to_rig gives the file's values back. Raises
+    InputError before creating anything when a bone name or a limit cannot be held by Blender.
+    """
+    check_blender_names(rig, source)
+    check_blender_limits(rig, source)
+    doc = rig if doc is None else doc
+    _enter_object_mode(context)
+    obj = _new_armature_object(context, name or rig.get("name") or "rig", Vector(origin))
     try:
-        edit = {}
-        for b in rig["bones"]:
-            eb = data.edit_bones.new(b["name"])
-            eb.head, eb.tail = Vector(b["head"]) - origin, Vector(b["tail"]) - origin
-            eb.align_roll(Vector(b["rest_frame"][2]))  # the roll that puts z on the rig's z
-            if b["parent"] is not None:
-                eb.parent = edit[b["parent"]]
-                eb.use_connect = True  # heads are already on their parents' tails
-            edit[b["name"]] = eb
+        edit_frames = _build_bones(obj, rig, Vector(origin))
     finally:
         bpy.ops.object.mode_set(mode='OBJECT')
+    doc_bones = {b["name"]: b for b in doc["bones"]}
     for b in rig["bones"]:
         pb = obj.pose.bones[b["name"]]
         pb.rotation_mode = 'QUATERNION'
         _set_limits(pb, b.get("limits_deg", {}))
-        for key in ("mass", "mass_per_length", "radius"):
-            if key in b:
-                pb["physik_" + key] = float(b[key])
-        if b.get("comment"):
-            pb["physik_comment"] = b["comment"]
-    data["physik_rig_name"] = rig.get("name") or name
-    data["physik_mass_per_length"] = float(rig["defaults"]["mass_per_length"])
-    data["physik_radius"] = float(rig["defaults"]["radius"])
+        _put_bone_fields(pb, doc_bones[b["name"]])
+    _put_rig_fields(obj.data, doc)
     context.view_layer.update()  # evaluate the pose so pose-bone heads and tails are current
+    for bone in _read_bones(obj, source):
+        obj.pose.bones[bone["name"]][rig_record.PROP] = rig_record.bone_record(
+            doc_bones[bone["name"]], bone, edit_frames[bone["name"]])
     return obj
 
 
@@ -278,19 +398,25 @@ def read_pose(obj):
     set on the channels (Blender's matrix_basis; constraints not applied)."""
     root = pose_bones_dfs(obj)[0]
     m = obj.matrix_world
-    head_arm = root.bone.head_local + root.bone.matrix_local.to_3x3() @ root.matrix_basis.to_translation()
+    rest = root.bone.matrix_local.to_3x3()
+    head_arm = root.bone.head_local + rest @ root.matrix_basis.to_translation()
     return m @ head_arm, {pb.name: pb.matrix_basis.to_quaternion() for pb in obj.pose.bones}
 
 
 def initial_pose_dict(obj):
-    """The current channel pose as a scene file's `initial_pose` (degrees, rotation vectors)."""
+    """The current channel pose as a scene file's `initial_pose` (degrees, rotation vectors).
+    A root channel that has not moved gives no root_head: the engine then starts from the rig's
+    own root head (the file's double, not Blender's single-precision copy of it)."""
     head, rotations = read_pose(obj)
     rot = {}
     for name, q in rotations.items():
         v = rig_format.rotation_vector(tuple(q))
         if any(abs(c) > 0.0 for c in v):
             rot[name] = [math.degrees(c) for c in v]
-    return {"root_head": list(head), "rotation_deg": rot}
+    out = {"rotation_deg": rot}
+    if any(c != 0.0 for c in pose_bones_dfs(obj)[0].location):
+        out["root_head"] = list(head)
+    return out
 
 
 def set_rotation(pb, q):
@@ -345,7 +471,8 @@ def write_bones_csv(path, rows):
     with open(path, "w", encoding="utf-8", newline="") as f:
         f.write("bone,parent,head_x,head_y,head_z,tail_x,tail_y,tail_z\n")
         for name, parent, head, tail in rows:
-            f.write(",".join([name, parent] + ["%.10g" % c for c in list(head) + list(tail)]) + "\n")
+            numbers = ["%.10g" % c for c in list(head) + list(tail)]
+            f.write(",".join([name, parent] + numbers) + "\n")
 
 
 def bake_keyframes(obj, poses, frame_start=1, every=1):

@@ -83,8 +83,8 @@ def _is_legacy(obj):
 def _read_physik(obj, arm):
     source = "empty '%s'" % obj.name
     if "physik_bone" not in obj or obj["physik_bone"] in ("", None):
-        raise InputError(source, "", "physik_bone", "no bone: set the name of the bone this control "
-                         "point pulls")
+        raise InputError(source, "", "physik_bone",
+                         "no bone: set the name of the bone this control point pulls")
     bone = obj["physik_bone"]
     _check_bone(arm, bone, source, "physik_bone")
     cp = {"name": obj.name, "bone": bone,

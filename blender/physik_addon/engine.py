@@ -1,9 +1,9 @@
-"""The add-on's one door to the engine: issue 16's `import physik` (pybind11).
+"""The add-on's one door to the engine: `import physik` (pybind11; python/).
 
 Nothing else in the add-on imports physik. When the module cannot be imported (not built, or not
 on Blender's sys.path), every call raises EngineUnavailable; bad input the engine finds, and a
-diverged run, raise EngineError. The operators report both as one Blender error (never a made-up
-result, never a traceback).
+diverged run, raise EngineError (a rig: rig_format.InputError, with the engine's message). The
+operators report both as one Blender error (never a made-up result, never a traceback).
 
 Contract (the operators rely on exactly this):
   scene   a dict in the scene file format (models/README.md "Scenes") whose "rig" is the rig
@@ -16,7 +16,12 @@ Contract (the operators rely on exactly this):
                                   (per bone, DFS order: the engine's double-precision result)
   Live(scene); .step(n)        -> Pose                   a live simulation, n steps per call
   trajectory(scene, steps)     -> [Pose] * (steps + 1)   the start pose and one per step
+  param_table()                -> physik.param_table(): presets, default preset, rows
+  load_rig(path), canonical_rig(doc, source)
+                               -> the engine's canonical rig (physik.Rig(...).to_dict()): bones
+                                  in DFS order, snapped heads, re-orthonormalised frames
 """
+from .rig_format import InputError
 
 MISSING = ("the physik Python module is not built; see blender/README.md "
            "(build it with the project's CMake and start Blender with it on PYTHONPATH)")
@@ -58,6 +63,29 @@ def available():
         except EngineUnavailable:
             _AVAILABLE = False
     return _AVAILABLE
+
+
+def param_table():
+    """The engine's parameter table, as `physik params --json` prints it."""
+    return module().param_table()
+
+
+def _rig_dict(make):
+    physik = module()
+    try:
+        return make(physik).to_dict()
+    except physik.InputError as e:
+        raise InputError.from_message(str(e)) from None
+
+
+def load_rig(path):
+    """The canonical rig of a rig file, read by the engine (the CLI's checks and messages)."""
+    return _rig_dict(lambda physik: physik.Rig.load(path))
+
+
+def canonical_rig(doc, source):
+    """The canonical rig of a dict in the rig file format; `source` names it in messages."""
+    return _rig_dict(lambda physik: physik.Rig.from_dict(doc, source=source))
 
 
 def _source(scene):

@@ -1,21 +1,32 @@
-"""The add-on's operators. Bad input and a missing engine become one Blender error report each
-(self.report({'ERROR'}, ...), {'CANCELLED'}), never a traceback; the engine is reached only
-through engine.py. Operators that change the scene are undoable (bl_options UNDO)."""
-import json
+"""The add-on's operators. Bad input, a missing engine and a diverged run become one Blender
+error report each (self.report({'ERROR'}, ...), {'CANCELLED'}, nothing changed), never a
+traceback; a Solve that stops short of its targets applies the pose it reached with a WARNING
+giving the residual. The engine is reached only through engine.py, rig files through rig_io.py.
+Operators that change the scene are undoable (bl_options UNDO)."""
 import time
 
 import bpy
 from bpy.props import FloatProperty, IntProperty, StringProperty
 from bpy_extras.io_utils import ExportHelper, ImportHelper
 
-from . import armature_io, control_points, engine, rig_format, scene_dict
+from . import armature_io, control_points, engine, rig_io, scene_dict
 from .rig_format import InputError
 
 START_POSE = "physik_start_pose"  # object property: the pose before the last Solve/Simulate/Bake
 
+# The last report an operator made, {"level": 'INFO' | 'WARNING' | 'ERROR', "text": ...}: Blender
+# keeps reports in its window manager, which Python cannot read; the tests read this.
+LAST_REPORT = {}
+
+
+def _report(op, level, text):
+    LAST_REPORT.clear()
+    LAST_REPORT.update(level=level, text=text)
+    op.report({level}, text)
+
 
 def _fail(op, err):
-    op.report({'ERROR'}, str(err))
+    _report(op, 'ERROR', str(err))
     return {'CANCELLED'}
 
 
@@ -35,8 +46,8 @@ class PHYSIK_OT_import_rig(bpy.types.Operator, ImportHelper):
 
     def execute(self, context):
         try:
-            rig = rig_format.load_rig(self.filepath)
-            armature_io.rig_to_armature(rig, context, source=self.filepath)
+            doc, rig = rig_io.load(self.filepath)
+            armature_io.rig_to_armature(rig, context, source=self.filepath, doc=doc)
         except InputError as e:
             return _fail(self, e)
         return {'FINISHED'}
@@ -51,19 +62,16 @@ class PHYSIK_OT_export_rig(bpy.types.Operator, ExportHelper):
 
     def execute(self, context):
         try:
-            rig = armature_io.armature_to_rig(scene_dict.active_armature(context))
+            arm = scene_dict.active_armature(context)
+            rig = armature_io.armature_to_rig(arm)
+            rig_io.save(rig, self.filepath, armature_io.armature_source(arm))
         except InputError as e:
             return _fail(self, e)
-        try:
-            with open(self.filepath, "w", encoding="utf-8") as f:
-                json.dump(rig, f, indent=1)
-        except OSError as e:
-            return _fail(self, "%s: cannot write file (%s)" % (self.filepath, e.strerror or e))
         return {'FINISHED'}
 
 
 class PHYSIK_OT_add_control_point(bpy.types.Operator):
-    """Add an empty that pulls a bone of the active armature at alpha (the active bone by default)"""
+    """Add an empty pulling a bone of the active armature at alpha (default: the active bone)"""
     bl_idname = "physik.add_control_point"
     bl_label = "Add control point"
     bl_options = {'REGISTER', 'UNDO'}
@@ -101,9 +109,23 @@ class PHYSIK_OT_solve(bpy.types.Operator):
             return _fail(self, e)
         _save_start_pose(arm)
         armature_io.apply_pose(arm, head, rotations)
-        self.report({'INFO'}, "PhysIK: %s steps, converged %s" % (
-            summary.get("steps_run", "?"), summary.get("converged", "?")))
+        _report(self, *solve_report(summary))
         return {'FINISHED'}
+
+
+def solve_report(summary):
+    """(level, text) of a Solve that did not diverge: INFO when every control point is within
+    the tolerance, else WARNING (the run stopped at its step count, or stalled short)."""
+    residuals = summary["final_residuals"]
+    if isinstance(residuals, dict):
+        residuals = list(residuals.values())
+    worst = max(residuals) if residuals else 0.0
+    facts = "%d steps, largest residual %.3g (tolerance %.3g)" % (
+        summary["steps_run"], worst, summary["residual_tol"])
+    if summary["converged"]:
+        return 'INFO', "PhysIK: converged: " + facts
+    return 'WARNING', ("PhysIK: not converged: %s; the pose reached is applied (more steps, "
+                       "or targets the rig can reach)" % facts)
 
 
 # The running or last Simulate, for tests and blender/bench_live.py (one at a time is shown):
@@ -154,8 +176,8 @@ class PHYSIK_OT_simulate(bpy.types.Operator):
     def modal(self, context, event):
         if event.type in {'ESC', 'RIGHTMOUSE'}:
             self._stop(context, "esc")
-            self.report({'INFO'}, "PhysIK: live run stopped after %d frames (%d steps)"
-                        % (LIVE["frames"], LIVE["steps"]))
+            _report(self, 'INFO', "PhysIK: live run stopped after %d frames (%d steps)"
+                    % (LIVE["frames"], LIVE["steps"]))
             return {'FINISHED'}
         # other timers of the window send TIMER events too: step only on this one's
         if event.type != 'TIMER' or self._timer.time_duration == self._last_duration:
@@ -165,7 +187,8 @@ class PHYSIK_OT_simulate(bpy.types.Operator):
         arm = bpy.data.objects.get(self._arm_name)
         if arm is None or arm.type != 'ARMATURE':
             self._stop(context, "error")
-            return _fail(self, "armature '%s' is gone; the live simulation stopped" % self._arm_name)
+            return _fail(self, "armature '%s' is gone; the live simulation stopped"
+                         % self._arm_name)
         try:
             head, rotations = self._live.step(self._steps)
         except engine.EngineError as e:
@@ -189,7 +212,7 @@ class PHYSIK_OT_simulate(bpy.types.Operator):
 
 
 class PHYSIK_OT_bake(bpy.types.Operator):
-    """Run PhysIK for the panel's steps and keyframe the pose every N steps from the current frame"""
+    """Run PhysIK for the panel's steps; keyframe the pose every N steps from the current frame"""
     bl_idname = "physik.bake"
     bl_label = "Bake"
     bl_options = {'REGISTER', 'UNDO'}
@@ -206,12 +229,13 @@ class PHYSIK_OT_bake(bpy.types.Operator):
         frames = armature_io.bake_keyframes(arm, poses, frame, s.bake_every)
         # show the keyed pose of the current frame (the channels hold the last key's until then)
         context.scene.frame_set(frame)
-        self.report({'INFO'}, "PhysIK: %d keyframes, frames %d..%d" % (len(frames), frames[0], frames[-1]))
+        _report(self, 'INFO', "PhysIK: %d keyframes, frames %d..%d"
+                % (len(frames), frames[0], frames[-1]))
         return {'FINISHED'}
 
 
 class PHYSIK_OT_reset(bpy.types.Operator):
-    """Return the active armature to the pose before the last Solve, Simulate or Bake (or to rest)"""
+    """Return the armature to the pose before the last Solve, Simulate or Bake (or to rest)"""
     bl_idname = "physik.reset"
     bl_label = "Reset"
     bl_options = {'REGISTER', 'UNDO'}
@@ -226,7 +250,7 @@ class PHYSIK_OT_reset(bpy.types.Operator):
             for pb in arm.pose.bones:
                 pb.location = (0.0, 0.0, 0.0)
                 armature_io.set_rotation(pb, (1.0, 0.0, 0.0, 0.0))
-            self.report({'INFO'}, "PhysIK: no start pose saved; back to rest")
+            _report(self, 'INFO', "PhysIK: no start pose saved; back to rest")
         else:
             rotations = {n: tuple(q) for n, q in start["rotations"].items() if n in arm.pose.bones}
             armature_io.apply_pose(arm, tuple(start["root_head"]), rotations)

@@ -1,4 +1,7 @@
-"""The project's rig files as Python dicts: validation and canonical frames (no Blender here).
+"""The project's rig files as Python dicts: validation and canonical frames, with no Blender
+and no engine here: the add-on's reader when the `physik` module cannot be imported (rig_io.py
+uses physik.Rig when it can; Blender's iTaSC script, which the fig9 experiment runs from a
+CLI-only build, always uses this one).
 
 Format: models/README.md "Rigs". Conventions (physik/model/rig.h, physik/model/kinematics.h):
 world Z up; a bone's local +Y runs head -> tail; `rest_frame` lists the bone's x, y, z axes in
@@ -13,8 +16,10 @@ one-line messages "<file>: <element>: field '<field>': <reason>":
     rotated by the minimal rotation that puts its y axis exactly on the bone;
   - a roll gives Blender's frame: the minimal rotation taking +Y to the bone, then the roll
     about the bone (rest_frame_from_roll).
-Once `import physik` exists, physik.Rig.load can replace the checks; the dict form stays the
-add-on's interchange with Blender.
+blender/tests/test_rig_format.py holds it to the engine: the same canonical rig for every
+shipped rig, the same message for each bad file; blender/tests/test_round_trip.py builds the
+same armatures from it as from physik.Rig. Blender's own limits on bone names (63 bytes; no
+character the add-on's bones CSV cannot hold) are armature_io's, not the format's.
 """
 import json
 import math
@@ -39,6 +44,14 @@ class InputError(ValueError):
             parts.append("field '%s'" % field)
         parts.append(reason)
         super().__init__(": ".join(parts))
+
+    @classmethod
+    def from_message(cls, message):
+        """An InputError whose text is `message` as it stands (the engine's: already one line
+        naming the file, the element and the field)."""
+        err = cls.__new__(cls)
+        ValueError.__init__(err, message)
+        return err
 
 
 def bone_name_problem(name):
@@ -178,7 +191,13 @@ def canonical_frame(axes, head, tail):
     return quat_axes(q)
 
 
-# --- validation --------------------------------------------------------------------------------
+# --- validation: the engine's checks and messages (physik/io/rig_io.cpp, physik/model/rig.cpp) --
+
+MAX_BONES = 1000000          # rig.h kMaxBones
+MAX_COORDINATE = 1e9         # rig.h kMaxCoordinate, rig units
+MIN_SCALE, MAX_SCALE = 1e-9, 1e9  # rig.h kMinScale, kMaxScale: mass (kg) and radius (rig units)
+MAX_JSON_DEPTH = 256         # json_fields.h kMaxJsonDepth
+
 
 def _number(value, source, element, field):
     # bool is an int in Python; JSON true is not a number
@@ -198,7 +217,8 @@ def _vec3(value, source, element, field):
 def _json_type(value):
     if value is None:
         return "null"
-    return {bool: "boolean", str: "string", list: "array", dict: "object"}.get(type(value), "number")
+    return {bool: "boolean", str: "string", list: "array", dict: "object"}.get(type(value),
+                                                                              "number")
 
 
 def _only_keys(obj, known, source, element):
@@ -208,13 +228,9 @@ def _only_keys(obj, known, source, element):
                              "unknown field (known fields: %s)" % ", ".join(known))
 
 
-def _positive(obj, key, fallback, source, element):
-    if obj.get(key) is None:
-        return fallback
-    v = _number(obj[key], source, element, key)
-    if not v > 0.0:
-        raise InputError(source, element, key, "must be positive")
-    return v
+def _number_or(obj, key, fallback, source, element):
+    """The engine's number_or: an absent or null field is the fallback."""
+    return fallback if obj.get(key) is None else _number(obj[key], source, element, key)
 
 
 def parse_limits(value, source, element, field="limits_deg"):
@@ -231,7 +247,8 @@ def parse_limits(value, source, element, field="limits_deg"):
         lo = _number(pair[0], source, element, f + "[0]")
         hi = _number(pair[1], source, element, f + "[1]")
         if lo > hi:
-            raise InputError(source, element, f, "min %g deg is greater than max %g deg" % (lo, hi))
+            raise InputError(source, element, f,
+                             "min %g deg is greater than max %g deg" % (lo, hi))
         if lo < -180.0 or hi > 180.0:
             raise InputError(source, element, f,
                              "limits must lie within [-180, 180] deg (got [%g, %g])" % (lo, hi))
@@ -245,22 +262,76 @@ def _bone_element(b, i):
     return "bones[%d]" % i
 
 
-def _parse_bone(b, i, source):
-    """One bone's own fields (no tree checks); returns a dict with tuples and the raw frame."""
+def engine_name_problem(name):
+    """names.cpp name_problem for a name read from JSON (so valid UTF-8): the first control
+    character and its byte offset, or None."""
+    for i, c in enumerate(name.encode("utf-8")):
+        if c < 0x20 or c == 0x7F:
+            return "control character 0x%02x at offset %d" % (c, i)
+    return None
+
+
+def _parse_frame(b, head, tail, source, el):
+    """The bone's axes as given (rest_frame), or Blender's frame for its roll."""
+    if "rest_frame" in b and "roll_deg" in b:
+        raise InputError(source, el, "rest_frame", "give either rest_frame or roll_deg, not both")
+    if "rest_frame" in b:
+        f = b["rest_frame"]
+        if not isinstance(f, list) or len(f) != 3:
+            raise InputError(source, el, "rest_frame", "expected three axes [[x],[y],[z]]")
+        return tuple(_vec3(f[c], source, el, "rest_frame[%d]" % c) for c in range(3))
+    roll = _number_or(b, "roll_deg", 0.0, source, el)
+    return frame_from_roll(head, tail, math.radians(roll))
+
+
+def _parse_mass(b, bone, defaults, source, el):
+    """Mass (given, or mass per length x length), radius and explicit moments, as rig_io.cpp
+    reads them; keeps which of mass and mass_per_length the file gave."""
+    if "mass" in b and "mass_per_length" in b:
+        raise InputError(source, el, "mass", "give either mass or mass_per_length, not both")
+    length = norm(sub(bone["tail"], bone["head"]))
+    if "mass" in b:
+        bone["mass"] = _number(b["mass"], source, el, "mass")
+        if not bone["mass"] > 0.0:
+            raise InputError(source, el, "mass", "must be positive")
+        total = bone["mass"]
+    else:
+        mpl = _number_or(b, "mass_per_length", defaults["mass_per_length"], source, el)
+        if not mpl > 0.0:
+            raise InputError(source, el, "mass_per_length", "must be positive")
+        if b.get("mass_per_length") is not None:
+            bone["mass_per_length"] = mpl
+        total = mpl * length
+    radius = _number_or(b, "radius", defaults["radius"], source, el)
+    if not radius > 0.0:
+        raise InputError(source, el, "radius", "must be positive")
+    if b.get("radius") is not None:
+        bone["radius"] = radius
+    if "inertia_local" in b:
+        bone["inertia_local"] = _vec3(b["inertia_local"], source, el, "inertia_local")
+        if not min(bone["inertia_local"]) > 0.0:
+            raise InputError(source, el, "inertia_local", "moments must be positive")
+    return total, radius
+
+
+def _parse_bone(b, i, source, defaults):
+    """One bone's own fields (rig_io.cpp bone_from_json); returns a dict with tuples, the raw
+    frame ("axes"), and the total mass and radius for the range checks."""
     el = _bone_element(b, i)
     if not isinstance(b, dict):
-        raise InputError(source, el, "", "expected an object")
+        raise InputError(source, el, "", "expected a JSON object")
     _only_keys(b, BONE_KEYS, source, el)
     if "name" not in b:
         raise InputError(source, el, "name", "missing required field")
-    problem = bone_name_problem(b["name"])
-    if problem:
-        raise InputError(source, el, "name", problem)
+    if not isinstance(b["name"], str):
+        raise InputError(source, el, "name", "expected a string, got %s" % _json_type(b["name"]))
     if "parent" not in b:
         raise InputError(source, el, "parent", "missing required field")
     parent = b["parent"]
-    if parent is not None and (not isinstance(parent, str) or not parent):
-        raise InputError(source, el, "parent", "expected a bone name, or null for the root")
+    if isinstance(parent, str) and not parent:
+        raise InputError(source, el, "parent", "empty name (use null for the root)")
+    if parent is not None and not isinstance(parent, str):
+        raise InputError(source, el, "parent", "expected a bone name or null")
     for key in ("head", "tail"):
         if key not in b:
             raise InputError(source, el, key, "missing required field")
@@ -268,37 +339,34 @@ def _parse_bone(b, i, source):
     tail = _vec3(b["tail"], source, el, "tail")
     if norm(sub(tail, head)) <= 1e-9:
         raise InputError(source, el, "tail", "zero-length bone (head and tail coincide)")
-    bone = {"name": b["name"], "parent": parent, "head": head, "tail": tail}
-    if "rest_frame" in b and "roll_deg" in b:
-        raise InputError(source, el, "rest_frame", "give either rest_frame or roll_deg, not both")
-    if "rest_frame" in b:
-        f = b["rest_frame"]
-        if not isinstance(f, list) or len(f) != 3:
-            raise InputError(source, el, "rest_frame", "expected three axes [[x],[y],[z]]")
-        bone["axes"] = tuple(_vec3(f[c], source, el, "rest_frame[%d]" % c) for c in range(3))
-    else:
-        roll = b.get("roll_deg", 0.0)
-        roll = 0.0 if roll is None else _number(roll, source, el, "roll_deg")
-        bone["axes"] = frame_from_roll(head, tail, math.radians(roll))
+    bone = {"name": b["name"], "parent": parent, "head": head, "tail": tail,
+            "axes": _parse_frame(b, head, tail, source, el)}
     bone["limits_deg"] = parse_limits(b["limits_deg"], source, el) if "limits_deg" in b else {}
-    if "mass" in b and "mass_per_length" in b:
-        raise InputError(source, el, "mass", "give either mass or mass_per_length, not both")
-    for key in ("mass", "mass_per_length", "radius"):
-        if key in b:
-            bone[key] = _positive(b, key, None, source, el)
-    if "inertia_local" in b:
-        bone["inertia_local"] = _vec3(b["inertia_local"], source, el, "inertia_local")
+    bone["_mass"], bone["_radius"] = _parse_mass(b, bone, defaults, source, el)
+    if isinstance(b.get("comment"), str):
+        bone["comment"] = b["comment"]
     return bone
 
 
-def _dfs_order(bones, source):
-    """Indices in DFS order from the one root (children in file order); tree errors raise."""
+def _check_names(bones, source):
+    """rig.cpp stage 1: names non-empty, UTF-8 without control characters, unique."""
     index = {}
     for i, b in enumerate(bones):
+        if not b["name"]:
+            raise InputError(source, _bone_element(b, i), "name", "empty bone name")
+        problem = engine_name_problem(b["name"])
+        if problem:  # the element leaves the name out, as the engine's does
+            raise InputError(source, "bones[%d]" % i, "name", problem)
         if b["name"] in index:
             raise InputError(source, _bone_element(b, i), "name",
                              "duplicate bone name (first used by bones[%d])" % index[b["name"]])
         index[b["name"]] = i
+    return index
+
+
+def _dfs_order(bones, source):
+    """Indices in DFS order from the one root (children in file order); tree errors raise."""
+    index = _check_names(bones, source)
     children = [[] for _ in bones]
     root = None
     for i, b in enumerate(bones):
@@ -325,56 +393,102 @@ def _dfs_order(bones, source):
     if len(order) != len(bones):
         seen = set(order)
         i = next(k for k in range(len(bones)) if k not in seen)
-        raise InputError(source, _bone_element(bones[i], i), "parent", "parent cycle: this bone's "
-                         "ancestors never reach the root '%s'" % bones[root]["name"])
+        raise InputError(source, _bone_element(bones[i], i), "parent", "parent cycle: this "
+                         "bone's ancestors never reach the root '%s'" % bones[root]["name"])
     return order
 
 
-def _check_frame(bone, source, el):
+def _check_geometry(bone, source, el):
+    """rig.cpp stage 4a: coordinates within range; a right-handed orthonormal frame along the
+    bone."""
+    for field in ("head", "tail"):
+        big = max(abs(c) for c in bone[field])
+        if big > MAX_COORDINATE:
+            raise InputError(source, el, field, "coordinate %g is beyond +-%g rig units "
+                             "(rig.h kMaxCoordinate)" % (big, MAX_COORDINATE))
     f = bone["axes"]
-    gram = max(abs(dot(f[a], f[b]) - (1.0 if a == b else 0.0)) for a in range(3) for b in range(3))
+    gram = math.sqrt(sum((dot(f[a], f[b]) - (1.0 if a == b else 0.0)) ** 2
+                         for a in range(3) for b in range(3)))
     if gram > 1e-3 or dot(cross(f[0], f[1]), f[2]) < 0.0:
         raise InputError(source, el, "rest_frame", "not a right-handed orthonormal frame")
     if dot(f[1], normalized(sub(bone["tail"], bone["head"]))) < 1.0 - 1e-3:
-        raise InputError(source, el, "rest_frame", "the frame's y axis does not run from head to tail")
+        raise InputError(source, el, "rest_frame",
+                         "the frame's y axis does not run from head to tail")
 
 
-def parse_rig(doc, source="<rig>"):
-    """A checked rig in canonical form: bones in DFS order, heads snapped onto their parents'
-    tails, frames as the engine builds them. Raises InputError."""
+def _check_mass(bone, source, el):
+    """rig.cpp stage 4c: mass, radius and explicit moments within the engine's ranges."""
+    rng = " (rig.h: [%g, %g])" % (MIN_SCALE, MAX_SCALE)
+    if not MIN_SCALE <= bone["_mass"] <= MAX_SCALE:
+        raise InputError(source, el, "mass", "mass %g kg is out of range%s" % (bone["_mass"], rng))
+    if not MIN_SCALE <= bone["_radius"] <= MAX_SCALE:
+        raise InputError(source, el, "radius",
+                         "radius %g rig units is out of range%s" % (bone["_radius"], rng))
+    m = bone.get("inertia_local")
+    if m is None or max(abs(c) for c in m) <= 1e-12:
+        return  # the engine reads moments all within Eigen's isZero() as none given
+    lo, hi = MIN_SCALE ** 3, MAX_SCALE ** 3
+    if min(m) < lo or max(m) > hi:
+        raise InputError(source, el, "inertia_local",
+                         "moments must lie in [%g, %g] kg m^2" % (lo, hi))
+    tol = 1 - 1e-9
+    if m[0] + m[1] < m[2] * tol or m[1] + m[2] < m[0] * tol or m[2] + m[0] < m[1] * tol:
+        raise InputError(source, el, "inertia_local",
+                         "moments break the triangle inequality (no real body has them)")
+
+
+def _parse_top(doc, source):
+    """The rig's name, comment and defaults (rig_io.cpp rig_from_json)."""
     if not isinstance(doc, dict):
         raise InputError(source, "", "", "expected a JSON object")
     _only_keys(doc, TOP_KEYS, source, "")
     defaults = doc.get("defaults", {})
     if not isinstance(defaults, dict):
-        raise InputError(source, "defaults", "", "expected an object")
+        raise InputError(source, "defaults", "defaults", "expected a JSON object")
     _only_keys(defaults, ("mass_per_length", "radius"), source, "defaults")
-    rig = {"name": doc.get("name") if isinstance(doc.get("name"), str) else "",
-           "defaults": {"mass_per_length": _positive(defaults, "mass_per_length",
-                                                     DEFAULT_MASS_PER_LENGTH, source, "defaults"),
-                        "radius": _positive(defaults, "radius", DEFAULT_RADIUS, source, "defaults")}}
-    if isinstance(doc.get("comment"), str):
-        rig["comment"] = doc["comment"]
+    d = {"mass_per_length": _number_or(defaults, "mass_per_length", DEFAULT_MASS_PER_LENGTH,
+                                       source, "defaults"),
+         "radius": _number_or(defaults, "radius", DEFAULT_RADIUS, source, "defaults")}
+    for key, value in d.items():
+        if not value > 0.0:
+            raise InputError(source, "defaults", key, "must be positive")
     if "bones" not in doc:
         raise InputError(source, "", "bones", "missing required field")
     if not isinstance(doc["bones"], list):
         raise InputError(source, "", "bones", "expected an array of bones")
-    if not doc["bones"]:
+    name = doc.get("name")
+    if name is not None and not isinstance(name, str):
+        raise InputError(source, "", "name", "expected a string, got %s" % _json_type(name))
+    rig = {"name": name or "", "defaults": d}
+    if isinstance(doc.get("comment"), str):
+        rig["comment"] = doc["comment"]
+    return rig
+
+
+def parse_rig(doc, source="<rig>"):
+    """A checked rig in canonical form: bones in DFS order, heads snapped onto their parents'
+    tails, frames as the engine builds them. Raises InputError with the engine's message."""
+    rig = _parse_top(doc, source)
+    parsed = [_parse_bone(b, i, source, rig["defaults"]) for i, b in enumerate(doc["bones"])]
+    if not parsed:
         raise InputError(source, "", "bones", "the rig has no bones")
-    parsed = [_parse_bone(b, i, source) for i, b in enumerate(doc["bones"])]
+    if len(parsed) > MAX_BONES:
+        raise InputError(source, "", "bones", "%d bones, more than the %d a rig may have "
+                         "(rig.h kMaxBones)" % (len(parsed), MAX_BONES))
+    order = _dfs_order(parsed, source)
     for i, b in enumerate(parsed):
-        _check_frame(b, source, _bone_element(b, i))
-    for i, b in enumerate(doc["bones"]):
-        if isinstance(b.get("comment"), str):
-            parsed[i]["comment"] = b["comment"]
+        _check_geometry(b, source, _bone_element(b, i))
+    for i, b in enumerate(parsed):
+        _check_mass(b, source, _bone_element(b, i))
     out, tail_of, length_of = [], {}, {}
-    for i in _dfs_order(parsed, source):
-        b = dict(parsed[i])
+    for i in order:
+        b = {k: v for k, v in parsed[i].items() if not k.startswith("_")}
+        b["total_mass"] = parsed[i]["_mass"]  # from the file's head, as the engine's
         if b["parent"] is not None:
             gap = norm(sub(b["head"], tail_of[b["parent"]]))
             if gap > 1e-3 * length_of[b["parent"]]:
-                raise InputError(source, _bone_element(b, i), "head", "does not meet the tail of its "
-                                 "parent '%s' (gap %g); a joint is a parent's tail with its "
+                raise InputError(source, _bone_element(b, i), "head", "does not meet the tail of "
+                                 "its parent '%s' (gap %g); a joint is a parent's tail with its "
                                  "children's heads" % (b["parent"], gap))
             b["head"] = tail_of[b["parent"]]
         b["rest_frame"] = canonical_frame(b.pop("axes"), b["head"], b["tail"])
@@ -385,51 +499,63 @@ def parse_rig(doc, source="<rig>"):
     return rig
 
 
+def _check_json_depth(text, source):
+    """json_fields.cpp check_json_depth: brackets outside strings, at most MAX_JSON_DEPTH."""
+    depth, line, in_string, escaped = 0, 1, False, False
+    for c in text:
+        if c == "\n":
+            line += 1
+        if in_string:
+            if escaped:
+                escaped = False
+            elif c == "\\":
+                escaped = True
+            elif c == '"':
+                in_string = False
+        elif c == '"':
+            in_string = True
+        elif c in "[{":
+            depth += 1
+            if depth > MAX_JSON_DEPTH:
+                raise InputError(source, "line %d" % line, "", "JSON nested deeper than %d "
+                                 "levels (json_fields.h kMaxJsonDepth)" % MAX_JSON_DEPTH)
+        elif c in "]}":
+            depth -= 1
+
+
+def _refuse_constant(name):
+    raise ValueError("%s is not a JSON number" % name)
+
+
 def load_json(path):
-    """A JSON file's contents; unreadable or malformed files raise InputError."""
+    """A JSON file's contents; an unreadable, malformed (bytes that are not UTF-8 included) or
+    too deeply nested file raises InputError (the engine's words: "cannot open file",
+    "invalid JSON: ..."; the parser's own details differ)."""
     try:
-        with open(path, encoding="utf-8") as f:
-            return json.load(f)
-    except OSError as e:
-        raise InputError(path, "", "", "cannot read file (%s)" % (e.strerror or e))
+        with open(path, "rb") as f:
+            raw = f.read()
+    except OSError:
+        raise InputError(path, "", "", "cannot open file") from None
+    try:
+        text = raw.decode("utf-8-sig")  # a byte order mark is skipped, as nlohmann does
+    except UnicodeDecodeError as e:
+        raise InputError(path, "", "", "invalid JSON: %s" % e) from None
+    _check_json_depth(text, path)
+    try:
+        return json.loads(text, parse_constant=_refuse_constant)
     except ValueError as e:
-        raise InputError(path, "", "", "not valid JSON (%s)" % e)
+        raise InputError(path, "", "", "invalid JSON: %s" % e) from None
 
 
 def load_rig(path):
     return parse_rig(load_json(path), path)
 
 
-def bone_mass(rig, bone):
-    """Total mass (kg) of a canonical bone: its mass, or mass per length x length."""
-    if "mass" in bone:
-        return bone["mass"]
-    mpl = bone.get("mass_per_length", rig["defaults"]["mass_per_length"])
-    return mpl * norm(sub(bone["tail"], bone["head"]))
+def bone_mass(bone):
+    """Total mass (kg) of a canonical bone: its mass, or mass per length x the length from the
+    file's head (before the head is snapped onto the parent's tail: the engine's rule)."""
+    return bone["total_mass"]
 
 
 def bone_radius(rig, bone):
     return bone.get("radius", rig["defaults"]["radius"])
-
-
-def to_file_dict(rig):
-    """A canonical rig back in the file format (lists, explicit rest frames)."""
-    doc = {"name": rig.get("name", "")}
-    if rig.get("comment"):
-        doc["comment"] = rig["comment"]
-    doc["defaults"] = dict(rig["defaults"])
-    doc["bones"] = []
-    for b in rig["bones"]:
-        out = {"name": b["name"], "parent": b["parent"], "head": list(b["head"]),
-               "tail": list(b["tail"]), "rest_frame": [list(a) for a in b["rest_frame"]]}
-        if b.get("limits_deg"):
-            out["limits_deg"] = {a: list(v) for a, v in b["limits_deg"].items()}
-        for key in ("mass", "mass_per_length", "radius"):
-            if key in b:
-                out[key] = b[key]
-        if "inertia_local" in b:
-            out["inertia_local"] = list(b["inertia_local"])
-        if b.get("comment"):
-            out["comment"] = b["comment"]
-        doc["bones"].append(out)
-    return doc

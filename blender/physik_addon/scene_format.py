@@ -40,7 +40,8 @@ def load_scene(path, rig_path=None):
         out.append({"name": name, "bone": c["bone"], "alpha": alpha,
                     "target": _vec3(c["target"], path, el, "target")})
     return {"rig": rig, "rig_path": rig_path, "control_points": out,
-            "initial_pose": _initial_pose(doc, path, names), "residual_tol": _tolerance(doc, path, rig)}
+            "initial_pose": _initial_pose(doc, path, names),
+            "residual_tol": _tolerance(doc, path, rig)}
 
 
 def _initial_pose(doc, path, names):

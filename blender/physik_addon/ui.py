@@ -1,7 +1,8 @@
-"""The PhysIK panel: 3D viewport sidebar (N), tab "PhysIK"."""
+"""The PhysIK panel: 3D viewport sidebar (N), tab "PhysIK". The engine's fields are the ones
+settings.py built from the engine's parameter table."""
 import bpy
 
-from . import engine
+from . import engine, settings
 
 
 class PHYSIK_PT_panel(bpy.types.Panel):
@@ -24,18 +25,9 @@ class PHYSIK_PT_panel(bpy.types.Panel):
                     and (o.get("physik_armature") == obj or o.get("fwik_armature") == obj))
             layout.label(text="%d control point(s)" % n)
         col = layout.column()
-        col.prop(s, "preset")
-        col.prop(s, "integration")
-        row = col.row(align=True)
-        row.prop(s, "damping_mode", expand=True)
-        sub = row.row()
-        sub.enabled = s.damping_mode == 'VALUE'
-        sub.prop(s, "damping", text="")
-        col.prop(s, "control_spring")
-        col.prop(s, "control_k")
-        if s.control_spring == "capped":
-            col.prop(s, "control_cap")
-        col.prop(s, "interpolation")
+        if hasattr(s, "preset"):
+            col.prop(s, "preset")
+            _engine_fields(col, s)
         col.prop(s, "steps_per_frame")
         col.prop(s, "bake_every")
         col.prop(s, "max_steps")
@@ -47,6 +39,20 @@ class PHYSIK_PT_panel(bpy.types.Panel):
         row.operator("physik.reset", icon='LOOP_BACK')
         if not engine.available():
             layout.label(text="engine not built: see README", icon='ERROR')
+
+
+def _engine_fields(col, s):
+    for name in settings.PANEL_ROWS:
+        if not hasattr(s, name):
+            continue
+        if name == "damping" and hasattr(s, "damping_mode"):
+            row = col.row(align=True)
+            row.prop(s, "damping_mode", expand=True)
+            sub = row.row()
+            sub.enabled = s.damping_mode == 'VALUE'
+            sub.prop(s, "damping", text="")
+        elif name != "control_cap" or getattr(s, "control_spring", "") == "capped":
+            col.prop(s, name)
 
 
 CLASSES = (PHYSIK_PT_panel,)

@@ -3,7 +3,7 @@
     blender -b --factory-startup --python-exit-code 1 --python blender/tests/test_engine.py -- \
         --repo . --pythonpath build/python --binary build/physik
 
-The add-on reaches `import physik` (issue 16, on --pythonpath). What is checked (issue 17):
+The add-on reaches `import physik` (on --pythonpath). What is checked:
   - Solve on Fig 9's control points (pinhead built from models/rigs/pinhead.json, the panel's
     k = 30 as the scene's): the engine's final state in Blender is `physik simulate`'s on the
     same scene dict (identical final_state_hash; every bone's world head and tail to 1e-9 from
@@ -11,8 +11,10 @@ The add-on reaches `import physik` (issue 16, on --pythonpath). What is checked 
     that pose (1e-5: Blender keeps poses in single precision);
   - Bake keys the frames of every N-th step and the last, in the engine's poses;
   - a live simulation's n-step calls follow the same states as one run;
-  - damping 'auto' with the implicit step solves (the engine's damping_auto); a diverged run gives one Blender report, nothing
-    moved;
+  - the panel's presets, fields and defaults are the engine's parameter table's;
+  - Solve reports INFO when converged, a WARNING with the largest residual when not;
+  - damping 'auto' with the implicit step solves (the engine's damping_auto); a diverged Solve or
+    Bake gives one Blender error, nothing changed;
   - Blender's undo works across Solve, Bake and Reset: each operator, called as the panel's
     button calls it (with an undo push: bpy.ops.physik.solve('EXEC_DEFAULT', True)), is one undo
     step; bpy.ops.ed.undo() returns the armature to exactly the pose before it (the channels and
@@ -36,12 +38,14 @@ from mathutils import Vector
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from blender_harness import clear_scene, enable_addon, script_args  # noqa: E402
 
-ARGS = script_args((["--pythonpath"], {"required": True, "help": "the folder holding the physik package"}),
-                   (["--binary"], {"required": True, "help": "the physik CLI"}))
+ARGS = script_args(
+    (["--pythonpath"], {"required": True, "help": "the folder holding the physik package"}),
+    (["--binary"], {"required": True, "help": "the physik CLI"}))
 REPO = os.path.abspath(ARGS.repo)
 enable_addon(REPO, "test_engine.py", ARGS.pythonpath)
 
-from physik_addon import armature_io, control_points, engine, rig_format, scene_dict  # noqa: E402
+from physik_addon import (armature_io, control_points, engine, operators,  # noqa: E402
+                          rig_format, scene_dict, settings)
 
 ENGINE_TOL = 1e-9  # rig units: the engine's arrays against the CLI's final_pose.csv
 POSED_TOL = 1e-5   # rig units: Blender's single-precision posed bones against the engine
@@ -87,8 +91,8 @@ def simulate_cli(scene, tmp):
     with open(os.path.join(out, "summary.json")) as f:
         summary = json.load(f)
     with open(os.path.join(out, "final_pose.csv")) as f:
-        bones = {r["bone"]: ([float(r["head_" + a]) for a in "xyz"], [float(r["tail_" + a]) for a in "xyz"])
-                 for r in csv.DictReader(f)}
+        bones = {r["bone"]: ([float(r["head_" + a]) for a in "xyz"],
+                             [float(r["tail_" + a]) for a in "xyz"]) for r in csv.DictReader(f)}
     return summary, bones
 
 
@@ -103,6 +107,67 @@ class Base(unittest.TestCase):
             bpy.ops.object.mode_set(mode='OBJECT')
         clear_scene()
         bpy.context.scene.physik.preset = "original"
+
+
+class TestSettingsFromTheEngine(Base):
+    """The panel's presets, fields and defaults are the engine's parameter table's."""
+
+    def setUp(self):
+        super().setUp()
+        self.table = engine.param_table()
+        self.rows = {r["name"]: r for r in self.table["params"]}
+        self.s = bpy.context.scene.physik
+
+    def assert_fields_hold(self, preset):
+        for name in settings.PANEL_ROWS:
+            want = self.rows[name]["defaults"][preset]
+            got = getattr(self.s, name)
+            if isinstance(want, float):
+                self.assertAlmostEqual(got, want, delta=1e-7 * abs(want), msg=(preset, name))
+            else:
+                self.assertEqual(got, want, (preset, name))
+        auto = self.rows["damping_auto"]["defaults"][preset]
+        self.assertEqual(self.s.damping_mode, 'AUTO' if auto else 'VALUE', preset)
+
+    def test_the_panel_has_every_row_it_shows(self):
+        for name in settings.PANEL_ROWS + ("damping_auto",):
+            self.assertIn(name, self.rows)  # a renamed row fails here, not silently
+        for name in settings.PANEL_ROWS:
+            if self.rows[name]["kind"] == "choice":
+                items = self.s.bl_rna.properties[name].enum_items.keys()
+                self.assertEqual(list(items), self.rows[name]["choices"], name)
+
+    def test_a_new_scene_has_the_engines_default_preset(self):
+        default = self.table["default_preset"]
+        fresh = bpy.data.scenes.new("fresh")
+        try:
+            self.s = fresh.physik
+            self.assertEqual(self.s.preset, default)
+            self.assert_fields_hold(default)
+            self.assertEqual(settings.params_dict(self.s), {"preset": default})
+        finally:
+            bpy.data.scenes.remove(fresh)
+
+    def test_each_preset_fills_the_fields(self):
+        presets = [p for p, _, _ in settings._preset_items(self.table)]
+        self.assertEqual(presets, self.table["presets"])
+        for preset in presets + presets[:1]:
+            self.s.preset = preset
+            self.assert_fields_hold(preset)
+            self.assertEqual(settings.params_dict(self.s), {"preset": preset})
+
+    def test_changed_fields_are_sent(self):
+        self.s.preset = "original"
+        self.s.control_k = self.rows["control_k"]["defaults"]["original"] + 2.0
+        self.s.control_spring = "capped"
+        p = settings.params_dict(self.s)
+        self.assertEqual((p["control_k"], p["control_spring"]),
+                         (self.s.control_k, "capped"))
+        self.s.damping_mode = 'AUTO'
+        self.assertEqual(settings.params_dict(self.s)["damping"], "auto")
+        self.s.damping_mode = 'VALUE'
+        self.s.damping = 5.0
+        self.assertEqual(settings.params_dict(self.s)["damping"], 5.0)
 
 
 class TestSolve(Base):
@@ -122,7 +187,8 @@ class TestSolve(Base):
         self.assertEqual(sorted(names), sorted(bones))
         worst = 0.0
         for i, name in enumerate(names):
-            for got, want in zip((summary["heads_world"][i], summary["tails_world"][i]), bones[name]):
+            ends = (summary["heads_world"][i], summary["tails_world"][i])
+            for got, want in zip(ends, bones[name]):
                 worst = max(worst, max(abs(a - b) for a, b in zip(got, want)))
         self.assertLess(worst, ENGINE_TOL)
         print("\nFig 9 Solve: %d steps, engine in Blender vs physik simulate: same state hash, "
@@ -209,17 +275,52 @@ class TestEngineErrors(Base):
         self.assertGreater(sim.summary["damping_auto_value"], 0.0)
         self.assertFalse(sim.summary["diverged"])
 
-    def test_divergence_is_one_report(self):
+    def test_divergence_is_one_error_and_nothing_applied(self):
         arm = fig9_armature()
         s = bpy.context.scene.physik
         s.damping, s.control_k = 0.0, 1e6  # stiff springs, no damping, dt 0.05: explodes
-        before = armature_io.read_pose(arm)[0].copy()
+        before = snapshot(arm.name)
         for op in (bpy.ops.physik.solve, bpy.ops.physik.bake):
             msg = run_op(op)
             self.assertIsNotNone(msg, op)
             self.assertIn("diverged", msg)
             self.assertNotIn("Traceback", msg)
-        self.assertLess((armature_io.read_pose(arm)[0] - before).length, 1e-12)
+            self.assertEqual(operators.LAST_REPORT["level"], 'ERROR')
+            self.assertEqual(snapshot(arm.name), before)  # every channel, exactly
+        self.assertNotIn(operators.START_POSE, arm)
+        self.assertIsNone(arm.animation_data)  # Bake keyed nothing
+
+
+class TestSolveReports(Base):
+    """Solve says whether the control points were met, with the largest residual."""
+
+    def solve_and_report(self, steps=None):
+        arm = fig9_armature()
+        if steps is not None:
+            bpy.context.scene.physik.max_steps = steps
+        _, summary = engine.solve(scene_dict.build_scene(bpy.context, arm, solve=True))
+        before = snapshot(arm.name)
+        self.assertIsNone(run_op(bpy.ops.physik.solve))
+        self.assertNotEqual(snapshot(arm.name), before)  # the pose is applied either way
+        worst = max(summary["final_residuals"])
+        self.assertIn("largest residual %.3g (tolerance %.3g)" % (worst, summary["residual_tol"]),
+                      operators.LAST_REPORT["text"])
+        return summary, worst
+
+    def test_converged_is_info(self):
+        summary, worst = self.solve_and_report()
+        self.assertTrue(summary["converged"])
+        self.assertLess(worst, summary["residual_tol"])
+        self.assertEqual(operators.LAST_REPORT["level"], 'INFO')
+        self.assertIn("converged", operators.LAST_REPORT["text"])
+
+    def test_not_converged_is_a_warning_with_the_residual(self):
+        summary, worst = self.solve_and_report(steps=5)  # far too few for Fig 9 (about 110)
+        self.assertFalse(summary["converged"])
+        self.assertFalse(summary["diverged"])
+        self.assertGreater(worst, summary["residual_tol"])
+        self.assertEqual(operators.LAST_REPORT["level"], 'WARNING')
+        self.assertIn("not converged: 5 steps", operators.LAST_REPORT["text"])
 
 
 def snapshot(name):
@@ -227,8 +328,9 @@ def snapshot(name):
     posed heads and tails. Looked up by name: an undo replaces the Python objects."""
     arm = bpy.data.objects[name]
     bpy.context.view_layer.update()
-    channels = {pb.name: (tuple(pb.location), tuple(pb.rotation_quaternion), tuple(pb.rotation_euler),
-                          tuple(pb.rotation_axis_angle)) for pb in arm.pose.bones}
+    channels = {pb.name: (tuple(pb.location), tuple(pb.rotation_quaternion),
+                          tuple(pb.rotation_euler), tuple(pb.rotation_axis_angle))
+                for pb in arm.pose.bones}
     posed = {n: (tuple(h), tuple(t)) for n, _, h, t in armature_io.posed_bones_world(arm)}
     return channels, posed
 
