@@ -34,7 +34,7 @@ TEST(Experiments, EveryExpectedExperimentIsRegisteredInRunOrder) {
       "fig8_wobble",   "fig9_outstretched", "fig10_interpolation", "fig11_sit",
       "hand_explodes", "timing",            "damping_sweep",       "mujoco_gap",
       "ik_comparison", "tracking",          "linearisation",       "tuning_study",
-      "scaling",       "beyond_the_paper"};
+      "scaling",       "beyond_the_paper",  "outside_rigs"};
   EXPECT_EQ(names, expected);
 }
 

@@ -1,0 +1,298 @@
+// The outside_rigs experiment (experiments/outside_rigs.h):
+//  - the target rule on a hand-built Y and a chain: the farthest leaf, moved a quarter of the
+//    rig's size along the fixed directions; the second leaf farthest from the first; one leaf
+//    pins the root's head;
+//  - two of MuJoCo's sample files holding one humanoid (renamed, moved) are the same rig; a mass
+//    or a limit changed makes them differ; a broken file and a duplicate are skipped with reasons;
+//  - a rig past damping auto's bone cap is refused (counted, not run), a small one runs;
+//  - the quick run: runs.csv and summary.json agree, every configuration's counts add up to its
+//    runs, the claims are short and their verdicts follow the counts, and the CSV rows of one
+//    converted rig equal a scene built directly in C++ (no JSON, no --set) and run with run_scene.
+#include "experiments/outside_rigs.h"
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "experiments/common.h"
+#include "experiments/experiment.h"
+#include "physik/engine/engine.h"
+#include "physik/io/json_fields.h"
+#include "physik/io/rig_io.h"
+#include "physik/model/params.h"
+#include "physik/model/rig_generators.h"
+#include "reference/mjcf_import.h"
+
+namespace physik::experiments::outside_rigs {
+namespace {
+
+std::string fresh_dir(const std::string& name) {
+  const std::string d = ::testing::TempDir() + "/outside_rigs_" + name;
+  std::filesystem::remove_all(d);
+  std::filesystem::create_directories(d);
+  return d;
+}
+
+std::string sample(const std::string& name) { return std::string(kSamplesDir) + "/" + name; }
+
+BoneSpec bone(const std::string& name, const std::string& parent, const Vec3& h, const Vec3& t) {
+  BoneSpec b;
+  b.name = name;
+  b.parent = parent;
+  b.head_world = h;
+  b.tail_world = t;
+  b.rest_frame_world = rest_frame_from_roll(h, t, 0.0);
+  return b;
+}
+
+TEST(OutsideRigs, TheRuleMovesTheFarthestLeafsTailByAQuarterOfTheRigsSize) {
+  // a Y: left's tail is sqrt 5 from the root's head, right's sqrt 4.5; the box is 2.5 x 0 x 2
+  const Rig y = build_rig({bone("spine", "", {0, 0, 0}, {0, 0, 1}),
+                           bone("left", "spine", {0, 0, 1}, {-1, 0, 2}),
+                           bone("right", "spine", {0, 0, 1}, {1.5, 0, 1.5})},
+                          "Y");
+  EXPECT_DOUBLE_EQ(rig_size(y), 2.5);
+  const std::vector<Pick> p = pick_targets(y, 2);
+  ASSERT_EQ(p.size(), 2u);
+  const double r = std::sqrt(0.5);
+  EXPECT_EQ(y.bone_name[p[0].bone], "left");
+  EXPECT_EQ(p[0].alpha, 1.0);
+  EXPECT_TRUE(p[0].target_world.isApprox(Vec3(-1 + 0.625 * r, 0, 2 + 0.625 * r), 1e-12));
+  EXPECT_EQ(y.bone_name[p[1].bone], "right");
+  EXPECT_TRUE(p[1].target_world.isApprox(Vec3(1.5 - 0.625 * r, 0, 1.5 + 0.625 * r), 1e-12));
+  EXPECT_EQ(pick_targets(y, 1).size(), 1u);
+  EXPECT_THROW(pick_targets(y, 3), std::logic_error);
+
+  // a chain has one leaf: the second point pins the root's head where it is
+  const Rig chain = make_chain_rig(3);
+  const std::vector<Pick> c = pick_targets(chain, 2);
+  EXPECT_EQ(c[0].bone, 2);
+  EXPECT_EQ(c[1].bone, 0);
+  EXPECT_EQ(c[1].alpha, 0.0);
+  EXPECT_EQ(c[1].target_world, chain.bone_rest_head_world[0]);
+}
+
+TEST(OutsideRigs, OneHumanoidInTwoFilesIsOneRigAndAChangedMassOrLimitIsAnother) {
+  const Rig a = load_mjcf(sample("humanoid/humanoid.xml")).rig();
+  const Rig b = load_mjcf(sample("humanoid/22_humanoids.xml")).rig();  // renamed and moved
+  ASSERT_NE(a.bone_name[0], b.bone_name[0]);
+  ASSERT_GT((a.bone_rest_head_world[0] - b.bone_rest_head_world[0]).norm(), 0.5);
+  EXPECT_TRUE(same_rig(a, b));
+  Rig heavier = b;
+  heavier.bone_mass[5] *= 1.001;
+  EXPECT_FALSE(same_rig(a, heavier));
+  Rig looser = b;
+  for (auto& l : looser.bone_limit) {
+    if (l[0].limited) l[0].max += 0.01;
+  }
+  EXPECT_FALSE(same_rig(a, looser));
+  EXPECT_FALSE(same_rig(a, make_chain_rig(21)));
+}
+
+TEST(OutsideRigs, ABrokenFileAndADuplicateAreSkippedWithTheirReasons) {
+  const std::string dir = fresh_dir("collect");
+  for (const char* sub : {"a", "b"}) std::filesystem::create_directories(dir + "/" + sub);
+  std::filesystem::copy_file(sample("humanoid/humanoid.xml"), dir + "/a/first.xml");
+  std::filesystem::copy_file(sample("humanoid/humanoid.xml"), dir + "/b/again.xml");
+  std::ofstream(dir + "/b/broken.xml") << "<mujoco><worldbody><body></mujoco>";
+  std::ofstream(dir + "/b/notes.txt") << "not a model";
+  const std::vector<std::string> files = sample_files(dir);
+  ASSERT_EQ(files.size(), 3u);  // the .xml files, in path order
+  EXPECT_EQ(files[0], dir + "/a/first.xml");
+  const Collection c = collect_rigs(files);
+  ASSERT_EQ(c.rigs.size(), 1u);
+  EXPECT_EQ(c.rigs[0].name, "a-first");
+  EXPECT_EQ(c.rigs[0].rig.nbone, 21);
+  ASSERT_EQ(c.skipped.size(), 2u);
+  EXPECT_EQ(c.skipped[0].file, dir + "/b/again.xml");
+  EXPECT_NE(c.skipped[0].reason.find("the same rig as a-first"), std::string::npos);
+  EXPECT_EQ(c.skipped[1].file, dir + "/b/broken.xml");
+  EXPECT_NE(c.skipped[1].reason.find("broken.xml"), std::string::npos) << c.skipped[1].reason;
+  EXPECT_THROW(sample_files(dir + "/absent"), std::runtime_error);
+}
+
+TEST(OutsideRigs, ARigPastDampingAutosBoneCapIsRefusedAndASmallOneRuns) {
+  const std::string dir = fresh_dir("refused");
+  const auto implicit = [](const char* torque) {
+    for (const Configuration& c : configurations()) {
+      if (c.name == std::string("implicit-auto-") + torque) return c;
+    }
+    throw std::logic_error("no configuration");
+  };
+  for (int n : {401, 3}) {
+    const Rig rig = make_chain_rig(n);
+    const std::string rig_file = dir + "/chain" + std::to_string(n) + ".json";
+    const std::string scene_file = dir + "/chain" + std::to_string(n) + "-scene.json";
+    write_json(rig_to_json(rig), rig_file);
+    write_json(scene_json(rig_file, rig, pick_targets(rig, 1), 300), scene_file);
+    for (const char* torque : {"axes", "gradient"}) {
+      const RunResult r = run_configuration(scene_file, implicit(torque));
+      if (n > 400) {
+        EXPECT_EQ(r.outcome, Outcome::kRefused) << torque;
+        EXPECT_NE(r.refusal.find("up to 400 bones"), std::string::npos) << r.refusal;
+        EXPECT_NE(r.refusal.find(scene_file), std::string::npos) << r.refusal;
+        EXPECT_EQ(r.steps_run, 0);
+      } else {
+        EXPECT_EQ(r.outcome, Outcome::kConverged) << torque;
+        EXPECT_GT(r.damping, 0.0);  // damping auto's choice, not the preset's value
+        EXPECT_NE(r.damping, preset_params("original").damping);
+      }
+    }
+  }
+}
+
+// runs.csv as rows of named cells
+std::vector<std::map<std::string, std::string>> read_csv(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> header;
+  std::stringstream hs(line);
+  for (std::string cell; std::getline(hs, cell, ',');) header.push_back(cell);
+  std::vector<std::map<std::string, std::string>> rows;
+  while (std::getline(in, line)) {
+    std::stringstream ls(line);
+    std::map<std::string, std::string> row;
+    for (const std::string& h : header) std::getline(ls, row[h], ',');
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+void run_quick(const std::string& out_dir) {
+  Context ctx;
+  ctx.out_dir = out_dir;
+  ctx.models_dir = std::string(PHYSIK_SOURCE_DIR) + "/models";
+  ctx.quick = true;
+  for (const Experiment& e : all_experiments()) {
+    if (e.name == "outside_rigs") return e.run(ctx);
+  }
+  FAIL() << "outside_rigs is not registered";
+}
+
+// the quick run's folder, run once per process for the tests below (named after the first test
+// that asks, so tests that ctest runs side by side never share it)
+const std::string& quick_dir() {
+  static const std::string dir = [] {
+    const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    const std::string d = fresh_dir(std::string("quick_") + test->name());
+    run_quick(d);
+    return d;
+  }();
+  return dir;
+}
+
+TEST(OutsideRigs, TheQuickRunsCountsAddUpInTheCsvAndTheSummary) {
+  const nlohmann::json s = read_json_file(quick_dir() + "/summary.json");
+  const auto rows = read_csv(quick_dir() + "/runs.csv");
+  // one humanoid in two of the quick files: the second is skipped as its duplicate
+  ASSERT_EQ(s["skipped"].size(), 1u);
+  EXPECT_EQ(s["skipped"][0]["file"], sample("humanoid/humanoid.xml"));
+  EXPECT_NE(s["skipped"][0]["reason"].get<std::string>().find("hammock-humanoid_body"),
+            std::string::npos);
+  const std::size_t nrigs = kQuickFiles.size() - 1;
+  ASSERT_EQ(s["rigs"].size(), nrigs);
+  const std::size_t nconfig = configurations().size();
+  ASSERT_EQ(rows.size(), nrigs * 2 * nconfig);
+  ASSERT_EQ(s["runs"].size(), rows.size());
+  ASSERT_EQ(s["configurations"].size(), nconfig);
+  for (const auto& c : s["configurations"]) {
+    const nlohmann::json& n = c["counts"];
+    const int runs = n["runs"];
+    EXPECT_EQ(runs, static_cast<int>(nrigs * 2)) << c["name"];
+    EXPECT_EQ(n["converged"].get<int>() + n["not_converged"].get<int>() +
+                  n["diverged"].get<int>() + n["refused"].get<int>(), runs) << c["name"];
+    for (const char* outcome : {"converged", "not_converged", "diverged", "refused"}) {
+      int in_csv = 0;
+      for (const auto& r : rows) {
+        in_csv += r.at("configuration") == c["name"] && r.at("outcome") == outcome;
+      }
+      EXPECT_EQ(in_csv, n[outcome].get<int>()) << c["name"] << " " << outcome;
+    }
+  }
+  for (const auto& r : rows) {
+    if (r.at("configuration") == "default") {
+      EXPECT_EQ(r.at("preset"), kDefaultPreset);
+    }
+    EXPECT_EQ(r.at("residual_over_size").empty(), r.at("outcome") == "refused");
+    const int steps = std::stoi(r.at("steps_to_converge"));
+    EXPECT_EQ(steps >= 0, r.at("outcome") == "converged");
+    EXPECT_LE(steps, std::stoi(r.at("steps_run")));
+    // the scene file names no params, so the default is the engine's
+    const nlohmann::json scene = read_json_file(quick_dir() + "/scenes/" + r.at("rig") + "-" +
+                                                r.at("points") + "pt.json");
+    EXPECT_FALSE(scene.contains("params"));
+    EXPECT_EQ(scene["control_points"].size(), std::stoul(r.at("points")));
+  }
+}
+
+TEST(OutsideRigs, TheQuickRunsClaimsAreShortAndFollowTheCounts) {
+  const nlohmann::json s = read_json_file(quick_dir() + "/summary.json");
+  const nlohmann::json& claims = s["report"]["claims"];
+  ASSERT_EQ(claims.size(), 2u);
+  for (const auto& c : claims) EXPECT_LE(c["measured"].get<std::string>().size(), 200u);
+  const nlohmann::json& d = s["configurations"][0]["counts"];
+  ASSERT_EQ(s["configurations"][0]["name"], "default");
+  EXPECT_EQ(claims[0]["holds"], d["converged_share"].get<double>() >= 0.9 ? "yes" : "no");
+  EXPECT_NE(claims[0]["measured"].get<std::string>().find(
+                std::to_string(d["converged"].get<int>()) + " of " +
+                std::to_string(d["runs"].get<int>()) + " runs"),
+            std::string::npos);
+  const nlohmann::json& t = s["torsion_comparison"];
+  EXPECT_EQ(t["axes_converged"], s["configurations"][2]["counts"]["converged"]);
+  EXPECT_EQ(t["gradient_converged"], s["configurations"][3]["counts"]["converged"]);
+}
+
+// the scene the rule gives, built in C++ from the MJCF file: no JSON round trip, no --set
+Scene direct_scene(const std::string& model, int points, bool implicit_gradient) {
+  Scene sc;
+  sc.rig = load_mjcf(model).rig();
+  sc.params = preset_params("original");
+  if (implicit_gradient) {
+    sc.params.integration = Integration::kImplicit;
+    sc.params.damping_auto = true;
+    sc.params.torsion_torque = TorsionTorque::kGradient;
+  }
+  for (const Pick& p : pick_targets(sc.rig, points)) {
+    ControlPoint cp;
+    cp.bone = p.bone;
+    cp.alpha = p.alpha;
+    cp.target_world = p.target_world;
+    sc.control_points.push_back(cp);
+  }
+  sc.steps = kQuickStepCap;
+  sc.convergence.stop_when_converged = true;
+  sc.initial_pose = rest_pose(sc.rig);
+  return sc;
+}
+
+TEST(OutsideRigs, AConvertedRigsRowsAreADirectRunOfTheSameScene) {
+  const auto rows = read_csv(quick_dir() + "/runs.csv");
+  int checked = 0;
+  for (const auto& r : rows) {
+    if (r.at("rig") != "hammock-humanoid_body") continue;
+    const bool gradient = r.at("configuration") == "implicit-auto-gradient";
+    if (r.at("configuration") != "original" && !gradient) continue;
+    SCOPED_TRACE(r.at("configuration") + " " + r.at("points"));
+    const RunSummary d = run_scene(
+        direct_scene(sample("hammock/humanoid_body.xml"), std::stoi(r.at("points")), gradient));
+    const std::string outcome = d.diverged    ? "diverged"
+                                : d.converged ? "converged"
+                                              : "not_converged";
+    EXPECT_EQ(r.at("outcome"), outcome);
+    EXPECT_EQ(std::stoi(r.at("steps_run")), d.steps_run);
+    EXPECT_EQ(std::stoi(r.at("steps_to_converge")), d.converged ? d.steps_to_converge : -1);
+    double worst = 0.0;
+    for (double x : d.final_residuals) worst = std::max(worst, x);
+    const double size = rig_size(load_mjcf(sample("hammock/humanoid_body.xml")).rig());
+    EXPECT_NEAR(std::stod(r.at("residual_over_size")), worst / size, 1e-9 * (1 + worst / size));
+    ++checked;
+  }
+  EXPECT_EQ(checked, 4);  // two scenes x two configurations
+}
+
+}  // namespace
+}  // namespace physik::experiments::outside_rigs
