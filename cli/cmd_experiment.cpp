@@ -6,6 +6,7 @@
 
 #include "cli/commands.h"
 #include "experiments/experiment.h"
+#include "physik/io/output_files.h"
 #include "physik/model/errors.h"
 
 namespace physik::cli {
@@ -63,7 +64,7 @@ void add_experiment_commands(CLI::App& app) {
       experiments::Context ctx;
       ctx.out_dir = opt->out + "/" + e.name;
       std::filesystem::remove_all(ctx.out_dir);  // reruns start clean
-      std::filesystem::create_directories(ctx.out_dir);
+      create_output_dir(ctx.out_dir, "--out");
       ctx.models_dir = opt->models;
       ctx.quick = opt->quick;
       ctx.log = &std::cerr;

@@ -1,5 +1,6 @@
 // physik export-mjcf RIG: the rig as MuJoCo MJCF (reference/mjcf_export.h), checked by compiling
 // it with MuJoCo before printing.
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -7,6 +8,7 @@
 
 #include "cli/commands.h"
 #include "physik/model/errors.h"
+#include "physik/io/output_files.h"
 #include "physik/io/rig_io.h"
 #include "reference/mjcf_export.h"
 
@@ -42,7 +44,9 @@ void add_reference_commands(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--dt", opt->dt, "Time step, s")->capture_default_str();
   cmd->callback([opt] {
-    if (!(opt->dt > 0.0)) throw_input_error("--dt", "", "", "must be positive");
+    if (!(opt->dt > 0.0) || !std::isfinite(opt->dt)) {
+      throw_input_error("--dt", "", "", "must be a positive finite number of seconds");
+    }
     const Rig rig = load_rig(opt->rig);
     MjcfOptions o;
     o.joints = opt->joints == "ball" ? JointModel::kBallJoints : JointModel::kRigJoints;
@@ -65,8 +69,7 @@ void add_reference_commands(CLI::App& app) {
     }
     for (const MjcfFile& file : files) {
       const std::filesystem::path path = out.parent_path() / file.name;
-      std::ofstream f(path);
-      if (!f) throw_input_error(path.string(), "", "--out", "cannot write file");
+      std::ofstream f = open_output_file(path.string(), "--out");
       f << file.text;
     }
   });

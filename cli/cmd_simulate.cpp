@@ -13,7 +13,9 @@
 
 #include "cli/commands.h"
 #include "physik/io/bvh.h"
+#include "physik/engine/run_monitor.h"
 #include "physik/io/json_fields.h"
+#include "physik/io/output_files.h"
 #include "physik/io/pose_io.h"
 #include "physik/io/recorder.h"
 #include "physik/io/scene_io.h"
@@ -57,15 +59,23 @@ Scene prepare_scene(const SimulateOptions& o) {
   if (o.steps < 0) throw_input_error("--steps", "", "", "must not be negative");
   if (o.every < 1) throw_input_error("--every", "", "", "must be at least 1");
   if (!o.reference.empty()) parse_reference_spec(o.reference);  // bad spec: exit 2 first
+  if (!o.bvh.empty()) check_output_file(o.bvh, "--bvh");  // before the run, not after
   if (o.steps > 0) scene.steps = o.steps;
   return scene;
+}
+
+// What the step's solver did, by scheme: the joint passes of Gauss-Seidel, the energy guard's
+// substeps of the implicit step, nothing for the exact step (one solve, no iteration).
+std::string solver_work(const EngineParams& p, const StepStats& st) {
+  if (p.integration == Integration::kImplicit) return "substeps " + std::to_string(st.passes);
+  if (p.articulated_solve()) return "exact solve";
+  return "passes " + std::to_string(st.passes);
 }
 
 // The run with trajectory.csv (a row every --every steps and the last), the BVH frames and a
 // progress line every tenth of a long run.
 RunSummary record_simulation(const Scene& scene, const SimulateOptions& o, BvhRecorder* bvh) {
-  std::ofstream csv(o.out + "/trajectory.csv");
-  if (!csv) throw_input_error(o.out, "", "--out", "cannot write trajectory.csv here");
+  std::ofstream csv = open_output_file(o.out + "/trajectory.csv", "--out");
   RecordOptions ro;
   ro.csv_stream = &csv;
   ro.csv_every = o.every;
@@ -75,7 +85,8 @@ RunSummary record_simulation(const Scene& scene, const SimulateOptions& o, BvhRe
     if (bvh && s.step % o.every == 0 && std::isfinite(st.kinetic_energy)) bvh->record(s.frames);
     if (!o.quiet && scene.steps >= 200 && s.step % report_every == 0) {
       std::cerr << "  step " << s.step << "/" << scene.steps << "  KE " << st.kinetic_energy
-                << " J  passes " << st.passes << "  max residual " << st.max_residual << "\n";
+                << " J  " << solver_work(scene.params, st) << "  max residual " << st.max_residual
+                << "\n";
     }
   };
   return record_run(scene, ro, also).summary;
@@ -85,7 +96,7 @@ void write_results(const Scene& scene, const RunSummary& sum, const SimulateOpti
                    const BvhRecorder* bvh) {
   write_json(summary_to_json(scene, sum), o.out + "/summary.json");
   if (bvh) bvh->save(o.bvh);
-  std::ofstream pose(o.out + "/final_pose.csv");
+  std::ofstream pose = open_output_file(o.out + "/final_pose.csv", "--out");
   write_bones_csv(scene.rig, sum.final_frames, pose);
 }
 
@@ -100,9 +111,24 @@ void print_outcome(const RunSummary& sum, const std::string& out) {
             << " -> " << out << "\n";
 }
 
+// A comparison with a run that diverged measures nothing: say which, and exit 3.
+[[noreturn]] void report_diverged_comparison(const nlohmann::json& cmp, const std::string& out) {
+  std::string which, reason;
+  for (const auto& run : cmp["diverged"]) {
+    const std::string name = run.get<std::string>();
+    which += (which.empty() ? "" : " and ") + std::string(name == "physik" ? "PhysIK" : "MuJoCo");
+    reason += (reason.empty() ? "" : "; ") + cmp[name]["divergence_reason"].get<std::string>();
+  }
+  std::cerr << "physik: diverged: " << which << " (" << reason
+            << "): no gap to report (comparison.json in " << out << " lists the runs)\n";
+  throw DivergedRun(reason);
+}
+
 void run_simulate(const SimulateOptions& o) {
   const Scene scene = prepare_scene(o);
-  std::filesystem::create_directories(o.out);
+  create_output_dir(o.out, "--out");
+  // the scene as run (the overrides applied, the rig inline): the run folder stands alone
+  write_json(scene_to_json(scene, /*rig_inline=*/true), o.out + "/scene.json");
   std::unique_ptr<BvhRecorder> bvh;
   if (!o.bvh.empty()) {
     bvh = std::make_unique<BvhRecorder>(scene.rig, scene.params.dt * o.every);
@@ -114,9 +140,14 @@ void run_simulate(const SimulateOptions& o) {
   }
   write_results(scene, sum, o, bvh.get());
   if (!o.quiet) print_outcome(sum, o.out);
-  if (!o.reference.empty()) write_reference_comparison(scene, o.reference, o.out, o.every, !o.quiet);
+  if (!o.reference.empty()) {
+    const nlohmann::json cmp =
+        write_reference_comparison(scene, o.reference, o.out, o.every, !o.quiet);
+    if (!cmp["diverged"].empty()) report_diverged_comparison(cmp, o.out);
+  }
   if (sum.diverged) {
-    std::cerr << "physik: diverged: " << sum.divergence_reason << "\n";
+    std::cerr << "physik: diverged: " << sum.divergence_reason << "; " << divergence_hint(scene)
+              << "\n";
     throw DivergedRun(sum.divergence_reason);
   }
 }

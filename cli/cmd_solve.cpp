@@ -7,7 +7,9 @@
 #include <memory>
 
 #include "cli/commands.h"
+#include "physik/engine/run_monitor.h"
 #include "physik/io/json_fields.h"
+#include "physik/io/output_files.h"
 #include "physik/io/pose_io.h"
 #include "physik/io/scene_io.h"
 #include "physik/io/scene_solve.h"
@@ -20,6 +22,7 @@ namespace {
 
 struct SolveOptions {
   std::string scene;
+  std::vector<std::string> set;  // param overrides key=value
   std::string out = "out";
   bool quiet = false;
   SceneSolveOptions solve;  // the solver and its settings (physik/io/scene_solve.h)
@@ -27,10 +30,8 @@ struct SolveOptions {
 
 // final_pose.csv and summary.json, both written (and closed) before a divergence is reported
 void write_solution(const Scene& scene, const SceneSolveResult& r, const std::string& out) {
-  std::filesystem::create_directories(out);
   {
-    std::ofstream csv(out + "/final_pose.csv");
-    if (!csv) throw_input_error(out, "", "--out", "cannot write final_pose.csv here");
+    std::ofstream csv = open_output_file(out + "/final_pose.csv", "--out");
     write_bones_csv(scene.rig, r.frames, csv);
   }
   write_json(r.summary, out + "/summary.json");
@@ -38,7 +39,8 @@ void write_solution(const Scene& scene, const SceneSolveResult& r, const std::st
 
 void run_solve(const SolveOptions& o) {
   check_solve_options(o.solve);  // before the scene: a bad flag is reported first
-  const Scene scene = load_scene(o.scene);
+  const Scene scene = load_scene(o.scene, parse_param_overrides(o.set, "--set"));
+  create_output_dir(o.out, "--out");
   const SceneSolveResult r = solve_scene(scene, o.solve);
   if (!r.warning.empty()) std::cerr << "physik: warning: " << scene.file << ": " << r.warning << "\n";
   write_solution(scene, r, o.out);
@@ -49,7 +51,9 @@ void run_solve(const SolveOptions& o) {
   }
   if (r.diverged) {
     const std::string reason = r.summary.value("divergence_reason", std::string());
-    std::cerr << "physik: diverged: " << reason << "\n";
+    Scene engine = scene;  // the hint is for the engine the solver ran
+    if (o.solve.solver == "physik") use_solve_mode(engine);
+    std::cerr << "physik: diverged: " << reason << "; " << divergence_hint(engine) << "\n";
     throw DivergedRun(reason);
   }
 }
@@ -86,11 +90,14 @@ void add_solve_commands(CLI::App& app) {
                   "physik: the implicit step lengthens by this factor every step the kinetic energy "
                   "falls (1 = the scene's dt throughout)")
       ->capture_default_str();
-  cmd->add_option("--max-dt", opt->solve.max_dt, "physik: the longest step, s")->capture_default_str();
+  cmd->add_option("--max-dt", opt->solve.max_dt, "physik: the longest step, s")
+      ->capture_default_str();
   cmd->add_option("--finish", opt->solve.finish,
                   "physik, physik-explicit: when the residual stops improving, finish with ccd or dls "
                   "(the paper's hybrid) | none")
       ->capture_default_str();
+  cmd->add_option("--set", opt->set,
+                  "Override a scene parameter, as simulate's --set (the engine's solvers use it)");
   cmd->add_flag("--quiet", opt->quiet, "No progress output");
   cmd->callback([opt] { run_solve(*opt); });
 }

@@ -7,7 +7,9 @@
 #include <memory>
 
 #include "cli/commands.h"
+#include "physik/engine/run_monitor.h"
 #include "physik/io/json_fields.h"
+#include "physik/io/output_files.h"
 #include "physik/io/pose_io.h"
 #include "physik/io/scene_io.h"
 #include "physik/io/summary_io.h"
@@ -23,6 +25,7 @@ namespace {
 
 struct TuneCliOptions {
   std::string scene;
+  std::vector<std::string> set;  // param overrides key=value, before tuning
   std::string params = "damping";
   std::string objective = "settle";
   std::string measure = "log";
@@ -37,16 +40,21 @@ struct TuneCliOptions {
 
 struct EquilibriumCliOptions {
   std::string scene;
+  std::vector<std::string> set;  // param overrides key=value
   std::string out;
   std::string bones;
   bool compare = false;
   std::string start = "initial";
 };
 
-Scene load_existing_scene(const std::string& path) {
+Scene load_existing_scene(const std::string& path, const std::vector<std::string>& set) {
+  const ParamOverrides overrides = parse_param_overrides(set, "--set");
   if (!std::filesystem::exists(path)) throw_input_error(path, "", "", "scene file does not exist");
-  return load_scene(path);
+  return load_scene(path, overrides);
 }
+
+const char* const kSetHelp =
+    "Override a scene parameter, as simulate's --set (e.g. --set damping=1, --set preset=paper)";
 
 double max_of(const std::vector<double>& v) {
   return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end());
@@ -75,6 +83,7 @@ void add_tune_options(CLI::App* cmd, TuneCliOptions& o) {
                   "tail), linear = error/height (integral of squared error)")
       ->capture_default_str();
   cmd->add_option("--bounds", o.bounds, "Override bounds, e.g. --bounds damping=0.1:10");
+  cmd->add_option("--set", o.set, kSetHelp);
   cmd->add_option("--out", o.out, "Write the tuned scene here (JSON; '-' = stdout)");
   cmd->add_option("--report", o.report, "Write a JSON report (values, costs, scan) here");
   cmd->add_option("--steps", o.steps, "Steps per run (default: the scene's)");
@@ -122,13 +131,21 @@ void print_tune_result(const tune::TuneResult& r, const tune::TuneOptions& to) {
 }
 
 void run_tune(const TuneCliOptions& o) {
-  Scene scene = load_existing_scene(o.scene);
+  Scene scene = load_existing_scene(o.scene, o.set);
   const tune::TuneOptions to = tune_options(o);
   if (o.steps > 0) scene.steps = o.steps;
+  if (!o.out.empty()) check_output_file(o.out, "--out");
+  if (!o.report.empty()) check_output_file(o.report, "--report");
   const tune::TuneResult r = tune::tune_scene(scene, to);
+  if (!o.report.empty()) write_json(tune::tune_report_to_json(scene, to, r), o.report);
+  const std::string failure = tune::tune_failure(r);
+  if (!failure.empty()) {  // no tuned value to print or write
+    std::cerr << "physik: diverged: tune: " << failure << "; nothing tuned"
+              << (o.out.empty() ? "" : ", " + o.out + " not written") << "\n";
+    throw DivergedRun(failure);
+  }
   print_tune_result(r, to);
   if (!o.out.empty()) write_json(scene_to_json(r.tuned_scene), o.out);
-  if (!o.report.empty()) write_json(tune::tune_report_to_json(scene, to, r), o.report);
 }
 
 void add_tune(CLI::App& app) {
@@ -156,14 +173,28 @@ void add_equilibrium(CLI::App& app) {
                   "nearest exact equilibrium to it)")
       ->capture_default_str();
   cmd->add_flag("--compare", opt->compare,
-                "Also run PhysIK on the scene and report its final-pose distance to the equilibrium");
+                "Also run PhysIK on the scene and report its final-pose distance to the equilibrium "
+                "(exit 3 if that run diverges)");
+  cmd->add_option("--set", opt->set, kSetHelp);
   cmd->callback([opt] {
     tune::check_equilibrium_start(opt->start);
-    const Scene scene = load_existing_scene(opt->scene);
+    const Scene scene = load_existing_scene(opt->scene, opt->set);
+    if (!opt->out.empty() && opt->out != "-") check_output_file(opt->out, "--out");
+    if (!opt->bones.empty()) check_output_file(opt->bones, "--bones");
     const tune::EquilibriumReport rep = tune::equilibrium_report(scene, opt->start, opt->compare);
     const tune::EquilibriumResult& e = rep.result;
     const nlohmann::json& doc = rep.doc;
     std::cerr << "equilibrium: " << e.ceres_brief << "\n";
+    if (!e.converged) {
+      std::cerr << "physik: warning: " << scene.file
+                << ": Ceres stopped before converging: the pose is its last iterate\n";
+    }
+    if (rep.ran_physik && rep.physik_run.diverged) {
+      write_json(doc, opt->out);
+      std::cerr << "physik: diverged: PhysIK's run diverged (" << rep.physik_run.divergence_reason
+                << "): no distance to report; " << divergence_hint(scene) << "\n";
+      throw DivergedRun(rep.physik_run.divergence_reason);
+    }
     if (rep.ran_physik) {
       std::cerr << "equilibrium: PhysIK's final pose is " << doc["physik"]["max_pose_distance"].get<double>()
                 << " rig units from it (potential " << doc["physik"]["potential"].get<double>() << " J vs "
@@ -171,10 +202,7 @@ void add_equilibrium(CLI::App& app) {
     }
     write_json(doc, opt->out);
     if (!opt->bones.empty()) {
-      const std::filesystem::path p(opt->bones);
-      if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path());
-      std::ofstream csv(p);
-      if (!csv) throw_input_error(opt->bones, "", "", "cannot write file");
+      std::ofstream csv = open_output_file(opt->bones, "--bones");
       write_bones_csv(scene.rig, e.frames, csv);
     }
   });

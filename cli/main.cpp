@@ -1,6 +1,7 @@
 // physik: the testbed's command line program.
 // Exit status: 0 success, 1 an unexpected failure, 2 bad input, 3 a diverged run.
 #include <exception>
+#include <filesystem>
 #include <iostream>
 
 #include "cli/commands.h"
@@ -39,6 +40,10 @@ int main(int argc, char** argv) {
     return physik::kExitBadInput;
   } catch (const physik::DivergedRun&) {
     return physik::kExitDiverged;  // already reported by the command
+  } catch (const std::filesystem::filesystem_error& e) {
+    // a path the user gave that the system refuses (the commands name most of them first)
+    std::cerr << "physik: error: " << e.path1().string() << ": " << e.code().message() << "\n";
+    return physik::kExitBadInput;
   } catch (const std::exception& e) {
     std::cerr << "physik: internal error: " << e.what() << "\n";
     return physik::kExitRuntimeFailure;

@@ -91,7 +91,7 @@ Scene effector_scene(const std::string& file, const Rig& rig, int bone, bool sol
   Scene sc;
   sc.file = file;
   sc.rig = rig;
-  sc.params = preset_params(kDefaultPreset);
+  sc.params = preset_params("original");
   if (solve_mode) use_solve_mode(sc.params);  // as physik solve --solver physik
   ControlPoint effector, pin;
   effector.bone = bone;

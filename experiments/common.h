@@ -53,8 +53,9 @@ Pose random_legal_pose(const Rig& rig, std::mt19937& rng);
 
 // The engine as an IK solver on one effector (ik_comparison, linearisation): control point 0 on
 // `bone`'s tail, its target at the rest tail until moved; control point 1 pins the root's head
-// (PhysIK's root is free). The default preset, from the rest pose; with solve_mode the solve
-// mode's engine (posing_session.h use_solve_mode: implicit, the gradient torsion torque).
+// (PhysIK's root is free). Preset original (the paper's scheme), from the rest pose; with
+// solve_mode the solve mode's engine (posing_session.h use_solve_mode: implicit, the gradient
+// torsion torque).
 Scene effector_scene(const std::string& file, const Rig& rig, int bone, bool solve_mode);
 
 }  // namespace physik::experiments

@@ -9,6 +9,7 @@
 #include <Eigen/SVD>
 
 #include "physik/io/json_fields.h"
+#include "physik/io/output_files.h"
 #include "physik/io/pose_io.h"
 #include "physik/io/summary_io.h"
 #include "physik/model/errors.h"
@@ -117,10 +118,13 @@ int free_endpoint_dof(const Scene& scene, const BoneFrames& frames) {
 RecordedRun record_mujoco(const Scene& scene, ReferenceMode mode, const RecordOptions& options,
                           const StepObserver& also) {
   Recorder rec(scene, options);
-  RunSummary summary = run_mujoco(scene, mode, [&](const SimState& s, const StepStats& st) {
-    rec.observe(s, st);
-    if (also) also(s, st);
-  });
+  RunSummary summary = run_mujoco(
+      scene, mode,
+      [&](const SimState& s, const StepStats& st) {
+        rec.observe(s, st);
+        if (also && s.step > 0) also(s, st);
+      },
+      rec.wants_initial());
   return rec.finish(std::move(summary));
 }
 
@@ -134,7 +138,8 @@ Comparison compare_with_mujoco(const Scene& scene, ReferenceMode mode,
   c.mode = mode;
   c.physik = record_run(scene, every_frame);
   c.mujoco = record_mujoco(scene, mode, mujoco_options);
-  Scene free_scene = scene;
+  Scene free_scene = scene;  // free rods are a gauss-seidel scheme
+  free_scene.params.joint_solve = JointSolve::kGaussSeidel;
   free_scene.params.integration = Integration::kFreeRods;
   c.free_rods = record_run(free_scene, every_frame);
   c.gap = trajectory_gap(c.physik.frames, c.mujoco.frames, c.physik.summary.final_frames,
@@ -174,10 +179,23 @@ nlohmann::json gap_json(const GapStats& g, double height) {
 
 }  // namespace
 
+std::vector<std::string> diverged_runs(const Comparison& c) {
+  std::vector<std::string> out;
+  if (c.physik.summary.diverged) out.push_back("physik");
+  if (c.mujoco.summary.diverged) out.push_back("mujoco");
+  return out;
+}
+
 nlohmann::json comparison_to_json(const Scene& scene, const Comparison& c) {
   // over the height, or the mean bone length for a flat rig (no inf or nan in the output)
   const double h = scene.rig.height() > 0.0 ? scene.rig.height() : scene.rig.length_scale();
+  const std::vector<std::string> diverged = diverged_runs(c);
+  // a gap to a run that blew up measures nothing: the gaps are null then
   nlohmann::json j = gap_json(c.gap, h);
+  if (!diverged.empty()) {
+    for (auto& [key, value] : j.items()) value = nullptr;
+  }
+  j["diverged"] = diverged;
   j["scene"] = scene.file;
   j["rig"] = scene.rig_file;
   j["mode"] = to_string(c.mode);
@@ -212,9 +230,7 @@ nlohmann::json write_reference_comparison(const Scene& scene, const std::string&
                                           const std::string& out_dir, int every, bool verbose) {
   const ReferenceMode mode = parse_reference_spec(spec);
   if (verbose) std::cerr << "reference: MuJoCo " << mj_versionString() << ", " << to_string(mode) << "\n";
-  std::filesystem::create_directories(out_dir);
-  std::ofstream csv(out_dir + "/mujoco_trajectory.csv");
-  if (!csv) throw_input_error(out_dir, "", "--out", "cannot write mujoco_trajectory.csv here");
+  std::ofstream csv = open_output_file(out_dir + "/mujoco_trajectory.csv", "--out");
   RecordOptions table;
   table.csv_stream = &csv;
   table.csv_every = every;
@@ -227,12 +243,12 @@ nlohmann::json write_reference_comparison(const Scene& scene, const std::string&
   sum["passes_are"] = "MuJoCo constraint-solver iterations";
   write_json(sum, out_dir + "/mujoco_summary.json");
   {
-    std::ofstream pose(out_dir + "/mujoco_final_pose.csv");
+    std::ofstream pose = open_output_file(out_dir + "/mujoco_final_pose.csv", "--out");
     write_bones_csv(scene.rig, c.mujoco.summary.final_frames, pose);
   }
   const nlohmann::json j = comparison_to_json(scene, c);
   write_json(j, out_dir + "/comparison.json");
-  if (verbose) {
+  if (verbose && j["diverged"].empty()) {
     std::cerr << "reference: rms gap " << c.gap.rms_gap << ", max gap " << c.gap.max_gap
               << ", final pose gap " << c.gap.final_pose_gap << " (" << j["equilibrium"].get<std::string>()
               << ") -> " << out_dir << "/comparison.json\n";

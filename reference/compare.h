@@ -67,11 +67,16 @@ RecordedRun record_mujoco(const Scene& scene, ReferenceMode mode, const RecordOp
 Comparison compare_with_mujoco(const Scene& scene, ReferenceMode mode,
                                const RecordOptions& mujoco_record = {});
 
+// The runs that diverged: "physik", "mujoco" (empty when neither did).
+std::vector<std::string> diverged_runs(const Comparison& c);
+
+// comparison.json: the gaps (null when a run diverged: they would measure nothing), "diverged"
+// (diverged_runs), each run's summary, the free rods' gap.
 nlohmann::json comparison_to_json(const Scene& scene, const Comparison& c);
 
 // The `simulate --reference` output: <out>/mujoco_trajectory.csv (the columns of
 // trajectory.csv), mujoco_summary.json, mujoco_final_pose.csv and comparison.json.
-// Returns comparison.json's content.
+// Returns comparison.json's content; its "diverged" lists the runs that diverged.
 nlohmann::json write_reference_comparison(const Scene& scene, const std::string& spec,
                                           const std::string& out_dir, int every, bool verbose);
 

@@ -148,9 +148,11 @@ StepStats MujocoReference::step() {
   return st;
 }
 
-RunSummary run_mujoco(const Scene& scene, ReferenceMode mode, const StepObserver& observer) {
+RunSummary run_mujoco(const Scene& scene, ReferenceMode mode, const StepObserver& observer,
+                      bool observe_initial) {
   const auto t0 = std::chrono::steady_clock::now();
   MujocoReference ref(scene, mode);
+  if (observer && observe_initial) observer(ref.state(), initial_stats(scene, ref.state()));
   // the same rules as run_scene; MuJoCo's bad qacc/qvel/qpos warning counts as non-finite
   RunMonitor monitor(scene, "MuJoCo: ");
   for (int k = 0; k < scene.steps; ++k) {

@@ -85,8 +85,9 @@ class MujocoReference {
 };
 
 // The whole run, with the same convergence and divergence rules as physik::run_scene
-// (physik/run_monitor.h; a MuJoCo bad qacc/qvel/qpos warning counts as a non-finite state).
+// (physik/run_monitor.h; a MuJoCo bad qacc/qvel/qpos warning counts as a non-finite state);
+// with observe_initial the observer sees the initial state first (step 0), as run_scene's.
 RunSummary run_mujoco(const Scene& scene, ReferenceMode mode,
-                      const StepObserver& observer = nullptr);
+                      const StepObserver& observer = nullptr, bool observe_initial = false);
 
 }  // namespace physik

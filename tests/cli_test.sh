@@ -52,7 +52,9 @@ expect_in "missing file message" "$tmp/err" "none.json: cannot open"
 check "simulate help" 0 "$bin" simulate --help
 check "simulate" 0 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --out "$tmp/sim" --steps 50 --quiet
 expect_in "simulate summary" "$tmp/sim/summary.json" '"mean_passes_per_step"'
-expect_in "simulate csv" "$tmp/sim/trajectory.csv" 'step,time,kinetic_energy,passes,joint_mismatch,joint_separation,residual_0'
+expect_in "simulate csv" "$tmp/sim/trajectory.csv" 'step,time,kinetic_energy,passes,joint_mismatch,joint_separation,residual_hand.L,residual_hand.R'
+expect_in "simulate csv step 0" "$tmp/sim/trajectory.csv" $'\n0,0,0,0,0,0,'
+expect_in "simulate scene.json has the rig inline" "$tmp/sim/scene.json" '"bones"'
 check "simulate paper damping diverges" 3 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --out "$tmp/div" --set damping=20 --quiet
 expect_in "diverged message" "$tmp/err" "diverged"
 expect_in "diverged summary" "$tmp/div/summary.json" '"diverged": true'
@@ -65,7 +67,9 @@ expect_in "negative dt message" "$tmp/err" "s2.json: params: field 'dt'"
 printf '{"rig": "nowhere.json"}' > "$tmp/s3.json"
 check "simulate missing rig" 2 "$bin" simulate "$tmp/s3.json" --out "$tmp/x"
 check "simulate bad override" 2 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --out "$tmp/x" --set nonsense=1
-expect_in "bad override lists the keys" "$tmp/err" "--set: params: field 'nonsense': unknown parameter (known: preset, dt, damping,"
+expect_in "bad override lists the keys" "$tmp/err" "--set: unknown parameter 'nonsense' (known: preset, dt, damping,"
+check "simulate typo override" 2 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --out "$tmp/x" --set dampng=1
+expect_in "typo override suggests" "$tmp/err" "--set: unknown parameter 'dampng' (did you mean 'damping'?)"
 check "simulate bad override value" 2 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --out "$tmp/x" --set dt=abc
 expect_in "bad override value message" "$tmp/err" "--set: params: field 'dt': expected a number, got 'abc'"
 check "simulate override out of range" 2 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --out "$tmp/x" --set torsion_tolerance=0.5
@@ -116,7 +120,7 @@ check "export-mjcf bad joints" 2 "$bin" export-mjcf "$src/models/rigs/pinhead.js
 check "simulate bad reference" 2 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --reference bullet --out "$tmp/ref"
 check "simulate reference" 0 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --steps 20 --quiet --reference mujoco:exact-constraints --out "$tmp/ref"
 expect_in "comparison.json" "$tmp/ref/comparison.json" '"final_pose_gap"'
-expect_in "mujoco csv header" "$tmp/ref/mujoco_trajectory.csv" "step,time,kinetic_energy,passes,joint_mismatch,joint_separation,residual_0"
+expect_in "mujoco csv header" "$tmp/ref/mujoco_trajectory.csv" "step,time,kinetic_energy,passes,joint_mismatch,joint_separation,residual_"
 
 # interchange: BVH / qBVH, joint-limit files, MJCF (issue 8)
 check "from-bvh help" 0 "$bin" rig from-bvh --help
@@ -234,7 +238,7 @@ printf '{"rig": "flat.json", "control_points": [{"bone": "b", "target": [2,0,0]}
 check "flat rig, target met" 0 "$bin" simulate "$tmp/flat_scene.json" --out "$tmp/flat" --quiet
 expect_in "flat rig converged" "$tmp/flat/summary.json" '"converged": true'
 "$bin" rig chain 1000 --out "$tmp/c1000.json"
-printf '{"rig": "c1000.json", "control_points": [{"bone": "b999", "target": [1,0,999.5]}], "steps": 2}' > "$tmp/c1000_scene.json"
+printf '{"rig": "c1000.json", "params": {"preset": "original"}, "control_points": [{"bone": "b999", "target": [1,0,999.5]}], "steps": 2}' > "$tmp/c1000_scene.json"
 check "chain joint solve warning" 0 "$bin" simulate "$tmp/c1000_scene.json" --out "$tmp/c1000" --quiet
 expect_in "chain warning in summary" "$tmp/c1000/summary.json" '"joint_unpropagated_steps": 2'
 expect_in "chain warning on stderr" "$tmp/err" "c1000_scene.json: the joint solve stopped before"
@@ -259,6 +263,55 @@ expect_in "long path names the scene" "$tmp/err" "longpath.json: field 'rig'"
 printf '{"rig": "flat.json", "control_points": [{"bone": "b", "target": [1e155,0,0], "k": 10}], "steps": 5}' > "$tmp/far_target.json"
 check "target 1e155 refused" 2 "$bin" simulate "$tmp/far_target.json" --out "$tmp/ft" --quiet
 expect_in "far target message" "$tmp/err" "far_target.json: control_points[0]: field 'target'"
+
+# defaults and honest tools: a scene that names no preset runs the robust preset; explicit
+# values are the ones used; failures exit non-zero and print no result
+printf '{"rig": "%s/models/rigs/pinhead.json", "control_points": [{"name": "reach", "bone": "hand.L", "target": [1.2, -0.6, 1.4]}], "steps": 300}' "$src" > "$tmp/plain.json"
+check "no preset: robust converges" 0 "$bin" simulate "$tmp/plain.json" --out "$tmp/plain" --quiet
+expect_in "no preset is robust" "$tmp/plain/summary.json" '"preset": "robust"'
+expect_in "robust damping is auto" "$tmp/plain/summary.json" '"damping": "auto"'
+expect_in "robust reports its choice" "$tmp/plain/summary.json" '"damping_auto_value"'
+expect_in "progress shows substeps" "$tmp/plain/trajectory.csv" 'residual_reach'
+check "explicit damping turns auto off" 0 "$bin" simulate "$tmp/plain.json" --out "$tmp/plain1" --quiet --set damping=1
+expect_in "explicit damping is the used one" "$tmp/plain1/summary.json" '"damping": 1.0'
+check "gauss-seidel setting under implicit" 2 "$bin" simulate "$tmp/plain.json" --out "$tmp/x" --set max_passes=10
+expect_in "inapplicable setting message" "$tmp/err" "--set: field 'max_passes': applies to the gauss-seidel joint solve only"
+check "unknown preset" 2 "$bin" simulate "$tmp/plain.json" --out "$tmp/x" --set preset=fast
+expect_in "unknown preset message" "$tmp/err" "unknown preset 'fast' (original|paper|robust)"
+check "damping of a wrong kind" 2 "$bin" simulate "$tmp/plain.json" --out "$tmp/x" --set damping=lots
+expect_in "damping kind message" "$tmp/err" "--set: params: field 'damping': expected a number, got 'lots'"
+expect_in "diverged message hints" "$tmp/div/summary.json" '"divergence_hint": "try --set preset=robust'
+check "diverged hint on stderr" 3 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --out "$tmp/div2" --set damping=20 --quiet
+expect_in "diverged hint names less damping" "$tmp/err" "or damping below"
+touch "$tmp/afile"
+check "unwritable --out" 2 "$bin" simulate "$tmp/plain.json" --out "$tmp/afile/run" --quiet
+expect_in "unwritable --out names the path" "$tmp/err" "afile/run: field '--out': cannot create the folder"
+check "unwritable solve --out" 2 "$bin" solve "$tmp/plain.json" --solver dls --out "$tmp/afile/solve" --quiet
+check "unwritable tune --out" 2 "$bin" tune "$tmp/plain.json" --out "$tmp/afile/t.json" --quiet
+expect_in "tune --out checked first" "$tmp/err" "afile: field '--out': cannot create the folder"
+check "export-mjcf --dt 1e999" 2 "$bin" export-mjcf "$src/models/rigs/chain3.json" --dt 1e999
+expect_in "non-finite dt message" "$tmp/err" "--dt: must be a positive finite number"
+check "solve --tol 1e999" 2 "$bin" solve "$tmp/plain.json" --solver dls --tol 1e999 --out "$tmp/x"
+expect_in "non-finite tol message" "$tmp/err" "--tol: must be a finite number >= 0"
+check "solve --set" 0 "$bin" solve "$tmp/plain.json" --solver physik --set torsion_k=20 --out "$tmp/solve_set" --quiet
+expect_in "solve --set reaches the params" "$tmp/solve_set/summary.json" '"torsion_k": 20.0'
+check "solve mode refuses an explicit explicit integration" 2 "$bin" solve "$tmp/plain.json" --solver physik --set integration=articulated --out "$tmp/x"
+expect_in "solve mode integration message" "$tmp/err" "the solve mode is the implicit step"
+check "equilibrium --set" 0 "$bin" equilibrium "$tmp/plain.json" --set torsion_k=20 --out "$tmp/eq.json"
+check "equilibrium --compare on a diverging run" 3 "$bin" equilibrium "$src/models/scenes/pinhead_two_hands.json" --compare --set damping=20 --out "$tmp/eqd.json"
+expect_in "compare says it diverged" "$tmp/err" "PhysIK's run diverged"
+expect_in "compare prints no distance" "$tmp/eqd.json" '"max_pose_distance": null'
+check "reference with a diverging run" 3 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --set damping=20 --reference mujoco --out "$tmp/refd" --quiet
+expect_in "reference says which diverged" "$tmp/err" "no gap to report"
+expect_in "reference gap is null" "$tmp/refd/comparison.json" '"final_pose_gap": null'
+check "tune where every candidate diverges" 3 "$bin" tune "$src/models/scenes/pinhead_two_hands.json" --bounds damping=20:100 --scan-points 3 --max-iterations 2 --steps 60 --out "$tmp/tuned_diverging.json" --quiet
+expect_in "tune says nothing tuned" "$tmp/err" "nothing tuned"
+[ ! -e "$tmp/tuned_diverging.json" ] && pass=$((pass+1)) || { fail=$((fail+1)); echo "FAIL tune wrote a diverging scene"; }
+check "tune a setting the scheme ignores" 2 "$bin" tune "$tmp/plain.json" --params torsion_cap --quiet
+expect_in "tune ignored setting message" "$tmp/err" "--params: field 'torsion_cap': applies to capped torsion springs only"
+check "params fits 100 columns" 0 "$bin" params
+awk 'length > 100 { bad = 1 } END { exit bad }' "$tmp/out" && pass=$((pass+1)) || { fail=$((fail+1)); echo "FAIL params wider than 100 columns"; }
+expect_in "params shows robust" "$tmp/out" "robust"
 
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -100,7 +100,29 @@ TEST(ParamTable, PaperPresetIsTheOriginalWithThePapersDampingAndStiffness) {
   EXPECT_EQ(paper.damping, 20.0);
   EXPECT_EQ(paper.control_k, 30.0);
   EXPECT_EQ(paper.preset, "paper");
-  EXPECT_EQ(params_to_json(EngineParams()), params_to_json(original));  // EngineParams() is `original`
+}
+
+TEST(ParamTable, RobustIsTheOriginalWithTheImplicitStepDampingAutoAndTheGradientTorque) {
+  // models/README.md: robust = integration implicit (the exact joint solve), damping auto,
+  // torsion torque gradient; the rest as the original
+  const std::map<std::string, std::string> robust_changes = {{"integration", "implicit"},
+                                                             {"damping_auto", "true"},
+                                                             {"torsion_torque", "gradient"}};
+  const int robust = preset_index("robust");
+  ASSERT_GE(robust, 0);
+  for (const ParamRow& row : param_table()) {
+    SCOPED_TRACE(row.name);
+    const auto it = robust_changes.find(row.name);
+    if (it == robust_changes.end()) EXPECT_EQ(row.defaults[robust], row.defaults[0]);
+    else EXPECT_TRUE(same_value(row, row.defaults[robust], it->second));
+  }
+  // the default preset, of scene files that name none and of EngineParams()
+  EXPECT_EQ(std::string(kDefaultPreset), "robust");
+  EXPECT_EQ(params_to_json(EngineParams()), params_to_json(preset_params("robust")));
+  EXPECT_EQ(params_from_json(Json(nullptr), "none.json").preset, "robust");
+  const EngineParams p = preset_params("robust");
+  EXPECT_TRUE(p.damping_auto);  // the damping row's setter runs first, damping_auto's after
+  EXPECT_EQ(params_to_json(p)["damping"], "auto");
 }
 
 TEST(ParamTable, JointSolveIsWrittenOnlyAwayFromItsDefault) {
@@ -108,17 +130,27 @@ TEST(ParamTable, JointSolveIsWrittenOnlyAwayFromItsDefault) {
   EngineParams p = preset_params("paper");
   EXPECT_FALSE(params_to_json(p).contains("joint_solve"));
   p.joint_solve = JointSolve::kExact;
-  const Json j = params_to_json(p);
+  Json j = params_to_json(p);
   EXPECT_EQ(j["joint_solve"], "exact");
+  // the exact solve does not read the gauss-seidel rows: the writer leaves those at the
+  // preset's value, which the reader accepts
   EXPECT_EQ(params_from_json(j, "rt.json").joint_solve, JointSolve::kExact);
-  // damping_auto likewise (and "damping": "auto" reads as it)
+  p.joint_eps = 1e-9;
+  EXPECT_FALSE(params_to_json(p).contains("joint_eps"));  // not used, so not written
+  p.joint_solve = JointSolve::kGaussSeidel;
+  EXPECT_EQ(params_to_json(p)["joint_eps"], 1e-9);
+  // damping auto is written "damping": "auto", never as a damping_auto key
   EXPECT_FALSE(params_to_json(p).contains("damping_auto"));
   p.damping_auto = true;
-  EXPECT_TRUE(params_to_json(p)["damping_auto"].get<bool>());
+  EXPECT_EQ(params_to_json(p)["damping"], "auto");
+  EXPECT_FALSE(params_to_json(p).contains("damping_auto"));
+  EXPECT_TRUE(params_from_json(params_to_json(p), "rt.json").damping_auto);
   const Json a = {{"damping", "auto"}};
   EXPECT_TRUE(params_from_json(a, "auto.json").damping_auto);
   // implicit_max_splits likewise (the implicit step's energy guard, added with it)
   EXPECT_FALSE(params_to_json(p).contains("implicit_max_splits"));
+  p.integration = Integration::kImplicit;
+  p.joint_eps = 1e-3;
   p.implicit_max_splits = 0;
   EXPECT_EQ(params_to_json(p)["implicit_max_splits"].get<int>(), 0);
   EXPECT_EQ(params_from_json(params_to_json(p), "rt.json").implicit_max_splits, 0);
@@ -167,6 +199,19 @@ ParamValue other_value(const ParamRow& row) {
   return d;
 }
 
+// Where the row's value would not take part in the run (ParamRow::conflict), the settings that
+// make it: a capped torsion spring for torsion_cap, the implicit step for its splits, a polar
+// interpolation for its fallback; a row of the scheme itself keeps the scheme it sets.
+void make_it_count(const ParamRow& row, EngineParams& p) {
+  if (!row.conflict || row.conflict(p).empty()) return;
+  if (row.name == "torsion_cap") p.torsion_spring = SpringLaw::kCapped;
+  if (row.name == "implicit_max_splits") p.integration = Integration::kImplicit;
+  if (row.name == "interpolation_fallback") p.interpolation = Interpolation::kPolarCom;
+  if (row.name == "joint_solve") p.integration = Integration::kArticulated;
+  if (row.name == "integration") p.joint_solve = JointSolve::kGaussSeidel;
+  ASSERT_EQ(row.conflict(p), "");
+}
+
 TEST(ParamTable, EveryRowRoundTripsThroughTheSceneFormatAndText) {
   for (const ParamRow& row : param_table()) {
     SCOPED_TRACE(row.name);
@@ -175,6 +220,7 @@ TEST(ParamTable, EveryRowRoundTripsThroughTheSceneFormatAndText) {
     ASSERT_NE(v, row.get(p));
     row.set(p, v);
     EXPECT_EQ(row.get(p), v);
+    make_it_count(row, p);
     // parse -> write -> parse
     const Json written = params_to_json(p);
     const EngineParams back = params_from_json(written, "rt.json");
@@ -276,13 +322,82 @@ TEST(ParamSet, EachKindParsesItsTextAndRejectsBadText) {
   EXPECT_EQ(set_error("centripetal=yes"), "--set: params: field 'centripetal': expected true or false, got 'yes'");
   EXPECT_EQ(set_error("control_spring=bungee"),
             "--set: params: field 'control_spring': unknown value 'bungee' (expected linear|capped)");
-  EXPECT_EQ(set_error("preset=fast"), "--set: params: field 'preset': unknown preset 'fast' (original|paper)");
+  EXPECT_EQ(set_error("preset=fast"),
+            "--set: params: field 'preset': unknown preset 'fast' (original|paper|robust)");
   EXPECT_EQ(set_error("=3"), "--set: field '=3': expected key=value");
   EXPECT_EQ(set_error("damping"), "--set: field 'damping': expected key=value");
-  const std::string unknown = set_error("dampng=3");
-  EXPECT_EQ(unknown.rfind("--set: params: field 'dampng': unknown parameter (known: preset, dt, damping,", 0), 0u)
+  // a typo gets the closest key; a name near none lists them all
+  EXPECT_EQ(set_error("dampng=3"), "--set: unknown parameter 'dampng' (did you mean 'damping'?)");
+  EXPECT_EQ(set_error("torsion_tolerence=0.2"),
+            "--set: unknown parameter 'torsion_tolerence' (did you mean 'torsion_tolerance'?)");
+  const std::string unknown = set_error("wobbliness=3");
+  EXPECT_EQ(unknown.rfind("--set: unknown parameter 'wobbliness' (known: preset, dt, damping,", 0), 0u)
       << unknown;
   for (const ParamRow& row : param_table()) EXPECT_NE(unknown.find(row.name), std::string::npos) << row.name;
+  // in a scene file too, naming the file and the field
+  EXPECT_EQ(params_error(R"({"dampng": 3})"),
+            "p.json: params: field 'dampng': unknown parameter 'dampng' (did you mean 'damping'?)");
+}
+
+std::string scene_params_error(const std::string& params_json, const std::vector<std::string>& set) {
+  try {
+    params_from_json(parse_json_text(params_json, "p.json"), "p.json", parse_param_overrides(set, "--set"));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ParamSet, AnExplicitDampingTurnsDampingAutoOffAndIsTheValueUsed) {
+  // robust's damping is auto: a number given for it, by the file or --set, is the one used
+  const EngineParams file = params_from_json(parse_json_text(R"({"damping": 1})", "p.json"), "p.json");
+  EXPECT_FALSE(file.damping_auto);
+  EXPECT_EQ(file.damping, 1.0);
+  const EngineParams set =
+      params_from_json(parse_json_text(R"({"damping": "auto"})", "p.json"), "p.json",
+                       parse_param_overrides({"damping=1"}, "--set"));
+  EXPECT_FALSE(set.damping_auto);
+  EXPECT_EQ(set.damping, 1.0);
+  // and the other way round; overrides apply in order, the later wins
+  const EngineParams back =
+      params_from_json(parse_json_text(R"({"preset": "original", "damping": 2})", "p.json"), "p.json",
+                       parse_param_overrides({"damping=1", "damping=auto"}, "--set"));
+  EXPECT_TRUE(back.damping_auto);
+  // a file that gives both is contradictory
+  EXPECT_EQ(scene_params_error(R"({"preset": "original", "damping": 2, "damping_auto": true})", {}),
+            "p.json: params: field 'damping': a damping value beside damping auto: give one or the other");
+  EXPECT_EQ(scene_params_error(R"({"damping": "auto", "damping_auto": false})", {}),
+            "p.json: params: field 'damping_auto': beside \"damping\": \"auto\": give one or the other");
+}
+
+TEST(ParamSet, AValueTheRunWouldNotUseIsRefusedNamingWhereItCameFrom) {
+  // robust runs the exact solve: the gauss-seidel rows do not take part
+  EXPECT_EQ(scene_params_error("{}", {"max_passes=10"}),
+            "--set: field 'max_passes': applies to the gauss-seidel joint solve only, and with "
+            "integration implicit the joints are solved exactly");
+  EXPECT_EQ(scene_params_error(R"({"joint_eps": 1e-6})", {}),
+            "p.json: params: field 'joint_eps': applies to the gauss-seidel joint solve only, and "
+            "with integration implicit the joints are solved exactly");
+  EXPECT_EQ(scene_params_error(R"({"preset": "original"})", {"joint_solve=gauss-seidel", "integration=implicit"}),
+            "--set: field 'joint_solve': gauss-seidel cannot run with integration implicit, which "
+            "solves the joints exactly");
+  EXPECT_EQ(scene_params_error(R"({"preset": "original", "joint_solve": "exact"})", {"integration=free-rods"}),
+            "--set: field 'integration': free-rods needs joint_solve gauss-seidel (this run's is exact)");
+  EXPECT_EQ(scene_params_error(R"({"preset": "original"})", {"implicit_max_splits=2"}),
+            "--set: field 'implicit_max_splits': applies to integration implicit only (this run: "
+            "integration articulated)");
+  EXPECT_EQ(scene_params_error(R"({"torsion_cap": 0.2})", {}),
+            "p.json: params: field 'torsion_cap': applies to capped torsion springs only (this run: linear)");
+  EXPECT_EQ(scene_params_error(R"({"interpolation": "none", "interpolation_steps": 5})", {}),
+            "p.json: params: field 'interpolation_steps': applies only with an interpolation (this run: none)");
+  EXPECT_EQ(scene_params_error(R"({"interpolation_fallback": 0.01})", {}),
+            "p.json: params: field 'interpolation_fallback': applies to polar interpolation only "
+            "(this run: linear)");
+  // ... but not where they take part, nor at the preset's own value (a written scene lists it)
+  EXPECT_EQ(scene_params_error(R"({"preset": "original", "max_passes": 10})", {}), "");
+  EXPECT_EQ(scene_params_error(R"({"joint_eps": 0.001, "torsion_cap": 0.5})", {}), "");
+  EXPECT_EQ(scene_params_error(R"({"torsion_spring": "capped", "torsion_cap": 0.2})", {}), "");
+  EXPECT_EQ(scene_params_error(R"({"preset": "original"})", {"integration=implicit"}), "");
 }
 
 // two points on one rod: the first gives no k, the second its own

@@ -73,18 +73,19 @@ std::string read_file(const std::string& path) {
 
 TEST(Recorder, EveryNAndTheScenesLastStep) {
   const Scene scene = short_scene(7);
-  EXPECT_EQ(row_steps(table_of(scene, 3, RowRule::kEveryAndLast)), (std::vector<int>{3, 6, 7}));
+  // step 0 is the initial state
+  EXPECT_EQ(row_steps(table_of(scene, 3, RowRule::kEveryAndLast)), (std::vector<int>{0, 3, 6, 7}));
 }
 
 TEST(Recorder, EveryNAndTheFirstStep) {
   const Scene scene = short_scene(7);
-  EXPECT_EQ(row_steps(table_of(scene, 3, RowRule::kEveryAndFirst)), (std::vector<int>{1, 3, 6}));
+  EXPECT_EQ(row_steps(table_of(scene, 3, RowRule::kEveryAndFirst)), (std::vector<int>{0, 1, 3, 6}));
 }
 
 TEST(Recorder, EveryStepWhenNIsOne) {
   const Scene scene = short_scene(5);
   for (RowRule rule : {RowRule::kEveryAndLast, RowRule::kEveryAndFirst}) {
-    EXPECT_EQ(row_steps(table_of(scene, 1, rule)), (std::vector<int>{1, 2, 3, 4, 5}));
+    EXPECT_EQ(row_steps(table_of(scene, 1, rule)), (std::vector<int>{0, 1, 2, 3, 4, 5}));
   }
 }
 
@@ -92,7 +93,8 @@ TEST(Recorder, HeaderNamesEveryColumnAndRowsFillThem) {
   const Scene scene = short_scene(4);
   const std::string text = table_of(scene, 2, RowRule::kEveryAndLast);
   std::string want = "step,time,kinetic_energy,passes,joint_mismatch,joint_separation";
-  for (std::size_t c = 0; c < scene.control_points.size(); ++c) want += ",residual_" + std::to_string(c);
+  // residuals are named after their control points (pinhead_two_hands: hand.L, hand.R)
+  for (const ControlPoint& cp : scene.control_points) want += ",residual_" + cp.name;
   for (const std::string& b : scene.rig.bone_name) {
     for (const char* end : {"head", "tail"}) {
       for (const char* axis : {"x", "y", "z"}) want += "," + b + "." + end + "_" + axis;
@@ -102,20 +104,43 @@ TEST(Recorder, HeaderNamesEveryColumnAndRowsFillThem) {
   for (const auto& r : rows_of(text)) EXPECT_EQ(r.size(), split(want).size());
 }
 
+TEST(Recorder, ResidualColumnsAreNamedAfterTheirPointsUniqueAndQuoted) {
+  Scene scene = short_scene(2);
+  scene.control_points[0].name = "";         // no name: its index
+  scene.control_points[1].name = "grip, left";  // a comma: quoted
+  scene.control_points.push_back(scene.control_points[1]);  // the same name again: suffixed
+  EXPECT_EQ(residual_column_names(scene),
+            (std::vector<std::string>{"residual_0", "\"residual_grip, left\"",
+                                      "\"residual_grip, left_2\""}));
+}
+
 TEST(Recorder, RowsHoldTheRecordedStepValues) {
   const Scene scene = short_scene(6);
   RecordedRun run;
   const std::string text = table_of(scene, 1, RowRule::kEveryAndLast, &run);
   const auto rows = rows_of(text);
-  ASSERT_EQ(rows.size(), run.stats.size());
+  ASSERT_EQ(rows.size(), run.stats.size() + 1);  // the initial state, then every step
   ASSERT_EQ(run.residuals.size(), run.stats.size());
-  for (std::size_t k = 0; k < rows.size(); ++k) {
+  // step 0: at rest, nothing solved yet, each point at its distance from its target on the
+  // initial pose
+  const BoneFrames f0 = forward_kinematics(scene.rig, scene.initial_pose);
+  EXPECT_EQ(rows[0][0], "0");
+  EXPECT_EQ(std::stod(rows[0][1]), 0.0);
+  EXPECT_EQ(std::stod(rows[0][2]), 0.0);
+  EXPECT_EQ(rows[0][3], "0");
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    const double d0 = (point_on_bone(f0, cp.bone, cp.alpha) - cp.target_world).norm();
+    EXPECT_NEAR(std::stod(rows[0][6 + c]), d0, 1e-8 * d0);
+  }
+  for (std::size_t k = 0; k + 1 < rows.size(); ++k) {
     const StepStats& st = run.stats[k];
-    EXPECT_NEAR(std::stod(rows[k][1]), (k + 1) * scene.params.dt, 1e-9);
-    EXPECT_NEAR(std::stod(rows[k][2]), st.kinetic_energy, 1e-8 * std::abs(st.kinetic_energy));
-    EXPECT_EQ(std::stoi(rows[k][3]), st.passes);
+    const auto& row = rows[k + 1];
+    EXPECT_NEAR(std::stod(row[1]), (k + 1) * scene.params.dt, 1e-9);
+    EXPECT_NEAR(std::stod(row[2]), st.kinetic_energy, 1e-8 * std::abs(st.kinetic_energy));
+    EXPECT_EQ(std::stoi(row[3]), st.passes);
     for (std::size_t c = 0; c < run.residuals[k].size(); ++c) {
-      EXPECT_NEAR(std::stod(rows[k][6 + c]), run.residuals[k][c], 1e-8 * run.residuals[k][c] + 1e-12);
+      EXPECT_NEAR(std::stod(row[6 + c]), run.residuals[k][c], 1e-8 * run.residuals[k][c] + 1e-12);
     }
   }
 }
@@ -152,7 +177,7 @@ TEST(Recorder, DivergingRunKeepsOnlyFiniteRows) {
   ASSERT_TRUE(run.summary.diverged);
   const auto rows = rows_of(text);
   ASSERT_FALSE(rows.empty());
-  EXPECT_LE(static_cast<int>(rows.size()), run.summary.steps_run);
+  EXPECT_LE(static_cast<int>(rows.size()), run.summary.steps_run + 1);  // + the initial state
   for (const auto& r : rows) {
     for (const std::string& cell : r) EXPECT_TRUE(std::isfinite(std::stod(cell))) << cell;
   }

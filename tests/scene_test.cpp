@@ -140,7 +140,7 @@ TEST(SceneInput, MissingOrBadRig) {
 }
 
 TEST(SceneInput, UnknownParamsAndValues) {
-  expect_error(with_cp("", R"({"dampng": 3})"), {"params", "'dampng'", "unknown field"});
+  expect_error(with_cp("", R"({"dampng": 3})"), {"params", "'dampng'", "did you mean 'damping'"});
   expect_error(with_cp("", R"({"preset": "fast"})"), {"params", "'preset'", "unknown preset"});
   expect_error(with_cp("", R"({"integration": "rk4"})"), {"params", "'integration'", "articulated|free-rods"});
   expect_error(with_cp("", R"({"interpolation": "cubic"})"), {"'interpolation'"});

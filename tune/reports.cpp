@@ -60,13 +60,18 @@ EquilibriumReport equilibrium_report(const Scene& scene, const std::string& star
   if (out.ran_physik) {
     const RunSummary& run = out.physik_run;
     const double gap = max_pose_distance(run.final_frames, e.frames);
-    out.doc["physik"] = {{"converged", run.converged},
-                         {"diverged", run.diverged},
-                         {"steps_to_converge", run.steps_to_converge},
-                         {"max_final_residual", max_of(run.final_residuals)},
-                         {"potential", scene_potential(scene, run.final_pose)},
-                         {"max_pose_distance", gap},
-                         {"max_pose_distance_over_height", gap / scene.rig.height()}};
+    // a diverged run's pose is its last finite one: no distance to report
+    const nlohmann::json distance = run.diverged ? nlohmann::json(nullptr) : nlohmann::json(gap);
+    out.doc["physik"] = {
+        {"converged", run.converged},
+        {"diverged", run.diverged},
+        {"divergence_reason", run.divergence_reason},
+        {"steps_to_converge", run.steps_to_converge},
+        {"max_final_residual", max_of(run.final_residuals)},
+        {"potential", scene_potential(scene, run.final_pose)},
+        {"max_pose_distance", distance},
+        {"max_pose_distance_over_height",
+         run.diverged ? nlohmann::json(nullptr) : nlohmann::json(gap / scene.rig.height())}};
   }
   return out;
 }

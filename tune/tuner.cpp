@@ -214,8 +214,10 @@ class Objective_ {
     Scene s = base_;
     for (std::size_t i = 0; i < opt_.params.size(); ++i) set_param(s, opt_.params[i].name, p[i]);
     ++evaluations;
-    if (opt_.objective == Objective::kSettle) return settle_residuals(s, opt_.measure, res);
-    return mujoco_residuals(s, reference_, res);
+    RunSummary sum = opt_.objective == Objective::kSettle ? settle_residuals(s, opt_.measure, res)
+                                                          : mujoco_residuals(s, reference_, res);
+    if (sum.diverged) ++diverged;
+    return sum;
   }
 
   Scene scene_with(const std::vector<double>& p) const {
@@ -225,6 +227,7 @@ class Objective_ {
   }
 
   mutable int evaluations = 0;
+  mutable int diverged = 0;  // evaluations whose run diverged
 
  private:
   const Scene& base_;
@@ -360,8 +363,34 @@ std::vector<double> refine_with_ceres(const TuneOptions& opt, const Objective_& 
 
 }  // namespace
 
+namespace {
+
+// A tuned parameter must change the run: not one the scheme never reads (ParamRow::conflict),
+// not a control point default that every control point overrides with its own.
+void check_tunable_in(const Scene& scene, const TuneParam& p) {
+  const ParamRow& row = param_row(p.name);
+  Scene s = scene;
+  set_param(s, p.name, p.lo);  // as every evaluation sets it (damping: auto off)
+  if (row.conflict) {
+    const std::string why = row.conflict(s.params);
+    if (!why.empty()) throw_input_error("--params", "", p.name, why + ": tuning it changes nothing");
+  }
+  const auto own = [&](const ControlPoint& cp) {
+    return p.name == "control_k" ? cp.k.has_value() : cp.cap.has_value();
+  };
+  if ((p.name == "control_k" || p.name == "control_cap") && !scene.control_points.empty() &&
+      std::all_of(scene.control_points.begin(), scene.control_points.end(), own)) {
+    throw_input_error("--params", "", p.name,
+                      "every control point of " + scene.file + " gives its own " +
+                          (p.name == "control_k" ? "k" : "cap") + ": tuning it changes nothing");
+  }
+}
+
+}  // namespace
+
 TuneResult tune_scene(const Scene& scene, const TuneOptions& opt) {
   if (opt.params.empty()) throw_input_error("--params", "", "", "no parameter to tune");
+  for (const TuneParam& p : opt.params) check_tunable_in(scene, p);
   if (scene.control_points.empty() && opt.objective == Objective::kSettle) {
     throw_input_error(scene.file, "control_points", "", "the settle objective needs a control point");
   }
@@ -383,12 +412,24 @@ TuneResult tune_scene(const Scene& scene, const TuneOptions& opt) {
   out.reference_steps = obj.reference_steps();
   out.tuned_run = run_scene(out.tuned_scene);
   out.evaluations = obj.evaluations + 1;
+  out.diverged_evaluations = obj.diverged + (out.tuned_run.diverged ? 1 : 0);
   out.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (opt.verbose) {
     std::cerr << "tune: ceres " << values_text(opt.params, out.values) << "  J " << out.final_cost
               << "  (" << out.evaluations << " runs, " << out.wall_time_s << " s)\n";
   }
   return out;
+}
+
+std::string tune_failure(const TuneResult& r) {
+  if (r.evaluations > 0 && r.diverged_evaluations >= r.evaluations) {
+    return "every one of the " + std::to_string(r.evaluations) +
+           " runs diverged: no value within the bounds is stable";
+  }
+  if (r.tuned_run.diverged) {
+    return "the run with the tuned values diverged (" + r.tuned_run.divergence_reason + ")";
+  }
+  return "";
 }
 
 }  // namespace physik::tune

@@ -110,6 +110,7 @@ struct TuneResult {
   double scan_cost = 0.0;        // J at the scan's best point
   double final_cost = 0.0;       // J after Ceres
   int evaluations = 0;           // simulations run
+  int diverged_evaluations = 0;  // of them, those that diverged (the tuned run's included)
   double wall_time_s = 0.0;
   std::string ceres_brief, ceres_full;
   bool ceres_usable = false;     // Ceres' termination was not a failure
@@ -132,6 +133,13 @@ std::vector<BoneFrames> mujoco_reference_trajectory(const Scene& scene);
 RunSummary mujoco_residuals(const Scene& scene, const std::vector<BoneFrames>& reference,
                             std::vector<double>& residuals);
 
+// InputError when a tuned parameter cannot change the run (the scheme does not read it, or every
+// control point overrides it). Check the result with tune_failure: every run may have
+// diverged, or the tuned one.
 TuneResult tune_scene(const Scene& scene, const TuneOptions& options);
+
+// "" when the tuning found a value worth using; else why not, in one line (every candidate
+// diverged, or the tuned run did).
+std::string tune_failure(const TuneResult& result);
 
 }  // namespace physik::tune

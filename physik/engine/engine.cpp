@@ -141,10 +141,23 @@ StepStats step(const Scene& scene, SimState& s, double h) {
   return take_step(scene, s, h);
 }
 
-RunSummary run_scene(const Scene& scene, const StepObserver& observer) {
+StepStats initial_stats(const Scene& scene, const SimState& s) {
+  StepStats st;
+  st.kinetic_energy = kinetic_energy(scene.rig, s);
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    const double r = (point_on_bone(s.frames, cp.bone, cp.alpha) - s.target_goal_world[c]).norm();
+    if (!(r <= st.max_residual)) st.max_residual = r;
+  }
+  st.joint_separation = max_joint_separation(scene.rig, s.frames);
+  return st;
+}
+
+RunSummary run_scene(const Scene& scene, const StepObserver& observer, bool observe_initial) {
   const auto t0 = std::chrono::steady_clock::now();
   SimState s;
   init_state(scene, s);
+  if (observer && observe_initial) observer(s, initial_stats(scene, s));
   RunMonitor monitor(scene);  // convergence and divergence rules, run statistics
   for (int k = 0; k < scene.steps; ++k) {
     const StepStats st = step(scene, s);

@@ -39,10 +39,17 @@ double max_joint_separation(const Rig& rig, const BoneFrames& frames);
 // Distance of every control point's attachment to its goal target (not the interpolated one).
 void control_residuals(const Scene& scene, const SimState& state, std::vector<double>& out);
 
+// The stats of a state no step has produced yet (the initial one): its kinetic energy, residuals
+// and joint separation; no passes, no mismatch.
+StepStats initial_stats(const Scene& scene, const SimState& state);
+
 // Run the scene from its initial pose for scene.steps steps (or until converged when the scene
 // says so). Never throws on divergence: it is reported in the summary. The convergence and
-// divergence rules are RunMonitor's (run_monitor.h), shared with the MuJoCo reference.
-RunSummary run_scene(const Scene& scene, const StepObserver& observer = nullptr);
+// divergence rules are RunMonitor's (run_monitor.h), shared with the MuJoCo reference. The
+// observer sees every step's state; with observe_initial also the initial state first (step 0,
+// initial_stats).
+RunSummary run_scene(const Scene& scene, const StepObserver& observer = nullptr,
+                     bool observe_initial = false);
 
 // FNV-1a over the bit patterns of every final head, tail and orientation: equal hashes mean
 // bit-identical runs (determinism made visible, as Jolt prints a state hash).

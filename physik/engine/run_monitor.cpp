@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <sstream>
 #include <utility>
 
 #include "physik/engine/engine.h"
@@ -13,6 +15,14 @@
 namespace physik {
 
 namespace {
+
+// %g-style, 3 significant digits
+std::string format_number(double v) {
+  std::ostringstream o;
+  o.precision(3);
+  o << v;
+  return o.str();
+}
 
 std::string num(double v) {
   char buf[32];
@@ -43,13 +53,18 @@ RunRules run_rules(const Scene& scene) {
 }
 
 bool state_finite(const SimState& s) {
+  // the bodies' motion, and what is written out of a state: its frames and its pose
   for (std::size_t i = 0; i < s.com_world.size(); ++i) {
     if (!s.com_world[i].allFinite() || !s.vel_world[i].allFinite() ||
-        !s.omega_world[i].allFinite() || !s.frames.orient_world[i].coeffs().allFinite()) {
+        !s.omega_world[i].allFinite() || !s.frames.orient_world[i].coeffs().allFinite() ||
+        !s.frames.head_world[i].allFinite() || !s.frames.tail_world[i].allFinite()) {
       return false;
     }
   }
-  return true;
+  for (const Quat& q : s.pose.bone_local_rotation) {
+    if (!q.coeffs().allFinite()) return false;
+  }
+  return s.pose.root_head_world.allFinite();
 }
 
 StepObservation observe_step(const Scene& scene, const SimState& s, const StepStats& st) {
@@ -268,6 +283,24 @@ void fill_final_state(const Scene& scene, const SimState& s, RunSummary& out) {
   out.damping_auto_updates = s.damping_auto_updates;
   out.implicit_split_steps = s.implicit_split_steps;
   out.implicit_max_substeps = s.implicit_max_substeps;
+}
+
+std::string divergence_hint(const Scene& scene) {
+  const EngineParams& p = scene.params;
+  const double dt = p.dt;  // s
+  if (p.integration == Integration::kImplicit) {
+    return "try a smaller dt (now " + format_number(dt) + " s) or more implicit_max_splits";
+  }
+  // semi-implicit Euler with -c v at both ends of a bone of mass m is stable in translation while
+  // 2 c dt / m < 2: c below the lightest bone's m / dt
+  double c_max = std::numeric_limits<double>::infinity();  // N s/m
+  for (int i = 0; i < scene.rig.nbone; ++i) c_max = std::min(c_max, scene.rig.bone_mass[i] / dt);
+  std::string hint = "try --set preset=robust (the implicit step, stable at any dt and damping)";
+  if (!p.damping_auto && p.damping >= c_max) {
+    return hint + ", or damping below " + format_number(c_max) + " N s/m (now " +
+           format_number(p.damping) + ")";
+  }
+  return hint + ", or a smaller dt (now " + format_number(dt) + " s)";
 }
 
 }  // namespace physik

@@ -171,4 +171,9 @@ class RunMonitor {
 // The final-state fields of a summary: residuals to the goal targets, KE, pose and frames.
 void fill_final_state(const Scene& scene, const SimState& state, RunSummary& out);
 
+// What to try after the scene's run diverged, in one line: the robust preset where the scheme
+// is explicit, less damping where it passes the explicit step's bound for translation
+// (c dt / m < 1 at a bone's end, summed over both ends: 2 c dt / m < 2), a smaller dt otherwise.
+std::string divergence_hint(const Scene& scene);
+
 }  // namespace physik

@@ -13,6 +13,7 @@
 #include <limits>
 #include <sstream>
 
+#include "physik/io/output_files.h"
 #include "physik/model/errors.h"
 #include "physik/io/unique_names.h"
 #include "physik/model/names.h"
@@ -823,11 +824,7 @@ void save_bvh(const std::string& path, const Rig& rig, const std::vector<Pose>& 
   BvhExportOptions o = options;
   o.target = path;
   check_export_options(o);  // before a file is created
-  const std::filesystem::path p(path);
-  std::error_code ec;
-  if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path(), ec);
-  std::ofstream out(p);
-  if (!out) throw_input_error(path, "", "", "cannot write file");
+  std::ofstream out = open_output_file(path, "");
   write_bvh(rig, poses, o, out);
   if (!out) throw_input_error(path, "", "", "write failed");
 }

@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 
+#include "physik/io/output_files.h"
 #include "physik/model/errors.h"
 
 namespace physik {
@@ -211,10 +212,7 @@ void write_json(const Json& doc, const std::string& path) {
     std::cout << doc.dump(2) << "\n";
     return;
   }
-  const std::filesystem::path p(path);
-  if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path());
-  std::ofstream out(p);
-  if (!out) throw_input_error(path, "", "", "cannot write file");
+  std::ofstream out = open_output_file(path, "");
   out << doc.dump(2) << "\n";
 }
 

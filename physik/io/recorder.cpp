@@ -6,21 +6,32 @@
 
 #include "physik/engine/engine.h"
 #include "physik/io/pose_io.h"
+#include "physik/io/unique_names.h"
 #include "physik/model/errors.h"
 
 namespace physik {
 
+std::vector<std::string> residual_column_names(const Scene& scene) {
+  UniqueNames taken;
+  std::vector<std::string> names;
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const std::string& name = scene.control_points[c].name;
+    names.push_back(csv_field(taken.make("residual_" + (name.empty() ? std::to_string(c) : name))));
+  }
+  return names;
+}
+
 TrajectoryCsv::TrajectoryCsv(const Scene& scene, std::ostream& out, int every, RowRule rule)
     : out_(out), every_(std::max(1, every)), rule_(rule), last_step_(scene.steps) {
   out_ << "step,time,kinetic_energy,passes,joint_mismatch,joint_separation";
-  for (std::size_t c = 0; c < scene.control_points.size(); ++c) out_ << ",residual_" << c;
+  for (const std::string& name : residual_column_names(scene)) out_ << "," << name;
   for (const std::string& name : bone_column_names(scene.rig)) out_ << "," << name;
   out_ << "\n" << std::setprecision(9);
   row_.reserve(3 + scene.control_points.size() + 6 * scene.rig.nbone);
 }
 
 bool TrajectoryCsv::wants(int step) const {
-  if (step % every_ == 0) return true;
+  if (step % every_ == 0) return true;  // step 0, the initial state, among them
   return rule_ == RowRule::kEveryAndLast ? step == last_step_ : step == 1;
 }
 
@@ -70,6 +81,13 @@ bool Recorder::wants_frame(int step) const {
 }
 
 void Recorder::observe(const SimState& s, const StepStats& st) {
+  if (s.step == 0) {  // the initial state: its table row only (frame 0 is kept at construction)
+    if (csv_) {
+      control_residuals(scene_, s, res_);
+      csv_->write_row(s, st, res_);
+    }
+    return;
+  }
   const bool row = csv_ && csv_->wants(s.step);
   if (row || opt_.residuals) control_residuals(scene_, s, res_);
   if (opt_.stats) run_.stats.push_back(st);
@@ -91,10 +109,13 @@ RecordedRun Recorder::finish(RunSummary summary) {
 
 RecordedRun record_run(const Scene& scene, const RecordOptions& options, const StepObserver& also) {
   Recorder rec(scene, options);
-  RunSummary summary = run_scene(scene, [&](const SimState& s, const StepStats& st) {
-    rec.observe(s, st);
-    if (also) also(s, st);
-  });
+  RunSummary summary = run_scene(
+      scene,
+      [&](const SimState& s, const StepStats& st) {
+        rec.observe(s, st);
+        if (also && s.step > 0) also(s, st);  // `also` sees steps only
+      },
+      rec.wants_initial());
   return rec.finish(std::move(summary));
 }
 

@@ -3,12 +3,14 @@
 // writes the trajectory table and keeps what its options ask for.
 //
 // The trajectory table (README "The command line"), one row per recorded step:
-//   step,time,kinetic_energy,passes,joint_mismatch,joint_separation,residual_<c>...,
+//   step,time,kinetic_energy,passes,joint_mismatch,joint_separation,residual_<name>...,
 //   <bone>.head_x ... <bone>.tail_z
-// time in s, KE in J, residuals (control point c to its goal target) and positions (world) in rig
-// units, 9 significant digits. Step k (1 for the first step) gets a row when k % every == 0, or
+// time in s, KE in J, residuals (each control point to its goal target, named after the point,
+// or its index when it has no name) and positions (world) in rig units, 9 significant digits.
+// Step 0 is the initial state; step k (1 for the first step) gets a row when k % every == 0, or
 // when the row rule adds it (k == scene.steps, or k == 1); a row with a non-finite value (a
-// diverging state) is never written: the divergence is reported in the summary.
+// diverging state) is never written: the divergence is reported in the summary. `passes` is the
+// joint solve's passes (gauss-seidel), 1 (exact), or the substeps of the implicit step.
 #pragma once
 
 #include <fstream>
@@ -27,6 +29,10 @@ enum class RowRule {
   kEveryAndLast,   // and the scene's last step, scene.steps (`physik simulate`, simulate --reference)
   kEveryAndFirst,  // and step 1 (the experiments' tables)
 };
+
+// The residual columns' names: residual_<control point name> (its index when it has none),
+// unique, CSV-quoted where needed.
+std::vector<std::string> residual_column_names(const Scene& scene);
 
 // The one writer of the trajectory table.
 class TrajectoryCsv {
@@ -83,8 +89,11 @@ class Recorder {
 
   // The observer to hand to a run (run_scene, run_mujoco); valid while the recorder lives.
   StepObserver observer();
-  // Record one step (what the observer calls).
+  // Record one step (what the observer calls); step 0, the initial state, gets its table row
+  // only.
   void observe(const SimState& state, const StepStats& stats);
+  // The run should show it the initial state (run_scene's observe_initial): it writes a table.
+  bool wants_initial() const { return csv_ != nullptr; }
   // The recording with the run's summary; flushes the table. Call once, after the run.
   RecordedRun finish(RunSummary summary);
 

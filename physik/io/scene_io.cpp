@@ -183,29 +183,83 @@ void read_initial_pose(const JsonContext& top, const Json& doc, Scene& s) {
 
 }  // namespace
 
+namespace {
+
+// damping and damping_auto are one setting ("damping": 3 or "damping": "auto"): an override of
+// either replaces what the file gave for both
+bool overridden(const ParamOverrides& overrides, const std::string& name) {
+  const bool damping = name == "damping" || name == "damping_auto";
+  return overrides.has(name) ||
+         (damping && (overrides.has("damping") || overrides.has("damping_auto")));
+}
+
+// Refuse explicitly given values the run would not use (ParamRow::conflict), naming where each
+// came from: the file's params, or the override.
+void check_conflicts(const EngineParams& p, const std::vector<std::string>& from_file,
+                     const ParamOverrides& overrides, const std::string& source) {
+  std::vector<std::string> given = from_file;
+  // overrides apply in order, later wins: of damping and damping_auto only the last one given
+  // stands (--set damping=1 --set damping=auto is auto)
+  int last_damping = -1;
+  for (std::size_t i = 0; i < overrides.values.size(); ++i) {
+    const std::string& name = overrides.values[i].first->name;
+    if (name == "damping" || name == "damping_auto") last_damping = static_cast<int>(i);
+  }
+  for (std::size_t i = 0; i < overrides.values.size(); ++i) {
+    const std::string& name = overrides.values[i].first->name;
+    const bool damping = name == "damping" || name == "damping_auto";
+    if (!damping || static_cast<int>(i) == last_damping) given.push_back(name);
+  }
+  // an override is the user's latest word: name it first
+  const auto conflicts = param_conflicts(p, given);
+  for (const auto& [name, why] : conflicts) {
+    if (overrides.has(name)) throw_input_error(overrides.source, "", name, why);
+  }
+  if (!conflicts.empty()) throw_input_error(source, "params", conflicts[0].first, conflicts[0].second);
+}
+
+}  // namespace
+
 EngineParams params_from_json(const Json& params, const std::string& source,
-                              const ParamOverrides& overrides) {
+                              const ParamOverrides& overrides, std::vector<std::string>* given_out) {
   const JsonContext ctx{source, "params"};
   const bool given = !params.is_null();
   if (given) {
     ctx.require_object(params, "params");
-    ctx.only_keys(params, param_keys());
+    for (auto it = params.begin(); it != params.end(); ++it) {
+      if (it.key() != "preset" && !find_param(it.key())) ctx.fail(it.key(), unknown_param_reason(it.key()));
+    }
   }
   // the base preset (an override swaps it), then the file's values, then the overrides
   const std::string preset = !overrides.preset.empty() ? overrides.preset
                              : given ? ctx.string_or(params, "preset", kDefaultPreset)
                                      : std::string(kDefaultPreset);
   EngineParams p = preset_params(preset, source);
+  std::vector<std::string> from_file;  // the rows the file gave, in table order
   // "damping": "auto" is damping_auto: true (the damping row keeps the preset's value)
   const bool damping_auto = given && params.contains("damping") && params["damping"].is_string() &&
                             params["damping"].get<std::string>() == "auto";
-  if (damping_auto && !overrides.has("damping_auto")) p.damping_auto = true;
+  if (damping_auto && params.contains("damping_auto")) {
+    ctx.fail("damping_auto", "beside \"damping\": \"auto\": give one or the other");
+  }
+  if (damping_auto && !overridden(overrides, "damping_auto")) {
+    p.damping_auto = true;
+    from_file.push_back("damping_auto");
+  }
   for (const ParamRow& row : param_table()) {
-    if (!given || overrides.has(row.name)) continue;  // an overridden value is not read
+    if (!given || overridden(overrides, row.name)) continue;  // an overridden value is not read
     if (damping_auto && row.name == "damping") continue;
-    if (const auto v = param_from_json(ctx, params, row.name, row)) row.set(p, *v);
+    if (const auto v = param_from_json(ctx, params, row.name, row)) {
+      row.set(p, *v);
+      from_file.push_back(row.name);
+    }
   }
   overrides.apply(p);
+  check_conflicts(p, from_file, overrides, source);
+  if (given_out) {
+    *given_out = from_file;
+    for (const auto& [row, v] : overrides.values) given_out->push_back(row->name);
+  }
   return p;
 }
 
@@ -223,8 +277,16 @@ Json params_to_json(const EngineParams& p) {
   Json j = {{"preset", p.preset}};
   const int preset = std::max(0, preset_index(p.preset));
   for (const ParamRow& row : param_table()) {
+    // damping auto is written as the scene format says it: "damping": "auto"
+    if (row.name == "damping_auto") continue;
+    if (row.name == "damping" && p.damping_auto) {
+      j[row.name] = "auto";
+      continue;
+    }
     const ParamValue v = row.get(p);
     if (!row.written_at_default && v == row.defaults[preset]) continue;
+    // a value the run does not use, other than the preset's, would be refused when read back
+    if (row.conflict && v != row.defaults[preset] && !row.conflict(p).empty()) continue;
     j[row.name] = param_value_json(row, v);
   }
   return j;
@@ -257,7 +319,8 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
   Scene s;
   s.file = source;
   read_rig(top, doc, base_dir, s);
-  s.params = params_from_json(doc.contains("params") ? doc["params"] : Json(nullptr), source, overrides);
+  s.params = params_from_json(doc.contains("params") ? doc["params"] : Json(nullptr), source,
+                              overrides, &s.params_given);
   s.steps = top.integer_or(doc, "steps", s.steps);
   if (s.steps < 1) top.fail("steps", "must be at least 1");
   read_control_points(top, doc, s);
@@ -278,7 +341,7 @@ Scene load_scene(const std::string& path, const ParamOverrides& overrides) {
   return scene_from_json(doc, path, base.empty() ? "." : base, overrides);
 }
 
-Json scene_to_json(const Scene& s) {
+Json scene_to_json(const Scene& s, bool rig_inline) {
   Json cps = Json::array();
   for (const ControlPoint& c : s.control_points) {
     Json j = {{"bone", s.rig.bone_name[c.bone]},
@@ -303,8 +366,9 @@ Json scene_to_json(const Scene& s) {
     if (v.norm() > 0.0) rot[s.rig.bone_name[i]] = {v.x(), v.y(), v.z()};
   }
   const Vec3& r = s.initial_pose.root_head_world;
-  return {{"rig", s.rig_file.empty() ? rig_to_json(s.rig)
-                                     : Json(std::filesystem::absolute(s.rig_file).lexically_normal().string())},
+  return {{"rig", rig_inline || s.rig_file.empty()
+                     ? rig_to_json(s.rig)
+                     : Json(std::filesystem::absolute(s.rig_file).lexically_normal().string())},
           {"params", params_to_json(s.params)},
           {"control_points", cps},
           {"schedule", sch},

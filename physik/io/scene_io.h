@@ -21,9 +21,13 @@ Scene load_scene(const std::string& path, const ParamOverrides& overrides);
 Scene scene_from_json(const nlohmann::json& doc, const std::string& source,
                       const std::string& base_dir, const ParamOverrides& overrides = {});
 // A scene's "params" object (null: the default preset) by the parameter table: the preset, then
-// each row's value, each checked against the row's range; overridden keys are not read.
+// each row's value, each checked against the row's range; overridden keys are not read. A value
+// given explicitly (by the file or an override) that the run would not use is refused
+// (ParamRow::conflict): a damping value beside damping auto, a Gauss-Seidel setting under the
+// exact solve, ... `given_out` receives the keys given explicitly.
 EngineParams params_from_json(const nlohmann::json& params, const std::string& source,
-                              const ParamOverrides& overrides = {});
+                              const ParamOverrides& overrides = {},
+                              std::vector<std::string>* given_out = nullptr);
 nlohmann::json params_to_json(const EngineParams& p);
 // One value as the scene format writes it: a number, an integer, true/false or the choice's name.
 nlohmann::json param_value_json(const ParamRow& row, ParamValue v);
@@ -31,8 +35,8 @@ nlohmann::json param_value_json(const ParamRow& row, ParamValue v);
 // report.py): {"presets", "default_preset", "params": one object per row (name, kind, unit,
 // defaults per preset, valid, doc, choices, range, zero_means, tune)}.
 nlohmann::json param_table_json();
-// The scene back to JSON (rig given by its path, or inline when it has none), e.g. for a tuned
-// scene.
-nlohmann::json scene_to_json(const Scene& scene);
+// The scene back to JSON (rig given by its path, or inline when it has none or rig_inline), e.g.
+// for a tuned scene, or a run folder's scene.json.
+nlohmann::json scene_to_json(const Scene& scene, bool rig_inline = false);
 
 }  // namespace physik

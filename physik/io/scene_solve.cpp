@@ -31,10 +31,21 @@ void check_solve_options(const SceneSolveOptions& o) {
   if (o.finish != "none" && o.finish != "ccd" && o.finish != "dls") {
     throw_input_error("--finish", "", "", "unknown finish '" + o.finish + "'; one of none|ccd|dls");
   }
-  if (o.tol < 0.0) throw_input_error("--tol", "", "", "must not be negative");
+  if (!(o.tol >= 0.0) || !std::isfinite(o.tol)) {
+    throw_input_error("--tol", "", "", "must be a finite number >= 0 (0 = 1e-4 of the reach)");
+  }
+  if (!(o.lambda >= 0.0) || !std::isfinite(o.lambda)) {
+    throw_input_error("--lambda", "", "", "must be a finite number >= 0 (0 = 0.02 of the reach)");
+  }
+  if (!(o.rotation_damping >= 0.0 && o.rotation_damping <= 1.0)) {
+    throw_input_error("--rotation-damping", "", "", "must lie in [0, 1]");
+  }
   if (o.max_iterations < 0) throw_input_error("--max-iterations", "", "", "must not be negative");
   if (!o.gravity.empty() && o.gravity.size() != 3) {
     throw_input_error("--gravity", "", "", "expected three numbers");
+  }
+  for (double g : o.gravity) {
+    if (!std::isfinite(g)) throw_input_error("--gravity", "", "", "not a finite number");
   }
 }
 
@@ -54,7 +65,7 @@ IkOptions classic_options(const SceneSolveOptions& o);
 SceneSolveResult solve_with_engine(Scene& scene, const SceneSolveOptions& o,
                                    const std::vector<IkGoal>& goals) {
   const bool mode = o.solver == "physik";
-  if (mode) use_solve_mode(scene.params);
+  if (mode) use_solve_mode(scene);
   SolveRule rule;
   rule.tolerance = o.tol > 0.0 ? o.tol : 1e-4 * chain_reach(scene.rig, goals);
   rule.max_steps = scene.steps;

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "physik/engine/engine.h"
+#include "physik/engine/run_monitor.h"
 #include "physik/io/scene_io.h"
 
 namespace physik {
@@ -15,6 +16,8 @@ nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s) {
   nlohmann::json out = {{"scene", scene.file},
           {"rig", scene.rig_file},
           {"params", params_to_json(scene.params)},
+          // N s/m, the damping the run used: damping auto's last choice, or the set value
+          {"damping", scene.params.damping_auto ? s.damping_auto_value : scene.params.damping},
           {"converged", s.converged},
           {"diverged", s.diverged},
           {"divergence_reason", s.divergence_reason},
@@ -45,6 +48,7 @@ nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s) {
                            static_cast<unsigned long long>(state_hash(s.final_frames)));
              return std::string(buf);
            }()}};
+  if (s.diverged) out["divergence_hint"] = divergence_hint(scene);
   // damping_auto's choice (N s/m), only when it was asked for: other summaries stay as they were
   if (scene.params.damping_auto) {
     out["damping_auto_value"] = s.damping_auto_value;

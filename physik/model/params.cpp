@@ -1,5 +1,6 @@
 #include "physik/model/params.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <limits>
@@ -78,10 +79,18 @@ void set_field(EngineParams& p, ParamValue v) {
   else p.*Field = static_cast<T>(v);
 }
 
+// A field's value in each preset, in kPresetNames order; the constructor takes one per preset,
+// so a row that forgets one does not compile.
+template <class T>
+struct PerPreset {
+  PerPreset(T original, T paper, T robust) : v{original, paper, robust} {}
+  std::array<T, kPresetCount> v;
+};
+
 // A row for `Field`: its kind follows the field's type (double, int, bool, an enum with
-// choice_names); `defaults` are in kPresetNames order.
+// choice_names).
 template <auto Field>
-ParamRow row(const char* name, const char* unit, std::array<FieldType<Field>, kPresetCount> defaults,
+ParamRow row(const char* name, const char* unit, PerPreset<FieldType<Field>> defaults,
              ParamRange valid, const char* doc) {
   using T = FieldType<Field>;
   ParamRow r;
@@ -102,7 +111,7 @@ ParamRow row(const char* name, const char* unit, std::array<FieldType<Field>, kP
     static_assert(std::is_same_v<T, double>, "a parameter is a double, int, bool or enum");
     r.kind = ParamKind::kReal;
   }
-  for (int i = 0; i < kPresetCount; ++i) r.defaults[i] = to_value(defaults[i]);
+  for (int i = 0; i < kPresetCount; ++i) r.defaults[i] = to_value(defaults.v[i]);
   return r;
 }
 
@@ -121,6 +130,11 @@ ParamRow omitted_at_default(ParamRow r) {
   return r;
 }
 
+ParamRow conflicts(ParamRow r, std::string (*why)(const EngineParams&)) {
+  r.conflict = why;
+  return r;
+}
+
 constexpr ParamRange kAny{};
 const ParamRange kPositive{0.0, std::nullopt, false, true};
 const ParamRange kNonNegative{0.0, std::nullopt, true, true};
@@ -129,75 +143,165 @@ ParamRange half_open(double lo, double hi) { return {lo, hi, true, false}; }  //
 
 using E = EngineParams;
 using S = SpringLaw;
+using I = Integration;
+using J = JointSolve;
+using T = TorsionTorque;
 
-// The table. Columns: key and field, unit, {original, paper}, valid range, doc; then tuning
-// bounds (the tuner's defaults for --params) and what 0 means where it is special.
+// --- settings the run would not use (ParamRow::conflict) ---------------------------------------
+
+// "integration implicit" or "joint_solve exact": what makes the joint solve exact
+std::string exact_because(const EngineParams& p) {
+  return p.integration == I::kImplicit ? "integration implicit" : "joint_solve exact";
+}
+
+std::string gauss_seidel_only(const EngineParams& p) {
+  if (!p.articulated_solve()) return "";
+  return "applies to the gauss-seidel joint solve only, and with " + exact_because(p) +
+         " the joints are solved exactly";
+}
+
+std::string implicit_only(const EngineParams& p) {
+  if (p.integration == I::kImplicit) return "";
+  return std::string("applies to integration implicit only (this run: integration ") +
+         to_string(p.integration) + ")";
+}
+
+std::string joint_solve_conflict(const EngineParams& p) {
+  if (p.joint_solve == J::kGaussSeidel && p.integration == I::kImplicit) {
+    return "gauss-seidel cannot run with integration implicit, which solves the joints exactly";
+  }
+  if (p.joint_solve == J::kExact && p.integration == I::kFreeRods) {
+    return "exact cannot run with integration free-rods (free rods need gauss-seidel)";
+  }
+  return "";
+}
+
+std::string integration_conflict(const EngineParams& p) {
+  if (p.joint_solve == J::kExact && p.integration == I::kFreeRods) {
+    return "free-rods needs joint_solve gauss-seidel (this run's is exact)";
+  }
+  return "";
+}
+
+std::string damping_conflict(const EngineParams& p) {
+  return p.damping_auto ? "a damping value beside damping auto: give one or the other" : "";
+}
+
+std::string interpolation_steps_conflict(const EngineParams& p) {
+  return p.interpolation == Interpolation::kNone ? "applies only with an interpolation (this run: none)"
+                                                 : "";
+}
+
+std::string polar_only(const EngineParams& p) {
+  if (p.interpolation == Interpolation::kPolarHead || p.interpolation == Interpolation::kPolarCom) {
+    return "";
+  }
+  return std::string("applies to polar interpolation only (this run: ") +
+         to_string(p.interpolation) + ")";
+}
+
+std::string capped_torsion_only(const EngineParams& p) {
+  return p.torsion_spring == S::kCapped ? "" : "applies to capped torsion springs only (this run: linear)";
+}
+
+// damping: a value given for it is the value used, so it turns damping_auto off
+void set_damping(EngineParams& p, ParamValue v) {
+  p.damping = v;
+  p.damping_auto = false;
+}
+
+// The table. Columns: key and field, unit, {original, paper, robust}, valid range, doc; then
+// tuning bounds (the tuner's defaults for --params), what 0 means where it is special, and why
+// an explicit value would not be used.
 std::vector<ParamRow> build_table() {
+  ParamRow damping = tuned(
+      conflicts(row<&E::damping>("damping", "N s/m", {3.0, 20.0, 3.0}, kNonNegative,
+                                 "force -c v at the head and the tail of every bone (a value "
+                                 "turns damping_auto off)"),
+                damping_conflict),
+      0.01, 100.0);
+  damping.set = &set_damping;
   return {
-      row<&E::dt>("dt", "s", {0.05, 0.05}, kPositive, "time step"),
-      tuned(row<&E::damping>("damping", "N s/m", {3.0, 20.0}, kNonNegative,
-                             "force -c v at the head and the tail of every bone"),
-            0.01, 100.0),
+      row<&E::dt>("dt", "s", {0.05, 0.05, 0.05}, kPositive, "time step"),
+      damping,
       omitted_at_default(row<&E::damping_auto>(
-          "damping_auto", "", {false, false}, kAny,
+          "damping_auto", "", {false, false, true}, kAny,
           "damping chosen for critical damping of the slowest linearised mode at the start pose, "
-          "again when the targets change (`damping` unused)")),
-      tuned(row<&E::angular_velocity_factor>("angular_velocity_factor", "1", {0.5, 0.5},
+          "again when the targets change (`damping` unused); \"damping\": \"auto\" in a scene")),
+      tuned(row<&E::angular_velocity_factor>("angular_velocity_factor", "1", {0.5, 0.5, 0.5},
                                              closed(0.0, 1.0), "w <- f w + alpha dt every step"),
             0.01, 1.0),
-      row<&E::joint_eps>("joint_eps", "rig units/s^2", {1e-3, 1e-3}, kPositive,
-                         "joint passes stop below this acceleration mismatch"),
-      zero_means(row<&E::joint_eps_relative>(
-                     "joint_eps_relative", "1", {0.0, 0.0}, half_open(0.0, 1.0),
-                     "> 0: passes also go on until every joint's mismatch is below this fraction "
-                     "of its own accelerations (forces cross long chains)"),
-                 "off, the paper's absolute eps"),
-      zero_means(row<&E::max_passes>("max_passes", "passes", {0, 0}, kNonNegative,
-                                     "joint passes per step at most; 0 = 5 n^2 (the original's cap)"),
-                 "5 n^2"),
-      row<&E::centripetal>("centripetal", "", {false, false}, kAny,
-                           "add w x (w x r) to joint-point accelerations (eq. 2 omits it)"),
-      row<&E::gyroscopic>("gyroscopic", "", {true, true}, kAny, "the -w x I w term of eq. 1"),
-      tuned(row<&E::control_k>("control_k", "N/m", {10.0, 30.0}, kNonNegative,
+      conflicts(row<&E::joint_eps>("joint_eps", "rig units/s^2", {1e-3, 1e-3, 1e-3}, kPositive,
+                                   "joint passes stop below this acceleration mismatch"),
+                gauss_seidel_only),
+      conflicts(zero_means(row<&E::joint_eps_relative>(
+                               "joint_eps_relative", "1", {0.0, 0.0, 0.0}, half_open(0.0, 1.0),
+                               "> 0: passes also go on until every joint's mismatch is below this "
+                               "fraction of its own accelerations (forces cross long chains)"),
+                           "off, the paper's absolute eps"),
+                gauss_seidel_only),
+      conflicts(zero_means(row<&E::max_passes>("max_passes", "passes", {0, 0, 0}, kNonNegative,
+                                               "joint passes per step at most; 0 = 5 n^2 (the "
+                                               "original's cap)"),
+                           "5 n^2"),
+                gauss_seidel_only),
+      conflicts(row<&E::centripetal>("centripetal", "", {false, false, false}, kAny,
+                                     "add w x (w x r) to joint-point accelerations (eq. 2 omits it)"),
+                gauss_seidel_only),
+      row<&E::gyroscopic>("gyroscopic", "", {true, true, true}, kAny, "the -w x I w term of eq. 1"),
+      tuned(row<&E::control_k>("control_k", "N/m", {10.0, 30.0, 10.0}, kNonNegative,
                                "stiffness of the control points that give no k"),
             0.1, 1000.0),
-      row<&E::control_spring>("control_spring", "", {S::kLinear, S::kLinear}, kAny,
+      row<&E::control_spring>("control_spring", "", {S::kLinear, S::kLinear, S::kLinear}, kAny,
                               "spring law of the control points that give none"),
-      tuned(row<&E::control_cap>("control_cap", "rig units", {1.0, 1.0}, kPositive,
+      tuned(row<&E::control_cap>("control_cap", "rig units", {1.0, 1.0, 1.0}, kPositive,
                                  "cap c of capped control springs that give none (the original: 1)"),
             0.01, 100.0),
-      tuned(row<&E::torsion_k>("torsion_k", "N m/rad", {10.0, 10.0}, kNonNegative,
+      tuned(row<&E::torsion_k>("torsion_k", "N m/rad", {10.0, 10.0, 10.0}, kNonNegative,
                                "stiffness of the joint-limit torsion springs"),
             0.1, 1000.0),
-      row<&E::torsion_spring>("torsion_spring", "", {S::kLinear, S::kLinear}, kAny,
+      row<&E::torsion_spring>("torsion_spring", "", {S::kLinear, S::kLinear, S::kLinear}, kAny,
                               "spring law of the joint-limit torsion springs"),
-      tuned(row<&E::torsion_cap>("torsion_cap", "rad", {0.5, 0.5}, kPositive,
-                                 "cap of capped torsion springs"),
+      tuned(conflicts(row<&E::torsion_cap>("torsion_cap", "rad", {0.5, 0.5, 0.5}, kPositive,
+                                           "cap of capped torsion springs"),
+                      capped_torsion_only),
             0.01, 3.2),
-      row<&E::torsion_tolerance>("torsion_tolerance", "1", {0.1, 0.1}, half_open(0.0, 0.5),
-                                 "the torsion spring engages this fraction of the range inside each limit"),
+      row<&E::torsion_tolerance>("torsion_tolerance", "1", {0.1, 0.1, 0.1}, half_open(0.0, 0.5),
+                                 "the torsion spring engages this fraction of the range inside each "
+                                 "limit"),
       omitted_at_default(row<&E::torsion_torque>(
-          "torsion_torque", "", {TorsionTorque::kAxes, TorsionTorque::kAxes}, kAny,
+          "torsion_torque", "", {T::kAxes, T::kAxes, T::kGradient}, kAny,
           "axes (the paper's: k x excess about each rest axis; not the gradient of the torsion "
           "potential at large bends) or gradient (its exact gradient: conservative)")),
-      omitted_at_default(row<&E::joint_solve>(
-          "joint_solve", "", {JointSolve::kGaussSeidel, JointSolve::kGaussSeidel}, kAny,
-          "gauss-seidel (the paper's passes) or exact (articulated-body algorithm, MuJoCo's Euler)")),
-      row<&E::integration>("integration", "", {Integration::kArticulated, Integration::kArticulated},
-                           kAny, "articulated (the original's: FK from the root), free-rods (the "
-                           "paper's text) or implicit (linearised backward Euler over the exact "
-                           "solve; implies joint_solve exact)"),
-      zero_means(omitted_at_default(row<&E::implicit_max_splits>(
-                     "implicit_max_splits", "halvings", {8, 8}, closed(0.0, 20.0),
-                     "integration implicit: a step that adds energy is taken again as two half "
-                     "steps, at most this many halvings deep (the smallest substep dt / 2^N)")),
-                 "the bare linearised step, never split"),
-      row<&E::interpolation>("interpolation", "", {Interpolation::kLinear, Interpolation::kLinear},
+      conflicts(omitted_at_default(row<&E::joint_solve>(
+                    "joint_solve", "", {J::kGaussSeidel, J::kGaussSeidel, J::kGaussSeidel}, kAny,
+                    "gauss-seidel (the paper's passes) or exact (articulated-body algorithm, "
+                    "MuJoCo's Euler)")),
+                joint_solve_conflict),
+      conflicts(row<&E::integration>("integration", "", {I::kArticulated, I::kArticulated, I::kImplicit},
+                                     kAny, "articulated (the original's: FK from the root), "
+                                     "free-rods (the paper's text) or implicit (linearised backward "
+                                     "Euler over the exact solve; implies joint_solve exact)"),
+                integration_conflict),
+      conflicts(zero_means(omitted_at_default(row<&E::implicit_max_splits>(
+                               "implicit_max_splits", "halvings", {8, 8, 8}, closed(0.0, 20.0),
+                               "integration implicit: a step that adds energy is taken again as "
+                               "two half steps, at most this many halvings deep (the smallest "
+                               "substep dt / 2^N)")),
+                           "the bare linearised step, never split"),
+                implicit_only),
+      row<&E::interpolation>("interpolation", "",
+                             {Interpolation::kLinear, Interpolation::kLinear, Interpolation::kLinear},
                              kAny, "how a target jump is spread over steps (eq. 12)"),
-      row<&E::interpolation_steps>("interpolation_steps", "steps", {12, 12}, kNonNegative,
-                                   "a target jump is spread over this many steps (the original: 25% of 50)"),
-      row<&E::interpolation_fallback>("interpolation_fallback", "rig units", {1e-3, 1e-3}, kPositive,
-                                      "polar interpolation falls back to linear this close to its origin"),
+      conflicts(row<&E::interpolation_steps>("interpolation_steps", "steps", {12, 12, 12},
+                                             kNonNegative, "a target jump is spread over this many "
+                                             "steps (the original: 25% of 50)"),
+                interpolation_steps_conflict),
+      conflicts(row<&E::interpolation_fallback>("interpolation_fallback", "rig units",
+                                                {1e-3, 1e-3, 1e-3}, kPositive,
+                                                "polar interpolation falls back to linear this "
+                                                "close to its origin"),
+                polar_only),
   };
 }
 
@@ -221,11 +325,43 @@ std::errc parse_whole(const std::string& text, T& out) {
   return ec;
 }
 
+// Levenshtein distance between two short names
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] != b[j - 1])});
+    }
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
 }  // namespace
 
+std::string unknown_param_reason(const std::string& key) {
+  std::string best;
+  std::size_t best_d = std::string::npos;
+  for (const std::string& k : param_keys()) {
+    const std::size_t d = edit_distance(key, k);
+    if (d < best_d) best_d = d, best = k;
+  }
+  // close: a typo (a third of the name's letters at most, two at least)
+  if (best_d <= std::max<std::size_t>(2, best.size() / 3)) {
+    return "unknown parameter '" + key + "' (did you mean '" + best + "'?)";
+  }
+  std::string all;
+  for (const std::string& k : param_keys()) all += (all.empty() ? "" : ", ") + k;
+  return "unknown parameter '" + key + "' (known: " + all + ")";
+}
+
 EngineParams::EngineParams() {
-  for (const ParamRow& r : param_table()) r.set(*this, r.defaults[0]);
-  preset = kPresetNames[0];
+  // every row's setter, in table order (damping's clears damping_auto, whose row comes after)
+  const int i = preset_index(kDefaultPreset);
+  for (const ParamRow& r : param_table()) r.set(*this, r.defaults[i]);
+  preset = kDefaultPreset;
 }
 
 const std::vector<ParamRow>& param_table() {
@@ -362,6 +498,21 @@ ParamValue parse_param_text(const ParamRow& row, const std::string& text, const 
   return v;
 }
 
+std::vector<std::pair<std::string, std::string>> param_conflicts(
+    const EngineParams& p, const std::vector<std::string>& given) {
+  std::vector<std::pair<std::string, std::string>> out;
+  const int preset = std::max(0, preset_index(p.preset));
+  for (const ParamRow& row : param_table()) {
+    if (!row.conflict || std::find(given.begin(), given.end(), row.name) == given.end()) continue;
+    // the preset's own value, where the scene writer lists it, changes nothing whether it
+    // takes part or not (a row the writer leaves out at that value is given on purpose)
+    if (row.written_at_default && row.get(p) == row.defaults[preset]) continue;
+    std::string why = row.conflict(p);
+    if (!why.empty()) out.emplace_back(row.name, std::move(why));
+  }
+  return out;
+}
+
 bool ParamOverrides::has(const std::string& name) const {
   for (const auto& [row, v] : values) {
     if (row->name == name) return true;
@@ -376,6 +527,7 @@ void ParamOverrides::apply(EngineParams& p) const {
 ParamOverrides parse_param_overrides(const std::vector<std::string>& assignments,
                                      const std::string& source) {
   ParamOverrides out;
+  out.source = source;
   for (const std::string& kv : assignments) {
     const auto eq = kv.find('=');
     if (eq == std::string::npos || eq == 0) throw_input_error(source, "", kv, "expected key=value");
@@ -390,11 +542,7 @@ ParamOverrides parse_param_overrides(const std::vector<std::string>& assignments
       continue;
     }
     const ParamRow* row = find_param(key);
-    if (!row) {
-      std::string all;
-      for (const std::string& k : param_keys()) all += (all.empty() ? "" : ", ") + k;
-      throw_input_error(source, "params", key, "unknown parameter (known: " + all + ")");
-    }
+    if (!row) throw InputError(source + ": " + unknown_param_reason(key));
     out.values.emplace_back(row, parse_param_text(*row, value, source));
   }
   return out;

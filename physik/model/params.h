@@ -6,6 +6,11 @@
 //             5 n^2, control k 10 N/m, torsion k 10 N m/rad engaging 10% inside each limit,
 //             linear torsion, articulated integration, linear target interpolation
 //   paper:    as original but damping 20 N s/m and control k 30 N/m (paper Sec. 4 / Fig 5)
+//   robust:   as original but the implicit step (linearised backward Euler over the exact
+//             articulated solve), damping chosen by the linearised modes (damping_auto) and the
+//             gradient torsion torque (on the outside_rigs experiment's rigs and the paper's
+//             scenes it converges as often as the paper's axes torque, in as few or fewer
+//             steps); the default of a scene that names no preset
 //
 // The table (param_table(), its rows in params.cpp) holds, per parameter: the key, the field it
 // drives, its kind, unit, default per preset, valid range, tuning bounds and a doc line. The
@@ -47,7 +52,7 @@ const char* to_string(JointSolve s);
 const char* to_string(TorsionTorque s);
 
 struct EngineParams {
-  EngineParams();  // the `original` preset: the table's first column
+  EngineParams();  // the default preset (kDefaultPreset)
   std::string preset;                    // the preset the values started from
   double dt;                             // s, time step
   double damping;                        // N s/m, force -c v at each bone end
@@ -91,13 +96,13 @@ struct EngineParams {
 
 // --- the parameter table ---------------------------------------------------------------------
 
-// The presets, in the order of each row's defaults; the first is EngineParams()'s.
-constexpr int kPresetCount = 2;
-constexpr std::array<const char*, kPresetCount> kPresetNames = {"original", "paper"};
+// The presets, in the order of each row's defaults.
+constexpr int kPresetCount = 3;
+constexpr std::array<const char*, kPresetCount> kPresetNames = {"original", "paper", "robust"};
 
-// The preset used when a scene names none: the one that converges on the paper's own rig
-// (see README "Presets" for the measurement behind this choice).
-constexpr const char* kDefaultPreset = "original";
+// The preset of a scene that names none, and of EngineParams(): the one that converges on rigs
+// from outside the project (the outside_rigs experiment). The paper's scenes name theirs.
+constexpr const char* kDefaultPreset = "robust";
 
 enum class ParamKind { kReal, kInteger, kBoolean, kChoice };
 const char* to_string(ParamKind k);
@@ -128,6 +133,11 @@ struct ParamRow {
                                    // preset's default (a newer row keeps older summaries as they were)
   ParamValue (*get)(const EngineParams&) = nullptr;
   void (*set)(EngineParams&, ParamValue) = nullptr;
+  // Why a value given explicitly for this row (by a scene file or an override) would not be the
+  // value the run uses, with the other parameters as `p` ("" when it would be): a setting
+  // another one overrides, or one the run's scheme never reads. The scene reader refuses such
+  // a value (param_conflicts); nullptr = the row always takes part.
+  std::string (*conflict)(const EngineParams& p) = nullptr;
 };
 
 // Every parameter, in the order scene files document and check them.
@@ -136,6 +146,8 @@ const ParamRow* find_param(const std::string& name);  // nullptr if there is non
 const ParamRow& param_row(const std::string& name);   // std::logic_error if there is none
 // "preset, dt, damping, ...": every key a scene's "params" or --set accepts
 std::vector<std::string> param_keys();
+// "unknown parameter 'dampng' (did you mean 'damping'?)", or the known keys when none is close
+std::string unknown_param_reason(const std::string& key);
 // the index of a preset in kPresetNames, or -1
 int preset_index(const std::string& name);
 
@@ -152,10 +164,17 @@ std::string format_param(const ParamRow& row, ParamValue v);
 // throws InputError "<source>: params: field '<name>': <reason>".
 ParamValue parse_param_text(const ParamRow& row, const std::string& text, const std::string& source);
 
+// The rows among `given` (explicitly given names) whose value the run would not use with
+// params `p`, each as (row name, reason); empty when every given value takes part. A row at its
+// preset's value is never among them: it changes nothing either way.
+std::vector<std::pair<std::string, std::string>> param_conflicts(
+    const EngineParams& p, const std::vector<std::string>& given);
+
 // `--set key=value` overrides: applied after a scene's own params (so they win), and a preset
 // override swaps the base preset under them. Control points that give no k, spring or cap take
 // the params' at use, so they follow the overrides too.
 struct ParamOverrides {
+  std::string source = "--set";  // where they came from, for messages
   std::string preset;  // "" = the scene's own
   std::vector<std::pair<const ParamRow*, ParamValue>> values;  // in the order given; later wins
   bool empty() const { return preset.empty() && values.empty(); }

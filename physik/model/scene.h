@@ -60,6 +60,8 @@ struct Scene {
   std::string rig_file;        // resolved rig path
   Rig rig;
   EngineParams params;
+  std::vector<std::string> params_given;  // the params keys the scene file or an override gave
+                                          // (the rest are the preset's)
   std::vector<ControlPoint> control_points;
   std::vector<TargetChange> schedule;  // sorted by step
   int steps = 200;

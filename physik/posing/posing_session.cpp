@@ -19,6 +19,22 @@ void use_solve_mode(EngineParams& params) {
   params.torsion_torque = TorsionTorque::kGradient;
 }
 
+void use_solve_mode(Scene& scene) {
+  const auto given = [&](const char* name) {
+    return std::find(scene.params_given.begin(), scene.params_given.end(), name) !=
+           scene.params_given.end();
+  };
+  if (given("integration") && scene.params.integration != Integration::kImplicit) {
+    throw_input_error(scene.file, "params", "integration",
+                      std::string("the solve mode is the implicit step, and the scene gives ") +
+                          to_string(scene.params.integration) +
+                          " (its own engine solves with --solver physik-explicit)");
+  }
+  const TorsionTorque torque = scene.params.torsion_torque;
+  use_solve_mode(scene.params);
+  if (given("torsion_torque")) scene.params.torsion_torque = torque;
+}
+
 SolveRule solve_mode_rule() {
   SolveRule rule;
   rule.dt_growth = kSolveDtGrowth;

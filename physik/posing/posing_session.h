@@ -89,6 +89,10 @@ struct SolveResult {
 // its gradient at large bends; with its tangent in the step it solves as fast:
 // physik/engine/torsion_springs.h).
 void use_solve_mode(EngineParams& params);
+// The same for a loaded scene, where a torsion torque the scene file or an override gave
+// explicitly (Scene::params_given) stays the one used; InputError when they gave an integration
+// other than implicit (the solve mode is the implicit step).
+void use_solve_mode(Scene& scene);
 
 // The solve rule of the solve mode: the step growing by kSolveDtGrowth up to kSolveMaxDt.
 SolveRule solve_mode_rule();

@@ -108,7 +108,10 @@ TEST(Experiments, Fig5WritesItsReportAndTheRecordersTable) {
   o.csv_stream = &csv;
   record_run(scene, o);
   EXPECT_EQ(read_file(ctx.out_dir + "/trajectory.csv"), csv.str());
-  EXPECT_EQ(csv.str().substr(csv.str().find('\n') + 1, 2), "1,");  // the first row is step 1
+  // the first rows are the initial state (step 0) and step 1
+  const std::string rows = csv.str().substr(csv.str().find('\n') + 1);
+  EXPECT_EQ(rows.substr(0, 2), "0,");
+  EXPECT_EQ(rows.substr(rows.find('\n') + 1, 2), "1,");
 }
 
 }  // namespace

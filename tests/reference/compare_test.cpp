@@ -113,7 +113,7 @@ TEST(Compare, ComparisonJsonHasTheIssuesFields) {
 }
 
 // `simulate --reference` writes MuJoCo's trajectory table with the recorder: the same bytes as a
-// recorder on MuJoCo's run, a row every N steps and the scene's last step
+// recorder on MuJoCo's run, the initial state, a row every N steps and the scene's last step
 TEST(Compare, ReferenceTableIsTheRecordersTable) {
   Scene s = two_bone_scene(true);
   s.steps = 40;
@@ -135,9 +135,10 @@ TEST(Compare, ReferenceTableIsTheRecordersTable) {
   std::string line;
   std::getline(written, line);  // header
   while (std::getline(written, line)) steps.push_back(std::stoi(line.substr(0, line.find(','))));
-  ASSERT_EQ(steps.size(), 14u);  // 3, 6, ..., 39, then 40
-  EXPECT_EQ(steps.front(), 3);
-  EXPECT_EQ(steps[12], 39);
+  ASSERT_EQ(steps.size(), 15u);  // the initial state, 3, 6, ..., 39, then 40
+  EXPECT_EQ(steps.front(), 0);
+  EXPECT_EQ(steps[1], 3);
+  EXPECT_EQ(steps[13], 39);
   EXPECT_EQ(steps.back(), 40);
 }
 
