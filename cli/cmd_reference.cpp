@@ -1,6 +1,5 @@
 // physik export-mjcf RIG: the rig as MuJoCo MJCF (reference/mjcf_export.h), checked by compiling
 // it with MuJoCo before printing.
-#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -44,9 +43,7 @@ void add_reference_commands(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--dt", opt->dt, "Time step, s")->capture_default_str();
   cmd->callback([opt] {
-    if (!(opt->dt > 0.0) || !std::isfinite(opt->dt)) {
-      throw_input_error("--dt", "", "", "must be a positive finite number of seconds");
-    }
+    check_mjcf_timestep(opt->dt, "--dt");
     const Rig rig = load_rig(opt->rig);
     MjcfOptions o;
     o.joints = opt->joints == "ball" ? JointModel::kBallJoints : JointModel::kRigJoints;

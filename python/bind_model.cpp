@@ -1,6 +1,8 @@
 // Rig and Scene: loading (the CLI's loaders, the same messages), building from dicts, reading
 // back. Parameters pass through as dicts in the scene file's format (models/README.md), read and
 // written by the parameter table (physik/model/params.h), so a new parameter needs no new binding.
+#include <algorithm>
+
 #include <pybind11/stl.h>
 
 #include "physik/io/json_fields.h"
@@ -38,22 +40,26 @@ nlohmann::json convergence_json(const ConvergenceParams& c) {
 // Scene.update(params=..., convergence=..., steps=...): the file's rules and messages, applied
 // after loading (as the experiments set s.params.damping).
 //
-// params go through the parameter table: the changes are read as a scene's "params" object
-// (params_from_json: the same keys, kinds, ranges and messages), then each changed row is copied
-// over by the table's setter, so a new row needs nothing here. "preset" replaces every value by
-// the preset's, then the other changes apply.
+// params go through the parameter table: the scene's params as the scene writer gives them, with
+// the changes on top, are read again as a scene's "params" object (params_from_json: the same
+// keys, kinds, ranges and messages, and the same refusal of a value the run would not use, judged
+// with the scene's own settings), so a new row needs nothing here. "preset" replaces every value
+// by the preset's, then the other changes apply. damping and damping_auto are one setting: a
+// change of either replaces both ("damping": 1 turns auto off, "damping": "auto" on).
 void update_params(Scene& s, const nlohmann::json& changes, const std::string& source) {
   JsonContext{source, "params"}.require_object(changes, "params");
-  nlohmann::json read = changes;
-  if (!read.contains("preset")) read["preset"] = s.params.preset;
-  const EngineParams changed = params_from_json(read, source);
-  if (changes.contains("preset")) {
-    s.params = changed;
-    return;
+  nlohmann::json read = changes.contains("preset") ? nlohmann::json::object() : params_to_json(s.params);
+  if (changes.contains("damping") || changes.contains("damping_auto")) {
+    read.erase("damping");
+    read.erase("damping_auto");
   }
-  for (const ParamRow& row : param_table()) {
-    const auto it = changes.find(row.name);
-    if (it != changes.end() && !it->is_null()) row.set(s.params, row.get(changed));
+  for (const auto& [key, value] : changes.items()) read[key] = value;
+  s.params = params_from_json(read, source);
+  for (const auto& [key, value] : changes.items()) {
+    if (key != "preset" && std::find(s.params_given.begin(), s.params_given.end(), key) ==
+                               s.params_given.end()) {
+      s.params_given.push_back(key);
+    }
   }
 }
 

@@ -11,7 +11,7 @@ void bind_reference(py::module_& m) {
   m.def(
       "export_mjcf",
       [](const Rig& rig, const std::string& joints, double dt) {
-        if (!(dt > 0.0)) throw_input_error("dt", "", "", "must be positive");
+        check_mjcf_timestep(dt, "dt");
         if (joints != "rig" && joints != "ball") {
           throw_input_error("joints", "", "", "unknown value '" + joints + "' (expected rig|ball)");
         }

@@ -1,15 +1,16 @@
-#include "reference/mujoco_log.h"
 #include "reference/mjcf_export.h"
 
-#include "physik/model/errors.h"
-
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
+
+#include "physik/model/errors.h"
+#include "reference/mujoco_log.h"
 
 namespace physik {
 
@@ -219,6 +220,12 @@ Quat mjcf_joint_offset(const Rig& rig, int bone, JointModel joints) {
 
 std::string rig_to_mjcf(const Rig& rig, const MjcfOptions& o) {
   return write_main(MjcfWriter{rig, o, "", 0, nullptr});
+}
+
+void check_mjcf_timestep(double dt, const std::string& option) {
+  if (!(dt > 0.0) || !std::isfinite(dt)) {
+    throw_input_error(option, "", "", "must be a positive finite number of seconds");
+  }
 }
 
 std::vector<MjcfFile> rig_to_mjcf_files(const Rig& rig, const MjcfOptions& o,

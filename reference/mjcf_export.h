@@ -69,6 +69,10 @@ struct MjcfFile {
   std::string text;
 };
 constexpr int kMjcfBodiesPerFile = 64;
+// InputError "<option>: must be a positive finite number of seconds" unless dt is one (the CLI's
+// --dt, Python's dt).
+void check_mjcf_timestep(double dt, const std::string& option);
+
 std::vector<MjcfFile> rig_to_mjcf_files(const Rig& rig, const MjcfOptions& options,
                                         const std::string& main_name = "physik_rig.xml");
 

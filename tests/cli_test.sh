@@ -312,6 +312,13 @@ expect_in "tune ignored setting message" "$tmp/err" "--params: field 'torsion_ca
 check "params fits 100 columns" 0 "$bin" params
 awk 'length > 100 { bad = 1 } END { exit bad }' "$tmp/out" && pass=$((pass+1)) || { fail=$((fail+1)); echo "FAIL params wider than 100 columns"; }
 expect_in "params shows robust" "$tmp/out" "robust"
+# a state that goes non-finite at step 1 leaves the initial one as its final pose, never NaN
+for scheme in preset=original preset=robust joint_solve=exact integration=free-rods; do
+  check "control_k 1e308 ($scheme)" 3 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --set control_k=1e308 --set "$scheme" --out "$tmp/k308" --quiet
+  if grep -qiE 'nan|inf' "$tmp/k308/final_pose.csv" "$tmp/k308/trajectory.csv"; then
+    fail=$((fail+1)); echo "FAIL control_k 1e308 ($scheme): non-finite output"; else pass=$((pass+1)); fi
+  expect_in "control_k 1e308 ($scheme) final pose" "$tmp/k308/summary.json" '"final_pose_step": 0'
+done
 
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

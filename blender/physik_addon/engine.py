@@ -109,8 +109,10 @@ def _check(sim, source):
     """EngineError when the run diverged (the pose would be meaningless)."""
     if sim.diverged:
         s = sim.summary
-        raise EngineError("%s: the simulation diverged at step %s (%s); lower dt or raise the "
-                          "damping" % (source, s.get("steps_run"), s.get("divergence_reason")))
+        # the engine's own advice for this run (robust preset, smaller dt or less damping)
+        raise EngineError("%s: the simulation diverged at step %s (%s); %s"
+                          % (source, s.get("steps_run"), s.get("divergence_reason"),
+                             s.get("divergence_hint", "")))
 
 
 def solve(scene):

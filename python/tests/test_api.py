@@ -148,8 +148,17 @@ def test_every_table_row_reaches_update_and_load():
         name = row["name"]
         value = _another_value(row, base.get(name, row["defaults"][base["preset"]]))
         scene = physik.Scene.load(path)
-        scene.update(params={name: value})
-        assert scene.params == dict(base, **{name: value}), name
+        try:
+            scene.update(params={name: value})
+        except physik.InputError as e:
+            # a value this scene's scheme would not use is refused, by update and load alike
+            assert "applies" in str(e) or "cannot run" in str(e), (name, str(e))
+            with pytest.raises(physik.InputError):
+                physik.Scene.load(path, overrides={name: value})
+            continue
+        # damping auto reads back as the scene format writes it: "damping": "auto"
+        want = dict(base, damping="auto") if name == "damping_auto" and value else dict(base, **{name: value})
+        assert scene.params == want, name
         assert physik.Scene.load(path, overrides={name: value}).params == scene.params, name
 
 
@@ -322,3 +331,41 @@ def test_version_is_the_clis_from_one_definition():
     # before a command too, and listed in the help
     assert cli("--version", "params")[:2] == (0, out)
     assert "--version" in cli("--help")[1]
+
+
+def test_an_explicit_damping_is_the_value_used_everywhere(tmp_path):
+    # a scene that names no preset runs the robust preset: damping auto, its choice reported
+    scene_file = tmp_path / "plain.json"
+    scene_file.write_text(json.dumps({
+        "rig": os.path.join(os.path.dirname(scene_path("fig9_outstretched")), "..", "rigs", "pinhead.json"),
+        "control_points": [{"name": "reach", "bone": "hand.L", "target": [1.2, -0.6, 1.4]}],
+        "steps": 60}))
+    auto = physik.Scene.load(str(scene_file))
+    assert auto.params["preset"] == "robust" and auto.params["damping"] == "auto"
+    auto_run = physik.Simulation(auto).run()
+    assert auto_run["damping"] == auto_run["damping_auto_value"] > 0
+    # an override: the value given, auto off
+    fixed = physik.Scene.load(str(scene_file), overrides={"damping": 1.5})
+    assert fixed.params["damping"] == 1.5
+    fixed_run = physik.Simulation(fixed).run()
+    assert fixed_run["damping"] == 1.5 and "damping_auto_value" not in fixed_run
+    assert fixed_run["final_state_hash"] != auto_run["final_state_hash"]
+    # Scene.update likewise, and back to auto
+    updated = physik.Scene.load(str(scene_file))
+    updated.update(params={"damping": 1.5})
+    assert updated.params == fixed.params
+    updated.update(params={"damping": "auto"})
+    assert updated.params == auto.params
+    # a sweep grid's damping is an override
+    task = {"scene_path": str(scene_file), "params": {"damping": 1.5}, "transforms": {},
+            "steps": None, "stop_when_converged": None}
+    assert physik.Simulation(sweep_build_scene(task)).run()["final_state_hash"] == \
+        fixed_run["final_state_hash"]
+    # tuning damping tunes a value: the tuned scene's damping is it, auto off
+    report = physik.tune(auto, "damping", scan_points=3, max_iterations=1, steps=40)
+    assert report["tuned_scene"].params["damping"] == report["values"][0]
+
+
+def sweep_build_scene(task):
+    from physik import sweep
+    return sweep.build_scene(task)

@@ -148,7 +148,7 @@ def test_update_checks_like_the_file():
     path = scene.file
     assert raises_input_error(scene.update, params={"dt": 0}) == \
         path + ": params: field 'dt': must be positive"
-    assert "unknown field" in raises_input_error(scene.update, params={"bogus": 1})
+    assert "unknown parameter 'bogus'" in raises_input_error(scene.update, params={"bogus": 1})
     assert raises_input_error(scene.update, convergence={"settle_steps": 0}) == \
         path + ": convergence: field 'settle_steps': must be at least 1"
     assert raises_input_error(scene.update, steps=0) == path + ": field 'steps': must be at least 1"
@@ -224,7 +224,7 @@ SWEEP_CASES = [
     ("bad_scale", {"scenes": ["s.json"], "grid": [{"scale": [0]}]}, "field 'grid[0].scale': expected positive numbers"),
     ("bad_steps", {"scenes": ["s.json"], "grid": {"damping": [1]}, "steps": 0}, "field 'steps'"),
     ("unknown_field", {"scenes": ["s.json"], "grid": {"damping": [1]}, "repeat": 2}, "field 'repeat': unknown field"),
-    ("unknown_param", {"scenes": ["s.json"], "grid": {"dampin": [1]}}, "field 'dampin': unknown parameter"),
+    ("unknown_param", {"scenes": ["s.json"], "grid": {"dampin": [1]}}, "overrides: unknown parameter 'dampin' (did you mean 'damping'?)"),
     ("bad_value", {"scenes": ["s.json"], "grid": {"dt": [0.05, -1]}}, "grid point {\"dt\": -1}"),
     ("missing_scene", {"scenes": ["nowhere.json"], "grid": {"damping": [1]}}, "cannot open file"),
 ]
