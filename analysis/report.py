@@ -51,7 +51,7 @@ PAPER_SETTINGS = [
     ("torsion_k, torsion_tolerance", "not stated",
      "{torsion_k}, {torsion_tolerance:%} inside each limit (the original's)", "the original's values"),
     ("control_cap", "not stated", "{control_cap} (the original hard-codes 1)", "the original's value"),
-    ("integration", "independent rods (text)", "{integration} (the original code's)",
+    ("free_rods", "independent rods (text)", "{free_rods} (the original code's: FK from the root)",
      "free rods drift apart at first order in dt (see README); both are available"),
     ("knee/elbow range", "0..120 deg (text)", "0..160 deg", "the paper's own rig file says 160"),
 ]
@@ -91,6 +91,9 @@ def fill(template, table, preset, runs):
     return re.sub(r"\{(\w+)(:%|@runs)?\}", one, template)
 
 
+PAPER_SCENES_PRESET = "original"  # the preset every paper scene names (models/scenes)
+
+
 def settings_section(results, sections=()):
     why_damping = "c = 20 diverges with dt = 0.05 on pinhead (see the damping sweep)"
     path = os.path.join(results, "damping_sweep", "summary.json")
@@ -111,7 +114,7 @@ def settings_section(results, sections=()):
         label = ", ".join("`%s`" % n if n in names else n for n in name.split(", "))
         out.append("| %s | %s | %s | %s |" % (
             label, fill(paper, table, "paper", runs),
-            fill(used, table, table["default_preset"], runs), why or why_damping))
+            fill(used, table, PAPER_SCENES_PRESET, runs), why or why_damping))
     out.append("")
     return out
 

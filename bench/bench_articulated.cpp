@@ -1,20 +1,20 @@
-// The exact joint solve (joint_solve exact: articulated-body algorithm + MuJoCo's Euler in joint
+// The exact joint solve (scheme exact: articulated-body algorithm + MuJoCo's Euler in joint
 // space) beside mj_step on the equivalent ball-joint model (issue 13's targets), in thread CPU
 // time (other processes on a shared machine do not count). Each iteration restores the same
 // initial state and times the same first steps of the run (motion, not rest), per step:
-//   exact_us     PhysIK's whole step() with joint_solve exact (force stages included)
+//   exact_us     PhysIK's whole step() with scheme exact (force stages included)
 //   gs_us        PhysIK's step() with the paper's Gauss-Seidel solve (pinhead only)
 //   mj_step_us   mj_step on the ball-joint MJCF of the same rig, replaying the applied forces
 //                (xfrc_applied) of a same-forces reference run: the same trajectory, MuJoCo's cost
 //                without PhysIK's force stages
 //   exact_over_mj_step = exact_us / mj_step_us  (target: <= 0.5 on pinhead)
-//   implicit_us  PhysIK's step() with integration implicit (linearised backward Euler over the
+//   implicit_us  PhysIK's step() with scheme implicit (linearised backward Euler over the
 //                exact solve, implicit_step.h; issue 14)
 //   implicit_over_mj_step = implicit_us / mj_step_us  (issue 14's target: <= 1.0 on pinhead)
 // Scaling (BM_Exact / BM_MjStep, rig = chain or tree2 (balanced binary tree), N bones): the
 // scaling experiment's scenario (experiments/scaling.h). Targets:
 // <= 0.5 us per bone per step at 10,000 bones; cost exponent <= 1.1 (fit us_per_step vs N).
-// BM_Implicit: the same scenario with integration implicit (issue 14's target: <= 1 us per bone
+// BM_Implicit: the same scenario with scheme implicit (issue 14's target: <= 1 us per bone
 // per step at 10,000 bones).
 // mj_step grows ~N^2.7 on chains (dense ancestor blocks of M), so it is run only up to 1000 bones.
 #include <algorithm>
@@ -71,7 +71,7 @@ void BM_Exact(benchmark::State& state, const std::string& kind) {
 void BM_Implicit(benchmark::State& state, const std::string& kind) {
   const int n = static_cast<int>(state.range(0));
   physik::Scene scene = scaling_scene(kind, n);
-  scene.params.integration = physik::Integration::kImplicit;
+  scene.params.scheme = physik::Scheme::kImplicit;
   time_physik(state, scene, steps_for(n));
 }
 
@@ -93,10 +93,10 @@ void BM_MjStep(benchmark::State& state, const std::string& kind) {
 // a paper scene: exact, Gauss-Seidel and mj_step in one run, and the ratio
 void BM_ExactVsMjStep(benchmark::State& state, const std::string& name) {
   physik::Scene exact = physik::load_scene(scene_file(name));
-  exact.params.joint_solve = physik::JointSolve::kExact;
+  exact.params.scheme = physik::Scheme::kExact;
   const physik::Scene gs = physik::load_scene(scene_file(name));
   physik::Scene implicit = physik::load_scene(scene_file(name));
-  implicit.params.integration = physik::Integration::kImplicit;
+  implicit.params.scheme = physik::Scheme::kImplicit;
   constexpr int kSteps = 100;
   MjStepReplay r = record_mj_step_replay(exact, kSteps);
   physik::SimState init_exact, init_gs, init_implicit;

@@ -67,9 +67,12 @@ Scene prepare_scene(const SimulateOptions& o) {
 // What the step's solver did, by scheme: the joint passes of Gauss-Seidel, the energy guard's
 // substeps of the implicit step, nothing for the exact step (one solve, no iteration).
 std::string solver_work(const EngineParams& p, const StepStats& st) {
-  if (p.integration == Integration::kImplicit) return "substeps " + std::to_string(st.passes);
-  if (p.articulated_solve()) return "exact solve";
-  return "passes " + std::to_string(st.passes);
+  switch (p.scheme) {
+    case Scheme::kGaussSeidel: return "passes " + std::to_string(st.passes);
+    case Scheme::kExact: return "exact solve";
+    case Scheme::kImplicit: return "substeps " + std::to_string(st.substeps);
+  }
+  return "";
 }
 
 // The run with trajectory.csv (a row every --every steps and the last), the BVH frames and a

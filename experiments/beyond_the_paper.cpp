@@ -39,7 +39,7 @@ struct Outcome {
 };
 
 Scene with_scheme(Scene s, bool implicit) {
-  if (implicit) s.params.integration = Integration::kImplicit;
+  if (implicit) s.params.scheme = Scheme::kImplicit;
   return s;
 }
 

@@ -25,7 +25,7 @@ struct Cell {
 };
 
 Cell run_cell(Scene s, bool implicit) {
-  if (implicit) s.params.integration = Integration::kImplicit;
+  if (implicit) s.params.scheme = Scheme::kImplicit;
   Cell c;
   c.run = run_scene(s);
   for (double r : c.run.final_residuals) c.max_residual = std::max(c.max_residual, r);
@@ -46,7 +46,7 @@ struct Settle {
 };
 
 Settle settle(Scene s, bool implicit, double ref_residual, int max_steps) {
-  if (implicit) s.params.integration = Integration::kImplicit;
+  if (implicit) s.params.scheme = Scheme::kImplicit;
   const double vtol = s.speed_tol(), rtol = s.residual_tol(), bound = s.divergence_energy();
   const double mass = s.rig.total_mass();
   SimState st;
@@ -259,7 +259,7 @@ void auto_damping(const Context& ctx, nlohmann::json& doc, nlohmann::json& claim
       }
       Scene s = base;
       s.params.damping_auto = true;
-      if (imp) s.params.integration = Integration::kImplicit;
+      if (imp) s.params.scheme = Scheme::kImplicit;
       Cell a;
       SimState settled;  // the auto run's last state
       a.run = run_scene(s, [&](const SimState& st, const StepStats&) { settled = st; });
@@ -300,7 +300,7 @@ void large_steps(const Context& ctx, nlohmann::json& doc, nlohmann::json& claims
   s.rig = load_rig(ctx.models_dir + "/rigs/elbow.json");
   s.params = preset_params("original");
   s.params.interpolation = Interpolation::kNone;
-  s.params.integration = Integration::kImplicit;
+  s.params.scheme = Scheme::kImplicit;
   s.initial_pose = rest_pose(s.rig);
   const double b = 45.0 * 3.14159265358979323846 / 180.0, roll = 30.0 * 3.14159265358979323846 / 180.0;
   const Vec3 tip = Eigen::AngleAxisd(roll, Vec3::UnitZ()) * Vec3(0.0, 2.0 * std::sin(b), 2.0 + 2.0 * std::cos(b));

@@ -16,7 +16,7 @@
 // control point pinning the root's head (PhysIK's root is free), in a PosingSession per rig
 // (physik/posing; the time is the solve alone), stopped like the classic solvers: at the residual
 // tolerance (1e-4 of the reach), or when the residual stalls short of it (not converged), at most
-// 2000 steps; the explicit rows on fewer targets. Four rows (issue 15): physik, the solve mode (integration implicit,
+// 2000 steps; the explicit rows on fewer targets. Four rows (issue 15): physik, the solve mode (scheme implicit,
 // the potential's torsion torque, the step from the physical dt lengthening as the motion settles:
 // physik solve --solver physik); physik-explicit, the paper's engine at its dt (no 50-chain: the
 // 5 n^2 joint-pass cap makes a 50-bone step ~3 ms); and each with a DLS finish once the residual

@@ -6,7 +6,7 @@
 //   exact-constraints  MuJoCo's joint types and limits replace the torsion springs.
 // Whether a final gap measures the heuristic or path dependence depends on whether the control
 // points fix the pose (free_endpoint_dof = 0) or leave a family of equilibria.
-// Beside Gauss-Seidel, PhysIK's exact joint solve (joint_solve exact: the articulated-body
+// Beside Gauss-Seidel, PhysIK's exact joint solve (scheme exact: the articulated-body
 // algorithm with MuJoCo's Euler step, same forces) is compared with MuJoCo too: with the same
 // forces it agrees to round-off, so the Gauss-Seidel gap is the heuristic's own (its joint forces
 // and its integration), not MuJoCo's integrator; in exact-constraints mode the exact gap is the
@@ -22,10 +22,10 @@ namespace physik::experiments {
 
 namespace {
 
-// PhysIK with joint_solve exact on the scene (same forces, MuJoCo's Euler step)
+// PhysIK with scheme exact on the scene (same forces, MuJoCo's Euler step)
 RecordedRun exact_run(const Scene& scene) {
   Scene exact = scene;
-  exact.params.joint_solve = JointSolve::kExact;
+  exact.params.scheme = Scheme::kExact;
   RecordOptions every_frame;
   every_frame.all_frames = true;
   return record_run(exact, every_frame);
@@ -63,7 +63,7 @@ void add_exact_table_and_notes(Report& report, const nlohmann::json& gap_rows) {
       .note("same-forces uses ball joints at every bone (PhysIK's own freedom) and PhysIK's "
             "torsion forces; exact-constraints uses the rig's joints and limits.")
       .note("The angular-velocity factor is a torque I (f - 1) w / dt in MuJoCo.")
-      .note("exact = PhysIK's joint_solve exact (articulated-body algorithm, MuJoCo's Euler step, "
+      .note("exact = PhysIK's scheme exact (articulated-body algorithm, MuJoCo's Euler step, "
             "PhysIK's forces). Same forces: exact vs MuJoCo is round-off, so the Gauss-Seidel gap "
             "is the heuristic's own (joint forces and its integration); exact-constraints: the "
             "exact gap is the joint model's (rig joints and hard limits vs balls and torsion springs).")

@@ -5,7 +5,7 @@
 // one control point, and two. Each scene runs under four configurations:
 //   default                  no overrides
 //   original                 --set preset=original (the paper's explicit scheme, c = 3)
-//   implicit-auto-axes       original + integration implicit + damping auto + the paper's
+//   implicit-auto-axes       original + scheme implicit + damping auto + the paper's
 //                            torsion torque (k x excess about each rest axis)
 //   implicit-auto-gradient   the same with the torsion potential's exact gradient
 // and ends converged (at rest, the run monitor's rule), not converged (still moving at the step
@@ -103,9 +103,9 @@ const std::vector<Configuration>& configurations() {
       {"default", {}},
       {"original", {"preset=original"}},
       {"implicit-auto-axes",
-       {"preset=original", "integration=implicit", "damping=auto", "torsion_torque=axes"}},
+       {"preset=original", "scheme=implicit", "damping=auto", "torsion_torque=axes"}},
       {"implicit-auto-gradient",
-       {"preset=original", "integration=implicit", "damping=auto", "torsion_torque=gradient"}}};
+       {"preset=original", "scheme=implicit", "damping=auto", "torsion_torque=gradient"}}};
   return list;
 }
 
@@ -465,7 +465,7 @@ void add_notes(Report& report, const std::vector<SceneRuns>& scenes, int steps) 
               "pins its root bone's head instead). The scenes name no params; a run stops once "
               "converged (at rest for 10 steps), else after " + std::to_string(steps) + " steps.");
   report.note("Configurations: default = no overrides; original = --set preset=original; "
-              "implicit-auto-axes|gradient = --set preset=original --set integration=implicit "
+              "implicit-auto-axes|gradient = --set preset=original --set scheme=implicit "
               "--set damping=auto --set torsion_torque=axes|gradient. A refusal counts as a "
               "failure. Rerun one from this folder: physik simulate scenes/<rig>-<n>pt.json "
               "[--set ...].");

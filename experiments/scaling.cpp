@@ -2,7 +2,7 @@
 // side in one run, on chains and balanced binary trees of 10 to 10,000 bones (scaling.h):
 //   gauss_seidel_paper  the paper's passes, eps 1e-3 rig units/s^2, cap 5 n^2 (joint_forces.h)
 //   gauss_seidel_tight  the same with eps 1e-9
-//   exact               joint_solve exact: the articulated-body algorithm (articulated_body.h)
+//   exact               scheme exact: the articulated-body algorithm (articulated_body.h)
 //   mj_step             MuJoCo on the equivalent ball-joint model, same-forces replay
 // Each is timed over the first steps from rest (whole step() for PhysIK, mj_step alone for
 // MuJoCo), batches repeated while the time budget lasts, the fastest batch kept.
@@ -33,13 +33,13 @@
 
 namespace physik::experiments {
 
-Scene scaling_scene(const std::string& kind, int nbone, JointSolve solve, double joint_eps) {
+Scene scaling_scene(const std::string& kind, int nbone, Scheme solve, double joint_eps) {
   const Rig rig = kind == "chain" ? make_chain_rig(nbone) : make_tree_rig(nbone, 2);
   Scene s;
   s.file = "<scaling " + kind + " " + std::to_string(nbone) + ">";
   s.rig = rig;
   s.params = preset_params("original");
-  s.params.joint_solve = solve;
+  s.params.scheme = solve;
   s.params.joint_eps = joint_eps;
   s.steps = 100;
   s.initial_pose = rest_pose(rig);
@@ -97,7 +97,7 @@ std::vector<Vec3> joint_forces_at(Scene scene, const SimState& state) {
   scene.params.angular_velocity_factor = 1.0;
   SimState s = state;
   apply_forces(scene, s);
-  if (scene.params.joint_solve == JointSolve::kExact) {
+  if (scene.params.scheme == Scheme::kExact) {
     solve_articulated(scene.rig, scene.params, s);
   } else {
     solve_joint_forces(scene.rig, scene.params, s);
@@ -142,7 +142,7 @@ Measured time_physik(const Scene& scene, int steps, const Budget& b) {
       const double t0 = thread_seconds();
       const StepStats st = step(scene, s);
       t += thread_seconds() - t0;
-      if (out.batches == 0) passes += st.passes;
+      if (out.batches == 0) passes += st.iterations();
       if (!std::isfinite(st.kinetic_energy)) out.status = "diverged";
     }
     if (out.batches == 0) {
@@ -261,14 +261,14 @@ Measured measure(Study& st, const std::string& kind, int n, const std::string& m
   }
   const int steps = st.budget.steps;
   if (method == "mj_step") {
-    const Scene scene = scaling_scene(kind, n, JointSolve::kExact);
+    const Scene scene = scaling_scene(kind, n, Scheme::kExact);
     m = time_mj_step(scene, steps, st.budget);
     m.gap_vs_exact = pose_gap(m.final_frames, exact_frames_after(scene, steps));
     st.compile[kind].n.push_back(n);
     st.compile[kind].us.push_back(m.compile_s);  // seconds, in the same projection
   } else {
     const bool gs = method != "exact";
-    const Scene scene = scaling_scene(kind, n, gs ? JointSolve::kGaussSeidel : JointSolve::kExact,
+    const Scene scene = scaling_scene(kind, n, gs ? Scheme::kGaussSeidel : Scheme::kExact,
                                       method == "gauss_seidel_tight" ? kTightEps : 1e-3);
     m = time_physik(scene, steps, st.budget);
     if (gs && exact) {
@@ -328,7 +328,7 @@ void write_csv(const Study& st, const std::string& path) {
 nlohmann::json pinhead_ratio(const Context& ctx, const Budget& b) {
   Scene exact = scene_named(ctx, "pinhead_two_hands");
   const Scene gs = exact;
-  exact.params.joint_solve = JointSolve::kExact;
+  exact.params.scheme = Scheme::kExact;
   const int steps = ctx.quick ? 20 : 100;
   const Budget longer{b.limit_s, 4.0 * b.total_s, steps};
   const Measured e = time_physik(exact, steps, longer), g = time_physik(gs, steps, longer);

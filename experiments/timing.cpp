@@ -26,9 +26,9 @@ void run(const Context& ctx) {
       const auto t0 = std::chrono::steady_clock::now();
       run_scene(scene, [&](const SimState&, const StepStats& st) {
         joint += st.joint_solve_s;
-        p += st.passes;
+        p += st.iterations();
         ++n;
-        if (st.kinetic_energy > 1e-6) { mp += st.passes; ++ms; }
+        if (st.kinetic_energy > 1e-6) { mp += st.iterations(); ++ms; }
       });
       const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       if (total < best_total) {

@@ -5,7 +5,7 @@
 // frame, for 120 frames (three turns and a bit), starting from the scene solved. Each frame:
 //   - PhysIK (the PosingSession of physik/posing: the scene's own engine) takes k = 1, 3 or 10
 //     steps toward the moved target: the body follows with its secondary motion; the same with
-//     integration implicit, k = 1 and 3;
+//     scheme implicit, k = 1 and 3;
 //   - DLS and the rotation method solve the frame's goals to their tolerance, starting from the
 //     previous frame's pose (as an interactive tool calls them).
 // Per frame: cost (wall time of the frame's call, us), lag (the largest control-point residual
@@ -143,7 +143,7 @@ void run(const Context& ctx) {
   std::vector<Track> tracks;
   for (int k : {1, 3, 10}) tracks.push_back(track_physik(scene, k));
   Scene implicit = scene;  // the same scene on the implicit step (its exact joint solve)
-  implicit.params.integration = Integration::kImplicit;
+  implicit.params.scheme = Scheme::kImplicit;
   for (int k : {1, 3}) tracks.push_back(track_physik(implicit, k, "physik implicit"));
   tracks.push_back(track_classic(scene, IkMethod::kDampedLeastSquares));
   tracks.push_back(track_classic(scene, IkMethod::kRotation));

@@ -92,7 +92,7 @@ Point run_at(const Scene& scene, double c, bool implicit_auto = false) {
   Scene s = scene;
   s.params.damping = c;
   if (implicit_auto) {
-    s.params.integration = Integration::kImplicit;
+    s.params.scheme = Scheme::kImplicit;
     s.params.damping_auto = true;
   }
   s.convergence.stop_when_converged = false;
@@ -149,7 +149,7 @@ struct VariantResult {
   double c_tuned = 0;
   Point at20, at3, at_rule, at_tuned;
   // damping: auto (physik/engine/linear_modes.h): its c at the start pose, the explicit run at
-  // that c, and the implicit run with damping auto (integration implicit)
+  // that c, and the implicit run with damping auto (scheme implicit)
   double c_auto = 0;
   Point at_auto, at_auto_implicit;
   int best_grid_steps() const { return best_c > 0 ? best_steps : -1; }

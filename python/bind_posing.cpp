@@ -111,6 +111,7 @@ void finish_options(py::handle options, IkOptions& opt) {
 py::dict step_stats_dict(const StepStats& st) {
   py::dict d;
   d["passes"] = st.passes;
+  d["substeps"] = st.substeps;
   d["mismatch"] = st.mismatch;
   d["kinetic_energy"] = st.kinetic_energy;
   d["max_residual"] = st.max_residual;
@@ -166,7 +167,7 @@ control points' targets with set_target (once a frame, as a user drags), then ei
 steps of the scene's engine (live, with its secondary motion) or solve() the pose: the physics
 runs until every control point is within the tolerance, or until the residual stops improving,
 then hands over to CCD or DLS if finish says so. solve_mode=True gives the scene the solve
-mode's engine settings (integration implicit, torsion_torque gradient), as `physik solve
+mode's engine settings (scheme implicit, torsion_torque gradient), as `physik solve
 --solver physik`; solve it with solve(**physik.solve_mode_rule()).
 
 .pose gives read-only numpy views of the session's state (no copy), valid as long as they are
@@ -260,7 +261,7 @@ The keywords are physik::SolveRule's, with its defaults: tolerance (rig units; 0
 tolerance_fraction of the chain's reach), max_steps, the stall rule (stopped when the residual
 improved by less than stall_fraction of itself over stall_steps steps), dt_growth and max_dt
 (the step lengthening by dt_growth each settling step up to max_dt, s; 1 = off; needs
-integration implicit), finish ("none", "ccd" or "dls": the classic solver that closes the rest
+scheme implicit), finish ("none", "ccd" or "dls": the classic solver that closes the rest
 after a stall) and finish_options ({"max_iterations", "lambda", "respect_limits", "jacobian"}
 for the finish, as physik solve's flags). physik.solve_mode_rule() gives the solve mode's.
 Returns a PosingSolveResult. A rule out of range, or a scene without control points, raises

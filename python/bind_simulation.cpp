@@ -51,7 +51,7 @@ struct TrajectoryRows {
     for (double r : res) ok = ok && std::isfinite(r);
     if (!ok) return;
     steps.push_back(s.step);
-    passes.push_back(st.passes);
+    passes.push_back(st.iterations());
     times.push_back(s.time);
     kinetic_energy.push_back(st.kinetic_energy);
     mismatch.push_back(st.mismatch);
@@ -156,6 +156,7 @@ struct Simulation {
 py::dict stats_dict(const StepStats& st) {
   py::dict d;
   d["passes"] = st.passes;
+  d["substeps"] = st.substeps;
   d["mismatch"] = st.mismatch;
   d["kinetic_energy"] = st.kinetic_energy;
   d["max_residual"] = st.max_residual;

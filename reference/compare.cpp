@@ -138,9 +138,9 @@ Comparison compare_with_mujoco(const Scene& scene, ReferenceMode mode,
   c.mode = mode;
   c.physik = record_run(scene, every_frame);
   c.mujoco = record_mujoco(scene, mode, mujoco_options);
-  Scene free_scene = scene;  // free rods are a gauss-seidel scheme
-  free_scene.params.joint_solve = JointSolve::kGaussSeidel;
-  free_scene.params.integration = Integration::kFreeRods;
+  Scene free_scene = scene;  // free rods are a form of the gauss-seidel scheme
+  free_scene.params.scheme = Scheme::kGaussSeidel;
+  free_scene.params.free_rods = true;
   c.free_rods = record_run(free_scene, every_frame);
   c.gap = trajectory_gap(c.physik.frames, c.mujoco.frames, c.physik.summary.final_frames,
                          c.mujoco.summary.final_frames);
@@ -200,7 +200,7 @@ nlohmann::json comparison_to_json(const Scene& scene, const Comparison& c) {
   j["rig"] = scene.rig_file;
   j["mode"] = to_string(c.mode);
   j["mujoco_version"] = mj_versionString();
-  j["physik_integration"] = to_string(scene.params.integration);
+  j["physik_scheme"] = to_string(scene.params.scheme);
   j["rig_height"] = scene.rig.height();
   j["free_endpoint_dof"] = c.free_endpoint_dof;
   j["equilibrium"] =

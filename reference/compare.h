@@ -15,7 +15,7 @@
 //   free_endpoint_dof = rank([J_c; J_e]) - rank(J_c) = 0
 // (rolls about a bone's own axis move no endpoint and do not count). Otherwise the equilibrium is
 // a family and the final gap measures path dependence.
-// The free-rods scheme is run too (PhysIK with integration = free-rods), for its joint separation
+// The free-rods scheme is run too (PhysIK with free_rods true), for its joint separation
 // and its own gap to MuJoCo.
 #pragma once
 

@@ -275,7 +275,7 @@ expect_in "progress shows substeps" "$tmp/plain/trajectory.csv" 'residual_reach'
 check "explicit damping turns auto off" 0 "$bin" simulate "$tmp/plain.json" --out "$tmp/plain1" --quiet --set damping=1
 expect_in "explicit damping is the used one" "$tmp/plain1/summary.json" '"damping": 1.0'
 check "gauss-seidel setting under implicit" 2 "$bin" simulate "$tmp/plain.json" --out "$tmp/x" --set max_passes=10
-expect_in "inapplicable setting message" "$tmp/err" "--set: field 'max_passes': applies to the gauss-seidel joint solve only"
+expect_in "inapplicable setting message" "$tmp/err" "--set: field 'max_passes': applies to the gauss-seidel scheme only (this run: scheme implicit)"
 check "unknown preset" 2 "$bin" simulate "$tmp/plain.json" --out "$tmp/x" --set preset=fast
 expect_in "unknown preset message" "$tmp/err" "unknown preset 'fast' (original|paper|robust)"
 check "damping of a wrong kind" 2 "$bin" simulate "$tmp/plain.json" --out "$tmp/x" --set damping=lots
@@ -295,7 +295,7 @@ check "solve --tol 1e999" 2 "$bin" solve "$tmp/plain.json" --solver dls --tol 1e
 expect_in "non-finite tol message" "$tmp/err" "--tol: must be a finite number >= 0"
 check "solve --set" 0 "$bin" solve "$tmp/plain.json" --solver physik --set torsion_k=20 --out "$tmp/solve_set" --quiet
 expect_in "solve --set reaches the params" "$tmp/solve_set/summary.json" '"torsion_k": 20.0'
-check "solve mode refuses an explicit explicit integration" 2 "$bin" solve "$tmp/plain.json" --solver physik --set integration=articulated --out "$tmp/x"
+check "solve mode refuses an explicit explicit scheme" 2 "$bin" solve "$tmp/plain.json" --solver physik --set scheme=gauss-seidel --out "$tmp/x"
 expect_in "solve mode integration message" "$tmp/err" "the solve mode is the implicit step"
 check "equilibrium --set" 0 "$bin" equilibrium "$tmp/plain.json" --set torsion_k=20 --out "$tmp/eq.json"
 check "equilibrium --compare on a diverging run" 3 "$bin" equilibrium "$src/models/scenes/pinhead_two_hands.json" --compare --set damping=20 --out "$tmp/eqd.json"

@@ -38,11 +38,10 @@ namespace {
 TEST(EngineAllocations, StepAllocatesNothing) {
   for (const char* integration : {"articulated", "free-rods", "exact", "implicit"}) {
     Scene scene = load_scene(test::model_path("scenes/pinhead_two_hands.json"));
-    scene.params.integration = std::string(integration) == "free-rods" ? Integration::kFreeRods
-                                                                       : Integration::kArticulated;
-    if (std::string(integration) == "exact") scene.params.joint_solve = JointSolve::kExact;
+    scene.params.free_rods = std::string(integration) == "free-rods";
+    if (std::string(integration) == "exact") scene.params.scheme = Scheme::kExact;
     if (std::string(integration) == "implicit") {
-      scene.params.integration = Integration::kImplicit;
+      scene.params.scheme = Scheme::kImplicit;
       scene.params.torsion_spring = SpringLaw::kCapped;
     }
     scene.params.interpolation = Interpolation::kPolarCom;
@@ -62,7 +61,7 @@ TEST(EngineAllocations, StepAllocatesNothing) {
 // init_state (the 0.1x pinhead at c = 100 splits its first steps, implicit_advance_test.cpp).
 TEST(EngineAllocations, ASplitImplicitStepAllocatesNothing) {
   Scene scene = scaled_scene(load_scene(test::model_path("scenes/pinhead_two_hands.json")), 0.1, 1.0);
-  scene.params.integration = Integration::kImplicit;
+  scene.params.scheme = Scheme::kImplicit;
   scene.params.interpolation = Interpolation::kNone;
   scene.params.damping = 100.0;
   SimState s;

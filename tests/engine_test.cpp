@@ -165,7 +165,7 @@ TEST(Engine, ArticulatedSchemeKeepsJointsTogetherToRoundOff) {
 
 TEST(Engine, FreeRodsSchemeMeasuresJointSeparation) {
   Scene scene = load_scene(test::model_path("scenes/pinhead_two_hands.json"));
-  scene.params.integration = Integration::kFreeRods;
+  scene.params.free_rods = true;
   scene.steps = 50;
   const RunSummary r = run_scene(scene);
   // the rods integrate independently: the joints drift apart, and the drift is reported
@@ -182,7 +182,7 @@ TEST(Engine, FreeRodsSeparationIsFirstOrderInDt) {
   std::vector<double> sep;
   for (double dt : {0.02, 0.01, 0.005}) {
     EngineParams p = test::bare_params(dt);
-    p.integration = Integration::kFreeRods;
+    p.free_rods = true;
     p.centripetal = true;
     Scene scene = test::scene_for(rig, p, static_cast<int>(std::lround(2.0 / dt)));
     scene.control_points.push_back(test::control(2, 1.0, Vec3(1.5, 0.5, 2.0), 5.0));

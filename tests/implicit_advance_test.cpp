@@ -25,7 +25,7 @@ namespace {
 // pinhead_two_hands at 0.1x, 1 kg per rig unit, implicit at damping c, targets fixed from the start
 Scene small_pinhead(double c) {
   Scene s = scaled_scene(load_scene(test::model_path("scenes/pinhead_two_hands.json")), 0.1, 1.0);
-  s.params.integration = Integration::kImplicit;
+  s.params.scheme = Scheme::kImplicit;
   s.params.interpolation = Interpolation::kNone;
   s.params.damping = c;
   return s;
@@ -87,7 +87,7 @@ TEST(ImplicitAdvance, NoShippedSceneIsSplitAndItsRunIsTheBareStepsBitForBit) {
   for (const char* name : {"pinhead_two_hands", "fig5_running", "fig9_outstretched", "hand_tight",
                            "fig7_cannon_capped", "fig11_sit"}) {
     Scene s = load_scene(test::model_path(std::string("scenes/") + name + ".json"));
-    s.params.integration = Integration::kImplicit;
+    s.params.scheme = Scheme::kImplicit;
     s.steps = 300;
     const RunSummary guarded = run_scene(s);
     s.params.implicit_max_splits = 0;
@@ -110,7 +110,7 @@ TEST(ImplicitAdvance, LongStepsOnABentElbowConvergeWithEitherTorsionTorque) {
   const int hand = rig.find_bone("hand.L");
   for (TorsionTorque torque : {TorsionTorque::kAxes, TorsionTorque::kGradient}) {
     Scene s = test::scene_for(rig, preset_params("original"), 2000);
-    s.params.integration = Integration::kImplicit;
+    s.params.scheme = Scheme::kImplicit;
     s.params.torsion_torque = torque;
     s.control_points = {test::control(hand, 1.0, Vec3(0.1273, -0.7426, 2.7041), 10.0),
                         test::control(0, 0.0, rig.bone_rest_head_world[0], 10.0)};
@@ -134,7 +134,7 @@ TEST(ImplicitAdvance, CappedSpringsFarBeyondTheirCapLandAtEveryStepSize) {
   const Rig rig = make_chain_rig(2, 1.0);
   for (double dt : {0.05, 1.0, 10.0, 100.0}) {
     Scene s = test::scene_for(rig, preset_params("original"), dt < 0.5 ? 2000 : 60);
-    s.params.integration = Integration::kImplicit;
+    s.params.scheme = Scheme::kImplicit;
     s.params.interpolation = Interpolation::kNone;
     s.params.dt = dt;
     s.control_points = {test::control(0, 0.0, Vec3::Zero(), 30.0),

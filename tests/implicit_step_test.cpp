@@ -34,7 +34,7 @@ using dense::VecX;
 // A rod translating on a spring at its centre with dampers at both ends: m x'' = -k x - 2 c x'.
 Scene rod_scene(double h, double c, double k, const Vec3& offset, const Vec3& v0) {
   EngineParams p = test::bare_params(h);
-  p.integration = Integration::kImplicit;
+  p.scheme = Scheme::kImplicit;
   p.damping = c;
   Scene s = test::scene_for(test::one_rod(2.0, 1.7), p, 60);
   s.control_points = {test::control(0, 0.5, Vec3(0, 0, 1) - offset, k)};
@@ -227,7 +227,7 @@ TEST(ImplicitStep, TorsionBlockIsTheTorquesTangent) {
       sc.file = "<elbow>";
       sc.rig = load_rig(test::model_path("rigs/elbow.json"));
       sc.params = preset_params("original");
-      sc.params.integration = Integration::kImplicit;
+      sc.params.scheme = Scheme::kImplicit;
       sc.params.torsion_torque = torque;
       if (!elbow) sc.rig.bone_limit[1][2].limited = false;  // z free: only y locked
       const Vec3 theta = elbow ? Vec3(-0.25 * kPi, 1e-4, -2e-4) : Vec3(-0.6, 1e-4, 0.5);
@@ -308,7 +308,7 @@ Case random_case(std::mt19937& rng, int n, double h, double c, double f) {
     }
   }
   sc.params = preset_params("original");
-  sc.params.integration = Integration::kImplicit;
+  sc.params.scheme = Scheme::kImplicit;
   sc.params.dt = h;
   sc.params.damping = c;
   sc.params.angular_velocity_factor = f;
@@ -481,7 +481,7 @@ TEST(ImplicitStep, EveryPivotKeepsAPositiveDefiniteSymmetricPart) {
   sc.file = "<pinhead>";
   sc.rig = load_rig(test::model_path("rigs/pinhead.json"));
   sc.params = preset_params("original");
-  sc.params.integration = Integration::kImplicit;
+  sc.params.scheme = Scheme::kImplicit;
   sc.initial_pose = rest_pose(sc.rig);
   const Rig& rig = sc.rig;
   const auto min_sym_eigenvalue = [](const auto& m) {
@@ -531,12 +531,12 @@ TEST(ImplicitStep, EveryPivotKeepsAPositiveDefiniteSymmetricPart) {
 
 TEST(ImplicitStep, DefaultRunsStayTheExplicitScheme) {
   // the default integration is the paper's; implicit is opt-in and implies the exact solve
-  EXPECT_EQ(preset_params("original").integration, Integration::kArticulated);
-  EXPECT_EQ(preset_params("paper").integration, Integration::kArticulated);
+  EXPECT_EQ(preset_params("original").scheme, Scheme::kGaussSeidel);
+  EXPECT_EQ(preset_params("paper").scheme, Scheme::kGaussSeidel);
   EngineParams p = preset_params("original");
-  EXPECT_FALSE(p.articulated_solve());
-  p.integration = Integration::kImplicit;
-  EXPECT_TRUE(p.articulated_solve());
+  EXPECT_FALSE(p.joint_space());
+  p.scheme = Scheme::kImplicit;
+  EXPECT_TRUE(p.joint_space());
 }
 
 }  // namespace

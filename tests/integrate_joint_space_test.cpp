@@ -1,4 +1,4 @@
-// The exact step (joint_solve exact, physik/engine/integrate_joint_space.h): one free rod follows
+// The exact step (scheme exact, physik/engine/integrate_joint_space.h): one free rod follows
 // the paper's own update; internal torques change neither total momentum in the dynamics (the
 // discrete Euler run drifts at first order in dt); on a
 // 1000-bone chain pulled at its tail the force reaches bone 0 (Gauss-Seidel with eps 1e-3 stops
@@ -41,7 +41,7 @@ TEST(JointSpace, OneFreeRodFollowsThePapersUpdate) {
   SimState gs, ex;
   init_state(s, gs);
   Scene se = s;
-  se.params.joint_solve = JointSolve::kExact;
+  se.params.scheme = Scheme::kExact;
   init_state(se, ex);
   double worst = 0.0;
   for (int k = 0; k < s.steps; ++k) {
@@ -64,7 +64,7 @@ Scene internal_torque_scene(double dt) {
     for (int a = 0; a < 3; ++a) rig.bone_limit[i][a] = AxisLimit{true, -0.2, 0.2};
   }
   Scene scene = test::scene_for(rig, test::bare_params(dt), 100);
-  scene.params.joint_solve = JointSolve::kExact;
+  scene.params.scheme = Scheme::kExact;
   scene.params.torsion_k = 10.0;
   std::mt19937 rng(4);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -162,7 +162,7 @@ TEST(JointSpace, LongChainPulledAtItsTailMovesBoneZero) {
   double moved[2] = {0.0, 0.0};
   for (int k = 0; k < 2; ++k) {
     Scene sk = s;
-    sk.params.joint_solve = k == 0 ? JointSolve::kExact : JointSolve::kGaussSeidel;
+    sk.params.scheme = k == 0 ? Scheme::kExact : Scheme::kGaussSeidel;
     SimState st;
     init_state(sk, st);
     for (int j = 0; j < sk.steps; ++j) step(sk, st);

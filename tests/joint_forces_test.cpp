@@ -115,7 +115,7 @@ TEST(JointForces, LeaveTotalMomentumUnchanged) {
   bare.params.damping = 0.0;
   bare.params.angular_velocity_factor = 1.0;
   bare.params.torsion_k = 0.0;
-  bare.params.integration = Integration::kFreeRods;
+  bare.params.free_rods = true;
   SimState t;
   init_state(bare, t);
   randomize_velocities(rng, t);

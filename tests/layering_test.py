@@ -7,7 +7,9 @@
 A file may include its own layer and the layers below it, never one above or beside it. Besides:
   - the core (physik/) includes neither MuJoCo nor Ceres;
   - no header of physik/model, physik/engine, physik/ik or physik/posing reaches a JSON library, even through
-    other headers (only physik/io and above read or write files).
+    other headers (only physik/io and above read or write files);
+  - inside physik/engine, the step (engine.h) and the run monitor (run_monitor.h) are the top: a stage or
+    a measure never includes them (the measures they share are in measures.h).
 Run: python3 tests/layering_test.py [REPO]  (ctest runs it as `layering`).
 """
 import os
@@ -32,6 +34,10 @@ ALLOWED["bench"] = CORE | set(UPPER_ORDER[:3]) | {"bench"}
 ALLOWED["python"] = CORE | set(UPPER_ORDER[:3]) | {"python"}
 JSON_FREE = {"physik/model", "physik/engine", "physik/ik", "physik/posing"}
 FORBIDDEN_IN_CORE = ("mujoco/", "ceres/")
+
+# inside physik/engine: the files only their own .cpp and the step may include
+ENGINE_TOP = {"physik/engine/engine.h": {"physik/engine/engine.cpp"},
+              "physik/engine/run_monitor.h": {"physik/engine/run_monitor.cpp", "physik/engine/engine.cpp"}}
 
 INCLUDE = re.compile(r'^\s*#\s*include\s*([<"])([^>"]+)[>"]', re.M)
 
@@ -71,6 +77,8 @@ def check(repo):
                 if layer in CORE and inc.startswith(FORBIDDEN_IN_CORE):
                     problems.append("%s: the core includes <%s> (no MuJoCo, no Ceres in physik/)" % (path, inc))
                 continue
+            if layer == "physik/engine" and inc in ENGINE_TOP and path not in ENGINE_TOP[inc]:
+                problems.append("%s: includes \"%s\", above the stages inside physik/engine" % (path, inc))
             target = layer_of(inc)
             if target is None:
                 if os.path.exists(os.path.join(repo, inc)):
@@ -145,6 +153,16 @@ class LayeringTest(unittest.TestCase):
         with tempfile.TemporaryDirectory() as root:
             self.write(root, "physik/io/x.cpp", "#include <mujoco/mujoco.h>\n")
             self.assertIn("no MuJoCo", check(root)[0])
+
+    def test_a_stage_including_the_step_fails(self):
+        with tempfile.TemporaryDirectory() as root:
+            self.write(root, "physik/engine/engine.h", "#pragma once\n")
+            self.write(root, "physik/engine/run_monitor.h", "#pragma once\n")
+            self.write(root, "physik/engine/engine.cpp", '#include "physik/engine/run_monitor.h"\n')
+            self.write(root, "physik/engine/damping.cpp", '#include "physik/engine/engine.h"\n')
+            self.write(root, "physik/posing/p.cpp", '#include "physik/engine/engine.h"\n')
+            self.assertEqual(check(root), ['physik/engine/damping.cpp: includes "physik/engine/engine.h", '
+                                           'above the stages inside physik/engine'])
 
     def test_reference_may_not_include_tune(self):
         with tempfile.TemporaryDirectory() as root:

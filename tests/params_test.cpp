@@ -103,9 +103,9 @@ TEST(ParamTable, PaperPresetIsTheOriginalWithThePapersDampingAndStiffness) {
 }
 
 TEST(ParamTable, RobustIsTheOriginalWithTheImplicitStepDampingAutoAndTheGradientTorque) {
-  // models/README.md: robust = integration implicit (the exact joint solve), damping auto,
-  // torsion torque gradient; the rest as the original
-  const std::map<std::string, std::string> robust_changes = {{"integration", "implicit"},
+  // models/README.md: robust = scheme implicit, damping auto, torsion torque gradient; the rest as
+  // the original
+  const std::map<std::string, std::string> robust_changes = {{"scheme", "implicit"},
                                                              {"damping_auto", "true"},
                                                              {"torsion_torque", "gradient"}};
   const int robust = preset_index("robust");
@@ -125,19 +125,19 @@ TEST(ParamTable, RobustIsTheOriginalWithTheImplicitStepDampingAutoAndTheGradient
   EXPECT_EQ(params_to_json(p)["damping"], "auto");
 }
 
-TEST(ParamTable, JointSolveIsWrittenOnlyAwayFromItsDefault) {
-  // a row added after summaries existed: default runs' summaries keep their keys
+TEST(ParamTable, RowsOutOfTheSchemeAreWrittenOnlyWhereTheyCount) {
   EngineParams p = preset_params("paper");
-  EXPECT_FALSE(params_to_json(p).contains("joint_solve"));
-  p.joint_solve = JointSolve::kExact;
+  EXPECT_EQ(params_to_json(p)["scheme"], "gauss-seidel");
+  EXPECT_FALSE(params_to_json(p).contains("free_rods"));  // written only away from its default
+  p.scheme = Scheme::kExact;
   Json j = params_to_json(p);
-  EXPECT_EQ(j["joint_solve"], "exact");
+  EXPECT_EQ(j["scheme"], "exact");
   // the exact solve does not read the gauss-seidel rows: the writer leaves those at the
   // preset's value, which the reader accepts
-  EXPECT_EQ(params_from_json(j, "rt.json").joint_solve, JointSolve::kExact);
+  EXPECT_EQ(params_from_json(j, "rt.json").scheme, Scheme::kExact);
   p.joint_eps = 1e-9;
   EXPECT_FALSE(params_to_json(p).contains("joint_eps"));  // not used, so not written
-  p.joint_solve = JointSolve::kGaussSeidel;
+  p.scheme = Scheme::kGaussSeidel;
   EXPECT_EQ(params_to_json(p)["joint_eps"], 1e-9);
   // damping auto is written "damping": "auto", never as a damping_auto key
   EXPECT_FALSE(params_to_json(p).contains("damping_auto"));
@@ -149,7 +149,7 @@ TEST(ParamTable, JointSolveIsWrittenOnlyAwayFromItsDefault) {
   EXPECT_TRUE(params_from_json(a, "auto.json").damping_auto);
   // implicit_max_splits likewise (the implicit step's energy guard, added with it)
   EXPECT_FALSE(params_to_json(p).contains("implicit_max_splits"));
-  p.integration = Integration::kImplicit;
+  p.scheme = Scheme::kImplicit;
   p.joint_eps = 1e-3;
   p.implicit_max_splits = 0;
   EXPECT_EQ(params_to_json(p)["implicit_max_splits"].get<int>(), 0);
@@ -159,7 +159,7 @@ TEST(ParamTable, JointSolveIsWrittenOnlyAwayFromItsDefault) {
   EXPECT_EQ(params_to_json(p)["torsion_torque"], "gradient");
   EXPECT_EQ(params_from_json(params_to_json(p), "rt.json").torsion_torque, TorsionTorque::kGradient);
   for (const ParamRow& row : param_table()) {
-    if (row.name != "joint_solve" && row.name != "damping_auto" && row.name != "implicit_max_splits" &&
+    if (row.name != "free_rods" && row.name != "damping_auto" && row.name != "implicit_max_splits" &&
         row.name != "torsion_torque") {
       EXPECT_TRUE(row.written_at_default) << row.name;
     }
@@ -205,10 +205,9 @@ ParamValue other_value(const ParamRow& row) {
 void make_it_count(const ParamRow& row, EngineParams& p) {
   if (!row.conflict || row.conflict(p).empty()) return;
   if (row.name == "torsion_cap") p.torsion_spring = SpringLaw::kCapped;
-  if (row.name == "implicit_max_splits") p.integration = Integration::kImplicit;
+  if (row.name == "implicit_max_splits") p.scheme = Scheme::kImplicit;
   if (row.name == "interpolation_fallback") p.interpolation = Interpolation::kPolarCom;
-  if (row.name == "joint_solve") p.integration = Integration::kArticulated;
-  if (row.name == "integration") p.joint_solve = JointSolve::kGaussSeidel;
+  if (row.name == "free_rods") p.scheme = Scheme::kGaussSeidel;
   ASSERT_EQ(row.conflict(p), "");
 }
 
@@ -309,7 +308,8 @@ TEST(ParamSet, EachKindParsesItsTextAndRejectsBadText) {
   EXPECT_TRUE(p.centripetal);
   EXPECT_FALSE(p.gyroscopic);
   EXPECT_EQ(p.control_spring, SpringLaw::kCapped);
-  EXPECT_EQ(p.integration, Integration::kFreeRods);
+  EXPECT_EQ(p.scheme, Scheme::kGaussSeidel);  // integration, the old key, still read
+  EXPECT_TRUE(p.free_rods);
   EXPECT_EQ(p.damping, 2.5);  // the later one wins
   EXPECT_EQ(o.preset, "paper");
 
@@ -373,19 +373,17 @@ TEST(ParamSet, AnExplicitDampingTurnsDampingAutoOffAndIsTheValueUsed) {
 TEST(ParamSet, AValueTheRunWouldNotUseIsRefusedNamingWhereItCameFrom) {
   // robust runs the exact solve: the gauss-seidel rows do not take part
   EXPECT_EQ(scene_params_error("{}", {"max_passes=10"}),
-            "--set: field 'max_passes': applies to the gauss-seidel joint solve only, and with "
-            "integration implicit the joints are solved exactly");
+            "--set: field 'max_passes': applies to the gauss-seidel scheme only (this run: scheme "
+            "implicit)");
   EXPECT_EQ(scene_params_error(R"({"joint_eps": 1e-6})", {}),
-            "p.json: params: field 'joint_eps': applies to the gauss-seidel joint solve only, and "
-            "with integration implicit the joints are solved exactly");
-  EXPECT_EQ(scene_params_error(R"({"preset": "original"})", {"joint_solve=gauss-seidel", "integration=implicit"}),
-            "--set: field 'joint_solve': gauss-seidel cannot run with integration implicit, which "
-            "solves the joints exactly");
-  EXPECT_EQ(scene_params_error(R"({"preset": "original", "joint_solve": "exact"})", {"integration=free-rods"}),
-            "--set: field 'integration': free-rods needs joint_solve gauss-seidel (this run's is exact)");
+            "p.json: params: field 'joint_eps': applies to the gauss-seidel scheme only (this run: "
+            "scheme implicit)");
+  EXPECT_EQ(scene_params_error(R"({"scheme": "exact", "free_rods": true})", {}),
+            "p.json: params: field 'free_rods': applies to the gauss-seidel scheme only (this run: "
+            "scheme exact)");
   EXPECT_EQ(scene_params_error(R"({"preset": "original"})", {"implicit_max_splits=2"}),
-            "--set: field 'implicit_max_splits': applies to integration implicit only (this run: "
-            "integration articulated)");
+            "--set: field 'implicit_max_splits': applies to the implicit scheme only (this run: "
+            "scheme gauss-seidel)");
   EXPECT_EQ(scene_params_error(R"({"torsion_cap": 0.2})", {}),
             "p.json: params: field 'torsion_cap': applies to capped torsion springs only (this run: linear)");
   EXPECT_EQ(scene_params_error(R"({"interpolation": "none", "interpolation_steps": 5})", {}),
@@ -397,7 +395,7 @@ TEST(ParamSet, AValueTheRunWouldNotUseIsRefusedNamingWhereItCameFrom) {
   EXPECT_EQ(scene_params_error(R"({"preset": "original", "max_passes": 10})", {}), "");
   EXPECT_EQ(scene_params_error(R"({"joint_eps": 0.001, "torsion_cap": 0.5})", {}), "");
   EXPECT_EQ(scene_params_error(R"({"torsion_spring": "capped", "torsion_cap": 0.2})", {}), "");
-  EXPECT_EQ(scene_params_error(R"({"preset": "original"})", {"integration=implicit"}), "");
+  EXPECT_EQ(scene_params_error(R"({"preset": "original"})", {"scheme=implicit"}), "");
 }
 
 // two points on one rod: the first gives no k, the second its own

@@ -115,7 +115,7 @@ TEST(PosingSession, DlsFinishClosesWhatThePhysicsLeft) {
 // equilibrium for these reachable targets) and gives the scene its dt back.
 TEST(PosingSession, ALengtheningImplicitStepSolvesInFewerSteps) {
   Scene scene = two_hands();
-  scene.params.integration = Integration::kImplicit;
+  scene.params.scheme = Scheme::kImplicit;
   PosingSession fixed(scene), lengthening(scene);
   const SolveResult a = fixed.solve();
   SolveRule rule;
@@ -132,14 +132,14 @@ TEST(PosingSession, ALengtheningImplicitStepSolvesInFewerSteps) {
   std::cout << "[solve mode] pinhead_two_hands implicit: dt fixed " << a.steps << " steps, lengthening x1.5 "
             << b.steps << " steps\n";
   PosingSession explicit_session(two_hands());
-  expect_input_error([&] { explicit_session.solve(rule); }, "needs integration implicit");
+  expect_input_error([&] { explicit_session.solve(rule); }, "needs scheme implicit");
 }
 
 // set_pose puts a pose in at rest for every integration: a solve from it equals a fresh
 // session's (the exact and implicit steps integrate the joint-space state, which set_pose rebuilds)
 TEST(PosingSession, SetPoseRestartsTheImplicitStepFromThatPose) {
   Scene scene = two_hands();
-  scene.params.integration = Integration::kImplicit;
+  scene.params.scheme = Scheme::kImplicit;
   scene.params.interpolation = Interpolation::kNone;  // both sessions start with targets in place
   SolveRule rule;
   rule.dt_growth = 2.0;
@@ -235,7 +235,7 @@ TEST(PosingSession, ADivergedSolveReturnsToItsStart) {
 TEST(PosingSession, DampingAutoIsChosenAgainWhenATargetMoves) {
   Scene scene = two_hands();
   scene.params.damping_auto = true;
-  scene.params.integration = Integration::kImplicit;
+  scene.params.scheme = Scheme::kImplicit;
   PosingSession session(scene);
   const int updates = session.state().damping_auto_updates;
   const double at_start = session.state().damping_auto_value;

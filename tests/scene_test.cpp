@@ -45,17 +45,55 @@ TEST(Scene, PresetsAndOverrides) {
                                 R"({"damping": 2.5, "integration": "free-rods"})"));
   EXPECT_EQ(b.params.preset, std::string(kDefaultPreset));
   EXPECT_EQ(b.params.damping, 2.5);
-  EXPECT_EQ(b.params.integration, Integration::kFreeRods);
+  // the key scheme replaced, still read: free rods are a form of the gauss-seidel scheme
+  EXPECT_EQ(b.params.scheme, Scheme::kGaussSeidel);
+  EXPECT_TRUE(b.params.free_rods);
   EXPECT_EQ(b.control_points[0].k_in(b.params), 5.0);
-  // round trip through JSON
-  const Scene c = scene_from_json(scene_to_json(b), "rt.json", "/");
+  // round trip through JSON (written with the new keys)
+  const Json written = scene_to_json(b);
+  EXPECT_EQ(written["params"]["scheme"], "gauss-seidel");
+  EXPECT_EQ(written["params"]["free_rods"], true);
+  EXPECT_FALSE(written["params"].contains("integration"));
+  const Scene c = scene_from_json(written, "rt.json", "/");
   EXPECT_EQ(c.params.damping, 2.5);
+  EXPECT_TRUE(c.params.free_rods);
   EXPECT_EQ(c.control_points[0].target_world, b.control_points[0].target_world);
-  EXPECT_EQ(b.params.joint_solve, JointSolve::kGaussSeidel);  // the paper's scheme by default
   const Scene d = parse(with_cp(R"({"bone": "forearm", "target": [0, 1, 3]})",
-                                R"({"joint_solve": "exact"})"));
-  EXPECT_EQ(d.params.joint_solve, JointSolve::kExact);
-  EXPECT_EQ(scene_from_json(scene_to_json(d), "rt.json", "/").params.joint_solve, JointSolve::kExact);
+                                R"({"preset": "original", "joint_solve": "exact"})"));
+  EXPECT_EQ(d.params.scheme, Scheme::kExact);
+  EXPECT_EQ(scene_from_json(scene_to_json(d), "rt.json", "/").params.scheme, Scheme::kExact);
+}
+
+TEST(Scene, TheKeysSchemeReplacedMapOntoIt) {
+  const auto scheme_of = [](const std::string& params) {
+    return parse(with_cp(R"({"bone": "forearm", "target": [0, 1, 3]})", params)).params;
+  };
+  EXPECT_EQ(scheme_of(R"({"preset": "original", "integration": "implicit"})").scheme, Scheme::kImplicit);
+  EXPECT_EQ(scheme_of(R"({"integration": "articulated"})").scheme, Scheme::kGaussSeidel);
+  EXPECT_EQ(scheme_of(R"({"integration": "articulated", "joint_solve": "exact"})").scheme,
+            Scheme::kExact);
+  EXPECT_EQ(scheme_of(R"({"joint_solve": "exact"})").scheme, Scheme::kImplicit);  // implicit is exact
+  EXPECT_EQ(scheme_of(R"({"preset": "original", "joint_solve": "gauss-seidel"})").scheme,
+            Scheme::kGaussSeidel);
+  expect_error(with_cp("", R"({"integration": "implicit", "joint_solve": "gauss-seidel"})"),
+               {"params", "field 'joint_solve'", "cannot run with integration implicit"});
+  expect_error(with_cp("", R"({"integration": "free-rods", "joint_solve": "exact"})"),
+               {"params", "field 'integration'", "free-rods needs joint_solve gauss-seidel"});
+  expect_error(with_cp("", R"({"scheme": "exact", "integration": "implicit"})"),
+               {"params", "field 'integration'", "give scheme only"});
+  expect_error(with_cp("", R"({"integration": "sideways"})"),
+               {"params", "field 'integration'", "unknown value 'sideways'"});
+  // --set takes them too, and the scheme named there wins over the file's old keys
+  const Scene e = scene_from_json(parse_json_text(with_cp(R"({"bone": "forearm", "target": [0, 1, 3]})",
+                                                          R"({"integration": "free-rods"})"),
+                                                  "o.json"),
+                                  "o.json", rig_dir(), parse_param_overrides({"scheme=exact"}, "--set"));
+  EXPECT_EQ(e.params.scheme, Scheme::kExact);
+  EXPECT_FALSE(e.params.free_rods);
+  const EngineParams f = params_from_json(Json(nullptr), "n.json",
+                                          parse_param_overrides({"integration=free-rods"}, "--set"));
+  EXPECT_EQ(f.scheme, Scheme::kGaussSeidel);
+  EXPECT_TRUE(f.free_rods);
 }
 
 TEST(Scene, ParamOverridesReachControlPointsThatInheritThem) {

@@ -68,7 +68,7 @@ class ReportTest(unittest.TestCase):
             row("max_passes", "integer", "passes", 0, 0, zero_means="5 n^2"),
             row("torsion_k", "real", "N m/rad", 10.0, 10.0), row("torsion_tolerance", "real", "1", 0.25, 0.1),
             row("control_cap", "real", "rig units", 1.0, 1.0),
-            row("integration", "choice", "", "free-rods", "articulated")]}
+            row("free_rods", "boolean", "", True, False)]}
         with tempfile.TemporaryDirectory() as d:
             os.makedirs(os.path.join(d, "exp"))
             write(d, "params.json", json.dumps(table))
@@ -82,7 +82,7 @@ class ReportTest(unittest.TestCase):
             self.assertIn("| 5 n^2 (the original code's) |", text)
             self.assertIn("| 10 N m/rad, 25% inside each limit (the original's) |", text)
             self.assertIn("| 1 rig unit (the original hard-codes 1) |", text)
-            self.assertIn("| free-rods (the original code's) |", text)
+            self.assertIn("| true (the original code's: FK from the root) |", text)
             # a cell naming a parameter the table lacks is an error, not a blank
             table["params"] = [r for r in table["params"] if r["name"] != "dt"]
             write(d, "params.json", json.dumps(table))

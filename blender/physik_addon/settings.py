@@ -22,7 +22,7 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
 from . import engine
 
 # the table's rows the panel shows, in order; damping and damping_auto are one control
-PANEL_ROWS = ("integration", "damping", "control_spring", "control_k", "control_cap",
+PANEL_ROWS = ("scheme", "damping", "control_spring", "control_k", "control_cap",
               "interpolation")
 LABELS = {"damping": "c", "control_spring": "Spring law", "control_k": "k", "control_cap": "Cap"}
 TABLE = None  # the engine's table while registered (None without the module)

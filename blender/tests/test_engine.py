@@ -264,7 +264,7 @@ class TestEngineErrors(Base):
         arm = fig9_armature()
         s = bpy.context.scene.physik
         s.damping_mode = 'AUTO'
-        s.integration = 'implicit'
+        s.scheme = 'implicit'
         before = armature_io.read_pose(arm)[0].copy()
         self.assertIsNone(run_op(bpy.ops.physik.solve))
         self.assertGreater((armature_io.read_pose(arm)[0] - before).length, 1e-3)

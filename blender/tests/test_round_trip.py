@@ -129,7 +129,7 @@ def scene_for(rig_doc):
     size = max(max(p[k] for p in points) - min(p[k] for p in points) for k in range(3))
     last, root = bones[-1], bones[0]
     pull = [c + 0.25 * size * d / math.sqrt(2.25) for c, d in zip(last["tail"], (1, -1, 0.5))]
-    return {"rig": rig_doc, "steps": 150, "params": {"integration": "implicit",
+    return {"rig": rig_doc, "steps": 150, "params": {"scheme": "implicit",
                                                      "damping": "auto"},
             "control_points": [
                 {"name": "pull", "bone": last["name"], "alpha": 1.0, "target": pull},
@@ -243,7 +243,7 @@ class TestRoundTrip(unittest.TestCase):
         path = rig_files()["humanoid (from-mjcf)"]
         arm = import_rig(path)
         s = bpy.context.scene.physik
-        s.max_steps, s.integration, s.damping_mode = 400, "implicit", 'AUTO'  # stable here
+        s.max_steps, s.scheme, s.damping_mode = 400, "implicit", 'AUTO'  # stable here
         control_points.add_control_point(bpy.context, arm, "right_lower_arm", 1.0,
                                          (0.4, -0.5, 1.3))
         bpy.context.view_layer.objects.active = arm

@@ -1,68 +1,41 @@
 #include "physik/engine/engine.h"
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
 
 #include "physik/engine/forces.h"
 #include "physik/engine/implicit_advance.h"
-#include "physik/engine/implicit_step.h"
 #include "physik/engine/integrate.h"
 #include "physik/engine/integrate_joint_space.h"
 #include "physik/engine/interpolation.h"
 #include "physik/engine/joint_forces.h"
 #include "physik/engine/linear_modes.h"
-#include "physik/engine/newton_euler.h"
 #include "physik/engine/run_monitor.h"
 #include "physik/model/errors.h"
 
 namespace physik {
 
-double kinetic_energy(const Rig& rig, const SimState& s) {
-  double e = 0.0;
+void set_pose(const Scene& scene, SimState& s, const Pose& pose, const Vec3& velocity_world) {
+  const Rig& rig = scene.rig;
+  forward_kinematics(rig, pose, s.frames);
   for (int i = 0; i < rig.nbone; ++i) {
-    const Mat3 I = inertia_world(rig, s.frames.orient_world[i], i);
-    e += 0.5 * rig.bone_mass[i] * s.vel_world[i].squaredNorm() +
-         0.5 * s.omega_world[i].dot(I * s.omega_world[i]);
+    s.com_world[i] = bone_centre_world(s.frames, i);
+    s.vel_world[i] = velocity_world;
+    s.omega_world[i].setZero();
   }
-  return e;
-}
-
-double max_joint_separation(const Rig& rig, const BoneFrames& f) {
-  double gap = 0.0;
-  for (int i = 1; i < rig.nbone; ++i) {
-    const int p = rig.bone_parent[i];
-    const Vec3 joint = f.head_world[p] + f.orient_world[p] * rig.bone_head_in_parent[i];
-    gap = std::max(gap, (f.head_world[i] - joint).norm());
-  }
-  return gap;
-}
-
-void control_residuals(const Scene& scene, const SimState& s, std::vector<double>& out) {
-  out.resize(scene.control_points.size());
-  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
-    const ControlPoint& cp = scene.control_points[c];
-    out[c] = (point_on_bone(s.frames, cp.bone, cp.alpha) - s.target_goal_world[c]).norm();
-  }
+  s.pose = pose;
+  // the exact and implicit schemes integrate the joint-space state: take it from the world view
+  if (scene.params.joint_space()) init_joint_space(rig, s);
 }
 
 void init_state(const Scene& scene, SimState& s) {
   const Rig& rig = scene.rig;
   size_state(rig, scene.control_points.size(), s);
-  forward_kinematics(rig, scene.initial_pose, s.frames);
-  for (int i = 0; i < rig.nbone; ++i) {
-    s.com_world[i] = 0.5 * (s.frames.head_world[i] + s.frames.tail_world[i]);
-    s.vel_world[i] = scene.initial_velocity_world;
-  }
-  s.pose = scene.initial_pose;
-  if (scene.params.joint_solve == JointSolve::kExact) init_joint_space(rig, s);
+  set_pose(scene, s, scene.initial_pose, scene.initial_velocity_world);
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
     start_pull_from_attachment(scene, s, static_cast<int>(c), scene.control_points[c].target_world);
   }
-  if (scene.params.articulated_solve()) init_joint_space(rig, s);
-  if (scene.params.integration == Integration::kImplicit) {
+  if (scene.params.scheme == Scheme::kImplicit) {
     // the energy guard's snapshots, one per halving depth (implicit_advance.h)
     s.implicit_snapshots.resize(static_cast<std::size_t>(scene.params.implicit_max_splits) + 1);
     for (JointStateSnapshot& snap : s.implicit_snapshots) {
@@ -75,6 +48,12 @@ void init_state(const Scene& scene, SimState& s) {
 
 namespace {
 
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
 bool targets_change_now(const Scene& scene, const SimState& s) {
   for (const TargetChange& t : scene.schedule) {
     if (t.step == s.step) return true;
@@ -82,47 +61,55 @@ bool targets_change_now(const Scene& scene, const SimState& s) {
   return false;
 }
 
-// one step of h (s): the table of contents of engine.h
-StepStats take_step(const Scene& scene, SimState& s, double h) {
+// --- the schemes: each fills the stats of its solve (passes or substeps, mismatch, time) --------
+
+void step_gauss_seidel(const Scene& scene, SimState& s, double h, StepStats& st) {
   const Rig& rig = scene.rig;
-  const EngineParams& p = scene.params;
-
-  update_targets(scene, s);
-  if (p.damping_auto && s.step > 0 && targets_change_now(scene, s)) update_auto_damping(scene, s);
-  const bool exact = p.articulated_solve();
-  const bool implicit = p.integration == Integration::kImplicit;
-  const auto t0 = std::chrono::steady_clock::now();
-  JointSolveStats js;
-  if (implicit) {
-    // forces, the implicit solve and the joint-space update in one: a step that adds energy is
-    // taken again in halves (implicit_advance.h), so the three cannot be separate stages here
-    js = advance_implicit(scene, s, h);
-  } else {
-    apply_forces(scene, s);
-    js = exact ? solve_articulated(rig, p, s) : solve_joint_forces(rig, p, s);
-  }
-  const auto t1 = std::chrono::steady_clock::now();
-  if (!implicit && exact) {
-    integrate_joint_space(rig, p, s);  // s.pose is its ball state: not rebuilt from the frames
-  } else if (!implicit) {
-    integrate(rig, p, s);
-  }
-
-  s.step += 1;
-  s.time += h;
-  if (!exact) local_rotations_from_world(rig, s.frames, s.pose);
-
-  StepStats st;
+  const auto t0 = Clock::now();
+  apply_forces(scene, s);
+  const JointSolveStats js = solve_joint_forces(rig, scene.params, s);
+  st.joint_solve_s = seconds_since(t0);
   st.passes = js.passes;
   st.mismatch = js.mismatch;
-  st.joint_solve_s = std::chrono::duration<double>(t1 - t0).count();
-  st.kinetic_energy = kinetic_energy(rig, s);
-  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
-    const ControlPoint& cp = scene.control_points[c];
-    const double r = (point_on_bone(s.frames, cp.bone, cp.alpha) - s.target_goal_world[c]).norm();
-    if (!(r <= st.max_residual)) st.max_residual = r;  // a NaN residual stays NaN (std::max drops it)
+  if (scene.params.free_rods) {
+    integrate_free_rods(rig, scene.params, h, s);
+  } else {
+    integrate_articulated(rig, scene.params, h, s);
   }
-  st.joint_separation = max_joint_separation(rig, s.frames);
+  local_rotations_from_world(rig, s.frames, s.pose);
+}
+
+void step_exact(const Scene& scene, SimState& s, double h, StepStats& st) {
+  const auto t0 = Clock::now();
+  apply_forces(scene, s);
+  st.passes = solve_articulated(scene.rig, scene.params, s).passes;  // 1: no iteration
+  st.joint_solve_s = seconds_since(t0);
+  integrate_joint_space(scene.rig, h, s);  // s.pose is its ball state: not rebuilt from the frames
+}
+
+void step_implicit(const Scene& scene, SimState& s, double h, StepStats& st) {
+  const auto t0 = Clock::now();
+  st.substeps = advance_implicit(scene, s, h, take_implicit_step);
+  st.joint_solve_s = seconds_since(t0);
+}
+
+// one step of h (s): the table of contents of engine.h
+StepStats take_step(const Scene& scene, SimState& s, double h) {
+  update_targets(scene, s);
+  if (scene.params.damping_auto && s.step > 0 && targets_change_now(scene, s)) {
+    update_auto_damping(scene, s);
+  }
+  StepStats st;
+  switch (scene.params.scheme) {
+    case Scheme::kGaussSeidel: step_gauss_seidel(scene, s, h, st); break;
+    case Scheme::kExact: step_exact(scene, s, h, st); break;
+    case Scheme::kImplicit: step_implicit(scene, s, h, st); break;
+  }
+  s.step += 1;
+  s.time += h;
+  st.kinetic_energy = kinetic_energy(scene.rig, s);
+  st.max_residual = max_control_residual(scene, s);
+  st.joint_separation = max_joint_separation(scene.rig, s.frames);
   return st;
 }
 
@@ -131,9 +118,9 @@ StepStats take_step(const Scene& scene, SimState& s, double h) {
 StepStats step(const Scene& scene, SimState& s) { return take_step(scene, s, scene.params.dt); }
 
 StepStats step(const Scene& scene, SimState& s, double h) {
-  if (scene.params.integration != Integration::kImplicit) {
-    throw_input_error(scene.file, "params", "integration",
-                      "a step of another length than dt needs integration implicit");
+  if (scene.params.scheme != Scheme::kImplicit) {
+    throw_input_error(scene.file, "params", "scheme",
+                      "a step of another length than dt needs scheme implicit");
   }
   if (!(h > 0.0) || !std::isfinite(h)) {
     throw_input_error(scene.file, "step", "h", "the step length must be positive and finite");
@@ -141,20 +128,8 @@ StepStats step(const Scene& scene, SimState& s, double h) {
   return take_step(scene, s, h);
 }
 
-StepStats initial_stats(const Scene& scene, const SimState& s) {
-  StepStats st;
-  st.kinetic_energy = kinetic_energy(scene.rig, s);
-  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
-    const ControlPoint& cp = scene.control_points[c];
-    const double r = (point_on_bone(s.frames, cp.bone, cp.alpha) - s.target_goal_world[c]).norm();
-    if (!(r <= st.max_residual)) st.max_residual = r;
-  }
-  st.joint_separation = max_joint_separation(scene.rig, s.frames);
-  return st;
-}
-
 RunSummary run_scene(const Scene& scene, const StepObserver& observer, bool observe_initial) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = Clock::now();
   SimState s;
   init_state(scene, s);
   if (observer && observe_initial) observer(s, initial_stats(scene, s));
@@ -167,28 +142,8 @@ RunSummary run_scene(const Scene& scene, const StepObserver& observer, bool obse
   }
   RunSummary out = monitor.summary();
   monitor.fill_final(scene, s, out);
-  out.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  out.wall_time_s = seconds_since(t0);
   return out;
-}
-
-std::uint64_t state_hash(const BoneFrames& f) {
-  std::uint64_t h = 1469598103934665603ull;
-  const auto mix = [&h](double v) {
-    unsigned char bytes[sizeof(double)];
-    std::memcpy(bytes, &v, sizeof(double));
-    for (unsigned char b : bytes) {
-      h ^= b;
-      h *= 1099511628211ull;
-    }
-  };
-  for (std::size_t i = 0; i < f.head_world.size(); ++i) {
-    for (int k = 0; k < 3; ++k) {
-      mix(f.head_world[i][k]);
-      mix(f.tail_world[i][k]);
-    }
-    for (int k = 0; k < 4; ++k) mix(f.orient_world[i].coeffs()[k]);
-  }
-  return h;
 }
 
 }  // namespace physik

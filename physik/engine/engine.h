@@ -1,21 +1,28 @@
 // The PhysIK engine: one step, and a whole run of a scene with convergence and divergence
 // detection. The step reads like a table of contents (MuJoCo's mj_step, Box2D's solver stages):
+// it moves the targets, then switches once on params.scheme (MuJoCo's switch on opt.integrator),
+// and each scheme is a short list of stages:
 //
-//   update_targets        schedule + interpolation                          interpolation.h
-//   apply_forces          every force of the step, shared with the MuJoCo    forces.h
-//                         reference: bodies prepared (I^-1, w x I w), damping -c v at head and
-//                         tail, control springs, torsion springs +-tau
-//   solve_joint_forces    Gauss-Seidel, corrected eq. 11                     joint_forces.h
-//   integrate             semi-implicit Euler, articulated or free rods      integrate.h
-// With joint_solve exact the last two are solve_articulated (Featherstone's articulated-body
-// algorithm) and integrate_joint_space (MuJoCo's Euler in joint space), integrate_joint_space.h;
-// with integration implicit, the last three are advance_implicit (implicit_advance.h):
-// apply_forces, solve_implicit (linearised backward Euler, implicit_step.h) and
-// integrate_joint_space, the step taken again in halves where it adds energy.
+//   update_targets        schedule + interpolation (eq. 12)                   interpolation.h
+//   damping auto          chosen again when the targets change                 linear_modes.h
+//   gauss-seidel          the paper's scheme:
+//     apply_forces          bodies prepared (I^-1, w x I w), damping -c v at    forces.h
+//                           head and tail, control springs, torsion springs
+//     solve_joint_forces    Gauss-Seidel passes, corrected eq. 11              joint_forces.h
+//     integrate_*           semi-implicit Euler, articulated or free rods      integrate.h
+//   exact:
+//     apply_forces          the same forces
+//     solve_articulated     Featherstone's articulated-body algorithm          integrate_joint_space.h
+//     integrate_joint_space MuJoCo's Euler in joint space
+//   implicit:
+//     advance_implicit      apply_forces, solve_implicit (linearised backward   implicit_advance.h
+//                           Euler), integrate_joint_space; a step that adds
+//                           energy is taken again in halves
+//
+// Measures of a state (kinetic energy, residuals, separation, hash) are in measures.h.
 #pragma once
 
-#include <cstdint>
-
+#include "physik/engine/measures.h"
 #include "physik/engine/run_summary.h"
 #include "physik/engine/state.h"
 
@@ -25,23 +32,20 @@ namespace physik {
 // the initial targets, which count as a jump from where each attachment point starts.
 void init_state(const Scene& scene, SimState& state);
 
+// Put a pose in (frames, centres of mass, the pose, and the joint-space state the exact and
+// implicit schemes integrate), every bone moving with `velocity_world` (rig units/s) and not
+// turning; the targets are untouched. init_state and the posing session put poses with it.
+void set_pose(const Scene& scene, SimState& state, const Pose& pose,
+              const Vec3& velocity_world = Vec3::Zero());
+
+// One step of params.dt.
 StepStats step(const Scene& scene, SimState& state);
-// One step of length h (s) of the scene's equations of motion, integration implicit only (the
-// explicit schemes' angular-velocity factor is per step of params.dt): its damping, the factor's
-// damper (1 - f) / params.dt I and every spring are the scene's; only the step is longer or
-// shorter. The solve mode (physik/posing) lengthens it as the motion settles. InputError when
-// the integration is not implicit, or h is not positive and finite.
+// One step of length h (s), scheme implicit only (the explicit schemes' angular-velocity factor is
+// per step of params.dt): its damping, the factor's damper (1 - f) / params.dt I and every spring
+// are the scene's; only the step is longer or shorter. The solve mode (physik/posing) lengthens
+// it as the motion settles. InputError when the scheme is not implicit, or h is not positive and
+// finite.
 StepStats step(const Scene& scene, SimState& state, double h);
-
-// Diagnostics over a state.
-double kinetic_energy(const Rig& rig, const SimState& state);
-double max_joint_separation(const Rig& rig, const BoneFrames& frames);
-// Distance of every control point's attachment to its goal target (not the interpolated one).
-void control_residuals(const Scene& scene, const SimState& state, std::vector<double>& out);
-
-// The stats of a state no step has produced yet (the initial one): its kinetic energy, residuals
-// and joint separation; no passes, no mismatch.
-StepStats initial_stats(const Scene& scene, const SimState& state);
 
 // Run the scene from its initial pose for scene.steps steps (or until converged when the scene
 // says so). Never throws on divergence: it is reported in the summary. The convergence and
@@ -50,9 +54,5 @@ StepStats initial_stats(const Scene& scene, const SimState& state);
 // initial_stats).
 RunSummary run_scene(const Scene& scene, const StepObserver& observer = nullptr,
                      bool observe_initial = false);
-
-// FNV-1a over the bit patterns of every final head, tail and orientation: equal hashes mean
-// bit-identical runs (determinism made visible, as Jolt prints a state hash).
-std::uint64_t state_hash(const BoneFrames& frames);
 
 }  // namespace physik

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "physik/engine/engine.h"
+#include "physik/engine/measures.h"
 #include "physik/engine/forces.h"
 #include "physik/engine/implicit_step.h"
 #include "physik/engine/integrate_joint_space.h"
@@ -44,39 +44,50 @@ double largest_rotation(const SimState& s, double h) {
   return h * std::sqrt(w);
 }
 
+// the guard's bounds for one step
+struct Guard {
+  BareStep bare;
+  const void* context;
+  int max_depth;  // halvings
+  double floor;   // J, E_floor
+};
+
 // one substep of h at `depth`, split in two while it adds energy (below max_depth); returns the
-// recursion sweeps taken
-int substep(const Scene& scene, SimState& s, double h, int depth, int max_depth, double floor) {
-  const bool guarded = depth < max_depth;
+// substeps taken
+int substep(const Scene& scene, SimState& s, double h, int depth, const Guard& g) {
+  const bool guarded = depth < g.max_depth;
   if (guarded) save(s, s.implicit_snapshots[depth]);
   const double e0 = guarded ? mechanical_energy(scene, s) : 0.0;
-  apply_forces(scene, s);
-  solve_implicit(scene, s, h);
-  integrate_joint_space(scene.rig, h, s);
-  if (!guarded || (largest_rotation(s, h) <= kMaxStepRotation &&
-                   mechanical_energy(scene, s) <= e0 + kEnergyGrowthTolerance * (std::max(e0, 0.0) + floor))) {
+  g.bare(scene, s, h, g.context);
+  if (!guarded ||
+      (largest_rotation(s, h) <= kMaxStepRotation &&
+       mechanical_energy(scene, s) <= e0 + kEnergyGrowthTolerance * (std::max(e0, 0.0) + g.floor))) {
     return 1;
   }
   restore(scene.rig, s.implicit_snapshots[depth], s);
-  const int first = substep(scene, s, 0.5 * h, depth + 1, max_depth, floor);
-  return first + substep(scene, s, 0.5 * h, depth + 1, max_depth, floor);
+  const int first = substep(scene, s, 0.5 * h, depth + 1, g);
+  return first + substep(scene, s, 0.5 * h, depth + 1, g);
 }
 
 }  // namespace
 
-JointSolveStats advance_implicit(const Scene& scene, SimState& s, double h) {
+void take_implicit_step(const Scene& scene, SimState& s, double h, const void* /*context*/) {
+  apply_forces(scene, s);
+  solve_implicit(scene, s, h);
+  integrate_joint_space(scene.rig, h, s);
+}
+
+int advance_implicit(const Scene& scene, SimState& s, double h, BareStep bare, const void* context) {
   const double v = scene.speed_tol();
-  const double floor = 0.5 * scene.rig.total_mass() * v * v;  // J, E_floor
   // init_state sized one snapshot per depth; the bound guards a state sized for other params
-  const int max_depth = std::min(scene.params.implicit_max_splits,
-                                 static_cast<int>(s.implicit_snapshots.size()) - 1);
-  const int sweeps = substep(scene, s, h, 0, max_depth, floor);
-  if (sweeps > 1) ++s.implicit_split_steps;
-  s.implicit_max_substeps = std::max(s.implicit_max_substeps, sweeps);
-  JointSolveStats stats;
-  stats.passes = sweeps;
-  stats.mismatch = 0.0;
-  return stats;
+  const Guard g{bare, context,
+                std::min(scene.params.implicit_max_splits,
+                         static_cast<int>(s.implicit_snapshots.size()) - 1),
+                0.5 * scene.rig.total_mass() * v * v};
+  const int substeps = substep(scene, s, h, 0, g);
+  if (substeps > 1) ++s.implicit_split_steps;
+  s.implicit_max_substeps = std::max(s.implicit_max_substeps, substeps);
+  return substeps;
 }
 
 }  // namespace physik

@@ -1,4 +1,4 @@
-// One implicit step of the scene's dt (integration implicit), guarded by the rig's energy: where
+// One implicit step of the scene's dt (scheme implicit), guarded by the rig's energy: where
 // the linearisation adds energy, the step is taken again as two half steps (DESIGN.md "Implicit
 // step"; issue 14: stable for any coefficients).
 //
@@ -31,7 +31,6 @@
 // Units: s, J.
 #pragma once
 
-#include "physik/engine/joint_forces.h"
 #include "physik/engine/state.h"
 #include "physik/model/scene.h"
 
@@ -40,13 +39,21 @@ namespace physik {
 constexpr double kEnergyGrowthTolerance = 1e-6;  // 1, of E + E_floor
 constexpr double kMaxStepRotation = 1.0;         // rad, the most a (sub)step may turn a joint
 
-// The step after update_targets: forces, the implicit solve and the joint-space Euler update, split
-// as above. Returns the joint solve's stats with passes = the recursion sweeps taken (the
-// substeps); counts a split step in state.implicit_split_steps and the most substeps of one step
-// in state.implicit_max_substeps.
+// The bare step the guard takes and checks: the forces, a solve and the joint-space update of
+// length h (s), from the joint-space state (what the guard saves and restores). `context` is the
+// caller's, passed through (the linearisation study plugs its dense steps in here).
+using BareStep = void (*)(const Scene& scene, SimState& state, double h, const void* context);
+
+// The shipped bare step: apply_forces, solve_implicit (implicit_step.h), integrate_joint_space.
+void take_implicit_step(const Scene& scene, SimState& state, double h, const void* context);
+
+// The step after update_targets: `bare` of length h, split as above. Returns the substeps taken
+// (1 unless split); counts a split step in state.implicit_split_steps and the most substeps of one
+// step in state.implicit_max_substeps.
 // h: the step's length, s (step() passes params.dt; a longer one integrates the same equations
 // of motion, whose dampers are set by params.dt, with a longer step: the solve mode).
-JointSolveStats advance_implicit(const Scene& scene, SimState& state, double h);
+int advance_implicit(const Scene& scene, SimState& state, double h,
+                     BareStep bare = take_implicit_step, const void* context = nullptr);
 
 // The mechanical energy the guard holds: KE + spring_potential (J).
 double mechanical_energy(const Scene& scene, const SimState& state);

@@ -1,4 +1,4 @@
-// The implicit step (integration implicit; DESIGN.md "Implicit step"): linearised backward Euler
+// The implicit step (scheme implicit; DESIGN.md "Implicit step"): linearised backward Euler
 // over the exact articulated solve, in O(n), with no allocation per step.
 //
 // Sources: D. Baraff and A. Witkin, "Large steps in cloth simulation", SIGGRAPH 1998, eq. 6-7
@@ -7,7 +7,7 @@
 // Rigid Body Dynamics Algorithms, 2008, ch. 7 (the articulated-body algorithm, here
 // articulated_body.h).
 //
-// Derivation. Joint space as joint_solve exact: qvel v (root v_com world, root w local, ball u
+// Derivation. Joint space as scheme exact: qvel v (root v_com world, root w local, ball u
 // local), M(q) v' + C(q, v) = tau(q, v). Backward Euler, v+ = v + h a, q+ = q (+) h v+, with tau
 // taken at the end of the step and linearised (K = -d tau/dq, D = -d tau/dv, both at the start):
 //   tau(q+, v+) ~ tau - K h (v + h a) - D h a

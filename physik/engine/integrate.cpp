@@ -12,8 +12,8 @@ Quat rotate_by(const Quat& q, const Vec3& w, double dt) {
 
 namespace {
 
-void update_angular(const Rig& rig, const EngineParams& params, SimState& s) {
-  const double dt = params.dt, f = params.angular_velocity_factor;
+void update_angular(const Rig& rig, const EngineParams& params, double dt, SimState& s) {
+  const double f = params.angular_velocity_factor;
   for (int i = 0; i < rig.nbone; ++i) {
     s.omega_world[i] = f * s.omega_world[i] + angular_accel(s, i) * dt;
     s.frames.orient_world[i] = rotate_by(s.frames.orient_world[i], s.omega_world[i], dt);
@@ -29,12 +29,11 @@ void place_from_com(const Rig& rig, SimState& s, int i) {
 
 }  // namespace
 
-void integrate_articulated(const Rig& rig, const EngineParams& params, SimState& s) {
-  const double dt = params.dt;
+void integrate_articulated(const Rig& rig, const EngineParams& params, double dt, SimState& s) {
   // the root translates with its own linear acceleration (read before forces change)
   s.vel_world[0] += linear_accel(rig, s, 0) * dt;
   s.com_world[0] += s.vel_world[0] * dt;
-  update_angular(rig, params, s);
+  update_angular(rig, params, dt, s);
   place_from_com(rig, s, 0);
   // the rest follow by forward kinematics; their velocities follow from the chain
   for (int i = 1; i < rig.nbone; ++i) {
@@ -49,13 +48,12 @@ void integrate_articulated(const Rig& rig, const EngineParams& params, SimState&
   }
 }
 
-void integrate_free_rods(const Rig& rig, const EngineParams& params, SimState& s) {
-  const double dt = params.dt;
+void integrate_free_rods(const Rig& rig, const EngineParams& params, double dt, SimState& s) {
   for (int i = 0; i < rig.nbone; ++i) {
     s.vel_world[i] += linear_accel(rig, s, i) * dt;
     s.com_world[i] += s.vel_world[i] * dt;
   }
-  update_angular(rig, params, s);
+  update_angular(rig, params, dt, s);
   for (int i = 0; i < rig.nbone; ++i) place_from_com(rig, s, i);
 }
 

@@ -5,15 +5,15 @@
 // which is the same as a torque tau_f = I (f - 1) w / dt (how the MuJoCo reference applies it).
 // Orientation: R <- exp([w dt]x) R  (each bone turns by its own world angular velocity).
 //
-// Two schemes:
-//  articulated (the original code's; the default): only the root translates,
+// Two forms of the gauss-seidel scheme (params.free_rods):
+//  articulated (the original code's; free_rods false): only the root translates,
 //     v_root <- v_root + a_root dt,  cm_root <- cm_root + v_root dt;
 //     every bone turns by its own w; positions are rebuilt by forward kinematics from the root
 //     (each child's head is put at its parent's tail), so joints cannot separate; the linear
 //     velocities of the other bones follow from the chain: v_head(child) = v_tail(parent).
 //     (The original composes each bone's turn into its parent-relative rotation; we integrate
 //     world orientations, which does not count a parent's turn twice.)
-//  free-rods (the paper's text): every bone integrates its own v, cm, w and R; joints may drift
+//  free rods (the paper's text; free_rods true): every bone integrates its own v, cm, w and R; joints may drift
 //     apart, and the drift is measured (engine.h: joint separation).
 // Two choices the paper does not state (docs/DESIGN.md "Integration"): the root moves its centre
 // of mass and turns about it (the original turns it about its head: a difference of about
@@ -28,16 +28,9 @@
 
 namespace physik {
 
-void integrate_articulated(const Rig& rig, const EngineParams& params, SimState& state);
-void integrate_free_rods(const Rig& rig, const EngineParams& params, SimState& state);
-
-inline void integrate(const Rig& rig, const EngineParams& params, SimState& state) {
-  if (params.integration == Integration::kArticulated) {
-    integrate_articulated(rig, params, state);
-  } else {
-    integrate_free_rods(rig, params, state);
-  }
-}
+// One step of length h (s; the scheme's step is params.dt: the factor f is per step).
+void integrate_articulated(const Rig& rig, const EngineParams& params, double h, SimState& state);
+void integrate_free_rods(const Rig& rig, const EngineParams& params, double h, SimState& state);
 
 // Rotate an orientation by a world angular velocity over dt.
 Quat rotate_by(const Quat& orient_world, const Vec3& omega_world, double dt);

@@ -102,10 +102,6 @@ void root_pose_entry(const Rig& rig, SimState& s) {
 
 }  // namespace
 
-void integrate_joint_space(const Rig& rig, const EngineParams& params, SimState& s) {
-  integrate_joint_space(rig, params.dt, s);
-}
-
 void integrate_joint_space(const Rig& rig, double h, SimState& s) {
   const ArticulatedBodyData& d = s.articulated;
   if (rig.nbone == 0) return;

@@ -1,4 +1,4 @@
-// The exact explicit step (DESIGN.md "Beyond the paper", Exact explicit step; joint_solve exact):
+// The exact explicit step (DESIGN.md "Beyond the paper", Exact explicit step; scheme exact):
 // PhysIK's forces into the articulated-body algorithm (articulated_body.h), then MuJoCo 2.2.2's
 // Euler step in joint space, so the run equals MuJoCo's same-forces run
 // (reference/mujoco_runner.h) to round-off.
@@ -45,10 +45,8 @@ JointSolveStats solve_articulated(const Rig& rig, const EngineParams& params, Si
 // I alpha + w x I w - tau (the implicit step's element forces of the step count among them)
 void articulated_joint_forces(const Rig& rig, SimState& state);
 
-// MuJoCo's Euler step of the joint state with state.articulated's accelerations, then the world
-// view (frames, com, vel, omega, the root's pose entry).
-void integrate_joint_space(const Rig& rig, const EngineParams& params, SimState& state);
-// The same with step h (s) instead of params.dt: the implicit step's substeps (implicit_advance.h).
+// MuJoCo's Euler step of length h (s) of the joint state with state.articulated's
+// accelerations, then the world view (frames, com, vel, omega, the root's pose entry).
 void integrate_joint_space(const Rig& rig, double h, SimState& state);
 
 // The world view from the joint state alone.

@@ -15,7 +15,7 @@ void prepare_bodies(const Rig& rig, const EngineParams& params, SimState& s) {
     s.joint_torque_world[i].setZero();
     // only the Gauss-Seidel solve and its integration read I^-1 and w x I w; the exact solve
     // forms the inertias itself (articulated_body.h)
-    if (params.joint_solve == JointSolve::kExact) continue;
+    if (params.scheme != Scheme::kGaussSeidel) continue;
     const Mat3 R = s.frames.orient_world[i].toRotationMatrix();
     s.inertia_inv_world[i] =
         R * rig.bone_inertia_local[i].cwiseInverse().asDiagonal() * R.transpose();

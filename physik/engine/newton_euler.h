@@ -18,7 +18,7 @@
 namespace physik {
 
 // Start of a step: clear the force/torque accumulators, refresh I^-1 (world) and w x I w (with
-// joint_solve exact only the clearing: nothing reads the other two).
+// the exact and implicit schemes only the clearing: nothing reads the other two).
 void prepare_bodies(const Rig& rig, const EngineParams& params, SimState& state);
 
 // Add a force applied at a world point to bone i (force, and torque about its centre of mass).

@@ -7,7 +7,7 @@
 #include <sstream>
 #include <utility>
 
-#include "physik/engine/engine.h"
+#include "physik/engine/measures.h"
 #include "physik/engine/joint_forces.h"
 #include "physik/engine/potential.h"
 #include "physik/model/kinematics.h"
@@ -72,7 +72,7 @@ StepObservation observe_step(const Scene& scene, const SimState& s, const StepSt
   o.step = s.step;
   o.kinetic_energy = st.kinetic_energy;
   o.state_finite = state_finite(s);
-  o.passes = st.passes;
+  o.passes = st.iterations();
   o.joint_separation = st.joint_separation;
   o.limit_violation = max_limit_violation(scene.rig, s.pose);
   for (int left : s.interp_steps_left) o.target_moving = o.target_moving || left > 0;
@@ -267,7 +267,7 @@ void RunMonitor::fill_final(const Scene& scene, const SimState& s, RunSummary& o
   out.final_kinetic_energy = last_finite_ke_;
   out.final_residuals.resize(scene.control_points.size());
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
-    const ControlPoint& cp = scene.control_points[c];
+    const ControlPoint& cp = scene.control_points[c];  // on the last finite frames
     out.final_residuals[c] =
         (point_on_bone(out.final_frames, cp.bone, cp.alpha) - s.target_goal_world[c]).norm();
   }
@@ -288,7 +288,7 @@ void fill_final_state(const Scene& scene, const SimState& s, RunSummary& out) {
 std::string divergence_hint(const Scene& scene) {
   const EngineParams& p = scene.params;
   const double dt = p.dt;  // s
-  if (p.integration == Integration::kImplicit) {
+  if (p.scheme == Scheme::kImplicit) {
     return "try a smaller dt (now " + format_number(dt) + " s) or more implicit_max_splits";
   }
   // semi-implicit Euler with -c v at both ends of a bone of mass m is stable in translation while

@@ -12,12 +12,17 @@
 namespace physik {
 
 struct StepStats {
-  int passes = 0;            // joint passes used this step
+  int passes = 0;            // joint passes this step (gauss-seidel; 1 for the exact solve)
+  int substeps = 0;          // the implicit step's substeps (1 unless the energy guard split it)
   double mismatch = 0.0;     // largest joint-point acceleration difference left, rig units/s^2
   double kinetic_energy = 0.0;  // J, after the step
   double max_residual = 0.0;    // rig units, largest control-point distance to its goal target
   double joint_separation = 0.0;  // rig units, largest parent-tail to child-head gap
   double joint_solve_s = 0.0;     // s, wall time of the inter-joint force solve (profiling)
+
+  // The solver's count of the step, whatever the scheme: the joint passes, or the implicit step's
+  // substeps (the trajectory table's `passes` column, the summary's passes per step).
+  int iterations() const { return substeps > 0 ? substeps : passes; }
 };
 
 struct RunSummary {
@@ -49,7 +54,7 @@ struct RunSummary {
   int final_pose_step = 0;
   double damping_auto_value = 0.0;      // N s/m, damping_auto's last choice (params.damping_auto)
   int damping_auto_updates = 0;         // how often it was chosen (start + target changes)
-  int implicit_split_steps = 0;         // integration implicit: steps the energy guard split in
+  int implicit_split_steps = 0;         // scheme implicit: steps the energy guard split in
   int implicit_max_substeps = 0;        //   halves, and the most substeps of one (implicit_advance.h)
   Pose final_pose;
   BoneFrames final_frames;

@@ -44,7 +44,7 @@ struct SimState {
   std::vector<Vec3> member_force_world;  // (nmember) inter-joint force on that bone at the
                                          //           joint this step, N (sums to 0 per joint)
 
-  // --- joint-space state (joint_solve exact): MuJoCo's qpos/qvel of the ball-joint model ---
+  // --- joint-space state (scheme exact): MuJoCo's qpos/qvel of the ball-joint model ---
   // the root's free joint, and per bone the ball's relative angular velocity; every ball's
   // quaternion is pose.bone_local_rotation[i]. frames, com, vel and omega are derived from these
   // after every step (integrate_joint_space.h).
@@ -55,7 +55,7 @@ struct SimState {
                                         //   [i] R_i^T (w_i - w_parent), in bone i's frame
   ArticulatedBodyData articulated;      // the articulated-body algorithm's workspace
 
-  // --- implicit step workspace (integration implicit, implicit_step.h) ---
+  // --- implicit step workspace (scheme implicit, implicit_step.h) ---
   std::vector<Vec6> accel_bias;         // (nbone) velocity-product spatial accelerations a0_i
                                         //   (qacc = 0) about o_i, (rad/s^2; rig units/s^2)
   std::vector<Mat3> control_stiffness;  // (ncontrol) K_c this step (spring_step_stiffness), N/m

@@ -48,7 +48,7 @@ bool TrajectoryCsv::write_row(const SimState& s, const StepStats& st,
       !std::all_of(row_.begin(), row_.end(), [](double v) { return std::isfinite(v); })) {
     return false;
   }
-  out_ << s.step << "," << s.time << "," << row_[0] << "," << st.passes << "," << row_[1] << ","
+  out_ << s.step << "," << s.time << "," << row_[0] << "," << st.iterations() << "," << row_[1] << ","
        << row_[2];
   for (std::size_t i = 3; i < row_.size(); ++i) out_ << "," << row_[i];
   out_ << "\n";

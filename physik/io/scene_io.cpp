@@ -218,6 +218,24 @@ void check_conflicts(const EngineParams& p, const std::vector<std::string>& from
   if (!conflicts.empty()) throw_input_error(source, "params", conflicts[0].first, conflicts[0].second);
 }
 
+// The keys scheme replaced (integration, joint_solve), mapped onto scheme and free_rods unless an
+// override gives the scheme; a file that gives both forms is refused.
+void read_old_scheme_keys(const JsonContext& ctx, const Json& params, const ParamOverrides& overrides,
+                          EngineParams& p, std::vector<std::string>& from_file) {
+  if (params.is_null()) return;
+  const std::string integration = ctx.string_or(params, "integration", "");
+  const std::string joint_solve = ctx.string_or(params, "joint_solve", "");
+  if (integration.empty() && joint_solve.empty()) return;
+  if (params.contains("scheme")) {
+    ctx.fail(integration.empty() ? "joint_solve" : "integration",
+             "beside \"scheme\", which replaced it: give scheme only");
+  }
+  if (overrides.has("scheme")) return;
+  apply_old_scheme_keys(p, integration, joint_solve, ctx.file, ctx.element);
+  from_file.push_back("scheme");
+  if (integration == "free-rods") from_file.push_back("free_rods");
+}
+
 }  // namespace
 
 EngineParams params_from_json(const Json& params, const std::string& source,
@@ -227,7 +245,10 @@ EngineParams params_from_json(const Json& params, const std::string& source,
   if (given) {
     ctx.require_object(params, "params");
     for (auto it = params.begin(); it != params.end(); ++it) {
-      if (it.key() != "preset" && !find_param(it.key())) ctx.fail(it.key(), unknown_param_reason(it.key()));
+      if (it.key() != "preset" && it.key() != "integration" && it.key() != "joint_solve" &&
+          !find_param(it.key())) {
+        ctx.fail(it.key(), unknown_param_reason(it.key()));
+      }
     }
   }
   // the base preset (an override swaps it), then the file's values, then the overrides
@@ -236,6 +257,7 @@ EngineParams params_from_json(const Json& params, const std::string& source,
                                      : std::string(kDefaultPreset);
   EngineParams p = preset_params(preset, source);
   std::vector<std::string> from_file;  // the rows the file gave, in table order
+  read_old_scheme_keys(ctx, params, overrides, p, from_file);
   // "damping": "auto" is damping_auto: true (the damping row keeps the preset's value)
   const bool damping_auto = given && params.contains("damping") && params["damping"].is_string() &&
                             params["damping"].get<std::string>() == "auto";

@@ -4,7 +4,7 @@
 // solvers' report keys otherwise, plus "solver", "iterations" and "time_s".
 //
 // The engine as a solver (issue 15), both through physik::PosingSession (physik/posing):
-//   physik           the solve mode: integration implicit (linearised backward Euler over the
+//   physik           the solve mode: scheme implicit (linearised backward Euler over the
 //                    exact articulated solve) with torsion_torque gradient (the potential's own
 //                    torque, whose rest poses are the potential's minima), the step starting at the scene's dt
 //                    (the body follows with its secondary motion) and lengthening by dt_growth

@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-#include "physik/engine/engine.h"
+#include "physik/engine/measures.h"
 #include "physik/engine/run_monitor.h"
 #include "physik/io/scene_io.h"
 
@@ -55,7 +55,7 @@ nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s) {
     out["damping_auto_updates"] = s.damping_auto_updates;
   }
   // the implicit step's energy guard (implicit_advance.h), only for implicit runs
-  if (scene.params.integration == Integration::kImplicit) {
+  if (scene.params.scheme == Scheme::kImplicit) {
     out["implicit_split_steps"] = s.implicit_split_steps;
     out["implicit_max_substeps"] = s.implicit_max_substeps;
   }

@@ -17,13 +17,8 @@ const std::vector<std::string>& choice_names(SpringLaw) {
   return names;
 }
 
-const std::vector<std::string>& choice_names(Integration) {
-  static const std::vector<std::string> names = {"articulated", "free-rods", "implicit"};
-  return names;
-}
-
-const std::vector<std::string>& choice_names(JointSolve) {
-  static const std::vector<std::string> names = {"gauss-seidel", "exact"};
+const std::vector<std::string>& choice_names(Scheme) {
+  static const std::vector<std::string> names = {"gauss-seidel", "exact", "implicit"};
   return names;
 }
 
@@ -38,9 +33,8 @@ const std::vector<std::string>& choice_names(Interpolation) {
 }
 
 const char* to_string(SpringLaw s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
-const char* to_string(Integration s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
+const char* to_string(Scheme s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
 const char* to_string(Interpolation s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
-const char* to_string(JointSolve s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
 const char* to_string(TorsionTorque s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
 
 const char* to_string(ParamKind k) {
@@ -143,44 +137,20 @@ ParamRange half_open(double lo, double hi) { return {lo, hi, true, false}; }  //
 
 using E = EngineParams;
 using S = SpringLaw;
-using I = Integration;
-using J = JointSolve;
 using T = TorsionTorque;
 
 // --- settings the run would not use (ParamRow::conflict) ---------------------------------------
 
-// "integration implicit" or "joint_solve exact": what makes the joint solve exact
-std::string exact_because(const EngineParams& p) {
-  return p.integration == I::kImplicit ? "integration implicit" : "joint_solve exact";
-}
-
 std::string gauss_seidel_only(const EngineParams& p) {
-  if (!p.articulated_solve()) return "";
-  return "applies to the gauss-seidel joint solve only, and with " + exact_because(p) +
-         " the joints are solved exactly";
+  if (p.scheme == Scheme::kGaussSeidel) return "";
+  return std::string("applies to the gauss-seidel scheme only (this run: scheme ") +
+         to_string(p.scheme) + ")";
 }
 
 std::string implicit_only(const EngineParams& p) {
-  if (p.integration == I::kImplicit) return "";
-  return std::string("applies to integration implicit only (this run: integration ") +
-         to_string(p.integration) + ")";
-}
-
-std::string joint_solve_conflict(const EngineParams& p) {
-  if (p.joint_solve == J::kGaussSeidel && p.integration == I::kImplicit) {
-    return "gauss-seidel cannot run with integration implicit, which solves the joints exactly";
-  }
-  if (p.joint_solve == J::kExact && p.integration == I::kFreeRods) {
-    return "exact cannot run with integration free-rods (free rods need gauss-seidel)";
-  }
-  return "";
-}
-
-std::string integration_conflict(const EngineParams& p) {
-  if (p.joint_solve == J::kExact && p.integration == I::kFreeRods) {
-    return "free-rods needs joint_solve gauss-seidel (this run's is exact)";
-  }
-  return "";
+  if (p.scheme == Scheme::kImplicit) return "";
+  return std::string("applies to the implicit scheme only (this run: scheme ") + to_string(p.scheme) +
+         ")";
 }
 
 std::string damping_conflict(const EngineParams& p) {
@@ -273,19 +243,19 @@ std::vector<ParamRow> build_table() {
           "torsion_torque", "", {T::kAxes, T::kAxes, T::kGradient}, kAny,
           "axes (the paper's: k x excess about each rest axis; not the gradient of the torsion "
           "potential at large bends) or gradient (its exact gradient: conservative)")),
-      conflicts(omitted_at_default(row<&E::joint_solve>(
-                    "joint_solve", "", {J::kGaussSeidel, J::kGaussSeidel, J::kGaussSeidel}, kAny,
-                    "gauss-seidel (the paper's passes) or exact (articulated-body algorithm, "
-                    "MuJoCo's Euler)")),
-                joint_solve_conflict),
-      conflicts(row<&E::integration>("integration", "", {I::kArticulated, I::kArticulated, I::kImplicit},
-                                     kAny, "articulated (the original's: FK from the root), "
-                                     "free-rods (the paper's text) or implicit (linearised backward "
-                                     "Euler over the exact solve; implies joint_solve exact)"),
-                integration_conflict),
+      row<&E::scheme>("scheme", "", {Scheme::kGaussSeidel, Scheme::kGaussSeidel, Scheme::kImplicit},
+                      kAny,
+                      "gauss-seidel (the paper's: joint passes, semi-implicit Euler), exact "
+                      "(articulated-body algorithm, MuJoCo's Euler) or implicit (linearised backward "
+                      "Euler over the exact solve, stable at any dt and damping)"),
+      conflicts(omitted_at_default(row<&E::free_rods>(
+                    "free_rods", "", {false, false, false}, kAny,
+                    "gauss-seidel: every bone integrates its own motion, joints may drift apart "
+                    "(the paper's text); false: positions by FK from the root (the original's)")),
+                gauss_seidel_only),
       conflicts(zero_means(omitted_at_default(row<&E::implicit_max_splits>(
                                "implicit_max_splits", "halvings", {8, 8, 8}, closed(0.0, 20.0),
-                               "integration implicit: a step that adds energy is taken again as "
+                               "scheme implicit: a step that adds energy is taken again as "
                                "two half steps, at most this many halvings deep (the smallest "
                                "substep dt / 2^N)")),
                            "the bare linearised step, never split"),
@@ -513,7 +483,42 @@ std::vector<std::pair<std::string, std::string>> param_conflicts(
   return out;
 }
 
+void apply_old_scheme_keys(EngineParams& p, const std::string& integration,
+                           const std::string& joint_solve, const std::string& source,
+                           const std::string& element) {
+  const auto fail = [&](const char* key, const std::string& why) {
+    throw_input_error(source, element, key, why);
+  };
+  if (!joint_solve.empty() && joint_solve != "gauss-seidel" && joint_solve != "exact") {
+    fail("joint_solve", "unknown value '" + joint_solve + "' (expected gauss-seidel|exact)");
+  }
+  if (integration == "implicit" || (integration.empty() && p.scheme == Scheme::kImplicit &&
+                                    !joint_solve.empty())) {
+    if (joint_solve == "gauss-seidel") {
+      fail("joint_solve", "gauss-seidel cannot run with integration implicit, which solves the "
+                          "joints exactly");
+    }
+    p.scheme = Scheme::kImplicit;
+    p.free_rods = false;
+  } else if (integration == "free-rods") {
+    if (joint_solve == "exact") fail("integration", "free-rods needs joint_solve gauss-seidel");
+    p.scheme = Scheme::kGaussSeidel;
+    p.free_rods = true;
+  } else if (integration == "articulated" || integration.empty()) {
+    if (!integration.empty()) p.free_rods = false;
+    if (!joint_solve.empty()) {
+      p.scheme = joint_solve == "exact" ? Scheme::kExact : Scheme::kGaussSeidel;
+    } else if (p.scheme == Scheme::kImplicit) {
+      p.scheme = Scheme::kGaussSeidel;  // integration articulated alone: the paper's scheme
+    }
+  } else {
+    fail("integration", "unknown value '" + integration + "' (expected articulated|free-rods|implicit)");
+  }
+}
+
 bool ParamOverrides::has(const std::string& name) const {
+  if (name == "scheme" && (!integration.empty() || !joint_solve.empty())) return true;
+  if (name == "free_rods" && integration == "free-rods") return true;
   for (const auto& [row, v] : values) {
     if (row->name == name) return true;
   }
@@ -521,6 +526,9 @@ bool ParamOverrides::has(const std::string& name) const {
 }
 
 void ParamOverrides::apply(EngineParams& p) const {
+  if (!integration.empty() || !joint_solve.empty()) {
+    apply_old_scheme_keys(p, integration, joint_solve, source, "");
+  }
   for (const auto& [row, v] : values) row->set(p, v);
 }
 
@@ -535,6 +543,17 @@ ParamOverrides parse_param_overrides(const std::vector<std::string>& assignments
     if (key == "preset") {
       preset_params(value, source);  // an unknown preset fails here, naming `source`
       out.preset = value;
+      continue;
+    }
+    if (key == "integration" || key == "joint_solve") {  // the keys scheme replaced
+      (key == "integration" ? out.integration : out.joint_solve) = value;
+      const bool known = key == "integration"
+                             ? value == "articulated" || value == "free-rods" || value == "implicit"
+                             : value == "gauss-seidel" || value == "exact";
+      if (!known) {  // the message of apply_old_scheme_keys, here before the scene is read
+        EngineParams check;
+        apply_old_scheme_keys(check, out.integration, out.joint_solve, source, "");
+      }
       continue;
     }
     if (key == "damping" && value == "auto") {  // sugar for damping_auto=true

@@ -27,28 +27,29 @@
 namespace physik {
 
 enum class SpringLaw { kLinear, kCapped };
-// kImplicit: linearised backward Euler over the exact articulated solve (implicit_step.h); it
-// implies joint_solve exact
-enum class Integration { kArticulated, kFreeRods, kImplicit };
+// The scheme of a step: one switch, read once per step (engine.h step()).
+enum class Scheme {
+  kGaussSeidel,  // the paper's: Newton-Euler per bone, Gauss-Seidel joint passes (corrected eq.
+                 // 11, joint_forces.h), semi-implicit Euler (integrate.h); articulated, or free rods
+  kExact,        // Featherstone's articulated-body algorithm (articulated_body.h) with MuJoCo's
+                 // Euler step in joint space (integrate_joint_space.h)
+  kImplicit,     // linearised backward Euler over the same recursion (implicit_step.h), a step that
+                 // adds energy taken again in halves (implicit_advance.h)
+};
 enum class Interpolation { kNone, kLinear, kPolarHead, kPolarCom };
-// how the joints are solved each step: the paper's Gauss-Seidel passes (joint_forces.h), or the
-// exact articulated-body algorithm with MuJoCo's Euler step in joint space (articulated_body.h)
-enum class JointSolve { kGaussSeidel, kExact };
 // the torsion spring's torque (torsion_springs.h): the paper's k x excess about each rest axis, or
 // the exact gradient of the same potential (conservative at every angle)
 enum class TorsionTorque { kAxes, kGradient };
 
 // each enum's names in the scene format, in the enum's order (the table's choices)
 const std::vector<std::string>& choice_names(SpringLaw);
-const std::vector<std::string>& choice_names(Integration);
+const std::vector<std::string>& choice_names(Scheme);
 const std::vector<std::string>& choice_names(Interpolation);
-const std::vector<std::string>& choice_names(JointSolve);
 const std::vector<std::string>& choice_names(TorsionTorque);
 
 const char* to_string(SpringLaw s);
-const char* to_string(Integration s);
+const char* to_string(Scheme s);
 const char* to_string(Interpolation s);
-const char* to_string(JointSolve s);
 const char* to_string(TorsionTorque s);
 
 struct EngineParams {
@@ -76,10 +77,10 @@ struct EngineParams {
   double torsion_tolerance;              // 1, fraction of the range inside each limit where the
                                          //    torsion spring engages
   TorsionTorque torsion_torque;          // axes (the paper's) or gradient (torsion_springs.h)
-  JointSolve joint_solve;                // exact: integration articulated/free-rods, joint_eps,
-                                         //        max_passes, centripetal do not apply
-  Integration integration;               // implicit implies joint_solve exact
-  int implicit_max_splits;               // integration implicit: a step that adds energy is taken
+  Scheme scheme;                         // gauss-seidel | exact | implicit
+  bool free_rods;                        // gauss-seidel: every bone integrates its own motion (the
+                                         // paper's text); false: FK from the root (the original's)
+  int implicit_max_splits;               // scheme implicit: a step that adds energy is taken
                                          // again in halves, at most this deep (implicit_advance.h);
                                          // 0 = the bare linearised step
   Interpolation interpolation;
@@ -88,10 +89,8 @@ struct EngineParams {
   double interpolation_fallback;         // rig units: polar falls back to linear this near the origin
 
   int passes_cap(int nbone) const { return max_passes > 0 ? max_passes : 5 * nbone * nbone; }
-  // the exact articulated solve runs (joint_solve exact, or the implicit step)
-  bool articulated_solve() const {
-    return joint_solve == JointSolve::kExact || integration == Integration::kImplicit;
-  }
+  // the state is the joint-space one of the articulated-body recursion (exact and implicit)
+  bool joint_space() const { return scheme != Scheme::kGaussSeidel; }
 };
 
 // --- the parameter table ---------------------------------------------------------------------
@@ -170,6 +169,15 @@ ParamValue parse_param_text(const ParamRow& row, const std::string& text, const 
 std::vector<std::pair<std::string, std::string>> param_conflicts(
     const EngineParams& p, const std::vector<std::string>& given);
 
+// The two keys `scheme` replaced, still read in scene files and overrides: integration
+// (articulated|free-rods|implicit) and joint_solve (gauss-seidel|exact). Sets p.scheme and
+// p.free_rods as the pair meant (implicit implied the exact solve; "" = not given, the other
+// then decides with p's scheme); InputError "<source>: <element>: field '<key>': ..." for an
+// unknown value or a pair that cannot run together.
+void apply_old_scheme_keys(EngineParams& p, const std::string& integration,
+                           const std::string& joint_solve, const std::string& source,
+                           const std::string& element);
+
 // `--set key=value` overrides: applied after a scene's own params (so they win), and a preset
 // override swaps the base preset under them. Control points that give no k, spring or cap take
 // the params' at use, so they follow the overrides too.
@@ -177,7 +185,10 @@ struct ParamOverrides {
   std::string source = "--set";  // where they came from, for messages
   std::string preset;  // "" = the scene's own
   std::vector<std::pair<const ParamRow*, ParamValue>> values;  // in the order given; later wins
-  bool empty() const { return preset.empty() && values.empty(); }
+  std::string integration, joint_solve;  // the old scheme keys (apply_old_scheme_keys), "" = none
+  bool empty() const {
+    return preset.empty() && values.empty() && integration.empty() && joint_solve.empty();
+  }
   bool has(const std::string& name) const;
   void apply(EngineParams& p) const;
 };

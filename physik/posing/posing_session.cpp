@@ -6,7 +6,6 @@
 #include <string>
 
 #include "physik/engine/engine.h"
-#include "physik/engine/integrate_joint_space.h"
 #include "physik/engine/interpolation.h"
 #include "physik/engine/linear_modes.h"
 #include "physik/engine/run_monitor.h"
@@ -15,7 +14,7 @@
 namespace physik {
 
 void use_solve_mode(EngineParams& params) {
-  params.integration = Integration::kImplicit;
+  params.scheme = Scheme::kImplicit;
   params.torsion_torque = TorsionTorque::kGradient;
 }
 
@@ -24,15 +23,22 @@ void use_solve_mode(Scene& scene) {
     return std::find(scene.params_given.begin(), scene.params_given.end(), name) !=
            scene.params_given.end();
   };
-  if (given("integration") && scene.params.integration != Integration::kImplicit) {
-    throw_input_error(scene.file, "params", "integration",
+  if (given("scheme") && scene.params.scheme != Scheme::kImplicit) {
+    throw_input_error(scene.file, "params", "scheme",
                       std::string("the solve mode is the implicit step, and the scene gives ") +
-                          to_string(scene.params.integration) +
+                          to_string(scene.params.scheme) +
                           " (its own engine solves with --solver physik-explicit)");
   }
   const TorsionTorque torque = scene.params.torsion_torque;
   use_solve_mode(scene.params);
   if (given("torsion_torque")) scene.params.torsion_torque = torque;
+}
+
+double StepLength::next(double h, bool split, double ke, double previous_ke) const {
+  const double longest = std::max(max_dt, dt);
+  if (split) return std::max(h / growth, dt);
+  if (ke <= previous_ke) return std::min(h * growth, longest);
+  return h;
 }
 
 SolveRule solve_mode_rule() {
@@ -101,33 +107,14 @@ void PosingSession::set_pose(const Pose& pose) {
                                                    "': its rotation is not a finite unit quaternion");
     }
   }
-  put_pose(pose);
+  physik::set_pose(scene_, state_, pose);
   // each pull starts again from the point on the new pose, as init_state starts a scene
   for (int c = 0; c < num_control_points(); ++c) {
     start_pull_from_attachment(scene_, state_, c, state_.target_goal_world[c]);
   }
 }
 
-void PosingSession::put_pose(const Pose& pose) {
-  forward_kinematics(scene_.rig, pose, state_.frames);
-  for (int i = 0; i < scene_.rig.nbone; ++i) {
-    state_.com_world[i] = 0.5 * (state_.frames.head_world[i] + state_.frames.tail_world[i]);
-    state_.vel_world[i].setZero();
-    state_.omega_world[i].setZero();
-  }
-  state_.pose = pose;
-  // the exact and implicit steps integrate the joint-space state: take it from the new world view
-  if (scene_.params.articulated_solve()) init_joint_space(scene_.rig, state_);
-}
-
-double PosingSession::residual() const {
-  double r = 0.0;
-  for (std::size_t c = 0; c < goals_.size(); ++c) {
-    const ControlPoint& cp = scene_.control_points[c];
-    r = std::max(r, (point_on_bone(state_.frames, cp.bone, cp.alpha) - state_.target_goal_world[c]).norm());
-  }
-  return r;
-}
+double PosingSession::residual() const { return max_control_residual(scene_, state_); }
 
 namespace {
 
@@ -153,9 +140,9 @@ SolveResult PosingSession::solve(const SolveRule& rule) {
   if (goals_.empty()) throw_input_error(scene_.file, "control_points", "", "a solve needs a control point");
   check_rule(rule);
   const bool grow = rule.dt_growth > 1.0;
-  if (grow && scene_.params.integration != Integration::kImplicit) {
-    throw_input_error(scene_.file, "params", "integration",
-                      "a lengthening step (dt_growth > 1) needs integration implicit");
+  if (grow && scene_.params.scheme != Scheme::kImplicit) {
+    throw_input_error(scene_.file, "params", "scheme",
+                      "a lengthening step (dt_growth > 1) needs scheme implicit");
   }
   SolveResult out;
   // where the solve starts, for a divergence to return to (same sizes: no allocation)
@@ -176,24 +163,20 @@ SolveResult PosingSession::solve(const SolveRule& rule) {
   monitor_.restart(scene_, state_, rules);  // energy ledger from the state as it is now
   // the step h: the scene's dt at first; longer by dt_growth after a step whose kinetic energy
   // fell, shorter by it (not below dt) after one the energy guard had to split
-  const double dt0 = scene_.params.dt, longest = std::max(rule.max_dt, dt0);
-  double h = dt0, previous_ke = kinetic_energy(scene_.rig, state_);
+  const StepLength length{scene_.params.dt, rule.max_dt, rule.dt_growth};
+  double h = scene_.params.dt, previous_ke = kinetic_energy(scene_.rig, state_);
   bool stop = false;
   while (!stop && out.steps < rule.max_steps) {
     const StepStats st = grow ? step(scene_, state_, h) : step(scene_, state_);
     ++out.steps;
     out.final_dt = h;
     stop = monitor_.observe(observe_step(scene_, state_, st));
-    if (grow && st.passes > 1) {
-      h = std::max(h / rule.dt_growth, dt0);
-    } else if (grow && st.kinetic_energy <= previous_ke) {
-      h = std::min(h * rule.dt_growth, longest);
-    }
+    if (grow) h = length.next(h, st.substeps > 1, st.kinetic_energy, previous_ke);
     previous_ke = st.kinetic_energy;
   }
   out.diverged = monitor_.diverged();
   if (out.diverged) {
-    put_pose(start_pose_);
+    physik::set_pose(scene_, state_, start_pose_);
     state_.step = start_step_;
     state_.target_goal_world = start_goal_world_;
     state_.target_effective_world = start_effective_world_;
@@ -228,7 +211,7 @@ bool PosingSession::finish_with(const SolveRule& rule, double tolerance, SolveRe
                                 scene_.rig, goals_, pose, opt);
   out.finish_iterations = rep.iterations;
   if (rep.residual > out.residual) return false;  // never hand back a worse pose
-  put_pose(pose);  // the targets stay met: their pulls are not restarted
+  physik::set_pose(scene_, state_, pose);  // the targets stay met: their pulls are not restarted
   out.residual = residual();
   out.converged = out.residual < tolerance;
   return true;

@@ -83,7 +83,17 @@ struct SolveResult {
   double tolerance = 0.0;    // rig units, the one used
 };
 
-// The engine settings of the solve mode: integration implicit, and the potential's own torsion
+// The solve mode's step length, a trust region as Levenberg-Marquardt's damping: after a step
+// that the energy guard split, shorter by `growth` (not below dt); after one whose kinetic energy
+// did not grow, longer by it (up to max_dt, or dt if that is longer); else the same. s.
+struct StepLength {
+  double dt = 0.0;      // s, the scene's step: the shortest
+  double max_dt = 0.0;  // s, the longest
+  double growth = 1.0;  // 1, per step
+  double next(double h, bool split, double ke, double previous_ke) const;
+};
+
+// The engine settings of the solve mode: scheme implicit, and the potential's own torsion
 // torque (torsion_torque gradient), so that a solved pose with loaded torsion springs is a
 // minimum of the potential `physik equilibrium` minimises (the paper's per-axis torque is not
 // its gradient at large bends; with its tangent in the step it solves as fast:
@@ -141,8 +151,6 @@ class PosingSession {
 
  private:
   bool finish_with(const SolveRule& rule, double tolerance, SolveResult& out);
-  // the pose into the frames and the joint-space state, at rest; the targets untouched
-  void put_pose(const Pose& pose);
 
   Scene scene_;
   SimState state_;

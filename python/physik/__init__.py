@@ -180,7 +180,7 @@ class PosingSession(_core.PosingSession):
 
     def __init__(self, scene, solve_mode=False):
         """Hold `scene` (a physik.Scene, copied) open in its initial pose; solve_mode=True gives
-        it the solve mode's engine settings (integration implicit, torsion_torque gradient)."""
+        it the solve mode's engine settings (scheme implicit, torsion_torque gradient)."""
         if isinstance(scene, dict):
             raise TypeError("PosingSession(scene) takes a physik.Scene; use Scene.from_dict(d) "
                             "for a dict")

@@ -142,7 +142,7 @@ def test_every_table_row_reaches_update_and_load():
     path = scene_path("fig9_outstretched")
     rows = physik.param_table()["params"]
     base = physik.Scene.load(path).params
-    # a row the scene writer leaves out at its default (joint_solve) is absent until set
+    # a row the scene writer leaves out at its default (free_rods) is absent until set
     assert {"preset"} <= set(base) <= {"preset"} | {r["name"] for r in rows}
     for row in rows:
         name = row["name"]

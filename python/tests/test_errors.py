@@ -43,7 +43,7 @@ BAD_SCENES = [
     ("string_target", scene_text(control_points=[{"bone": "forearm", "target": [0, "x", 1]}])),
     ("negative_dt", scene_text(params={"dt": -1})),
     ("unknown_param", scene_text(params={"dampin": 3})),
-    ("unknown_value", scene_text(params={"integration": "rk4"})),
+    ("unknown_value", scene_text(params={"scheme": "rk4"})),
     ("missing_rig", json.dumps({"rig": "nowhere.json"})),
     ("alpha", scene_text(control_points=[{"bone": "forearm", "alpha": 2, "target": [0, 0, 1]}])),
     ("schedule_step", scene_text(steps=10, schedule=[{"step": 10, "control_point": 0, "target": [0, 0, 1]}])),

@@ -182,7 +182,7 @@ def test_bad_input_is_input_error():
         "SolveRule: field 'tolerance': must be finite and >= 0"
     assert raises_input_error(s.solve, stall_steps=0) == \
         "SolveRule: field 'stall_steps': must be at least 1"
-    assert "needs integration implicit" in raises_input_error(s.solve, dt_growth=2)
+    assert "needs scheme implicit" in raises_input_error(s.solve, dt_growth=2)
     assert raises_input_error(s.solve, finish="newton") == \
         "solve: field 'finish': unknown finish 'newton' (expected none|ccd|dls)"
     assert "unknown field" in raises_input_error(s.solve, finish="dls", finish_options={"lamda": 1})

@@ -252,7 +252,7 @@ Scene direct_scene(const std::string& model, int points, bool implicit_gradient)
   sc.rig = load_mjcf(model).rig();
   sc.params = preset_params("original");
   if (implicit_gradient) {
-    sc.params.integration = Integration::kImplicit;
+    sc.params.scheme = Scheme::kImplicit;
     sc.params.damping_auto = true;
     sc.params.torsion_torque = TorsionTorque::kGradient;
   }

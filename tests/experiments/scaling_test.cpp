@@ -39,18 +39,18 @@ TEST(Scaling, OnAMovingStateTightGaussSeidelForcesEqualTheExactOnes) {
   for (const char* kind : {"chain", "tree2"}) {
     SCOPED_TRACE(kind);
     const int n = 40;
-    const Scene exact = scaling_scene(kind, n, JointSolve::kExact);
+    const Scene exact = scaling_scene(kind, n, Scheme::kExact);
     const SimState s = moving_state(exact, 8);
     double fastest = 0.0;
     for (const Vec3& w : s.omega_world) fastest = std::max(fastest, w.norm());
     EXPECT_GT(fastest, 1e-2);  // velocity terms matter here
     const std::vector<Vec3> ref = joint_forces_at(exact, s);
-    const std::vector<Vec3> tight = joint_forces_at(scaling_scene(kind, n, JointSolve::kGaussSeidel, 1e-11), s);
-    const std::vector<Vec3> paper = joint_forces_at(scaling_scene(kind, n, JointSolve::kGaussSeidel, 1e-3), s);
+    const std::vector<Vec3> tight = joint_forces_at(scaling_scene(kind, n, Scheme::kGaussSeidel, 1e-11), s);
+    const std::vector<Vec3> paper = joint_forces_at(scaling_scene(kind, n, Scheme::kGaussSeidel, 1e-3), s);
     EXPECT_LT(relative_error(tight, ref), 1e-8);
     EXPECT_GT(relative_error(paper, ref), 10.0 * relative_error(tight, ref));
     // without the shared velocity terms the solves differ: the comparison needs them
-    Scene no_centripetal = scaling_scene(kind, n, JointSolve::kGaussSeidel, 1e-11);
+    Scene no_centripetal = scaling_scene(kind, n, Scheme::kGaussSeidel, 1e-11);
     SimState t = s;
     apply_forces(no_centripetal, t);
     solve_joint_forces(no_centripetal.rig, no_centripetal.params, t);
@@ -59,7 +59,7 @@ TEST(Scaling, OnAMovingStateTightGaussSeidelForcesEqualTheExactOnes) {
 }
 
 TEST(Scaling, MjStepReplayFollowsTheExactSolveAndRepeatsItself) {
-  const Scene scene = scaling_scene("tree2", 25, JointSolve::kExact);
+  const Scene scene = scaling_scene("tree2", 25, Scheme::kExact);
   const int steps = 6;
   MjStepReplay r = record_mj_step_replay(scene, steps);
   ASSERT_EQ(r.xfrc.size(), static_cast<std::size_t>(steps));

@@ -1,4 +1,4 @@
-// The exact joint solve (joint_solve exact: the articulated-body algorithm and MuJoCo's Euler in
+// The exact joint solve (scheme exact: the articulated-body algorithm and MuJoCo's Euler in
 // joint space, physik/engine/integrate_joint_space.h) against MuJoCo's same-forces run (ball
 // joints, PhysIK's forces, reference/mujoco_runner.h): on every scene in models/scenes where both
 // are stable, the largest head/tail gap over all bones and 400 steps is at most 1e-9 rig units.
@@ -32,7 +32,7 @@ bool sane(const Scene& scene, const StepStats& st) {
 }
 
 Gap exact_vs_mujoco(Scene scene) {
-  scene.params.joint_solve = JointSolve::kExact;
+  scene.params.scheme = Scheme::kExact;
   SimState p;
   init_state(scene, p);
   const std::vector<Vec3> tail0 = p.frames.tail_world;

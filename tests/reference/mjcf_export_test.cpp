@@ -203,7 +203,7 @@ TEST(MjcfExport, FiveHundredBoneChainCompilesAndRunsAsTheExactSolve) {
   const int n = 500;
   const Rig chain = make_chain_rig(n, 0.5, 0.2);
   Scene scene = test::scene_for(chain, preset_params("original"), 3);
-  scene.params.joint_solve = JointSolve::kExact;
+  scene.params.scheme = Scheme::kExact;
   scene.control_points.push_back(test::control(n - 1, 1.0, Vec3(5.0, 0.0, 0.5 * n), 10.0));
   SimState p;
   init_state(scene, p);

@@ -28,7 +28,7 @@ namespace {
 
 Scene implicit_scene(const Rig& rig) {
   Scene s = test::scene_for(rig, preset_params("original"), 20);
-  s.params.integration = Integration::kImplicit;
+  s.params.scheme = Scheme::kImplicit;
   s.params.interpolation = Interpolation::kNone;
   return s;
 }

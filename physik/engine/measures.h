@@ -1,0 +1,47 @@
+// Measures of a state, each written once: the step's stats, the run monitor, the posing session,
+// the recorder and the experiments call these (as MuJoCo keeps mj_energyPos / mj_energyVel apart
+// from mj_step).
+//
+//   kinetic energy      KE = sum_b 1/2 m_b |v_b|^2 + 1/2 w_b^T I_b w_b        (J; v at the centre
+//                       of mass, I_b the world inertia about it)
+//   control residual    r_c = |a_c - g_c|: control point c's attachment a_c (a point on its bone,
+//                       world) to its goal target g_c (not the interpolated one), rig units
+//   joint separation    max over joints of |head_child - (head_parent + R_parent h_child)|: how far
+//                       a child's head is from its joint on the parent, rig units (0 unless the
+//                       scheme integrates free rods)
+//   centre of mass      a bone's is its midpoint (a uniform rod), world, rig units
+//   state hash          FNV-1a over the bit patterns of every head, tail and orientation
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "physik/engine/run_summary.h"
+#include "physik/engine/state.h"
+#include "physik/model/scene.h"
+
+namespace physik {
+
+double kinetic_energy(const Rig& rig, const SimState& state);
+double max_joint_separation(const Rig& rig, const BoneFrames& frames);
+
+// r_c of one control point, against the state's goal target.
+double control_residual(const Scene& scene, const SimState& state, int c);
+// r_c of every control point (out sized to the scene's; no allocation once it is).
+void control_residuals(const Scene& scene, const SimState& state, std::vector<double>& out);
+// max_c r_c; 0 without control points; NaN when any residual is NaN.
+double max_control_residual(const Scene& scene, const SimState& state);
+
+// A bone's centre of mass: its midpoint.
+inline Vec3 bone_centre_world(const BoneFrames& frames, int bone) {
+  return 0.5 * (frames.head_world[bone] + frames.tail_world[bone]);
+}
+
+// The stats of a state no step has produced yet (the initial one): its kinetic energy, residuals
+// and joint separation; no passes, no mismatch.
+StepStats initial_stats(const Scene& scene, const SimState& state);
+
+// Equal hashes mean bit-identical frames (determinism made visible, as Jolt prints a state hash).
+std::uint64_t state_hash(const BoneFrames& frames);
+
+}  // namespace physik
