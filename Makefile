@@ -2,8 +2,8 @@
 #   make test        install what is missing, build, run every test
 #   make reproduce   install what is missing, build, run the experiments, figures and report
 # and one more, which CI runs after make test (.ci/run):
-#   make sanitize    the same tests on an AddressSanitizer + UndefinedBehaviorSanitizer build
-#                    (build-sanitize/), the fuzzer included with fewer cases (~20 min on 2 cores)
+#   make sanitize    the core, CLI and fuzzer tests on an AddressSanitizer +
+#                    UndefinedBehaviorSanitizer build (build-sanitize/), the fuzzer with fewer cases
 BUILD ?= build
 JOBS ?= 2
 PYTHON ?= /usr/bin/python3
@@ -39,11 +39,13 @@ reproduce: build-cli
 	@PHYSIK=$(BUILD)/physik PYTHON=$(PYTHON) bash scripts/reproduce.sh
 
 bench: build
+	@cmake --build $(BUILD) -j $(JOBS) --target physik_bench
 	@$(BUILD)/physik_bench
 	@PYTHONPATH=$(BUILD)/python $(PYTHON) bench/bench_python.py --binary $(BUILD)/physik
 
 sanitize: deps
 	@cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPHYSIK_SANITIZE=ON \
+		-DPHYSIK_CORE_SUITE_ONLY=ON \
 		-DPHYSIK_FUZZ_CASES=$(SANITIZE_FUZZ_CASES) -DPython3_EXECUTABLE=$(PYTHON) > /dev/null
 	@cmake --build $(SANITIZE_BUILD) -j $(JOBS)
 	@cd $(SANITIZE_BUILD) && $(SANITIZE_ENV) ctest --output-on-failure -j $(JOBS)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Draw the IK comparison (issue 7) from results/ik_comparison/summary.json: success rate, time
+"""Draw the IK comparison from results/ik_comparison/summary.json: success rate, time
 per solve and continuity per rig and solver, and write the table as ik_comparison_table.md."""
 import argparse
 import json

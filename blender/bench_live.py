@@ -1,4 +1,4 @@
-"""Live-simulation speed in Blender (issue 17, live speed; a benchmark, never a test).
+"""Live-simulation speed in Blender (a benchmark, never a test).
 
 Pinhead with Fig 9's control points (models/scenes/fig9_outstretched.json: its params), from
 rest, at each --steps (default 1 and 10 steps per frame). Two measures:

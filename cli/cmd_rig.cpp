@@ -83,13 +83,8 @@ void print_rig_info(const Rig& rig, const std::string& path) {
   }
 }
 
-}  // namespace
-
-void add_rig_commands(CLI::App& app) {
-  CLI::App* rig = app.add_subcommand("rig", "Inspect and generate rigs");
-  rig->require_subcommand(1);
-
-  // options live as long as the app: each command owns its options through a shared_ptr
+// options live as long as the app: each command owns its options through a shared_ptr
+void add_info(CLI::App* rig) {
   struct InfoOptions {
     std::string path;
     bool json = false;
@@ -106,7 +101,9 @@ void add_rig_commands(CLI::App& app) {
       print_rig_info(rig, info_opt->path);
     }
   });
+}
 
+void add_chain(CLI::App* rig) {
   struct ChainOptions {
     int n = 3;
     double bone_length = 1.0;  // rig units
@@ -125,7 +122,9 @@ void add_rig_commands(CLI::App& app) {
     write_json(rig_to_json(make_chain_rig(chain_opt->n, chain_opt->bone_length, chain_opt->radius)),
                chain_opt->out);
   });
+}
 
+void add_tree(CLI::App* rig) {
   struct TreeOptions {
     int n = 7;
     int branching = 2;
@@ -151,6 +150,16 @@ void add_rig_commands(CLI::App& app) {
                                          tree_opt->radius)),
                tree_opt->out);
   });
+}
+
+}  // namespace
+
+void add_rig_commands(CLI::App& app) {
+  CLI::App* rig = app.add_subcommand("rig", "Inspect and generate rigs");
+  rig->require_subcommand(1);
+  add_info(rig);
+  add_chain(rig);
+  add_tree(rig);
 }
 
 }  // namespace physik::cli

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <memory>
 
 #include "cli/commands.h"
@@ -12,7 +13,8 @@
 #include "physik/io/output_files.h"
 #include "physik/io/pose_io.h"
 #include "physik/io/scene_io.h"
-#include "physik/io/scene_solve.h"
+#include "physik/io/summary_io.h"
+#include "physik/posing/scene_solve.h"
 #include "physik/model/errors.h"
 #include "physik/model/scene.h"
 
@@ -25,36 +27,88 @@ struct SolveOptions {
   std::vector<std::string> set;  // param overrides key=value
   std::string out = "out";
   bool quiet = false;
-  SceneSolveOptions solve;  // the solver and its settings (physik/io/scene_solve.h)
+  // the solve options' flags as given (their table, physik/posing/solve_options.h), by name
+  std::map<std::string, std::string> texts;
+  std::map<std::string, std::vector<std::string>> vectors;  // three-number options
+  std::map<std::string, bool> flags;                         // boolean options
 };
 
 // final_pose.csv and summary.json, both written (and closed) before a divergence is reported
-void write_solution(const Scene& scene, const SceneSolveResult& r, const std::string& out) {
+void write_solution(const Scene& scene, const SceneSolveResult& r, const nlohmann::json& summary,
+                    const std::string& out) {
   {
     std::ofstream csv = open_output_file(out + "/final_pose.csv", "--out");
     write_bones_csv(scene.rig, r.frames, csv);
   }
-  write_json(r.summary, out + "/summary.json");
+  write_json(summary, out + "/summary.json");
 }
 
-void run_solve(const SolveOptions& o) {
-  check_solve_options(o.solve);  // before the scene: a bad flag is reported first
-  const Scene scene = load_scene(o.scene, parse_param_overrides(o.set, "--set"));
+// the scene's "solve" object, then the flags given on top
+SceneSolveOptions solve_options(const SolveOptions& o, const CLI::App& cmd) {
+  SceneSolveOptions out = load_solve_options(o.scene);
+  for (const SolveOptionRow& row : solve_option_table()) {
+    const std::string flag = option_label(row.name, OptionSpelling::kFlag);
+    if (cmd.count(flag) == 0) continue;
+    SolveOptionValue v;
+    if (row.kind == SolveOptionKind::kBoolean) {
+      v.number = o.flags.at(row.name) ? 1.0 : 0.0;
+    } else if (row.kind == SolveOptionKind::kVec3) {
+      std::string joined;
+      for (const std::string& t : o.vectors.at(row.name)) joined += t + " ";
+      v = parse_solve_option(row, joined, OptionSpelling::kFlag);
+    } else {
+      v = parse_solve_option(row, o.texts.at(row.name), OptionSpelling::kFlag);
+    }
+    set_solve_option(out, row, v, OptionSpelling::kFlag);
+  }
+  return out;
+}
+
+void run_solve(const SolveOptions& o, const CLI::App& cmd) {
+  const ParamOverrides overrides = parse_param_overrides(o.set, "--set");
+  if (!std::filesystem::exists(o.scene)) throw_input_error(o.scene, "", "", "scene file does not exist");
+  const SceneSolveOptions options = solve_options(o, cmd);
+  check_solve_options(options);  // before the scene: a bad flag is reported first
+  const Scene scene = load_scene(o.scene, overrides);
   create_output_dir(o.out, "--out");
-  const SceneSolveResult r = solve_scene(scene, o.solve);
+  const SceneSolveResult r = solve_scene(scene, options);
+  const nlohmann::json summary = solve_summary_to_json(r);
   if (!r.warning.empty()) std::cerr << "physik: warning: " << scene.file << ": " << r.warning << "\n";
-  write_solution(scene, r, o.out);
+  write_solution(scene, r, summary, o.out);
   if (!o.quiet) {
-    std::cerr << "solve: " << o.solve.solver << " "
-              << (r.summary["converged"].get<bool>() ? "converged" : "not converged") << " after "
-              << r.summary["iterations"] << " iterations -> " << o.out << "\n";
+    std::cerr << "solve: " << options.solver << " "
+              << (summary["converged"].get<bool>() ? "converged" : "not converged") << " after "
+              << summary["iterations"] << " iterations -> " << o.out << "\n";
   }
   if (r.diverged) {
-    const std::string reason = r.summary.value("divergence_reason", std::string());
-    Scene engine = scene;  // the hint is for the engine the solver ran
-    if (o.solve.solver == "physik") use_solve_mode(engine);
-    std::cerr << "physik: diverged: " << reason << "; " << divergence_hint(engine) << "\n";
+    const std::string reason = summary.value("divergence_reason", std::string());
+    std::cerr << "physik: diverged: " << reason << "; " << divergence_hint(r.scene) << "\n";
     throw DivergedRun(reason);
+  }
+}
+
+// one CLI option per row of the solve options' table
+void add_solve_options(CLI::App* cmd, SolveOptions& o) {
+  for (const SolveOptionRow& row : solve_option_table()) {
+    const std::string flag = option_label(row.name, OptionSpelling::kFlag);
+    std::string help = row.doc;
+    if (!row.unit.empty() && row.unit != "1") help += " (" + row.unit + ")";
+    if (row.kind == SolveOptionKind::kBoolean) {
+      cmd->add_flag(flag, o.flags[row.name], help);
+      continue;
+    }
+    if (row.kind == SolveOptionKind::kChoice) {
+      std::string all;
+      for (const std::string& c : row.choices) all += (all.empty() ? "" : "|") + c;
+      help += ": " + all;
+    }
+    const std::string def = solve_option_default_text(row);
+    if (!def.empty()) help += " [default: " + def + "]";
+    if (row.kind == SolveOptionKind::kVec3) {
+      cmd->add_option(flag, o.vectors[row.name], help)->expected(3);
+    } else {
+      cmd->add_option(flag, o.texts[row.name], help);
+    }
   }
 }
 
@@ -66,40 +120,16 @@ void add_solve_commands(CLI::App& app) {
       "solve",
       "Solve a scene's control points (at their final targets) as IK goals with a classic solver "
       "or the PhysIK engine (physik: the implicit step, lengthening from the scene's dt into a "
-      "quasi-static solve; physik-explicit: the scene's engine at its dt, the paper's scheme by "
-      "default): writes <out>/final_pose.csv and <out>/summary.json.");
+      "quasi-static solve; physik-explicit: the scene's own engine at its dt): writes "
+      "<out>/final_pose.csv and <out>/summary.json. The scene's \"solve\" object gives options "
+      "the flags do not.");
   cmd->add_option("SCENE", opt->scene, "Scene file (JSON, see models/README.md)")->required();
-  cmd->add_option("--solver", opt->solve.solver, kSceneSolvers)->required();
+  add_solve_options(cmd, *opt);
   cmd->add_option("--out", opt->out, "Output folder")->capture_default_str();
-  cmd->add_option("--tol", opt->solve.tol, "Residual tolerance in rig units (default 1e-4 of the reach)");
-  cmd->add_option("--max-iterations", opt->solve.max_iterations, "Iteration cap of the classic solvers")
-      ->capture_default_str();
-  cmd->add_option("--lambda", opt->solve.lambda, "DLS damping in rig units (default 0.02 of the reach)");
-  cmd->add_option("--jacobian", opt->solve.jacobian, "jt/dls Jacobian: analytic | fd")->capture_default_str();
-  cmd->add_option("--gravity", opt->solve.gravity, "mass-spring gravity, three numbers (rig units/s^2)")
-      ->expected(3);
-  cmd->add_option("--rotation-damping", opt->solve.rotation_damping,
-                  "rotation method: damping factor per joint up the hierarchy, in [0, 1]")
-      ->capture_default_str();
-  cmd->add_option("--socket", opt->solve.socket, "rotation method sockets: twist-bend | virtual-bone")
-      ->capture_default_str();
-  cmd->add_option("--cone", opt->solve.cone, "rotation method cone limits: none | circular | elliptical")
-      ->capture_default_str();
-  cmd->add_flag("--no-limits", opt->solve.no_limits, "classic solvers ignore the rig's joint limits");
-  cmd->add_option("--dt-growth", opt->solve.dt_growth,
-                  "physik: the implicit step lengthens by this factor every step the kinetic energy "
-                  "falls (1 = the scene's dt throughout)")
-      ->capture_default_str();
-  cmd->add_option("--max-dt", opt->solve.max_dt, "physik: the longest step, s")
-      ->capture_default_str();
-  cmd->add_option("--finish", opt->solve.finish,
-                  "physik, physik-explicit: when the residual stops improving, finish with ccd or dls "
-                  "(the paper's hybrid) | none")
-      ->capture_default_str();
   cmd->add_option("--set", opt->set,
                   "Override a scene parameter, as simulate's --set (the engine's solvers use it)");
   cmd->add_flag("--quiet", opt->quiet, "No progress output");
-  cmd->callback([opt] { run_solve(*opt); });
+  cmd->callback([opt, cmd] { run_solve(*opt, *cmd); });
 }
 
 }  // namespace physik::cli

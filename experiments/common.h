@@ -14,7 +14,7 @@
 #include "physik/engine/engine.h"
 #include "physik/io/json_fields.h"
 #include "physik/io/recorder.h"
-#include "physik/io/scaled_scene.h"
+#include "physik/model/scaled_scene.h"
 
 namespace physik::experiments {
 

@@ -1,4 +1,4 @@
-// Linearisation study (issue 15's chain50 finding; DESIGN.md "Implicit step"): the solve mode's
+// Linearisation study (issue 15's chain50 finding; DESIGN.md "Beyond the paper"): the solve mode's
 // rule on the ik_comparison scenes (the effector's target jumped to a random reachable point,
 // the root's head pinned), with the shipped O(n) implicit step or a dense Newton step of
 // backward Euler (linearisation.h, which gives the equations and the variants).

@@ -134,42 +134,6 @@ VecX shipped_with_dcdv(const Scene& scene, const SimState& s, double h) {
   return S.partialPivLu().solve(solve_with_force(scene, s, -1, true, h));
 }
 
-double largest_rotation(const SimState& s, double h) {  // as implicit_advance.cpp's guard
-  double w = 0.0;
-  for (const Vec3& u : s.joint_vel_local) w = std::max(w, u.squaredNorm());
-  return h * std::sqrt(w);
-}
-
-double max_residual(const Scene& scene, const SimState& s) {
-  double r = 0.0;
-  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
-    const ControlPoint& cp = scene.control_points[c];
-    const double d = (point_on_bone(s.frames, cp.bone, cp.alpha) - s.target_goal_world[c]).norm();
-    if (!(d <= r)) r = d;  // NaN stays
-  }
-  return r;
-}
-
-// the guard of implicit_advance.cpp around bare_step; returns the accepted substeps (the engine's
-// sweeps), and counts every bare step taken, rejected ones included, in `taken`
-int guarded(const Scene& scene, SimState& s, double h, int depth, double floor, Variant v, int& taken) {
-  ++taken;
-  if (depth >= scene.params.implicit_max_splits) {
-    bare_step(scene, s, h, v);
-    return 1;
-  }
-  const SimState start = s;
-  const double e0 = mechanical_energy(scene, s);
-  bare_step(scene, s, h, v);
-  if (largest_rotation(s, h) <= kMaxStepRotation &&
-      mechanical_energy(scene, s) <= e0 + kEnergyGrowthTolerance * (std::max(e0, 0.0) + floor)) {
-    return 1;
-  }
-  s = start;
-  const int first = guarded(scene, s, 0.5 * h, depth + 1, floor, v, taken);
-  return first + guarded(scene, s, 0.5 * h, depth + 1, floor, v, taken);
-}
-
 }  // namespace
 
 MatX unit_force_response(const Scene& scene, const SimState& s, bool implicit, double h) {
@@ -274,19 +238,30 @@ void derivatives(const Scene& scene, const SimState& state, Variant variant, Mat
   if (variant == Variant::kPoseInertia) A_q += pose_derivative(at_rest, accel) - pose_forces;
 }
 
-void bare_step(const Scene& scene, SimState& s, double h, Variant variant) {
-  if (variant == Variant::kShipped) {
-    Scene bare = scene;
-    bare.params.implicit_max_splits = 0;
-    step(bare, s, h);
+namespace {
+
+// what the engine's energy guard passes through to the bare step: the variant, and a count of
+// every bare step taken, rejected ones included
+struct BareContext {
+  Variant variant;
+  int* taken;
+};
+
+// one bare step of the variant, in the shape of the engine's (implicit_advance.h BareStep), so
+// that the shipped guard holds it
+void variant_step(const Scene& scene, SimState& s, double h, const void* context) {
+  const BareContext& c = *static_cast<const BareContext*>(context);
+  ++*c.taken;
+  if (c.variant == Variant::kShipped) {
+    take_implicit_step(scene, s, h, nullptr);
     return;
   }
   VecX next;
-  if (variant == Variant::kShippedDcdv) {
+  if (c.variant == Variant::kShippedDcdv) {
     next = shipped_with_dcdv(scene, s, h);
   } else {
     MatX A_q, A_v;
-    derivatives(scene, s, variant, A_q, A_v, h);
+    derivatives(scene, s, c.variant, A_q, A_v, h);
     const int n = nv(s);
     const VecX a = exact_accelerations(scene, s), v = joint_velocity(s);
     const MatX S = MatX::Identity(n, n) - h * A_v - h * h * A_q;
@@ -295,6 +270,14 @@ void bare_step(const Scene& scene, SimState& s, double h, Variant variant) {
   s.articulated.root_accel_world = next.head<3>();
   for (int i = 0; i < scene.rig.nbone; ++i) s.articulated.joint_accel_local[i] = next.segment<3>(3 + 3 * i);
   integrate_joint_space(scene.rig, h, s);
+}
+
+}  // namespace
+
+void bare_step(const Scene& scene, SimState& s, double h, Variant v) {
+  int taken = 0;
+  const BareContext context{v, &taken};
+  variant_step(scene, s, h, &context);
   s.step += 1;
   s.time += h;
 }
@@ -304,15 +287,17 @@ SolveCount solve(const Scene& scene, SimState& s, double tolerance, int max_step
     throw std::invalid_argument(scene.file + ": the linearisation study needs targets that hold still "
                                 "(no schedule, interpolation none, no damping auto)");
   }
-  const double v = scene.speed_tol();
-  const double floor = 0.5 * scene.rig.total_mass() * v * v;  // J, as advance_implicit's
-  const double dt = scene.params.dt;
-  double h = dt, previous_ke = kinetic_energy(scene.rig, s);
+  // the solve mode's step-length rule, around the engine's energy guard (posing_session.h)
+  const StepLength length{scene.params.dt, kSolveMaxDt, kSolveDtGrowth};
+  double h = scene.params.dt, previous_ke = kinetic_energy(scene.rig, s);
   SolveCount out;
+  const BareContext context{variant, &out.substeps};
   while (out.steps < max_steps) {
-    const int sweeps = guarded(scene, s, h, 0, floor, variant, out.substeps);
+    const int substeps = advance_implicit(scene, s, h, variant_step, &context);
+    s.step += 1;
+    s.time += h;
     ++out.steps;
-    out.residual = max_residual(scene, s);
+    out.residual = max_control_residual(scene, s);
     if (!state_finite(s)) {
       out.diverged = true;
       break;
@@ -322,11 +307,7 @@ SolveCount solve(const Scene& scene, SimState& s, double tolerance, int max_step
       break;
     }
     const double ke = kinetic_energy(scene.rig, s);
-    if (sweeps > 1) {
-      h = std::max(h / kSolveDtGrowth, dt);
-    } else if (ke <= previous_ke) {
-      h = std::min(h * kSolveDtGrowth, kSolveMaxDt);
-    }
+    h = length.next(h, substeps > 1, ke, previous_ke);
     previous_ke = ke;
   }
   return out;

@@ -1,4 +1,4 @@
-// Shared pieces of the Python bindings (issue 16): JSON <-> Python conversion, read-only numpy
+// Shared pieces of the Python bindings: JSON <-> Python conversion, read-only numpy
 // views, and the registration functions of each area (one binding file per area).
 #pragma once
 

@@ -2,6 +2,8 @@
 // back. Parameters pass through as dicts in the scene file's format (models/README.md), read and
 // written by the parameter table (physik/model/params.h), so a new parameter needs no new binding.
 #include <algorithm>
+#include <cmath>
+#include <optional>
 
 #include <pybind11/stl.h>
 
@@ -10,6 +12,7 @@
 #include "physik/io/scene_io.h"
 #include "physik/model/errors.h"
 #include "physik/model/rig_generators.h"
+#include "physik/model/scaled_scene.h"
 #include "python/bind_common.h"
 
 namespace physik::python {
@@ -143,32 +146,34 @@ file's format (models/README.md "Scenes"); Scene.update changes them with the fi
   bind_scene_views(cls);
 }
 
+// Scene.load: exactly `physik simulate PATH --set key=value... --steps N`: the same parsing,
+// checks and messages, with the keyword, "overrides", as their source
+Scene load_scene_from_python(const std::string& path, py::object overrides, int steps) {
+  std::vector<std::string> assignments;
+  if (py::isinstance<py::dict>(overrides)) {
+    for (const auto& kv : overrides.cast<py::dict>()) {
+      const nlohmann::json v = to_json(kv.second, "overrides");
+      // the value as --set's text: a string as it is, a number or a boolean as JSON writes it
+      // (shortest text that reads back to the same double)
+      assignments.push_back(py::str(kv.first).cast<std::string>() + "=" +
+                            (v.is_string() ? v.get<std::string>() : v.dump()));
+    }
+  } else if (!overrides.is_none()) {
+    assignments = overrides.cast<std::vector<std::string>>();
+  }
+  Scene s = load_scene(path, parse_param_overrides(assignments, "overrides"));
+  // as `simulate --steps N`: negative is bad input, 0 keeps the scene's
+  if (steps < 0) throw_input_error("steps", "", "", "must not be negative");
+  if (steps > 0) s.steps = steps;
+  return s;
+}
+
 // load, from_dict, to_dict, update: the scene file's format both ways
 void bind_scene_reading(py::class_<Scene>& cls) {
   cls
       .def_static(
           "load",
-          [](const std::string& path, py::object overrides, int steps) {
-            // exactly `--set key=value`: the same parsing, checks and messages, with the
-            // keyword, "overrides", as their source
-            std::vector<std::string> assignments;
-            if (py::isinstance<py::dict>(overrides)) {
-              for (const auto& kv : overrides.cast<py::dict>()) {
-                const nlohmann::json v = to_json(kv.second, "overrides");
-                // the value as --set's text: a string as it is, a number or a boolean as JSON
-                // writes it (shortest text that reads back to the same double)
-                assignments.push_back(py::str(kv.first).cast<std::string>() + "=" +
-                                      (v.is_string() ? v.get<std::string>() : v.dump()));
-              }
-            } else if (!overrides.is_none()) {
-              assignments = overrides.cast<std::vector<std::string>>();
-            }
-            Scene s = load_scene(path, parse_param_overrides(assignments, "overrides"));
-            // as `simulate --steps N`: negative is bad input, 0 keeps the scene's
-            if (steps < 0) throw_input_error("steps", "", "", "must not be negative");
-            if (steps > 0) s.steps = steps;
-            return s;
-          },
+          &load_scene_from_python,
           py::arg("path"), py::arg("overrides") = py::none(), py::arg("steps") = 0,
           R"doc(Load a scene file as `physik simulate PATH [--set k=v]... [--steps N]` does.
 
@@ -270,6 +275,24 @@ name, kind (real|integer|boolean|choice), unit, defaults {preset: value}, valid 
 when they apply choices, range {lo, lo_allowed, hi, hi_allowed}, zero_means, tune [lo, hi].
 Scene.load(overrides=...), Scene.update(params=...), tune(params=...) and sweep grids take these
 names.)doc");
+  m.def(
+      "scaled_scene",
+      [](const Scene& scene, double scale, std::optional<double> density, bool scale_torsion) {
+        if (!(scale > 0.0) || !std::isfinite(scale)) {
+          throw_input_error("scale", "", "", "must be a positive finite number");
+        }
+        if (density && (!(*density > 0.0) || !std::isfinite(*density))) {
+          throw_input_error("density", "", "", "must be a positive finite number (kg per rig unit)");
+        }
+        return scaled_scene(scene, scale, density, scale_torsion);
+      },
+      py::arg("scene"), py::arg("scale"), py::arg("density") = py::none(),
+      py::arg("scale_torsion") = false,
+      R"doc(The scene on its rig scaled by `scale` about the origin (physik/model/scaled_scene.h):
+positions, radii, targets, the control points' caps and the root's start times scale; every
+bone's mass density x length (kg per rig unit; None keeps the masses) and its inertia the
+cylinder's; torsion k times density x scale^3 with scale_torsion. The tuning study's 0.1x / 10x
+rigs.)doc");
 }
 
 }  // namespace physik::python

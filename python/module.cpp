@@ -1,4 +1,4 @@
-// physik._core: the compiled half of `import physik` (issue 16). Thin bindings of the public
+// physik._core: the compiled half of `import physik`. Thin bindings of the public
 // headers, one file per area; the pure-Python half (python/physik/) adds the exceptions, the
 // Pose wrapper, the keyword-friendly functions and the Dask sweeps.
 #include "physik/model/version.h"

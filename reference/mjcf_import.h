@@ -45,7 +45,7 @@
 #include <mujoco/mujoco.h>
 
 #include "physik/model/kinematics.h"
-#include "physik/io/pivot_rig.h"
+#include "physik/model/pivot_rig.h"
 #include "reference/mjcf_export.h"
 
 namespace physik {

@@ -378,7 +378,7 @@ TEST(BvhErrors, MissingFileIsAnInputError) {
   EXPECT_THROW(read_bvh_file("/nonexistent/x.bvh"), InputError);
 }
 
-// ---------------------------------------------------------------- robustness (issue 12)
+// ---------------------------------------------------------------- robustness
 
 // a chain nested `depth` joints deep (or `siblings` End-Site joints under the root), 1 frame
 std::string deep_bvh(int depth, int siblings = 0) {

@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "physik/engine/engine.h"
-#include "physik/io/scaled_scene.h"
+#include "physik/model/scaled_scene.h"
 #include "physik/io/scene_io.h"
 #include "physik/posing/posing_session.h"
 #include "tests/engine_test_util.h"

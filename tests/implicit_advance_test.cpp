@@ -12,7 +12,7 @@
 
 #include "physik/engine/engine.h"
 #include "physik/io/rig_io.h"
-#include "physik/io/scaled_scene.h"
+#include "physik/model/scaled_scene.h"
 #include "physik/io/scene_io.h"
 #include "physik/model/rig_generators.h"
 #include "physik/posing/posing_session.h"

@@ -220,34 +220,48 @@ TEST(ImplicitStep, TorsionStiffnessEqualsFiniteDifferences) {
 // Two poses: the elbow's (y and z locked and just engaged, so the torque almost vanishes), and
 // one off the hinge with only y locked (diag(k) and W do not commute there, so a block built
 // with J_l^-1 in place of J_l^-T fails it).
+struct BlockCase {
+  Scene sc;
+  SimState s;
+};
+
+// the elbow rig with its joint turned by theta (or off the hinge, z freed), tangents taken
+BlockCase block_case(bool elbow, TorsionTorque torque, const Vec3& theta) {
+  BlockCase c;
+  c.sc.file = "<elbow>";
+  c.sc.rig = load_rig(test::model_path("rigs/elbow.json"));
+  c.sc.params = preset_params("original");
+  c.sc.params.scheme = Scheme::kImplicit;
+  c.sc.params.torsion_torque = torque;
+  if (!elbow) c.sc.rig.bone_limit[1][2].limited = false;  // z free: only y locked
+  size_state(c.sc.rig, 0, c.s);
+  c.s.pose = rest_pose(c.sc.rig);
+  c.s.pose.bone_local_rotation[1] = quat_from_rotation_vector(theta);
+  forward_kinematics(c.sc.rig, c.s.pose, c.s.frames);
+  element_tangents(c.sc, c.s);
+  return c;
+}
+
+// the torsion torque in world axes after a further turn dphi of the joint (world axes)
+Vec3 turned_torque_world(const BlockCase& c, const Vec3& dphi_world) {
+  const Quat parent = c.s.frames.orient_world[0];
+  const Mat3 Rpr = (parent * c.sc.rig.bone_rest_orient_parent[1]).toRotationMatrix();
+  const Quat q = quat_from_rotation_vector(Rpr.transpose() * dphi_world) * c.s.pose.bone_local_rotation[1];
+  const Vec3 th = rotation_vector(q);
+  return Vec3(torsion_torque_frame(c.sc.rig, c.sc.params, parent, 1, th) *
+              torsion_torque_local(c.sc.rig.bone_limit[1], th, c.sc.params));
+}
+
 TEST(ImplicitStep, TorsionBlockIsTheTorquesTangent) {
   for (const bool elbow : {true, false}) {
     for (const TorsionTorque torque : {TorsionTorque::kAxes, TorsionTorque::kGradient}) {
-      Scene sc;
-      sc.file = "<elbow>";
-      sc.rig = load_rig(test::model_path("rigs/elbow.json"));
-      sc.params = preset_params("original");
-      sc.params.scheme = Scheme::kImplicit;
-      sc.params.torsion_torque = torque;
-      if (!elbow) sc.rig.bone_limit[1][2].limited = false;  // z free: only y locked
       const Vec3 theta = elbow ? Vec3(-0.25 * kPi, 1e-4, -2e-4) : Vec3(-0.6, 1e-4, 0.5);
-      SimState s;
-      size_state(sc.rig, 0, s);
-      s.pose = rest_pose(sc.rig);
-      s.pose.bone_local_rotation[1] = quat_from_rotation_vector(theta);
-      forward_kinematics(sc.rig, s.pose, s.frames);
-      element_tangents(sc, s);
+      BlockCase c = block_case(elbow, torque, theta);
+      const Scene& sc = c.sc;
+      SimState& s = c.s;
       const Mat3 block = torsion_block_world(sc.rig, s, 1);
       ASSERT_GT(block.norm(), 5.0) << "the locked axes engaged";
-
-      const Quat parent = s.frames.orient_world[0];
-      const Mat3 Rpr = (parent * sc.rig.bone_rest_orient_parent[1]).toRotationMatrix();
-      const auto torque_world = [&](const Vec3& dphi_world) {
-        const Quat q = quat_from_rotation_vector(Rpr.transpose() * dphi_world) * s.pose.bone_local_rotation[1];
-        const Vec3 th = rotation_vector(q);
-        return Vec3(torsion_torque_frame(sc.rig, sc.params, parent, 1, th) *
-                    torsion_torque_local(sc.rig.bone_limit[1], th, sc.params));
-      };
+      const auto torque_world = [&](const Vec3& dphi) { return turned_torque_world(c, dphi); };
       // the test's torque is the engine's
       for (Vec3& t : s.torque_world) t.setZero();
       apply_torsion_springs(sc.rig, sc.params, s);
@@ -348,16 +362,11 @@ Vec3 torsion_world(const Scene& sc, const SimState& s, int i, const Vec3& theta)
   return Rpr * torsion_torque_local(sc.rig.bone_limit[i], theta, sc.params);
 }
 
-// K and D of every element from finite differences of the force laws, assembled through the
-// dense Jacobians (Gauss-Newton: J^T (-dF/dx) J)
-void dense_K_D(const Case& cs, MatX& K, MatX& D) {
-  const Scene& sc = cs.scene;
-  const SimState& s = cs.s;
+// K of the control springs from finite differences of the force laws, through the dense
+// Jacobians (Gauss-Newton: J^T (-dF/dx) J)
+MatX dense_control_K(const Scene& sc, const SimState& s, double eps) {
   const Rig& rig = sc.rig;
-  const int nv = dense::nv(rig);
-  const double eps = 1e-6, h = sc.params.dt;
-  K.setZero(nv, nv);
-  D.setZero(nv, nv);
+  MatX K = MatX::Zero(dense::nv(rig), dense::nv(rig));
   for (const ControlPoint& cp : sc.control_points) {
     const Vec3 a = point_on_bone(s.frames, cp.bone, cp.alpha);
     const Vec3 d = cp.target_world - a;
@@ -376,6 +385,57 @@ void dense_K_D(const Case& cs, MatX& K, MatX& D) {
     const MatX Jp = dense::point_jacobian(rig, s, cp.bone, a);
     K += Jp.transpose() * Kc * Jp;
   }
+  return K;
+}
+
+// the torsion spring's block of bone b on the joint's relative turn (world axes), by finite
+// differences: K_j = -dtau dtheta/dphi, with the capped secant and without negative eigenvalues
+Mat3 dense_torsion_block(const Scene& sc, const SimState& s, int b, double eps) {
+  const Rig& rig = sc.rig;
+  const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[b]);
+  Mat3 dtau;  // d tau_world / d theta_local
+  for (int j = 0; j < 3; ++j) {
+    const Vec3 e = eps * Vec3::Unit(j);
+    dtau.col(j) = (torsion_world(sc, s, b, theta + e) - torsion_world(sc, s, b, theta - e)) / (2 * eps);
+  }
+  // a capped torsion axis beyond its cap: the secant k c / |e| along its own axis
+  // (torsion_step_stiffness_local), where the tangent has none
+  const Mat3 Rpr = (s.frames.orient_world[rig.bone_parent[b]] * rig.bone_rest_orient_parent[b])
+                       .toRotationMatrix();
+  const EngineParams& prm = sc.params;
+  if (prm.torsion_spring == SpringLaw::kCapped) {
+    for (int a = 0; a < 3; ++a) {
+      if (!rig.bone_limit[b][a].limited) continue;
+      const double e = torsion_excess(rig.bone_limit[b][a], prm.torsion_tolerance, theta[a]);
+      if (std::abs(e) > prm.torsion_cap) {
+        dtau -= (prm.torsion_k * prm.torsion_cap / std::abs(e)) * Rpr.col(a) * Vec3::Unit(a).transpose();
+      }
+    }
+  }
+  // d theta / d phi: the ball's rotation vector under a relative turn phi (world axes), by
+  // differences of the log map itself; not symmetric on a bent joint
+  Mat3 dtheta;
+  for (int j = 0; j < 3; ++j) {
+    const Vec3 e = eps * Vec3::Unit(j);
+    const Quat& q = s.pose.bone_local_rotation[b];
+    dtheta.col(j) = (rotation_vector(quat_from_rotation_vector(Rpr.transpose() * e) * q) -
+                     rotation_vector(quat_from_rotation_vector(-(Rpr.transpose() * e)) * q)) / (2 * eps);
+  }
+  // the tangent's symmetric part loses its negative eigenvalues (torsion_step_block_local)
+  const Mat3 tangent = -dtau * dtheta;
+  const Eigen::SelfAdjointEigenSolver<Mat3> sym(0.5 * (tangent + tangent.transpose()));
+  return tangent - sym.eigenvectors() * sym.eigenvalues().cwiseMin(0.0).asDiagonal() *
+                       sym.eigenvectors().transpose();
+}
+
+// K and D of every element, assembled through the dense Jacobians
+void dense_K_D(const Case& cs, MatX& K, MatX& D) {
+  const Scene& sc = cs.scene;
+  const SimState& s = cs.s;
+  const Rig& rig = sc.rig;
+  const double eps = 1e-6, h = sc.params.dt;
+  K = dense_control_K(sc, s, eps);
+  D.setZero(K.rows(), K.cols());
   MatX Jw, Jv, Jwp, Jvp;
   for (int b = 0; b < rig.nbone; ++b) {
     for (const Vec3* p : {&s.frames.head_world[b], &s.frames.tail_world[b]}) {
@@ -385,44 +445,9 @@ void dense_K_D(const Case& cs, MatX& K, MatX& D) {
     dense::jacobians(rig, s, b, Jw, Jv);
     D += Jw.transpose() * ((1.0 - sc.params.angular_velocity_factor) / h * dense::inertia(rig, s, b)) * Jw;
     if (b == 0) continue;
-    const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[b]);
-    Mat3 dtau;  // d tau_world / d theta_local
-    for (int j = 0; j < 3; ++j) {
-      const Vec3 e = eps * Vec3::Unit(j);
-      dtau.col(j) = (torsion_world(sc, s, b, theta + e) - torsion_world(sc, s, b, theta - e)) / (2 * eps);
-    }
-    // a capped torsion axis beyond its cap: the secant k c / |e| along its own axis
-    // (torsion_step_stiffness_local), where the tangent has none
-    const Mat3 Rpr = (s.frames.orient_world[rig.bone_parent[b]] * rig.bone_rest_orient_parent[b])
-                         .toRotationMatrix();
-    const EngineParams& prm = sc.params;
-    if (prm.torsion_spring == SpringLaw::kCapped) {
-      for (int a = 0; a < 3; ++a) {
-        if (!rig.bone_limit[b][a].limited) continue;
-        const double e = torsion_excess(rig.bone_limit[b][a], prm.torsion_tolerance, theta[a]);
-        if (std::abs(e) > prm.torsion_cap) {
-          dtau -= (prm.torsion_k * prm.torsion_cap / std::abs(e)) * Rpr.col(a) * Vec3::Unit(a).transpose();
-        }
-      }
-    }
-    // d theta / d phi: the ball's rotation vector under a relative turn phi (world axes), by
-    // differences of the log map itself; K_j = -dtau dtheta/dphi on the relative rate, not
-    // symmetric on a bent joint
-    Mat3 dtheta;
-    for (int j = 0; j < 3; ++j) {
-      const Vec3 e = eps * Vec3::Unit(j);
-      const Quat& q = s.pose.bone_local_rotation[b];
-      dtheta.col(j) = (rotation_vector(quat_from_rotation_vector(Rpr.transpose() * e) * q) -
-                       rotation_vector(quat_from_rotation_vector(-(Rpr.transpose() * e)) * q)) / (2 * eps);
-    }
-    // the tangent's symmetric part loses its negative eigenvalues (torsion_step_block_local)
-    const Mat3 tangent = -dtau * dtheta;
-    const Eigen::SelfAdjointEigenSolver<Mat3> sym(0.5 * (tangent + tangent.transpose()));
-    const Mat3 Kj = tangent - sym.eigenvectors() * sym.eigenvalues().cwiseMin(0.0).asDiagonal() *
-                                  sym.eigenvectors().transpose();
     dense::jacobians(rig, s, rig.bone_parent[b], Jwp, Jvp);
     const MatX Jrel = Jw - Jwp;
-    K += Jrel.transpose() * Kj * Jrel;
+    K += Jrel.transpose() * dense_torsion_block(sc, s, b, eps) * Jrel;
   }
 }
 

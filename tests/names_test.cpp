@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "physik/io/pose_io.h"
-#include "physik/io/unique_names.h"
+#include "physik/model/unique_names.h"
 
 namespace physik {
 namespace {

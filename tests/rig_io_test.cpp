@@ -163,7 +163,7 @@ TEST(RigInput, RoundTripThroughJson) {
   }
 }
 
-// ---------------------------------------------------------------- robustness (issue 12)
+// ---------------------------------------------------------------- robustness
 
 TEST(RigInput, ValuesWhoseProductsOverflowFailAtLoadNamingTheField) {
   // a radius of 1e200 made the inertia (m r^2 / 2) overflow: rig info printed null

@@ -107,7 +107,7 @@ TEST(Rig, ChainGenerator) {
   EXPECT_NEAR(rig.bone_rest_tail_world[49].z(), 10.0, 1e-12);
 }
 
-// ---------------------------------------------------------------- robustness (issue 12)
+// ---------------------------------------------------------------- robustness
 
 TEST(Rig, DepthIsTheInputsNotTheStacks) {
   // build_rig's DFS recursed once per level: a 300,000-bone chain overflowed the stack

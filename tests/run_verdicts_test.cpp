@@ -1,4 +1,4 @@
-// The run monitor's verdicts on real runs (issue 12): the energy rule on the damping sweep grid,
+// The run monitor's verdicts on real runs: the energy rule on the damping sweep grid,
 // checked against an independent sign of a blow-up (the pose wrecked: a residual far past its
 // start, or a non-finite state); the spring potentials against their forces; a flat rig and long
 // chains for the scale-aware rest rule; the joint solve's honesty on a 1000-bone chain.

@@ -159,6 +159,34 @@ ceres::Solver::Options solver_options(const EquilibriumOptions& opt) {
 
 }  // namespace
 
+namespace {
+
+// the solved pose's measures: distances and spring potentials
+void measure_result(const Scene& scene, const std::vector<int>& limited_bones, EquilibriumResult& out) {
+  const Rig& rig = scene.rig;
+  out.frames = forward_kinematics(rig, out.pose);
+  out.targets_world = final_targets(scene);
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    const double d = (point_on_bone(out.frames, cp.bone, cp.alpha) - out.targets_world[c]).norm();
+    out.control_distance.push_back(d);
+    const EngineParams& ep = scene.params;
+    out.control_potential += control_spring_potential(cp.spring_in(ep), cp.k_in(ep), cp.cap_in(ep), d);
+  }
+  out.torsion_excess.assign(rig.nbone, Vec3::Zero());
+  for (int i : limited_bones) {
+    out.torsion_excess[i] = torsion_excess_of(scene, out.pose, i);
+    for (int k = 0; k < 3; ++k) {
+      out.torsion_potential +=
+          torsion_spring_potential(scene.params.torsion_spring, scene.params.torsion_k,
+                                   scene.params.torsion_cap, out.torsion_excess[i][k]);
+    }
+  }
+  out.potential = out.control_potential + out.torsion_potential;
+}
+
+}  // namespace
+
 EquilibriumResult solve_equilibrium(const Scene& scene, const EquilibriumOptions& opt) {
   const Rig& rig = scene.rig;
   if (scene.control_points.empty()) {
@@ -177,6 +205,7 @@ EquilibriumResult solve_equilibrium(const Scene& scene, const EquilibriumOptions
       if (l[0].limited || l[1].limited || l[2].limited) functor->limited_bones.push_back(i);
     }
   }
+  const std::vector<int> limited_bones = functor->limited_bones;  // the problem owns the functor
   const int nres = functor->num_residuals();
 
   // parameter blocks: root head, then one quaternion (x, y, z, w) per bone
@@ -201,7 +230,6 @@ EquilibriumResult solve_equilibrium(const Scene& scene, const EquilibriumOptions
   for (int i = 0; i < rig.nbone; ++i) {
     problem.SetManifold(quats[i].data(), new ceres::EigenQuaternionManifold);
   }
-
   ceres::Solver::Summary summary;
   ceres::Solve(solver_options(opt), &problem, &summary);
 
@@ -211,25 +239,7 @@ EquilibriumResult solve_equilibrium(const Scene& scene, const EquilibriumOptions
   for (int i = 0; i < rig.nbone; ++i) {
     out.pose.bone_local_rotation[i] = Quat(quats[i][3], quats[i][0], quats[i][1], quats[i][2]).normalized();
   }
-  out.frames = forward_kinematics(rig, out.pose);
-  out.targets_world = final_targets(scene);
-  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
-    const ControlPoint& cp = scene.control_points[c];
-    const double d = (point_on_bone(out.frames, cp.bone, cp.alpha) - out.targets_world[c]).norm();
-    out.control_distance.push_back(d);
-    const EngineParams& ep = scene.params;
-    out.control_potential += control_spring_potential(cp.spring_in(ep), cp.k_in(ep), cp.cap_in(ep), d);
-  }
-  out.torsion_excess.assign(rig.nbone, Vec3::Zero());
-  for (int i : functor->limited_bones) {
-    out.torsion_excess[i] = torsion_excess_of(scene, out.pose, i);
-    for (int k = 0; k < 3; ++k) {
-      out.torsion_potential +=
-          torsion_spring_potential(scene.params.torsion_spring, scene.params.torsion_k,
-                                   scene.params.torsion_cap, out.torsion_excess[i][k]);
-    }
-  }
-  out.potential = out.control_potential + out.torsion_potential;
+  measure_result(scene, limited_bones, out);
   out.iterations = static_cast<int>(summary.iterations.size());
   if (!summary.iterations.empty()) out.gradient_max_norm = summary.iterations.back().gradient_max_norm;
   out.converged = summary.termination_type == ceres::CONVERGENCE;

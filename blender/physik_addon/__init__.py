@@ -1,7 +1,7 @@
-"""PhysIK for Blender: physics-based posing on an armature (issue 17).
+"""PhysIK for Blender: physics-based posing on an armature.
 
 The rig and control points are plain Blender data (armature_io, control_points); the engine is
-reached only through engine.py (the `physik` Python module of issue 16). Submodules that need
+reached only through engine.py (the `physik` Python module). Submodules that need
 bpy are imported in register(), so rig_format can be used (and tested) outside Blender.
 Install: blender/README.md.
 """

@@ -41,7 +41,7 @@ class EngineUnavailable(EngineError):
 def module():
     """The physik module, or EngineUnavailable."""
     try:
-        import physik  # noqa: F401  (issue 16)
+        import physik  # noqa: F401
     except ImportError as e:
         raise EngineUnavailable(MISSING) from e
     try:

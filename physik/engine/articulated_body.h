@@ -50,7 +50,7 @@
 // plus torque_per_omega * I w on every body (a rotational damper; the factor f's torque
 // I (f - 1) w / dt) and, with cancel_gyroscopic, +w x I w.
 //
-// Extension points, for the implicit step (DESIGN.md "Implicit step": M + h D + h^2 K is the same
+// Extension points, for the implicit step (DESIGN.md "Beyond the paper": M + h D + h^2 K is the same
 // tree with augmented inertias): after articulated_velocity_pass, a caller may add spatial inertia
 // to inertia_art[i] (SpatialInertia::add; about o_i, world axes), set joint_block[i] (world axes) with
 // joint_blocks = true, and change bias_force, before articulated_backward_pass; nothing else

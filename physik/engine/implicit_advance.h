@@ -1,6 +1,6 @@
 // One implicit step of the scene's dt (scheme implicit), guarded by the rig's energy: where
-// the linearisation adds energy, the step is taken again as two half steps (DESIGN.md "Implicit
-// step"; issue 14: stable for any coefficients).
+// the linearisation adds energy, the step is taken again as two half steps (DESIGN.md "Beyond
+// the paper"; stable for any coefficients).
 //
 // solve_implicit (implicit_step.h) is one Newton step of backward Euler with the forces
 // linearised at the start of the step. On a linear spring and damper it never adds energy

@@ -25,7 +25,7 @@
 
 namespace physik {
 
-// Honesty at scale (issue 12). Gauss-Seidel carries a force one joint per pass toward the root
+// Honesty at scale. Gauss-Seidel carries a force one joint per pass toward the root
 // and shrinks it at every joint it crosses; the absolute eps stops the passes once every gap is
 // small, which on a long chain happens while the force has reached only the last few bones (a
 // 1000-bone chain pulled at its tail: bones 0-911 get accelerations under 1e-6 of the tail's and never move,

@@ -1,5 +1,5 @@
 // Linearised modes at a pose, and damping_auto: the damping that critically damps the slowest one
-// (DESIGN.md "Implicit step"; the paper's discussion asks for "a way to automatically compute the
+// (DESIGN.md "Beyond the paper"; the paper's discussion asks for "a way to automatically compute the
 // ideal damping coefficient").
 //
 // About a pose at rest, PhysIK's dynamics linearise to M a + (c D1 + Dr) v + K dq = 0 in the

@@ -16,7 +16,7 @@
 // Over the run it keeps the peak KE, the largest joint separation (rig units), the largest limit
 // violation (deg), steps_run and the joint passes (mean and max per step).
 //
-// The energy rule (issue 12). The rig's mechanical energy is E = KE + U, with U the spring
+// The energy rule. The rig's mechanical energy is E = KE + U, with U the spring
 // potential (physik/engine/potential.h: control springs toward the targets of the step, torsion
 // springs of the pose). With no gravity, the only forces that can add energy are the springs'
 // targets when they move: damping (-c v) and the angular-velocity factor (w <- f w) only remove

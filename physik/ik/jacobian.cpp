@@ -59,6 +59,70 @@ void goal_jacobian(const IkProblem& pb, const BoneFrames& f, const std::vector<i
   }
 }
 
+namespace {
+
+// the goals' squared error at frames f (rig units^2)
+double sq_error(const IkProblem& pb, const BoneFrames& f) {
+  double s = 0.0;
+  for (const IkGoal& g : pb.goals) s += (g.target_world - point_on_bone(f, g.bone, g.alpha)).squaredNorm();
+  return s;
+}
+
+// the step in joint angles: damped least squares (damped) or the Jacobian transpose scaled by
+// Buss's optimal alpha = <e, J J^T e> / |J J^T e|^2
+void joint_step(const Eigen::MatrixXd& J, const Eigen::VectorXd& e, bool damped, double lambda,
+                Eigen::VectorXd& dtheta) {
+  const int nd = static_cast<int>(J.cols());
+  if (damped && J.rows() > nd && lambda > 0.0) {
+    // more goal rows than unknowns: the same step from the nd x nd system (push-through
+    // identity J^T (J J^T + l^2 I)^-1 = (J^T J + l^2 I)^-1 J^T), so 20,000 goals do not ask for
+    // a 60,000^2 matrix
+    Eigen::MatrixXd JtJ = J.transpose() * J;
+    JtJ.diagonal().array() += lambda * lambda;
+    dtheta = JtJ.ldlt().solve(J.transpose() * e);
+  } else if (damped) {
+    Eigen::MatrixXd JJt = J * J.transpose();
+    JJt.diagonal().array() += lambda * lambda;
+    dtheta = J.transpose() * JJt.ldlt().solve(e);
+  } else {
+    const Eigen::VectorXd Jte = J.transpose() * e;
+    const Eigen::VectorXd JJte = J * Jte;
+    const double den = JJte.squaredNorm();
+    dtheta = den > 0.0 ? Eigen::VectorXd(Jte * (e.dot(JJte) / den)) : Eigen::VectorXd(Jte * 0.0);
+  }
+}
+
+// The step per bone onto `p` (from its value on entry), clamped to the limits; halved while it
+// makes the goals' squared error worse (a backtracking line search: far from the goal the
+// linearisation overshoots). turn and trial are scratch.
+void apply_step(const IkProblem& pb, const std::vector<int>& dof_bone, const std::vector<int>& dof_axis,
+                const BoneFrames& f, Eigen::VectorXd& dtheta, Pose& p, std::vector<Vec3>& turn,
+                BoneFrames& trial) {
+  const Rig& rig = *pb.rig;
+  const IkOptions& opt = pb.options;
+  const int nd = static_cast<int>(dof_bone.size());
+  const Pose start = p;
+  const double err0 = sq_error(pb, f);
+  for (int halving = 0; halving <= opt.max_step_halvings; ++halving) {
+    p = start;
+    for (int c = 0; c < nd; ++c) turn[dof_bone[c]].setZero();
+    for (int c = 0; c < nd; ++c) turn[dof_bone[c]][dof_axis[c]] = dtheta[c];
+    for (int c = 0; c < nd; ++c) {
+      const int j = dof_bone[c];
+      if (c > 0 && dof_bone[c - 1] == j) continue;  // once per bone
+      Quat q = (quat_from_rotation_vector(turn[j]) * p.bone_local_rotation[j]).normalized();
+      if (opt.respect_limits) q = clamp_to_limits(rig, j, q);
+      p.bone_local_rotation[j] = q;
+    }
+    if (opt.max_step_halvings == 0) break;
+    forward_kinematics(rig, p, trial);
+    if (sq_error(pb, trial) < err0) break;
+    dtheta *= 0.5;
+  }
+}
+
+}  // namespace
+
 IkReport solve_jacobian(const IkProblem& pb, bool damped, Pose& pose) {
   const Rig& rig = *pb.rig;
   const IkOptions& opt = pb.options;
@@ -71,14 +135,6 @@ IkReport solve_jacobian(const IkProblem& pb, bool damped, Pose& pose) {
   Eigen::VectorXd e(3 * ng), dtheta(nd);
   std::vector<Vec3> turn(rig.nbone);
   BoneFrames trial;
-  auto sq_error = [&](const BoneFrames& fr) {
-    double s = 0.0;
-    for (const IkGoal& g : pb.goals) {
-      s += (g.target_world - point_on_bone(fr, g.bone, g.alpha)).squaredNorm();
-    }
-    return s;
-  };
-
   auto iterate = [&](Pose& p, BoneFrames& f) {
     for (int g = 0; g < ng; ++g) {
       Vec3 err = pb.goals[g].target_world - point_on_bone(f, pb.goals[g].bone, pb.goals[g].alpha);
@@ -87,45 +143,10 @@ IkReport solve_jacobian(const IkProblem& pb, bool damped, Pose& pose) {
       e.segment<3>(3 * g) = err;
     }
     goal_jacobian(pb, f, dof_bone, dof_axis, opt.jacobian, opt.fd_step, J);
-    if (damped && 3 * ng > nd && lambda > 0.0) {
-      // more goal rows than unknowns: the same step from the nd x nd system (push-through
-      // identity J^T (J J^T + l^2 I)^-1 = (J^T J + l^2 I)^-1 J^T), so 20,000 goals do not ask for
-      // a 60,000^2 matrix
-      Eigen::MatrixXd JtJ = J.transpose() * J;
-      JtJ.diagonal().array() += lambda * lambda;
-      dtheta = JtJ.ldlt().solve(J.transpose() * e);
-    } else if (damped) {
-      Eigen::MatrixXd JJt = J * J.transpose();
-      JJt.diagonal().array() += lambda * lambda;
-      dtheta = J.transpose() * JJt.ldlt().solve(e);
-    } else {
-      const Eigen::VectorXd Jte = J.transpose() * e;
-      const Eigen::VectorXd JJte = J * Jte;
-      const double den = JJte.squaredNorm();
-      dtheta = den > 0.0 ? Eigen::VectorXd(Jte * (e.dot(JJte) / den)) : Eigen::VectorXd(Jte * 0.0);
-    }
+    joint_step(J, e, damped, lambda, dtheta);
     const double biggest = nd > 0 ? dtheta.cwiseAbs().maxCoeff() : 0.0;
     if (biggest > opt.max_angle_step) dtheta *= opt.max_angle_step / biggest;
-    // apply per bone, then clamp; halve the step while it makes the goals' squared error worse
-    // (a backtracking line search: far from the goal the linearisation overshoots)
-    const Pose start = p;
-    const double err0 = sq_error(f);
-    for (int halving = 0; halving <= opt.max_step_halvings; ++halving) {
-      p = start;
-      for (int c = 0; c < nd; ++c) turn[dof_bone[c]].setZero();
-      for (int c = 0; c < nd; ++c) turn[dof_bone[c]][dof_axis[c]] = dtheta[c];
-      for (int c = 0; c < nd; ++c) {
-        const int j = dof_bone[c];
-        if (c > 0 && dof_bone[c - 1] == j) continue;  // once per bone
-        Quat q = (quat_from_rotation_vector(turn[j]) * p.bone_local_rotation[j]).normalized();
-        if (opt.respect_limits) q = clamp_to_limits(rig, j, q);
-        p.bone_local_rotation[j] = q;
-      }
-      if (opt.max_step_halvings == 0) break;
-      forward_kinematics(rig, p, trial);
-      if (sq_error(trial) < err0) break;
-      dtheta *= 0.5;
-    }
+    apply_step(pb, dof_bone, dof_axis, f, dtheta, p, turn, trial);
   };
   return run_ik_loop(damped ? "dls" : "jt", pb, pose, iterate);
 }

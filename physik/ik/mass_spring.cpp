@@ -41,6 +41,46 @@ void mass_weighted_length(Vec3& xa, Vec3& xb, double ma, double mb, double L) {
   xb = c + db.normalized() * (L * ma / (ma + mb));
 }
 
+namespace {
+
+// one projection pass: every goal pulls its attachment (mass-weighted between the bone's head and
+// tail nodes), then every bone's length is restored, sweeping root to leaves on even passes and
+// leaves to root on odd ones (so a correction travels the whole chain in two passes, not one bone
+// per pass)
+void project(const IkProblem& pb, const std::vector<double>& node_mass, const Vec3& anchor, int pass,
+             std::vector<Vec3>& x) {
+  const Rig& rig = *pb.rig;
+  const int n = rig.nbone;
+  for (const IkGoal& g : pb.goals) {
+    const int b = g.bone;
+    const bool head_free = rig.bone_parent[b] >= 0;
+    const double wh = head_free ? 1.0 / node_mass[rig.bone_parent[b]] : 0.0;
+    const double wt = 1.0 / node_mass[b];
+    const double a = g.alpha;
+    const double den = (1 - a) * (1 - a) * wh + a * a * wt;
+    if (den <= 0.0) continue;
+    Vec3 head = head_free ? x[rig.bone_parent[b]] : anchor;
+    const Vec3 d = g.target_world - ((1 - a) * head + a * x[b]);
+    const double s = 1.0 / den;
+    if (head_free) x[rig.bone_parent[b]] += (1 - a) * wh * s * d;
+    x[b] += a * wt * s * d;
+  }
+  for (int s = 0; s < n; ++s) {
+    const int i = pass % 2 == 0 ? s : n - 1 - s;
+    if (!pb.active[i]) continue;
+    const double L = rig.bone_length[i];
+    const int par = rig.bone_parent[i];
+    if (par < 0) {
+      const Vec3 d = x[i] - anchor;
+      if (d.norm() > 1e-12) x[i] = anchor + d.normalized() * L;
+      continue;
+    }
+    mass_weighted_length(x[par], x[i], node_mass[par], node_mass[i], L);
+  }
+}
+
+}  // namespace
+
 IkReport solve_mass_spring(const IkProblem& pb, Pose& pose) {
   const Rig& rig = *pb.rig;
   const IkOptions& opt = pb.options;
@@ -55,47 +95,18 @@ IkReport solve_mass_spring(const IkProblem& pb, Pose& pose) {
   const Vec3 gdt2 = opt.gravity_world * opt.dt * opt.dt;
 
   auto iterate = [&](Pose& p, BoneFrames& f) {
-    Vec3 anchor = p.root_head_world;  // never moved
+    const Vec3 anchor = p.root_head_world;  // never moved
     if (!started) {
       for (int i = 0; i < n; ++i) x[i] = x_prev[i] = f.tail_world[i];
       started = true;
     }
-    for (int i = 0; i < n; ++i) {
+    for (int i = 0; i < n; ++i) {  // Verlet: the velocity kept, and gravity
       if (!pb.active[i]) continue;
       const Vec3 v = opt.velocity_keep * (x[i] - x_prev[i]);
       x_prev[i] = x[i];
       x[i] += v + gdt2;
     }
-    for (int pass = 0; pass < opt.constraint_passes; ++pass) {
-      for (const IkGoal& g : pb.goals) {
-        const int b = g.bone;
-        const bool head_free = rig.bone_parent[b] >= 0;
-        const double wh = head_free ? 1.0 / node_mass[rig.bone_parent[b]] : 0.0;
-        const double wt = 1.0 / node_mass[b];
-        const double a = g.alpha;
-        const double den = (1 - a) * (1 - a) * wh + a * a * wt;
-        if (den <= 0.0) continue;
-        Vec3 head = head_free ? x[rig.bone_parent[b]] : anchor;
-        const Vec3 d = g.target_world - ((1 - a) * head + a * x[b]);
-        const double s = 1.0 / den;
-        if (head_free) x[rig.bone_parent[b]] += (1 - a) * wh * s * d;
-        x[b] += a * wt * s * d;
-      }
-      // alternate the sweep direction (root to leaves, then leaves to root) so a correction
-      // travels the whole chain in two passes instead of one bone per pass
-      for (int s = 0; s < n; ++s) {
-        const int i = pass % 2 == 0 ? s : n - 1 - s;
-        if (!pb.active[i]) continue;
-        const double L = rig.bone_length[i];
-        const int par = rig.bone_parent[i];
-        if (par < 0) {
-          const Vec3 d = x[i] - anchor;
-          if (d.norm() > 1e-12) x[i] = anchor + d.normalized() * L;
-          continue;
-        }
-        mass_weighted_length(x[par], x[i], node_mass[par], node_mass[i], L);
-      }
-    }
+    for (int pass = 0; pass < opt.constraint_passes; ++pass) project(pb, node_mass, anchor, pass, x);
     aim_bones_at(rig, pb.active, x, opt.respect_limits, p, f);
     for (int i = 0; i < n; ++i) {
       if (pb.active[i]) x[i] = f.tail_world[i];

@@ -46,7 +46,7 @@
 #include <vector>
 
 #include "physik/model/kinematics.h"
-#include "physik/io/pivot_rig.h"
+#include "physik/model/pivot_rig.h"
 #include "physik/model/rig.h"
 
 namespace physik {

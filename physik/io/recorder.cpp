@@ -6,7 +6,7 @@
 
 #include "physik/engine/engine.h"
 #include "physik/io/pose_io.h"
-#include "physik/io/unique_names.h"
+#include "physik/model/unique_names.h"
 #include "physik/model/errors.h"
 
 namespace physik {

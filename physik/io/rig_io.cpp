@@ -9,6 +9,9 @@ namespace {
 
 const char* const kAxisName[3] = {"x", "y", "z"};
 
+void read_mass(const Json& b, const JsonContext& ctx, double default_mpl, double default_radius,
+               BoneSpec& s);
+
 BoneSpec bone_from_json(const Json& b, const JsonContext& ctx, double default_mpl,
                         double default_radius) {
   ctx.require_object(b, "");
@@ -49,7 +52,13 @@ BoneSpec bone_from_json(const Json& b, const JsonContext& ctx, double default_mp
   }
 
   if (b.contains("limits_deg")) s.limit = parse_axis_limits(b["limits_deg"], ctx, "limits_deg");
+  read_mass(b, ctx, default_mpl, default_radius, s);
+  return s;
+}
 
+// mass (or mass per length), radius and explicit moments of a bone whose head and tail are read
+void read_mass(const Json& b, const JsonContext& ctx, double default_mpl, double default_radius,
+               BoneSpec& s) {
   const double length = (s.tail_world - s.head_world).norm();
   if (b.contains("mass") && b.contains("mass_per_length")) {
     ctx.fail("mass", "give either mass or mass_per_length, not both");
@@ -68,7 +77,6 @@ BoneSpec bone_from_json(const Json& b, const JsonContext& ctx, double default_mp
     s.inertia_local = ctx.vec3(b, "inertia_local");
     if (!(s.inertia_local.minCoeff() > 0.0)) ctx.fail("inertia_local", "moments must be positive");
   }
-  return s;
 }
 
 }  // namespace

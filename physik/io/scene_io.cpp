@@ -337,7 +337,8 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
   const JsonContext top{source, ""};
   top.require_object(doc, "");
   top.only_keys(doc, {"name", "comment", "rig", "params", "control_points", "schedule", "steps",
-                      "convergence", "initial_pose", "initial_velocity"});
+                      "convergence", "initial_pose", "initial_velocity", "solve"});
+  if (doc.contains("solve")) solve_options_from_json(doc["solve"], source);  // checked at load
   Scene s;
   s.file = source;
   read_rig(top, doc, base_dir, s);
@@ -353,6 +354,45 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
     s.initial_velocity_world = bounded_vec3(top, doc, "initial_velocity");
   }
   return s;
+}
+
+SceneSolveOptions solve_options_from_json(const Json& solve, const std::string& source) {
+  const JsonContext ctx{source, "solve"};
+  ctx.require_object(solve, "solve");
+  SceneSolveOptions out;
+  for (auto it = solve.begin(); it != solve.end(); ++it) {
+    const SolveOptionRow* row = find_solve_option(it.key());
+    if (!row) {
+      std::string all;
+      for (const SolveOptionRow& r : solve_option_table()) all += (all.empty() ? "" : ", ") + r.name;
+      ctx.fail(it.key(), "unknown option (known: " + all + ")");
+    }
+    SolveOptionValue v;
+    switch (row->kind) {
+      case SolveOptionKind::kChoice: v.text = ctx.string(solve, it.key()); break;
+      case SolveOptionKind::kBoolean: v.number = ctx.boolean_or(solve, it.key(), false) ? 1.0 : 0.0; break;
+      case SolveOptionKind::kInteger: v.number = ctx.integer(solve, it.key()); break;
+      case SolveOptionKind::kReal: v.number = ctx.number(solve, it.key()); break;
+      case SolveOptionKind::kVec3: {
+        const Vec3 g = ctx.vec3(solve, it.key());
+        v.vec = {g.x(), g.y(), g.z()};
+        break;
+      }
+    }
+    try {
+      set_solve_option(out, *row, v, OptionSpelling::kName);
+    } catch (const InputError& e) {  // the row's reason, named as the file's field
+      const std::string msg = e.what();
+      ctx.fail(it.key(), msg.substr(msg.find(": ") + 2));
+    }
+  }
+  return out;
+}
+
+SceneSolveOptions load_solve_options(const std::string& scene_path) {
+  const Json doc = read_json_file(scene_path);
+  if (!doc.is_object() || !doc.contains("solve")) return SceneSolveOptions{};
+  return solve_options_from_json(doc["solve"], scene_path);
 }
 
 Scene load_scene(const std::string& path) { return load_scene(path, ParamOverrides{}); }

@@ -7,6 +7,7 @@
 
 #include "physik/io/json_fields.h"
 #include "physik/model/scene.h"
+#include "physik/posing/solve_options.h"
 
 namespace physik {
 
@@ -35,6 +36,13 @@ nlohmann::json param_value_json(const ParamRow& row, ParamValue v);
 // report.py): {"presets", "default_preset", "params": one object per row (name, kind, unit,
 // defaults per preset, valid, doc, choices, range, zero_means, tune)}.
 nlohmann::json param_table_json();
+// A scene file's "solve" object, by the solve options' table (physik/posing/solve_options.h): the
+// options `physik solve` uses where its flags say nothing; defaults where absent. Errors name the
+// file, "solve" and the field. The scene reader checks it too (scene_from_json).
+SceneSolveOptions solve_options_from_json(const nlohmann::json& solve, const std::string& source);
+// The same, from a scene file (the defaults when it has no "solve" object).
+SceneSolveOptions load_solve_options(const std::string& scene_path);
+
 // The scene back to JSON (rig given by its path, or inline when it has none or rig_inline), e.g.
 // for a tuned scene, or a run folder's scene.json.
 nlohmann::json scene_to_json(const Scene& scene, bool rig_inline = false);

@@ -62,4 +62,49 @@ nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s) {
   return out;
 }
 
+namespace {
+
+nlohmann::json engine_solve_json(const SceneSolveResult& r) {
+  nlohmann::json j = summary_to_json(r.scene, r.run);
+  j["iterations"] = r.solve.steps;
+  j["time_s"] = r.time_s;
+  j["residual"] = r.solve.residual;
+  j["residual_tol"] = r.solve.tolerance;
+  j["stalled"] = r.solve.stalled;
+  j["out_of_steps"] = r.solve.out_of_steps;
+  j["finish"] = r.rule.finish == SolveFinish::kCcd   ? "ccd"
+                : r.rule.finish == SolveFinish::kDls ? "dls"
+                                                     : "none";
+  j["finish_iterations"] = r.solve.finish_iterations;
+  if (r.solver == "physik") {  // the solve mode
+    j["dt_growth"] = r.rule.dt_growth;
+    j["max_dt"] = r.rule.max_dt;
+  }
+  return j;
+}
+
+nlohmann::json classic_solve_json(const SceneSolveResult& r) {
+  const IkReport& rep = r.classic;
+  return {{"scene", r.scene.file},
+          {"rig", r.scene.rig_file},
+          {"converged", rep.converged},
+          {"diverged", false},
+          {"stalled", rep.stalled},
+          {"iterations", rep.iterations},
+          {"final_residuals", rep.residuals},
+          {"residual", rep.residual},
+          {"residual_tol", rep.tolerance},
+          {"reach", rep.reach},
+          {"max_limit_violation_deg", rad2deg(max_limit_violation(r.scene.rig, r.pose))},
+          {"time_s", rep.time_s}};
+}
+
+}  // namespace
+
+nlohmann::json solve_summary_to_json(const SceneSolveResult& r) {
+  nlohmann::json j = r.engine ? engine_solve_json(r) : classic_solve_json(r);
+  j["solver"] = r.solver;
+  return j;
+}
+
 }  // namespace physik

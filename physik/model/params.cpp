@@ -180,10 +180,12 @@ void set_damping(EngineParams& p, ParamValue v) {
   p.damping_auto = false;
 }
 
-// The table. Columns: key and field, unit, {original, paper, robust}, valid range, doc; then
-// tuning bounds (the tuner's defaults for --params), what 0 means where it is special, and why
-// an explicit value would not be used.
-std::vector<ParamRow> build_table() {
+// The table, in groups. Columns: key and field, unit, {original, paper, robust}, valid range,
+// doc; then tuning bounds (the tuner's defaults for --params), what 0 means where it is special,
+// and why an explicit value would not be used.
+
+// the step: its length and its damping
+std::vector<ParamRow> step_rows() {
   ParamRow damping = tuned(
       conflicts(row<&E::damping>("damping", "N s/m", {3.0, 20.0, 3.0}, kNonNegative,
                                  "force -c v at the head and the tail of every bone (a value "
@@ -201,6 +203,12 @@ std::vector<ParamRow> build_table() {
       tuned(row<&E::angular_velocity_factor>("angular_velocity_factor", "1", {0.5, 0.5, 0.5},
                                              closed(0.0, 1.0), "w <- f w + alpha dt every step"),
             0.01, 1.0),
+  };
+}
+
+// the paper's joint solve (gauss-seidel) and Newton-Euler's terms
+std::vector<ParamRow> joint_solve_rows() {
+  return {
       conflicts(row<&E::joint_eps>("joint_eps", "rig units/s^2", {1e-3, 1e-3, 1e-3}, kPositive,
                                    "joint passes stop below this acceleration mismatch"),
                 gauss_seidel_only),
@@ -219,6 +227,12 @@ std::vector<ParamRow> build_table() {
                                      "add w x (w x r) to joint-point accelerations (eq. 2 omits it)"),
                 gauss_seidel_only),
       row<&E::gyroscopic>("gyroscopic", "", {true, true, true}, kAny, "the -w x I w term of eq. 1"),
+  };
+}
+
+// the control and torsion springs
+std::vector<ParamRow> spring_rows() {
+  return {
       tuned(row<&E::control_k>("control_k", "N/m", {10.0, 30.0, 10.0}, kNonNegative,
                                "stiffness of the control points that give no k"),
             0.1, 1000.0),
@@ -243,6 +257,12 @@ std::vector<ParamRow> build_table() {
           "torsion_torque", "", {T::kAxes, T::kAxes, T::kGradient}, kAny,
           "axes (the paper's: k x excess about each rest axis; not the gradient of the torsion "
           "potential at large bends) or gradient (its exact gradient: conservative)")),
+  };
+}
+
+// which scheme, and its options
+std::vector<ParamRow> scheme_rows() {
+  return {
       row<&E::scheme>("scheme", "", {Scheme::kGaussSeidel, Scheme::kGaussSeidel, Scheme::kImplicit},
                       kAny,
                       "gauss-seidel (the paper's: joint passes, semi-implicit Euler), exact "
@@ -260,6 +280,12 @@ std::vector<ParamRow> build_table() {
                                "substep dt / 2^N)")),
                            "the bare linearised step, never split"),
                 implicit_only),
+  };
+}
+
+// how target jumps are spread (eq. 12)
+std::vector<ParamRow> interpolation_rows() {
+  return {
       row<&E::interpolation>("interpolation", "",
                              {Interpolation::kLinear, Interpolation::kLinear, Interpolation::kLinear},
                              kAny, "how a target jump is spread over steps (eq. 12)"),
@@ -273,6 +299,14 @@ std::vector<ParamRow> build_table() {
                                                 "close to its origin"),
                 polar_only),
   };
+}
+
+std::vector<ParamRow> build_table() {
+  std::vector<ParamRow> table;
+  for (auto group : {step_rows, joint_solve_rows, spring_rows, scheme_rows, interpolation_rows}) {
+    for (ParamRow& r : group()) table.push_back(std::move(r));
+  }
+  return table;
 }
 
 std::string number_text(double v) {

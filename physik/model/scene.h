@@ -71,7 +71,7 @@ struct Scene {
 
   double residual_tol() const;
   double speed_tol() const;
-  // the fixed bound before issue 12 (1e6 M h^2 unless given), still quoted by
+  // the fixed bound before the energy rule (1e6 M h^2 unless given), still quoted by
   // experiments/hand_explodes.cpp's note; the run monitor uses it only when given
   double divergence_energy() const;
 };

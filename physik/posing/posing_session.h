@@ -50,7 +50,7 @@ struct SolveRule {
   int max_steps = 2000;            // physics steps at most
   int stall_steps = 50;            // steps; the residual stalled when it improved by less than
   double stall_fraction = 0.01;    //   stall_fraction of itself over stall_steps steps
-  // The solve mode on the implicit step (issue 15): the step starts at the scene's dt, so the
+  // The solve mode on the implicit step: the step starts at the scene's dt, so the
   // body follows with its secondary motion, and lengthens by dt_growth each step the kinetic
   // energy falls, up to max_dt, carrying the dynamics into a quasi-static solve (a large implicit
   // step is a Gauss-Newton step on the spring and torsion potential, damped by the rig's own

@@ -31,11 +31,12 @@ from collections import namedtuple
 from .errors import DivergedError, InputError
 from . import _core
 from ._core import (PosingSolveResult, Rig, Scene, __version__, compare_mujoco, export_mjcf,
-                    param_table, solve_mode_rule)
+                    param_table, scaled_scene, solve_mode_rule)
 
 __all__ = ["Rig", "Scene", "param_table", "Simulation", "Pose", "Trajectory", "RunResult",
            "PosingSession", "PosingSolveResult", "solve_mode_rule", "SolveResult", "solve",
-           "export_mjcf", "compare_mujoco", "tune", "equilibrium", "InputError", "DivergedError",
+           "export_mjcf", "compare_mujoco", "scaled_scene", "tune", "equilibrium", "InputError",
+           "DivergedError",
            "__version__"]
 
 
@@ -214,29 +215,46 @@ SolveResult.__doc__ = """physik.solve's result: summary (`physik solve`'s summar
 and pose (a Pose of copies: the solved pose)."""
 
 
-def solve(scene, solver="physik", *, tol=0.0, max_iterations=1000, lambda_=0.0,
-          jacobian="analytic", gravity=None, rotation_damping=0.8, socket="twist-bend",
-          cone="elliptical", no_limits=False, dt_growth=_core._SOLVE_DT_GROWTH,
-          max_dt=_core._SOLVE_MAX_DT, finish="none", raise_on_divergence=False):
-    """Solve the scene's control points (at their final targets) as IK goals: `physik solve`.
+def _make_solve():
+    """physik.solve, its keywords, defaults and doc from the solve options' table
+    (physik/posing/solve_options.h), as `physik solve`'s flags are."""
+    import inspect
+    rows = _core._solve_option_table()
+    keyword = {"lambda": "lambda_"}  # `lambda` is a Python keyword
+    params = [inspect.Parameter("scene", inspect.Parameter.POSITIONAL_OR_KEYWORD),
+              inspect.Parameter("solver", inspect.Parameter.POSITIONAL_OR_KEYWORD, default="physik")]
+    params += [inspect.Parameter(keyword.get(r["name"], r["name"]), inspect.Parameter.KEYWORD_ONLY,
+                                 default=r["default"]) for r in rows if r["name"] != "solver"]
+    params.append(inspect.Parameter("raise_on_divergence", inspect.Parameter.KEYWORD_ONLY,
+                                    default=False))
+    signature = inspect.Signature(params)
 
-    solver: "fabrik", "ccd", "jt", "dls", "mass-spring", "rotation" (the classic solvers, from the
-    scene's initial pose), "physik" (the engine's solve mode: the implicit step from the scene's
-    dt, lengthening by dt_growth each settling step up to max_dt) or "physik-explicit" (the
-    scene's engine at its dt), both run until every control point is within tol, or until the
-    residual stalls, then finished by finish "ccd" or "dls" if given. The keywords are the CLI's
-    flags (--tol, --max-iterations, --lambda, --jacobian analytic|fd, --gravity x y z,
-    --rotation-damping, --socket twist-bend|virtual-bone, --cone none|circular|elliptical,
-    --no-limits, --dt-growth, --max-dt, --finish none|ccd|dls); tol 0 = 1e-4 of the
-    chain's reach, lambda_ 0 = 0.02 of it. A bad option raises InputError naming the keyword.
-    Returns SolveResult(summary, pose). The engine's divergence is the summary's flag, or
-    DivergedError with raise_on_divergence.
-    """
-    summary, arrays = _core._solve(scene, solver, tol, max_iterations, lambda_, jacobian,
-                                   list(gravity) if gravity is not None else [],
-                                   rotation_damping, socket, cone, no_limits, dt_growth, max_dt,
-                                   finish, raise_on_divergence)
-    return SolveResult(summary, _pose_from_arrays(arrays, scene.rig.bone_names))
+    def solve(*args, **kwargs):
+        bound = signature.bind(*args, **kwargs)
+        bound.apply_defaults()
+        given = dict(bound.arguments)
+        scene, raise_on_divergence = given.pop("scene"), given.pop("raise_on_divergence")
+        options = {("lambda" if k == "lambda_" else k): v for k, v in given.items()}
+        summary, arrays = _core._solve(scene, options, raise_on_divergence)
+        return SolveResult(summary, _pose_from_arrays(arrays, scene.rig.bone_names))
+
+    lines = []
+    for r in rows:
+        unit = " (%s)" % r["unit"] if r["unit"] not in ("", "1") else ""
+        choices = ": " + "|".join(r["choices"]) if r["choices"] else ""
+        lines.append("    %s%s: %s%s" % (keyword.get(r["name"], r["name"]), unit, r["doc"], choices))
+    solve.__signature__ = signature
+    solve.__name__ = solve.__qualname__ = "solve"
+    solve.__doc__ = (
+        "Solve the scene's control points (at their final targets) as IK goals: `physik solve`.\n\n"
+        "The keywords are the solve options, `physik solve`'s flags and a scene's \"solve\" keys "
+        "(one table):\n" + "\n".join(lines) + "\n\n"
+        "A bad option raises InputError naming the keyword. Returns SolveResult(summary, pose). The "
+        "engine's divergence is the summary's flag, or DivergedError with raise_on_divergence.")
+    return solve
+
+
+solve = _make_solve()
 
 
 def tune(scene, params="damping", objective="settle", *, bounds=None, measure="log", steps=0,
@@ -271,7 +289,7 @@ def _wrap_the_api():
     (physik/_arguments.py)."""
     from . import _arguments as args
     names = globals()
-    for name in ("param_table", "export_mjcf", "compare_mujoco", "solve_mode_rule"):
+    for name in ("param_table", "export_mjcf", "compare_mujoco", "solve_mode_rule", "scaled_scene"):
         names[name] = args.compiled(getattr(_core, name), name)
     for name in ("solve", "tune", "equilibrium"):
         names[name] = args.python(names[name], name)

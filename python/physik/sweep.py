@@ -146,39 +146,10 @@ def grid_keys(spec):
 # --- one run -----------------------------------------------------------------------------------
 
 def _scaled_scene(path, params, scale=1.0, density=None, scale_torsion=False):
-    """The tuning study's scaled scene (experiments/tuning_study.cpp, scaled_scene), built as a
-    scene dict with the rig inline: positions, radii, targets, params.control_cap and the points'
-    own caps and the root times `scale`, masses density x length (when density is given),
-    torsion k times density x scale^3 (scale_torsion)."""
+    """The tuning study's scaled scene (physik.scaled_scene, as experiments/tuning_study.cpp)."""
     base = physik.Scene.load(path, overrides=params)
-    with open(path) as f:
-        doc = json.load(f)
-    s = float(scale)
-    rig = base.rig.to_dict()
-    for bone in rig["bones"]:
-        bone["head"] = [v * s for v in bone["head"]]
-        bone["tail"] = [v * s for v in bone["tail"]]
-        bone["radius"] = bone["radius"] * s
-        if density is not None:
-            d = [t - h for t, h in zip(bone["tail"], bone["head"])]
-            bone["mass"] = density * math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
-        bone.pop("inertia_local", None)
-    doc["rig"] = rig
-    params_out = base.params
-    params_out["control_cap"] = params_out["control_cap"] * s
-    if scale_torsion:
-        params_out["torsion_k"] = params_out["torsion_k"] * ((density or 1.0) * s * s * s)
-    doc["params"] = params_out
-    for cp, resolved in zip(doc.get("control_points", []), base.control_points):
-        cp["target"] = [v * s for v in resolved["target"]]
-        if "cap" in cp:  # a point's own cap; the others follow params.control_cap
-            cp["cap"] = resolved["cap"] * s
-    for change in doc.get("schedule", []):
-        change["target"] = [v * s for v in change["target"]]
-    pose = doc.setdefault("initial_pose", {})
-    root = pose.get("root_head", list(base.rig.rest_heads[0]))
-    pose["root_head"] = [float(v) * s for v in root]
-    return physik.Scene.from_dict(doc, base_dir=os.path.dirname(path), source=path + " (scaled)")
+    return physik.scaled_scene(base, float(scale), None if density is None else float(density),
+                               bool(scale_torsion))
 
 
 def build_scene(task):

@@ -302,7 +302,7 @@ def test_other_bad_arguments_are_one_line():
     assert str(e.value).startswith("Scene.load(): bad arguments (float); expected (path: str, ")
     with pytest.raises(TypeError) as e:
         physik.solve()
-    assert str(e.value).startswith("solve(): missing 1 required positional argument: 'scene'; "
+    assert str(e.value).startswith("solve(): missing a required argument: 'scene'; "
                                    "valid: scene, solver, ")
     # a TypeError raised inside a call is the call's own, unchanged
     with pytest.raises(TypeError, match=r"^scene.steps: cannot be written as JSON"):

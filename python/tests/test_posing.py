@@ -13,13 +13,13 @@ import pytest
 import physik
 from conftest import cli, read_json, scene_path, without
 
-# the keys `physik solve` adds to the session's summary (physik/io/scene_solve.cpp)
+# the keys `physik solve` adds to the session's summary (physik/posing/scene_solve.cpp)
 SOLVE_KEYS = ("solver", "iterations", "time_s", "residual", "residual_tol", "stalled",
               "out_of_steps", "finish", "finish_iterations", "dt_growth", "max_dt", "wall_time_s")
 
 
 def solve_like_the_cli(scene, solver, finish, finish_options):
-    """A session driven as physik/io/scene_solve.cpp drives it for --solver physik or
+    """A session driven as physik/posing/scene_solve.cpp drives it for --solver physik or
     physik-explicit."""
     mode = solver == "physik"
     session = physik.PosingSession(scene, solve_mode=mode)

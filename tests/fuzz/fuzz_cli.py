@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""A seeded mutation fuzzer over the real `physik` binary (issue 12, item 7).
+"""A seeded mutation fuzzer over the real `physik` binary.
 
 Seeds: the shipped rigs and scenes, BVH/qBVH files and MJCF written by the binary itself
 (`rig to-bvh`, `export-mjcf`), and joint-limit files made from each rig's bone names. Each case
@@ -12,7 +12,7 @@ mutates one seed (bytes, numbers, JSON values, BVH structure) and runs one comma
   number) in the files or JSON an exit-0 run writes.
 
 A case that breaks a rule is a failure (its input is kept with --keep).
-The corpus (tests/fuzz/corpus) holds the reproducers of issue 12 as regression cases with their
+The corpus (tests/fuzz/corpus) holds the robustness reproducers as regression cases with their
 expected exit code and message. Counts by outcome are printed at the end.
 
 usage: fuzz_cli.py PHYSIK SOURCE_DIR [--cases N] [--seed S] [--jobs J] [--timeout T]
@@ -468,7 +468,7 @@ def build_schema(args, physik, seeds):
 # ---------------------------------------------------------------- the corpus
 
 def run_corpus(args, physik):
-    """the reproducers of issue 12: (name, ok, detail) per entry"""
+    """the robustness reproducers: (name, ok, detail) per entry"""
     manifest = json.load(open(os.path.join(args.corpus, "manifest.json")))
     results = []
     for entry in manifest["cases"]:

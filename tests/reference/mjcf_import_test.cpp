@@ -122,7 +122,7 @@ TEST(MjcfImport, BodiesBecomeBonesAndFkMatchesMujocoXpos) {
   }
 }
 
-TEST(MjcfImport, MassInertiaAndLimitsCarryOver) {
+TEST(MjcfImport, MassAndInertiaCarryOver) {
   const MjcfRig mr = load_mjcf(write_temp("testman2.xml", kModel));
   const Rig& rig = mr.rig();
   MjModelPtr m(mj_loadXML((::testing::TempDir() + "testman2.xml").c_str(), nullptr, nullptr, 0));
@@ -149,7 +149,14 @@ TEST(MjcfImport, MassInertiaAndLimitsCarryOver) {
   // the shared torso body is split over four bones
   const int torso_body = mj_name2id(m.get(), mjOBJ_BODY, "torso");
   EXPECT_NEAR(rig.bone_mass[rig.find_bone("torso>head")], m->body_mass[torso_body] / 4, 1e-12);
+}
 
+TEST(MjcfImport, LimitsCarryOver) {
+  const MjcfRig mr = load_mjcf(write_temp("testman2.xml", kModel));
+  const Rig& rig = mr.rig();
+  MjModelPtr m(mj_loadXML((::testing::TempDir() + "testman2.xml").c_str(), nullptr, nullptr, 0));
+  const int forearm_body = mj_name2id(m.get(), mjOBJ_BODY, "forearm");
+  const int fa = rig.find_bone("forearm");
   // elbow: hinge about body y, perpendicular to the bone (along body x) -> local x, [-150, 0]
   EXPECT_TRUE(rig.bone_limit[fa][0].limited);
   EXPECT_NEAR(rad2deg(rig.bone_limit[fa][0].min), -150, 1e-9);

@@ -1,4 +1,4 @@
-// Large implicit steps are the static solve (issue 14 item 4; physik/engine/implicit_step.h): as dt
+// Large implicit steps are the static solve (physik/engine/implicit_step.h): as dt
 // grows, a step of (M + h D + h^2 K) a = tau - C - h K v becomes a Gauss-Newton step on the force
 // balance (on the spring and torsion potential, with the gradient torque), so on a scene with a
 // unique equilibrium the implicit run at dt = 1 and larger lands on the pose `physik equilibrium`

@@ -1,13 +1,13 @@
 // Pivot tree -> rig; see pivot_rig.h for the mapping. Every stage is linear (or n log n) in the
 // number of pivots: 20,000 siblings or a 20,000-deep chain must not cost n^2.
-#include "physik/io/pivot_rig.h"
+#include "physik/model/pivot_rig.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <unordered_map>
 
-#include "physik/io/unique_names.h"
+#include "physik/model/unique_names.h"
 #include "physik/model/errors.h"
 
 namespace physik {

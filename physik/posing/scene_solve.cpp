@@ -1,53 +1,18 @@
-#include "physik/io/scene_solve.h"
+#include "physik/posing/scene_solve.h"
 
 #include <chrono>
 #include <cmath>
 
 #include "physik/engine/engine.h"
-#include "physik/io/summary_io.h"
 #include "physik/model/errors.h"
 
 namespace physik {
-
-const char* const kSceneSolvers = "fabrik|ccd|jt|dls|mass-spring|rotation|physik|physik-explicit";
 
 namespace {
 
 bool engine_solver(const std::string& s) { return s == "physik" || s == "physik-explicit"; }
 
 }  // namespace
-
-void check_solve_options(const SceneSolveOptions& o) {
-  IkMethod method{};
-  if (!engine_solver(o.solver) && !ik_method_from_string(o.solver, method)) {
-    throw_input_error("--solver", "", "", "unknown solver '" + o.solver + "'; one of " + kSceneSolvers);
-  }
-  if (!(o.dt_growth >= 1.0) || !std::isfinite(o.dt_growth)) {
-    throw_input_error("--dt-growth", "", "", "must be a number >= 1 (1 = a fixed step)");
-  }
-  if (!(o.max_dt > 0.0) || !std::isfinite(o.max_dt)) {
-    throw_input_error("--max-dt", "", "", "must be a positive number of seconds");
-  }
-  if (o.finish != "none" && o.finish != "ccd" && o.finish != "dls") {
-    throw_input_error("--finish", "", "", "unknown finish '" + o.finish + "'; one of none|ccd|dls");
-  }
-  if (!(o.tol >= 0.0) || !std::isfinite(o.tol)) {
-    throw_input_error("--tol", "", "", "must be a finite number >= 0 (0 = 1e-4 of the reach)");
-  }
-  if (!(o.lambda >= 0.0) || !std::isfinite(o.lambda)) {
-    throw_input_error("--lambda", "", "", "must be a finite number >= 0 (0 = 0.02 of the reach)");
-  }
-  if (!(o.rotation_damping >= 0.0 && o.rotation_damping <= 1.0)) {
-    throw_input_error("--rotation-damping", "", "", "must lie in [0, 1]");
-  }
-  if (o.max_iterations < 0) throw_input_error("--max-iterations", "", "", "must not be negative");
-  if (!o.gravity.empty() && o.gravity.size() != 3) {
-    throw_input_error("--gravity", "", "", "expected three numbers");
-  }
-  for (double g : o.gravity) {
-    if (!std::isfinite(g)) throw_input_error("--gravity", "", "", "not a finite number");
-  }
-}
 
 std::vector<IkGoal> scene_goals(const Scene& scene) {
   std::vector<IkGoal> goals;
@@ -76,28 +41,18 @@ SceneSolveResult solve_with_engine(Scene& scene, const SceneSolveOptions& o,
   rule.finish_options = classic_options(o);  // --lambda, --max-iterations, --no-limits, ...
   PosingSession session(scene);  // the solver object: rig, state and buffers, before the clock
   const auto t0 = std::chrono::steady_clock::now();
-  const SolveResult res = session.solve(rule);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  RunSummary s = session.summary(res);
-  s.wall_time_s = seconds;
   SceneSolveResult r;
-  r.summary = summary_to_json(session.scene(), s);
-  r.summary["iterations"] = res.steps;
-  r.summary["time_s"] = seconds;
-  r.summary["residual"] = res.residual;
-  r.summary["residual_tol"] = res.tolerance;
-  r.summary["stalled"] = res.stalled;
-  r.summary["out_of_steps"] = res.out_of_steps;
-  r.summary["finish"] = o.finish;
-  r.summary["finish_iterations"] = res.finish_iterations;
-  if (mode) {
-    r.summary["dt_growth"] = rule.dt_growth;
-    r.summary["max_dt"] = rule.max_dt;
-  }
-  r.frames = s.final_frames;
-  r.pose = s.final_pose;
-  r.diverged = res.diverged;
-  r.warning = s.joint_solve_warning;
+  r.solve = session.solve(rule);
+  r.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.engine = true;
+  r.rule = rule;
+  r.scene = session.scene();
+  r.run = session.summary(r.solve);
+  r.run.wall_time_s = r.time_s;
+  r.frames = r.run.final_frames;
+  r.pose = r.run.final_pose;
+  r.diverged = r.solve.diverged;
+  r.warning = r.run.joint_solve_warning;
   return r;
 }
 
@@ -125,35 +80,25 @@ SceneSolveResult solve_classic(const Scene& scene, const SceneSolveOptions& o,
   ik_method_from_string(o.solver, method);
   const IkOptions opt = classic_options(o);
   SceneSolveResult r;
+  r.scene = scene;
   r.pose = scene.initial_pose;
-  const IkReport rep = solve_ik(method, scene.rig, goals, r.pose, opt);
+  r.classic = solve_ik(method, scene.rig, goals, r.pose, opt);
+  r.time_s = r.classic.time_s;
   r.frames = forward_kinematics(scene.rig, r.pose);
-  r.summary = {{"scene", scene.file},
-               {"rig", scene.rig_file},
-               {"converged", rep.converged},
-               {"diverged", false},
-               {"stalled", rep.stalled},
-               {"iterations", rep.iterations},
-               {"final_residuals", rep.residuals},
-               {"residual", rep.residual},
-               {"residual_tol", rep.tolerance},
-               {"reach", rep.reach},
-               {"max_limit_violation_deg", rad2deg(max_limit_violation(scene.rig, r.pose))},
-               {"time_s", rep.time_s}};
   return r;
 }
 
 }  // namespace
 
-SceneSolveResult solve_scene(Scene scene, const SceneSolveOptions& o) {
-  check_solve_options(o);
+SceneSolveResult solve_scene(Scene scene, const SceneSolveOptions& o, OptionSpelling spelling) {
+  check_solve_options(o, spelling);
   if (scene.control_points.empty()) {
     throw_input_error(scene.file, "control_points", "", "a solve needs at least one control point");
   }
   const std::vector<IkGoal> goals = scene_goals(scene);
   SceneSolveResult r = engine_solver(o.solver) ? solve_with_engine(scene, o, goals)
                                                 : solve_classic(scene, o, goals);
-  r.summary["solver"] = o.solver;
+  r.solver = o.solver;
   return r;
 }
 

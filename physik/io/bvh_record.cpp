@@ -1,0 +1,36 @@
+// The recorder that collects a run's frames and writes them as one BVH animation (bvh.h).
+#include "physik/io/bvh.h"
+
+#include <utility>
+
+#include "physik/model/errors.h"
+
+namespace physik {
+
+BvhRecorder::BvhRecorder(const Rig& rig, double dt, int every, BvhExportOptions options)
+    : rig_(rig), every_(every), options_(std::move(options)) {
+  if (every < 1) throw_input_error("", "", "every", "must be at least 1");
+  if (!(dt > 0.0)) throw_input_error("", "", "dt", "must be positive");
+  options_.frame_time = dt * every;
+}
+
+void BvhRecorder::record(const Pose& pose) {
+  if (calls_++ % every_ == 0) poses_.push_back(pose);
+}
+
+void BvhRecorder::record(const BoneFrames& frames) {
+  if (calls_++ % every_ != 0) return;
+  Pose p;
+  local_rotations_from_world(rig_, frames, p);
+  poses_.push_back(std::move(p));
+}
+
+void BvhRecorder::write(std::ostream& out) const { write_bvh(rig_, poses_, options_, out); }
+
+void BvhRecorder::save(const std::string& path) const {
+  BvhExportOptions o = options_;
+  o.quaternion = o.quaternion || is_qbvh_path(path);
+  save_bvh(path, rig_, poses_, o);
+}
+
+}  // namespace physik

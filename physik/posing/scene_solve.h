@@ -1,0 +1,57 @@
+// A scene's control points solved as IK goals, by a classic solver (physik/ik/ik_solver.h) or by
+// the PhysIK engine run to its residual tolerance: what `physik solve` does, shared by the CLI
+// and the Python module (its summary.json: physik/io/summary_io.h solve_summary_to_json).
+//
+// The engine as a solver, both through physik::PosingSession (posing_session.h):
+//   physik           the solve mode: scheme implicit (linearised backward Euler over the
+//                    exact articulated solve) with torsion_torque gradient (the potential's own
+//                    torque, whose rest poses are the potential's minima), the step starting at
+//                    the scene's dt (the body follows with its secondary motion), lengthening by dt_growth
+//                    every step the kinetic energy falls, up to max_dt, shorter again after a
+//                    step the energy guard split (a long implicit step is a Gauss-Newton step on
+//                    the spring and torsion potential: the quasi-static solve)
+//   physik-explicit  the scene's own engine as it stands, at its dt
+// Both stop at the residual tolerance (1e-4 of the chain's reach unless --tol), or when the
+// residual stops improving (no 1% in 50 steps), and then, with finish ccd|dls, hand the pose
+// to CCD or DLS (the paper's suggested hybrid). time_s is the solve's alone: the session (the
+// rig, the state, every buffer) is built before the clock starts, as a tool holds it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "physik/engine/run_summary.h"
+#include "physik/ik/ik_solver.h"
+#include "physik/model/scene.h"
+#include "physik/posing/posing_session.h"
+#include "physik/posing/solve_options.h"
+
+namespace physik {
+
+// Every control point at its final target (the last scheduled change, if any).
+std::vector<IkGoal> scene_goals(const Scene& scene);
+
+struct SceneSolveResult {
+  std::string solver;      // the options' solver
+  bool engine = false;     // the engine solved (physik, physik-explicit), else a classic solver
+  Scene scene;             // the scene as solved (the solve mode's settings applied)
+  double time_s = 0.0;     // s, the solve's alone (the session is built before the clock)
+  // the engine: the session's run summary (its final pose the solved one), the solve's result
+  // and the rule it followed
+  RunSummary run;
+  SolveResult solve;
+  SolveRule rule;
+  // a classic solver's report
+  IkReport classic;
+  BoneFrames frames;       // the solved pose's frames
+  Pose pose;               // and its local rotations
+  bool diverged = false;   // the engine's run diverged (the CLI exits 3)
+  std::string warning;     // the engine's joint-solve warning (RunSummary::joint_solve_warning)
+};
+
+// Solve `scene` (taken by value: the engine's run changes its convergence settings).
+// InputError for bad options (named as `spelling` says) or a scene without control points.
+SceneSolveResult solve_scene(Scene scene, const SceneSolveOptions& options,
+                             OptionSpelling spelling = OptionSpelling::kFlag);
+
+}  // namespace physik
