@@ -1,25 +1,21 @@
-// physik simulate SCENE: run the PhysIK engine on a scene; per-step CSV + summary.json.
+// physik simulate SCENE: run the PhysIK engine on a scene into a run folder (scene.json,
+// trajectory.csv, targets_and_limits.csv, summary.json, final_pose.csv; physik/io/run_folder.h).
 //
-//   prepare_scene     load, --set, --steps; every bad option exits 2 before the run
-//   record_simulation the run, recorded (physik/io/recorder.h): trajectory.csv, --bvh, progress
-//   write_results     summary.json, the BVH file, final_pose.csv
-//   --reference       the MuJoCo run and comparison.json (reference/compare.h)
+//   prepare_scene      load, --set, --steps; every bad option exits 2 before the run
+//   progress_observer  --bvh frames and progress lines, beside the run folder's tables
+//   --reference        the MuJoCo run as a run folder of its own (<out>/mujoco) and
+//                      comparison.json (reference/compare.h)
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 
 #include "cli/commands.h"
 #include "physik/io/bvh.h"
 #include "physik/engine/run_monitor.h"
-#include "physik/io/json_fields.h"
 #include "physik/io/output_files.h"
-#include "physik/io/pose_io.h"
-#include "physik/io/recorder.h"
+#include "physik/io/run_folder.h"
 #include "physik/io/scene_io.h"
-#include "physik/io/summary_io.h"
 #include "physik/model/errors.h"
 #include "physik/model/scene.h"
 #include "reference/compare.h"
@@ -51,7 +47,8 @@ void add_options(CLI::App* cmd, SimulateOptions& o) {
   cmd->add_flag("--quiet", o.quiet, "No progress output");
   cmd->add_option("--reference", o.reference,
                   "Also run MuJoCo from the same initial pose: mujoco[:same-forces|:exact-constraints]; "
-                  "writes mujoco_trajectory.csv, mujoco_summary.json and comparison.json");
+                  "writes the MuJoCo run as a run folder of its own, <out>/mujoco (the files of "
+                  "<out>), and <out>/comparison.json");
 }
 
 Scene prepare_scene(const SimulateOptions& o) {
@@ -75,16 +72,11 @@ std::string solver_work(const EngineParams& p, const StepStats& st) {
   return "";
 }
 
-// The run with trajectory.csv (a row every --every steps and the last), the BVH frames and a
-// progress line every tenth of a long run.
-RunSummary record_simulation(const Scene& scene, const SimulateOptions& o, BvhRecorder* bvh) {
-  std::ofstream csv = open_output_file(o.out + "/trajectory.csv", "--out");
-  RecordOptions ro;
-  ro.csv_stream = &csv;
-  ro.csv_every = o.every;
-  ro.csv_rows = RowRule::kEveryAndLast;
+// What a run shows besides its run folder: the BVH frames, and a progress line every tenth of
+// a long run.
+StepObserver progress_observer(const Scene& scene, const SimulateOptions& o, BvhRecorder* bvh) {
   const int report_every = std::max(1, scene.steps / 10);
-  const auto also = [&](const SimState& s, const StepStats& st) {
+  return [&scene, &o, bvh, report_every](const SimState& s, const StepStats& st) {
     if (bvh && s.step % o.every == 0 && std::isfinite(st.kinetic_energy)) bvh->record(s.frames);
     if (!o.quiet && scene.steps >= 200 && s.step % report_every == 0) {
       std::cerr << "  step " << s.step << "/" << scene.steps << "  KE " << st.kinetic_energy
@@ -92,15 +84,6 @@ RunSummary record_simulation(const Scene& scene, const SimulateOptions& o, BvhRe
                 << "\n";
     }
   };
-  return record_run(scene, ro, also).summary;
-}
-
-void write_results(const Scene& scene, const RunSummary& sum, const SimulateOptions& o,
-                   const BvhRecorder* bvh) {
-  write_json(summary_to_json(scene, sum), o.out + "/summary.json");
-  if (bvh) bvh->save(o.bvh);
-  std::ofstream pose = open_output_file(o.out + "/final_pose.csv", "--out");
-  write_bones_csv(scene.rig, sum.final_frames, pose);
 }
 
 void print_outcome(const RunSummary& sum, const std::string& out) {
@@ -129,19 +112,18 @@ void print_outcome(const RunSummary& sum, const std::string& out) {
 
 void run_simulate(const SimulateOptions& o) {
   const Scene scene = prepare_scene(o);
-  create_output_dir(o.out, "--out");
-  // the scene as run (the overrides applied, the rig inline): the run folder stands alone
-  write_json(scene_to_json(scene, /*rig_inline=*/true), o.out + "/scene.json");
   std::unique_ptr<BvhRecorder> bvh;
   if (!o.bvh.empty()) {
     bvh = std::make_unique<BvhRecorder>(scene.rig, scene.params.dt * o.every);
     bvh->record(scene.initial_pose);
   }
-  const RunSummary sum = record_simulation(scene, o, bvh.get());
+  // the run folder (physik/io/run_folder.h): scene.json, both tables, summary.json, final_pose.csv
+  const RunSummary sum =
+      simulate_into_folder(scene, o.out, o.every, progress_observer(scene, o, bvh.get()));
+  if (bvh) bvh->save(o.bvh);
   if (!sum.joint_solve_warning.empty()) {
     std::cerr << "physik: warning: " << scene.file << ": " << sum.joint_solve_warning << "\n";
   }
-  write_results(scene, sum, o, bvh.get());
   if (!o.quiet) print_outcome(sum, o.out);
   if (!o.reference.empty()) {
     const nlohmann::json cmp =
@@ -161,8 +143,9 @@ void add_simulate_commands(CLI::App& app) {
   auto opt = std::make_shared<SimulateOptions>();
   auto* cmd = app.add_subcommand(
       "simulate",
-      "Run the PhysIK engine on a scene: writes <out>/trajectory.csv (one row per step) and "
-      "<out>/summary.json. Exit 3 if the run diverges.");
+      "Run the PhysIK engine on a scene into a run folder: <out>/scene.json, trajectory.csv (a "
+      "row every --every steps), targets_and_limits.csv, summary.json, final_pose.csv (`physik "
+      "view <out>` shows it). Exit 3 if the run diverges.");
   add_options(cmd, *opt);
   cmd->callback([opt] { run_simulate(*opt); });
 }

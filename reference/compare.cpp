@@ -11,6 +11,7 @@
 #include "physik/io/json_fields.h"
 #include "physik/io/output_files.h"
 #include "physik/io/pose_io.h"
+#include "physik/io/run_folder.h"
 #include "physik/io/summary_io.h"
 #include "physik/model/errors.h"
 
@@ -221,7 +222,7 @@ nlohmann::json comparison_to_json(const Scene& scene, const Comparison& c) {
       "same-forces: MuJoCo gets PhysIK's control, torsion and damping forces from its own state, "
       "with ball joints; exact-constraints: the rig's joint types and limits, no torsion springs",
       "angular velocity factor f applied in MuJoCo as the torque I (f - 1) w / dt per body",
-      "MuJoCo 'passes' in mujoco_trajectory.csv are constraint-solver iterations; its "
+      "MuJoCo 'passes' in mujoco/trajectory.csv are constraint-solver iterations; its "
       "joint_mismatch is 0 (exact joints)"};
   return j;
 }
@@ -230,22 +231,14 @@ nlohmann::json write_reference_comparison(const Scene& scene, const std::string&
                                           const std::string& out_dir, int every, bool verbose) {
   const ReferenceMode mode = parse_reference_spec(spec);
   if (verbose) std::cerr << "reference: MuJoCo " << mj_versionString() << ", " << to_string(mode) << "\n";
-  std::ofstream csv = open_output_file(out_dir + "/mujoco_trajectory.csv", "--out");
-  RecordOptions table;
-  table.csv_stream = &csv;
-  table.csv_every = every;
-  table.csv_rows = RowRule::kEveryAndLast;
-  const Comparison c = compare_with_mujoco(scene, mode, table);
-  csv.close();
+  // the reference run as a run folder of its own (physik/io/run_folder.h), beside PhysIK's
+  RunFolderWriter folder(scene, out_dir + "/" + kReferenceFolder, "--out");
+  const Comparison c = compare_with_mujoco(scene, mode, folder.record_options(every));
   nlohmann::json sum = summary_to_json(scene, c.mujoco.summary);
   sum["engine"] = std::string("mujoco ") + mj_versionString();
   sum["mode"] = to_string(mode);
   sum["passes_are"] = "MuJoCo constraint-solver iterations";
-  write_json(sum, out_dir + "/mujoco_summary.json");
-  {
-    std::ofstream pose = open_output_file(out_dir + "/mujoco_final_pose.csv", "--out");
-    write_bones_csv(scene.rig, c.mujoco.summary.final_frames, pose);
-  }
+  folder.finish(sum, c.mujoco.summary.final_frames);
   const nlohmann::json j = comparison_to_json(scene, c);
   write_json(j, out_dir + "/comparison.json");
   if (verbose && j["diverged"].empty()) {

@@ -74,8 +74,12 @@ std::vector<std::string> diverged_runs(const Comparison& c);
 // (diverged_runs), each run's summary, the free rods' gap.
 nlohmann::json comparison_to_json(const Scene& scene, const Comparison& c);
 
-// The `simulate --reference` output: <out>/mujoco_trajectory.csv (the columns of
-// trajectory.csv), mujoco_summary.json, mujoco_final_pose.csv and comparison.json.
+// The reference run's folder under `simulate --reference`'s output folder.
+inline constexpr const char* kReferenceFolder = "mujoco";
+
+// The `simulate --reference` output: the MuJoCo run as a run folder of its own,
+// <out>/mujoco (physik/io/run_folder.h: scene.json, trajectory.csv, targets_and_limits.csv,
+// summary.json with the engine and mode, final_pose.csv), and <out>/comparison.json.
 // Returns comparison.json's content; its "diverged" lists the runs that diverged.
 nlohmann::json write_reference_comparison(const Scene& scene, const std::string& spec,
                                           const std::string& out_dir, int every, bool verbose);

@@ -120,7 +120,10 @@ check "export-mjcf bad joints" 2 "$bin" export-mjcf "$src/models/rigs/pinhead.js
 check "simulate bad reference" 2 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --reference bullet --out "$tmp/ref"
 check "simulate reference" 0 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --steps 20 --quiet --reference mujoco:exact-constraints --out "$tmp/ref"
 expect_in "comparison.json" "$tmp/ref/comparison.json" '"final_pose_gap"'
-expect_in "mujoco csv header" "$tmp/ref/mujoco_trajectory.csv" "step,time,kinetic_energy,passes,joint_mismatch,joint_separation,residual_"
+expect_in "mujoco csv header" "$tmp/ref/mujoco/trajectory.csv" "step,time,kinetic_energy,passes,joint_mismatch,joint_separation,residual_"
+expect_in "mujoco run folder" "$tmp/ref/mujoco/summary.json" '"mode": "exact-constraints"'
+expect_in "mujoco run folder scene" "$tmp/ref/mujoco/scene.json" '"bones"'
+expect_in "mujoco targets and limits" "$tmp/ref/mujoco/targets_and_limits.csv" "step,"
 
 # interchange: BVH / qBVH, joint-limit files, MJCF
 check "from-bvh help" 0 "$bin" rig from-bvh --help

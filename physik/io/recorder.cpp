@@ -64,6 +64,9 @@ Recorder::Recorder(const Scene& scene, RecordOptions options)
     out = &file_;
   }
   if (out) csv_ = std::make_unique<TrajectoryCsv>(scene, *out, opt_.csv_every, opt_.csv_rows);
+  if (csv_ && opt_.targets_limits_stream) {
+    targets_limits_ = std::make_unique<TargetsLimitsCsv>(scene, *opt_.targets_limits_stream);
+  }
   if (!opt_.all_frames &&
       std::find(opt_.frame_steps.begin(), opt_.frame_steps.end(), 0) != opt_.frame_steps.end()) {
     run_.frame_steps.push_back(0);
@@ -75,6 +78,11 @@ StepObserver Recorder::observer() {
   return [this](const SimState& s, const StepStats& st) { observe(s, st); };
 }
 
+// the trajectory row, and its targets-and-limits row when the trajectory row was written
+void Recorder::write_rows(const SimState& s, const StepStats& st) {
+  if (csv_->write_row(s, st, res_) && targets_limits_) targets_limits_->write_row(s);
+}
+
 bool Recorder::wants_frame(int step) const {
   return opt_.all_frames ||
          std::find(opt_.frame_steps.begin(), opt_.frame_steps.end(), step) != opt_.frame_steps.end();
@@ -84,7 +92,7 @@ void Recorder::observe(const SimState& s, const StepStats& st) {
   if (s.step == 0) {  // the initial state: its table row only (frame 0 is kept at construction)
     if (csv_) {
       control_residuals(scene_, s, res_);
-      csv_->write_row(s, st, res_);
+      write_rows(s, st);
     }
     return;
   }
@@ -97,10 +105,11 @@ void Recorder::observe(const SimState& s, const StepStats& st) {
     run_.frame_steps.push_back(s.step);
     run_.frames.push_back(s.frames);
   }
-  if (row) csv_->write_row(s, st, res_);
+  if (row) write_rows(s, st);
 }
 
 RecordedRun Recorder::finish(RunSummary summary) {
+  targets_limits_.reset();
   if (csv_) csv_.reset();
   if (file_.is_open()) file_.close();
   run_.summary = std::move(summary);

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "physik/engine/run_summary.h"
+#include "physik/io/targets_limits.h"
 #include "physik/model/scene.h"
 
 namespace physik {
@@ -61,6 +62,9 @@ struct RecordOptions {
   std::ostream* csv_stream = nullptr;
   int csv_every = 1;                       // a row every N steps (N >= 1)
   RowRule csv_rows = RowRule::kEveryAndLast;
+  // the targets-and-limits table (targets_limits.h), a row beside every trajectory row written
+  // (the caller's stream; needs the trajectory table)
+  std::ostream* targets_limits_stream = nullptr;
   // kept in memory
   bool all_frames = false;       // the frames after every step
   std::vector<int> frame_steps;  // else only at these steps (0 = the initial pose, kept first)
@@ -99,11 +103,13 @@ class Recorder {
 
  private:
   bool wants_frame(int step) const;
+  void write_rows(const SimState& state, const StepStats& stats);
 
   const Scene& scene_;
   RecordOptions opt_;
   std::ofstream file_;
   std::unique_ptr<TrajectoryCsv> csv_;
+  std::unique_ptr<TargetsLimitsCsv> targets_limits_;
   std::vector<double> res_;  // this step's control residuals
   RecordedRun run_;
 };

@@ -112,8 +112,9 @@ TEST(Compare, ComparisonJsonHasTheIssuesFields) {
   EXPECT_EQ(j["mode"], "exact-constraints");
 }
 
-// `simulate --reference` writes MuJoCo's trajectory table with the recorder: the same bytes as a
-// recorder on MuJoCo's run, the initial state, a row every N steps and the scene's last step
+// `simulate --reference` writes MuJoCo's run folder (mujoco/) with the recorder: its trajectory
+// table is the same bytes as a recorder on MuJoCo's run, the initial state, a row every N steps
+// and the scene's last step
 TEST(Compare, ReferenceTableIsTheRecordersTable) {
   Scene s = two_bone_scene(true);
   s.steps = 40;
@@ -127,7 +128,7 @@ TEST(Compare, ReferenceTableIsTheRecordersTable) {
   o.csv_rows = RowRule::kEveryAndLast;
   const RecordedRun run = record_mujoco(s, ReferenceMode::kSameForces, o);
   ASSERT_EQ(run.summary.steps_run, 40);
-  std::ifstream in(out + "/mujoco_trajectory.csv");
+  std::ifstream in(out + "/mujoco/trajectory.csv");
   std::stringstream written;
   written << in.rdbuf();
   EXPECT_EQ(written.str(), csv.str());

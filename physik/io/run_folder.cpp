@@ -1,0 +1,73 @@
+// Run folders (run_folder.h): the writer shared by `physik simulate`, the reference run and
+// the experiments, and pose folders for one pose.
+#include "physik/io/run_folder.h"
+
+#include "physik/engine/engine.h"
+#include "physik/io/json_fields.h"
+#include "physik/io/output_files.h"
+#include "physik/io/pose_io.h"
+#include "physik/io/scene_io.h"
+#include "physik/io/summary_io.h"
+
+namespace physik {
+
+RunFolderWriter::RunFolderWriter(const Scene& scene, const std::string& dir,
+                                 const std::string& option)
+    : scene_(scene), dir_(dir), option_(option) {
+  create_output_dir(dir, option);
+  write_json(scene_to_json(scene, /*rig_inline=*/true), dir + "/" + kSceneFile);
+  trajectory_ = open_output_file(dir + "/" + kTrajectoryFile, option);
+  targets_limits_ = open_output_file(dir + "/" + kTargetsLimitsFile, option);
+}
+
+RecordOptions RunFolderWriter::record_options(int every) {
+  RecordOptions o;
+  o.csv_stream = &trajectory_;
+  o.targets_limits_stream = &targets_limits_;
+  o.csv_every = every;
+  o.csv_rows = RowRule::kEveryAndLast;
+  return o;
+}
+
+void RunFolderWriter::finish(const nlohmann::json& summary, const BoneFrames& final_frames) {
+  trajectory_.close();
+  targets_limits_.close();
+  write_json(summary, dir_ + "/" + kSummaryFile);
+  std::ofstream pose = open_output_file(dir_ + "/" + kFinalPoseFile, option_);
+  write_bones_csv(scene_.rig, final_frames, pose);
+}
+
+RunSummary simulate_into_folder(const Scene& scene, const std::string& dir, int every,
+                                const StepObserver& also, const std::string& option) {
+  RunFolderWriter folder(scene, dir, option);
+  RecordedRun run = record_run(scene, folder.record_options(every), also);
+  folder.finish(summary_to_json(scene, run.summary), run.summary.final_frames);
+  return std::move(run.summary);
+}
+
+void write_pose_folder(const Scene& scene, const std::string& dir, const BoneFrames& frames,
+                       nlohmann::json summary) {
+  RunFolderWriter folder(scene, dir, "--out");
+  // the pose as a state at rest at step 0: its residuals, targets and joint angles are real,
+  // its velocities (and so its kinetic energy and joint mismatch) zero; the targets are the
+  // goals (a pose has no interpolation under way)
+  SimState s;
+  init_state(scene, s);
+  s.target_effective_world = s.target_goal_world;
+  s.frames = frames;
+  local_rotations_from_world(scene.rig, frames, s.pose);
+  StepStats st;
+  st.joint_separation = max_joint_separation(scene.rig, frames);
+  std::vector<double> residuals;
+  control_residuals(scene, s, residuals);
+  {
+    RecordOptions o = folder.record_options(1);
+    TrajectoryCsv table(scene, *o.csv_stream, 1, RowRule::kEveryAndLast);
+    TargetsLimitsCsv extra(scene, *o.targets_limits_stream);
+    if (table.write_row(s, st, residuals)) extra.write_row(s);
+  }
+  summary["kind"] = "pose";
+  folder.finish(summary, frames);
+}
+
+}  // namespace physik

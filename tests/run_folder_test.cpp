@@ -1,0 +1,143 @@
+// Run folders (physik/io/run_folder.h) and their targets-and-limits table
+// (physik/io/targets_limits.h): a pose past a known limit gives its excess, the tables keep the
+// same rows, the table's largest excess is the run's limit violation, and an interpolated
+// target's path is the interpolation's (a straight segment for linear).
+#include "physik/io/run_folder.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "physik/engine/engine.h"
+#include "physik/io/scene_io.h"
+#include "tests/test_util.h"
+
+namespace physik {
+namespace {
+
+constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+
+struct Table {
+  std::vector<std::string> columns;
+  std::vector<std::vector<double>> rows;
+
+  int column(const std::string& name) const {
+    for (std::size_t k = 0; k < columns.size(); ++k) {
+      if (columns[k] == name) return static_cast<int>(k);
+    }
+    ADD_FAILURE() << "no column " << name;
+    return 0;
+  }
+};
+
+// a table whose names hold no comma (these tests' rigs)
+Table read_table(const std::string& path) {
+  std::ifstream in(path);
+  EXPECT_TRUE(in) << path;
+  Table t;
+  std::string line, cell;
+  std::getline(in, line);
+  std::stringstream header(line);
+  while (std::getline(header, cell, ',')) t.columns.push_back(cell);
+  while (std::getline(in, line)) {
+    std::stringstream row(line);
+    t.rows.emplace_back();
+    while (std::getline(row, cell, ',')) t.rows.back().push_back(std::stod(cell));
+  }
+  return t;
+}
+
+std::string fresh_dir(const std::string& name) {
+  const std::string dir = ::testing::TempDir() + "/run_folder_" + name;
+  std::filesystem::remove_all(dir);
+  return dir;
+}
+
+// the elbow (forearm x limited to [-90, 0] deg) bent 120 deg: 30 deg below the limit's min
+TEST(RunFolder, PoseFolderGivesTheExcessPastAKnownLimit) {
+  const Scene scene = load_scene(test::model_path("scenes/fig6_elbow_linear.json"));
+  Pose pose = rest_pose(scene.rig);
+  const int forearm = scene.rig.find_bone("forearm");
+  pose.bone_local_rotation[forearm] = Quat(Eigen::AngleAxisd(-120 * kDegToRad, Vec3::UnitX()));
+  const BoneFrames frames = forward_kinematics(scene.rig, pose);
+  const std::string dir = fresh_dir("pose");
+  write_pose_folder(scene, dir, frames, {{"solver", "test"}});
+
+  const Table limits = read_table(dir + "/targets_and_limits.csv");
+  ASSERT_EQ(limits.rows.size(), 1u);
+  const std::vector<double>& row = limits.rows[0];
+  EXPECT_EQ(row[0], 0);  // step 0
+  EXPECT_NEAR(row[limits.column("forearm.limit_excess_x")], -30 * kDegToRad, 1e-7);
+  EXPECT_NEAR(row[limits.column("forearm.limit_excess_y")], 0.0, 1e-12);
+  EXPECT_NEAR(row[limits.column("forearm.limit_excess_z")], 0.0, 1e-12);
+  EXPECT_EQ(row[limits.column("upper_arm.limit_excess_x")], 0.0);  // the root is never limited
+  const Vec3& wrist = scene.control_points[2].target_world;
+  EXPECT_NEAR(row[limits.column("wrist.target_y")], wrist.y(), 1e-9);
+  EXPECT_NEAR(row[limits.column("wrist.target_z")], wrist.z(), 1e-9);
+
+  // the trajectory's one row: at rest, the wrist's residual its distance to the target
+  const Table traj = read_table(dir + "/trajectory.csv");
+  ASSERT_EQ(traj.rows.size(), 1u);
+  EXPECT_EQ(traj.rows[0][traj.column("kinetic_energy")], 0.0);
+  EXPECT_NEAR(traj.rows[0][traj.column("residual_wrist")],
+              (frames.tail_world[forearm] - wrist).norm(), 1e-7);
+  std::ifstream summary(dir + "/summary.json");
+  std::stringstream text;
+  text << summary.rdbuf();
+  EXPECT_NE(text.str().find("\"kind\": \"pose\""), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(dir + "/scene.json"));
+  EXPECT_TRUE(std::filesystem::exists(dir + "/final_pose.csv"));
+}
+
+// both tables have the same steps; with a row every step, the table's largest |excess| is the
+// run monitor's limit violation (two code paths over the same poses)
+TEST(RunFolder, TablesShareRowsAndTheExcessIsTheRunsViolation) {
+  Scene scene = load_scene(test::model_path("scenes/fig6_elbow_linear.json"));
+  scene.steps = 120;
+  const std::string dir = fresh_dir("elbow");
+  const RunSummary sum = simulate_into_folder(scene, dir, 1);
+  const Table traj = read_table(dir + "/trajectory.csv");
+  const Table limits = read_table(dir + "/targets_and_limits.csv");
+  ASSERT_EQ(traj.rows.size(), limits.rows.size());
+  ASSERT_EQ(traj.rows.size(), 121u);
+  double largest = 0.0;
+  for (std::size_t r = 0; r < traj.rows.size(); ++r) {
+    EXPECT_EQ(traj.rows[r][0], limits.rows[r][0]);
+    for (const char* axis : {"x", "y", "z"}) {
+      const int c = limits.column(std::string("forearm.limit_excess_") + axis);
+      largest = std::max(largest, std::abs(limits.rows[r][c]));
+    }
+  }
+  ASSERT_GT(sum.max_limit_violation_deg, 1.0);  // the scene pulls past the limit
+  EXPECT_NEAR(largest, sum.max_limit_violation_deg * kDegToRad, 1e-6);
+}
+
+// linear interpolation: the hand's target moves along the straight segment to its goal and
+// stays there once the interpolation is over
+TEST(RunFolder, LinearTargetPathIsAStraightSegment) {
+  Scene scene = load_scene(test::model_path("scenes/fig10_raise_linear.json"));
+  scene.steps = scene.params.interpolation_steps + 10;
+  const std::string dir = fresh_dir("raise");
+  simulate_into_folder(scene, dir, 1);
+  const Table limits = read_table(dir + "/targets_and_limits.csv");
+  const int x = limits.column("hand.L.target_x");
+  const auto target = [&](std::size_t r) {
+    return Vec3(limits.rows[r][x], limits.rows[r][x + 1], limits.rows[r][x + 2]);
+  };
+  const Vec3 start = target(0), goal = scene.control_points[0].target_world;
+  ASSERT_GT((goal - start).norm(), 0.5);
+  const Vec3 dir_unit = (goal - start).normalized();
+  for (std::size_t r = 0; r < limits.rows.size(); ++r) {
+    const Vec3 off = target(r) - start;
+    EXPECT_LT((off - off.dot(dir_unit) * dir_unit).norm(), 1e-6) << "row " << r;
+  }
+  EXPECT_TRUE(test::near(target(limits.rows.size() - 1), goal, 1e-7));
+}
+
+}  // namespace
+}  // namespace physik
