@@ -14,5 +14,6 @@ void add_reference_commands(CLI::App& app);
 void add_tune_commands(CLI::App& app);
 void add_solve_commands(CLI::App& app);
 void add_params_commands(CLI::App& app);
+void add_view_commands(CLI::App& app);
 
 }  // namespace physik::cli

@@ -3,6 +3,7 @@
 
     physik/model  <-  physik/engine, physik/ik  <-  physik/posing  <-  physik/io  <-  reference  <-  tune
     <-  experiments  <-  cli (and bench)
+    physik/io  <-  viewer  <-  cli, python      (run folders into an HTML page; MuJoCo-free)
 
 A file may include its own layer and the layers below it, never one above or beside it. Besides:
   - the core (physik/) includes neither MuJoCo nor Ceres;
@@ -31,7 +32,10 @@ UPPER_ORDER = ["reference", "tune", "experiments", "cli"]
 for k, layer in enumerate(UPPER_ORDER):
     ALLOWED[layer] = CORE | set(UPPER_ORDER[: k + 1])
 ALLOWED["bench"] = CORE | set(UPPER_ORDER[:3]) | {"bench"}
-ALLOWED["python"] = CORE | set(UPPER_ORDER[:3]) | {"python"}
+ALLOWED["python"] = CORE | set(UPPER_ORDER[:3]) | {"python", "viewer"}
+# the viewer reads run folders with the core's io alone; the CLI and the Python module use it
+ALLOWED["viewer"] = CORE | {"viewer"}
+ALLOWED["cli"] = ALLOWED["cli"] | {"viewer"}
 JSON_FREE = {"physik/model", "physik/engine", "physik/ik", "physik/posing"}
 FORBIDDEN_IN_CORE = ("mujoco/", "ceres/")
 
@@ -163,6 +167,12 @@ class LayeringTest(unittest.TestCase):
             self.write(root, "physik/posing/p.cpp", '#include "physik/engine/engine.h"\n')
             self.assertEqual(check(root), ['physik/engine/damping.cpp: includes "physik/engine/engine.h", '
                                            'above the stages inside physik/engine'])
+
+    def test_the_viewer_may_not_include_the_reference(self):
+        with tempfile.TemporaryDirectory() as root:
+            self.write(root, "reference/compare.h", "#pragma once\n")
+            self.write(root, "viewer/x.cpp", '#include "reference/compare.h"\n')
+            self.assertIn("layer viewer may not depend on reference", check(root)[0])
 
     def test_reference_may_not_include_tune(self):
         with tempfile.TemporaryDirectory() as root:

@@ -1,0 +1,369 @@
+#!/usr/bin/env python3
+"""The viewer: `physik view` (cli/cmd_view.cpp, viewer/) on run folders.
+
+ViewCommandTest (no browser): bad input exits 2 naming the folder and what is missing (not a
+folder, not a run folder, an empty trajectory, a short row, rigs with other bones); long runs
+are decimated to the cap and the page says so; the page loads nothing (no src or href, a
+content policy that forbids every load).
+
+BrowserTest, in headless Chromium (Debian's chromium, chromium-driver and python3-selenium;
+SwiftShader renders WebGL): the page loads from file:// with no console error and a canvas;
+moving the slider changes the rendered pixels and a paused frame stays the same; Play
+advances; an overlay of two runs draws both colours; a rig bent past a locked joint is drawn
+in the highlight colour; a rig, scene, folder and title of hostile names (</script><img ...>)
+show as text and run nothing. It skips, with a message, only where Chromium cannot start.
+Screenshots go to PHYSIK_VIEWER_SHOTS (default build/viewer_screenshots).
+
+Run: PHYSIK_BINARY=build/physik python3 tests/viewer/test_viewer.py [ViewCommandTest|BrowserTest]
+(ctest: viewer_command, viewer_browser; exit 77 = skipped).
+"""
+import colorsys
+import io
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+from html.parser import HTMLParser
+
+REPO = os.environ.get("PHYSIK_SOURCE_DIR") or os.path.dirname(
+    os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+BINARY = os.environ.get("PHYSIK_BINARY") or os.path.join(REPO, "build", "physik")
+SHOTS = os.environ.get("PHYSIK_VIEWER_SHOTS") or os.path.join(REPO, "build", "viewer_screenshots")
+SKIPPED = 77
+
+# the viewer's colours (viewer/viewer.js PALETTE, HIGHLIGHT): hues in degrees
+BLUE, ORANGE, HIGHLIGHT = 205, 28, 346
+HOSTILE = '</script><img src=x onerror="window.__pwned=1;alert(1)">'
+HOSTILE_BONE = '"><svg onload="window.__pwned=2">'
+HOSTILE_POINT = "<script>window.__pwned=3</script>&amp;,\"tip\""
+HOSTILE_FOLDER = "<img src=x onerror=alert(4)>"
+
+
+def physik(*args):
+    p = subprocess.run([BINARY] + [str(a) for a in args], capture_output=True, text=True)
+    return p.returncode, p.stderr
+
+
+def chain_rig(names=("b0", "b1", "b2"), name="chain3", locked_middle=False):
+    """Three bones of length 1 up +Z, radius 0.2; optionally the middle joint locked."""
+    bones = []
+    for k, n in enumerate(names):
+        b = {"name": n, "parent": names[k - 1] if k else None, "head": [0, 0, k],
+             "tail": [0, 0, k + 1], "radius": 0.2}
+        if locked_middle and k == 1:
+            b["limits_deg"] = {"x": [0, 0], "y": [0, 0], "z": [0, 0]}
+        bones.append(b)
+    return {"name": name, "bones": bones}
+
+
+def chain_scene(folder, rig, tip_x, point_names=("root", "tip"), steps=40):
+    """A scene file in `folder`: the root's head pinned, the tip pulled sideways to x = tip_x."""
+    os.makedirs(folder, exist_ok=True)
+    with open(os.path.join(folder, "rig.json"), "w") as f:
+        json.dump(rig, f)
+    names = [b["name"] for b in rig["bones"]]
+    scene = {"rig": "rig.json", "steps": steps, "control_points": [
+        {"name": point_names[0], "bone": names[0], "alpha": 0.0, "target": [0, 0, 0]},
+        {"name": point_names[1], "bone": names[2], "alpha": 1.0, "target": [tip_x, 0, 1.8]}]}
+    path = os.path.join(folder, "scene.json")
+    with open(path, "w") as f:
+        json.dump(scene, f)
+    return path
+
+
+def simulate(scene, out, *extra):
+    status, err = physik("simulate", scene, "--out", out, "--quiet", *extra)
+    if status != 0:
+        raise RuntimeError("simulate %s: exit %d: %s" % (scene, status, err))
+    return out
+
+
+def page_data(path):
+    """The runs' JSON of a page (its physik-data element)."""
+    text = open(path, encoding="utf-8").read()
+    m = re.search(r'<script type="application/json" id="physik-data">(.*?)</script>', text, re.S)
+    return json.loads(m.group(1))
+
+
+class _Loads(HTMLParser):
+    """Every src or href attribute of the page's markup (script text is not markup)."""
+
+    def __init__(self):
+        super().__init__()
+        self.loads = []
+        self.policy = None
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        self.loads += [(tag, k, v) for k, v in attrs if k in ("src", "href")]
+        if tag == "meta" and a.get("http-equiv") == "Content-Security-Policy":
+            self.policy = a.get("content")
+
+
+class ViewCommandTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix="physik_view_")
+        cls.run_dir = simulate(chain_scene(os.path.join(cls.tmp, "s"), chain_rig(), 1.5),
+                           os.path.join(cls.tmp, "run"), "--steps", "100")
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+
+    def error(self, *args):
+        status, err = physik("view", *args)
+        self.assertEqual(status, 2, err)
+        lines = [l for l in err.splitlines() if l.startswith("physik: error: ")]
+        self.assertEqual(len(lines), 1, err)
+        return lines[0]
+
+    def copy_run(self, name):
+        dst = os.path.join(self.tmp, name)
+        shutil.copytree(self.run_dir, dst)
+        return dst
+
+    def test_not_a_folder(self):
+        missing = os.path.join(self.tmp, "missing")
+        msg = self.error(missing, "--out", os.path.join(self.tmp, "x.html"))
+        self.assertIn(missing + ": not a run folder: no such folder", msg)
+        self.assertFalse(os.path.exists(missing))  # nothing created on the way
+
+    def test_not_a_run_folder(self):
+        run = self.copy_run("no_trajectory")
+        os.remove(os.path.join(run, "trajectory.csv"))
+        msg = self.error(run, "--out", os.path.join(self.tmp, "x.html"))
+        self.assertIn(run + ": not a run folder: no trajectory.csv", msg)
+
+    def test_empty_trajectory(self):
+        run = self.copy_run("empty")
+        path = os.path.join(run, "trajectory.csv")
+        header = open(path).readline()
+        open(path, "w").write(header)
+        msg = self.error(run, "--out", os.path.join(self.tmp, "x.html"))
+        self.assertIn(path + ": an empty trajectory", msg)
+
+    def test_a_short_row(self):
+        run = self.copy_run("short")
+        path = os.path.join(run, "trajectory.csv")
+        lines = open(path).read().splitlines()
+        lines[3] = lines[3].rsplit(",", 1)[0]
+        open(path, "w").write("\n".join(lines) + "\n")
+        msg = self.error(run, "--out", os.path.join(self.tmp, "x.html"))
+        self.assertIn(path + ": line 4: ", msg)
+        self.assertIn("fields where the header has", msg)
+
+    def test_rigs_with_other_bones(self):
+        other = simulate(chain_scene(os.path.join(self.tmp, "s2"), chain_rig(("a", "b", "c")), 1),
+                         os.path.join(self.tmp, "other"), "--steps", "5")
+        msg = self.error(self.run_dir, other, "--out", os.path.join(self.tmp, "x.html"))
+        self.assertIn(other + ": scene.json rig: field 'bones[0]': 'a'", msg)
+        self.assertIn("an overlay draws runs of the same bones", msg)
+
+    def test_decimated_to_the_cap_and_said(self):
+        out = os.path.join(self.tmp, "cap.html")
+        self.assertEqual(physik("view", self.run_dir, "--max-frames", "10", "--out", out)[0], 0)
+        run = page_data(out)["runs"][0]
+        self.assertEqual(run["rows_recorded"], 101)  # step 0 and 100 steps
+        self.assertEqual(run["stride"], 12)  # ceil(101 / 9)
+        self.assertEqual(run["frames"], 10)  # rows 0, 12, ..., 96 and the last
+        said = [n for n in run["notes"] if "decimated: every 12th of 101" in n]
+        self.assertEqual(len(said), 1, run["notes"])
+
+    def test_the_page_loads_nothing(self):
+        out = os.path.join(self.tmp, "plain.html")
+        self.assertEqual(physik("view", self.run_dir, "--out", out)[0], 0)
+        parser = _Loads()
+        parser.feed(open(out, encoding="utf-8").read())
+        self.assertEqual(parser.loads, [])
+        self.assertIn("default-src 'none'", parser.policy)
+
+
+def chromium():
+    """A headless Chromium driven by chromedriver, or the reason it cannot start."""
+    try:
+        from selenium import webdriver
+        from selenium.webdriver.chrome.options import Options
+        from selenium.webdriver.chrome.service import Service
+    except ImportError as e:
+        return None, "python3-selenium is missing (%s)" % e
+    o = Options()
+    o.binary_location = shutil.which("chromium") or "/usr/bin/chromium"
+    args = ["--headless=new", "--no-sandbox", "--use-angle=swiftshader",
+            "--enable-unsafe-swiftshader", "--window-size=1000,1000",
+            "--user-data-dir=" + tempfile.mkdtemp(prefix="physik_chromium_")]
+    if os.geteuid() == 0:
+        args += ["--disable-gpu", "--disable-background-networking", "--disable-component-update",
+                 "--disable-sync", "--no-first-run"]
+    for a in args:
+        o.add_argument(a)
+    o.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    try:
+        driver = Service(shutil.which("chromedriver") or "/usr/bin/chromedriver")
+        return webdriver.Chrome(service=driver, options=o), None
+    except Exception as e:  # no binary, no driver, or a browser that will not start
+        return None, "Chromium cannot start: %s" % str(e).strip().splitlines()[0]
+
+
+def hue_counts(png, hues, tol=18):
+    """Pixels (of a PNG screenshot) of each hue, in degrees, among the saturated ones."""
+    from PIL import Image
+    img = Image.open(io.BytesIO(png)).convert("RGB").resize((250, 250))
+    counts = {h: 0 for h in hues}
+    for r, g, b in img.getdata():
+        hh, s, v = colorsys.rgb_to_hsv(r / 255, g / 255, b / 255)
+        if s < 0.35 or v < 0.15:
+            continue
+        for h in hues:
+            if abs((360 * hh - h + 180) % 360 - 180) <= tol:
+                counts[h] += 1
+    return counts
+
+
+class BrowserTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.driver, why = chromium()
+        if cls.driver is None:
+            raise unittest.SkipTest(why)
+        cls.tmp = tempfile.mkdtemp(prefix="physik_view_browser_")
+        os.makedirs(SHOTS, exist_ok=True)
+        t = cls.tmp
+        right = simulate(chain_scene(t + "/s1", chain_rig(), 1.5), t + "/right", "--every", "2")
+        left = simulate(chain_scene(t + "/s2", chain_rig(), -1.5), t + "/left", "--every", "2")
+        hostile_rig = chain_rig((HOSTILE, HOSTILE_BONE, "b2"), name=HOSTILE, locked_middle=True)
+        hostile = simulate(chain_scene(t + "/s3", hostile_rig, 3.0, (HOSTILE, HOSTILE_POINT)),
+                           os.path.join(t, HOSTILE_FOLDER), "--every", "2")
+        cls.pages = {"single": t + "/single.html", "overlay": t + "/overlay.html",
+                     "hostile": t + "/hostile.html"}
+        for args in ([right, "--out", cls.pages["single"]],
+                     [right, left, "--out", cls.pages["overlay"]],
+                     [hostile, "--title", HOSTILE, "--out", cls.pages["hostile"]]):
+            status, err = physik("view", *args)
+            if status != 0:
+                raise RuntimeError("physik view %s: %s" % (args, err))
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.driver.quit()
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+
+    def js(self, script, *args):
+        return self.driver.execute_script(script, *args)
+
+    def wait_for(self, script, what, timeout=30):
+        end = time.time() + timeout
+        while time.time() < end:
+            value = self.js(script)
+            if value:
+                return value
+            time.sleep(0.05)
+        self.fail("timed out waiting for " + what)
+
+    def load(self, name):
+        self.driver.get_log("browser")  # drop what earlier pages logged
+        self.driver.get("file://" + self.pages[name])
+        self.wait_for("return window.physikViewers && window.physikViewers[0].renders > 0",
+                      "the first frame of " + name)
+        return self.driver.find_element("css selector", ".physik-viewer canvas")
+
+    def settled_canvas(self, canvas):
+        """The canvas once every requested frame is drawn."""
+        self.wait_for("return !window.physikViewers[0].renderQueued", "the render")
+        return canvas.screenshot_as_png
+
+    def errors(self):
+        return [l for l in self.driver.get_log("browser") if l["level"] == "SEVERE"]
+
+    def shot(self, name):
+        path = os.path.join(SHOTS, name + ".png")
+        self.driver.save_screenshot(path)
+        return path
+
+    def test_page_loads_with_a_canvas_and_no_console_error(self):
+        canvas = self.load("single")
+        self.assertTrue(canvas.is_displayed())
+        self.assertGreater(canvas.size["width"], 100)
+        self.assertEqual(self.errors(), [])
+        self.shot("single_frame0")
+
+    def test_slider_changes_pixels_and_a_paused_frame_stays(self):
+        from selenium.webdriver.common.keys import Keys
+        canvas = self.load("single")
+        first = self.settled_canvas(canvas)
+        slider = self.driver.find_element("css selector", ".physik-viewer input.frame")
+        slider.send_keys(Keys.END)  # the keyboard, as a user moves it
+        self.wait_for("var v = window.physikViewers[0]; return v.frame === v.times.length - 1",
+                      "the slider's last frame")
+        last = self.settled_canvas(canvas)
+        self.assertNotEqual(first, last)
+        time.sleep(0.5)  # paused: nothing may change
+        self.assertEqual(self.settled_canvas(canvas), last)
+        label = self.driver.find_element("css selector", ".physik-viewer .time").text
+        self.assertRegex(label, r"t = 2\.000 s, step 40, frame 21/21")
+        self.shot("single_last_frame")
+        self.assertEqual(self.errors(), [])
+
+    def test_play_advances_the_frame(self):
+        self.load("single")
+        self.driver.find_element("css selector", ".physik-viewer button.play").click()
+        self.wait_for("return window.physikViewers[0].frame > 3", "playback")
+
+    def test_overlay_draws_both_colours(self):
+        canvas = self.load("overlay")
+        self.js("var v = window.physikViewers[0]; v.setFrame(v.times.length - 1);")
+        counts = hue_counts(self.settled_canvas(canvas), (BLUE, ORANGE))
+        self.shot("overlay_last_frame")
+        self.assertGreater(counts[BLUE], 300, counts)
+        self.assertGreater(counts[ORANGE], 300, counts)
+        self.assertEqual(self.errors(), [])
+
+    def test_a_bone_past_its_limit_is_highlighted(self):
+        data = page_data(self.pages["hostile"])["runs"][0]
+        canvas = self.load("hostile")
+        self.assertEqual(hue_counts(self.settled_canvas(canvas), (HIGHLIGHT,))[HIGHLIGHT], 0)
+        self.js("var v = window.physikViewers[0]; v.setFrame(v.times.length - 1);")
+        readout = self.wait_for(
+            "var t = document.querySelectorAll('.physik-viewer tbody td')[5].textContent;"
+            "return t !== 'none' && t", "the limit readout")
+        self.assertIn(HOSTILE_BONE, readout)  # the locked joint's bone, by name
+        counts = hue_counts(self.settled_canvas(canvas), (HIGHLIGHT,))
+        self.shot("limit_highlighted")
+        self.assertGreater(counts[HIGHLIGHT], 100, (counts, data["notes"]))
+
+    def test_hostile_names_show_as_text_and_run_nothing(self):
+        from selenium.common.exceptions import NoAlertPresentException
+        self.load("hostile")
+        self.js("var v = window.physikViewers[0]; v.setFrame(v.times.length - 1);")
+        time.sleep(0.3)
+        with self.assertRaises(NoAlertPresentException):
+            self.driver.switch_to.alert.text
+        self.assertIsNone(self.js("return window.__pwned"))
+        self.assertEqual(self.js("return document.querySelectorAll('img, svg').length"), 0)
+        text = self.js("return document.body.innerText")
+        for name in (HOSTILE, HOSTILE_FOLDER, HOSTILE_POINT):
+            self.assertIn(name, text)  # shown, as text
+        self.assertEqual(self.driver.title, HOSTILE)
+        self.assertEqual(self.errors(), [])
+        self.shot("hostile_names")
+
+
+def main():
+    names = sys.argv[1:] or ["ViewCommandTest", "BrowserTest"]
+    suite = unittest.TestSuite(
+        unittest.defaultTestLoader.loadTestsFromName(n, sys.modules[__name__]) for n in names)
+    result = unittest.TextTestRunner(verbosity=2).run(suite)
+    if not result.wasSuccessful():
+        return 1
+    for test, reason in result.skipped:
+        print("SKIPPED %s: %s" % (test, reason))
+    return SKIPPED if result.skipped and result.testsRun == len(result.skipped) else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,325 @@
+// Reading run folders for the viewer (run_reader.h).
+#include "viewer/run_reader.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <unordered_map>
+
+#include "physik/io/json_fields.h"
+#include "physik/io/pose_io.h"
+#include "physik/io/recorder.h"
+#include "physik/io/run_folder.h"
+#include "physik/io/scene_io.h"
+#include "physik/io/targets_limits.h"
+#include "physik/model/errors.h"
+
+namespace physik::viewer {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+// The fields of one CSV line (RFC 4180: a quoted field may hold commas and doubled quotes;
+// names hold no line breaks, the rig loader refuses control characters). False on an
+// unbalanced quote.
+bool split_csv_line(const std::string& line, std::vector<std::string>& fields) {
+  fields.clear();
+  std::string field;
+  bool quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted) {
+      if (c != '"') {
+        field += c;
+      } else if (i + 1 < line.size() && line[i + 1] == '"') {
+        field += '"';
+        ++i;
+      } else {
+        quoted = false;
+      }
+    } else if (c == '"') {
+      quoted = true;
+    } else if (c == ',') {
+      fields.push_back(std::move(field));
+      field.clear();
+    } else if (c != '\r') {
+      field += c;
+    }
+  }
+  fields.push_back(std::move(field));
+  return !quoted;
+}
+
+// The unquoted column names a table of `quoted` names has.
+std::vector<std::string> unquoted(const std::vector<std::string>& first,
+                                  const std::vector<std::string>& quoted) {
+  std::string line;
+  for (const std::string& f : first) line += (line.empty() ? "" : ",") + f;
+  for (const std::string& q : quoted) line += "," + q;
+  std::vector<std::string> out;
+  split_csv_line(line, out);
+  return out;
+}
+
+// A table file read row by row, with its line number for messages.
+class CsvFile {
+ public:
+  explicit CsvFile(const std::string& path) : path_(path), in_(path) {
+    if (!in_) throw_input_error(path, "", "", "cannot read the file");
+  }
+  const std::string& path() const { return path_; }
+  int line_number() const { return line_; }
+
+  // The next non-empty line's fields; false at the end.
+  bool next(std::vector<std::string>& fields) {
+    std::string line;
+    while (std::getline(in_, line)) {
+      ++line_;
+      if (line.empty() || line == "\r") continue;
+      if (!split_csv_line(line, fields)) fail("", "an unbalanced quote");
+      return true;
+    }
+    return false;
+  }
+
+  // The header must be `expected`: the scene's columns.
+  void check_header(const std::vector<std::string>& expected) {
+    std::vector<std::string> header;
+    if (!next(header)) throw_input_error(path_, "", "", "empty file (no header)");
+    for (std::size_t k = 0; k < std::max(header.size(), expected.size()); ++k) {
+      const std::string got = k < header.size() ? header[k] : "(none)";
+      const std::string want = k < expected.size() ? expected[k] : "(none)";
+      if (got != want) {
+        fail("header", "column " + std::to_string(k + 1) + " is '" + got + "' where the run's " +
+                           "scene.json gives '" + want + "'");
+      }
+    }
+  }
+
+  [[noreturn]] void fail(const std::string& field, const std::string& reason) const {
+    throw_input_error(path_, "line " + std::to_string(line_), field, reason);
+  }
+
+  double number(const std::vector<std::string>& fields, std::size_t k,
+                const std::vector<std::string>& names) const {
+    const std::string& text = fields[k];
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(v)) {
+      fail(names[k], "'" + text + "' is not a finite number");
+    }
+    return v;
+  }
+
+ private:
+  std::string path_;
+  std::ifstream in_;
+  int line_ = 0;
+};
+
+// Data rows of a table (non-empty lines after the header).
+int count_rows(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  int rows = -1;  // the header
+  while (std::getline(in, line)) {
+    if (!line.empty() && line != "\r") ++rows;
+  }
+  return std::max(rows, 0);
+}
+
+std::vector<std::string> trajectory_columns(const Scene& scene) {
+  std::vector<std::string> quoted = residual_column_names(scene);
+  const std::vector<std::string> bones = bone_column_names(scene.rig);
+  quoted.insert(quoted.end(), bones.begin(), bones.end());
+  return unquoted(
+      {"step", "time", "kinetic_energy", "passes", "joint_mismatch", "joint_separation"}, quoted);
+}
+
+// One kept trajectory row into the run's arrays.
+void keep_row(const CsvFile& csv, const std::vector<std::string>& f,
+              const std::vector<std::string>& names, ViewRun& run) {
+  const int ncontrol = static_cast<int>(run.scene.control_points.size());
+  const double step = csv.number(f, 0, names);
+  if (step != std::floor(step) || step < 0 || step > 2e9) csv.fail("step", "not a step number");
+  run.steps.push_back(static_cast<int>(step));
+  run.times.push_back(csv.number(f, 1, names));
+  run.kinetic_energy.push_back(static_cast<float>(csv.number(f, 2, names)));
+  double largest = 0.0;
+  int which = -1;
+  for (int c = 0; c < ncontrol; ++c) {
+    const double r = csv.number(f, 6 + c, names);
+    if (which < 0 || r > largest) {
+      largest = r;
+      which = c;
+    }
+  }
+  run.max_residual.push_back(static_cast<float>(largest));
+  run.max_residual_point.push_back(which);
+  for (std::size_t k = 6 + ncontrol; k < f.size(); ++k) {
+    run.positions.push_back(static_cast<float>(csv.number(f, k, names)));
+  }
+}
+
+void read_trajectory(const std::string& path, int max_frames, ViewRun& run) {
+  run.rows_recorded = count_rows(path);
+  if (run.rows_recorded == 0) {
+    throw_input_error(path, "", "",
+                      "an empty trajectory: the header and no row (no state of the "
+                      "run was recorded)");
+  }
+  const int rows = run.rows_recorded;
+  run.stride = rows > max_frames ? (rows + max_frames - 2) / (max_frames - 1) : 1;
+  CsvFile csv(path);
+  const std::vector<std::string> names = trajectory_columns(run.scene);
+  csv.check_header(names);
+  std::vector<std::string> f;
+  for (int r = 0; csv.next(f); ++r) {
+    if (f.size() != names.size()) {
+      csv.fail("", std::to_string(f.size()) + " fields where the header has " +
+                       std::to_string(names.size()));
+    }
+    if (r % run.stride == 0 || r == rows - 1) keep_row(csv, f, names, run);
+  }
+}
+
+// The frame of every kept step (a step recorded twice keeps its first frame).
+std::unordered_map<int, int> frame_of_step(const ViewRun& run) {
+  std::unordered_map<int, int> frame;
+  for (std::size_t k = 0; k < run.steps.size(); ++k) frame.emplace(run.steps[k], int(k));
+  return frame;
+}
+
+// Targets and limit excess of the kept frames; NaN where a frame has no row.
+void read_targets_limits(const std::string& path, ViewRun& run) {
+  const int nframe = static_cast<int>(run.steps.size()), nbone = run.scene.rig.nbone;
+  const int ncontrol = static_cast<int>(run.scene.control_points.size());
+  run.targets.assign(std::size_t(nframe) * ncontrol * 3, kNaN);
+  run.limit_excess.assign(std::size_t(nframe) * nbone, kNaN);
+  CsvFile csv(path);
+  const std::vector<std::string> names = unquoted({"step"}, targets_limits_column_names(run.scene));
+  csv.check_header(names);
+  const std::unordered_map<int, int> frame = frame_of_step(run);
+  std::vector<std::string> f;
+  while (csv.next(f)) {
+    if (f.size() != names.size()) {
+      csv.fail("", std::to_string(f.size()) + " fields where the header has " +
+                       std::to_string(names.size()));
+    }
+    const auto it = frame.find(static_cast<int>(csv.number(f, 0, names)));
+    if (it == frame.end()) continue;  // a row decimation left out
+    float* t = run.targets.data() + std::size_t(it->second) * ncontrol * 3;
+    for (int k = 0; k < 3 * ncontrol; ++k) t[k] = static_cast<float>(csv.number(f, 1 + k, names));
+    for (int b = 0; b < nbone; ++b) {
+      double e = 0.0;
+      for (int a = 0; a < 3; ++a)
+        e = std::max(e, std::abs(csv.number(f, 1 + 3 * ncontrol + 3 * b + a, names)));
+      run.limit_excess[std::size_t(it->second) * nbone + b] = static_cast<float>(e);
+    }
+  }
+}
+
+// Without the table: each frame's goal targets from the scene and its schedule.
+void goal_targets(ViewRun& run) {
+  const Scene& sc = run.scene;
+  const std::size_t ncontrol = sc.control_points.size();
+  run.targets.clear();
+  for (int step : run.steps) {
+    std::vector<Vec3> goal;
+    for (const ControlPoint& c : sc.control_points) goal.push_back(c.target_world);
+    for (const TargetChange& t : sc.schedule) {
+      if (t.step <= step) goal[t.control_point] = t.target_world;
+    }
+    for (std::size_t c = 0; c < ncontrol; ++c) {
+      for (int a = 0; a < 3; ++a) run.targets.push_back(static_cast<float>(goal[c][a]));
+    }
+  }
+}
+
+}  // namespace
+
+ViewRun read_run_folder(const std::string& folder, int max_frames) {
+  if (max_frames < 2) throw_input_error("--max-frames", "", "", "must be at least 2");
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec)) {
+    throw_input_error(folder, "", "", "not a run folder: no such folder");
+  }
+  for (const char* name : {kSceneFile, kTrajectoryFile}) {
+    if (!fs::is_regular_file(fs::path(folder) / name, ec)) {
+      throw_input_error(folder, "", "",
+                        std::string("not a run folder: no ") + name +
+                            " (physik simulate --out DIR writes a run folder)");
+    }
+  }
+  ViewRun run;
+  run.folder = folder;
+  run.scene = load_scene((fs::path(folder) / kSceneFile).string());
+  const fs::path summary = fs::path(folder) / kSummaryFile;
+  if (fs::is_regular_file(summary, ec)) run.summary = read_json_file(summary.string());
+  read_trajectory((fs::path(folder) / kTrajectoryFile).string(), max_frames, run);
+  const fs::path table = fs::path(folder) / kTargetsLimitsFile;
+  if (fs::is_regular_file(table, ec)) {
+    read_targets_limits(table.string(), run);
+  } else {
+    goal_targets(run);
+    run.notes.push_back(std::string("no ") + kTargetsLimitsFile +
+                        ": targets are the scene's goals, joint limits are not shown");
+  }
+  if (run.stride > 1) {
+    run.notes.push_back("decimated: every " + std::to_string(run.stride) + "th of " +
+                        std::to_string(run.rows_recorded) + " recorded rows kept (and the last), " +
+                        std::to_string(run.steps.size()) + " frames; the cap is " +
+                        std::to_string(max_frames) + " frames per run");
+  }
+  return run;
+}
+
+void check_overlay(const std::vector<ViewRun>& runs) {
+  for (std::size_t k = 1; k < runs.size(); ++k) {
+    const Rig &a = runs[0].scene.rig, &b = runs[k].scene.rig;
+    const std::string ctx = "scene.json rig";
+    const std::string why = ": an overlay draws runs of the same bones";
+    if (a.nbone != b.nbone) {
+      throw_input_error(runs[k].folder, ctx, "bones",
+                        std::to_string(b.nbone) + " bones, " + std::to_string(a.nbone) + " in " +
+                            runs[0].folder + why);
+    }
+    for (int i = 0; i < a.nbone; ++i) {
+      const std::string pa = a.bone_parent[i] < 0 ? "(root)" : a.bone_name[a.bone_parent[i]];
+      const std::string pb = b.bone_parent[i] < 0 ? "(root)" : b.bone_name[b.bone_parent[i]];
+      if (a.bone_name[i] != b.bone_name[i] || pa != pb) {
+        throw_input_error(runs[k].folder, ctx, "bones[" + std::to_string(i) + "]",
+                          "'" + b.bone_name[i] + "' (parent " + pb + ") where " + runs[0].folder +
+                              " has '" + a.bone_name[i] + "' (parent " + pa + ")" + why);
+      }
+    }
+  }
+}
+
+std::vector<std::string> default_labels(const std::vector<std::string>& folders) {
+  std::vector<std::string> labels;
+  for (const std::string& f : folders) {
+    fs::path p = fs::path(f).lexically_normal();
+    if (p.filename().empty()) p = p.parent_path();  // a trailing slash
+    std::string name = p.filename().string();
+    if (name.empty() || name == "." || name == "..") name = f;
+    labels.push_back(name);
+  }
+  for (std::size_t k = 0; k < labels.size(); ++k) {
+    const std::string name = labels[k];
+    if (std::count(labels.begin(), labels.end(), name) > 1) {
+      for (std::size_t j = 0; j < labels.size(); ++j) {
+        if (labels[j] == name) labels[j] = folders[j];
+      }
+    }
+  }
+  return labels;
+}
+
+}  // namespace physik::viewer

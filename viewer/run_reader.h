@@ -1,0 +1,53 @@
+// A run folder (physik/io/run_folder.h) read for the viewer: the scene as run, the recorded
+// frames (every bone's head and tail), the per-frame readouts, and, from
+// targets_and_limits.csv, the control points' targets and each bone's joint-limit excess.
+//
+// Runs longer than `max_frames` rows are decimated: every stride-th row is kept, with
+//   stride = ceil(rows / (max_frames - 1)),
+// and the last row, so at most max_frames rows remain; the viewer states the stride.
+// Bad input is an InputError naming the folder or the file and what is wrong: not a folder,
+// no scene.json or trajectory.csv (not a run folder), an empty trajectory, a header that is not
+// the scene's columns, a row with the wrong number of fields, a value that is not a finite
+// number; and, for an overlay, runs whose rigs differ in their bones.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "physik/model/scene.h"
+
+namespace physik::viewer {
+
+struct ViewRun {
+  std::string folder;      // as given
+  std::string label;       // the legend's name
+  Scene scene;             // scene.json
+  nlohmann::json summary;  // summary.json; null when the folder has none
+  int rows_recorded = 0;   // rows of trajectory.csv
+  int stride = 1;          // every stride-th row kept (and the last)
+  // per kept frame
+  std::vector<int> steps;               // (nframe)
+  std::vector<double> times;            // (nframe) s
+  std::vector<float> kinetic_energy;    // (nframe) J
+  std::vector<float> max_residual;      // (nframe) rig units, 0 without control points
+  std::vector<int> max_residual_point;  // (nframe) its control point, -1 without any
+  std::vector<float> positions;         // (nframe x nbone x 6) head x y z, tail x y z, world
+  std::vector<float> targets;           // (nframe x ncontrol x 3) world, rig units
+  std::vector<float> limit_excess;      // (nframe x nbone) largest |excess| over the axes,
+                                        //   rad; empty when the folder has no table
+  std::vector<std::string> notes;       // what the page should say about this run
+};
+
+// Reads one run folder; max_frames >= 2.
+ViewRun read_run_folder(const std::string& folder, int max_frames);
+
+// An overlay draws every run in one scene, frame against frame: the runs must have the same
+// bones (names and parents, in order). InputError naming the first run that differs.
+void check_overlay(const std::vector<ViewRun>& runs);
+
+// Legend names: each folder's last path component, the whole folder where two would repeat.
+std::vector<std::string> default_labels(const std::vector<std::string>& folders);
+
+}  // namespace physik::viewer

@@ -1,0 +1,563 @@
+// The PhysIK run viewer: plays one or more run folders (physik/io/run_folder.h) in 3D with
+// three.js r111 (Debian's libjs-three) and its OrbitControls. `physik view` inlines this file
+// into viewer/page.html beside the runs' data (viewer/view_page.h gives the data's layout).
+//
+// - each bone is a capsule of the bone's radius (a cylinder from head to tail and a sphere at
+//   each end), drawn with instanced meshes: four draw calls per run whatever its size;
+// - the runs share one timeline, the union of their recorded times: at time t each run shows
+//   its last frame at or before t (a run that stopped early holds its last pose; a pose folder,
+//   one frame, shows at every time);
+// - bones whose joint angle is past a limit by more than LIMIT_SHOWN_RAD are drawn in the
+//   highlight colour (the excess comes from targets_and_limits.csv: a bone's twist cannot be
+//   seen in its head and tail);
+// - names come from user files: they are only ever set as text (textContent), never as markup.
+// World Z is up (the rigs' convention); the camera starts in front of the rig (-Y).
+(function () {
+  'use strict';
+
+  var PALETTE = ['#1f77b4', '#ff7f0e', '#2ca02c', '#9467bd', '#8c564b', '#17becf', '#7f7f7f',
+                 '#bcbd22'];
+  var HIGHLIGHT = '#e6194b';
+  var LIMIT_SHOWN_RAD = 0.1 * Math.PI / 180;  // 0.1 deg: round-off never lights a bone
+  var SPEEDS = [0.1, 0.25, 0.5, 1, 2, 5, 10, 20, 50, 100];
+  var Y_AXIS = new THREE.Vector3(0, 1, 0);
+
+  // --- data ---------------------------------------------------------------------------------
+
+  function decode(text, Type) {
+    var bin = atob(text);
+    var bytes = new Uint8Array(bin.length);
+    for (var i = 0; i < bin.length; i++) bytes[i] = bin.charCodeAt(i);
+    return new Type(bytes.buffer);
+  }
+
+  function prepareRun(raw, index) {
+    var run = {
+      raw: raw, index: index, color: PALETTE[index % PALETTE.length],
+      nbone: raw.bones.names.length, ncontrol: raw.control_points.names.length,
+      steps: decode(raw.steps, Int32Array), times: decode(raw.times, Float64Array),
+      ke: decode(raw.kinetic_energy, Float32Array),
+      maxResidual: decode(raw.max_residual, Float32Array),
+      maxResidualPoint: decode(raw.max_residual_point, Int32Array),
+      positions: decode(raw.positions, Float32Array),
+      targets: decode(raw.targets, Float32Array),
+      excess: raw.limit_excess === null ? null : decode(raw.limit_excess, Float32Array)
+    };
+    run.nframe = run.steps.length;
+    return run;
+  }
+
+  // The union of the runs' times, and for each run its frame at each timeline entry.
+  function buildTimeline(runs) {
+    var all = [];
+    runs.forEach(function (r) { for (var i = 0; i < r.nframe; i++) all.push(r.times[i]); });
+    all.sort(function (a, b) { return a - b; });
+    var times = [];
+    all.forEach(function (t) {
+      var last = times.length ? times[times.length - 1] : null;
+      if (last === null || t - last > 1e-9 * Math.max(1, Math.abs(t))) times.push(t);
+    });
+    runs.forEach(function (r) {
+      r.frameAt = new Int32Array(times.length);
+      var j = 0;
+      for (var i = 0; i < times.length; i++) {
+        var eps = 1e-9 * Math.max(1, Math.abs(times[i]));
+        while (j + 1 < r.nframe && r.times[j + 1] <= times[i] + eps) j++;
+        r.frameAt[i] = j;
+      }
+    });
+    return times;
+  }
+
+  // --- page elements (text only) ------------------------------------------------------------
+
+  function el(tag, className, text) {
+    var e = document.createElement(tag);
+    if (className) e.className = className;
+    if (text !== undefined) e.textContent = String(text);
+    return e;
+  }
+
+  function swatch(color) {
+    var s = el('span', 'swatch');
+    s.style.background = color;
+    return s;
+  }
+
+  function runDetail(run) {
+    var raw = run.raw, sum = raw.summary, parts = [];
+    if (raw.rig) parts.push('rig ' + raw.rig);
+    if (sum.engine) parts.push(sum.engine + (sum.mode ? ' ' + sum.mode : ''));
+    if (sum.kind === 'pose') {
+      parts.push('one pose' + (sum.solver ? ' (' + sum.solver + ')' : ''));
+    } else {
+      parts.push(run.nframe + ' frames');
+      if (sum.diverged) parts.push('diverged');
+      else if (sum.converged === true) parts.push('converged at step ' + sum.steps_to_converge);
+      else if (sum.converged === false) parts.push('not converged');
+    }
+    return parts.join(', ');
+  }
+
+  function buildLegend(v) {
+    var legend = el('div', 'legend');
+    v.runs.forEach(function (run) {
+      var item = el('span', 'run');
+      item.appendChild(swatch(run.color));
+      item.appendChild(el('span', 'label', run.raw.label));
+      item.appendChild(el('span', 'detail', runDetail(run)));
+      legend.appendChild(item);
+    });
+    var hi = el('span', 'run');
+    hi.appendChild(swatch(HIGHLIGHT));
+    hi.appendChild(el('span', 'label', 'past a joint limit (by more than 0.1 deg)'));
+    legend.appendChild(hi);
+    return legend;
+  }
+
+  function buildControls(v) {
+    var c = el('div', 'controls');
+    v.playButton = el('button', 'play', 'Play');
+    v.playButton.type = 'button';
+    v.playButton.addEventListener('click', function () { v.playing ? v.pause() : v.play(); });
+    v.slider = el('input', 'frame');
+    v.slider.type = 'range';
+    v.slider.min = 0;
+    v.slider.max = Math.max(0, v.times.length - 1);
+    v.slider.step = 1;
+    v.slider.value = 0;
+    v.slider.disabled = v.times.length < 2;
+    v.slider.setAttribute('aria-label', 'frame');
+    v.slider.addEventListener('input', function () {
+      v.pause();
+      v.setFrame(parseInt(v.slider.value, 10));
+    });
+    v.timeLabel = el('span', 'time');
+    c.appendChild(v.playButton);
+    c.appendChild(v.slider);
+    c.appendChild(v.timeLabel);
+    c.appendChild(buildSpeed(v));
+    c.appendChild(buildThickness(v));
+    c.appendChild(checkbox('targets', true, function (on) { v.setTargetsShown(on); }));
+    c.appendChild(checkbox('target paths', true, function (on) { v.setPathsShown(on); }));
+    return c;
+  }
+
+  function buildSpeed(v) {
+    var label = el('label', 'speed', 'speed ');
+    var select = el('select');
+    var duration = v.times.length ? v.times[v.times.length - 1] - v.times[0] : 0;
+    // the slowest speed that plays the whole timeline within 20 s (real time when it can)
+    v.speed = SPEEDS[SPEEDS.length - 1];
+    for (var i = 0; i < SPEEDS.length; i++) {
+      if (SPEEDS[i] >= 1 && duration / SPEEDS[i] <= 20) { v.speed = SPEEDS[i]; break; }
+    }
+    SPEEDS.forEach(function (s) {
+      var o = el('option', null, s + '\u00d7');
+      o.value = s;
+      o.selected = s === v.speed;
+      select.appendChild(o);
+    });
+    select.addEventListener('change', function () { v.speed = parseFloat(select.value); });
+    label.appendChild(select);
+    return label;
+  }
+
+  // capsules at the bones' radii (the radius the inertias use), or thinner to see through
+  function buildThickness(v) {
+    var label = el('label', 'thickness', 'radius ');
+    var select = el('select');
+    v.radiusScale = 1;
+    [1, 0.5, 0.25, 0.1].forEach(function (s) {
+      var o = el('option', null, s === 1 ? 'the bones\u2019 radii' : s + '\u00d7 the radii');
+      o.value = s;
+      select.appendChild(o);
+    });
+    select.addEventListener('change', function () {
+      v.radiusScale = parseFloat(select.value);
+      v.setFrame(v.frame);
+    });
+    label.appendChild(select);
+    return label;
+  }
+
+  function checkbox(text, checked, onChange) {
+    var label = el('label', 'toggle');
+    var box = el('input');
+    box.type = 'checkbox';
+    box.checked = checked;
+    box.addEventListener('change', function () { onChange(box.checked); });
+    label.appendChild(box);
+    label.appendChild(document.createTextNode(' ' + text));
+    return label;
+  }
+
+  var READOUT_COLUMNS = ['run', 'step', 'time (s)', 'kinetic energy (J)',
+                         'largest residual (rig units)', 'past a joint limit'];
+
+  function buildReadout(v) {
+    var table = el('table', 'readout');
+    var head = el('tr');
+    READOUT_COLUMNS.forEach(function (c) { head.appendChild(el('th', null, c)); });
+    table.appendChild(el('thead')).appendChild(head);
+    var body = el('tbody');
+    v.runs.forEach(function (run) {
+      var tr = el('tr');
+      var name = el('td');
+      name.appendChild(swatch(run.color));
+      name.appendChild(el('span', null, run.raw.label));
+      tr.appendChild(name);
+      run.cells = [];
+      for (var k = 1; k < READOUT_COLUMNS.length; k++) run.cells.push(tr.appendChild(el('td')));
+      body.appendChild(tr);
+    });
+    table.appendChild(body);
+    return table;
+  }
+
+  function buildNotes(v, data) {
+    var ul = el('ul', 'notes');
+    v.runs.forEach(function (run) {
+      run.raw.notes.forEach(function (n) {
+        ul.appendChild(el('li', null, run.raw.label + ': ' + n));
+      });
+    });
+    ul.appendChild(el('li', null, 'Drag to orbit, wheel to zoom, right-drag to pan. World Z up, ' +
+        'rig units; capsules have the bones\u2019 radii. Each run shows its last frame at or ' +
+        'before the time on the slider. ' + data.generator + ', three.js r' +
+        data.three_revision + ' inlined.'));
+    return ul;
+  }
+
+  // --- 3D -------------------------------------------------------------------------------------
+
+  function instanced(geometry, material, count) {
+    var m = new THREE.InstancedMesh(geometry, material, Math.max(1, count));
+    m.frustumCulled = false;  // the geometry's bounds are not the instances'
+    m.count = 0;
+    return m;
+  }
+
+  function buildRunMeshes(v, run) {
+    var mat = new THREE.MeshLambertMaterial({ color: run.color });
+    var hot = new THREE.MeshLambertMaterial({ color: HIGHLIGHT, emissive: 0x330000 });
+    run.meshes = {
+      cyl: instanced(v.cylinder, mat, run.nbone), cylHot: instanced(v.cylinder, hot, run.nbone),
+      sph: instanced(v.sphere, mat, 2 * run.nbone), sphHot: instanced(v.sphere, hot, 2 * run.nbone)
+    };
+    Object.keys(run.meshes).forEach(function (k) { v.scene.add(run.meshes[k]); });
+    buildTargets(v, run);
+  }
+
+  function buildTargets(v, run) {
+    var size = 0.025 * v.extent;
+    // drawn over the bodies (no depth test): a target inside a capsule is still seen
+    var basic = new THREE.MeshBasicMaterial({ color: run.color, depthTest: false });
+    run.targetGroup = new THREE.Group();
+    run.targetMarks = [];
+    for (var c = 0; c < run.ncontrol; c++) {
+      var mark = new THREE.Mesh(new THREE.OctahedronBufferGeometry(size), basic);
+      mark.renderOrder = 1;
+      run.targetMarks.push(mark);
+      run.targetGroup.add(mark);
+    }
+    var springGeo = new THREE.BufferGeometry();
+    var ends = new Float32Array(6 * run.ncontrol);  // attachment point and target per point
+    springGeo.setAttribute('position', new THREE.BufferAttribute(ends, 3));
+    run.springs = new THREE.LineSegments(
+        springGeo, new THREE.LineBasicMaterial({ color: run.color, depthTest: false }));
+    run.springs.renderOrder = 1;
+    run.springs.frustumCulled = false;
+    run.targetGroup.add(run.springs);
+    v.scene.add(run.targetGroup);
+    run.pathGroup = buildPaths(v, run);
+    v.scene.add(run.pathGroup);
+  }
+
+  // each control point's target over the whole run, where it moves
+  function buildPaths(v, run) {
+    var group = new THREE.Group();
+    var mat = new THREE.LineDashedMaterial(
+        { color: run.color, dashSize: 0.012 * v.extent, gapSize: 0.008 * v.extent });
+    for (var c = 0; c < run.ncontrol; c++) {
+      var pts = [], moved = false;
+      for (var f = 0; f < run.nframe; f++) {
+        var o = (f * run.ncontrol + c) * 3;
+        var p = new THREE.Vector3(run.targets[o], run.targets[o + 1], run.targets[o + 2]);
+        if (!isFinite(p.x) || !isFinite(p.y) || !isFinite(p.z)) continue;
+        if (pts.length && p.distanceTo(pts[0]) > 1e-9) moved = true;
+        if (!pts.length || p.distanceTo(pts[pts.length - 1]) > 1e-9) pts.push(p);
+      }
+      if (!moved) continue;
+      var line = new THREE.Line(new THREE.BufferGeometry().setFromPoints(pts), mat);
+      line.computeLineDistances();
+      line.frustumCulled = false;
+      group.add(line);
+    }
+    return group;
+  }
+
+  // The rig's bounds at every run's first frame, with every target: what the camera frames.
+  function initialBounds(runs) {
+    var box = new THREE.Box3(), p = new THREE.Vector3(), maxRadius = 0;
+    runs.forEach(function (r) {
+      for (var k = 0; k < 2 * r.nbone; k++) {
+        box.expandByPoint(p.fromArray(r.positions, 3 * k));
+      }
+      r.raw.bones.radii.forEach(function (x) { maxRadius = Math.max(maxRadius, x); });
+      for (var i = 0; i + 2 < r.targets.length; i += 3) {
+        p.fromArray(r.targets, i);
+        if (isFinite(p.x) && isFinite(p.y) && isFinite(p.z)) box.expandByPoint(p);
+      }
+    });
+    box.expandByScalar(maxRadius);
+    return box;
+  }
+
+  function buildScene(v) {
+    v.scene = new THREE.Scene();
+    v.scene.background = new THREE.Color(0xf4f5f7);
+    v.scene.add(new THREE.HemisphereLight(0xffffff, 0x8a8f99, 0.75));
+    var sun = new THREE.DirectionalLight(0xffffff, 0.55);
+    sun.position.set(0.4, -1, 1.2);
+    v.scene.add(sun);
+    var box = initialBounds(v.runs);
+    v.center = box.getCenter(new THREE.Vector3());
+    v.extent = Math.max(1e-6, box.getSize(new THREE.Vector3()).length());
+    var grid = new THREE.GridHelper(2 * v.extent, 20, 0xb8bcc6, 0xd6d9e0);
+    grid.rotation.x = Math.PI / 2;  // into the XY plane: the floor of a Z-up world
+    grid.position.set(v.center.x, v.center.y, box.min.z);
+    v.scene.add(grid);
+    v.cylinder = new THREE.CylinderBufferGeometry(1, 1, 1, 16, 1, true);
+    v.sphere = new THREE.SphereBufferGeometry(1, 16, 12);
+    v.runs.forEach(function (run) { buildRunMeshes(v, run); });
+  }
+
+  function buildCamera(v, canvas) {
+    v.camera = new THREE.PerspectiveCamera(35, 1, v.extent / 1000, v.extent * 100);
+    v.camera.up.set(0, 0, 1);
+    var dir = new THREE.Vector3(0.35, -1, 0.3).normalize();
+    var dist = 0.5 * v.extent / Math.tan(0.5 * 35 * Math.PI / 180);
+    v.camera.position.copy(v.center).addScaledVector(dir, dist);
+    v.controls = new THREE.OrbitControls(v.camera, canvas);
+    v.controls.target.copy(v.center);
+    v.controls.update();
+    v.controls.addEventListener('change', function () { v.requestRender(); });
+  }
+
+  // --- one frame ----------------------------------------------------------------------------
+
+  var tmp = { m: new THREE.Matrix4(), q: new THREE.Quaternion(), one: new THREE.Quaternion(),
+              h: new THREE.Vector3(), t: new THREE.Vector3(), mid: new THREE.Vector3(),
+              d: new THREE.Vector3(), s: new THREE.Vector3() };
+
+  function hot(run, f, b) {
+    return run.excess !== null && run.excess[f * run.nbone + b] > LIMIT_SHOWN_RAD;
+  }
+
+  // a bone's head sphere is drawn unless its parent's tail sphere, as large, is already there
+  function headShown(run, f, b, r, scale) {
+    var p = run.raw.bones.parents[b];
+    if (p < 0 || run.raw.bones.radii[p] * scale < r) return true;
+    var o = (f * run.nbone + b) * 6, q = (f * run.nbone + p) * 6 + 3, gap = 0;
+    for (var k = 0; k < 3; k++) {
+      gap = Math.max(gap, Math.abs(run.positions[o + k] - run.positions[q + k]));
+    }
+    return gap > 1e-6 * r;
+  }
+
+  function placeBones(run, f, scale) {
+    var ms = run.meshes, n = { cyl: 0, cylHot: 0, sph: 0, sphHot: 0 }, radii = run.raw.bones.radii;
+    for (var b = 0; b < run.nbone; b++) {
+      var o = (f * run.nbone + b) * 6, r = radii[b] * scale, isHot = hot(run, f, b);
+      tmp.h.fromArray(run.positions, o);
+      tmp.t.fromArray(run.positions, o + 3);
+      tmp.d.subVectors(tmp.t, tmp.h);
+      var len = tmp.d.length();
+      tmp.q.setFromUnitVectors(Y_AXIS, len > 0 ? tmp.d.divideScalar(len) : Y_AXIS);
+      tmp.mid.addVectors(tmp.h, tmp.t).multiplyScalar(0.5);
+      var cyl = isHot ? 'cylHot' : 'cyl', sph = isHot ? 'sphHot' : 'sph';
+      tmp.m.compose(tmp.mid, tmp.q, tmp.s.set(r, len, r));
+      ms[cyl].setMatrixAt(n[cyl]++, tmp.m);
+      tmp.s.set(r, r, r);
+      if (isHot || headShown(run, f, b, r, scale)) {
+        ms[sph].setMatrixAt(n[sph]++, tmp.m.compose(tmp.h, tmp.one, tmp.s));
+      }
+      ms[sph].setMatrixAt(n[sph]++, tmp.m.compose(tmp.t, tmp.one, tmp.s));
+    }
+    Object.keys(ms).forEach(function (k) {
+      ms[k].count = n[k];
+      ms[k].visible = n[k] > 0;
+      ms[k].instanceMatrix.needsUpdate = true;
+    });
+  }
+
+  function placeTargets(run, f) {
+    var springs = run.springs.geometry.attributes.position;
+    var cps = run.raw.control_points;
+    for (var c = 0; c < run.ncontrol; c++) {
+      var o = (f * run.ncontrol + c) * 3, mark = run.targetMarks[c];
+      tmp.t.fromArray(run.targets, o);
+      var ok = isFinite(tmp.t.x) && isFinite(tmp.t.y) && isFinite(tmp.t.z);
+      mark.visible = ok;
+      if (ok) mark.position.copy(tmp.t);
+      var bo = (f * run.nbone + cps.bones[c]) * 6, a = cps.alphas[c];
+      tmp.h.fromArray(run.positions, bo);
+      tmp.mid.fromArray(run.positions, bo + 3).sub(tmp.h).multiplyScalar(a).add(tmp.h);
+      springs.setXYZ(2 * c, tmp.mid.x, tmp.mid.y, tmp.mid.z);
+      var end = ok ? tmp.t : tmp.mid;
+      springs.setXYZ(2 * c + 1, end.x, end.y, end.z);
+    }
+    springs.needsUpdate = true;
+  }
+
+  function fmt(x, digits) {
+    if (!isFinite(x)) return String(x);
+    return Math.abs(x) >= 1e5 || (x !== 0 && Math.abs(x) < 1e-3) ? x.toExponential(digits - 1)
+                                                                  : x.toPrecision(digits);
+  }
+
+  function limitText(run, f) {
+    if (run.excess === null) return 'not recorded';
+    var count = 0, worst = -1, most = 0;
+    for (var b = 0; b < run.nbone; b++) {
+      var e = run.excess[f * run.nbone + b];
+      if (e > LIMIT_SHOWN_RAD) count++;
+      if (e > most) { most = e; worst = b; }
+    }
+    if (count === 0) return 'none';
+    return count + (count === 1 ? ' bone' : ' bones') + ', most ' +
+        fmt(most * 180 / Math.PI, 3) + ' deg (' + run.raw.bones.names[worst] + ')';
+  }
+
+  function showReadout(run, f) {
+    var cells = run.cells, p = run.maxResidualPoint[f];
+    cells[0].textContent = String(run.steps[f]);
+    cells[1].textContent = run.times[f].toFixed(3);
+    cells[2].textContent = fmt(run.ke[f], 4);
+    cells[3].textContent = p < 0 ? '(no control points)'
+        : fmt(run.maxResidual[f], 4) + ' (' + (run.raw.control_points.names[p] || '#' + p) + ')';
+    cells[4].textContent = limitText(run, f);
+  }
+
+  // --- the viewer -----------------------------------------------------------------------------
+
+  function Viewer(root, data) {
+    this.root = root;
+    this.data = data;
+    this.runs = data.runs.map(prepareRun);
+    this.times = buildTimeline(this.runs);
+    this.frame = 0;
+    this.playing = false;
+    this.renders = 0;  // frames drawn: the tests and benchmarks read it
+    root.appendChild(el('h1', 'title', data.title));
+    root.appendChild(buildLegend(this));
+    var stage = root.appendChild(el('div', 'stage'));
+    this.renderer = new THREE.WebGLRenderer({ antialias: true });
+    this.renderer.setPixelRatio(window.devicePixelRatio || 1);
+    stage.appendChild(this.renderer.domElement);
+    buildScene(this);
+    buildCamera(this, this.renderer.domElement);
+    root.appendChild(buildControls(this));
+    root.appendChild(buildReadout(this));
+    root.appendChild(buildNotes(this, data));
+    var self = this;
+    window.addEventListener('resize', function () { self.resize(); });
+    this.resize();
+    this.setFrame(0);
+  }
+
+  Viewer.prototype.resize = function () {
+    var width = Math.max(200, this.root.clientWidth || 800);
+    var height = Math.round(Math.min(width * 0.6, Math.max(240, window.innerHeight * 0.7)));
+    this.renderer.setSize(width, height, true);
+    this.camera.aspect = width / height;
+    this.camera.updateProjectionMatrix();
+    this.requestRender();
+  };
+
+  Viewer.prototype.setFrame = function (i) {
+    this.frame = Math.max(0, Math.min(this.times.length - 1, i | 0));
+    var self = this;
+    this.runs.forEach(function (run) {
+      var f = run.frameAt[self.frame];
+      placeBones(run, f, self.radiusScale);
+      placeTargets(run, f);
+      showReadout(run, f);
+    });
+    this.slider.value = this.frame;
+    var steps = this.runs.map(function (r) { return r.steps[r.frameAt[self.frame]]; });
+    var same = steps.every(function (s) { return s === steps[0]; });
+    this.timeLabel.textContent = 't = ' + this.times[this.frame].toFixed(3) + ' s' +
+        (same ? ', step ' + steps[0] : '') + ', frame ' + (this.frame + 1) + '/' +
+        this.times.length;
+    this.requestRender();
+  };
+
+  Viewer.prototype.requestRender = function () {
+    if (this.renderQueued) return;
+    this.renderQueued = true;
+    var self = this;
+    requestAnimationFrame(function (now) { self.tick(now); });
+  };
+
+  // one animation frame: advance the playback, then draw
+  Viewer.prototype.tick = function (now) {
+    this.renderQueued = false;
+    if (this.playing) {
+      if (this.lastTick !== undefined) this.clock += (now - this.lastTick) / 1000 * this.speed;
+      this.lastTick = now;
+      var i = this.frame;
+      while (i + 1 < this.times.length && this.times[i + 1] <= this.clock) i++;
+      if (i !== this.frame) this.setFrame(i);
+      if (i + 1 >= this.times.length) this.pause();
+      else this.requestRender();
+    }
+    this.renderer.render(this.scene, this.camera);
+    this.renders++;
+  };
+
+  Viewer.prototype.play = function () {
+    if (this.times.length < 2) return;
+    if (this.frame + 1 >= this.times.length) this.setFrame(0);
+    this.playing = true;
+    this.clock = this.times[this.frame];
+    this.lastTick = undefined;
+    this.playButton.textContent = 'Pause';
+    this.requestRender();
+  };
+
+  Viewer.prototype.pause = function () {
+    this.playing = false;
+    this.playButton.textContent = 'Play';
+  };
+
+  Viewer.prototype.setTargetsShown = function (on) {
+    this.runs.forEach(function (r) { r.targetGroup.visible = on; });
+    this.requestRender();
+  };
+
+  Viewer.prototype.setPathsShown = function (on) {
+    this.runs.forEach(function (r) { r.pathGroup.visible = on; });
+    this.requestRender();
+  };
+
+  function mount(root) {
+    var source = document.getElementById(root.getAttribute('data-source'));
+    var data = JSON.parse(source.textContent);
+    try {
+      return new Viewer(root, data);
+    } catch (e) {
+      root.appendChild(el('p', 'error', 'The viewer could not start: ' + e.message));
+      throw e;
+    }
+  }
+
+  window.PhysikViewer = {
+    mount: mount,
+    mountAll: function () {
+      var roots = document.querySelectorAll('.physik-viewer[data-source]');
+      window.physikViewers = Array.prototype.map.call(roots, mount);
+    }
+  };
+})();
