@@ -47,5 +47,6 @@ void bind_solve(py::module_& m);       // solve
 void bind_reference(py::module_& m);   // export_mjcf, compare_mujoco
 void bind_tune(py::module_& m);        // tune, equilibrium
 void bind_posing(py::module_& m);      // PosingSession
+void bind_view(py::module_& m);        // view (the page of `physik view`)
 
 }  // namespace physik::python

@@ -11,6 +11,9 @@ packages=(
   python3-matplotlib python3-numpy
   pybind11-dev python3-dev python3-pytest python3-distributed
   blender xvfb
+  # the viewer: three.js r111 (inlined into every page), the browser its tests drive, and Pillow
+  # for the report's animated GIFs
+  libjs-three chromium chromium-driver python3-selenium python3-pil
 )
 missing=()
 for p in "${packages[@]}"; do

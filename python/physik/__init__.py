@@ -18,6 +18,7 @@ Names (each has its own docstring):
   solve(scene, solver)                                      `physik solve`
   export_mjcf(rig), compare_mujoco(scene, mode)             the MuJoCo reference
   tune(scene, params, objective), equilibrium(scene)        Ceres
+  view(runs, path)                                          `physik view`: run folders in 3D
   InputError (a ValueError), DivergedError                  errors
   __version__                                               `physik --version`
   physik.sweep                                              grids of runs on Dask (python3 -m physik.sweep)
@@ -35,9 +36,8 @@ from ._core import (PosingSolveResult, Rig, Scene, __version__, compare_mujoco, 
 
 __all__ = ["Rig", "Scene", "param_table", "Simulation", "Pose", "Trajectory", "RunResult",
            "PosingSession", "PosingSolveResult", "solve_mode_rule", "SolveResult", "solve",
-           "export_mjcf", "compare_mujoco", "scaled_scene", "tune", "equilibrium", "InputError",
-           "DivergedError",
-           "__version__"]
+           "export_mjcf", "compare_mujoco", "scaled_scene", "tune", "equilibrium", "view", "View",
+           "InputError", "DivergedError", "__version__"]
 
 
 class Pose:
@@ -284,6 +284,46 @@ def equilibrium(scene, *, start="initial", compare=False, with_pose=False):
     return doc
 
 
+class View:
+    """A page physik.view() wrote: its path and size. In Jupyter the page displays in place (an
+    iframe holding the page: it needs no network and no file server)."""
+
+    __slots__ = ("path", "size")
+
+    def __init__(self, path, size):
+        self.path = path  # the HTML file
+        self.size = size  # bytes
+
+    def _repr_html_(self):
+        import html
+        with open(self.path, encoding="utf-8") as f:
+            page = f.read()
+        return ('<iframe srcdoc="%s" style="width: 100%%; height: 820px; border: 0"></iframe>'
+                % html.escape(page, quote=True))
+
+    def __repr__(self):
+        return "<physik.View %s (%d KB)>" % (self.path, self.size // 1024)
+
+
+def view(runs, path=None, *, title=None, labels=None, max_frames=10000):
+    """One self-contained HTML page that plays run folders in 3D: `physik view RUN_DIR...`.
+
+    runs: a run folder (`physik simulate --out DIR`; `--reference` adds DIR/mujoco) or a list of
+    them, overlaid in distinct colours (their rigs must have the same bones); path: the HTML file
+    (default: view.html in the first folder); title, labels (one per run), max_frames (per run;
+    longer runs keep every k-th row and the page says so) as the CLI's --title, --label,
+    --max-frames. A folder that is not a run folder, an empty trajectory or rigs with other bones
+    raise InputError naming the folder. Returns a View (its path; shown in place in Jupyter).
+    """
+    import os
+    folders = [os.fspath(runs)] if isinstance(runs, (str, os.PathLike)) else [
+        os.fspath(r) for r in runs]
+    if path is None:
+        path = os.path.join(folders[0], "view.html") if folders else "view.html"
+    size = _core._view(folders, os.fspath(path), title or "", list(labels or []), max_frames)
+    return View(os.fspath(path), size)
+
+
 def _wrap_the_api():
     """Bad arguments to any public name raise a one-line TypeError naming the valid keywords
     (physik/_arguments.py)."""
@@ -291,7 +331,7 @@ def _wrap_the_api():
     names = globals()
     for name in ("param_table", "export_mjcf", "compare_mujoco", "solve_mode_rule", "scaled_scene"):
         names[name] = args.compiled(getattr(_core, name), name)
-    for name in ("solve", "tune", "equilibrium"):
+    for name in ("solve", "tune", "equilibrium", "view"):
         names[name] = args.python(names[name], name)
     args.wrap_class(Rig, ["load", "chain", "from_dict", "to_dict", "find_bone"])
     args.wrap_class(Scene, ["load", "from_dict", "to_dict", "update", "copy"])
