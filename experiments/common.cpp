@@ -1,11 +1,14 @@
 #include "experiments/common.h"
 
 #include <algorithm>
+#include <fstream>
 #include <iomanip>
 #include <sstream>
 
 #include "physik/ik/ik_solver.h"
+#include "physik/io/output_files.h"
 #include "physik/io/rig_io.h"
+#include "physik/io/run_folder.h"
 #include "physik/io/scene_io.h"
 #include "physik/model/params.h"
 #include "physik/posing/posing_session.h"
@@ -18,6 +21,25 @@ RecordOptions trajectory_table(const std::string& path, int every) {
   o.csv_every = every;
   o.csv_rows = RowRule::kEveryAndFirst;
   return o;
+}
+
+std::string run_folder_path(const Context& ctx, const std::string& name) {
+  const std::string runs = ctx.out_dir + "/runs";
+  create_output_dir(runs, "--out");
+  std::ofstream order(runs + "/order.txt", std::ios::app);
+  order << name << "\n";
+  return runs + "/" + name;
+}
+
+int run_folder_every(const Scene& scene) { return std::max(1, (scene.steps + 599) / 600); }
+
+RunSummary write_run_folder(const Context& ctx, const std::string& name, const Scene& scene) {
+  return simulate_into_folder(scene, run_folder_path(ctx, name), run_folder_every(scene));
+}
+
+void write_pose_run_folder(const Context& ctx, const std::string& name, const Scene& scene,
+                           const BoneFrames& frames, const nlohmann::json& summary) {
+  write_pose_folder(scene, run_folder_path(ctx, name), frames, summary);
 }
 
 Scene scene_named(const Context& ctx, const std::string& name) {

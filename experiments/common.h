@@ -21,6 +21,20 @@ namespace physik::experiments {
 // The experiments' trajectory table (recorder.h): a row every `every` steps and at step 1.
 RecordOptions trajectory_table(const std::string& path, int every = 1);
 
+// A run folder of `scene` (physik/io/run_folder.h) at <out>/runs/<name>, for `physik view` and
+// the report's viewers: the scene run again (runs are deterministic: the same run), a trajectory
+// row every run_folder_every(scene) steps; <out>/runs/order.txt lists the folders in the order
+// written.
+RunSummary write_run_folder(const Context& ctx, const std::string& name, const Scene& scene);
+// ceil(steps / 600): at most ~600 frames a run, so a report page stays small
+int run_folder_every(const Scene& scene);
+// A pose folder (one pose that no run produced, e.g. an IK solver's) at <out>/runs/<name>;
+// `summary` is its summary.json.
+void write_pose_run_folder(const Context& ctx, const std::string& name, const Scene& scene,
+                           const BoneFrames& frames, const nlohmann::json& summary);
+// <out>/runs/<name>, listed in <out>/runs/order.txt (for writers of other run folders).
+std::string run_folder_path(const Context& ctx, const std::string& name);
+
 // Scene loaded from models/scenes/<name>.json of the context.
 Scene scene_named(const Context& ctx, const std::string& name);
 

@@ -67,6 +67,7 @@ SchemeRun run_scheme(const Context& ctx, const std::string& scene_name, const st
     r.target.push_back(s.target_effective_world[moved]);
   });
   find_peaks(r, interp_steps);
+  write_run_folder(ctx, name, sc);  // for the viewer
   if (ctx.log) {
     *ctx.log << "  " << name << ": " << r.run.summary.steps_run << " steps, peak off-chain "
              << r.peak_chain_during << " / " << r.peak_chain_after << " rad\n";

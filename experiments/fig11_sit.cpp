@@ -175,6 +175,7 @@ void run(const Context& ctx) {
                        ro.frame_steps.end());
   ro.stats = ro.residuals = true;
   const RecordedRun run = record_run(scene, ro);
+  write_run_folder(ctx, "sit", scene);  // for the viewer
   const std::vector<std::string> frame_files = write_frames(scene, run, ctx.out_dir, "sit_");
   if (ctx.log) *ctx.log << "  " << run.summary.steps_run << " steps\n";
 

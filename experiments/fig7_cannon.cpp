@@ -17,6 +17,7 @@ nlohmann::json run_law(const Context& ctx, const std::string& law) {
   opt.frame_steps = {0, 5, 50, 500, 1000};
   opt.stats = true;
   const RecordedRun run = record_run(scene, opt);
+  write_run_folder(ctx, law, scene);  // for the viewer
   const auto frames = write_frames(scene, run, ctx.out_dir, law + "_frame_");
   const RunSummary& s = run.summary;
   // energy growth over the first steps: the "initially diverges" part

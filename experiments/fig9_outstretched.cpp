@@ -327,6 +327,18 @@ void add_notes(Report& report, const Solutions& sol, const Measures& mm) {
             " deg, off-reach-chain rotation " + num(mm.off_reach_rad) + " rad.");
 }
 
+// the viewer's runs: PhysIK's motion, the DLS and iTaSC (when it ran) poses
+void write_view_runs(const Context& ctx, const Scene& scene, const Solutions& sol) {
+  write_run_folder(ctx, "physik", scene);
+  write_pose_run_folder(ctx, "dls", scene, sol.dls_frames,
+                        {{"solver", "damped least squares"}, {"iterations", sol.dls.iterations},
+                         {"residual", sol.dls.residual}, {"converged", sol.dls.converged}});
+  if (sol.itasc.ok()) {
+    write_pose_run_folder(ctx, "itasc", scene, sol.itasc.frames,
+                          {{"solver", "Blender iTaSC"}, {"blender", sol.itasc.blender}});
+  }
+}
+
 nlohmann::json itasc_json(const ItascRun& run, double tol, const Measures& mi) {
   nlohmann::json j = {{"status", run.status}, {"reason", run.reason}, {"blender", run.blender},
                       {"seconds", run.seconds}};
@@ -360,6 +372,7 @@ void run(const Context& ctx) {
   const std::vector<int> reach_chain = chains_to_root(rig, {bone(rig, "hand.R")});
 
   const Solutions sol = solve_all(ctx, scene);
+  write_view_runs(ctx, scene, sol);
   const BoneFrames& pk_final = sol.physik.summary.final_frames;
   write_bones(rig, rest, ctx.out_dir + "/rest.csv");
   write_bones(rig, pk_final, ctx.out_dir + "/physik_final.csv");

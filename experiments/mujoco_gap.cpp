@@ -70,6 +70,13 @@ void add_exact_table_and_notes(Report& report, const nlohmann::json& gap_rows) {
       .figures({"mujoco_gap.png", "mujoco_poses.png"});
 }
 
+// the viewer's runs: PhysIK and MuJoCo with PhysIK's forces
+void write_view_runs(const Context& ctx, const Scene& scene) {
+  write_run_folder(ctx, "physik", scene);
+  write_reference_run_folder(scene, ReferenceMode::kSameForces, run_folder_path(ctx, "mujoco"),
+                             run_folder_every(scene));
+}
+
 // one scene and mode's rows of gap_over_time.csv (every 5th step) and gaps.csv
 void write_csv_rows(const std::string& name, const std::string& m, double h, const Comparison& c,
                     const RecordedRun& exact, const ExactGaps& eg, std::ostream& gap_csv,
@@ -112,6 +119,7 @@ void run(const Context& ctx) {
     const RecordedRun exact = exact_run(scene);
     for (ReferenceMode mode : {ReferenceMode::kSameForces, ReferenceMode::kExactConstraints}) {
       const Comparison c = compare_with_mujoco(scene, mode);
+      if (name == scenes.front() && mode == ReferenceMode::kSameForces) write_view_runs(ctx, scene);
       const ExactGaps eg = exact_gaps(exact, c);
       const std::string m = to_string(mode);
       const double h = scene.rig.height();

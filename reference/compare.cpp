@@ -227,6 +227,27 @@ nlohmann::json comparison_to_json(const Scene& scene, const Comparison& c) {
   return j;
 }
 
+namespace {
+
+// a MuJoCo run's summary.json: simulate's keys, the engine and the mode
+nlohmann::json mujoco_summary_json(const Scene& scene, const RunSummary& s, ReferenceMode mode) {
+  nlohmann::json sum = summary_to_json(scene, s);
+  sum["engine"] = std::string("mujoco ") + mj_versionString();
+  sum["mode"] = to_string(mode);
+  sum["passes_are"] = "MuJoCo constraint-solver iterations";
+  return sum;
+}
+
+}  // namespace
+
+RunSummary write_reference_run_folder(const Scene& scene, ReferenceMode mode,
+                                      const std::string& dir, int every) {
+  RunFolderWriter folder(scene, dir, "--out");
+  RecordedRun run = record_mujoco(scene, mode, folder.record_options(every));
+  folder.finish(mujoco_summary_json(scene, run.summary, mode), run.summary.final_frames);
+  return std::move(run.summary);
+}
+
 nlohmann::json write_reference_comparison(const Scene& scene, const std::string& spec,
                                           const std::string& out_dir, int every, bool verbose) {
   const ReferenceMode mode = parse_reference_spec(spec);
@@ -234,11 +255,7 @@ nlohmann::json write_reference_comparison(const Scene& scene, const std::string&
   // the reference run as a run folder of its own (physik/io/run_folder.h), beside PhysIK's
   RunFolderWriter folder(scene, out_dir + "/" + kReferenceFolder, "--out");
   const Comparison c = compare_with_mujoco(scene, mode, folder.record_options(every));
-  nlohmann::json sum = summary_to_json(scene, c.mujoco.summary);
-  sum["engine"] = std::string("mujoco ") + mj_versionString();
-  sum["mode"] = to_string(mode);
-  sum["passes_are"] = "MuJoCo constraint-solver iterations";
-  folder.finish(sum, c.mujoco.summary.final_frames);
+  folder.finish(mujoco_summary_json(scene, c.mujoco.summary, mode), c.mujoco.summary.final_frames);
   const nlohmann::json j = comparison_to_json(scene, c);
   write_json(j, out_dir + "/comparison.json");
   if (verbose && j["diverged"].empty()) {

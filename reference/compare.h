@@ -74,6 +74,11 @@ std::vector<std::string> diverged_runs(const Comparison& c);
 // (diverged_runs), each run's summary, the free rods' gap.
 nlohmann::json comparison_to_json(const Scene& scene, const Comparison& c);
 
+// MuJoCo's run of `scene` as a run folder at `dir` (physik/io/run_folder.h), a trajectory row
+// every `every` steps; its summary.json names the engine and the mode. Returns the summary.
+RunSummary write_reference_run_folder(const Scene& scene, ReferenceMode mode,
+                                      const std::string& dir, int every);
+
 // The reference run's folder under `simulate --reference`'s output folder.
 inline constexpr const char* kReferenceFolder = "mujoco";
 

@@ -114,5 +114,31 @@ TEST(Experiments, Fig5WritesItsReportAndTheRecordersTable) {
   EXPECT_EQ(rows.substr(rows.find('\n') + 1, 2), "1,");
 }
 
+// fig11_sit (quick) leaves its run as a run folder for the viewer, listed in runs/order.txt,
+// and it is the experiment's own run (the same final state)
+TEST(Experiments, Fig11LeavesItsRunAsARunFolder) {
+  Context ctx;
+  ctx.out_dir = ::testing::TempDir() + "/experiments_fig11";
+  std::filesystem::remove_all(ctx.out_dir);
+  std::filesystem::create_directories(ctx.out_dir);
+  ctx.models_dir = std::string(PHYSIK_SOURCE_DIR) + "/models";
+  ctx.quick = true;
+  const Experiment* fig11 = nullptr;
+  for (const Experiment& e : all_experiments()) fig11 = e.name == "fig11_sit" ? &e : fig11;
+  ASSERT_NE(fig11, nullptr);
+  fig11->run(ctx);
+
+  EXPECT_EQ(read_file(ctx.out_dir + "/runs/order.txt"), "sit\n");
+  const std::string run = ctx.out_dir + "/runs/sit";
+  for (const char* f : {"scene.json", "trajectory.csv", "targets_and_limits.csv", "summary.json",
+                        "final_pose.csv"}) {
+    EXPECT_TRUE(std::filesystem::exists(run + "/" + f)) << f;
+  }
+  const nlohmann::json mine = read_json_file(run + "/summary.json");
+  const nlohmann::json theirs = read_json_file(ctx.out_dir + "/summary.json")["run"];
+  EXPECT_EQ(mine["final_state_hash"], theirs["final_state_hash"]);
+  EXPECT_EQ(mine["steps_run"], theirs["steps_run"]);
+}
+
 }  // namespace
 }  // namespace physik::experiments
