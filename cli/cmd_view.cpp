@@ -44,8 +44,8 @@ void add_view_commands(CLI::App& app) {
   cmd->add_option("--label", opt->view.labels,
                   "A legend name per run folder, in order (default: each folder's name)");
   cmd->add_option("--max-frames", opt->view.max_frames,
-                  "Frames kept per run; longer runs keep every k-th row (and the last), and the "
-                  "page says so")
+                  "Frames kept per run; a longer run is decimated to this many rows, evenly "
+                  "spread (the first and the last among them), and the page says so")
       ->capture_default_str();
   cmd->callback([opt] { run_view(*opt); });
 }

@@ -174,18 +174,25 @@ void read_trajectory(const std::string& path, int max_frames, ViewRun& run) {
                       "an empty trajectory: the header and no row (no state of the "
                       "run was recorded)");
   }
-  const int rows = run.rows_recorded;
-  run.stride = rows > max_frames ? (rows + max_frames - 2) / (max_frames - 1) : 1;
+  const long rows = run.rows_recorded, kept = std::min<long>(rows, max_frames);
+  // the k-th kept row, rounded from k (rows - 1) / (kept - 1) in integers
+  const auto kept_row = [&](long k) {
+    return kept < 2 ? 0 : (2 * k * (rows - 1) + kept - 1) / (2 * (kept - 1));
+  };
+  long next = 0;  // the next kept row's k
   CsvFile csv(path);
   const std::vector<std::string> names = trajectory_columns(run.scene);
   csv.check_header(names);
   std::vector<std::string> f;
-  for (int r = 0; csv.next(f); ++r) {
+  for (long r = 0; csv.next(f); ++r) {
     if (f.size() != names.size()) {
       csv.fail("", std::to_string(f.size()) + " fields where the header has " +
                        std::to_string(names.size()));
     }
-    if (r % run.stride == 0 || r == rows - 1) keep_row(csv, f, names, run);
+    if (next < kept && r == kept_row(next)) {
+      keep_row(csv, f, names, run);
+      ++next;
+    }
   }
 }
 
@@ -271,11 +278,11 @@ ViewRun read_run_folder(const std::string& folder, int max_frames) {
     run.notes.push_back(std::string("no ") + kTargetsLimitsFile +
                         ": targets are the scene's goals, joint limits are not shown");
   }
-  if (run.stride > 1) {
-    run.notes.push_back("decimated: every " + std::to_string(run.stride) + "th of " +
-                        std::to_string(run.rows_recorded) + " recorded rows kept (and the last), " +
-                        std::to_string(run.steps.size()) + " frames; the cap is " +
-                        std::to_string(max_frames) + " frames per run");
+  if (static_cast<int>(run.steps.size()) < run.rows_recorded) {
+    run.notes.push_back("decimated: " + std::to_string(run.rows_recorded) +
+                        " recorded rows shown as " + std::to_string(run.steps.size()) +
+                        " frames, evenly spread, the first and the last among them (the cap is " +
+                        std::to_string(max_frames) + " frames per run: --max-frames)");
   }
   return run;
 }

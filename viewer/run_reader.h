@@ -2,9 +2,9 @@
 // frames (every bone's head and tail), the per-frame readouts, and, from
 // targets_and_limits.csv, the control points' targets and each bone's joint-limit excess.
 //
-// Runs longer than `max_frames` rows are decimated: every stride-th row is kept, with
-//   stride = ceil(rows / (max_frames - 1)),
-// and the last row, so at most max_frames rows remain; the viewer states the stride.
+// Runs longer than `max_frames` rows are decimated to exactly max_frames rows, evenly spread:
+//   kept row k = round(k (rows - 1) / (max_frames - 1)),  k = 0 .. max_frames - 1
+// (the first and the last row among them); the page says so.
 // Bad input is an InputError naming the folder or the file and what is wrong: not a folder,
 // no scene.json or trajectory.csv (not a run folder), an empty trajectory, a header that is not
 // the scene's columns, a row with the wrong number of fields, a value that is not a finite
@@ -25,8 +25,7 @@ struct ViewRun {
   std::string label;       // the legend's name
   Scene scene;             // scene.json
   nlohmann::json summary;  // summary.json; null when the folder has none
-  int rows_recorded = 0;   // rows of trajectory.csv
-  int stride = 1;          // every stride-th row kept (and the last)
+  int rows_recorded = 0;   // rows of trajectory.csv (all kept unless more than max_frames)
   // per kept frame
   std::vector<int> steps;               // (nframe)
   std::vector<double> times;            // (nframe) s

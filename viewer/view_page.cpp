@@ -141,7 +141,6 @@ nlohmann::json run_json(const ViewRun& r) {
           {"dt", r.scene.params.dt},
           {"frames", r.steps.size()},
           {"rows_recorded", r.rows_recorded},
-          {"stride", r.stride},
           {"summary", summary_fields(r.summary)},
           {"notes", r.notes},
           {"steps", b64(r.steps)},

@@ -328,8 +328,8 @@
     grid.rotation.x = Math.PI / 2;  // into the XY plane: the floor of a Z-up world
     grid.position.set(v.center.x, v.center.y, box.min.z);
     v.scene.add(grid);
-    v.cylinder = new THREE.CylinderBufferGeometry(1, 1, 1, 16, 1, true);
-    v.sphere = new THREE.SphereBufferGeometry(1, 16, 12);
+    v.cylinder = new THREE.CylinderBufferGeometry(1, 1, 1, 10, 1, true);
+    v.sphere = new THREE.SphereBufferGeometry(1, 10, 7);
     v.runs.forEach(function (run) { buildRunMeshes(v, run); });
   }
 

@@ -17,12 +17,14 @@ Screenshots go to PHYSIK_VIEWER_SHOTS (default build/viewer_screenshots).
 Run: PHYSIK_BINARY=build/physik python3 tests/viewer/test_viewer.py [ViewCommandTest|BrowserTest]
 (ctest: viewer_command, viewer_browser; exit 77 = skipped).
 """
+import base64
 import colorsys
 import io
 import json
 import os
 import re
 import shutil
+import struct
 import subprocess
 import sys
 import tempfile
@@ -33,6 +35,9 @@ from html.parser import HTMLParser
 REPO = os.environ.get("PHYSIK_SOURCE_DIR") or os.path.dirname(
     os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BINARY = os.environ.get("PHYSIK_BINARY") or os.path.join(REPO, "build", "physik")
+sys.path.insert(0, os.path.join(REPO, "analysis"))
+import headless_chromium  # noqa: E402
+
 SHOTS = os.environ.get("PHYSIK_VIEWER_SHOTS") or os.path.join(REPO, "build", "viewer_screenshots")
 SKIPPED = 77
 
@@ -170,10 +175,25 @@ class ViewCommandTest(unittest.TestCase):
         self.assertEqual(physik("view", self.run_dir, "--max-frames", "10", "--out", out)[0], 0)
         run = page_data(out)["runs"][0]
         self.assertEqual(run["rows_recorded"], 101)  # step 0 and 100 steps
-        self.assertEqual(run["stride"], 12)  # ceil(101 / 9)
-        self.assertEqual(run["frames"], 10)  # rows 0, 12, ..., 96 and the last
-        said = [n for n in run["notes"] if "decimated: every 12th of 101" in n]
+        self.assertEqual(run["frames"], 10)
+        steps = struct.unpack("<10i", base64.b64decode(run["steps"]))
+        self.assertEqual(steps, (0, 11, 22, 33, 44, 56, 67, 78, 89, 100))  # round(k 100 / 9)
+        said = [n for n in run["notes"] if "decimated: 101 recorded rows shown as 10 frames" in n]
         self.assertEqual(len(said), 1, run["notes"])
+
+    def test_within_the_cap_every_row_and_no_note(self):
+        out = os.path.join(self.tmp, "whole.html")
+        self.assertEqual(physik("view", self.run_dir, "--max-frames", "101", "--out", out)[0], 0)
+        run = page_data(out)["runs"][0]
+        self.assertEqual(struct.unpack("<101i", base64.b64decode(run["steps"])),
+                         tuple(range(101)))
+        self.assertEqual([n for n in run["notes"] if "decimated" in n], [])
+
+    def test_a_cap_below_two_frames(self):
+        msg = self.error(self.run_dir, "--max-frames", "1", "--out",
+                         os.path.join(self.tmp, "x.html"))
+        self.assertIn("--max-frames", msg)
+        self.assertIn("must be at least 2", msg)
 
     def test_the_page_loads_nothing(self):
         out = os.path.join(self.tmp, "plain.html")
@@ -182,32 +202,6 @@ class ViewCommandTest(unittest.TestCase):
         parser.feed(open(out, encoding="utf-8").read())
         self.assertEqual(parser.loads, [])
         self.assertIn("default-src 'none'", parser.policy)
-
-
-def chromium():
-    """A headless Chromium driven by chromedriver, or the reason it cannot start."""
-    try:
-        from selenium import webdriver
-        from selenium.webdriver.chrome.options import Options
-        from selenium.webdriver.chrome.service import Service
-    except ImportError as e:
-        return None, "python3-selenium is missing (%s)" % e
-    o = Options()
-    o.binary_location = shutil.which("chromium") or "/usr/bin/chromium"
-    args = ["--headless=new", "--no-sandbox", "--use-angle=swiftshader",
-            "--enable-unsafe-swiftshader", "--window-size=1000,1000",
-            "--user-data-dir=" + tempfile.mkdtemp(prefix="physik_chromium_")]
-    if os.geteuid() == 0:
-        args += ["--disable-gpu", "--disable-background-networking", "--disable-component-update",
-                 "--disable-sync", "--no-first-run"]
-    for a in args:
-        o.add_argument(a)
-    o.set_capability("goog:loggingPrefs", {"browser": "ALL"})
-    try:
-        driver = Service(shutil.which("chromedriver") or "/usr/bin/chromedriver")
-        return webdriver.Chrome(service=driver, options=o), None
-    except Exception as e:  # no binary, no driver, or a browser that will not start
-        return None, "Chromium cannot start: %s" % str(e).strip().splitlines()[0]
 
 
 def hue_counts(png, hues, tol=18):
@@ -228,7 +222,7 @@ def hue_counts(png, hues, tol=18):
 class BrowserTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        cls.driver, why = chromium()
+        cls.driver, why = headless_chromium.start()
         if cls.driver is None:
             raise unittest.SkipTest(why)
         cls.tmp = tempfile.mkdtemp(prefix="physik_view_browser_")
