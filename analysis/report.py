@@ -1,5 +1,7 @@
 #!/usr/bin/env python3
-"""Gather every experiment's summary.json "report" section into results/REPORT.md.
+"""Gather every experiment's summary.json "report" section into results/REPORT.md, and the
+same report as results/REPORT.html with the experiments' runs in embedded 3D viewers
+(analysis/report_html.py; `--physik BINARY` writes the viewer pages first).
 
 The settings table at the top takes the engine's parameters from results/params.json
 (`physik params --json`). Each summary may carry:
@@ -12,6 +14,10 @@ import datetime
 import json
 import os
 import re
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import report_html  # noqa: E402
 
 
 def collect(results):
@@ -162,19 +168,44 @@ def render(sections, results=None):
         for fig in rep.get("figures", []):
             rel = os.path.join(name, fig)
             out.append("![%s](%s)" % (fig, rel))
+        if results:
+            out += motion_lines(results, name)
         out.append("")
     return "\n".join(out) + "\n"
+
+
+def motion_lines(results, name):
+    """The experiment's animated GIF (analysis/animate.py) after its figures, and a link to its
+    3D viewer page (analysis/report_html.py), where they exist."""
+    out = []
+    gif = os.path.join(name, "animation.gif")
+    if os.path.isfile(os.path.join(results, gif)):
+        out.append("![%s: animation](%s)" % (name, gif))
+    view = os.path.join(name, "view.html")
+    if os.path.isfile(os.path.join(results, view)):
+        runs = len(report_html.run_folders(results, name))
+        out += ["", "3D viewer of the %d run%s: [%s](%s) (%.1f MB, self-contained; REPORT.html "
+                "embeds it)" % (runs, "" if runs == 1 else "s", view, view,
+                               os.path.getsize(os.path.join(results, view)) / 1e6)]
+    return out
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("results", help="the results/ folder")
+    ap.add_argument("--physik", help="the physik binary: write each experiment's viewer page "
+                    "(<name>/view.html) from its run folders first")
     args = ap.parse_args(argv)
-    text = render(collect(args.results), args.results)
-    path = os.path.join(args.results, "REPORT.md")
-    with open(path, "w") as f:
-        f.write(text)
-    print("wrote", path)
+    sections = collect(args.results)
+    if args.physik:
+        report_html.make_views(args.results, sections, args.physik)
+    text = render(sections, args.results)
+    for name, content in (("REPORT.md", text),
+                          ("REPORT.html", report_html.to_html(text, args.results))):
+        path = os.path.join(args.results, name)
+        with open(path, "w") as f:
+            f.write(content)
+        print("wrote", path)
 
 
 if __name__ == "__main__":

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The main job: run every experiment, draw every figure, write results/REPORT.md.
+# The main job: run every experiment, draw every figure, write results/REPORT.md and
+# results/REPORT.html (the report with the experiments' runs in embedded 3D viewers).
 # Environment: PHYSIK (the built binary), PYTHON (an interpreter with matplotlib), RESULTS.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -24,6 +25,13 @@ while read -r name; do
     exit 1
   fi
 done < "$RESULTS/order.txt"
+echo "== animations (Figs 7, 10, 11) =="
+"$PYTHON" analysis/animate.py --experiment "$RESULTS/fig7_cannon"
+"$PYTHON" analysis/animate.py --experiment "$RESULTS/fig10_interpolation" --view front
+"$PYTHON" analysis/animate.py --experiment "$RESULTS/fig11_sit" --view side
+echo "== viewer benchmark =="
+"$PYTHON" analysis/viewer_benchmark.py "$RESULTS/viewer_benchmark" --physik "$PHYSIK" \
+  --models models
 echo "== report =="
-"$PYTHON" analysis/report.py "$RESULTS"
-echo "reproduce: done in $(( $(date +%s) - start )) s; see $RESULTS/REPORT.md"
+"$PYTHON" analysis/report.py "$RESULTS" --physik "$PHYSIK"
+echo "reproduce: done in $(( $(date +%s) - start )) s; see $RESULTS/REPORT.md and REPORT.html"

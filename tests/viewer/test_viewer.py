@@ -11,7 +11,9 @@ SwiftShader renders WebGL): the page loads from file:// with no console error an
 moving the slider changes the rendered pixels and a paused frame stays the same; Play
 advances; an overlay of two runs draws both colours; a rig bent past a locked joint is drawn
 in the highlight colour; a rig, scene, folder and title of hostile names (</script><img ...>)
-show as text and run nothing. It skips, with a message, only where Chromium cannot start.
+show as text and run nothing; REPORT.html (analysis/report.py) shows an experiment's runs in
+the viewer, in an iframe beside its figure, with its hostile title as text. It skips, with a
+message, only where Chromium cannot start.
 Screenshots go to PHYSIK_VIEWER_SHOTS (default build/viewer_screenshots).
 
 Run: PHYSIK_BINARY=build/physik python3 tests/viewer/test_viewer.py [ViewCommandTest|BrowserTest]
@@ -345,6 +347,35 @@ class BrowserTest(unittest.TestCase):
         self.assertEqual(self.driver.title, HOSTILE)
         self.assertEqual(self.errors(), [])
         self.shot("hostile_names")
+
+    def test_the_report_page_embeds_the_viewer_beside_the_figures(self):
+        results = os.path.join(self.tmp, "results")
+        runs = os.path.join(results, "e", "runs")
+        for name in ("right", "left"):
+            shutil.copytree(os.path.join(self.tmp, name), os.path.join(runs, name))
+        with open(os.path.join(runs, "order.txt"), "w") as f:
+            f.write("right\nleft\n")
+        shutil.copy(self.shot("for_the_report"), os.path.join(results, "e", "fig.png"))
+        with open(os.path.join(results, "e", "summary.json"), "w") as f:
+            json.dump({"report": {"title": HOSTILE, "figures": ["fig.png"]}}, f)
+        subprocess.run([sys.executable, os.path.join(REPO, "analysis", "report.py"), results,
+                        "--physik", BINARY], check=True, capture_output=True)
+        self.driver.get_log("browser")
+        self.driver.get("file://" + os.path.join(results, "REPORT.html"))
+        self.assertIn(HOSTILE, self.js(
+            "return Array.from(document.querySelectorAll('h2')).map(h => h.textContent)"))
+        self.assertEqual(self.js("return document.querySelectorAll('.figures img').length"), 1)
+        frame = self.driver.find_element("css selector", ".figures iframe")
+        self.js("arguments[0].scrollIntoView()", frame)  # the frame loads lazily
+        self.driver.switch_to.frame(frame)
+        try:
+            self.wait_for("return window.physikViewers && window.physikViewers[0].renders > 0",
+                          "the embedded viewer's first frame")
+            self.assertEqual(self.js("return window.physikViewers[0].runs.length"), 2)
+        finally:
+            self.driver.switch_to.default_content()
+        self.shot("report_page")
+        self.assertEqual(self.errors(), [])
 
 
 def main():
