@@ -311,9 +311,10 @@ def view(runs, path=None, *, title=None, labels=None, max_frames=10000):
     runs: a run folder (`physik simulate --out DIR`; `--reference` adds DIR/mujoco) or a list of
     them, overlaid in distinct colours (their rigs must have the same bones); path: the HTML file
     (default: view.html in the first folder); title, labels (one per run), max_frames (per run;
-    longer runs keep every k-th row and the page says so) as the CLI's --title, --label,
-    --max-frames. A folder that is not a run folder, an empty trajectory or rigs with other bones
-    raise InputError naming the folder. Returns a View (its path; shown in place in Jupyter).
+    a longer run is decimated to that many evenly spread rows, and the page says so) as the
+    CLI's --title, --label, --max-frames. A folder that is not a run folder, an empty trajectory
+    or rigs with other bones raise InputError naming the folder. Returns a View (its path;
+    shown in place in Jupyter).
     """
     import os
     folders = [os.fspath(runs)] if isinstance(runs, (str, os.PathLike)) else [
