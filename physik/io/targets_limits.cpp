@@ -6,8 +6,8 @@
 #include <iomanip>
 
 #include "physik/io/pose_io.h"
-#include "physik/io/unique_names.h"
 #include "physik/model/joint_angles.h"
+#include "physik/model/unique_names.h"
 
 namespace physik {
 
