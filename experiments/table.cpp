@@ -69,6 +69,12 @@ Column Column::in_quotes() const {
   return c;
 }
 
+Column Column::summary_only() const {
+  Column c = *this;
+  c.in_csv = false;
+  return c;
+}
+
 std::string Column::format() const {
   switch (kind) {
     case CellKind::kReal:
@@ -203,15 +209,18 @@ void Table::write_csv(const std::string& dir) const {
   const std::string path = dir + "/" + file_;
   std::ofstream out(path);
   if (!out) throw std::runtime_error(path + ": cannot write file");
-  for (std::size_t k = 0; k < columns_.size(); ++k) out << (k ? "," : "") << columns_[k].name;
-  out << "\n";
-  for (const auto& row : rows_) {
-    for (std::size_t k = 0; k < row.size(); ++k) {
-      if (k) out << ",";
-      row[k].write_csv(out, columns_[k], name_);
+  const auto line = [&](const auto& cell) {
+    bool first = true;
+    for (std::size_t k = 0; k < columns_.size(); ++k) {
+      if (!columns_[k].in_csv) continue;
+      if (!first) out << ",";
+      first = false;
+      cell(k);
     }
     out << "\n";
-  }
+  };
+  line([&](std::size_t k) { out << columns_[k].name; });
+  for (const auto& row : rows_) line([&](std::size_t k) { row[k].write_csv(out, columns_[k], name_); });
   if (!out) throw std::runtime_error(path + ": write failed");
 }
 
@@ -230,7 +239,11 @@ nlohmann::json Table::rows_json() const {
 nlohmann::json Table::schema() const {
   nlohmann::json cols = nlohmann::json::array();
   for (const Column& c : columns_) {
-    cols.push_back({{"name", c.name}, {"unit", c.unit}, {"doc", c.doc}, {"format", c.format()}});
+    cols.push_back({{"name", c.name},
+                    {"unit", c.unit},
+                    {"doc", c.doc},
+                    {"format", c.format()},
+                    {"csv", c.in_csv}});
   }
   nlohmann::json j = {{"columns", cols}, {"rows", rows_.size()}};
   if (!file_.empty()) j["file"] = file_;

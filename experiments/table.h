@@ -38,6 +38,7 @@ struct Column {
   bool json_number = false;      // reals: written as JSON writes the number (shortest exact)
   bool blank_nonfinite = false;  // reals: an empty cell for inf and nan
   bool quoted = false;           // text: within double quotes (a cell that may hold commas)
+  bool in_csv = true;            // false: the summary's rows hold it, the CSV does not
 
   // the same column under another name (a family of columns: one per run, per point)
   Column named(std::string other) const;
@@ -45,6 +46,7 @@ struct Column {
   Column blank_if_nonfinite() const;
   Column as_json_number() const;
   Column in_quotes() const;
+  Column summary_only() const;
   // the column's format as the schema states it: "g<digits>" (a stream's %g), "json" (JSON's
   // shortest exact number), either with "|blank" (empty when not finite); "int"; "flag" (0/1);
   // "text"; "quoted" (text within double quotes)
@@ -107,7 +109,8 @@ class Table {
   void write_csv(const std::string& dir) const;
   // every row as {column: value}
   nlohmann::json rows_json() const;
-  // {"file": ..., "columns": [{"name", "unit", "doc", "format"}]}
+  // {"file": ..., "rows": n, "columns": [{"name", "unit", "doc", "format", "csv"}]} ("csv": false
+  // for a column only the summary's rows hold)
   nlohmann::json schema() const;
   // A report table of some columns, cells as the report shows them (reals with `digits`
   // significant digits); a text cell found in `labels` is shown as its label.
