@@ -19,14 +19,14 @@ namespace {
 
 const char* kScenes[] = {"pinhead_two_hands", "fig5_running", "fig9_outstretched"};
 
-struct Cell {
+struct RunCell {
   RunSummary run;
   double max_residual = 0.0;
 };
 
-Cell run_cell(Scene s, bool implicit) {
+RunCell run_cell(Scene s, bool implicit) {
   if (implicit) s.params.scheme = Scheme::kImplicit;
-  Cell c;
+  RunCell c;
   c.run = run_scene(s);
   for (double r : c.run.final_residuals) c.max_residual = std::max(c.max_residual, r);
   return c;
@@ -198,7 +198,7 @@ Table stability_map(const Context& ctx, nlohmann::json& doc, nlohmann::json& cla
 struct ScaledRun {
   double scale = 1, density = 1, c = 0;
   bool implicit = false;
-  Cell cell;
+  RunCell cell;
   std::string bare;  // the implicit step without its guard: how it ended ("" for explicit)
 };
 
@@ -220,7 +220,7 @@ std::vector<ScaledRun> measure_scaled(const Context& ctx, const std::vector<doub
         if (imp) {
           Scene b = s;
           b.params.implicit_max_splits = 0;
-          const Cell bc = run_cell(b, true);
+          const RunCell bc = run_cell(b, true);
           r.bare = bc.run.diverged ? "diverged" : bc.run.converged ? "settled" : "neither";
         }
         out.push_back(r);
@@ -286,7 +286,7 @@ AutoRun measure_auto(const Scene& base, bool imp, const std::vector<double>& gri
   for (double c : grid) {
     Scene s = base;
     s.params.damping = c;
-    const Cell cell = run_cell(s, imp);
+    const RunCell cell = run_cell(s, imp);
     if (cell.run.converged && cell.run.steps_to_converge < a.best) {
       a.best = cell.run.steps_to_converge;
       a.best_c = c;
