@@ -30,7 +30,6 @@
 // hangs from the top of the head, while PhysIK's root translates freely (noted in the report).
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 
 #include "experiments/blender_peer.h"
@@ -129,12 +128,6 @@ nlohmann::json to_json(const Measures& m) {
   nlohmann::json j = measures_table({{"", &m}}).rows_json()[0];
   j.erase("method");
   return j;
-}
-
-void write_bones(const Rig& rig, const BoneFrames& f, const std::string& path) {
-  std::ofstream out(path);
-  if (!out) throw_input_error(path, "", "", "cannot write file");
-  write_bones_csv(rig, f, out);
 }
 
 // The final poses from the same initial pose.
@@ -392,10 +385,10 @@ void run(const Context& ctx) {
 
   const Solutions sol = solve_all(ctx, scene);
   const BoneFrames& pk_final = sol.physik.summary.final_frames;
-  write_bones(rig, rest, ctx.out_dir + "/rest.csv");
-  write_bones(rig, pk_final, ctx.out_dir + "/physik_final.csv");
-  write_bones(rig, sol.dls_frames, ctx.out_dir + "/dls_final.csv");
-  write_bones(rig, sol.mujoco.final_frames, ctx.out_dir + "/mujoco_final.csv");
+  write_bones_table(ctx.out_dir + "/rest.csv", rig, rest);
+  write_bones_table(ctx.out_dir + "/physik_final.csv", rig, pk_final);
+  write_bones_table(ctx.out_dir + "/dls_final.csv", rig, sol.dls_frames);
+  write_bones_table(ctx.out_dir + "/mujoco_final.csv", rig, sol.mujoco.final_frames);
   const Measures mp = measure(scene, rest, pk_final, controlled, reach_chain);
   const Measures md = measure(scene, rest, sol.dls_frames, controlled, reach_chain);
   const Measures mm = measure(scene, rest, sol.mujoco.final_frames, controlled, reach_chain);

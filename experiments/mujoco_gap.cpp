@@ -11,7 +11,6 @@
 // forces it agrees to round-off, so the Gauss-Seidel gap is the heuristic's own (its joint forces
 // and its integration), not MuJoCo's integrator; in exact-constraints mode the exact gap is the
 // model's (the rig's joints and hard limits against balls and torsion springs).
-#include <fstream>
 
 #include "experiments/columns.h"
 #include "experiments/common.h"
@@ -160,12 +159,10 @@ void run(const Context& ctx) {
                           gap_cell(eg.gauss_seidel_vs_exact)});
       // final poses, for drawing side by side
       const std::string tag = name + "_" + m;
-      {
-        std::ofstream a(ctx.out_dir + "/" + tag + "_physik.csv");
-        write_bones_csv(scene.rig, c.physik.summary.final_frames, a);
-        std::ofstream b(ctx.out_dir + "/" + tag + "_mujoco.csv");
-        write_bones_csv(scene.rig, c.mujoco.summary.final_frames, b);
-      }
+      write_bones_table(ctx.out_dir + "/" + tag + "_physik.csv", scene.rig,
+                        c.physik.summary.final_frames);
+      write_bones_table(ctx.out_dir + "/" + tag + "_mujoco.csv", scene.rig,
+                        c.mujoco.summary.final_frames);
       rows.push_back({{"scene", name}, {"mode", m}, {"comparison", comparison_to_json(scene, c)},
                       {"exact_vs_mujoco", gap_json(eg.exact_vs_mujoco)},
                       {"gauss_seidel_vs_exact", gap_json(eg.gauss_seidel_vs_exact)},

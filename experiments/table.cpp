@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "physik/io/json_fields.h"
+#include "physik/io/pose_io.h"
 
 namespace physik::experiments {
 
@@ -271,6 +272,13 @@ void Table::add_to_report(Report& report, const std::string& title,
     rows.push_back(std::move(cells));
   }
   report.table(title, headings, rows);
+}
+
+void write_bones_table(const std::string& path, const Rig& rig, const BoneFrames& frames) {
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error(path + ": cannot write file");
+  write_bones_csv(rig, frames, out);
+  if (!out) throw std::runtime_error(path + ": write failed");
 }
 
 nlohmann::json table_schemas(const std::vector<const Table*>& tables) {

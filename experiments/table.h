@@ -24,6 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include "experiments/report.h"
+#include "physik/model/kinematics.h"
 
 namespace physik::experiments {
 
@@ -125,6 +126,11 @@ class Table {
   std::vector<Column> columns_;
   std::vector<std::vector<Cell>> rows_;
 };
+
+// A bones table (physik/io/pose_io.h's format: one row per bone, head and tail) to `path`
+// (std::runtime_error naming the file if it cannot be written). Its columns are the format's,
+// shared with the CLI and read back by read_bones, so it is not a Table.
+void write_bones_table(const std::string& path, const Rig& rig, const BoneFrames& frames);
 
 // The "tables" section of summary.json: each table's schema under its name.
 nlohmann::json table_schemas(const std::vector<const Table*>& tables);
