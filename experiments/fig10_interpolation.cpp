@@ -106,14 +106,11 @@ Table secondary_motion_table(const SchemeRun& polar, const SchemeRun& linear) {
   Table t("secondary_motion", "secondary_motion.csv", cols);
   const std::size_t n = std::min(polar.off_chain.size(), linear.off_chain.size());
   for (std::size_t k = 0; k < n; ++k) {
-    std::vector<Cell> row;
-    // cells built in place: moving a Cell trips a false -Wmaybe-uninitialized in GCC 12
-    row.reserve(cols.size());
-    row.emplace_back(k + 1);
+    std::vector<Cell> row = {k + 1};
     for (const SchemeRun* r : {&polar, &linear}) {
-      for (double v : {r->off_chain[k], r->off_arm[k], r->ke[k]}) row.emplace_back(v);
-      for (int a = 0; a < 3; ++a) row.emplace_back(r->tip[k][a]);
-      for (int a = 0; a < 3; ++a) row.emplace_back(r->target[k][a]);
+      for (double v : {r->off_chain[k], r->off_arm[k], r->ke[k]}) row.push_back(v);
+      for (int a = 0; a < 3; ++a) row.push_back(r->tip[k][a]);
+      for (int a = 0; a < 3; ++a) row.push_back(r->target[k][a]);
     }
     t.add(std::move(row));
   }

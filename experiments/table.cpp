@@ -159,6 +159,12 @@ nlohmann::json Cell::to_json(const Column& c, const std::string& table) const {
       v_);
 }
 
+Cell::Cell(const Cell&) = default;
+Cell::Cell(Cell&&) noexcept = default;
+Cell& Cell::operator=(const Cell&) = default;
+Cell& Cell::operator=(Cell&&) noexcept = default;
+Cell::~Cell() = default;
+
 std::string Cell::display(const Column& c, int digits, const std::string& table) const {
   if (empty()) return "";
   if (const auto* b = std::get_if<bool>(&v_)) return *b ? "yes" : "no";
@@ -221,7 +227,9 @@ void Table::write_csv(const std::string& dir) const {
     out << "\n";
   };
   line([&](std::size_t k) { out << columns_[k].name; });
-  for (const auto& row : rows_) line([&](std::size_t k) { row[k].write_csv(out, columns_[k], name_); });
+  for (const auto& row : rows_) {
+    line([&](std::size_t k) { row[k].write_csv(out, columns_[k], name_); });
+  }
   if (!out) throw std::runtime_error(path + ": write failed");
 }
 

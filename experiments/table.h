@@ -7,7 +7,7 @@
 //     flag is true/false, a missing cell null, a non-finite number null);
 //   - its schema, which summary.json records under "tables" (file; per column name, unit, doc,
 //     format) so that analysis/ and python/ take column names from what the experiment wrote
-//     (analysis/tables.py checks them);
+//     (analysis/physik_plot.py read_table checks a CSV against it);
 //   - a report table (report.h), a projection of some columns as the report shows them.
 // The columns several experiments share (the same quantity under the same name) are in
 // experiments/columns.h.
@@ -71,6 +71,13 @@ class Cell {
   Cell(std::string v) : v_(std::move(v)) {}     // NOLINT
   template <class T, std::enable_if_t<std::is_integral_v<T> && !std::is_same_v<T, bool>, int> = 0>
   Cell(T v) : v_(static_cast<long long>(v)) {}  // NOLINT
+  // defined in table.cpp: inlined, moving the variant trips GCC 12's -Wmaybe-uninitialized on
+  // its string alternative (a false positive) wherever a row is built with push_back
+  Cell(const Cell&);
+  Cell(Cell&&) noexcept;
+  Cell& operator=(const Cell&);
+  Cell& operator=(Cell&&) noexcept;
+  ~Cell();
 
   bool empty() const { return std::holds_alternative<std::monostate>(v_); }
   // the value, checked against the column's kind (std::logic_error naming table and column)

@@ -36,9 +36,13 @@ Timed time_scene(const Context& ctx, const std::string& name) {
       joint += st.joint_solve_s;
       p += st.iterations();
       ++n;
-      if (st.kinetic_energy > 1e-6) { mp += st.iterations(); ++ms; }
+      if (st.kinetic_energy > 1e-6) {
+        mp += st.iterations();
+        ++ms;
+      }
     });
-    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double total =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (total < best_total) {
       best_total = total;
       joint_total = joint;
@@ -78,12 +82,16 @@ Table tabulate(const std::vector<Timed>& timed) {
 // the paper's timing claims, on fig5_running (pinhead with 8 control points)
 void add_claims(Report& report, const Timed& fig5) {
   report.claim("Sec. 4: ~98 ms per frame for the humanoid (Python in Blender)",
-               num(fig5.us) + " us per step for pinhead with 8 control points (C++, this "
-               "machine): " + num(98e3 / fig5.us) + "x faster",
+               num(fig5.us) +
+                   " us per step for pinhead with 8 control points (C++, this "
+                   "machine): " +
+                   num(98e3 / fig5.us) + "x faster",
                "n/a (different implementation)");
   report.claim("Sec. 4: ~70 of the 98 ms (71%) go to the inter-joint forces",
                num(100 * fig5.share, 2) + "% of the step time in the joint solve",
-               fig5.share > 0.5 ? "yes" : fig5.share > 0.3 ? "partly" : "no");
+               fig5.share > 0.5   ? "yes"
+               : fig5.share > 0.3 ? "partly"
+                                  : "no");
   const double ppm = fig5.passes_moving;
   report.claim("Sec. 4: about 20 joint passes per step",
                num(ppm, 3) + " passes per step while the rig moves (eps = 1e-3)",
@@ -97,14 +105,16 @@ void run(const Context& ctx) {
   for (const std::string name : {"fig5_running", "pinhead_two_hands", "fig7_cannon_capped"}) {
     timed.push_back(time_scene(ctx, name));
     const Timed& t = timed.back();
-    if (ctx.log) *ctx.log << "  " << name << ": " << t.us << " us/step, " << t.passes << " passes/step\n";
+    if (ctx.log)
+      *ctx.log << "  " << name << ": " << t.us << " us/step, " << t.passes << " passes/step\n";
   }
   const Table table = tabulate(timed);
   Report report("Timing: microseconds and passes per step");
   add_claims(report, timed.front());
   report
-      .note("Best of 5 whole runs; a step = one frame of the paper (dt 0.05 s). The figure "
-            "captions' 5 ms per step contradicts dt = 0.05 s; we use dt = 0.05 s.")
+      .note(
+          "Best of 5 whole runs; a step = one frame of the paper (dt 0.05 s). The figure "
+          "captions' 5 ms per step contradicts dt = 0.05 s; we use dt = 0.05 s.")
       .note("Google Benchmark figures (make bench) measure the same step with warm-up.")
       .figures({"timing.png"});
   write_summary(ctx, {{"experiment", "timing"}, {"rows", table.rows_json()}}, report, {&table});
