@@ -26,11 +26,14 @@ void add_claims(Report& report, const std::vector<double>& cs, const nlohmann::j
           [&] {
             std::string t;
             for (auto it = best.begin(); it != best.end(); ++it) {
-              const double c = it.value()["damping"].get<double>();
-              t += (t.empty() ? "" : ", ") + it.key() +
-                   (c < 0 ? std::string(": no damping converged")
-                          : " c = " + num(c) + " (" +
-                                std::to_string(it.value()["steps_to_converge"].get<int>()) + " steps)");
+              const double c = it.value()[columns::kDamping.name].get<double>();
+              t +=
+                  (t.empty() ? "" : ", ") + it.key() +
+                  (c < 0
+                       ? std::string(": no damping converged")
+                       : " c = " + num(c) + " (" +
+                             std::to_string(it.value()[columns::kStepsToConverge.name].get<int>()) +
+                             " steps)");
             }
             return t;
           }(),
@@ -115,7 +118,8 @@ Counts count(const std::vector<SceneSweep>& sweeps, const std::vector<double>& c
     }
     if (best_c > 0 && smallest_c_steps > 2 * best_steps) ++n.slow_when_small;
     if (any_diverged) ++n.diverge_when_large;
-    best[sw.name] = {{"damping", best_c}, {"steps_to_converge", best_steps}};
+    best[sw.name] = {{columns::kDamping.name, best_c},
+                     {columns::kStepsToConverge.name, best_steps}};
     if (log) *log << "  " << sw.name << ": fastest at c = " << best_c << " (" << best_steps << " steps)\n";
   }
   return n;
