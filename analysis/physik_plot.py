@@ -3,10 +3,13 @@
 Tables come from the C++ side (see physik/pose_io.h):
   bones table       one row per bone: bone, parent, head_x..z, tail_x..z (world, rig units)
   trajectory table  one row per step; bone columns "<bone>.head_x" ... "<bone>.tail_z"
+Experiment tables: each experiment records its tables' schemas in its summary.json ("tables": file,
+rows, columns with name, unit, doc, format); read_table checks a CSV against its schema.
 Views follow the paper's Blender screenshots: front looks along +Y (x right, z up), side looks
 along -X (y right, z up).
 """
 import csv
+import json
 import os
 
 import matplotlib
@@ -33,19 +36,69 @@ def read_bones_csv(path):
     return bones
 
 
+class TableColumns(dict):
+    """{column: [values]} read from one CSV; a column it lacks is a KeyError naming the file."""
+
+    def __init__(self, path, columns):
+        super().__init__(columns)
+        self.path = path
+
+    def __missing__(self, name):
+        raise KeyError("%s: no column '%s' (it has %s)" % (self.path, name, ", ".join(self)))
+
+
+def table_schema(path):
+    """The schema the experiment wrote for the CSV at `path`: the entry of "tables" in the
+    summary.json beside it whose "file" is the CSV's name ({"file", "rows", "columns": [{"name",
+    "unit", "doc", "format", "csv"}]}), or None when there is none (a table no experiment wrote)."""
+    summary = os.path.join(os.path.dirname(path), "summary.json")
+    if not os.path.exists(summary):
+        return None
+    with open(summary) as f:
+        tables = json.load(f).get("tables", {})
+    for schema in tables.values():
+        if schema.get("file") == os.path.basename(path):
+            return schema
+    return None
+
+
+def schema_columns(schema):
+    """The column names a schema puts in its CSV, in order."""
+    return [c["name"] for c in schema["columns"] if c.get("csv", True)]
+
+
+def check_against_schema(path, header, nrows):
+    """ValueError naming the file when its header or row count is not what its schema says."""
+    schema = table_schema(path)
+    if schema is None:
+        return
+    want = schema_columns(schema)
+    if header != want:
+        raise ValueError("%s: header %s, but summary.json's schema says %s"
+                         % (path, ",".join(header), ",".join(want)))
+    if nrows != schema["rows"]:
+        raise ValueError("%s: %d rows, but summary.json's schema says %d"
+                         % (path, nrows, schema["rows"]))
+
+
 def read_table(path):
-    """Read a CSV of numbers (first row = names) into {column: [values]}; text cells stay text."""
+    """Read a CSV of numbers (first row = names) into {column: [values]}; text cells stay text.
+    When the experiment wrote the table's schema (summary.json "tables"), the header and the row
+    count are checked against it, so a renamed column fails here, naming the file."""
     with open(path, newline="") as f:
         reader = csv.reader(f)
         header = next(reader)
         cols = {h: [] for h in header}
+        nrows = 0
         for row in reader:
+            nrows += 1
             for h, v in zip(header, row):
                 try:
                     cols[h].append(float(v))
                 except ValueError:
                     cols[h].append(v)
-    return cols
+    check_against_schema(path, header, nrows)
+    return TableColumns(path, cols)
 
 
 def bones_from_trajectory(table, row):
@@ -136,7 +189,6 @@ def curves(series, out_png, xlabel, ylabel, title=None, logy=False, markers=None
 
 
 def load_summary(folder):
-    import json
     with open(os.path.join(folder, "summary.json")) as f:
         return json.load(f)
 

@@ -3,25 +3,24 @@
 divergence region shaded, the Ceres optimum, the closed-form rule and the paper's / original's
 values marked. Reads results/tuning_study/{sweep.csv,summary.json}."""
 import argparse
-import csv
 import json
 import math
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import physik_plot  # noqa: E402,F401  (sets the Agg backend)
+import physik_plot  # noqa: E402  (sets the Agg backend)
 import matplotlib.pyplot as plt  # noqa: E402
 
 
 def read_sweep(path):
     """{variant: [(damping, steps or None, diverged)]} in file order."""
+    t = physik_plot.read_table(path)
     curves = {}
-    with open(path, newline="") as f:
-        for row in csv.DictReader(f):
-            steps = int(float(row["steps_to_converge"]))
-            curves.setdefault(row["variant"], []).append(
-                (float(row["damping"]), steps if steps >= 0 else None, row["diverged"] == "1"))
+    for variant, c, steps, diverged in zip(t["variant"], t["damping"], t["steps_to_converge"],
+                                          t["diverged"]):
+        steps = int(steps)
+        curves.setdefault(variant, []).append((c, steps if steps >= 0 else None, diverged == 1))
     if not curves:
         raise ValueError("%s: no rows" % path)
     return curves

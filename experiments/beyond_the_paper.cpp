@@ -17,8 +17,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 
+#include "experiments/columns.h"
 #include "experiments/common.h"
 #include "physik/io/json_fields.h"
 #include "physik/engine/linear_modes.h"
@@ -65,35 +65,78 @@ Scene prepared(const Context& ctx, const std::string& name, int steps) {
   return s;
 }
 
+// one run of a scene with one scheme
+struct SchemeRun {
+  std::string scene, scheme;
+  Outcome o;
+};
+
 // c = 20, dt = 0.05 on every pinhead scene
-nlohmann::json paper_settings(const Context& ctx, nlohmann::json& claims) {
-  std::ofstream csv(ctx.out_dir + "/paper_settings.csv");
-  csv << "scene,scheme,converged,diverged,steps_to_converge,steps_run,max_final_residual,peak_kinetic_energy\n";
-  nlohmann::json rows = nlohmann::json::array();
-  int ok[2] = {0, 0};
-  std::string text;
+Table paper_settings(const Context& ctx, nlohmann::json& claims) {
+  std::vector<SchemeRun> runs;
   for (const char* name : kPinheadScenes) {
     Scene base = prepared(ctx, name, ctx.quick ? 200 : 1500);
     base.params.damping = 20.0;
     base.params.dt = 0.05;
-    for (bool imp : {false, true}) {
-      const Outcome o = run(with_scheme(base, imp));
-      csv << name << "," << scheme_name(imp) << "," << o.run.converged << "," << o.run.diverged << ","
-          << o.run.steps_to_converge << "," << o.run.steps_run << "," << o.max_residual << ","
-          << o.run.peak_kinetic_energy << "\n";
-      ok[imp] += o.run.converged;
-      rows.push_back({{"scene", name}, {"scheme", scheme_name(imp)}, {"converged", o.run.converged},
-                      {"diverged", o.run.diverged}, {"steps_to_converge", o.run.steps_to_converge},
-                      {"max_final_residual", o.max_residual}});
-      text += std::string(text.empty() ? "" : "; ") + name + " " + scheme_name(imp) + ": " +
-              steps_text(o) + " (residual " + num(o.max_residual) + ")";
-    }
+    for (bool imp : {false, true}) runs.push_back({name, scheme_name(imp), run(with_scheme(base, imp))});
+  }
+  using namespace columns;
+  Table csv("paper_settings", "paper_settings.csv",
+              {kScene, kScheme, kConverged, kDiverged, kStepsToConverge, kStepsRun,
+               kMaxFinalResidual, kPeakKineticEnergy});
+  int ok[2] = {0, 0};
+  std::string text;
+  for (const SchemeRun& r : runs) {
+    csv.add({r.scene, r.scheme, r.o.run.converged, r.o.run.diverged, r.o.run.steps_to_converge,
+             r.o.run.steps_run, r.o.max_residual, r.o.run.peak_kinetic_energy});
+    ok[r.scheme == "implicit"] += r.o.run.converged;
+    text += std::string(text.empty() ? "" : "; ") + r.scene + " " + r.scheme + ": " +
+            steps_text(r.o) + " (residual " + num(r.o.max_residual) + ")";
   }
   claims.push_back(claim("Implicit: the paper's own settings (c = 20, dt = 0.05) pose every pinhead scene",
                          "explicit converged on " + std::to_string(ok[0]) + " of 3, implicit on " +
                              std::to_string(ok[1]) + " of 3: " + text,
                          ok[1] == 3 ? "yes" : ok[1] > 0 ? "partly" : "no"));
-  return rows;
+  return csv;
+}
+
+// the engage band of a scene: tolerance x the narrowest limited range (deg)
+double band_deg(const Scene& s) {
+  double band = 1e9;
+  for (int i = 1; i < s.rig.nbone; ++i) {
+    for (const AxisLimit& l : s.rig.bone_limit[i]) {
+      if (l.limited && l.max > l.min) band = std::min(band, s.params.torsion_tolerance * (l.max - l.min));
+    }
+  }
+  return band * 180.0 / 3.14159265358979323846;
+}
+
+struct HandRun {
+  double k = 0, eq_deg = 0, band_deg = 0, final_deg = 0;
+  int scheme = 0;  // 0 explicit, 1 implicit, 2 implicit with the gradient torque
+  Outcome o;
+  const char* name() const {
+    return scheme == 0 ? "explicit" : scheme == 1 ? "implicit" : "implicit (gradient)";
+  }
+};
+
+std::vector<HandRun> measure_hand(const Context& ctx) {
+  std::vector<HandRun> out;
+  for (double k : {10.0, 100.0, 1000.0}) {
+    Scene base = prepared(ctx, "hand_tight", ctx.quick ? 200 : 3000);
+    base.params.dt = 0.05;
+    base.params.torsion_k = k;
+    const tune::EquilibriumResult eq = tune::solve_equilibrium(base);
+    const double eq_deg = rad2deg(max_limit_violation(base.rig, eq.pose));
+    for (int scheme = 0; scheme < 3; ++scheme) {
+      Scene s = with_scheme(base, scheme > 0);
+      if (scheme == 2) s.params.torsion_torque = TorsionTorque::kGradient;
+      HandRun h{k, eq_deg, band_deg(base), 0.0, scheme, run(s)};
+      h.final_deg = rad2deg(max_limit_violation(s.rig, h.o.run.final_pose));
+      out.push_back(h);
+    }
+  }
+  return out;
 }
 
 // the tight hand at dt = 0.05, torsion k 10, 100 (the issue's) and 1000: does it settle, and how
@@ -102,88 +145,71 @@ nlohmann::json paper_settings(const Context& ctx, nlohmann::json& claims) {
 // the fingertip toward a curl the limits forbid, so at equilibrium the torsion springs give by
 // torque / k. `implicit (gradient)` uses the potential's own torsion torque (torsion_springs.h),
 // whose rest pose is that minimum.
-nlohmann::json tight_hand(const Context& ctx, nlohmann::json& claims) {
-  std::ofstream csv(ctx.out_dir + "/hand.csv");
-  csv << "torsion_k,scheme,converged,diverged,steps_to_converge,steps_run,max_limit_violation_deg,"
-         "final_limit_violation_deg,equilibrium_limit_violation_deg,band_deg,max_final_residual\n";
-  nlohmann::json rows = nlohmann::json::array();
+Table tight_hand(const Context& ctx, nlohmann::json& claims) {
+  const std::vector<HandRun> runs = measure_hand(ctx);
+  using namespace columns;
+  Table csv("hand", "hand.csv",
+              {kTorsionK, kScheme, kConverged, kDiverged, kStepsToConverge, kStepsRun,
+               kMaxLimitViolationDeg,
+               real("final_limit_violation_deg", "deg", "the largest limit excess at the end"),
+               real("equilibrium_limit_violation_deg", "deg",
+                    "the largest limit excess of the exact static equilibrium (Ceres)"),
+               real("band_deg", "deg", "the engage band: torsion_tolerance x the narrowest range"),
+               kMaxFinalResidual});
   bool settles = true, holds_where_possible = true;
   std::string text;
-  for (double k : {10.0, 100.0, 1000.0}) {
-    Scene base = prepared(ctx, "hand_tight", ctx.quick ? 200 : 3000);
-    base.params.dt = 0.05;
-    base.params.torsion_k = k;
-    // the engage band: tolerance x the narrowest limited range (deg)
-    double band = 1e9;
-    for (int i = 1; i < base.rig.nbone; ++i) {
-      for (const AxisLimit& l : base.rig.bone_limit[i]) {
-        if (l.limited && l.max > l.min) band = std::min(band, base.params.torsion_tolerance * (l.max - l.min));
-      }
+  for (const HandRun& h : runs) {
+    csv.add({h.k, h.name(), h.o.run.converged, h.o.run.diverged, h.o.run.steps_to_converge,
+             h.o.run.steps_run, h.o.run.max_limit_violation_deg, h.final_deg, h.eq_deg, h.band_deg,
+             h.o.max_residual});
+    if (h.scheme == 0) {
+      text += std::string(text.empty() ? "" : "; ") + "k_t " + num(h.k) + ": exact equilibrium " +
+              num(h.eq_deg) + " deg past a limit (band " + num(h.band_deg) + ")";
+    } else {
+      settles = settles && h.o.run.converged;
+      // where the equilibrium itself holds the band, the run must end within it
+      if (h.eq_deg <= h.band_deg) holds_where_possible = holds_where_possible && h.final_deg <= h.band_deg;
     }
-    const double band_deg = band * 180.0 / 3.14159265358979323846;
-    const tune::EquilibriumResult eq = tune::solve_equilibrium(base);
-    const double eq_deg = rad2deg(max_limit_violation(base.rig, eq.pose));
-    text += std::string(text.empty() ? "" : "; ") + "k_t " + num(k) + ": exact equilibrium " + num(eq_deg) +
-            " deg past a limit (band " + num(band_deg) + ")";
-    for (int scheme = 0; scheme < 3; ++scheme) {
-      Scene s = with_scheme(base, scheme > 0);
-      if (scheme == 2) s.params.torsion_torque = TorsionTorque::kGradient;
-      const char* name = scheme == 0 ? "explicit" : scheme == 1 ? "implicit" : "implicit (gradient)";
-      const Outcome o = run(s);
-      const double final_deg = rad2deg(max_limit_violation(s.rig, o.run.final_pose));
-      csv << k << "," << name << "," << o.run.converged << "," << o.run.diverged << ","
-          << o.run.steps_to_converge << "," << o.run.steps_run << "," << o.run.max_limit_violation_deg << ","
-          << final_deg << "," << eq_deg << "," << band_deg << "," << o.max_residual << "\n";
-      rows.push_back({{"torsion_k", k}, {"scheme", name}, {"converged", o.run.converged},
-                      {"diverged", o.run.diverged}, {"max_limit_violation_deg", o.run.max_limit_violation_deg},
-                      {"final_limit_violation_deg", final_deg}, {"equilibrium_limit_violation_deg", eq_deg},
-                      {"band_deg", band_deg}});
-      if (scheme > 0) {
-        settles = settles && o.run.converged;
-        // where the equilibrium itself holds the band, the run must end within it
-        if (eq_deg <= band_deg) holds_where_possible = holds_where_possible && final_deg <= band_deg;
-      }
-      text += "; " + std::string(name) + ": " + steps_text(o) + ", ends " + num(final_deg) + " deg past (peak " +
-              num(o.run.max_limit_violation_deg) + ")";
-    }
+    text += "; " + std::string(h.name()) + ": " + steps_text(h.o) + ", ends " + num(h.final_deg) +
+            " deg past (peak " + num(h.o.run.max_limit_violation_deg) + ")";
   }
   claims.push_back(claim("Implicit: the tight hand settles at dt = 0.05 (torsion k 10, 100, 1000)", text,
                          settles ? "yes" : "no"));
   claims.push_back(claim("Implicit: the tight hand's limits hold within the engage band where the exact equilibrium "
                          "does (not at k 10 or 100: there the springs' own minimum lies past the band)",
                          "see the previous row; hand.csv", holds_where_possible ? "yes" : "no"));
-  return rows;
+  return csv;
 }
 
 // Fig 8's wobble, Fig 5's flicker
-nlohmann::json failures(const Context& ctx, nlohmann::json& claims) {
-  std::ofstream csv(ctx.out_dir + "/failures.csv");
-  csv << "scene,scheme,converged,diverged,steps_to_converge,steps_run,final_kinetic_energy,max_final_residual\n";
-  nlohmann::json rows = nlohmann::json::array();
-  bool gone = true;
-  std::string text;
+Table failures(const Context& ctx, nlohmann::json& claims) {
+  std::vector<SchemeRun> runs;
   for (const char* name : {"fig8_wobble", "fig5_running"}) {
     const Scene base = prepared(ctx, name, ctx.quick ? 200 : 1500);
-    for (bool imp : {false, true}) {
-      const Outcome o = run(with_scheme(base, imp));
-      csv << name << "," << scheme_name(imp) << "," << o.run.converged << "," << o.run.diverged << ","
-          << o.run.steps_to_converge << "," << o.run.steps_run << "," << o.run.final_kinetic_energy
-          << "," << o.max_residual << "\n";
-      rows.push_back({{"scene", name}, {"scheme", scheme_name(imp)}, {"converged", o.run.converged},
-                      {"steps_to_converge", o.run.steps_to_converge}});
-      if (imp) gone = gone && o.run.converged;
-      text += std::string(text.empty() ? "" : "; ") + name + " " + scheme_name(imp) + ": " + steps_text(o);
-    }
+    for (bool imp : {false, true}) runs.push_back({name, scheme_name(imp), run(with_scheme(base, imp))});
+  }
+  using namespace columns;
+  Table csv("failures", "failures.csv",
+              {kScene, kScheme, kConverged, kDiverged, kStepsToConverge, kStepsRun,
+               kFinalKineticEnergy, kMaxFinalResidual});
+  bool gone = true;
+  std::string text;
+  for (const SchemeRun& r : runs) {
+    csv.add({r.scene, r.scheme, r.o.run.converged, r.o.run.diverged, r.o.run.steps_to_converge,
+             r.o.run.steps_run, r.o.run.final_kinetic_energy, r.o.max_residual});
+    if (r.scheme == "implicit") gone = gone && r.o.run.converged;
+    text += std::string(text.empty() ? "" : "; ") + r.scene + " " + r.scheme + ": " + steps_text(r.o);
   }
   claims.push_back(claim("Implicit: Fig 8's wobble and Fig 5's period-2 flicker are gone (converged)", text,
                          gone ? "yes" : "no"));
-  return rows;
+  return csv;
 }
 
 }  // namespace
 
 // the rest of the experiment: beyond_the_paper_sweeps.cpp
-void beyond_sweeps(const Context& ctx, nlohmann::json& doc, nlohmann::json& claims);
+void beyond_sweeps(const Context& ctx, nlohmann::json& doc, nlohmann::json& claims,
+                   std::vector<Table>& tables);
 
 namespace {
 
@@ -197,13 +223,21 @@ void run_all(const Context& ctx) {
   };
   nlohmann::json claims = nlohmann::json::array();
   nlohmann::json doc = {{"experiment", "beyond_the_paper"}};
+  std::vector<Table> tables;
   progress("paper settings (c = 20, dt = 0.05)");
-  doc["paper_settings"] = paper_settings(ctx, claims);
+  tables.push_back(paper_settings(ctx, claims));
   progress("tight hand");
-  doc["hand"] = tight_hand(ctx, claims);
+  tables.push_back(tight_hand(ctx, claims));
   progress("Fig 8 wobble, Fig 5 flicker");
-  doc["failures"] = failures(ctx, claims);
-  beyond_sweeps(ctx, doc, claims);
+  tables.push_back(failures(ctx, claims));
+  for (const Table& t : tables) doc[t.name()] = t.rows_json();
+  beyond_sweeps(ctx, doc, claims, tables);
+  std::vector<const Table*> written;
+  for (const Table& t : tables) {
+    if (!t.file().empty()) t.write_csv(ctx.out_dir);
+    written.push_back(&t);
+  }
+  doc["tables"] = table_schemas(written);
   progress("done");
   doc["report"] = {
       {"title", "Beyond the paper: implicit springs and dampers"},

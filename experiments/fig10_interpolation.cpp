@@ -11,9 +11,8 @@
 // Reported: peak over steps 1..50 (while the target moves), peak over steps 51..end, final.
 // Frames at steps 0, 12, 25, 37, 50 (the paper's raise-circ-N / raise-linear-N) and the last.
 #include <algorithm>
-#include <fstream>
-#include <iomanip>
 
+#include "experiments/columns.h"
 #include "experiments/common.h"
 #include "physik/io/summary_io.h"
 #include "physik/model/errors.h"
@@ -89,27 +88,34 @@ nlohmann::json scheme_json(const SchemeRun& r, const std::vector<std::string>& f
           {"run", summary_to_json(r.scene, r.run.summary)}};
 }
 
-// per-step table of both schemes
-void write_secondary_motion(const std::string& path, const SchemeRun& polar, const SchemeRun& linear) {
-  std::ofstream out(path);
-  out << "step";
+// per-step table of both schemes: each measure once per scheme, prefixed polar_ or linear_
+Table secondary_motion_table(const SchemeRun& polar, const SchemeRun& linear) {
+  std::vector<Column> cols = {columns::kStep};
   for (const SchemeRun* r : {&polar, &linear}) {
     const std::string p = r->name == "linear" ? "linear_" : "polar_";
-    out << "," << p << "off_chain_rad," << p << "off_arm_rad," << p << "kinetic_energy," << p
-        << "tip_x," << p << "tip_y," << p << "tip_z," << p << "target_x," << p << "target_y,"
-        << p << "target_z";
+    const std::string run = " (" + r->name + ")";
+    cols.push_back(real(p + "off_chain_rad", "rad", "rotation off every controlled chain" + run, 9));
+    cols.push_back(real(p + "off_arm_rad", "rad", "rotation off the raised arm's chain" + run, 9));
+    cols.push_back(real(p + "kinetic_energy", "J", "kinetic energy" + run, 9));
+    for (const char* a : {"x", "y", "z"}) {
+      cols.push_back(real(p + "tip_" + a, "rig units", "the moved hand's tip" + run, 9));
+    }
+    for (const char* a : {"x", "y", "z"}) {
+      cols.push_back(real(p + "target_" + a, "rig units", "its effective target" + run, 9));
+    }
   }
-  out << "\n" << std::setprecision(9);
+  Table t("secondary_motion", "secondary_motion.csv", cols);
   const std::size_t n = std::min(polar.off_chain.size(), linear.off_chain.size());
   for (std::size_t k = 0; k < n; ++k) {
-    out << k + 1;
+    std::vector<Cell> row = {k + 1};
     for (const SchemeRun* r : {&polar, &linear}) {
-      out << "," << r->off_chain[k] << "," << r->off_arm[k] << "," << r->ke[k];
-      for (int a = 0; a < 3; ++a) out << "," << r->tip[k][a];
-      for (int a = 0; a < 3; ++a) out << "," << r->target[k][a];
+      for (double v : {r->off_chain[k], r->off_arm[k], r->ke[k]}) row.push_back(v);
+      for (int a = 0; a < 3; ++a) row.push_back(r->tip[k][a]);
+      for (int a = 0; a < 3; ++a) row.push_back(r->target[k][a]);
     }
-    out << "\n";
+    t.add(std::move(row));
   }
+  return t;
 }
 
 void add_claims(Report& report, const SchemeRun& polar, const SchemeRun& linear, int interp,
@@ -152,7 +158,8 @@ void run(const Context& ctx) {
     throw_input_error(polar.scene.file, "params", "interpolation_steps",
                       "differs from fig10_raise_linear's; the comparison needs the same");
   }
-  write_secondary_motion(ctx.out_dir + "/secondary_motion.csv", polar, linear);
+  const Table secondary = secondary_motion_table(polar, linear);
+  secondary.write_csv(ctx.out_dir);
   const auto polar_frames = write_frames(polar.scene, polar.run, ctx.out_dir, polar.name + "_");
   const auto linear_frames = write_frames(linear.scene, linear.run, ctx.out_dir, linear.name + "_");
 
@@ -175,7 +182,7 @@ void run(const Context& ctx) {
                  {"interpolation_steps", interp},
                  {"polar_com", scheme_json(polar, polar_frames)},
                  {"linear", scheme_json(linear, linear_frames)}},
-                report);
+                report, {&secondary});
 }
 
 const Registration registered{

@@ -15,9 +15,8 @@
 // length of their targets over the whole run.
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <iomanip>
 
+#include "experiments/columns.h"
 #include "experiments/common.h"
 #include "physik/io/summary_io.h"
 #include "physik/model/errors.h"
@@ -75,25 +74,33 @@ struct StaticResidual {
   double final = 0.0;  // rig units, largest at the end
 };
 
-// residuals.csv (every step, every point) and the static points' largest residual
-StaticResidual write_residuals(const std::string& path, const Scene& scene, const RecordedRun& run,
-                               const std::vector<char>& moving) {
-  StaticResidual out;
-  std::ofstream csv(path);
-  csv << "step,kinetic_energy";
-  for (const ControlPoint& c : scene.control_points) csv << ",residual_" << c.name;
-  csv << "\n" << std::setprecision(9);
+// residuals.csv: every step, every point's residual
+Table residuals_table(const Scene& scene, const RecordedRun& run) {
+  std::vector<Column> cols = {columns::kStep, real("kinetic_energy", "J", "the kinetic energy", 9)};
+  for (const ControlPoint& c : scene.control_points) {
+    cols.push_back(real("residual_" + c.name, "rig units",
+                        "control point " + c.name + "'s distance to its goal target", 9));
+  }
+  Table t("residuals", "residuals.csv", cols);
   for (std::size_t k = 0; k < run.residuals.size(); ++k) {
-    csv << k + 1 << "," << run.stats[k].kinetic_energy;
+    std::vector<Cell> row = {k + 1, run.stats[k].kinetic_energy};
+    for (double r : run.residuals[k]) row.push_back(r);
+    t.add(std::move(row));
+  }
+  return t;
+}
+
+// the static points' largest residual over the run, and at the end
+StaticResidual static_residual(const RecordedRun& run, const std::vector<char>& moving) {
+  StaticResidual out;
+  for (std::size_t k = 0; k < run.residuals.size(); ++k) {
     for (std::size_t c = 0; c < moving.size(); ++c) {
       const double r = run.residuals[k][c];
-      csv << "," << r;
       if (!moving[c] && r > out.max) {
         out.max = r;
         out.max_step = static_cast<int>(k) + 1;
       }
     }
-    csv << "\n";
   }
   for (std::size_t c = 0; c < moving.size(); ++c) {
     if (!moving[c]) out.final = std::max(out.final, run.summary.final_residuals[c]);
@@ -182,7 +189,9 @@ void run(const Context& ctx) {
   const std::vector<char> moving = moving_points(scene);
   const auto pelvis = std::find(moving.begin(), moving.end(), 1);  // the first moving point
   if (pelvis == moving.end()) throw_input_error(scene.file, "schedule", "", "no moving control point");
-  const StaticResidual st = write_residuals(ctx.out_dir + "/residuals.csv", scene, run, moving);
+  const Table residuals = residuals_table(scene, run);
+  residuals.write_csv(ctx.out_dir);
+  const StaticResidual st = static_residual(run, moving);
   const Posture start = posture(rig, forward_kinematics(rig, scene.initial_pose));
   const Posture end = posture(rig, run.summary.final_frames);
 
@@ -202,7 +211,7 @@ void run(const Context& ctx) {
                  {"max_static_residual", st.max},
                  {"schedule_steps", schedule_steps},
                  {"run", summary_to_json(scene, run.summary)}},
-                report);
+                report, {&residuals});
 }
 
 const Registration registered{

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "experiments/columns.h"
 #include "experiments/common.h"
 
 namespace physik::experiments {
@@ -61,8 +62,8 @@ Case run_case(const Context& ctx, int t, const Law& law) {
            {"peak_overbend_deg", c.peak_over},
            {"final_residuals", run.summary.final_residuals},
            {"largest_final_residual_over_cap", worst_residual / cap},
-           {"converged", run.summary.converged},
-           {"steps_to_converge", run.summary.steps_to_converge},
+           {columns::kConverged.name, run.summary.converged},
+           {columns::kStepsToConverge.name, run.summary.steps_to_converge},
            {"csv", tag + ".csv"},
            {"final_frame", frames.back()}};
   if (ctx.log) {

@@ -3,6 +3,7 @@
 // capped spring it converges, though a few more iterations are needed.
 #include <algorithm>
 
+#include "experiments/columns.h"
 #include "experiments/common.h"
 
 namespace physik::experiments {
@@ -28,18 +29,17 @@ nlohmann::json run_law(const Context& ctx, const std::string& law) {
     if (ke[k] > 1.5 * ke[k - 1]) ++growth_steps;
   }
   const auto peak_it = std::max_element(ke.begin(), ke.end());
-  const nlohmann::json m = {
-    {"diverged", s.diverged},
-    {"converged", s.converged},
-    {"steps_to_converge", s.steps_to_converge},
-    {"peak_kinetic_energy", s.peak_kinetic_energy},
-    {"peak_step", peak_it == ke.end() ? 0 : 1 + (peak_it - ke.begin())},
-    {"steps_with_energy_growth_over_50pct_in_first_50", growth_steps},
-    {"max_limit_violation_deg", s.max_limit_violation_deg},
-    {"final_residual", s.final_residuals[0]},
-    {"csv", law + ".csv"},
-    {"frames", frames},
-    {"frame_steps", run.frame_steps}};
+  const nlohmann::json m = {{columns::kDiverged.name, s.diverged},
+                            {columns::kConverged.name, s.converged},
+                            {columns::kStepsToConverge.name, s.steps_to_converge},
+                            {columns::kPeakKineticEnergy.name, s.peak_kinetic_energy},
+                            {"peak_step", peak_it == ke.end() ? 0 : 1 + (peak_it - ke.begin())},
+                            {"steps_with_energy_growth_over_50pct_in_first_50", growth_steps},
+                            {columns::kMaxLimitViolationDeg.name, s.max_limit_violation_deg},
+                            {"final_residual", s.final_residuals[0]},
+                            {"csv", law + ".csv"},
+                            {"frames", frames},
+                            {"frame_steps", run.frame_steps}};
   if (ctx.log) {
     *ctx.log << "  " << law << ": peak KE " << s.peak_kinetic_energy << " J, converged "
              << s.converged << " at " << s.steps_to_converge << "\n";
@@ -51,23 +51,29 @@ nlohmann::json run_law(const Context& ctx, const std::string& law) {
 void add_claims(Report& report, const nlohmann::json& L, const nlohmann::json& C) {
   report.claim(
       "Fig 7: after a sudden far target jump, a linear spring initially diverges",
-      "linear: peak kinetic energy " + num(L["peak_kinetic_energy"].get<double>()) + " J at step " +
-          std::to_string(L["peak_step"].get<int>()) + " vs capped " +
-          num(C["peak_kinetic_energy"].get<double>()) + " J; run reported diverged: " +
-          (L["diverged"].get<bool>() ? "yes" : "no"),
-      L["diverged"].get<bool>() ? "yes"
-      : L["peak_kinetic_energy"].get<double>() > 10 * C["peak_kinetic_energy"].get<double>()
+      "linear: peak kinetic energy " + num(L[columns::kPeakKineticEnergy.name].get<double>()) +
+          " J at step " + std::to_string(L["peak_step"].get<int>()) + " vs capped " +
+          num(C[columns::kPeakKineticEnergy.name].get<double>()) +
+          " J; run reported diverged: " + (L[columns::kDiverged.name].get<bool>() ? "yes" : "no"),
+      L[columns::kDiverged.name].get<bool>() ? "yes"
+      : L[columns::kPeakKineticEnergy.name].get<double>() >
+              10 * C[columns::kPeakKineticEnergy.name].get<double>()
           ? "partly (a large transient, not a divergence)"
           : "no");
-  report.claim(
-      "Fig 7: ...and settles into a strange pose (elbows, hips)",
-      "largest joint-limit violation over the run: linear " +
-          num(L["max_limit_violation_deg"].get<double>()) + " deg, capped " +
-          num(C["max_limit_violation_deg"].get<double>()) + " deg",
-      L["max_limit_violation_deg"].get<double>() > 2 * C["max_limit_violation_deg"].get<double>()
-          ? "yes" : "no");
-  const int sl = L["steps_to_converge"].is_null() ? -1 : L["steps_to_converge"].get<int>();
-  const int sc = C["steps_to_converge"].is_null() ? -1 : C["steps_to_converge"].get<int>();
+  report.claim("Fig 7: ...and settles into a strange pose (elbows, hips)",
+               "largest joint-limit violation over the run: linear " +
+                   num(L[columns::kMaxLimitViolationDeg.name].get<double>()) + " deg, capped " +
+                   num(C[columns::kMaxLimitViolationDeg.name].get<double>()) + " deg",
+               L[columns::kMaxLimitViolationDeg.name].get<double>() >
+                       2 * C[columns::kMaxLimitViolationDeg.name].get<double>()
+                   ? "yes"
+                   : "no");
+  const int sl = L[columns::kStepsToConverge.name].is_null()
+                     ? -1
+                     : L[columns::kStepsToConverge.name].get<int>();
+  const int sc = C[columns::kStepsToConverge.name].is_null()
+                     ? -1
+                     : C[columns::kStepsToConverge.name].get<int>();
   report.claim(
       "Fig 7: a capped spring converges stably, though it takes a few more iterations",
       "steps to converge: capped " + (sc < 0 ? std::string("never") : std::to_string(sc)) +

@@ -8,8 +8,8 @@
 // residual's turning points over the last window; a period of 4 steps or less is numerical.
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 
+#include "experiments/columns.h"
 #include "experiments/common.h"
 #include "physik/io/summary_io.h"
 
@@ -59,42 +59,59 @@ Wobble measure(const Scene& scene, const std::string& csv) {
   return w;
 }
 
-struct Grid {
-  nlohmann::json rows = nlohmann::json::array();
-  int sustained = 0, physical = 0, total = 0;
+// one point of the dissipation grid (damping x angular-velocity factor)
+struct GridPoint {
+  double c = 0, f = 0;
+  Wobble w;
 };
 
-// A grid over the dissipation (damping x angular-velocity factor): grid.csv and the counts.
-Grid run_grid(const Context& ctx, const Scene& scene) {
-  Grid grid;
-  std::ofstream csv(ctx.out_dir + "/grid.csv");
-  csv << "damping,angular_velocity_factor,sustained,period_steps,final_amplitude,first_amplitude,converged,diverged\n";
+std::vector<GridPoint> measure_grid(const Context& ctx, const Scene& scene) {
+  std::vector<GridPoint> out;
   for (double c : {0.5, 1.0, 3.0}) {
     for (double f : {0.5, 0.9, 1.0}) {
       Scene g = scene;
       g.params.damping = c;
       g.params.angular_velocity_factor = f;
       if (!ctx.quick) g.steps = 1000;
-      const Wobble w = measure(g, "");
-      csv << c << "," << f << "," << w.sustained << "," << w.period_steps << "," << w.final_amplitude << ","
-          << w.first_amplitude << "," << w.run.summary.converged << "," << w.run.summary.diverged << "\n";
-      grid.rows.push_back({{"damping", c}, {"angular_velocity_factor", f}, {"sustained", w.sustained},
-                           {"period_steps", w.period_steps}, {"physical", w.physical},
-                           {"final_amplitude", w.final_amplitude}, {"converged", w.run.summary.converged},
-                           {"diverged", w.run.summary.diverged}});
-      grid.sustained += w.sustained ? 1 : 0;
-      grid.physical += w.physical ? 1 : 0;
-      ++grid.total;
+      out.push_back({c, f, measure(g, "")});
     }
   }
-  return grid;
+  return out;
+}
+
+// grid.csv: the summary's "grid" rows
+Table tabulate(const std::vector<GridPoint>& grid) {
+  using namespace columns;
+  Table t("grid", "grid.csv",
+          {kDamping, kAngularVelocityFactor,
+           flag("sustained", "the last window's amplitude is above 1e-3 and not decaying"),
+           real("period_steps", "steps", "the residual's period in the last window (0: none)"),
+           real("final_amplitude", "rig units", "the hand tip's peak-to-peak in the last window"),
+           real("first_amplitude", "rig units", "the same in steps 100-200"), kConverged, kDiverged,
+           flag("physical", "sustained with a period above 4 steps (not the Euler flicker)")
+               .summary_only()});
+  for (const GridPoint& p : grid) {
+    t.add({p.c, p.f, p.w.sustained, p.w.period_steps, p.w.final_amplitude, p.w.first_amplitude,
+           p.w.run.summary.converged, p.w.run.summary.diverged, p.w.physical});
+  }
+  return t;
 }
 
 void run(const Context& ctx) {
   Scene scene = scene_named(ctx, "fig8_wobble");
   if (ctx.quick) scene.steps = 300;
   const Wobble base = measure(scene, ctx.out_dir + "/trajectory.csv");
-  const Grid grid = run_grid(ctx, scene);
+  const std::vector<GridPoint> points = measure_grid(ctx, scene);
+  const Table grid_table = tabulate(points);
+  grid_table.write_csv(ctx.out_dir);
+  struct {
+    int sustained = 0, physical = 0, total = 0;
+  } grid;
+  for (const GridPoint& p : points) {
+    grid.sustained += p.w.sustained ? 1 : 0;
+    grid.physical += p.w.physical ? 1 : 0;
+    ++grid.total;
+  }
 
   Report report("Fig 8: the oscillating hand");
   report.claim(
@@ -125,8 +142,8 @@ void run(const Context& ctx) {
                  {"sustained", base.sustained},
                  {"period_steps", base.period_steps},
                  {"physical", base.physical},
-                 {"grid", grid.rows}},
-                report);
+                 {"grid", grid_table.rows_json()}},
+                report, {&grid_table});
 }
 
 const Registration registered{

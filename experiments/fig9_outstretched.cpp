@@ -30,11 +30,11 @@
 // hangs from the top of the head, while PhysIK's root translates freely (noted in the report).
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 
 #include "experiments/blender_peer.h"
 #include "experiments/common.h"
+#include "experiments/table.h"
 #include "physik/ik/ik_solver.h"
 #include "physik/io/pose_io.h"
 #include "physik/io/summary_io.h"
@@ -96,18 +96,38 @@ Measures measure(const Scene& scene, const BoneFrames& rest, const BoneFrames& f
   return m;
 }
 
-nlohmann::json to_json(const Measures& m) {
-  return {{"shoulder_turn_deg", m.shoulder_turn_deg}, {"lean_deg", m.lean_deg},
-          {"lean_forward_deg", m.lean_forward_deg},   {"lean_side_deg", m.lean_side_deg},
-          {"head_tilt_deg", m.head_tilt_deg},         {"neck_bend_deg", m.neck_bend_deg},
-          {"off_chain_rotation_rad", m.off_chain_rad}, {"off_reach_rotation_rad", m.off_reach_rad},
-          {"max_residual", m.max_residual},           {"max_limit_excess_deg", m.limit_excess_deg}};
+using Rows = std::vector<std::pair<std::string, const Measures*>>;
+
+// measures.csv, one row per solver: the summary's per-solver objects and the report's table too
+Table measures_table(const Rows& rows) {
+  const auto deg = [](std::string name, std::string doc) {
+    return real(std::move(name), "deg", std::move(doc));
+  };
+  Table t("measures", "measures.csv",
+          {text("method", "the solver: physik, dls, itasc or mujoco_same_forces"),
+           deg("shoulder_turn_deg", "yaw of the shoulder line (+: the right shoulder to the viewer)"),
+           deg("lean_deg", "the torso's angle from +Z"),
+           deg("lean_forward_deg", "the torso's lean toward -Y, against rest"),
+           deg("lean_side_deg", "the torso's lean toward +X, against rest"),
+           deg("head_tilt_deg", "the angle the head's axis turned"),
+           deg("neck_bend_deg", "the change of the head-torso angle"),
+           real("off_chain_rotation_rad", "rad", "rotation of the bones off every controlled chain"),
+           real("off_reach_rotation_rad", "rad", "rotation of the bones off the reaching arm's chain"),
+           real("max_residual", "rig units", "the largest control-point residual"),
+           deg("max_limit_excess_deg", "the largest excursion of a limited axis past its range")});
+  for (const auto& [name, m] : rows) {
+    t.add({name, m->shoulder_turn_deg, m->lean_deg, m->lean_forward_deg, m->lean_side_deg,
+           m->head_tilt_deg, m->neck_bend_deg, m->off_chain_rad, m->off_reach_rad, m->max_residual,
+           m->limit_excess_deg});
+  }
+  return t;
 }
 
-void write_bones(const Rig& rig, const BoneFrames& f, const std::string& path) {
-  std::ofstream out(path);
-  if (!out) throw_input_error(path, "", "", "cannot write file");
-  write_bones_csv(rig, f, out);
+// one solver's measures as the summary holds them: its row of measures_table without "method"
+nlohmann::json to_json(const Measures& m) {
+  nlohmann::json j = measures_table({{"", &m}}).rows_json()[0];
+  j.erase("method");
+  return j;
 }
 
 // The final poses from the same initial pose.
@@ -149,36 +169,20 @@ Solutions solve_all(const Context& ctx, const Scene& scene) {
   return out;
 }
 
-using Rows = std::vector<std::pair<std::string, const Measures*>>;
-
-void write_measures_csv(const std::string& path, const Rows& rows) {
-  std::ofstream out(path);
-  out << "method,shoulder_turn_deg,lean_deg,lean_forward_deg,lean_side_deg,head_tilt_deg,"
-         "neck_bend_deg,off_chain_rotation_rad,off_reach_rotation_rad,max_residual,"
-         "max_limit_excess_deg\n";
-  for (const auto& [name, m] : rows) {
-    out << name << "," << m->shoulder_turn_deg << "," << m->lean_deg << ","
-        << m->lean_forward_deg << "," << m->lean_side_deg << "," << m->head_tilt_deg << ","
-        << m->neck_bend_deg << "," << m->off_chain_rad << "," << m->off_reach_rad << ","
-        << m->max_residual << "," << m->limit_excess_deg << "\n";
-  }
-}
-
 // The report's table: the measures the paper's figure is about, one row per solver.
-void add_table(Report& report, const Rows& rows) {
-  nlohmann::json t = nlohmann::json::array();
-  const std::map<std::string, std::string> label = {{"physik", "PhysIK"},
-                                                    {"dls", "damped least squares (physik/ik)"},
-                                                    {"itasc", "Blender iTaSC"},
-                                                    {"mujoco_same_forces", "MuJoCo, PhysIK's forces"}};
-  for (const auto& [name, m] : rows) {
-    t.push_back({label.at(name), num(m->shoulder_turn_deg), num(m->lean_forward_deg),
-                 num(m->head_tilt_deg), num(m->max_residual), num(m->limit_excess_deg)});
-  }
-  report.table("Fig 9 measures against rest (deg; residual in rig units)",
-               {"solver", "shoulder turn", "forward lean", "head tilt", "largest residual",
-                "limit excess"},
-               t);
+void add_table(Report& report, const Table& measures) {
+  measures.add_to_report(report, "Fig 9 measures against rest (deg; residual in rig units)",
+                         {{"solver", "method"},
+                          {"shoulder turn", "shoulder_turn_deg"},
+                          {"forward lean", "lean_forward_deg"},
+                          {"head tilt", "head_tilt_deg"},
+                          {"largest residual", "max_residual"},
+                          {"limit excess", "max_limit_excess_deg"}},
+                         3,
+                         {{"physik", "PhysIK"},
+                          {"dls", "damped least squares (physik/ik)"},
+                          {"itasc", "Blender iTaSC"},
+                          {"mujoco_same_forces", "MuJoCo, PhysIK's forces"}});
 }
 
 // iTaSC takes part in the comparison only when it ran and its pose meets the control points
@@ -187,23 +191,19 @@ bool itasc_compared(const ItascRun& run, const Measures* mi, double tol) {
 }
 
 // thresholds of 2 deg on angles (a visible change in a stick figure); stated in the notes
-void add_claims(Report& report, const Measures& mp, const Measures& md, const Measures* mi,
-                const ItascRun& itasc, double tol, double height) {
-  const double thr = 2.0;
+constexpr double kThresholdDeg = 2.0;
+
+const char* direction_holds(double v) {
+  return v > kThresholdDeg ? "yes" : (v > 0.5 ? "partly" : "no");
+}
+
+// the shoulder turn, the forward lean and the head tilt: PhysIK against DLS (and iTaSC)
+void add_pose_claims(Report& report, const Measures& mp, const Measures& md, const Measures* mi,
+                     bool with_itasc) {
+  const double thr = kThresholdDeg;
   const auto turn_holds = mp.shoulder_turn_deg > thr && mp.shoulder_turn_deg > md.shoulder_turn_deg + thr
                               ? "yes"
                               : (mp.shoulder_turn_deg > 0.5 ? "partly" : "no");
-  const auto lean_holds = mp.lean_forward_deg > thr ? "yes" : (mp.lean_forward_deg > 0.5 ? "partly" : "no");
-  const auto tilt_holds = mp.head_tilt_deg > thr ? "yes" : (mp.head_tilt_deg > 0.5 ? "partly" : "no");
-  const bool dls_reached = md.max_residual < 0.02 * height;
-  const bool with_itasc = itasc_compared(itasc, mi, tol);
-  // the stiffness claim is the paper's about iTaSC: judged on iTaSC when it took part, else DLS
-  const Measures& peer = with_itasc ? *mi : md;
-  const std::string peer_name = with_itasc ? "iTaSC" : "DLS";
-  const auto stiff_holds = !with_itasc && !dls_reached ? "n/a"
-                           : peer.off_reach_rad < 0.5 * mp.off_reach_rad
-                               ? "yes"
-                               : (peer.off_reach_rad < mp.off_reach_rad ? "partly" : "no");
   const auto with = [&](double v) { return with_itasc ? ", iTaSC " + num(v) + " deg" : std::string(); };
   report.claim("Fig 9: PhysIK turns the shoulder toward the viewer",
                "shoulder-line yaw (+ = right shoulder toward the viewer, -Y): PhysIK " +
@@ -215,13 +215,24 @@ void add_claims(Report& report, const Measures& mp, const Measures& md, const Me
                    num(mp.lean_side_deg) + " deg), DLS " + num(md.lean_forward_deg) +
                    " deg (sideways " + num(md.lean_side_deg) + " deg)" +
                    with(mi ? mi->lean_forward_deg : 0.0),
-               lean_holds);
+               direction_holds(mp.lean_forward_deg));
   report.claim("Fig 9: PhysIK tilts the head",
                "head axis turned: PhysIK " + num(mp.head_tilt_deg) + " deg (neck bend " +
                    num(mp.neck_bend_deg) + " deg), DLS " + num(md.head_tilt_deg) +
                    " deg (neck bend " + num(md.neck_bend_deg) + " deg)" +
                    with(mi ? mi->head_tilt_deg : 0.0),
-               tilt_holds);
+               direction_holds(mp.head_tilt_deg));
+}
+
+// the stiffness claim is the paper's about iTaSC: judged on iTaSC when it took part, else DLS
+void add_stiff_claim(Report& report, const Measures& mp, const Measures& md, const Measures* mi,
+                     bool with_itasc, bool dls_reached) {
+  const Measures& peer = with_itasc ? *mi : md;
+  const std::string peer_name = with_itasc ? "iTaSC" : "DLS";
+  const auto stiff_holds = !with_itasc && !dls_reached ? "n/a"
+                           : peer.off_reach_rad < 0.5 * mp.off_reach_rad
+                               ? "yes"
+                               : (peer.off_reach_rad < mp.off_reach_rad ? "partly" : "no");
   std::string stiff = "rotation of bones off the reaching arm's chain: ";
   if (with_itasc) stiff += "iTaSC " + num(mi->off_reach_rad) + " rad, ";
   stiff += "DLS " + num(md.off_reach_rad) + " rad vs PhysIK " + num(mp.off_reach_rad) +
@@ -234,33 +245,46 @@ void add_claims(Report& report, const Measures& mp, const Measures& md, const Me
   }
   report.claim("Fig 9: the classic solver (iTaSC; DLS when iTaSC is absent) gives a stiff pose", stiff,
                stiff_holds);
-  // the paper's peer itself: its pose must meet the points before anything is compared
+}
+
+// the paper's peer itself: its pose must meet the points before anything is compared
+void add_itasc_claims(Report& report, const Measures& mp, const Measures& md, const Measures* mi,
+                      const ItascRun& itasc, double tol, bool with_itasc) {
   if (!itasc.ok()) {
     const std::string absent = "n/a (" + itasc.status + ": " + itasc.reason + ")";
     report.claim("Fig 9: Blender's iTaSC meets the 3 control points (checked before comparing)",
                  "no iTaSC run", absent);
     report.claim("Fig 9: PhysIK leans and tilts the head where iTaSC stays stiff",
                  "no iTaSC run", absent);
-  } else {
-    report.claim("Fig 9: Blender's iTaSC meets the 3 control points (checked before comparing)",
-                 "largest control-point residual: iTaSC " + num(mi->max_residual) +
-                     " rig units (the scene's tolerance " + num(tol) + "); limit excess " +
-                     num(mi->limit_excess_deg) + " deg (PhysIK " + num(mp.limit_excess_deg) +
-                     ", DLS " + num(md.limit_excess_deg) + ")",
-                 with_itasc ? "yes" : "no (so iTaSC is not compared)");
-    const bool lean = mp.lean_forward_deg > mi->lean_forward_deg + thr;
-    const bool tilt = mp.head_tilt_deg > mi->head_tilt_deg + thr;
-    report.claim("Fig 9: PhysIK leans and tilts the head where iTaSC stays stiff",
-                 "forward lean: PhysIK " + num(mp.lean_forward_deg) + " deg, iTaSC " +
-                     num(mi->lean_forward_deg) + " deg; head tilt: PhysIK " + num(mp.head_tilt_deg) +
-                     " deg, iTaSC " + num(mi->head_tilt_deg) + " deg; shoulder turn: PhysIK " +
-                     num(mp.shoulder_turn_deg) + " deg, iTaSC " + num(mi->shoulder_turn_deg) +
-                     " deg (+ = right shoulder toward the viewer)",
-                 !with_itasc ? "n/a (iTaSC missed the control points)"
-                 : lean && tilt ? "yes"
-                 : lean || tilt ? "partly"
-                                : "no");
+    return;
   }
+  report.claim("Fig 9: Blender's iTaSC meets the 3 control points (checked before comparing)",
+               "largest control-point residual: iTaSC " + num(mi->max_residual) +
+                   " rig units (the scene's tolerance " + num(tol) + "); limit excess " +
+                   num(mi->limit_excess_deg) + " deg (PhysIK " + num(mp.limit_excess_deg) +
+                   ", DLS " + num(md.limit_excess_deg) + ")",
+               with_itasc ? "yes" : "no (so iTaSC is not compared)");
+  const bool lean = mp.lean_forward_deg > mi->lean_forward_deg + kThresholdDeg;
+  const bool tilt = mp.head_tilt_deg > mi->head_tilt_deg + kThresholdDeg;
+  report.claim("Fig 9: PhysIK leans and tilts the head where iTaSC stays stiff",
+               "forward lean: PhysIK " + num(mp.lean_forward_deg) + " deg, iTaSC " +
+                   num(mi->lean_forward_deg) + " deg; head tilt: PhysIK " + num(mp.head_tilt_deg) +
+                   " deg, iTaSC " + num(mi->head_tilt_deg) + " deg; shoulder turn: PhysIK " +
+                   num(mp.shoulder_turn_deg) + " deg, iTaSC " + num(mi->shoulder_turn_deg) +
+                   " deg (+ = right shoulder toward the viewer)",
+               !with_itasc ? "n/a (iTaSC missed the control points)"
+               : lean && tilt ? "yes"
+               : lean || tilt ? "partly"
+                              : "no");
+}
+
+void add_claims(Report& report, const Measures& mp, const Measures& md, const Measures* mi,
+                const ItascRun& itasc, double tol, double height) {
+  const bool dls_reached = md.max_residual < 0.02 * height;
+  const bool with_itasc = itasc_compared(itasc, mi, tol);
+  add_pose_claims(report, mp, md, mi, with_itasc);
+  add_stiff_claim(report, mp, md, mi, with_itasc, dls_reached);
+  add_itasc_claims(report, mp, md, mi, itasc, tol, with_itasc);
   report.claim(
       "Fig 9: both poses meet the 3 control points",
       "largest control-point residual: PhysIK " + num(mp.max_residual) + ", DLS " +
@@ -374,10 +398,10 @@ void run(const Context& ctx) {
   const Solutions sol = solve_all(ctx, scene);
   write_view_runs(ctx, scene, sol);
   const BoneFrames& pk_final = sol.physik.summary.final_frames;
-  write_bones(rig, rest, ctx.out_dir + "/rest.csv");
-  write_bones(rig, pk_final, ctx.out_dir + "/physik_final.csv");
-  write_bones(rig, sol.dls_frames, ctx.out_dir + "/dls_final.csv");
-  write_bones(rig, sol.mujoco.final_frames, ctx.out_dir + "/mujoco_final.csv");
+  write_bones_table(ctx.out_dir + "/rest.csv", rig, rest);
+  write_bones_table(ctx.out_dir + "/physik_final.csv", rig, pk_final);
+  write_bones_table(ctx.out_dir + "/dls_final.csv", rig, sol.dls_frames);
+  write_bones_table(ctx.out_dir + "/mujoco_final.csv", rig, sol.mujoco.final_frames);
   const Measures mp = measure(scene, rest, pk_final, controlled, reach_chain);
   const Measures md = measure(scene, rest, sol.dls_frames, controlled, reach_chain);
   const Measures mm = measure(scene, rest, sol.mujoco.final_frames, controlled, reach_chain);
@@ -386,12 +410,13 @@ void run(const Context& ctx) {
   Rows rows = {{"physik", &mp}, {"dls", &md}};
   if (sol.itasc.ok()) rows.push_back({"itasc", &mi});
   rows.push_back({"mujoco_same_forces", &mm});
-  write_measures_csv(ctx.out_dir + "/measures.csv", rows);
+  const Table measures = measures_table(rows);
+  measures.write_csv(ctx.out_dir);
 
   Report report("Fig 9: outstretched hand, PhysIK vs Blender's iTaSC and damped least squares");
   add_claims(report, mp, md, sol.itasc.ok() ? &mi : nullptr, sol.itasc, scene.residual_tol(),
              rig.height());
-  add_table(report, rows);
+  add_table(report, measures);
   add_notes(report, sol, mm);
   report.figures({"fig9_poses.png", "fig9_measures.png"})
       .settings(settings_json(scene, {{"dls_lambda_fraction", sol.dls_options.lambda_fraction}}));
@@ -408,7 +433,7 @@ void run(const Context& ctx) {
                  {"dls_report",
                   {{"iterations", sol.dls.iterations}, {"residual", sol.dls.residual},
                    {"converged", sol.dls.converged}, {"stalled", sol.dls.stalled}}}},
-                report);
+                report, {&measures});
 }
 
 const Registration registered{

@@ -20,9 +20,8 @@
 // as in the scene.
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <iomanip>
 
+#include "experiments/columns.h"
 #include "experiments/common.h"
 #include "physik/model/errors.h"
 
@@ -93,15 +92,15 @@ std::string label(const HandRun& r) {
 nlohmann::json run_json(const HandRun& r) {
   const RunSummary& s = r.run.summary;
   return {{"torsion_k", r.torsion_k},
-          {"damping", r.damping},
-          {"steps_run", s.steps_run},
-          {"diverged", s.diverged},
+          {columns::kDamping.name, r.damping},
+          {columns::kStepsRun.name, s.steps_run},
+          {columns::kDiverged.name, s.diverged},
           {"divergence_reason", s.divergence_reason},
-          {"converged", s.converged},
-          {"steps_to_converge", s.steps_to_converge},
-          {"peak_kinetic_energy", s.peak_kinetic_energy},
-          {"final_kinetic_energy", s.final_kinetic_energy},
-          {"max_limit_violation_deg", s.max_limit_violation_deg},
+          {columns::kConverged.name, s.converged},
+          {columns::kStepsToConverge.name, s.steps_to_converge},
+          {columns::kPeakKineticEnergy.name, s.peak_kinetic_energy},
+          {columns::kFinalKineticEnergy.name, s.final_kinetic_energy},
+          {columns::kMaxLimitViolationDeg.name, s.max_limit_violation_deg},
           {"max_joint_separation", s.max_joint_separation},
           {"mean_passes_per_step", s.mean_passes_per_step},
           {"final_residuals", s.final_residuals},
@@ -122,46 +121,51 @@ std::string outcome(const HandRun& r) {
 
 // Per-step table: the shipped run (KE, limit violation, largest residual), then every sweep run
 // (KE and limit violation); cells stay empty after a run stopped (diverged).
-void write_timeline(const std::string& path, const HandRun& shipped, const std::vector<HandRun>& sweep) {
-  std::ofstream out(path);
-  out << "step,kinetic_energy,max_limit_violation_deg,max_residual";
-  for (std::size_t j = 0; j < sweep.size(); ++j) {
-    out << ",ke_k" << num(sweep[j].torsion_k) << "_c" << num(sweep[j].damping) << ",limit_k"
-        << num(sweep[j].torsion_k) << "_c" << num(sweep[j].damping);
+Table timeline_table(const HandRun& shipped, const std::vector<HandRun>& sweep) {
+  const Column ke = real("kinetic_energy", "J", "the shipped run's kinetic energy", 9);
+  const Column limit = real("max_limit_violation_deg", "deg",
+                            "the shipped run's largest excursion of a limited axis past its range", 9);
+  std::vector<Column> cols = {columns::kStep, ke, limit,
+                              real("max_residual", "rig units",
+                                   "the shipped run's largest control-point residual", 9)};
+  for (const HandRun& r : sweep) {
+    const std::string tag = "k" + num(r.torsion_k) + "_c" + num(r.damping);
+    cols.push_back(ke.named("ke_" + tag));
+    cols.back().doc = "kinetic energy of the sweep run at torsion_k and damping " + tag;
+    cols.push_back(limit.named("limit_" + tag));
+    cols.back().doc = "largest limit excess of the sweep run " + tag;
   }
-  out << "\n" << std::setprecision(9);
+  Table t("timeline", "timeline.csv", cols);
   std::size_t n = shipped.ke.size();
   for (const HandRun& r : sweep) n = std::max(n, r.ke.size());
   for (std::size_t k = 0; k < n; ++k) {
-    out << k + 1;
-    auto cell = [&](const std::vector<double>& v) {
-      out << ",";
-      if (k < v.size()) out << v[k];
-    };
-    cell(shipped.ke);
-    cell(shipped.limit_deg);
-    cell(shipped.max_residual);
+    const auto at = [&](const std::vector<double>& v) { return k < v.size() ? Cell(v[k]) : Cell(); };
+    std::vector<Cell> row = {k + 1, at(shipped.ke), at(shipped.limit_deg), at(shipped.max_residual)};
     for (const HandRun& r : sweep) {
-      cell(r.ke);
-      cell(r.limit_deg);
+      row.push_back(at(r.ke));
+      row.push_back(at(r.limit_deg));
     }
-    out << "\n";
+    t.add(std::move(row));
   }
+  return t;
 }
 
-void write_sweep(const std::string& path, const std::vector<HandRun>& sweep) {
-  std::ofstream out(path);
-  out << "torsion_k,damping,steps_run,diverged,converged,peak_kinetic_energy,"
-         "max_limit_violation_deg,max_joint_separation,final_max_residual,explodes\n";
+Table sweep_table(const std::vector<HandRun>& sweep) {
+  using namespace columns;
+  Table t("sweep", "sweep.csv",
+          {kTorsionK, kDamping, kStepsRun, kDiverged, kConverged, kPeakKineticEnergy,
+           kMaxLimitViolationDeg,
+           real("max_joint_separation", "rig units", "the largest joint separation over the run"),
+           kMaxFinalResidual.named("final_max_residual"),
+           flag("explodes", "diverged, or the peak kinetic energy above 10 x E0")});
   for (const HandRun& r : sweep) {
     const RunSummary& s = r.run.summary;
     const auto& fr = s.final_residuals;
-    out << r.torsion_k << "," << r.damping << "," << s.steps_run << "," << int(s.diverged) << ","
-        << int(s.converged) << "," << s.peak_kinetic_energy << "," << s.max_limit_violation_deg
-        << "," << s.max_joint_separation << ","
-        << (fr.empty() ? 0.0 : *std::max_element(fr.begin(), fr.end())) << ","
-        << int(r.explodes()) << "\n";
+    t.add({r.torsion_k, r.damping, s.steps_run, s.diverged, s.converged, s.peak_kinetic_energy,
+           s.max_limit_violation_deg, s.max_joint_separation,
+           fr.empty() ? 0.0 : *std::max_element(fr.begin(), fr.end()), r.explodes()});
   }
+  return t;
 }
 
 // The sweep's pattern, per damping: do the runs explode exactly above some torsion stiffness?
@@ -273,8 +277,9 @@ void run(const Context& ctx) {
       if (ctx.log) *ctx.log << "  " << label(sweep.back()) << ": " << outcome(sweep.back()) << "\n";
     }
   }
-  write_timeline(ctx.out_dir + "/timeline.csv", shipped, sweep);
-  write_sweep(ctx.out_dir + "/sweep.csv", sweep);
+  const Table timeline = timeline_table(shipped, sweep), sweep_csv = sweep_table(sweep);
+  timeline.write_csv(ctx.out_dir);
+  sweep_csv.write_csv(ctx.out_dir);
   const std::vector<std::string> frame_files = write_frames(base, shipped.run, ctx.out_dir, "hand_");
 
   Report report("Sec. 5: the tightly limited hand");
@@ -293,7 +298,7 @@ void run(const Context& ctx) {
                  {"frame_steps", shipped.run.frame_steps},
                  {"sweep", sweep_json},
                  {"smaller_dt", dt_rows}},
-                report);
+                report, {&timeline, &sweep_csv});
 }
 
 const Registration registered{

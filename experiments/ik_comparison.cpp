@@ -25,11 +25,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <functional>
 #include <map>
 #include <memory>
-#include <iomanip>
 #include <random>
 #include <sstream>
 
@@ -38,6 +36,7 @@
 #include <kdl/chainiksolverpos_lma.hpp>
 
 #include "experiments/common.h"
+#include "experiments/table.h"
 #include "physik/engine/engine.h"
 #include "physik/ik/ik_solver.h"
 #include "physik/io/rig_io.h"
@@ -241,19 +240,38 @@ Targets make_targets(const RigCase& rc, const Budget& b) {
 
 // The two per-solve tables, 9 significant digits.
 struct Tables {
-  std::ofstream solves, cont;
-};
+  Table solves = solves_table(), cont = continuity_table();
 
-void open_tables(const Context& ctx, Tables& t) {
-  t.solves.open(ctx.out_dir + "/solves.csv");
-  t.solves << "rig,solver,kind,index,target_x,target_y,target_z,residual,residual_over_reach,success,"
-              "converged,iterations,time_s,limit_violation_deg,total_rotation_rad,offpath_motion,"
-              "offpath_rotation_rad\n";
-  t.cont.open(ctx.out_dir + "/continuity.csv");
-  t.cont << "rig,solver,index,target_move,max_tail_jump,jump_ratio\n";
-  t.solves << std::setprecision(9);
-  t.cont << std::setprecision(9);
-}
+  static Table solves_table() {
+    const auto r9 = [](std::string name, std::string unit, std::string doc) {
+      return real(std::move(name), std::move(unit), std::move(doc), 9);
+    };
+    return Table("solves", "solves.csv",
+                 {text("rig", "chain3, chain10, chain50 or pinhead"), text("solver", "the solver"),
+                  text("kind", "the target: reachable or unreachable"),
+                  integer("index", "", "the target's index within its kind"),
+                  r9("target_x", "rig units", "the target"), r9("target_y", "rig units", "the target"),
+                  r9("target_z", "rig units", "the target"),
+                  r9("residual", "rig units", "the effector's distance to the target"),
+                  r9("residual_over_reach", "", "residual / the chain's reach"),
+                  flag("success", "residual below 1e-3 of the reach"),
+                  flag("converged", "the solver's own convergence test"),
+                  integer("iterations", "", "the solver's iterations (PhysIK: steps)"),
+                  r9("time_s", "s", "wall time of the solve"),
+                  r9("limit_violation_deg", "deg", "the largest joint-limit excess"),
+                  r9("total_rotation_rad", "rad", "the sum of every bone's rotation from rest"),
+                  r9("offpath_motion", "rig units", "mean tail motion of the bones off the path"),
+                  r9("offpath_rotation_rad", "rad", "the rotation of the bones off the path")});
+  }
+  static Table continuity_table() {
+    return Table("continuity", "continuity.csv",
+                 {text("rig", "chain3, chain10, chain50 or pinhead"), text("solver", "the solver"),
+                  integer("index", "", "the reachable target moved"),
+                  real("target_move", "rig units", "how far the target moved (1% of the reach)", 9),
+                  real("max_tail_jump", "rig units", "the largest bone-tail motion between the solves", 9),
+                  real("jump_ratio", "", "max_tail_jump / target_move", 9)});
+  }
+};
 
 // One rig with one solver: what a solve is measured against.
 struct SolveCase {
@@ -265,7 +283,7 @@ struct SolveCase {
 
 // One solve into solves.csv and the stats: success, total rotation, off-path motion.
 void record_solve(const SolveCase& sc, const char* kind, int idx, const Vec3& t, const Outcome& o,
-                  std::ostream& solves, Stats& st) {
+                  Table& solves, Stats& st) {
   const RigCase& rc = sc.rc;
   const bool success = o.residual < 1e-3 * rc.reach;
   double rot = 0.0, off = 0.0, off_rot = 0.0;
@@ -280,10 +298,8 @@ void record_solve(const SolveCase& sc, const char* kind, int idx, const Vec3& t,
     }
   }
   off = noff ? off / noff : 0.0;
-  solves << rc.name << "," << sc.solver << "," << kind << "," << idx << "," << t.x() << ","
-         << t.y() << "," << t.z() << "," << o.residual << "," << o.residual / rc.reach << ","
-         << success << "," << o.converged << "," << o.iterations << "," << o.time_s << ","
-         << o.limit_violation_deg << "," << rot << "," << off << "," << off_rot << "\n";
+  solves.add({rc.name, sc.solver, kind, idx, t.x(), t.y(), t.z(), o.residual, o.residual / rc.reach,
+              success, o.converged, o.iterations, o.time_s, o.limit_violation_deg, rot, off, off_rot});
   st.violation.push_back(o.limit_violation_deg);
   if (std::string(kind) == "reachable") {
     st.reach_success.push_back(success);
@@ -353,16 +369,14 @@ nlohmann::json run_solver(const Context& ctx, const SolveCase& sc, const Solver&
       jump = std::max(jump, (moved.tails_world[i] - reach_out[t].tails_world[i]).norm());
     }
     st.jump.push_back(jump / move.norm());
-    tables.cont << sc.rc.name << "," << sc.solver << "," << t << "," << move.norm() << "," << jump
-                << "," << jump / move.norm() << "\n";
+    tables.cont.add({sc.rc.name, sc.solver, t, move.norm(), jump, jump / move.norm()});
   }
   return stats_row(sc.rc, sc.solver, nr, nu, st);
 }
 
-// The rows of the summary table, one per rig and solver (KDL: chains only; PhysIK: up to 20 bones).
-nlohmann::json run_all(const Context& ctx, const Budget& b) {
-  Tables tables;
-  open_tables(ctx, tables);
+// The rows of the summary table, one per rig and solver (KDL: chains only; PhysIK: up to 20 bones);
+// the per-solve tables filled.
+nlohmann::json run_all(const Context& ctx, const Budget& b, Tables& tables) {
   const std::vector<std::pair<std::string, Solver>> solvers = make_solvers();
   nlohmann::json table = nlohmann::json::array();
   for (const RigCase& rc : make_rigs(ctx)) {
@@ -554,7 +568,10 @@ void add_notes(Report& report, const Budget& b, const nlohmann::json& table) {
 
 void run(const Context& ctx) {
   const Budget b = budget(ctx.quick);
-  const nlohmann::json table = run_all(ctx, b);
+  Tables tables;
+  const nlohmann::json table = run_all(ctx, b, tables);
+  tables.solves.write_csv(ctx.out_dir);
+  tables.cont.write_csv(ctx.out_dir);
   const std::string big = ctx.quick ? "chain10" : "chain50";
   Report report("Classic IK solvers, the rotation method, KDL and PhysIK");
   report.section("baselines");
@@ -567,7 +584,8 @@ void run(const Context& ctx) {
   add_solve_mode_claims(report, TableView{table}, rigs);
   add_notes(report, b, table);
   report.figures({"ik_success.png", "ik_time.png", "ik_continuity.png"});
-  write_summary(ctx, {{"experiment", "ik_comparison"}, {"quick", ctx.quick}, {"table", table}}, report);
+  write_summary(ctx, {{"experiment", "ik_comparison"}, {"quick", ctx.quick}, {"table", table}}, report,
+                {&tables.solves, &tables.cont});
 }
 
 const Registration registered{

@@ -11,8 +11,8 @@
 // forces it agrees to round-off, so the Gauss-Seidel gap is the heuristic's own (its joint forces
 // and its integration), not MuJoCo's integrator; in exact-constraints mode the exact gap is the
 // model's (the rig's joints and hard limits against balls and torsion springs).
-#include <fstream>
 
+#include "experiments/columns.h"
 #include "experiments/common.h"
 #include "experiments/report.h"
 #include "physik/io/pose_io.h"
@@ -77,25 +77,70 @@ void write_view_runs(const Context& ctx, const Scene& scene) {
                              run_folder_every(scene));
 }
 
+// gap_over_time.csv: the pose gaps every 5th step
+Table gap_over_time_table() {
+  using namespace columns;
+  return Table("gap_over_time", "gap_over_time.csv",
+               {kScene, text("mode", "the reference mode: same-forces or exact-constraints"), kStep,
+                real("gap", "rig units", "the largest bone-end distance, Gauss-Seidel vs MuJoCo"),
+                real("exact_gap", "rig units", "the same, PhysIK's scheme exact vs MuJoCo")});
+}
+
+// gaps.csv: one row per scene and mode
+Table gaps_table() {
+  using namespace columns;
+  const auto gap = [](std::string name, std::string doc) {
+    return real(std::move(name), "rig units", std::move(doc));
+  };
+  const Column steps = integer("", "steps", "steps to converge (-1: not converged)");
+  const Column violation = real("", "deg", "the largest joint-limit excess");
+  return Table(
+      "gaps", "gaps.csv",
+      {kScene, text("mode", "the reference mode: same-forces or exact-constraints"),
+       gap("rms_gap", "Gauss-Seidel vs MuJoCo: rms over the run"),
+       gap("max_gap", "Gauss-Seidel vs MuJoCo: largest over the run"),
+       gap("final_pose_gap", "Gauss-Seidel vs MuJoCo: the final poses"),
+       real("final_pose_gap_over_height", "", "final_pose_gap / the rig's height"),
+       integer("free_endpoint_dof", "", "endpoint freedom the control points leave (0: unique)"),
+       steps.named("physik_steps_to_converge"), steps.named("mujoco_steps_to_converge"),
+       violation.named("physik_limit_violation_deg"), violation.named("mujoco_limit_violation_deg"),
+       gap("free_rods_joint_separation", "free rods: the largest joint separation"),
+       gap("exact_rms_gap", "exact vs MuJoCo: rms over the run"),
+       gap("exact_max_gap", "exact vs MuJoCo: largest over the run"),
+       gap("exact_final_pose_gap", "exact vs MuJoCo: the final poses"),
+       gap("gauss_seidel_vs_exact_max_gap", "Gauss-Seidel vs exact: largest over the run")});
+}
+
 // one scene and mode's rows of gap_over_time.csv (every 5th step) and gaps.csv
-void write_csv_rows(const std::string& name, const std::string& m, double h, const Comparison& c,
-                    const RecordedRun& exact, const ExactGaps& eg, std::ostream& gap_csv,
-                    std::ostream& table) {
+void tabulate(const std::string& name, const std::string& m, double h, const Comparison& c,
+              const RecordedRun& exact, const ExactGaps& eg, Table& gap_over_time, Table& gaps) {
   const std::size_t n = std::min(c.physik.frames.size(), c.mujoco.frames.size());
   for (std::size_t k = 0; k < n; k += 5) {
-    gap_csv << name << "," << m << "," << k + 1 << "," << pose_gap(c.physik.frames[k], c.mujoco.frames[k])
-            << ",";
-    if (k < exact.frames.size()) gap_csv << pose_gap(exact.frames[k], c.mujoco.frames[k]);
-    gap_csv << "\n";
+    gap_over_time.add({name, m, k + 1, pose_gap(c.physik.frames[k], c.mujoco.frames[k]),
+                       k < exact.frames.size() ? Cell(pose_gap(exact.frames[k], c.mujoco.frames[k]))
+                                               : Cell()});
   }
   const auto steps = [](const RunSummary& s) { return s.converged ? s.steps_to_converge : -1; };
-  table << name << "," << m << "," << c.gap.rms_gap << "," << c.gap.max_gap << ","
-        << c.gap.final_pose_gap << "," << c.gap.final_pose_gap / h << "," << c.free_endpoint_dof << ","
-        << steps(c.physik.summary) << "," << steps(c.mujoco.summary) << ","
-        << c.physik.summary.max_limit_violation_deg << "," << c.mujoco.summary.max_limit_violation_deg << ","
-        << c.free_rods.summary.max_joint_separation << "," << eg.exact_vs_mujoco.rms_gap << ","
-        << eg.exact_vs_mujoco.max_gap << "," << eg.exact_vs_mujoco.final_pose_gap << ","
-        << eg.gauss_seidel_vs_exact.max_gap << "\n";
+  gaps.add({name, m, c.gap.rms_gap, c.gap.max_gap, c.gap.final_pose_gap, c.gap.final_pose_gap / h,
+            c.free_endpoint_dof, steps(c.physik.summary), steps(c.mujoco.summary),
+            c.physik.summary.max_limit_violation_deg, c.mujoco.summary.max_limit_violation_deg,
+            c.free_rods.summary.max_joint_separation, eg.exact_vs_mujoco.rms_gap,
+            eg.exact_vs_mujoco.max_gap, eg.exact_vs_mujoco.final_pose_gap,
+            eg.gauss_seidel_vs_exact.max_gap});
+}
+
+// the same-forces claim of one scene: does Gauss-Seidel approximate the exact dynamics?
+void add_claim(Report& report, const std::string& name, double h, const Comparison& c,
+               const ExactGaps& eg) {
+  const bool unique = c.free_endpoint_dof == 0;
+  report.claim(
+      "Sec. 3.2: Gauss-Seidel inter-joint forces approximate the exact articulated dynamics (" + name + ")",
+      "same forces: rms trajectory gap " + num(c.gap.rms_gap) + ", final pose gap " +
+          num(c.gap.final_pose_gap) + " (" + num(100 * c.gap.final_pose_gap / h, 2) +
+          "% of height); exact vs MuJoCo (same forces) largest gap " +
+          num(eg.exact_vs_mujoco.max_gap, 2) + "; " + (unique ? "unique equilibrium" : "a family of equilibria (" +
+          std::to_string(c.free_endpoint_dof) + " free endpoint DOF): the final gap is path dependence"),
+      !unique ? "n/a (path dependent)" : c.gap.final_pose_gap < 0.01 * h ? "yes" : "no");
 }
 
 void run(const Context& ctx) {
@@ -105,13 +150,7 @@ void run(const Context& ctx) {
                                            "fig7_cannon_capped"};
   nlohmann::json rows = nlohmann::json::array();
   Report report("PhysIK against MuJoCo (exact constrained dynamics)");
-  std::ofstream gap_csv(ctx.out_dir + "/gap_over_time.csv");
-  gap_csv << "scene,mode,step,gap,exact_gap\n";
-  std::ofstream table(ctx.out_dir + "/gaps.csv");
-  table << "scene,mode,rms_gap,max_gap,final_pose_gap,final_pose_gap_over_height,free_endpoint_dof,"
-           "physik_steps_to_converge,mujoco_steps_to_converge,physik_limit_violation_deg,"
-           "mujoco_limit_violation_deg,free_rods_joint_separation,exact_rms_gap,exact_max_gap,"
-           "exact_final_pose_gap,gauss_seidel_vs_exact_max_gap\n";
+  Table gap_over_time = gap_over_time_table(), gaps = gaps_table();
   nlohmann::json gap_rows = nlohmann::json::array();  // the report's table
   for (const std::string& name : scenes) {
     Scene scene = scene_named(ctx, name);
@@ -123,17 +162,15 @@ void run(const Context& ctx) {
       const ExactGaps eg = exact_gaps(exact, c);
       const std::string m = to_string(mode);
       const double h = scene.rig.height();
-      write_csv_rows(name, m, h, c, exact, eg, gap_csv, table);
+      tabulate(name, m, h, c, exact, eg, gap_over_time, gaps);
       gap_rows.push_back({name, m, gap_cell(c.gap), gap_cell(eg.exact_vs_mujoco),
                           gap_cell(eg.gauss_seidel_vs_exact)});
       // final poses, for drawing side by side
       const std::string tag = name + "_" + m;
-      {
-        std::ofstream a(ctx.out_dir + "/" + tag + "_physik.csv");
-        write_bones_csv(scene.rig, c.physik.summary.final_frames, a);
-        std::ofstream b(ctx.out_dir + "/" + tag + "_mujoco.csv");
-        write_bones_csv(scene.rig, c.mujoco.summary.final_frames, b);
-      }
+      write_bones_table(ctx.out_dir + "/" + tag + "_physik.csv", scene.rig,
+                        c.physik.summary.final_frames);
+      write_bones_table(ctx.out_dir + "/" + tag + "_mujoco.csv", scene.rig,
+                        c.mujoco.summary.final_frames);
       rows.push_back({{"scene", name}, {"mode", m}, {"comparison", comparison_to_json(scene, c)},
                       {"exact_vs_mujoco", gap_json(eg.exact_vs_mujoco)},
                       {"gauss_seidel_vs_exact", gap_json(eg.gauss_seidel_vs_exact)},
@@ -144,21 +181,14 @@ void run(const Context& ctx) {
                  << "% of height), free endpoint DOF " << c.free_endpoint_dof << "; exact vs MuJoCo max gap "
                  << eg.exact_vs_mujoco.max_gap << "\n";
       }
-      if (mode == ReferenceMode::kSameForces) {
-        const bool unique = c.free_endpoint_dof == 0;
-        report.claim(
-            "Sec. 3.2: Gauss-Seidel inter-joint forces approximate the exact articulated dynamics (" + name + ")",
-            "same forces: rms trajectory gap " + num(c.gap.rms_gap) + ", final pose gap " +
-                num(c.gap.final_pose_gap) + " (" + num(100 * c.gap.final_pose_gap / h, 2) +
-                "% of height); exact vs MuJoCo (same forces) largest gap " +
-                num(eg.exact_vs_mujoco.max_gap, 2) + "; " + (unique ? "unique equilibrium" : "a family of equilibria (" +
-                std::to_string(c.free_endpoint_dof) + " free endpoint DOF): the final gap is path dependence"),
-            !unique ? "n/a (path dependent)" : c.gap.final_pose_gap < 0.01 * h ? "yes" : "no");
-      }
+      if (mode == ReferenceMode::kSameForces) add_claim(report, name, h, c, eg);
     }
   }
+  gap_over_time.write_csv(ctx.out_dir);
+  gaps.write_csv(ctx.out_dir);
   add_exact_table_and_notes(report, gap_rows);
-  write_summary(ctx, {{"experiment", "mujoco_gap"}, {"rows", rows}}, report);
+  write_summary(ctx, {{"experiment", "mujoco_gap"}, {"rows", rows}}, report,
+                {&gap_over_time, &gaps});
 }
 
 const Registration registered{

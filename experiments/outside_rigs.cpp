@@ -22,9 +22,9 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <stdexcept>
 
+#include "experiments/columns.h"
 #include "experiments/common.h"
 #include "physik/engine/engine.h"
 #include "physik/io/rig_io.h"
@@ -239,25 +239,32 @@ struct SceneRuns {
   std::vector<RunResult> runs;
 };
 
-// runs.csv's columns, declared once: the CSV and the summary's rows both come from cells()
-const std::vector<std::string> kColumns = {
-    "rig",     "bones",     "points",             "configuration", "preset", "outcome",
-    "steps_to_converge", "steps_run", "residual_over_size", "damping",  "wall_s"};
-
-nlohmann::json cells(const SceneRuns& s, std::size_t config) {
-  const RunResult& r = s.runs[config];
-  const bool ran = r.outcome != Outcome::kRefused;
-  return {s.rig->name,
-          s.rig->rig.nbone,
-          s.points,
-          configurations()[config].name,
-          r.preset,
-          to_string(r.outcome),
-          r.steps_to_converge,
-          r.steps_run,
-          ran ? nlohmann::json(r.max_residual / s.size) : nlohmann::json(nullptr),
-          ran ? nlohmann::json(r.damping) : nlohmann::json(nullptr),
-          r.wall_s};
+// runs.csv: one row per rig x scene x configuration; numbers as JSON writes them, an empty
+// cell where a refused run has none
+Table runs_table(const std::vector<SceneRuns>& scenes) {
+  const auto number = [](std::string name, std::string unit, std::string doc) {
+    return real(std::move(name), std::move(unit), std::move(doc)).as_json_number();
+  };
+  Table t("runs", "runs.csv",
+          {text("rig", "the rig (its MuJoCo sample model's name)"), integer("bones", "", "bones"),
+           integer("points", "", "control points of the scene: 1 or 2"),
+           text("configuration", "the settings the scene ran under"),
+           text("preset", "the preset the run used"),
+           text("outcome", "converged, not_converged, diverged or refused"),
+           columns::kStepsToConverge, columns::kStepsRun,
+           number("residual_over_size", "", "the largest final residual over the rig's size"),
+           number("damping", "N s/m", "the damping the run used (damping auto's value)"),
+           number("wall_s", "s", "the run's wall time")});
+  for (const SceneRuns& s : scenes) {
+    for (std::size_t c = 0; c < s.runs.size(); ++c) {
+      const RunResult& r = s.runs[c];
+      const bool ran = r.outcome != Outcome::kRefused;
+      t.add({s.rig->name, s.rig->rig.nbone, s.points, configurations()[c].name, r.preset,
+             to_string(r.outcome), r.steps_to_converge, r.steps_run,
+             ran ? Cell(r.max_residual / s.size) : Cell(), ran ? Cell(r.damping) : Cell(), r.wall_s});
+    }
+  }
+  return t;
 }
 
 // writes the rig and its two scenes under ctx.out_dir, and runs every configuration
@@ -281,32 +288,6 @@ std::vector<SceneRuns> run_rig(const Context& ctx, const OutsideRig& r, int step
     *ctx.log << "\n" << std::flush;
   }
   return out;
-}
-
-std::string csv_cell(const nlohmann::json& v) {
-  if (v.is_null()) return "";
-  return v.is_string() ? v.get<std::string>() : v.dump();
-}
-
-// runs.csv, and the same rows as objects for summary.json
-nlohmann::json write_runs(const Context& ctx, const std::vector<SceneRuns>& scenes) {
-  std::ofstream csv(ctx.out_dir + "/runs.csv");
-  for (std::size_t k = 0; k < kColumns.size(); ++k) csv << (k ? "," : "") << kColumns[k];
-  csv << "\n";
-  nlohmann::json rows = nlohmann::json::array();
-  for (const SceneRuns& s : scenes) {
-    for (std::size_t c = 0; c < s.runs.size(); ++c) {
-      const nlohmann::json row = cells(s, c);
-      nlohmann::json obj;
-      for (std::size_t k = 0; k < kColumns.size(); ++k) {
-        csv << (k ? "," : "") << csv_cell(row[k]);
-        obj[kColumns[k]] = row[k];
-      }
-      csv << "\n";
-      rows.push_back(obj);
-    }
-  }
-  return rows;
 }
 
 double median(std::vector<double> v) {
@@ -519,7 +500,8 @@ void run(const Context& ctx) {
   for (const OutsideRig& r : found.rigs) {
     for (SceneRuns& s : run_rig(ctx, r, steps)) scenes.push_back(std::move(s));
   }
-  const nlohmann::json rows = write_runs(ctx, scenes);
+  const Table runs = runs_table(scenes);
+  runs.write_csv(ctx.out_dir);
   std::vector<Tally> tallies;
   nlohmann::json configs = nlohmann::json::array();
   for (std::size_t c = 0; c < configurations().size(); ++c) {
@@ -546,8 +528,8 @@ void run(const Context& ctx) {
                  {"torsion_comparison",
                   {{"runs", t.runs}, {"axes_converged", t.axes}, {"gradient_converged", t.gradient},
                    {"paired", t.axes_steps.size()}, {"identical", t.identical}}},
-                 {"runs", rows}},
-                report);
+                 {"runs", runs.rows_json()}},
+                report, {&runs});
 }
 
 const Registration registered{

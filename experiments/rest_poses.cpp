@@ -2,10 +2,10 @@
 // for the analysis script to draw in front (x-z) and side (y-z) views.
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 
 #include "experiments/experiment.h"
 #include "experiments/report.h"
+#include "experiments/table.h"
 #include "physik/io/pose_io.h"
 #include "physik/io/rig_io.h"
 
@@ -25,8 +25,8 @@ void run(const Context& ctx) {
   for (const auto& path : files) {
     const Rig rig = load_rig(path.string());
     const std::string name = path.stem().string();
-    std::ofstream csv(ctx.out_dir + "/" + name + ".csv");
-    write_bones_csv(rig, forward_kinematics(rig, rest_pose(rig)), csv);
+    write_bones_table(ctx.out_dir + "/" + name + ".csv", rig,
+                      forward_kinematics(rig, rest_pose(rig)));
     rigs.push_back({{"name", name},
                     {"file", path.filename().string()},
                     {"bones", rig.nbone},

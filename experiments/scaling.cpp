@@ -20,11 +20,11 @@
 #include <algorithm>
 #include <cmath>
 #include <ctime>
-#include <fstream>
 #include <map>
 
 #include "experiments/common.h"
 #include "experiments/report.h"
+#include "experiments/table.h"
 #include "physik/engine/forces.h"
 #include "physik/engine/integrate_joint_space.h"
 #include "physik/engine/joint_forces.h"
@@ -311,17 +311,30 @@ void run_sizes(Study& st, const std::vector<int>& sizes) {
   }
 }
 
-void write_csv(const Study& st, const std::string& path) {
-  std::ofstream out(path);
-  out << "kind,nbone,method,status,us_per_step,us_per_bone,steps,batches,passes_per_step,"
-         "force_error,gap_vs_exact,compile_s\n";
-  const auto v = [](double x) { return std::isfinite(x) ? num(x, 6) : std::string(); };
+// scaling.csv: one row per rig kind, size and solve; an unmeasured number is an empty cell
+Table scaling_table(const Study& st) {
+  const auto measure = [](std::string name, std::string unit, std::string doc) {
+    return real(std::move(name), std::move(unit), std::move(doc)).blank_if_nonfinite();
+  };
+  Table t("scaling", "scaling.csv",
+          {text("kind", "the rig: chain or tree2 (a balanced binary tree)"),
+           integer("nbone", "", "bones"),
+           text("method", "the solve: gauss_seidel_paper, gauss_seidel_tight, exact or mj_step"),
+           text("status", "ok, diverged, or skipped: and why").in_quotes(),
+           measure("us_per_step", "us", "thread CPU time per step, the fastest batch"),
+           measure("us_per_bone", "us", "us_per_step / nbone"),
+           integer("steps", "steps", "steps per batch"),
+           integer("batches", "", "batches timed"),
+           measure("passes_per_step", "", "Gauss-Seidel passes per step (first batch)"),
+           measure("force_error", "", "relative joint-force error against exact, same state"),
+           measure("gap_vs_exact", "rig units", "mj_step: largest endpoint gap to the exact run"),
+           measure("compile_s", "s", "mj_step: thread time compiling the MJCF")});
   for (const Row& r : st.rows) {
-    out << r.kind << "," << r.nbone << "," << r.method << ",\"" << r.m.status << "\","
-        << v(r.m.us_per_step) << "," << v(r.m.us_per_step / r.nbone) << "," << r.m.steps << ","
-        << r.m.batches << "," << v(r.m.passes_per_step) << "," << v(r.m.force_error) << ","
-        << v(r.m.gap_vs_exact) << "," << v(r.m.compile_s) << "\n";
+    t.add({r.kind, r.nbone, r.method, r.m.status, r.m.us_per_step, r.m.us_per_step / r.nbone,
+           r.m.steps, r.m.batches, r.m.passes_per_step, r.m.force_error, r.m.gap_vs_exact,
+           r.m.compile_s});
   }
+  return t;
 }
 
 // the pinhead target: the exact step against mj_step on the equivalent model, in this run
@@ -472,7 +485,8 @@ void run(const Context& ctx) {
   st.budget = ctx.quick ? Budget{0.05, 0.02, 5} : Budget{1.5, 0.25, 10};
   st.log = ctx.log;
   run_sizes(st, sizes);
-  write_csv(st, ctx.out_dir + "/scaling.csv");
+  const Table table = scaling_table(st);
+  table.write_csv(ctx.out_dir);
   const nlohmann::json fits = exponents(st);
   const nlohmann::json pin = pinhead_ratio(ctx, st.budget);
   Report report("Scaling: Gauss-Seidel, exact and mj_step from 10 to 10,000 bones");
@@ -481,7 +495,7 @@ void run(const Context& ctx) {
   add_notes(report, st.budget);
   report.figures({"scaling.png"});
   write_summary(ctx, {{"experiment", "scaling"}, {"table", "scaling.csv"}, {"exponents", fits},
-                      {"pinhead", pin}}, report);
+                      {"pinhead", pin}}, report, {&table});
 }
 
 const Registration registered{

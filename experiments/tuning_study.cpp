@@ -25,8 +25,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 
+#include "experiments/columns.h"
 #include "experiments/common.h"
 #include "physik/io/rig_io.h"
 #include "tune/tuner.h"
@@ -152,15 +152,15 @@ struct VariantResult {
   // that c, and the implicit run with damping auto (scheme implicit)
   double c_auto = 0;
   Point at_auto, at_auto_implicit;
+  std::vector<std::pair<double, Point>> grid;  // the sweep: (c, its run) over the grid
   int best_grid_steps() const { return best_c > 0 ? best_steps : -1; }
 };
 
 // the sweep over the grid: one sweep.csv row per damping
-void sweep_grid(VariantResult& r, const Scene& scene, const std::vector<double>& grid, std::ostream& sweep) {
+void sweep_grid(VariantResult& r, const Scene& scene, const std::vector<double>& grid) {
   for (double c : grid) {
     const Point p = run_at(scene, c);
-    sweep << r.v.label() << "," << r.v.scale << "," << r.v.density << "," << c << "," << p.steps << ","
-          << (p.diverged ? 1 : 0) << "\n";
+    r.grid.emplace_back(c, p);
     if (p.diverged && r.first_div < 0) r.first_div = c;
     if (!p.diverged && p.steps >= 0 && p.steps < r.best_steps) {
       r.best_steps = p.steps;
@@ -179,14 +179,14 @@ double auto_damping(const Scene& scene) {
 }
 
 VariantResult study_variant(const Context& ctx, const Scene& base, const Variant& v,
-                            const std::vector<double>& grid, std::ostream& sweep) {
+                            const std::vector<double>& grid) {
   const Scene scene = scaled_scene(base, v.scale, v.density, v.scale_torsion);
   VariantResult r;
   r.v = v;
   r.torsion_k = scene.params.torsion_k;
   r.dt = scene.params.dt;
   r.rule = damping_rule(scene);
-  sweep_grid(r, scene, grid, sweep);
+  sweep_grid(r, scene, grid);
   // Ceres: the settle objective (log measure), damping bounded to the grid's range
   tune::TuneOptions opt;
   opt.params = tune::parse_tune_params("damping", "tuning_study");
@@ -216,15 +216,54 @@ VariantResult study_variant(const Context& ctx, const Scene& base, const Variant
   return r;
 }
 
-void write_table_row(std::ostream& table, const VariantResult& r) {
-  const Rule& rule = r.rule;
-  table << r.v.label() << "," << r.v.scale << "," << r.v.density << "," << r.torsion_k
-        << "," << rule.torsion_a << "," << rule.M << "," << rule.m_min
-        << "," << rule.K << "," << rule.c_crit << "," << rule.c_stab << "," << rule.c_rule << ","
-        << r.c_tuned << "," << r.best_c << "," << r.first_div << "," << r.at20.steps << "," << r.at3.steps
-        << "," << r.at_rule.steps << "," << r.at_tuned.steps << ","
-        << r.best_grid_steps() << "," << r.tuned.wall_time_s << "," << r.tuned.evaluations << ","
-        << r.c_auto << "," << r.at_auto.steps << "," << r.at_auto_implicit.steps << "\n";
+const Column kVariant = text("variant", "the rig: scale x / density kg/unit (/ k_t scaled)");
+const Column kScale = real("scale", "", "every rig length times this");
+const Column kDensity = real("density", "kg per rig unit", "every bone's mass over its length");
+
+// sweep.csv: every variant's run at every c of the grid
+Table sweep_table(const std::vector<VariantResult>& results) {
+  Column settle = columns::kStepsToConverge;
+  settle.doc = "steps to settle: every later step within the residual tolerance and at rest (-1: never)";
+  Table t("sweep", "sweep.csv", {kVariant, kScale, kDensity, columns::kDamping, settle, columns::kDiverged});
+  for (const VariantResult& r : results) {
+    for (const auto& [c, p] : r.grid) t.add({r.v.label(), r.v.scale, r.v.density, c, p.steps, p.diverged});
+  }
+  return t;
+}
+
+// steps to settle at a damping (-1: not settled)
+Column steps_at(const std::string& name, const std::string& at) {
+  return integer(name, "steps", "steps to settle at " + at + " (-1: diverged or not settled)");
+}
+
+// table.csv: one row per variant (the summary's rows say the same with the steps as text)
+Table variant_table(const std::vector<VariantResult>& results) {
+  const auto c = [](const std::string& name, const std::string& doc) { return real(name, "N s/m", doc); };
+  Table t("table", "table.csv",
+          {kVariant, kScale, kDensity, columns::kTorsionK,
+           real("torsion_a", "", "k_t dt^2 / I_min: explicit Euler is stable below 2 (1 + f)"),
+           real("total_mass", "kg", "M"), real("min_bone_mass", "kg", "the lightest bone's mass"),
+           real("K", "N/m", "the control springs' total stiffness"),
+           c("c_crit", "the rule's discrete critical damping"), c("c_stab", "the rule's stability bound"),
+           c("c_rule", "min(c_crit, c_stab / 2)"), c("c_tuned", "the Ceres optimum"),
+           c("c_best_grid", "the grid's fastest-settling c (-1: none)"),
+           c("c_first_diverged", "the grid's smallest diverging c (-1: none)"),
+           steps_at("steps_paper_20", "c = 20"), steps_at("steps_original_3", "c = 3"),
+           steps_at("steps_rule", "c_rule"), steps_at("steps_tuned", "c_tuned"),
+           steps_at("steps_best_grid", "c_best_grid"),
+           real("tune_wall_time_s", "s", "the Ceres tuning's wall time"),
+           integer("tune_runs", "", "simulations the tuning ran"),
+           c("c_auto", "damping auto's c at the start pose"), steps_at("steps_auto", "c_auto"),
+           steps_at("steps_auto_implicit", "damping auto, scheme implicit")});
+  for (const VariantResult& r : results) {
+    const Rule& rule = r.rule;
+    t.add({r.v.label(), r.v.scale, r.v.density, r.torsion_k, rule.torsion_a, rule.M, rule.m_min,
+           rule.K, rule.c_crit, rule.c_stab, rule.c_rule, r.c_tuned, r.best_c, r.first_div,
+           r.at20.steps, r.at3.steps, r.at_rule.steps, r.at_tuned.steps, r.best_grid_steps(),
+           r.tuned.wall_time_s, r.tuned.evaluations, r.c_auto, r.at_auto.steps,
+           r.at_auto_implicit.steps});
+  }
+  return t;
 }
 
 nlohmann::json row_json(const VariantResult& r) {
@@ -366,17 +405,14 @@ void run(const Context& ctx) {
   Scene base = scene_named(ctx, "pinhead_two_hands");
   base.steps = ctx.quick ? 300 : 4000;  // the 10x, 10 kg/unit rig needs about 1000
   const std::vector<double> grid = damping_grid(ctx.quick);
-  std::ofstream sweep(ctx.out_dir + "/sweep.csv");
-  sweep << "variant,scale,density,damping,steps_to_converge,diverged\n";
-  std::ofstream table(ctx.out_dir + "/table.csv");
-  table << "variant,scale,density,torsion_k,torsion_a,total_mass,min_bone_mass,K,c_crit,c_stab,c_rule,c_tuned,"
-           "c_best_grid,c_first_diverged,steps_paper_20,steps_original_3,steps_rule,steps_tuned,"
-           "steps_best_grid,tune_wall_time_s,tune_runs,c_auto,steps_auto,steps_auto_implicit\n";
+  std::vector<VariantResult> results;
+  for (const Variant& v : make_variants(ctx.quick)) results.push_back(study_variant(ctx, base, v, grid));
+  const Table sweep = sweep_table(results), table = variant_table(results);
+  sweep.write_csv(ctx.out_dir);
+  table.write_csv(ctx.out_dir);
   nlohmann::json rows = nlohmann::json::array();
   Tally t;
-  for (const Variant& v : make_variants(ctx.quick)) {
-    const VariantResult r = study_variant(ctx, base, v, grid, sweep);
-    write_table_row(table, r);
+  for (const VariantResult& r : results) {
     rows.push_back(row_json(r));
     tally(t, r);
   }
@@ -390,7 +426,7 @@ void run(const Context& ctx) {
                  {"steps", base.steps},
                  {"dt", base.params.dt},
                  {"rows", rows}},
-                report);
+                report, {&sweep, &table});
 }
 
 const Registration registered{

@@ -7,50 +7,82 @@
 
 The experiment writes numbers with C++'s default stream format (6 significant digits, %g) and
 booleans as 0/1; the sweep's values are formatted the same way and compared as text, so every
-printed digit must agree. Columns compared:
-  damping_sweep: scene, damping, converged, steps_to_converge, diverged, steps_run,
-                 peak_kinetic_energy, max_final_residual
-  tuning_study:  scale, density, damping, steps_to_converge (the sweep's steps_to_settle), diverged
-Exit 0 when every row agrees, 1 otherwise (each difference printed).
+printed digit must agree. The columns compared are the experiment's, as its summary.json
+records them ("tables": name and format per column), that the sweep's results.csv also has;
+tuning_study's steps_to_converge is the sweep's steps_to_settle (the tuning study's measure).
+The columns the sweep lacks are listed, not compared.
+Exit 0 when every row agrees, 1 otherwise (each difference printed), 2 on bad arguments or an
+experiment folder without the table's schema.
 """
 import csv
+import json
 import os
 import sys
 
+# an experiment's column the sweep writes under another name
+SWEEP_NAME = {"tuning_study": {"steps_to_converge": "steps_to_settle"}}
 
-def g(value):
-    """A number as C++'s `out << double` writes it by default."""
-    return "%g" % float(value)
+
+def g(value, digits=6):
+    """A number as C++'s `out << std::setprecision(digits) << double` writes it."""
+    return "%.*g" % (digits, float(value))
 
 
 def flag(value):
     return "1" if value in ("1", "True", "true") else "0"
 
 
-def sweep_rows(kind, rows):
-    out = []
-    for r in rows:
-        if kind == "damping_sweep":
-            out.append([os.path.splitext(os.path.basename(r["scene"]))[0], g(r["damping"]),
-                        flag(r["converged"]), r["steps_to_converge"], flag(r["diverged"]),
-                        r["steps_run"], g(r["peak_kinetic_energy"]), g(r["max_final_residual"])])
-        else:
-            out.append([g(r["scale"]), g(r["density"]), g(r["damping"]), r["steps_to_settle"],
-                        flag(r["diverged"])])
-    return out
+def as_written(column, value):
+    """A sweep's cell as the experiment's column writes it (its schema's format)."""
+    fmt = column["format"].split("|")[0]
+    if fmt == "flag":
+        return flag(value)
+    if fmt.startswith("g"):
+        return g(value, int(fmt[1:]))
+    if column["name"] == "scene":  # the sweep names the scene file, the experiment its name
+        return os.path.splitext(os.path.basename(value))[0]
+    return value
 
 
-def experiment_rows(kind, rows):
-    out = []
-    for r in rows:
-        if kind == "damping_sweep":
-            out.append([r["scene"], g(r["damping"]), r["converged"], r["steps_to_converge"],
-                        r["diverged"], r["steps_run"], g(r["peak_kinetic_energy"]),
-                        g(r["max_final_residual"])])
-        else:
-            out.append([g(r["scale"]), g(r["density"]), g(r["damping"]), r["steps_to_converge"],
-                        r["diverged"]])
-    return out
+def experiment_schema(csv_path):
+    """The schema of the table the experiment wrote to csv_path, from summary.json beside it."""
+    summary = os.path.join(os.path.dirname(csv_path), "summary.json")
+    try:
+        with open(summary) as f:
+            tables = json.load(f).get("tables", {})
+    except (OSError, ValueError) as e:
+        raise ValueError("%s: cannot read the experiment's summary (%s)" % (summary, e))
+    for schema in tables.values():
+        if schema.get("file") == os.path.basename(csv_path):
+            return schema
+    raise ValueError("%s: no schema for %s under \"tables\""
+                     % (summary, os.path.basename(csv_path)))
+
+
+def compared_columns(kind, schema, sweep_header):
+    """[(experiment column, sweep column name)] both have, and the experiment's others."""
+    rename = SWEEP_NAME.get(kind, {})
+    pairs, skipped = [], []
+    for c in schema["columns"]:
+        if not c.get("csv", True):
+            continue
+        name = rename.get(c["name"], c["name"])
+        (pairs.append((c, name)) if name in sweep_header else skipped.append(c["name"]))
+    return pairs, skipped
+
+
+def compare(pairs, want, got):
+    bad = 0
+    if len(want) != len(got):
+        print("row count: experiment %d, sweep %d" % (len(want), len(got)))
+        bad += 1
+    for i, (w, s) in enumerate(zip(want, got)):
+        w = [w[c["name"]] for c, _ in pairs]
+        s = [as_written(c, s[name]) for c, name in pairs]
+        if w != s:
+            bad += 1
+            print("row %d differs:\n  experiment %s\n  sweep      %s" % (i + 1, w, s))
+    return bad
 
 
 def main(argv):
@@ -58,19 +90,21 @@ def main(argv):
         sys.stderr.write(__doc__)
         return 2
     kind = argv[1]
+    try:
+        schema = experiment_schema(argv[2])
+    except ValueError as e:
+        sys.stderr.write("%s\n" % e)
+        return 2
     with open(argv[2]) as f:
-        want = experiment_rows(kind, list(csv.DictReader(f)))
+        want = list(csv.DictReader(f))
     with open(argv[3]) as f:
-        got = sweep_rows(kind, list(csv.DictReader(f)))
-    bad = 0
-    if len(want) != len(got):
-        print("row count: experiment %d, sweep %d" % (len(want), len(got)))
-        bad += 1
-    for i, (w, s) in enumerate(zip(want, got)):
-        if w != s:
-            bad += 1
-            print("row %d differs:\n  experiment %s\n  sweep      %s" % (i + 1, w, s))
-    print("%s: %d rows compared, %d differ" % (kind, min(len(want), len(got)), bad))
+        reader = csv.DictReader(f)
+        got = list(reader)
+    pairs, skipped = compared_columns(kind, schema, reader.fieldnames or [])
+    bad = compare(pairs, want, got)
+    print("%s: %d rows compared on %s (not in the sweep: %s), %d differ"
+          % (kind, min(len(want), len(got)), ", ".join(c["name"] for c, _ in pairs),
+             ", ".join(skipped) or "none", bad))
     return 1 if bad else 0
 
 
