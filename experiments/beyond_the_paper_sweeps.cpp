@@ -457,8 +457,7 @@ double slowest_omega(const Scene& s, const tune::EquilibriumResult& e) {
   at_rest.params.interpolation = Interpolation::kNone;
   SimState st;
   init_state(at_rest, st);
-  const LinearModes modes = linear_modes(at_rest, st, e.targets_world);
-  return modes.first_constrained >= 0 ? modes.omega[modes.first_constrained] : 0.0;
+  return linear_modes(at_rest, st, e.targets_world).first_constrained_omega;
 }
 
 void large_steps_claims(nlohmann::json& claims, const ReachSweep& r, double omega_min,

@@ -1,108 +1,384 @@
 #include "physik/engine/linear_modes.h"
 
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
+#include <limits>
+#include <random>
+#include <stdexcept>
 #include <string>
 
 #include <Eigen/Eigenvalues>
 
-#include "physik/engine/control_springs.h"
-#include "physik/engine/torsion_springs.h"
-#include "physik/model/errors.h"
+#include "physik/engine/mode_operators.h"
 
 namespace physik {
 
 namespace {
 
-using MatX = Eigen::MatrixXd;
+using Op = ModeOperators::Matrix;
 
-int nv_of(const Rig& rig) { return 6 + 3 * (rig.nbone - 1); }
-int rot_dof(int bone) { return bone == 0 ? 3 : 3 + 3 * bone; }
+constexpr double kZeroModeFraction = 1e-9;   // w^2 below this of the largest: a zero mode
+constexpr double kUnreachedFraction = 1e-12;  // phi^T D1 phi below this of D1's scale
+constexpr double kBreakdown = 1e-13;          // F q's part left after orthogonalisation
+constexpr double kExhausted = 1e-6;           // a fresh F r's part left: range(F) is spanned
+constexpr double kResidualPerGap = 1e-10;     // accepted residual, per unit distance to the others
+constexpr double kResidualFloor = 1e-13;      // accepted residual at any distance
+constexpr double kMaxNullPart = 1e6;          // null(K) round-off in a basis vector (below)
+constexpr int kShiftProbeSteps = 8;           // steps before the shift is judged
+constexpr int kMaxRuns = 16;                  // Lanczos runs (restarts + 1)
+constexpr double kMaxBasisDoubles = 4e6;      // about 32 MB of basis vectors (q, K q, F q)
+constexpr int kMaxBasis = 300;
 
-// the rotation Jacobian of body b and the velocity Jacobian of a point p on it: each DOF turns
-// about its axis through its pivot (root: its centre of mass, ball: the head); the root also
-// translates
-void body_jacobians(const Rig& rig, const SimState& s, int b, const Vec3& p, MatX& Jw, MatX& Jp) {
-  Jw.setZero(3, nv_of(rig));
-  Jp.setZero(3, nv_of(rig));
-  Jp.leftCols<3>().setIdentity();
-  for (int j = b; j >= 0; j = rig.bone_parent[j]) {
-    const Vec3 pivot = j == 0 ? s.com_world[0] : s.frames.head_world[j];
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 axis = s.frames.orient_world[j] * Vec3::Unit(k);
-      Jw.col(rot_dof(j) + k) = axis;
-      Jp.col(rot_dof(j) + k) = axis.cross(p - pivot);
+// One Lanczos search for the slowest constrained mode (linear_modes.h). The basis and scratch
+// vectors are the workspace's (mode_operators.h): pools grown on demand, never shrunk.
+class SlowestModeSearch {
+ public:
+  explicit SlowestModeSearch(ModeOperators& ops)
+      : ops_(ops), ws_(ops.workspace()), rng_(0x5eed) {
+    const int nv = ops.size();
+    cap_ = std::max(8, std::min({nv + 1, kMaxBasis, static_cast<int>(kMaxBasisDoubles / (3 * nv))}));
+  }
+  LinearModes run();
+
+ private:
+  enum class Kind { kZero, kSkipped, kFound };
+  struct Mode {  // one Ritz pair under the rule
+    Kind kind = Kind::kZero;
+    double w2 = 0.0, d1 = 0.0, dr = 0.0, c = 0.0;
+    bool converged = true;
+  };
+  enum class Stop { kNone, kRestart };
+  bool lanczos(const VecX& start);
+  Stop extend();
+  void apply_f(const VecX& Kq, VecX& u);
+  double orthogonalise(VecX& w, VecX& Kw, double* coefficient_on_last, double* norm_before);
+  void append(VecX& w, VecX& Kw, double norm);
+  bool null_part_grown();
+  bool judge();
+  double residual(int k) const;
+  Mode evaluate(const VecX& y) const;
+  void purified_ritz_vector(int k, VecX& y) const;
+  bool conclude(const Mode* found);
+  void lock(VecX& y, const Mode& mode);
+  bool shift_far() const;
+  void plan_restart();
+  void random_vector(VecX& r);
+  double lambda_of(double theta) const {
+    const double t = std::min(theta, 1.0 - std::numeric_limits<double>::epsilon());
+    return ops_.shift() * t / (1.0 - t);
+  }
+
+  ModeOperators& ops_;
+  ModeWorkspace& ws_;
+  std::mt19937_64 rng_;
+  int cap_ = 0;
+  int m_ = 0;                           // basis vectors in use: ws_.basis[0 .. m_)
+  std::vector<double> alpha_, beta_;    // T: diagonal, and beta_[j] between q_j and q_j+1
+  std::vector<std::pair<int, double>> dropped_;  // breakdowns: step j and the beta_j left out
+  bool exhausted_ = false;              // range(F) spanned: every constrained mode is in T
+  Eigen::VectorXd theta_;               // Ritz values of the last judge(), ascending
+  Eigen::MatrixXd ritz_;                // and their vectors in the basis (m x m)
+  std::vector<Mode> walked_;            // the last judge()'s bottom pairs: zero or skipped
+  double threshold_ = 0.0;              // the zero-mode threshold, w^2
+  double w2_top_ = 0.0;                 // the largest Ritz value so far, w^2
+  int locked_ = 0;                      // locked modes: ws_.locked[0 .. locked_)
+  std::vector<Mode> locked_modes_;
+  double next_shift_ = 0.0;             // a restart's shift (its start: ws_.start)
+  LinearModes out_;
+};
+
+void SlowestModeSearch::random_vector(VecX& r) {
+  r.resize(ops_.size());
+  // raw 53-bit draws: the same numbers on every platform (the distributions are not specified)
+  for (int i = 0; i < r.size(); ++i) r[i] = 2.0 * static_cast<double>(rng_() >> 11) * 0x1p-53 - 1.0;
+}
+
+// u = F q = (K + s M)^-1 K q from K q
+void SlowestModeSearch::apply_f(const VecX& Kq, VecX& u) {
+  ops_.solve(Kq, u);
+  out_.iterations += 1;
+}
+
+// classical Gram-Schmidt twice in the K inner product against the locked modes and the basis;
+// returns ||w||_K and leaves K w in Kw
+double SlowestModeSearch::orthogonalise(VecX& w, VecX& Kw, double* on_last, double* norm_before) {
+  if (on_last) *on_last = 0.0;
+  ops_.multiply(Op::kStiffness, w, Kw);
+  if (norm_before) *norm_before = std::sqrt(std::max(w.dot(Kw), 0.0));
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int i = 0; i < locked_; ++i) w.noalias() -= ws_.locked_k[i].dot(w) * ws_.locked[i];
+    double h_last = 0.0;
+    for (int i = 0; i < m_; ++i) {
+      h_last = ws_.basis_k[i].dot(w);
+      w.noalias() -= h_last * ws_.basis[i];
+    }
+    if (on_last && m_ > 0) *on_last += h_last;
+  }
+  ops_.multiply(Op::kStiffness, w, Kw);
+  return std::sqrt(std::max(w.dot(Kw), 0.0));
+}
+
+// w / norm as the next basis vector, with its K and F images
+void SlowestModeSearch::append(VecX& w, VecX& Kw, double norm) {
+  w /= norm;
+  Kw /= norm;
+  if (static_cast<int>(ws_.basis.size()) == m_) {
+    ws_.basis.emplace_back();
+    ws_.basis_k.emplace_back();
+    ws_.basis_f.emplace_back();
+  }
+  ws_.basis[m_] = w;
+  ws_.basis_k[m_] = Kw;
+  apply_f(ws_.basis_k[m_], ws_.basis_f[m_]);
+  ++m_;
+}
+
+// Has the round-off on null(K) grown in the newest basis vector q (K-normalised)? Its part in
+// range(F) has ||r||_M >= 1 / w_max, so its entries lose relative precision eps ||q||_M w_max
+// at most: past kMaxNullPart (1e-10 / eps) the run restarts from purified vectors.
+bool SlowestModeSearch::null_part_grown() {
+  ops_.multiply(Op::kMass, ws_.basis[m_ - 1], ws_.my);
+  const double w2_max = std::max(ops_.shift(), w2_top_);
+  return std::sqrt(ws_.basis[m_ - 1].dot(ws_.my) * w2_max) > kMaxNullPart;
+}
+
+// one Lanczos step: alpha_j, beta_j and q_j+1 (or, after a breakdown, a fresh direction, or
+// exhausted_)
+SlowestModeSearch::Stop SlowestModeSearch::extend() {
+  double a = 0.0, before = 0.0;
+  VecX& w = ws_.w;
+  w = ws_.basis_f[m_ - 1];
+  const double beta = orthogonalise(w, ws_.kw, &a, &before);
+  alpha_.push_back(a);
+  if (beta > kBreakdown * before) {
+    beta_.push_back(beta);
+    append(w, ws_.kw, beta);
+  } else {
+    // an invariant subspace: go on from a fresh direction in range(F), if there is one left;
+    // the beta left out of T still counts in the residuals
+    beta_.push_back(0.0);
+    dropped_.emplace_back(static_cast<int>(alpha_.size()) - 1, beta);
+    random_vector(ws_.ay);
+    ops_.multiply(Op::kStiffness, ws_.ay, ws_.kw);
+    apply_f(ws_.kw, w);
+    double z_norm = 0.0;
+    const double left = orthogonalise(w, ws_.kw, nullptr, &z_norm);
+    if (left <= kExhausted * z_norm) {
+      exhausted_ = true;
+      return Stop::kNone;
+    }
+    append(w, ws_.kw, left);
+  }
+  return m_ <= cap_ && !null_part_grown() ? Stop::kNone : Stop::kRestart;
+}
+
+// the Ritz vector of pair k, purified: F (Q s) / theta = (U s) / theta, which has no part on
+// null(K) whatever the basis carries there (the Ericsson-Ruhe purification); unnormalised
+void SlowestModeSearch::purified_ritz_vector(int k, VecX& y) const {
+  y.setZero(ops_.size());
+  for (int i = 0; i < ritz_.rows(); ++i) y.noalias() += ritz_(i, k) * ws_.basis_f[i];
+}
+
+// the rule on a converged Ritz vector: its w^2 and quadratic forms by Rayleigh quotients
+SlowestModeSearch::Mode SlowestModeSearch::evaluate(const VecX& y) const {
+  Mode m;
+  ops_.multiply(Op::kMass, y, ws_.my);
+  const double norm2 = y.dot(ws_.my);
+  ops_.multiply(Op::kStiffness, y, ws_.ay);
+  m.w2 = y.dot(ws_.ay) / norm2;
+  if (m.w2 <= threshold_) return m;
+  ops_.multiply(Op::kEndDampers, y, ws_.ay);
+  m.d1 = y.dot(ws_.ay) / norm2;
+  ops_.multiply(Op::kFactorDamper, y, ws_.ay);
+  m.dr = y.dot(ws_.ay) / norm2;
+  m.c = (2.0 * std::sqrt(m.w2) - m.dr) / m.d1;
+  const bool unreached = m.d1 <= kUnreachedFraction * ops_.end_damper_scale();
+  m.kind = unreached || m.c <= 0.0 ? Kind::kSkipped : Kind::kFound;
+  return m;
+}
+
+// ||F y - theta y||_K of Ritz pair k: beta_m |s_m|, and the betas left out at breakdowns
+double SlowestModeSearch::residual(int k) const {
+  const int m = static_cast<int>(ritz_.rows());
+  double r2 = exhausted_ ? 0.0 : std::pow(beta_[m - 1] * ritz_(m - 1, k), 2);
+  for (const auto& [j, b] : dropped_) r2 += std::pow(b * ritz_(j, k), 2);
+  return std::sqrt(r2);
+}
+
+// Ritz pairs of T, walked in ascending order under the rule; true when the answer is final
+bool SlowestModeSearch::judge() {
+  const int m = static_cast<int>(alpha_.size());
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig;
+  const Eigen::VectorXd diag = Eigen::Map<const Eigen::VectorXd>(alpha_.data(), m);
+  const Eigen::VectorXd sub = Eigen::Map<const Eigen::VectorXd>(beta_.data(), m - 1);
+  eig.computeFromTridiagonal(diag, sub, Eigen::ComputeEigenvectors);
+  theta_ = eig.eigenvalues();
+  ritz_ = eig.eigenvectors();
+  w2_top_ = std::max(w2_top_, lambda_of(theta_[m - 1]));
+  threshold_ = kZeroModeFraction * w2_top_;
+  walked_.clear();
+  for (int k = 0; k < m; ++k) {
+    double gap = 1.0;  // F's spectrum lies in [0, 1)
+    if (k > 0) gap = theta_[k] - theta_[k - 1];
+    if (k + 1 < m) gap = std::min(gap, theta_[k + 1] - theta_[k]);
+    const bool converged = residual(k) <= std::max(kResidualPerGap * gap, kResidualFloor);
+    if (lambda_of(theta_[k]) <= threshold_) {  // below the true one's: a zero mode either way
+      walked_.push_back(Mode{Kind::kZero, lambda_of(theta_[k]), 0.0, 0.0, 0.0, converged});
+      continue;
+    }
+    if (!converged) return false;
+    purified_ritz_vector(k, ws_.w);
+    const Mode mode = evaluate(ws_.w);
+    if (getenv("TRACE")) fprintf(stderr, "  m=%d s=%.4g k=%d theta=%.12g lam=%.12g res=%.2e gap=%.2e w2=%.12g c=%.12g kind=%d\n", m, ops_.shift(), k, theta_[k], lambda_of(theta_[k]), residual(k), gap, mode.w2, mode.c, (int)mode.kind);
+    if (mode.kind == Kind::kFound) return conclude(&mode);
+    walked_.push_back(mode);
+  }
+  return exhausted_ && conclude(nullptr);
+}
+
+// the answer from the locked modes, the walked ones and the one found (if any)
+bool SlowestModeSearch::conclude(const Mode* found) {
+  LinearModes out;
+  out.omega2_max = w2_top_;
+  double first = std::numeric_limits<double>::infinity();
+  for (const std::vector<Mode>* list : {&locked_modes_, &walked_}) {
+    for (const Mode& m : *list) {
+      if (m.kind != Kind::kSkipped || (found && m.w2 > found->w2)) continue;
+      first = std::min(first, m.w2);
+      ++out.skipped;
+    }
+  }
+  if (found) {
+    first = std::min(first, found->w2);
+    out.found = true;
+    out.slowest_omega = std::sqrt(found->w2);
+    out.slowest_d1 = found->d1;
+    out.slowest_dr = found->dr;
+    out.critical_damping = found->c;
+  }
+  out.first_constrained_omega = std::isfinite(first) ? std::sqrt(first) : 0.0;
+  out.iterations = out_.iterations;
+  out.runs = out_.runs;
+  out_ = out;
+  return true;
+}
+
+// keeps y (a converged mode the rule skipped) out of later runs' Krylov spaces
+void SlowestModeSearch::lock(VecX& y, const Mode& mode) {
+  if (static_cast<int>(ws_.locked.size()) == locked_) {
+    ws_.locked.emplace_back();
+    ws_.locked_k.emplace_back();
+  }
+  const int saved = m_;
+  m_ = 0;  // against the locked ones only
+  const double norm = orthogonalise(y, ws_.kw, nullptr, nullptr);
+  m_ = saved;
+  if (!(norm > 0.0)) return;
+  ws_.locked[locked_] = y / norm;
+  ws_.locked_k[locked_] = ws_.kw / norm;
+  ++locked_;
+  locked_modes_.push_back(mode);
+}
+
+// after judge(): is the shift off the first Ritz value the walk has not passed by more than 4x
+bool SlowestModeSearch::shift_far() const {
+  const int k = static_cast<int>(walked_.size());
+  if (k == theta_.size()) return false;
+  const double w2 = lambda_of(theta_[k]);
+  return ops_.shift() > 4.0 * w2 || ops_.shift() < 0.25 * w2;
+}
+
+// After judge(): lock the converged walked pairs (they would be found again), and plan the next
+// run: its shift the first Ritz value the walk has not passed (the shift then sits at the next
+// candidate's w^2, see the header), its start the sum of the next four purified Ritz vectors,
+// each K-normalised
+void SlowestModeSearch::plan_restart() {
+  std::size_t open = 0;
+  for (; open < walked_.size() && walked_[open].converged; ++open) {
+    purified_ritz_vector(static_cast<int>(open), ws_.w);
+    lock(ws_.w, walked_[open]);
+  }
+  next_shift_ = ops_.shift();
+  if (static_cast<int>(open) == theta_.size()) {
+    random_vector(ws_.start);
+    return;
+  }
+  next_shift_ = std::max(lambda_of(theta_[open]), threshold_);
+  ws_.start.setZero(ops_.size());
+  for (int k = open; k < std::min<int>(open + 4, theta_.size()); ++k) {
+    purified_ritz_vector(k, ws_.w);
+    ops_.multiply(Op::kStiffness, ws_.w, ws_.ay);
+    ws_.start += ws_.w / std::sqrt(ws_.w.dot(ws_.ay));
+  }
+}
+
+// one run from F start at the current shift; true when the answer is final, false with a
+// restart planned
+bool SlowestModeSearch::lanczos(const VecX& start) {
+  m_ = 0;
+  alpha_.clear();
+  beta_.clear();
+  dropped_.clear();
+  exhausted_ = false;
+  out_.runs += 1;
+  if (getenv("TRACE")) fprintf(stderr, "run %d shift %.6g cap %d locked %d\n", out_.runs, ops_.shift(), cap_, locked_);
+  ops_.multiply(Op::kStiffness, start, ws_.kw);
+  apply_f(ws_.kw, ws_.w);
+  const double norm = orthogonalise(ws_.w, ws_.kw, nullptr, nullptr);
+  if (!(norm > 0.0)) return conclude(nullptr);  // nothing left in range(F)
+  append(ws_.w, ws_.kw, norm);
+  while (true) {
+    const Stop stop = extend();
+    const int m = static_cast<int>(alpha_.size());
+    if (exhausted_ || stop != Stop::kNone || m <= 24 || m % 8 == 0) {
+      if (judge()) return true;
+    }
+    if (exhausted_ || stop == Stop::kRestart || (m == kShiftProbeSteps && shift_far())) {
+      plan_restart();
+      return false;
     }
   }
 }
 
-Mat3 inertia_of(const Rig& rig, const SimState& s, int b) {
-  const Mat3 R = s.frames.orient_world[b].toRotationMatrix();
-  return R * rig.bone_inertia_local[b].asDiagonal() * R.transpose();
+LinearModes SlowestModeSearch::run() {
+  if (ops_.stiffness_empty()) return out_;
+  // the first shift: the Rayleigh quotient of a vector in range(F) (F at the Rayleigh quotient
+  // of a random vector, whose null(K) part pulls it below the constrained modes)
+  VecX& r = ws_.start;
+  random_vector(r);
+  ops_.multiply(Op::kStiffness, r, ws_.kw);
+  ops_.multiply(Op::kMass, r, ws_.my);
+  const double rKr = r.dot(ws_.kw), rMr = r.dot(ws_.my);
+  if (!(rKr > 0.0)) return out_;
+  ops_.set_shift(rKr / rMr);
+  apply_f(ws_.kw, ws_.w);
+  r = ws_.w;
+  ops_.multiply(Op::kStiffness, r, ws_.kw);
+  ops_.multiply(Op::kMass, r, ws_.my);
+  ops_.set_shift(r.dot(ws_.kw) / r.dot(ws_.my));
+  for (int run = 0; run < kMaxRuns; ++run) {
+    if (lanczos(r)) return out_;
+    ops_.set_shift(next_shift_);
+  }
+  throw std::runtime_error("damping auto: the slowest linear mode did not converge in " +
+                           std::to_string(kMaxRuns) + " Lanczos runs of " +
+                           std::to_string(cap_) + " steps");
 }
 
 }  // namespace
 
-LinearModes linear_modes(const Scene& scene, const SimState& s, const std::vector<Vec3>& targets) {
-  const Rig& rig = scene.rig;
-  const EngineParams& prm = scene.params;
-  if (rig.nbone > kMaxModeBones) {
-    throw_input_error(scene.file, "params", "damping_auto",
-                      "the dense linear modes support rigs up to " + std::to_string(kMaxModeBones) +
-                          " bones (this one has " + std::to_string(rig.nbone) + ")");
-  }
-  const int nv = nv_of(rig);
-  MatX M = MatX::Zero(nv, nv), K = MatX::Zero(nv, nv), D1 = MatX::Zero(nv, nv), Dr = MatX::Zero(nv, nv);
-  MatX Jw, Jp, Jwp, Jdummy;
-  const double rot = (1.0 - prm.angular_velocity_factor) / prm.dt;
-  for (int b = 0; b < rig.nbone; ++b) {
-    const Mat3 I = inertia_of(rig, s, b);
-    body_jacobians(rig, s, b, s.com_world[b], Jw, Jp);
-    M += Jw.transpose() * I * Jw + rig.bone_mass[b] * Jp.transpose() * Jp;
-    Dr += Jw.transpose() * (rot * I) * Jw;
-    for (const Vec3* p : {&s.frames.head_world[b], &s.frames.tail_world[b]}) {
-      body_jacobians(rig, s, b, *p, Jw, Jp);
-      D1 += Jp.transpose() * Jp;
-    }
-    if (b == 0 || prm.torsion_k == 0.0) continue;
-    const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[b]);
-    const Vec3 k = torsion_stiffness_local(rig.bone_limit[b], theta, prm);
-    if (k.isZero(0.0)) continue;
-    const Mat3 T = torsion_torque_frame(rig, prm, s.frames.orient_world[rig.bone_parent[b]], b, theta);
-    body_jacobians(rig, s, rig.bone_parent[b], s.com_world[b], Jwp, Jdummy);
-    const MatX Jrel = Jw - Jwp;
-    K += Jrel.transpose() * (T * k.asDiagonal() * T.transpose()) * Jrel;
-  }
-  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
-    const ControlPoint& cp = scene.control_points[c];
-    const Vec3 a = point_on_bone(s.frames, cp.bone, cp.alpha);
-    body_jacobians(rig, s, cp.bone, a, Jw, Jp);
-    K += Jp.transpose() * spring_tangent(cp.spring_in(prm), cp.k_in(prm), cp.cap_in(prm),
-                                          targets[c] - a) * Jp;
-  }
+LinearModes linear_modes(const Scene& scene, const SimState& state,
+                         const std::vector<Vec3>& targets_world, ModeWorkspace& workspace) {
+  ModeOperators ops(scene, state, targets_world, workspace);
+  return SlowestModeSearch(ops).run();
+}
 
-  LinearModes out;
-  const Eigen::GeneralizedSelfAdjointEigenSolver<MatX> eig(K, M);
-  const Eigen::VectorXd w2 = eig.eigenvalues();
-  out.omega.resize(nv);
-  for (int i = 0; i < nv; ++i) out.omega[i] = std::sqrt(std::max(w2[i], 0.0));
-  const double tiny = 1e-9 * std::max(w2.maxCoeff(), 0.0);
-  const double d1_scale = D1.diagonal().maxCoeff();
-  for (int i = 0; i < nv && tiny > 0.0; ++i) {
-    if (w2[i] <= tiny) continue;
-    if (out.first_constrained < 0) out.first_constrained = i;
-    const Eigen::VectorXd phi = eig.eigenvectors().col(i);
-    const double d1 = phi.dot(D1 * phi);
-    if (d1 <= 1e-12 * d1_scale) continue;  // the end dampers do not reach this mode
-    const double dr = phi.dot(Dr * phi);
-    const double c = (2.0 * out.omega[i] - dr) / d1;
-    if (c <= 0.0) continue;  // the angular-velocity factor alone damps it critically or more
-    out.slowest = i;
-    out.slowest_d1 = d1;
-    out.slowest_dr = dr;
-    out.critical_damping = c;
-    break;
-  }
-  return out;
+LinearModes linear_modes(const Scene& scene, const SimState& state,
+                         const std::vector<Vec3>& targets_world) {
+  ModeWorkspace workspace;
+  return linear_modes(scene, state, targets_world, workspace);
 }
 
 void update_auto_damping(const Scene& scene, SimState& s) {
@@ -114,7 +390,7 @@ void update_auto_damping(const Scene& scene, SimState& s) {
     const ControlPoint& cp = scene.control_points[c];
     at_target[c] = point_on_bone(s.frames, cp.bone, cp.alpha);
   }
-  s.damping_auto_value = linear_modes(scene, s, at_target).critical_damping;
+  s.damping_auto_value = linear_modes(scene, s, at_target, s.modes).critical_damping;
   s.damping_auto_updates += 1;
 }
 

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "physik/engine/articulated_body.h"
+#include "physik/engine/mode_operators.h"
 #include "physik/model/kinematics.h"
 #include "physik/model/scene.h"
 
@@ -70,6 +71,7 @@ struct SimState {
   // --- damping_auto (linear_modes.h) ---
   double damping_auto_value = 0.0;      // N s/m, the damping chosen at the last target change
   int damping_auto_updates = 0;         // how many times it was chosen this run
+  ModeWorkspace modes;                  // the linear modes' buffers, sized at the first update
 
   // --- control points ---
   std::vector<Vec3> target_effective_world;  // (ncontrol) the target the spring pulls toward now

@@ -1,0 +1,121 @@
+#include "physik/engine/linear_modes_dense.h"
+
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+
+#include "physik/engine/control_springs.h"
+#include "physik/engine/torsion_springs.h"
+
+namespace physik {
+
+namespace {
+
+using MatX = Eigen::MatrixXd;
+
+int nv_of(const Rig& rig) { return 6 + 3 * (rig.nbone - 1); }
+int rot_dof(int bone) { return bone == 0 ? 3 : 3 + 3 * bone; }
+
+// the rotation Jacobian of body b and the velocity Jacobian of a point p on it: each DOF turns
+// about its axis through its pivot (root: its centre of mass, ball: the head); the root also
+// translates
+void body_jacobians(const Rig& rig, const SimState& s, int b, const Vec3& p, MatX& Jw, MatX& Jp) {
+  Jw.setZero(3, nv_of(rig));
+  Jp.setZero(3, nv_of(rig));
+  Jp.leftCols<3>().setIdentity();
+  for (int j = b; j >= 0; j = rig.bone_parent[j]) {
+    const Vec3 pivot = j == 0 ? s.com_world[0] : s.frames.head_world[j];
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 axis = s.frames.orient_world[j] * Vec3::Unit(k);
+      Jw.col(rot_dof(j) + k) = axis;
+      Jp.col(rot_dof(j) + k) = axis.cross(p - pivot);
+    }
+  }
+}
+
+Mat3 inertia_of(const Rig& rig, const SimState& s, int b) {
+  const Mat3 R = s.frames.orient_world[b].toRotationMatrix();
+  return R * rig.bone_inertia_local[b].asDiagonal() * R.transpose();
+}
+
+}  // namespace
+
+DenseModeMatrices dense_mode_matrices(const Scene& scene, const SimState& s,
+                                      const std::vector<Vec3>& targets) {
+  const Rig& rig = scene.rig;
+  const EngineParams& prm = scene.params;
+  const int nv = nv_of(rig);
+  DenseModeMatrices out{MatX::Zero(nv, nv), MatX::Zero(nv, nv), MatX::Zero(nv, nv), MatX::Zero(nv, nv)};
+  MatX &M = out.M, &K = out.K, &D1 = out.D1, &Dr = out.Dr;
+  MatX Jw, Jp, Jwp, Jdummy;
+  const double rot = (1.0 - prm.angular_velocity_factor) / prm.dt;
+  for (int b = 0; b < rig.nbone; ++b) {
+    const Mat3 I = inertia_of(rig, s, b);
+    body_jacobians(rig, s, b, s.com_world[b], Jw, Jp);
+    M += Jw.transpose() * I * Jw + rig.bone_mass[b] * Jp.transpose() * Jp;
+    Dr += Jw.transpose() * (rot * I) * Jw;
+    for (const Vec3* p : {&s.frames.head_world[b], &s.frames.tail_world[b]}) {
+      body_jacobians(rig, s, b, *p, Jw, Jp);
+      D1 += Jp.transpose() * Jp;
+    }
+    if (b == 0 || prm.torsion_k == 0.0) continue;
+    const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[b]);
+    const Vec3 k = torsion_stiffness_local(rig.bone_limit[b], theta, prm);
+    if (k.isZero(0.0)) continue;
+    const Mat3 T = torsion_torque_frame(rig, prm, s.frames.orient_world[rig.bone_parent[b]], b, theta);
+    body_jacobians(rig, s, rig.bone_parent[b], s.com_world[b], Jwp, Jdummy);
+    const MatX Jrel = Jw - Jwp;
+    K += Jrel.transpose() * (T * k.asDiagonal() * T.transpose()) * Jrel;
+  }
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    const Vec3 a = point_on_bone(s.frames, cp.bone, cp.alpha);
+    body_jacobians(rig, s, cp.bone, a, Jw, Jp);
+    K += Jp.transpose() * spring_tangent(cp.spring_in(prm), cp.k_in(prm), cp.cap_in(prm),
+                                          targets[c] - a) * Jp;
+  }
+  return out;
+}
+
+DenseLinearModes linear_modes_dense(const Scene& scene, const SimState& s,
+                                    const std::vector<Vec3>& targets) {
+  const DenseModeMatrices mat = dense_mode_matrices(scene, s, targets);
+  const MatX &M = mat.M, &K = mat.K, &D1 = mat.D1, &Dr = mat.Dr;
+  const int nv = static_cast<int>(M.rows());
+  DenseLinearModes out;
+  LinearModes& m = out.modes;
+  const Eigen::GeneralizedSelfAdjointEigenSolver<MatX> eig(K, M);
+  const Eigen::VectorXd w2 = eig.eigenvalues();
+  out.omega.resize(nv);
+  for (int i = 0; i < nv; ++i) out.omega[i] = std::sqrt(std::max(w2[i], 0.0));
+  m.omega2_max = std::max(w2.maxCoeff(), 0.0);
+  const double tiny = 1e-9 * m.omega2_max;
+  const double d1_scale = D1.diagonal().maxCoeff();
+  for (int i = 0; i < nv && tiny > 0.0; ++i) {
+    if (w2[i] <= tiny) continue;
+    if (out.first_constrained < 0) {
+      out.first_constrained = i;
+      m.first_constrained_omega = out.omega[i];
+    }
+    const Eigen::VectorXd phi = eig.eigenvectors().col(i);
+    const double d1 = phi.dot(D1 * phi);
+    const double dr = phi.dot(Dr * phi);
+    const double c = (2.0 * out.omega[i] - dr) / d1;
+    // the end dampers do not reach this mode, or the angular-velocity factor alone damps it
+    // critically or more
+    if (d1 <= 1e-12 * d1_scale || c <= 0.0) {
+      ++m.skipped;
+      continue;
+    }
+    out.slowest = i;
+    m.found = true;
+    m.slowest_omega = out.omega[i];
+    m.slowest_d1 = d1;
+    m.slowest_dr = dr;
+    m.critical_damping = c;
+    break;
+  }
+  return out;
+}
+
+}  // namespace physik

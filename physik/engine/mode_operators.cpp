@@ -1,0 +1,208 @@
+#include "physik/engine/mode_operators.h"
+
+#include <algorithm>
+
+#include "physik/engine/control_springs.h"
+#include "physik/engine/implicit_step.h"
+#include "physik/engine/state.h"
+#include "physik/engine/torsion_springs.h"
+
+namespace physik {
+
+namespace {
+
+int ball_dof(int bone) { return 3 + 3 * bone; }  // first coordinate of a ball (bone > 0)
+
+// adds the wrench about o of a point element K at offset r moving with V = (w; v at o)
+inline void add_point_wrench(const Mat3& K, const Vec3& r, const Vec6& V, Vec6& W) {
+  const Vec3 f = K * (V.tail<3>() + V.head<3>().cross(r));
+  W.head<3>() += r.cross(f);
+  W.tail<3>() += f;
+}
+
+}  // namespace
+
+ModeOperators::ModeOperators(const Scene& scene, const SimState& s,
+                             const std::vector<Vec3>& targets, ModeWorkspace& ws)
+    : rig_(scene.rig), state_(s), ws_(ws) {
+  const Rig& rig = scene.rig;
+  const EngineParams& prm = scene.params;
+  const int n = rig.nbone;
+  nv_ = 6 + 3 * (n - 1);
+  ArticulatedBodyData& d = ws.articulated;
+  if (static_cast<int>(d.inertia_art.size()) != n) resize_articulated_data(n, d);
+  if (static_cast<int>(ws.velocity.size()) != n) {
+    ws.velocity.assign(n, Vec6::Zero());
+    ws.wrench.assign(n, Vec6::Zero());
+    ws.second_moment.assign(n, Mat3::Zero());
+    ws.first_moment.assign(n, Vec3::Zero());
+    ws.ends.assign(n, 0.0);
+  }
+  // the recursion's inputs at zero velocity: points, inertias, no bias acceleration
+  for (int i = 0; i < n; ++i) {
+    const Mat3 R = s.frames.orient_world[i].toRotationMatrix();
+    d.inertia_com_world[i] = R * rig.bone_inertia_local[i].asDiagonal() * R.transpose();
+    d.point_world[i] = rig.bone_parent[i] < 0 ? s.com_world[i] : s.frames.head_world[i];
+    d.bias_accel[i].setZero();
+  }
+  factor_damper_ = (1.0 - prm.angular_velocity_factor) / prm.dt;
+  ws.torsion.clear();
+  for (int b = 1; b < n && prm.torsion_k != 0.0; ++b) {
+    const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[b]);
+    const Vec3 k = torsion_stiffness_local(rig.bone_limit[b], theta, prm);
+    if (k.isZero(0.0)) continue;
+    const Mat3 T =
+        torsion_torque_frame(rig, prm, s.frames.orient_world[rig.bone_parent[b]], b, theta);
+    ws.torsion.emplace_back(b, T * k.asDiagonal() * T.transpose());
+  }
+  ws.springs.clear();
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    const Vec3 a = point_on_bone(s.frames, cp.bone, cp.alpha);
+    const Mat3 K = spring_tangent(cp.spring_in(prm), cp.k_in(prm), cp.cap_in(prm), targets[c] - a);
+    if (!K.isZero(0.0)) ws.springs.push_back({cp.bone, a - d.point_world[cp.bone], K});
+  }
+  compute_end_damper_scale();
+}
+
+void ModeOperators::element_wrenches(Matrix which) {
+  const ArticulatedBodyData& d = ws_.articulated;
+  const int n = rig_.nbone;
+  for (int i = 0; i < n; ++i) {
+    const Vec6& V = ws_.velocity[i];
+    Vec6& W = ws_.wrench[i];
+    W.setZero();
+    switch (which) {
+      case Matrix::kMass: {
+        const Vec3 e = state_.com_world[i] - d.point_world[i];
+        const Vec3 f = rig_.bone_mass[i] * (V.tail<3>() + V.head<3>().cross(e));
+        W << d.inertia_com_world[i] * V.head<3>() + e.cross(f), f;
+        break;
+      }
+      case Matrix::kEndDampers:
+        add_point_wrench(Mat3::Identity(), state_.frames.head_world[i] - d.point_world[i], V, W);
+        add_point_wrench(Mat3::Identity(), state_.frames.tail_world[i] - d.point_world[i], V, W);
+        break;
+      case Matrix::kFactorDamper:
+        W.head<3>() = factor_damper_ * (d.inertia_com_world[i] * V.head<3>());
+        break;
+      case Matrix::kStiffness:
+        break;
+    }
+  }
+  if (which != Matrix::kStiffness) return;
+  for (const ModePointElement& e : ws_.springs) {
+    add_point_wrench(e.stiffness, e.offset, ws_.velocity[e.bone], ws_.wrench[e.bone]);
+  }
+}
+
+void ModeOperators::multiply(Matrix which, const VecX& x, VecX& y) {
+  const int n = rig_.nbone;
+  const ArticulatedBodyData& d = ws_.articulated;
+  std::vector<Vec6>& V = ws_.velocity;
+  std::vector<Vec6>& W = ws_.wrench;
+  y.resize(nv_);
+  // velocities outward: V = (w; v at o)
+  V[0] << x.segment<3>(3), x.head<3>();
+  for (int i = 1; i < n; ++i) {
+    const int p = rig_.bone_parent[i];
+    const Vec3 r = d.point_world[i] - d.point_world[p];
+    V[i].head<3>() = V[p].head<3>() + x.segment<3>(ball_dof(i));
+    V[i].tail<3>() = V[p].tail<3>() - r.cross(Vec3(V[p].head<3>()));
+  }
+  element_wrenches(which);
+  // wrenches inward; each ball's coordinate takes its subtree's torque about the joint
+  for (int i = n - 1; i > 0; --i) {
+    const int p = rig_.bone_parent[i];
+    const Vec3 r = d.point_world[i] - d.point_world[p];
+    y.segment<3>(ball_dof(i)) = W[i].head<3>();
+    W[p].head<3>() += W[i].head<3>() + r.cross(Vec3(W[i].tail<3>()));
+    W[p].tail<3>() += W[i].tail<3>();
+  }
+  y.head<3>() = W[0].tail<3>();
+  y.segment<3>(3) = W[0].head<3>();
+  if (which != Matrix::kStiffness) return;
+  for (const auto& [b, K] : ws_.torsion) y.segment<3>(ball_dof(b)) += K * x.segment<3>(ball_dof(b));
+}
+
+void ModeOperators::set_shift(double s) {
+  shift_ = s;
+  ArticulatedBodyData& d = ws_.articulated;
+  for (Mat3& J : d.joint_block) J.setZero();
+  for (const auto& [b, K] : ws_.torsion) d.joint_block[b] = K / s;
+  d.joint_blocks = !ws_.torsion.empty();
+}
+
+void ModeOperators::solve(const VecX& b, VecX& x) {
+  const int n = rig_.nbone;
+  ArticulatedBodyData& d = ws_.articulated;
+  // rigid inertias plus K's point elements over s; b as external torques: b_i on bone i, -b_i on
+  // its parent (bias force = -external wrench)
+  for (int i = 0; i < n; ++i) {
+    d.inertia_art[i] = spatial_inertia(rig_.bone_mass[i], d.inertia_com_world[i],
+                                       state_.com_world[i] - d.point_world[i]);
+    d.bias_force[i].setZero();
+  }
+  for (const ModePointElement& e : ws_.springs) {
+    add_point_inertia(e.stiffness / shift_, e.offset, d.inertia_art[e.bone]);
+  }
+  d.bias_force[0] << -b.segment<3>(3), -b.head<3>();
+  for (int i = 1; i < n; ++i) {
+    d.bias_force[i].head<3>() -= b.segment<3>(ball_dof(i));
+    d.bias_force[rig_.bone_parent[i]].head<3>() += b.segment<3>(ball_dof(i));
+  }
+  // (M + K / s) a = b, so x = a / s
+  articulated_backward_pass(rig_, d);
+  articulated_forward_pass(rig_, state_, d);
+  const double inv = 1.0 / shift_;
+  x.resize(nv_);
+  x.head<3>() = inv * d.accel_spatial[0].tail<3>();
+  x.segment<3>(3) = inv * d.accel_spatial[0].head<3>();
+  for (int i = 1; i < n; ++i) {
+    x.segment<3>(ball_dof(i)) =
+        inv * (d.accel_spatial[i].head<3>() - d.accel_spatial[rig_.bone_parent[i]].head<3>());
+  }
+}
+
+// D1's diagonal in the dense path's coordinates: the root's translations 2 n (every head and
+// tail), and per rotational axis a about its pivot o, sum over the ends p it moves of
+// |a x (p - o)|^2 = tr(Q) - a^T Q a, Q = sum (p - o)(p - o)^T over the joint's subtree
+// (moments shifted from child to parent: d = o_child - o, Q += Q_c + S_c d^T + d S_c^T
+// + N_c d d^T, S += S_c + N_c d)
+void ModeOperators::compute_end_damper_scale() {
+  const int n = rig_.nbone;
+  const BoneFrames& f = state_.frames;
+  std::vector<Mat3>& Q = ws_.second_moment;
+  std::vector<Vec3>& S = ws_.first_moment;
+  std::vector<double>& N = ws_.ends;
+  for (int i = 0; i < n; ++i) {
+    S[i] = f.tail_world[i] - f.head_world[i];  // the head adds 0 about itself
+    Q[i] = S[i] * S[i].transpose();
+    N[i] = 2.0;
+  }
+  double scale = 2.0 * n;
+  const auto shift = [&](int c, const Vec3& dv, Mat3& Qo, Vec3& So) {
+    Qo += Q[c] + S[c] * dv.transpose() + dv * S[c].transpose() + N[c] * dv * dv.transpose();
+    So += S[c] + N[c] * dv;
+  };
+  const auto axes_max = [&](const Mat3& Qj, int bone) {
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 a = f.orient_world[bone] * Vec3::Unit(k);
+      scale = std::max(scale, Qj.trace() - a.dot(Qj * a));
+    }
+  };
+  for (int i = n - 1; i > 0; --i) {
+    axes_max(Q[i], i);
+    const int p = rig_.bone_parent[i];
+    shift(i, f.head_world[i] - f.head_world[p], Q[p], S[p]);
+    N[p] += N[i];
+  }
+  // the root turns about its centre of mass
+  Mat3 Q0 = Mat3::Zero();
+  Vec3 S0 = Vec3::Zero();
+  shift(0, f.head_world[0] - state_.com_world[0], Q0, S0);
+  axes_max(Q0, 0);
+  end_damper_scale_ = scale;
+}
+
+}  // namespace physik
