@@ -9,7 +9,7 @@
 //                            torsion torque (k x excess about each rest axis)
 //   implicit-auto-gradient   the same with the torsion potential's exact gradient
 // and ends converged (at rest, the run monitor's rule), not converged (still moving at the step
-// cap), diverged, or refused (the scene or run rejected as input, e.g. damping auto's bone cap;
+// cap), diverged, or refused (the scene or run rejected as input;
 // a refusal counts as a failure). The targets follow one fixed rule, outside_rigs.h.
 //   rigs/*.json, scenes/*.json   the converted rigs and the scenes (`physik simulate` runs them)
 //   runs.csv                     one row per rig x scene x configuration

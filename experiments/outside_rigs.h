@@ -79,8 +79,8 @@ struct RunResult {
   std::string refusal;           // the InputError's message when refused
 };
 // Load the scene file with the configuration's overrides and run it, as `physik simulate SCENE
-// --set ...` does. An InputError while loading or running (the scene refused, e.g. damping
-// auto's bone cap) is the outcome kRefused, its message kept; any other error propagates.
+// --set ...` does. An InputError while loading or running (the scene refused) is the outcome
+// kRefused, its message kept; any other error propagates.
 RunResult run_configuration(const std::string& scene_path, const Configuration& config);
 
 // The same rig up to bone names and a rigid translation: equal bone counts and parents, and

@@ -24,57 +24,46 @@
 // skipped (on fig5_running the slowest ones are such rotations, and c = 0 from them left the
 // translation undamped). 0 if there is none.
 //
-// The solver: Lanczos on the spectral transformation F = (K + s M)^-1 K, s > 0, in O(n) per
-// step. No dense matrix is formed: K x, M x, D1 x, Dr x are tree passes and (K + s M)^-1 the
-// articulated-body recursion with augmented inertias (mode_operators.h).
-//   Why F. Every mode phi_i of K phi = w^2 M phi is an eigenvector of F with the eigenvalue
-//   mu_i = w_i^2 / (w_i^2 + s), in [0, 1); F is self-adjoint in the M inner product
-//   (M F = M Phi diag(mu) Phi^T M is symmetric). The zero modes, null(K), have mu = 0 exactly,
-//   and F x has no component along them for any x (F x = (K + sM)^-1 K x, and
-//   phi_0^T M F x = mu_0 phi_0^T M x = 0): range(F) is the M-orthogonal complement of null(K).
-//   So Lanczos started from F r never meets the zero modes, however many (thousands on a long
-//   free chain: every twist and every DOF no spring touches), and round-off cannot feed them:
-//   each step applies F again, which annihilates what the last one left there (relative
-//   size ~ eps w^2_max / s per step, never amplified). The lowest constrained modes are then
-//   the low end of F's spectrum on range(F), an extreme one, where Lanczos converges first;
-//   on a rig with r constrained modes the Krylov space is range(F) after r steps, exactly (a
-//   chain with one control point: 3).
+// The solver: Lanczos on the spectral transformation F = (K + s M)^-1 K, s > 0, O(n) per step,
+// its answer certified by counting modes; no dense matrix is formed: K x, M x, D1 x, Dr x are
+// tree passes and (K + s M)^-1 the articulated-body recursion with augmented inertias
+// (mode_operators.h).
+//   Why F. Every mode phi_i is an eigenvector of F with mu_i = w_i^2 / (w_i^2 + s) in [0, 1);
+//   F is self-adjoint in the K (semi-)inner product (K F = K (K + s M)^-1 K is symmetric). The
+//   zero modes, null(K), have mu = 0 and are invisible to K's inner product, and F x has no
+//   part on them: Lanczos started from F r never meets them, however many (thousands on a long
+//   free chain: every twist and every DOF no spring touches). The slowest constrained modes
+//   are the low end of F's spectrum on range(F), an extreme one; on a rig with r constrained
+//   modes range(F) is spanned after r steps (a chain with one control point: 3).
 //   Alternatives. Shift-and-invert (K - sigma M)^-1 M (inverse iteration, Spectra's or ARPACK's
-//   shift-invert mode) puts null(K) at 1 / -sigma, a large eigenvalue of the wrong sign that
-//   round-off keeps feeding, and K - sigma M is indefinite, which the recursion's pivots do not
-//   allow. (K + s M)^-1 M puts null(K) at the top, 1 / s: the end Lanczos and LOBPCG find first.
-//   LOBPCG minimises the Rayleigh quotient, whose minimum is 0 on null(K): it would need a
-//   projection onto range(K) every step, which is F again. Spectra is not used: its modes are
-//   these transformations, and its restarts with F would filter toward 0 (the wanted end).
-//   The shift. Lanczos converges on mu_1 at a rate set by (mu_2 - mu_1) / (mu_max - mu_1) =
-//   (w_2^2 - w_1^2) (w_max^2 + s) / ((w_2^2 + s) (w_max^2 - w_1^2)) ~ (w_2^2 - w_1^2) /
-//   (w_2^2 + s): within 2x of the best for any s <= w_1^2, and slow for s >> w_1^2. Round-off
-//   left on null(K) grows as 1 / s. So s starts at the Rayleigh quotient of a random vector,
-//   and after 12 steps is moved to half the lowest constrained Ritz value if it lies outside
-//   [w_1^2 / 64, 2 w_1^2] (a restart from the lowest Ritz vectors).
-//   Full reorthogonalisation (classical Gram-Schmidt twice, M inner product) keeps the basis
-//   orthogonal, so Ritz values neither repeat nor go missing. A breakdown (the next vector
-//   below 1e-9 of F q) means an invariant subspace: the run continues from a fresh F r
-//   orthogonalised against the basis, and ends, with every constrained mode found, when that
-//   has less than 1e-6 of its norm left.
-//   Convergence. A Ritz pair (theta, y = Q s) has the residual ||F y - theta y||_M =
-//   beta_m |s_m|; it is accepted when that is below 1e-10 of its distance to the other Ritz
-//   values (the vector's error angle is at most residual / gap), or below 1e-13. The pairs are
-//   taken in ascending order, as the rule walks the modes: w^2 and the quadratic forms from the
-//   Ritz vector's Rayleigh quotients (y^T K y / y^T M y, y^T D1 y / y^T M y, ...). The answer
-//   is final once every Ritz value below it is converged (or a zero mode). w^2_max for the
-//   zero-mode threshold is the top Ritz value (a lower bound that only matters for a mode
-//   within a factor of it of 1e-9 w^2_max).
-//   Repeated modes. One Krylov vector sees one vector of each eigenspace. A mode repeated by a
-//   symmetry of the rig (a straight chain's two bending planes) has, by that symmetry, the same
-//   phi^T D phi over its eigenspace, so one vector gives the rule's answer; an accidentally
-//   repeated pair with different quadratic forms leaves the rule's answer depending on the
-//   basis chosen inside the eigenspace (for the dense path too).
-// Cost: per step one K product, one solve, three M products (reorthogonalisation, norm), O(n),
-// and O(m n) for reorthogonalisation against m vectors; memory m n. The basis is capped (at
-// most 400 vectors and about 32 MB); past it the run restarts from the lowest Ritz vectors.
-// Called at the start and when targets change, not per step: it allocates (the operators'
-// per-bone buffers and the Krylov basis).
+//   mode) puts null(K) at -1 / sigma, a large eigenvalue that round-off keeps feeding;
+//   (K + s M)^-1 M puts it at the top, 1 / s, the end Lanczos and LOBPCG find first; LOBPCG's
+//   Rayleigh quotient has its minimum 0 on null(K). Spectra is not used: its restarts would
+//   filter toward 0, the wanted end of F.
+//   Details (linear_modes.cpp): full reorthogonalisation (classical Gram-Schmidt twice); the
+//   shift starts at a Rayleigh quotient in range(F) and moves to the next candidate's w^2 on a
+//   restart; converged Ritz vectors the rule skipped are locked out of later runs; Ritz
+//   vectors are purified (F y / theta, no part on null(K)); a Ritz pair is accepted when its
+//   residual is below 1e-10 of its gap to the other Ritz values; w^2 and the quadratic forms
+//   are the Ritz vector's Rayleigh quotients (y^T K y / y^T M y, ...). w^2_max for the
+//   zero-mode threshold is the top Ritz value (a lower bound).
+//   Certificate. The modes below any sigma > 0 are counted exactly in O(n) from the signs of
+//   the recursion's pivots of K - sigma M (Sylvester's law of inertia, mode_operators.h). The
+//   answer stands when the count between the count's floor (1e-6 w^2_max: below about 1e-8 the
+//   zero modes' round-off makes the count unreliable) and the answer's w^2 equals the modes
+//   Lanczos walked there. Otherwise (a mode Lanczos missed, a repeated mode, of which one
+//   Krylov vector sees only one, or no convergence in 16 runs) the answer is the walk's: each
+//   mode above the floor in ascending order, its w^2 by bisection on the count, its vector by
+//   inverse iteration (K - sigma M)^-1 M just below it, until the rule finds one (about 50
+//   counts per mode walked). Modes between the zero-mode threshold and the floor are walked
+//   only by Lanczos.
+//   Repeated modes. A mode repeated by a symmetry of the rig (a straight chain's two bending
+//   planes) has by that symmetry the same phi^T D phi over its eigenspace, so one vector gives
+//   the rule's answer, counted with its multiplicity.
+// Cost: per Lanczos step one solve and two K products, O(n), and O(m n) for reorthogonalisation
+// against m vectors (at most 300 and about 32 MB); per count one backward pass. Called at the
+// start and when targets change, not per step; the buffers are the state's (SimState::modes),
+// sized at the first call.
 // The dense path, O(n^3), stays as the reference (linear_modes_dense.h).
 // Units: kg, N/m, N s/m, rad/s.
 #pragma once
@@ -98,6 +87,9 @@ struct LinearModes {
   int skipped = 0;                // constrained modes below it that the rule skipped
   int iterations = 0;             // iterative path: Lanczos steps (shifted solves), all runs
   int runs = 0;                   // iterative path: Lanczos runs (1 + restarts)
+  int counts = 0;                 // iterative path: counts of the modes below a w^2
+  bool walked = false;            // iterative path: the answer is the walk's (Lanczos's was not
+                                  // certified)
 };
 
 // The modes at the state's pose (frames, com, pose) with the springs pulling toward

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include <Eigen/Eigenvalues>
+
 #include "physik/engine/control_springs.h"
 #include "physik/engine/implicit_step.h"
 #include "physik/engine/state.h"
@@ -133,12 +135,11 @@ void ModeOperators::set_shift(double s) {
   d.joint_blocks = !ws_.torsion.empty();
 }
 
-void ModeOperators::solve(const VecX& b, VecX& x) {
-  const int n = rig_.nbone;
+// the recursion's inertias of M + K / s: the rigid inertias plus K's point elements over s (the
+// balls' blocks are set by set_shift); every bias force 0
+void ModeOperators::load_inertias() {
   ArticulatedBodyData& d = ws_.articulated;
-  // rigid inertias plus K's point elements over s; b as external torques: b_i on bone i, -b_i on
-  // its parent (bias force = -external wrench)
-  for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < rig_.nbone; ++i) {
     d.inertia_art[i] = spatial_inertia(rig_.bone_mass[i], d.inertia_com_world[i],
                                        state_.com_world[i] - d.point_world[i]);
     d.bias_force[i].setZero();
@@ -146,6 +147,38 @@ void ModeOperators::solve(const VecX& b, VecX& x) {
   for (const ModePointElement& e : ws_.springs) {
     add_point_inertia(e.stiffness / shift_, e.offset, d.inertia_art[e.bone]);
   }
+}
+
+// H = M - K / sigma (the shift -sigma) is -(K - sigma M) / sigma, so the modes below sigma are
+// H's positive eigenvalues: nv minus the negative eigenvalues of H's pivots (Sylvester; the
+// pivots of the backward pass, whose congruence H = L diag(pivots) L^T the header cites)
+int ModeOperators::count_below(double sigma) {
+  const double saved = shift_;
+  set_shift(-sigma);
+  load_inertias();
+  ArticulatedBodyData& d = ws_.articulated;
+  articulated_backward_pass(rig_, d);
+  int negative = 0;
+  Eigen::SelfAdjointEigenSolver<Mat3> eig3;
+  for (int i = 1; i < rig_.nbone; ++i) {
+    // D^-1 has D's signs; K is symmetric, so D is up to round-off
+    eig3.compute(0.5 * (d.D_inv[i] + d.D_inv[i].transpose()), Eigen::EigenvaluesOnly);
+    negative += static_cast<int>((eig3.eigenvalues().array() < 0.0).count());
+  }
+  Mat6 root = d.inertia_art[0].matrix();
+  if (d.joint_blocks) root.bottomLeftCorner<3, 3>() = d.inertia_lower[0];
+  const Eigen::SelfAdjointEigenSolver<Mat6> eig6(0.5 * (root + root.transpose()),
+                                                 Eigen::EigenvaluesOnly);
+  negative += static_cast<int>((eig6.eigenvalues().array() < 0.0).count());
+  set_shift(saved);
+  return nv_ - negative;
+}
+
+void ModeOperators::solve(const VecX& b, VecX& x) {
+  const int n = rig_.nbone;
+  ArticulatedBodyData& d = ws_.articulated;
+  // b as external torques: b_i on bone i, -b_i on its parent (bias force = -external wrench)
+  load_inertias();
   d.bias_force[0] << -b.segment<3>(3), -b.head<3>();
   for (int i = 1; i < n; ++i) {
     d.bias_force[i].head<3>() -= b.segment<3>(ball_dof(i));

@@ -29,7 +29,16 @@
 // over s (add_point_inertia), and the balls' blocks over s as joint blocks, in articulated_body.h's
 // backward and forward passes at zero velocity (every bias acceleration 0); b enters as external
 // torques, b_i on bone i and -b_i on its parent (so that J^T of them is b), and the root's
-// (force; torque); x is read from the spatial accelerations.
+// (force; torque); x is read from the spatial accelerations. A negative s is allowed: the
+// recursion needs only invertible pivots.
+// Count: the backward pass eliminates each ball's coordinates in turn, leaves first, and passes
+// the Schur complement of its pivot on to the parent (articulated_body.h, pass 2), so
+// H = L diag(P) L^T with unit block-triangular L and the pivots P: each ball's 3x3 D_i and the
+// root's 6x6 I^A_0.
+// By Sylvester's law of inertia H has as many negative eigenvalues as the pivots together;
+// with H = M - K / sigma this counts the modes below sigma (the Wittrick-Williams count:
+// W. H. Wittrick, F. W. Williams, Q. J. Mech. Appl. Math. 24(3), 1971; B. N. Parlett, The
+// Symmetric Eigenvalue Problem, 1998, sec. 3.3, spectrum slicing).
 //
 // The buffers live in a ModeWorkspace, which the state keeps (SimState::modes): sized at the
 // first update, reused at every later one (the rig does not change during a run).
@@ -86,8 +95,12 @@ class ModeOperators {
   // the shift s > 0 of the solve
   void set_shift(double s);
   double shift() const { return shift_; }
-  // x = (K + s M)^-1 b; no allocation once x has the size
+  // x = (K + s M)^-1 b; no allocation once x has the size. s < 0 is allowed (inverse
+  // iteration) as long as no pivot is singular
   void solve(const VecX& b, VecX& x);
+  // the number of modes with w^2 < sigma (sigma > 0; zero modes included), by the signs of the
+  // recursion's pivots of K - sigma M (see the header); keeps the shift
+  int count_below(double sigma);
   // the largest diagonal entry of D1 in the dense path's coordinates (linear_modes_dense.h): the
   // scale of its rule "the end dampers do not reach this mode"
   double end_damper_scale() const { return end_damper_scale_; }
@@ -97,6 +110,7 @@ class ModeOperators {
 
  private:
   void element_wrenches(Matrix which);
+  void load_inertias();
   void compute_end_damper_scale();
 
   const Rig& rig_;

@@ -4,7 +4,7 @@
 //    pins the root's head;
 //  - two of MuJoCo's sample files holding one humanoid (renamed, moved) are the same rig; a mass
 //    or a limit changed makes them differ; a broken file and a duplicate are skipped with reasons;
-//  - a rig past damping auto's bone cap is refused (counted, not run), a small one runs;
+//  - damping auto runs on a long chain (past the dense modes' old 400-bone cap) and a short one;
 //  - the quick run: runs.csv and summary.json agree, every configuration's counts add up to its
 //    runs, the claims are short and their verdicts follow the counts, and the CSV rows of one
 //    converted rig equal a scene built directly in C++ (no JSON, no --set) and run with run_scene.
@@ -114,7 +114,7 @@ TEST(OutsideRigs, ABrokenFileAndADuplicateAreSkippedWithTheirReasons) {
   EXPECT_THROW(sample_files(dir + "/absent"), std::runtime_error);
 }
 
-TEST(OutsideRigs, ARigPastDampingAutosBoneCapIsRefusedAndASmallOneRuns) {
+TEST(OutsideRigs, DampingAutoRunsOnALongChainAndAShortOne) {
   const std::string dir = fresh_dir("refused");
   const auto implicit = [](const char* torque) {
     for (const Configuration& c : configurations()) {
@@ -130,16 +130,13 @@ TEST(OutsideRigs, ARigPastDampingAutosBoneCapIsRefusedAndASmallOneRuns) {
     write_json(scene_json(rig_file, rig, pick_targets(rig, 1), 300), scene_file);
     for (const char* torque : {"axes", "gradient"}) {
       const RunResult r = run_configuration(scene_file, implicit(torque));
-      if (n > 400) {
-        EXPECT_EQ(r.outcome, Outcome::kRefused) << torque;
-        EXPECT_NE(r.refusal.find("up to 400 bones"), std::string::npos) << r.refusal;
-        EXPECT_NE(r.refusal.find(scene_file), std::string::npos) << r.refusal;
-        EXPECT_EQ(r.steps_run, 0);
-      } else {
-        EXPECT_EQ(r.outcome, Outcome::kConverged) << torque;
-        EXPECT_GT(r.damping, 0.0);  // damping auto's choice, not the preset's value
-        EXPECT_NE(r.damping, preset_params("original").damping);
-      }
+      // the long chain need not settle in 300 steps; it must run, and not diverge
+      if (n < 400) EXPECT_EQ(r.outcome, Outcome::kConverged) << torque;
+      EXPECT_NE(r.outcome, Outcome::kRefused) << r.refusal;
+      EXPECT_NE(r.outcome, Outcome::kDiverged) << torque;
+      EXPECT_GT(r.steps_run, 0);
+      EXPECT_GT(r.damping, 0.0);  // damping auto's choice, not the preset's value
+      EXPECT_NE(r.damping, preset_params("original").damping);
     }
   }
 }

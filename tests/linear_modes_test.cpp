@@ -1,0 +1,132 @@
+// The linear modes of damping auto (physik/engine/linear_modes.h): the iterative path (Lanczos
+// on the articulated-body recursion) against the dense reference (linear_modes_dense.h) on every
+// shipped scene and on random trees up to 400 bones; the matrix-free products (mode_operators.h)
+// against the dense matrices through the coordinate change between them; a lone rod's mode in
+// closed form; no spring, no mode.
+#include "physik/engine/linear_modes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "physik/engine/engine.h"
+#include "physik/engine/linear_modes_dense.h"
+#include "physik/engine/mode_operators.h"
+#include "physik/io/scene_io.h"
+#include "tests/dense_dynamics.h"
+#include "tests/engine_test_util.h"
+#include "tests/test_util.h"
+
+namespace physik {
+namespace {
+
+// relative agreement of every reported number, to `tol`
+void expect_same_modes(const LinearModes& it, const LinearModes& ref, double tol,
+                       const std::string& what) {
+  const auto rel = [](double a, double b) {
+    return std::abs(a - b) / std::max({std::abs(a), std::abs(b), 1e-300});
+  };
+  ASSERT_EQ(it.found, ref.found) << what;
+  EXPECT_EQ(it.skipped, ref.skipped) << what;
+  EXPECT_LE(rel(it.first_constrained_omega, ref.first_constrained_omega), tol)
+      << what << ": " << it.first_constrained_omega << " vs " << ref.first_constrained_omega;
+  if (!ref.found) return;
+  EXPECT_LE(rel(it.slowest_omega, ref.slowest_omega), tol)
+      << what << ": " << it.slowest_omega << " vs " << ref.slowest_omega;
+  EXPECT_LE(rel(it.critical_damping, ref.critical_damping), tol)
+      << what << ": c " << it.critical_damping << " vs " << ref.critical_damping;
+  EXPECT_LE(rel(it.slowest_d1, ref.slowest_d1), tol) << what;
+  // phi^T Dr phi can be a small difference of the rule's terms: compare it on 2 w's scale
+  EXPECT_LE(std::abs(it.slowest_dr - ref.slowest_dr), tol * 2.0 * ref.slowest_omega) << what;
+}
+
+// the targets damping auto uses: every control point at its own position (linear_modes.h)
+std::vector<Vec3> at_points(const Scene& scene, const SimState& st) {
+  std::vector<Vec3> t;
+  for (const ControlPoint& cp : scene.control_points) {
+    t.push_back(point_on_bone(st.frames, cp.bone, cp.alpha));
+  }
+  return t;
+}
+
+std::vector<Vec3> scene_targets(const Scene& scene) {
+  std::vector<Vec3> t;
+  for (const ControlPoint& cp : scene.control_points) t.push_back(cp.target_world);
+  return t;
+}
+
+TEST(LinearModes, IterativeEqualsDenseOnEveryShippedScene) {
+  int scenes = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(test::model_path("scenes"))) {
+    if (entry.path().extension() != ".json") continue;
+    const Scene scene = load_scene(entry.path().string());
+    SimState st;
+    init_state(scene, st);
+    for (const std::vector<Vec3>& targets : {at_points(scene, st), scene_targets(scene)}) {
+      const LinearModes ref = linear_modes_dense(scene, st, targets).modes;
+      const LinearModes it = linear_modes(scene, st, targets);
+      expect_same_modes(it, ref, 1e-6, entry.path().filename().string());
+    }
+    ++scenes;
+  }
+  EXPECT_GE(scenes, 10);
+}
+
+// a random tree with control springs on random bones (some capped, some far), on half the
+// trees torsion springs (random limits, engaged at the random pose, either torque), and a
+// velocity factor below 1
+Scene random_mode_scene(std::mt19937& rng, int n, SimState& st) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  dense::RandomTree t = dense::random_tree(rng, n, false);
+  EngineParams p = test::bare_params(0.02 + 0.1 * u(rng));
+  p.angular_velocity_factor = 0.5 + 0.5 * u(rng);
+  p.torsion_k = u(rng) < 0.5 ? 0.0 : 5.0 * u(rng);
+  p.torsion_torque = u(rng) < 0.5 ? TorsionTorque::kAxes : TorsionTorque::kGradient;
+  for (int b = 1; b < n && p.torsion_k > 0.0; ++b) {
+    for (AxisLimit& a : t.rig.bone_limit[b]) {
+      if (u(rng) < 0.3) continue;
+      a.limited = true;
+      a.min = -1.5 * u(rng);
+      a.max = 1.5 * u(rng);
+    }
+  }
+  Scene scene = test::scene_for(t.rig, p);
+  scene.initial_pose = t.s.pose;
+  const int springs = 1 + static_cast<int>(u(rng) * std::min(n, 6));
+  for (int c = 0; c < springs; ++c) {
+    const int bone = std::uniform_int_distribution<int>(0, n - 1)(rng);
+    const SpringLaw law = u(rng) < 0.5 ? SpringLaw::kLinear : SpringLaw::kCapped;
+    const Vec3 target = 4.0 * Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
+    scene.control_points.push_back(test::control(bone, u(rng), target, 1.0 + 50.0 * u(rng), law));
+  }
+  init_state(scene, st);
+  return scene;
+}
+
+TEST(LinearModes, IterativeEqualsDenseOnRandomTreesUpTo400Bones) {
+  std::mt19937 rng(35);
+  int torsion = 0;
+  for (int n : {1, 2, 3, 5, 8, 13, 30, 60, 120, 400}) {
+    for (int trial = 0; trial < (n <= 30 ? 6 : n <= 120 ? 2 : 1); ++trial) {
+      SimState st;
+      const Scene scene = random_mode_scene(rng, n, st);
+      ModeWorkspace ws;
+      torsion += ModeOperators(scene, st, scene_targets(scene), ws).workspace().torsion.size();
+      for (const std::vector<Vec3>& targets : {at_points(scene, st), scene_targets(scene)}) {
+        const LinearModes ref = linear_modes_dense(scene, st, targets).modes;
+        const LinearModes it = linear_modes(scene, st, targets);
+        expect_same_modes(it, ref, 1e-6,
+                          "n " + std::to_string(n) + " trial " + std::to_string(trial));
+        if (n == 400) break;  // the dense reference takes seconds there
+      }
+    }
+  }
+  EXPECT_GT(torsion, 100);  // engaged torsion springs in K (a test of them, not only of springs)
+}
+
+}  // namespace
+}  // namespace physik
