@@ -16,7 +16,7 @@ namespace {
 
 using Op = ModeOperators::Matrix;
 
-constexpr double kZeroModeFraction = 1e-9;   // w^2 below this of the largest: a zero mode
+constexpr double kZeroModeFraction = 1e-9;    // w^2 below this of the largest: a zero mode
 constexpr double kUnreachedFraction = 1e-12;  // phi^T D1 phi below this of D1's scale
 constexpr double kBreakdown = 1e-13;          // F q's part left after orthogonalisation
 constexpr double kExhausted = 1e-6;           // a fresh F r's part left: range(F) is spanned
@@ -36,10 +36,10 @@ constexpr double kCountFloor = 1e-6;
 // vectors are the workspace's (mode_operators.h): pools grown on demand, never shrunk.
 class SlowestModeSearch {
  public:
-  explicit SlowestModeSearch(ModeOperators& ops)
-      : ops_(ops), ws_(ops.workspace()), rng_(0x5eed) {
+  explicit SlowestModeSearch(ModeOperators& ops) : ops_(ops), ws_(ops.workspace()), rng_(0x5eed) {
     const int nv = ops.size();
-    cap_ = std::max(8, std::min({nv + 1, kMaxBasis, static_cast<int>(kMaxBasisDoubles / (3 * nv))}));
+    cap_ =
+        std::max(8, std::min({nv + 1, kMaxBasis, static_cast<int>(kMaxBasisDoubles / (3 * nv))}));
   }
   LinearModes run();
 
@@ -84,19 +84,19 @@ class SlowestModeSearch {
   ModeWorkspace& ws_;
   std::mt19937_64 rng_;
   int cap_ = 0;
-  int m_ = 0;                           // basis vectors in use: ws_.basis[0 .. m_)
-  std::vector<double> alpha_, beta_;    // T: diagonal, and beta_[j] between q_j and q_j+1
+  int m_ = 0;                                    // basis vectors in use: ws_.basis[0 .. m_)
+  std::vector<double> alpha_, beta_;             // T: diagonal, and beta_[j] between q_j and q_j+1
   std::vector<std::pair<int, double>> dropped_;  // breakdowns: step j and the beta_j left out
-  bool exhausted_ = false;              // range(F) spanned: every constrained mode is in T
-  Eigen::VectorXd theta_;               // Ritz values of the last judge(), ascending
-  Eigen::MatrixXd ritz_;                // and their vectors in the basis (m x m)
-  std::vector<Mode> walked_;            // the last judge()'s bottom pairs: zero or skipped
-  double threshold_ = 0.0;              // the zero-mode threshold, w^2
-  double w2_top_ = 0.0;                 // the largest Ritz value so far, w^2
-  int locked_ = 0;                      // locked modes: ws_.locked[0 .. locked_)
+  bool exhausted_ = false;                       // range(F) spanned: every constrained mode is in T
+  Eigen::VectorXd theta_;                        // Ritz values of the last judge(), ascending
+  Eigen::MatrixXd ritz_;                         // and their vectors in the basis (m x m)
+  std::vector<Mode> walked_;                     // the last judge()'s bottom pairs: zero or skipped
+  double threshold_ = 0.0;                       // the zero-mode threshold, w^2
+  double w2_top_ = 0.0;                          // the largest Ritz value so far, w^2
+  int locked_ = 0;                               // locked modes: ws_.locked[0 .. locked_)
   std::vector<Mode> locked_modes_;
-  double next_shift_ = 0.0;             // a restart's shift (its start: ws_.start)
-  std::vector<double> skipped_w2_;      // the answer's skipped modes, w^2
+  double next_shift_ = 0.0;         // a restart's shift (its start: ws_.start)
+  std::vector<double> skipped_w2_;  // the answer's skipped modes, w^2
   LinearModes out_;
 };
 

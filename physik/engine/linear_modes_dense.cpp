@@ -45,7 +45,8 @@ DenseModeMatrices dense_mode_matrices(const Scene& scene, const SimState& s,
   const Rig& rig = scene.rig;
   const EngineParams& prm = scene.params;
   const int nv = nv_of(rig);
-  DenseModeMatrices out{MatX::Zero(nv, nv), MatX::Zero(nv, nv), MatX::Zero(nv, nv), MatX::Zero(nv, nv)};
+  DenseModeMatrices out{MatX::Zero(nv, nv), MatX::Zero(nv, nv), MatX::Zero(nv, nv),
+                        MatX::Zero(nv, nv)};
   MatX &M = out.M, &K = out.K, &D1 = out.D1, &Dr = out.Dr;
   MatX Jw, Jp, Jwp, Jdummy;
   const double rot = (1.0 - prm.angular_velocity_factor) / prm.dt;

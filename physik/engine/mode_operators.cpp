@@ -13,7 +13,9 @@ namespace physik {
 
 namespace {
 
-int ball_dof(int bone) { return 3 + 3 * bone; }  // first coordinate of a ball (bone > 0)
+int ball_dof(int bone) {
+  return 3 + 3 * bone;
+}  // first coordinate of a ball (bone > 0)
 
 // adds the wrench about o of a point element K at offset r moving with V = (w; v at o)
 inline void add_point_wrench(const Mat3& K, const Vec3& r, const Vec6& V, Vec6& W) {

@@ -61,22 +61,22 @@ using VecX = Eigen::VectorXd;
 // A control spring's element: K_c at offset r from its body's point.
 struct ModePointElement {
   int bone = 0;
-  Vec3 offset = Vec3::Zero();  // rig units, from o_bone, world
+  Vec3 offset = Vec3::Zero();     // rig units, from o_bone, world
   Mat3 stiffness = Mat3::Zero();  // N/m, world
 };
 
 // Every buffer of the linear modes (mode_operators.h, linear_modes.cpp).
 struct ModeWorkspace {
-  ArticulatedBodyData articulated;          // the recursion's buffers at zero velocity
-  std::vector<Vec6> velocity, wrench;       // (nbone) product passes
-  std::vector<Mat3> second_moment;          // (nbone) end-damper scale, per subtree's bone
-  std::vector<Vec3> first_moment;           //         ends: sum d d^T, sum d, and their count
+  ArticulatedBodyData articulated;     // the recursion's buffers at zero velocity
+  std::vector<Vec6> velocity, wrench;  // (nbone) product passes
+  std::vector<Mat3> second_moment;     // (nbone) end-damper scale, per subtree's bone
+  std::vector<Vec3> first_moment;      //         ends: sum d d^T, sum d, and their count
   std::vector<double> ends;
-  std::vector<ModePointElement> springs;    // (ncontrol) K's point elements
+  std::vector<ModePointElement> springs;      // (ncontrol) K's point elements
   std::vector<std::pair<int, Mat3>> torsion;  // K's ball blocks (engaged springs), N m/rad
   std::vector<VecX> basis, basis_k, basis_f;  // Lanczos: q_j, K q_j, F q_j (grown, never shrunk)
-  std::vector<VecX> locked, locked_k;       // converged modes kept out of the Krylov space, K y
-  VecX w, kw, my, ay, start;                // (nv) scratch vectors
+  std::vector<VecX> locked, locked_k;         // converged modes kept out of the Krylov space, K y
+  VecX w, kw, my, ay, start;                  // (nv) scratch vectors
 };
 
 class ModeOperators {
