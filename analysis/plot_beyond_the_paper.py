@@ -22,7 +22,7 @@ def stability_panel(ax, t, scheme):
     ax.set_xlabel("dt (s)")
     ax.set_ylabel("damping c (N s/m)")
     ax.set_title("%s: pinhead_two_hands" % scheme, fontsize=9)
-    ax.legend(fontsize=8, loc="upper right")
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=3, frameon=False)
 
 
 def insensitivity_panel(ax, t):

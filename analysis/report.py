@@ -148,6 +148,28 @@ def shorten(text, limit):
     return head + "\u2026"
 
 
+def final_parenthetical(text):
+    """The index where text's closing parenthetical starts ("... (far target, cap c = 1)"), or
+    None: what tells apart the rows of one claim made per case."""
+    if not text.endswith(")"):
+        return None
+    depth = 0
+    for k in range(len(text) - 1, -1, -1):
+        depth += {")": 1, "(": -1}.get(text[k], 0)
+        if depth == 0:
+            return k
+    return None
+
+
+def shorten_claim(text, limit):
+    """A claim within limit characters, keeping its closing parenthetical when that is short."""
+    k = final_parenthetical(text)
+    if len(text) <= limit or k is None or len(text) - k > limit // 2:
+        return shorten(text, limit)
+    tail = text[k:]
+    return shorten(text[:k].rstrip(), limit - len(tail) - 1) + " " + tail
+
+
 def verdict(holds):
     """The verdict word of a claim's holds cell ("partly (only in the transient)" -> partly)."""
     return holds.split(" (", 1)[0]
@@ -157,11 +179,11 @@ def summary_row(name, c):
     """One summary-table row of at most ROW_MAX characters: experiment, claim, verdict and a
     measured phrase, the claim and the phrase shortened to fit."""
     claim = "`%s` " % c["name"] + c["claim"] if c.get("name") else c["claim"]
-    frame = "| [%s](#%s) |  | %s |  |" % (name, name, verdict(c["holds"]))
+    frame = "| %s |  | %s |  |" % (name, verdict(c["holds"]))
     room = ROW_MAX - len(frame)
-    claim = shorten(claim, max(room - min(len(c["measured"]), 80), room // 2))
-    return "| [%s](#%s) | %s | %s | %s |" % (name, name, claim, verdict(c["holds"]),
-                                            shorten(c["measured"], room - len(claim)))
+    claim = shorten_claim(claim, max(room - min(len(c["measured"]), 70), room // 2))
+    return "| %s | %s | %s | %s |" % (name, claim, verdict(c["holds"]),
+                                     shorten(c["measured"], room - len(claim)))
 
 
 def headline_lines(sections, readme):

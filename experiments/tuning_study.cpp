@@ -155,16 +155,27 @@ struct VariantResult {
   int best_grid_steps() const { return best_c > 0 ? best_steps : -1; }
 };
 
-// the sweep over the grid: one sweep.csv row per damping
+// the sweep over the grid: one sweep.csv row per damping. first_div is the first c that diverges
+// above every settling c ("too large diverges"; a grid also diverges at its small end, where the
+// dampers are too weak for the springs), or the first diverging c when none settles.
 void sweep_grid(VariantResult& r, const Scene& scene, const std::vector<double>& grid, std::ostream& sweep) {
+  double last_settled = -1;
+  std::vector<double> diverged;
   for (double c : grid) {
     const Point p = run_at(scene, c);
     sweep << r.v.label() << "," << r.v.scale << "," << r.v.density << "," << c << "," << p.steps << ","
           << (p.diverged ? 1 : 0) << "\n";
-    if (p.diverged && r.first_div < 0) r.first_div = c;
+    if (p.diverged) diverged.push_back(c);
+    if (!p.diverged && p.steps >= 0) last_settled = c;
     if (!p.diverged && p.steps >= 0 && p.steps < r.best_steps) {
       r.best_steps = p.steps;
       r.best_c = c;
+    }
+  }
+  for (double c : diverged) {
+    if (c > last_settled) {
+      r.first_div = c;
+      break;
     }
   }
 }

@@ -56,7 +56,7 @@ class ReportTest(unittest.TestCase):
                 "figures": ["f.png"]}}))
             report.main([d])
             text = open(os.path.join(d, "REPORT.md")).read()
-            self.assertIn("| [exp](#exp) | c1 | no | m1 |", text)
+            self.assertIn("| exp | c1 | no | m1 |", text)
             self.assertIn("- **c1**: no. m1", text)  # whole, in the experiment's section
             self.assertIn("](exp/f.png)", text)
 
@@ -71,12 +71,17 @@ class ReportTest(unittest.TestCase):
                   json.dumps({"report": {"title": "X", "claims": claims}}))
             readme = write(d, "README.md", "<!-- headline: exp/long-one -->\n")
             text = report.render(report.collect(d), None, readme)
-            rows = [l for l in text.splitlines() if l.startswith("| [exp](#exp) |")]
+            rows = [l for l in text.splitlines() if l.startswith("| exp |")]
             self.assertEqual(len(rows), 2)
             self.assertTrue(all(len(r) <= report.ROW_MAX for r in rows), rows)
             self.assertIn("\u2026", rows[0])
             self.assertIn("| partly |", rows[0])
             self.assertIn(long_measured, text)  # the section has it whole
+            case = "Fig 6: linear springs over-bend a limited elbow more than capped ones " \
+                   "(near target (the figure's geometry), cap c = 0.1)"
+            short = report.shorten_claim(case, 105)
+            self.assertLessEqual(len(short), 105)
+            self.assertTrue(short.endswith("(near target (the figure's geometry), cap c = 0.1)"), short)
             self.assertIn("(only in the transient)", text)
             self.assertIn("README's headline cites claim `exp/long-one`: **partly", text)
             write(d, "README.md", "<!-- headline: exp/missing -->\n")
