@@ -52,9 +52,9 @@
 //
 // Extension points, for the implicit step (docs/engine.md "The implicit scheme":
 // M + h D + h^2 K is the same tree with augmented inertias): after articulated_velocity_pass, a
-// caller may add spatial inertia to inertia_art[i] (SpatialInertia::add; about o_i, world axes), set joint_block[i] (world axes) with
-// joint_blocks = true, and change bias_force, before articulated_backward_pass; nothing else
-// changes.
+// caller may add spatial inertia to inertia_art[i] (SpatialInertia::add; about o_i, world axes),
+// set joint_block[i] (world axes) with joint_blocks = true, and change bias_force, before
+// articulated_backward_pass; nothing else changes.
 //
 // No allocation per step: every buffer is sized once by resize_articulated_data.
 // Units: kg, kg m^2, N, N m, rig units, s, rad.
