@@ -165,7 +165,7 @@ def pose_panels(panels, out_png, views=("front", "side"), suptitle=None, size=3.
             if r == 0:
                 ax.set_title(p.get("title", ""), fontsize=9)
             if p.get("label") or p.get("overlay"):
-                ax.legend(fontsize=7, loc="best")
+                ax.legend(fontsize=8, loc="best")
     if suptitle:
         fig.suptitle(suptitle)
     return save(fig, out_png)

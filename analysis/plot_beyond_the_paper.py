@@ -22,7 +22,7 @@ def stability_panel(ax, t, scheme):
     ax.set_xlabel("dt (s)")
     ax.set_ylabel("damping c (N s/m)")
     ax.set_title("%s: pinhead_two_hands" % scheme, fontsize=9)
-    ax.legend(fontsize=7, loc="upper right")
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=3, frameon=False)
 
 
 def insensitivity_panel(ax, t):
@@ -40,7 +40,7 @@ def insensitivity_panel(ax, t):
     ax.set_xlabel("damping c (N s/m)")
     ax.set_ylabel("steps to converge (x = diverged)")
     ax.set_title("damping insensitivity, dt = 0.05", fontsize=9)
-    ax.legend(fontsize=6)
+    ax.legend(fontsize=8)
 
 
 def large_steps_panel(ax, t):
@@ -60,11 +60,11 @@ def large_steps_panel(ax, t):
     ax.set_xlabel("step")
     ax.set_ylabel("distance to the Ceres equilibrium")
     ax.set_title("large steps are the static solve (elbow)", fontsize=9)
-    ax.legend(fontsize=5)
+    ax.legend(fontsize=8, ncol=2)
 
 
 def plot(folder):
-    fig, axes = pp.plt.subplots(2, 2, figsize=(10, 8))
+    fig, axes = pp.plt.subplots(2, 2, figsize=(12, 9.5))
     smap = pp.read_table(os.path.join(folder, "stability_map.csv"))
     stability_panel(axes[0][0], smap, "explicit")
     stability_panel(axes[0][1], smap, "implicit")

@@ -15,19 +15,35 @@ import physik_plot  # noqa: E402
 from physik_plot import plt  # noqa: E402
 
 
+def window(poses, view, margin=0.25):
+    """One window around every pose in the view, ((x0, x1), (y0, y1)), fitted to the poses' own
+    width and height (not a square: a standing rig is tall and narrow)."""
+    i, j = {"front": (0, 2), "side": (1, 2)}[view]
+    xs = [b[k][i] for bones in poses for b in bones for k in ("head", "tail")]
+    ys = [b[k][j] for bones in poses for b in bones for k in ("head", "tail")]
+    return ((min(xs) - margin, max(xs) + margin), (min(ys) - margin, max(ys) + margin))
+
+
 def plot_frames(folder, frames, out_png, view="side", targets=None):
     """frames: [{"step": int, "file": bones csv}] in order; one panel each; targets: static
     control-point targets [(x, y, z)] drawn as crosses."""
     first = physik_plot.read_bones_csv(os.path.join(folder, frames[0]["file"]))
-    fig, axes = plt.subplots(1, len(frames), figsize=(2.5 * len(frames), 4.2), squeeze=False)
+    poses = [physik_plot.read_bones_csv(os.path.join(folder, f["file"])) for f in frames]
+    (x0, x1), (y0, y1) = window([first] + poses, view)
+    height = 4.2
+    width = max(1.6, height * (x1 - x0) / (y1 - y0) + 0.7)  # each panel as wide as the poses
+    fig, axes = plt.subplots(1, len(frames), figsize=(width * len(frames), height + 0.5),
+                             squeeze=False)
     drawn = [first]
     for k, f in enumerate(frames):
         ax = axes[0][k]
         physik_plot.draw_pose(ax, first, view, color="0.8")
-        drawn.append(physik_plot.read_bones_csv(os.path.join(folder, f["file"])))
+        drawn.append(poses[k])
         physik_plot.draw_pose(ax, drawn[-1], view, color="tab:blue", targets=targets)
         ax.set_title("sit-%d (step %d)" % (k, f["step"]), fontsize=9)
-    physik_plot.same_limits(axes[0], drawn, view)
+        ax.set_aspect("equal", adjustable="box")
+        ax.set_xlim(x0, x1)
+        ax.set_ylim(y0, y1)
     fig.suptitle("Fig 11: sitting from one moving (pelvis) and four static control points, %s view"
                  % view, fontsize=10)
     return physik_plot.save(fig, out_png)

@@ -48,7 +48,7 @@ def plot_timeline(csv_path, out_png):
     for ax in (a1, a2):
         ax.set_xlabel("step")
         ax.grid(True, lw=0.3)
-    a2.legend(fontsize=7, title="k = torsion_k, c = damping", title_fontsize=7)
+    a2.legend(fontsize=8, title="k = torsion_k, c = damping", title_fontsize=8)
     return physik_plot.save(fig, out_png)
 
 

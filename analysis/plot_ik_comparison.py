@@ -57,7 +57,7 @@ def grouped_bars(rows, key, ylabel, path, log=False):
     ax.set_ylabel(ylabel)
     if log:
         ax.set_yscale("log")
-    ax.legend(fontsize=7, ncol=4)
+    ax.legend(fontsize=8, ncol=4)
     ax.grid(True, axis="y", lw=0.3)
     physik_plot.save(fig, path)
     plt.close(fig)

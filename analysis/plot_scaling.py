@@ -41,7 +41,7 @@ def plot(folder):
         ax.set_ylabel("microseconds per step (CPU)")
         ax.set_title("chain" if kind == "chain" else "balanced binary tree")
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=8)
     return pp.save(fig, os.path.join(folder, "scaling.png"))
 
 

@@ -26,22 +26,44 @@ def read_sweep(path):
     return curves
 
 
+def diverged_spans(pts):
+    """The damping intervals to shade as diverged, from the data alone: one interval per run of
+    consecutive diverged grid points (sorted by c), reaching halfway (in log c) to the grid
+    neighbours that did not diverge, or to the grid's end. A settling point is never inside."""
+    pts = sorted(pts)
+    cs = [p[0] for p in pts]
+    spans, k = [], 0
+    while k < len(pts):
+        if not pts[k][2]:
+            k += 1
+            continue
+        j = k
+        while j + 1 < len(pts) and pts[j + 1][2]:
+            j += 1
+        lo = cs[k] if k == 0 else math.sqrt(cs[k - 1] * cs[k])
+        hi = cs[j] if j == len(pts) - 1 else math.sqrt(cs[j] * cs[j + 1])
+        spans.append((lo, hi))
+        k = j + 1
+    return spans
+
+
 def plot_tuning_study(sweep_csv, summary_json, out_png):
     curves = read_sweep(sweep_csv)
     rows = {r["variant"]: r for r in json.load(open(summary_json))["rows"]}
     n = len(curves)
     ncol = min(4, n)
     nrow = int(math.ceil(n / ncol))
-    fig, axes = plt.subplots(nrow, ncol, figsize=(4.2 * ncol, 3.4 * nrow), squeeze=False)
+    fig, axes = plt.subplots(nrow, ncol, figsize=(4.6 * ncol, 3.8 * nrow), squeeze=False)
     for ax, (name, pts) in zip(axes.flat, curves.items()):
-        cs = [p[0] for p in pts]
         ok = [(c, s) for c, s, d in pts if s is not None and not d]
         top = max([s for _, s in ok] + [10]) * 1.5
         if ok:
             ax.plot([c for c, _ in ok], [s for _, s in ok], "o-", color="k", ms=3, label="steps to settle")
+        for k, (lo, hi) in enumerate(diverged_spans(pts)):
+            ax.axvspan(lo, hi, color="tab:red", alpha=0.12, label="diverges" if k == 0 else None)
         div = [c for c, _, d in pts if d]
         if div:
-            ax.axvspan(min(div), max(cs), color="tab:red", alpha=0.12, label="diverges")
+            ax.plot(div, [1.5] * len(div), "x", color="tab:red", ms=5)
         slow = [c for c, s, d in pts if s is None and not d]
         if slow:
             ax.plot(slow, [top] * len(slow), "v", color="tab:gray", ms=4, label="not settled")
@@ -65,7 +87,7 @@ def plot_tuning_study(sweep_csv, summary_json, out_png):
         ax.set_xlabel("damping c (N s/m)")
         ax.set_ylabel("steps to settle")
         ax.grid(True, lw=0.3, which="both")
-        ax.legend(fontsize=6, loc="upper left")
+        ax.legend(fontsize=8, loc="upper left")
     for ax in list(axes.flat)[n:]:
         ax.axis("off")
     physik_plot.save(fig, out_png)

@@ -58,7 +58,7 @@ PAPER_SETTINGS = [
      "{torsion_k}, {torsion_tolerance:%} inside each limit (the original's)", "the original's values"),
     ("control_cap", "not stated", "{control_cap} (the original hard-codes 1)", "the original's value"),
     ("free_rods", "independent rods (text)", "{free_rods} (the original code's: FK from the root)",
-     "free rods drift apart at first order in dt (see README); both are available"),
+     "free rods drift apart at first order in dt (docs/engine.md); both are available"),
     ("knee/elbow range", "0..120 deg (text)", "0..160 deg", "the paper's own rig file says 160"),
 ]
 
@@ -138,27 +138,108 @@ def table_lines(table):
     return out + [""]
 
 
-def render(sections, results=None):
+ROW_MAX = 200  # characters in a row of the summary table; the full claim is in its section
+
+
+def shorten(text, limit):
+    """text within limit characters: whole when it fits, else cut at the last clause or word
+    boundary that fits, with an ellipsis (the section below gives it whole)."""
+    if len(text) <= limit:
+        return text
+    head = text[:max(limit - 1, 1)]
+    for sep in ("; ", ": ", ", ", " "):
+        k = head.rfind(sep)
+        if k >= limit // 2:
+            return head[:k].rstrip(" ;:,") + "\u2026"
+    return head + "\u2026"
+
+
+def final_parenthetical(text):
+    """The index where text's closing parenthetical starts ("... (far target, cap c = 1)"), or
+    None: what tells apart the rows of one claim made per case."""
+    if not text.endswith(")"):
+        return None
+    depth = 0
+    for k in range(len(text) - 1, -1, -1):
+        depth += {")": 1, "(": -1}.get(text[k], 0)
+        if depth == 0:
+            return k
+    return None
+
+
+def shorten_claim(text, limit):
+    """A claim within limit characters, keeping its closing parenthetical when that is short."""
+    k = final_parenthetical(text)
+    if len(text) <= limit or k is None or len(text) - k > limit // 2:
+        return shorten(text, limit)
+    tail = text[k:]
+    return shorten(text[:k].rstrip(), limit - len(tail) - 1) + " " + tail
+
+
+def verdict(holds):
+    """The verdict word of a claim's holds cell ("partly (only in the transient)" -> partly)."""
+    return holds.split(" (", 1)[0]
+
+
+def summary_row(name, c):
+    """One summary-table row of at most ROW_MAX characters: experiment, claim, verdict and a
+    measured phrase, the claim and the phrase shortened to fit."""
+    claim = "`%s` " % c["name"] + c["claim"] if c.get("name") else c["claim"]
+    frame = "| %s |  | %s |  |" % (name, verdict(c["holds"]))
+    room = ROW_MAX - len(frame)
+    claim = shorten_claim(claim, max(room - min(len(c["measured"]), 70), room // 2))
+    return "| %s | %s | %s | %s |" % (name, claim, verdict(c["holds"]),
+                                     shorten(c["measured"], room - len(claim)))
+
+
+def headline_lines(sections, readme):
+    """The README's headline claim (<!-- headline: experiment/name -->) and its verdict here."""
+    if not readme or not os.path.isfile(readme):
+        return []
+    m = re.search(r"<!-- headline: ([a-z0-9_]+)/([a-z0-9-]+) -->", open(readme).read())
+    if not m:
+        return []
+    found = [c for n, _, rep in sections if n == m.group(1) for c in rep.get("claims", [])
+             if c.get("name") == m.group(2)]
+    if not found:
+        return ["README's headline cites claim `%s/%s`, which this run did not report." %
+                m.groups(), ""]
+    return ["README's headline cites claim `%s/%s`: **%s** (%s)." %
+            (m.group(1), m.group(2), found[0]["holds"], found[0]["measured"]), ""]
+
+
+def summary_section(sections, readme):
+    out = ["## Summary", "", "Every claim, its verdict and a short measured phrase; the "
+           "experiment's section has it whole.", ""]
+    out += headline_lines(sections, readme)
+    out += ["| experiment | claim | holds | measured |", "|---|---|---|---|"]
+    for name, _, rep in sections:
+        out += [summary_row(name, c) for c in rep.get("claims", [])]
+    return out + [""]
+
+
+def claims_lines(rep):
+    """An experiment's claims, whole: claim, verdict with its reason, what was measured."""
+    out = []
+    for c in rep.get("claims", []):
+        named = " (`%s`)" % c["name"] if c.get("name") else ""
+        out.append("- **%s**%s: %s. %s" % (c["claim"], named, c["holds"], c["measured"]))
+    return out + ([""] if out else [])
+
+
+def render(sections, results=None, readme=None):
     out = ["# PhysIK reproduction report", "",
            "Written by `analysis/report.py` from `results/*/summary.json` on %s. Every number below "
            "was measured by the run that wrote this file (`make reproduce`)." %
            datetime.datetime.now().strftime("%Y-%m-%d %H:%M"), ""]
-    figures = [(n, f) for n, _, rep in sections for f in rep.get("figures", [])]
-    if figures:
-        out += ["Figures: " + ", ".join("[%s](%s/%s)" % (f, n, f) for n, f in figures), ""]
-    if results:
-        out += settings_section(results, sections)
-    claims = [(n, c) for n, _, rep in sections for c in rep.get("claims", [])]
-    out += ["## Claims", "", "| experiment | paper claim | measured | holds |", "|---|---|---|---|"]
-    for name, c in claims:
-        out.append("| %s | %s | %s | %s |" % (name, c["claim"], c["measured"], c["holds"]))
-    out.append("")
+    out += summary_section(sections, readme)
     for name, summary, rep in sections:
-        out += ["## %s" % rep.get("title", name), ""]
+        out += ['<a id="%s"></a>' % name, "", "## %s" % rep.get("title", name), ""]
         settings = rep.get("settings")
         if settings:
             out.append("Settings: " + ", ".join("%s = %s" % kv for kv in settings.items()))
             out.append("")
+        out += claims_lines(rep)
         for note in rep.get("notes", []):
             out.append("- " + note)
         if rep.get("notes"):
@@ -171,6 +252,8 @@ def render(sections, results=None):
         if results:
             out += motion_lines(results, name)
         out.append("")
+    if results:
+        out += settings_section(results, sections)
     return "\n".join(out) + "\n"
 
 
@@ -196,10 +279,11 @@ def main(argv=None):
     ap.add_argument("--physik", help="the physik binary: write each experiment's viewer page "
                     "(<name>/view.html) from its run folders first")
     args = ap.parse_args(argv)
+    readme = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "README.md")
     sections = collect(args.results)
     if args.physik:
         report_html.make_views(args.results, sections, args.physik)
-    text = render(sections, args.results)
+    text = render(sections, args.results, readme)
     for name, content in (("REPORT.md", text),
                           ("REPORT.html", report_html.to_html(text, args.results))):
         path = os.path.join(args.results, name)

@@ -1,4 +1,4 @@
-// Beyond the paper (issue 14; DESIGN.md "Beyond the paper"): the paper's failure cases with the
+// Beyond the paper (docs/engine.md "The implicit scheme"): the paper's failure cases with the
 // faithful explicit scheme (the paper's Gauss-Seidel passes, semi-implicit Euler; the scenes as
 // shipped) beside `integration: implicit` (linearised backward Euler over the exact articulated
 // solve, physik/engine/implicit_step.h), everything else equal:

@@ -37,7 +37,8 @@ void add_claims(Report& report, const std::vector<double>& cs, const nlohmann::j
             }
             return t;
           }(),
-      n.paper_diverged == 0 ? "yes" : "no");
+      n.paper_diverged == 0 ? "yes" : "no")
+      .named("paper-damping-poses");
   report.claim(
       "Sec. 5: the damping must be hand-picked; too large diverges, too small converges slowly",
       "scenes where the smallest c (" + num(cs.front()) + ") takes over twice the fastest settling: " +

@@ -34,6 +34,15 @@ struct Case {
   nlohmann::json row;
 };
 
+// Every control point's target (world, rig units), for the figure to draw.
+nlohmann::json targets_json(const Scene& scene) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const ControlPoint& cp : scene.control_points) {
+    out.push_back({cp.target_world.x(), cp.target_world.y(), cp.target_world.z()});
+  }
+  return out;
+}
+
 // One target (0 near, 1 far) with one spring law: its table, last frame and over-bends.
 Case run_case(const Context& ctx, int t, const Law& law) {
   Scene scene = scene_named(ctx, law.scene);
@@ -65,7 +74,8 @@ Case run_case(const Context& ctx, int t, const Law& law) {
            {columns::kConverged.name, run.summary.converged},
            {columns::kStepsToConverge.name, run.summary.steps_to_converge},
            {"csv", tag + ".csv"},
-           {"final_frame", frames.back()}};
+           {"final_frame", frames.back()},
+           {"targets_world", targets_json(scene)}};
   if (ctx.log) {
     *ctx.log << "  " << tag << ": final over-bend " << c.final_over << " deg, peak " << c.peak_over
              << ", largest residual/cap " << worst_residual / cap << "\n";

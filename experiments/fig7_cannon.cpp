@@ -39,7 +39,14 @@ nlohmann::json run_law(const Context& ctx, const std::string& law) {
                             {"final_residual", s.final_residuals[0]},
                             {"csv", law + ".csv"},
                             {"frames", frames},
-                            {"frame_steps", run.frame_steps}};
+                            {"frame_steps", run.frame_steps},
+                            // where the control point pulls, for the figure: its bone, its
+                            // fraction along it, its target
+                            {"control_bone", scene.rig.bone_name[scene.control_points[0].bone]},
+                            {"control_alpha", scene.control_points[0].alpha},
+                            {"target_world", {scene.control_points[0].target_world.x(),
+                                              scene.control_points[0].target_world.y(),
+                                              scene.control_points[0].target_world.z()}}};
   if (ctx.log) {
     *ctx.log << "  " << law << ": peak KE " << s.peak_kinetic_energy << " J, converged "
              << s.converged << " at " << s.steps_to_converge << "\n";

@@ -577,7 +577,7 @@ void run(const Context& ctx) {
   report.section("baselines");
   add_classic_claims(report, TableView{table}, big);
   add_other_claims(report, TableView{table}, big);
-  report.section("PhysIK as an IK solver (issue 15)");
+  report.section("PhysIK as an IK solver");
   std::vector<std::string> rigs = {"chain3", "chain10"};
   if (!ctx.quick) rigs.push_back("chain50");
   rigs.push_back("pinhead");
@@ -589,7 +589,7 @@ void run(const Context& ctx) {
 }
 
 const Registration registered{
-    240, {"ik_comparison", "study (issue 7)",
+    240, {"ik_comparison", "study: IK solvers",
           "classic IK solvers, the rotation method, KDL LMA and PhysIK on chains and pinhead", run}};
 
 }  // namespace

@@ -1,5 +1,5 @@
-// Linearisation study (issue 15's chain50 finding; DESIGN.md "Beyond the paper"): the solve mode's
-// rule on the ik_comparison scenes (the effector's target jumped to a random reachable point,
+// Linearisation study (chain50's step count; docs/engine.md "The implicit scheme"): the solve
+// mode's rule on the ik_comparison scenes (the effector's target jumped to a random reachable point,
 // the root's head pinned), with the shipped O(n) implicit step or a dense Newton step of
 // backward Euler (linearisation.h, which gives the equations and the variants).
 //   runs.csv   rig, target, variant: converged, steps, bare steps taken, final residual
@@ -206,7 +206,7 @@ void add_claims(Report& report, const std::vector<StudyRig>& rigs, Cells& cells)
     return rig + ": " + linearisation::variant_name(a) + " " + num(steps(rig, a)) + " vs " +
            linearisation::variant_name(b) + " " + num(steps(rig, b)) + " median steps";
   };
-  report.claim("Issue 15's hypothesis: linearising the velocity products (dC/dv, as MuJoCo's implicit "
+  report.claim("Hypothesis: linearising the velocity products (dC/dv, as MuJoCo's implicit "
                "integrator does) cures chain50's whip: the shipped step with dC/dv added needs at most half "
                "the shipped step's steps",
                pair("chain50", Variant::kShippedDcdv, Variant::kShipped),

@@ -39,7 +39,8 @@
 //                     the pieces: it takes the shipped step's steps). K = (P - M - h D) / h^2,
 //                     with P, M as below and D = -M A_v(pose, 0)
 // and the shipped step with the velocity products' derivative added, what an O(n) recursion with
-// non-symmetric articulated inertias would solve (DESIGN.md "Beyond the paper"):
+// non-symmetric articulated inertias would solve
+// (docs/engine.md "What the linearisation leaves out"):
 //   shipped_dcdv      (P + h C_v) a+ = r, where P a_s = r is the shipped step's system
 //                     (P = M + h D + h^2 K): (1 + h P^-1 M (M^-1 C_v)) a+ = a_s, with
 //                     M^-1 C_v = A_v(pose, 0) - A_v(pose, v) (C is quadratic in v; the dampers

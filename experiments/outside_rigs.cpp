@@ -382,7 +382,8 @@ void add_claims(Report& report, const Tally& d, int nrigs, const TorsionComparis
                    " rigs converged (" + num(100 * d.share(), 3) + "%); " +
                    std::to_string(d.diverged) + " diverged, " + std::to_string(d.not_converged) +
                    " still moving, " + std::to_string(d.refused) + " refused",
-               d.share() >= 0.9 ? "yes" : "no");
+               d.share() >= 0.9 ? "yes" : "no")
+      .named("default-converges");
   const bool more = t.gradient >= t.axes;
   const bool faster = t.axes_steps.empty() || median(t.gradient_steps) <= median(t.axes_steps);
   report.claim(

@@ -1,5 +1,6 @@
 #include "experiments/report.h"
 
+#include <cctype>
 #include <stdexcept>
 
 #include "physik/io/json_fields.h"
@@ -14,6 +15,21 @@ Report& Report::section(const std::string& name) {
 Report& Report::claim(const std::string& text, const std::string& measured,
                       const std::string& holds) {
   claims_.push_back({{"claim", text}, {"measured", measured}, {"holds", holds}});
+  return *this;
+}
+
+Report& Report::named(const std::string& name) {
+  if (claims_.empty()) throw std::logic_error("report: named('" + name + "') before any claim");
+  for (const char ch : name) {
+    if (!(std::islower(static_cast<unsigned char>(ch)) || std::isdigit(static_cast<unsigned char>(ch)) ||
+          ch == '-')) {
+      throw std::logic_error("report: claim name '" + name + "' holds other than a-z, 0-9 and '-'");
+    }
+  }
+  for (const auto& c : claims_) {
+    if (c.value("name", "") == name) throw std::logic_error("report: two claims named '" + name + "'");
+  }
+  claims_.back()["name"] = name;
   return *this;
 }
 

@@ -2,7 +2,8 @@
 // results/REPORT.md:
 //
 //   "report": {"title": "...", "section": "...",
-//              "claims": [{"claim": "...", "measured": "...", "holds": "yes" | "no" | "partly" | "n/a"}],
+//              "claims": [{"claim": "...", "measured": "...", "holds": "yes" | "no" | "partly" | "n/a",
+//                          "name": "..." (when named)}],
 //              "notes": ["..."], "figures": ["x.png"], "settings": {...},
 //              "tables": [{"title": "...", "columns": ["..."], "rows": [[cell, ...]]}]}
 //
@@ -28,6 +29,9 @@ class Report {
   // One claim row: the claim, what was measured, and whether it holds (yes, no, partly, n/a, or
   // one of those with a reason in parentheses).
   Report& claim(const std::string& text, const std::string& measured, const std::string& holds);
+  // Names the last claim, so that prose can cite it as claim `experiment/name` (lower case,
+  // digits and '-'; unique within the experiment). The doc test checks every citation.
+  Report& named(const std::string& name);
   Report& note(const std::string& text);
   Report& figures(const std::vector<std::string>& files);
   // A table report.py renders under the section (markdown); every row has one cell per column.

@@ -423,13 +423,13 @@ double exponent_of(const nlohmann::json& fits, const std::string& kind, const st
 void add_target_claims(Report& report, const Study& st, const nlohmann::json& fits,
                        const nlohmann::json& pin, int largest) {
   const double ratio = pin["exact_over_mj_step"];
-  report.claim("Issue 13 target: on pinhead the exact step takes at most 0.5x mj_step (same run)",
+  report.claim("Target: on pinhead the exact step takes at most 0.5x mj_step (same run)",
                "exact " + num(pin["exact_us"].get<double>()) + " us/step (whole step), mj_step " +
                    num(pin["mj_step_us"].get<double>()) + " us: ratio " + num(ratio),
                ratio <= 0.5 ? "yes" : "no");
   if (const Row* r = find_row(st, "chain", largest, "exact")) {
     const double per_bone = r->m.us_per_step / largest;
-    report.claim("Issue 13 target: " + num(largest, 6) + "-bone chain at most 0.5 us per bone per step (exact)",
+    report.claim("Target: " + num(largest, 6) + "-bone chain at most 0.5 us per bone per step (exact)",
                  num(per_bone) + " us per bone per step (" + num(r->m.us_per_step) + " us/step)",
                  largest < 10000 ? "n/a (quick run)" : per_bone <= 0.5 ? "yes" : "no");
   }
@@ -438,7 +438,7 @@ void add_target_claims(Report& report, const Study& st, const nlohmann::json& fi
     const std::string others = "Gauss-Seidel 1e-3 " + num(exponent_of(fits, kind, "gauss_seidel_paper"), 3) +
                                ", 1e-9 " + num(exponent_of(fits, kind, "gauss_seidel_tight"), 3) +
                                ", mj_step " + num(exponent_of(fits, kind, "mj_step"), 3);
-    report.claim("Issue 13 target: exact cost exponent at most 1.1 from 100 to " + std::to_string(largest) +
+    report.claim("Target: exact cost exponent at most 1.1 from 100 to " + std::to_string(largest) +
                      " bones (" + kind + ")",
                  "exact " + num(p, 3) + "; " + others + " (their fits: the table below)",
                  largest < 10000 || !std::isfinite(p) ? "n/a (quick run)" : p <= 1.1 ? "yes" : "no");
@@ -499,7 +499,7 @@ void run(const Context& ctx) {
 }
 
 const Registration registered{
-    260, {"scaling", "issue 13",
+    260, {"scaling", "study: scaling",
           "us per step vs bones (10..10,000): Gauss-Seidel (eps 1e-3, 1e-9), exact, mj_step", run}};
 
 }  // namespace

@@ -172,7 +172,7 @@ void run(const Context& ctx) {
 }
 
 const Registration registered{
-    245, {"tracking", "issue 15", "a control point dragged in a circle: cost, lag, smoothness per frame", run}};
+    245, {"tracking", "study: dragging", "a control point dragged in a circle: cost, lag, smoothness per frame", run}};
 
 }  // namespace
 

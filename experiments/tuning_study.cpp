@@ -156,15 +156,26 @@ struct VariantResult {
   int best_grid_steps() const { return best_c > 0 ? best_steps : -1; }
 };
 
-// the sweep over the grid: one sweep.csv row per damping
+// the sweep over the grid: one sweep.csv row per damping. first_div is the first c that diverges
+// above every settling c ("too large diverges"; a grid also diverges at its small end, where the
+// dampers are too weak for the springs), or the first diverging c when none settles.
 void sweep_grid(VariantResult& r, const Scene& scene, const std::vector<double>& grid) {
+  double last_settled = -1;
+  std::vector<double> diverged;
   for (double c : grid) {
     const Point p = run_at(scene, c);
     r.grid.emplace_back(c, p);
-    if (p.diverged && r.first_div < 0) r.first_div = c;
+    if (p.diverged) diverged.push_back(c);
+    if (!p.diverged && p.steps >= 0) last_settled = c;
     if (!p.diverged && p.steps >= 0 && p.steps < r.best_steps) {
       r.best_steps = p.steps;
       r.best_c = c;
+    }
+  }
+  for (double c : diverged) {
+    if (c > last_settled) {
+      r.first_div = c;
+      break;
     }
   }
 }
@@ -362,7 +373,7 @@ void add_claims(Report& report, const Tally& t) {
       holds(t.tuned_not_worse_than_3, t.stable_n));
 }
 
-// damping: auto beside the Ceres optimum and the closed-form rule, per variant (issue 14)
+// damping: auto beside the Ceres optimum and the closed-form rule, per variant
 void add_auto_row(Report& report, const nlohmann::json& rows) {
   std::string text;
   for (const auto& r : rows) {
@@ -379,6 +390,16 @@ void add_auto_row(Report& report, const nlohmann::json& rows) {
       text, "n/a");
 }
 
+// The grid's best c and first diverging c in words: "none" where the grid has no such c (the
+// table's -1), never the placeholder itself.
+std::string grid_text(const nlohmann::json& r) {
+  const double best = r["c_best_grid"].get<double>(), diverged = r["c_first_diverged"].get<double>();
+  std::string text = best > 0 ? "best grid c " + num(best) + " (" +
+                                    std::to_string(r["steps_best_grid"].get<int>()) + " steps)"
+                              : "no grid c settles";
+  return text + (diverged > 0 ? ", first diverging c " + num(diverged) : ", no grid c diverges");
+}
+
 void add_notes(Report& report, const Tally& t, int steps, const nlohmann::json& rows) {
   report.note("One Ceres tuning run of the damping on pinhead (1x / 1 kg/unit, " +
               std::to_string(steps) + " steps per run): " + num(t.tune_time_1x) + " s, " +
@@ -392,9 +413,7 @@ void add_notes(Report& report, const Tally& t, int steps, const nlohmann::json& 
     report.note(r["variant"].get<std::string>() + ": c_rule " + num(r["c_rule"].get<double>()) +
                 " (c_crit " + num(r["c_crit"].get<double>()) + ", c_stab " +
                 num(r["c_stab"].get<double>()) + "), c_tuned " + num(r["c_tuned"].get<double>()) +
-                ", best grid c " + num(r["c_best_grid"].get<double>()) + " (" +
-                std::to_string(r["steps_best_grid"].get<int>()) + " steps), first diverging c " +
-                num(r["c_first_diverged"].get<double>()) + "; steps at c = 20 / 3 / rule / tuned: " +
+                ", " + grid_text(r) + "; steps at c = 20 / 3 / rule / tuned: " +
                 r["steps_paper_20"].get<std::string>() + " / " +
                 r["steps_original_3"].get<std::string>() + " / " +
                 r["steps_rule"].get<std::string>() + " / " + r["steps_tuned"].get<std::string>());
@@ -430,7 +449,7 @@ void run(const Context& ctx) {
 }
 
 const Registration registered{
-    250, {"tuning_study", "Discussion (damping sensitivity), issue 6",
+    250, {"tuning_study", "Discussion (damping sensitivity)",
           "steps to converge vs damping at 0.1x/1x/10x and two densities; Ceres optimum; "
           "closed-form rule",
           run}};

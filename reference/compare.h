@@ -1,5 +1,5 @@
 // PhysIK against the MuJoCo reference on one scene: both runs from the same initial pose, and the
-// gap between them (docs/DESIGN.md "MuJoCo as the reference").
+// gap between them (docs/engine.md "MuJoCo as the reference").
 //
 // Metrics (rig units; endpoints = every bone's head and tail, world frame):
 //   per step k,  g_k  = the largest endpoint distance between the two runs

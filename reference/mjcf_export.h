@@ -1,4 +1,5 @@
-// Rig -> MJCF: the same rig as a MuJoCo articulated model (docs/DESIGN.md "MuJoCo as the reference").
+// Rig -> MJCF: the same rig as a MuJoCo articulated model
+// (docs/engine.md "MuJoCo as the reference").
 //
 // Bodies: one per bone, nested in the rig's DFS order (MuJoCo body id = bone index + 1). Every
 // body frame sits at the bone's centre of mass with the bone's axes (local +Y along the bone), so

@@ -1,4 +1,4 @@
-// The MuJoCo reference run of a scene (docs/DESIGN.md "MuJoCo as the reference").
+// The MuJoCo reference run of a scene (docs/engine.md "MuJoCo as the reference").
 //
 // Every step, with the state after the previous step (MuJoCo's mj_step1 has computed positions
 // and velocities):

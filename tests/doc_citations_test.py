@@ -61,7 +61,8 @@ def problems(repo, files):
 
 def tracked(repo):
     out = subprocess.run(["git", "ls-files"], cwd=repo, capture_output=True, text=True, check=True)
-    return [p for p in out.stdout.split() if p.endswith(SOURCES)]
+    # this file's own examples and fixtures cite sections on purpose
+    return [p for p in out.stdout.split() if p.endswith(SOURCES) and p != "tests/doc_citations_test.py"]
 
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))

@@ -87,7 +87,8 @@ TEST(ParamTable, OriginalDefaultsAndUnitsAreTheDocumentedOnes) {
 }
 
 TEST(ParamTable, PaperPresetIsTheOriginalWithThePapersDampingAndStiffness) {
-  // README "Presets": paper = damping 20 N s/m and control k 30 N/m, the rest as the original
+  // README "Settings for a new rig": paper = damping 20 N s/m and control k 30 N/m, the rest as
+  // the original
   const std::map<std::string, std::string> paper_changes = {{"damping", "20"}, {"control_k", "30"}};
   ASSERT_EQ(kPresetNames[1], std::string("paper"));
   for (const ParamRow& row : param_table()) {

@@ -1,4 +1,4 @@
-// The exact static pose of a scene (docs/DESIGN.md "Ceres"): the minimum of the spring
+// The exact static pose of a scene (docs/engine.md "Ceres"): the minimum of the spring
 // potential over the rig's configuration, found with Ceres, to measure PhysIK's final-pose error.
 //
 // Unknowns: the root head position x_0 (world, rig units) and every bone's local rotation q_i

@@ -1,4 +1,4 @@
-// Automatic tuning of engine coefficients with Ceres (docs/DESIGN.md "Ceres").
+// Automatic tuning of engine coefficients with Ceres (docs/engine.md "Ceres").
 //
 // The problem. A scene's run is a map p -> trajectory. We choose p (damping, spring stiffnesses,
 // ...) inside bounds [lo, hi] to minimise a least-squares objective over the run:

@@ -66,7 +66,8 @@ class PaperFigureScripts(unittest.TestCase):
 
     def test_fig7(self):
         write(self.d, "lin.csv", trajectory(ncontrol=1))
-        law = {"frames": ["f0.csv", "f1.csv"], "frame_steps": [0, 5], "csv": "lin.csv"}
+        law = {"frames": ["f0.csv", "f1.csv"], "frame_steps": [0, 5], "csv": "lin.csv",
+               "control_bone": "a", "control_alpha": 0.5, "target_world": [0, -12, 1]}
         write(self.d, "summary.json", {"laws": {"linear": law, "capped": law}})
         for png in plot_fig7_cannon.plot(self.d):
             self.assertPng(png)

@@ -32,6 +32,20 @@ class TuningStudyPlotTest(unittest.TestCase):
             plot_tuning_study.main([d])
             self.assertGreater(os.path.getsize(os.path.join(d, "tuning_study.png")), 1000)
 
+    def test_diverged_band_covers_only_diverged_runs(self):
+        # a low c that diverges and high ones, with settling runs between: two bands, and no
+        # settling c inside either (the band once ran from the first diverged c to the grid's end)
+        pts = [(1e-3, None, True), (1e-2, None, True), (0.2, 679, False), (3.2, 91, False),
+               (10.0, None, True), (100.0, None, True), (1e3, None, True)]
+        spans = plot_tuning_study.diverged_spans(pts)
+        self.assertEqual(len(spans), 2)
+        self.assertEqual(spans[0][0], 1e-3)
+        self.assertEqual(spans[1][1], 1e3)
+        for c, steps, diverged in pts:
+            inside = any(lo <= c <= hi for lo, hi in spans)
+            self.assertEqual(inside, diverged, c)
+        self.assertEqual(plot_tuning_study.diverged_spans(pts[2:4]), [])
+
     def test_empty_sweep_is_an_error(self):
         with tempfile.TemporaryDirectory() as d:
             with open(os.path.join(d, "sweep.csv"), "w") as f:

@@ -56,8 +56,37 @@ class ReportTest(unittest.TestCase):
                 "figures": ["f.png"]}}))
             report.main([d])
             text = open(os.path.join(d, "REPORT.md")).read()
-            self.assertIn("| exp | c1 | m1 | no |", text)
+            self.assertIn("| exp | c1 | no | m1 |", text)
+            self.assertIn("- **c1**: no. m1", text)  # whole, in the experiment's section
             self.assertIn("](exp/f.png)", text)
+
+    def test_summary_rows_fit_and_sections_keep_the_whole_claim(self):
+        long_measured = "; ".join("rig %d converged in %d steps" % (k, 10 * k) for k in range(60))
+        claims = [{"claim": "A claim stated at some length, " * 6, "measured": long_measured,
+                   "holds": "partly (only in the transient)", "name": "long-one"},
+                  {"claim": "short", "measured": "m", "holds": "yes"}]
+        with tempfile.TemporaryDirectory() as d:
+            os.makedirs(os.path.join(d, "exp"))
+            write(os.path.join(d, "exp"), "summary.json",
+                  json.dumps({"report": {"title": "X", "claims": claims}}))
+            readme = write(d, "README.md", "<!-- headline: exp/long-one -->\n")
+            text = report.render(report.collect(d), None, readme)
+            rows = [l for l in text.splitlines() if l.startswith("| exp |")]
+            self.assertEqual(len(rows), 2)
+            self.assertTrue(all(len(r) <= report.ROW_MAX for r in rows), rows)
+            self.assertIn("\u2026", rows[0])
+            self.assertIn("| partly |", rows[0])
+            self.assertIn(long_measured, text)  # the section has it whole
+            case = "Fig 6: linear springs over-bend a limited elbow more than capped ones " \
+                   "(near target (the figure's geometry), cap c = 0.1)"
+            short = report.shorten_claim(case, 105)
+            self.assertLessEqual(len(short), 105)
+            self.assertTrue(short.endswith("(near target (the figure's geometry), cap c = 0.1)"), short)
+            self.assertIn("(only in the transient)", text)
+            self.assertIn("README's headline cites claim `exp/long-one`: **partly", text)
+            write(d, "README.md", "<!-- headline: exp/missing -->\n")
+            self.assertIn("which this run did not report",
+                          report.render(report.collect(d), None, readme))
 
     def test_settings_table_takes_values_and_units_from_params_json(self):
         def row(name, kind, unit, original, paper, **extra):

@@ -2,7 +2,7 @@
 // Source: R. Featherstone, Rigid Body Dynamics Algorithms, Springer 2008, ch. 7 (Table 7.1, the
 // multi-DOF form of eq. 7.36-7.43); spatial algebra of ch. 2.
 //
-// Tree (DESIGN.md "Beyond the paper", Coordinates): the rig's bones, a free root (6 DOF at its
+// Tree (docs/engine.md "The exact scheme"): the rig's bones, a free root (6 DOF at its
 // centre of mass, as MuJoCo's free joint) and a ball joint (3 DOF) at every other bone's head:
 // exactly the reference's ball-joint MuJoCo model (reference/mjcf_export.h), in MuJoCo's
 // coordinates:
@@ -50,11 +50,11 @@
 // plus torque_per_omega * I w on every body (a rotational damper; the factor f's torque
 // I (f - 1) w / dt) and, with cancel_gyroscopic, +w x I w.
 //
-// Extension points, for the implicit step (DESIGN.md "Beyond the paper": M + h D + h^2 K is the same
-// tree with augmented inertias): after articulated_velocity_pass, a caller may add spatial inertia
-// to inertia_art[i] (SpatialInertia::add; about o_i, world axes), set joint_block[i] (world axes) with
-// joint_blocks = true, and change bias_force, before articulated_backward_pass; nothing else
-// changes.
+// Extension points, for the implicit step (docs/engine.md "The implicit scheme":
+// M + h D + h^2 K is the same tree with augmented inertias): after articulated_velocity_pass, a
+// caller may add spatial inertia to inertia_art[i] (SpatialInertia::add; about o_i, world axes),
+// set joint_block[i] (world axes) with joint_blocks = true, and change bias_force, before
+// articulated_backward_pass; nothing else changes.
 //
 // No allocation per step: every buffer is sized once by resize_articulated_data.
 // Units: kg, kg m^2, N, N m, rig units, s, rad.

@@ -15,8 +15,8 @@
 //     world orientations, which does not count a parent's turn twice.)
 //  free rods (the paper's text; free_rods true): every bone integrates its own v, cm, w and R; joints may drift
 //     apart, and the drift is measured (engine.h: joint separation).
-// Two choices the paper does not state (docs/DESIGN.md "Integration"): the root moves its centre
-// of mass and turns about it (the original turns it about its head: a difference of about
+// Two choices the paper does not state (docs/engine.md "The paper's scheme"): the root moves its
+// centre of mass and turns about it (the original turns it about its head: a difference of about
 // (|w| dt)^2 L / 2 per step), and the gyroscopic term w x I w of alpha uses the start-of-step w,
 // before the factor f scales it.
 // Units: s, rig units, rad.

@@ -1,4 +1,4 @@
-// The exact explicit step (DESIGN.md "Beyond the paper", Exact explicit step; scheme exact):
+// The exact explicit step (docs/engine.md "The exact scheme"):
 // PhysIK's forces into the articulated-body algorithm (articulated_body.h), then MuJoCo 2.2.2's
 // Euler step in joint space, so the run equals MuJoCo's same-forces run
 // (reference/mujoco_runner.h) to round-off.

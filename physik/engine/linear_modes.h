@@ -1,6 +1,6 @@
 // Linearised modes at a pose, and damping_auto: the damping that critically damps the slowest one
-// (DESIGN.md "Beyond the paper"; the paper's discussion asks for "a way to automatically compute the
-// ideal damping coefficient").
+// (docs/engine.md "The implicit scheme"; the paper's discussion asks for "a way to automatically
+// compute the ideal damping coefficient").
 //
 // About a pose at rest, PhysIK's dynamics linearise to M a + (c D1 + Dr) v + K dq = 0 in the
 // exact solve's joint coordinates (root 6 DOF, a ball at every other head; integrate_joint_space.h):

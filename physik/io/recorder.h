@@ -2,7 +2,7 @@
 // of `simulate --reference`, the comparison with MuJoCo, the experiments): a step observer that
 // writes the trajectory table and keeps what its options ask for.
 //
-// The trajectory table (README "The command line"), one row per recorded step:
+// The trajectory table (docs/engine.md "Run outputs"), one row per recorded step:
 //   step,time,kinetic_energy,passes,joint_mismatch,joint_separation,residual_<name>...,
 //   <bone>.head_x ... <bone>.tail_z
 // time in s, KE in J, residuals (each control point to its goal target, named after the point,

@@ -1,5 +1,5 @@
-// A run's summary as JSON: the keys of `physik simulate`'s summary.json (README "The command
-// line"), shared by every command and experiment that writes one.
+// A run's summary as JSON: the keys of `physik simulate`'s summary.json (docs/engine.md
+// "Run outputs"), shared by every command and experiment that writes one.
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -1,7 +1,8 @@
 // Engine parameters, with the paper's and the original code's presets, and the one parameter
 // table that describes them.
 //
-// Names are the scene file's "params" keys. Presets (docs/DESIGN.md "The paper", paper Sec. 4, original fwik.py):
+// Names are the scene file's "params" keys. Presets (docs/engine.md "The model", paper Sec. 4,
+// original fwik.py):
 //   original: dt 0.05 s, damping 3 N s/m, angular velocity x0.5 per step, eps 1e-3, pass cap
 //             5 n^2, control k 10 N/m, torsion k 10 N m/rad engaging 10% inside each limit,
 //             linear torsion, articulated integration, linear target interpolation

@@ -1,6 +1,6 @@
 // Basic math types and conventions shared by the whole core.
 //
-// Conventions (see README "Conventions"):
+// Conventions (see docs/DESIGN.md "Conventions"):
 //   - world frame: right-handed, Z up (Blender and MuJoCo); lengths in rig units (the paper's
 //     Blender units; read as metres), masses in kg, time in s, angles in radians in code.
 //   - bone frame: local +Y runs from head to tail (Blender's convention, the paper's "y axis down

@@ -40,7 +40,7 @@ enum class SolveFinish {
 };
 
 // The solve mode's defaults (physik solve --solver physik, ik_comparison's physik rows): chosen on
-// the ik_comparison targets (README "PhysIK as an IK solver")
+// the ik_comparison targets (docs/ik.md "The solve mode")
 constexpr double kSolveDtGrowth = 2.0;   // 1, per settling step
 constexpr double kSolveMaxDt = 1000.0;   // s
 

@@ -23,8 +23,8 @@ Names (each has its own docstring):
   __version__                                               `physik --version`
   physik.sweep                                              grids of runs on Dask (python3 -m physik.sweep)
 
-Conventions (README "Conventions"): world Z up, rig units, kg, s, radians; arrays per bone in
-DFS order (parents first); quaternions are stored (x, y, z, w), Eigen's order (as
+Conventions (docs/DESIGN.md "Conventions"): world Z up, rig units, kg, s, radians; arrays per
+bone in DFS order (parents first); quaternions are stored (x, y, z, w), Eigen's order (as
 scipy.spatial.transform.Rotation.from_quat reads them); Pose.as_blender() gives (w, x, y, z).
 """
 from collections import namedtuple

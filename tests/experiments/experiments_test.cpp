@@ -78,6 +78,21 @@ TEST(Report, WritesTitleAndClaimsAndOnlyTheSectionsGiven) {
   EXPECT_EQ(f["settings"]["dt"], 0.05);
 }
 
+// A claim's name is what prose cites (claim `experiment/name`): the last claim's, checked.
+TEST(Report, NamesTheLastClaimAndRefusesBadOrRepeatedNames) {
+  Report r("T");
+  EXPECT_THROW(r.named("early"), std::logic_error);  // no claim yet
+  r.claim("c1", "m1", "yes").named("first-claim").claim("c2", "m2", "no");
+  const nlohmann::json j = r.to_json();
+  EXPECT_EQ(j["claims"][0]["name"], "first-claim");
+  EXPECT_FALSE(j["claims"][1].contains("name"));
+  EXPECT_THROW(r.named("first-claim"), std::logic_error);  // two claims of one name
+  EXPECT_THROW(r.named("Upper"), std::logic_error);
+  EXPECT_THROW(r.named("with space"), std::logic_error);
+  r.named("second");
+  EXPECT_EQ(r.to_json()["claims"][1]["name"], "second");
+}
+
 // fig5_running (quick): its summary carries the report, and its trajectory table is the bytes a
 // recorder writes with the experiments' rule (a row every 10 steps and at step 1)
 TEST(Experiments, Fig5WritesItsReportAndTheRecordersTable) {
