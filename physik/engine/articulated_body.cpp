@@ -78,6 +78,77 @@ void articulated_velocity_pass(const Rig& rig, const SimState& s, ArticulatedBod
   }
 }
 
+namespace {
+
+// A ball joint's articulated inertia handed to its parent p (every J = 0), r from p's point to
+// i's: S' = [1; 0]: U = I^A S' = [A; B^T], D = A, u = -S'^T p^A; I^a = [0, 0; 0, K] with
+// K = C - B^T A^-1 B (articulated_body.h). Returns p^a = p^A + I^a c + U D^-1 u in pa_ang, pa_lin.
+void ball_to_parent(ArticulatedBodyData& d, int i, int p, const Vec3& r, const Vec3& u,
+                    Vec3& pa_ang, Vec3& pa_lin) {
+  const SpatialInertia& IA = d.inertia_art[i];
+  const Mat3& A = IA.A;
+  const Mat3& B = IA.B;
+  const Vec6& c = d.bias_accel[i];
+  SpatialInertia& IP = d.inertia_art[p];
+  d.D_inv[i] = A.inverse();
+  Mat3 DinvB;
+  DinvB.noalias() = d.D_inv[i] * B;
+  Mat3 K = IA.C;
+  K.noalias() -= B.transpose() * DinvB;
+  K = (0.5 * (K + K.transpose())).eval();
+  const Vec3 Dinv_u = d.D_inv[i] * u;
+  pa_ang = d.bias_force[i].head<3>() + A * Dinv_u;
+  pa_lin = d.bias_force[i].tail<3>() + K * c.tail<3>() + B.transpose() * Dinv_u;
+  // a pure translational inertia K at r: X* I^a X = [R K R^T, R K; K R^T, K],  R = [r]x,
+  // by cross products: column j of [r]x K is r x K_j; [r]x K [r]x^T is symmetric, its
+  // column j is r x (row j of [r]x K)
+  Mat3 RK;
+  for (int j = 0; j < 3; ++j) RK.col(j) = r.cross(K.col(j));
+  for (int j = 0; j < 3; ++j) IP.A.col(j) += r.cross(Vec3(RK.row(j).transpose()));
+  IP.B += RK;
+  IP.C += K;
+}
+
+// The same with general blocks: I^A = [A B; E C], D = A + J,
+//   I^a = [A D^-1 J, J D^-1 B; E D^-1 J, C - E D^-1 B] (products, no cancellation)
+void general_to_parent(ArticulatedBodyData& d, int i, int p, const Vec3& r, const Vec3& u,
+                       Vec3& pa_ang, Vec3& pa_lin) {
+  const SpatialInertia& IA = d.inertia_art[i];
+  const Mat3& A = IA.A;
+  const Mat3& B = IA.B;
+  const Vec6& c = d.bias_accel[i];
+  SpatialInertia& IP = d.inertia_art[p];
+  const Mat3& E = d.inertia_lower[i];
+  const Mat3& J = d.joint_block[i];
+  d.D_inv[i] = Mat3(A + J).inverse();
+  const Mat3& Dinv = d.D_inv[i];
+  Mat3 DinvB, EDinv;
+  DinvB.noalias() = Dinv * B;
+  EDinv.noalias() = E * Dinv;
+  Mat3 Aa, Ba, Ea, Ca = IA.C;
+  Aa.noalias() = A * Dinv * J;
+  Ba.noalias() = J * DinvB;
+  Ea.noalias() = EDinv * J;
+  Ca.noalias() -= E * DinvB;
+  // p^a = p^A + I^a c + U D^-1 u,  U = [A; E]
+  const Vec3 Dinv_u = Dinv * u;
+  pa_ang = d.bias_force[i].head<3>() + A * Dinv_u + Aa * c.head<3>() + Ba * c.tail<3>();
+  pa_lin = d.bias_force[i].tail<3>() + E * Dinv_u + Ea * c.head<3>() + Ca * c.tail<3>();
+  // X* I^a X = [A - B R + R (E - C R), B + R C; E - C R, C],  R = [r]x
+  const Mat3 R = skew(r);
+  Mat3 Es = Ea;
+  Es.noalias() -= Ca * R;
+  IP.A += Aa;
+  IP.A.noalias() -= Ba * R;
+  IP.A.noalias() += R * Es;
+  IP.B += Ba;
+  IP.B.noalias() += R * Ca;
+  d.inertia_lower[p] += Es;
+  IP.C += Ca;
+}
+
+}  // namespace
+
 void articulated_backward_pass(const Rig& rig, ArticulatedBodyData& d) {
   const bool ball = !d.joint_blocks;  // every J = 0: I^A stays symmetric, E = B^T
   if (!ball) {
@@ -86,66 +157,14 @@ void articulated_backward_pass(const Rig& rig, ArticulatedBodyData& d) {
   }
   for (int i = rig.nbone - 1; i > 0; --i) {
     const int p = rig.bone_parent[i];
-    const SpatialInertia& IA = d.inertia_art[i];
-    const Mat3& A = IA.A;
-    const Mat3& B = IA.B;
-    const Vec6& c = d.bias_accel[i];
     const Vec3 u = -d.bias_force[i].head<3>();
     d.u[i] = u;
     const Vec3 r = d.point_world[i] - d.point_world[p];  // to the parent's point
-    SpatialInertia& IP = d.inertia_art[p];
     Vec3 pa_ang, pa_lin;
     if (ball) {
-      // S' = [1; 0]: U = I^A S' = [A; B^T], D = A, u = -S'^T p^A; I^a = [0, 0; 0, K] with
-      // K = C - B^T A^-1 B (articulated_body.h)
-      d.D_inv[i] = A.inverse();
-      Mat3 DinvB;
-      DinvB.noalias() = d.D_inv[i] * B;
-      Mat3 K = IA.C;
-      K.noalias() -= B.transpose() * DinvB;
-      K = (0.5 * (K + K.transpose())).eval();
-      // p^a = p^A + I^a c + U D^-1 u
-      const Vec3 Dinv_u = d.D_inv[i] * u;
-      pa_ang = d.bias_force[i].head<3>() + A * Dinv_u;
-      pa_lin = d.bias_force[i].tail<3>() + K * c.tail<3>() + B.transpose() * Dinv_u;
-      // a pure translational inertia K at r: X* I^a X = [R K R^T, R K; K R^T, K],  R = [r]x,
-      // by cross products: column j of [r]x K is r x K_j; [r]x K [r]x^T is symmetric, its
-      // column j is r x (row j of [r]x K)
-      Mat3 RK;
-      for (int j = 0; j < 3; ++j) RK.col(j) = r.cross(K.col(j));
-      for (int j = 0; j < 3; ++j) IP.A.col(j) += r.cross(Vec3(RK.row(j).transpose()));
-      IP.B += RK;
-      IP.C += K;
+      ball_to_parent(d, i, p, r, u, pa_ang, pa_lin);
     } else {
-      // general blocks: I^A = [A B; E C], D = A + J,
-      //   I^a = [A D^-1 J, J D^-1 B; E D^-1 J, C - E D^-1 B] (products, no cancellation)
-      const Mat3& E = d.inertia_lower[i];
-      const Mat3& J = d.joint_block[i];
-      d.D_inv[i] = Mat3(A + J).inverse();
-      const Mat3& Dinv = d.D_inv[i];
-      Mat3 DinvB, EDinv;
-      DinvB.noalias() = Dinv * B;
-      EDinv.noalias() = E * Dinv;
-      Mat3 Aa, Ba, Ea, Ca = IA.C;
-      Aa.noalias() = A * Dinv * J;
-      Ba.noalias() = J * DinvB;
-      Ea.noalias() = EDinv * J;
-      Ca.noalias() -= E * DinvB;
-      // p^a = p^A + I^a c + U D^-1 u,  U = [A; E]
-      const Vec3 Dinv_u = Dinv * u;
-      pa_ang = d.bias_force[i].head<3>() + A * Dinv_u + Aa * c.head<3>() + Ba * c.tail<3>();
-      pa_lin = d.bias_force[i].tail<3>() + E * Dinv_u + Ea * c.head<3>() + Ca * c.tail<3>();
-      // X* I^a X = [A - B R + R (E - C R), B + R C; E - C R, C],  R = [r]x
-      const Mat3 R = skew(r);
-      Mat3 Es = Ea;
-      Es.noalias() -= Ca * R;
-      IP.A += Aa;
-      IP.A.noalias() -= Ba * R;
-      IP.A.noalias() += R * Es;
-      IP.B += Ba;
-      IP.B.noalias() += R * Ca;
-      d.inertia_lower[p] += Es;
-      IP.C += Ca;
+      general_to_parent(d, i, p, r, u, pa_ang, pa_lin);
     }
     d.bias_force[p].head<3>() += pa_ang + r.cross(pa_lin);
     d.bias_force[p].tail<3>() += pa_lin;

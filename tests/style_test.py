@@ -1,0 +1,102 @@
+#!/usr/bin/env python3
+"""No function in the repository runs over 60 lines, in C++ or in Python.
+
+A function's length is counted from the line that starts its signature to the line of its closing
+brace (C++) or its last statement (Python), blank lines and comments included: what a reader has to
+hold at once.
+- Python: every `def` (nested ones too), from the standard `ast` module.
+- C++: every definition that starts at column 0 (free functions, out-of-class members, gtest
+  TEST bodies; namespaces are not indented in the repository's style, .clang-format), up to the
+  next line that starts with `}`. Member functions defined inside a class body are not measured.
+Sources: the tracked .cpp, .h and .py files. Line width is clang-format's check (.ci/run).
+Run: python3 tests/style_test.py [REPO]  (ctest runs it as `style`).
+"""
+import ast
+import os
+import subprocess
+import sys
+import unittest
+
+MAX_LINES = 60
+NOT_A_DEFINITION = ("//", "#", "}", "namespace", "using", "struct", "class", "enum", "template",
+                    "extern", "static_assert", "typedef", "{", "/*", "*")
+
+
+def cpp_functions(text):
+    """(first line number, length, signature) of each column-0 definition in C++ source."""
+    lines = text.split("\n")
+    out, i = [], 0
+    while i < len(lines):
+        line = lines[i]
+        if (not line or line[0].isspace() or line.startswith(NOT_A_DEFINITION) or "(" not in line
+                or "=" in line.split("(")[0]):  # a variable's initialiser, not a signature
+            i += 1
+            continue
+        j = i  # the line with the body's opening brace, unless a ';' ends a declaration first
+        while j < len(lines) and "{" not in lines[j] and ";" not in lines[j]:
+            j += 1
+        if j == len(lines) or "{" not in lines[j] or ";" in lines[j].split("{")[0]:
+            i = j + 1
+            continue
+        if lines[j].rstrip().endswith("}") and lines[j].count("{") == lines[j].count("}"):
+            i = j + 1  # a one-line body
+            continue
+        k = j + 1
+        while k < len(lines) and not lines[k].startswith("}"):
+            k += 1
+        out.append((i + 1, k - i + 1, line.strip()[:80]))
+        i = k + 1
+    return out
+
+
+def python_functions(text):
+    """(first line number, length, name) of each def in Python source."""
+    tree = ast.parse(text)
+    return [(n.lineno, n.end_lineno - n.lineno + 1, n.name) for n in ast.walk(tree)
+            if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef))]
+
+
+def long_functions(repo):
+    files = subprocess.check_output(["git", "ls-files", "*.cpp", "*.h", "*.py"], cwd=repo,
+                                    text=True).split()
+    found = []
+    for f in files:
+        with open(os.path.join(repo, f), encoding="utf-8") as fh:
+            text = fh.read()
+        measure = python_functions if f.endswith(".py") else cpp_functions
+        for line, length, name in measure(text):
+            if length > MAX_LINES:
+                found.append(f"{f}:{line}: {name} is {length} lines (at most {MAX_LINES})")
+    return found
+
+
+class Detector(unittest.TestCase):
+    def test_counts_a_cpp_body_from_signature_to_brace(self):
+        body = "\n".join(["  x += 1;"] * 3)
+        text = f"namespace a {{\n\nint f(int x,\n      int y) {{\n{body}\n  return x;\n}}\n\n}}  // a\n"
+        self.assertEqual(cpp_functions(text), [(3, 7, "int f(int x,")])
+
+    def test_skips_declarations_one_liners_and_types(self):
+        text = ("int g(int x);\nint h() { return 1; }\nconst char* k = R\"(\n{\n)\";\nstruct S {\n  int m() {\n    return 2;\n"
+                "  }\n};\n")
+        self.assertEqual(cpp_functions(text), [])
+
+    def test_counts_a_gtest_body(self):
+        text = "TEST(Suite, Name) {\n  EXPECT_EQ(1, 1);\n}\n"
+        self.assertEqual(cpp_functions(text), [(1, 3, "TEST(Suite, Name) {")])
+
+    def test_counts_nested_python_defs(self):
+        text = "def f():\n    def g():\n        return 1\n    return g\n"
+        self.assertEqual(sorted(python_functions(text)), [(1, 4, "f"), (2, 2, "g")])
+
+
+class Repository(unittest.TestCase):
+    def test_no_function_runs_over_60_lines(self):
+        found = long_functions(REPO)
+        self.assertEqual(found, [], "\n" + "\n".join(found))
+
+
+if __name__ == "__main__":
+    REPO = os.path.abspath(sys.argv.pop(1) if len(sys.argv) > 1 else
+                           os.path.join(os.path.dirname(__file__), ".."))
+    unittest.main()
