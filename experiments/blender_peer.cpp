@@ -65,7 +65,8 @@ ProcessResult run_process(const std::vector<std::string>& argv, const std::strin
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 1, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&actions, 1, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
+                                   0644);
   posix_spawn_file_actions_adddup2(&actions, 1, 2);
   std::vector<char*> args;
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
@@ -160,7 +161,8 @@ BoneFrames read_bones(const Rig& rig, const std::string& path) {
     if (line.empty()) continue;
     const std::vector<std::string> v = csv_fields(line);
     const std::string where = "row " + std::to_string(row);
-    if (v.size() != 8) throw_input_error(path, where, "", "expected 8 fields, got " + std::to_string(v.size()));
+    if (v.size() != 8)
+      throw_input_error(path, where, "", "expected 8 fields, got " + std::to_string(v.size()));
     const int b = rig.find_bone(v[0]);
     if (b < 0) throw_input_error(path, where, "bone", "unknown bone '" + v[0] + "'");
     ++seen[b];
@@ -212,11 +214,40 @@ BlenderLocation find_blender() {
   }
   const std::string p = on_path("blender");
   if (p.empty()) {
-    return {"", "Blender not found (no `blender` on PATH, PHYSIK_BLENDER unset; Debian: "
-                "apt-get install blender)"};
+    return {"",
+            "Blender not found (no `blender` on PATH, PHYSIK_BLENDER unset; Debian: "
+            "apt-get install blender)"};
   }
   return {p, ""};
 }
+
+namespace {
+
+// Reads what Blender wrote for a finished run and checks its pose file against its bones: `run`
+// becomes "ok", or keeps "failed" with the reason.
+void check_itasc_outputs(const Scene& scene, const std::string& csv, const std::string& report,
+                         const std::string& pose, ItascRun& run) {
+  try {
+    run.report = read_json_file(report);
+    run.pose = read_pose(scene, pose);
+    run.frames = forward_kinematics(scene.rig, run.pose);
+    const BoneFrames blender = read_bones(scene.rig, csv);
+    for (int b = 0; b < scene.rig.nbone; ++b) {
+      run.fk_gap = std::max({run.fk_gap, (run.frames.head_world[b] - blender.head_world[b]).norm(),
+                             (run.frames.tail_world[b] - blender.tail_world[b]).norm()});
+    }
+    if (run.fk_gap > kItascFkGapFraction * scene.rig.height()) {
+      run.reason = "iTaSC's pose file and its bones disagree by " + num(run.fk_gap) +
+                   " rig units (allowed " + num(kItascFkGapFraction * scene.rig.height()) + ")";
+    } else {
+      run.status = "ok";
+    }
+  } catch (const std::exception& e) {
+    run.reason = std::string("reading Blender's output: ") + e.what();
+  }
+}
+
+}  // namespace
 
 ItascRun run_itasc(const Scene& scene, const std::string& script, const std::string& out_dir,
                    double timeout_seconds) {
@@ -249,31 +280,15 @@ ItascRun run_itasc(const Scene& scene, const std::string& script, const std::str
   if (!p.spawn_error.empty()) {
     run.reason = "cannot run " + run.blender + ": " + p.spawn_error;
   } else if (p.timed_out) {
-    run.reason = "Blender did not finish within " + num(timeout_seconds) + " s and was stopped; see " + log;
+    run.reason =
+        "Blender did not finish within " + num(timeout_seconds) + " s and was stopped; see " + log;
   } else if (p.signal != 0) {
     run.reason = "Blender was ended by signal " + std::to_string(p.signal) + "; see " + log;
   } else if (p.exit_code != 0) {
     run.reason = "Blender exited " + std::to_string(p.exit_code) + " (" +
                  (tail.empty() ? std::string("no output") : tail) + "); see " + log;
   } else {
-    try {
-      run.report = read_json_file(report);
-      run.pose = read_pose(scene, pose);
-      run.frames = forward_kinematics(scene.rig, run.pose);
-      const BoneFrames blender = read_bones(scene.rig, csv);
-      for (int b = 0; b < scene.rig.nbone; ++b) {
-        run.fk_gap = std::max({run.fk_gap, (run.frames.head_world[b] - blender.head_world[b]).norm(),
-                               (run.frames.tail_world[b] - blender.tail_world[b]).norm()});
-      }
-      if (run.fk_gap > kItascFkGapFraction * scene.rig.height()) {
-        run.reason = "iTaSC's pose file and its bones disagree by " + num(run.fk_gap) +
-                     " rig units (allowed " + num(kItascFkGapFraction * scene.rig.height()) + ")";
-      } else {
-        run.status = "ok";
-      }
-    } catch (const std::exception& e) {
-      run.reason = std::string("reading Blender's output: ") + e.what();
-    }
+    check_itasc_outputs(scene, csv, report, pose, run);
   }
   if (!run.ok()) fs::remove(csv, ec);  // no figure shows an unchecked pose
   return run;

@@ -44,8 +44,8 @@ TEST(BvhEuler, EachChannelOrderMatchesHandComputedRotation) {
   opt.axes = BvhAxes::kZUp;
   for (const auto& c : cases) {
     SCOPED_TRACE(c.channels);
-    const BvhAnimation anim = bvh_to_rig(parse_bvh(one_joint(c.channels, "90 90 180"), "t.bvh"),
-                                         "t.bvh", opt);
+    const BvhAnimation anim =
+        bvh_to_rig(parse_bvh(one_joint(c.channels, "90 90 180"), "t.bvh"), "t.bvh", opt);
     ASSERT_EQ(anim.rig().nbone, 1);
     ASSERT_EQ(anim.poses.size(), 1u);
     EXPECT_EQ(anim.rig().bone_name[0], "A");
@@ -100,8 +100,10 @@ void expect_same_world_positions(const Rig& a, const std::vector<Pose>& pa, cons
     for (int i = 0; i < a.nbone; ++i) {
       const int j = b.find_bone(a.bone_name[i]);
       ASSERT_GE(j, 0) << a.bone_name[i];
-      EXPECT_TRUE(near(fa.head_world[i], fb.head_world[j], tol)) << a.bone_name[i] << " frame " << f;
-      EXPECT_TRUE(near(fa.tail_world[i], fb.tail_world[j], tol)) << a.bone_name[i] << " frame " << f;
+      EXPECT_TRUE(near(fa.head_world[i], fb.head_world[j], tol))
+          << a.bone_name[i] << " frame " << f;
+      EXPECT_TRUE(near(fa.tail_world[i], fb.tail_world[j], tol))
+          << a.bone_name[i] << " frame " << f;
     }
   }
 }
@@ -137,13 +139,12 @@ TEST_P(BvhRoundTrip, ExportThenImportGivesTheSameWorldPositions) {
   expect_same_world_positions(rig, poses, anim.rig(), anim.poses, 1e-6);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Formats, BvhRoundTrip,
-    ::testing::Values(std::make_tuple(false, BvhAxes::kYUp, "ZXY"),
-                      std::make_tuple(false, BvhAxes::kZUp, "XYZ"),
-                      std::make_tuple(false, BvhAxes::kYUp, "YZX"),
-                      std::make_tuple(true, BvhAxes::kYUp, "ZXY"),
-                      std::make_tuple(true, BvhAxes::kZUp, "ZXY")));
+INSTANTIATE_TEST_SUITE_P(Formats, BvhRoundTrip,
+                         ::testing::Values(std::make_tuple(false, BvhAxes::kYUp, "ZXY"),
+                                           std::make_tuple(false, BvhAxes::kZUp, "XYZ"),
+                                           std::make_tuple(false, BvhAxes::kYUp, "YZX"),
+                                           std::make_tuple(true, BvhAxes::kYUp, "ZXY"),
+                                           std::make_tuple(true, BvhAxes::kZUp, "ZXY")));
 
 // A typical mocap hierarchy: a root with three children at different offsets, a joint with two
 // children, a zero-offset child, two End Sites at one joint, position channels on the root.
@@ -250,8 +251,8 @@ TEST(BvhImport, BranchingHierarchyReproducesEveryJointAndEndSite) {
     EXPECT_TRUE(near(fk.tail_world[rig.find_bone("Hips")], a * pos[0], 1e-9));
     EXPECT_TRUE(near(fk.tail_world[rig.find_bone("Spine")], a * pos[2], 1e-9));  // Chest
     EXPECT_TRUE(near(fk.tail_world[rig.find_bone("Chest>Neck")], a * pos[3], 1e-9));
-    EXPECT_TRUE(near(fk.tail_world[rig.find_bone("Neck")],
-                     a * (pos[3] + rot[3] * Vec3(0, 2, 0)), 1e-9));
+    EXPECT_TRUE(
+        near(fk.tail_world[rig.find_bone("Neck")], a * (pos[3] + rot[3] * Vec3(0, 2, 0)), 1e-9));
     EXPECT_TRUE(near(fk.tail_world[rig.find_bone("LeftArmRoll>end2")],
                      a * (pos[5] + rot[5] * Vec3(6, 1, 0)), 1e-9));
     EXPECT_TRUE(near(fk.tail_world[rig.find_bone("Hips>RightUpLeg")], a * pos[7], 1e-9));
@@ -312,54 +313,90 @@ struct Bad {
   std::string expect;  // substring of the message
 };
 
-const std::string kHead = "HIERARCHY\nROOT A\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n";
+const std::string kHead =
+    "HIERARCHY\nROOT A\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n";
 const std::string kSite = "  End Site\n  {\n    OFFSET 0 1 0\n  }\n";
 const std::string kMotion1 = "MOTION\nFrames: 1\nFrame Time: 0.1\n";
 
-TEST(BvhErrors, EveryMalformedInputNamesFileAndLine) {
-  const std::vector<Bad> cases = {
-      {"missing closing brace", kHead + kSite + kMotion1 + "1 2 3\n", "bad.bvh: line 10: field '}': unbalanced braces"},
+// malformed structure: braces, channels, keywords
+std::vector<Bad> structure_cases() {
+  return {
+      {"missing closing brace", kHead + kSite + kMotion1 + "1 2 3\n",
+       "bad.bvh: line 10: field '}': unbalanced braces"},
       {"missing closing brace at EOF", kHead + kSite, "unbalanced braces"},
-      {"extra closing brace", kHead + kSite + "}\n}\n" + kMotion1 + "1 2 3\n", "bad.bvh: line 11: field '}': unbalanced braces"},
-      {"End Site not closed", kHead + "  End Site\n  {\n    OFFSET 0 1 0\n  JOINT B\n", "unbalanced braces"},
+      {"extra closing brace", kHead + kSite + "}\n}\n" + kMotion1 + "1 2 3\n",
+       "bad.bvh: line 11: field '}': unbalanced braces"},
+      {"End Site not closed", kHead + "  End Site\n  {\n    OFFSET 0 1 0\n  JOINT B\n",
+       "unbalanced braces"},
       {"channel count larger than names",
-       "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 3 Zrotation Xrotation\n" + kSite + "}\n" + kMotion1 + "1 2\n",
+       "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 3 Zrotation Xrotation\n" + kSite + "}\n" +
+           kMotion1 + "1 2\n",
        "line 6: field 'CHANNELS': the count says 3 but 2 channel names follow"},
       {"channel count smaller than names",
-       "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 2 Zrotation Xrotation Yrotation\n" + kSite + "}\n" + kMotion1 + "1 2\n",
+       "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 2 Zrotation Xrotation Yrotation\n" + kSite +
+           "}\n" + kMotion1 + "1 2\n",
        "line 5: field 'CHANNELS': the count says 2 but more channel names follow"},
-      {"unknown channel", "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 1 Wrotation\n}\n", "unknown channel 'Wrotation'"},
+      {"unknown channel", "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 1 Wrotation\n}\n",
+       "unknown channel 'Wrotation'"},
       {"data row shorter than channels", kHead + kSite + "}\n" + kMotion1 + "1 2\n",
        "bad.bvh: line 14: field 'MOTION': frame 0 has 2 values, the hierarchy has 3 channels"},
-      {"data row longer than channels", kHead + kSite + "}\n" + kMotion1 + "1 2 3 4\n", "frame 0 has 4 values"},
-      {"fewer frames than Frames:", kHead + kSite + "}\nMOTION\nFrames: 3\nFrame Time: 0.1\n1 2 3\n1 2 3\n",
-       "line 12: field 'Frames': says 3 frames but the file has 2"},
-      {"more frames than Frames:", kHead + kSite + "}\n" + kMotion1 + "1 2 3\n1 2 3\n",
-       "line 15: field 'Frames': more frames than 'Frames: 1'"},
-      {"non-number in OFFSET", "HIERARCHY\nROOT A\n{\nOFFSET 0 x 0\n}\n", "line 4: field 'OFFSET': 'x' is not a number"},
-      {"non-number in MOTION", kHead + kSite + "}\n" + kMotion1 + "1 abc 3\n", "line 14: field 'MOTION': 'abc' is not a number"},
-      {"NaN in MOTION", kHead + kSite + "}\n" + kMotion1 + "1 nan 3\n", "line 14: field 'MOTION': 'nan' is not a finite number"},
-      {"infinity in OFFSET", "HIERARCHY\nROOT A\n{\nOFFSET 0 inf 0\n}\n", "'inf' is not a finite number"},
-      {"overflow in MOTION", kHead + kSite + "}\n" + kMotion1 + "1 1e999 3\n", "'1e999' is not a finite number"},
-      {"NaN frame time", kHead + kSite + "}\nMOTION\nFrames: 1\nFrame Time: NaN\n1 2 3\n", "line 13: field 'Frame Time'"},
-      {"negative frame time", kHead + kSite + "}\nMOTION\nFrames: 1\nFrame Time: -1\n1 2 3\n", "must be positive"},
-      {"bad frame count", kHead + kSite + "}\nMOTION\nFrames: two\nFrame Time: 0.1\n", "'two' is not a frame count"},
+      {"data row longer than channels", kHead + kSite + "}\n" + kMotion1 + "1 2 3 4\n",
+       "frame 0 has 4 values"},
       {"missing MOTION", kHead + kSite + "}\n", "missing MOTION"},
       {"missing HIERARCHY", "ROOT A\n{\n}\n", "expected HIERARCHY"},
       {"second ROOT", kHead + kSite + "}\nROOT B\n{\n}\n", "a second ROOT"},
-      {"missing OFFSET", "HIERARCHY\nROOT A\n{\nCHANNELS 3 Zrotation Xrotation Yrotation\n}\n" + kMotion1 + "1 2 3\n", "has no OFFSET"},
-      {"unknown keyword", "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nBONE x\n}\n", "line 5: field 'BONE': unknown keyword"},
+      {"missing OFFSET",
+       "HIERARCHY\nROOT A\n{\nCHANNELS 3 Zrotation Xrotation Yrotation\n}\n" + kMotion1 + "1 2 3\n",
+       "has no OFFSET"},
+      {"unknown keyword", "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nBONE x\n}\n",
+       "line 5: field 'BONE': unknown keyword"},
+  };
+}
+
+// malformed values: numbers, frame counts, quaternions
+std::vector<Bad> value_cases() {
+  return {
+      {"fewer frames than Frames:",
+       kHead + kSite + "}\nMOTION\nFrames: 3\nFrame Time: 0.1\n1 2 3\n1 2 3\n",
+       "line 12: field 'Frames': says 3 frames but the file has 2"},
+      {"more frames than Frames:", kHead + kSite + "}\n" + kMotion1 + "1 2 3\n1 2 3\n",
+       "line 15: field 'Frames': more frames than 'Frames: 1'"},
+      {"non-number in OFFSET", "HIERARCHY\nROOT A\n{\nOFFSET 0 x 0\n}\n",
+       "line 4: field 'OFFSET': 'x' is not a number"},
+      {"non-number in MOTION", kHead + kSite + "}\n" + kMotion1 + "1 abc 3\n",
+       "line 14: field 'MOTION': 'abc' is not a number"},
+      {"NaN in MOTION", kHead + kSite + "}\n" + kMotion1 + "1 nan 3\n",
+       "line 14: field 'MOTION': 'nan' is not a finite number"},
+      {"infinity in OFFSET", "HIERARCHY\nROOT A\n{\nOFFSET 0 inf 0\n}\n",
+       "'inf' is not a finite number"},
+      {"overflow in MOTION", kHead + kSite + "}\n" + kMotion1 + "1 1e999 3\n",
+       "'1e999' is not a finite number"},
+      {"NaN frame time", kHead + kSite + "}\nMOTION\nFrames: 1\nFrame Time: NaN\n1 2 3\n",
+       "line 13: field 'Frame Time'"},
+      {"negative frame time", kHead + kSite + "}\nMOTION\nFrames: 1\nFrame Time: -1\n1 2 3\n",
+       "must be positive"},
+      {"bad frame count", kHead + kSite + "}\nMOTION\nFrames: two\nFrame Time: 0.1\n",
+       "'two' is not a frame count"},
       {"quaternion not unit",
-       "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 4 Wquaternion Xquaternion Yquaternion Zquaternion\n" + kSite + "}\n" + kMotion1 + "1 1 0 0\n",
+       "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 4 Wquaternion Xquaternion Yquaternion "
+       "Zquaternion\n" +
+           kSite + "}\n" + kMotion1 + "1 1 0 0\n",
        "line 14: field 'MOTION': joint 'A': quaternion norm"},
       {"three quaternion channels",
        "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 3 Wquaternion Xquaternion Yquaternion\n}\n",
        "all four quaternion channels"},
       {"Euler and quaternion mixed",
-       "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 5 Xrotation Wquaternion Xquaternion Yquaternion Zquaternion\n}\n",
+       "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 5 Xrotation Wquaternion Xquaternion "
+       "Yquaternion Zquaternion\n}\n",
        "mixes Euler rotation and quaternion channels"},
-      {"duplicate channel", "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 2 Xrotation Xrotation\n}\n", "listed twice"},
+      {"duplicate channel",
+       "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 2 Xrotation Xrotation\n}\n", "listed twice"},
   };
+}
+
+TEST(BvhErrors, EveryMalformedInputNamesFileAndLine) {
+  std::vector<Bad> cases = structure_cases();
+  for (Bad& c : value_cases()) cases.push_back(std::move(c));
   for (const Bad& c : cases) {
     SCOPED_TRACE(c.what);
     try {
@@ -420,7 +457,8 @@ TEST(BvhRobust, WhitespaceOnlyLinesAfterMotionAreBlankWhateverTheirWhitespace) {
     EXPECT_EQ(f.frames[0][2], 3.0);
   }
   // a file that ends right after MOTION and a blank line names the missing field
-  EXPECT_NE(error_of(kHead + kSite + "}\nMOTION\n\v\n").find("missing 'Frames:'"), std::string::npos);
+  EXPECT_NE(error_of(kHead + kSite + "}\nMOTION\n\v\n").find("missing 'Frames:'"),
+            std::string::npos);
 }
 
 TEST(BvhRobust, NestingDepthIsTheFilesNotTheStacks) {
@@ -451,17 +489,22 @@ TEST(BvhRobust, TwentyThousandSiblingsGroupAndNameInLinearTime) {
 
 TEST(BvhRobust, JointNamesMustBePrintableUtf8AndSayWhere) {
   const std::string bad_byte =
-      "HIERARCHY\nROOT A\xff\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n" + kSite +
-      "}\n" + kMotion1 + "1 2 3\n";
+      "HIERARCHY\nROOT A\xff\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n" +
+      kSite + "}\n" + kMotion1 + "1 2 3\n";
   const std::string msg = error_of(bad_byte);
-  EXPECT_EQ(msg.rfind("bad.bvh: line 2: field 'joint name': byte 0xff at offset 1 is not UTF-8", 0), 0u)
+  EXPECT_EQ(msg.rfind("bad.bvh: line 2: field 'joint name': byte 0xff at offset 1 is not UTF-8", 0),
+            0u)
       << msg;
-  const std::string control = "HIERARCHY\nROOT A\x01" "B\n{\n  OFFSET 0 0 0\n}\n";
+  const std::string control =
+      "HIERARCHY\nROOT A\x01"
+      "B\n{\n  OFFSET 0 0 0\n}\n";
   EXPECT_NE(error_of(control).find("control character 0x01"), std::string::npos);
   // quotes, '<' and accented letters are names like any other (escaped where written)
-  const BvhFile ok = parse_bvh("HIERARCHY\nROOT caf\xc3\xa9\"<x>\n{\n  OFFSET 0 0 0\n  CHANNELS 3 "
-                               "Zrotation Xrotation Yrotation\n" + kSite + "}\n" + kMotion1 +
-                               "1 2 3\n", "ok.bvh");
+  const BvhFile ok = parse_bvh(
+      "HIERARCHY\nROOT caf\xc3\xa9\"<x>\n{\n  OFFSET 0 0 0\n  CHANNELS 3 "
+      "Zrotation Xrotation Yrotation\n" +
+          kSite + "}\n" + kMotion1 + "1 2 3\n",
+      "ok.bvh");
   EXPECT_EQ(ok.joints[0].name, "caf\xc3\xa9\"<x>");
 }
 
@@ -469,13 +512,17 @@ TEST(BvhRobust, HugeOffsetsAndPositionsFailInTheReaderWithTheirLine) {
   // 1e308 used to fail later, in the rig builder, as a 'rest_frame' error with no line
   std::string msg = error_of("HIERARCHY\nROOT A\n{\n  OFFSET 0 1e308 0\n}\n");
   EXPECT_EQ(msg.rfind("bad.bvh: line 4: field 'OFFSET': '1e308' is beyond", 0), 0u) << msg;
-  msg = error_of("HIERARCHY\nROOT A\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Xposition Yposition "
-                 "Zposition\n" + kSite + "}\n" + kMotion1 + "0 -2e10 0\n");
+  msg = error_of(
+      "HIERARCHY\nROOT A\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Xposition Yposition "
+      "Zposition\n" +
+      kSite + "}\n" + kMotion1 + "0 -2e10 0\n");
   EXPECT_EQ(msg.rfind("bad.bvh: line 14: field 'MOTION': '-2e10' is beyond", 0), 0u) << msg;
-  // offsets that are fine alone but sum, after the scale, past the rig's range name the joint's line
-  const std::string text = "HIERARCHY\nROOT A\n{\n  OFFSET 0 0 0\n  JOINT B\n  {\n    OFFSET 0 9e8 0\n"
-                           "    JOINT C\n    {\n      OFFSET 0 9e8 0\n" + kSite +
-                           "    }\n  }\n}\nMOTION\nFrames: 0\nFrame Time: 0.1\n";
+  // offsets that are fine alone but sum, after the scale, past the rig's range name the joint's
+  // line
+  const std::string text =
+      "HIERARCHY\nROOT A\n{\n  OFFSET 0 0 0\n  JOINT B\n  {\n    OFFSET 0 9e8 0\n"
+      "    JOINT C\n    {\n      OFFSET 0 9e8 0\n" +
+      kSite + "    }\n  }\n}\nMOTION\nFrames: 0\nFrame Time: 0.1\n";
   try {
     bvh_to_rig(parse_bvh(text, "sum.bvh"), "sum.bvh");
     ADD_FAILURE() << "no error";
@@ -485,7 +532,10 @@ TEST(BvhRobust, HugeOffsetsAndPositionsFailInTheReaderWithTheirLine) {
   }
   // underflow is a number (0), not an error
   EXPECT_EQ(parse_bvh("HIERARCHY\nROOT A\n{\n  OFFSET 0 1e-400 0\n" + kSite +
-                          "}\nMOTION\nFrames: 0\nFrame Time: 0.1\n", "u.bvh").joints[0].offset.y(),
+                          "}\nMOTION\nFrames: 0\nFrame Time: 0.1\n",
+                      "u.bvh")
+                .joints[0]
+                .offset.y(),
             0.0);
 }
 

@@ -13,7 +13,8 @@ namespace physik::tune {
 std::vector<Vec3> final_targets(const Scene& scene) {
   std::vector<Vec3> t;
   for (const ControlPoint& cp : scene.control_points) t.push_back(cp.target_world);
-  for (const TargetChange& c : scene.schedule) t[c.control_point] = c.target_world;  // sorted by step
+  for (const TargetChange& c : scene.schedule)
+    t[c.control_point] = c.target_world;  // sorted by step
   return t;
 }
 
@@ -46,7 +47,7 @@ T torsion_residual(SpringLaw law, double k, double c, const T& d) {
 
 struct PotentialResiduals {
   const Scene* scene;
-  std::vector<Vec3> targets;      // (ncontrol) goal targets
+  std::vector<Vec3> targets;       // (ncontrol) goal targets
   std::vector<int> limited_bones;  // non-root bones with at least one limited axis
 
   int num_residuals() const {
@@ -162,7 +163,8 @@ ceres::Solver::Options solver_options(const EquilibriumOptions& opt) {
 namespace {
 
 // the solved pose's measures: distances and spring potentials
-void measure_result(const Scene& scene, const std::vector<int>& limited_bones, EquilibriumResult& out) {
+void measure_result(const Scene& scene, const std::vector<int>& limited_bones,
+                    EquilibriumResult& out) {
   const Rig& rig = scene.rig;
   out.frames = forward_kinematics(rig, out.pose);
   out.targets_world = final_targets(scene);
@@ -171,7 +173,8 @@ void measure_result(const Scene& scene, const std::vector<int>& limited_bones, E
     const double d = (point_on_bone(out.frames, cp.bone, cp.alpha) - out.targets_world[c]).norm();
     out.control_distance.push_back(d);
     const EngineParams& ep = scene.params;
-    out.control_potential += control_spring_potential(cp.spring_in(ep), cp.k_in(ep), cp.cap_in(ep), d);
+    out.control_potential +=
+        control_spring_potential(cp.spring_in(ep), cp.k_in(ep), cp.cap_in(ep), d);
   }
   out.torsion_excess.assign(rig.nbone, Vec3::Zero());
   for (int i : limited_bones) {
@@ -183,6 +186,19 @@ void measure_result(const Scene& scene, const std::vector<int>& limited_bones, E
     }
   }
   out.potential = out.control_potential + out.torsion_potential;
+}
+
+// The pose of the parameter blocks: root head, then one quaternion (x, y, z, w) per bone.
+Pose pose_from_blocks(const std::vector<double>& root,
+                      const std::vector<std::array<double, 4>>& quats) {
+  Pose pose;
+  pose.root_head_world = Vec3(root[0], root[1], root[2]);
+  pose.bone_local_rotation.resize(quats.size());
+  for (std::size_t i = 0; i < quats.size(); ++i) {
+    pose.bone_local_rotation[i] =
+        Quat(quats[i][3], quats[i][0], quats[i][1], quats[i][2]).normalized();
+  }
+  return pose;
 }
 
 }  // namespace
@@ -234,14 +250,11 @@ EquilibriumResult solve_equilibrium(const Scene& scene, const EquilibriumOptions
   ceres::Solve(solver_options(opt), &problem, &summary);
 
   EquilibriumResult out;
-  out.pose.root_head_world = Vec3(root[0], root[1], root[2]);
-  out.pose.bone_local_rotation.resize(rig.nbone);
-  for (int i = 0; i < rig.nbone; ++i) {
-    out.pose.bone_local_rotation[i] = Quat(quats[i][3], quats[i][0], quats[i][1], quats[i][2]).normalized();
-  }
+  out.pose = pose_from_blocks(root, quats);
   measure_result(scene, limited_bones, out);
   out.iterations = static_cast<int>(summary.iterations.size());
-  if (!summary.iterations.empty()) out.gradient_max_norm = summary.iterations.back().gradient_max_norm;
+  if (!summary.iterations.empty())
+    out.gradient_max_norm = summary.iterations.back().gradient_max_norm;
   out.converged = summary.termination_type == ceres::CONVERGENCE;
   out.ceres_brief = summary.BriefReport();
   out.ceres_full = summary.FullReport();
@@ -281,9 +294,9 @@ nlohmann::json equilibrium_to_json(const Scene& scene, const EquilibriumResult& 
           {"torsion_potential", e.torsion_potential},
           {"gradient_max_norm", e.gradient_max_norm},
           {"max_control_distance",
-           e.control_distance.empty() ? 0.0
-                                      : *std::max_element(e.control_distance.begin(),
-                                                          e.control_distance.end())},
+           e.control_distance.empty()
+               ? 0.0
+               : *std::max_element(e.control_distance.begin(), e.control_distance.end())},
           {"control_points", cps},
           {"torsion_excess_deg", excess},
           {"pose", {{"root_head", {r.x(), r.y(), r.z()}}, {"rotation_deg", rot}}},
