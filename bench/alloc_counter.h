@@ -5,5 +5,7 @@
 
 namespace physik::bench {
 extern std::atomic<long> g_allocations;
-inline long allocations() { return g_allocations.load(std::memory_order_relaxed); }
+inline long allocations() {
+  return g_allocations.load(std::memory_order_relaxed);
+}
 }  // namespace physik::bench

@@ -39,7 +39,9 @@ std::string scene_file(const std::string& name) {
   return std::string(PHYSIK_SOURCE_DIR) + "/models/scenes/" + name + ".json";
 }
 
-int steps_for(int n) { return std::clamp(20000 / n, 2, 100); }
+int steps_for(int n) {
+  return std::clamp(20000 / n, 2, 100);
+}
 
 // the timed steps of step() from the scene's initial state, us per step
 void time_physik(benchmark::State& state, const physik::Scene& scene, int steps) {
@@ -108,7 +110,8 @@ void BM_ExactVsMjStep(benchmark::State& state, const std::string& name) {
   for (auto _ : state) {
     physik::SimState s = init_exact;
     double t0 = thread_seconds();
-    for (int k = 0; k < kSteps; ++k) benchmark::DoNotOptimize(physik::step(exact, s).kinetic_energy);
+    for (int k = 0; k < kSteps; ++k)
+      benchmark::DoNotOptimize(physik::step(exact, s).kinetic_energy);
     t_exact += thread_seconds() - t0;
     s = init_gs;
     t0 = thread_seconds();
@@ -116,7 +119,8 @@ void BM_ExactVsMjStep(benchmark::State& state, const std::string& name) {
     t_gs += thread_seconds() - t0;
     s = init_implicit;
     t0 = thread_seconds();
-    for (int k = 0; k < kSteps; ++k) benchmark::DoNotOptimize(physik::step(implicit, s).kinetic_energy);
+    for (int k = 0; k < kSteps; ++k)
+      benchmark::DoNotOptimize(physik::step(implicit, s).kinetic_energy);
     t_implicit += thread_seconds() - t0;
     t_mj += 1e-6 * kSteps * time_mj_step_replay(r);
     steps += kSteps;
@@ -135,20 +139,39 @@ BENCHMARK_CAPTURE(BM_ExactVsMjStep, pinhead_two_hands, std::string("pinhead_two_
 BENCHMARK_CAPTURE(BM_ExactVsMjStep, fig5_running, std::string("fig5_running"))
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Exact, chain, std::string("chain"))
-    ->RangeMultiplier(10)->Range(10, 10000)->Arg(30)->Arg(300)->Arg(3000)
+    ->RangeMultiplier(10)
+    ->Range(10, 10000)
+    ->Arg(30)
+    ->Arg(300)
+    ->Arg(3000)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Exact, tree2, std::string("tree2"))
-    ->RangeMultiplier(10)->Range(10, 10000)->Arg(30)->Arg(300)->Arg(3000)
+    ->RangeMultiplier(10)
+    ->Range(10, 10000)
+    ->Arg(30)
+    ->Arg(300)
+    ->Arg(3000)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Implicit, chain, std::string("chain"))
-    ->RangeMultiplier(10)->Range(10, 10000)->Unit(benchmark::kMillisecond);
+    ->RangeMultiplier(10)
+    ->Range(10, 10000)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Implicit, tree2, std::string("tree2"))
-    ->RangeMultiplier(10)->Range(10, 10000)->Unit(benchmark::kMillisecond);
+    ->RangeMultiplier(10)
+    ->Range(10, 10000)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_MjStep, chain, std::string("chain"))
-    ->RangeMultiplier(10)->Range(10, 1000)->Arg(30)->Arg(300)
+    ->RangeMultiplier(10)
+    ->Range(10, 1000)
+    ->Arg(30)
+    ->Arg(300)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_MjStep, tree2, std::string("tree2"))
-    ->RangeMultiplier(10)->Range(10, 10000)->Arg(30)->Arg(300)->Arg(3000)
+    ->RangeMultiplier(10)
+    ->Range(10, 10000)
+    ->Arg(30)
+    ->Arg(300)
+    ->Arg(3000)
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace

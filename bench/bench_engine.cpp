@@ -20,9 +20,8 @@ std::string scene_path(const char* name) {
 
 physik::Scene bench_scene(const std::string& integration, const std::string& damping) {
   const std::string running = scene_path("fig5_running.json");
-  physik::Scene scene = physik::load_scene(std::filesystem::exists(running)
-                                               ? running
-                                               : scene_path("pinhead_two_hands.json"));
+  physik::Scene scene = physik::load_scene(
+      std::filesystem::exists(running) ? running : scene_path("pinhead_two_hands.json"));
   scene.params.dt = 0.05;
   scene.params.joint_eps = 1e-3;
   for (auto& cp : scene.control_points) cp.k = 30.0;
@@ -32,7 +31,8 @@ physik::Scene bench_scene(const std::string& integration, const std::string& dam
   return scene;
 }
 
-void run_steps(benchmark::State& state, const std::string& integration, const std::string& damping) {
+void run_steps(benchmark::State& state, const std::string& integration,
+               const std::string& damping) {
   const physik::Scene scene = bench_scene(integration, damping);
   physik::SimState initial;
   physik::init_state(scene, initial);
@@ -62,8 +62,12 @@ void run_steps(benchmark::State& state, const std::string& integration, const st
   state.SetItemsProcessed(steps);
 }
 
-void BM_PhysikStep_Articulated(benchmark::State& state) { run_steps(state, "articulated", "original"); }
-void BM_PhysikStep_FreeRods(benchmark::State& state) { run_steps(state, "free-rods", "original"); }
+void BM_PhysikStep_Articulated(benchmark::State& state) {
+  run_steps(state, "articulated", "original");
+}
+void BM_PhysikStep_FreeRods(benchmark::State& state) {
+  run_steps(state, "free-rods", "original");
+}
 BENCHMARK(BM_PhysikStep_Articulated)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_PhysikStep_FreeRods)->Unit(benchmark::kMicrosecond);
 

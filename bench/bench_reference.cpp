@@ -42,9 +42,12 @@ double thread_seconds() {
   return t.tv_sec + 1e-9 * t.tv_nsec;
 }
 
-double seconds_since(double t0) { return thread_seconds() - t0; }
+double seconds_since(double t0) {
+  return thread_seconds() - t0;
+}
 
-void BM_PhysikVsMujoco(benchmark::State& state, const std::string& name, physik::ReferenceMode mode) {
+void BM_PhysikVsMujoco(benchmark::State& state, const std::string& name,
+                       physik::ReferenceMode mode) {
   const physik::Scene scene = physik::load_scene(scene_file(name));
   physik::SimState initial;
   physik::init_state(scene, initial);
@@ -65,7 +68,8 @@ void BM_PhysikVsMujoco(benchmark::State& state, const std::string& name, physik:
   for (auto _ : state) {
     physik::SimState s = initial;
     double t0 = thread_seconds();
-    for (int k = 0; k < kSteps; ++k) benchmark::DoNotOptimize(physik::step(scene, s).kinetic_energy);
+    for (int k = 0; k < kSteps; ++k)
+      benchmark::DoNotOptimize(physik::step(scene, s).kinetic_energy);
     t_physik += seconds_since(t0);
 
     mj_copyData(d.get(), m, start.get());
@@ -91,8 +95,8 @@ void BM_PhysikVsMujoco(benchmark::State& state, const std::string& name, physik:
   state.counters["nv"] = m->nv;
 }
 
-BENCHMARK_CAPTURE(BM_PhysikVsMujoco, pinhead_two_hands_same_forces, std::string("pinhead_two_hands"),
-                  physik::ReferenceMode::kSameForces)
+BENCHMARK_CAPTURE(BM_PhysikVsMujoco, pinhead_two_hands_same_forces,
+                  std::string("pinhead_two_hands"), physik::ReferenceMode::kSameForces)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_PhysikVsMujoco, pinhead_two_hands_exact, std::string("pinhead_two_hands"),
                   physik::ReferenceMode::kExactConstraints)

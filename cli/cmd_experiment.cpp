@@ -21,7 +21,8 @@ struct RunOptions {
 };
 
 // the experiments named (all when none), in run order; an unknown name is bad input
-std::vector<const experiments::Experiment*> chosen_experiments(const std::vector<std::string>& names) {
+std::vector<const experiments::Experiment*> chosen_experiments(
+    const std::vector<std::string>& names) {
   const auto& all = experiments::all_experiments();
   std::vector<const experiments::Experiment*> chosen;
   for (const std::string& n : names) {

@@ -9,10 +9,10 @@
 
 #include "cli/commands.h"
 #include "physik/io/bvh.h"
-#include "physik/model/errors.h"
 #include "physik/io/joint_limits.h"
 #include "physik/io/json_fields.h"
 #include "physik/io/rig_io.h"
+#include "physik/model/errors.h"
 #include "reference/mjcf_import.h"
 
 namespace physik::cli {
@@ -136,8 +136,9 @@ void add_from_mjcf(CLI::App* rig) {
   };
   auto fm = std::make_shared<FromMjcf>();
   auto* from_mjcf = rig->add_subcommand(
-      "from-mjcf", "Rig of a MuJoCo model (loaded by MuJoCo): bodies -> bones, joint ranges -> "
-                   "limits, masses and inertias; prints JSON");
+      "from-mjcf",
+      "Rig of a MuJoCo model (loaded by MuJoCo): bodies -> bones, joint ranges -> "
+      "limits, masses and inertias; prints JSON");
   from_mjcf->add_option("MODEL", fm->path, "MJCF file")->required();
   from_mjcf->add_option("--out", fm->out, "Write the rig JSON here instead of stdout");
   from_mjcf->add_option("--body", fm->body,
@@ -151,8 +152,9 @@ void add_from_mjcf(CLI::App* rig) {
               << r.nbody_model << " bodies; mass " << r.rig_mass << " kg (model " << r.model_mass
               << " kg)";
     if (!r.skipped_bodies.empty()) {
-      std::cerr << "; left out " << r.skipped_bodies.size() << " other top-level bodies (first: "
-                << r.skipped_bodies[0] << "; choose with --body)";
+      std::cerr << "; left out " << r.skipped_bodies.size()
+                << " other top-level bodies (first: " << r.skipped_bodies[0]
+                << "; choose with --body)";
     }
     std::cerr << "\nfrom-mjcf: dropped: " << r.slide_joints_dropped << " slide joints, "
               << r.unaligned_hinges << " bones freed by unaligned hinges (mapped hinges within "

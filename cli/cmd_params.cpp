@@ -62,7 +62,8 @@ std::string table_text(int only_preset) {
   std::ostringstream o;
   for (std::size_t k = 0; k < heads.size(); ++k) {
     const auto& line = heads[k];
-    for (std::size_t c = 0; c + 1 < line.size(); ++c) o << std::left << std::setw(width[c] + 2) << line[c];
+    for (std::size_t c = 0; c + 1 < line.size(); ++c)
+      o << std::left << std::setw(width[c] + 2) << line[c];
     o << line.back() << "\n";
     if (k == 0) continue;
     const ParamRow& r = param_table()[k - 1];
@@ -82,11 +83,14 @@ void add_params_commands(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "params",
       "List the engine parameters (a scene's \"params\" keys and --set keys): unit, default per "
-      "preset (a scene that names none gets " + std::string(kDefaultPreset) + "), valid values, "
-      "tuning bounds (tune --params) and what each does, within 100 columns.");
-  cmd->add_flag("--json", opt->json,
-                "JSON for machines: {presets, default_preset, params: [{name, kind, unit, defaults, "
-                "valid, tune, doc, ...}]}; with --preset, that preset's \"params\" object");
+      "preset (a scene that names none gets " +
+          std::string(kDefaultPreset) +
+          "), valid values, "
+          "tuning bounds (tune --params) and what each does, within 100 columns.");
+  cmd->add_flag(
+      "--json", opt->json,
+      "JSON for machines: {presets, default_preset, params: [{name, kind, unit, defaults, "
+      "valid, tune, doc, ...}]}; with --preset, that preset's \"params\" object");
   cmd->add_option("--preset", opt->preset, "Show one preset's values only (original|paper|robust)");
   cmd->callback([opt] {
     const int only = opt->preset.empty() ? -1 : preset_index(opt->preset);

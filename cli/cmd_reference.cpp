@@ -6,9 +6,9 @@
 #include <memory>
 
 #include "cli/commands.h"
-#include "physik/model/errors.h"
 #include "physik/io/output_files.h"
 #include "physik/io/rig_io.h"
+#include "physik/model/errors.h"
 #include "reference/mjcf_export.h"
 
 namespace physik::cli {
@@ -17,9 +17,9 @@ namespace {
 
 struct ExportMjcfOptions {
   std::string rig;
-  std::string out;                       // "" or "-" = stdout
-  std::string joints = "rig";            // rig | ball
-  double dt = 0.05;                      // s
+  std::string out;             // "" or "-" = stdout
+  std::string joints = "rig";  // rig | ball
+  double dt = 0.05;            // s
 };
 
 }  // namespace
@@ -32,10 +32,11 @@ void add_reference_commands(CLI::App& app) {
       "root, ball/hinge/welded joints from the rig's limits (or balls everywhere), no gravity, no "
       "contacts, Euler integrator. The MJCF is compiled by MuJoCo before it is printed.");
   cmd->add_option("RIG", opt->rig, "Rig file (JSON, see models/README.md)")->required();
-  cmd->add_option("--out", opt->out,
-                  "Write to this file instead of stdout; a rig nested deeper than " +
-                      std::to_string(kMjcfBodiesPerFile) +
-                      " bodies also gets include files STEM.partK.xml beside it (STEM = FILE without .xml)");
+  cmd->add_option(
+      "--out", opt->out,
+      "Write to this file instead of stdout; a rig nested deeper than " +
+          std::to_string(kMjcfBodiesPerFile) +
+          " bodies also gets include files STEM.partK.xml beside it (STEM = FILE without .xml)");
   cmd->add_option("--joints", opt->joints,
                   "rig: joint types and limits from the rig (exact-constraints mode); ball: a "
                   "ball at every bone, no limits (same-forces mode)")

@@ -1,7 +1,7 @@
 // physik rig info | chain | tree: inspect rigs and generate chains and balanced trees.
 #include <iomanip>
-#include <memory>
 #include <iostream>
+#include <memory>
 #include <sstream>
 
 #include "cli/commands.h"
@@ -15,7 +15,9 @@ namespace physik::cli {
 
 namespace {
 
-nlohmann::json vec_json(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+nlohmann::json vec_json(const Vec3& v) {
+  return {v.x(), v.y(), v.z()};
+}
 
 nlohmann::json rig_info_json(const Rig& rig, const std::string& path) {
   nlohmann::json bones = nlohmann::json::array();
@@ -26,16 +28,17 @@ nlohmann::json rig_info_json(const Rig& rig, const std::string& path) {
       const AxisLimit& l = rig.bone_limit[i][a];
       if (l.limited) limits[kAxis[a]] = {rad2deg(l.min), rad2deg(l.max)};
     }
-    bones.push_back({{"name", rig.bone_name[i]},
-                     {"parent", rig.bone_parent[i] < 0 ? nlohmann::json(nullptr)
-                                                       : nlohmann::json(rig.bone_name[rig.bone_parent[i]])},
-                     {"head", vec_json(rig.bone_rest_head_world[i])},
-                     {"tail", vec_json(rig.bone_rest_tail_world[i])},
-                     {"length", rig.bone_length[i]},
-                     {"mass", rig.bone_mass[i]},
-                     {"inertia_local", vec_json(rig.bone_inertia_local[i])},
-                     {"dof", rig.bone_parent[i] < 0 ? 6 : rig.bone_dof(i)},
-                     {"limits_deg", limits}});
+    bones.push_back(
+        {{"name", rig.bone_name[i]},
+         {"parent", rig.bone_parent[i] < 0 ? nlohmann::json(nullptr)
+                                           : nlohmann::json(rig.bone_name[rig.bone_parent[i]])},
+         {"head", vec_json(rig.bone_rest_head_world[i])},
+         {"tail", vec_json(rig.bone_rest_tail_world[i])},
+         {"length", rig.bone_length[i]},
+         {"mass", rig.bone_mass[i]},
+         {"inertia_local", vec_json(rig.bone_inertia_local[i])},
+         {"dof", rig.bone_parent[i] < 0 ? 6 : rig.bone_dof(i)},
+         {"limits_deg", limits}});
   }
   nlohmann::json joints = nlohmann::json::array();
   for (const Joint& j : rig.joints) {

@@ -11,8 +11,8 @@
 #include <memory>
 
 #include "cli/commands.h"
-#include "physik/io/bvh.h"
 #include "physik/engine/run_monitor.h"
+#include "physik/io/bvh.h"
 #include "physik/io/output_files.h"
 #include "physik/io/run_folder.h"
 #include "physik/io/scene_io.h"
@@ -27,8 +27,8 @@ namespace {
 struct SimulateOptions {
   std::string scene;
   std::string out = "out";
-  int steps = 0;          // 0 = the scene's
-  int every = 1;          // CSV row every N steps
+  int steps = 0;  // 0 = the scene's
+  int every = 1;  // CSV row every N steps
   bool quiet = false;
   std::vector<std::string> set;  // param overrides key=value
   std::string reference;         // "" or mujoco[:same-forces|:exact-constraints]
@@ -39,16 +39,22 @@ void add_options(CLI::App* cmd, SimulateOptions& o) {
   cmd->add_option("SCENE", o.scene, "Scene file (JSON, see models/README.md)")->required();
   cmd->add_option("--out", o.out, "Output folder")->capture_default_str();
   cmd->add_option("--steps", o.steps, "Number of steps (default: the scene's)");
-  cmd->add_option("--every", o.every, "Write a CSV row (and a --bvh frame) every N steps")->capture_default_str();
-  cmd->add_option("--bvh", o.bvh, "Also record the run as a BVH animation (qBVH if the name ends in .qbvh): the initial pose, then a frame every --every steps");
-  cmd->add_option("--set", o.set, "Override a scene parameter before the scene is read (control points that take their k, "
-                  "spring or cap from the params follow), e.g. --set damping=20 --set control_k=30; "
-                  "--set preset=paper swaps the base preset under the scene's own params");
+  cmd->add_option("--every", o.every, "Write a CSV row (and a --bvh frame) every N steps")
+      ->capture_default_str();
+  cmd->add_option("--bvh", o.bvh,
+                  "Also record the run as a BVH animation (qBVH if the name ends in .qbvh): the "
+                  "initial pose, then a frame every --every steps");
+  cmd->add_option(
+      "--set", o.set,
+      "Override a scene parameter before the scene is read (control points that take their k, "
+      "spring or cap from the params follow), e.g. --set damping=20 --set control_k=30; "
+      "--set preset=paper swaps the base preset under the scene's own params");
   cmd->add_flag("--quiet", o.quiet, "No progress output");
-  cmd->add_option("--reference", o.reference,
-                  "Also run MuJoCo from the same initial pose: mujoco[:same-forces|:exact-constraints]; "
-                  "writes the MuJoCo run as a run folder of its own, <out>/mujoco (the files of "
-                  "<out>), and <out>/comparison.json");
+  cmd->add_option(
+      "--reference", o.reference,
+      "Also run MuJoCo from the same initial pose: mujoco[:same-forces|:exact-constraints]; "
+      "writes the MuJoCo run as a run folder of its own, <out>/mujoco (the files of "
+      "<out>), and <out>/comparison.json");
 }
 
 Scene prepare_scene(const SimulateOptions& o) {
@@ -56,7 +62,7 @@ Scene prepare_scene(const SimulateOptions& o) {
   if (o.steps < 0) throw_input_error("--steps", "", "", "must not be negative");
   if (o.every < 1) throw_input_error("--every", "", "", "must be at least 1");
   if (!o.reference.empty()) parse_reference_spec(o.reference);  // bad spec: exit 2 first
-  if (!o.bvh.empty()) check_output_file(o.bvh, "--bvh");  // before the run, not after
+  if (!o.bvh.empty()) check_output_file(o.bvh, "--bvh");        // before the run, not after
   if (o.steps > 0) scene.steps = o.steps;
   return scene;
 }
@@ -65,9 +71,12 @@ Scene prepare_scene(const SimulateOptions& o) {
 // substeps of the implicit step, nothing for the exact step (one solve, no iteration).
 std::string solver_work(const EngineParams& p, const StepStats& st) {
   switch (p.scheme) {
-    case Scheme::kGaussSeidel: return "passes " + std::to_string(st.passes);
-    case Scheme::kExact: return "exact solve";
-    case Scheme::kImplicit: return "substeps " + std::to_string(st.substeps);
+    case Scheme::kGaussSeidel:
+      return "passes " + std::to_string(st.passes);
+    case Scheme::kExact:
+      return "exact solve";
+    case Scheme::kImplicit:
+      return "substeps " + std::to_string(st.substeps);
   }
   return "";
 }

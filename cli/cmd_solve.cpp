@@ -14,9 +14,9 @@
 #include "physik/io/pose_io.h"
 #include "physik/io/scene_io.h"
 #include "physik/io/summary_io.h"
-#include "physik/posing/scene_solve.h"
 #include "physik/model/errors.h"
 #include "physik/model/scene.h"
+#include "physik/posing/scene_solve.h"
 
 namespace physik::cli {
 
@@ -30,7 +30,7 @@ struct SolveOptions {
   // the solve options' flags as given (their table, physik/posing/solve_options.h), by name
   std::map<std::string, std::string> texts;
   std::map<std::string, std::vector<std::string>> vectors;  // three-number options
-  std::map<std::string, bool> flags;                         // boolean options
+  std::map<std::string, bool> flags;                        // boolean options
 };
 
 // final_pose.csv and summary.json, both written (and closed) before a divergence is reported
@@ -66,14 +66,16 @@ SceneSolveOptions solve_options(const SolveOptions& o, const CLI::App& cmd) {
 
 void run_solve(const SolveOptions& o, const CLI::App& cmd) {
   const ParamOverrides overrides = parse_param_overrides(o.set, "--set");
-  if (!std::filesystem::exists(o.scene)) throw_input_error(o.scene, "", "", "scene file does not exist");
+  if (!std::filesystem::exists(o.scene))
+    throw_input_error(o.scene, "", "", "scene file does not exist");
   const SceneSolveOptions options = solve_options(o, cmd);
   check_solve_options(options);  // before the scene: a bad flag is reported first
   const Scene scene = load_scene(o.scene, overrides);
   create_output_dir(o.out, "--out");
   const SceneSolveResult r = solve_scene(scene, options);
   const nlohmann::json summary = solve_summary_to_json(r);
-  if (!r.warning.empty()) std::cerr << "physik: warning: " << scene.file << ": " << r.warning << "\n";
+  if (!r.warning.empty())
+    std::cerr << "physik: warning: " << scene.file << ": " << r.warning << "\n";
   write_solution(scene, r, summary, o.out);
   if (!o.quiet) {
     std::cerr << "solve: " << options.solver << " "

@@ -172,9 +172,10 @@ void add_equilibrium(CLI::App& app) {
                   "Start pose: 'initial' (the scene's) or 'physik' (PhysIK's final pose: the "
                   "nearest exact equilibrium to it)")
       ->capture_default_str();
-  cmd->add_flag("--compare", opt->compare,
-                "Also run PhysIK on the scene and report its final-pose distance to the equilibrium "
-                "(exit 3 if that run diverges)");
+  cmd->add_flag(
+      "--compare", opt->compare,
+      "Also run PhysIK on the scene and report its final-pose distance to the equilibrium "
+      "(exit 3 if that run diverges)");
   cmd->add_option("--set", opt->set, kSetHelp);
   cmd->callback([opt] {
     tune::check_equilibrium_start(opt->start);
@@ -196,9 +197,10 @@ void add_equilibrium(CLI::App& app) {
       throw DivergedRun(rep.physik_run.divergence_reason);
     }
     if (rep.ran_physik) {
-      std::cerr << "equilibrium: PhysIK's final pose is " << doc["physik"]["max_pose_distance"].get<double>()
-                << " rig units from it (potential " << doc["physik"]["potential"].get<double>() << " J vs "
-                << e.potential << " J)\n";
+      std::cerr << "equilibrium: PhysIK's final pose is "
+                << doc["physik"]["max_pose_distance"].get<double>()
+                << " rig units from it (potential " << doc["physik"]["potential"].get<double>()
+                << " J vs " << e.potential << " J)\n";
     }
     write_json(doc, opt->out);
     if (!opt->bones.empty()) {

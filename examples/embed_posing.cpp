@@ -10,7 +10,7 @@ int main(int argc, char** argv) {
   physik::PosingSession session(physik::load_scene(path));  // allocates, once
   const physik::Vec3 centre = session.state().target_goal_world[0];
   for (int frame = 0; frame < 120; ++frame) {  // the tool's frame loop: nothing allocated
-    const double a = 0.05 * frame / 0.3;        // 0.05 rig units per frame on a 0.3 circle
+    const double a = 0.05 * frame / 0.3;       // 0.05 rig units per frame on a 0.3 circle
     session.set_target(0, centre + 0.3 * physik::Vec3(std::cos(a) - 1.0, 0.0, std::sin(a)));
     session.advance(3);
     std::printf("frame %d lag %.4f\n", frame, session.residual());

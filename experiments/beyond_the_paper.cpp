@@ -9,7 +9,8 @@
 //   insensitivity.csv    steps to converge for c from 0.25 to 1000 on each pinhead scene
 //   stability_map.csv    (dt, c) grid on pinhead_two_hands: diverged / settled / neither
 //   scaled.csv           the tuning study's 0.1x and 10x rigs (tuning_study.cpp) over c
-//   auto.csv             damping_auto (linear_modes.h) against the fastest c of a fine grid, and the
+//   auto.csv             damping_auto (linear_modes.h) against the fastest c of a fine grid, and
+//   the
 //                        rule evaluated again at the pose the auto run settled in
 // "Converged" is the run monitor's (at rest for 10 steps, physik/engine/run_monitor.h); a run
 // at rest farther than residual_tol from the smallest final residual any run of that scene
@@ -20,8 +21,8 @@
 
 #include "experiments/columns.h"
 #include "experiments/common.h"
-#include "physik/io/json_fields.h"
 #include "physik/engine/linear_modes.h"
+#include "physik/io/json_fields.h"
 #include "tune/equilibrium.h"
 
 namespace physik::experiments {
@@ -50,7 +51,9 @@ Outcome run(const Scene& s) {
   return o;
 }
 
-const char* scheme_name(bool implicit) { return implicit ? "implicit" : "explicit"; }
+const char* scheme_name(bool implicit) {
+  return implicit ? "implicit" : "explicit";
+}
 
 std::string steps_text(const Outcome& o) {
   if (o.run.diverged) return "diverged at step " + std::to_string(o.run.steps_run);
@@ -78,12 +81,13 @@ Table paper_settings(const Context& ctx, nlohmann::json& claims) {
     Scene base = prepared(ctx, name, ctx.quick ? 200 : 1500);
     base.params.damping = 20.0;
     base.params.dt = 0.05;
-    for (bool imp : {false, true}) runs.push_back({name, scheme_name(imp), run(with_scheme(base, imp))});
+    for (bool imp : {false, true})
+      runs.push_back({name, scheme_name(imp), run(with_scheme(base, imp))});
   }
   using namespace columns;
   Table csv("paper_settings", "paper_settings.csv",
-              {kScene, kScheme, kConverged, kDiverged, kStepsToConverge, kStepsRun,
-               kMaxFinalResidual, kPeakKineticEnergy});
+            {kScene, kScheme, kConverged, kDiverged, kStepsToConverge, kStepsRun, kMaxFinalResidual,
+             kPeakKineticEnergy});
   int ok[2] = {0, 0};
   std::string text;
   for (const SchemeRun& r : runs) {
@@ -93,10 +97,13 @@ Table paper_settings(const Context& ctx, nlohmann::json& claims) {
     text += std::string(text.empty() ? "" : "; ") + r.scene + " " + r.scheme + ": " +
             steps_text(r.o) + " (residual " + num(r.o.max_residual) + ")";
   }
-  claims.push_back(claim("Implicit: the paper's own settings (c = 20, dt = 0.05) pose every pinhead scene",
-                         "explicit converged on " + std::to_string(ok[0]) + " of 3, implicit on " +
-                             std::to_string(ok[1]) + " of 3: " + text,
-                         ok[1] == 3 ? "yes" : ok[1] > 0 ? "partly" : "no"));
+  claims.push_back(
+      claim("Implicit: the paper's own settings (c = 20, dt = 0.05) pose every pinhead scene",
+            "explicit converged on " + std::to_string(ok[0]) + " of 3, implicit on " +
+                std::to_string(ok[1]) + " of 3: " + text,
+            ok[1] == 3  ? "yes"
+            : ok[1] > 0 ? "partly"
+                        : "no"));
   return csv;
 }
 
@@ -105,7 +112,8 @@ double band_deg(const Scene& s) {
   double band = 1e9;
   for (int i = 1; i < s.rig.nbone; ++i) {
     for (const AxisLimit& l : s.rig.bone_limit[i]) {
-      if (l.limited && l.max > l.min) band = std::min(band, s.params.torsion_tolerance * (l.max - l.min));
+      if (l.limited && l.max > l.min)
+        band = std::min(band, s.params.torsion_tolerance * (l.max - l.min));
     }
   }
   return band * 180.0 / 3.14159265358979323846;
@@ -149,13 +157,13 @@ Table tight_hand(const Context& ctx, nlohmann::json& claims) {
   const std::vector<HandRun> runs = measure_hand(ctx);
   using namespace columns;
   Table csv("hand", "hand.csv",
-              {kTorsionK, kScheme, kConverged, kDiverged, kStepsToConverge, kStepsRun,
-               kMaxLimitViolationDeg,
-               real("final_limit_violation_deg", "deg", "the largest limit excess at the end"),
-               real("equilibrium_limit_violation_deg", "deg",
-                    "the largest limit excess of the exact static equilibrium (Ceres)"),
-               real("band_deg", "deg", "the engage band: torsion_tolerance x the narrowest range"),
-               kMaxFinalResidual});
+            {kTorsionK, kScheme, kConverged, kDiverged, kStepsToConverge, kStepsRun,
+             kMaxLimitViolationDeg,
+             real("final_limit_violation_deg", "deg", "the largest limit excess at the end"),
+             real("equilibrium_limit_violation_deg", "deg",
+                  "the largest limit excess of the exact static equilibrium (Ceres)"),
+             real("band_deg", "deg", "the engage band: torsion_tolerance x the narrowest range"),
+             kMaxFinalResidual});
   bool settles = true, holds_where_possible = true;
   std::string text;
   for (const HandRun& h : runs) {
@@ -168,16 +176,18 @@ Table tight_hand(const Context& ctx, nlohmann::json& claims) {
     } else {
       settles = settles && h.o.run.converged;
       // where the equilibrium itself holds the band, the run must end within it
-      if (h.eq_deg <= h.band_deg) holds_where_possible = holds_where_possible && h.final_deg <= h.band_deg;
+      if (h.eq_deg <= h.band_deg)
+        holds_where_possible = holds_where_possible && h.final_deg <= h.band_deg;
     }
     text += "; " + std::string(h.name()) + ": " + steps_text(h.o) + ", ends " + num(h.final_deg) +
             " deg past (peak " + num(h.o.run.max_limit_violation_deg) + ")";
   }
-  claims.push_back(claim("Implicit: the tight hand settles at dt = 0.05 (torsion k 10, 100, 1000)", text,
-                         settles ? "yes" : "no"));
-  claims.push_back(claim("Implicit: the tight hand's limits hold within the engage band where the exact equilibrium "
-                         "does (not at k 10 or 100: there the springs' own minimum lies past the band)",
-                         "see the previous row; hand.csv", holds_where_possible ? "yes" : "no"));
+  claims.push_back(claim("Implicit: the tight hand settles at dt = 0.05 (torsion k 10, 100, 1000)",
+                         text, settles ? "yes" : "no"));
+  claims.push_back(claim(
+      "Implicit: the tight hand's limits hold within the engage band where the exact equilibrium "
+      "does (not at k 10 or 100: there the springs' own minimum lies past the band)",
+      "see the previous row; hand.csv", holds_where_possible ? "yes" : "no"));
   return csv;
 }
 
@@ -186,22 +196,25 @@ Table failures(const Context& ctx, nlohmann::json& claims) {
   std::vector<SchemeRun> runs;
   for (const char* name : {"fig8_wobble", "fig5_running"}) {
     const Scene base = prepared(ctx, name, ctx.quick ? 200 : 1500);
-    for (bool imp : {false, true}) runs.push_back({name, scheme_name(imp), run(with_scheme(base, imp))});
+    for (bool imp : {false, true})
+      runs.push_back({name, scheme_name(imp), run(with_scheme(base, imp))});
   }
   using namespace columns;
   Table csv("failures", "failures.csv",
-              {kScene, kScheme, kConverged, kDiverged, kStepsToConverge, kStepsRun,
-               kFinalKineticEnergy, kMaxFinalResidual});
+            {kScene, kScheme, kConverged, kDiverged, kStepsToConverge, kStepsRun,
+             kFinalKineticEnergy, kMaxFinalResidual});
   bool gone = true;
   std::string text;
   for (const SchemeRun& r : runs) {
     csv.add({r.scene, r.scheme, r.o.run.converged, r.o.run.diverged, r.o.run.steps_to_converge,
              r.o.run.steps_run, r.o.run.final_kinetic_energy, r.o.max_residual});
     if (r.scheme == "implicit") gone = gone && r.o.run.converged;
-    text += std::string(text.empty() ? "" : "; ") + r.scene + " " + r.scheme + ": " + steps_text(r.o);
+    text +=
+        std::string(text.empty() ? "" : "; ") + r.scene + " " + r.scheme + ": " + steps_text(r.o);
   }
-  claims.push_back(claim("Implicit: Fig 8's wobble and Fig 5's period-2 flicker are gone (converged)", text,
-                         gone ? "yes" : "no"));
+  claims.push_back(
+      claim("Implicit: Fig 8's wobble and Fig 5's period-2 flicker are gone (converged)", text,
+            gone ? "yes" : "no"));
   return csv;
 }
 
@@ -217,8 +230,11 @@ void run_all(const Context& ctx) {
   const auto t0 = std::chrono::steady_clock::now();
   const auto progress = [&](const std::string& what) {
     if (ctx.log) {
-      *ctx.log << "  [" << num(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 3)
-               << " s] " << what << "\n" << std::flush;
+      *ctx.log << "  ["
+               << num(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+                      3)
+               << " s] " << what << "\n"
+               << std::flush;
     }
   };
   nlohmann::json claims = nlohmann::json::array();
@@ -243,8 +259,10 @@ void run_all(const Context& ctx) {
       {"title", "Beyond the paper: implicit springs and dampers"},
       {"claims", claims},
       {"notes",
-       {"explicit = the paper's scheme as shipped (Gauss-Seidel joint passes, semi-implicit Euler); "
-        "implicit = integration: implicit (linearised backward Euler over the exact articulated-body "
+       {"explicit = the paper's scheme as shipped (Gauss-Seidel joint passes, semi-implicit "
+        "Euler); "
+        "implicit = integration: implicit (linearised backward Euler over the exact "
+        "articulated-body "
         "solve, physik/engine/implicit_step.h), every other setting equal.",
         "Converged = at rest for 10 steps (the run monitor's test); 'stopped short' = at rest but "
         "farther than residual_tol from the smallest final residual of that scene."}},
@@ -255,9 +273,10 @@ void run_all(const Context& ctx) {
 }  // namespace
 
 const Registration beyond_the_paper_registered{
-    270, {"beyond_the_paper", "Sec. 5 future work",
-          "the paper's failure cases, explicit (faithful) beside implicit; damping insensitivity; "
-          "stability map; scaled rigs; damping auto",
-          run_all}};
+    270,
+    {"beyond_the_paper", "Sec. 5 future work",
+     "the paper's failure cases, explicit (faithful) beside implicit; damping insensitivity; "
+     "stability map; scaled rigs; damping auto",
+     run_all}};
 
 }  // namespace physik::experiments

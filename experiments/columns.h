@@ -14,8 +14,8 @@ inline const Column kScheme =
 inline const Column kConverged = flag("converged", "the run came to rest (the run monitor's test)");
 inline const Column kDiverged =
     flag("diverged", "the run diverged (non-finite state or kinetic energy past the bound)");
-inline const Column kStepsToConverge = integer(
-    "steps_to_converge", "steps", "steps until the run converged (-1: not within the run)");
+inline const Column kStepsToConverge =
+    integer("steps_to_converge", "steps", "steps until the run converged (-1: not within the run)");
 inline const Column kStepsRun = integer("steps_run", "steps", "steps the run took");
 inline const Column kPeakKineticEnergy =
     real("peak_kinetic_energy", "J", "the largest kinetic energy over the run");

@@ -31,7 +31,9 @@ std::string run_folder_path(const Context& ctx, const std::string& name) {
   return runs + "/" + name;
 }
 
-int run_folder_every(const Scene& scene) { return std::max(1, (scene.steps + 599) / 600); }
+int run_folder_every(const Scene& scene) {
+  return std::max(1, (scene.steps + 599) / 600);
+}
 
 RunSummary write_run_folder(const Context& ctx, const std::string& name, const Scene& scene) {
   return simulate_into_folder(scene, run_folder_path(ctx, name), run_folder_every(scene));
@@ -79,7 +81,8 @@ nlohmann::json settings_json(const Scene& scene, const nlohmann::json& extra) {
   return j;
 }
 
-nlohmann::json claim(const std::string& text, const std::string& measured, const std::string& holds) {
+nlohmann::json claim(const std::string& text, const std::string& measured,
+                     const std::string& holds) {
   return {{"claim", text}, {"measured", measured}, {"holds", holds}};
 }
 

@@ -49,14 +49,16 @@ std::vector<int> chains_to_root(const Rig& rig, const std::vector<int>& bones);
 
 // The engine settings a report states (dt, damping, control k, torsion k, eps, interpolation,
 // steps), with `extra` fields added or overriding.
-nlohmann::json settings_json(const Scene& scene, const nlohmann::json& extra = nlohmann::json::object());
+nlohmann::json settings_json(const Scene& scene,
+                             const nlohmann::json& extra = nlohmann::json::object());
 
 // Format a double with a fixed number of significant digits.
 std::string num(double v, int digits = 3);
 
 // A claim row as JSON {claim, measured, holds} (for reports assembled by hand; Report::claim
 // builds the same row).
-nlohmann::json claim(const std::string& text, const std::string& measured, const std::string& holds);
+nlohmann::json claim(const std::string& text, const std::string& measured,
+                     const std::string& holds);
 
 // A uniformly random unit vector.
 Vec3 random_direction(std::mt19937& rng);

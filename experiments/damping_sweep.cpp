@@ -19,32 +19,32 @@ struct Counts {
 // best: per scene, the fastest-settling damping and its steps
 void add_claims(Report& report, const std::vector<double>& cs, const nlohmann::json& best,
                 const Counts& n) {
-  report.claim(
-      "Sec. 4: damping c = 20 with dt = 0.05 (the paper's settings) poses the rig",
-      "c = 20 diverged on " + std::to_string(n.paper_diverged) + " of " + std::to_string(n.scenes) +
-          " pinhead scenes; fastest settling: " +
-          [&] {
-            std::string t;
-            for (auto it = best.begin(); it != best.end(); ++it) {
-              const double c = it.value()[columns::kDamping.name].get<double>();
-              t +=
-                  (t.empty() ? "" : ", ") + it.key() +
-                  (c < 0
-                       ? std::string(": no damping converged")
-                       : " c = " + num(c) + " (" +
-                             std::to_string(it.value()[columns::kStepsToConverge.name].get<int>()) +
-                             " steps)");
-            }
-            return t;
-          }(),
-      n.paper_diverged == 0 ? "yes" : "no")
+  report
+      .claim(
+          "Sec. 4: damping c = 20 with dt = 0.05 (the paper's settings) poses the rig",
+          "c = 20 diverged on " + std::to_string(n.paper_diverged) + " of " +
+              std::to_string(n.scenes) + " pinhead scenes; fastest settling: " +
+              [&] {
+                std::string t;
+                for (auto it = best.begin(); it != best.end(); ++it) {
+                  const double c = it.value()[columns::kDamping.name].get<double>();
+                  t += (t.empty() ? "" : ", ") + it.key() +
+                       (c < 0 ? std::string(": no damping converged")
+                              : " c = " + num(c) + " (" +
+                                    std::to_string(
+                                        it.value()[columns::kStepsToConverge.name].get<int>()) +
+                                    " steps)");
+                }
+                return t;
+              }(),
+          n.paper_diverged == 0 ? "yes" : "no")
       .named("paper-damping-poses");
   report.claim(
       "Sec. 5: the damping must be hand-picked; too large diverges, too small converges slowly",
-      "scenes where the smallest c (" + num(cs.front()) + ") takes over twice the fastest settling: " +
-          std::to_string(n.slow_when_small) + " of " + std::to_string(n.scenes) +
-          "; scenes that diverge at large c: " + std::to_string(n.diverge_when_large) + " of " +
-          std::to_string(n.scenes) + " (sweep.csv)",
+      "scenes where the smallest c (" + num(cs.front()) +
+          ") takes over twice the fastest settling: " + std::to_string(n.slow_when_small) + " of " +
+          std::to_string(n.scenes) + "; scenes that diverge at large c: " +
+          std::to_string(n.diverge_when_large) + " of " + std::to_string(n.scenes) + " (sweep.csv)",
       n.slow_when_small == n.scenes && n.diverge_when_large == n.scenes ? "yes"
       : n.slow_when_small + n.diverge_when_large > 0                    ? "partly"
                                                                         : "no");
@@ -83,8 +83,8 @@ double max_final_residual(const RunSummary& r) {
 Table tabulate(const std::vector<SceneSweep>& sweeps, const std::vector<double>& cs) {
   using namespace columns;
   Table t("sweep", "sweep.csv",
-          {kScene, kDamping, kConverged, kStepsToConverge, kDiverged, kStepsRun,
-           kPeakKineticEnergy, kMaxFinalResidual});
+          {kScene, kDamping, kConverged, kStepsToConverge, kDiverged, kStepsRun, kPeakKineticEnergy,
+           kMaxFinalResidual});
   for (const SceneSweep& sw : sweeps) {
     for (std::size_t k = 0; k < cs.size(); ++k) {
       const RunSummary& r = sw.runs[k];
@@ -121,14 +121,17 @@ Counts count(const std::vector<SceneSweep>& sweeps, const std::vector<double>& c
     if (any_diverged) ++n.diverge_when_large;
     best[sw.name] = {{columns::kDamping.name, best_c},
                      {columns::kStepsToConverge.name, best_steps}};
-    if (log) *log << "  " << sw.name << ": fastest at c = " << best_c << " (" << best_steps << " steps)\n";
+    if (log)
+      *log << "  " << sw.name << ": fastest at c = " << best_c << " (" << best_steps << " steps)\n";
   }
   return n;
 }
 
 void run(const Context& ctx) {
-  const std::vector<double> cs = ctx.quick ? std::vector<double>{1, 3, 20}
-                                           : std::vector<double>{0.25, 0.5, 1, 1.5, 2, 2.5, 3, 3.5, 4, 5, 6, 8, 10, 15, 20, 30};
+  const std::vector<double> cs =
+      ctx.quick
+          ? std::vector<double>{1, 3, 20}
+          : std::vector<double>{0.25, 0.5, 1, 1.5, 2, 2.5, 3, 3.5, 4, 5, 6, 8, 10, 15, 20, 30};
   const std::vector<SceneSweep> sweeps = measure(ctx, cs);
   const Table sweep = tabulate(sweeps, cs);
   sweep.write_csv(ctx.out_dir);
@@ -137,16 +140,19 @@ void run(const Context& ctx) {
   Report report("Damping sensitivity");
   add_claims(report, cs, best, n);
   report
-      .note("Each run stops once at rest (10 steps with rms speed < 1e-3 of the rig height per second) "
-            "or after 1500 steps; divergence = non-finite state or kinetic energy above 1e6 M h^2.")
+      .note(
+          "Each run stops once at rest (10 steps with rms speed < 1e-3 of the rig height per "
+          "second) "
+          "or after 1500 steps; divergence = non-finite state or kinetic energy above 1e6 M h^2.")
       .figures({"damping_sweep.png"});
-  write_summary(ctx, {{"experiment", "damping_sweep"}, {"rows", sweep.rows_json()}, {"fastest", best}},
+  write_summary(ctx,
+                {{"experiment", "damping_sweep"}, {"rows", sweep.rows_json()}, {"fastest", best}},
                 report, {&sweep});
 }
 
-const Registration registered{
-    220, {"damping_sweep", "Sec. 4-5 damping",
-          "steps to converge against damping; divergence region", run}};
+const Registration registered{220,
+                              {"damping_sweep", "Sec. 4-5 damping",
+                               "steps to converge against damping; divergence region", run}};
 
 }  // namespace
 

@@ -19,15 +19,15 @@
 namespace physik::experiments {
 
 struct Context {
-  std::string out_dir;     // this experiment's folder, already created
-  std::string models_dir;  // the repository's models/ folder
-  bool quick = false;      // a smaller run (tests, smoke checks)
+  std::string out_dir;          // this experiment's folder, already created
+  std::string models_dir;       // the repository's models/ folder
+  bool quick = false;           // a smaller run (tests, smoke checks)
   std::ostream* log = nullptr;  // progress lines
 };
 
 struct Experiment {
-  std::string name;         // folder name under results/
-  std::string figure;       // the paper figure or study it reproduces
+  std::string name;    // folder name under results/
+  std::string figure;  // the paper figure or study it reproduces
   std::string description;
   std::function<void(const Context&)> run;  // throws on failure
 };

@@ -24,7 +24,7 @@ namespace {
 struct SchemeRun {
   std::string name;  // "polar-com" or "linear"
   Scene scene;
-  RecordedRun run;   // summary and frames at steps 0, 12, 25, 37, the interpolation's end, the last
+  RecordedRun run;  // summary and frames at steps 0, 12, 25, 37, the interpolation's end, the last
   std::vector<double> off_chain, off_arm, ke;  // per step (index = step - 1)
   std::vector<Vec3> tip, target;               // moved hand's tip, its effective target, per step
   double peak_chain_during = 0, peak_chain_after = 0, peak_arm_during = 0, peak_arm_after = 0;
@@ -94,7 +94,8 @@ Table secondary_motion_table(const SchemeRun& polar, const SchemeRun& linear) {
   for (const SchemeRun* r : {&polar, &linear}) {
     const std::string p = r->name == "linear" ? "linear_" : "polar_";
     const std::string run = " (" + r->name + ")";
-    cols.push_back(real(p + "off_chain_rad", "rad", "rotation off every controlled chain" + run, 9));
+    cols.push_back(
+        real(p + "off_chain_rad", "rad", "rotation off every controlled chain" + run, 9));
     cols.push_back(real(p + "off_arm_rad", "rad", "rotation off the raised arm's chain" + run, 9));
     cols.push_back(real(p + "kinetic_energy", "J", "kinetic energy" + run, 9));
     for (const char* a : {"x", "y", "z"}) {
@@ -166,17 +167,21 @@ void run(const Context& ctx) {
   Report report("Fig 10: target interpolation, polar about the centre of mass vs linear");
   add_claims(report, polar, linear, interp, probe.rig.height());
   report
-      .note("Secondary motion = sum of world rotation angles, against the initial pose, of the bones "
-            "off the raised hand's chain to the root (torso, hips, legs, the right arm); 'off all "
-            "controlled chains' leaves out the held pelvis's and right hand's chains too (only the legs "
-            "remain).")
-      .note("Holds = yes when linear exceeds polar-com on all three (peak during, peak after, final) of "
-            "the off-arm measure, partly on one or two, no on none.")
+      .note(
+          "Secondary motion = sum of world rotation angles, against the initial pose, of the bones "
+          "off the raised hand's chain to the root (torso, hips, legs, the right arm); 'off all "
+          "controlled chains' leaves out the held pelvis's and right hand's chains too (only the "
+          "legs "
+          "remain).")
+      .note(
+          "Holds = yes when linear exceeds polar-com on all three (peak during, peak after, final) "
+          "of "
+          "the off-arm measure, partly on one or two, no on none.")
       .note("The paper's caption gives 50 steps as 250 ms (5 ms per step); we use dt = " +
             num(probe.params.dt) + " s as in the original code.")
       .figures({"fig10_frames.png", "fig10_secondary_motion.png"})
-      .settings(settings_json(probe, {{"interpolation", "polar-com vs linear"},
-                                      {"interpolation_steps", interp}}));
+      .settings(settings_json(
+          probe, {{"interpolation", "polar-com vs linear"}, {"interpolation_steps", interp}}));
   write_summary(ctx,
                 {{"experiment", "fig10_interpolation"},
                  {"interpolation_steps", interp},
@@ -186,8 +191,9 @@ void run(const Context& ctx) {
 }
 
 const Registration registered{
-    100, {"fig10_interpolation", "Fig 10",
-          "raised hand: polar-about-COM vs linear target interpolation, secondary motion", run}};
+    100,
+    {"fig10_interpolation", "Fig 10",
+     "raised hand: polar-about-COM vs linear target interpolation, secondary motion", run}};
 
 }  // namespace
 

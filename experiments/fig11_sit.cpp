@@ -37,7 +37,9 @@ int bone(const Rig& rig, const std::string& name) {
   return b;
 }
 
-Vec3 axis(const BoneFrames& f, int b) { return f.tail_world[b] - f.head_world[b]; }
+Vec3 axis(const BoneFrames& f, int b) {
+  return f.tail_world[b] - f.head_world[b];
+}
 
 struct Posture {
   double pelvis_z = 0, knee_l = 0, knee_r = 0, hip_l = 0, hip_r = 0, torso_tilt = 0;
@@ -56,9 +58,9 @@ Posture posture(const Rig& rig, const BoneFrames& f) {
 }
 
 nlohmann::json posture_json(const Posture& p) {
-  return {{"pelvis_z", p.pelvis_z},     {"knee_flex_L_deg", p.knee_l}, {"knee_flex_R_deg", p.knee_r},
-          {"hip_flex_L_deg", p.hip_l},  {"hip_flex_R_deg", p.hip_r},
-          {"torso_tilt_deg", p.torso_tilt}};
+  return {{"pelvis_z", p.pelvis_z},      {"knee_flex_L_deg", p.knee_l},
+          {"knee_flex_R_deg", p.knee_r}, {"hip_flex_L_deg", p.hip_l},
+          {"hip_flex_R_deg", p.hip_r},   {"torso_tilt_deg", p.torso_tilt}};
 }
 
 // The control points the schedule moves (1) and those it never moves (0, the static ones).
@@ -69,7 +71,7 @@ std::vector<char> moving_points(const Scene& scene) {
 }
 
 struct StaticResidual {
-  double max = 0.0;    // rig units, over the run and the static points
+  double max = 0.0;  // rig units, over the run and the static points
   int max_step = 0;
   double final = 0.0;  // rig units, largest at the end
 };
@@ -123,39 +125,46 @@ nlohmann::json frame_postures(const Rig& rig, const RecordedRun& run,
 
 void add_claims(Report& report, const Rig& rig, const Posture& start, const Posture& end,
                 double final_pelvis, const StaticResidual& st) {
-  const double foot_len = 0.5 * (rig.bone_length[bone(rig, "foot.L")] + rig.bone_length[bone(rig, "foot.R")]);
+  const double foot_len =
+      0.5 * (rig.bone_length[bone(rig, "foot.L")] + rig.bone_length[bone(rig, "foot.R")]);
   const double h = rig.height();
   const double knee = std::min(end.knee_l, end.knee_r), hip = std::min(end.hip_l, end.hip_r);
   const bool sits = final_pelvis < 0.02 * h && knee > 45 && hip > 45;
   const bool sits_partly = start.pelvis_z - end.pelvis_z > 0.1 * h;
-  report.claim(
-      "Fig 11: one moving control point (pelvis) makes the rig sit",
-      "pelvis lowered by " + num(start.pelvis_z - end.pelvis_z) + " rig units (" +
-          num(100 * (start.pelvis_z - end.pelvis_z) / h, 2) + "% of the rig height), final pelvis "
-          "residual " + num(final_pelvis) + "; knees bent " + num(end.knee_l) + " / " +
-          num(end.knee_r) + " deg, hips " + num(end.hip_l) + " / " + num(end.hip_r) +
-          " deg, torso tilt " + num(end.torso_tilt) + " deg",
-      sits ? "yes" : (sits_partly ? "partly" : "no"));
-  report.claim(
-      "Fig 11: the four static control points (heels, toes) keep the feet planted",
-      "largest static residual " + num(st.max) + " rig units at step " +
-          std::to_string(st.max_step) + " (" + num(100 * st.max / foot_len, 2) +
-          "% of a foot's length), final " + num(st.final),
-      st.max < 0.1 * foot_len ? "yes" : (st.final < 0.1 * foot_len ? "partly" : "no"));
+  report.claim("Fig 11: one moving control point (pelvis) makes the rig sit",
+               "pelvis lowered by " + num(start.pelvis_z - end.pelvis_z) + " rig units (" +
+                   num(100 * (start.pelvis_z - end.pelvis_z) / h, 2) +
+                   "% of the rig height), final pelvis "
+                   "residual " +
+                   num(final_pelvis) + "; knees bent " + num(end.knee_l) + " / " + num(end.knee_r) +
+                   " deg, hips " + num(end.hip_l) + " / " + num(end.hip_r) + " deg, torso tilt " +
+                   num(end.torso_tilt) + " deg",
+               sits ? "yes" : (sits_partly ? "partly" : "no"));
+  report.claim("Fig 11: the four static control points (heels, toes) keep the feet planted",
+               "largest static residual " + num(st.max) + " rig units at step " +
+                   std::to_string(st.max_step) + " (" + num(100 * st.max / foot_len, 2) +
+                   "% of a foot's length), final " + num(st.final),
+               st.max < 0.1 * foot_len ? "yes" : (st.final < 0.1 * foot_len ? "partly" : "no"));
 }
 
 void add_notes(Report& report, const RunSummary& s) {
   report
-      .note("Pelvis = tail of the torso bone. Knee flexion = angle between thigh and shin axes, hip "
-            "flexion = angle between the torso's downward axis and the thigh's axis (both 0 standing).")
-      .note("Sits = yes when the final pelvis residual is under 2% of the rig height and knees and hips "
-            "bend past 45 deg; partly when the pelvis drops by more than 10% of the height. Feet planted "
-            "= yes when the static points stay within 10% of a foot's length over the whole run, partly "
-            "when only at the end.")
-      .note("Run: " + std::to_string(s.steps_run) + " steps, diverged " + (s.diverged ? "yes" : "no") +
-            ", peak KE " + num(s.peak_kinetic_energy) + " J, max joint-limit violation " +
-            num(s.max_limit_violation_deg) + " deg, mean passes per step " +
-            num(s.mean_passes_per_step) + ".");
+      .note(
+          "Pelvis = tail of the torso bone. Knee flexion = angle between thigh and shin axes, hip "
+          "flexion = angle between the torso's downward axis and the thigh's axis (both 0 "
+          "standing).")
+      .note(
+          "Sits = yes when the final pelvis residual is under 2% of the rig height and knees and "
+          "hips "
+          "bend past 45 deg; partly when the pelvis drops by more than 10% of the height. Feet "
+          "planted "
+          "= yes when the static points stay within 10% of a foot's length over the whole run, "
+          "partly "
+          "when only at the end.")
+      .note("Run: " + std::to_string(s.steps_run) + " steps, diverged " +
+            (s.diverged ? "yes" : "no") + ", peak KE " + num(s.peak_kinetic_energy) +
+            " J, max joint-limit violation " + num(s.max_limit_violation_deg) +
+            " deg, mean passes per step " + num(s.mean_passes_per_step) + ".");
 }
 
 nlohmann::json control_points_json(const Scene& scene, const RunSummary& s,
@@ -188,7 +197,8 @@ void run(const Context& ctx) {
 
   const std::vector<char> moving = moving_points(scene);
   const auto pelvis = std::find(moving.begin(), moving.end(), 1);  // the first moving point
-  if (pelvis == moving.end()) throw_input_error(scene.file, "schedule", "", "no moving control point");
+  if (pelvis == moving.end())
+    throw_input_error(scene.file, "schedule", "", "no moving control point");
   const Table residuals = residuals_table(scene, run);
   residuals.write_csv(ctx.out_dir);
   const StaticResidual st = static_residual(run, moving);
@@ -215,8 +225,9 @@ void run(const Context& ctx) {
 }
 
 const Registration registered{
-    110, {"fig11_sit", "Fig 11", "sitting animation from one moving and four static control points",
-          run}};
+    110,
+    {"fig11_sit", "Fig 11", "sitting animation from one moving and four static control points",
+     run}};
 
 }  // namespace
 

@@ -26,7 +26,9 @@ struct Pair {
   double hand_res = 0.0, shoulder_res = 0.0;
 };
 
-bool in_pair(const ControlPoint& cp) { return cp.name == "shoulder.L" || cp.name == "hand.L"; }
+bool in_pair(const ControlPoint& cp) {
+  return cp.name == "shoulder.L" || cp.name == "hand.L";
+}
 
 Pair measure_pair(const Scene& scene, const RunSummary& s) {
   Pair p;
@@ -34,8 +36,11 @@ Pair measure_pair(const Scene& scene, const RunSummary& s) {
     if (scene.control_points[c].name == "hand.L") p.hand = static_cast<int>(c);
     if (scene.control_points[c].name == "shoulder.L") p.shoulder = static_cast<int>(c);
   }
-  if (p.hand < 0 || p.shoulder < 0) throw std::runtime_error("fig5_running: scene lacks hand.L/shoulder.L");
-  p.gap = (scene.control_points[p.hand].target_world - scene.control_points[p.shoulder].target_world).norm();
+  if (p.hand < 0 || p.shoulder < 0)
+    throw std::runtime_error("fig5_running: scene lacks hand.L/shoulder.L");
+  p.gap =
+      (scene.control_points[p.hand].target_world - scene.control_points[p.shoulder].target_world)
+          .norm();
   for (const char* bone : {"upper_arm.L", "forearm.L", "hand.L"}) {
     p.arm += scene.rig.bone_length[scene.rig.find_bone(bone)];
   }
@@ -63,7 +68,8 @@ void add_claims(Report& report, const Scene& scene, const RunSummary& s, const P
   const double h = scene.rig.height();
   double worst_reachable = 0.0;
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
-    if (!in_pair(scene.control_points[c])) worst_reachable = std::max(worst_reachable, s.final_residuals[c]);
+    if (!in_pair(scene.control_points[c]))
+      worst_reachable = std::max(worst_reachable, s.final_residuals[c]);
   }
   const double pair_residual = p.hand_res + p.shoulder_res;
   // a compromise: both miss, each by at least 10% of the shortfall, and together by not much
@@ -71,21 +77,21 @@ void add_claims(Report& report, const Scene& scene, const RunSummary& s, const P
   const bool split = std::min(p.hand_res, p.shoulder_res) > 0.1 * p.shortfall;
   // the reachable points are "met" within 1% of the rig's height
   const bool met = worst_reachable < 0.01 * h;
-  report.claim(
-      "Fig 5: the reachable control points of a running pose (k = 30) are met",
-      "largest final residual of the " + std::to_string(scene.control_points.size() - 2) +
-          " reachable points " + num(worst_reachable) + " (" +
-          num(100 * worst_reachable / h, 2) + "% of the rig height) after " +
-          std::to_string(s.steps_run) + " steps; converged: " + (s.converged ? "yes" : "no"),
-      met ? "yes" : (worst_reachable < 0.03 * h ? "partly" : "no"));
-  report.claim(
-      "Fig 5: an infeasible pair (left shoulder, left hand) is left as a compromise",
-      "targets " + num(p.gap) + " apart, arm reach " + num(p.arm) + ": shortfall " +
-          num(p.shortfall) + "; final residuals " + num(p.shoulder_res) + " (shoulder) + " +
-          num(p.hand_res) + " (hand) = " + num(pair_residual),
-      !split                              ? "no (one point takes the whole error)"
-      : pair_residual < 1.5 * p.shortfall ? "yes"
-                                          : "partly (the pair misses by more than the shortfall)");
+  report.claim("Fig 5: the reachable control points of a running pose (k = 30) are met",
+               "largest final residual of the " + std::to_string(scene.control_points.size() - 2) +
+                   " reachable points " + num(worst_reachable) + " (" +
+                   num(100 * worst_reachable / h, 2) + "% of the rig height) after " +
+                   std::to_string(s.steps_run) +
+                   " steps; converged: " + (s.converged ? "yes" : "no"),
+               met ? "yes" : (worst_reachable < 0.03 * h ? "partly" : "no"));
+  report.claim("Fig 5: an infeasible pair (left shoulder, left hand) is left as a compromise",
+               "targets " + num(p.gap) + " apart, arm reach " + num(p.arm) + ": shortfall " +
+                   num(p.shortfall) + "; final residuals " + num(p.shoulder_res) +
+                   " (shoulder) + " + num(p.hand_res) + " (hand) = " + num(pair_residual),
+               !split ? "no (one point takes the whole error)"
+               : pair_residual < 1.5 * p.shortfall
+                   ? "yes"
+                   : "partly (the pair misses by more than the shortfall)");
 }
 
 void run(const Context& ctx) {
@@ -100,8 +106,9 @@ void run(const Context& ctx) {
   Report report("Fig 5: a running pose from 8 control points");
   add_claims(report, scene, s, measure_pair(scene, s));
   report.settings(settings_json(scene, {{"k", scene.control_points[0].k_in(scene.params)}}))
-      .note("Rig pinhead; the damping is the original code's 3 N s/m because the paper's 20 "
-            "diverges on this rig (see the damping sweep).")
+      .note(
+          "Rig pinhead; the damping is the original code's 3 N s/m because the paper's 20 "
+          "diverges on this rig (see the damping sweep).")
       .note("Max joint-limit violation over the run: " + num(s.max_limit_violation_deg) +
             " deg (torsion springs are soft, k = " + num(scene.params.torsion_k) + " N m/rad).")
       .figures({"fig5_running.png"});

@@ -90,14 +90,14 @@ void add_claims(Report& report, const Case (&cases)[2][3]) {
     for (int l = 1; l < 3; ++l) {
       const double lin = cases[t][0].final_over, cap = cases[t][l].final_over;
       const double lin_peak = cases[t][0].peak_over, cap_peak = cases[t][l].peak_over;
-      report.claim(
-          "Fig 6: linear springs over-bend a limited elbow more than capped ones (" + where +
-              ", cap " + std::string(l == 1 ? "c = 1" : "c = 0.1") + ")",
-          "over-bend past 90 deg at rest: linear " + num(lin) + " deg, capped " + num(cap) +
-              " deg; peak during the run: linear " + num(lin_peak) + ", capped " + num(cap_peak),
-          lin > cap + 0.5                ? "yes"
-          : lin_peak > cap_peak + 0.5    ? "partly (only in the transient)"
-                                         : "no");
+      report.claim("Fig 6: linear springs over-bend a limited elbow more than capped ones (" +
+                       where + ", cap " + std::string(l == 1 ? "c = 1" : "c = 0.1") + ")",
+                   "over-bend past 90 deg at rest: linear " + num(lin) + " deg, capped " +
+                       num(cap) + " deg; peak during the run: linear " + num(lin_peak) +
+                       ", capped " + num(cap_peak),
+                   lin > cap + 0.5             ? "yes"
+                   : lin_peak > cap_peak + 0.5 ? "partly (only in the transient)"
+                                               : "no");
     }
   }
 }
@@ -114,10 +114,12 @@ void run(const Context& ctx) {
   Report report("Fig 6: linear vs capped springs on a limited elbow");
   add_claims(report, cases);
   report
-      .note("Both laws agree wherever |t - a| <= c: when every spring's residual at rest is below "
-            "the cap, the two laws reach the same equilibrium; the capped law can only bend less "
-            "when a residual at rest exceeds the cap. The upper arm is held by springs of the same k, "
-            "so it yields toward the target and keeps the wrist residual small.")
+      .note(
+          "Both laws agree wherever |t - a| <= c: when every spring's residual at rest is below "
+          "the cap, the two laws reach the same equilibrium; the capped law can only bend less "
+          "when a residual at rest exceeds the cap. The upper arm is held by springs of the same "
+          "k, "
+          "so it yields toward the target and keeps the wrist residual small.")
       .note("Torsion springs: k = 10 N m/rad engaging 10% inside the limit (the original code's).")
       .figures({"fig6_elbow.png"});
   write_summary(ctx, {{"experiment", "fig6_elbow"}, {"cases", rows}}, report);

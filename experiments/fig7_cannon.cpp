@@ -29,24 +29,25 @@ nlohmann::json run_law(const Context& ctx, const std::string& law) {
     if (ke[k] > 1.5 * ke[k - 1]) ++growth_steps;
   }
   const auto peak_it = std::max_element(ke.begin(), ke.end());
-  const nlohmann::json m = {{columns::kDiverged.name, s.diverged},
-                            {columns::kConverged.name, s.converged},
-                            {columns::kStepsToConverge.name, s.steps_to_converge},
-                            {columns::kPeakKineticEnergy.name, s.peak_kinetic_energy},
-                            {"peak_step", peak_it == ke.end() ? 0 : 1 + (peak_it - ke.begin())},
-                            {"steps_with_energy_growth_over_50pct_in_first_50", growth_steps},
-                            {columns::kMaxLimitViolationDeg.name, s.max_limit_violation_deg},
-                            {"final_residual", s.final_residuals[0]},
-                            {"csv", law + ".csv"},
-                            {"frames", frames},
-                            {"frame_steps", run.frame_steps},
-                            // where the control point pulls, for the figure: its bone, its
-                            // fraction along it, its target
-                            {"control_bone", scene.rig.bone_name[scene.control_points[0].bone]},
-                            {"control_alpha", scene.control_points[0].alpha},
-                            {"target_world", {scene.control_points[0].target_world.x(),
-                                              scene.control_points[0].target_world.y(),
-                                              scene.control_points[0].target_world.z()}}};
+  const nlohmann::json m = {
+      {columns::kDiverged.name, s.diverged},
+      {columns::kConverged.name, s.converged},
+      {columns::kStepsToConverge.name, s.steps_to_converge},
+      {columns::kPeakKineticEnergy.name, s.peak_kinetic_energy},
+      {"peak_step", peak_it == ke.end() ? 0 : 1 + (peak_it - ke.begin())},
+      {"steps_with_energy_growth_over_50pct_in_first_50", growth_steps},
+      {columns::kMaxLimitViolationDeg.name, s.max_limit_violation_deg},
+      {"final_residual", s.final_residuals[0]},
+      {"csv", law + ".csv"},
+      {"frames", frames},
+      {"frame_steps", run.frame_steps},
+      // where the control point pulls, for the figure: its bone, its
+      // fraction along it, its target
+      {"control_bone", scene.rig.bone_name[scene.control_points[0].bone]},
+      {"control_alpha", scene.control_points[0].alpha},
+      {"target_world",
+       {scene.control_points[0].target_world.x(), scene.control_points[0].target_world.y(),
+        scene.control_points[0].target_world.z()}}};
   if (ctx.log) {
     *ctx.log << "  " << law << ": peak KE " << s.peak_kinetic_energy << " J, converged "
              << s.converged << " at " << s.steps_to_converge << "\n";
@@ -81,14 +82,14 @@ void add_claims(Report& report, const nlohmann::json& L, const nlohmann::json& C
   const int sc = C[columns::kStepsToConverge.name].is_null()
                      ? -1
                      : C[columns::kStepsToConverge.name].get<int>();
-  report.claim(
-      "Fig 7: a capped spring converges stably, though it takes a few more iterations",
-      "steps to converge: capped " + (sc < 0 ? std::string("never") : std::to_string(sc)) +
-          ", linear " + (sl < 0 ? std::string("never") : std::to_string(sl)),
-      sc < 0    ? "no"
-      : sl < 0  ? "partly (capped converges; linear never settles, so slower is not measured)"
-      : sc >= sl ? "yes"
-                 : "partly (capped converges, but faster)");
+  report.claim("Fig 7: a capped spring converges stably, though it takes a few more iterations",
+               "steps to converge: capped " + (sc < 0 ? std::string("never") : std::to_string(sc)) +
+                   ", linear " + (sl < 0 ? std::string("never") : std::to_string(sl)),
+               sc < 0 ? "no"
+               : sl < 0
+                   ? "partly (capped converges; linear never settles, so slower is not measured)"
+               : sc >= sl ? "yes"
+                          : "partly (capped converges, but faster)");
 }
 
 void run(const Context& ctx) {
@@ -97,8 +98,9 @@ void run(const Context& ctx) {
   Report report("Fig 7: a sudden far target jump, linear vs capped");
   add_claims(report, m["linear"], m["capped"]);
   report
-      .note("One control point at the torso's centre, target moved 12 units ahead at step 0 "
-            "without interpolation, k = 30, cap c = 1, damping 3.")
+      .note(
+          "One control point at the torso's centre, target moved 12 units ahead at step 0 "
+          "without interpolation, k = 30, cap c = 1, damping 3.")
       .figures({"fig7_cannon_frames.png", "fig7_cannon_energy.png"});
   write_summary(ctx, {{"experiment", "fig7_cannon"}, {"laws", m}}, report);
 }

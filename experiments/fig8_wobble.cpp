@@ -18,11 +18,11 @@ namespace physik::experiments {
 namespace {
 
 struct Wobble {
-  double final_amplitude = 0.0;   // rig units, peak-to-peak in the last window
-  double first_amplitude = 0.0;   // in the first window after the transient (steps 100-200)
-  bool sustained = false;         // last window amplitude > 1e-3 and not decaying
-  double period_steps = 0.0;      // dominant period in the last window (0 = no turning points)
-  bool physical = false;          // sustained with a period above 4 steps (not the flicker)
+  double final_amplitude = 0.0;  // rig units, peak-to-peak in the last window
+  double first_amplitude = 0.0;  // in the first window after the transient (steps 100-200)
+  bool sustained = false;        // last window amplitude > 1e-3 and not decaying
+  double period_steps = 0.0;     // dominant period in the last window (0 = no turning points)
+  bool physical = false;         // sustained with a period above 4 steps (not the flicker)
   RecordedRun run;
 };
 
@@ -45,8 +45,8 @@ Wobble measure(const Scene& scene, const std::string& csv) {
   w.first_amplitude = window(100, 200);
   w.final_amplitude = n >= 100 ? window(n - 100, n) : window(0, n);
   const double previous = n >= 200 ? window(n - 200, n - 100) : w.final_amplitude;
-  w.sustained = !w.run.summary.diverged && w.final_amplitude > 1e-3 &&
-                w.final_amplitude > 0.5 * previous;
+  w.sustained =
+      !w.run.summary.diverged && w.final_amplitude > 1e-3 && w.final_amplitude > 0.5 * previous;
   // turning points of the residual in the last window: two per period
   int turns = 0;
   const std::size_t from = n >= 100 ? n - 100 : 0;
@@ -119,21 +119,24 @@ void run(const Context& ctx) {
       "indefinitely",
       "scene settings (damping " + num(scene.params.damping) + ", factor " +
           num(scene.params.angular_velocity_factor) + "): peak-to-peak " +
-          num(base.final_amplitude) + " in the last 100 of " + std::to_string(base.run.summary.steps_run) +
-          " steps (period " + num(base.period_steps) + " steps), converged " +
-          (base.run.summary.converged ? "yes" : "no") + "; sustained oscillation in " +
-          std::to_string(grid.sustained) + " of " + std::to_string(grid.total) +
-          " damping/factor settings, of which " + std::to_string(grid.physical) +
+          num(base.final_amplitude) + " in the last 100 of " +
+          std::to_string(base.run.summary.steps_run) + " steps (period " + num(base.period_steps) +
+          " steps), converged " + (base.run.summary.converged ? "yes" : "no") +
+          "; sustained oscillation in " + std::to_string(grid.sustained) + " of " +
+          std::to_string(grid.total) + " damping/factor settings, of which " +
+          std::to_string(grid.physical) +
           " with a period above 4 steps (the rest is the period-2 Euler flicker)",
       base.physical        ? "yes"
       : grid.physical > 0  ? "partly (only with weaker dissipation)"
       : grid.sustained > 0 ? "no (only a numerical period-2 flicker)"
                            : "no");
   report
-      .note("Torso held at both ends, left hand tip pulled behind the back past the elbow's range; "
-            "the hand bone is free (3 DOF).")
-      .note("Grid: damping in {0.5, 1, 3} N s/m x angular-velocity factor in {0.5, 0.9, 1}, 1000 "
-            "steps each; see grid.csv.")
+      .note(
+          "Torso held at both ends, left hand tip pulled behind the back past the elbow's range; "
+          "the hand bone is free (3 DOF).")
+      .note(
+          "Grid: damping in {0.5, 1, 3} N s/m x angular-velocity factor in {0.5, 0.9, 1}, 1000 "
+          "steps each; see grid.csv.")
       .figures({"fig8_wobble.png"});
   write_summary(ctx,
                 {{"experiment", "fig8_wobble"},

@@ -72,11 +72,13 @@ Measures measure(const Scene& scene, const BoneFrames& rest, const BoneFrames& f
   const Vec3 s0 = rest.tail_world[cl] - rest.tail_world[cr];
   const Vec3 s = f.tail_world[cl] - f.tail_world[cr];
   // signed angle from the rest shoulder line to the current one, wrapped to (-180, 180]
-  m.shoulder_turn_deg = kDeg * std::remainder(std::atan2(s.y(), s.x()) - std::atan2(s0.y(), s0.x()), 2 * kPi);
+  m.shoulder_turn_deg =
+      kDeg * std::remainder(std::atan2(s.y(), s.x()) - std::atan2(s0.y(), s0.x()), 2 * kPi);
   const Vec3 u0 = rest.head_world[torso] - rest.tail_world[torso];
   const Vec3 u = f.head_world[torso] - f.tail_world[torso];
   m.lean_deg = kDeg * angle_between(u, Vec3::UnitZ());
-  m.lean_forward_deg = kDeg * std::remainder(std::atan2(-u.y(), u.z()) - std::atan2(-u0.y(), u0.z()), 2 * kPi);
+  m.lean_forward_deg =
+      kDeg * std::remainder(std::atan2(-u.y(), u.z()) - std::atan2(-u0.y(), u0.z()), 2 * kPi);
   m.lean_side_deg = kDeg * (std::atan2(u.x(), u.z()) - std::atan2(u0.x(), u0.z()));
   const Vec3 h0 = rest.tail_world[head] - rest.head_world[head];
   const Vec3 h = f.tail_world[head] - f.head_world[head];
@@ -103,18 +105,19 @@ Table measures_table(const Rows& rows) {
   const auto deg = [](std::string name, std::string doc) {
     return real(std::move(name), "deg", std::move(doc));
   };
-  Table t("measures", "measures.csv",
-          {text("method", "the solver: physik, dls, itasc or mujoco_same_forces"),
-           deg("shoulder_turn_deg", "yaw of the shoulder line (+: the right shoulder to the viewer)"),
-           deg("lean_deg", "the torso's angle from +Z"),
-           deg("lean_forward_deg", "the torso's lean toward -Y, against rest"),
-           deg("lean_side_deg", "the torso's lean toward +X, against rest"),
-           deg("head_tilt_deg", "the angle the head's axis turned"),
-           deg("neck_bend_deg", "the change of the head-torso angle"),
-           real("off_chain_rotation_rad", "rad", "rotation of the bones off every controlled chain"),
-           real("off_reach_rotation_rad", "rad", "rotation of the bones off the reaching arm's chain"),
-           real("max_residual", "rig units", "the largest control-point residual"),
-           deg("max_limit_excess_deg", "the largest excursion of a limited axis past its range")});
+  Table t(
+      "measures", "measures.csv",
+      {text("method", "the solver: physik, dls, itasc or mujoco_same_forces"),
+       deg("shoulder_turn_deg", "yaw of the shoulder line (+: the right shoulder to the viewer)"),
+       deg("lean_deg", "the torso's angle from +Z"),
+       deg("lean_forward_deg", "the torso's lean toward -Y, against rest"),
+       deg("lean_side_deg", "the torso's lean toward +X, against rest"),
+       deg("head_tilt_deg", "the angle the head's axis turned"),
+       deg("neck_bend_deg", "the change of the head-torso angle"),
+       real("off_chain_rotation_rad", "rad", "rotation of the bones off every controlled chain"),
+       real("off_reach_rotation_rad", "rad", "rotation of the bones off the reaching arm's chain"),
+       real("max_residual", "rig units", "the largest control-point residual"),
+       deg("max_limit_excess_deg", "the largest excursion of a limited axis past its range")});
   for (const auto& [name, m] : rows) {
     t.add({name, m->shoulder_turn_deg, m->lean_deg, m->lean_forward_deg, m->lean_side_deg,
            m->head_tilt_deg, m->neck_bend_deg, m->off_chain_rad, m->off_reach_rad, m->max_residual,
@@ -132,13 +135,13 @@ nlohmann::json to_json(const Measures& m) {
 
 // The final poses from the same initial pose.
 struct Solutions {
-  RecordedRun physik;       // PhysIK, with its trajectory table
-  IkOptions dls_options;    // damped least squares: same goals and limits
+  RecordedRun physik;     // PhysIK, with its trajectory table
+  IkOptions dls_options;  // damped least squares: same goals and limits
   IkReport dls;
   BoneFrames dls_frames;
-  RunSummary mujoco;        // MuJoCo with PhysIK's forces (exact joints): where the joint-force
-                            // heuristic alone would go
-  ItascRun itasc;           // Blender's iTaSC, when Blender is present and runs
+  RunSummary mujoco;  // MuJoCo with PhysIK's forces (exact joints): where the joint-force
+                      // heuristic alone would go
+  ItascRun itasc;     // Blender's iTaSC, when Blender is present and runs
 };
 
 // blender/itasc_solve.py beside the models folder (the repository's)
@@ -151,19 +154,25 @@ std::string itasc_script(const Context& ctx) {
 Solutions solve_all(const Context& ctx, const Scene& scene) {
   Solutions out;
   out.physik = record_run(scene, trajectory_table(ctx.out_dir + "/physik_trajectory.csv", 5));
-  if (ctx.log) *ctx.log << "  physik: " << out.physik.summary.steps_run << " steps, converged "
-                        << out.physik.summary.converged << "\n";
+  if (ctx.log)
+    *ctx.log << "  physik: " << out.physik.summary.steps_run << " steps, converged "
+             << out.physik.summary.converged << "\n";
   std::vector<IkGoal> goals;
-  for (const ControlPoint& c : scene.control_points) goals.push_back({c.bone, c.alpha, c.target_world});
+  for (const ControlPoint& c : scene.control_points)
+    goals.push_back({c.bone, c.alpha, c.target_world});
   Pose dls_pose = scene.initial_pose;
   out.dls = solve_ik(IkMethod::kDampedLeastSquares, scene.rig, goals, dls_pose, out.dls_options);
   out.dls_frames = forward_kinematics(scene.rig, dls_pose);
-  if (ctx.log) *ctx.log << "  dls: " << out.dls.iterations << " iterations, residual " << out.dls.residual << "\n";
+  if (ctx.log)
+    *ctx.log << "  dls: " << out.dls.iterations << " iterations, residual " << out.dls.residual
+             << "\n";
   out.mujoco = run_mujoco(scene, ReferenceMode::kSameForces);
   out.itasc = run_itasc(scene, itasc_script(ctx), ctx.out_dir);
   if (ctx.log) {
-    *ctx.log << "  itasc: " << (out.itasc.ok() ? "solved" : out.itasc.status + ": " + out.itasc.reason);
-    if (out.itasc.ok()) *ctx.log << " in " << num(out.itasc.seconds) << " s (Blender " << out.itasc.blender << ")";
+    *ctx.log << "  itasc: "
+             << (out.itasc.ok() ? "solved" : out.itasc.status + ": " + out.itasc.reason);
+    if (out.itasc.ok())
+      *ctx.log << " in " << num(out.itasc.seconds) << " s (Blender " << out.itasc.blender << ")";
     *ctx.log << "\n";
   }
   return out;
@@ -201,10 +210,13 @@ const char* direction_holds(double v) {
 void add_pose_claims(Report& report, const Measures& mp, const Measures& md, const Measures* mi,
                      bool with_itasc) {
   const double thr = kThresholdDeg;
-  const auto turn_holds = mp.shoulder_turn_deg > thr && mp.shoulder_turn_deg > md.shoulder_turn_deg + thr
-                              ? "yes"
-                              : (mp.shoulder_turn_deg > 0.5 ? "partly" : "no");
-  const auto with = [&](double v) { return with_itasc ? ", iTaSC " + num(v) + " deg" : std::string(); };
+  const auto turn_holds =
+      mp.shoulder_turn_deg > thr && mp.shoulder_turn_deg > md.shoulder_turn_deg + thr
+          ? "yes"
+          : (mp.shoulder_turn_deg > 0.5 ? "partly" : "no");
+  const auto with = [&](double v) {
+    return with_itasc ? ", iTaSC " + num(v) + " deg" : std::string();
+  };
   report.claim("Fig 9: PhysIK turns the shoulder toward the viewer",
                "shoulder-line yaw (+ = right shoulder toward the viewer, -Y): PhysIK " +
                    num(mp.shoulder_turn_deg) + " deg, DLS " + num(md.shoulder_turn_deg) + " deg" +
@@ -238,13 +250,14 @@ void add_stiff_claim(Report& report, const Measures& mp, const Measures& md, con
   stiff += "DLS " + num(md.off_reach_rad) + " rad vs PhysIK " + num(mp.off_reach_rad) +
            " rad; off all controlled chains: ";
   if (with_itasc) stiff += "iTaSC " + num(mi->off_chain_rad) + ", ";
-  stiff += "DLS " + num(md.off_chain_rad) + " vs PhysIK " + num(mp.off_chain_rad) + " rad (judged on " +
-           peer_name + ")";
+  stiff += "DLS " + num(md.off_chain_rad) + " vs PhysIK " + num(mp.off_chain_rad) +
+           " rad (judged on " + peer_name + ")";
   if (!with_itasc && !dls_reached) {
-    stiff += " (DLS did not reach the targets: residual " + num(md.max_residual) + ", so no comparison)";
+    stiff +=
+        " (DLS did not reach the targets: residual " + num(md.max_residual) + ", so no comparison)";
   }
-  report.claim("Fig 9: the classic solver (iTaSC; DLS when iTaSC is absent) gives a stiff pose", stiff,
-               stiff_holds);
+  report.claim("Fig 9: the classic solver (iTaSC; DLS when iTaSC is absent) gives a stiff pose",
+               stiff, stiff_holds);
 }
 
 // the paper's peer itself: its pose must meet the points before anything is compared
@@ -254,8 +267,8 @@ void add_itasc_claims(Report& report, const Measures& mp, const Measures& md, co
     const std::string absent = "n/a (" + itasc.status + ": " + itasc.reason + ")";
     report.claim("Fig 9: Blender's iTaSC meets the 3 control points (checked before comparing)",
                  "no iTaSC run", absent);
-    report.claim("Fig 9: PhysIK leans and tilts the head where iTaSC stays stiff",
-                 "no iTaSC run", absent);
+    report.claim("Fig 9: PhysIK leans and tilts the head where iTaSC stays stiff", "no iTaSC run",
+                 absent);
     return;
   }
   report.claim("Fig 9: Blender's iTaSC meets the 3 control points (checked before comparing)",
@@ -272,7 +285,7 @@ void add_itasc_claims(Report& report, const Measures& mp, const Measures& md, co
                    " deg, iTaSC " + num(mi->head_tilt_deg) + " deg; shoulder turn: PhysIK " +
                    num(mp.shoulder_turn_deg) + " deg, iTaSC " + num(mi->shoulder_turn_deg) +
                    " deg (+ = right shoulder toward the viewer)",
-               !with_itasc ? "n/a (iTaSC missed the control points)"
+               !with_itasc    ? "n/a (iTaSC missed the control points)"
                : lean && tilt ? "yes"
                : lean || tilt ? "partly"
                               : "no");
@@ -285,19 +298,19 @@ void add_claims(Report& report, const Measures& mp, const Measures& md, const Me
   add_pose_claims(report, mp, md, mi, with_itasc);
   add_stiff_claim(report, mp, md, mi, with_itasc, dls_reached);
   add_itasc_claims(report, mp, md, mi, itasc, tol, with_itasc);
-  report.claim(
-      "Fig 9: both poses meet the 3 control points",
-      "largest control-point residual: PhysIK " + num(mp.max_residual) + ", DLS " +
-          num(md.max_residual) + " rig units (rig height " + num(height) + ")",
-      mp.max_residual < 0.02 * height && md.max_residual < 0.02 * height ? "yes"
-      : mp.max_residual < 0.02 * height || md.max_residual < 0.02 * height ? "partly"
-                                                                            : "no");
+  report.claim("Fig 9: both poses meet the 3 control points",
+               "largest control-point residual: PhysIK " + num(mp.max_residual) + ", DLS " +
+                   num(md.max_residual) + " rig units (rig height " + num(height) + ")",
+               mp.max_residual < 0.02 * height && md.max_residual < 0.02 * height   ? "yes"
+               : mp.max_residual < 0.02 * height || md.max_residual < 0.02 * height ? "partly"
+                                                                                    : "no");
 }
 
 // How iTaSC was set up (from itasc_solve.py's report), or why it is missing.
 std::string itasc_note(const ItascRun& run) {
   if (!run.ok()) {
-    return "Blender's iTaSC: no row (" + run.status + ": " + run.reason + "). Set PHYSIK_BLENDER to "
+    return "Blender's iTaSC: no row (" + run.status + ": " + run.reason +
+           "). Set PHYSIK_BLENDER to "
            "Blender's binary or put `blender` on PATH to add it.";
   }
   const nlohmann::json& it = run.report.value("itasc", nlohmann::json::object());
@@ -308,55 +321,70 @@ std::string itasc_note(const ItascRun& run) {
     return v.is_string() ? v.get<std::string>() : v.is_number() ? num(v.get<double>()) : v.dump();
   };
   return "Blender's iTaSC (Blender " + run.report.value("blender", std::string("?")) +
-         ", blender/itasc_solve.py, " + num(run.seconds) + " s): the same scene file, rig and "
-         "limits; mode " + str("mode") + " (stateless: one IK solve from the scene's start pose, "
-         "no frame history or velocity limits as SIMULATION would bring), solver " + str("solver") +
-         " (Blender's default), iterations " + str("iterations") + ", precision " + str("precision") +
+         ", blender/itasc_solve.py, " + num(run.seconds) +
+         " s): the same scene file, rig and "
+         "limits; mode " +
+         str("mode") +
+         " (stateless: one IK solve from the scene's start pose, "
+         "no frame history or velocity limits as SIMULATION would bring), solver " +
+         str("solver") + " (Blender's default), iterations " + str("iterations") + ", precision " +
+         str("precision") +
          "; one IK constraint per control point, weight 1 (PhysIK's equal k has no iTaSC "
-         "counterpart), each chain to the root (chain " + str("chain") + "), so iTaSC may move "
+         "counterpart), each chain to the root (chain " +
+         str("chain") +
+         "), so iTaSC may move "
          "every bone PhysIK and DLS move, as one tree; the root only turns about its head (no "
-         "translation joint, like DLS; PhysIK's root translates). The armature's origin sits at the "
-         "root head: Blender 3.4.1's iTaSC solves a chain holding the root as if the root head were "
+         "translation joint, like DLS; PhysIK's root translates). The armature's origin sits at "
+         "the "
+         "root head: Blender 3.4.1's iTaSC solves a chain holding the root as if the root head "
+         "were "
          "at the object's origin (blender/README.md). Its pose is rebuilt here from the rotations "
-         "it wrote (forward kinematics within " + num(run.fk_gap) +
-         " rig units of Blender's bones) and measured like the others.";
+         "it wrote (forward kinematics within " +
+         num(run.fk_gap) + " rig units of Blender's bones) and measured like the others.";
 }
 
 void add_notes(Report& report, const Solutions& sol, const Measures& mm) {
   const RunSummary& pk = sol.physik.summary;
-  report
-      .note(itasc_note(sol.itasc))
+  report.note(itasc_note(sol.itasc))
       .note("Baseline: physik/ik_solver.h damped least squares (lambda = " +
             num(sol.dls_options.lambda_fraction) + " x reach, joint limits respected, " +
             std::to_string(sol.dls.iterations) + " iterations, converged " +
             (sol.dls.converged ? "yes" : "no") +
-            "), always there (iTaSC needs Blender). The IK solvers anchor the root bone's head; pinhead's "
+            "), always there (iTaSC needs Blender). The IK solvers anchor the root bone's head; "
+            "pinhead's "
             "root is the head bone, so the DLS pose hangs from the top of the head and cannot "
             "translate, while PhysIK's root moves freely. DLS only moves bones on a goal's chain "
             "(the left arm keeps its local rotations).")
-      .note("Holds = yes when the PhysIK angle exceeds 2 deg in the claimed direction (and, for the "
-            "shoulder, DLS's by 2 deg); partly when it is in the claimed direction but smaller; "
-            "'stiff' = yes when the classic solver's off-reach-chain rotation is under half of "
-            "PhysIK's; 'leans and tilts where iTaSC stays stiff' = yes when PhysIK's forward lean and "
-            "head tilt each exceed iTaSC's by 2 deg, partly when one does. iTaSC is compared only "
-            "when its pose meets every control point within the scene's residual tolerance.")
-      .note("Summed rotations count every bone's full world-orientation change, rolls about its own "
-            "axis included (invisible in a stick figure).")
+      .note(
+          "Holds = yes when the PhysIK angle exceeds 2 deg in the claimed direction (and, for the "
+          "shoulder, DLS's by 2 deg); partly when it is in the claimed direction but smaller; "
+          "'stiff' = yes when the classic solver's off-reach-chain rotation is under half of "
+          "PhysIK's; 'leans and tilts where iTaSC stays stiff' = yes when PhysIK's forward lean "
+          "and "
+          "head tilt each exceed iTaSC's by 2 deg, partly when one does. iTaSC is compared only "
+          "when its pose meets every control point within the scene's residual tolerance.")
+      .note(
+          "Summed rotations count every bone's full world-orientation change, rolls about its own "
+          "axis included (invisible in a stick figure).")
       .note("PhysIK run: " + std::to_string(pk.steps_run) + " steps, converged " +
             (pk.converged ? "yes" : "no") + " (at step " + std::to_string(pk.steps_to_converge) +
             "), peak KE " + num(pk.peak_kinetic_energy) + " J.")
-      .note("MuJoCo same forces (PhysIK's control, torsion and damping forces on an exactly jointed "
-            "model): shoulder turn " + num(mm.shoulder_turn_deg) + " deg, forward lean " +
-            num(mm.lean_forward_deg) + " deg, head tilt " + num(mm.head_tilt_deg) +
-            " deg, off-reach-chain rotation " + num(mm.off_reach_rad) + " rad.");
+      .note(
+          "MuJoCo same forces (PhysIK's control, torsion and damping forces on an exactly jointed "
+          "model): shoulder turn " +
+          num(mm.shoulder_turn_deg) + " deg, forward lean " + num(mm.lean_forward_deg) +
+          " deg, head tilt " + num(mm.head_tilt_deg) + " deg, off-reach-chain rotation " +
+          num(mm.off_reach_rad) + " rad.");
 }
 
 // the viewer's runs: PhysIK's motion, the DLS and iTaSC (when it ran) poses
 void write_view_runs(const Context& ctx, const Scene& scene, const Solutions& sol) {
   write_run_folder(ctx, "physik", scene);
   write_pose_run_folder(ctx, "dls", scene, sol.dls_frames,
-                        {{"solver", "damped least squares"}, {"iterations", sol.dls.iterations},
-                         {"residual", sol.dls.residual}, {"converged", sol.dls.converged}});
+                        {{"solver", "damped least squares"},
+                         {"iterations", sol.dls.iterations},
+                         {"residual", sol.dls.residual},
+                         {"converged", sol.dls.converged}});
   if (sol.itasc.ok()) {
     write_pose_run_folder(ctx, "itasc", scene, sol.itasc.frames,
                           {{"solver", "Blender iTaSC"}, {"blender", sol.itasc.blender}});
@@ -364,7 +392,9 @@ void write_view_runs(const Context& ctx, const Scene& scene, const Solutions& so
 }
 
 nlohmann::json itasc_json(const ItascRun& run, double tol, const Measures& mi) {
-  nlohmann::json j = {{"status", run.status}, {"reason", run.reason}, {"blender", run.blender},
+  nlohmann::json j = {{"status", run.status},
+                      {"reason", run.reason},
+                      {"blender", run.blender},
                       {"seconds", run.seconds}};
   if (run.ok()) {
     j["settings"] = run.report.value("itasc", nlohmann::json::object());
@@ -431,15 +461,19 @@ void run(const Context& ctx) {
                  {"itasc_run", itasc_json(sol.itasc, scene.residual_tol(), mi)},
                  {"physik_run", summary_to_json(scene, sol.physik.summary)},
                  {"dls_report",
-                  {{"iterations", sol.dls.iterations}, {"residual", sol.dls.residual},
-                   {"converged", sol.dls.converged}, {"stalled", sol.dls.stalled}}}},
+                  {{"iterations", sol.dls.iterations},
+                   {"residual", sol.dls.residual},
+                   {"converged", sol.dls.converged},
+                   {"stalled", sol.dls.stalled}}}},
                 report, {&measures});
 }
 
 const Registration registered{
-    90, {"fig9_outstretched", "Fig 9",
-         "outstretched hand: PhysIK vs Blender's iTaSC (when Blender is present) and damped "
-         "least squares, secondary motion", run}};
+    90,
+    {"fig9_outstretched", "Fig 9",
+     "outstretched hand: PhysIK vs Blender's iTaSC (when Blender is present) and damped "
+     "least squares, secondary motion",
+     run}};
 
 }  // namespace
 

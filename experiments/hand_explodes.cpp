@@ -110,10 +110,10 @@ nlohmann::json run_json(const HandRun& r) {
 
 std::string outcome(const HandRun& r) {
   const RunSummary& s = r.run.summary;
-  std::string o = s.diverged ? "diverged (" + s.divergence_reason + ")"
-                             : (s.converged ? "settled at step " + std::to_string(s.steps_to_converge)
-                                            : "did not settle in " + std::to_string(s.steps_run) +
-                                                  " steps");
+  std::string o =
+      s.diverged ? "diverged (" + s.divergence_reason + ")"
+                 : (s.converged ? "settled at step " + std::to_string(s.steps_to_converge)
+                                : "did not settle in " + std::to_string(s.steps_run) + " steps");
   return o + ", peak KE " + num(s.peak_kinetic_energy) + " J (" +
          num(s.peak_kinetic_energy / r.energy_scale) + " x E0), max limit violation " +
          num(s.max_limit_violation_deg) + " deg";
@@ -123,11 +123,12 @@ std::string outcome(const HandRun& r) {
 // (KE and limit violation); cells stay empty after a run stopped (diverged).
 Table timeline_table(const HandRun& shipped, const std::vector<HandRun>& sweep) {
   const Column ke = real("kinetic_energy", "J", "the shipped run's kinetic energy", 9);
-  const Column limit = real("max_limit_violation_deg", "deg",
-                            "the shipped run's largest excursion of a limited axis past its range", 9);
-  std::vector<Column> cols = {columns::kStep, ke, limit,
-                              real("max_residual", "rig units",
-                                   "the shipped run's largest control-point residual", 9)};
+  const Column limit =
+      real("max_limit_violation_deg", "deg",
+           "the shipped run's largest excursion of a limited axis past its range", 9);
+  std::vector<Column> cols = {
+      columns::kStep, ke, limit,
+      real("max_residual", "rig units", "the shipped run's largest control-point residual", 9)};
   for (const HandRun& r : sweep) {
     const std::string tag = "k" + num(r.torsion_k) + "_c" + num(r.damping);
     cols.push_back(ke.named("ke_" + tag));
@@ -139,8 +140,11 @@ Table timeline_table(const HandRun& shipped, const std::vector<HandRun>& sweep) 
   std::size_t n = shipped.ke.size();
   for (const HandRun& r : sweep) n = std::max(n, r.ke.size());
   for (std::size_t k = 0; k < n; ++k) {
-    const auto at = [&](const std::vector<double>& v) { return k < v.size() ? Cell(v[k]) : Cell(); };
-    std::vector<Cell> row = {k + 1, at(shipped.ke), at(shipped.limit_deg), at(shipped.max_residual)};
+    const auto at = [&](const std::vector<double>& v) {
+      return k < v.size() ? Cell(v[k]) : Cell();
+    };
+    std::vector<Cell> row = {k + 1, at(shipped.ke), at(shipped.limit_deg),
+                             at(shipped.max_residual)};
     for (const HandRun& r : sweep) {
       row.push_back(at(r.ke));
       row.push_back(at(r.limit_deg));
@@ -187,7 +191,8 @@ Pattern sweep_pattern(const std::vector<HandRun>& sweep, std::size_t n_damping, 
       if (r.explodes()) {
         seen_explode = true;
       } else {
-        p.threshold_in_k = p.threshold_in_k && !seen_explode;  // calm after an explosion: no threshold
+        p.threshold_in_k =
+            p.threshold_in_k && !seen_explode;  // calm after an explosion: no threshold
         seen_calm = true;
         p.calm_limit_deg = std::max(p.calm_limit_deg, r.run.summary.max_limit_violation_deg);
       }
@@ -202,12 +207,11 @@ Pattern sweep_pattern(const std::vector<HandRun>& sweep, std::size_t n_damping, 
 
 void add_sweep_claims(Report& report, const Scene& base, const HandRun& shipped,
                       const std::vector<HandRun>& sweep, const Pattern& p) {
-  report.claim(
-      "Sec. 5: a tightly constrained hand explodes when a control point is moved",
-      "shipped scene (torsion_k " + num(base.params.torsion_k) + ", damping " +
-          num(base.params.damping) + "): " + outcome(shipped) + "; E0 = " +
-          num(shipped.energy_scale) + " J",
-      shipped.explodes() ? "yes" : "no");
+  report.claim("Sec. 5: a tightly constrained hand explodes when a control point is moved",
+               "shipped scene (torsion_k " + num(base.params.torsion_k) + ", damping " +
+                   num(base.params.damping) + "): " + outcome(shipped) +
+                   "; E0 = " + num(shipped.energy_scale) + " J",
+               shipped.explodes() ? "yes" : "no");
   report.claim(
       "Sec. 5: the explosion comes from the tight limits' torsion forces amplified by the "
       "integration (stiffer torsion springs explode, at every damping tried)",
@@ -254,11 +258,13 @@ void add_notes(Report& report, const Scene& base, const HandRun& shipped) {
             num(kExplodeFactor) +
             " x E0, E0 = the control springs' potential at the start against their goals (the "
             "energy a passive, damped rig could release).")
-      .note("The second claim is our reading of the paper's explanation; it holds when, for every "
-            "damping, the runs explode exactly above some torsion stiffness (both outcomes present), "
-            "partly when some runs explode without that pattern.")
+      .note(
+          "The second claim is our reading of the paper's explanation; it holds when, for every "
+          "damping, the runs explode exactly above some torsion stiffness (both outcomes present), "
+          "partly when some runs explode without that pattern.")
       .note("Shipped run: max joint separation " + num(shipped.run.summary.max_joint_separation) +
-            " rig units, mean passes per step " + num(shipped.run.summary.mean_passes_per_step) + ".");
+            " rig units, mean passes per step " + num(shipped.run.summary.mean_passes_per_step) +
+            ".");
 }
 
 void run(const Context& ctx) {
@@ -280,7 +286,8 @@ void run(const Context& ctx) {
   const Table timeline = timeline_table(shipped, sweep), sweep_csv = sweep_table(sweep);
   timeline.write_csv(ctx.out_dir);
   sweep_csv.write_csv(ctx.out_dir);
-  const std::vector<std::string> frame_files = write_frames(base, shipped.run, ctx.out_dir, "hand_");
+  const std::vector<std::string> frame_files =
+      write_frames(base, shipped.run, ctx.out_dir, "hand_");
 
   Report report("Sec. 5: the tightly limited hand");
   add_sweep_claims(report, base, shipped, sweep, sweep_pattern(sweep, cs.size(), ks.size()));
@@ -302,8 +309,9 @@ void run(const Context& ctx) {
 }
 
 const Registration registered{
-    200, {"hand_explodes", "Sec. 5",
-          "tightly limited hand: does it explode (torsion x damping sweep)", run}};
+    200,
+    {"hand_explodes", "Sec. 5", "tightly limited hand: does it explode (torsion x damping sweep)",
+     run}};
 
 }  // namespace
 

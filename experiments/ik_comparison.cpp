@@ -16,12 +16,12 @@
 // control point pinning the root's head (PhysIK's root is free), in a PosingSession per rig
 // (physik/posing; the time is the solve alone), stopped like the classic solvers: at the residual
 // tolerance (1e-4 of the reach), or when the residual stalls short of it (not converged), at most
-// 2000 steps; the explicit rows on fewer targets. Four rows (issue 15): physik, the solve mode (scheme implicit,
-// the potential's torsion torque, the step from the physical dt lengthening as the motion settles:
-// physik solve --solver physik); physik-explicit, the paper's engine at its dt (no 50-chain: the
-// 5 n^2 joint-pass cap makes a 50-bone step ~3 ms); and each with a DLS finish once the residual
-// stops improving for 10 steps (the paper's suggested hybrid). Secondary motion on pinhead also
-// as the rotation of the bones off the root-to-hand path.
+// 2000 steps; the explicit rows on fewer targets. Four rows (issue 15): physik, the solve mode
+// (scheme implicit, the potential's torsion torque, the step from the physical dt lengthening as
+// the motion settles: physik solve --solver physik); physik-explicit, the paper's engine at its dt
+// (no 50-chain: the 5 n^2 joint-pass cap makes a 50-bone step ~3 ms); and each with a DLS finish
+// once the residual stops improving for 10 steps (the paper's suggested hybrid). Secondary motion
+// on pinhead also as the rotation of the bones off the root-to-hand path.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -50,15 +50,15 @@ namespace {
 struct RigCase {
   std::string name;
   Rig rig;
-  int bone = 0;          // the effector's bone (its tail is the effector)
-  double reach = 0.0;    // rig units
+  int bone = 0;        // the effector's bone (its tail is the effector)
+  double reach = 0.0;  // rig units
   bool chain = false;
 };
 
 struct Outcome {
-  std::vector<Vec3> tails_world;   // (nbone) final tails
-  std::vector<Quat> local;         // (nbone) final local rotations (rest-relative)
-  double residual = 0.0;           // rig units
+  std::vector<Vec3> tails_world;  // (nbone) final tails
+  std::vector<Quat> local;        // (nbone) final local rotations (rest-relative)
+  double residual = 0.0;          // rig units
   int iterations = 0;
   double time_s = 0.0;
   bool converged = false;
@@ -71,8 +71,13 @@ Outcome classic(IkMethod m, const RigCase& rc, const Vec3& target) {
   Pose pose = rest_pose(rc.rig);
   const IkReport rep = solve_ik(m, rc.rig, {{rc.bone, 1.0, target}}, pose);
   const BoneFrames f = forward_kinematics(rc.rig, pose);
-  return {f.tail_world, pose.bone_local_rotation, rep.residual, rep.iterations, rep.time_s,
-          rep.converged, rad2deg(max_limit_violation(rc.rig, pose))};
+  return {f.tail_world,
+          pose.bone_local_rotation,
+          rep.residual,
+          rep.iterations,
+          rep.time_s,
+          rep.converged,
+          rad2deg(max_limit_violation(rc.rig, pose))};
 }
 
 // The engine as an IK solver (physik/posing/posing_session.h), as a tool embeds it: one session
@@ -80,15 +85,17 @@ Outcome classic(IkMethod m, const RigCase& rc, const Vec3& target) {
 // moved as engine_solver says), the root's head pinned by a second control point (PhysIK's root
 // is free). The time is the solve alone.
 struct EngineRow {
-  bool solve_mode = false;                 // physik: implicit, lengthening step; else the scene's engine
-  SolveFinish finish = SolveFinish::kNone; // the paper's hybrid: a classic finish after a stall
+  bool solve_mode = false;  // physik: implicit, lengthening step; else the scene's engine
+  SolveFinish finish = SolveFinish::kNone;  // the paper's hybrid: a classic finish after a stall
 };
 
 Solver engine_solver(EngineRow row) {
   auto sessions = std::make_shared<std::map<std::string, std::unique_ptr<PosingSession>>>();
   return [row, sessions](const RigCase& rc, const Vec3& target) {
     std::unique_ptr<PosingSession>& session = (*sessions)[rc.name];
-    if (!session) session = std::make_unique<PosingSession>(effector_scene("ik_comparison", rc.rig, rc.bone, row.solve_mode));
+    if (!session)
+      session = std::make_unique<PosingSession>(
+          effector_scene("ik_comparison", rc.rig, rc.bone, row.solve_mode));
     SolveRule rule = row.solve_mode ? solve_mode_rule() : SolveRule{};
     rule.tolerance = 1e-4 * rc.reach;
     rule.max_steps = 2000;
@@ -157,7 +164,8 @@ Outcome kdl_lma(const RigCase& rc, const Vec3& target) {
 double percentile(std::vector<double> v, double q) {
   if (v.empty()) return std::nan("");
   std::sort(v.begin(), v.end());
-  return v[static_cast<std::size_t>(std::min<double>(v.size() - 1, std::floor(q * (v.size() - 1) + 0.5)))];
+  return v[static_cast<std::size_t>(
+      std::min<double>(v.size() - 1, std::floor(q * (v.size() - 1) + 0.5)))];
 }
 double mean(const std::vector<double>& v) {
   double s = 0.0;
@@ -166,8 +174,8 @@ double mean(const std::vector<double>& v) {
 }
 
 struct Stats {
-  std::vector<double> reach_success, reach_residual, reach_iters, reach_time, unreach_notconv, unreach_excess,
-      violation, rotation, offpath, offpath_rotation, jump;
+  std::vector<double> reach_success, reach_residual, reach_iters, reach_time, unreach_notconv,
+      unreach_excess, violation, rotation, offpath, offpath_rotation, jump;
 };
 
 // How many targets per rig (the explicit PhysIK engine gets fewer: it is slow on long chains)
@@ -203,7 +211,8 @@ std::vector<std::pair<std::string, Solver>> make_solvers() {
   std::vector<std::pair<std::string, Solver>> solvers;
   for (IkMethod m : {IkMethod::kFabrik, IkMethod::kCcd, IkMethod::kJacobianTranspose,
                      IkMethod::kDampedLeastSquares, IkMethod::kMassSpring, IkMethod::kRotation}) {
-    solvers.push_back({to_string(m), [m](const RigCase& rc, const Vec3& t) { return classic(m, rc, t); }});
+    solvers.push_back(
+        {to_string(m), [m](const RigCase& rc, const Vec3& t) { return classic(m, rc, t); }});
   }
   solvers.push_back({"kdl-lma", kdl_lma});
   solvers.push_back({"physik", engine_solver({true, SolveFinish::kNone})});
@@ -224,10 +233,12 @@ Targets make_targets(const RigCase& rc, const Budget& b) {
   const Vec3 root = rc.rig.bone_rest_head_world[0];
   for (int k = 0; k < b.n_reach; ++k) {
     if (rc.chain) {
-      const double r = 0.95 * rc.reach * std::cbrt(std::uniform_real_distribution<double>(0, 1)(rng));
+      const double r =
+          0.95 * rc.reach * std::cbrt(std::uniform_real_distribution<double>(0, 1)(rng));
       t.reach.push_back(root + r * random_direction(rng));
     } else {
-      t.reach.push_back(forward_kinematics(rc.rig, random_legal_pose(rc.rig, rng)).tail_world[rc.bone]);
+      t.reach.push_back(
+          forward_kinematics(rc.rig, random_legal_pose(rc.rig, rng)).tail_world[rc.bone]);
     }
   }
   for (int k = 0; k < b.n_unreach; ++k) {
@@ -246,30 +257,32 @@ struct Tables {
     const auto r9 = [](std::string name, std::string unit, std::string doc) {
       return real(std::move(name), std::move(unit), std::move(doc), 9);
     };
-    return Table("solves", "solves.csv",
-                 {text("rig", "chain3, chain10, chain50 or pinhead"), text("solver", "the solver"),
-                  text("kind", "the target: reachable or unreachable"),
-                  integer("index", "", "the target's index within its kind"),
-                  r9("target_x", "rig units", "the target"), r9("target_y", "rig units", "the target"),
-                  r9("target_z", "rig units", "the target"),
-                  r9("residual", "rig units", "the effector's distance to the target"),
-                  r9("residual_over_reach", "", "residual / the chain's reach"),
-                  flag("success", "residual below 1e-3 of the reach"),
-                  flag("converged", "the solver's own convergence test"),
-                  integer("iterations", "", "the solver's iterations (PhysIK: steps)"),
-                  r9("time_s", "s", "wall time of the solve"),
-                  r9("limit_violation_deg", "deg", "the largest joint-limit excess"),
-                  r9("total_rotation_rad", "rad", "the sum of every bone's rotation from rest"),
-                  r9("offpath_motion", "rig units", "mean tail motion of the bones off the path"),
-                  r9("offpath_rotation_rad", "rad", "the rotation of the bones off the path")});
+    return Table(
+        "solves", "solves.csv",
+        {text("rig", "chain3, chain10, chain50 or pinhead"), text("solver", "the solver"),
+         text("kind", "the target: reachable or unreachable"),
+         integer("index", "", "the target's index within its kind"),
+         r9("target_x", "rig units", "the target"), r9("target_y", "rig units", "the target"),
+         r9("target_z", "rig units", "the target"),
+         r9("residual", "rig units", "the effector's distance to the target"),
+         r9("residual_over_reach", "", "residual / the chain's reach"),
+         flag("success", "residual below 1e-3 of the reach"),
+         flag("converged", "the solver's own convergence test"),
+         integer("iterations", "", "the solver's iterations (PhysIK: steps)"),
+         r9("time_s", "s", "wall time of the solve"),
+         r9("limit_violation_deg", "deg", "the largest joint-limit excess"),
+         r9("total_rotation_rad", "rad", "the sum of every bone's rotation from rest"),
+         r9("offpath_motion", "rig units", "mean tail motion of the bones off the path"),
+         r9("offpath_rotation_rad", "rad", "the rotation of the bones off the path")});
   }
   static Table continuity_table() {
-    return Table("continuity", "continuity.csv",
-                 {text("rig", "chain3, chain10, chain50 or pinhead"), text("solver", "the solver"),
-                  integer("index", "", "the reachable target moved"),
-                  real("target_move", "rig units", "how far the target moved (1% of the reach)", 9),
-                  real("max_tail_jump", "rig units", "the largest bone-tail motion between the solves", 9),
-                  real("jump_ratio", "", "max_tail_jump / target_move", 9)});
+    return Table(
+        "continuity", "continuity.csv",
+        {text("rig", "chain3, chain10, chain50 or pinhead"), text("solver", "the solver"),
+         integer("index", "", "the reachable target moved"),
+         real("target_move", "rig units", "how far the target moved (1% of the reach)", 9),
+         real("max_tail_jump", "rig units", "the largest bone-tail motion between the solves", 9),
+         real("jump_ratio", "", "max_tail_jump / target_move", 9)});
   }
 };
 
@@ -299,7 +312,8 @@ void record_solve(const SolveCase& sc, const char* kind, int idx, const Vec3& t,
   }
   off = noff ? off / noff : 0.0;
   solves.add({rc.name, sc.solver, kind, idx, t.x(), t.y(), t.z(), o.residual, o.residual / rc.reach,
-              success, o.converged, o.iterations, o.time_s, o.limit_violation_deg, rot, off, off_rot});
+              success, o.converged, o.iterations, o.time_s, o.limit_violation_deg, rot, off,
+              off_rot});
   st.violation.push_back(o.limit_violation_deg);
   if (std::string(kind) == "reachable") {
     st.reach_success.push_back(success);
@@ -317,7 +331,8 @@ void record_solve(const SolveCase& sc, const char* kind, int idx, const Vec3& t,
 }
 
 // One table row of the summary: a rig, a solver, its statistics.
-nlohmann::json stats_row(const RigCase& rc, const std::string& solver, int nr, int nu, const Stats& st) {
+nlohmann::json stats_row(const RigCase& rc, const std::string& solver, int nr, int nu,
+                         const Stats& st) {
   int jumps_over_10 = 0;
   for (double j : st.jump) jumps_over_10 += j > 10.0;
   return {{"rig", rc.name},
@@ -351,7 +366,9 @@ nlohmann::json run_solver(const Context& ctx, const SolveCase& sc, const Solver&
   const int nr = is_explicit ? std::min(b.physik_reach, b.n_reach) : b.n_reach;
   const int nu = is_explicit ? std::min(b.physik_unreach, b.n_unreach) : b.n_unreach;
   const int nc = is_explicit ? std::min(b.physik_cont, b.n_cont) : b.n_cont;
-  if (ctx.log) *ctx.log << "  " << sc.rc.name << " / " << sc.solver << ": " << nr << " + " << nu << " targets\n";
+  if (ctx.log)
+    *ctx.log << "  " << sc.rc.name << " / " << sc.solver << ": " << nr << " + " << nu
+             << " targets\n";
   Stats st;
   std::vector<Outcome> reach_out;
   for (int t = 0; t < nr; ++t) {
@@ -359,7 +376,8 @@ nlohmann::json run_solver(const Context& ctx, const SolveCase& sc, const Solver&
     record_solve(sc, "reachable", t, targets.reach[t], reach_out.back(), tables.solves, st);
   }
   for (int t = 0; t < nu; ++t) {
-    record_solve(sc, "unreachable", t, targets.unreach[t], solve(sc.rc, targets.unreach[t]), tables.solves, st);
+    record_solve(sc, "unreachable", t, targets.unreach[t], solve(sc.rc, targets.unreach[t]),
+                 tables.solves, st);
   }
   for (int t = 0; t < nc; ++t) {
     const Vec3& move = targets.moves[t];
@@ -406,10 +424,16 @@ struct TableView {
   }
 };
 
-std::string pct(double x) { return num(100.0 * x, 4) + "%"; }
+std::string pct(double x) {
+  return num(100.0 * x, 4) + "%";
+}
 // a rate or a time of a row that may not have run (the explicit engine skips the 50-bone chain)
-std::string pct_or_not_run(double x) { return std::isnan(x) ? "not run" : pct(x); }
-std::string ms_or_not_run(double x) { return std::isnan(x) ? "not run" : num(x) + " ms"; }
+std::string pct_or_not_run(double x) {
+  return std::isnan(x) ? "not run" : pct(x);
+}
+std::string ms_or_not_run(double x) {
+  return std::isnan(x) ? "not run" : num(x) + " ms";
+}
 
 // claims from the guide (seed 001) about the classic solvers
 void add_classic_claims(Report& report, const TableView& val, const std::string& big) {
@@ -421,26 +445,34 @@ void add_classic_claims(Report& report, const TableView& val, const std::string&
       << pct(r["success_rate"].get<double>()) << "; ";
     holds &= r["success_rate"].get<double>() >= 0.99;
   }
-  report.claim("Every classic solver reaches reachable targets (residual < 1e-3 of the reach, rest-pose start, 1000 iterations)",
-               m.str(), holds ? "yes" : "no");
+  report.claim(
+      "Every classic solver reaches reachable targets (residual < 1e-3 of the reach, rest-pose "
+      "start, 1000 iterations)",
+      m.str(), holds ? "yes" : "no");
   const double jt = val(big, "jt", "median_iterations"), dls = val(big, "dls", "median_iterations");
   const double tj = val(big, "jt", "mean_time_ms"), td = val(big, "dls", "mean_time_ms");
   report.claim("Guide: the Jacobian transpose is a slow 'C tier' solver; DLS regularises it",
                big + ": median iterations JT " + num(jt) + " vs DLS " + num(dls) + ", time " +
                    num(tj) + " vs " + num(td) + " ms, success JT " +
-                   pct(val(big, "jt", "success_rate")) + " vs DLS " + pct(val(big, "dls", "success_rate")),
+                   pct(val(big, "jt", "success_rate")) + " vs DLS " +
+                   pct(val(big, "dls", "success_rate")),
                jt > 3 * dls ? "yes" : "no");
   const double ccd = val(big, "ccd", "mean_total_rotation_rad"),
                dls_rot = val(big, "dls", "mean_total_rotation_rad");
-  report.claim("Guide: CCD rolls the chain up (more joint rotation than the Jacobian methods for the same goals)",
-               big + ": mean total rotation CCD " + num(ccd) + " rad vs DLS " + num(dls_rot) + " rad",
-               ccd > dls_rot ? "yes" : "no");
-  const double chain = val("chain10", "fabrik", "success_rate"), pin = val("pinhead", "fabrik", "success_rate");
-  report.claim("Guide: FABRIK has issues with rotation constraints (pinhead's locked collar, hinge elbow) but not on free chains",
-               "success chain10 " + pct(chain) + ", pinhead " + pct(pin) + "; median iterations " +
-                   num(val("chain10", "fabrik", "median_iterations")) + " vs " +
-                   num(val("pinhead", "fabrik", "median_iterations")),
-               pin < chain ? "yes" : (pin == chain ? "no" : "no"));
+  report.claim(
+      "Guide: CCD rolls the chain up (more joint rotation than the Jacobian methods for the same "
+      "goals)",
+      big + ": mean total rotation CCD " + num(ccd) + " rad vs DLS " + num(dls_rot) + " rad",
+      ccd > dls_rot ? "yes" : "no");
+  const double chain = val("chain10", "fabrik", "success_rate"),
+               pin = val("pinhead", "fabrik", "success_rate");
+  report.claim(
+      "Guide: FABRIK has issues with rotation constraints (pinhead's locked collar, hinge elbow) "
+      "but not on free chains",
+      "success chain10 " + pct(chain) + ", pinhead " + pct(pin) + "; median iterations " +
+          num(val("chain10", "fabrik", "median_iterations")) + " vs " +
+          num(val("pinhead", "fabrik", "median_iterations")),
+      pin < chain ? "yes" : (pin == chain ? "no" : "no"));
 }
 
 // claims from seed 002 (rotation method), the paper (secondary motion), KDL and PhysIK itself
@@ -448,52 +480,63 @@ void add_other_claims(Report& report, const TableView& val, const std::string& b
   const double rot = val("pinhead", "rotation", "continuity_p95_ratio"),
                dls = val("pinhead", "dls", "continuity_p95_ratio"),
                jt = val("pinhead", "jt", "continuity_p95_ratio");
-  report.claim("Seed 002: the rotation method is immune to the Jacobian methods' instability near singular configurations (smoother under small target moves)",
-               "pinhead p95 jump ratio (tail motion / target motion): rotation " + num(rot) +
-                   ", DLS " + num(dls) + ", JT " + num(jt) + "; " + big + ": rotation " +
-                   num(val(big, "rotation", "continuity_p95_ratio")) + ", DLS " +
-                   num(val(big, "dls", "continuity_p95_ratio")) +
-                   " (but the rotation method reaches only " +
-                   pct(val(big, "rotation", "success_rate")) + " there, so it barely moves); "
-                   "both reach ~100% on pinhead, where the comparison is fair",
-               rot < std::min(dls, jt) ? "partly" : "no");
+  report.claim(
+      "Seed 002: the rotation method is immune to the Jacobian methods' instability near singular "
+      "configurations (smoother under small target moves)",
+      "pinhead p95 jump ratio (tail motion / target motion): rotation " + num(rot) + ", DLS " +
+          num(dls) + ", JT " + num(jt) + "; " + big + ": rotation " +
+          num(val(big, "rotation", "continuity_p95_ratio")) + ", DLS " +
+          num(val(big, "dls", "continuity_p95_ratio")) + " (but the rotation method reaches only " +
+          pct(val(big, "rotation", "success_rate")) +
+          " there, so it barely moves); "
+          "both reach ~100% on pinhead, where the comparison is fair",
+      rot < std::min(dls, jt) ? "partly" : "no");
   const double ph = val("pinhead", "physik-explicit", "mean_offpath_motion");
   double best = 0.0;
   for (const char* s : {"fabrik", "ccd", "jt", "dls", "mass-spring", "rotation"}) {
     best = std::max(best, val("pinhead", s, "mean_offpath_motion"));
   }
-  report.claim("Paper Fig 9: PhysIK moves the rest of the body (secondary motion) where classic IK moves only the arm chain",
-               "pinhead mean displacement of bones off the head-to-hand path: PhysIK (explicit) " + num(ph) +
-                   " rig units, largest classic solver " + num(best) +
-                   " (classic solvers turn the root head bone, which carries the body)",
-               ph > best ? "yes" : "no");
+  report.claim(
+      "Paper Fig 9: PhysIK moves the rest of the body (secondary motion) where classic IK moves "
+      "only the arm chain",
+      "pinhead mean displacement of bones off the head-to-hand path: PhysIK (explicit) " + num(ph) +
+          " rig units, largest classic solver " + num(best) +
+          " (classic solvers turn the root head bone, which carries the body)",
+      ph > best ? "yes" : "no");
   std::ostringstream m;
   for (const std::string& r : {std::string("chain3"), std::string("chain10"), big}) {
     m << r << ": KDL " << pct(val(r, "kdl-lma", "success_rate")) << " in "
       << num(val(r, "kdl-lma", "mean_time_ms")) << " ms, DLS " << pct(val(r, "dls", "success_rate"))
       << " in " << num(val(r, "dls", "mean_time_ms")) << " ms; ";
   }
-  report.claim("Outside reference: our DLS matches Orocos KDL's LMA in success on free chains", m.str(),
-               val(big, "dls", "success_rate") >= val(big, "kdl-lma", "success_rate") - 0.01 ? "yes" : "no");
+  report.claim(
+      "Outside reference: our DLS matches Orocos KDL's LMA in success on free chains", m.str(),
+      val(big, "dls", "success_rate") >= val(big, "kdl-lma", "success_rate") - 0.01 ? "yes" : "no");
   const double ps = val("pinhead", "physik-explicit", "success_rate");
-  report.claim("PhysIK (the paper's explicit engine) meets a reachable target to 1e-3 of the reach (stops at 1e-4 of the reach or when stalled, 2000-step cap)",
-               "success chain3 " + pct(val("chain3", "physik-explicit", "success_rate")) + ", chain10 " +
-                   pct(val("chain10", "physik-explicit", "success_rate")) + ", pinhead " + pct(ps) +
-                   "; median steps on pinhead " + num(val("pinhead", "physik-explicit", "median_iterations")) +
-                   ", " + num(val("pinhead", "physik-explicit", "mean_time_ms")) + " ms per solve",
-               ps >= 0.99 ? "yes" : ps >= 0.5 ? "partly" : "no");
+  report.claim(
+      "PhysIK (the paper's explicit engine) meets a reachable target to 1e-3 of the reach (stops "
+      "at 1e-4 of the reach or when stalled, 2000-step cap)",
+      "success chain3 " + pct(val("chain3", "physik-explicit", "success_rate")) + ", chain10 " +
+          pct(val("chain10", "physik-explicit", "success_rate")) + ", pinhead " + pct(ps) +
+          "; median steps on pinhead " +
+          num(val("pinhead", "physik-explicit", "median_iterations")) + ", " +
+          num(val("pinhead", "physik-explicit", "mean_time_ms")) + " ms per solve",
+      ps >= 0.99  ? "yes"
+      : ps >= 0.5 ? "partly"
+                  : "no");
 }
 
 // issue 15: the solve mode (implicit, lengthening step) against DLS and the explicit engine
-void add_solve_mode_claims(Report& report, const TableView& val, const std::vector<std::string>& rigs) {
+void add_solve_mode_claims(Report& report, const TableView& val,
+                           const std::vector<std::string>& rigs) {
   std::ostringstream succ, speed, jump;
   bool all_succ = true, all_fast = true, all_smooth = true;
   for (const std::string& r : rigs) {
     const double s = val(r, "physik", "success_rate"), t = val(r, "physik", "mean_time_ms"),
                  td = val(r, "dls", "mean_time_ms"), j = val(r, "physik", "continuity_p95_ratio"),
                  jd = val(r, "dls", "continuity_p95_ratio");
-    succ << r << " " << pct(s) << " (explicit " << pct_or_not_run(val(r, "physik-explicit", "success_rate"))
-         << "); ";
+    succ << r << " " << pct(s) << " (explicit "
+         << pct_or_not_run(val(r, "physik-explicit", "success_rate")) << "); ";
     speed << r << " " << num(t) << " ms in " << num(val(r, "physik", "median_iterations"))
           << " steps vs DLS " << num(td) << " ms (" << num(t / td) << "x); ";
     jump << r << " " << num(j) << " vs DLS " << num(jd) << "; ";
@@ -501,8 +544,10 @@ void add_solve_mode_claims(Report& report, const TableView& val, const std::vect
     all_fast &= t <= td;
     all_smooth &= j <= jd;
   }
-  report.claim("Solve mode (physik: implicit, the step lengthening from the physical dt): every reachable target met",
-               succ.str(), all_succ ? "yes" : "no");
+  report.claim(
+      "Solve mode (physik: implicit, the step lengthening from the physical dt): every reachable "
+      "target met",
+      succ.str(), all_succ ? "yes" : "no");
   report.claim("Solve mode: ms per solve at most DLS's, in the same run", speed.str(),
                all_fast ? "yes" : "no");
   report.claim("Solve mode: p95 jump ratio (tail motion / target motion) at most DLS's", jump.str(),
@@ -511,11 +556,13 @@ void add_solve_mode_claims(Report& report, const TableView& val, const std::vect
                rot_x = val("pinhead", "physik-explicit", "mean_offpath_rotation_rad"),
                off = val("pinhead", "physik", "mean_offpath_motion"),
                off_x = val("pinhead", "physik-explicit", "mean_offpath_motion");
-  report.claim("Solve mode: secondary motion (rotation of the bones off the controlled chain) at least 80% of the explicit engine's",
-               "pinhead: rotation off the head-to-hand path " + num(rot) + " rad vs explicit " + num(rot_x) +
-                   " (" + pct(rot / rot_x) + "); their displacement " + num(off) + " vs " + num(off_x) +
-                   " rig units (" + pct(off / off_x) + ")",
-               rot >= 0.8 * rot_x ? "yes" : "no");
+  report.claim(
+      "Solve mode: secondary motion (rotation of the bones off the controlled chain) at least 80% "
+      "of the explicit engine's",
+      "pinhead: rotation off the head-to-hand path " + num(rot) + " rad vs explicit " + num(rot_x) +
+          " (" + pct(rot / rot_x) + "); their displacement " + num(off) + " vs " + num(off_x) +
+          " rig units (" + pct(off / off_x) + ")",
+      rot >= 0.8 * rot_x ? "yes" : "no");
   std::ostringstream hy;
   for (const std::string& r : rigs) {
     hy << r << ": physik+dls " << pct(val(r, "physik+dls", "success_rate")) << " in "
@@ -524,40 +571,55 @@ void add_solve_mode_claims(Report& report, const TableView& val, const std::vect
        << ms_or_not_run(val(r, "physik-explicit+dls", "mean_time_ms")) << ", physik "
        << num(val(r, "physik", "mean_time_ms")) << " ms; ";
   }
-  report.claim("The paper's hybrid (physics for the transient, DLS once the residual stops improving for 10 steps) against the solve mode",
-               hy.str() + "(the explicit engine skips the 50-bone chain)", "measured");
+  report.claim(
+      "The paper's hybrid (physics for the transient, DLS once the residual stops improving for 10 "
+      "steps) against the solve mode",
+      hy.str() + "(the explicit engine skips the 50-bone chain)", "measured");
 }
 
 void add_notes(Report& report, const Budget& b, const nlohmann::json& table) {
-  report.note("Targets: " + std::to_string(b.n_reach) + " reachable + " + std::to_string(b.n_unreach) +
-              " unreachable per rig (seed 20240607), the solve mode (physik, physik+dls) as many; the explicit "
-              "engine (physik-explicit rows) gets " + std::to_string(b.physik_reach) +
-              " + " + std::to_string(b.physik_unreach) + " and no 50-bone chain (its 5 n^2 joint-pass cap "
-              "makes a 50-bone step ~3 ms); continuity on the first " + std::to_string(b.n_cont) +
-              " reachable targets (explicit " + std::to_string(b.physik_cont) + "), target moved by 1% of the reach. "
-              "The explicit rows move the effector's target along the scene's interpolation from its rest "
-              "point (the paper's guard against the Gauss-Seidel solve diverging); the solve mode jumps it "
-              "at once.");
-  report.note("PhysIK's root is free, so it gets a second control point pinning the root's head; "
-              "classic solvers anchor the root's head and turn the root bone (pinhead's root is the head bone). "
-              "The pin is a spring too, so toward unreachable targets PhysIK's root is dragged along (negative "
-              "excess: the hand gets closer than |t| - reach), and its joint limits are torsion springs "
-              "(soft), hence the limit violation; classic solvers clamp and never violate.");
-  report.note("PhysIK stops like the classic solvers: when every control point is within 1e-4 of the "
-              "reach (scene convergence.stop_at_residual_tol), or when its residual stalls short of it "
-              "(no 1% improvement in 50 steps; then it has not converged).");
-  report.note("Columns: success = residual < 1e-3 reach; median res/reach = median residual on reachable targets over the reach; iters = median iterations (PhysIK: steps); "
-              "ms = mean wall time per solve; viol = largest limit violation (deg); rot = mean total joint "
-              "rotation (rad); off = mean displacement of off-path bones; unreach nc = fraction of unreachable "
-              "targets reported not converged; excess = mean residual beyond |t| - reach (over reach); "
-              "jump p95 = 95th percentile of tail motion / target motion.");
+  report.note(
+      "Targets: " + std::to_string(b.n_reach) + " reachable + " + std::to_string(b.n_unreach) +
+      " unreachable per rig (seed 20240607), the solve mode (physik, physik+dls) as many; the "
+      "explicit "
+      "engine (physik-explicit rows) gets " +
+      std::to_string(b.physik_reach) + " + " + std::to_string(b.physik_unreach) +
+      " and no 50-bone chain (its 5 n^2 joint-pass cap "
+      "makes a 50-bone step ~3 ms); continuity on the first " +
+      std::to_string(b.n_cont) + " reachable targets (explicit " + std::to_string(b.physik_cont) +
+      "), target moved by 1% of the reach. "
+      "The explicit rows move the effector's target along the scene's interpolation from its rest "
+      "point (the paper's guard against the Gauss-Seidel solve diverging); the solve mode jumps it "
+      "at once.");
+  report.note(
+      "PhysIK's root is free, so it gets a second control point pinning the root's head; "
+      "classic solvers anchor the root's head and turn the root bone (pinhead's root is the head "
+      "bone). "
+      "The pin is a spring too, so toward unreachable targets PhysIK's root is dragged along "
+      "(negative "
+      "excess: the hand gets closer than |t| - reach), and its joint limits are torsion springs "
+      "(soft), hence the limit violation; classic solvers clamp and never violate.");
+  report.note(
+      "PhysIK stops like the classic solvers: when every control point is within 1e-4 of the "
+      "reach (scene convergence.stop_at_residual_tol), or when its residual stalls short of it "
+      "(no 1% improvement in 50 steps; then it has not converged).");
+  report.note(
+      "Columns: success = residual < 1e-3 reach; median res/reach = median residual on reachable "
+      "targets over the reach; iters = median iterations (PhysIK: steps); "
+      "ms = mean wall time per solve; viol = largest limit violation (deg); rot = mean total joint "
+      "rotation (rad); off = mean displacement of off-path bones; unreach nc = fraction of "
+      "unreachable "
+      "targets reported not converged; excess = mean residual beyond |t| - reach (over reach); "
+      "jump p95 = 95th percentile of tail motion / target motion.");
   for (const auto& r : table) {
     std::ostringstream s;
     s << r["rig"].get<std::string>() << " | " << r["solver"].get<std::string>() << " | success "
       << pct(r["success_rate"].get<double>()) << " | median res/reach "
-      << num(r["median_residual_over_reach"].get<double>(), 2) << " | iters " << num(r["median_iterations"].get<double>())
-      << " | ms " << num(r["mean_time_ms"].get<double>()) << " | viol " << num(r["max_limit_violation_deg"].get<double>())
-      << " | rot " << num(r["mean_total_rotation_rad"].get<double>()) << " | off "
+      << num(r["median_residual_over_reach"].get<double>(), 2) << " | iters "
+      << num(r["median_iterations"].get<double>()) << " | ms "
+      << num(r["mean_time_ms"].get<double>()) << " | viol "
+      << num(r["max_limit_violation_deg"].get<double>()) << " | rot "
+      << num(r["mean_total_rotation_rad"].get<double>()) << " | off "
       << num(r["mean_offpath_motion"].get<double>()) << " | unreach nc "
       << pct(r["unreachable_not_converged"].get<double>()) << " | excess "
       << num(r["unreachable_excess_over_reach"].get<double>()) << " | jump p95 "
@@ -584,13 +646,14 @@ void run(const Context& ctx) {
   add_solve_mode_claims(report, TableView{table}, rigs);
   add_notes(report, b, table);
   report.figures({"ik_success.png", "ik_time.png", "ik_continuity.png"});
-  write_summary(ctx, {{"experiment", "ik_comparison"}, {"quick", ctx.quick}, {"table", table}}, report,
-                {&tables.solves, &tables.cont});
+  write_summary(ctx, {{"experiment", "ik_comparison"}, {"quick", ctx.quick}, {"table", table}},
+                report, {&tables.solves, &tables.cont});
 }
 
 const Registration registered{
-    240, {"ik_comparison", "study: IK solvers",
-          "classic IK solvers, the rotation method, KDL LMA and PhysIK on chains and pinhead", run}};
+    240,
+    {"ik_comparison", "study: IK solvers",
+     "classic IK solvers, the rotation method, KDL LMA and PhysIK on chains and pinhead", run}};
 
 }  // namespace
 

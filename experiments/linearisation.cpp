@@ -1,6 +1,6 @@
 // Linearisation study (chain50's step count; docs/engine.md "The implicit scheme"): the solve
-// mode's rule on the ik_comparison scenes (the effector's target jumped to a random reachable point,
-// the root's head pinned), with the shipped O(n) implicit step or a dense Newton step of
+// mode's rule on the ik_comparison scenes (the effector's target jumped to a random reachable
+// point, the root's head pinned), with the shipped O(n) implicit step or a dense Newton step of
 // backward Euler (linearisation.h, which gives the equations and the variants).
 //   runs.csv   rig, target, variant: converged, steps, bare steps taken, final residual
 // Rigs: the 10- and 50-bone chains and pinhead's left hand; targets from one fixed seed, as
@@ -12,8 +12,8 @@
 #include <map>
 
 #include "experiments/common.h"
-#include "experiments/table.h"
 #include "experiments/linearisation.h"
+#include "experiments/table.h"
 #include "physik/engine/interpolation.h"
 #include "physik/ik/ik_solver.h"
 #include "physik/io/rig_io.h"
@@ -86,7 +86,8 @@ std::vector<Variant> variants_of(const Context& ctx, const StudyRig& r) {
   std::vector<Variant> v = {Variant::kShipped, Variant::kShippedDcdv, Variant::kNewton,
                             Variant::kNewtonAtRest, Variant::kNewtonNoGyro};
   if (r.rig.nbone <= 20) {
-    for (Variant x : {Variant::kPoseForces, Variant::kPoseInertia, Variant::kShippedDense}) v.push_back(x);
+    for (Variant x : {Variant::kPoseForces, Variant::kPoseInertia, Variant::kShippedDense})
+      v.push_back(x);
   }
   return v;
 }
@@ -100,14 +101,15 @@ Table measure(const Context& ctx, const std::vector<StudyRig>& rigs, int n_targe
   const auto r9 = [](std::string name, std::string unit, std::string doc) {
     return real(std::move(name), std::move(unit), std::move(doc), 9);
   };
-  Table csv("runs", "runs.csv",
-            {text("rig", "chain10, chain50 or pinhead"), integer("target", "", "the target's index"),
-             text("variant", "the step (linearisation.h)"),
-             flag("converged", "every control point within the tolerance"),
-             flag("diverged", "the state went non-finite"),
-             integer("steps", "steps", "steps of the rule"),
-             integer("substeps", "steps", "bare steps, the guard's rejected ones included"),
-             r9("residual", "rig units", "the largest residual at the end")});
+  Table csv(
+      "runs", "runs.csv",
+      {text("rig", "chain10, chain50 or pinhead"), integer("target", "", "the target's index"),
+       text("variant", "the step (linearisation.h)"),
+       flag("converged", "every control point within the tolerance"),
+       flag("diverged", "the state went non-finite"),
+       integer("steps", "steps", "steps of the rule"),
+       integer("substeps", "steps", "bare steps, the guard's rejected ones included"),
+       r9("residual", "rig units", "the largest residual at the end")});
   for (const StudyRig& r : rigs) {
     const Scene scene = study_scene(r);
     const double reach = chain_reach(r.rig, {{r.bone, 1.0, Vec3::Zero()}});
@@ -118,9 +120,10 @@ Table measure(const Context& ctx, const std::vector<StudyRig>& rigs, int n_targe
         SimState s;
         init_state(scene, s);
         start_target_jump(scene, s, 0, targets[t]);
-        const linearisation::SolveCount c = linearisation::solve(scene, s, 1e-4 * reach, kMaxSteps, v);
-        csv.add({r.name, t, linearisation::variant_name(v), c.converged, c.diverged, c.steps, c.substeps,
-                 c.residual});
+        const linearisation::SolveCount c =
+            linearisation::solve(scene, s, 1e-4 * reach, kMaxSteps, v);
+        csv.add({r.name, t, linearisation::variant_name(v), c.converged, c.diverged, c.steps,
+                 c.substeps, c.residual});
         cell.steps.push_back(c.steps);
         cell.substeps.push_back(c.substeps);
         cell.converged += c.converged;
@@ -129,8 +132,9 @@ Table measure(const Context& ctx, const std::vector<StudyRig>& rigs, int n_targe
       }
       if (ctx.log) {
         *ctx.log << "  " << r.name << " " << linearisation::variant_name(v) << ": median "
-                 << num(median(cell.steps)) << " steps, " << num(median(cell.substeps)) << " bare steps, "
-                 << cell.converged << "/" << cell.runs << " converged\n" << std::flush;
+                 << num(median(cell.steps)) << " steps, " << num(median(cell.substeps))
+                 << " bare steps, " << cell.converged << "/" << cell.runs << " converged\n"
+                 << std::flush;
       }
     }
   }
@@ -143,10 +147,15 @@ void tabulate(const Context& ctx, const std::vector<StudyRig>& rigs, Cells& cell
   for (const StudyRig& r : rigs) {
     for (Variant v : variants_of(ctx, r)) {
       const VariantCount& c = cells[r.name][linearisation::variant_name(v)];
-      rows.push_back({{"rig", r.name}, {"variant", linearisation::variant_name(v)},
-                      {"median_steps", median(c.steps)}, {"median_substeps", median(c.substeps)},
-                      {"converged", c.converged}, {"diverged", c.diverged}, {"runs", c.runs}});
-      table.push_back({r.name, linearisation::variant_name(v), num(median(c.steps)), num(median(c.substeps)),
+      rows.push_back({{"rig", r.name},
+                      {"variant", linearisation::variant_name(v)},
+                      {"median_steps", median(c.steps)},
+                      {"median_substeps", median(c.substeps)},
+                      {"converged", c.converged},
+                      {"diverged", c.diverged},
+                      {"runs", c.runs}});
+      table.push_back({r.name, linearisation::variant_name(v), num(median(c.steps)),
+                       num(median(c.substeps)),
                        std::to_string(c.converged) + "/" + std::to_string(c.runs)});
     }
   }
@@ -154,17 +163,24 @@ void tabulate(const Context& ctx, const std::vector<StudyRig>& rigs, Cells& cell
 
 void add_notes(Report& report) {
   report
-      .note("shipped = the O(n) implicit step (Gauss-Newton springs, the velocity products explicit); "
-            "shipped_dcdv = the same with the velocity products' derivative dC/dv added; newton = a dense step of backward Euler linearising every term, from central differences of "
-            "the exact accelerations; newton_at_rest = the same linearised at the pose with v = 0 (the "
-            "velocity products' derivatives dropped); newton_no_gyro = newton without the derivative of "
-            "w x I w; pose_forces, pose_inertia = newton_at_rest's two pose terms apart (the forces' and the "
-            "inertia's; chain10 and pinhead only); shipped_dense = the shipped step rebuilt densely, a check. "
-            "Same rule and guard for all (experiments/linearisation.h).")
-      .note("The dense step costs O(n^3) per step and is a measuring instrument, not a solver: the "
-            "table counts steps, not time. A run that does not converge counts its 2000 steps.");
+      .note(
+          "shipped = the O(n) implicit step (Gauss-Newton springs, the velocity products "
+          "explicit); "
+          "shipped_dcdv = the same with the velocity products' derivative dC/dv added; newton = a "
+          "dense step of backward Euler linearising every term, from central differences of "
+          "the exact accelerations; newton_at_rest = the same linearised at the pose with v = 0 "
+          "(the "
+          "velocity products' derivatives dropped); newton_no_gyro = newton without the derivative "
+          "of "
+          "w x I w; pose_forces, pose_inertia = newton_at_rest's two pose terms apart (the forces' "
+          "and the "
+          "inertia's; chain10 and pinhead only); shipped_dense = the shipped step rebuilt densely, "
+          "a check. "
+          "Same rule and guard for all (experiments/linearisation.h).")
+      .note(
+          "The dense step costs O(n^3) per step and is a measuring instrument, not a solver: the "
+          "table counts steps, not time. A run that does not converge counts its 2000 steps.");
 }
-
 
 // the gyroscopic and the pinhead claims
 template <class Steps, class Pair>
@@ -175,26 +191,34 @@ void add_more_claims(Report& report, const std::vector<StudyRig>& rigs, const St
   for (const StudyRig& r : rigs) {
     const double a = steps(r.name, Variant::kNewtonNoGyro), b = steps(r.name, Variant::kNewton);
     gyro_flat = gyro_flat && std::abs(a - b) <= 0.1 * b;
-    gyro_text += std::string(gyro_text.empty() ? "" : "; ") + pair(r.name, Variant::kNewtonNoGyro, Variant::kNewton);
+    gyro_text += std::string(gyro_text.empty() ? "" : "; ") +
+                 pair(r.name, Variant::kNewtonNoGyro, Variant::kNewton);
   }
   // how far from a sphere the bones are: w x I w vanishes for equal principal moments
   std::string moments;
   for (const StudyRig& r : rigs) {
     double ratio = 1.0;
-    for (const Vec3& I : r.rig.bone_inertia_local) ratio = std::min(ratio, I.minCoeff() / I.maxCoeff());
+    for (const Vec3& I : r.rig.bone_inertia_local)
+      ratio = std::min(ratio, I.minCoeff() / I.maxCoeff());
     moments += std::string(moments.empty() ? "" : ", ") + r.name + " " + num(ratio);
   }
-  report.claim("The gyroscopic torque's derivative does not matter on these rigs: newton_no_gyro within 10% "
-               "of newton's median steps on every rig",
-               gyro_text + "; smallest principal moment over the largest, worst bone: " + moments,
-               gyro_flat ? "yes" : "no");
+  report.claim(
+      "The gyroscopic torque's derivative does not matter on these rigs: newton_no_gyro within 10% "
+      "of newton's median steps on every rig",
+      gyro_text + "; smallest principal moment over the largest, worst bone: " + moments,
+      gyro_flat ? "yes" : "no");
   // the rule's ramp: doubling from dt, the step reaches 100 s at this step
-  const int ramp = 1 + static_cast<int>(std::ceil(std::log2(100.0 / study_scene(rigs.front()).params.dt)));
-  report.claim("On pinhead the linearisation does not set the step count (newton at least 0.8x the shipped "
-               "step's median steps): the rule's ramp from dt does",
-               pair("pinhead", Variant::kNewton, Variant::kShipped) + "; doubling from dt, the step reaches "
-                   "100 s at step " + std::to_string(ramp),
-               steps("pinhead", Variant::kNewton) >= 0.8 * steps("pinhead", Variant::kShipped) ? "yes" : "no");
+  const int ramp =
+      1 + static_cast<int>(std::ceil(std::log2(100.0 / study_scene(rigs.front()).params.dt)));
+  report.claim(
+      "On pinhead the linearisation does not set the step count (newton at least 0.8x the shipped "
+      "step's median steps): the rule's ramp from dt does",
+      pair("pinhead", Variant::kNewton, Variant::kShipped) +
+          "; doubling from dt, the step reaches "
+          "100 s at step " +
+          std::to_string(ramp),
+      steps("pinhead", Variant::kNewton) >= 0.8 * steps("pinhead", Variant::kShipped) ? "yes"
+                                                                                      : "no");
 }
 
 // the claims of a full run (a quick run has neither chain50 nor pinhead)
@@ -206,42 +230,56 @@ void add_claims(Report& report, const std::vector<StudyRig>& rigs, Cells& cells)
     return rig + ": " + linearisation::variant_name(a) + " " + num(steps(rig, a)) + " vs " +
            linearisation::variant_name(b) + " " + num(steps(rig, b)) + " median steps";
   };
-  report.claim("Hypothesis: linearising the velocity products (dC/dv, as MuJoCo's implicit "
-               "integrator does) cures chain50's whip: the shipped step with dC/dv added needs at most half "
-               "the shipped step's steps",
-               pair("chain50", Variant::kShippedDcdv, Variant::kShipped),
-               steps("chain50", Variant::kShippedDcdv) <= 0.5 * steps("chain50", Variant::kShipped) ? "yes" : "no");
-  report.claim("A full linearisation does: a dense Newton step of backward Euler needs at most half the "
-               "shipped step's steps on chain50",
-               pair("chain50", Variant::kNewton, Variant::kShipped),
-               steps("chain50", Variant::kNewton) <= 0.5 * steps("chain50", Variant::kShipped) ? "yes" : "no");
-  report.claim("The pose terms (the forces' full dependence on the pose, and M(q)) carry most of it: "
-               "newton_at_rest, without dC/dv, needs under 0.8x the shipped step's steps on chain50",
-               pair("chain50", Variant::kNewtonAtRest, Variant::kShipped),
-               steps("chain50", Variant::kNewtonAtRest) < 0.8 * steps("chain50", Variant::kShipped) ? "yes" : "no");
-  report.claim("With the pose terms in, dC/dv matters too: newton_at_rest needs over 1.25x newton's steps "
-               "on chain50",
-               pair("chain50", Variant::kNewtonAtRest, Variant::kNewton),
-               steps("chain50", Variant::kNewtonAtRest) > 1.25 * steps("chain50", Variant::kNewton) ? "yes" : "no");
+  report.claim(
+      "Hypothesis: linearising the velocity products (dC/dv, as MuJoCo's implicit "
+      "integrator does) cures chain50's whip: the shipped step with dC/dv added needs at most half "
+      "the shipped step's steps",
+      pair("chain50", Variant::kShippedDcdv, Variant::kShipped),
+      steps("chain50", Variant::kShippedDcdv) <= 0.5 * steps("chain50", Variant::kShipped) ? "yes"
+                                                                                           : "no");
+  report.claim(
+      "A full linearisation does: a dense Newton step of backward Euler needs at most half the "
+      "shipped step's steps on chain50",
+      pair("chain50", Variant::kNewton, Variant::kShipped),
+      steps("chain50", Variant::kNewton) <= 0.5 * steps("chain50", Variant::kShipped) ? "yes"
+                                                                                      : "no");
+  report.claim(
+      "The pose terms (the forces' full dependence on the pose, and M(q)) carry most of it: "
+      "newton_at_rest, without dC/dv, needs under 0.8x the shipped step's steps on chain50",
+      pair("chain50", Variant::kNewtonAtRest, Variant::kShipped),
+      steps("chain50", Variant::kNewtonAtRest) < 0.8 * steps("chain50", Variant::kShipped) ? "yes"
+                                                                                           : "no");
+  report.claim(
+      "With the pose terms in, dC/dv matters too: newton_at_rest needs over 1.25x newton's steps "
+      "on chain50",
+      pair("chain50", Variant::kNewtonAtRest, Variant::kNewton),
+      steps("chain50", Variant::kNewtonAtRest) > 1.25 * steps("chain50", Variant::kNewton) ? "yes"
+                                                                                           : "no");
   const auto no_better = [&](const std::string& rig, Variant v) {
     return steps(rig, v) >= steps(rig, Variant::kShipped);
   };
-  report.claim("On chain10 neither pose term helps alone: pose_forces (the forces' full tangent, M held) and "
-               "pose_inertia (the inertia's term on the shipped K) each need at least the shipped step's "
-               "median steps, where both together (newton_at_rest) need fewer (not run on chain50)",
-               pair("chain10", Variant::kPoseForces, Variant::kShipped) + "; " +
-                   pair("chain10", Variant::kPoseInertia, Variant::kShipped) + "; " +
-                   pair("chain10", Variant::kNewtonAtRest, Variant::kShipped),
-               no_better("chain10", Variant::kPoseForces) && no_better("chain10", Variant::kPoseInertia) &&
-                       steps("chain10", Variant::kNewtonAtRest) < steps("chain10", Variant::kShipped)
-                   ? "yes" : "no");
-  report.claim("The pieces hold together: the shipped step rebuilt densely (shipped_dense, from the unit-force "
-               "responses) takes the shipped step's median steps on chain10 and pinhead",
-               pair("chain10", Variant::kShippedDense, Variant::kShipped) + "; " +
-                   pair("pinhead", Variant::kShippedDense, Variant::kShipped),
-               steps("chain10", Variant::kShippedDense) == steps("chain10", Variant::kShipped) &&
-                       steps("pinhead", Variant::kShippedDense) == steps("pinhead", Variant::kShipped)
-                   ? "yes" : "no");
+  report.claim(
+      "On chain10 neither pose term helps alone: pose_forces (the forces' full tangent, M held) "
+      "and "
+      "pose_inertia (the inertia's term on the shipped K) each need at least the shipped step's "
+      "median steps, where both together (newton_at_rest) need fewer (not run on chain50)",
+      pair("chain10", Variant::kPoseForces, Variant::kShipped) + "; " +
+          pair("chain10", Variant::kPoseInertia, Variant::kShipped) + "; " +
+          pair("chain10", Variant::kNewtonAtRest, Variant::kShipped),
+      no_better("chain10", Variant::kPoseForces) && no_better("chain10", Variant::kPoseInertia) &&
+              steps("chain10", Variant::kNewtonAtRest) < steps("chain10", Variant::kShipped)
+          ? "yes"
+          : "no");
+  report.claim(
+      "The pieces hold together: the shipped step rebuilt densely (shipped_dense, from the "
+      "unit-force "
+      "responses) takes the shipped step's median steps on chain10 and pinhead",
+      pair("chain10", Variant::kShippedDense, Variant::kShipped) + "; " +
+          pair("pinhead", Variant::kShippedDense, Variant::kShipped),
+      steps("chain10", Variant::kShippedDense) == steps("chain10", Variant::kShipped) &&
+              steps("pinhead", Variant::kShippedDense) == steps("pinhead", Variant::kShipped)
+          ? "yes"
+          : "no");
   add_more_claims(report, rigs, steps, pair);
 }
 
@@ -254,9 +292,10 @@ void run(const Context& ctx) {
   nlohmann::json rows = nlohmann::json::array(), table = nlohmann::json::array();
   tabulate(ctx, rigs, cells, rows, table);
   Report report("Linearisation: what the implicit step leaves out, against a dense Newton step");
-  report.settings(settings_json(study_scene(rigs.front()), {{"targets_per_rig", n_targets},
-                                                             {"tolerance", "1e-4 of the reach"},
-                                                             {"max_steps", kMaxSteps}}))
+  report
+      .settings(settings_json(study_scene(rigs.front()), {{"targets_per_rig", n_targets},
+                                                          {"tolerance", "1e-4 of the reach"},
+                                                          {"max_steps", kMaxSteps}}))
       .table("Median steps and bare steps (the guard's rejected ones included) per solve",
              {"rig", "variant", "steps", "bare steps", "converged"}, table)
       .figures({"linearisation.png"});
@@ -268,9 +307,10 @@ void run(const Context& ctx) {
 }  // namespace
 
 const Registration linearisation_registered{
-    247, {"linearisation", "Sec. 5 future work",
-          "the solve mode with the shipped implicit step against dense steps of backward Euler that "
-          "linearise more terms (chain10, chain50, pinhead): which terms set the step count",
-          run}};
+    247,
+    {"linearisation", "Sec. 5 future work",
+     "the solve mode with the shipped implicit step against dense steps of backward Euler that "
+     "linearise more terms (chain10, chain50, pinhead): which terms set the step count",
+     run}};
 
 }  // namespace physik::experiments

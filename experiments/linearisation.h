@@ -58,7 +58,14 @@
 namespace physik::experiments::linearisation {
 
 enum class Variant {
-  kShipped, kNewton, kNewtonAtRest, kNewtonNoGyro, kShippedDcdv, kPoseForces, kPoseInertia, kShippedDense
+  kShipped,
+  kNewton,
+  kNewtonAtRest,
+  kNewtonNoGyro,
+  kShippedDcdv,
+  kPoseForces,
+  kPoseInertia,
+  kShippedDense
 };
 const char* variant_name(Variant v);
 
@@ -73,7 +80,8 @@ void derivatives(const Scene& scene, const SimState& state, Variant v, Eigen::Ma
 Eigen::VectorXd applied_generalised_force(const Scene& scene, const SimState& state);
 // The response of the shipped implicit solve of h (implicit) or of the exact explicit solve to a
 // unit generalised force on each dof, column by column: P^-1 = (M + h D + h^2 K)^-1, or M^-1
-Eigen::MatrixXd unit_force_response(const Scene& scene, const SimState& state, bool implicit, double h);
+Eigen::MatrixXd unit_force_response(const Scene& scene, const SimState& state, bool implicit,
+                                    double h);
 // one unguarded step of h of the variant (kShipped: physik::step with no splits)
 void bare_step(const Scene& scene, SimState& state, double h, Variant v);
 

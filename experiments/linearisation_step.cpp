@@ -20,14 +20,22 @@ using VecX = Eigen::VectorXd;
 
 const char* variant_name(Variant v) {
   switch (v) {
-    case Variant::kShipped: return "shipped";
-    case Variant::kNewton: return "newton";
-    case Variant::kNewtonAtRest: return "newton_at_rest";
-    case Variant::kNewtonNoGyro: return "newton_no_gyro";
-    case Variant::kShippedDcdv: return "shipped_dcdv";
-    case Variant::kPoseForces: return "pose_forces";
-    case Variant::kPoseInertia: return "pose_inertia";
-    case Variant::kShippedDense: return "shipped_dense";
+    case Variant::kShipped:
+      return "shipped";
+    case Variant::kNewton:
+      return "newton";
+    case Variant::kNewtonAtRest:
+      return "newton_at_rest";
+    case Variant::kNewtonNoGyro:
+      return "newton_no_gyro";
+    case Variant::kShippedDcdv:
+      return "shipped_dcdv";
+    case Variant::kPoseForces:
+      return "pose_forces";
+    case Variant::kPoseInertia:
+      return "pose_inertia";
+    case Variant::kShippedDense:
+      return "shipped_dense";
   }
   return "?";
 }
@@ -36,11 +44,14 @@ namespace {
 
 constexpr double kEps = 1e-6;  // central differences: rig units, rad, rig units/s, rad/s
 
-int nv(const SimState& s) { return 3 + 3 * static_cast<int>(s.joint_vel_local.size()); }
+int nv(const SimState& s) {
+  return 3 + 3 * static_cast<int>(s.joint_vel_local.size());
+}
 
 void set_joint_velocity(SimState& s, const VecX& v) {
   s.root_vel_world = v.head<3>();
-  for (std::size_t i = 0; i < s.joint_vel_local.size(); ++i) s.joint_vel_local[i] = v.segment<3>(3 + 3 * i);
+  for (std::size_t i = 0; i < s.joint_vel_local.size(); ++i)
+    s.joint_vel_local[i] = v.segment<3>(3 + 3 * i);
 }
 
 // q (+) e along dof k: the root's centre, or a quaternion turned about its local axis
@@ -70,7 +81,8 @@ VecX exact_accelerations(const Scene& scene, const SimState& state) {
   solve_articulated(scene.rig, scene.params, s);
   VecX a(nv(s));
   a.head<3>() = s.articulated.root_accel_world;
-  for (int i = 0; i < scene.rig.nbone; ++i) a.segment<3>(3 + 3 * i) = s.articulated.joint_accel_local[i];
+  for (int i = 0; i < scene.rig.nbone; ++i)
+    a.segment<3>(3 + 3 * i) = s.articulated.joint_accel_local[i];
   return a;
 }
 
@@ -102,7 +114,8 @@ VecX solve_with_force(const Scene& scene, const SimState& state, int k, bool imp
   }
   VecX a(nv(s));
   a.head<3>() = s.articulated.root_accel_world;
-  for (int i = 0; i < scene.rig.nbone; ++i) a.segment<3>(3 + 3 * i) = s.articulated.joint_accel_local[i];
+  for (int i = 0; i < scene.rig.nbone; ++i)
+    a.segment<3>(3 + 3 * i) = s.articulated.joint_accel_local[i];
   return a;
 }
 
@@ -118,7 +131,8 @@ MatX rate_derivative(const Scene& scene, const SimState& base) {
     vm[k] -= kEps;
     set_joint_velocity(plus, vp);
     set_joint_velocity(minus, vm);
-    A_v.col(k) = (exact_accelerations(scene, plus) - exact_accelerations(scene, minus)) / (2.0 * kEps);
+    A_v.col(k) =
+        (exact_accelerations(scene, plus) - exact_accelerations(scene, minus)) / (2.0 * kEps);
   }
   return A_v;
 }
@@ -147,11 +161,14 @@ MatX unit_force_response(const Scene& scene, const SimState& s, bool implicit, d
 VecX joint_velocity(const SimState& s) {
   VecX v(nv(s));
   v.head<3>() = s.root_vel_world;
-  for (std::size_t i = 0; i < s.joint_vel_local.size(); ++i) v.segment<3>(3 + 3 * i) = s.joint_vel_local[i];
+  for (std::size_t i = 0; i < s.joint_vel_local.size(); ++i)
+    v.segment<3>(3 + 3 * i) = s.joint_vel_local[i];
   return v;
 }
 
-VecX accelerations(const Scene& scene, const SimState& state) { return exact_accelerations(scene, state); }
+VecX accelerations(const Scene& scene, const SimState& state) {
+  return exact_accelerations(scene, state);
+}
 
 VecX applied_generalised_force(const Scene& scene, const SimState& state) {
   SimState& s = scratch(state);
@@ -176,7 +193,8 @@ VecX applied_generalised_force(const Scene& scene, const SimState& state) {
   VecX Q(nv(s));
   Q.head<3>() = force[0];
   for (int i = 0; i < n; ++i) {
-    for (int k = 0; k < 3; ++k) Q[3 + 3 * i + k] = (s.frames.orient_world[i] * Vec3::Unit(k)).dot(moment[i]);
+    for (int k = 0; k < 3; ++k)
+      Q[3 + 3 * i + k] = (s.frames.orient_world[i] * Vec3::Unit(k)).dot(moment[i]);
   }
   return Q;
 }
@@ -201,7 +219,8 @@ MatX pose_derivative(const SimState& base, F f) {
 
 }  // namespace
 
-void derivatives(const Scene& scene, const SimState& state, Variant variant, MatX& A_q, MatX& A_v, double h) {
+void derivatives(const Scene& scene, const SimState& state, Variant variant, MatX& A_q, MatX& A_v,
+                 double h) {
   if (variant == Variant::kShipped || variant == Variant::kShippedDcdv) {
     throw std::invalid_argument("derivatives: only the dense variants have dense derivatives");
   }
@@ -268,7 +287,8 @@ void variant_step(const Scene& scene, SimState& s, double h, const void* context
     next = S.partialPivLu().solve(a + h * (A_q * v));  // (L)
   }
   s.articulated.root_accel_world = next.head<3>();
-  for (int i = 0; i < scene.rig.nbone; ++i) s.articulated.joint_accel_local[i] = next.segment<3>(3 + 3 * i);
+  for (int i = 0; i < scene.rig.nbone; ++i)
+    s.articulated.joint_accel_local[i] = next.segment<3>(3 + 3 * i);
   integrate_joint_space(scene.rig, h, s);
 }
 
@@ -282,9 +302,12 @@ void bare_step(const Scene& scene, SimState& s, double h, Variant v) {
   s.time += h;
 }
 
-SolveCount solve(const Scene& scene, SimState& s, double tolerance, int max_steps, Variant variant) {
-  if (!scene.schedule.empty() || scene.params.interpolation != Interpolation::kNone || scene.params.damping_auto) {
-    throw std::invalid_argument(scene.file + ": the linearisation study needs targets that hold still "
+SolveCount solve(const Scene& scene, SimState& s, double tolerance, int max_steps,
+                 Variant variant) {
+  if (!scene.schedule.empty() || scene.params.interpolation != Interpolation::kNone ||
+      scene.params.damping_auto) {
+    throw std::invalid_argument(scene.file +
+                                ": the linearisation study needs targets that hold still "
                                 "(no schedule, interpolation none, no damping auto)");
   }
   // the solve mode's step-length rule, around the engine's energy guard (posing_session.h)

@@ -43,7 +43,9 @@ ExactGaps exact_gaps(const RecordedRun& exact, const Comparison& c) {
 }
 
 nlohmann::json gap_json(const GapStats& g) {
-  return {{"rms_gap", g.rms_gap}, {"max_gap", g.max_gap}, {"final_pose_gap", g.final_pose_gap},
+  return {{"rms_gap", g.rms_gap},
+          {"max_gap", g.max_gap},
+          {"final_pose_gap", g.final_pose_gap},
           {"steps_compared", g.steps_compared}};
 }
 
@@ -55,18 +57,22 @@ std::string gap_cell(const GapStats& g) {
 // the report's gap table (Gauss-Seidel vs MuJoCo beside exact vs MuJoCo), notes and figures
 void add_exact_table_and_notes(Report& report, const nlohmann::json& gap_rows) {
   report
-      .table("Gap to MuJoCo, rig units (rms / largest / final pose): Gauss-Seidel vs MuJoCo "
-             "beside exact vs MuJoCo",
-             {"scene", "mode", "Gauss-Seidel vs MuJoCo", "exact vs MuJoCo", "Gauss-Seidel vs exact"},
-             gap_rows)
+      .table(
+          "Gap to MuJoCo, rig units (rms / largest / final pose): Gauss-Seidel vs MuJoCo "
+          "beside exact vs MuJoCo",
+          {"scene", "mode", "Gauss-Seidel vs MuJoCo", "exact vs MuJoCo", "Gauss-Seidel vs exact"},
+          gap_rows)
       .note("Table: results/mujoco_gap/gaps.csv (rig units; pinhead is 4.69 tall).")
-      .note("same-forces uses ball joints at every bone (PhysIK's own freedom) and PhysIK's "
-            "torsion forces; exact-constraints uses the rig's joints and limits.")
+      .note(
+          "same-forces uses ball joints at every bone (PhysIK's own freedom) and PhysIK's "
+          "torsion forces; exact-constraints uses the rig's joints and limits.")
       .note("The angular-velocity factor is a torque I (f - 1) w / dt in MuJoCo.")
-      .note("exact = PhysIK's scheme exact (articulated-body algorithm, MuJoCo's Euler step, "
-            "PhysIK's forces). Same forces: exact vs MuJoCo is round-off, so the Gauss-Seidel gap "
-            "is the heuristic's own (joint forces and its integration); exact-constraints: the "
-            "exact gap is the joint model's (rig joints and hard limits vs balls and torsion springs).")
+      .note(
+          "exact = PhysIK's scheme exact (articulated-body algorithm, MuJoCo's Euler step, "
+          "PhysIK's forces). Same forces: exact vs MuJoCo is round-off, so the Gauss-Seidel gap "
+          "is the heuristic's own (joint forces and its integration); exact-constraints: the "
+          "exact gap is the joint model's (rig joints and hard limits vs balls and torsion "
+          "springs).")
       .figures({"mujoco_gap.png", "mujoco_poses.png"});
 }
 
@@ -116,9 +122,9 @@ void tabulate(const std::string& name, const std::string& m, double h, const Com
               const RecordedRun& exact, const ExactGaps& eg, Table& gap_over_time, Table& gaps) {
   const std::size_t n = std::min(c.physik.frames.size(), c.mujoco.frames.size());
   for (std::size_t k = 0; k < n; k += 5) {
-    gap_over_time.add({name, m, k + 1, pose_gap(c.physik.frames[k], c.mujoco.frames[k]),
-                       k < exact.frames.size() ? Cell(pose_gap(exact.frames[k], c.mujoco.frames[k]))
-                                               : Cell()});
+    gap_over_time.add(
+        {name, m, k + 1, pose_gap(c.physik.frames[k], c.mujoco.frames[k]),
+         k < exact.frames.size() ? Cell(pose_gap(exact.frames[k], c.mujoco.frames[k])) : Cell()});
   }
   const auto steps = [](const RunSummary& s) { return s.converged ? s.steps_to_converge : -1; };
   gaps.add({name, m, c.gap.rms_gap, c.gap.max_gap, c.gap.final_pose_gap, c.gap.final_pose_gap / h,
@@ -134,13 +140,18 @@ void add_claim(Report& report, const std::string& name, double h, const Comparis
                const ExactGaps& eg) {
   const bool unique = c.free_endpoint_dof == 0;
   report.claim(
-      "Sec. 3.2: Gauss-Seidel inter-joint forces approximate the exact articulated dynamics (" + name + ")",
+      "Sec. 3.2: Gauss-Seidel inter-joint forces approximate the exact articulated dynamics (" +
+          name + ")",
       "same forces: rms trajectory gap " + num(c.gap.rms_gap) + ", final pose gap " +
           num(c.gap.final_pose_gap) + " (" + num(100 * c.gap.final_pose_gap / h, 2) +
           "% of height); exact vs MuJoCo (same forces) largest gap " +
-          num(eg.exact_vs_mujoco.max_gap, 2) + "; " + (unique ? "unique equilibrium" : "a family of equilibria (" +
-          std::to_string(c.free_endpoint_dof) + " free endpoint DOF): the final gap is path dependence"),
-      !unique ? "n/a (path dependent)" : c.gap.final_pose_gap < 0.01 * h ? "yes" : "no");
+          num(eg.exact_vs_mujoco.max_gap, 2) + "; " +
+          (unique ? "unique equilibrium"
+                  : "a family of equilibria (" + std::to_string(c.free_endpoint_dof) +
+                        " free endpoint DOF): the final gap is path dependence"),
+      !unique                           ? "n/a (path dependent)"
+      : c.gap.final_pose_gap < 0.01 * h ? "yes"
+                                        : "no");
 }
 
 void run(const Context& ctx) {
@@ -171,15 +182,18 @@ void run(const Context& ctx) {
                         c.physik.summary.final_frames);
       write_bones_table(ctx.out_dir + "/" + tag + "_mujoco.csv", scene.rig,
                         c.mujoco.summary.final_frames);
-      rows.push_back({{"scene", name}, {"mode", m}, {"comparison", comparison_to_json(scene, c)},
+      rows.push_back({{"scene", name},
+                      {"mode", m},
+                      {"comparison", comparison_to_json(scene, c)},
                       {"exact_vs_mujoco", gap_json(eg.exact_vs_mujoco)},
                       {"gauss_seidel_vs_exact", gap_json(eg.gauss_seidel_vs_exact)},
-                      {"physik_csv", tag + "_physik.csv"}, {"mujoco_csv", tag + "_mujoco.csv"}});
+                      {"physik_csv", tag + "_physik.csv"},
+                      {"mujoco_csv", tag + "_mujoco.csv"}});
       if (ctx.log) {
         *ctx.log << "  " << name << " " << m << ": rms gap " << c.gap.rms_gap << ", final gap "
                  << c.gap.final_pose_gap << " (" << 100 * c.gap.final_pose_gap / h
-                 << "% of height), free endpoint DOF " << c.free_endpoint_dof << "; exact vs MuJoCo max gap "
-                 << eg.exact_vs_mujoco.max_gap << "\n";
+                 << "% of height), free endpoint DOF " << c.free_endpoint_dof
+                 << "; exact vs MuJoCo max gap " << eg.exact_vs_mujoco.max_gap << "\n";
       }
       if (mode == ReferenceMode::kSameForces) add_claim(report, name, h, c, eg);
     }

@@ -111,10 +111,14 @@ const std::vector<Configuration>& configurations() {
 
 const char* to_string(Outcome o) {
   switch (o) {
-    case Outcome::kConverged: return "converged";
-    case Outcome::kNotConverged: return "not_converged";
-    case Outcome::kDiverged: return "diverged";
-    case Outcome::kRefused: return "refused";
+    case Outcome::kConverged:
+      return "converged";
+    case Outcome::kNotConverged:
+      return "not_converged";
+    case Outcome::kDiverged:
+      return "diverged";
+    case Outcome::kRefused:
+      return "refused";
   }
   return "?";
 }
@@ -126,7 +130,7 @@ RunResult run_configuration(const std::string& scene_path, const Configuration& 
     const Scene scene = load_scene(scene_path, parse_param_overrides(config.sets, "--set"));
     r.preset = scene.params.preset;
     const RunSummary s = run_scene(scene);
-    r.outcome = s.diverged ? Outcome::kDiverged
+    r.outcome = s.diverged    ? Outcome::kDiverged
                 : s.converged ? Outcome::kConverged
                               : Outcome::kNotConverged;
     r.steps_to_converge = s.converged ? s.steps_to_converge : -1;
@@ -188,7 +192,8 @@ bool same_rig(const Rig& a, const Rig& b) {
 std::vector<std::string> sample_files(const std::string& dir) {
   namespace fs = std::filesystem;
   if (!fs::is_directory(dir)) {
-    throw std::runtime_error("outside_rigs: " + dir + ": no such folder (Debian's "
+    throw std::runtime_error("outside_rigs: " + dir +
+                             ": no such folder (Debian's "
                              "libmujoco-samples puts MuJoCo's sample models there)");
   }
   std::vector<std::string> files;
@@ -212,8 +217,8 @@ Collection collect_rigs(const std::vector<std::string>& files) {
     const auto dup = std::find_if(out.rigs.begin(), out.rigs.end(),
                                   [&](const OutsideRig& r) { return same_rig(r.rig, rig); });
     if (dup != out.rigs.end()) {
-      out.skipped.push_back({f, "the same rig as " + dup->name +
-                                    " (up to bone names and a translation)"});
+      out.skipped.push_back(
+          {f, "the same rig as " + dup->name + " (up to bone names and a translation)"});
     } else {
       out.rigs.push_back({rig_name(f), f, rig});
     }
@@ -261,7 +266,8 @@ Table runs_table(const std::vector<SceneRuns>& scenes) {
       const bool ran = r.outcome != Outcome::kRefused;
       t.add({s.rig->name, s.rig->rig.nbone, s.points, configurations()[c].name, r.preset,
              to_string(r.outcome), r.steps_to_converge, r.steps_run,
-             ran ? Cell(r.max_residual / s.size) : Cell(), ran ? Cell(r.damping) : Cell(), r.wall_s});
+             ran ? Cell(r.max_residual / s.size) : Cell(), ran ? Cell(r.damping) : Cell(),
+             r.wall_s});
     }
   }
   return t;
@@ -282,8 +288,8 @@ std::vector<SceneRuns> run_rig(const Context& ctx, const OutsideRig& r, int step
   if (ctx.log) {
     *ctx.log << "  " << r.name << " (" << r.rig.nbone << " bones):";
     for (std::size_t c = 0; c < configurations().size(); ++c) {
-      *ctx.log << " " << configurations()[c].name << " " << to_string(out[0].runs[c].outcome)
-               << "/" << to_string(out[1].runs[c].outcome);
+      *ctx.log << " " << configurations()[c].name << " " << to_string(out[0].runs[c].outcome) << "/"
+               << to_string(out[1].runs[c].outcome);
     }
     *ctx.log << "\n" << std::flush;
   }
@@ -324,21 +330,30 @@ Tally tally(const std::vector<SceneRuns>& scenes, std::size_t config) {
         t.steps.push_back(r.steps_to_converge);
         t.residuals.push_back(r.max_residual / s.size);
         break;
-      case Outcome::kNotConverged: ++t.not_converged; break;
-      case Outcome::kDiverged: ++t.diverged; break;
-      case Outcome::kRefused: ++t.refused; break;
+      case Outcome::kNotConverged:
+        ++t.not_converged;
+        break;
+      case Outcome::kDiverged:
+        ++t.diverged;
+        break;
+      case Outcome::kRefused:
+        ++t.refused;
+        break;
     }
   }
   return t;
 }
 
 nlohmann::json tally_json(const Tally& t) {
-  return {{"preset", t.preset},         {"runs", t.runs()},
-          {"converged", t.converged},   {"not_converged", t.not_converged},
-          {"diverged", t.diverged},     {"refused", t.refused},
+  return {{"preset", t.preset},
+          {"runs", t.runs()},
+          {"converged", t.converged},
+          {"not_converged", t.not_converged},
+          {"diverged", t.diverged},
+          {"refused", t.refused},
           {"converged_share", t.share()},
-          {"median_steps_converged", t.steps.empty() ? nlohmann::json(nullptr)
-                                                     : nlohmann::json(median(t.steps))},
+          {"median_steps_converged",
+           t.steps.empty() ? nlohmann::json(nullptr) : nlohmann::json(median(t.steps))},
           {"wall_s", t.wall_s}};
 }
 
@@ -369,20 +384,21 @@ TorsionComparison compare_torsion(const std::vector<SceneRuns>& scenes) {
       t.axes_steps.push_back(a.steps_to_converge);
       t.gradient_steps.push_back(g.steps_to_converge);
     }
-    t.identical += a.outcome == g.outcome && a.steps_run == g.steps_run &&
-                   a.max_residual == g.max_residual;
+    t.identical +=
+        a.outcome == g.outcome && a.steps_run == g.steps_run && a.max_residual == g.max_residual;
   }
   return t;
 }
 
 void add_claims(Report& report, const Tally& d, int nrigs, const TorsionComparison& t) {
-  report.claim("Scenes that name no settings converge on at least 90% of the outside rigs",
-               "default (preset " + d.preset + "): " + std::to_string(d.converged) + " of " +
-                   std::to_string(d.runs()) + " runs over " + std::to_string(nrigs) +
-                   " rigs converged (" + num(100 * d.share(), 3) + "%); " +
-                   std::to_string(d.diverged) + " diverged, " + std::to_string(d.not_converged) +
-                   " still moving, " + std::to_string(d.refused) + " refused",
-               d.share() >= 0.9 ? "yes" : "no")
+  report
+      .claim("Scenes that name no settings converge on at least 90% of the outside rigs",
+             "default (preset " + d.preset + "): " + std::to_string(d.converged) + " of " +
+                 std::to_string(d.runs()) + " runs over " + std::to_string(nrigs) +
+                 " rigs converged (" + num(100 * d.share(), 3) + "%); " +
+                 std::to_string(d.diverged) + " diverged, " + std::to_string(d.not_converged) +
+                 " still moving, " + std::to_string(d.refused) + " refused",
+             d.share() >= 0.9 ? "yes" : "no")
       .named("default-converges");
   const bool more = t.gradient >= t.axes;
   const bool faster = t.axes_steps.empty() || median(t.gradient_steps) <= median(t.axes_steps);
@@ -392,18 +408,23 @@ void add_claims(Report& report, const Tally& d, int nrigs, const TorsionComparis
       "converged: gradient " + std::to_string(t.gradient) + ", axes " + std::to_string(t.axes) +
           " of " + std::to_string(t.runs) + "; median steps where both converged (" +
           std::to_string(t.axes_steps.size()) + "): gradient " + median_text(t.gradient_steps) +
-          ", axes " + median_text(t.axes_steps) +
-          "; identical runs " + std::to_string(t.identical),
-      more && faster ? "yes" : more || faster ? "partly" : "no");
+          ", axes " + median_text(t.axes_steps) + "; identical runs " + std::to_string(t.identical),
+      more && faster   ? "yes"
+      : more || faster ? "partly"
+                       : "no");
 }
 
 // "<steps>" when converged, else the outcome in a word
 std::string outcome_cell(const RunResult& r) {
   switch (r.outcome) {
-    case Outcome::kConverged: return std::to_string(r.steps_to_converge);
-    case Outcome::kNotConverged: return "moving";
-    case Outcome::kDiverged: return "diverged";
-    case Outcome::kRefused: return "refused";
+    case Outcome::kConverged:
+      return std::to_string(r.steps_to_converge);
+    case Outcome::kNotConverged:
+      return "moving";
+    case Outcome::kDiverged:
+      return "diverged";
+    case Outcome::kRefused:
+      return "refused";
   }
   return "?";
 }
@@ -434,28 +455,32 @@ void add_tables(Report& report, const std::vector<SceneRuns>& scenes,
   report.table("Per rig: steps to converge with one / two control points", columns, per_rig);
   nlohmann::json skip_rows = nlohmann::json::array();
   for (const Skipped& s : skipped) skip_rows.push_back({s.file, s.reason});
-  if (!skip_rows.empty()) report.table("Sample files not run as a rig of their own",
-                                       {"file", "reason"}, skip_rows);
+  if (!skip_rows.empty())
+    report.table("Sample files not run as a rig of their own", {"file", "reason"}, skip_rows);
 }
 
 void add_notes(Report& report, const std::vector<SceneRuns>& scenes, int steps) {
-  report.note("Targets, one rule for every rig: point 1 on the tail of the leaf bone farthest from "
-              "the root bone's head, its target moved " + num(kTargetFraction) +
-              " x the rig's size "
-              "(the largest extent of its rest pose) along (1, 0, 1)/sqrt 2; point 2 on the leaf "
-              "farthest from point 1, moved as much along (-1, 0, 1)/sqrt 2 (a rig with one leaf "
-              "pins its root bone's head instead). The scenes name no params; a run stops once "
-              "converged (at rest for 10 steps), else after " + std::to_string(steps) + " steps.");
-  report.note("Configurations: default = no overrides; original = --set preset=original; "
-              "implicit-auto-axes|gradient = --set preset=original --set scheme=implicit "
-              "--set damping=auto --set torsion_torque=axes|gradient. A refusal counts as a "
-              "failure. Rerun one from this folder: physik simulate scenes/<rig>-<n>pt.json "
-              "[--set ...].");
+  report.note(
+      "Targets, one rule for every rig: point 1 on the tail of the leaf bone farthest from "
+      "the root bone's head, its target moved " +
+      num(kTargetFraction) +
+      " x the rig's size "
+      "(the largest extent of its rest pose) along (1, 0, 1)/sqrt 2; point 2 on the leaf "
+      "farthest from point 1, moved as much along (-1, 0, 1)/sqrt 2 (a rig with one leaf "
+      "pins its root bone's head instead). The scenes name no params; a run stops once "
+      "converged (at rest for 10 steps), else after " +
+      std::to_string(steps) + " steps.");
+  report.note(
+      "Configurations: default = no overrides; original = --set preset=original; "
+      "implicit-auto-axes|gradient = --set preset=original --set scheme=implicit "
+      "--set damping=auto --set torsion_torque=axes|gradient. A refusal counts as a "
+      "failure. Rerun one from this folder: physik simulate scenes/<rig>-<n>pt.json "
+      "[--set ...].");
   for (const SceneRuns& s : scenes) {
     for (std::size_t c = 0; c < s.runs.size(); ++c) {
       if (s.runs[c].outcome != Outcome::kRefused) continue;
-      report.note("First refusal (" + s.rig->name + ", " + configurations()[c].name + "): " +
-                  s.runs[c].refusal);
+      report.note("First refusal (" + s.rig->name + ", " + configurations()[c].name +
+                  "): " + s.runs[c].refusal);
       return;
     }
   }
@@ -467,11 +492,16 @@ nlohmann::json rigs_json(const std::vector<SceneRuns>& scenes) {
     const OutsideRig& r = *scenes[k].rig;
     nlohmann::json points = nlohmann::json::array();
     for (const Pick& p : pick_targets(r.rig, 2)) {
-      points.push_back({{"bone", r.rig.bone_name[p.bone]}, {"alpha", p.alpha},
+      points.push_back({{"bone", r.rig.bone_name[p.bone]},
+                        {"alpha", p.alpha},
                         {"target", {p.target_world.x(), p.target_world.y(), p.target_world.z()}}});
     }
-    out.push_back({{"name", r.name}, {"file", r.file}, {"model", r.rig.name},
-                   {"bones", r.rig.nbone}, {"size", scenes[k].size}, {"points", points}});
+    out.push_back({{"name", r.name},
+                   {"file", r.file},
+                   {"model", r.rig.name},
+                   {"bones", r.rig.nbone},
+                   {"size", scenes[k].size},
+                   {"points", points}});
   }
   return out;
 }
@@ -507,7 +537,8 @@ void run(const Context& ctx) {
   nlohmann::json configs = nlohmann::json::array();
   for (std::size_t c = 0; c < configurations().size(); ++c) {
     tallies.push_back(tally(scenes, c));
-    configs.push_back({{"name", configurations()[c].name}, {"sets", configurations()[c].sets},
+    configs.push_back({{"name", configurations()[c].name},
+                       {"sets", configurations()[c].sets},
                        {"counts", tally_json(tallies.back())}});
   }
   const TorsionComparison t = compare_torsion(scenes);
@@ -515,29 +546,38 @@ void run(const Context& ctx) {
   add_claims(report, tallies[config_index("default")], static_cast<int>(found.rigs.size()), t);
   add_tables(report, scenes, tallies, found.skipped);
   add_notes(report, scenes, steps);
-  report.settings(settings_json(load_scene(scenes.front().path),
-                                {{"target_fraction", kTargetFraction}}))
+  report
+      .settings(
+          settings_json(load_scene(scenes.front().path), {{"target_fraction", kTargetFraction}}))
       .figures({"outside_rigs.png"});
   nlohmann::json skipped = nlohmann::json::array();
   for (const Skipped& s : found.skipped) {
     skipped.push_back({{"file", s.file}, {"reason", s.reason}});
   }
   write_summary(ctx,
-                {{"experiment", "outside_rigs"}, {"samples_dir", kSamplesDir},
-                 {"quick", ctx.quick}, {"step_cap", steps}, {"rigs", rigs_json(scenes)},
-                 {"skipped", skipped}, {"configurations", configs},
+                {{"experiment", "outside_rigs"},
+                 {"samples_dir", kSamplesDir},
+                 {"quick", ctx.quick},
+                 {"step_cap", steps},
+                 {"rigs", rigs_json(scenes)},
+                 {"skipped", skipped},
+                 {"configurations", configs},
                  {"torsion_comparison",
-                  {{"runs", t.runs}, {"axes_converged", t.axes}, {"gradient_converged", t.gradient},
-                   {"paired", t.axes_steps.size()}, {"identical", t.identical}}},
+                  {{"runs", t.runs},
+                   {"axes_converged", t.axes},
+                   {"gradient_converged", t.gradient},
+                   {"paired", t.axes_steps.size()},
+                   {"identical", t.identical}}},
                  {"runs", runs.rows_json()}},
                 report, {&runs});
 }
 
 const Registration registered{
-    280, {"outside_rigs", "study: the default on outside rigs",
-          "MuJoCo's sample models as rigs, scenes with no settings: default, original and "
-          "implicit + damping auto (both torsion torques)",
-          run}};
+    280,
+    {"outside_rigs", "study: the default on outside rigs",
+     "MuJoCo's sample models as rigs, scenes with no settings: default, original and "
+     "implicit + damping auto (both torsion torques)",
+     run}};
 
 }  // namespace
 

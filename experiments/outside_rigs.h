@@ -28,11 +28,11 @@ namespace physik::experiments::outside_rigs {
 
 // where Debian's libmujoco-samples puts MuJoCo's sample models
 constexpr const char* kSamplesDir = "/usr/share/mujoco/model";
-constexpr double kTargetFraction = 0.25;                 // 1, of the rig size
-const Vec3 kFirstDirection = Vec3(1, 0, 1).normalized();   // out and up (MuJoCo is z-up)
-const Vec3 kSecondDirection = Vec3(-1, 0, 1).normalized(); // the other way out, and up
-constexpr int kStepCap = 2000;        // steps a run may take (stops once converged)
-constexpr int kQuickStepCap = 500;    // the quick context's
+constexpr double kTargetFraction = 0.25;                    // 1, of the rig size
+const Vec3 kFirstDirection = Vec3(1, 0, 1).normalized();    // out and up (MuJoCo is z-up)
+const Vec3 kSecondDirection = Vec3(-1, 0, 1).normalized();  // the other way out, and up
+constexpr int kStepCap = 2000;      // steps a run may take (stops once converged)
+constexpr int kQuickStepCap = 500;  // the quick context's
 // the quick context's models, under kSamplesDir: a chain, a pair of files with one humanoid (the
 // second is its duplicate), small arms
 constexpr std::array<const char*, 5> kQuickFiles = {
@@ -70,13 +70,13 @@ const char* to_string(Outcome o);  // converged, not_converged, diverged, refuse
 
 struct RunResult {
   Outcome outcome = Outcome::kRefused;
-  std::string preset;            // the preset the loaded scene took ("" when refused at load)
-  int steps_to_converge = -1;    // -1 unless converged
+  std::string preset;          // the preset the loaded scene took ("" when refused at load)
+  int steps_to_converge = -1;  // -1 unless converged
   int steps_run = 0;
-  double max_residual = 0.0;     // rig units, largest final residual (last finite state)
-  double damping = 0.0;          // N s/m the run used (damping auto's last choice when auto)
-  double wall_s = 0.0;           // s, loading the scene and running it
-  std::string refusal;           // the InputError's message when refused
+  double max_residual = 0.0;  // rig units, largest final residual (last finite state)
+  double damping = 0.0;       // N s/m the run used (damping auto's last choice when auto)
+  double wall_s = 0.0;        // s, loading the scene and running it
+  std::string refusal;        // the InputError's message when refused
 };
 // Load the scene file with the configuration's overrides and run it, as `physik simulate SCENE
 // --set ...` does. An InputError while loading or running (the scene refused) is the outcome
@@ -90,8 +90,8 @@ bool same_rig(const Rig& a, const Rig& b);
 
 // A converted sample model, or a file that gave none.
 struct OutsideRig {
-  std::string name;   // "<folder>-<file stem>", e.g. "humanoid-humanoid"
-  std::string file;   // the MJCF file
+  std::string name;  // "<folder>-<file stem>", e.g. "humanoid-humanoid"
+  std::string file;  // the MJCF file
   Rig rig;
 };
 struct Skipped {

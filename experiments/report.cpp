@@ -21,13 +21,14 @@ Report& Report::claim(const std::string& text, const std::string& measured,
 Report& Report::named(const std::string& name) {
   if (claims_.empty()) throw std::logic_error("report: named('" + name + "') before any claim");
   for (const char ch : name) {
-    if (!(std::islower(static_cast<unsigned char>(ch)) || std::isdigit(static_cast<unsigned char>(ch)) ||
-          ch == '-')) {
+    if (!(std::islower(static_cast<unsigned char>(ch)) ||
+          std::isdigit(static_cast<unsigned char>(ch)) || ch == '-')) {
       throw std::logic_error("report: claim name '" + name + "' holds other than a-z, 0-9 and '-'");
     }
   }
   for (const auto& c : claims_) {
-    if (c.value("name", "") == name) throw std::logic_error("report: two claims named '" + name + "'");
+    if (c.value("name", "") == name)
+      throw std::logic_error("report: two claims named '" + name + "'");
   }
   claims_.back()["name"] = name;
   return *this;
@@ -47,8 +48,9 @@ Report& Report::table(const std::string& title, const std::vector<std::string>& 
                       const nlohmann::json& rows) {
   for (const auto& row : rows) {
     if (!row.is_array() || row.size() != columns.size()) {
-      throw std::logic_error("report table '" + title + "': a row has " + std::to_string(row.size()) +
-                             " cells for " + std::to_string(columns.size()) + " columns");
+      throw std::logic_error("report table '" + title + "': a row has " +
+                             std::to_string(row.size()) + " cells for " +
+                             std::to_string(columns.size()) + " columns");
     }
   }
   tables_.push_back({{"title", title}, {"columns", columns}, {"rows", rows}});

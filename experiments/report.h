@@ -2,7 +2,8 @@
 // results/REPORT.md:
 //
 //   "report": {"title": "...", "section": "...",
-//              "claims": [{"claim": "...", "measured": "...", "holds": "yes" | "no" | "partly" | "n/a",
+//              "claims": [{"claim": "...", "measured": "...", "holds": "yes" | "no" | "partly" |
+//              "n/a",
 //                          "name": "..." (when named)}],
 //              "notes": ["..."], "figures": ["x.png"], "settings": {...},
 //              "tables": [{"title": "...", "columns": ["..."], "rows": [[cell, ...]]}]}

@@ -38,14 +38,14 @@ void run(const Context& ctx) {
     figures.push_back(name + ".png");
     if (ctx.log) *ctx.log << "  rest pose of " << name << ": " << rig.nbone << " bones\n";
     if (name == "pinhead") {
-      report.claim("Fig 4 / Sec. 4: the test rig has 18 bones, 14 joints, at most 4 bones around "
-                   "one joint",
-                   std::to_string(rig.nbone) + " bones, " + std::to_string(rig.joints.size()) +
-                       " joints, at most " + std::to_string(rig.max_bones_per_joint()) +
-                       " bones at one joint",
-                   rig.nbone == 18 && rig.joints.size() == 14 && rig.max_bones_per_joint() == 4
-                       ? "yes"
-                       : "no");
+      report.claim(
+          "Fig 4 / Sec. 4: the test rig has 18 bones, 14 joints, at most 4 bones around "
+          "one joint",
+          std::to_string(rig.nbone) + " bones, " + std::to_string(rig.joints.size()) +
+              " joints, at most " + std::to_string(rig.max_bones_per_joint()) +
+              " bones at one joint",
+          rig.nbone == 18 && rig.joints.size() == 14 && rig.max_bones_per_joint() == 4 ? "yes"
+                                                                                       : "no");
     }
   }
   report.figures(figures);

@@ -111,9 +111,9 @@ constexpr const char* kMethods[] = {"gauss_seidel_paper", "gauss_seidel_tight", 
 constexpr double kTightEps = 1e-9;  // rig units/s^2
 
 struct Budget {
-  double limit_s;     // skip a solve whose projected time per step passes this
-  double total_s;     // repeat batches while under this
-  int steps;          // a batch: the first `steps` steps from rest (every solve, every size)
+  double limit_s;  // skip a solve whose projected time per step passes this
+  double total_s;  // repeat batches while under this
+  int steps;       // a batch: the first `steps` steps from rest (every solve, every size)
 };
 
 struct Measured {
@@ -121,11 +121,11 @@ struct Measured {
   double us_per_step = NAN;
   int steps = 0, batches = 0;
   double passes_per_step = NAN;
-  double force_error = NAN;    // relative, step 1, against exact
-  double gap_vs_exact = NAN;   // rig units, mj_step only
-  double compile_s = NAN;      // s, mj_step only
-  BoneFrames final_frames;         // after the first `steps` steps
-  SimState end_state;              // PhysIK: the state after the first `steps` steps
+  double force_error = NAN;   // relative, step 1, against exact
+  double gap_vs_exact = NAN;  // rig units, mj_step only
+  double compile_s = NAN;     // s, mj_step only
+  BoneFrames final_frames;    // after the first `steps` steps
+  SimState end_state;         // PhysIK: the state after the first `steps` steps
 };
 
 // PhysIK's step() over `steps` steps from rest, batches while the budget lasts
@@ -207,14 +207,19 @@ double fit_exponent(const History& h, double lo, double hi) {
   for (std::size_t i = 0; i < h.n.size(); ++i) {
     if (h.n[i] < lo || h.n[i] > hi) continue;
     const double x = std::log(h.n[i]), y = std::log(h.us[i]);
-    sx += x; sy += y; sxx += x * x; sxy += x * y;
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
     ++m;
   }
   if (m < 2) return NAN;
   return (m * sxy - sx * sy) / (m * sxx - sx * sx);
 }
 
-nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+nlohmann::json number_or_null(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
+}
 
 struct Row {
   std::string kind, method;
@@ -302,7 +307,8 @@ void run_sizes(Study& st, const std::vector<int>& sizes) {
     for (int n : sizes) {
       const Measured exact = measure(st, kind, n, "exact", nullptr);
       for (const char* method : kMethods) {
-        Row r{kind, method, n, method == std::string("exact") ? exact : measure(st, kind, n, method, &exact)};
+        Row r{kind, method, n,
+              method == std::string("exact") ? exact : measure(st, kind, n, method, &exact)};
         r.m.end_state = SimState{};  // only the exact one's is needed, and only for this size
         log_row(st.log, r);
         st.rows.push_back(std::move(r));
@@ -323,8 +329,7 @@ Table scaling_table(const Study& st) {
            text("status", "ok, diverged, or skipped: and why").in_quotes(),
            measure("us_per_step", "us", "thread CPU time per step, the fastest batch"),
            measure("us_per_bone", "us", "us_per_step / nbone"),
-           integer("steps", "steps", "steps per batch"),
-           integer("batches", "", "batches timed"),
+           integer("steps", "steps", "steps per batch"), integer("batches", "", "batches timed"),
            measure("passes_per_step", "", "Gauss-Seidel passes per step (first batch)"),
            measure("force_error", "", "relative joint-force error against exact, same state"),
            measure("gap_vs_exact", "rig units", "mj_step: largest endpoint gap to the exact run"),
@@ -352,9 +357,9 @@ nlohmann::json pinhead_ratio(const Context& ctx, const Budget& b) {
              << num(g.us_per_step) << ", mj_step " << num(mj.us_per_step) << ": exact/mj_step "
              << num(ratio) << "\n";
   }
-  return {{"scene", "pinhead_two_hands"}, {"steps", steps}, {"exact_us", e.us_per_step},
-          {"gauss_seidel_us", g.us_per_step}, {"mj_step_us", mj.us_per_step},
-          {"exact_over_mj_step", ratio}};
+  return {{"scene", "pinhead_two_hands"}, {"steps", steps},
+          {"exact_us", e.us_per_step},    {"gauss_seidel_us", g.us_per_step},
+          {"mj_step_us", mj.us_per_step}, {"exact_over_mj_step", ratio}};
 }
 
 // the fitted exponents, per rig kind and solve, over 100..10,000 bones
@@ -373,8 +378,10 @@ nlohmann::json exponents(const Study& st) {
       for (double n : h.n) {
         if (n >= lo) fitted.push_back(static_cast<int>(n));
       }
-      out.push_back({{"kind", kind}, {"method", method},
-                     {"exponent", number_or_null(fit_exponent(h, lo, 10000))}, {"sizes", fitted}});
+      out.push_back({{"kind", kind},
+                     {"method", method},
+                     {"exponent", number_or_null(fit_exponent(h, lo, 10000))},
+                     {"sizes", fitted}});
     }
   }
   return out;
@@ -407,15 +414,17 @@ nlohmann::json time_table(const Study& st, const std::vector<int>& sizes) {
     }
   }
   return {{"title", "Microseconds per step (thread CPU time), and each solve against exact"},
-          {"columns", {"rig", "bones", "GS eps 1e-3", "GS eps 1e-9", "exact", "mj_step",
-                       "exact us/bone", "GS 1e-3 force error", "GS 1e-9 force error",
-                       "mj_step gap to exact", "GS 1e-3 passes/step"}},
+          {"columns",
+           {"rig", "bones", "GS eps 1e-3", "GS eps 1e-9", "exact", "mj_step", "exact us/bone",
+            "GS 1e-3 force error", "GS 1e-9 force error", "mj_step gap to exact",
+            "GS 1e-3 passes/step"}},
           {"rows", rows}};
 }
 
 double exponent_of(const nlohmann::json& fits, const std::string& kind, const std::string& method) {
   for (const auto& f : fits) {
-    if (f["kind"] == kind && f["method"] == method && !f["exponent"].is_null()) return f["exponent"];
+    if (f["kind"] == kind && f["method"] == method && !f["exponent"].is_null())
+      return f["exponent"];
   }
   return NAN;
 }
@@ -429,38 +438,51 @@ void add_target_claims(Report& report, const Study& st, const nlohmann::json& fi
                ratio <= 0.5 ? "yes" : "no");
   if (const Row* r = find_row(st, "chain", largest, "exact")) {
     const double per_bone = r->m.us_per_step / largest;
-    report.claim("Target: " + num(largest, 6) + "-bone chain at most 0.5 us per bone per step (exact)",
-                 num(per_bone) + " us per bone per step (" + num(r->m.us_per_step) + " us/step)",
-                 largest < 10000 ? "n/a (quick run)" : per_bone <= 0.5 ? "yes" : "no");
+    report.claim(
+        "Target: " + num(largest, 6) + "-bone chain at most 0.5 us per bone per step (exact)",
+        num(per_bone) + " us per bone per step (" + num(r->m.us_per_step) + " us/step)",
+        largest < 10000   ? "n/a (quick run)"
+        : per_bone <= 0.5 ? "yes"
+                          : "no");
   }
   for (const std::string kind : {"chain", "tree2"}) {
     const double p = exponent_of(fits, kind, "exact");
-    const std::string others = "Gauss-Seidel 1e-3 " + num(exponent_of(fits, kind, "gauss_seidel_paper"), 3) +
-                               ", 1e-9 " + num(exponent_of(fits, kind, "gauss_seidel_tight"), 3) +
+    const std::string others = "Gauss-Seidel 1e-3 " +
+                               num(exponent_of(fits, kind, "gauss_seidel_paper"), 3) + ", 1e-9 " +
+                               num(exponent_of(fits, kind, "gauss_seidel_tight"), 3) +
                                ", mj_step " + num(exponent_of(fits, kind, "mj_step"), 3);
     report.claim("Target: exact cost exponent at most 1.1 from 100 to " + std::to_string(largest) +
                      " bones (" + kind + ")",
                  "exact " + num(p, 3) + "; " + others + " (their fits: the table below)",
-                 largest < 10000 || !std::isfinite(p) ? "n/a (quick run)" : p <= 1.1 ? "yes" : "no");
+                 largest < 10000 || !std::isfinite(p) ? "n/a (quick run)"
+                 : p <= 1.1                           ? "yes"
+                                                      : "no");
   }
 }
 
 void add_notes(Report& report, const Budget& b) {
   report
-      .note("Scenario: a chain or balanced binary tree from rest, pulled at its last bone's tail by a "
-            "capped spring (k 10 N/m), `original` preset; every solve timed over the same first " +
-            std::to_string(b.steps) + " steps from rest, batches repeated while under " +
-            num(b.total_s, 2) + " s, the fastest batch kept. Table: results/scaling/scaling.csv.")
-      .note("Times are thread CPU time: PhysIK's whole step (force stages included), mj_step alone "
-            "on the ball-joint model replaying the same forces. The machine may be shared.")
-      .note("Force error: relative joint-force error of one solve against exact on the exact run's "
-            "state after the timed steps (moving), with centripetal terms on and the angular-velocity "
-            "factor 1 in both (then the Gauss-Seidel fixed point is the exact solution). mj_step gap: "
-            "largest endpoint distance to the exact run after the same steps (rig units).")
+      .note(
+          "Scenario: a chain or balanced binary tree from rest, pulled at its last bone's tail by "
+          "a "
+          "capped spring (k 10 N/m), `original` preset; every solve timed over the same first " +
+          std::to_string(b.steps) + " steps from rest, batches repeated while under " +
+          num(b.total_s, 2) + " s, the fastest batch kept. Table: results/scaling/scaling.csv.")
+      .note(
+          "Times are thread CPU time: PhysIK's whole step (force stages included), mj_step alone "
+          "on the ball-joint model replaying the same forces. The machine may be shared.")
+      .note(
+          "Force error: relative joint-force error of one solve against exact on the exact run's "
+          "state after the timed steps (moving), with centripetal terms on and the "
+          "angular-velocity "
+          "factor 1 in both (then the Gauss-Seidel fixed point is the exact solution). mj_step "
+          "gap: "
+          "largest endpoint distance to the exact run after the same steps (rig units).")
       .note("A solve is skipped where its projected time per step passes " + num(b.limit_s, 2) +
             " s (or MuJoCo's compile " + num(5.0 * b.limit_s, 2) + " s); the row says so.")
-      .note("Benchmark with repetitions: build/physik_bench "
-            "--benchmark_filter='BM_Exact|BM_MjStep|BM_ExactVsMjStep'.");
+      .note(
+          "Benchmark with repetitions: build/physik_bench "
+          "--benchmark_filter='BM_Exact|BM_MjStep|BM_ExactVsMjStep'.");
 }
 
 void add_tables(Report& report, const Study& st, const std::vector<int>& sizes,
@@ -473,9 +495,10 @@ void add_tables(Report& report, const Study& st, const std::vector<int>& sizes,
                         f["exponent"].is_null() ? "n/a" : num(f["exponent"].get<double>(), 3),
                         f["sizes"].dump()});
   }
-  report.table("Cost exponents: us per step ~ N^p, least squares over 100..10,000 bones (over every "
-               "size run where fewer than two of those ran)",
-               {"rig", "solve", "p", "sizes fitted"}, fit_rows);
+  report.table(
+      "Cost exponents: us per step ~ N^p, least squares over 100..10,000 bones (over every "
+      "size run where fewer than two of those ran)",
+      {"rig", "solve", "p", "sizes fitted"}, fit_rows);
 }
 
 void run(const Context& ctx) {
@@ -494,13 +517,16 @@ void run(const Context& ctx) {
   add_tables(report, st, sizes, fits);
   add_notes(report, st.budget);
   report.figures({"scaling.png"});
-  write_summary(ctx, {{"experiment", "scaling"}, {"table", "scaling.csv"}, {"exponents", fits},
-                      {"pinhead", pin}}, report, {&table});
+  write_summary(
+      ctx,
+      {{"experiment", "scaling"}, {"table", "scaling.csv"}, {"exponents", fits}, {"pinhead", pin}},
+      report, {&table});
 }
 
 const Registration registered{
-    260, {"scaling", "study: scaling",
-          "us per step vs bones (10..10,000): Gauss-Seidel (eps 1e-3, 1e-9), exact, mj_step", run}};
+    260,
+    {"scaling", "study: scaling",
+     "us per step vs bones (10..10,000): Gauss-Seidel (eps 1e-3, 1e-9), exact, mj_step", run}};
 
 }  // namespace
 

@@ -17,10 +17,14 @@ namespace {
 
 const char* kind_name(CellKind k) {
   switch (k) {
-    case CellKind::kReal: return "a real";
-    case CellKind::kInt: return "an integer";
-    case CellKind::kFlag: return "a flag";
-    case CellKind::kText: return "a text";
+    case CellKind::kReal:
+      return "a real";
+    case CellKind::kInt:
+      return "an integer";
+    case CellKind::kFlag:
+      return "a flag";
+    case CellKind::kText:
+      return "a text";
   }
   return "?";
 }
@@ -81,9 +85,12 @@ std::string Column::format() const {
     case CellKind::kReal:
       return (json_number ? std::string("json") : "g" + std::to_string(digits)) +
              (blank_nonfinite ? "|blank" : "");
-    case CellKind::kInt: return "int";
-    case CellKind::kFlag: return "flag";
-    case CellKind::kText: return quoted ? "quoted" : "text";
+    case CellKind::kInt:
+      return "int";
+    case CellKind::kFlag:
+      return "flag";
+    case CellKind::kText:
+      return quoted ? "quoted" : "text";
   }
   return "";
 }
@@ -126,10 +133,16 @@ void Cell::write_csv(std::ostream& out, const Column& c, const std::string& tabl
       }
       return;
     case CellKind::kInt:
-      if (const auto* i = std::get_if<long long>(&v_)) out << *i; else wrong_kind(c, table);
+      if (const auto* i = std::get_if<long long>(&v_))
+        out << *i;
+      else
+        wrong_kind(c, table);
       return;
     case CellKind::kFlag:
-      if (const auto* b = std::get_if<bool>(&v_)) out << (*b ? 1 : 0); else wrong_kind(c, table);
+      if (const auto* b = std::get_if<bool>(&v_))
+        out << (*b ? 1 : 0);
+      else
+        wrong_kind(c, table);
       return;
     case CellKind::kText:
       if (const auto* s = std::get_if<std::string>(&v_)) {
@@ -275,7 +288,7 @@ void Table::add_to_report(Report& report, const std::string& title,
       const std::string shown = row[k].display(columns_[k], digits, name_);
       const auto label = labels.find(shown);
       cells.push_back(columns_[k].kind == CellKind::kText && label != labels.end() ? label->second
-                                                                                    : shown);
+                                                                                   : shown);
     }
     rows.push_back(std::move(cells));
   }

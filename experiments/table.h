@@ -65,10 +65,10 @@ Column text(std::string name, std::string doc);
 class Cell {
  public:
   Cell() = default;
-  Cell(double v) : v_(v) {}  // NOLINT: implicit, so rows read as {a, b, c}
-  Cell(bool v) : v_(v) {}    // NOLINT
+  Cell(double v) : v_(v) {}                    // NOLINT: implicit, so rows read as {a, b, c}
+  Cell(bool v) : v_(v) {}                      // NOLINT
   Cell(const char* v) : v_(std::string(v)) {}  // NOLINT
-  Cell(std::string v) : v_(std::move(v)) {}     // NOLINT
+  Cell(std::string v) : v_(std::move(v)) {}    // NOLINT
   template <class T, std::enable_if_t<std::is_integral_v<T> && !std::is_same_v<T, bool>, int> = 0>
   Cell(T v) : v_(static_cast<long long>(v)) {}  // NOLINT
   // defined in table.cpp: inlined, moving the variant trips GCC 12's -Wmaybe-uninitialized on

@@ -47,7 +47,8 @@ double percentile(std::vector<double> v, double q) {
 
 double largest_tail_motion(const BoneFrames& a, const BoneFrames& b) {
   double m = 0.0;
-  for (std::size_t i = 0; i < a.tail_world.size(); ++i) m = std::max(m, (a.tail_world[i] - b.tail_world[i]).norm());
+  for (std::size_t i = 0; i < a.tail_world.size(); ++i)
+    m = std::max(m, (a.tail_world[i] - b.tail_world[i]).norm());
   return m;
 }
 
@@ -77,7 +78,8 @@ Track track_physik(const Scene& scene, int k, const std::string& tag = "physik")
 Track track_classic(const Scene& scene, IkMethod method) {
   Track t{to_string(method), {}, {}, {}};
   std::vector<IkGoal> goals;
-  for (const ControlPoint& cp : scene.control_points) goals.push_back({cp.bone, cp.alpha, cp.target_world});
+  for (const ControlPoint& cp : scene.control_points)
+    goals.push_back({cp.bone, cp.alpha, cp.target_world});
   const Vec3 start = goals[0].target_world;
   Pose pose = scene.initial_pose;
   solve_ik(method, scene.rig, goals, pose, {});  // the drag starts from the solved pose
@@ -110,12 +112,13 @@ nlohmann::json row_of(const Track& t) {
 
 // frames.csv: every solver's every frame
 Table frames_table(const std::vector<Track>& tracks) {
-  Table t("frames", "frames.csv",
-          {text("solver", "the solver, and PhysIK's steps per frame"),
-           integer("frame", "", "the frame (1: the first move)"),
-           real("cost_us", "us", "wall time of the frame's call"),
-           real("lag", "rig units", "the largest control-point residual after the call"),
-           real("jump_ratio", "", "the largest bone-tail motion over the frame / the drag (0.05)")});
+  Table t(
+      "frames", "frames.csv",
+      {text("solver", "the solver, and PhysIK's steps per frame"),
+       integer("frame", "", "the frame (1: the first move)"),
+       real("cost_us", "us", "wall time of the frame's call"),
+       real("lag", "rig units", "the largest control-point residual after the call"),
+       real("jump_ratio", "", "the largest bone-tail motion over the frame / the drag (0.05)")});
   for (const Track& tr : tracks) {
     for (std::size_t f = 0; f < tr.lag.size(); ++f) {
       t.add({tr.solver, f + 1, tr.cost_us[f], tr.lag[f], tr.jump[f]});
@@ -126,22 +129,30 @@ Table frames_table(const std::vector<Track>& tracks) {
 
 void add_claims(Report& report, const nlohmann::json& rows) {
   const auto find = [&](const std::string& s) -> const nlohmann::json& {
-    for (const auto& r : rows) if (r["solver"] == s) return r;
+    for (const auto& r : rows)
+      if (r["solver"] == s) return r;
     throw std::logic_error("tracking: no row " + s);
   };
   const nlohmann::json &p3 = find("physik k=3"), &dls = find("dls"), &rot = find("rotation");
   const double pj = p3["p95_jump_ratio"], dj = dls["p95_jump_ratio"], rj = rot["p95_jump_ratio"];
-  report.claim("Tracking: PhysIK (3 steps per frame) follows a dragged point at least as smoothly "
-               "as DLS and the rotation method",
-               "p95 jump ratio: PhysIK " + num(pj) + ", DLS " + num(dj) + ", rotation " + num(rj),
-               pj <= std::min(dj, rj) ? "yes" : pj <= std::max(dj, rj) ? "partly" : "no");
+  report.claim(
+      "Tracking: PhysIK (3 steps per frame) follows a dragged point at least as smoothly "
+      "as DLS and the rotation method",
+      "p95 jump ratio: PhysIK " + num(pj) + ", DLS " + num(dj) + ", rotation " + num(rj),
+      pj <= std::min(dj, rj)   ? "yes"
+      : pj <= std::max(dj, rj) ? "partly"
+                               : "no");
   const double pl = p3["mean_lag"], dl = dls["mean_lag"];
   const double pc = p3["median_cost_us"], dc = dls["median_cost_us"];
-  report.claim("Tracking: PhysIK's per-frame cost is at most DLS's, with a lag of a few "
-               "per cent of the drag per frame",
-               "median us per frame: PhysIK " + num(pc) + ", DLS " + num(dc) + "; mean lag PhysIK " +
-                   num(pl) + " rig units (" + num(100 * pl / kPerFrame) + "% of the per-frame drag), DLS " + num(dl),
-               pc <= dc && pl < 0.1 * kPerFrame ? "yes" : pc <= dc || pl < 0.1 * kPerFrame ? "partly" : "no");
+  report.claim(
+      "Tracking: PhysIK's per-frame cost is at most DLS's, with a lag of a few "
+      "per cent of the drag per frame",
+      "median us per frame: PhysIK " + num(pc) + ", DLS " + num(dc) + "; mean lag PhysIK " +
+          num(pl) + " rig units (" + num(100 * pl / kPerFrame) + "% of the per-frame drag), DLS " +
+          num(dl),
+      pc <= dc && pl < 0.1 * kPerFrame   ? "yes"
+      : pc <= dc || pl < 0.1 * kPerFrame ? "partly"
+                                         : "no");
 }
 
 void run(const Context& ctx) {
@@ -163,16 +174,21 @@ void run(const Context& ctx) {
   Report report("Tracking: a control point dragged in a circle, one solve per frame");
   add_claims(report, rows);
   report.settings(settings_json(scene))
-      .note("Pinhead's left-hand point on a circle of radius 0.3 rig units in the x-z plane, 0.05 "
-            "rig units per frame, " + std::to_string(kFrames) + " frames; the right hand held. "
-            "Lag = the largest residual after the frame's call; jump ratio = the largest bone-tail "
-            "motion over the frame / 0.05. Per-solver rows in summary.json, per frame in frames.csv.")
+      .note(
+          "Pinhead's left-hand point on a circle of radius 0.3 rig units in the x-z plane, 0.05 "
+          "rig units per frame, " +
+          std::to_string(kFrames) +
+          " frames; the right hand held. "
+          "Lag = the largest residual after the frame's call; jump ratio = the largest bone-tail "
+          "motion over the frame / 0.05. Per-solver rows in summary.json, per frame in frames.csv.")
       .figures({"tracking.png"});
   write_summary(ctx, {{"experiment", "tracking"}, {"rows", rows}}, report, {&frames});
 }
 
 const Registration registered{
-    245, {"tracking", "study: dragging", "a control point dragged in a circle: cost, lag, smoothness per frame", run}};
+    245,
+    {"tracking", "study: dragging",
+     "a control point dragged in a circle: cost, lag, smoothness per frame", run}};
 
 }  // namespace
 

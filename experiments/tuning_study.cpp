@@ -36,15 +36,15 @@ namespace physik::experiments {
 namespace {
 
 struct Variant {
-  double scale = 1.0;    // 1
-  double density = 1.0;  // kg per rig unit
+  double scale = 1.0;          // 1
+  double density = 1.0;        // kg per rig unit
   bool scale_torsion = false;  // torsion k scaled with the inertia (density x scale^3)
   std::string label() const {
     // no commas: it is a CSV cell
-    return num(scale, 2) + "x / " + num(density, 2) + " kg/unit" + (scale_torsion ? " / k_t scaled" : "");
+    return num(scale, 2) + "x / " + num(density, 2) + " kg/unit" +
+           (scale_torsion ? " / k_t scaled" : "");
   }
 };
-
 
 struct Rule {
   double K = 0, M = 0, m_min = 0, c_crit = 0, c_stab = 0, c_rule = 0;
@@ -99,8 +99,8 @@ Point run_at(const Scene& scene, double c, bool implicit_auto = false) {
   const double rtol = s.residual_tol(), vtol = s.speed_tol(), mass = s.rig.total_mass();
   int last_unsettled = 0;
   const auto observer = [&](const SimState& st, const StepStats& stats) {
-    const bool settled = stats.max_residual <= rtol &&
-                         std::sqrt(2.0 * stats.kinetic_energy / mass) < vtol;
+    const bool settled =
+        stats.max_residual <= rtol && std::sqrt(2.0 * stats.kinetic_energy / mass) < vtol;
     if (!settled) last_unsettled = st.step;
   };
   const RunSummary r = run_scene(s, observer);
@@ -134,7 +134,8 @@ std::vector<Variant> make_variants(bool quick) {
 std::vector<double> damping_grid(bool quick) {
   const int per_decade = quick ? 1 : 6;
   std::vector<double> grid;
-  for (int i = 0; i <= 6 * per_decade; ++i) grid.push_back(std::pow(10.0, -3.0 + double(i) / per_decade));
+  for (int i = 0; i <= 6 * per_decade; ++i)
+    grid.push_back(std::pow(10.0, -3.0 + double(i) / per_decade));
   return grid;
 }
 
@@ -143,7 +144,7 @@ struct VariantResult {
   Variant v;
   double torsion_k = 0, dt = 0;
   Rule rule;
-  int best_steps = 1 << 30;  // fewest steps to settle on the grid
+  int best_steps = 1 << 30;            // fewest steps to settle on the grid
   double best_c = -1, first_div = -1;  // -1 = none
   tune::TuneResult tuned;
   double c_tuned = 0;
@@ -217,10 +218,10 @@ VariantResult study_variant(const Context& ctx, const Scene& base, const Variant
   if (ctx.log) {
     *ctx.log << "  " << v.label() << ": rule " << num(r.rule.c_rule) << ", tuned " << num(r.c_tuned)
              << ", best grid " << num(r.best_c) << " (" << r.best_grid_steps()
-             << " steps), diverges from "
-             << num(r.first_div) << "; steps at 20/3/rule/tuned: " << steps_text(r.at20) << "/"
-             << steps_text(r.at3) << "/" << steps_text(r.at_rule) << "/" << steps_text(r.at_tuned)
-             << "; auto " << num(r.c_auto) << ": " << steps_text(r.at_auto) << " (implicit "
+             << " steps), diverges from " << num(r.first_div)
+             << "; steps at 20/3/rule/tuned: " << steps_text(r.at20) << "/" << steps_text(r.at3)
+             << "/" << steps_text(r.at_rule) << "/" << steps_text(r.at_tuned) << "; auto "
+             << num(r.c_auto) << ": " << steps_text(r.at_auto) << " (implicit "
              << steps_text(r.at_auto_implicit) << ")"
              << "  (tune " << num(r.tuned.wall_time_s) << " s)\n";
   }
@@ -234,10 +235,13 @@ const Column kDensity = real("density", "kg per rig unit", "every bone's mass ov
 // sweep.csv: every variant's run at every c of the grid
 Table sweep_table(const std::vector<VariantResult>& results) {
   Column settle = columns::kStepsToConverge;
-  settle.doc = "steps to settle: every later step within the residual tolerance and at rest (-1: never)";
-  Table t("sweep", "sweep.csv", {kVariant, kScale, kDensity, columns::kDamping, settle, columns::kDiverged});
+  settle.doc =
+      "steps to settle: every later step within the residual tolerance and at rest (-1: never)";
+  Table t("sweep", "sweep.csv",
+          {kVariant, kScale, kDensity, columns::kDamping, settle, columns::kDiverged});
   for (const VariantResult& r : results) {
-    for (const auto& [c, p] : r.grid) t.add({r.v.label(), r.v.scale, r.v.density, c, p.steps, p.diverged});
+    for (const auto& [c, p] : r.grid)
+      t.add({r.v.label(), r.v.scale, r.v.density, c, p.steps, p.diverged});
   }
   return t;
 }
@@ -249,29 +253,59 @@ Column steps_at(const std::string& name, const std::string& at) {
 
 // table.csv: one row per variant (the summary's rows say the same with the steps as text)
 Table variant_table(const std::vector<VariantResult>& results) {
-  const auto c = [](const std::string& name, const std::string& doc) { return real(name, "N s/m", doc); };
+  const auto c = [](const std::string& name, const std::string& doc) {
+    return real(name, "N s/m", doc);
+  };
   Table t("table", "table.csv",
-          {kVariant, kScale, kDensity, columns::kTorsionK,
+          {kVariant,
+           kScale,
+           kDensity,
+           columns::kTorsionK,
            real("torsion_a", "", "k_t dt^2 / I_min: explicit Euler is stable below 2 (1 + f)"),
-           real("total_mass", "kg", "M"), real("min_bone_mass", "kg", "the lightest bone's mass"),
+           real("total_mass", "kg", "M"),
+           real("min_bone_mass", "kg", "the lightest bone's mass"),
            real("K", "N/m", "the control springs' total stiffness"),
-           c("c_crit", "the rule's discrete critical damping"), c("c_stab", "the rule's stability bound"),
-           c("c_rule", "min(c_crit, c_stab / 2)"), c("c_tuned", "the Ceres optimum"),
+           c("c_crit", "the rule's discrete critical damping"),
+           c("c_stab", "the rule's stability bound"),
+           c("c_rule", "min(c_crit, c_stab / 2)"),
+           c("c_tuned", "the Ceres optimum"),
            c("c_best_grid", "the grid's fastest-settling c (-1: none)"),
            c("c_first_diverged", "the grid's smallest diverging c (-1: none)"),
-           steps_at("steps_paper_20", "c = 20"), steps_at("steps_original_3", "c = 3"),
-           steps_at("steps_rule", "c_rule"), steps_at("steps_tuned", "c_tuned"),
+           steps_at("steps_paper_20", "c = 20"),
+           steps_at("steps_original_3", "c = 3"),
+           steps_at("steps_rule", "c_rule"),
+           steps_at("steps_tuned", "c_tuned"),
            steps_at("steps_best_grid", "c_best_grid"),
            real("tune_wall_time_s", "s", "the Ceres tuning's wall time"),
            integer("tune_runs", "", "simulations the tuning ran"),
-           c("c_auto", "damping auto's c at the start pose"), steps_at("steps_auto", "c_auto"),
+           c("c_auto", "damping auto's c at the start pose"),
+           steps_at("steps_auto", "c_auto"),
            steps_at("steps_auto_implicit", "damping auto, scheme implicit")});
   for (const VariantResult& r : results) {
     const Rule& rule = r.rule;
-    t.add({r.v.label(), r.v.scale, r.v.density, r.torsion_k, rule.torsion_a, rule.M, rule.m_min,
-           rule.K, rule.c_crit, rule.c_stab, rule.c_rule, r.c_tuned, r.best_c, r.first_div,
-           r.at20.steps, r.at3.steps, r.at_rule.steps, r.at_tuned.steps, r.best_grid_steps(),
-           r.tuned.wall_time_s, r.tuned.evaluations, r.c_auto, r.at_auto.steps,
+    t.add({r.v.label(),
+           r.v.scale,
+           r.v.density,
+           r.torsion_k,
+           rule.torsion_a,
+           rule.M,
+           rule.m_min,
+           rule.K,
+           rule.c_crit,
+           rule.c_stab,
+           rule.c_rule,
+           r.c_tuned,
+           r.best_c,
+           r.first_div,
+           r.at20.steps,
+           r.at3.steps,
+           r.at_rule.steps,
+           r.at_tuned.steps,
+           r.best_grid_steps(),
+           r.tuned.wall_time_s,
+           r.tuned.evaluations,
+           r.c_auto,
+           r.at_auto.steps,
            r.at_auto_implicit.steps});
   }
   return t;
@@ -310,7 +344,8 @@ nlohmann::json row_json(const VariantResult& r) {
 
 // The counts the claims state, over the variants.
 struct Tally {
-  int variants = 0, rule_within_2 = 0, tuned_not_worse_than_3 = 0, paper_diverged = 0, div_bound_ok = 0;
+  int variants = 0, rule_within_2 = 0, tuned_not_worse_than_3 = 0, paper_diverged = 0,
+      div_bound_ok = 0;
   int stable_n = 0, torsion_unstable_n = 0, torsion_unstable_all_diverged = 0;
   double worst_rule_ratio = 1.0, tune_time_1x = 0.0;
   int tune_runs_1x = 0;
@@ -328,13 +363,15 @@ void tally(Tally& t, const VariantResult& r) {
     ++t.stable_n;
     const double ratio = r.rule.c_rule / r.c_tuned;
     if (ratio >= 0.5 && ratio <= 2.0) ++t.rule_within_2;
-    if (std::abs(std::log(ratio)) > std::abs(std::log(t.worst_rule_ratio))) t.worst_rule_ratio = ratio;
+    if (std::abs(std::log(ratio)) > std::abs(std::log(t.worst_rule_ratio)))
+      t.worst_rule_ratio = ratio;
     if (!r.at_tuned.diverged && r.at_tuned.steps >= 0 &&
         (r.at3.diverged || r.at3.steps < 0 || r.at_tuned.steps <= r.at3.steps)) {
       ++t.tuned_not_worse_than_3;
     }
     const double bound = r.rule.m_min / r.dt;
-    if (r.first_div > 0 && r.first_div / bound > 0.25 && r.first_div / bound < 4.0) ++t.div_bound_ok;
+    if (r.first_div > 0 && r.first_div / bound > 0.25 && r.first_div / bound < 4.0)
+      ++t.div_bound_ok;
   }
   if (r.v.scale == 1.0 && r.v.density == 1.0) {
     t.tune_time_1x = r.tuned.wall_time_s;
@@ -346,7 +383,9 @@ void add_claims(Report& report, const Tally& t) {
   const int nv = t.variants;
   const auto frac_of = [](int k, int n) { return std::to_string(k) + " of " + std::to_string(n); };
   const auto frac = [&](int k) { return frac_of(k, nv); };
-  const auto holds = [](int k, int n) { return n == 0 ? "n/a" : k == n ? "yes" : k ? "partly" : "no"; };
+  const auto holds = [](int k, int n) {
+    return n == 0 ? "n/a" : k == n ? "yes" : k ? "partly" : "no";
+  };
   report.claim(
       "Prediction: where the torsion springs on the lightest bone exceed explicit Euler's bound "
       "k_t dt^2 / I_min < 2 (1 + f), no damping can help: every c diverges",
@@ -357,20 +396,22 @@ void add_claims(Report& report, const Tally& t) {
       "Discussion: the damping must be picked per rig scale and mass; too large diverges under "
       "explicit Euler. The first diverging c on the grid lies within a factor 4 of the per-bone "
       "bound m_min/dt",
-      frac_of(t.div_bound_ok, t.stable_n) + " variants with a settling c", holds(t.div_bound_ok, t.stable_n));
+      frac_of(t.div_bound_ok, t.stable_n) + " variants with a settling c",
+      holds(t.div_bound_ok, t.stable_n));
   report.claim("Sec. 4: the paper's c = 20 (dt = 0.05) diverges on pinhead-like rigs",
                "diverges in " + frac(t.paper_diverged) + " variants",
-               t.paper_diverged == nv ? "yes" : t.paper_diverged ? "partly" : "no");
+               t.paper_diverged == nv ? "yes"
+               : t.paper_diverged     ? "partly"
+                                      : "no");
   report.claim(
       "Closed-form rule c = min((2 sqrt(K M) - K dt)/(2 n), c_stab/2) lands within a factor 2 of "
       "the Ceres optimum",
-      frac_of(t.rule_within_2, t.stable_n) + " variants with a settling c; worst rule/tuned ratio " +
-          num(t.worst_rule_ratio),
+      frac_of(t.rule_within_2, t.stable_n) +
+          " variants with a settling c; worst rule/tuned ratio " + num(t.worst_rule_ratio),
       holds(t.rule_within_2, t.stable_n));
-  report.claim(
-      "The tuned c converges in no more steps than the original's c = 3 (or c = 3 fails)",
-      frac_of(t.tuned_not_worse_than_3, t.stable_n) + " variants with a settling c",
-      holds(t.tuned_not_worse_than_3, t.stable_n));
+  report.claim("The tuned c converges in no more steps than the original's c = 3 (or c = 3 fails)",
+               frac_of(t.tuned_not_worse_than_3, t.stable_n) + " variants with a settling c",
+               holds(t.tuned_not_worse_than_3, t.stable_n));
 }
 
 // damping: auto beside the Ceres optimum and the closed-form rule, per variant
@@ -378,14 +419,16 @@ void add_auto_row(Report& report, const nlohmann::json& rows) {
   std::string text;
   for (const auto& r : rows) {
     text += (text.empty() ? "" : "; ") + r["variant"].get<std::string>() + ": auto " +
-            num(r["c_auto"].get<double>()) + " (" + r["steps_auto"].get<std::string>() + ", implicit " +
-            r["steps_auto_implicit"].get<std::string>() + ") / Ceres " + num(r["c_tuned"].get<double>()) +
-            " (" + r["steps_tuned"].get<std::string>() + ") / rule " + num(r["c_rule"].get<double>()) +
-            " (" + r["steps_rule"].get<std::string>() + ")";
+            num(r["c_auto"].get<double>()) + " (" + r["steps_auto"].get<std::string>() +
+            ", implicit " + r["steps_auto_implicit"].get<std::string>() + ") / Ceres " +
+            num(r["c_tuned"].get<double>()) + " (" + r["steps_tuned"].get<std::string>() +
+            ") / rule " + num(r["c_rule"].get<double>()) + " (" +
+            r["steps_rule"].get<std::string>() + ")";
   }
   report.claim(
       "damping: auto (critical damping of the slowest linearised mode at the start pose, "
-      "physik/engine/linear_modes.h) beside the Ceres optimum and the closed-form rule: c (steps to "
+      "physik/engine/linear_modes.h) beside the Ceres optimum and the closed-form rule: c (steps "
+      "to "
       "settle, explicit at that c; implicit with damping auto)",
       text, "n/a");
 }
@@ -393,7 +436,8 @@ void add_auto_row(Report& report, const nlohmann::json& rows) {
 // The grid's best c and first diverging c in words: "none" where the grid has no such c (the
 // table's -1), never the placeholder itself.
 std::string grid_text(const nlohmann::json& r) {
-  const double best = r["c_best_grid"].get<double>(), diverged = r["c_first_diverged"].get<double>();
+  const double best = r["c_best_grid"].get<double>(),
+               diverged = r["c_first_diverged"].get<double>();
   std::string text = best > 0 ? "best grid c " + num(best) + " (" +
                                     std::to_string(r["steps_best_grid"].get<int>()) + " steps)"
                               : "no grid c settles";
@@ -413,9 +457,9 @@ void add_notes(Report& report, const Tally& t, int steps, const nlohmann::json& 
     report.note(r["variant"].get<std::string>() + ": c_rule " + num(r["c_rule"].get<double>()) +
                 " (c_crit " + num(r["c_crit"].get<double>()) + ", c_stab " +
                 num(r["c_stab"].get<double>()) + "), c_tuned " + num(r["c_tuned"].get<double>()) +
-                ", " + grid_text(r) + "; steps at c = 20 / 3 / rule / tuned: " +
-                r["steps_paper_20"].get<std::string>() + " / " +
-                r["steps_original_3"].get<std::string>() + " / " +
+                ", " + grid_text(r) +
+                "; steps at c = 20 / 3 / rule / tuned: " + r["steps_paper_20"].get<std::string>() +
+                " / " + r["steps_original_3"].get<std::string>() + " / " +
                 r["steps_rule"].get<std::string>() + " / " + r["steps_tuned"].get<std::string>());
   }
 }
@@ -425,7 +469,8 @@ void run(const Context& ctx) {
   base.steps = ctx.quick ? 300 : 4000;  // the 10x, 10 kg/unit rig needs about 1000
   const std::vector<double> grid = damping_grid(ctx.quick);
   std::vector<VariantResult> results;
-  for (const Variant& v : make_variants(ctx.quick)) results.push_back(study_variant(ctx, base, v, grid));
+  for (const Variant& v : make_variants(ctx.quick))
+    results.push_back(study_variant(ctx, base, v, grid));
   const Table sweep = sweep_table(results), table = variant_table(results);
   sweep.write_csv(ctx.out_dir);
   table.write_csv(ctx.out_dir);
@@ -449,10 +494,11 @@ void run(const Context& ctx) {
 }
 
 const Registration registered{
-    250, {"tuning_study", "Discussion (damping sensitivity)",
-          "steps to converge vs damping at 0.1x/1x/10x and two densities; Ceres optimum; "
-          "closed-form rule",
-          run}};
+    250,
+    {"tuning_study", "Discussion (damping sensitivity)",
+     "steps to converge vs damping at 0.1x/1x/10x and two densities; Ceres optimum; "
+     "closed-form rule",
+     run}};
 
 }  // namespace
 

@@ -52,12 +52,18 @@ nlohmann::json to_json(py::handle v, const std::string& what) {
 
 py::object from_json(const nlohmann::json& v) {
   switch (v.type()) {
-    case nlohmann::json::value_t::null: return py::none();
-    case nlohmann::json::value_t::boolean: return py::bool_(v.get<bool>());
-    case nlohmann::json::value_t::number_integer: return py::int_(v.get<long long>());
-    case nlohmann::json::value_t::number_unsigned: return py::int_(v.get<unsigned long long>());
-    case nlohmann::json::value_t::number_float: return py::float_(v.get<double>());
-    case nlohmann::json::value_t::string: return py::str(v.get<std::string>());
+    case nlohmann::json::value_t::null:
+      return py::none();
+    case nlohmann::json::value_t::boolean:
+      return py::bool_(v.get<bool>());
+    case nlohmann::json::value_t::number_integer:
+      return py::int_(v.get<long long>());
+    case nlohmann::json::value_t::number_unsigned:
+      return py::int_(v.get<unsigned long long>());
+    case nlohmann::json::value_t::number_float:
+      return py::float_(v.get<double>());
+    case nlohmann::json::value_t::string:
+      return py::str(v.get<std::string>());
     case nlohmann::json::value_t::array: {
       py::list out;
       for (const auto& item : v) out.append(from_json(item));
@@ -68,7 +74,8 @@ py::object from_json(const nlohmann::json& v) {
       for (auto it = v.begin(); it != v.end(); ++it) out[py::str(it.key())] = from_json(it.value());
       return out;
     }
-    default: return py::none();  // binary and discarded values do not occur here
+    default:
+      return py::none();  // binary and discarded values do not occur here
   }
 }
 
@@ -77,13 +84,13 @@ namespace {
 // NumPy's own constructor with the dimensions on the stack: py::array's takes them in vectors,
 // which would be C++ allocations on every read of a view (the posing session reads its pose
 // each frame). Not writeable from the start; the owner is the array's base, kept alive by it.
-py::array view_of(const double* data, int ndim, const Py_intptr_t* dims,
-                  const Py_intptr_t* strides, py::handle owner) {
+py::array view_of(const double* data, int ndim, const Py_intptr_t* dims, const Py_intptr_t* strides,
+                  py::handle owner) {
   auto& api = py::detail::npy_api::get();
-  py::object a = py::reinterpret_steal<py::object>(api.PyArray_NewFromDescr_(
-      api.PyArray_Type_, py::dtype::of<double>().release().ptr(), ndim,
-      const_cast<Py_intptr_t*>(dims), const_cast<Py_intptr_t*>(strides),
-      const_cast<double*>(data), 0, nullptr));
+  py::object a = py::reinterpret_steal<py::object>(
+      api.PyArray_NewFromDescr_(api.PyArray_Type_, py::dtype::of<double>().release().ptr(), ndim,
+                                const_cast<Py_intptr_t*>(dims), const_cast<Py_intptr_t*>(strides),
+                                const_cast<double*>(data), 0, nullptr));
   if (!a) throw py::error_already_set();
   if (api.PyArray_SetBaseObject_(a.ptr(), owner.inc_ref().ptr()) != 0) {
     throw py::error_already_set();
@@ -118,8 +125,12 @@ py::array_t<double> rows_copy(const std::vector<T>& v, const double* (*at)(const
   return a;
 }
 
-const double* vec_data(const Vec3& v) { return v.data(); }
-const double* quat_data(const Quat& q) { return q.coeffs().data(); }
+const double* vec_data(const Vec3& v) {
+  return v.data();
+}
+const double* quat_data(const Quat& q) {
+  return q.coeffs().data();
+}
 
 }  // namespace
 

@@ -7,9 +7,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "physik/model/kinematics.h"
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+#include "physik/model/kinematics.h"
 
 namespace physik::python {
 

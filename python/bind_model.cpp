@@ -28,7 +28,9 @@ py::array vec3_array(const std::vector<Vec3>& v) {
   return a;
 }
 
-nlohmann::json vec_json(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+nlohmann::json vec_json(const Vec3& v) {
+  return {v.x(), v.y(), v.z()};
+}
 
 // The scene's convergence settings as the scene file writes them.
 nlohmann::json convergence_json(const ConvergenceParams& c) {
@@ -51,7 +53,8 @@ nlohmann::json convergence_json(const ConvergenceParams& c) {
 // change of either replaces both ("damping": 1 turns auto off, "damping": "auto" on).
 void update_params(Scene& s, const nlohmann::json& changes, const std::string& source) {
   JsonContext{source, "params"}.require_object(changes, "params");
-  nlohmann::json read = changes.contains("preset") ? nlohmann::json::object() : params_to_json(s.params);
+  nlohmann::json read =
+      changes.contains("preset") ? nlohmann::json::object() : params_to_json(s.params);
   if (changes.contains("damping") || changes.contains("damping_auto")) {
     read.erase("damping");
     read.erase("damping_auto");
@@ -59,8 +62,8 @@ void update_params(Scene& s, const nlohmann::json& changes, const std::string& s
   for (const auto& [key, value] : changes.items()) read[key] = value;
   s.params = params_from_json(read, source);
   for (const auto& [key, value] : changes.items()) {
-    if (key != "preset" && std::find(s.params_given.begin(), s.params_given.end(), key) ==
-                               s.params_given.end()) {
+    if (key != "preset" &&
+        std::find(s.params_given.begin(), s.params_given.end(), key) == s.params_given.end()) {
       s.params_given.push_back(key);
     }
   }
@@ -98,7 +101,8 @@ void update_scene(Scene& s, py::object params, py::object convergence, py::objec
 }
 
 void bind_rig(py::module_& m) {
-  py::class_<Rig>(m, "Rig", R"doc(A rig: bones in DFS order (parents first), rest pose, limits, masses.
+  py::class_<Rig>(m, "Rig",
+                  R"doc(A rig: bones in DFS order (parents first), rest pose, limits, masses.
 
 Constant: a Simulation never changes it. Build one with Rig.load, Rig.chain or Rig.from_dict.
 Arrays are copies, per bone in DFS order; positions in rig units, world frame (Z up).)doc")
@@ -110,23 +114,29 @@ Arrays are copies, per bone in DFS order; positions in rig units, world frame (Z
                   "A straight chain of n free bones along +Z from the origin (`physik rig chain`).")
       .def_static(
           "from_dict",
-          [](py::object d, const std::string& source) { return rig_from_json(to_json(d, "rig"), source); },
+          [](py::object d, const std::string& source) {
+            return rig_from_json(to_json(d, "rig"), source);
+          },
           py::arg("d"), py::arg("source") = "<rig dict>",
           "A rig from a dict in the rig file format; `source` names it in error messages.")
-      .def("to_dict", [](const Rig& r) { return from_json(rig_to_json(r)); },
-           "The rig as a dict in the rig file format (explicit rest frames, total masses).")
+      .def(
+          "to_dict", [](const Rig& r) { return from_json(rig_to_json(r)); },
+          "The rig as a dict in the rig file format (explicit rest frames, total masses).")
       .def_readonly("name", &Rig::name, "The rig's name.")
       .def_readonly("nbone", &Rig::nbone, "Number of bones.")
       .def_readonly("bone_names", &Rig::bone_name, "Bone names, DFS order.")
       .def_readonly("bone_parents", &Rig::bone_parent, "Parent index per bone (-1 for the root).")
       .def_readonly("bone_lengths", &Rig::bone_length, "Rest length per bone, rig units.")
       .def_readonly("bone_masses", &Rig::bone_mass, "Mass per bone, kg.")
-      .def_property_readonly("rest_heads", [](const Rig& r) { return vec3_array(r.bone_rest_head_world); },
-                             "(nbone, 3) rest heads, world, rig units (a copy).")
-      .def_property_readonly("rest_tails", [](const Rig& r) { return vec3_array(r.bone_rest_tail_world); },
-                             "(nbone, 3) rest tails, world, rig units (a copy).")
+      .def_property_readonly(
+          "rest_heads", [](const Rig& r) { return vec3_array(r.bone_rest_head_world); },
+          "(nbone, 3) rest heads, world, rig units (a copy).")
+      .def_property_readonly(
+          "rest_tails", [](const Rig& r) { return vec3_array(r.bone_rest_tail_world); },
+          "(nbone, 3) rest tails, world, rig units (a copy).")
       .def_property_readonly("total_mass", &Rig::total_mass, "Total mass, kg.")
-      .def_property_readonly("height", &Rig::height, "Extent of the rest pose along world Z, rig units.")
+      .def_property_readonly("height", &Rig::height,
+                             "Extent of the rest pose along world Z, rig units.")
       .def("find_bone", &Rig::find_bone, py::arg("name"), "Index of a bone by name, -1 if absent.")
       .def("__repr__", [](const Rig& r) {
         return "<physik.Rig '" + r.name + "' with " + std::to_string(r.nbone) + " bones>";
@@ -137,7 +147,8 @@ void bind_scene_reading(py::class_<Scene>& cls);
 void bind_scene_views(py::class_<Scene>& cls);
 
 void bind_scene(py::module_& m) {
-  py::class_<Scene> cls(m, "Scene", R"doc(A scene: a rig, engine parameters, control points, a schedule, steps.
+  py::class_<Scene> cls(m, "Scene",
+                        R"doc(A scene: a rig, engine parameters, control points, a schedule, steps.
 
 Build one with Scene.load (a file, as the CLI reads it) or Scene.from_dict (the same format as a
 dict). Parameters, control points and the convergence settings read back as dicts in the scene
@@ -170,12 +181,9 @@ Scene load_scene_from_python(const std::string& path, py::object overrides, int 
 
 // load, from_dict, to_dict, update: the scene file's format both ways
 void bind_scene_reading(py::class_<Scene>& cls) {
-  cls
-      .def_static(
-          "load",
-          &load_scene_from_python,
-          py::arg("path"), py::arg("overrides") = py::none(), py::arg("steps") = 0,
-          R"doc(Load a scene file as `physik simulate PATH [--set k=v]... [--steps N]` does.
+  cls.def_static("load", &load_scene_from_python, py::arg("path"),
+                 py::arg("overrides") = py::none(), py::arg("steps") = 0,
+                 R"doc(Load a scene file as `physik simulate PATH [--set k=v]... [--steps N]` does.
 
 overrides: a dict {param: value} or a list of "key=value" strings: `--set`, merged into the file's
 params before the scene is read (control points that take their k, spring or cap from the params
@@ -192,9 +200,10 @@ steps: replaces the scene's step count (0 keeps it, as --steps). Relative rig pa
 "rig" is a rig file path (relative paths resolve against base_dir) or the rig dict itself (the rig
 file format; Scene.rig_file is then ""). `source` names the dict in error messages, as a file name
 would.)doc")
-      .def("to_dict", [](const Scene& s) { return from_json(scene_to_json(s)); },
-           "The scene as a dict in the scene file format (rig as an absolute path, or inline when "
-           "it came inline).")
+      .def(
+          "to_dict", [](const Scene& s) { return from_json(scene_to_json(s)); },
+          "The scene as a dict in the scene file format (rig as an absolute path, or inline when "
+          "it came inline).")
       .def(
           "update",
           [](Scene& s, py::object params, py::object convergence, py::object steps) {
@@ -209,21 +218,26 @@ experiment sets s.params.damping; control points that give no k, spring or cap f
 those that give their own keep it); "preset" first resets every parameter to that preset's values
 (physik.param_table() lists the keys); convergence: {key: value} for the convergence settings;
 steps: the step count.)doc")
-      .def("copy", [](const Scene& s) { return Scene(s); }, "An independent copy.")
+      .def(
+          "copy", [](const Scene& s) { return Scene(s); }, "An independent copy.")
       .def("__copy__", [](const Scene& s) { return Scene(s); })
-      .def("__deepcopy__", [](const Scene& s, py::dict) { return Scene(s); }, py::arg("memo"));
+      .def(
+          "__deepcopy__", [](const Scene& s, py::dict) { return Scene(s); }, py::arg("memo"));
 }
 
 // what a scene holds, read back as the scene file's dicts
 void bind_scene_views(py::class_<Scene>& cls) {
   cls.def_readonly("file", &Scene::file, "Where the scene came from (its path or source name).")
       .def_readonly("rig_file", &Scene::rig_file, "The resolved rig path (\"\" for an inline rig).")
-      .def_property_readonly("rig", [](const Scene& s) { return s.rig; }, "The scene's rig (a copy).")
+      .def_property_readonly(
+          "rig", [](const Scene& s) { return s.rig; }, "The scene's rig (a copy).")
       .def_readonly("steps", &Scene::steps, "Steps to run.")
-      .def_property_readonly("params", [](const Scene& s) { return from_json(params_to_json(s.params)); },
-                             "The engine parameters, resolved, as the scene file's params dict.")
-      .def_property_readonly("convergence", [](const Scene& s) { return from_json(convergence_json(s.convergence)); },
-                             "The convergence settings as a dict (0 = the default tolerance).")
+      .def_property_readonly(
+          "params", [](const Scene& s) { return from_json(params_to_json(s.params)); },
+          "The engine parameters, resolved, as the scene file's params dict.")
+      .def_property_readonly(
+          "convergence", [](const Scene& s) { return from_json(convergence_json(s.convergence)); },
+          "The convergence settings as a dict (0 = the default tolerance).")
       .def_property_readonly(
           "control_points",
           [](const Scene& s) {
@@ -253,8 +267,10 @@ void bind_scene_views(py::class_<Scene>& cls) {
             return out;
           },
           "The target changes, sorted by step, as dicts (control_point is an index).")
-      .def_property_readonly("residual_tol", &Scene::residual_tol, "Residual tolerance in use, rig units.")
-      .def_property_readonly("speed_tol", &Scene::speed_tol, "Rest speed tolerance in use, rig units/s.")
+      .def_property_readonly("residual_tol", &Scene::residual_tol,
+                             "Residual tolerance in use, rig units.")
+      .def_property_readonly("speed_tol", &Scene::speed_tol,
+                             "Rest speed tolerance in use, rig units/s.")
       .def("__repr__", [](const Scene& s) {
         return "<physik.Scene '" + s.file + "': " + std::to_string(s.rig.nbone) + " bones, " +
                std::to_string(s.control_points.size()) + " control points, " +
@@ -267,8 +283,9 @@ void bind_scene_views(py::class_<Scene>& cls) {
 void bind_model(py::module_& m) {
   bind_rig(m);
   bind_scene(m);
-  m.def("param_table", [] { return from_json(param_table_json()); },
-        R"doc(The engine parameter table, as `physik params --json` prints it.
+  m.def(
+      "param_table", [] { return from_json(param_table_json()); },
+      R"doc(The engine parameter table, as `physik params --json` prints it.
 
 {"presets": [...], "default_preset": name, "params": [row, ...]}, a row per scene "params" key:
 name, kind (real|integer|boolean|choice), unit, defaults {preset: value}, valid (text), doc, and
@@ -282,7 +299,8 @@ names.)doc");
           throw_input_error("scale", "", "", "must be a positive finite number");
         }
         if (density && (!(*density > 0.0) || !std::isfinite(*density))) {
-          throw_input_error("density", "", "", "must be a positive finite number (kg per rig unit)");
+          throw_input_error("density", "", "",
+                            "must be a positive finite number (kg per rig unit)");
         }
         return scaled_scene(scene, scale, density, scale_torsion);
       },

@@ -32,8 +32,8 @@ struct Session {
       : session(session_scene(scene, solve_mode)), scratch(session.pose()) {}
 
   PosingSession session;
-  Pose scratch;                      // set_pose's input, sized once
-  SolveResult last;                  // the last solve's result, for summary()
+  Pose scratch;      // set_pose's input, sized once
+  SolveResult last;  // the last solve's result, for summary()
   bool solved = false;
   std::vector<Vec3> angles, excess;  // scratch of the pose's joint angles
 };
@@ -70,8 +70,8 @@ void fill_pose(Session& s, py::handle local_rotations, py::handle root_head) {
   if (!q) throw py::type_error("set_pose(): local_rotations must be (nbone, 4) numbers");
   if (q.ndim() != 2 || q.shape(1) != 4 || q.shape(0) != rig.nbone) {
     throw_input_error("set_pose", "", "local_rotations",
-                      "shape " + std::string(py::str(q.attr("shape"))) +
-                          " for a rig of " + std::to_string(rig.nbone) + " bones (expected (" +
+                      "shape " + std::string(py::str(q.attr("shape"))) + " for a rig of " +
+                          std::to_string(rig.nbone) + " bones (expected (" +
                           std::to_string(rig.nbone) + ", 4), quaternions x, y, z, w)");
   }
   const double* d = q.data();
@@ -128,10 +128,12 @@ void bind_posing_solve(py::class_<Session>& cls, py::object result_type);
 void bind_posing_state(py::class_<Session>& cls);
 
 void bind_posing(py::module_& m) {
-  py::object result_type = py::module_::import("collections").attr("namedtuple")(
-      "PosingSolveResult", py::make_tuple("converged", "diverged", "stalled", "out_of_steps",
-                                          "steps", "finish_iterations", "residual", "final_dt",
-                                          "tolerance"));
+  py::object result_type =
+      py::module_::import("collections")
+          .attr("namedtuple")(
+              "PosingSolveResult",
+              py::make_tuple("converged", "diverged", "stalled", "out_of_steps", "steps",
+                             "finish_iterations", "residual", "final_dt", "tolerance"));
   result_type.attr("__module__") = "physik";
   result_type.attr("__doc__") = R"doc(PosingSession.solve's result (physik::SolveResult).
 
@@ -221,41 +223,40 @@ joint_separation). It does not watch for divergence: solve() does.)doc");
 // solve, with SolveRule's fields as keywords
 void bind_posing_solve(py::class_<Session>& cls, py::object result_type) {
   cls.def(
-          "solve",
-          [result_type](Session& s, double tolerance, double tolerance_fraction, int max_steps,
-                        int stall_steps, double stall_fraction, double dt_growth, double max_dt,
-                        const std::string& finish, py::object options) {
-            SolveRule rule;
-            rule.tolerance = tolerance;
-            rule.tolerance_fraction = tolerance_fraction;
-            rule.max_steps = max_steps;
-            rule.stall_steps = stall_steps;
-            rule.stall_fraction = stall_fraction;
-            rule.dt_growth = dt_growth;
-            rule.max_dt = max_dt;
-            rule.finish = finish_from(finish);
-            if (rule.finish == SolveFinish::kNone && !options.is_none()) {  // never unused
-              throw_input_error("solve", "", "finish_options",
-                                "given without a finish (ccd or dls)");
-            }
-            finish_options(options, rule.finish_options);
-            {
-              py::gil_scoped_release release;
-              s.last = s.session.solve(rule);
-            }
-            s.solved = true;
-            const SolveResult& r = s.last;
-            return result_type(r.converged, r.diverged, r.stalled, r.out_of_steps, r.steps,
-                               r.finish_iterations, r.residual, r.final_dt, r.tolerance);
-          },
-          py::kw_only(), py::arg("tolerance") = kDefaultRule.tolerance,
-          py::arg("tolerance_fraction") = kDefaultRule.tolerance_fraction,
-          py::arg("max_steps") = kDefaultRule.max_steps,
-          py::arg("stall_steps") = kDefaultRule.stall_steps,
-          py::arg("stall_fraction") = kDefaultRule.stall_fraction,
-          py::arg("dt_growth") = kDefaultRule.dt_growth, py::arg("max_dt") = kDefaultRule.max_dt,
-          py::arg("finish") = "none", py::arg("finish_options") = py::none(),
-          R"doc(Run the physics to the rule; the session continues from the result.
+      "solve",
+      [result_type](Session& s, double tolerance, double tolerance_fraction, int max_steps,
+                    int stall_steps, double stall_fraction, double dt_growth, double max_dt,
+                    const std::string& finish, py::object options) {
+        SolveRule rule;
+        rule.tolerance = tolerance;
+        rule.tolerance_fraction = tolerance_fraction;
+        rule.max_steps = max_steps;
+        rule.stall_steps = stall_steps;
+        rule.stall_fraction = stall_fraction;
+        rule.dt_growth = dt_growth;
+        rule.max_dt = max_dt;
+        rule.finish = finish_from(finish);
+        if (rule.finish == SolveFinish::kNone && !options.is_none()) {  // never unused
+          throw_input_error("solve", "", "finish_options", "given without a finish (ccd or dls)");
+        }
+        finish_options(options, rule.finish_options);
+        {
+          py::gil_scoped_release release;
+          s.last = s.session.solve(rule);
+        }
+        s.solved = true;
+        const SolveResult& r = s.last;
+        return result_type(r.converged, r.diverged, r.stalled, r.out_of_steps, r.steps,
+                           r.finish_iterations, r.residual, r.final_dt, r.tolerance);
+      },
+      py::kw_only(), py::arg("tolerance") = kDefaultRule.tolerance,
+      py::arg("tolerance_fraction") = kDefaultRule.tolerance_fraction,
+      py::arg("max_steps") = kDefaultRule.max_steps,
+      py::arg("stall_steps") = kDefaultRule.stall_steps,
+      py::arg("stall_fraction") = kDefaultRule.stall_fraction,
+      py::arg("dt_growth") = kDefaultRule.dt_growth, py::arg("max_dt") = kDefaultRule.max_dt,
+      py::arg("finish") = "none", py::arg("finish_options") = py::none(),
+      R"doc(Run the physics to the rule; the session continues from the result.
 
 The keywords are physik::SolveRule's, with its defaults: tolerance (rig units; 0 =
 tolerance_fraction of the chain's reach), max_steps, the stall rule (stopped when the residual
@@ -270,17 +271,21 @@ InputError.)doc");
 
 // what the session holds: its pose as views, the residual, the last solve's summary
 void bind_posing_state(py::class_<Session>& cls) {
-  cls.def("residual", [](const Session& s) { return s.session.residual(); },
-          "Largest distance of any control point from its target now, rig units.")
-      .def_property_readonly("num_control_points",
-                             [](const Session& s) { return s.session.num_control_points(); },
-                             "Number of control points.")
-      .def_property_readonly("scene", [](const Session& s) { return s.session.scene(); },
-                             "The session's scene (a copy; with solve_mode, its engine settings).")
-      .def_property_readonly("step_count", [](const Session& s) { return s.session.state().step; },
-                             "Steps taken so far.")
-      .def_property_readonly("time", [](const Session& s) { return s.session.state().time; },
-                             "Simulated time so far, s.")
+  cls.def(
+         "residual", [](const Session& s) { return s.session.residual(); },
+         "Largest distance of any control point from its target now, rig units.")
+      .def_property_readonly(
+          "num_control_points", [](const Session& s) { return s.session.num_control_points(); },
+          "Number of control points.")
+      .def_property_readonly(
+          "scene", [](const Session& s) { return s.session.scene(); },
+          "The session's scene (a copy; with solve_mode, its engine settings).")
+      .def_property_readonly(
+          "step_count", [](const Session& s) { return s.session.state().step; },
+          "Steps taken so far.")
+      .def_property_readonly(
+          "time", [](const Session& s) { return s.session.state().time; },
+          "Simulated time so far, s.")
       .def_property_readonly(
           "targets",
           [](py::object self) {

@@ -20,7 +20,8 @@ namespace physik::python {
 namespace {
 
 static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 arrays must be packed doubles");
-static_assert(sizeof(Quat) == 4 * sizeof(double), "Quat arrays must be packed doubles (x, y, z, w)");
+static_assert(sizeof(Quat) == 4 * sizeof(double),
+              "Quat arrays must be packed doubles (x, y, z, w)");
 
 // The rows of Simulation.run(record_every=N): trajectory.csv's (physik/io/recorder.h), as
 // arrays. A row for the state the run starts from, then step k when k % N == 0 or k is the
@@ -113,7 +114,8 @@ struct Simulation {
     stopped = monitor.observe(observe_step(scene, state, last));
     // the tuning study's "settled" (experiments/tuning_study.cpp): residuals within tolerance
     // and the rig at rest; a NaN fails both comparisons
-    const bool settled = last.max_residual <= rtol && std::sqrt(2.0 * last.kinetic_energy / mass) < vtol;
+    const bool settled =
+        last.max_residual <= rtol && std::sqrt(2.0 * last.kinetic_energy / mass) < vtol;
     if (!settled) last_unsettled = state.step;
     if (trajectory.wants(scene, state.step)) trajectory.add(scene, state, last);
   }
@@ -149,8 +151,8 @@ struct Simulation {
   double wall_s = 0.0;
   int last_unsettled = 0;
   double rtol = 0.0, vtol = 0.0, mass = 1.0;
-  TrajectoryRows trajectory;           // run(record_every=N)'s rows while it runs
-  std::vector<Vec3> angles, excess;    // scratch of the pose's joint angles
+  TrajectoryRows trajectory;         // run(record_every=N)'s rows while it runs
+  std::vector<Vec3> angles, excess;  // scratch of the pose's joint angles
 };
 
 py::dict stats_dict(const StepStats& st) {
@@ -185,7 +187,8 @@ void bind_simulation(py::module_& m) {
       py::arg("scene"),
       "physik::run_scene in one C++ call (no Python in the loop): the C++ side of "
       "bench/bench_python.py and a cross-check of Simulation.run(). Returns the summary dict.");
-  py::class_<Simulation> cls(m, "Simulation", R"doc(A run of the PhysIK engine on a scene, stepped from Python.
+  py::class_<Simulation> cls(m, "Simulation",
+                             R"doc(A run of the PhysIK engine on a scene, stepped from Python.
 
 Simulation(scene) copies the scene and puts the rig in its initial pose (step 0). step(n) and
 run() advance it; .summary is `physik simulate`'s summary.json as a dict; .pose gives numpy views
@@ -200,8 +203,7 @@ A Simulation is not thread-safe; step() and run() release the GIL while the engi
 
 // construction, step, run and the summary
 void bind_simulation_running(py::class_<Simulation>& cls) {
-  cls
-      .def(py::init<const Scene&>(), py::arg("scene"))
+  cls.def(py::init<const Scene&>(), py::arg("scene"))
       .def(
           "step",
           [](Simulation& s, long n, bool raise_on_divergence) {
@@ -243,27 +245,30 @@ diverged run raises DivergedError (the summary still says why).)doc")
           py::arg("raise_on_divergence"), py::arg("record_every"),
           "Simulation.run's C++ half: the summary, or (summary, trajectory arrays).")
       .def_property_readonly(
-          "summary", [](const Simulation& s) { return from_json(summary_to_json(s.scene, s.summary())); },
-          "The run so far as `physik simulate`'s summary.json (a dict); wall_time_s counts the time "
+          "summary",
+          [](const Simulation& s) { return from_json(summary_to_json(s.scene, s.summary())); },
+          "The run so far as `physik simulate`'s summary.json (a dict); wall_time_s counts the "
+          "time "
           "spent in the constructor, step() and run().");
 }
 
 // the pose: numpy views of the state, and its joint angles
 void bind_simulation_views(py::class_<Simulation>& cls) {
   cls.def(
-          "_views",
-          [](py::object self) {
-            Simulation& s = self.cast<Simulation&>();
-            const py::ssize_t n = s.scene.rig.nbone;
-            const BoneFrames& f = s.state.frames;
-            return py::make_tuple(
-                readonly_view(f.head_world[0].data(), n, 3, sizeof(Vec3), self),
-                readonly_view(f.tail_world[0].data(), n, 3, sizeof(Vec3), self),
-                readonly_view(f.orient_world[0].coeffs().data(), n, 4, sizeof(Quat), self),
-                readonly_view(s.state.pose.bone_local_rotation[0].coeffs().data(), n, 4, sizeof(Quat), self),
-                readonly_view(s.state.pose.root_head_world.data(), 3, self));
-          },
-          "(heads, tails, orientations, local_rotations, root_head) as read-only numpy views.")
+         "_views",
+         [](py::object self) {
+           Simulation& s = self.cast<Simulation&>();
+           const py::ssize_t n = s.scene.rig.nbone;
+           const BoneFrames& f = s.state.frames;
+           return py::make_tuple(
+               readonly_view(f.head_world[0].data(), n, 3, sizeof(Vec3), self),
+               readonly_view(f.tail_world[0].data(), n, 3, sizeof(Vec3), self),
+               readonly_view(f.orient_world[0].coeffs().data(), n, 4, sizeof(Quat), self),
+               readonly_view(s.state.pose.bone_local_rotation[0].coeffs().data(), n, 4,
+                             sizeof(Quat), self),
+               readonly_view(s.state.pose.root_head_world.data(), 3, self));
+         },
+         "(heads, tails, orientations, local_rotations, root_head) as read-only numpy views.")
       .def(
           "_joint_angles",
           [](Simulation& s) {
@@ -274,17 +279,21 @@ void bind_simulation_views(py::class_<Simulation>& cls) {
 
 // what the run has reached: its scene, step count, time and the monitor's verdicts
 void bind_simulation_state(py::class_<Simulation>& cls) {
-  cls.def_property_readonly("scene", [](const Simulation& s) { return s.scene; }, "The scene (a copy).")
-      .def_property_readonly("step_count", [](const Simulation& s) { return s.state.step; },
-                             "Steps taken so far.")
-      .def_property_readonly("time", [](const Simulation& s) { return s.state.time; },
-                             "Simulated time so far, s.")
-      .def_property_readonly("stopped", [](const Simulation& s) { return s.stopped; },
-                             "True once the run has stopped (diverged, or converged with a stop rule).")
-      .def_property_readonly("converged", [](const Simulation& s) { return s.monitor.converged(); },
-                             "The run monitor's converged flag (physik/engine/run_monitor.h).")
-      .def_property_readonly("diverged", [](const Simulation& s) { return s.monitor.diverged(); },
-                             "True once the run has diverged.")
+  cls.def_property_readonly(
+         "scene", [](const Simulation& s) { return s.scene; }, "The scene (a copy).")
+      .def_property_readonly(
+          "step_count", [](const Simulation& s) { return s.state.step; }, "Steps taken so far.")
+      .def_property_readonly(
+          "time", [](const Simulation& s) { return s.state.time; }, "Simulated time so far, s.")
+      .def_property_readonly(
+          "stopped", [](const Simulation& s) { return s.stopped; },
+          "True once the run has stopped (diverged, or converged with a stop rule).")
+      .def_property_readonly(
+          "converged", [](const Simulation& s) { return s.monitor.converged(); },
+          "The run monitor's converged flag (physik/engine/run_monitor.h).")
+      .def_property_readonly(
+          "diverged", [](const Simulation& s) { return s.monitor.diverged(); },
+          "True once the run has diverged.")
       .def_property_readonly(
           "steps_to_settle",
           [](const Simulation& s) {
@@ -294,8 +303,9 @@ void bind_simulation_state(py::class_<Simulation>& cls) {
           R"doc(The tuning study's measure: the first step from which every later step so far had
 every control point within residual_tol of its goal and the rig at rest (rms speed below
 speed_tol); -1 if the last step was not settled or the run diverged.)doc")
-      .def_property_readonly("last_step", [](const Simulation& s) { return stats_dict(s.last); },
-                             "The last step's StepStats as a dict (passes, kinetic_energy, ...).")
+      .def_property_readonly(
+          "last_step", [](const Simulation& s) { return stats_dict(s.last); },
+          "The last step's StepStats as a dict (passes, kinetic_energy, ...).")
       .def_property_readonly(
           "residuals",
           [](const Simulation& s) {
@@ -304,9 +314,10 @@ speed_tol); -1 if the last step was not settled or the run diverged.)doc")
             return py::array_t<double>(static_cast<py::ssize_t>(r.size()), r.data());
           },
           "Each control point's distance to its goal target now, rig units (a copy).")
-      .def_property_readonly("kinetic_energy",
-                             [](const Simulation& s) { return kinetic_energy(s.scene.rig, s.state); },
-                             "Kinetic energy now, J.");
+      .def_property_readonly(
+          "kinetic_energy",
+          [](const Simulation& s) { return kinetic_energy(s.scene.rig, s.state); },
+          "Kinetic energy now, J.");
 }
 
 }  // namespace physik::python

@@ -14,11 +14,16 @@ namespace {
 
 const char* kind_name(SolveOptionKind k) {
   switch (k) {
-    case SolveOptionKind::kReal: return "real";
-    case SolveOptionKind::kInteger: return "integer";
-    case SolveOptionKind::kBoolean: return "boolean";
-    case SolveOptionKind::kChoice: return "choice";
-    case SolveOptionKind::kVec3: return "vec3";
+    case SolveOptionKind::kReal:
+      return "real";
+    case SolveOptionKind::kInteger:
+      return "integer";
+    case SolveOptionKind::kBoolean:
+      return "boolean";
+    case SolveOptionKind::kChoice:
+      return "choice";
+    case SolveOptionKind::kVec3:
+      return "vec3";
   }
   return "?";
 }
@@ -31,11 +36,21 @@ py::list option_table() {
     const SolveOptionValue v = r.get(defaults);
     py::object def;
     switch (r.kind) {
-      case SolveOptionKind::kChoice: def = py::str(v.text); break;
-      case SolveOptionKind::kBoolean: def = py::bool_(v.number != 0.0); break;
-      case SolveOptionKind::kInteger: def = py::int_(static_cast<long>(v.number)); break;
-      case SolveOptionKind::kReal: def = py::float_(v.number); break;
-      case SolveOptionKind::kVec3: def = py::none(); break;  // none given
+      case SolveOptionKind::kChoice:
+        def = py::str(v.text);
+        break;
+      case SolveOptionKind::kBoolean:
+        def = py::bool_(v.number != 0.0);
+        break;
+      case SolveOptionKind::kInteger:
+        def = py::int_(static_cast<long>(v.number));
+        break;
+      case SolveOptionKind::kReal:
+        def = py::float_(v.number);
+        break;
+      case SolveOptionKind::kVec3:
+        def = py::none();
+        break;  // none given
     }
     py::dict d;
     d["name"] = r.name;
@@ -55,17 +70,26 @@ SolveOptionValue option_value(const SolveOptionRow& row, const py::handle& value
   const std::string name = option_label(row.name, OptionSpelling::kName);
   try {
     switch (row.kind) {
-      case SolveOptionKind::kChoice: v.text = value.cast<std::string>(); break;
-      case SolveOptionKind::kBoolean: v.number = value.cast<bool>() ? 1.0 : 0.0; break;
-      case SolveOptionKind::kInteger: v.number = static_cast<double>(value.cast<long>()); break;
-      case SolveOptionKind::kReal: v.number = value.cast<double>(); break;
+      case SolveOptionKind::kChoice:
+        v.text = value.cast<std::string>();
+        break;
+      case SolveOptionKind::kBoolean:
+        v.number = value.cast<bool>() ? 1.0 : 0.0;
+        break;
+      case SolveOptionKind::kInteger:
+        v.number = static_cast<double>(value.cast<long>());
+        break;
+      case SolveOptionKind::kReal:
+        v.number = value.cast<double>();
+        break;
       case SolveOptionKind::kVec3:
         if (!value.is_none()) v.vec = value.cast<std::vector<double>>();
         break;
     }
   } catch (const py::cast_error&) {
-    throw_input_error(name, "", "", std::string("expected a ") + kind_name(row.kind) + ", got " +
-                                        std::string(py::str(value.get_type().attr("__name__"))));
+    throw_input_error(name, "", "",
+                      std::string("expected a ") + kind_name(row.kind) + ", got " +
+                          std::string(py::str(value.get_type().attr("__name__"))));
   }
   return v;
 }

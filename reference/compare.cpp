@@ -156,8 +156,8 @@ namespace {
 nlohmann::json run_json(const RunSummary& s) {
   return {{"steps_run", s.steps_run},
           {"converged", s.converged},
-          {"steps_to_converge", s.steps_to_converge < 0 ? nlohmann::json(nullptr)
-                                                         : nlohmann::json(s.steps_to_converge)},
+          {"steps_to_converge",
+           s.steps_to_converge < 0 ? nlohmann::json(nullptr) : nlohmann::json(s.steps_to_converge)},
           {"diverged", s.diverged},
           {"divergence_reason", s.divergence_reason},
           {"max_limit_violation_deg", s.max_limit_violation_deg},
@@ -251,7 +251,8 @@ RunSummary write_reference_run_folder(const Scene& scene, ReferenceMode mode,
 nlohmann::json write_reference_comparison(const Scene& scene, const std::string& spec,
                                           const std::string& out_dir, int every, bool verbose) {
   const ReferenceMode mode = parse_reference_spec(spec);
-  if (verbose) std::cerr << "reference: MuJoCo " << mj_versionString() << ", " << to_string(mode) << "\n";
+  if (verbose)
+    std::cerr << "reference: MuJoCo " << mj_versionString() << ", " << to_string(mode) << "\n";
   // the reference run as a run folder of its own (physik/io/run_folder.h), beside PhysIK's
   RunFolderWriter folder(scene, out_dir + "/" + kReferenceFolder, "--out");
   const Comparison c = compare_with_mujoco(scene, mode, folder.record_options(every));
@@ -260,8 +261,8 @@ nlohmann::json write_reference_comparison(const Scene& scene, const std::string&
   write_json(j, out_dir + "/comparison.json");
   if (verbose && j["diverged"].empty()) {
     std::cerr << "reference: rms gap " << c.gap.rms_gap << ", max gap " << c.gap.max_gap
-              << ", final pose gap " << c.gap.final_pose_gap << " (" << j["equilibrium"].get<std::string>()
-              << ") -> " << out_dir << "/comparison.json\n";
+              << ", final pose gap " << c.gap.final_pose_gap << " ("
+              << j["equilibrium"].get<std::string>() << ") -> " << out_dir << "/comparison.json\n";
   }
   return j;
 }

@@ -31,13 +31,14 @@ namespace physik {
 
 // "mujoco" (= same-forces), "mujoco:same-forces", "mujoco:exact-constraints". Throws InputError
 // naming `source` otherwise.
-ReferenceMode parse_reference_spec(const std::string& spec, const std::string& source = "--reference");
+ReferenceMode parse_reference_spec(const std::string& spec,
+                                   const std::string& source = "--reference");
 
 struct GapStats {
   int steps_compared = 0;
-  double rms_gap = 0.0;          // rig units
-  double max_gap = 0.0;          // rig units
-  double final_pose_gap = 0.0;   // rig units, max over endpoints
+  double rms_gap = 0.0;         // rig units
+  double max_gap = 0.0;         // rig units
+  double final_pose_gap = 0.0;  // rig units, max over endpoints
   double final_pose_rms_gap = 0.0;
 };
 
@@ -53,9 +54,9 @@ int free_endpoint_dof(const Scene& scene, const BoneFrames& frames);
 struct Comparison {
   ReferenceMode mode = ReferenceMode::kSameForces;
   RecordedRun physik, mujoco, free_rods;  // each with its frames after every step
-  GapStats gap;             // PhysIK (the scene's integration) vs MuJoCo
-  GapStats free_rods_gap;   // PhysIK free-rods vs MuJoCo
-  int free_endpoint_dof = 0;  // at MuJoCo's final pose
+  GapStats gap;                           // PhysIK (the scene's integration) vs MuJoCo
+  GapStats free_rods_gap;                 // PhysIK free-rods vs MuJoCo
+  int free_endpoint_dof = 0;              // at MuJoCo's final pose
 };
 
 // MuJoCo's run of a scene (run_mujoco) with a recorder (physik/io/recorder.h); `also` (if given)

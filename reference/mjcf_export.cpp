@@ -38,12 +38,23 @@ std::string xml_attr(const std::string& text) {
   out.reserve(text.size());
   for (const char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -75,8 +86,9 @@ Quat locked_rotation(const std::array<AxisLimit, 3>& limit) {
 
 void write_hinge(std::ostringstream& x, const std::string& bone, int axis, const AxisLimit& l,
                  double half_length, const std::string& pad) {
-  x << pad << "<joint name=\"" << xml_attr(bone) << ":" << kAxisName[axis] << "\" type=\"hinge\" axis=\""
-    << kAxisVec[axis] << "\" pos=\"0 " << num(-half_length) << " 0\"";
+  x << pad << "<joint name=\"" << xml_attr(bone) << ":" << kAxisName[axis]
+    << "\" type=\"hinge\" axis=\"" << kAxisVec[axis] << "\" pos=\"0 " << num(-half_length)
+    << " 0\"";
   if (l.limited) {
     x << " limited=\"true\" range=\"" << num(l.min) << " " << num(l.max) << "\"";
   } else {
@@ -111,9 +123,9 @@ void write_joints(std::ostringstream& x, const Rig& rig, int i, JointModel model
 struct MjcfWriter {
   const Rig& rig;
   const MjcfOptions& o;
-  std::string stem;                   // include files are stem.partK.xml
-  int bodies_per_file;                // 0: never split
-  std::vector<MjcfFile>* includes;    // nullptr: never split
+  std::string stem;                 // include files are stem.partK.xml
+  int bodies_per_file;              // 0: never split
+  std::vector<MjcfFile>* includes;  // nullptr: never split
 };
 
 void write_body(std::ostringstream& x, const MjcfWriter& w, int i, int depth, int file_depth);
@@ -158,7 +170,8 @@ void write_body(std::ostringstream& x, const MjcfWriter& w, int i, int depth, in
   } else {
     const int p = rig.bone_parent[i];
     q = rig.bone_rest_orient_parent[i] * mjcf_joint_offset(rig, i, o.joints);
-    pos = rig.bone_head_in_parent[i] - Vec3(0, 0.5 * rig.bone_length[p], 0) + q * Vec3(0, 0.5 * L, 0);
+    pos =
+        rig.bone_head_in_parent[i] - Vec3(0, 0.5 * rig.bone_length[p], 0) + q * Vec3(0, 0.5 * L, 0);
   }
   q.normalize();
   x << pad << "<body name=\"" << xml_attr(rig.bone_name[i]) << "\" pos=\"" << vec(pos)
@@ -186,15 +199,18 @@ std::string write_main(const MjcfWriter& w) {
   }
   if (deepest > kMaxMjcfDepth) {
     throw_input_error(o.source.empty() ? "rig '" + rig.name + "'" : o.source, "", "bones",
-                      "the rig is " + std::to_string(deepest) + " bones deep; export-mjcf writes "
-                      "body trees at most " + std::to_string(kMaxMjcfDepth) +
-                      " deep (mjcf_export.h kMaxMjcfDepth)");
+                      "the rig is " + std::to_string(deepest) +
+                          " bones deep; export-mjcf writes "
+                          "body trees at most " +
+                          std::to_string(kMaxMjcfDepth) + " deep (mjcf_export.h kMaxMjcfDepth)");
   }
   std::ostringstream x;
-  x << "<!-- PhysIK rig '" << xml_comment(rig.name) << "' as MJCF (reference/mjcf_export.h): one body per bone "
+  x << "<!-- PhysIK rig '" << xml_comment(rig.name)
+    << "' as MJCF (reference/mjcf_export.h): one body per bone "
     << "at its centre of mass, local +Y along the bone; "
-    << (o.joints == JointModel::kBallJoints ? "ball joints (same-forces mode)"
-                                            : "joint types and limits from the rig (exact-constraints mode)")
+    << (o.joints == JointModel::kBallJoints
+            ? "ball joints (same-forces mode)"
+            : "joint types and limits from the rig (exact-constraints mode)")
     << " -->\n";
   x << "<mujoco model=\"" << xml_attr(rig.name.empty() ? "rig" : rig.name) << "\">\n";
   x << "  <compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n";

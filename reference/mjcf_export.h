@@ -55,8 +55,9 @@ struct MjcfOptions {
 // InputError naming the rig file.
 constexpr int kMaxMjcfDepth = 5000;
 
-// The MJCF text of the rig, in one file (names as XML entities where they hold & < > " '). MuJoCo 2.2.2's XML parser rejects elements nested
-// about 100 deep (XML_ELEMENT_DEPTH_EXCEEDED): one file holds rigs up to about 95 bones deep.
+// The MJCF text of the rig, in one file (names as XML entities where they hold & < > " ').
+// MuJoCo 2.2.2's XML parser rejects elements nested about 100 deep (XML_ELEMENT_DEPTH_EXCEEDED):
+// one file holds rigs up to about 95 bones deep.
 std::string rig_to_mjcf(const Rig& rig, const MjcfOptions& options);
 
 // The MJCF of a rig of any depth: files[0] is the main file (named main_name); once a file's

@@ -13,8 +13,8 @@
 // midpoint, so the body's first moment m r (gravity torque about the joint, translation-rotation
 // coupling) is not carried. Moments about the midpoint are exact; about the joint they follow
 // from the rig's own (midpoint) mass placement, not the body's.
-#include "reference/mujoco_log.h"
 #include "reference/mjcf_import.h"
+#include "reference/mujoco_log.h"
 
 #include <algorithm>
 #include <cmath>
@@ -25,8 +25,12 @@ namespace physik {
 
 namespace {
 
-Vec3 v3(const mjtNum* p) { return Vec3(p[0], p[1], p[2]); }
-Quat q4(const mjtNum* p) { return Quat(p[0], p[1], p[2], p[3]); }
+Vec3 v3(const mjtNum* p) {
+  return Vec3(p[0], p[1], p[2]);
+}
+Quat q4(const mjtNum* p) {
+  return Quat(p[0], p[1], p[2], p[3]);
+}
 Mat3 m9(const mjtNum* p) {
   Mat3 m;
   m << p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8];
@@ -200,16 +204,20 @@ std::vector<BodyJoints> body_joints(const mjModel* m, const mjData* d, const Mjc
       const double lo = m->jnt_range[2 * j], hi = m->jnt_range[2 * j + 1];
       const bool limited = m->jnt_limited[j] != 0;
       switch (m->jnt_type[j]) {
-        case mjJNT_FREE: bj[i].free = true; break;
+        case mjJNT_FREE:
+          bj[i].free = true;
+          break;
         case mjJNT_BALL:
           bj[i].ball = true;
           bj[i].ball_limited = bj[i].ball_limited || limited;
           bj[i].ball_range = std::max(lo, hi);
           break;
-        case mjJNT_SLIDE: ++rep.slide_joints_dropped; break;
+        case mjJNT_SLIDE:
+          ++rep.slide_joints_dropped;
+          break;
         case mjJNT_HINGE:
-          bj[i].hinges.push_back({(xmat * v3(m->jnt_axis + 3 * j)).normalized(),
-                                  {lo, hi, limited ? 1.0 : 0.0}});
+          bj[i].hinges.push_back(
+              {(xmat * v3(m->jnt_axis + 3 * j)).normalized(), {lo, hi, limited ? 1.0 : 0.0}});
           break;
       }
     }

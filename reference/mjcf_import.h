@@ -36,7 +36,8 @@
 //   ball                     limited: every axis [-r, r] (r = its cone angle); otherwise free
 //   free (root)              free (the rig's root is free anyway)
 //   slide                    cannot be represented (bones have fixed lengths): dropped, reported
-// Ranges beyond +-180 deg are clamped (reported). MuJoCo's ranges are radians in the compiled model.
+// Ranges beyond +-180 deg are clamped (reported). MuJoCo's ranges are radians in the compiled
+// model.
 #pragma once
 
 #include <string>
@@ -55,24 +56,24 @@ struct MjcfImportOptions {
 };
 
 struct MjcfImportReport {
-  int nbody_model = 0;                       // bodies in the model, without the world
-  int nbody_used = 0;                        // bodies in the chosen subtree
-  std::vector<std::string> skipped_bodies;   // other top-level bodies (roots of subtrees left out)
-  double model_mass = 0.0;                   // kg, the chosen subtree in MuJoCo
-  double rig_mass = 0.0;                     // kg, sum of bone masses
-  int mass_floor_bones = 0;                  // bones given the floor mass (massless bodies)
+  int nbody_model = 0;                      // bodies in the model, without the world
+  int nbody_used = 0;                       // bodies in the chosen subtree
+  std::vector<std::string> skipped_bodies;  // other top-level bodies (roots of subtrees left out)
+  double model_mass = 0.0;                  // kg, the chosen subtree in MuJoCo
+  double rig_mass = 0.0;                    // kg, sum of bone masses
+  int mass_floor_bones = 0;                 // bones given the floor mass (massless bodies)
   int slide_joints_dropped = 0;
-  int unaligned_hinges = 0;                  // hinges > 20 deg from every bone axis (bone freed)
-  double max_hinge_misalignment_deg = 0.0;   // of the mapped hinges
+  int unaligned_hinges = 0;                 // hinges > 20 deg from every bone axis (bone freed)
+  double max_hinge_misalignment_deg = 0.0;  // of the mapped hinges
   int clamped_ranges = 0;
-  double max_offdiag_inertia = 0.0;          // dropped off-diagonal / largest moment
-  double max_com_shift = 0.0;                // rig units, xipos vs the mean of its bones' midpoints
-  int cylinder_inertia_bones = 0;            // bones whose body inertia was unusable (cylinder used)
+  double max_offdiag_inertia = 0.0;  // dropped off-diagonal / largest moment
+  double max_com_shift = 0.0;        // rig units, xipos vs the mean of its bones' midpoints
+  int cylinder_inertia_bones = 0;    // bones whose body inertia was unusable (cylinder used)
 };
 
 struct MjcfRig {
-  PivotRig pivots;                 // the rig (pivots.rig); node i <-> MuJoCo body node_body[i]
-  std::vector<int> node_body;      // (nnode) MuJoCo body id
+  PivotRig pivots;                    // the rig (pivots.rig); node i <-> MuJoCo body node_body[i]
+  std::vector<int> node_body;         // (nnode) MuJoCo body id
   std::vector<Quat> node_rest_xquat;  // (nnode) body orientation at qpos0
   MjcfImportReport report;
   const Rig& rig() const { return pivots.rig; }

@@ -17,7 +17,9 @@ const char* to_string(ReferenceMode mode) {
 
 namespace {
 
-Vec3 vec_at(const mjtNum* p) { return Vec3(p[0], p[1], p[2]); }
+Vec3 vec_at(const mjtNum* p) {
+  return Vec3(p[0], p[1], p[2]);
+}
 
 void put(mjtNum* p, const Vec3& v) {
   p[0] = v.x();
@@ -46,9 +48,8 @@ void set_mujoco_state(const Rig& rig, const SimState& s, const mjModel* m, mjDat
         put(qvel + 3, R.conjugate() * s.omega_world[i]);
         continue;
       }
-      const Quat offset = mjcf_joint_offset(rig, i, m->jnt_type[j] == mjJNT_BALL
-                                                        ? JointModel::kBallJoints
-                                                        : JointModel::kRigJoints);
+      const Quat offset = mjcf_joint_offset(
+          rig, i, m->jnt_type[j] == mjJNT_BALL ? JointModel::kBallJoints : JointModel::kRigJoints);
       const Quat q = (offset.conjugate() * s.pose.bone_local_rotation[i]).normalized();
       if (m->jnt_type[j] == mjJNT_BALL) {
         qpos[0] = q.w(), qpos[1] = q.x(), qpos[2] = q.y(), qpos[3] = q.z();

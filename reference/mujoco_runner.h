@@ -16,8 +16,9 @@
 //      start-of-step w, and both integrate positions with the new velocity (semi-implicit Euler),
 //      so the order of operations matches. In an articulated MuJoCo model tau_f is a generalized
 //      force J^T tau_f filtered by the mass matrix: it damps the joint velocities, which is not the
-//      same as scaling each bone's world w after the joint solve as PhysIK's articulated scheme does.
-//      If params.gyroscopic is off, +w x I w is added too, cancelling MuJoCo's own gyroscopic term.
+//      same as scaling each bone's world w after the joint solve as PhysIK's articulated scheme
+//      does. If params.gyroscopic is off, +w x I w is added too, cancelling MuJoCo's own gyroscopic
+//      term.
 //   4. xfrc_applied[b] = (force_world, torque_world): the net force at the centre of mass and the
 //      torque about it, world axes; then mj_step2 (constraint solve, Euler integration) and
 //      mj_step1 for the new state.
@@ -64,10 +65,10 @@ class MujocoReference {
  public:
   MujocoReference(const Scene& scene, ReferenceMode mode);
 
-  void reset();        // the scene's initial pose, targets and velocities
+  void reset();  // the scene's initial pose, targets and velocities
   // continue from another state (positions, velocities, pose; targets are taken from it too)
   void set_state(const SimState& state);
-  StepStats step();    // one step (see above); passes = MuJoCo's constraint-solver iterations
+  StepStats step();  // one step (see above); passes = MuJoCo's constraint-solver iterations
 
   const SimState& state() const { return s_; }
   const mjModel* model() const { return m_.get(); }

@@ -1,15 +1,16 @@
 // The articulated-body algorithm (physik/engine/articulated_body.h) against a dense solve
-// M(q) qdd = tau - C(q, qdot) assembled independently (tests/dense_dynamics.h): M = sum_b J_b^T diag(I_b, m_b) J_b
-// from body Jacobians, C from a classical (not spatial) Newton-Euler recursion of the velocity-
-// product accelerations; on random trees with random shapes, masses, inertias, poses, velocities
-// and forces. Also: the world view rebuilt from the joint state equals forward kinematics and
-// J qdot, and the extension points (extra body inertia, joint blocks) add J^T X J and R^T K R to M.
+// M(q) qdd = tau - C(q, qdot) assembled independently (tests/dense_dynamics.h): M = sum_b J_b^T
+// diag(I_b, m_b) J_b from body Jacobians, C from a classical (not spatial) Newton-Euler recursion
+// of the velocity- product accelerations; on random trees with random shapes, masses, inertias,
+// poses, velocities and forces. Also: the world view rebuilt from the joint state equals forward
+// kinematics and J qdot, and the extension points (extra body inertia, joint blocks) add J^T X J
+// and R^T K R to M.
 #include "physik/engine/articulated_body.h"
 
 #include <random>
 
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
 #include "physik/engine/integrate_joint_space.h"
 #include "physik/engine/state.h"
@@ -56,8 +57,8 @@ TEST(ArticulatedBody, AccelerationsEqualADenseSolveOnRandomTrees) {
     const MatX M = mass_matrix(t.rig, t.s);
     const VecX expected = M.ldlt().solve(generalised_force(t.rig, t.s));
     const VecX got = aba_qacc(t.rig, t.s.articulated);
-    const double err = (got - expected).cwiseAbs().maxCoeff() /
-                       std::max(1.0, expected.cwiseAbs().maxCoeff());
+    const double err =
+        (got - expected).cwiseAbs().maxCoeff() / std::max(1.0, expected.cwiseAbs().maxCoeff());
     worst = std::max(worst, err);
     EXPECT_LT(err, 1e-10) << "bones " << n << " trial " << trial;
   }

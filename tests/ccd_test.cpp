@@ -9,7 +9,9 @@
 namespace physik {
 namespace {
 
-TEST(Ccd, MeetsTheSolverContract) { test::expect_solver_contract(IkMethod::kCcd); }
+TEST(Ccd, MeetsTheSolverContract) {
+  test::expect_solver_contract(IkMethod::kCcd);
+}
 
 }  // namespace
 }  // namespace physik

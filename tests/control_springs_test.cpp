@@ -28,7 +28,8 @@ TEST(ControlSprings, CappedForceNeverExceedsKTimesCap) {
 TEST(ControlSprings, LinearIsHookesLawWithZeroRestLength) {
   const Vec3 d(0.3, -2.0, 4.0);
   EXPECT_TRUE(test::near(spring_force(SpringLaw::kLinear, 10.0, 1.0, d), 10.0 * d, 1e-15));
-  EXPECT_TRUE(test::near(spring_force(SpringLaw::kCapped, 10.0, 1.0, Vec3::Zero()), Vec3::Zero(), 0));
+  EXPECT_TRUE(
+      test::near(spring_force(SpringLaw::kCapped, 10.0, 1.0, Vec3::Zero()), Vec3::Zero(), 0));
   // far away the capped force has magnitude k c
   EXPECT_NEAR(spring_force(SpringLaw::kCapped, 10.0, 1.0, d).norm(), 10.0, 1e-12);
 }

@@ -81,8 +81,12 @@ inline RandomTree random_tree(std::mt19937& rng, int n, bool moving) {
   return t;
 }
 
-inline int nv(const Rig& rig) { return 6 + 3 * (rig.nbone - 1); }
-inline int dof(int bone) { return bone == 0 ? 3 : 3 + 3 * bone; }  // first rotational dof of a bone
+inline int nv(const Rig& rig) {
+  return 6 + 3 * (rig.nbone - 1);
+}
+inline int dof(int bone) {
+  return bone == 0 ? 3 : 3 + 3 * bone;
+}  // first rotational dof of a bone
 
 inline bool in_subtree(const Rig& rig, int bone, int root) {
   for (int b = bone; b >= 0; b = rig.bone_parent[b]) {

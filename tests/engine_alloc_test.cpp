@@ -6,8 +6,8 @@
 #include <gtest/gtest.h>
 
 #include "physik/engine/engine.h"
-#include "physik/model/scaled_scene.h"
 #include "physik/io/scene_io.h"
+#include "physik/model/scaled_scene.h"
 #include "physik/posing/posing_session.h"
 #include "tests/engine_test_util.h"
 #include "tests/test_util.h"
@@ -28,9 +28,15 @@ void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
   if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1);
   return std::malloc(n ? n : 1);
 }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept {
+  std::free(p);
+}
 
 namespace physik {
 namespace {
@@ -60,7 +66,8 @@ TEST(EngineAllocations, StepAllocatesNothing) {
 // The implicit step's energy guard splits a step without allocating: its snapshots are sized by
 // init_state (the 0.1x pinhead at c = 100 splits its first steps, implicit_advance_test.cpp).
 TEST(EngineAllocations, ASplitImplicitStepAllocatesNothing) {
-  Scene scene = scaled_scene(load_scene(test::model_path("scenes/pinhead_two_hands.json")), 0.1, 1.0);
+  Scene scene =
+      scaled_scene(load_scene(test::model_path("scenes/pinhead_two_hands.json")), 0.1, 1.0);
   scene.params.scheme = Scheme::kImplicit;
   scene.params.interpolation = Interpolation::kNone;
   scene.params.damping = 100.0;

@@ -40,8 +40,8 @@ TEST(Engine, OneRodOnASpringFollowsSemiImplicitEuler) {
 }
 
 // Pulled at its tail, the rod also turns. Integrate the same scheme by hand with rotation
-// matrices (not quaternions) and an explicit inertia tensor: a_cm = F/m, alpha = I^-1(tau - w x Iw),
-// w <- f w + alpha dt, R <- exp(w dt) R, cm <- cm + v dt.
+// matrices (not quaternions) and an explicit inertia tensor: a_cm = F/m, alpha = I^-1(tau - w x
+// Iw), w <- f w + alpha dt, R <- exp(w dt) R, cm <- cm + v dt.
 TEST(Engine, OneRodPulledAtItsTipMatchesAHandIntegratedRigidBody) {
   for (double dt : {0.01, 0.05}) {
     const double m = 1.5, k = 4.0, f = 0.7, L = 1.2, radius = 0.3;
@@ -121,8 +121,8 @@ TEST(Engine, DampingStabilityBoundForARod) {
 // The rotational mode alone, on the original's rod (r = 0.5, L = 1). With the per-step factor f,
 //   w' = f w + alpha dt = (f - c L^2 dt / (2 I_perp)) w,  stable iff c <= (1 + f) 2 I_perp/(L^2 dt)
 //      = ((1 + f)/2) (m/dt)(r^2/L^2 + 1/3):
-// 11.67 N s/m for f = 1 and 8.75 for the original's f = 0.5, both below the translational m/dt = 20,
-// so c just above them must blow up a spinning rod and c just below must not.
+// 11.67 N s/m for f = 1 and 8.75 for the original's f = 0.5, both below the translational m/dt =
+// 20, so c just above them must blow up a spinning rod and c just below must not.
 TEST(Engine, DampingRotationalBoundIsTheTighterOneForThinRods) {
   for (double f : {1.0, 0.5}) {
     const double m = 1.0, dt = 0.05, L = 1.0, r = 0.5;

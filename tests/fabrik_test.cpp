@@ -9,7 +9,9 @@
 namespace physik {
 namespace {
 
-TEST(Fabrik, MeetsTheSolverContract) { test::expect_solver_contract(IkMethod::kFabrik); }
+TEST(Fabrik, MeetsTheSolverContract) {
+  test::expect_solver_contract(IkMethod::kFabrik);
+}
 
 }  // namespace
 }  // namespace physik

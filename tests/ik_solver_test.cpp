@@ -11,8 +11,11 @@
 namespace physik {
 namespace {
 
-const IkMethod kAll[] = {IkMethod::kFabrik, IkMethod::kCcd, IkMethod::kJacobianTranspose,
-                         IkMethod::kDampedLeastSquares, IkMethod::kMassSpring,
+const IkMethod kAll[] = {IkMethod::kFabrik,
+                         IkMethod::kCcd,
+                         IkMethod::kJacobianTranspose,
+                         IkMethod::kDampedLeastSquares,
+                         IkMethod::kMassSpring,
                          IkMethod::kRotation};
 
 TEST(IkSolver, NamesRoundTrip) {
@@ -33,8 +36,8 @@ TEST(IkSolver, ReachIsThePathLengthToTheEffector) {
 }
 
 TEST(IkSolver, GoalsAreSortedInDfsOrderStably) {
-  const std::vector<IkGoal> goals = {{5, 1, Vec3::Zero()}, {2, 1, Vec3::Zero()},
-                                     {5, 0, Vec3::Zero()}, {0, 1, Vec3::Zero()}};
+  const std::vector<IkGoal> goals = {
+      {5, 1, Vec3::Zero()}, {2, 1, Vec3::Zero()}, {5, 0, Vec3::Zero()}, {0, 1, Vec3::Zero()}};
   EXPECT_EQ(dfs_goal_order(goals), (std::vector<int>{3, 1, 0, 2}));
 }
 

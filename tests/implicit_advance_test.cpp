@@ -12,9 +12,9 @@
 
 #include "physik/engine/engine.h"
 #include "physik/io/rig_io.h"
-#include "physik/model/scaled_scene.h"
 #include "physik/io/scene_io.h"
 #include "physik/model/rig_generators.h"
+#include "physik/model/scaled_scene.h"
 #include "physik/posing/posing_session.h"
 #include "tests/engine_test_util.h"
 #include "tests/test_util.h"
@@ -32,8 +32,9 @@ Scene small_pinhead(double c) {
 }
 
 struct EnergyTrace {
-  double first_step_gain = 0.0;  // E_1 / E_0 (the first step's energy over the start's, targets held)
-  double worst_growth = 0.0;     // the largest (E_k - E_k-1) / (E_k-1 + floor) over k >= 1
+  double first_step_gain =
+      0.0;                    // E_1 / E_0 (the first step's energy over the start's, targets held)
+  double worst_growth = 0.0;  // the largest (E_k - E_k-1) / (E_k-1 + floor) over k >= 1
   RunSummary summary;
 };
 
@@ -67,7 +68,8 @@ TEST(ImplicitAdvance, TheBareStepAddsEnergyOnTheSmallRigAndTheGuardSplitsIt) {
   const EnergyTrace b = trace(bare);
   std::cout << "0.1x pinhead, c = 100, bare step: E_1 / E_0 = " << b.first_step_gain
             << ", diverged " << b.summary.diverged << "\n";
-  EXPECT_GT(b.first_step_gain, 2.0) << "the case the guard is for: its bare first step gains energy";
+  EXPECT_GT(b.first_step_gain, 2.0)
+      << "the case the guard is for: its bare first step gains energy";
 
   Scene guarded = bare;
   guarded.params.implicit_max_splits = 8;

@@ -1,8 +1,8 @@
 // The implicit step (physik/engine/implicit_step.h): the one-DOF spring-damper recurrence against
 // its closed form for every h, c, k > 0; energy never grows on linear cases; the capped and torsion
 // tangents against finite differences; the augmented-inertia recursion against a dense
-// (M + h D + h^2 K) a = tau - C - h K v with K and D built from finite differences of the force laws
-// and point Jacobians, on random trees; no allocation per step is in engine_alloc_test.
+// (M + h D + h^2 K) a = tau - C - h K v with K and D built from finite differences of the force
+// laws and point Jacobians, on random trees; no allocation per step is in engine_alloc_test.
 #include "physik/engine/implicit_step.h"
 
 #include <cmath>
@@ -139,8 +139,8 @@ TEST(ImplicitStep, CappedStepStiffnessMajorisesThePotential) {
     const double k = 0.1 + std::abs(u(rng)) * 20.0, cap = 0.05 + 0.3 * std::abs(u(rng));
     const Vec3 d(u(rng), u(rng), u(rng)), x(u(rng), u(rng), u(rng));
     const auto model = [&](const Mat3& K) {
-      return control_spring_potential(law, k, cap, d.norm()) + spring_force(law, k, cap, d).dot(x - d) +
-             0.5 * (x - d).dot(K * (x - d));
+      return control_spring_potential(law, k, cap, d.norm()) +
+             spring_force(law, k, cap, d).dot(x - d) + 0.5 * (x - d).dot(K * (x - d));
     };
     const double U = control_spring_potential(law, k, cap, x.norm());
     EXPECT_GE(model(spring_step_stiffness(law, k, cap, d)), U - 1e-12 * (1.0 + U))
@@ -160,7 +160,8 @@ TEST(ImplicitStep, CappedStepStiffnessMajorisesThePotential) {
                       torsion_torque_local(locked, th, p)[0] * (th1.x() - th.x()) +
                       0.5 * Kt * (th1.x() - th.x()) * (th1.x() - th.x());
     const double Ut = torsion_spring_potential(law, k, cap, -th1.x());
-    EXPECT_GE(mt, Ut - 1e-12 * (1.0 + Ut)) << "torsion, law " << to_string(law) << " theta " << th.x();
+    EXPECT_GE(mt, Ut - 1e-12 * (1.0 + Ut))
+        << "torsion, law " << to_string(law) << " theta " << th.x();
   }
   EXPECT_GT(tangent_below, 100);  // the test can tell the two apart
 }
@@ -184,11 +185,13 @@ TEST(ImplicitStep, TorsionStiffnessEqualsFiniteDifferences) {
     for (int a = 0; a < 3; ++a) {
       const Vec3 e = eps * Vec3::Unit(a);
       const Vec3 fd = (torsion_torque_local(limits, theta + e, p) -
-                       torsion_torque_local(limits, theta - e, p)) / (2 * eps);
+                       torsion_torque_local(limits, theta - e, p)) /
+                      (2 * eps);
       if (std::abs(fd[a] + k[a]) > 1e-5) {
         // only at a kink (the band edge or the cap) may the two differ
         const Vec3 fd1 = (torsion_torque_local(limits, theta + 1e3 * e, p) -
-                          torsion_torque_local(limits, theta - 1e3 * e, p)) / (2e3 * eps);
+                          torsion_torque_local(limits, theta - 1e3 * e, p)) /
+                         (2e3 * eps);
         ADD_FAILURE() << "axis " << a << " stiffness " << k[a] << " finite difference " << -fd[a]
                       << " (wider " << -fd1[a] << ")";
       }
@@ -246,7 +249,8 @@ BlockCase block_case(bool elbow, TorsionTorque torque, const Vec3& theta) {
 Vec3 turned_torque_world(const BlockCase& c, const Vec3& dphi_world) {
   const Quat parent = c.s.frames.orient_world[0];
   const Mat3 Rpr = (parent * c.sc.rig.bone_rest_orient_parent[1]).toRotationMatrix();
-  const Quat q = quat_from_rotation_vector(Rpr.transpose() * dphi_world) * c.s.pose.bone_local_rotation[1];
+  const Quat q =
+      quat_from_rotation_vector(Rpr.transpose() * dphi_world) * c.s.pose.bone_local_rotation[1];
   const Vec3 th = rotation_vector(q);
   return Vec3(torsion_torque_frame(c.sc.rig, c.sc.params, parent, 1, th) *
               torsion_torque_local(c.sc.rig.bone_limit[1], th, c.sc.params));
@@ -272,14 +276,19 @@ TEST(ImplicitStep, TorsionBlockIsTheTorquesTangent) {
       const double eps = 1e-7;
       Mat3 exact;  // -dtau_world / dphi_world, by central differences
       for (int j = 0; j < 3; ++j) {
-        exact.col(j) = -(torque_world(eps * Vec3::Unit(j)) - torque_world(-eps * Vec3::Unit(j))) / (2 * eps);
+        exact.col(j) =
+            -(torque_world(eps * Vec3::Unit(j)) - torque_world(-eps * Vec3::Unit(j))) / (2 * eps);
       }
-      const std::string where = std::string(elbow ? "elbow" : "off the hinge") + ", " + to_string(torque);
+      const std::string where =
+          std::string(elbow ? "elbow" : "off the hinge") + ", " + to_string(torque);
       const Mat3 antisymmetric = 0.5 * (block - block.transpose());
       const Eigen::SelfAdjointEigenSolver<Mat3> block_sym(0.5 * (block + block.transpose()));
-      EXPECT_GE(block_sym.eigenvalues().minCoeff(), -1e-12 * block.norm()) << where << ": symmetric part PSD";
+      EXPECT_GE(block_sym.eigenvalues().minCoeff(), -1e-12 * block.norm())
+          << where << ": symmetric part PSD";
       if (torque == TorsionTorque::kGradient) {
-        EXPECT_LT((exact - block).norm(), 2.0 * tau + 1e-6) << where << "\nexact\n" << exact << "\nblock\n" << block;
+        EXPECT_LT((exact - block).norm(), 2.0 * tau + 1e-6) << where << "\nexact\n"
+                                                            << exact << "\nblock\n"
+                                                            << block;
         EXPECT_LT(antisymmetric.norm(), 1e-12 * block.norm()) << where;
       } else {
         // no frame turns: the block is the tangent, to the differences' round-off, less the
@@ -288,10 +297,13 @@ TEST(ImplicitStep, TorsionBlockIsTheTorquesTangent) {
         const Eigen::SelfAdjointEigenSolver<Mat3> sym(0.5 * (exact + exact.transpose()));
         const Mat3 negative = sym.eigenvectors() * sym.eigenvalues().cwiseMin(0.0).asDiagonal() *
                               sym.eigenvectors().transpose();
-        EXPECT_EQ(negative.norm() > 1e-3 * exact.norm(), !elbow) << where << ": " << sym.eigenvalues().transpose();
-        EXPECT_LT((exact - negative - block).norm(), 1e-6 * block.norm())
-            << where << "\nexact\n" << exact << "\nblock\n" << block;
-        EXPECT_LT((0.5 * (exact - exact.transpose()) - antisymmetric).norm(), 1e-6 * block.norm()) << where;
+        EXPECT_EQ(negative.norm() > 1e-3 * exact.norm(), !elbow)
+            << where << ": " << sym.eigenvalues().transpose();
+        EXPECT_LT((exact - negative - block).norm(), 1e-6 * block.norm()) << where << "\nexact\n"
+                                                                          << exact << "\nblock\n"
+                                                                          << block;
+        EXPECT_LT((0.5 * (exact - exact.transpose()) - antisymmetric).norm(), 1e-6 * block.norm())
+            << where;
         if (elbow) {
           const double expected = std::sqrt(2.0) * sc.params.torsion_k * std::abs(theta.x()) / 2.0;
           EXPECT_NEAR(antisymmetric.norm(), expected, 1e-3 * expected) << where;
@@ -333,9 +345,9 @@ Case random_case(std::mt19937& rng, int n, double h, double c, double f) {
   const int ncp = 1 + n / 2;
   for (int k = 0; k < ncp; ++k) {
     const int bone = std::uniform_int_distribution<int>(0, n - 1)(rng);
-    sc.control_points.push_back(test::control(bone, 0.5 + 0.5 * u(rng), 2.0 * Vec3(u(rng), u(rng), u(rng)),
-                                              5.0 + 20.0 * std::abs(u(rng)),
-                                              k % 2 ? SpringLaw::kCapped : SpringLaw::kLinear, 0.3));
+    sc.control_points.push_back(test::control(
+        bone, 0.5 + 0.5 * u(rng), 2.0 * Vec3(u(rng), u(rng), u(rng)), 5.0 + 20.0 * std::abs(u(rng)),
+        k % 2 ? SpringLaw::kCapped : SpringLaw::kLinear, 0.3));
   }
   SimState& s = out.s;
   size_state(sc.rig, sc.control_points.size(), s);
@@ -374,7 +386,8 @@ MatX dense_control_K(const Scene& sc, const SimState& s, double eps) {
     for (int j = 0; j < 3; ++j) {
       const Vec3 e = eps * Vec3::Unit(j);
       Kc.col(j) = -(spring_force(*cp.spring, *cp.k, *cp.cap, d - e) -
-                    spring_force(*cp.spring, *cp.k, *cp.cap, d + e)) / (2 * eps);
+                    spring_force(*cp.spring, *cp.k, *cp.cap, d + e)) /
+                  (2 * eps);
     }
     Kc = 0.5 * (Kc + Kc.transpose());
     // beyond the cap the step adds the secant along the pull, where the tangent has none
@@ -396,7 +409,8 @@ Mat3 dense_torsion_block(const Scene& sc, const SimState& s, int b, double eps) 
   Mat3 dtau;  // d tau_world / d theta_local
   for (int j = 0; j < 3; ++j) {
     const Vec3 e = eps * Vec3::Unit(j);
-    dtau.col(j) = (torsion_world(sc, s, b, theta + e) - torsion_world(sc, s, b, theta - e)) / (2 * eps);
+    dtau.col(j) =
+        (torsion_world(sc, s, b, theta + e) - torsion_world(sc, s, b, theta - e)) / (2 * eps);
   }
   // a capped torsion axis beyond its cap: the secant k c / |e| along its own axis
   // (torsion_step_stiffness_local), where the tangent has none
@@ -408,7 +422,8 @@ Mat3 dense_torsion_block(const Scene& sc, const SimState& s, int b, double eps) 
       if (!rig.bone_limit[b][a].limited) continue;
       const double e = torsion_excess(rig.bone_limit[b][a], prm.torsion_tolerance, theta[a]);
       if (std::abs(e) > prm.torsion_cap) {
-        dtau -= (prm.torsion_k * prm.torsion_cap / std::abs(e)) * Rpr.col(a) * Vec3::Unit(a).transpose();
+        dtau -= (prm.torsion_k * prm.torsion_cap / std::abs(e)) * Rpr.col(a) *
+                Vec3::Unit(a).transpose();
       }
     }
   }
@@ -419,7 +434,8 @@ Mat3 dense_torsion_block(const Scene& sc, const SimState& s, int b, double eps) 
     const Vec3 e = eps * Vec3::Unit(j);
     const Quat& q = s.pose.bone_local_rotation[b];
     dtheta.col(j) = (rotation_vector(quat_from_rotation_vector(Rpr.transpose() * e) * q) -
-                     rotation_vector(quat_from_rotation_vector(-(Rpr.transpose() * e)) * q)) / (2 * eps);
+                     rotation_vector(quat_from_rotation_vector(-(Rpr.transpose() * e)) * q)) /
+                    (2 * eps);
   }
   // the tangent's symmetric part loses its negative eigenvalues (torsion_step_block_local)
   const Mat3 tangent = -dtau * dtheta;
@@ -443,7 +459,8 @@ void dense_K_D(const Case& cs, MatX& K, MatX& D) {
       D += sc.params.damping * Jp.transpose() * Jp;
     }
     dense::jacobians(rig, s, b, Jw, Jv);
-    D += Jw.transpose() * ((1.0 - sc.params.angular_velocity_factor) / h * dense::inertia(rig, s, b)) * Jw;
+    D += Jw.transpose() *
+         ((1.0 - sc.params.angular_velocity_factor) / h * dense::inertia(rig, s, b)) * Jw;
     if (b == 0) continue;
     dense::jacobians(rig, s, rig.bone_parent[b], Jwp, Jvp);
     const MatX Jrel = Jw - Jwp;
@@ -521,7 +538,8 @@ TEST(ImplicitStep, EveryPivotKeepsAPositiveDefiniteSymmetricPart) {
     forward_kinematics(rig, s0.pose, s0.frames);
     init_joint_space(rig, s0);
     for (int i = 1; i < rig.nbone; ++i) {
-      s0.pose.bone_local_rotation[i] = quat_from_rotation_vector(1.5 * Vec3(u(rng), u(rng), u(rng)));
+      s0.pose.bone_local_rotation[i] =
+          quat_from_rotation_vector(1.5 * Vec3(u(rng), u(rng), u(rng)));
     }
     world_from_joint_space(rig, s0);
     element_tangents(sc, s0);
@@ -530,7 +548,8 @@ TEST(ImplicitStep, EveryPivotKeepsAPositiveDefiniteSymmetricPart) {
       const Mat3& K = s0.torsion_block_world[i];
       ASSERT_GE(min_sym_eigenvalue(K), -1e-12 * K.norm()) << "trial " << trial << " bone " << i;
       const Vec3 theta = rotation_vector(s0.pose.bone_local_rotation[i]);
-      const Mat3 tangent = s0.torsion_stiffness[i].asDiagonal() * left_jacobian_inverse_transpose(theta).transpose();
+      const Mat3 tangent =
+          s0.torsion_stiffness[i].asDiagonal() * left_jacobian_inverse_transpose(theta).transpose();
       clipped += min_sym_eigenvalue(tangent) < -1e-9 * tangent.norm();
     }
     for (double h = 1e-3; h < 1e4; h *= 3.0) {
@@ -549,8 +568,9 @@ TEST(ImplicitStep, EveryPivotKeepsAPositiveDefiniteSymmetricPart) {
       ++checked;
     }
   }
-  std::cout << "pinhead at random: " << clipped << " torsion tangents with an indefinite symmetric part, "
-            << checked << " steps checked\n";
+  std::cout << "pinhead at random: " << clipped
+            << " torsion tangents with an indefinite symmetric part, " << checked
+            << " steps checked\n";
   EXPECT_GT(clipped, 10);
 }
 

@@ -157,7 +157,8 @@ TEST(JointSpace, LongChainPulledAtItsTailMovesBoneZero) {
   // before the forces have travelled and leaves bone 0 where it was
   const int n = 1000;
   Scene s = test::scene_for(make_chain_rig(n), preset_params("original"), 5);
-  s.control_points.push_back(test::control(n - 1, 1.0, Vec3(10.0, 0.0, n), 10.0, SpringLaw::kCapped));
+  s.control_points.push_back(
+      test::control(n - 1, 1.0, Vec3(10.0, 0.0, n), 10.0, SpringLaw::kCapped));
   s.params.interpolation = Interpolation::kNone;
   double moved[2] = {0.0, 0.0};
   for (int k = 0; k < 2; ++k) {

@@ -23,7 +23,8 @@ std::vector<Vec3> path(Interpolation scheme, const Vec3& from, const Vec3& to, c
 
 TEST(Interpolation, EndpointsAreExact) {
   const Vec3 from(1, 0, 0), to(-0.3, 2.0, 0.5), origin(0.1, 0.1, 0.1);
-  for (Interpolation s : {Interpolation::kLinear, Interpolation::kPolarHead, Interpolation::kPolarCom}) {
+  for (Interpolation s :
+       {Interpolation::kLinear, Interpolation::kPolarHead, Interpolation::kPolarCom}) {
     const auto p = path(s, from, to, origin, 17);
     EXPECT_EQ(p.front(), from);
     EXPECT_EQ(p.back(), to);  // the last step has alpha = 1: exact
@@ -61,13 +62,15 @@ TEST(Interpolation, LinearFallbackNearTheOrigin) {
   EXPECT_EQ(polar, linear);
   // the start near the origin too
   const Vec3 near_start(1e-4, 0, 0);
-  EXPECT_EQ(interpolate_step(Interpolation::kPolarCom, near_start, Vec3(1, 2, 3), origin, 0.5, 1e-3),
-            interpolate_step(Interpolation::kLinear, near_start, Vec3(1, 2, 3), origin, 0.5, 1e-3));
+  EXPECT_EQ(
+      interpolate_step(Interpolation::kPolarCom, near_start, Vec3(1, 2, 3), origin, 0.5, 1e-3),
+      interpolate_step(Interpolation::kLinear, near_start, Vec3(1, 2, 3), origin, 0.5, 1e-3));
   // away from it polar differs from linear
-  EXPECT_GT((interpolate_step(Interpolation::kPolarCom, Vec3(2, 0, 0), Vec3(0, 2, 0), origin, 0.5, 1e-3) -
-             interpolate_step(Interpolation::kLinear, Vec3(2, 0, 0), Vec3(0, 2, 0), origin, 0.5, 1e-3))
-                .norm(),
-            0.1);
+  EXPECT_GT(
+      (interpolate_step(Interpolation::kPolarCom, Vec3(2, 0, 0), Vec3(0, 2, 0), origin, 0.5, 1e-3) -
+       interpolate_step(Interpolation::kLinear, Vec3(2, 0, 0), Vec3(0, 2, 0), origin, 0.5, 1e-3))
+          .norm(),
+      0.1);
 }
 
 TEST(Interpolation, ScheduledJumpIsSpreadOverTheSetSteps) {
@@ -83,9 +86,9 @@ TEST(Interpolation, ScheduledJumpIsSpreadOverTheSetSteps) {
     step(scene, s);
     eff.push_back(s.target_effective_world[0]);
   }
-  EXPECT_TRUE(test::near(eff[4], Vec3(0, 0, 1), 1e-12));       // before the jump
-  EXPECT_TRUE(test::near(eff[5], Vec3(0.3, 0, 1), 1e-12));     // first of 10 steps
-  EXPECT_TRUE(test::near(eff[14], Vec3(3, 0, 1), 1e-12));      // the tenth lands
+  EXPECT_TRUE(test::near(eff[4], Vec3(0, 0, 1), 1e-12));    // before the jump
+  EXPECT_TRUE(test::near(eff[5], Vec3(0.3, 0, 1), 1e-12));  // first of 10 steps
+  EXPECT_TRUE(test::near(eff[14], Vec3(3, 0, 1), 1e-12));   // the tenth lands
   EXPECT_TRUE(test::near(eff[19], Vec3(3, 0, 1), 1e-12));
 }
 

@@ -53,7 +53,8 @@ TEST(Jacobian, AnalyticMemoisedAndBruteForceAgree) {
     const BoneFrames g = forward_kinematics(rig, p);
     for (int k = 0; k < 2; ++k) {
       const Vec3 d = (point_on_bone(g, pb.goals[k].bone, pb.goals[k].alpha) -
-                      point_on_bone(f, pb.goals[k].bone, pb.goals[k].alpha)) / eps;
+                      point_on_bone(f, pb.goals[k].bone, pb.goals[k].alpha)) /
+                     eps;
       EXPECT_TRUE(test::near(d, Ja.block<3, 1>(3 * k, c), 10 * eps)) << "column " << c;
     }
   }
@@ -76,8 +77,9 @@ TEST(DampedLeastSquares, LargerLambdaTakesSmallerSteps) {
     Pose start = pose;
     bump_colinear_joints(rig, active_bones(rig, {{2, 1, target}}), opt.colinear_bump, start);
     solve_ik(IkMethod::kDampedLeastSquares, rig, {{2, 1.0, target}}, pose, opt);
-    const double moved = (forward_kinematics(rig, pose).tail_world[2] -
-                          forward_kinematics(rig, start).tail_world[2]).norm();
+    const double moved =
+        (forward_kinematics(rig, pose).tail_world[2] - forward_kinematics(rig, start).tail_world[2])
+            .norm();
     EXPECT_LT(moved, previous) << "lambda " << lambda;
     previous = moved;
   }

@@ -38,7 +38,8 @@ TEST(JointAngles, AnalyticOnTheElbow) {
       {about(20, Vec3::UnitX()), {20, 0, 0}, {20, 0, 0}},       // 20 deg above the max
       {about(15, Vec3::UnitY()), {0, 15, 0}, {0, 15, 0}},       // a locked axis
       // about an oblique axis the rotation vector is the angle times the axis
-      {about(60, Vec3(-1, 0, 1)), {-60 / std::sqrt(2.0), 0, 60 / std::sqrt(2.0)},
+      {about(60, Vec3(-1, 0, 1)),
+       {-60 / std::sqrt(2.0), 0, 60 / std::sqrt(2.0)},
        {0, 0, 60 / std::sqrt(2.0)}},
       // past half a turn the log map takes the short way: 260 deg about x is -100 deg
       {about(260, Vec3::UnitX()), {-100, 0, 0}, {-10, 0, 0}},

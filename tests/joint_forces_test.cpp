@@ -7,8 +7,8 @@
 
 #include <gtest/gtest.h>
 
-#include "physik/engine/engine.h"
 #include "physik/engine/control_springs.h"
+#include "physik/engine/engine.h"
 #include "physik/engine/forces.h"
 #include "physik/engine/integrate.h"
 #include "physik/engine/newton_euler.h"
@@ -32,8 +32,8 @@ Scene random_pinhead_scene(std::mt19937& rng, bool centripetal) {
         Quat(Eigen::AngleAxisd(0.6 * u(rng), Vec3(u(rng), u(rng), u(rng)).normalized()));
   }
   for (int c = 0; c < 4; ++c) {
-    scene.control_points.push_back(test::control(
-        (c * 5) % scene.rig.nbone, 0.5 + 0.5 * u(rng), Vec3(u(rng), u(rng), u(rng)) * 2.0, 30.0));
+    scene.control_points.push_back(test::control((c * 5) % scene.rig.nbone, 0.5 + 0.5 * u(rng),
+                                                 Vec3(u(rng), u(rng), u(rng)) * 2.0, 30.0));
   }
   return scene;
 }

@@ -3,24 +3,27 @@
 
 #include <gtest/gtest.h>
 
-#include "physik/model/errors.h"
 #include "physik/io/rig_io.h"
+#include "physik/model/errors.h"
 #include "test_util.h"
 
 namespace physik {
 namespace {
 
-Rig elbow() { return load_rig(test::model_path("rigs/elbow.json")); }
+Rig elbow() {
+  return load_rig(test::model_path("rigs/elbow.json"));
+}
 
 TEST(JointLimits, AppliedByNameReplacingTheListedBonesOnly) {
   Rig rig = load_rig(test::model_path("rigs/pinhead.json"));
   const Rig before = rig;
-  const JointLimits lim = joint_limits_from_json(
-      parse_json_text(R"({"comment": "test", "limits_deg": {
+  const JointLimits lim =
+      joint_limits_from_json(parse_json_text(R"({"comment": "test", "limits_deg": {
         "forearm.L": {"x": [-90, 0]},
         "head": "locked",
-        "upper_arm.L": "free"}})", "l.json"),
-      "l.json");
+        "upper_arm.L": "free"}})",
+                                             "l.json"),
+                             "l.json");
   apply_joint_limits(rig, lim);
   const int fa = rig.find_bone("forearm.L");
   EXPECT_TRUE(rig.bone_limit[fa][0].limited);
@@ -78,7 +81,8 @@ TEST(JointLimits, EveryBadFileIsAnInputErrorNamingBoneAndField) {
     const char* expect;
   } cases[] = {
       {R"({"limits_deg": {"a": {"w": [0, 1]}}})", "limits_deg 'a': field 'w': unknown axis"},
-      {R"({"limits_deg": {"a": {"x": [10, 0]}}})", "field 'x': min 10 deg is greater than max 0 deg"},
+      {R"({"limits_deg": {"a": {"x": [10, 0]}}})",
+       "field 'x': min 10 deg is greater than max 0 deg"},
       {R"({"limits_deg": {"a": {"x": [-200, 0]}}})", "within [-180, 180]"},
       {R"({"limits_deg": {"a": {"x": [0, "b"]}}})", "field 'x[1]': expected a number"},
       {R"({"limits_deg": {"a": {"x": [0]}}})", "expected [min, max]"},

@@ -16,8 +16,10 @@ TEST_P(ShippedRigs, FkAtRestReproducesEveryHeadAndTail) {
   const Rig rig = load_rig(test::model_path(GetParam()));
   const BoneFrames f = forward_kinematics(rig, rest_pose(rig));
   for (int i = 0; i < rig.nbone; ++i) {
-    EXPECT_TRUE(test::near(f.head_world[i], rig.bone_rest_head_world[i], 1e-12)) << rig.bone_name[i];
-    EXPECT_TRUE(test::near(f.tail_world[i], rig.bone_rest_tail_world[i], 1e-12)) << rig.bone_name[i];
+    EXPECT_TRUE(test::near(f.head_world[i], rig.bone_rest_head_world[i], 1e-12))
+        << rig.bone_name[i];
+    EXPECT_TRUE(test::near(f.tail_world[i], rig.bone_rest_tail_world[i], 1e-12))
+        << rig.bone_name[i];
     EXPECT_LT(f.orient_world[i].angularDistance(rig.bone_rest_orient_world[i]), 1e-12);
   }
 }
@@ -74,8 +76,9 @@ TEST(Kinematics, RotatingAParentCarriesItsSubtreeRigidly) {
     bool in_subtree = false;
     for (int a = i; a >= 0; a = rig.bone_parent[a]) in_subtree = in_subtree || a == upper;
     if (in_subtree) {
-      EXPECT_TRUE(test::near(f.tail_world[i], shoulder + world_turn * (rest.tail_world[i] - shoulder),
-                             1e-12)) << rig.bone_name[i];
+      EXPECT_TRUE(test::near(f.tail_world[i],
+                             shoulder + world_turn * (rest.tail_world[i] - shoulder), 1e-12))
+          << rig.bone_name[i];
       EXPECT_LT(f.orient_world[i].angularDistance(world_turn * rest.orient_world[i]), 1e-12);
     } else {
       EXPECT_TRUE(test::near(f.tail_world[i], rest.tail_world[i], 1e-15)) << rig.bone_name[i];

@@ -7,7 +7,9 @@
 namespace physik {
 namespace {
 
-TEST(MassSpring, MeetsTheSolverContract) { test::expect_solver_contract(IkMethod::kMassSpring); }
+TEST(MassSpring, MeetsTheSolverContract) {
+  test::expect_solver_contract(IkMethod::kMassSpring);
+}
 
 }  // namespace
 }  // namespace physik

@@ -13,18 +13,18 @@ namespace {
 TEST(Names, Utf8ByRfc3629) {
   EXPECT_TRUE(valid_utf8(""));
   EXPECT_TRUE(valid_utf8("hand.L"));
-  EXPECT_TRUE(valid_utf8("caf\xc3\xa9"));                // U+00E9
-  EXPECT_TRUE(valid_utf8("\xe2\x98\x83"));               // U+2603
-  EXPECT_TRUE(valid_utf8("\xf0\x9f\x98\x80"));           // U+1F600
-  EXPECT_TRUE(valid_utf8("\xf4\x8f\xbf\xbf"));           // U+10FFFF, the last
-  EXPECT_FALSE(valid_utf8("\xff"));                      // never in UTF-8
-  EXPECT_FALSE(valid_utf8("\xc3"));                      // truncated
-  EXPECT_FALSE(valid_utf8("\xc0\xaf"));                  // overlong '/'
-  EXPECT_FALSE(valid_utf8("\xe0\x80\xaf"));              // overlong, 3 bytes
-  EXPECT_FALSE(valid_utf8("\xed\xa0\x80"));              // a surrogate, U+D800
-  EXPECT_FALSE(valid_utf8("\xf4\x90\x80\x80"));          // U+110000, past the last
-  EXPECT_FALSE(valid_utf8("\x80"));                      // a lone continuation byte
-  EXPECT_FALSE(valid_utf8("ab\xe2\x82"));                // truncated at the end
+  EXPECT_TRUE(valid_utf8("caf\xc3\xa9"));        // U+00E9
+  EXPECT_TRUE(valid_utf8("\xe2\x98\x83"));       // U+2603
+  EXPECT_TRUE(valid_utf8("\xf0\x9f\x98\x80"));   // U+1F600
+  EXPECT_TRUE(valid_utf8("\xf4\x8f\xbf\xbf"));   // U+10FFFF, the last
+  EXPECT_FALSE(valid_utf8("\xff"));              // never in UTF-8
+  EXPECT_FALSE(valid_utf8("\xc3"));              // truncated
+  EXPECT_FALSE(valid_utf8("\xc0\xaf"));          // overlong '/'
+  EXPECT_FALSE(valid_utf8("\xe0\x80\xaf"));      // overlong, 3 bytes
+  EXPECT_FALSE(valid_utf8("\xed\xa0\x80"));      // a surrogate, U+D800
+  EXPECT_FALSE(valid_utf8("\xf4\x90\x80\x80"));  // U+110000, past the last
+  EXPECT_FALSE(valid_utf8("\x80"));              // a lone continuation byte
+  EXPECT_FALSE(valid_utf8("ab\xe2\x82"));        // truncated at the end
 }
 
 TEST(Names, ProblemsSayWhichByteAndWhere) {

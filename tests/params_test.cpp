@@ -94,8 +94,10 @@ TEST(ParamTable, PaperPresetIsTheOriginalWithThePapersDampingAndStiffness) {
   for (const ParamRow& row : param_table()) {
     SCOPED_TRACE(row.name);
     const auto it = paper_changes.find(row.name);
-    if (it == paper_changes.end()) EXPECT_EQ(row.defaults[1], row.defaults[0]);
-    else EXPECT_TRUE(same_value(row, row.defaults[1], it->second));
+    if (it == paper_changes.end())
+      EXPECT_EQ(row.defaults[1], row.defaults[0]);
+    else
+      EXPECT_TRUE(same_value(row, row.defaults[1], it->second));
   }
   const EngineParams paper = preset_params("paper"), original = preset_params("original");
   EXPECT_EQ(paper.damping, 20.0);
@@ -106,16 +108,17 @@ TEST(ParamTable, PaperPresetIsTheOriginalWithThePapersDampingAndStiffness) {
 TEST(ParamTable, RobustIsTheOriginalWithTheImplicitStepDampingAutoAndTheGradientTorque) {
   // models/README.md: robust = scheme implicit, damping auto, torsion torque gradient; the rest as
   // the original
-  const std::map<std::string, std::string> robust_changes = {{"scheme", "implicit"},
-                                                             {"damping_auto", "true"},
-                                                             {"torsion_torque", "gradient"}};
+  const std::map<std::string, std::string> robust_changes = {
+      {"scheme", "implicit"}, {"damping_auto", "true"}, {"torsion_torque", "gradient"}};
   const int robust = preset_index("robust");
   ASSERT_GE(robust, 0);
   for (const ParamRow& row : param_table()) {
     SCOPED_TRACE(row.name);
     const auto it = robust_changes.find(row.name);
-    if (it == robust_changes.end()) EXPECT_EQ(row.defaults[robust], row.defaults[0]);
-    else EXPECT_TRUE(same_value(row, row.defaults[robust], it->second));
+    if (it == robust_changes.end())
+      EXPECT_EQ(row.defaults[robust], row.defaults[0]);
+    else
+      EXPECT_TRUE(same_value(row, row.defaults[robust], it->second));
   }
   // the default preset, of scene files that name none and of EngineParams()
   EXPECT_EQ(std::string(kDefaultPreset), "robust");
@@ -158,10 +161,11 @@ TEST(ParamTable, RowsOutOfTheSchemeAreWrittenOnlyWhereTheyCount) {
   EXPECT_FALSE(params_to_json(p).contains("torsion_torque"));
   p.torsion_torque = TorsionTorque::kGradient;
   EXPECT_EQ(params_to_json(p)["torsion_torque"], "gradient");
-  EXPECT_EQ(params_from_json(params_to_json(p), "rt.json").torsion_torque, TorsionTorque::kGradient);
+  EXPECT_EQ(params_from_json(params_to_json(p), "rt.json").torsion_torque,
+            TorsionTorque::kGradient);
   for (const ParamRow& row : param_table()) {
-    if (row.name != "free_rods" && row.name != "damping_auto" && row.name != "implicit_max_splits" &&
-        row.name != "torsion_torque") {
+    if (row.name != "free_rods" && row.name != "damping_auto" &&
+        row.name != "implicit_max_splits" && row.name != "torsion_torque") {
       EXPECT_TRUE(row.written_at_default) << row.name;
     }
   }
@@ -193,9 +197,12 @@ ParamValue other_value(const ParamRow& row) {
     case ParamKind::kReal:
       if (!row.valid.hi) return 2.0 * d + 0.125;
       return 0.5 * (d + (d > *row.valid.lo ? *row.valid.lo : *row.valid.hi));
-    case ParamKind::kInteger: return d + 3.0;
-    case ParamKind::kBoolean: return d != 0.0 ? 0.0 : 1.0;
-    case ParamKind::kChoice: return static_cast<ParamValue>((static_cast<int>(d) + 1) % row.choices.size());
+    case ParamKind::kInteger:
+      return d + 3.0;
+    case ParamKind::kBoolean:
+      return d != 0.0 ? 0.0 : 1.0;
+    case ParamKind::kChoice:
+      return static_cast<ParamValue>((static_cast<int>(d) + 1) % row.choices.size());
   }
   return d;
 }
@@ -251,7 +258,11 @@ std::string set_error(const std::string& assignment) {
 }
 
 TEST(ParamTable, EveryBoundGivesItsMessageInSceneFilesAndSet) {
-  struct Case { const char* key; const char* value; const char* reason; };
+  struct Case {
+    const char* key;
+    const char* value;
+    const char* reason;
+  };
   const Case cases[] = {
       {"dt", "0", "must be positive"},
       {"dt", "-0.01", "must be positive"},
@@ -272,7 +283,8 @@ TEST(ParamTable, EveryBoundGivesItsMessageInSceneFilesAndSet) {
   for (const Case& c : cases) {
     SCOPED_TRACE(std::string(c.key) + " = " + c.value);
     const std::string field = std::string("params: field '") + c.key + "': " + c.reason;
-    EXPECT_EQ(params_error(std::string("{\"") + c.key + "\": " + c.value + "}"), "p.json: " + field);
+    EXPECT_EQ(params_error(std::string("{\"") + c.key + "\": " + c.value + "}"),
+              "p.json: " + field);
     EXPECT_EQ(set_error(std::string(c.key) + "=" + c.value), "--set: " + field);
   }
   // every ranged row (a new one too) refuses a value past each bound, alike in both places
@@ -287,7 +299,8 @@ TEST(ParamTable, EveryBoundGivesItsMessageInSceneFilesAndSet) {
       EXPECT_FALSE(why.empty());
       EXPECT_EQ(params_error("{\"" + row.name + "\": " + text + "}"),
                 "p.json: params: field '" + row.name + "': " + why);
-      EXPECT_EQ(set_error(row.name + "=" + text), "--set: params: field '" + row.name + "': " + why);
+      EXPECT_EQ(set_error(row.name + "=" + text),
+                "--set: params: field '" + row.name + "': " + why);
     }
   }
   // the bounds that are allowed are accepted
@@ -318,11 +331,15 @@ TEST(ParamSet, EachKindParsesItsTextAndRejectsBadText) {
   EXPECT_EQ(set_error("dt=0.05s"), "--set: params: field 'dt': expected a number, got '0.05s'");
   EXPECT_EQ(set_error("dt=inf"), "--set: params: field 'dt': not a finite number");
   EXPECT_EQ(set_error("dt="), "--set: params: field 'dt': expected a number, got ''");
-  EXPECT_EQ(set_error("max_passes=2.5"), "--set: params: field 'max_passes': expected an integer, got '2.5'");
-  EXPECT_EQ(set_error("max_passes=4294967297"), "--set: params: field 'max_passes': integer out of range");
-  EXPECT_EQ(set_error("centripetal=yes"), "--set: params: field 'centripetal': expected true or false, got 'yes'");
-  EXPECT_EQ(set_error("control_spring=bungee"),
-            "--set: params: field 'control_spring': unknown value 'bungee' (expected linear|capped)");
+  EXPECT_EQ(set_error("max_passes=2.5"),
+            "--set: params: field 'max_passes': expected an integer, got '2.5'");
+  EXPECT_EQ(set_error("max_passes=4294967297"),
+            "--set: params: field 'max_passes': integer out of range");
+  EXPECT_EQ(set_error("centripetal=yes"),
+            "--set: params: field 'centripetal': expected true or false, got 'yes'");
+  EXPECT_EQ(
+      set_error("control_spring=bungee"),
+      "--set: params: field 'control_spring': unknown value 'bungee' (expected linear|capped)");
   EXPECT_EQ(set_error("preset=fast"),
             "--set: params: field 'preset': unknown preset 'fast' (original|paper|robust)");
   EXPECT_EQ(set_error("=3"), "--set: field '=3': expected key=value");
@@ -332,17 +349,21 @@ TEST(ParamSet, EachKindParsesItsTextAndRejectsBadText) {
   EXPECT_EQ(set_error("torsion_tolerence=0.2"),
             "--set: unknown parameter 'torsion_tolerence' (did you mean 'torsion_tolerance'?)");
   const std::string unknown = set_error("wobbliness=3");
-  EXPECT_EQ(unknown.rfind("--set: unknown parameter 'wobbliness' (known: preset, dt, damping,", 0), 0u)
+  EXPECT_EQ(unknown.rfind("--set: unknown parameter 'wobbliness' (known: preset, dt, damping,", 0),
+            0u)
       << unknown;
-  for (const ParamRow& row : param_table()) EXPECT_NE(unknown.find(row.name), std::string::npos) << row.name;
+  for (const ParamRow& row : param_table())
+    EXPECT_NE(unknown.find(row.name), std::string::npos) << row.name;
   // in a scene file too, naming the file and the field
   EXPECT_EQ(params_error(R"({"dampng": 3})"),
             "p.json: params: field 'dampng': unknown parameter 'dampng' (did you mean 'damping'?)");
 }
 
-std::string scene_params_error(const std::string& params_json, const std::vector<std::string>& set) {
+std::string scene_params_error(const std::string& params_json,
+                               const std::vector<std::string>& set) {
   try {
-    params_from_json(parse_json_text(params_json, "p.json"), "p.json", parse_param_overrides(set, "--set"));
+    params_from_json(parse_json_text(params_json, "p.json"), "p.json",
+                     parse_param_overrides(set, "--set"));
   } catch (const InputError& e) {
     return e.what();
   }
@@ -351,7 +372,8 @@ std::string scene_params_error(const std::string& params_json, const std::vector
 
 TEST(ParamSet, AnExplicitDampingTurnsDampingAutoOffAndIsTheValueUsed) {
   // robust's damping is auto: a number given for it, by the file or --set, is the one used
-  const EngineParams file = params_from_json(parse_json_text(R"({"damping": 1})", "p.json"), "p.json");
+  const EngineParams file =
+      params_from_json(parse_json_text(R"({"damping": 1})", "p.json"), "p.json");
   EXPECT_FALSE(file.damping_auto);
   EXPECT_EQ(file.damping, 1.0);
   const EngineParams set =
@@ -361,14 +383,16 @@ TEST(ParamSet, AnExplicitDampingTurnsDampingAutoOffAndIsTheValueUsed) {
   EXPECT_EQ(set.damping, 1.0);
   // and the other way round; overrides apply in order, the later wins
   const EngineParams back =
-      params_from_json(parse_json_text(R"({"preset": "original", "damping": 2})", "p.json"), "p.json",
-                       parse_param_overrides({"damping=1", "damping=auto"}, "--set"));
+      params_from_json(parse_json_text(R"({"preset": "original", "damping": 2})", "p.json"),
+                       "p.json", parse_param_overrides({"damping=1", "damping=auto"}, "--set"));
   EXPECT_TRUE(back.damping_auto);
   // a file that gives both is contradictory
   EXPECT_EQ(scene_params_error(R"({"preset": "original", "damping": 2, "damping_auto": true})", {}),
-            "p.json: params: field 'damping': a damping value beside damping auto: give one or the other");
-  EXPECT_EQ(scene_params_error(R"({"damping": "auto", "damping_auto": false})", {}),
-            "p.json: params: field 'damping_auto': beside \"damping\": \"auto\": give one or the other");
+            "p.json: params: field 'damping': a damping value beside damping auto: give one or the "
+            "other");
+  EXPECT_EQ(
+      scene_params_error(R"({"damping": "auto", "damping_auto": false})", {}),
+      "p.json: params: field 'damping_auto': beside \"damping\": \"auto\": give one or the other");
 }
 
 TEST(ParamSet, AValueTheRunWouldNotUseIsRefusedNamingWhereItCameFrom) {
@@ -386,9 +410,11 @@ TEST(ParamSet, AValueTheRunWouldNotUseIsRefusedNamingWhereItCameFrom) {
             "--set: field 'implicit_max_splits': applies to the implicit scheme only (this run: "
             "scheme gauss-seidel)");
   EXPECT_EQ(scene_params_error(R"({"torsion_cap": 0.2})", {}),
-            "p.json: params: field 'torsion_cap': applies to capped torsion springs only (this run: linear)");
+            "p.json: params: field 'torsion_cap': applies to capped torsion springs only (this "
+            "run: linear)");
   EXPECT_EQ(scene_params_error(R"({"interpolation": "none", "interpolation_steps": 5})", {}),
-            "p.json: params: field 'interpolation_steps': applies only with an interpolation (this run: none)");
+            "p.json: params: field 'interpolation_steps': applies only with an interpolation (this "
+            "run: none)");
   EXPECT_EQ(scene_params_error(R"({"interpolation_fallback": 0.01})", {}),
             "p.json: params: field 'interpolation_fallback': applies to polar interpolation only "
             "(this run: linear)");

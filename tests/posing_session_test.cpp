@@ -12,7 +12,9 @@
 namespace physik {
 namespace {
 
-Scene two_hands() { return load_scene(test::model_path("scenes/pinhead_two_hands.json")); }
+Scene two_hands() {
+  return load_scene(test::model_path("scenes/pinhead_two_hands.json"));
+}
 
 // f() throws InputError whose message contains `text`.
 template <class F>
@@ -127,10 +129,11 @@ TEST(PosingSession, ALengtheningImplicitStepSolvesInFewerSteps) {
   EXPECT_EQ(lengthening.scene().params.dt, scene.params.dt);
   for (int c = 0; c < 2; ++c) {
     const ControlPoint& cp = scene.control_points[c];
-    EXPECT_LT((point_on_bone(lengthening.frames(), cp.bone, cp.alpha) - cp.target_world).norm(), b.tolerance);
+    EXPECT_LT((point_on_bone(lengthening.frames(), cp.bone, cp.alpha) - cp.target_world).norm(),
+              b.tolerance);
   }
-  std::cout << "[solve mode] pinhead_two_hands implicit: dt fixed " << a.steps << " steps, lengthening x1.5 "
-            << b.steps << " steps\n";
+  std::cout << "[solve mode] pinhead_two_hands implicit: dt fixed " << a.steps
+            << " steps, lengthening x1.5 " << b.steps << " steps\n";
   PosingSession explicit_session(two_hands());
   expect_input_error([&] { explicit_session.solve(rule); }, "needs scheme implicit");
 }
@@ -249,12 +252,13 @@ TEST(PosingSession, DampingAutoIsChosenAgainWhenATargetMoves) {
 TEST(PosingSession, BadInputIsAnInputError) {
   PosingSession session(two_hands());
   expect_input_error([&] { session.set_target(2, Vec3::Zero()); },
-                           "no control point 2 (the scene has 2)");
+                     "no control point 2 (the scene has 2)");
   expect_input_error([&] { session.set_target(-1, Vec3::Zero()); }, "no control point -1");
   expect_input_error([&] { session.set_target(0, Vec3(0, std::nan(""), 0)); }, "not finite");
   Pose short_pose = session.pose();
   short_pose.bone_local_rotation.pop_back();
-  expect_input_error([&] { session.set_pose(short_pose); }, "17 bone rotations for a rig of 18 bones");
+  expect_input_error([&] { session.set_pose(short_pose); },
+                     "17 bone rotations for a rig of 18 bones");
   Pose nan_pose = session.pose();
   nan_pose.bone_local_rotation[3] = Quat(std::nan(""), 0, 0, 0);
   expect_input_error([&] { session.set_pose(nan_pose); }, "not a finite unit quaternion");

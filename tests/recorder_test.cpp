@@ -106,8 +106,8 @@ TEST(Recorder, HeaderNamesEveryColumnAndRowsFillThem) {
 
 TEST(Recorder, ResidualColumnsAreNamedAfterTheirPointsUniqueAndQuoted) {
   Scene scene = short_scene(2);
-  scene.control_points[0].name = "";         // no name: its index
-  scene.control_points[1].name = "grip, left";  // a comma: quoted
+  scene.control_points[0].name = "";                        // no name: its index
+  scene.control_points[1].name = "grip, left";              // a comma: quoted
   scene.control_points.push_back(scene.control_points[1]);  // the same name again: suffixed
   EXPECT_EQ(residual_column_names(scene),
             (std::vector<std::string>{"residual_0", "\"residual_grip, left\"",
@@ -202,7 +202,8 @@ TEST(Recorder, FramesAtChosenStepsAndAtEveryStep) {
   const RecordedRun some = record_run(scene, chosen);
   EXPECT_EQ(some.frame_steps, (std::vector<int>{0, 2, 5}));
   ASSERT_EQ(some.frames.size(), 3u);
-  EXPECT_EQ(state_hash(some.frames[0]), state_hash(forward_kinematics(scene.rig, scene.initial_pose)));
+  EXPECT_EQ(state_hash(some.frames[0]),
+            state_hash(forward_kinematics(scene.rig, scene.initial_pose)));
   EXPECT_EQ(state_hash(some.frames[1]), state_hash(all.frames[1]));
   EXPECT_EQ(state_hash(some.frames[2]), state_hash(all.frames[4]));
   EXPECT_TRUE(some.stats.empty());  // not asked for
@@ -227,7 +228,8 @@ TEST(Recorder, SimulateWritesTheRecordersTable) {
   const std::string out = ::testing::TempDir() + "/recorder_simulate";
   std::filesystem::remove_all(out);
   const std::string cmd = std::string(PHYSIK_BINARY) + " simulate " +
-                          test::model_path("scenes/pinhead_two_hands.json") + " --steps 25 --every 4 --quiet --out " + out;
+                          test::model_path("scenes/pinhead_two_hands.json") +
+                          " --steps 25 --every 4 --quiet --out " + out;
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   const Scene scene = short_scene(25);
   EXPECT_EQ(read_file(out + "/trajectory.csv"), table_of(scene, 4, RowRule::kEveryAndLast));

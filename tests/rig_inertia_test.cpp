@@ -1,8 +1,8 @@
 // The optional explicit per-bone inertia (BoneSpec::inertia_local, rig field "inertia_local").
 #include <gtest/gtest.h>
 
-#include "physik/model/errors.h"
 #include "physik/io/rig_io.h"
+#include "physik/model/errors.h"
 #include "test_util.h"
 
 namespace physik {
@@ -27,14 +27,16 @@ TEST(RigInertia, ImpossibleMomentsAreRejected) {
   for (const char* in : {"[0.5, 0.1, 0.1]", "[0, 1, 1]", "[-1, 1, 1]", "[1, 1]"}) {
     SCOPED_TRACE(in);
     const std::string text =
-        std::string(R"({"bones": [{"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,1], "inertia_local": )") +
+        std::string(
+            R"({"bones": [{"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,1], "inertia_local": )") +
         in + "}]}";
     try {
       rig_from_json_text(text, "i.json");
       ADD_FAILURE() << "no error";
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("i.json: bones[0] 'a': field 'inertia_local'"),
-                std::string::npos) << e.what();
+                std::string::npos)
+          << e.what();
     }
   }
 }

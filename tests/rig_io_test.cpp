@@ -18,7 +18,8 @@ void expect_error(const std::string& text, std::initializer_list<const char*> fr
     const std::string msg = e.what();
     EXPECT_EQ(msg.rfind("bad.json: ", 0), 0u) << msg;
     EXPECT_EQ(msg.find('\n'), std::string::npos) << "one line: " << msg;
-    for (const char* f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << msg << " lacks " << f;
+    for (const char* f : fragments)
+      EXPECT_NE(msg.find(f), std::string::npos) << msg << " lacks " << f;
   }
 }
 
@@ -71,15 +72,17 @@ TEST(RigInput, MinGreaterThanMax) {
 
 TEST(RigInput, LimitOutsidePlusMinus180FailsAtLoad) {
   // caught by the shared parser (axis_limits.h) as the file is read, one message naming the field
-  expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2],
+  expect_error(
+      rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2],
                             "limits_deg": {"z": [-200, 10]}})"),
-               {"bad.json: bones[1] 'b': field 'limits_deg.z': limits must lie within [-180, 180]"});
+      {"bad.json: bones[1] 'b': field 'limits_deg.z': limits must lie within [-180, 180]"});
   expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2],
                             "limits_deg": {"x": [0, 180.5]}})"),
                {"'b'", "field 'limits_deg.x'", "[-180, 180]"});
   // the bounds themselves are allowed
   const Rig rig = rig_from_json_text(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1],
-      "tail": [0,0,2], "limits_deg": {"y": [-180, 180]}})"), "ok.json");
+      "tail": [0,0,2], "limits_deg": {"y": [-180, 180]}})"),
+                                     "ok.json");
   EXPECT_DOUBLE_EQ(rig.bone_limit[1][1].min, -kPi);
   EXPECT_DOUBLE_EQ(rig.bone_limit[1][1].max, kPi);
 }
@@ -194,17 +197,20 @@ TEST(RigInput, BoneNamesMustBePrintable) {
   // CSV lines
   expect_error(rig_with(R"({"name": "b\nc", "parent": "a", "head": [0,0,1], "tail": [0,0,2]})"),
                {"bones[1]", "field 'name'", "control character 0x0a"});
-  expect_error(rig_with("{\"name\": \"b\xff\", \"parent\": \"a\", \"head\": [0,0,1], \"tail\": [0,0,2]}"),
-               {"invalid JSON"});
+  expect_error(
+      rig_with("{\"name\": \"b\xff\", \"parent\": \"a\", \"head\": [0,0,1], \"tail\": [0,0,2]}"),
+      {"invalid JSON"});
   // quotes, commas and '<' are names like any other
   const Rig rig = rig_from_json_text(
-      rig_with(R"({"name": "b\"<,c", "parent": "a", "head": [0,0,1], "tail": [0,0,2]})"), "ok.json");
+      rig_with(R"({"name": "b\"<,c", "parent": "a", "head": [0,0,1], "tail": [0,0,2]})"),
+      "ok.json");
   EXPECT_EQ(rig.bone_name[1], "b\"<,c");
 }
 
 TEST(RigInput, JsonNestedTooDeepIsRejectedBeforeParsing) {
   // a 200,000-deep array overflowed the stack when the document was copied
-  const std::string deep = R"({"bones": )" + std::string(200000, '[') + std::string(200000, ']') + "}";
+  const std::string deep =
+      R"({"bones": )" + std::string(200000, '[') + std::string(200000, ']') + "}";
   expect_error(deep, {"line 1", "nested deeper than 256"});
   // brackets inside strings do not count, nor do escaped quotes end a string
   std::string name(300, '[');

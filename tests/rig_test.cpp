@@ -16,7 +16,7 @@ namespace {
 TEST(Rig, PinheadCountsMatchThePaper) {
   const Rig rig = load_rig(test::model_path("rigs/pinhead.json"));
   EXPECT_EQ(rig.nbone, 18);
-  EXPECT_EQ(rig.joints.size(), 14u);       // paper Sec. 4: 14 joints
+  EXPECT_EQ(rig.joints.size(), 14u);        // paper Sec. 4: 14 joints
   EXPECT_EQ(rig.max_bones_per_joint(), 4);  // at most 4 bones around a joint
   EXPECT_EQ(rig.bone_name[0], "head");      // the file roots the hierarchy at the head
 }
@@ -36,8 +36,8 @@ TEST(Rig, PinheadLimbDegreesOfFreedom) {
 }
 
 TEST(Rig, ParentsComeBeforeChildren) {
-  for (const char* f : {"rigs/pinhead.json", "rigs/hand.json", "rigs/elbow.json",
-                        "rigs/chain3.json"}) {
+  for (const char* f :
+       {"rigs/pinhead.json", "rigs/hand.json", "rigs/elbow.json", "rigs/chain3.json"}) {
     const Rig rig = load_rig(test::model_path(f));
     EXPECT_EQ(rig.bone_parent[0], -1) << f;
     for (int i = 1; i < rig.nbone; ++i) {
@@ -52,7 +52,8 @@ TEST(Rig, DfsOrderIsRestoredFromAShuffledFile) {
     {"name": "c", "parent": "b", "head": [0,0,2], "tail": [0,0,3]},
     {"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,1]},
     {"name": "d", "parent": "a", "head": [0,0,1], "tail": [1,0,1]},
-    {"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2]}]})", "shuffled.json");
+    {"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2]}]})",
+                                     "shuffled.json");
   ASSERT_EQ(rig.nbone, 4);
   EXPECT_EQ(rig.bone_name[0], "a");
   // children keep file order: d before b, and c follows b in depth-first order
@@ -129,7 +130,8 @@ TEST(Rig, DepthIsTheInputsNotTheStacks) {
   }
   specs[3].head_world = Vec3(0, 0, 2);
   specs[4].head_world = Vec3(0, 0, 2);
-  for (int i : {3, 4}) specs[i].rest_frame_world = rest_frame_from_roll(specs[i].head_world, specs[i].tail_world, 0.0);
+  for (int i : {3, 4})
+    specs[i].rest_frame_world = rest_frame_from_roll(specs[i].head_world, specs[i].tail_world, 0.0);
   const Rig r = build_rig({specs[4], specs[2], specs[3], specs[1], specs[0]}, "shuffled");
   const std::vector<std::string> want = {"b0", "b2", "b1", "b4", "b3"};  // children in file order
   EXPECT_EQ(r.bone_name, want);

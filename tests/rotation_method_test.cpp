@@ -9,7 +9,9 @@
 namespace physik {
 namespace {
 
-TEST(Rotation, MeetsTheSolverContract) { test::expect_solver_contract(IkMethod::kRotation); }
+TEST(Rotation, MeetsTheSolverContract) {
+  test::expect_solver_contract(IkMethod::kRotation);
+}
 
 }  // namespace
 }  // namespace physik

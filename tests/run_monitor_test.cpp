@@ -1,7 +1,7 @@
 // RunMonitor: convergence and divergence rules fed with hand-made observations, so every
 // expected step number follows from the rules in run_monitor.h.
-#include "physik/engine/engine.h"
 #include "physik/engine/run_monitor.h"
+#include "physik/engine/engine.h"
 
 #include <cmath>
 #include <limits>
@@ -26,8 +26,8 @@ RunRules rules(int settle_steps = 5, int last_event = 0, bool stop = false) {
   return r;
 }
 
-constexpr double kMovingKe = 1.0;   // v = 1 rig unit/s
-constexpr double kRestKe = 0.001;   // v = sqrt(0.001) ~ 0.032 rig units/s
+constexpr double kMovingKe = 1.0;  // v = 1 rig unit/s
+constexpr double kRestKe = 0.001;  // v = sqrt(0.001) ~ 0.032 rig units/s
 
 StepObservation at(int step, double ke) {
   StepObservation o;
@@ -198,7 +198,7 @@ TEST(RunRules, TakenFromTheScene) {
   scene.convergence.stop_when_converged = true;
   const RunRules r = run_rules(scene);
   EXPECT_DOUBLE_EQ(r.speed_tol, 1e-3 * scene.rig.length_scale());  // the rod: 2e-3
-  EXPECT_EQ(r.energy_bound, 0.0);  // no fixed bound given: the energy rule
+  EXPECT_EQ(r.energy_bound, 0.0);    // no fixed bound given: the energy rule
   EXPECT_EQ(r.initial_energy, 0.0);  // at rest, no limit engaged
   EXPECT_DOUBLE_EQ(r.energy_floor, 0.5 * 3.0 * r.speed_tol * r.speed_tol);
   scene.convergence.divergence_energy = 50.0;

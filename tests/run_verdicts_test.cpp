@@ -34,7 +34,8 @@ TEST(Potential, ControlSpringForceIsMinusItsGradient) {
       for (int i = 0; i < 3; ++i) {
         const Vec3 e = Vec3::Unit(i) * h;
         grad[i] = (control_spring_potential(law, k, cap, (a + e - t).norm()) -
-                   control_spring_potential(law, k, cap, (a - e - t).norm())) / (2 * h);
+                   control_spring_potential(law, k, cap, (a - e - t).norm())) /
+                  (2 * h);
       }
       EXPECT_TRUE(test::near(-grad, spring_force(law, k, cap, t - a), 1e-6));
     }
@@ -79,18 +80,19 @@ TEST(EnergyRule, EnergyPastFourTimesWhatTheRigWasGivenDiverges) {
   RunRules r;
   r.speed_tol = 0.1;
   r.total_mass = 2.0;
-  r.initial_energy = 1.0;   // J
-  r.energy_floor = 0.01;    // J
+  r.initial_energy = 1.0;  // J
+  r.energy_floor = 0.01;   // J
   RunMonitor mon(r);
   // the targets give 2 J over two steps: E_in = 3 J; the bound is 4 (3 + 0.01) = 12.04 J
   EXPECT_FALSE(mon.observe(obs(1, 0.5, 1.0, 1.0)));
   EXPECT_FALSE(mon.observe(obs(2, 5.0, 7.0, 1.0)));  // 12 J: at the bound is not past it
   EXPECT_DOUBLE_EQ(mon.energy_given(), 3.0);
-  EXPECT_TRUE(mon.observe(obs(3, 6.0, 6.1, 0.0)));   // 12.1 J
+  EXPECT_TRUE(mon.observe(obs(3, 6.0, 6.1, 0.0)));  // 12.1 J
   const RunSummary s = mon.summary();
   EXPECT_TRUE(s.diverged);
   EXPECT_NE(s.divergence_reason.find("energy 12.1 J (kinetic 6 J) passed 4 x the 3 J"),
-            std::string::npos) << s.divergence_reason;
+            std::string::npos)
+      << s.divergence_reason;
   EXPECT_NE(s.divergence_reason.find("at step 3"), std::string::npos);
   EXPECT_NEAR(s.peak_energy_ratio, 12.1 / 3.01, 1e-12);
   EXPECT_DOUBLE_EQ(s.energy_given, 3.0);
@@ -160,10 +162,10 @@ TEST(EnergyRule, ARunThatGoesNonFiniteReportsItsLastFiniteState) {
 // One grid point of the damping sweep: the run as the monitor judges it, plus what happened to the
 // pose, watched by a second monitor that stops only on a non-finite state.
 struct SweepRun {
-  RunSummary verdict;        // the scene's rules
-  bool settled = false;      // converged (rest rule) with no residual ever past its start
-  bool wrecked = false;      // non-finite, or a residual past twice its start
-  double peak_ratio = 0.0;   // E_k / E_in over the whole run
+  RunSummary verdict;       // the scene's rules
+  bool settled = false;     // converged (rest rule) with no residual ever past its start
+  bool wrecked = false;     // non-finite, or a residual past twice its start
+  double peak_ratio = 0.0;  // E_k / E_in over the whole run
 };
 
 SweepRun sweep_run(Scene s) {
@@ -233,10 +235,10 @@ TEST(EnergyRule, DampingSweepGridFlagsTheBlowUpsAndNoRunThatSettles) {
 }
 
 TEST(EnergyRule, EveryShippedSceneKeepsItsVerdictAndTheTightHandDiverges) {
-  for (const char* name : {"pinhead_two_hands", "fig5_running", "fig9_outstretched",
-                           "fig10_raise_linear", "fig10_raise_polar-com", "fig11_sit",
-                           "fig6_elbow_capped", "fig6_elbow_linear", "fig7_cannon_capped",
-                           "fig7_cannon_linear", "fig8_wobble", "hand_tight"}) {
+  for (const char* name :
+       {"pinhead_two_hands", "fig5_running", "fig9_outstretched", "fig10_raise_linear",
+        "fig10_raise_polar-com", "fig11_sit", "fig6_elbow_capped", "fig6_elbow_linear",
+        "fig7_cannon_capped", "fig7_cannon_linear", "fig8_wobble", "hand_tight"}) {
     SCOPED_TRACE(name);
     const Scene s = load_scene(test::model_path(std::string("scenes/") + name + ".json"));
     const RunSummary r = run_scene(s);
@@ -329,7 +331,8 @@ TEST(JointSolveHonesty, AThousandBoneChainPulledAtItsTailIsReported) {
   const nlohmann::json j = summary_to_json(s, r);
   EXPECT_EQ(j["joint_unpropagated_steps"], 3);
   // the shipped scenes never trip it (their smallest ratio is 3e-4)
-  const RunSummary pinhead = run_scene(load_scene(test::model_path("scenes/pinhead_two_hands.json")));
+  const RunSummary pinhead =
+      run_scene(load_scene(test::model_path("scenes/pinhead_two_hands.json")));
   EXPECT_EQ(pinhead.joint_unpropagated_steps, 0);
   EXPECT_EQ(pinhead.joint_solve_warning, "");
 }

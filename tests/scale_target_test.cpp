@@ -3,8 +3,8 @@
 
 #include <gtest/gtest.h>
 
-#include "physik/model/errors.h"
 #include "physik/ik/ik_solver.h"
+#include "physik/model/errors.h"
 #include "tests/test_util.h"
 
 namespace physik {

@@ -13,7 +13,9 @@
 namespace physik {
 namespace {
 
-std::string rig_dir() { return test::model_path("rigs"); }
+std::string rig_dir() {
+  return test::model_path("rigs");
+}
 
 Scene parse(const std::string& text) {
   return scene_from_json(parse_json_text(text, "bad_scene.json"), "bad_scene.json", rig_dir());
@@ -26,7 +28,8 @@ void expect_error(const std::string& text, std::initializer_list<const char*> fr
   } catch (const InputError& e) {
     const std::string msg = e.what();
     EXPECT_EQ(msg.rfind("bad_scene.json: ", 0), 0u) << msg;
-    for (const char* f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << msg << " lacks " << f;
+    for (const char* f : fragments)
+      EXPECT_NE(msg.find(f), std::string::npos) << msg << " lacks " << f;
   }
 }
 
@@ -35,12 +38,14 @@ std::string with_cp(const std::string& cp, const std::string& params = "{}") {
 }
 
 TEST(Scene, PresetsAndOverrides) {
-  const Scene a = parse(with_cp(R"({"bone": "forearm", "target": [0, 1, 3]})", R"({"preset": "paper"})"));
+  const Scene a =
+      parse(with_cp(R"({"bone": "forearm", "target": [0, 1, 3]})", R"({"preset": "paper"})"));
   EXPECT_EQ(a.params.damping, 20.0);
   EXPECT_EQ(a.params.dt, 0.05);
   EXPECT_EQ(a.params.joint_eps, 1e-3);
-  EXPECT_FALSE(a.control_points[0].k.has_value());       // no k of its own:
-  EXPECT_EQ(a.control_points[0].k_in(a.params), 30.0);  // the paper's k is the control-point default
+  EXPECT_FALSE(a.control_points[0].k.has_value());  // no k of its own:
+  EXPECT_EQ(a.control_points[0].k_in(a.params),
+            30.0);  // the paper's k is the control-point default
   const Scene b = parse(with_cp(R"({"bone": "forearm", "target": [0, 1, 3], "k": 5})",
                                 R"({"damping": 2.5, "integration": "free-rods"})"));
   EXPECT_EQ(b.params.preset, std::string(kDefaultPreset));
@@ -68,11 +73,13 @@ TEST(Scene, TheKeysSchemeReplacedMapOntoIt) {
   const auto scheme_of = [](const std::string& params) {
     return parse(with_cp(R"({"bone": "forearm", "target": [0, 1, 3]})", params)).params;
   };
-  EXPECT_EQ(scheme_of(R"({"preset": "original", "integration": "implicit"})").scheme, Scheme::kImplicit);
+  EXPECT_EQ(scheme_of(R"({"preset": "original", "integration": "implicit"})").scheme,
+            Scheme::kImplicit);
   EXPECT_EQ(scheme_of(R"({"integration": "articulated"})").scheme, Scheme::kGaussSeidel);
   EXPECT_EQ(scheme_of(R"({"integration": "articulated", "joint_solve": "exact"})").scheme,
             Scheme::kExact);
-  EXPECT_EQ(scheme_of(R"({"joint_solve": "exact"})").scheme, Scheme::kImplicit);  // implicit is exact
+  EXPECT_EQ(scheme_of(R"({"joint_solve": "exact"})").scheme,
+            Scheme::kImplicit);  // implicit is exact
   EXPECT_EQ(scheme_of(R"({"preset": "original", "joint_solve": "gauss-seidel"})").scheme,
             Scheme::kGaussSeidel);
   expect_error(with_cp("", R"({"integration": "implicit", "joint_solve": "gauss-seidel"})"),
@@ -84,23 +91,24 @@ TEST(Scene, TheKeysSchemeReplacedMapOntoIt) {
   expect_error(with_cp("", R"({"integration": "sideways"})"),
                {"params", "field 'integration'", "unknown value 'sideways'"});
   // --set takes them too, and the scheme named there wins over the file's old keys
-  const Scene e = scene_from_json(parse_json_text(with_cp(R"({"bone": "forearm", "target": [0, 1, 3]})",
-                                                          R"({"integration": "free-rods"})"),
-                                                  "o.json"),
-                                  "o.json", rig_dir(), parse_param_overrides({"scheme=exact"}, "--set"));
+  const Scene e = scene_from_json(
+      parse_json_text(
+          with_cp(R"({"bone": "forearm", "target": [0, 1, 3]})", R"({"integration": "free-rods"})"),
+          "o.json"),
+      "o.json", rig_dir(), parse_param_overrides({"scheme=exact"}, "--set"));
   EXPECT_EQ(e.params.scheme, Scheme::kExact);
   EXPECT_FALSE(e.params.free_rods);
-  const EngineParams f = params_from_json(Json(nullptr), "n.json",
-                                          parse_param_overrides({"integration=free-rods"}, "--set"));
+  const EngineParams f = params_from_json(
+      Json(nullptr), "n.json", parse_param_overrides({"integration=free-rods"}, "--set"));
   EXPECT_EQ(f.scheme, Scheme::kGaussSeidel);
   EXPECT_TRUE(f.free_rods);
 }
 
 TEST(Scene, ParamOverridesReachControlPointsThatInheritThem) {
   const std::string path = test::model_path("scenes/fig6_elbow_linear.json");  // control_k 30
-  const Scene a = load_scene(path, parse_param_overrides(
-                                       {"control_k=12", "control_spring=capped", "control_cap=0.3",
-                                        "damping=1.5"}, "--set"));
+  const Scene a = load_scene(path, parse_param_overrides({"control_k=12", "control_spring=capped",
+                                                          "control_cap=0.3", "damping=1.5"},
+                                                         "--set"));
   EXPECT_EQ(a.params.damping, 1.5);
   for (const ControlPoint& cp : a.control_points) {
     EXPECT_EQ(cp.k_in(a.params), 12.0);
@@ -114,10 +122,12 @@ TEST(Scene, ParamOverridesReachControlPointsThatInheritThem) {
   // an explicit per-point k is not overridden
   const auto dir = std::filesystem::temp_directory_path() / "physik_override_test";
   std::filesystem::create_directories(dir);
-  std::ofstream(dir / "s.json") << R"({"rig": ")" << test::model_path("rigs/elbow.json")
-                                << R"(", "control_points": [{"bone": "forearm", "target": [0,1,3], "k": 7},
+  std::ofstream(dir / "s.json")
+      << R"({"rig": ")" << test::model_path("rigs/elbow.json")
+      << R"(", "control_points": [{"bone": "forearm", "target": [0,1,3], "k": 7},
                                                             {"bone": "forearm", "target": [0,1,3]}]})";
-  const Scene c = load_scene((dir / "s.json").string(), parse_param_overrides({"control_k=5"}, "--set"));
+  const Scene c =
+      load_scene((dir / "s.json").string(), parse_param_overrides({"control_k=5"}, "--set"));
   EXPECT_EQ(c.control_points[0].k_in(c.params), 7.0);
   EXPECT_EQ(c.control_points[1].k_in(c.params), 5.0);
   // bad overrides name --set and the key
@@ -149,8 +159,7 @@ TEST(SceneInput, UnknownBone) {
 TEST(SceneInput, AlphaOutsideUnitInterval) {
   expect_error(with_cp(R"({"bone": "forearm", "alpha": 1.5, "target": [0, 0, 1]})"),
                {"control_points[0]", "'alpha'", "[0, 1]"});
-  expect_error(with_cp(R"({"bone": "forearm", "alpha": -0.1, "target": [0, 0, 1]})"),
-               {"'alpha'"});
+  expect_error(with_cp(R"({"bone": "forearm", "alpha": -0.1, "target": [0, 0, 1]})"), {"'alpha'"});
 }
 
 TEST(SceneInput, NegativeStiffnessOrTimeStep) {
@@ -180,7 +189,8 @@ TEST(SceneInput, MissingOrBadRig) {
 TEST(SceneInput, UnknownParamsAndValues) {
   expect_error(with_cp("", R"({"dampng": 3})"), {"params", "'dampng'", "did you mean 'damping'"});
   expect_error(with_cp("", R"({"preset": "fast"})"), {"params", "'preset'", "unknown preset"});
-  expect_error(with_cp("", R"({"integration": "rk4"})"), {"params", "'integration'", "articulated|free-rods"});
+  expect_error(with_cp("", R"({"integration": "rk4"})"),
+               {"params", "'integration'", "articulated|free-rods"});
   expect_error(with_cp("", R"({"interpolation": "cubic"})"), {"'interpolation'"});
   expect_error(with_cp("", R"({"joint_solve": "lu"})"),
                {"params", "'joint_solve'", "gauss-seidel|exact"});
@@ -191,7 +201,8 @@ TEST(SceneInput, UnknownParamsAndValues) {
 
 TEST(SceneInput, IntegersDoNotWrap) {
   expect_error(R"({"rig": "elbow.json", "steps": 4294967297})", {"'steps'", "out of range"});
-  expect_error(R"({"rig": "elbow.json", "steps": -9223372036854775807})", {"'steps'", "out of range"});
+  expect_error(R"({"rig": "elbow.json", "steps": -9223372036854775807})",
+               {"'steps'", "out of range"});
   expect_error(R"({"rig": "elbow.json", "steps": 2.5})", {"'steps'", "integer"});
 }
 
@@ -199,7 +210,9 @@ TEST(SceneInput, Schedule) {
   const std::string base = R"({"rig": "elbow.json", "steps": 50,
       "control_points": [{"name": "tip", "bone": "forearm", "target": [0, 0, 4]}], "schedule": )";
   EXPECT_EQ(parse(base + R"([{"step": 10, "control_point": "tip", "target": [1, 0, 3]}]})")
-                .schedule[0].control_point, 0);
+                .schedule[0]
+                .control_point,
+            0);
   expect_error(base + R"([{"step": 60, "control_point": 0, "target": [1, 0, 3]}]})",
                {"schedule[0]", "'step'"});
   expect_error(base + R"([{"step": 5, "control_point": 3, "target": [1, 0, 3]}]})",
@@ -216,13 +229,15 @@ TEST(SceneInput, InitialPoseUnknownBone) {
 TEST(SceneInput, BadRigInsideSceneNamesTheRigFile) {
   const auto dir = std::filesystem::temp_directory_path() / "physik_scene_test";
   std::filesystem::create_directories(dir);
-  std::ofstream(dir / "bad_rig.json") << R"({"bones": [{"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,0]}]})";
+  std::ofstream(dir / "bad_rig.json")
+      << R"({"bones": [{"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,0]}]})";
   std::ofstream(dir / "s.json") << R"({"rig": "bad_rig.json"})";
   try {
     load_scene((dir / "s.json").string());
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("bad_rig.json: bones[0] 'a': field 'tail'"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("bad_rig.json: bones[0] 'a': field 'tail'"),
+              std::string::npos)
         << e.what();
   }
 }

@@ -89,8 +89,8 @@ TEST(TorsionSprings, GradientTorqueIsMinusTheDerivativeOfThePotential) {
   EngineParams p = preset_params("original");
   p.torsion_torque = TorsionTorque::kGradient;
   // an elbow: x in [0, 160] deg, y and z locked
-  const std::array<AxisLimit, 3> elbow = {AxisLimit{true, 0.0, deg2rad(160)}, AxisLimit{true, 0.0, 0.0},
-                                          AxisLimit{true, 0.0, 0.0}};
+  const std::array<AxisLimit, 3> elbow = {AxisLimit{true, 0.0, deg2rad(160)},
+                                          AxisLimit{true, 0.0, 0.0}, AxisLimit{true, 0.0, 0.0}};
   const double eps = 1e-6;
   double worst_gradient = 0.0, worst_axes = 0.0;
   for (int trial = 0; trial < 300; ++trial) {
@@ -104,7 +104,8 @@ TEST(TorsionSprings, GradientTorqueIsMinusTheDerivativeOfThePotential) {
     const auto U = [&](const Quat& r) {
       const Vec3 e = torsion_excess(elbow, p.torsion_tolerance, r);
       double sum = 0.0;
-      for (int a = 0; a < 3; ++a) sum += torsion_spring_potential(p.torsion_spring, p.torsion_k, p.torsion_cap, e[a]);
+      for (int a = 0; a < 3; ++a)
+        sum += torsion_spring_potential(p.torsion_spring, p.torsion_k, p.torsion_cap, e[a]);
       return sum;
     };
     for (int a = 0; a < 3; ++a) {
@@ -115,8 +116,8 @@ TEST(TorsionSprings, GradientTorqueIsMinusTheDerivativeOfThePotential) {
       worst_axes = std::max(worst_axes, std::abs(tau_axes[a] - minus_dU));
     }
   }
-  std::cout << "torsion torque vs -dU/d(turn): gradient " << worst_gradient << " N m, axes " << worst_axes
-            << " N m\n";
+  std::cout << "torsion torque vs -dU/d(turn): gradient " << worst_gradient << " N m, axes "
+            << worst_axes << " N m\n";
   EXPECT_LT(worst_gradient, 1e-5);
   EXPECT_GT(worst_axes, 0.1);  // the paper's torque is not the potential's at large bends
 }

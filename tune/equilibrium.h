@@ -41,23 +41,23 @@
 namespace physik::tune {
 
 struct EquilibriumOptions {
-  const Pose* start = nullptr;     // start pose (nullptr: the scene's initial pose)
-  int max_iterations = 500;        // Ceres iterations
-  bool verbose = false;            // Ceres progress on stdout
+  const Pose* start = nullptr;  // start pose (nullptr: the scene's initial pose)
+  int max_iterations = 500;     // Ceres iterations
+  bool verbose = false;         // Ceres progress on stdout
 };
 
 struct EquilibriumResult {
-  Pose pose;                          // the minimiser
-  BoneFrames frames;                  // its FK (physik::forward_kinematics)
-  std::vector<Vec3> targets_world;    // (ncontrol) the goal targets used (after the schedule)
+  Pose pose;                             // the minimiser
+  BoneFrames frames;                     // its FK (physik::forward_kinematics)
+  std::vector<Vec3> targets_world;       // (ncontrol) the goal targets used (after the schedule)
   std::vector<double> control_distance;  // (ncontrol) |a - t| at the minimum, rig units
-  std::vector<Vec3> torsion_excess;   // (nbone) dead-zone distance per local axis, rad
-  double control_potential = 0.0;     // J
-  double torsion_potential = 0.0;     // J
-  double potential = 0.0;             // J, their sum (= Ceres' final cost)
-  double gradient_max_norm = 0.0;     // Ceres' final gradient, max norm
+  std::vector<Vec3> torsion_excess;      // (nbone) dead-zone distance per local axis, rad
+  double control_potential = 0.0;        // J
+  double torsion_potential = 0.0;        // J
+  double potential = 0.0;                // J, their sum (= Ceres' final cost)
+  double gradient_max_norm = 0.0;        // Ceres' final gradient, max norm
   int iterations = 0;
-  bool converged = false;             // Ceres reported CONVERGENCE
+  bool converged = false;  // Ceres reported CONVERGENCE
   std::string ceres_brief, ceres_full;
 };
 

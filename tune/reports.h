@@ -20,10 +20,10 @@ nlohmann::json tune_report_to_json(const Scene& scene, const TuneOptions& option
 void check_equilibrium_start(const std::string& start);
 
 struct EquilibriumReport {
-  nlohmann::json doc;         // what `physik equilibrium` writes
-  EquilibriumResult result;   // the minimiser (pose, frames, potentials)
-  bool ran_physik = false;    // PhysIK was run (compare, or start = physik)
-  RunSummary physik_run;      // its summary when it ran
+  nlohmann::json doc;        // what `physik equilibrium` writes
+  EquilibriumResult result;  // the minimiser (pose, frames, potentials)
+  bool ran_physik = false;   // PhysIK was run (compare, or start = physik)
+  RunSummary physik_run;     // its summary when it ran
 };
 
 // The exact static pose from `start`; with `compare` (or start = physik) PhysIK's run too and

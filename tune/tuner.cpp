@@ -57,11 +57,13 @@ double parse_number(const std::string& text, const std::string& source, const st
 Objective objective_from_string(const std::string& name, const std::string& source) {
   if (name == "settle") return Objective::kSettle;
   if (name == "mujoco") return Objective::kMujoco;
-  throw_input_error(source, "", "objective", "unknown objective '" + name +
-                                                 "' (known: settle, mujoco)");
+  throw_input_error(source, "", "objective",
+                    "unknown objective '" + name + "' (known: settle, mujoco)");
 }
 
-const char* to_string(Objective o) { return o == Objective::kSettle ? "settle" : "mujoco"; }
+const char* to_string(Objective o) {
+  return o == Objective::kSettle ? "settle" : "mujoco";
+}
 
 SettleMeasure measure_from_string(const std::string& name, const std::string& source) {
   if (name == "log") return SettleMeasure::kLog;
@@ -69,7 +71,9 @@ SettleMeasure measure_from_string(const std::string& name, const std::string& so
   throw_input_error(source, "", "measure", "unknown measure '" + name + "' (known: log, linear)");
 }
 
-const char* to_string(SettleMeasure m) { return m == SettleMeasure::kLog ? "log" : "linear"; }
+const char* to_string(SettleMeasure m) {
+  return m == SettleMeasure::kLog ? "log" : "linear";
+}
 
 std::vector<TuneParam> parse_tune_params(const std::string& csv, const std::string& source) {
   std::vector<TuneParam> out;
@@ -79,7 +83,8 @@ std::vector<TuneParam> parse_tune_params(const std::string& csv, const std::stri
     if (name.empty()) continue;
     const TunableSpec* spec = find_spec(name);
     if (!spec) {
-      throw_input_error(source, "", name, "unknown tunable parameter (known: " + tunable_names() + ")");
+      throw_input_error(source, "", name,
+                        "unknown tunable parameter (known: " + tunable_names() + ")");
     }
     for (const TuneParam& p : out) {
       if (p.name == name) throw_input_error(source, "", name, "listed twice");
@@ -90,7 +95,8 @@ std::vector<TuneParam> parse_tune_params(const std::string& csv, const std::stri
   return out;
 }
 
-void apply_bounds(std::vector<TuneParam>& params, const std::string& spec, const std::string& source) {
+void apply_bounds(std::vector<TuneParam>& params, const std::string& spec,
+                  const std::string& source) {
   const auto eq = spec.find('='), colon = spec.find(':');
   if (eq == std::string::npos || colon == std::string::npos || colon < eq) {
     throw_input_error(source, "", spec, "expected name=lo:hi");
@@ -113,16 +119,21 @@ namespace {
 
 const ParamRow& tunable_row(const std::string& name) {
   if (!find_spec(name)) {
-    throw_input_error("", "params", name, "unknown tunable parameter (known: " + tunable_names() + ")");
+    throw_input_error("", "params", name,
+                      "unknown tunable parameter (known: " + tunable_names() + ")");
   }
   return param_row(name);
 }
 
 }  // namespace
 
-double get_param(const Scene& s, const std::string& name) { return tunable_row(name).get(s.params); }
+double get_param(const Scene& s, const std::string& name) {
+  return tunable_row(name).get(s.params);
+}
 
-void set_param(Scene& s, const std::string& name, double value) { tunable_row(name).set(s.params, value); }
+void set_param(Scene& s, const std::string& name, double value) {
+  tunable_row(name).set(s.params, value);
+}
 
 RunSummary settle_residuals(const Scene& scene_in, SettleMeasure measure,
                             std::vector<double>& residuals) {
@@ -198,13 +209,15 @@ class Objective_ {
     if (opt.objective == Objective::kMujoco) {
       reference_ = mujoco_reference_trajectory(opt.mujoco_scene ? *opt.mujoco_scene : base);
       if (reference_.empty()) {
-        throw_input_error(base.file, "", "", "MuJoCo's same-forces run of this scene diverged at once");
+        throw_input_error(base.file, "", "",
+                          "MuJoCo's same-forces run of this scene diverged at once");
       }
     }
   }
 
   int num_residuals() const {
-    if (opt_.objective == Objective::kMujoco) return static_cast<int>(reference_.size()) * 2 * base_.rig.nbone;
+    if (opt_.objective == Objective::kMujoco)
+      return static_cast<int>(reference_.size()) * 2 * base_.rig.nbone;
     return base_.steps * static_cast<int>(std::max<std::size_t>(1, base_.control_points.size()));
   }
   int reference_steps() const { return static_cast<int>(reference_.size()); }
@@ -262,10 +275,13 @@ class SmoothedCost : public ceres::CostFunction {
       up[j] = std::min(hi, u[j] + opt_.fd_step);
       um[j] = std::max(lo, u[j] - opt_.fd_step);
       obj_.eval(values(up), plus);
-      if (um[j] < u[j]) obj_.eval(values(um), minus);
-      else minus = res;
+      if (um[j] < u[j])
+        obj_.eval(values(um), minus);
+      else
+        minus = res;
       const double du = up[j] - um[j];
-      for (int r = 0; r < m; ++r) jacobians[0][r * n + j] = du > 0.0 ? (plus[r] - minus[r]) / du : 0.0;
+      for (int r = 0; r < m; ++r)
+        jacobians[0][r * n + j] = du > 0.0 ? (plus[r] - minus[r]) / du : 0.0;
     }
     return true;
   }
@@ -277,7 +293,8 @@ class SmoothedCost : public ceres::CostFunction {
 
 std::string values_text(const std::vector<TuneParam>& params, const std::vector<double>& v) {
   std::ostringstream o;
-  for (std::size_t i = 0; i < params.size(); ++i) o << (i ? ", " : "") << params[i].name << " " << v[i];
+  for (std::size_t i = 0; i < params.size(); ++i)
+    o << (i ? ", " : "") << params[i].name << " " << v[i];
   return o.str();
 }
 
@@ -297,7 +314,9 @@ std::vector<double> start_values(const Scene& scene, const TuneOptions& opt, con
   }
   obj.eval(start.data(), res);
   out.initial_cost = cost_of(res);
-  if (opt.verbose) std::cerr << "tune: start " << values_text(opt.params, start) << "  J " << out.initial_cost << "\n";
+  if (opt.verbose)
+    std::cerr << "tune: start " << values_text(opt.params, start) << "  J " << out.initial_cost
+              << "\n";
   return start;
 }
 
@@ -323,7 +342,8 @@ void scan_log_grid(const TuneOptions& opt, const Objective_& obj, std::vector<do
         }
       }
       best[i] = arg_best;
-      if (opt.verbose) std::cerr << "tune: scan " << values_text(opt.params, best) << "  J " << best_cost << "\n";
+      if (opt.verbose)
+        std::cerr << "tune: scan " << values_text(opt.params, best) << "  J " << best_cost << "\n";
     }
   }
 }
@@ -357,7 +377,8 @@ std::vector<double> refine_with_ceres(const TuneOptions& opt, const Objective_& 
   out.ceres_full = summary.FullReport();
   out.ceres_usable = summary.IsSolutionUsable();
   std::vector<double> refined(n);
-  for (int i = 0; i < n; ++i) refined[i] = std::clamp(std::exp(u[i]), opt.params[i].lo, opt.params[i].hi);
+  for (int i = 0; i < n; ++i)
+    refined[i] = std::clamp(std::exp(u[i]), opt.params[i].lo, opt.params[i].hi);
   return refined;
 }
 
@@ -373,7 +394,8 @@ void check_tunable_in(const Scene& scene, const TuneParam& p) {
   set_param(s, p.name, p.lo);  // as every evaluation sets it (damping: auto off)
   if (row.conflict) {
     const std::string why = row.conflict(s.params);
-    if (!why.empty()) throw_input_error("--params", "", p.name, why + ": tuning it changes nothing");
+    if (!why.empty())
+      throw_input_error("--params", "", p.name, why + ": tuning it changes nothing");
   }
   const auto own = [&](const ControlPoint& cp) {
     return p.name == "control_k" ? cp.k.has_value() : cp.cap.has_value();
@@ -392,7 +414,8 @@ TuneResult tune_scene(const Scene& scene, const TuneOptions& opt) {
   if (opt.params.empty()) throw_input_error("--params", "", "", "no parameter to tune");
   for (const TuneParam& p : opt.params) check_tunable_in(scene, p);
   if (scene.control_points.empty() && opt.objective == Objective::kSettle) {
-    throw_input_error(scene.file, "control_points", "", "the settle objective needs a control point");
+    throw_input_error(scene.file, "control_points", "",
+                      "the settle objective needs a control point");
   }
   const auto t0 = std::chrono::steady_clock::now();
   Objective_ obj(scene, opt);

@@ -73,7 +73,8 @@ struct TuneParam {
 // for an unknown or repeated name.
 std::vector<TuneParam> parse_tune_params(const std::string& csv, const std::string& source);
 // "damping=0.1:10" overrides the bounds of a listed parameter.
-void apply_bounds(std::vector<TuneParam>& params, const std::string& spec, const std::string& source);
+void apply_bounds(std::vector<TuneParam>& params, const std::string& spec,
+                  const std::string& source);
 
 // The parameter's value in a scene, and a scene with it set (through the parameter table).
 // Control points that give no k (cap) take params.control_k (control_cap) at use, so they follow;
@@ -84,14 +85,14 @@ void set_param(Scene& scene, const std::string& name, double value);
 constexpr double kResidualCap = 10.0;  // R: a residual never exceeds 10 rig heights
 
 struct TuneOptions {
-  std::vector<TuneParam> params;      // what to tune
+  std::vector<TuneParam> params;  // what to tune
   Objective objective = Objective::kSettle;
   SettleMeasure measure = SettleMeasure::kLog;
-  int scan_points = 13;               // per parameter in the coarse scan (0: no scan)
-  int scan_sweeps = 1;                // coordinate-wise sweeps over the parameters
-  int max_iterations = 50;            // Ceres iterations
-  double fd_step = 0.02;              // central-difference step in ln p
-  bool verbose = false;               // progress lines on stderr
+  int scan_points = 13;                 // per parameter in the coarse scan (0: no scan)
+  int scan_sweeps = 1;                  // coordinate-wise sweeps over the parameters
+  int max_iterations = 50;              // Ceres iterations
+  double fd_step = 0.02;                // central-difference step in ln p
+  bool verbose = false;                 // progress lines on stderr
   const Scene* mujoco_scene = nullptr;  // mujoco objective: the scene MuJoCo runs (same rig and
                                         // control points; default: the tuned scene as given)
 };
@@ -106,17 +107,17 @@ struct ScanPoint {
 struct TuneResult {
   std::vector<std::string> names;
   std::vector<double> initial_values, values;  // before / after
-  double initial_cost = 0.0;     // J at the scene's own values
-  double scan_cost = 0.0;        // J at the scan's best point
-  double final_cost = 0.0;       // J after Ceres
-  int evaluations = 0;           // simulations run
+  double initial_cost = 0.0;                   // J at the scene's own values
+  double scan_cost = 0.0;                      // J at the scan's best point
+  double final_cost = 0.0;                     // J after Ceres
+  int evaluations = 0;                         // simulations run
   int diverged_evaluations = 0;  // of them, those that diverged (the tuned run's included)
   double wall_time_s = 0.0;
   std::string ceres_brief, ceres_full;
-  bool ceres_usable = false;     // Ceres' termination was not a failure
-  std::vector<ScanPoint> scan;   // the coarse scan, in order
-  int reference_steps = 0;       // mujoco objective: steps of the MuJoCo reference compared
-  RunSummary tuned_run;          // the scene run with the tuned values
+  bool ceres_usable = false;    // Ceres' termination was not a failure
+  std::vector<ScanPoint> scan;  // the coarse scan, in order
+  int reference_steps = 0;      // mujoco objective: steps of the MuJoCo reference compared
+  RunSummary tuned_run;         // the scene run with the tuned values
   Scene tuned_scene;
 };
 

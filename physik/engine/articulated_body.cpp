@@ -184,8 +184,7 @@ void articulated_forward_pass(const Rig& rig, const SimState& s, ArticulatedBody
     d.accel_spatial[0] = d.root_ldlt.solve(-d.bias_force[0]);
   }
   const Vec3 alpha0 = d.accel_spatial[0].head<3>();
-  d.root_accel_world =
-      d.accel_spatial[0].tail<3>() + s.omega_world[0].cross(s.vel_world[0]);
+  d.root_accel_world = d.accel_spatial[0].tail<3>() + s.omega_world[0].cross(s.vel_world[0]);
   d.joint_accel_local[0] = s.frames.orient_world[0].conjugate() * alpha0;
 
   for (int i = 1; i < rig.nbone; ++i) {

@@ -19,8 +19,8 @@
 // with S' = [1; 0] everything below is in world axes and u_dot = R_i^T qdd' at the end.
 //
 // Pass 1, velocities and bias (any order):
-//   I_i  = [I_c + m [e]x [e]x^T, m [e]x; m [e]x^T, m 1]      e = com_i - o_i, rigid inertia about o_i
-//   p_i  = V_i x* I_i V_i - f_ext_i                          V_i = (w_i; v_o), f_ext about o_i
+//   I_i  = [I_c + m [e]x [e]x^T, m [e]x; m [e]x^T, m 1]      e = com_i - o_i, rigid inertia about
+//   o_i p_i  = V_i x* I_i V_i - f_ext_i                          V_i = (w_i; v_o), f_ext about o_i
 //        = (w x I_c w + e x (m w x v_com); m w x v_com) - (n_com + e x F; F)
 //   c_i  = V_i x (S u) = (w_i x w_rel; v_o x w_rel)          w_rel = w_i - w_parent   (ball)
 //   c_0  = (0; -w x v_com)                                   (root, spatial vs classical accel.)
@@ -42,7 +42,8 @@
 // Pass 3, root to leaves (spatial accelerations a_i):
 //   root:  a_0 = -(I^A_0)^-1 p^A_0 (LDL^T; LU with joint blocks),  alpha = a_0.ang,
 //          a_com = a_0.lin + w x v_com
-//   ball:  a' = X a_parent + c,  qdd' = D^-1 (u - S'^T I^A a'),  a_i = a' + S' qdd',  u_dot = R^T qdd'
+//   ball:  a' = X a_parent + c,  qdd' = D^-1 (u - S'^T I^A a'),  a_i = a' + S' qdd',  u_dot = R^T
+//   qdd'
 // A spatial acceleration a about o is Featherstone's (the derivative of the velocity field at the
 // fixed point o); the classical acceleration of the centre is a.lin + alpha x e + w x v_com.
 //
@@ -89,27 +90,27 @@ struct SpatialInertia {
 
 struct ArticulatedBodyData {
   // --- inputs besides the state ---
-  double torque_per_omega = 0.0;        // 1/s: torque torque_per_omega * I w on every body
-  bool cancel_gyroscopic = false;       // add +w x I w on every body (gyroscopic term off)
-  bool joint_blocks = false;            // add joint_block[i] to D_i (the implicit step's K)
-  std::vector<Mat3> joint_block;        // (nbone) 3x3, world axes, read when joint_blocks; need
-                                        //         not be symmetric
+  double torque_per_omega = 0.0;   // 1/s: torque torque_per_omega * I w on every body
+  bool cancel_gyroscopic = false;  // add +w x I w on every body (gyroscopic term off)
+  bool joint_blocks = false;       // add joint_block[i] to D_i (the implicit step's K)
+  std::vector<Mat3> joint_block;   // (nbone) 3x3, world axes, read when joint_blocks; need
+                                   //         not be symmetric
 
   // --- pass 1 (velocity pass) ---
   std::vector<Mat3> inertia_com_world;  // (nbone) R diag(I_local) R^T, kg m^2
-  std::vector<Vec3> point_world;        // (nbone) o_i: head (i > 0) or centre of mass (root), rig units
-  std::vector<Vec6> bias_accel;         // (nbone) c_i, rad/s^2; rig units/s^2
+  std::vector<Vec3> point_world;  // (nbone) o_i: head (i > 0) or centre of mass (root), rig units
+  std::vector<Vec6> bias_accel;   // (nbone) c_i, rad/s^2; rig units/s^2
   std::vector<SpatialInertia> inertia_art;  // (nbone) I^A_i about o_i; rigid after pass 1
-  std::vector<Vec6> bias_force;         // (nbone) p^A_i about o_i, (N m; N)
-  std::vector<Vec3> torque_ext_world;   // (nbone) the external torque about the centre, N m
-                                        //         (torque_world + the damper [+ w x I w])
+  std::vector<Vec6> bias_force;             // (nbone) p^A_i about o_i, (N m; N)
+  std::vector<Vec3> torque_ext_world;       // (nbone) the external torque about the centre, N m
+                                            //         (torque_world + the damper [+ w x I w])
 
   // --- pass 2 (backward pass) ---
-  std::vector<Mat3> D_inv;              // (nbone) (S'^T I^A S' + J)^-1; the forward pass reads
-                                        //         the row S'^T I^A = [A B] from inertia_art
-  std::vector<Vec3> u;                  // (nbone) -S'^T p^A
-  std::vector<Mat3> inertia_lower;      // (nbone) E, I^A's lower-left block, kg m; written only
-                                        //         with joint_blocks (else E = B^T)
+  std::vector<Mat3> D_inv;          // (nbone) (S'^T I^A S' + J)^-1; the forward pass reads
+                                    //         the row S'^T I^A = [A B] from inertia_art
+  std::vector<Vec3> u;              // (nbone) -S'^T p^A
+  std::vector<Mat3> inertia_lower;  // (nbone) E, I^A's lower-left block, kg m; written only
+                                    //         with joint_blocks (else E = B^T)
   // I^A_0 factorised in pass 3 (LDL^T, or LU with joint blocks); constructed factorised (of 1)
   // so that a copy made before the first step never reads Eigen's uninitialised ComputationInfo
   // (UndefinedBehaviorSanitizer)
@@ -117,9 +118,9 @@ struct ArticulatedBodyData {
   Eigen::PartialPivLU<Mat6> root_lu{Mat6::Identity()};
 
   // --- pass 3 (forward pass): MuJoCo's qacc layout ---
-  std::vector<Vec6> accel_spatial;      // (nbone) a_i about o_i
-  Vec3 root_accel_world = Vec3::Zero(); // classical acceleration of the root's centre of mass
-  std::vector<Vec3> joint_accel_local;  // (nbone) root: R^T alpha; ball: u_dot, rad/s^2
+  std::vector<Vec6> accel_spatial;       // (nbone) a_i about o_i
+  Vec3 root_accel_world = Vec3::Zero();  // classical acceleration of the root's centre of mass
+  std::vector<Vec3> joint_accel_local;   // (nbone) root: R^T alpha; ball: u_dot, rad/s^2
 };
 
 void resize_articulated_data(int nbone, ArticulatedBodyData& data);

@@ -5,8 +5,8 @@
 // F in N, k in N/m, c and distances in rig units. The force acts at a on the bone.
 #pragma once
 
-#include "physik/model/scene.h"
 #include "physik/engine/state.h"
+#include "physik/model/scene.h"
 
 namespace physik {
 

@@ -5,9 +5,9 @@
 // integrator (integrate.h), not here.
 #pragma once
 
+#include "physik/engine/state.h"
 #include "physik/model/params.h"
 #include "physik/model/rig.h"
-#include "physik/engine/state.h"
 
 namespace physik {
 

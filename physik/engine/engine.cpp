@@ -101,9 +101,15 @@ StepStats take_step(const Scene& scene, SimState& s, double h) {
   }
   StepStats st;
   switch (scene.params.scheme) {
-    case Scheme::kGaussSeidel: step_gauss_seidel(scene, s, h, st); break;
-    case Scheme::kExact: step_exact(scene, s, h, st); break;
-    case Scheme::kImplicit: step_implicit(scene, s, h, st); break;
+    case Scheme::kGaussSeidel:
+      step_gauss_seidel(scene, s, h, st);
+      break;
+    case Scheme::kExact:
+      step_exact(scene, s, h, st);
+      break;
+    case Scheme::kImplicit:
+      step_implicit(scene, s, h, st);
+      break;
   }
   s.step += 1;
   s.time += h;
@@ -115,7 +121,9 @@ StepStats take_step(const Scene& scene, SimState& s, double h) {
 
 }  // namespace
 
-StepStats step(const Scene& scene, SimState& s) { return take_step(scene, s, scene.params.dt); }
+StepStats step(const Scene& scene, SimState& s) {
+  return take_step(scene, s, scene.params.dt);
+}
 
 StepStats step(const Scene& scene, SimState& s, double h) {
   if (scene.params.scheme != Scheme::kImplicit) {

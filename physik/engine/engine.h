@@ -12,7 +12,7 @@
 //     integrate_*           semi-implicit Euler, articulated or free rods      integrate.h
 //   exact:
 //     apply_forces          the same forces
-//     solve_articulated     Featherstone's articulated-body algorithm          integrate_joint_space.h
+//     solve_articulated     Featherstone's articulated-body algorithm integrate_joint_space.h
 //     integrate_joint_space MuJoCo's Euler in joint space
 //   implicit:
 //     advance_implicit      apply_forces, solve_implicit (linearised backward   implicit_advance.h

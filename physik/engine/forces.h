@@ -2,10 +2,11 @@
 // (reference/mujoco_runner.cpp) both call apply_forces(), so a new force lands in both.
 //
 // Stages, in order, on the state as it stands (positions, velocities and state.pose in sync):
-//   prepare_bodies        clear force/torque accumulators, refresh I^-1 (world), w x I w   newton_euler.h
-//   apply_damping         -c v at head and tail of every bone                            damping.h
-//   apply_control_springs linear or capped springs toward the effective targets          control_springs.h
-//   apply_torsion_springs joint-limit springs, +tau on the bone, -tau on its parent       torsion_springs.h
+//   prepare_bodies        clear force/torque accumulators, refresh I^-1 (world), w x I w
+//   newton_euler.h apply_damping         -c v at head and tail of every bone damping.h
+//   apply_control_springs linear or capped springs toward the effective targets control_springs.h
+//   apply_torsion_springs joint-limit springs, +tau on the bone, -tau on its parent
+//   torsion_springs.h
 // Result: state.force_world (N, at the centre of mass) and state.torque_world (N m, about it),
 // world axes, per bone. The inter-joint forces are not among them: they are the joint solve's.
 #pragma once

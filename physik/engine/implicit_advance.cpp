@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "physik/engine/measures.h"
 #include "physik/engine/forces.h"
 #include "physik/engine/implicit_step.h"
 #include "physik/engine/integrate_joint_space.h"
+#include "physik/engine/measures.h"
 #include "physik/engine/potential.h"
 
 namespace physik {
@@ -59,9 +59,9 @@ int substep(const Scene& scene, SimState& s, double h, int depth, const Guard& g
   if (guarded) save(s, s.implicit_snapshots[depth]);
   const double e0 = guarded ? mechanical_energy(scene, s) : 0.0;
   g.bare(scene, s, h, g.context);
-  if (!guarded ||
-      (largest_rotation(s, h) <= kMaxStepRotation &&
-       mechanical_energy(scene, s) <= e0 + kEnergyGrowthTolerance * (std::max(e0, 0.0) + g.floor))) {
+  if (!guarded || (largest_rotation(s, h) <= kMaxStepRotation &&
+                   mechanical_energy(scene, s) <=
+                       e0 + kEnergyGrowthTolerance * (std::max(e0, 0.0) + g.floor))) {
     return 1;
   }
   restore(scene.rig, s.implicit_snapshots[depth], s);
@@ -77,13 +77,14 @@ void take_implicit_step(const Scene& scene, SimState& s, double h, const void* /
   integrate_joint_space(scene.rig, h, s);
 }
 
-int advance_implicit(const Scene& scene, SimState& s, double h, BareStep bare, const void* context) {
+int advance_implicit(const Scene& scene, SimState& s, double h, BareStep bare,
+                     const void* context) {
   const double v = scene.speed_tol();
   // init_state sized one snapshot per depth; the bound guards a state sized for other params
-  const Guard g{bare, context,
-                std::min(scene.params.implicit_max_splits,
-                         static_cast<int>(s.implicit_snapshots.size()) - 1),
-                0.5 * scene.rig.total_mass() * v * v};
+  const Guard g{
+      bare, context,
+      std::min(scene.params.implicit_max_splits, static_cast<int>(s.implicit_snapshots.size()) - 1),
+      0.5 * scene.rig.total_mass() * v * v};
   const int substeps = substep(scene, s, h, 0, g);
   if (substeps > 1) ++s.implicit_split_steps;
   s.implicit_max_substeps = std::max(s.implicit_max_substeps, substeps);

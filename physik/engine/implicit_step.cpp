@@ -13,8 +13,8 @@ void element_tangents(const Scene& scene, SimState& s) {
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
     const ControlPoint& cp = scene.control_points[c];
     const Vec3 a = point_on_bone(s.frames, cp.bone, cp.alpha);
-    s.control_stiffness[c] =
-        spring_step_stiffness(cp.spring_in(p), cp.k_in(p), cp.cap_in(p), s.target_effective_world[c] - a);
+    s.control_stiffness[c] = spring_step_stiffness(cp.spring_in(p), cp.k_in(p), cp.cap_in(p),
+                                                   s.target_effective_world[c] - a);
   }
   const Rig& rig = scene.rig;
   for (int i = 0; i < rig.nbone; ++i) {
@@ -30,11 +30,14 @@ void element_tangents(const Scene& scene, SimState& s) {
     const Mat3 R = (s.frames.orient_world[rig.bone_parent[i]] * rig.bone_rest_orient_parent[i])
                        .toRotationMatrix();  // R_pr
     s.torsion_block_world[i] =
-        R * torsion_step_block_local(s.torsion_stiffness[i], theta, p.torsion_torque) * R.transpose();
+        R * torsion_step_block_local(s.torsion_stiffness[i], theta, p.torsion_torque) *
+        R.transpose();
   }
 }
 
-Mat3 torsion_block_world(const Rig&, const SimState& s, int i) { return s.torsion_block_world[i]; }
+Mat3 torsion_block_world(const Rig&, const SimState& s, int i) {
+  return s.torsion_block_world[i];
+}
 
 void add_point_inertia(const Mat3& A, const Vec3& r, SpatialInertia& I) {
   const Mat3 RA = skew(r) * A;  // [r]x A
@@ -143,11 +146,11 @@ JointSolveStats solve_implicit(const Scene& scene, SimState& s, double h) {
   d.cancel_gyroscopic = !p.gyroscopic;
 
   element_tangents(scene, s);
-  add_stiffness_rate_forces(scene, h, s);             // tau - h K v
-  articulated_velocity_pass(rig, s, d);               // rigid inertias, bias forces
+  add_stiffness_rate_forces(scene, h, s);  // tau - h K v
+  articulated_velocity_pass(rig, s, d);    // rigid inertias, bias forces
   velocity_product_accels(rig, d, s.accel_bias);
-  augment_bodies(scene, h, step_damping(p, s), s);    // + h D + h^2 K of body elements
-  joint_blocks(rig, h, s);                            // + h^2 K of joint elements
+  augment_bodies(scene, h, step_damping(p, s), s);  // + h D + h^2 K of body elements
+  joint_blocks(rig, h, s);                          // + h^2 K of joint elements
   articulated_backward_pass(rig, d);
   articulated_forward_pass(rig, s, d);
   articulated_joint_forces(rig, s);

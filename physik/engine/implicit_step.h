@@ -3,8 +3,8 @@
 //
 // Sources: D. Baraff and A. Witkin, "Large steps in cloth simulation", SIGGRAPH 1998, eq. 6-7
 // (one Newton step of backward Euler, forces linearised about the start of the step); MuJoCo's
-// `implicit` integrator does the same for damping (mj_implicit: M - h dqfrc/dqvel); R. Featherstone,
-// Rigid Body Dynamics Algorithms, 2008, ch. 7 (the articulated-body algorithm, here
+// `implicit` integrator does the same for damping (mj_implicit: M - h dqfrc/dqvel); R.
+// Featherstone, Rigid Body Dynamics Algorithms, 2008, ch. 7 (the articulated-body algorithm, here
 // articulated_body.h).
 //
 // Derivation. Joint space as scheme exact: qvel v (root v_com world, root w local, ball u
@@ -75,9 +75,9 @@
 // The energy statement below holds for the symmetric elements; the paper's torsion torque is the
 // gradient of no potential, and implicit_advance.h guards every step's energy.
 // One DOF (mass m, damper c, spring k): x+ = ((m + h c) x + h m v) / S, v+ = (m v - h k x) / S,
-// S = m + h c + h^2 k; det = m / S < 1, both eigenvalues inside the unit circle for all h, c, k > 0,
-// and E = (m v^2 + k x^2) / 2 never grows: E+ - E = -h c v+^2 - m (v+ - v)^2 / 2 - k (x+ - x)^2 / 2.
-// Units: s, kg, N, N m, rig units, rad.
+// S = m + h c + h^2 k; det = m / S < 1, both eigenvalues inside the unit circle for all h, c, k >
+// 0, and E = (m v^2 + k x^2) / 2 never grows: E+ - E = -h c v+^2 - m (v+ - v)^2 / 2 - k (x+ - x)^2
+// / 2. Units: s, kg, N, N m, rig units, rad.
 #pragma once
 
 #include "physik/engine/damping.h"

@@ -43,7 +43,8 @@ void integrate_articulated(const Rig& rig, const EngineParams& params, double dt
     const Vec3 axis = s.frames.orient_world[i] * Vec3(0, rig.bone_length[i], 0);
     s.frames.tail_world[i] = s.frames.head_world[i] + axis;
     s.com_world[i] = s.frames.head_world[i] + 0.5 * axis;
-    const Vec3 v_head = s.vel_world[p] + s.omega_world[p].cross(s.frames.head_world[i] - s.com_world[p]);
+    const Vec3 v_head =
+        s.vel_world[p] + s.omega_world[p].cross(s.frames.head_world[i] - s.com_world[p]);
     s.vel_world[i] = v_head + s.omega_world[i].cross(0.5 * axis);
   }
 }

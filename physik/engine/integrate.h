@@ -13,7 +13,8 @@
 //     velocities of the other bones follow from the chain: v_head(child) = v_tail(parent).
 //     (The original composes each bone's turn into its parent-relative rotation; we integrate
 //     world orientations, which does not count a parent's turn twice.)
-//  free rods (the paper's text; free_rods true): every bone integrates its own v, cm, w and R; joints may drift
+//  free rods (the paper's text; free_rods true): every bone integrates its own v, cm, w and R;
+//  joints may drift
 //     apart, and the drift is measured (engine.h: joint separation).
 // Two choices the paper does not state (docs/engine.md "The paper's scheme"): the root moves its
 // centre of mass and turns about it (the original turns it about its head: a difference of about
@@ -22,9 +23,9 @@
 // Units: s, rig units, rad.
 #pragma once
 
+#include "physik/engine/state.h"
 #include "physik/model/params.h"
 #include "physik/model/rig.h"
-#include "physik/engine/state.h"
 
 namespace physik {
 

@@ -18,8 +18,10 @@ Vec3 interpolate_step(Interpolation scheme, const Vec3& current, const Vec3& goa
   Vec3 n = u0.cross(u1);
   if (n.norm() < 1e-12) {
     // parallel: no turn needed; antiparallel: any axis perpendicular to u0
-    if (theta < 1.0) n = Vec3::UnitZ();
-    else n = u0.unitOrthogonal();
+    if (theta < 1.0)
+      n = Vec3::UnitZ();
+    else
+      n = u0.unitOrthogonal();
   }
   n.normalize();
   const double r = (1.0 - alpha) * r0 + alpha * r1;
@@ -66,9 +68,9 @@ void update_targets(const Scene& scene, SimState& s) {
     const Vec3 origin = p.interpolation == Interpolation::kPolarHead
                             ? s.frames.head_world[scene.control_points[c].bone]
                             : com;
-    s.target_effective_world[c] = interpolate_step(p.interpolation, s.target_effective_world[c],
-                                                   s.target_goal_world[c], origin, 1.0 / left,
-                                                   p.interpolation_fallback);
+    s.target_effective_world[c] =
+        interpolate_step(p.interpolation, s.target_effective_world[c], s.target_goal_world[c],
+                         origin, 1.0 / left, p.interpolation_fallback);
     --left;
   }
 }

@@ -13,8 +13,8 @@
 // A scene's initial targets count as a jump from each attachment point's starting position.
 #pragma once
 
-#include "physik/model/scene.h"
 #include "physik/engine/state.h"
+#include "physik/model/scene.h"
 
 namespace physik {
 

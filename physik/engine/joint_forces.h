@@ -15,23 +15,24 @@
 // (5 n^2 in the original). With params.joint_eps_relative = r > 0 they also go on until every
 // joint's gap is below r times the largest acceleration among its points (or below 1e-9 eps,
 // a floor above round-off), so a force crosses the whole rig before the solve stops: far more
-// passes on long chains (O(n^2), the smoothest mode's rate), which is what the absolute eps skips. M_i and the sums depend only on the pose, so they are computed once
-// per step; a pass costs a few 3x3 products per joint member.
+// passes on long chains (O(n^2), the smoothest mode's rate), which is what the absolute eps skips.
+// M_i and the sums depend only on the pose, so they are computed once per step; a pass costs a few
+// 3x3 products per joint member.
 #pragma once
 
+#include "physik/engine/state.h"
 #include "physik/model/params.h"
 #include "physik/model/rig.h"
-#include "physik/engine/state.h"
 
 namespace physik {
 
 // Honesty at scale. Gauss-Seidel carries a force one joint per pass toward the root
 // and shrinks it at every joint it crosses; the absolute eps stops the passes once every gap is
 // small, which on a long chain happens while the force has reached only the last few bones (a
-// 1000-bone chain pulled at its tail: bones 0-911 get accelerations under 1e-6 of the tail's and never move,
-// while the exact solution moves the whole chain along its axis). The residual cannot show it
-// (the missing motion is the chain's smoothest mode, whose gaps are tiny), so the monitor looks
-// at its effect: a joint is unreached when every one of its points accelerates at less than
+// 1000-bone chain pulled at its tail: bones 0-911 get accelerations under 1e-6 of the tail's and
+// never move, while the exact solution moves the whole chain along its axis). The residual cannot
+// show it (the missing motion is the chain's smoothest mode, whose gaps are tiny), so the monitor
+// looks at its effect: a joint is unreached when every one of its points accelerates at less than
 // kUnreachedFraction of the largest joint-point acceleration of the rig. Measured on every
 // shipped scene over its whole run, the smallest such ratio is 3e-4 (run_verdicts_test checks that
 // none trips it); on straight chains pulled at the tail, where the exact solve moves every bone
@@ -40,8 +41,8 @@ namespace physik {
 constexpr double kUnreachedFraction = 1e-6;  // 1
 
 struct JointSolveStats {
-  int passes = 0;          // passes that measured and corrected every joint
-  double mismatch = 0.0;   // largest pairwise joint-point acceleration difference after the solve
+  int passes = 0;         // passes that measured and corrected every joint
+  double mismatch = 0.0;  // largest pairwise joint-point acceleration difference after the solve
 };
 
 // Build the per-step caches (r, M^-1, (sum M^-1)^-1). Needs prepare_bodies first.

@@ -3,7 +3,8 @@
 // compute the ideal damping coefficient").
 //
 // About a pose at rest, PhysIK's dynamics linearise to M a + (c D1 + Dr) v + K dq = 0 in the
-// exact solve's joint coordinates (root 6 DOF, a ball at every other head; integrate_joint_space.h):
+// exact solve's joint coordinates (root 6 DOF, a ball at every other head;
+// integrate_joint_space.h):
 //   M  = sum_b J_b^T diag(I_b, m_b) J_b                                   (the rigid mass matrix)
 //   K  = sum_control J_p^T K_c J_p + sum_torsion J_rel^T K_j J_rel        (Gauss-Newton, as the
 //        implicit step: K_c the spring's tangent; K_j = T diag(k) T^T, T the torque frame
@@ -11,8 +12,9 @@
 //        for the paper's torque R_pr diag(k) R_pr^T, its step block's value at theta = 0 (on a
 //        bent joint the step's block is not symmetric, implicit_step.h; the modes need a
 //        symmetric K))
-//   D1 = sum_bones (J_head^T J_head + J_tail^T J_tail)                   (the end dampers per unit c)
-//   Dr = sum_b J_w^T ((1 - f) / dt) I_b J_w                               (the angular-velocity factor)
+//   D1 = sum_bones (J_head^T J_head + J_tail^T J_tail)                   (the end dampers per unit
+//   c) Dr = sum_b J_w^T ((1 - f) / dt) I_b J_w                               (the angular-velocity
+//   factor)
 // The modes solve K phi = w^2 M phi, phi^T M phi = 1.
 //
 // The rule. Zero modes (free motions: a bone's twist about its own axis, unconstrained DOF) are
@@ -78,18 +80,18 @@ namespace physik {
 
 struct LinearModes {
   double first_constrained_omega = 0.0;  // rad/s, the slowest constrained mode (0 if none)
-  double slowest_omega = 0.0;     // rad/s, the mode damping_auto damps (0 if none)
-  bool found = false;             // is there such a mode
-  double slowest_d1 = 0.0;        // phi^T D1 phi of that mode (N s/m per unit c)
-  double slowest_dr = 0.0;        // phi^T Dr phi (N s/m)
-  double critical_damping = 0.0;  // N s/m, c of damping_auto (0 if no mode is found)
-  double omega2_max = 0.0;        // rad^2/s^2, the largest w^2 (the zero-mode threshold's scale)
-  int skipped = 0;                // constrained modes below it that the rule skipped
-  int iterations = 0;             // iterative path: Lanczos steps (shifted solves), all runs
-  int runs = 0;                   // iterative path: Lanczos runs (1 + restarts)
-  int counts = 0;                 // iterative path: counts of the modes below a w^2
-  bool walked = false;            // iterative path: the answer is the walk's (Lanczos's was not
-                                  // certified)
+  double slowest_omega = 0.0;            // rad/s, the mode damping_auto damps (0 if none)
+  bool found = false;                    // is there such a mode
+  double slowest_d1 = 0.0;               // phi^T D1 phi of that mode (N s/m per unit c)
+  double slowest_dr = 0.0;               // phi^T Dr phi (N s/m)
+  double critical_damping = 0.0;         // N s/m, c of damping_auto (0 if no mode is found)
+  double omega2_max = 0.0;  // rad^2/s^2, the largest w^2 (the zero-mode threshold's scale)
+  int skipped = 0;          // constrained modes below it that the rule skipped
+  int iterations = 0;       // iterative path: Lanczos steps (shifted solves), all runs
+  int runs = 0;             // iterative path: Lanczos runs (1 + restarts)
+  int counts = 0;           // iterative path: counts of the modes below a w^2
+  bool walked = false;      // iterative path: the answer is the walk's (Lanczos's was not
+                            // certified)
 };
 
 // The modes at the state's pose (frames, com, pose) with the springs pulling toward

@@ -13,8 +13,12 @@ namespace {
 
 using MatX = Eigen::MatrixXd;
 
-int nv_of(const Rig& rig) { return 6 + 3 * (rig.nbone - 1); }
-int rot_dof(int bone) { return bone == 0 ? 3 : 3 + 3 * bone; }
+int nv_of(const Rig& rig) {
+  return 6 + 3 * (rig.nbone - 1);
+}
+int rot_dof(int bone) {
+  return bone == 0 ? 3 : 3 + 3 * bone;
+}
 
 // the rotation Jacobian of body b and the velocity Jacobian of a point p on it: each DOF turns
 // about its axis through its pivot (root: its centre of mass, ball: the head); the root also
@@ -63,7 +67,8 @@ DenseModeMatrices dense_mode_matrices(const Scene& scene, const SimState& s,
     const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[b]);
     const Vec3 k = torsion_stiffness_local(rig.bone_limit[b], theta, prm);
     if (k.isZero(0.0)) continue;
-    const Mat3 T = torsion_torque_frame(rig, prm, s.frames.orient_world[rig.bone_parent[b]], b, theta);
+    const Mat3 T =
+        torsion_torque_frame(rig, prm, s.frames.orient_world[rig.bone_parent[b]], b, theta);
     body_jacobians(rig, s, rig.bone_parent[b], s.com_world[b], Jwp, Jdummy);
     const MatX Jrel = Jw - Jwp;
     K += Jrel.transpose() * (T * k.asDiagonal() * T.transpose()) * Jrel;
@@ -72,8 +77,8 @@ DenseModeMatrices dense_mode_matrices(const Scene& scene, const SimState& s,
     const ControlPoint& cp = scene.control_points[c];
     const Vec3 a = point_on_bone(s.frames, cp.bone, cp.alpha);
     body_jacobians(rig, s, cp.bone, a, Jw, Jp);
-    K += Jp.transpose() * spring_tangent(cp.spring_in(prm), cp.k_in(prm), cp.cap_in(prm),
-                                          targets[c] - a) * Jp;
+    K += Jp.transpose() *
+         spring_tangent(cp.spring_in(prm), cp.k_in(prm), cp.cap_in(prm), targets[c] - a) * Jp;
   }
   return out;
 }

@@ -34,7 +34,8 @@ double control_residual(const Scene& scene, const SimState& s, int c) {
 
 void control_residuals(const Scene& scene, const SimState& s, std::vector<double>& out) {
   out.resize(scene.control_points.size());
-  for (std::size_t c = 0; c < out.size(); ++c) out[c] = control_residual(scene, s, static_cast<int>(c));
+  for (std::size_t c = 0; c < out.size(); ++c)
+    out[c] = control_residual(scene, s, static_cast<int>(c));
 }
 
 double max_control_residual(const Scene& scene, const SimState& s) {

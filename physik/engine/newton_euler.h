@@ -11,9 +11,9 @@
 // Units: N, N m, kg, kg m^2, rig units, s.
 #pragma once
 
+#include "physik/engine/state.h"
 #include "physik/model/params.h"
 #include "physik/model/rig.h"
-#include "physik/engine/state.h"
 
 namespace physik {
 
@@ -22,7 +22,8 @@ namespace physik {
 void prepare_bodies(const Rig& rig, const EngineParams& params, SimState& state);
 
 // Add a force applied at a world point to bone i (force, and torque about its centre of mass).
-inline void apply_force_at(SimState& s, int bone, const Vec3& force_world, const Vec3& point_world) {
+inline void apply_force_at(SimState& s, int bone, const Vec3& force_world,
+                           const Vec3& point_world) {
   s.force_world[bone] += force_world;
   s.torque_world[bone] += (point_world - s.com_world[bone]).cross(force_world);
 }

@@ -30,7 +30,8 @@ double control_potential(const Scene& scene, const std::vector<Vec3>& attach_wor
   double u = 0.0;
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
     const ControlPoint& cp = scene.control_points[c];
-    u += control_spring_potential(cp.spring_in(scene.params), cp.k_in(scene.params), cp.cap_in(scene.params),
+    u += control_spring_potential(cp.spring_in(scene.params), cp.k_in(scene.params),
+                                  cp.cap_in(scene.params),
                                   (attach_world[c] - targets_world[c]).norm());
   }
   return u;

@@ -7,8 +7,8 @@
 #include <sstream>
 #include <utility>
 
-#include "physik/engine/measures.h"
 #include "physik/engine/joint_forces.h"
+#include "physik/engine/measures.h"
 #include "physik/engine/potential.h"
 #include "physik/model/kinematics.h"
 
@@ -167,11 +167,12 @@ bool RunMonitor::check_divergence(const StepObservation& o) {
   const double e = o.kinetic_energy + o.potential_energy;
   const double given = rules_.initial_energy + target_work_;
   const double scale = std::max(given, 0.0) + rules_.energy_floor;
-  const double ratio = scale > 0.0 ? e / scale : (e > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
+  const double ratio =
+      scale > 0.0 ? e / scale : (e > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
   peak_energy_ratio_ = std::max(peak_energy_ratio_, ratio);
   if (!(ratio > rules_.energy_multiple)) return false;
-  reason_ = prefix_ + "energy " + num(e) + " J (kinetic " + num(o.kinetic_energy) +
-            " J) passed " + num(rules_.energy_multiple) + " x the " + num(given) +
+  reason_ = prefix_ + "energy " + num(e) + " J (kinetic " + num(o.kinetic_energy) + " J) passed " +
+            num(rules_.energy_multiple) + " x the " + num(given) +
             " J the rig was given (initial energy and the targets' work; floor " +
             num(rules_.energy_floor) + " J)" + at();
   return true;
@@ -199,8 +200,8 @@ bool RunMonitor::observe(const StepObservation& o) {
 
   // at rest: mass-weighted rms speed below the tolerance, with no target still moving
   const bool targets_still = !o.target_moving && o.step > rules_.last_event;
-  const bool at_rest = targets_still &&
-                       std::sqrt(2.0 * o.kinetic_energy / rules_.total_mass) < rules_.speed_tol;
+  const bool at_rest =
+      targets_still && std::sqrt(2.0 * o.kinetic_energy / rules_.total_mass) < rules_.speed_tol;
   rest_run_ = at_rest ? rest_run_ + 1 : 0;
   if (rules_.stop_at_residual) {
     // IK use: converged = targets met; no progress for a while short of them = stalled
@@ -247,9 +248,9 @@ RunSummary RunMonitor::summary() const {
   if (unpropagated_steps_ > 0) {
     out.joint_solve_warning =
         "the joint solve stopped before its forces reached every joint in " +
-        std::to_string(unpropagated_steps_) + " of " + std::to_string(run) +
-        " steps (up to " + std::to_string(max_unreached_) +
-        " joints accelerating at under " + num(kUnreachedFraction) +
+        std::to_string(unpropagated_steps_) + " of " + std::to_string(run) + " steps (up to " +
+        std::to_string(max_unreached_) + " joints accelerating at under " +
+        num(kUnreachedFraction) +
         " of the largest joint acceleration); the motion of "
         "the far bones is wrong: set params.joint_eps_relative (e.g. 1e-3) to solve on";
   }

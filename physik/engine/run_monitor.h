@@ -52,15 +52,15 @@ constexpr double kEnergyMultiple = 4.0;  // 1, see the energy rule above
 
 // What the monitor needs to know about the scene.
 struct RunRules {
-  double speed_tol = 0.0;      // rig units/s, at rest below it
-  double energy_bound = 0.0;   // J; > 0: diverged when KE passes it (a fixed bound, the scene's
-                               //    convergence.divergence_energy); 0: the energy rule
-  double initial_energy = 0.0; // J, E_0 = KE_0 + U_0 of the initial state (energy rule)
-  double energy_floor = 0.0;   // J, E_floor = M speed_tol^2 / 2 (energy rule)
+  double speed_tol = 0.0;       // rig units/s, at rest below it
+  double energy_bound = 0.0;    // J; > 0: diverged when KE passes it (a fixed bound, the scene's
+                                //    convergence.divergence_energy); 0: the energy rule
+  double initial_energy = 0.0;  // J, E_0 = KE_0 + U_0 of the initial state (energy rule)
+  double energy_floor = 0.0;    // J, E_floor = M speed_tol^2 / 2 (energy rule)
   double energy_multiple = kEnergyMultiple;  // 1 (energy rule)
-  double total_mass = 1.0;     // kg
-  int last_event = 0;          // last step at which the schedule changes a target (0 = none)
-  int settle_steps = 10;       // consecutive steps at rest to call the run converged
+  double total_mass = 1.0;                   // kg
+  int last_event = 0;     // last step at which the schedule changes a target (0 = none)
+  int settle_steps = 10;  // consecutive steps at rest to call the run converged
   bool stop_when_converged = false;
   // IK use (scene convergence.stop_at_residual_tol): converged means every control point within
   // residual_tol of its goal; the run stops there, or when it stalls short of it (then not
@@ -76,21 +76,22 @@ RunRules run_rules(const Scene& scene);
 
 // One step as the monitor sees it.
 struct StepObservation {
-  int step = 0;                   // steps taken after this one (state.step)
-  double kinetic_energy = 0.0;    // J, after the step
-  bool state_finite = true;       // positions, velocities, orientations all finite
-  bool engine_non_finite = false; // the engine's own non-finite flag (MuJoCo bad qacc); false if none
-  int passes = 0;                 // solver passes (iterations) this step
-  double joint_separation = 0.0;  // rig units, largest parent-tail to child-head gap
-  double limit_violation = 0.0;   // rad, largest joint-limit violation of the pose
-  bool target_moving = false;     // some target still interpolating toward its goal
-  double max_residual = 0.0;      // rig units, largest control-point distance to its goal
-  double potential_energy = 0.0;  // J, U after the step: control springs toward this step's
-                                  //    targets, torsion springs of the pose
-  double target_work = 0.0;       // J, W of this step's target change (used when state is null)
+  int step = 0;                 // steps taken after this one (state.step)
+  double kinetic_energy = 0.0;  // J, after the step
+  bool state_finite = true;     // positions, velocities, orientations all finite
+  bool engine_non_finite =
+      false;       // the engine's own non-finite flag (MuJoCo bad qacc); false if none
+  int passes = 0;  // solver passes (iterations) this step
+  double joint_separation = 0.0;    // rig units, largest parent-tail to child-head gap
+  double limit_violation = 0.0;     // rad, largest joint-limit violation of the pose
+  bool target_moving = false;       // some target still interpolating toward its goal
+  double max_residual = 0.0;        // rig units, largest control-point distance to its goal
+  double potential_energy = 0.0;    // J, U after the step: control springs toward this step's
+                                    //    targets, torsion springs of the pose
+  double target_work = 0.0;         // J, W of this step's target change (used when state is null)
   const SimState* state = nullptr;  // the state after the step: the monitor then measures the
                                     // target work itself (it keeps the step before's targets)
-  int unreached_joints = 0;       // joints the joint solve's forces did not reach (joint_forces.h)
+  int unreached_joints = 0;  // joints the joint solve's forces did not reach (joint_forces.h)
 };
 
 // Every position, velocity and orientation of the state is finite.
@@ -146,7 +147,7 @@ class RunMonitor {
   double target_work_ = 0.0;              // J, W_k so far
   double peak_energy_ratio_ = 0.0;        // max_k E_k / (max(E_in,k, 0) + E_floor)
   int unpropagated_steps_ = 0;
-  Pose last_finite_pose_;        // the last observed finite state's pose, its step and KE (J)
+  Pose last_finite_pose_;  // the last observed finite state's pose, its step and KE (J)
   int last_finite_step_ = -1;
   double last_finite_ke_ = 0.0;
   int max_unreached_ = 0;
@@ -155,9 +156,9 @@ class RunMonitor {
   bool converged_ = false;
   bool diverged_ = false;
   std::string reason_;
-  int first_step_ = 0;           // the state's step at the (re)start: counts are of this run
-  int steps_run_ = 0;            // the state's step at the last observation
-  int steps_to_converge_ = -1;   // the state's step
+  int first_step_ = 0;          // the state's step at the (re)start: counts are of this run
+  int steps_run_ = 0;           // the state's step at the last observation
+  int steps_to_converge_ = -1;  // the state's step
   int rest_run_ = 0;
   long total_passes_ = 0;
   int max_passes_ = 0;
@@ -165,7 +166,7 @@ class RunMonitor {
   double max_separation_ = 0.0;
   double max_violation_deg_ = 0.0;
   double best_residual_ = std::numeric_limits<double>::infinity();  // IK use
-  int last_improvement_ = 0;                                         // IK use: step
+  int last_improvement_ = 0;                                        // IK use: step
 };
 
 // The final-state fields of a summary: residuals to the goal targets, KE, pose and frames.

@@ -12,9 +12,9 @@
 namespace physik {
 
 struct StepStats {
-  int passes = 0;            // joint passes this step (gauss-seidel; 1 for the exact solve)
-  int substeps = 0;          // the implicit step's substeps (1 unless the energy guard split it)
-  double mismatch = 0.0;     // largest joint-point acceleration difference left, rig units/s^2
+  int passes = 0;               // joint passes this step (gauss-seidel; 1 for the exact solve)
+  int substeps = 0;             // the implicit step's substeps (1 unless the energy guard split it)
+  double mismatch = 0.0;        // largest joint-point acceleration difference left, rig units/s^2
   double kinetic_energy = 0.0;  // J, after the step
   double max_residual = 0.0;    // rig units, largest control-point distance to its goal target
   double joint_separation = 0.0;  // rig units, largest parent-tail to child-head gap
@@ -35,9 +35,9 @@ struct RunSummary {
   double max_joint_separation = 0.0;    // rig units over the run
   double mean_passes_per_step = 0.0;
   int max_passes_in_a_step = 0;
-  double peak_kinetic_energy = 0.0;     // J
-  double final_kinetic_energy = 0.0;    // J
-  double max_limit_violation_deg = 0.0; // over the run
+  double peak_kinetic_energy = 0.0;      // J
+  double final_kinetic_energy = 0.0;     // J
+  double max_limit_violation_deg = 0.0;  // over the run
   // the energy ledger (run_monitor.h): the energy given to the rig, E_0 + W at the last step (J),
   // and the largest E_k / (max(E_in,k, 0) + E_floor) seen (1)
   double energy_given = 0.0;
@@ -52,10 +52,10 @@ struct RunSummary {
   // the last state the run reached, or, when it went non-finite, the last finite one (its step in
   // final_pose_step, its KE in final_kinetic_energy, its residuals in final_residuals)
   int final_pose_step = 0;
-  double damping_auto_value = 0.0;      // N s/m, damping_auto's last choice (params.damping_auto)
-  int damping_auto_updates = 0;         // how often it was chosen (start + target changes)
-  int implicit_split_steps = 0;         // scheme implicit: steps the energy guard split in
-  int implicit_max_substeps = 0;        //   halves, and the most substeps of one (implicit_advance.h)
+  double damping_auto_value = 0.0;  // N s/m, damping_auto's last choice (params.damping_auto)
+  int damping_auto_updates = 0;     // how often it was chosen (start + target changes)
+  int implicit_split_steps = 0;     // scheme implicit: steps the energy guard split in
+  int implicit_max_substeps = 0;    //   halves, and the most substeps of one (implicit_advance.h)
   Pose final_pose;
   BoneFrames final_frames;
 };

@@ -22,20 +22,20 @@ struct JointStateSnapshot {
 
 struct SimState {
   // --- configuration and velocity (integrated) ---
-  BoneFrames frames;                  // head/tail/orientation, world, rig units
-  std::vector<Vec3> com_world;        // (nbone) centre of mass = midpoint, rig units
-  std::vector<Vec3> vel_world;        // (nbone) centre-of-mass velocity, rig units/s
-  std::vector<Vec3> omega_world;      // (nbone) angular velocity, rad/s
+  BoneFrames frames;              // head/tail/orientation, world, rig units
+  std::vector<Vec3> com_world;    // (nbone) centre of mass = midpoint, rig units
+  std::vector<Vec3> vel_world;    // (nbone) centre-of-mass velocity, rig units/s
+  std::vector<Vec3> omega_world;  // (nbone) angular velocity, rad/s
 
   // --- per-step accumulators ---
-  std::vector<Vec3> force_world;      // (nbone) net force, N
-  std::vector<Vec3> torque_world;     // (nbone) net torque about the centre of mass, N m
+  std::vector<Vec3> force_world;         // (nbone) net force, N
+  std::vector<Vec3> torque_world;        // (nbone) net torque about the centre of mass, N m
   std::vector<Vec3> joint_force_world;   // (nbone) inter-joint forces only (for checks)
   std::vector<Vec3> joint_torque_world;  // (nbone) their torque about the centre of mass
 
   // --- per-step geometry caches (fixed during the joint passes) ---
-  std::vector<Mat3> inertia_inv_world;   // (nbone) I^-1 in world axes, 1/(kg m^2)
-  std::vector<Vec3> gyro_world;          // (nbone) w x I w, N m (0 when gyroscopic is off)
+  std::vector<Mat3> inertia_inv_world;  // (nbone) I^-1 in world axes, 1/(kg m^2)
+  std::vector<Vec3> gyro_world;         // (nbone) w x I w, N m (0 when gyroscopic is off)
 
   // --- joint solve workspace, per joint member (Rig::joint_member_bone, ...) ---
   std::vector<Vec3> member_r_world;      // (nmember) joint point minus centre of mass
@@ -49,29 +49,30 @@ struct SimState {
   // the root's free joint, and per bone the ball's relative angular velocity; every ball's
   // quaternion is pose.bone_local_rotation[i]. frames, com, vel and omega are derived from these
   // after every step (integrate_joint_space.h).
-  Vec3 root_com_world = Vec3::Zero();   // rig units
-  Vec3 root_vel_world = Vec3::Zero();   // rig units/s, of the root's centre of mass
+  Vec3 root_com_world = Vec3::Zero();         // rig units
+  Vec3 root_vel_world = Vec3::Zero();         // rig units/s, of the root's centre of mass
   Quat root_orient_world = Quat::Identity();  // world<-root bone
-  std::vector<Vec3> joint_vel_local;    // (nbone) rad/s; [0] the root's w in its own frame,
-                                        //   [i] R_i^T (w_i - w_parent), in bone i's frame
-  ArticulatedBodyData articulated;      // the articulated-body algorithm's workspace
+  std::vector<Vec3> joint_vel_local;          // (nbone) rad/s; [0] the root's w in its own frame,
+                                              //   [i] R_i^T (w_i - w_parent), in bone i's frame
+  ArticulatedBodyData articulated;            // the articulated-body algorithm's workspace
 
   // --- implicit step workspace (scheme implicit, implicit_step.h) ---
-  std::vector<Vec6> accel_bias;         // (nbone) velocity-product spatial accelerations a0_i
-                                        //   (qacc = 0) about o_i, (rad/s^2; rig units/s^2)
-  std::vector<Mat3> control_stiffness;  // (ncontrol) K_c this step (spring_step_stiffness), N/m
-  std::vector<Vec3> torsion_stiffness;  // (nbone) per rest axis this step
-                                        //   (torsion_step_stiffness_local), N m/rad
+  std::vector<Vec6> accel_bias;           // (nbone) velocity-product spatial accelerations a0_i
+                                          //   (qacc = 0) about o_i, (rad/s^2; rig units/s^2)
+  std::vector<Mat3> control_stiffness;    // (ncontrol) K_c this step (spring_step_stiffness), N/m
+  std::vector<Vec3> torsion_stiffness;    // (nbone) per rest axis this step
+                                          //   (torsion_step_stiffness_local), N m/rad
   std::vector<Mat3> torsion_block_world;  // (nbone) the torsion block K_j this step, world axes,
-                                         //   N m/rad (implicit_step.h torsion_block_world)
-  std::vector<JointStateSnapshot> implicit_snapshots;  // (implicit_max_splits + 1) the energy guard's
-  int implicit_split_steps = 0;         // steps the energy guard split (implicit_advance.h)
-  int implicit_max_substeps = 0;        // the most substeps one step took
+                                          //   N m/rad (implicit_step.h torsion_block_world)
+  std::vector<JointStateSnapshot>
+      implicit_snapshots;         // (implicit_max_splits + 1) the energy guard's
+  int implicit_split_steps = 0;   // steps the energy guard split (implicit_advance.h)
+  int implicit_max_substeps = 0;  // the most substeps one step took
 
   // --- damping_auto (linear_modes.h) ---
-  double damping_auto_value = 0.0;      // N s/m, the damping chosen at the last target change
-  int damping_auto_updates = 0;         // how many times it was chosen this run
-  ModeWorkspace modes;                  // the linear modes' buffers, sized at the first update
+  double damping_auto_value = 0.0;  // N s/m, the damping chosen at the last target change
+  int damping_auto_updates = 0;     // how many times it was chosen this run
+  ModeWorkspace modes;              // the linear modes' buffers, sized at the first update
 
   // --- control points ---
   std::vector<Vec3> target_effective_world;  // (ncontrol) the target the spring pulls toward now
@@ -80,11 +81,11 @@ struct SimState {
   std::vector<Vec3> control_force_world;     // (ncontrol) last spring force, N
 
   // --- bookkeeping ---
-  int step = 0;        // steps taken
-  double time = 0.0;   // s
-  Pose pose;           // local rotations of `frames` (torsion, limits, output); init_state
-                       // and step() keep it in sync: code that edits frames must refresh it
-                       // (local_rotations_from_world)
+  int step = 0;       // steps taken
+  double time = 0.0;  // s
+  Pose pose;          // local rotations of `frames` (torsion, limits, output); init_state
+                      // and step() keep it in sync: code that edits frames must refresh it
+                      // (local_rotations_from_world)
 };
 
 // Size every buffer for a rig and `ncontrol` control points, zeroed, at step 0. init_state

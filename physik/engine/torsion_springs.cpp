@@ -65,15 +65,17 @@ Mat3 left_jacobian_inverse_transpose(const Vec3& theta) {
   return Mat3::Identity() + 0.5 * W + b * (W * W);
 }
 
-Mat3 torsion_torque_frame(const Rig& rig, const EngineParams& params, const Quat& parent_orient_world,
-                          int bone, const Vec3& theta) {
+Mat3 torsion_torque_frame(const Rig& rig, const EngineParams& params,
+                          const Quat& parent_orient_world, int bone, const Vec3& theta) {
   const Mat3 R = (parent_orient_world * rig.bone_rest_orient_parent[bone]).toRotationMatrix();
-  return params.torsion_torque == TorsionTorque::kGradient ? R * left_jacobian_inverse_transpose(theta) : R;
+  return params.torsion_torque == TorsionTorque::kGradient
+             ? R * left_jacobian_inverse_transpose(theta)
+             : R;
 }
 
 Mat3 torsion_step_block_local(const Vec3& k, const Vec3& theta, TorsionTorque torque) {
   const Mat3 Jt = left_jacobian_inverse_transpose(theta);  // J_l^-T
-  const Mat3 tangent = k.asDiagonal() * Jt.transpose();     // diag(k) J_l^-1
+  const Mat3 tangent = k.asDiagonal() * Jt.transpose();    // diag(k) J_l^-1
   if (torque == TorsionTorque::kGradient) return Jt * tangent;
   // the symmetric part's negative eigenvalues clipped; the antisymmetric part kept
   const Mat3 sym = 0.5 * (tangent + tangent.transpose());

@@ -33,9 +33,9 @@
 // times the torque, dropped): its tangent where the torque vanishes.
 #pragma once
 
+#include "physik/engine/state.h"
 #include "physik/model/params.h"
 #include "physik/model/rig.h"
-#include "physik/engine/state.h"
 
 namespace physik {
 
@@ -56,8 +56,8 @@ Vec3 torsion_step_stiffness_local(const std::array<AxisLimit, 3>& limits, const 
 
 // The matrix T that turns a local per-axis torque (torsion_torque_local) into the torque on the
 // bone in world axes: R_pr for `axes`, R_pr J_l(theta)^-T for `gradient`.
-Mat3 torsion_torque_frame(const Rig& rig, const EngineParams& params, const Quat& parent_orient_world,
-                          int bone, const Vec3& theta);
+Mat3 torsion_torque_frame(const Rig& rig, const EngineParams& params,
+                          const Quat& parent_orient_world, int bone, const Vec3& theta);
 
 // The implicit step's torsion block in the parent-rest frame (N m/rad; implicit_step.h), from the
 // per-axis step stiffness k (torsion_step_stiffness_local) at joint angles theta. A relative turn

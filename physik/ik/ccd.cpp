@@ -68,7 +68,8 @@ IkReport solve_ccd(const IkProblem& pb, Pose& pose) {
         if (par >= 0 && axis != 1 && bump > 0.0) {
           const Vec3 d = P * (q_new * Vec3::UnitY());
           const Vec3 d_parent = f.orient_world[par] * Vec3::UnitY();
-          if (d.cross(d_parent).norm() < 1e-6 && d.dot(d_parent) > 0.0) q_new = turned(theta + bump);
+          if (d.cross(d_parent).norm() < 1e-6 && d.dot(d_parent) > 0.0)
+            q_new = turned(theta + bump);
         }
         // world rotation actually applied (after clamping): delta = P q_new q_old^-1 P^-1
         const Quat delta = (P * q_new * q_old.conjugate() * P.conjugate()).normalized();

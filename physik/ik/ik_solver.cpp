@@ -13,12 +13,18 @@ namespace physik {
 
 const char* to_string(IkMethod m) {
   switch (m) {
-    case IkMethod::kFabrik: return "fabrik";
-    case IkMethod::kCcd: return "ccd";
-    case IkMethod::kJacobianTranspose: return "jt";
-    case IkMethod::kDampedLeastSquares: return "dls";
-    case IkMethod::kMassSpring: return "mass-spring";
-    case IkMethod::kRotation: return "rotation";
+    case IkMethod::kFabrik:
+      return "fabrik";
+    case IkMethod::kCcd:
+      return "ccd";
+    case IkMethod::kJacobianTranspose:
+      return "jt";
+    case IkMethod::kDampedLeastSquares:
+      return "dls";
+    case IkMethod::kMassSpring:
+      return "mass-spring";
+    case IkMethod::kRotation:
+      return "rotation";
   }
   return "?";
 }
@@ -101,8 +107,7 @@ Quat rotate_local(const Rig& rig, const BoneFrames& frames, int bone, const Quat
   return (P.conjugate() * delta_world * P * q_local).normalized();
 }
 
-int bump_colinear_joints(const Rig& rig, const std::vector<char>& active, double bump,
-                         Pose& pose) {
+int bump_colinear_joints(const Rig& rig, const std::vector<char>& active, double bump, Pose& pose) {
   if (bump <= 0.0) return 0;
   int count = 0;
   BoneFrames frames = forward_kinematics(rig, pose);
@@ -136,9 +141,9 @@ void aim_bones_at(const Rig& rig, const std::vector<char>& active,
   frames.resize(rig.nbone);
   for (int i = 0; i < rig.nbone; ++i) {
     const int p = rig.bone_parent[i];
-    const Vec3 head = p < 0 ? pose.root_head_world
-                            : Vec3(frames.head_world[p] +
-                                   frames.orient_world[p] * rig.bone_head_in_parent[i]);
+    const Vec3 head =
+        p < 0 ? pose.root_head_world
+              : Vec3(frames.head_world[p] + frames.orient_world[p] * rig.bone_head_in_parent[i]);
     if (active[i]) {
       const Vec3 want = tail_world[i] - head;
       if (want.norm() > 1e-12) {
@@ -148,8 +153,8 @@ void aim_bones_at(const Rig& rig, const std::vector<char>& active,
                              : Quat(frames.orient_world[p] * rig.bone_rest_orient_parent[i]);
         const Vec3 want_rest = P.conjugate() * want;
         const Vec3 now_rest = pose.bone_local_rotation[i] * Vec3::UnitY();
-        Quat q = (Quat::FromTwoVectors(now_rest, want_rest) * pose.bone_local_rotation[i])
-                     .normalized();
+        Quat q =
+            (Quat::FromTwoVectors(now_rest, want_rest) * pose.bone_local_rotation[i]).normalized();
         if (respect_limits) q = clamp_to_limits(rig, i, q);
         pose.bone_local_rotation[i] = q;
       }
@@ -228,8 +233,7 @@ IkReport run_ik_loop(const char* name, const IkProblem& pb, Pose& pose, const Ik
     history.push_back(r);
     const int w = opt.stall_window;
     if (w > 0 && static_cast<int>(history.size()) > w &&
-        history[history.size() - 1 - w] - r < opt.stall_fraction * pb.reach &&
-        r > pb.tolerance) {
+        history[history.size() - 1 - w] - r < opt.stall_fraction * pb.reach && r > pb.tolerance) {
       rep.stalled = true;
       break;
     }
@@ -272,16 +276,28 @@ IkReport solve_ik(IkMethod method, const Rig& rig, const std::vector<IkGoal>& go
   for (int k : order) pb.goals.push_back(goals[k]);
   pb.active = active_bones(rig, goals);
   pb.reach = chain_reach(rig, goals);
-  pb.tolerance = options.tolerance > 0.0 ? options.tolerance
-                                         : options.tolerance_fraction * pb.reach;
+  pb.tolerance =
+      options.tolerance > 0.0 ? options.tolerance : options.tolerance_fraction * pb.reach;
   IkReport rep;
   switch (method) {
-    case IkMethod::kFabrik: rep = solve_fabrik(pb, pose); break;
-    case IkMethod::kCcd: rep = solve_ccd(pb, pose); break;
-    case IkMethod::kJacobianTranspose: rep = solve_jacobian(pb, false, pose); break;
-    case IkMethod::kDampedLeastSquares: rep = solve_jacobian(pb, true, pose); break;
-    case IkMethod::kMassSpring: rep = solve_mass_spring(pb, pose); break;
-    case IkMethod::kRotation: rep = solve_rotation_method(pb, pose); break;
+    case IkMethod::kFabrik:
+      rep = solve_fabrik(pb, pose);
+      break;
+    case IkMethod::kCcd:
+      rep = solve_ccd(pb, pose);
+      break;
+    case IkMethod::kJacobianTranspose:
+      rep = solve_jacobian(pb, false, pose);
+      break;
+    case IkMethod::kDampedLeastSquares:
+      rep = solve_jacobian(pb, true, pose);
+      break;
+    case IkMethod::kMassSpring:
+      rep = solve_mass_spring(pb, pose);
+      break;
+    case IkMethod::kRotation:
+      rep = solve_rotation_method(pb, pose);
+      break;
   }
   // residuals back in the caller's goal order
   std::vector<double> res(goals.size());

@@ -40,12 +40,12 @@ struct IkGoal {
 };
 
 enum class IkMethod {
-  kFabrik,             // fabrik.cpp
-  kCcd,                // ccd.cpp
-  kJacobianTranspose,  // jacobian.cpp
-  kDampedLeastSquares, // jacobian.cpp
-  kMassSpring,         // mass_spring.cpp
-  kRotation,           // rotation_method.cpp
+  kFabrik,              // fabrik.cpp
+  kCcd,                 // ccd.cpp
+  kJacobianTranspose,   // jacobian.cpp
+  kDampedLeastSquares,  // jacobian.cpp
+  kMassSpring,          // mass_spring.cpp
+  kRotation,            // rotation_method.cpp
 };
 
 enum class JacobianKind { kAnalytic, kFiniteDifference };
@@ -63,35 +63,35 @@ enum class ConeShape {
 
 struct IkOptions {
   int max_iterations = 1000;
-  double tolerance = 0.0;          // rig units; 0 = tolerance_fraction * reach
+  double tolerance = 0.0;            // rig units; 0 = tolerance_fraction * reach
   double tolerance_fraction = 1e-4;  // 1, of the chain's reach
-  int stall_window = 30;           // iterations; stop when the residual improved by less than
-  double stall_fraction = 1e-7;    //   stall_fraction * reach over that many iterations
-  bool respect_limits = true;      // clamp to the rig's joint limits
-  double colinear_bump = 1e-2;     // rad, bend given to colinear joints (0 = off)
+  int stall_window = 30;             // iterations; stop when the residual improved by less than
+  double stall_fraction = 1e-7;      //   stall_fraction * reach over that many iterations
+  bool respect_limits = true;        // clamp to the rig's joint limits
+  double colinear_bump = 1e-2;       // rad, bend given to colinear joints (0 = off)
 
   // Jacobian transpose / DLS (jacobian.cpp)
   JacobianKind jacobian = JacobianKind::kAnalytic;
-  double fd_step = 1e-4;           // rad, finite-difference step (the guide uses 0.01)
-  double lambda = 0.0;             // rig units, DLS damping; 0 = lambda_fraction * reach
-  double lambda_fraction = 0.02;   // 1
-  double max_angle_step = 0.3;     // rad, largest joint change per iteration
-  int max_step_halvings = 8;       // backtracking line search on the squared goal error (0 = off)
-  double max_error_fraction = 0.1; // 1, each goal's error is clamped to this fraction of the
-                                   //    reach before a Jacobian step (Buss's D_max)
+  double fd_step = 1e-4;            // rad, finite-difference step (the guide uses 0.01)
+  double lambda = 0.0;              // rig units, DLS damping; 0 = lambda_fraction * reach
+  double lambda_fraction = 0.02;    // 1
+  double max_angle_step = 0.3;      // rad, largest joint change per iteration
+  int max_step_halvings = 8;        // backtracking line search on the squared goal error (0 = off)
+  double max_error_fraction = 0.1;  // 1, each goal's error is clamped to this fraction of the
+                                    //    reach before a Jacobian step (Buss's D_max)
 
   // mass-spring (mass_spring.cpp)
   Vec3 gravity_world = Vec3::Zero();  // rig units/s^2 (e.g. (0, 0, -9.81)); zero = off
-  double dt = 1.0 / 60.0;          // s, Verlet time step
-  double velocity_keep = 0.5;      // 1, fraction of the Verlet velocity kept per iteration
-  int constraint_passes = 8;       // distance-constraint passes per iteration
+  double dt = 1.0 / 60.0;             // s, Verlet time step
+  double velocity_keep = 0.5;         // 1, fraction of the Verlet velocity kept per iteration
+  int constraint_passes = 8;          // distance-constraint passes per iteration
 
   // rotation method (rotation_method.cpp)
-  double rotation_gain = 0.8;      // 1, fraction of the tangential error corrected per joint
-  double rotation_damping = 0.8;   // 1, factor per joint up the hierarchy (0: only the
-                                   //    effector's bone moves, 1: no damping)
-  double springiness = 0.05;       // 1, fraction of the way to the natural (rest) position
-                                   //    added to the goal vector
+  double rotation_gain = 0.8;     // 1, fraction of the tangential error corrected per joint
+  double rotation_damping = 0.8;  // 1, factor per joint up the hierarchy (0: only the
+                                  //    effector's bone moves, 1: no damping)
+  double springiness = 0.05;      // 1, fraction of the way to the natural (rest) position
+                                  //    added to the goal vector
   SocketMode socket_mode = SocketMode::kTwistBend;
   ConeShape cone_shape = ConeShape::kElliptical;
 };
@@ -99,13 +99,13 @@ struct IkOptions {
 struct IkReport {
   std::string solver;
   int iterations = 0;
-  double residual = 0.0;            // rig units, the largest effector distance at the end
-  std::vector<double> residuals;    // rig units, one per goal in the order given
+  double residual = 0.0;          // rig units, the largest effector distance at the end
+  std::vector<double> residuals;  // rig units, one per goal in the order given
   bool converged = false;
-  bool stalled = false;             // stopped because the residual stopped improving
-  double tolerance = 0.0;           // rig units, the one used
-  double reach = 0.0;               // rig units
-  double time_s = 0.0;              // wall time of the solve
+  bool stalled = false;    // stopped because the residual stopped improving
+  double tolerance = 0.0;  // rig units, the one used
+  double reach = 0.0;      // rig units
+  double time_s = 0.0;     // wall time of the solve
 };
 
 const char* to_string(IkMethod m);
@@ -144,8 +144,7 @@ Quat rotate_local(const Rig& rig, const BoneFrames& frames, int bone, const Quat
                   const Quat& delta_world);
 // Give every active joint colinear with its parent (angle < 1e-6 rad) a bend of `bump` rad
 // about its first free axis other than y, within limits. Returns the number bumped.
-int bump_colinear_joints(const Rig& rig, const std::vector<char>& active, double bump,
-                         Pose& pose);
+int bump_colinear_joints(const Rig& rig, const std::vector<char>& active, double bump, Pose& pose);
 // Recover local rotations from desired tail positions (FABRIK, mass-spring; guide "Fabrik
 // Solver": rotations in local space). Bones are visited in DFS order; an active bone turns by the
 // smallest rotation (in its rest frame) that aims its tail at tail_world[i] from its current
@@ -160,17 +159,17 @@ void aim_bones_at(const Rig& rig, const std::vector<char>& active,
 // recomputes FK). `goals` are DFS-sorted, `active` marks the bones on effector paths.
 struct IkProblem {
   const Rig* rig = nullptr;
-  std::vector<IkGoal> goals;   // DFS-sorted
-  std::vector<char> active;    // (nbone)
-  double reach = 0.0;          // rig units
-  double tolerance = 0.0;      // rig units
+  std::vector<IkGoal> goals;  // DFS-sorted
+  std::vector<char> active;   // (nbone)
+  double reach = 0.0;         // rig units
+  double tolerance = 0.0;     // rig units
   IkOptions options;
 };
-IkReport solve_fabrik(const IkProblem& problem, Pose& pose);       // fabrik.cpp
-IkReport solve_ccd(const IkProblem& problem, Pose& pose);          // ccd.cpp
+IkReport solve_fabrik(const IkProblem& problem, Pose& pose);                 // fabrik.cpp
+IkReport solve_ccd(const IkProblem& problem, Pose& pose);                    // ccd.cpp
 IkReport solve_jacobian(const IkProblem& problem, bool damped, Pose& pose);  // jacobian.cpp
-IkReport solve_mass_spring(const IkProblem& problem, Pose& pose);  // mass_spring.cpp
-IkReport solve_rotation_method(const IkProblem& problem, Pose& pose);  // rotation_method.cpp
+IkReport solve_mass_spring(const IkProblem& problem, Pose& pose);            // mass_spring.cpp
+IkReport solve_rotation_method(const IkProblem& problem, Pose& pose);        // rotation_method.cpp
 
 // The iteration loop every solver shares: residual, tolerance, stall detection, best-pose
 // fallback on non-finite iterates, timing. `iterate` performs one iteration.

@@ -52,9 +52,8 @@ void goal_jacobian(const IkProblem& pb, const BoneFrames& f, const std::vector<i
       while (b > j) b = rig.bone_parent[b];
       if (b != j) continue;
       const Vec3 r = point_on_bone(f, pb.goals[g].bone, pb.goals[g].alpha) - h;
-      J.block<3, 1>(3 * g, c) = kind == JacobianKind::kAnalytic
-                                    ? Vec3(a.cross(r))
-                                    : Vec3((step * r - r) / fd_step);
+      J.block<3, 1>(3 * g, c) =
+          kind == JacobianKind::kAnalytic ? Vec3(a.cross(r)) : Vec3((step * r - r) / fd_step);
     }
   }
 }
@@ -64,7 +63,8 @@ namespace {
 // the goals' squared error at frames f (rig units^2)
 double sq_error(const IkProblem& pb, const BoneFrames& f) {
   double s = 0.0;
-  for (const IkGoal& g : pb.goals) s += (g.target_world - point_on_bone(f, g.bone, g.alpha)).squaredNorm();
+  for (const IkGoal& g : pb.goals)
+    s += (g.target_world - point_on_bone(f, g.bone, g.alpha)).squaredNorm();
   return s;
 }
 
@@ -95,9 +95,9 @@ void joint_step(const Eigen::MatrixXd& J, const Eigen::VectorXd& e, bool damped,
 // The step per bone onto `p` (from its value on entry), clamped to the limits; halved while it
 // makes the goals' squared error worse (a backtracking line search: far from the goal the
 // linearisation overshoots). turn and trial are scratch.
-void apply_step(const IkProblem& pb, const std::vector<int>& dof_bone, const std::vector<int>& dof_axis,
-                const BoneFrames& f, Eigen::VectorXd& dtheta, Pose& p, std::vector<Vec3>& turn,
-                BoneFrames& trial) {
+void apply_step(const IkProblem& pb, const std::vector<int>& dof_bone,
+                const std::vector<int>& dof_axis, const BoneFrames& f, Eigen::VectorXd& dtheta,
+                Pose& p, std::vector<Vec3>& turn, BoneFrames& trial) {
   const Rig& rig = *pb.rig;
   const IkOptions& opt = pb.options;
   const int nd = static_cast<int>(dof_bone.size());

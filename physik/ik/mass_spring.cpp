@@ -47,8 +47,8 @@ namespace {
 // tail nodes), then every bone's length is restored, sweeping root to leaves on even passes and
 // leaves to root on odd ones (so a correction travels the whole chain in two passes, not one bone
 // per pass)
-void project(const IkProblem& pb, const std::vector<double>& node_mass, const Vec3& anchor, int pass,
-             std::vector<Vec3>& x) {
+void project(const IkProblem& pb, const std::vector<double>& node_mass, const Vec3& anchor,
+             int pass, std::vector<Vec3>& x) {
   const Rig& rig = *pb.rig;
   const int n = rig.nbone;
   for (const IkGoal& g : pb.goals) {
@@ -106,7 +106,8 @@ IkReport solve_mass_spring(const IkProblem& pb, Pose& pose) {
       x_prev[i] = x[i];
       x[i] += v + gdt2;
     }
-    for (int pass = 0; pass < opt.constraint_passes; ++pass) project(pb, node_mass, anchor, pass, x);
+    for (int pass = 0; pass < opt.constraint_passes; ++pass)
+      project(pb, node_mass, anchor, pass, x);
     aim_bones_at(rig, pb.active, x, opt.respect_limits, p, f);
     for (int i = 0; i < n; ++i) {
       if (pb.active[i]) x[i] = f.tail_world[i];

@@ -74,8 +74,17 @@ class JointTurn {
  public:
   JointTurn(const Rig& rig, const IkOptions& opt, const BoneFrames& f, Pose& p, int j,
             const IkGoal& goal, double weight, Vec3& point)
-      : rig_(rig), opt_(opt), f_(f), p_(p), j_(j), goal_(goal), weight_(weight), point_(point),
-        P_(rest_frame_world(rig, f, j)), h_(f.head_world[j]), L_(rig.bone_length[j]) {}
+      : rig_(rig),
+        opt_(opt),
+        f_(f),
+        p_(p),
+        j_(j),
+        goal_(goal),
+        weight_(weight),
+        point_(point),
+        P_(rest_frame_world(rig, f, j)),
+        h_(f.head_world[j]),
+        L_(rig.bone_length[j]) {}
 
   // bend joint: the one free axis, fixed in the parent
   void bend(int axis_index) {
@@ -167,8 +176,8 @@ IkReport solve_rotation_method(const IkProblem& pb, Pose& pose) {
   std::vector<std::vector<int>> free_axes(rig.nbone);
   for (int i = 0; i < rig.nbone; ++i) {
     for (int k = 0; k < 3; ++k) {
-      const bool locked = opt.respect_limits && rig.bone_parent[i] >= 0 &&
-                          rig.bone_limit[i][k].locked();
+      const bool locked =
+          opt.respect_limits && rig.bone_parent[i] >= 0 && rig.bone_limit[i][k].locked();
       if (!locked) free_axes[i].push_back(k);
     }
   }

@@ -20,8 +20,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "physik/model/errors.h"
 #include "physik/ik/ik_solver.h"
+#include "physik/model/errors.h"
 
 namespace physik {
 
@@ -39,8 +39,8 @@ ScaleBranch distribute_scale(const Vec3& goal, std::vector<Vec3>& scales,
   const int n = static_cast<int>(scales.size());
   if (n == 0) throw_input_error("scale", "scales", "", "no nodes to distribute over");
   const bool positive = (goal.array() > 0.0).all();
-  const bool constrained = !min_scale.empty() &&
-                           min_scale.size() == scales.size() && max_scale.size() == scales.size();
+  const bool constrained =
+      !min_scale.empty() && min_scale.size() == scales.size() && max_scale.size() == scales.size();
   if (!min_scale.empty() && !constrained) {
     throw_input_error("scale", "min_scale/max_scale", "", "need one entry per node");
   }

@@ -18,8 +18,8 @@ std::array<AxisLimit, 3> parse_axis_limits(const Json& value, const JsonContext&
     const double lo = ctx.number_value((*it)[0], axis_field + "[0]");
     const double hi = ctx.number_value((*it)[1], axis_field + "[1]");
     if (lo > hi) {
-      ctx.fail(axis_field, "min " + (*it)[0].dump() + " deg is greater than max " +
-                               (*it)[1].dump() + " deg");
+      ctx.fail(axis_field,
+               "min " + (*it)[0].dump() + " deg is greater than max " + (*it)[1].dump() + " deg");
     }
     if (lo < -180.0 || hi > 180.0) {
       ctx.fail(axis_field, "limits must lie within [-180, 180] deg (got [" + (*it)[0].dump() +

@@ -22,10 +22,10 @@
 // the joint (Blender's convention: bone "LeftArm" starts at joint LeftArm and carries its
 // rotation). A joint whose children sit at several offsets gives one bone per offset, named
 // "<joint>><child>", all turning with the joint; children at a zero offset merge into the bone that
-// ends there. A root with several bones (Hips -> Spine, LeftUpLeg, RightUpLeg) gets a synthetic root
-// bone named after it, from 1 bone-length below (-Z) up to the root joint; it carries the root's
-// translation and rotation, and the bones below it are fixed to it (identity local rotation).
-// FK of the rig then reproduces every joint and End Site position of every frame
+// ends there. A root with several bones (Hips -> Spine, LeftUpLeg, RightUpLeg) gets a synthetic
+// root bone named after it, from 1 bone-length below (-Z) up to the root joint; it carries the
+// root's translation and rotation, and the bones below it are fixed to it (identity local
+// rotation). FK of the rig then reproduces every joint and End Site position of every frame
 // (BvhAnimation::max_position_error measures it). Position channels on non-root joints cannot be
 // represented when they differ from the OFFSET (bones have fixed lengths): their rotation is kept
 // and max_position_error reports the gap.
@@ -64,10 +64,10 @@ struct BvhJoint {
 };
 
 struct BvhFile {
-  std::vector<BvhJoint> joints;               // DFS order, as in the file
+  std::vector<BvhJoint> joints;  // DFS order, as in the file
   int nchannel = 0;
-  double frame_time = 1.0 / 30.0;             // s
-  std::vector<std::vector<double>> frames;    // (nframe x nchannel), degrees / file units
+  double frame_time = 1.0 / 30.0;           // s
+  std::vector<std::vector<double>> frames;  // (nframe x nchannel), degrees / file units
 };
 
 // Parse BVH or qBVH text. Throws InputError "<source>: line N: field '<what>': <reason>" on
@@ -100,10 +100,10 @@ struct BvhImportOptions {
 };
 
 struct BvhAnimation {
-  PivotRig pivots;                 // the rig (pivots.rig) and its bone -> BVH joint map
-  std::vector<Pose> poses;         // one per frame
-  double frame_time = 1.0 / 30.0;  // s
-  double max_position_error = 0.0; // rig units: largest |FK - BVH| of any joint or End Site
+  PivotRig pivots;                  // the rig (pivots.rig) and its bone -> BVH joint map
+  std::vector<Pose> poses;          // one per frame
+  double frame_time = 1.0 / 30.0;   // s
+  double max_position_error = 0.0;  // rig units: largest |FK - BVH| of any joint or End Site
   const Rig& rig() const { return pivots.rig; }
 };
 
@@ -112,12 +112,12 @@ BvhAnimation bvh_to_rig(const BvhFile& bvh, const std::string& source,
 BvhAnimation load_bvh(const std::string& path, const BvhImportOptions& options = {});
 
 struct BvhExportOptions {
-  bool quaternion = false;        // write qBVH
+  bool quaternion = false;          // write qBVH
   std::string euler_order = "ZXY";  // rotation channel order for BVH, any permutation of XYZ
   BvhAxes axes = BvhAxes::kYUp;
-  double scale = 1.0;             // file units per rig unit
-  double frame_time = 1.0 / 30.0; // s
-  std::string target;             // the file written, for error messages ("" = a stream)
+  double scale = 1.0;              // file units per rig unit
+  double frame_time = 1.0 / 30.0;  // s
+  std::string target;              // the file written, for error messages ("" = a stream)
 };
 
 // true for paths ending in ".qbvh" (case-insensitive)

@@ -16,7 +16,9 @@ inline std::string upper(std::string s) {
   return s;
 }
 
-inline int axis_index(char c) { return c == 'X' ? 0 : c == 'Y' ? 1 : 2; }
+inline int axis_index(char c) {
+  return c == 'X' ? 0 : c == 'Y' ? 1 : 2;
+}
 
 // `where` names the file in the message
 inline void check_order(const std::string& order, const std::string& where = "") {

@@ -56,7 +56,8 @@ Vec3 euler_from_rotation(const Quat& q, const std::string& order) {
   return Vec3(a, b, c);
 }
 
-// the equivalent Euler triple closest to `prev` (the other branch (a+pi, pi-b, c+pi) and 2 pi turns)
+// the equivalent Euler triple closest to `prev` (the other branch (a+pi, pi-b, c+pi) and 2 pi
+// turns)
 Vec3 bvh_detail::closest_euler(const Vec3& e, const Vec3& prev) {
   auto wrap_near = [](double v, double ref) {
     return v + 2.0 * kPi * std::round((ref - v) / (2.0 * kPi));

@@ -30,7 +30,6 @@ struct Token {
   int line;  // 1-based
 };
 
-
 bool channel_from_name(const std::string& name, BvhChannel& out) {
   static const std::pair<const char*, BvhChannel> kNames[] = {
       {"XPOSITION", BvhChannel::kXpos},    {"YPOSITION", BvhChannel::kYpos},
@@ -107,8 +106,8 @@ class Parser {
  private:
   // a joint whose '{' is open, innermost last
   struct OpenJoint {
-    int index;         // into bvh_.joints
-    int line;          // of its ROOT/JOINT keyword
+    int index;  // into bvh_.joints
+    int line;   // of its ROOT/JOINT keyword
     bool have_offset;
   };
 
@@ -163,8 +162,8 @@ class Parser {
   double coordinate(const Token& t, const std::string& field) const {
     const double v = number(t, field);
     if (std::abs(v) > kMaxCoordinate) {
-      fail(t.line, field, "'" + t.text + "' is beyond +-" + fmt_limit(kMaxCoordinate) +
-                              " (rig.h kMaxCoordinate)");
+      fail(t.line, field,
+           "'" + t.text + "' is beyond +-" + fmt_limit(kMaxCoordinate) + " (rig.h kMaxCoordinate)");
     }
     return v;
   }
@@ -203,8 +202,9 @@ class Parser {
   void expect_open(const Token& kw, const std::string& what) {
     const Token& t = next("{");
     if (t.text != "{") {
-      fail(t.line, "{", "unbalanced braces: expected '{' to open " + what + " (line " +
-                            std::to_string(kw.line) + "), got '" + t.text + "'");
+      fail(t.line, "{",
+           "unbalanced braces: expected '{' to open " + what + " (line " + std::to_string(kw.line) +
+               "), got '" + t.text + "'");
     }
   }
 
@@ -224,8 +224,9 @@ class Parser {
         const std::string u = upper(t.text);
         if (u == "JOINT" || u == "END" || u == "OFFSET" || u == "}" || u == "{" ||
             u == "CHANNELS" || u == "MOTION") {
-          fail(t.line, "CHANNELS", "the count says " + std::to_string(n) + " but " +
-                                       std::to_string(k) + " channel names follow");
+          fail(t.line, "CHANNELS",
+               "the count says " + std::to_string(n) + " but " + std::to_string(k) +
+                   " channel names follow");
         }
         fail(t.line, "CHANNELS", "unknown channel '" + t.text + "'");
       }
@@ -253,8 +254,8 @@ class Parser {
   // ROOT/JOINT name {: a new joint, now the innermost open one
   void open_joint(const Token& kw, int parent, std::vector<OpenJoint>& open) {
     if (bvh_.joints.size() >= static_cast<std::size_t>(kMaxBones)) {
-      fail(kw.line, kw.text, "more than " + std::to_string(kMaxBones) +
-                                 " joints (rig.h kMaxBones)");
+      fail(kw.line, kw.text,
+           "more than " + std::to_string(kMaxBones) + " joints (rig.h kMaxBones)");
     }
     BvhJoint j;
     j.name = name_after(kw);
@@ -275,8 +276,9 @@ class Parser {
     bvh_.joints[index].end_sites.push_back(offset());
     const Token& close = next("}");
     if (close.text != "}") {
-      fail(close.line, "}", "unbalanced braces: the End Site at line " + std::to_string(kw.line) +
-                                " is not closed after its OFFSET");
+      fail(close.line, "}",
+           "unbalanced braces: the End Site at line " + std::to_string(kw.line) +
+               " is not closed after its OFFSET");
     }
   }
 
@@ -290,8 +292,8 @@ class Parser {
       const std::string& name = bvh_.joints[top.index].name;
       if (at_end() || upper(peek().text) == "MOTION") {
         fail(at_end() ? last_line() : peek().line, "}",
-             "unbalanced braces: joint '" + name + "' opened at line " +
-                 std::to_string(top.line) + " is never closed");
+             "unbalanced braces: joint '" + name + "' opened at line " + std::to_string(top.line) +
+                 " is never closed");
       }
       const Token t = next("}");
       const std::string u = upper(t.text);
@@ -372,9 +374,9 @@ class Parser {
   // quaternions (qBVH)
   std::vector<double> frame_row(const std::vector<std::string>& w, int line) const {
     if (static_cast<long>(w.size()) != bvh_.nchannel) {
-      fail(line, "MOTION", "frame " + std::to_string(bvh_.frames.size()) + " has " +
-                               std::to_string(w.size()) + " values, the hierarchy has " +
-                               std::to_string(bvh_.nchannel) + " channels");
+      fail(line, "MOTION",
+           "frame " + std::to_string(bvh_.frames.size()) + " has " + std::to_string(w.size()) +
+               " values, the hierarchy has " + std::to_string(bvh_.nchannel) + " channels");
     }
     std::vector<double> row(w.size());
     for (const BvhJoint& j : bvh_.joints) {
@@ -383,8 +385,8 @@ class Parser {
       for (std::size_t c = 0; c < j.channels.size(); ++c) {
         const std::size_t k = j.channel_start + c;
         const BvhChannel ch = j.channels[c];
-        const bool position = ch == BvhChannel::kXpos || ch == BvhChannel::kYpos ||
-                              ch == BvhChannel::kZpos;
+        const bool position =
+            ch == BvhChannel::kXpos || ch == BvhChannel::kYpos || ch == BvhChannel::kZpos;
         row[k] = position ? coordinate(Token{w[k], line}, "MOTION")
                           : number(Token{w[k], line}, "MOTION");
         if (is_quaternion(ch)) {
@@ -393,8 +395,9 @@ class Parser {
         }
       }
       if (quat && std::abs(std::sqrt(n2) - 1.0) > 1e-3) {
-        fail(line, "MOTION", "joint '" + j.name + "': quaternion norm " +
-                                 std::to_string(std::sqrt(n2)) + " is not 1");
+        fail(line, "MOTION",
+             "joint '" + j.name + "': quaternion norm " + std::to_string(std::sqrt(n2)) +
+                 " is not 1");
       }
     }
     return row;
@@ -418,14 +421,16 @@ class Parser {
       if (w.empty()) continue;
       const int line = static_cast<int>(l) + 1;
       if (static_cast<long>(bvh_.frames.size()) == nframe) {
-        fail(line, "Frames", "more frames than 'Frames: " + std::to_string(nframe) +
-                                 "' (line " + std::to_string(frames_line) + ")");
+        fail(line, "Frames",
+             "more frames than 'Frames: " + std::to_string(nframe) + "' (line " +
+                 std::to_string(frames_line) + ")");
       }
       bvh_.frames.push_back(frame_row(w, line));
     }
     if (static_cast<long>(bvh_.frames.size()) != nframe) {
-      fail(frames_line, "Frames", "says " + std::to_string(nframe) + " frames but the file has " +
-                                      std::to_string(bvh_.frames.size()));
+      fail(frames_line, "Frames",
+           "says " + std::to_string(nframe) + " frames but the file has " +
+               std::to_string(bvh_.frames.size()));
     }
   }
 

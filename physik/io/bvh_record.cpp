@@ -25,7 +25,9 @@ void BvhRecorder::record(const BoneFrames& frames) {
   poses_.push_back(std::move(p));
 }
 
-void BvhRecorder::write(std::ostream& out) const { write_bvh(rig_, poses_, options_, out); }
+void BvhRecorder::write(std::ostream& out) const {
+  write_bvh(rig_, poses_, options_, out);
+}
 
 void BvhRecorder::save(const std::string& path) const {
   BvhExportOptions o = options_;

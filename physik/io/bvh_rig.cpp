@@ -27,14 +27,33 @@ Quat bvh_local_rotation(const BvhJoint& joint, const std::vector<double>& row) {
   for (std::size_t c = 0; c < joint.channels.size(); ++c) {
     const double v = row.empty() ? 0.0 : row[joint.channel_start + c];
     switch (joint.channels[c]) {
-      case BvhChannel::kXrot: q = q * Eigen::AngleAxisd(deg2rad(v), Vec3::UnitX()); break;
-      case BvhChannel::kYrot: q = q * Eigen::AngleAxisd(deg2rad(v), Vec3::UnitY()); break;
-      case BvhChannel::kZrot: q = q * Eigen::AngleAxisd(deg2rad(v), Vec3::UnitZ()); break;
-      case BvhChannel::kWquat: quat[0] = row.empty() ? 1.0 : v; have_quat = true; break;
-      case BvhChannel::kXquat: quat[1] = v; have_quat = true; break;
-      case BvhChannel::kYquat: quat[2] = v; have_quat = true; break;
-      case BvhChannel::kZquat: quat[3] = v; have_quat = true; break;
-      default: break;
+      case BvhChannel::kXrot:
+        q = q * Eigen::AngleAxisd(deg2rad(v), Vec3::UnitX());
+        break;
+      case BvhChannel::kYrot:
+        q = q * Eigen::AngleAxisd(deg2rad(v), Vec3::UnitY());
+        break;
+      case BvhChannel::kZrot:
+        q = q * Eigen::AngleAxisd(deg2rad(v), Vec3::UnitZ());
+        break;
+      case BvhChannel::kWquat:
+        quat[0] = row.empty() ? 1.0 : v;
+        have_quat = true;
+        break;
+      case BvhChannel::kXquat:
+        quat[1] = v;
+        have_quat = true;
+        break;
+      case BvhChannel::kYquat:
+        quat[2] = v;
+        have_quat = true;
+        break;
+      case BvhChannel::kZquat:
+        quat[3] = v;
+        have_quat = true;
+        break;
+      default:
+        break;
     }
   }
   if (have_quat) q = Quat(quat[0], quat[1], quat[2], quat[3]);
@@ -47,10 +66,17 @@ Vec3 bvh_local_translation(const BvhJoint& joint, const std::vector<double>& row
   for (std::size_t c = 0; c < joint.channels.size(); ++c) {
     const double v = row[joint.channel_start + c];
     switch (joint.channels[c]) {
-      case BvhChannel::kXpos: t.x() = v; break;
-      case BvhChannel::kYpos: t.y() = v; break;
-      case BvhChannel::kZpos: t.z() = v; break;
-      default: break;
+      case BvhChannel::kXpos:
+        t.x() = v;
+        break;
+      case BvhChannel::kYpos:
+        t.y() = v;
+        break;
+      case BvhChannel::kZpos:
+        t.z() = v;
+        break;
+      default:
+        break;
     }
   }
   return t;
@@ -112,8 +138,7 @@ BvhAnimation bvh_to_rig(const BvhFile& bvh, const std::string& source,
     nodes[i].rest_world = rig_point(j, pos[i]);
     for (const Vec3& e : j.end_sites) nodes[i].ends_world.push_back(rig_point(j, pos[i] + e));
   }
-  const PivotBones bones =
-      pivot_bones(nodes, source, options.mass_per_length, options.radius);
+  const PivotBones bones = pivot_bones(nodes, source, options.mass_per_length, options.radius);
   BvhAnimation anim;
   anim.pivots = finish_pivot_rig(nodes, bones, source, "");
   anim.frame_time = bvh.frame_time;
@@ -134,9 +159,9 @@ BvhAnimation bvh_to_rig(const BvhFile& bvh, const std::string& source,
     forward_kinematics(anim.rig(), anim.poses[f], fk);
     pivot_bone_targets(anim.pivots, node_pos, node_rot, want_head, want_tail);
     for (int b = 0; b < anim.rig().nbone; ++b) {
-      anim.max_position_error = std::max({anim.max_position_error,
-                                          (fk.head_world[b] - want_head[b]).norm(),
-                                          (fk.tail_world[b] - want_tail[b]).norm()});
+      anim.max_position_error =
+          std::max({anim.max_position_error, (fk.head_world[b] - want_head[b]).norm(),
+                    (fk.tail_world[b] - want_tail[b]).norm()});
     }
   }
   return anim;

@@ -112,8 +112,10 @@ void write_hierarchy(const Rig& rig, const std::vector<std::string>& names,
     }
     if (rig.bone_children[b].empty()) {
       const Vec3 e = rig.bone_rest_tail_world[b] - rig.bone_rest_head_world[b];
-      out << ind << "  End Site\n" << ind << "  {\n" << ind << "    OFFSET " << triple(e, el)
-          << "\n" << ind << "  }\n";
+      out << ind << "  End Site\n"
+          << ind << "  {\n"
+          << ind << "    OFFSET " << triple(e, el) << "\n"
+          << ind << "  }\n";
     }
     stack.push_back({-b - 1, depth});
     const auto& kids = rig.bone_children[b];
@@ -145,20 +147,18 @@ void write_frame(const Rig& rig, const Pose& pose, std::size_t f, const std::str
     const Quat local = p < 0 ? mem.rw[b] : Quat(mem.rw[p].conjugate() * mem.rw[b]);
     Quat lf = (ainv * local * a).normalized();
     if (!lf.coeffs().allFinite()) {
-      throw_input_error(target_name(o), el, "pose", "bone " + std::to_string(b) +
-                                                        ": the rotation is not finite");
+      throw_input_error(target_name(o), el, "pose",
+                        "bone " + std::to_string(b) + ": the rotation is not finite");
     }
     if (o.quaternion) {
       if (lf.coeffs().dot(mem.prev_quat[b].coeffs()) < 0.0) lf.coeffs() *= -1.0;
       mem.prev_quat[b] = lf;
-      out << " " << fmt(lf.w()) << " " << fmt(lf.x()) << " " << fmt(lf.y()) << " "
-          << fmt(lf.z());
+      out << " " << fmt(lf.w()) << " " << fmt(lf.x()) << " " << fmt(lf.y()) << " " << fmt(lf.z());
     } else {
       Vec3 e = euler_from_rotation(lf, order);
       if (f > 0) e = bvh_detail::closest_euler(e, mem.prev_euler[b]);
       mem.prev_euler[b] = e;
-      out << " " << fmt(rad2deg(e[0])) << " " << fmt(rad2deg(e[1])) << " "
-          << fmt(rad2deg(e[2]));
+      out << " " << fmt(rad2deg(e[0])) << " " << fmt(rad2deg(e[1])) << " " << fmt(rad2deg(e[2]));
     }
   }
   out << "\n";
@@ -181,12 +181,12 @@ void write_bvh(const Rig& rig, const std::vector<Pose>& poses_in, const BvhExpor
   if (options.quaternion) {
     rot_channels = "Wquaternion Xquaternion Yquaternion Zquaternion";
   } else {
-    for (char c : order) rot_channels += std::string(rot_channels.empty() ? "" : " ") + c + "rotation";
+    for (char c : order)
+      rot_channels += std::string(rot_channels.empty() ? "" : " ") + c + "rotation";
   }
   write_hierarchy(rig, names, rot_channels, options.quaternion ? 4 : 3, options, out);
 
-  out << "MOTION\nFrames: " << poses.size() << "\nFrame Time: " << fmt(options.frame_time)
-      << "\n";
+  out << "MOTION\nFrames: " << poses.size() << "\nFrame Time: " << fmt(options.frame_time) << "\n";
   BoneFrames fk;
   FrameMemory mem{std::vector<Quat>(rig.nbone), std::vector<Vec3>(rig.nbone, Vec3::Zero()),
                   std::vector<Quat>(rig.nbone, Quat::Identity())};

@@ -19,7 +19,8 @@ JointLimits joint_limits_from_json(const Json& doc, const std::string& source) {
   top.require_object(doc, "");
   top.only_keys(doc, {"comment", "rig", "limits_deg"});
   const Json& all = top.require(doc, "limits_deg");
-  if (!all.is_object()) top.fail("limits_deg", "expected an object {\"bone\": {\"x\": [min, max]}}");
+  if (!all.is_object())
+    top.fail("limits_deg", "expected an object {\"bone\": {\"x\": [min, max]}}");
   JointLimits out;
   out.source = source;
   for (auto it = all.begin(); it != all.end(); ++it) {

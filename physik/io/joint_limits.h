@@ -35,8 +35,8 @@ struct BoneLimits {
 };
 
 struct JointLimits {
-  std::string source;              // file, for error messages
-  std::vector<BoneLimits> bones;   // in file order
+  std::string source;             // file, for error messages
+  std::vector<BoneLimits> bones;  // in file order
 };
 
 JointLimits joint_limits_from_json(const Json& doc, const std::string& source);

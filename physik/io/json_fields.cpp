@@ -46,7 +46,8 @@ namespace {
 int checked_int(const JsonContext& ctx, const Json& v, const std::string& key) {
   if (!v.is_number_integer()) ctx.fail(key, "expected an integer");
   if (v.is_number_unsigned()) {
-    if (v.get<unsigned long long>() > static_cast<unsigned long long>(std::numeric_limits<int>::max())) {
+    if (v.get<unsigned long long>() >
+        static_cast<unsigned long long>(std::numeric_limits<int>::max())) {
       ctx.fail(key, "integer out of range");
     }
     return static_cast<int>(v.get<unsigned long long>());
@@ -188,14 +189,14 @@ Json parse_json_text(const std::string& text, const std::string& source) {
     std::string what = e.what();
     const std::string tag = "parse error";
     auto pos = what.find(tag);
-    throw_input_error(source, "", "", "invalid JSON: " +
-                                          (pos == std::string::npos ? what : what.substr(pos)));
+    throw_input_error(source, "", "",
+                      "invalid JSON: " + (pos == std::string::npos ? what : what.substr(pos)));
   } catch (const Json::exception& e) {
     // e.g. a number literal that overflows a double (1e999): not a finite number
     std::string what = e.what();
     auto pos = what.find("] ");
-    throw_input_error(source, "", "", "invalid JSON: " +
-                                          (pos == std::string::npos ? what : what.substr(pos + 2)));
+    throw_input_error(source, "", "",
+                      "invalid JSON: " + (pos == std::string::npos ? what : what.substr(pos + 2)));
   }
 }
 

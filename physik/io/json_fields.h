@@ -30,15 +30,13 @@ struct JsonContext {
   int integer_or(const Json& obj, const std::string& key, int fallback) const;
   bool boolean_or(const Json& obj, const std::string& key, bool fallback) const;
   std::string string(const Json& obj, const std::string& key) const;
-  std::string string_or(const Json& obj, const std::string& key,
-                        const std::string& fallback) const;
+  std::string string_or(const Json& obj, const std::string& key, const std::string& fallback) const;
   // one of `choices`
   std::string choice_or(const Json& obj, const std::string& key,
                         std::initializer_list<const char*> choices,
                         const std::string& fallback) const;
   std::string choice_or(const Json& obj, const std::string& key,
-                        const std::vector<std::string>& choices,
-                        const std::string& fallback) const;
+                        const std::vector<std::string>& choices, const std::string& fallback) const;
   Vec3 vec3(const Json& obj, const std::string& key) const;
   Vec3 vec3_value(const Json& value, const std::string& field) const;
   double number_value(const Json& value, const std::string& field) const;

@@ -6,8 +6,8 @@
 
 #include "physik/engine/engine.h"
 #include "physik/io/pose_io.h"
-#include "physik/model/unique_names.h"
 #include "physik/model/errors.h"
+#include "physik/model/unique_names.h"
 
 namespace physik {
 
@@ -48,8 +48,8 @@ bool TrajectoryCsv::write_row(const SimState& s, const StepStats& st,
       !std::all_of(row_.begin(), row_.end(), [](double v) { return std::isfinite(v); })) {
     return false;
   }
-  out_ << s.step << "," << s.time << "," << row_[0] << "," << st.iterations() << "," << row_[1] << ","
-       << row_[2];
+  out_ << s.step << "," << s.time << "," << row_[0] << "," << st.iterations() << "," << row_[1]
+       << "," << row_[2];
   for (std::size_t i = 3; i < row_.size(); ++i) out_ << "," << row_[i];
   out_ << "\n";
   return true;
@@ -84,8 +84,8 @@ void Recorder::write_rows(const SimState& s, const StepStats& st) {
 }
 
 bool Recorder::wants_frame(int step) const {
-  return opt_.all_frames ||
-         std::find(opt_.frame_steps.begin(), opt_.frame_steps.end(), step) != opt_.frame_steps.end();
+  return opt_.all_frames || std::find(opt_.frame_steps.begin(), opt_.frame_steps.end(), step) !=
+                                opt_.frame_steps.end();
 }
 
 void Recorder::observe(const SimState& s, const StepStats& st) {

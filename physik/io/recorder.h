@@ -27,7 +27,8 @@ namespace physik {
 
 // Which steps besides every N-th get a trajectory row.
 enum class RowRule {
-  kEveryAndLast,   // and the scene's last step, scene.steps (`physik simulate`, simulate --reference)
+  kEveryAndLast,   // and the scene's last step, scene.steps (`physik simulate`, simulate
+                   // --reference)
   kEveryAndFirst,  // and step 1 (the experiments' tables)
 };
 
@@ -45,13 +46,14 @@ class TrajectoryCsv {
   bool wants(int step) const;
   // One row for the state after a step; false (nothing written) if a value is not finite.
   // `residuals`: one per control point, rig units (engine.h control_residuals).
-  bool write_row(const SimState& state, const StepStats& stats, const std::vector<double>& residuals);
+  bool write_row(const SimState& state, const StepStats& stats,
+                 const std::vector<double>& residuals);
 
  private:
   std::ostream& out_;
   int every_;
   RowRule rule_;
-  int last_step_;           // scene.steps
+  int last_step_;            // scene.steps
   std::vector<double> row_;  // KE, mismatch, separation, residuals, bone values: reused per row
 };
 
@@ -60,7 +62,7 @@ struct RecordOptions {
   // csv_stream (the caller's, which reports its own errors); neither = no table
   std::string csv_path;
   std::ostream* csv_stream = nullptr;
-  int csv_every = 1;                       // a row every N steps (N >= 1)
+  int csv_every = 1;  // a row every N steps (N >= 1)
   RowRule csv_rows = RowRule::kEveryAndLast;
   // the targets-and-limits table (targets_limits.h), a row beside every trajectory row written
   // (the caller's stream; needs the trajectory table)
@@ -76,11 +78,12 @@ struct RecordOptions {
 // What a recorder kept. Per-step vectors are indexed by step - 1 while the run lasts.
 struct RecordedRun {
   RunSummary summary;
-  std::vector<int> frame_steps;                // the step of every kept frame
-  std::vector<BoneFrames> frames;              // the poses at those steps
-  std::vector<StepStats> stats;                // per step, when asked
-  std::vector<std::vector<double>> residuals;  // per step, per control point (rig units), when asked
-  std::vector<Pose> poses;                     // per step, when asked
+  std::vector<int> frame_steps;    // the step of every kept frame
+  std::vector<BoneFrames> frames;  // the poses at those steps
+  std::vector<StepStats> stats;    // per step, when asked
+  std::vector<std::vector<double>>
+      residuals;            // per step, per control point (rig units), when asked
+  std::vector<Pose> poses;  // per step, when asked
 };
 
 class Recorder {

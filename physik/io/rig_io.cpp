@@ -43,8 +43,7 @@ BoneSpec bone_from_json(const Json& b, const JsonContext& ctx, double default_mp
       ctx.fail("rest_frame", "expected three axes [[x],[y],[z]]");
     }
     for (int c = 0; c < 3; ++c) {
-      s.rest_frame_world.col(c) =
-          ctx.vec3_value(f[c], "rest_frame[" + std::to_string(c) + "]");
+      s.rest_frame_world.col(c) = ctx.vec3_value(f[c], "rest_frame[" + std::to_string(c) + "]");
     }
   } else {
     const double roll = deg2rad(ctx.number_or(b, "roll_deg", 0.0));
@@ -104,8 +103,8 @@ Rig rig_from_json(const Json& doc, const std::string& source) {
     if (bones[i].is_object() && bones[i].contains("name") && bones[i]["name"].is_string()) {
       element += " '" + bones[i]["name"].get<std::string>() + "'";
     }
-    specs.push_back(bone_from_json(bones[i], JsonContext{source, element}, default_mpl,
-                                   default_radius));
+    specs.push_back(
+        bone_from_json(bones[i], JsonContext{source, element}, default_mpl, default_radius));
   }
   return build_rig(specs, source, top.string_or(doc, "name", ""));
 }
@@ -114,7 +113,9 @@ Rig rig_from_json_text(const std::string& text, const std::string& source) {
   return rig_from_json(parse_json_text(text, source), source);
 }
 
-Rig load_rig(const std::string& path) { return rig_from_json(read_json_file(path), path); }
+Rig load_rig(const std::string& path) {
+  return rig_from_json(read_json_file(path), path);
+}
 
 Json rig_to_json(const Rig& rig) {
   Json bones = Json::array();

@@ -25,13 +25,19 @@ std::optional<ParamValue> param_from_json(const JsonContext& ctx, const Json& ob
   if (it == obj.end() || it->is_null()) return std::nullopt;
   ParamValue v = 0.0;
   switch (row.kind) {
-    case ParamKind::kReal: v = ctx.number_value(*it, key); break;
-    case ParamKind::kInteger: v = ctx.integer(obj, key); break;
-    case ParamKind::kBoolean: v = ctx.boolean_or(obj, key, false) ? 1.0 : 0.0; break;
+    case ParamKind::kReal:
+      v = ctx.number_value(*it, key);
+      break;
+    case ParamKind::kInteger:
+      v = ctx.integer(obj, key);
+      break;
+    case ParamKind::kBoolean:
+      v = ctx.boolean_or(obj, key, false) ? 1.0 : 0.0;
+      break;
     case ParamKind::kChoice: {
       const std::string name = ctx.choice_or(obj, key, row.choices, "");
-      v = static_cast<ParamValue>(
-          std::find(row.choices.begin(), row.choices.end(), name) - row.choices.begin());
+      v = static_cast<ParamValue>(std::find(row.choices.begin(), row.choices.end(), name) -
+                                  row.choices.begin());
       break;
     }
   }
@@ -85,8 +91,9 @@ void read_rig(const JsonContext& top, const Json& doc, const std::string& base_d
   // exists() throws on a name the filesystem refuses (longer than NAME_MAX): bad input too
   std::error_code ec;
   if (!std::filesystem::exists(s.rig_file, ec)) {
-    top.fail("rig", "rig file '" + s.rig_file + "' " +
-                        (ec ? "cannot be read (" + ec.message() + ")" : std::string("does not exist")));
+    top.fail("rig",
+             "rig file '" + s.rig_file + "' " +
+                 (ec ? "cannot be read (" + ec.message() + ")" : std::string("does not exist")));
   }
   s.rig = load_rig(s.rig_file);
 }
@@ -101,7 +108,8 @@ ControlPoint control_point_from_json(const JsonContext& ctx, const Json& c, cons
   cp.bone = s.rig.find_bone(bone);
   if (cp.bone < 0) ctx.fail("bone", "unknown bone '" + bone + "' in rig " + s.rig_file);
   cp.alpha = ctx.number_or(c, "alpha", 1.0);
-  if (cp.alpha < 0.0 || cp.alpha > 1.0) ctx.fail("alpha", "must lie in [0, 1] (0 = head, 1 = tail)");
+  if (cp.alpha < 0.0 || cp.alpha > 1.0)
+    ctx.fail("alpha", "must lie in [0, 1] (0 = head, 1 = tail)");
   cp.target_world = bounded_vec3(ctx, c, "target");
   if (const auto v = param_from_json(ctx, c, "spring", param_row("control_spring"))) {
     cp.spring = static_cast<SpringLaw>(static_cast<int>(*v));
@@ -135,7 +143,8 @@ void read_schedule(const JsonContext& top, const Json& doc, Scene& s) {
     if (t.step < 0 || t.step >= s.steps) {
       ctx.fail("step", "must lie in [0, steps) = [0, " + std::to_string(s.steps) + ")");
     }
-    t.control_point = control_point_ref(ctx, ctx.require(sch[i], "control_point"), s.control_points);
+    t.control_point =
+        control_point_ref(ctx, ctx.require(sch[i], "control_point"), s.control_points);
     t.target_world = bounded_vec3(ctx, sch[i], "target");
     s.schedule.push_back(t);
   }
@@ -215,13 +224,15 @@ void check_conflicts(const EngineParams& p, const std::vector<std::string>& from
   for (const auto& [name, why] : conflicts) {
     if (overrides.has(name)) throw_input_error(overrides.source, "", name, why);
   }
-  if (!conflicts.empty()) throw_input_error(source, "params", conflicts[0].first, conflicts[0].second);
+  if (!conflicts.empty())
+    throw_input_error(source, "params", conflicts[0].first, conflicts[0].second);
 }
 
 // The keys scheme replaced (integration, joint_solve), mapped onto scheme and free_rods unless an
 // override gives the scheme; a file that gives both forms is refused.
-void read_old_scheme_keys(const JsonContext& ctx, const Json& params, const ParamOverrides& overrides,
-                          EngineParams& p, std::vector<std::string>& from_file) {
+void read_old_scheme_keys(const JsonContext& ctx, const Json& params,
+                          const ParamOverrides& overrides, EngineParams& p,
+                          std::vector<std::string>& from_file) {
   if (params.is_null()) return;
   const std::string integration = ctx.string_or(params, "integration", "");
   const std::string joint_solve = ctx.string_or(params, "joint_solve", "");
@@ -239,7 +250,8 @@ void read_old_scheme_keys(const JsonContext& ctx, const Json& params, const Para
 }  // namespace
 
 EngineParams params_from_json(const Json& params, const std::string& source,
-                              const ParamOverrides& overrides, std::vector<std::string>* given_out) {
+                              const ParamOverrides& overrides,
+                              std::vector<std::string>* given_out) {
   const JsonContext ctx{source, "params"};
   const bool given = !params.is_null();
   if (given) {
@@ -287,10 +299,14 @@ EngineParams params_from_json(const Json& params, const std::string& source,
 
 Json param_value_json(const ParamRow& row, ParamValue v) {
   switch (row.kind) {
-    case ParamKind::kReal: return v;
-    case ParamKind::kInteger: return static_cast<int>(v);
-    case ParamKind::kBoolean: return v != 0.0;
-    case ParamKind::kChoice: return row.choices.at(static_cast<std::size_t>(v));
+    case ParamKind::kReal:
+      return v;
+    case ParamKind::kInteger:
+      return static_cast<int>(v);
+    case ParamKind::kBoolean:
+      return v != 0.0;
+    case ParamKind::kChoice:
+      return row.choices.at(static_cast<std::size_t>(v));
   }
   return nullptr;
 }
@@ -318,10 +334,10 @@ Json param_table_json() {
   Json rows = Json::array();
   for (const ParamRow& r : param_table()) {
     Json defaults = Json::object();
-    for (int i = 0; i < kPresetCount; ++i) defaults[kPresetNames[i]] = param_value_json(r, r.defaults[i]);
-    Json row = {{"name", r.name},         {"kind", to_string(r.kind)},
-                {"unit", r.unit},         {"defaults", defaults},
-                {"valid", valid_text(r)}, {"doc", r.doc}};
+    for (int i = 0; i < kPresetCount; ++i)
+      defaults[kPresetNames[i]] = param_value_json(r, r.defaults[i]);
+    Json row = {{"name", r.name},       {"kind", to_string(r.kind)}, {"unit", r.unit},
+                {"defaults", defaults}, {"valid", valid_text(r)},    {"doc", r.doc}};
     if (!r.choices.empty()) row["choices"] = r.choices;
     if (r.valid.lo) row["range"].update({{"lo", *r.valid.lo}, {"lo_allowed", r.valid.lo_allowed}});
     if (r.valid.hi) row["range"].update({{"hi", *r.valid.hi}, {"hi_allowed", r.valid.hi_allowed}});
@@ -364,15 +380,24 @@ SceneSolveOptions solve_options_from_json(const Json& solve, const std::string& 
     const SolveOptionRow* row = find_solve_option(it.key());
     if (!row) {
       std::string all;
-      for (const SolveOptionRow& r : solve_option_table()) all += (all.empty() ? "" : ", ") + r.name;
+      for (const SolveOptionRow& r : solve_option_table())
+        all += (all.empty() ? "" : ", ") + r.name;
       ctx.fail(it.key(), "unknown option (known: " + all + ")");
     }
     SolveOptionValue v;
     switch (row->kind) {
-      case SolveOptionKind::kChoice: v.text = ctx.string(solve, it.key()); break;
-      case SolveOptionKind::kBoolean: v.number = ctx.boolean_or(solve, it.key(), false) ? 1.0 : 0.0; break;
-      case SolveOptionKind::kInteger: v.number = ctx.integer(solve, it.key()); break;
-      case SolveOptionKind::kReal: v.number = ctx.number(solve, it.key()); break;
+      case SolveOptionKind::kChoice:
+        v.text = ctx.string(solve, it.key());
+        break;
+      case SolveOptionKind::kBoolean:
+        v.number = ctx.boolean_or(solve, it.key(), false) ? 1.0 : 0.0;
+        break;
+      case SolveOptionKind::kInteger:
+        v.number = ctx.integer(solve, it.key());
+        break;
+      case SolveOptionKind::kReal:
+        v.number = ctx.number(solve, it.key());
+        break;
       case SolveOptionKind::kVec3: {
         const Vec3 g = ctx.vec3(solve, it.key());
         v.vec = {g.x(), g.y(), g.z()};
@@ -395,7 +420,9 @@ SceneSolveOptions load_solve_options(const std::string& scene_path) {
   return solve_options_from_json(doc["solve"], scene_path);
 }
 
-Scene load_scene(const std::string& path) { return load_scene(path, ParamOverrides{}); }
+Scene load_scene(const std::string& path) {
+  return load_scene(path, ParamOverrides{});
+}
 
 Scene load_scene(const std::string& path, const ParamOverrides& overrides) {
   const Json doc = read_json_file(path);
@@ -428,23 +455,24 @@ Json scene_to_json(const Scene& s, bool rig_inline) {
     if (v.norm() > 0.0) rot[s.rig.bone_name[i]] = {v.x(), v.y(), v.z()};
   }
   const Vec3& r = s.initial_pose.root_head_world;
-  return {{"rig", rig_inline || s.rig_file.empty()
-                     ? rig_to_json(s.rig)
-                     : Json(std::filesystem::absolute(s.rig_file).lexically_normal().string())},
-          {"params", params_to_json(s.params)},
-          {"control_points", cps},
-          {"schedule", sch},
-          {"steps", s.steps},
-          {"convergence",
-           {{"residual_tol", s.convergence.residual_tol},
-            {"speed_tol", s.convergence.speed_tol},
-            {"settle_steps", s.convergence.settle_steps},
-            {"stop_when_converged", s.convergence.stop_when_converged},
-            {"stop_at_residual_tol", s.convergence.stop_at_residual_tol},
-            {"divergence_energy", s.convergence.divergence_energy}}},
-          {"initial_pose", {{"root_head", {r.x(), r.y(), r.z()}}, {"rotation_deg", rot}}},
-          {"initial_velocity",
-           {s.initial_velocity_world.x(), s.initial_velocity_world.y(), s.initial_velocity_world.z()}}};
+  return {
+      {"rig", rig_inline || s.rig_file.empty()
+                  ? rig_to_json(s.rig)
+                  : Json(std::filesystem::absolute(s.rig_file).lexically_normal().string())},
+      {"params", params_to_json(s.params)},
+      {"control_points", cps},
+      {"schedule", sch},
+      {"steps", s.steps},
+      {"convergence",
+       {{"residual_tol", s.convergence.residual_tol},
+        {"speed_tol", s.convergence.speed_tol},
+        {"settle_steps", s.convergence.settle_steps},
+        {"stop_when_converged", s.convergence.stop_when_converged},
+        {"stop_at_residual_tol", s.convergence.stop_at_residual_tol},
+        {"divergence_energy", s.convergence.divergence_energy}}},
+      {"initial_pose", {{"root_head", {r.x(), r.y(), r.z()}}, {"rotation_deg", rot}}},
+      {"initial_velocity",
+       {s.initial_velocity_world.x(), s.initial_velocity_world.y(), s.initial_velocity_world.z()}}};
 }
 
 }  // namespace physik

@@ -13,41 +13,42 @@ nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s) {
   const double h = scene.rig.height() > 0.0 ? scene.rig.height() : scene.rig.length_scale();
   nlohmann::json rel = nlohmann::json::array();
   for (double r : s.final_residuals) rel.push_back(r / h);
-  nlohmann::json out = {{"scene", scene.file},
-          {"rig", scene.rig_file},
-          {"params", params_to_json(scene.params)},
-          // N s/m, the damping the run used: damping auto's last choice, or the set value
-          {"damping", scene.params.damping_auto ? s.damping_auto_value : scene.params.damping},
-          {"converged", s.converged},
-          {"diverged", s.diverged},
-          {"divergence_reason", s.divergence_reason},
-          {"steps_run", s.steps_run},
-          {"steps_to_converge", s.steps_to_converge < 0 ? nlohmann::json(nullptr)
-                                                         : nlohmann::json(s.steps_to_converge)},
-          {"final_residuals", s.final_residuals},
-          {"final_pose_step", s.final_pose_step},
-          {"final_residuals_over_height", rel},
-          {"rig_height", scene.rig.height()},
-          {"max_joint_separation", s.max_joint_separation},
-          {"mean_passes_per_step", s.mean_passes_per_step},
-          {"max_passes_in_a_step", s.max_passes_in_a_step},
-          {"peak_kinetic_energy", s.peak_kinetic_energy},
-          {"final_kinetic_energy", s.final_kinetic_energy},
-          {"max_limit_violation_deg", s.max_limit_violation_deg},
-          {"energy_given", s.energy_given},
-          {"peak_energy_ratio", s.peak_energy_ratio},
-          {"joint_unpropagated_steps", s.joint_unpropagated_steps},
-          {"max_unreached_joints", s.max_unreached_joints},
-          {"joint_solve_warning", s.joint_solve_warning},
-          {"speed_tol", scene.speed_tol()},
-          {"residual_tol", scene.residual_tol()},
-          {"wall_time_s", s.wall_time_s},
-          {"final_state_hash", [&] {
-             char buf[17];
-             std::snprintf(buf, sizeof buf, "%016llx",
-                           static_cast<unsigned long long>(state_hash(s.final_frames)));
-             return std::string(buf);
-           }()}};
+  nlohmann::json out = {
+      {"scene", scene.file},
+      {"rig", scene.rig_file},
+      {"params", params_to_json(scene.params)},
+      // N s/m, the damping the run used: damping auto's last choice, or the set value
+      {"damping", scene.params.damping_auto ? s.damping_auto_value : scene.params.damping},
+      {"converged", s.converged},
+      {"diverged", s.diverged},
+      {"divergence_reason", s.divergence_reason},
+      {"steps_run", s.steps_run},
+      {"steps_to_converge",
+       s.steps_to_converge < 0 ? nlohmann::json(nullptr) : nlohmann::json(s.steps_to_converge)},
+      {"final_residuals", s.final_residuals},
+      {"final_pose_step", s.final_pose_step},
+      {"final_residuals_over_height", rel},
+      {"rig_height", scene.rig.height()},
+      {"max_joint_separation", s.max_joint_separation},
+      {"mean_passes_per_step", s.mean_passes_per_step},
+      {"max_passes_in_a_step", s.max_passes_in_a_step},
+      {"peak_kinetic_energy", s.peak_kinetic_energy},
+      {"final_kinetic_energy", s.final_kinetic_energy},
+      {"max_limit_violation_deg", s.max_limit_violation_deg},
+      {"energy_given", s.energy_given},
+      {"peak_energy_ratio", s.peak_energy_ratio},
+      {"joint_unpropagated_steps", s.joint_unpropagated_steps},
+      {"max_unreached_joints", s.max_unreached_joints},
+      {"joint_solve_warning", s.joint_solve_warning},
+      {"speed_tol", scene.speed_tol()},
+      {"residual_tol", scene.residual_tol()},
+      {"wall_time_s", s.wall_time_s},
+      {"final_state_hash", [&] {
+         char buf[17];
+         std::snprintf(buf, sizeof buf, "%016llx",
+                       static_cast<unsigned long long>(state_hash(s.final_frames)));
+         return std::string(buf);
+       }()}};
   if (s.diverged) out["divergence_hint"] = divergence_hint(scene);
   // damping_auto's choice (N s/m), only when it was asked for: other summaries stay as they were
   if (scene.params.damping_auto) {

@@ -5,8 +5,8 @@
 #include <nlohmann/json.hpp>
 
 #include "physik/engine/run_summary.h"
-#include "physik/posing/scene_solve.h"
 #include "physik/model/scene.h"
+#include "physik/posing/scene_solve.h"
 
 namespace physik {
 

@@ -48,9 +48,9 @@ void local_rotations_from_world(const Rig& rig, const BoneFrames& frames, Pose& 
     const int p = rig.bone_parent[i];
     const Quat parent_world = p < 0 ? Quat::Identity() : frames.orient_world[p];
     // R_i = R_parent * R_rest_in_parent * q  =>  q = R_rest_in_parent^-1 R_parent^-1 R_i
-    out.bone_local_rotation[i] =
-        (rig.bone_rest_orient_parent[i].conjugate() * parent_world.conjugate() *
-         frames.orient_world[i]).normalized();
+    out.bone_local_rotation[i] = (rig.bone_rest_orient_parent[i].conjugate() *
+                                  parent_world.conjugate() * frames.orient_world[i])
+                                     .normalized();
   }
 }
 

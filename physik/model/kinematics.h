@@ -21,15 +21,15 @@
 namespace physik {
 
 struct Pose {
-  Vec3 root_head_world = Vec3::Zero();  // rig units
+  Vec3 root_head_world = Vec3::Zero();    // rig units
   std::vector<Quat> bone_local_rotation;  // (nbone) rest-relative, bone frame
 };
 
 // World-space frames of every bone: what FK produces and what the engine integrates.
 struct BoneFrames {
-  std::vector<Vec3> head_world;   // (nbone) rig units
-  std::vector<Vec3> tail_world;   // (nbone) rig units
-  std::vector<Quat> orient_world; // (nbone) world<-bone
+  std::vector<Vec3> head_world;    // (nbone) rig units
+  std::vector<Vec3> tail_world;    // (nbone) rig units
+  std::vector<Quat> orient_world;  // (nbone) world<-bone
   void resize(int nbone);
 };
 

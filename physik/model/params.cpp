@@ -32,17 +32,29 @@ const std::vector<std::string>& choice_names(Interpolation) {
   return names;
 }
 
-const char* to_string(SpringLaw s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
-const char* to_string(Scheme s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
-const char* to_string(Interpolation s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
-const char* to_string(TorsionTorque s) { return choice_names(s)[static_cast<int>(s)].c_str(); }
+const char* to_string(SpringLaw s) {
+  return choice_names(s)[static_cast<int>(s)].c_str();
+}
+const char* to_string(Scheme s) {
+  return choice_names(s)[static_cast<int>(s)].c_str();
+}
+const char* to_string(Interpolation s) {
+  return choice_names(s)[static_cast<int>(s)].c_str();
+}
+const char* to_string(TorsionTorque s) {
+  return choice_names(s)[static_cast<int>(s)].c_str();
+}
 
 const char* to_string(ParamKind k) {
   switch (k) {
-    case ParamKind::kReal: return "real";
-    case ParamKind::kInteger: return "integer";
-    case ParamKind::kBoolean: return "boolean";
-    case ParamKind::kChoice: return "choice";
+    case ParamKind::kReal:
+      return "real";
+    case ParamKind::kInteger:
+      return "integer";
+    case ParamKind::kBoolean:
+      return "boolean";
+    case ParamKind::kChoice:
+      return "choice";
   }
   return "?";
 }
@@ -56,8 +68,10 @@ using FieldType = std::remove_reference_t<decltype(std::declval<EngineParams&>()
 
 template <class T>
 ParamValue to_value(T v) {
-  if constexpr (std::is_enum_v<T>) return static_cast<ParamValue>(static_cast<int>(v));
-  else return static_cast<ParamValue>(v);
+  if constexpr (std::is_enum_v<T>)
+    return static_cast<ParamValue>(static_cast<int>(v));
+  else
+    return static_cast<ParamValue>(v);
 }
 
 template <auto Field>
@@ -68,9 +82,12 @@ ParamValue get_field(const EngineParams& p) {
 template <auto Field>
 void set_field(EngineParams& p, ParamValue v) {
   using T = FieldType<Field>;
-  if constexpr (std::is_enum_v<T>) p.*Field = static_cast<T>(static_cast<int>(v));
-  else if constexpr (std::is_same_v<T, bool>) p.*Field = v != 0.0;
-  else p.*Field = static_cast<T>(v);
+  if constexpr (std::is_enum_v<T>)
+    p.*Field = static_cast<T>(static_cast<int>(v));
+  else if constexpr (std::is_same_v<T, bool>)
+    p.*Field = v != 0.0;
+  else
+    p.*Field = static_cast<T>(v);
 }
 
 // A field's value in each preset, in kPresetNames order; the constructor takes one per preset,
@@ -132,8 +149,12 @@ ParamRow conflicts(ParamRow r, std::string (*why)(const EngineParams&)) {
 constexpr ParamRange kAny{};
 const ParamRange kPositive{0.0, std::nullopt, false, true};
 const ParamRange kNonNegative{0.0, std::nullopt, true, true};
-ParamRange closed(double lo, double hi) { return {lo, hi, true, true}; }      // [lo, hi]
-ParamRange half_open(double lo, double hi) { return {lo, hi, true, false}; }  // [lo, hi)
+ParamRange closed(double lo, double hi) {
+  return {lo, hi, true, true};
+}  // [lo, hi]
+ParamRange half_open(double lo, double hi) {
+  return {lo, hi, true, false};
+}  // [lo, hi)
 
 using E = EngineParams;
 using S = SpringLaw;
@@ -149,8 +170,8 @@ std::string gauss_seidel_only(const EngineParams& p) {
 
 std::string implicit_only(const EngineParams& p) {
   if (p.scheme == Scheme::kImplicit) return "";
-  return std::string("applies to the implicit scheme only (this run: scheme ") + to_string(p.scheme) +
-         ")";
+  return std::string("applies to the implicit scheme only (this run: scheme ") +
+         to_string(p.scheme) + ")";
 }
 
 std::string damping_conflict(const EngineParams& p) {
@@ -158,8 +179,9 @@ std::string damping_conflict(const EngineParams& p) {
 }
 
 std::string interpolation_steps_conflict(const EngineParams& p) {
-  return p.interpolation == Interpolation::kNone ? "applies only with an interpolation (this run: none)"
-                                                 : "";
+  return p.interpolation == Interpolation::kNone
+             ? "applies only with an interpolation (this run: none)"
+             : "";
 }
 
 std::string polar_only(const EngineParams& p) {
@@ -171,7 +193,9 @@ std::string polar_only(const EngineParams& p) {
 }
 
 std::string capped_torsion_only(const EngineParams& p) {
-  return p.torsion_spring == S::kCapped ? "" : "applies to capped torsion springs only (this run: linear)";
+  return p.torsion_spring == S::kCapped
+             ? ""
+             : "applies to capped torsion springs only (this run: linear)";
 }
 
 // damping: a value given for it is the value used, so it turns damping_auto off
@@ -186,12 +210,12 @@ void set_damping(EngineParams& p, ParamValue v) {
 
 // the step: its length and its damping
 std::vector<ParamRow> step_rows() {
-  ParamRow damping = tuned(
-      conflicts(row<&E::damping>("damping", "N s/m", {3.0, 20.0, 3.0}, kNonNegative,
-                                 "force -c v at the head and the tail of every bone (a value "
-                                 "turns damping_auto off)"),
-                damping_conflict),
-      0.01, 100.0);
+  ParamRow damping =
+      tuned(conflicts(row<&E::damping>("damping", "N s/m", {3.0, 20.0, 3.0}, kNonNegative,
+                                       "force -c v at the head and the tail of every bone (a value "
+                                       "turns damping_auto off)"),
+                      damping_conflict),
+            0.01, 100.0);
   damping.set = &set_damping;
   return {
       row<&E::dt>("dt", "s", {0.05, 0.05, 0.05}, kPositive, "time step"),
@@ -223,9 +247,10 @@ std::vector<ParamRow> joint_solve_rows() {
                                                "original's cap)"),
                            "5 n^2"),
                 gauss_seidel_only),
-      conflicts(row<&E::centripetal>("centripetal", "", {false, false, false}, kAny,
-                                     "add w x (w x r) to joint-point accelerations (eq. 2 omits it)"),
-                gauss_seidel_only),
+      conflicts(
+          row<&E::centripetal>("centripetal", "", {false, false, false}, kAny,
+                               "add w x (w x r) to joint-point accelerations (eq. 2 omits it)"),
+          gauss_seidel_only),
       row<&E::gyroscopic>("gyroscopic", "", {true, true, true}, kAny, "the -w x I w term of eq. 1"),
   };
 }
@@ -238,9 +263,10 @@ std::vector<ParamRow> spring_rows() {
             0.1, 1000.0),
       row<&E::control_spring>("control_spring", "", {S::kLinear, S::kLinear, S::kLinear}, kAny,
                               "spring law of the control points that give none"),
-      tuned(row<&E::control_cap>("control_cap", "rig units", {1.0, 1.0, 1.0}, kPositive,
-                                 "cap c of capped control springs that give none (the original: 1)"),
-            0.01, 100.0),
+      tuned(
+          row<&E::control_cap>("control_cap", "rig units", {1.0, 1.0, 1.0}, kPositive,
+                               "cap c of capped control springs that give none (the original: 1)"),
+          0.01, 100.0),
       tuned(row<&E::torsion_k>("torsion_k", "N m/rad", {10.0, 10.0, 10.0}, kNonNegative,
                                "stiffness of the joint-limit torsion springs"),
             0.1, 1000.0),
@@ -250,9 +276,10 @@ std::vector<ParamRow> spring_rows() {
                                            "cap of capped torsion springs"),
                       capped_torsion_only),
             0.01, 3.2),
-      row<&E::torsion_tolerance>("torsion_tolerance", "1", {0.1, 0.1, 0.1}, half_open(0.0, 0.5),
-                                 "the torsion spring engages this fraction of the range inside each "
-                                 "limit"),
+      row<&E::torsion_tolerance>(
+          "torsion_tolerance", "1", {0.1, 0.1, 0.1}, half_open(0.0, 0.5),
+          "the torsion spring engages this fraction of the range inside each "
+          "limit"),
       omitted_at_default(row<&E::torsion_torque>(
           "torsion_torque", "", {T::kAxes, T::kAxes, T::kGradient}, kAny,
           "axes (the paper's: k x excess about each rest axis; not the gradient of the torsion "
@@ -263,11 +290,11 @@ std::vector<ParamRow> spring_rows() {
 // which scheme, and its options
 std::vector<ParamRow> scheme_rows() {
   return {
-      row<&E::scheme>("scheme", "", {Scheme::kGaussSeidel, Scheme::kGaussSeidel, Scheme::kImplicit},
-                      kAny,
-                      "gauss-seidel (the paper's: joint passes, semi-implicit Euler), exact "
-                      "(articulated-body algorithm, MuJoCo's Euler) or implicit (linearised backward "
-                      "Euler over the exact solve, stable at any dt and damping)"),
+      row<&E::scheme>(
+          "scheme", "", {Scheme::kGaussSeidel, Scheme::kGaussSeidel, Scheme::kImplicit}, kAny,
+          "gauss-seidel (the paper's: joint passes, semi-implicit Euler), exact "
+          "(articulated-body algorithm, MuJoCo's Euler) or implicit (linearised backward "
+          "Euler over the exact solve, stable at any dt and damping)"),
       conflicts(omitted_at_default(row<&E::free_rods>(
                     "free_rods", "", {false, false, false}, kAny,
                     "gauss-seidel: every bone integrates its own motion, joints may drift apart "
@@ -286,13 +313,15 @@ std::vector<ParamRow> scheme_rows() {
 // how target jumps are spread (eq. 12)
 std::vector<ParamRow> interpolation_rows() {
   return {
-      row<&E::interpolation>("interpolation", "",
-                             {Interpolation::kLinear, Interpolation::kLinear, Interpolation::kLinear},
-                             kAny, "how a target jump is spread over steps (eq. 12)"),
-      conflicts(row<&E::interpolation_steps>("interpolation_steps", "steps", {12, 12, 12},
-                                             kNonNegative, "a target jump is spread over this many "
-                                             "steps (the original: 25% of 50)"),
-                interpolation_steps_conflict),
+      row<&E::interpolation>(
+          "interpolation", "",
+          {Interpolation::kLinear, Interpolation::kLinear, Interpolation::kLinear}, kAny,
+          "how a target jump is spread over steps (eq. 12)"),
+      conflicts(
+          row<&E::interpolation_steps>("interpolation_steps", "steps", {12, 12, 12}, kNonNegative,
+                                       "a target jump is spread over this many "
+                                       "steps (the original: 25% of 50)"),
+          interpolation_steps_conflict),
       conflicts(row<&E::interpolation_fallback>("interpolation_fallback", "rig units",
                                                 {1e-3, 1e-3, 1e-3}, kPositive,
                                                 "polar interpolation falls back to linear this "
@@ -315,7 +344,8 @@ std::string number_text(double v) {
   return o.str();
 }
 
-[[noreturn]] void bad_value(const ParamRow& row, const std::string& source, const std::string& reason) {
+[[noreturn]] void bad_value(const ParamRow& row, const std::string& source,
+                            const std::string& reason) {
   throw_input_error(source, "params", row.name, reason);
 }
 
@@ -416,9 +446,9 @@ std::string range_violation(const ParamRow& row, ParamValue v) {
   if (!std::isfinite(v)) return "not a finite number";
   const ParamRange& g = row.valid;
   if (g.lo && (v < *g.lo || (v == *g.lo && !g.lo_allowed))) {
-    std::string why = *g.lo == 0.0 ? (g.lo_allowed ? "must not be negative" : "must be positive")
-                                    : (g.lo_allowed ? "must be at least " : "must be above ") +
-                                          number_text(*g.lo);
+    std::string why =
+        *g.lo == 0.0 ? (g.lo_allowed ? "must not be negative" : "must be positive")
+                     : (g.lo_allowed ? "must be at least " : "must be above ") + number_text(*g.lo);
     if (!row.zero_means.empty() && *g.lo == 0.0) why += " (0 = " + row.zero_means + ")";
     return why;
   }
@@ -449,15 +479,20 @@ std::string valid_text(const ParamRow& row) {
 
 std::string format_param(const ParamRow& row, ParamValue v) {
   switch (row.kind) {
-    case ParamKind::kReal: return number_text(v);
-    case ParamKind::kInteger: return std::to_string(static_cast<int>(v));
-    case ParamKind::kBoolean: return v != 0.0 ? "true" : "false";
-    case ParamKind::kChoice: return row.choices.at(static_cast<std::size_t>(v));
+    case ParamKind::kReal:
+      return number_text(v);
+    case ParamKind::kInteger:
+      return std::to_string(static_cast<int>(v));
+    case ParamKind::kBoolean:
+      return v != 0.0 ? "true" : "false";
+    case ParamKind::kChoice:
+      return row.choices.at(static_cast<std::size_t>(v));
   }
   return "?";
 }
 
-ParamValue parse_param_text(const ParamRow& row, const std::string& text, const std::string& source) {
+ParamValue parse_param_text(const ParamRow& row, const std::string& text,
+                            const std::string& source) {
   ParamValue v = 0.0;
   switch (row.kind) {
     case ParamKind::kReal: {
@@ -526,11 +561,12 @@ void apply_old_scheme_keys(EngineParams& p, const std::string& integration,
   if (!joint_solve.empty() && joint_solve != "gauss-seidel" && joint_solve != "exact") {
     fail("joint_solve", "unknown value '" + joint_solve + "' (expected gauss-seidel|exact)");
   }
-  if (integration == "implicit" || (integration.empty() && p.scheme == Scheme::kImplicit &&
-                                    !joint_solve.empty())) {
+  if (integration == "implicit" ||
+      (integration.empty() && p.scheme == Scheme::kImplicit && !joint_solve.empty())) {
     if (joint_solve == "gauss-seidel") {
-      fail("joint_solve", "gauss-seidel cannot run with integration implicit, which solves the "
-                          "joints exactly");
+      fail("joint_solve",
+           "gauss-seidel cannot run with integration implicit, which solves the "
+           "joints exactly");
     }
     p.scheme = Scheme::kImplicit;
     p.free_rods = false;
@@ -546,7 +582,8 @@ void apply_old_scheme_keys(EngineParams& p, const std::string& integration,
       p.scheme = Scheme::kGaussSeidel;  // integration articulated alone: the paper's scheme
     }
   } else {
-    fail("integration", "unknown value '" + integration + "' (expected articulated|free-rods|implicit)");
+    fail("integration",
+         "unknown value '" + integration + "' (expected articulated|free-rods|implicit)");
   }
 }
 

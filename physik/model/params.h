@@ -31,7 +31,8 @@ enum class SpringLaw { kLinear, kCapped };
 // The scheme of a step: one switch, read once per step (engine.h step()).
 enum class Scheme {
   kGaussSeidel,  // the paper's: Newton-Euler per bone, Gauss-Seidel joint passes (corrected eq.
-                 // 11, joint_forces.h), semi-implicit Euler (integrate.h); articulated, or free rods
+                 // 11, joint_forces.h), semi-implicit Euler (integrate.h); articulated, or free
+                 // rods
   kExact,        // Featherstone's articulated-body algorithm (articulated_body.h) with MuJoCo's
                  // Euler step in joint space (integrate_joint_space.h)
   kImplicit,     // linearised backward Euler over the same recursion (implicit_step.h), a step that
@@ -54,40 +55,40 @@ const char* to_string(Interpolation s);
 const char* to_string(TorsionTorque s);
 
 struct EngineParams {
-  EngineParams();  // the default preset (kDefaultPreset)
-  std::string preset;                    // the preset the values started from
-  double dt;                             // s, time step
-  double damping;                        // N s/m, force -c v at each bone end
-  bool damping_auto;                     // choose damping for critical damping of the slowest
-                                         // linearised mode (linear_modes.h) at the start pose
-                                         // and whenever the targets change
-  double angular_velocity_factor;        // 1, every bone's angular velocity is scaled by it each step
-  double joint_eps;                      // rig units/s^2, stop the joint passes below this mismatch
-  double joint_eps_relative;             // 1; > 0: the passes also go on until every joint's
-                                         //    mismatch is below this fraction of its accelerations
-                                         //    (joint_forces.h); 0 = off (the paper's absolute eps)
-  int max_passes;                        // passes per step; 0 = 5 n^2 (the original's cap)
-  bool centripetal;                      // add w x (w x r) to joint-point accelerations (eq. 2 omits it)
-  bool gyroscopic;                       // the -w x I w term of eq. 1
-  double control_k;                      // N/m, stiffness of control points that give none
-  SpringLaw control_spring;              // law of control points that give none
-  double control_cap;                    // rig units, cap c of capped springs (original: 1)
-  double torsion_k;                      // N m/rad, joint-limit torsion springs
+  EngineParams();                  // the default preset (kDefaultPreset)
+  std::string preset;              // the preset the values started from
+  double dt;                       // s, time step
+  double damping;                  // N s/m, force -c v at each bone end
+  bool damping_auto;               // choose damping for critical damping of the slowest
+                                   // linearised mode (linear_modes.h) at the start pose
+                                   // and whenever the targets change
+  double angular_velocity_factor;  // 1, every bone's angular velocity is scaled by it each step
+  double joint_eps;                // rig units/s^2, stop the joint passes below this mismatch
+  double joint_eps_relative;       // 1; > 0: the passes also go on until every joint's
+                                   //    mismatch is below this fraction of its accelerations
+                                   //    (joint_forces.h); 0 = off (the paper's absolute eps)
+  int max_passes;                  // passes per step; 0 = 5 n^2 (the original's cap)
+  bool centripetal;                // add w x (w x r) to joint-point accelerations (eq. 2 omits it)
+  bool gyroscopic;                 // the -w x I w term of eq. 1
+  double control_k;                // N/m, stiffness of control points that give none
+  SpringLaw control_spring;        // law of control points that give none
+  double control_cap;              // rig units, cap c of capped springs (original: 1)
+  double torsion_k;                // N m/rad, joint-limit torsion springs
   SpringLaw torsion_spring;
-  double torsion_cap;                    // rad, cap of capped torsion springs
-  double torsion_tolerance;              // 1, fraction of the range inside each limit where the
-                                         //    torsion spring engages
-  TorsionTorque torsion_torque;          // axes (the paper's) or gradient (torsion_springs.h)
-  Scheme scheme;                         // gauss-seidel | exact | implicit
-  bool free_rods;                        // gauss-seidel: every bone integrates its own motion (the
-                                         // paper's text); false: FK from the root (the original's)
-  int implicit_max_splits;               // scheme implicit: a step that adds energy is taken
-                                         // again in halves, at most this deep (implicit_advance.h);
-                                         // 0 = the bare linearised step
+  double torsion_cap;            // rad, cap of capped torsion springs
+  double torsion_tolerance;      // 1, fraction of the range inside each limit where the
+                                 //    torsion spring engages
+  TorsionTorque torsion_torque;  // axes (the paper's) or gradient (torsion_springs.h)
+  Scheme scheme;                 // gauss-seidel | exact | implicit
+  bool free_rods;                // gauss-seidel: every bone integrates its own motion (the
+                                 // paper's text); false: FK from the root (the original's)
+  int implicit_max_splits;       // scheme implicit: a step that adds energy is taken
+                                 // again in halves, at most this deep (implicit_advance.h);
+                                 // 0 = the bare linearised step
   Interpolation interpolation;
-  int interpolation_steps;               // steps over which a target jump is spread
-                                         // (original: 25% of its 50 iterations)
-  double interpolation_fallback;         // rig units: polar falls back to linear this near the origin
+  int interpolation_steps;        // steps over which a target jump is spread
+                                  // (original: 25% of its 50 iterations)
+  double interpolation_fallback;  // rig units: polar falls back to linear this near the origin
 
   int passes_cap(int nbone) const { return max_passes > 0 ? max_passes : 5 * nbone * nbone; }
   // the state is the joint-space one of the articulated-body recursion (exact and implicit)
@@ -120,17 +121,18 @@ struct ParamRange {
 };
 
 struct ParamRow {
-  std::string name;        // the scene's "params" key, the --set key, the EngineParams field
+  std::string name;  // the scene's "params" key, the --set key, the EngineParams field
   ParamKind kind = ParamKind::kReal;
-  std::string unit;        // "1" for ratios, "" for booleans and choices
+  std::string unit;                                 // "1" for ratios, "" for booleans and choices
   std::array<ParamValue, kPresetCount> defaults{};  // per preset, in kPresetNames order
   ParamRange valid;
   std::string zero_means;  // what 0 stands for, when it is special ("5 n^2" for max_passes)
-  std::optional<std::pair<double, double>> tune;    // tuning bounds lo < hi, both > 0 (reals)
-  std::vector<std::string> choices;                 // kChoice: the names, in the enum's order
-  std::string doc;         // one line
-  bool written_at_default = true;  // false: the scene writer leaves it out while it has its
-                                   // preset's default (a newer row keeps older summaries as they were)
+  std::optional<std::pair<double, double>> tune;  // tuning bounds lo < hi, both > 0 (reals)
+  std::vector<std::string> choices;               // kChoice: the names, in the enum's order
+  std::string doc;                                // one line
+  bool written_at_default =
+      true;  // false: the scene writer leaves it out while it has its
+             // preset's default (a newer row keeps older summaries as they were)
   ParamValue (*get)(const EngineParams&) = nullptr;
   void (*set)(EngineParams&, ParamValue) = nullptr;
   // Why a value given explicitly for this row (by a scene file or an override) would not be the
@@ -162,7 +164,8 @@ std::string valid_text(const ParamRow& row);
 std::string format_param(const ParamRow& row, ParamValue v);
 // Text by the row's kind (a number, an integer, true/false, one of the choices), range-checked;
 // throws InputError "<source>: params: field '<name>': <reason>".
-ParamValue parse_param_text(const ParamRow& row, const std::string& text, const std::string& source);
+ParamValue parse_param_text(const ParamRow& row, const std::string& text,
+                            const std::string& source);
 
 // The rows among `given` (explicitly given names) whose value the run would not use with
 // params `p`, each as (row name, reason); empty when every given value takes part. A row at its
@@ -183,8 +186,8 @@ void apply_old_scheme_keys(EngineParams& p, const std::string& integration,
 // override swaps the base preset under them. Control points that give no k, spring or cap take
 // the params' at use, so they follow the overrides too.
 struct ParamOverrides {
-  std::string source = "--set";  // where they came from, for messages
-  std::string preset;  // "" = the scene's own
+  std::string source = "--set";                                // where they came from, for messages
+  std::string preset;                                          // "" = the scene's own
   std::vector<std::pair<const ParamRow*, ParamValue>> values;  // in the order given; later wins
   std::string integration, joint_solve;  // the old scheme keys (apply_old_scheme_keys), "" = none
   bool empty() const {

@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <unordered_map>
 
-#include "physik/model/unique_names.h"
 #include "physik/model/errors.h"
+#include "physik/model/unique_names.h"
 
 namespace physik {
 
@@ -17,9 +17,9 @@ namespace {
 struct Segment {
   int node = -1;
   Vec3 tail = Vec3::Zero();
-  int tail_node = -1;   // first child pivot in the group
-  int tail_end = -1;    // or the end point
-  int parent = -1;      // parent segment, -1 = root level
+  int tail_node = -1;  // first child pivot in the group
+  int tail_end = -1;   // or the end point
+  int parent = -1;     // parent segment, -1 = root level
   std::string name;
 };
 
@@ -190,8 +190,8 @@ void name_segments(const std::vector<PivotNode>& nodes,
 // stage 4: specs, the synthetic root first if any, then the segments in DFS order of the segment
 // tree (children in pivot order; an explicit stack); returns each segment's spec index
 std::vector<int> emit_specs(const std::vector<PivotNode>& nodes, const std::vector<Segment>& segs,
-                            double mass_per_length, double radius, int root_level,
-                            double root_len, UniqueNames& used, PivotBones& out) {
+                            double mass_per_length, double radius, int root_level, double root_len,
+                            UniqueNames& used, PivotBones& out) {
   auto add_spec = [&](const std::string& name, const std::string& parent, const Vec3& head,
                       const Vec3& tail, int node, int tail_node, int tail_end, int parent_spec) {
     BoneSpec b;
@@ -213,10 +213,10 @@ std::vector<int> emit_specs(const std::vector<PivotNode>& nodes, const std::vect
   if (out.synthetic_root) {
     // a handle bone ending at the root pivot (pivot_rig.h, 3.)
     const double len = root_level > 0 ? root_len / root_level : 1.0;
-    synthetic_name = used.taken(nodes[0].name) ? used.make(nodes[0].name + "_root")
-                                               : used.make(nodes[0].name);
-    add_spec(synthetic_name, "", nodes[0].rest_world - Vec3(0, 0, len), nodes[0].rest_world, 0,
-             -1, -1, -1);
+    synthetic_name =
+        used.taken(nodes[0].name) ? used.make(nodes[0].name + "_root") : used.make(nodes[0].name);
+    add_spec(synthetic_name, "", nodes[0].rest_world - Vec3(0, 0, len), nodes[0].rest_world, 0, -1,
+             -1, -1);
   }
   std::vector<std::vector<int>> seg_children(segs.size());
   std::vector<int> roots;
@@ -305,9 +305,8 @@ void pivot_pose(const PivotRig& pr, const std::vector<Quat>& node_rotation_world
     scratch.orient_world[b] =
         (node_rotation_world[pr.bone_node[b]] * rig.bone_rest_orient_world[b]).normalized();
   }
-  scratch.head_world[0] = root_pivot_world + node_rotation_world[0] *
-                                                 (rig.bone_rest_head_world[0] -
-                                                  pr.nodes[0].rest_world);
+  scratch.head_world[0] = root_pivot_world + node_rotation_world[0] * (rig.bone_rest_head_world[0] -
+                                                                       pr.nodes[0].rest_world);
   local_rotations_from_world(rig, scratch, out);
 }
 

@@ -32,21 +32,21 @@ namespace physik {
 
 struct PivotNode {
   std::string name;
-  int parent = -1;                  // index into the node list, parents first; -1 for the root
-  Vec3 rest_world = Vec3::Zero();   // rest position of the pivot (rig units)
-  std::vector<Vec3> ends_world;     // extra tail points that turn with this pivot (rig units)
+  int parent = -1;                 // index into the node list, parents first; -1 for the root
+  Vec3 rest_world = Vec3::Zero();  // rest position of the pivot (rig units)
+  std::vector<Vec3> ends_world;    // extra tail points that turn with this pivot (rig units)
 };
 
 // The bones before build_rig, so a caller can set masses, frames and limits first.
 struct PivotBones {
-  std::vector<BoneSpec> specs;       // in DFS order
-  std::vector<int> spec_node;        // (nspec) the pivot whose rotation the bone follows
-  std::vector<int> spec_parent;      // (nspec) parent spec, -1 for the root
-  std::vector<int> spec_tail_node;   // (nspec) child pivot at the tail, or -1
-  std::vector<int> spec_tail_end;    // (nspec) index into the pivot's ends_world at the tail, or -1
-  bool synthetic_root = false;       // spec 0 is the synthetic root (tail = root pivot)
+  std::vector<BoneSpec> specs;      // in DFS order
+  std::vector<int> spec_node;       // (nspec) the pivot whose rotation the bone follows
+  std::vector<int> spec_parent;     // (nspec) parent spec, -1 for the root
+  std::vector<int> spec_tail_node;  // (nspec) child pivot at the tail, or -1
+  std::vector<int> spec_tail_end;   // (nspec) index into the pivot's ends_world at the tail, or -1
+  bool synthetic_root = false;      // spec 0 is the synthetic root (tail = root pivot)
   std::vector<std::vector<int>> node_specs;  // (nnode) segments starting at each pivot
-  std::vector<int> node_incoming;    // (nnode) spec whose tail is at the pivot, -1 for none
+  std::vector<int> node_incoming;            // (nnode) spec whose tail is at the pivot, -1 for none
 };
 
 // Groups and names segments, builds the specs (roll 0 frames, mass = mass_per_length * length,

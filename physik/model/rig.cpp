@@ -102,9 +102,9 @@ std::unordered_map<std::string, std::size_t> index_names(const std::vector<BoneS
       throw_input_error(source, "bones[" + std::to_string(i) + "]", "name", bad);
     }
     if (!index_of.emplace(b.name, i).second) {
-      throw_input_error(source, bone_element(b, i), "name",
-                        "duplicate bone name (first used by bones[" +
-                            std::to_string(index_of[b.name]) + "])");
+      throw_input_error(
+          source, bone_element(b, i), "name",
+          "duplicate bone name (first used by bones[" + std::to_string(index_of[b.name]) + "])");
     }
   }
   return index_of;
@@ -114,7 +114,8 @@ std::unordered_map<std::string, std::size_t> index_names(const std::vector<BoneS
 // (in file order) and returns the root's index in `specs`
 std::size_t link_parents(const std::vector<BoneSpec>& specs,
                          const std::unordered_map<std::string, std::size_t>& index_of,
-                         const std::string& source, std::vector<std::vector<std::size_t>>& children) {
+                         const std::string& source,
+                         std::vector<std::vector<std::size_t>>& children) {
   children.assign(specs.size(), {});
   std::size_t root = specs.size();
   for (std::size_t i = 0; i < specs.size(); ++i) {
@@ -165,9 +166,9 @@ std::vector<std::size_t> dfs_order(const std::vector<BoneSpec>& specs,
     for (std::size_t i : order) seen[i] = true;
     for (std::size_t i = 0; i < specs.size(); ++i) {
       if (!seen[i]) {
-        throw_input_error(source, bone_element(specs[i], i), "parent",
-                          "parent cycle: this bone's ancestors never reach the root '" +
-                              specs[root].name + "'");
+        throw_input_error(
+            source, bone_element(specs[i], i), "parent",
+            "parent cycle: this bone's ancestors never reach the root '" + specs[root].name + "'");
       }
     }
   }
@@ -178,8 +179,8 @@ std::vector<std::size_t> dfs_order(const std::vector<BoneSpec>& specs,
 void check_geometry(const BoneSpec& b, const std::string& source, const std::string& el) {
   if (!b.head_world.allFinite()) throw_input_error(source, el, "head", "non-finite coordinate");
   if (!b.tail_world.allFinite()) throw_input_error(source, el, "tail", "non-finite coordinate");
-  for (const auto& [field, p] : {std::pair<const char*, const Vec3*>{"head", &b.head_world},
-                                 {"tail", &b.tail_world}}) {
+  for (const auto& [field, p] :
+       {std::pair<const char*, const Vec3*>{"head", &b.head_world}, {"tail", &b.tail_world}}) {
     if (p->cwiseAbs().maxCoeff() > kMaxCoordinate) {
       throw_input_error(source, el, field,
                         "coordinate " + fmt(p->cwiseAbs().maxCoeff()) + " is beyond +-" +
@@ -197,7 +198,8 @@ void check_geometry(const BoneSpec& b, const std::string& source, const std::str
   }
   const Vec3 dir = (b.tail_world - b.head_world) / len;
   if (f.col(1).dot(dir) < 1.0 - 1e-3) {
-    throw_input_error(source, el, "rest_frame", "the frame's y axis does not run from head to tail");
+    throw_input_error(source, el, "rest_frame",
+                      "the frame's y axis does not run from head to tail");
   }
 }
 

@@ -49,47 +49,47 @@ struct AxisLimit {
 // One bone as written in a rig file, before derived quantities are computed.
 struct BoneSpec {
   std::string name;
-  std::string parent;           // empty for the root
-  Vec3 head_world{0, 0, 0};     // rest position of the head (rig units)
-  Vec3 tail_world{0, 1, 0};     // rest position of the tail (rig units)
+  std::string parent;                        // empty for the root
+  Vec3 head_world{0, 0, 0};                  // rest position of the head (rig units)
+  Vec3 tail_world{0, 1, 0};                  // rest position of the tail (rig units)
   Mat3 rest_frame_world = Mat3::Identity();  // columns: bone x, y, z axes in world at rest
   std::array<AxisLimit, 3> limit{};          // per local axis x, y, z
-  double mass = 1.0;            // kg, total
-  double radius = 0.5;          // rig units, radius of the cylinder used for the inertia
+  double mass = 1.0;                         // kg, total
+  double radius = 0.5;  // rig units, radius of the cylinder used for the inertia
   // optional explicit principal moments about the bone's centre, bone-local x, y, z (kg m^2);
   // zero (the default) means the cylinder of `radius` (e.g. MuJoCo bodies imported as bones)
   Vec3 inertia_local = Vec3::Zero();
 };
 
 struct Joint {
-  int parent = -1;               // the bone whose tail is the joint
-  std::vector<int> children;     // bones whose heads meet there, in DFS order
+  int parent = -1;            // the bone whose tail is the joint
+  std::vector<int> children;  // bones whose heads meet there, in DFS order
   int nbone() const { return 1 + static_cast<int>(children.size()); }
 };
 
 struct Rig {
-  std::string name;                          // from the file, or generated
+  std::string name;  // from the file, or generated
   int nbone = 0;
 
   // per bone, DFS order
-  std::vector<std::string> bone_name;        // (nbone)
-  std::vector<int> bone_parent;              // (nbone) -1 for the root; bone_parent[i] < i
+  std::vector<std::string> bone_name;           // (nbone)
+  std::vector<int> bone_parent;                 // (nbone) -1 for the root; bone_parent[i] < i
   std::vector<std::vector<int>> bone_children;  // (nbone) x (varies)
-  std::vector<Vec3> bone_rest_head_world;    // (nbone) rig units
-  std::vector<Vec3> bone_rest_tail_world;    // (nbone) rig units
-  std::vector<Quat> bone_rest_orient_world;  // (nbone) rest frame as a rotation world<-bone
-  std::vector<Quat> bone_rest_orient_parent; // (nbone) rest frame in the parent's rest frame
-                                             //         (root: = bone_rest_orient_world)
-  std::vector<Vec3> bone_head_in_parent;     // (nbone) head, in the parent's frame, relative to
-                                             //         the parent's head (root: zero)
-  std::vector<double> bone_length;           // (nbone) rig units
-  std::vector<double> bone_mass;             // (nbone) kg
-  std::vector<double> bone_radius;           // (nbone) rig units
-  std::vector<Vec3> bone_inertia_local;      // (nbone) principal moments about the centre of
-                                             //         mass, bone-local x, y, z (kg m^2)
+  std::vector<Vec3> bone_rest_head_world;       // (nbone) rig units
+  std::vector<Vec3> bone_rest_tail_world;       // (nbone) rig units
+  std::vector<Quat> bone_rest_orient_world;     // (nbone) rest frame as a rotation world<-bone
+  std::vector<Quat> bone_rest_orient_parent;    // (nbone) rest frame in the parent's rest frame
+                                                //         (root: = bone_rest_orient_world)
+  std::vector<Vec3> bone_head_in_parent;        // (nbone) head, in the parent's frame, relative to
+                                                //         the parent's head (root: zero)
+  std::vector<double> bone_length;              // (nbone) rig units
+  std::vector<double> bone_mass;                // (nbone) kg
+  std::vector<double> bone_radius;              // (nbone) rig units
+  std::vector<Vec3> bone_inertia_local;         // (nbone) principal moments about the centre of
+                                                //         mass, bone-local x, y, z (kg m^2)
   std::vector<std::array<AxisLimit, 3>> bone_limit;  // (nbone) per local axis
-  std::vector<int> bone_joint_at_tail;       // (nbone) joint index at the tail, or -1
-  std::vector<int> bone_joint_at_head;       // (nbone) joint index at the head, or -1 (root)
+  std::vector<int> bone_joint_at_tail;               // (nbone) joint index at the tail, or -1
+  std::vector<int> bone_joint_at_head;  // (nbone) joint index at the head, or -1 (root)
 
   // joints, one per bone with children, in DFS order of the parent
   std::vector<Joint> joints;

@@ -27,7 +27,8 @@ std::vector<BoneSpec> scaled_bones(const Rig& rig, double s, std::optional<doubl
 
 Scene scaled_scene(const Scene& base, double s, std::optional<double> density, bool scale_torsion) {
   Scene out = base;
-  out.rig = build_rig(scaled_bones(base.rig, s, density), base.rig_file + " (scaled)", base.rig.name);
+  out.rig =
+      build_rig(scaled_bones(base.rig, s, density), base.rig_file + " (scaled)", base.rig.name);
   for (ControlPoint& cp : out.control_points) {
     cp.target_world *= s;
     if (cp.cap) *cp.cap *= s;  // a point's own cap; the others follow params.control_cap

@@ -11,8 +11,9 @@ namespace physik {
 // The scene on its rig scaled by s about the origin (heads, tails, radii, targets, the points'
 // own caps and params.control_cap, the schedule's targets, the root's start), every bone's mass
 // density x length (kg per rig unit; no density: the masses kept) and its inertia recomputed (the
-// cylinder's); torsion k scaled like the inertia (density x s^3, density 1 if none) when asked. k and dt stay as given. The rig is built by build_rig, so
-// the scaled rig is checked as a loaded one is.
+// cylinder's); torsion k scaled like the inertia (density x s^3, density 1 if none) when asked. k
+// and dt stay as given. The rig is built by build_rig, so the scaled rig is checked as a loaded one
+// is.
 Scene scaled_scene(const Scene& base, double s, std::optional<double> density,
                    bool scale_torsion = false);
 

@@ -21,9 +21,9 @@ namespace physik {
 // (control_spring, control_k, control_cap) at the time of use, so a tuner or a --set that
 // changes the params reaches it, while a value the scene gives per point stays fixed.
 struct ControlPoint {
-  std::string name;            // optional label
-  int bone = -1;               // index into the rig
-  double alpha = 1.0;          // position along the bone: 0 = head, 1 = tail
+  std::string name;    // optional label
+  int bone = -1;       // index into the rig
+  double alpha = 1.0;  // position along the bone: 0 = head, 1 = tail
   Vec3 target_world = Vec3::Zero();
   std::optional<SpringLaw> spring;  // unset: params.control_spring
   std::optional<double> k;          // N/m; unset: params.control_k
@@ -42,22 +42,22 @@ struct TargetChange {
 };
 
 struct ConvergenceParams {
-  double residual_tol = 0.0;   // rig units; 0 = 1e-3 of the rig's height (of its mean bone length
-                               // when the rig is flat). Reported, and a run whose final residuals
-                               // exceed it is "converged" only if at rest
-  double speed_tol = 0.0;      // rig units/s; 0 = 1e-3 of the rig's mean bone length per second
-                               // (Rig::length_scale). At rest when sqrt(2 KE / total mass) is below
-  int settle_steps = 10;       // consecutive steps at rest to call the run converged
+  double residual_tol = 0.0;  // rig units; 0 = 1e-3 of the rig's height (of its mean bone length
+                              // when the rig is flat). Reported, and a run whose final residuals
+                              // exceed it is "converged" only if at rest
+  double speed_tol = 0.0;     // rig units/s; 0 = 1e-3 of the rig's mean bone length per second
+                              // (Rig::length_scale). At rest when sqrt(2 KE / total mass) is below
+  int settle_steps = 10;      // consecutive steps at rest to call the run converged
   bool stop_when_converged = false;
   bool stop_at_residual_tol = false;  // IK use: converged = every control point within
                                       // residual_tol; stop there, or at rest short of it
-  double divergence_energy = 0.0;  // J; > 0: diverged when KE passes it (a fixed bound);
-                                   // 0 = the energy rule (physik/engine/run_monitor.h)
+  double divergence_energy = 0.0;     // J; > 0: diverged when KE passes it (a fixed bound);
+                                      // 0 = the energy rule (physik/engine/run_monitor.h)
 };
 
 struct Scene {
-  std::string file;            // where it came from ("" if built in code)
-  std::string rig_file;        // resolved rig path
+  std::string file;      // where it came from ("" if built in code)
+  std::string rig_file;  // resolved rig path
   Rig rig;
   EngineParams params;
   std::vector<std::string> params_given;  // the params keys the scene file or an override gave

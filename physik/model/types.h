@@ -19,15 +19,17 @@ using Mat3 = Eigen::Matrix3d;
 using Quat = Eigen::Quaterniond;
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double deg2rad(double deg) { return deg * kPi / 180.0; }
-constexpr double rad2deg(double rad) { return rad * 180.0 / kPi; }
+constexpr double deg2rad(double deg) {
+  return deg * kPi / 180.0;
+}
+constexpr double rad2deg(double rad) {
+  return rad * 180.0 / kPi;
+}
 
 // skew-symmetric matrix [v]x with [v]x w = v x w
 inline Mat3 skew(const Vec3& v) {
   Mat3 m;
-  m << 0.0, -v.z(), v.y(),
-       v.z(), 0.0, -v.x(),
-       -v.y(), v.x(), 0.0;
+  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
   return m;
 }
 

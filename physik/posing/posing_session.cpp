@@ -97,14 +97,15 @@ void PosingSession::set_pose(const Pose& pose) {
   const Rig& rig = scene_.rig;
   if (static_cast<int>(pose.bone_local_rotation.size()) != rig.nbone) {
     throw_input_error("set_pose", "", "pose",
-                      std::to_string(pose.bone_local_rotation.size()) + " bone rotations for a rig of " +
-                          std::to_string(rig.nbone) + " bones");
+                      std::to_string(pose.bone_local_rotation.size()) +
+                          " bone rotations for a rig of " + std::to_string(rig.nbone) + " bones");
   }
   for (int i = 0; i < rig.nbone; ++i) {
     const Quat& q = pose.bone_local_rotation[i];
     if (!q.coeffs().allFinite() || std::abs(q.norm() - 1.0) > 1e-6) {
-      throw_input_error("set_pose", "", "pose", "bone '" + rig.bone_name[i] +
-                                                   "': its rotation is not a finite unit quaternion");
+      throw_input_error(
+          "set_pose", "", "pose",
+          "bone '" + rig.bone_name[i] + "': its rotation is not a finite unit quaternion");
     }
   }
   physik::set_pose(scene_, state_, pose);
@@ -114,7 +115,9 @@ void PosingSession::set_pose(const Pose& pose) {
   }
 }
 
-double PosingSession::residual() const { return max_control_residual(scene_, state_); }
+double PosingSession::residual() const {
+  return max_control_residual(scene_, state_);
+}
 
 namespace {
 
@@ -123,21 +126,25 @@ void check_rule(const SolveRule& r) {
   const auto bad = [](const char* field, const std::string& why) {
     throw_input_error("SolveRule", "", field, why);
   };
-  if (!(r.tolerance >= 0.0) || !std::isfinite(r.tolerance)) bad("tolerance", "must be finite and >= 0");
+  if (!(r.tolerance >= 0.0) || !std::isfinite(r.tolerance))
+    bad("tolerance", "must be finite and >= 0");
   if (!(r.tolerance_fraction > 0.0) || !std::isfinite(r.tolerance_fraction)) {
     bad("tolerance_fraction", "must be finite and > 0");
   }
   if (r.max_steps < 0) bad("max_steps", "must not be negative");
   if (r.stall_steps < 1) bad("stall_steps", "must be at least 1");
-  if (!(r.stall_fraction >= 0.0 && r.stall_fraction < 1.0)) bad("stall_fraction", "must be in [0, 1)");
-  if (!(r.dt_growth >= 1.0) || !std::isfinite(r.dt_growth)) bad("dt_growth", "must be finite and >= 1");
+  if (!(r.stall_fraction >= 0.0 && r.stall_fraction < 1.0))
+    bad("stall_fraction", "must be in [0, 1)");
+  if (!(r.dt_growth >= 1.0) || !std::isfinite(r.dt_growth))
+    bad("dt_growth", "must be finite and >= 1");
   if (!(r.max_dt > 0.0) || !std::isfinite(r.max_dt)) bad("max_dt", "must be finite and > 0");
 }
 
 }  // namespace
 
 SolveResult PosingSession::solve(const SolveRule& rule) {
-  if (goals_.empty()) throw_input_error(scene_.file, "control_points", "", "a solve needs a control point");
+  if (goals_.empty())
+    throw_input_error(scene_.file, "control_points", "", "a solve needs a control point");
   check_rule(rule);
   const bool grow = rule.dt_growth > 1.0;
   if (grow && scene_.params.scheme != Scheme::kImplicit) {
@@ -202,13 +209,14 @@ RunSummary PosingSession::summary(const SolveResult& result) const {
 
 // The classic finish: the physics' pose is the start; the solved pose is put in at rest.
 bool PosingSession::finish_with(const SolveRule& rule, double tolerance, SolveResult& out) {
-  for (std::size_t c = 0; c < goals_.size(); ++c) goals_[c].target_world = state_.target_goal_world[c];
+  for (std::size_t c = 0; c < goals_.size(); ++c)
+    goals_[c].target_world = state_.target_goal_world[c];
   IkOptions opt = rule.finish_options;
   opt.tolerance = tolerance;
   Pose pose = state_.pose;
-  const IkReport rep = solve_ik(rule.finish == SolveFinish::kCcd ? IkMethod::kCcd
-                                                                  : IkMethod::kDampedLeastSquares,
-                                scene_.rig, goals_, pose, opt);
+  const IkReport rep =
+      solve_ik(rule.finish == SolveFinish::kCcd ? IkMethod::kCcd : IkMethod::kDampedLeastSquares,
+               scene_.rig, goals_, pose, opt);
   out.finish_iterations = rep.iterations;
   if (rep.residual > out.residual) return false;  // never hand back a worse pose
   physik::set_pose(scene_, state_, pose);  // the targets stay met: their pulls are not restarted

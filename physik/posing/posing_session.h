@@ -41,15 +41,15 @@ enum class SolveFinish {
 
 // The solve mode's defaults (physik solve --solver physik, ik_comparison's physik rows): chosen on
 // the ik_comparison targets (docs/ik.md "The solve mode")
-constexpr double kSolveDtGrowth = 2.0;   // 1, per settling step
-constexpr double kSolveMaxDt = 1000.0;   // s
+constexpr double kSolveDtGrowth = 2.0;  // 1, per settling step
+constexpr double kSolveMaxDt = 1000.0;  // s
 
 struct SolveRule {
-  double tolerance = 0.0;          // rig units; 0 = tolerance_fraction * reach
+  double tolerance = 0.0;            // rig units; 0 = tolerance_fraction * reach
   double tolerance_fraction = 1e-4;  // 1, of the chain's reach (as the classic solvers)
-  int max_steps = 2000;            // physics steps at most
-  int stall_steps = 50;            // steps; the residual stalled when it improved by less than
-  double stall_fraction = 0.01;    //   stall_fraction of itself over stall_steps steps
+  int max_steps = 2000;              // physics steps at most
+  int stall_steps = 50;              // steps; the residual stalled when it improved by less than
+  double stall_fraction = 0.01;      //   stall_fraction of itself over stall_steps steps
   // The solve mode on the implicit step: the step starts at the scene's dt, so the
   // body follows with its secondary motion, and lengthens by dt_growth each step the kinetic
   // energy falls, up to max_dt, carrying the dynamics into a quasi-static solve (a large implicit
@@ -61,26 +61,26 @@ struct SolveRule {
   // InputError unless implicit. solve() throws InputError for a rule out of range (tolerances
   // negative or not finite, max_steps < 0, stall_steps < 1, stall_fraction outside [0, 1),
   // dt_growth < 1, max_dt not positive, any NaN).
-  double dt_growth = 1.0;          // 1, per settling step
-  double max_dt = 1.0;             // s
+  double dt_growth = 1.0;  // 1, per settling step
+  double max_dt = 1.0;     // s
   SolveFinish finish = SolveFinish::kNone;
-  IkOptions finish_options;        // the classic finish's options (its tolerance is ours)
+  IkOptions finish_options;  // the classic finish's options (its tolerance is ours)
 };
 
 struct SolveResult {
-  bool converged = false;    // every control point within the tolerance at the end
-  bool diverged = false;     // the physics diverged; the session is back where the solve
-                             // started: its pose at rest, step count, targets and their
-                             // interpolation (a retry is the same solve)
-  bool stalled = false;      // the physics stopped improving short of the tolerance (the stall
-                             // rule stopped it)
-  bool out_of_steps = false; // the physics reached rule.max_steps short of the tolerance, still
-                             // improving (a classic finish may then have converged)
-  int steps = 0;             // physics steps taken by this solve
-  int finish_iterations = 0; // iterations of the classic finish (0 = none ran)
-  double residual = 0.0;     // rig units, the largest control-point distance at the end
-  double final_dt = 0.0;     // s, the length of the last step taken
-  double tolerance = 0.0;    // rig units, the one used
+  bool converged = false;     // every control point within the tolerance at the end
+  bool diverged = false;      // the physics diverged; the session is back where the solve
+                              // started: its pose at rest, step count, targets and their
+                              // interpolation (a retry is the same solve)
+  bool stalled = false;       // the physics stopped improving short of the tolerance (the stall
+                              // rule stopped it)
+  bool out_of_steps = false;  // the physics reached rule.max_steps short of the tolerance, still
+                              // improving (a classic finish may then have converged)
+  int steps = 0;              // physics steps taken by this solve
+  int finish_iterations = 0;  // iterations of the classic finish (0 = none ran)
+  double residual = 0.0;      // rig units, the largest control-point distance at the end
+  double final_dt = 0.0;      // s, the length of the last step taken
+  double tolerance = 0.0;     // rig units, the one used
 };
 
 // The solve mode's step length, a trust region as Levenberg-Marquardt's damping: after a step
@@ -154,17 +154,17 @@ class PosingSession {
 
   Scene scene_;
   SimState state_;
-  std::vector<IkGoal> goals_;        // (ncontrol) the control points as IK goals
-  std::vector<double> residuals_;    // (ncontrol) scratch, rig units
-  double reach_ = 0.0;               // rig units, chain_reach of the goals
+  std::vector<IkGoal> goals_;      // (ncontrol) the control points as IK goals
+  std::vector<double> residuals_;  // (ncontrol) scratch, rig units
+  double reach_ = 0.0;             // rig units, chain_reach of the goals
   // where the current solve started (a divergence returns there): the pose, the state's step,
   // and the targets with their interpolation (a schedule may move them during the solve)
   Pose start_pose_;
   int start_step_ = 0;
   std::vector<Vec3> start_goal_world_, start_effective_world_;  // (ncontrol) rig units
-  std::vector<int> start_interp_left_;                           // (ncontrol) steps
-  double start_damping_auto_ = 0.0;                              // N s/m
-  RunMonitor monitor_{RunRules{}};   // the solve's verdicts, restarted from the state each solve
+  std::vector<int> start_interp_left_;                          // (ncontrol) steps
+  double start_damping_auto_ = 0.0;                             // N s/m
+  RunMonitor monitor_{RunRules{}};  // the solve's verdicts, restarted from the state each solve
 };
 
 }  // namespace physik

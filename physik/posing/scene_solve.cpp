@@ -10,14 +10,18 @@ namespace physik {
 
 namespace {
 
-bool engine_solver(const std::string& s) { return s == "physik" || s == "physik-explicit"; }
+bool engine_solver(const std::string& s) {
+  return s == "physik" || s == "physik-explicit";
+}
 
 }  // namespace
 
 std::vector<IkGoal> scene_goals(const Scene& scene) {
   std::vector<IkGoal> goals;
-  for (const ControlPoint& c : scene.control_points) goals.push_back({c.bone, c.alpha, c.target_world});
-  for (const TargetChange& ch : scene.schedule) goals[ch.control_point].target_world = ch.target_world;
+  for (const ControlPoint& c : scene.control_points)
+    goals.push_back({c.bone, c.alpha, c.target_world});
+  for (const TargetChange& ch : scene.schedule)
+    goals[ch.control_point].target_world = ch.target_world;
   return goals;
 }
 
@@ -36,8 +40,9 @@ SceneSolveResult solve_with_engine(Scene& scene, const SceneSolveOptions& o,
   rule.max_steps = scene.steps;
   rule.dt_growth = mode ? o.dt_growth : 1.0;
   rule.max_dt = o.max_dt;
-  rule.finish = o.finish == "ccd" ? SolveFinish::kCcd : o.finish == "dls" ? SolveFinish::kDls
-                                                                          : SolveFinish::kNone;
+  rule.finish = o.finish == "ccd"   ? SolveFinish::kCcd
+                : o.finish == "dls" ? SolveFinish::kDls
+                                    : SolveFinish::kNone;
   rule.finish_options = classic_options(o);  // --lambda, --max-iterations, --no-limits, ...
   PosingSession session(scene);  // the solver object: rig, state and buffers, before the clock
   const auto t0 = std::chrono::steady_clock::now();
@@ -63,14 +68,21 @@ IkOptions classic_options(const SceneSolveOptions& o) {
   opt.lambda = o.lambda;
   opt.respect_limits = !o.no_limits;
   opt.rotation_damping = o.rotation_damping;
-  if (o.jacobian == "fd") opt.jacobian = JacobianKind::kFiniteDifference;
-  else if (o.jacobian != "analytic") throw_input_error("--jacobian", "", o.jacobian, "analytic or fd");
+  if (o.jacobian == "fd")
+    opt.jacobian = JacobianKind::kFiniteDifference;
+  else if (o.jacobian != "analytic")
+    throw_input_error("--jacobian", "", o.jacobian, "analytic or fd");
   if (o.gravity.size() == 3) opt.gravity_world = Vec3(o.gravity[0], o.gravity[1], o.gravity[2]);
-  if (o.socket == "virtual-bone") opt.socket_mode = SocketMode::kVirtualBone;
-  else if (o.socket != "twist-bend") throw_input_error("--socket", "", o.socket, "twist-bend or virtual-bone");
-  if (o.cone == "none") opt.cone_shape = ConeShape::kNone;
-  else if (o.cone == "circular") opt.cone_shape = ConeShape::kCircular;
-  else if (o.cone != "elliptical") throw_input_error("--cone", "", o.cone, "none, circular or elliptical");
+  if (o.socket == "virtual-bone")
+    opt.socket_mode = SocketMode::kVirtualBone;
+  else if (o.socket != "twist-bend")
+    throw_input_error("--socket", "", o.socket, "twist-bend or virtual-bone");
+  if (o.cone == "none")
+    opt.cone_shape = ConeShape::kNone;
+  else if (o.cone == "circular")
+    opt.cone_shape = ConeShape::kCircular;
+  else if (o.cone != "elliptical")
+    throw_input_error("--cone", "", o.cone, "none, circular or elliptical");
   return opt;
 }
 
@@ -96,8 +108,8 @@ SceneSolveResult solve_scene(Scene scene, const SceneSolveOptions& o, OptionSpel
     throw_input_error(scene.file, "control_points", "", "a solve needs at least one control point");
   }
   const std::vector<IkGoal> goals = scene_goals(scene);
-  SceneSolveResult r = engine_solver(o.solver) ? solve_with_engine(scene, o, goals)
-                                                : solve_classic(scene, o, goals);
+  SceneSolveResult r =
+      engine_solver(o.solver) ? solve_with_engine(scene, o, goals) : solve_classic(scene, o, goals);
   r.solver = o.solver;
   return r;
 }

@@ -6,10 +6,10 @@
 //   physik           the solve mode: scheme implicit (linearised backward Euler over the
 //                    exact articulated solve) with torsion_torque gradient (the potential's own
 //                    torque, whose rest poses are the potential's minima), the step starting at
-//                    the scene's dt (the body follows with its secondary motion), lengthening by dt_growth
-//                    every step the kinetic energy falls, up to max_dt, shorter again after a
-//                    step the energy guard split (a long implicit step is a Gauss-Newton step on
-//                    the spring and torsion potential: the quasi-static solve)
+//                    the scene's dt (the body follows with its secondary motion), lengthening by
+//                    dt_growth every step the kinetic energy falls, up to max_dt, shorter again
+//                    after a step the energy guard split (a long implicit step is a Gauss-Newton
+//                    step on the spring and torsion potential: the quasi-static solve)
 //   physik-explicit  the scene's own engine as it stands, at its dt
 // Both stop at the residual tolerance (1e-4 of the chain's reach unless --tol), or when the
 // residual stops improving (no 1% in 50 steps), and then, with finish ccd|dls, hand the pose
@@ -32,10 +32,10 @@ namespace physik {
 std::vector<IkGoal> scene_goals(const Scene& scene);
 
 struct SceneSolveResult {
-  std::string solver;      // the options' solver
-  bool engine = false;     // the engine solved (physik, physik-explicit), else a classic solver
-  Scene scene;             // the scene as solved (the solve mode's settings applied)
-  double time_s = 0.0;     // s, the solve's alone (the session is built before the clock)
+  std::string solver;   // the options' solver
+  bool engine = false;  // the engine solved (physik, physik-explicit), else a classic solver
+  Scene scene;          // the scene as solved (the solve mode's settings applied)
+  double time_s = 0.0;  // s, the solve's alone (the session is built before the clock)
   // the engine: the session's run summary (its final pose the solved one), the solve's result
   // and the rule it followed
   RunSummary run;
@@ -43,10 +43,10 @@ struct SceneSolveResult {
   SolveRule rule;
   // a classic solver's report
   IkReport classic;
-  BoneFrames frames;       // the solved pose's frames
-  Pose pose;               // and its local rotations
-  bool diverged = false;   // the engine's run diverged (the CLI exits 3)
-  std::string warning;     // the engine's joint-solve warning (RunSummary::joint_solve_warning)
+  BoneFrames frames;      // the solved pose's frames
+  Pose pose;              // and its local rotations
+  bool diverged = false;  // the engine's run diverged (the CLI exits 3)
+  std::string warning;    // the engine's joint-solve warning (RunSummary::joint_solve_warning)
 };
 
 // Solve `scene` (taken by value: the engine's run changes its convergence settings).

@@ -1,8 +1,8 @@
 #include "physik/posing/solve_options.h"
 
 #include <charconv>
-#include <cstdlib>
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
 
 #include "physik/ik/ik_solver.h"
@@ -107,10 +107,11 @@ SolveOptionRow gravity_row() {
 std::vector<SolveOptionRow> build_table() {
   using K = SolveOptionKind;
   return {
-      choice_row<&O::solver>("solver", kSceneSolvers,
-                             "the classic solvers, or the engine: physik (the solve mode, the "
-                             "implicit step lengthening from the scene's dt) or physik-explicit (the "
-                             "scene's own engine at its dt)"),
+      choice_row<&O::solver>(
+          "solver", kSceneSolvers,
+          "the classic solvers, or the engine: physik (the solve mode, the "
+          "implicit step lengthening from the scene's dt) or physik-explicit (the "
+          "scene's own engine at its dt)"),
       number_row<&O::tol>("tol", K::kReal, "rig units", finite_non_negative,
                           "residual tolerance; 0 = 1e-4 of the reach"),
       number_row<&O::max_iterations>("max_iterations", K::kInteger, "iterations",
@@ -119,8 +120,9 @@ std::vector<SolveOptionRow> build_table() {
                              "DLS damping; 0 = 0.02 of the reach"),
       choice_row<&O::jacobian>("jacobian", "analytic|fd", "jt/dls Jacobian"),
       gravity_row(),
-      number_row<&O::rotation_damping>("rotation_damping", K::kReal, "1", unit_interval,
-                                       "rotation method: damping factor per joint up the hierarchy"),
+      number_row<&O::rotation_damping>(
+          "rotation_damping", K::kReal, "1", unit_interval,
+          "rotation method: damping factor per joint up the hierarchy"),
       choice_row<&O::socket>("socket", "twist-bend|virtual-bone", "rotation method sockets"),
       choice_row<&O::cone>("cone", "none|circular|elliptical", "rotation method cone limits"),
       number_row<&O::no_limits>("no_limits", K::kBoolean, "", nullptr,
@@ -186,7 +188,9 @@ SolveOptionValue parse_solve_option(const SolveOptionRow& row, const std::string
   const std::string label = option_label(row.name, spelling);
   V v;
   switch (row.kind) {
-    case SolveOptionKind::kChoice: v.text = text; break;
+    case SolveOptionKind::kChoice:
+      v.text = text;
+      break;
     case SolveOptionKind::kBoolean:
       if (text != "true" && text != "false") {
         throw_input_error(label, "", "", "expected true or false, got '" + text + "'");
@@ -197,7 +201,8 @@ SolveOptionValue parse_solve_option(const SolveOptionRow& row, const std::string
       std::istringstream in(text);
       for (std::string part; in >> part;) {
         double x = 0.0;
-        if (!parse_number(part, x)) throw_input_error(label, "", "", "expected a number, got '" + part + "'");
+        if (!parse_number(part, x))
+          throw_input_error(label, "", "", "expected a number, got '" + part + "'");
         v.vec.push_back(x);
       }
       break;
@@ -228,12 +233,16 @@ std::string solve_option_default_text(const SolveOptionRow& row) {
   const V v = row.get(SceneSolveOptions{});
   std::ostringstream o;
   switch (row.kind) {
-    case SolveOptionKind::kChoice: return v.text;
-    case SolveOptionKind::kBoolean: return v.number != 0.0 ? "true" : "false";
+    case SolveOptionKind::kChoice:
+      return v.text;
+    case SolveOptionKind::kBoolean:
+      return v.number != 0.0 ? "true" : "false";
     case SolveOptionKind::kVec3:
       for (double x : v.vec) o << (o.tellp() > 0 ? " " : "") << x;
       return o.str();
-    default: o << v.number; return o.str();
+    default:
+      o << v.number;
+      return o.str();
   }
 }
 

@@ -14,16 +14,16 @@ namespace physik {
 
 // The solver and its settings. Units: rig units, s.
 struct SceneSolveOptions {
-  std::string solver;               // fabrik|ccd|jt|dls|mass-spring|rotation|physik|physik-explicit
-  double tol = 0.0;                 // rig units; 0 = 1e-4 of the reach
-  int max_iterations = 1000;        // classic solvers
-  double lambda = 0.0;              // rig units, DLS damping; 0 = 0.02 of the reach
-  std::string jacobian = "analytic";   // analytic | fd
-  std::vector<double> gravity;      // rig units/s^2, empty or three components (mass-spring)
-  double rotation_damping = 0.8;    // rotation method, in [0, 1]
-  std::string socket = "twist-bend";   // twist-bend | virtual-bone
-  std::string cone = "elliptical";     // none | circular | elliptical
-  bool no_limits = false;           // classic solvers ignore the rig's limits
+  std::string solver;         // fabrik|ccd|jt|dls|mass-spring|rotation|physik|physik-explicit
+  double tol = 0.0;           // rig units; 0 = 1e-4 of the reach
+  int max_iterations = 1000;  // classic solvers
+  double lambda = 0.0;        // rig units, DLS damping; 0 = 0.02 of the reach
+  std::string jacobian = "analytic";  // analytic | fd
+  std::vector<double> gravity;        // rig units/s^2, empty or three components (mass-spring)
+  double rotation_damping = 0.8;      // rotation method, in [0, 1]
+  std::string socket = "twist-bend";  // twist-bend | virtual-bone
+  std::string cone = "elliptical";    // none | circular | elliptical
+  bool no_limits = false;             // classic solvers ignore the rig's limits
   // the engine's solvers (physik, physik-explicit)
   double dt_growth = kSolveDtGrowth;  // 1, physik: the step's growth per settling step
   double max_dt = kSolveMaxDt;        // s, physik: the longest step
@@ -40,7 +40,7 @@ struct SolveOptionValue {
 };
 
 struct SolveOptionRow {
-  std::string name;                  // scene "solve" key, Python keyword, --flag with dashes
+  std::string name;  // scene "solve" key, Python keyword, --flag with dashes
   SolveOptionKind kind = SolveOptionKind::kReal;
   std::string unit;                  // "1" for ratios, "" for names and flags
   std::vector<std::string> choices;  // kChoice

@@ -55,15 +55,22 @@ std::string fresh_dir(const std::string& name) {
 
 // A stand-in for Blender: a shell script with the given body.
 std::string fake_blender(const std::string& dir, const std::string& body) {
-  const std::string path = dir + "/fake blender";  // a space: the run passes paths unquoted, no shell
+  const std::string path =
+      dir + "/fake blender";  // a space: the run passes paths unquoted, no shell
   std::ofstream(path) << "#!/bin/sh\n" << body << "\n";
   ::chmod(path.c_str(), 0755);
   return path;
 }
 
-std::string models() { return std::string(PHYSIK_SOURCE_DIR) + "/models"; }
-std::string script() { return std::string(PHYSIK_SOURCE_DIR) + "/blender/itasc_solve.py"; }
-Scene fig9() { return load_scene(models() + "/scenes/fig9_outstretched.json"); }
+std::string models() {
+  return std::string(PHYSIK_SOURCE_DIR) + "/models";
+}
+std::string script() {
+  return std::string(PHYSIK_SOURCE_DIR) + "/blender/itasc_solve.py";
+}
+Scene fig9() {
+  return load_scene(models() + "/scenes/fig9_outstretched.json");
+}
 
 std::string read_file(const std::string& path) {
   std::ifstream in(path);
@@ -98,11 +105,14 @@ TEST(BlenderPeer, PhysikBlenderNamesTheBinary) {
 TEST(BlenderPeer, AFailingBlenderIsOneLineAndLeavesNoPose) {
   const std::string dir = fresh_dir("fails");
   // it writes a bones file, then fails: the file must not survive for a figure to draw
-  BlenderEnv env(fake_blender(dir, "for a; do [ \"$prev\" = --out ] && echo junk > \"$a\"; prev=$a; done\n"
-                                   "echo 'itasc_solve.py: something broke' >&2\nexit 3"));
+  BlenderEnv env(
+      fake_blender(dir,
+                   "for a; do [ \"$prev\" = --out ] && echo junk > \"$a\"; prev=$a; done\n"
+                   "echo 'itasc_solve.py: something broke' >&2\nexit 3"));
   const ItascRun run = run_itasc(fig9(), script(), dir);
   EXPECT_EQ(run.status, "failed");
-  EXPECT_NE(run.reason.find("Blender exited 3 (itasc_solve.py: something broke); see "), std::string::npos)
+  EXPECT_NE(run.reason.find("Blender exited 3 (itasc_solve.py: something broke); see "),
+            std::string::npos)
       << run.reason;
   EXPECT_EQ(run.reason.find('\n'), std::string::npos);
   EXPECT_FALSE(fs::exists(dir + "/itasc_final.csv"));
@@ -123,7 +133,8 @@ TEST(BlenderPeer, AHangingBlenderIsStoppedAtTheTimeout) {
   BlenderEnv env(fake_blender(dir, "exec sleep 60"));
   const auto t0 = std::chrono::steady_clock::now();
   const ItascRun run = run_itasc(fig9(), script(), dir, 0.5);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_EQ(run.status, "failed");
   EXPECT_NE(run.reason.find("did not finish within 0.5 s"), std::string::npos) << run.reason;
   EXPECT_LT(seconds, 10.0);
@@ -178,7 +189,9 @@ TEST(BlenderPeer, Fig9WithAFailingBlenderStillCompletes) {
   EXPECT_EQ(s["itasc_run"]["status"], "failed");
   const nlohmann::json* meets = claim(s, "Fig 9: Blender's iTaSC meets");
   ASSERT_NE(meets, nullptr);
-  EXPECT_EQ((*meets)["holds"].get<std::string>().rfind("n/a (failed: Blender exited 1 (no output)", 0), 0u)
+  EXPECT_EQ(
+      (*meets)["holds"].get<std::string>().rfind("n/a (failed: Blender exited 1 (no output)", 0),
+      0u)
       << (*meets)["holds"];
   EXPECT_EQ(methods(dir + "/measures.csv"), "physik dls mujoco_same_forces ");
 }

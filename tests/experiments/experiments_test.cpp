@@ -29,12 +29,25 @@ std::string read_file(const std::string& path) {
 TEST(Experiments, EveryExpectedExperimentIsRegisteredInRunOrder) {
   std::vector<std::string> names;
   for (const Experiment& e : all_experiments()) names.push_back(e.name);
-  const std::vector<std::string> expected = {
-      "rest_poses",    "fig5_running",      "fig6_elbow",          "fig7_cannon",
-      "fig8_wobble",   "fig9_outstretched", "fig10_interpolation", "fig11_sit",
-      "hand_explodes", "timing",            "damping_sweep",       "mujoco_gap",
-      "ik_comparison", "tracking",          "linearisation",       "tuning_study",
-      "scaling",       "beyond_the_paper",  "outside_rigs"};
+  const std::vector<std::string> expected = {"rest_poses",
+                                             "fig5_running",
+                                             "fig6_elbow",
+                                             "fig7_cannon",
+                                             "fig8_wobble",
+                                             "fig9_outstretched",
+                                             "fig10_interpolation",
+                                             "fig11_sit",
+                                             "hand_explodes",
+                                             "timing",
+                                             "damping_sweep",
+                                             "mujoco_gap",
+                                             "ik_comparison",
+                                             "tracking",
+                                             "linearisation",
+                                             "tuning_study",
+                                             "scaling",
+                                             "beyond_the_paper",
+                                             "outside_rigs"};
   EXPECT_EQ(names, expected);
 }
 
@@ -54,7 +67,8 @@ TEST(Report, WritesTitleAndClaimsAndOnlyTheSectionsGiven) {
   EXPECT_EQ(b["title"], "A title");
   EXPECT_TRUE(b["claims"].is_array());
   EXPECT_TRUE(b["claims"].empty());
-  for (const char* key : {"section", "notes", "figures", "settings", "tables"}) EXPECT_FALSE(b.contains(key)) << key;
+  for (const char* key : {"section", "notes", "figures", "settings", "tables"})
+    EXPECT_FALSE(b.contains(key)) << key;
 
   Report full("T");
   full.section("baselines")
@@ -72,7 +86,8 @@ TEST(Report, WritesTitleAndClaimsAndOnlyTheSectionsGiven) {
   EXPECT_THROW(full.table("short", {"a", "b"}, {{1}}), std::logic_error);
   EXPECT_EQ(f["section"], "baselines");
   ASSERT_EQ(f["claims"].size(), 2u);
-  EXPECT_EQ(f["claims"][1], (nlohmann::json{{"claim", "c2"}, {"measured", "m2"}, {"holds", "partly (why)"}}));
+  EXPECT_EQ(f["claims"][1],
+            (nlohmann::json{{"claim", "c2"}, {"measured", "m2"}, {"holds", "partly (why)"}}));
   EXPECT_EQ(f["notes"], (nlohmann::json{"n1", "n2"}));
   EXPECT_EQ(f["figures"], (nlohmann::json{"a.png", "b.png"}));
   EXPECT_EQ(f["settings"]["dt"], 0.05);

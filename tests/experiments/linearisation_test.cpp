@@ -48,7 +48,8 @@ SimState random_pose_at_rest(const Scene& sc, unsigned seed) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   SimState s;
   init_state(sc, s);
-  for (int i = 1; i < sc.rig.nbone; ++i) s.pose.bone_local_rotation[i] = quat_from_rotation_vector(Vec3(u(rng), u(rng), u(rng)));
+  for (int i = 1; i < sc.rig.nbone; ++i)
+    s.pose.bone_local_rotation[i] = quat_from_rotation_vector(Vec3(u(rng), u(rng), u(rng)));
   s.root_orient_world = quat_from_rotation_vector(Vec3(u(rng), u(rng), u(rng)));
   world_from_joint_space(sc.rig, s);
   return s;
@@ -65,7 +66,8 @@ Eigen::MatrixXd dampers(const Scene& sc, const SimState& s) {
       D += sc.params.damping * Jp.transpose() * Jp;
     }
     dense::jacobians(rig, s, b, Jw, Jv);
-    D += (1.0 - sc.params.angular_velocity_factor) / sc.params.dt * Jw.transpose() * dense::inertia(rig, s, b) * Jw;
+    D += (1.0 - sc.params.angular_velocity_factor) / sc.params.dt * Jw.transpose() *
+         dense::inertia(rig, s, b) * Jw;
   }
   return D;
 }
@@ -103,7 +105,8 @@ TEST(Linearisation, AtRestTheRateDerivativeIsTheDampersClosedForm) {
   Eigen::MatrixXd A_q, A_v;
   derivatives(sc, s, Variant::kNewtonAtRest, A_q, A_v);
   const Eigen::MatrixXd expected = -dense::mass_matrix(sc.rig, s).ldlt().solve(dampers(sc, s));
-  EXPECT_LT((A_v - expected).norm(), 1e-6 * expected.norm()) << (A_v - expected).norm() << " of " << expected.norm();
+  EXPECT_LT((A_v - expected).norm(), 1e-6 * expected.norm())
+      << (A_v - expected).norm() << " of " << expected.norm();
 }
 
 // on a moving state the velocity products' derivative, A_v(pose, 0) - A_v(pose, v) = M^-1 dC/dv,
@@ -166,7 +169,6 @@ TEST(Linearisation, TheUnitForceResponsesAreTheInverseOperators) {
     // the factor's damper is set by dt: h D_r = (h / dt) (1 - f) I over a step h
     EXPECT_LT((unit_force_response(sc, s, true, h) * (M + h * D) - I).norm(), 1e-9);
   }
-
 }
 
 // the applied wrench's generalised force is the dense Jacobians' J^T (F; T), on random branching
@@ -235,7 +237,8 @@ TEST(Linearisation, ThePoseDerivativeFollowsTheEulerUpdate) {
   for (Vec3& a : t.articulated.joint_accel_local) a.setZero();
   integrate_joint_space(sc.rig, h, t);
   const Eigen::VectorXd moved = (accelerations(sc, t) - accelerations(sc, s)) / h;
-  EXPECT_LT((moved - expected).norm(), 1e-3 * expected.norm()) << (moved - expected).norm() << " of " << expected.norm();
+  EXPECT_LT((moved - expected).norm(), 1e-3 * expected.norm())
+      << (moved - expected).norm() << " of " << expected.norm();
 }
 
 // shipped_dcdv solves (P + h C_v) a = r: (L) with A_q = -M^-1 K (shipped_dense's) and the full
@@ -252,7 +255,8 @@ TEST(Linearisation, TheShippedStepWithDcdvIsThatDenseSystem) {
     const int n = static_cast<int>(A_q.rows());
     const Eigen::VectorXd v = joint_velocity(s);
     const Eigen::MatrixXd S = Eigen::MatrixXd::Identity(n, n) - h * A_v - h * h * A_q;
-    const Eigen::VectorXd expected = v + h * S.partialPivLu().solve(accelerations(sc, s) + h * (A_q * v));
+    const Eigen::VectorXd expected =
+        v + h * S.partialPivLu().solve(accelerations(sc, s) + h * (A_q * v));
     SimState t = s;
     bare_step(sc, t, h, Variant::kShippedDcdv);
     EXPECT_LT((joint_velocity(t) - expected).norm(), 1e-6 * (expected - v).norm());

@@ -36,7 +36,9 @@ std::string fresh_dir(const std::string& name) {
   return d;
 }
 
-std::string sample(const std::string& name) { return std::string(kSamplesDir) + "/" + name; }
+std::string sample(const std::string& name) {
+  return std::string(kSamplesDir) + "/" + name;
+}
 
 BoneSpec bone(const std::string& name, const std::string& parent, const Vec3& h, const Vec3& t) {
   BoneSpec b;
@@ -50,10 +52,10 @@ BoneSpec bone(const std::string& name, const std::string& parent, const Vec3& h,
 
 TEST(OutsideRigs, TheRuleMovesTheFarthestLeafsTailByAQuarterOfTheRigsSize) {
   // a Y: left's tail is sqrt 5 from the root's head, right's sqrt 4.5; the box is 2.5 x 0 x 2
-  const Rig y = build_rig({bone("spine", "", {0, 0, 0}, {0, 0, 1}),
-                           bone("left", "spine", {0, 0, 1}, {-1, 0, 2}),
-                           bone("right", "spine", {0, 0, 1}, {1.5, 0, 1.5})},
-                          "Y");
+  const Rig y = build_rig(
+      {bone("spine", "", {0, 0, 0}, {0, 0, 1}), bone("left", "spine", {0, 0, 1}, {-1, 0, 2}),
+       bone("right", "spine", {0, 0, 1}, {1.5, 0, 1.5})},
+      "Y");
   EXPECT_DOUBLE_EQ(rig_size(y), 2.5);
   const std::vector<Pick> p = pick_targets(y, 2);
   ASSERT_EQ(p.size(), 2u);
@@ -202,8 +204,10 @@ TEST(OutsideRigs, TheQuickRunsCountsAddUpInTheCsvAndTheSummary) {
     const nlohmann::json& n = c["counts"];
     const int runs = n["runs"];
     EXPECT_EQ(runs, static_cast<int>(nrigs * 2)) << c["name"];
-    EXPECT_EQ(n["converged"].get<int>() + n["not_converged"].get<int>() +
-                  n["diverged"].get<int>() + n["refused"].get<int>(), runs) << c["name"];
+    EXPECT_EQ(n["converged"].get<int>() + n["not_converged"].get<int>() + n["diverged"].get<int>() +
+                  n["refused"].get<int>(),
+              runs)
+        << c["name"];
     for (const char* outcome : {"converged", "not_converged", "diverged", "refused"}) {
       int in_csv = 0;
       for (const auto& r : rows) {
@@ -221,8 +225,8 @@ TEST(OutsideRigs, TheQuickRunsCountsAddUpInTheCsvAndTheSummary) {
     EXPECT_EQ(steps >= 0, r.at("outcome") == "converged");
     EXPECT_LE(steps, std::stoi(r.at("steps_run")));
     // the scene file names no params, so the default is the engine's
-    const nlohmann::json scene = read_json_file(quick_dir() + "/scenes/" + r.at("rig") + "-" +
-                                                r.at("points") + "pt.json");
+    const nlohmann::json scene =
+        read_json_file(quick_dir() + "/scenes/" + r.at("rig") + "-" + r.at("points") + "pt.json");
     EXPECT_FALSE(scene.contains("params"));
     EXPECT_EQ(scene["control_points"].size(), std::stoul(r.at("points")));
   }

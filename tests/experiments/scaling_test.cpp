@@ -45,8 +45,10 @@ TEST(Scaling, OnAMovingStateTightGaussSeidelForcesEqualTheExactOnes) {
     for (const Vec3& w : s.omega_world) fastest = std::max(fastest, w.norm());
     EXPECT_GT(fastest, 1e-2);  // velocity terms matter here
     const std::vector<Vec3> ref = joint_forces_at(exact, s);
-    const std::vector<Vec3> tight = joint_forces_at(scaling_scene(kind, n, Scheme::kGaussSeidel, 1e-11), s);
-    const std::vector<Vec3> paper = joint_forces_at(scaling_scene(kind, n, Scheme::kGaussSeidel, 1e-3), s);
+    const std::vector<Vec3> tight =
+        joint_forces_at(scaling_scene(kind, n, Scheme::kGaussSeidel, 1e-11), s);
+    const std::vector<Vec3> paper =
+        joint_forces_at(scaling_scene(kind, n, Scheme::kGaussSeidel, 1e-3), s);
     EXPECT_LT(relative_error(tight, ref), 1e-8);
     EXPECT_GT(relative_error(paper, ref), 10.0 * relative_error(tight, ref));
     // without the shared velocity terms the solves differ: the comparison needs them
@@ -68,7 +70,7 @@ TEST(Scaling, MjStepReplayFollowsTheExactSolveAndRepeatsItself) {
   for (int k = 0; k < steps; ++k) step(scene, s);
   SimState rest;
   init_state(scene, rest);
-  EXPECT_GT(pose_gap(s.frames, rest.frames), 1e-3);   // it moved
+  EXPECT_GT(pose_gap(s.frames, rest.frames), 1e-3);     // it moved
   EXPECT_LT(pose_gap(r.final_frames, s.frames), 1e-9);  // MuJoCo = exact, same forces
   // the replay runs the same mj_steps: its qpos after the last one equals the reference's
   EXPECT_GT(time_mj_step_replay(r), 0.0);

@@ -47,8 +47,9 @@ TEST(SolveMode, EveryPinheadHandTargetConvergesWithEitherTorsionTorque) {
       splits += session.state().implicit_split_steps;
       EXPECT_FALSE(r.diverged) << to_string(torque);
     }
-    std::cout << "torsion_torque " << to_string(torque) << ": " << converged << " of 200 converged, at most "
-              << most_steps << " steps, " << splits << " split steps\n";
+    std::cout << "torsion_torque " << to_string(torque) << ": " << converged
+              << " of 200 converged, at most " << most_steps << " steps, " << splits
+              << " split steps\n";
     EXPECT_EQ(converged, 200) << to_string(torque);
     EXPECT_LE(most_steps, 30) << to_string(torque);
     EXPECT_LE(splits, 100) << to_string(torque);

@@ -26,7 +26,8 @@ const Vec3 kTip(0.8, 0.6, 1.4);
 Scene two_bone_scene(bool all_three) {
   Scene s = test::scene_for(make_chain_rig(2, 1.0), preset_params("original"), 600);
   // start bent out of the plane of the targets, so no symmetry picks the final pose
-  s.initial_pose.bone_local_rotation[1] = Quat(Eigen::AngleAxisd(0.6, Vec3(1, 0, 0.5).normalized()));
+  s.initial_pose.bone_local_rotation[1] =
+      Quat(Eigen::AngleAxisd(0.6, Vec3(1, 0, 0.5).normalized()));
   if (all_three) {
     s.control_points.push_back(test::control(0, 0.0, kRootHead, 10.0));
     s.control_points.push_back(test::control(0, 1.0, kJoint, 10.0));
@@ -100,8 +101,10 @@ TEST(Compare, ReferenceSpecs) {
 TEST(Compare, ComparisonJsonHasTheIssuesFields) {
   Scene s = two_bone_scene(true);
   s.steps = 50;
-  const nlohmann::json j = comparison_to_json(s, compare_with_mujoco(s, ReferenceMode::kExactConstraints));
-  for (const char* key : {"rms_gap", "max_gap", "final_pose_gap", "free_endpoint_dof", "equilibrium"}) {
+  const nlohmann::json j =
+      comparison_to_json(s, compare_with_mujoco(s, ReferenceMode::kExactConstraints));
+  for (const char* key :
+       {"rms_gap", "max_gap", "final_pose_gap", "free_endpoint_dof", "equilibrium"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
   for (const char* engine : {"physik", "mujoco"}) {

@@ -22,9 +22,9 @@ namespace {
 constexpr int kSteps = 400;
 
 struct Gap {
-  double max_gap = 0.0;   // rig units, largest head/tail distance over bones and steps
-  double travel = 0.0;    // rig units, largest distance a tail moved from its start
-  bool stable = true;     // both runs finite and below the scene's divergence energy
+  double max_gap = 0.0;  // rig units, largest head/tail distance over bones and steps
+  double travel = 0.0;   // rig units, largest distance a tail moved from its start
+  bool stable = true;    // both runs finite and below the scene's divergence energy
 };
 
 bool sane(const Scene& scene, const StepStats& st) {
@@ -83,7 +83,8 @@ TEST(ExactVsMujoco, ChainWithGyroscopicTermOffAgrees) {
   Scene s = test::scene_for(make_chain_rig(40), preset_params("original"), kSteps);
   s.params.gyroscopic = false;
   s.control_points.push_back(test::control(39, 1.0, Vec3(4.0, 1.0, 38.0), 10.0));
-  s.control_points.push_back(test::control(20, 0.5, Vec3(-3.0, 0.0, 18.0), 10.0, SpringLaw::kCapped));
+  s.control_points.push_back(
+      test::control(20, 0.5, Vec3(-3.0, 0.0, 18.0), 10.0, SpringLaw::kCapped));
   const Gap g = exact_vs_mujoco(s);
   ASSERT_TRUE(g.stable);
   std::cout << "[exact vs MuJoCo] chain40 gyroscopic off: max gap " << g.max_gap << "\n";
@@ -95,7 +96,8 @@ TEST(ExactVsMujoco, BalancedTreeAgrees) {
   // 31 bones, binary: three bones meet at every inner joint; three bones pulled
   Scene s = test::scene_for(make_tree_rig(31, 2), preset_params("original"), kSteps);
   s.control_points.push_back(test::control(30, 1.0, Vec3(3.0, 1.0, 2.0), 10.0));
-  s.control_points.push_back(test::control(15, 1.0, Vec3(-3.0, 2.0, 1.0), 10.0, SpringLaw::kCapped));
+  s.control_points.push_back(
+      test::control(15, 1.0, Vec3(-3.0, 2.0, 1.0), 10.0, SpringLaw::kCapped));
   s.control_points.push_back(test::control(22, 0.5, Vec3(0.0, -3.0, 4.0), 10.0));
   const Gap g = exact_vs_mujoco(s);
   ASSERT_TRUE(g.stable);

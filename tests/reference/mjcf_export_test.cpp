@@ -1,7 +1,7 @@
 // Rig -> MJCF: every shipped rig compiles in MuJoCo, with the rig's masses, inertias, rest pose and
 // joint types (reference/mjcf_export.h).
-#include "physik/engine/engine.h"
 #include "reference/mjcf_export.h"
+#include "physik/engine/engine.h"
 
 #include <chrono>
 #include <filesystem>
@@ -90,7 +90,8 @@ TEST(MjcfExport, EveryShippedRigCompilesWithTheRigsMassAndInertia) {
         for (int r = 0; r < 3; ++r) {
           for (int c = 0; c < 3; ++c) R_mj(r, c) = d->ximat[9 * b + 3 * r + c];
         }
-        const Vec3 diag(m->body_inertia[3 * b], m->body_inertia[3 * b + 1], m->body_inertia[3 * b + 2]);
+        const Vec3 diag(m->body_inertia[3 * b], m->body_inertia[3 * b + 1],
+                        m->body_inertia[3 * b + 2]);
         mass_mj.push_back(m->body_mass[b]);
         com_mj.push_back(Vec3(d->xipos[3 * b], d->xipos[3 * b + 1], d->xipos[3 * b + 2]));
         I_mj.push_back(R_mj * diag.asDiagonal() * R_mj.transpose());
@@ -138,11 +139,11 @@ TEST(MjcfExport, JointTypesFollowTheDegreesOfFreedom) {
     }
     return types;
   };
-  EXPECT_EQ(joints_of("head"), std::vector<int>{mjJNT_FREE});             // the root
-  EXPECT_EQ(joints_of("thigh.L"), std::vector<int>{mjJNT_BALL});          // 3 DOF, free
-  EXPECT_EQ(joints_of("hip.L"), std::vector<int>{});                      // 0 DOF: welded
+  EXPECT_EQ(joints_of("head"), std::vector<int>{mjJNT_FREE});                   // the root
+  EXPECT_EQ(joints_of("thigh.L"), std::vector<int>{mjJNT_BALL});                // 3 DOF, free
+  EXPECT_EQ(joints_of("hip.L"), std::vector<int>{});                            // 0 DOF: welded
   EXPECT_EQ(joints_of("torso"), (std::vector<int>{mjJNT_HINGE, mjJNT_HINGE}));  // 2 DOF
-  ASSERT_EQ(joints_of("forearm.L"), std::vector<int>{mjJNT_HINGE});       // 1 DOF
+  ASSERT_EQ(joints_of("forearm.L"), std::vector<int>{mjJNT_HINGE});             // 1 DOF
   // the forearm's hinge turns about its free local z axis within [-160, 0] deg
   const int j = m->body_jntadr[rig.find_bone("forearm.L") + 1];
   EXPECT_EQ(m->jnt_axis[3 * j + 2], 1.0);
@@ -236,8 +237,10 @@ TEST(MjcfExport, FiveHundredBoneChainCompilesAndRunsAsTheExactSolve) {
 }
 
 TEST(MjcfExport, BadMjcfIsReportedWithMujocosMessage) {
-  EXPECT_THROW(compile_mjcf("<mujoco><worldbody><body><joint type=\"nonsense\"/></body></worldbody></mujoco>"),
-               std::runtime_error);
+  EXPECT_THROW(
+      compile_mjcf(
+          "<mujoco><worldbody><body><joint type=\"nonsense\"/></body></worldbody></mujoco>"),
+      std::runtime_error);
   EXPECT_THROW(compile_mjcf("not xml"), std::runtime_error);
 }
 

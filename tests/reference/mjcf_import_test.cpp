@@ -114,8 +114,9 @@ TEST(MjcfImport, BodiesBecomeBonesAndFkMatchesMujocoXpos) {
       const int tn = mr.pivots.bone_tail_node[b];
       if (tn >= 0) {
         const int cb = mr.node_body[tn];
-        worst = std::max(worst, (fk.tail_world[b] - Vec3(d->xpos[3 * cb], d->xpos[3 * cb + 1],
-                                                         d->xpos[3 * cb + 2])).norm());
+        worst = std::max(worst, (fk.tail_world[b] -
+                                 Vec3(d->xpos[3 * cb], d->xpos[3 * cb + 1], d->xpos[3 * cb + 2]))
+                                    .norm());
       }
     }
     EXPECT_LT(worst, 1e-9) << "trial " << trial;

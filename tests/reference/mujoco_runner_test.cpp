@@ -1,8 +1,8 @@
 // The MuJoCo reference runner (reference/mujoco_runner.h): with no joints both engines integrate
 // the same equations, so they must agree to round-off; with joints, MuJoCo's limits hold up to the
 // soft-constraint slack the header states.
-#include "physik/engine/engine.h"
 #include "reference/mujoco_runner.h"
+#include "physik/engine/engine.h"
 
 #include <cmath>
 
@@ -89,7 +89,8 @@ TEST(MujocoReference, ExactConstraintsKeepTheHingeInRangeUpToTheSoftLimitSlack) 
   Scene s = test::scene_for(rig, preset_params("original"), 400);
   s.control_points.push_back(test::control(0, 0.0, Vec3(0, 0, 0), 30.0));
   s.control_points.push_back(test::control(0, 1.0, Vec3(0, 0, 2), 30.0));
-  s.control_points.push_back(test::control(1, 1.0, Vec3(0, -2.0, 2.5), 30.0));  // toward +x rotation
+  s.control_points.push_back(
+      test::control(1, 1.0, Vec3(0, -2.0, 2.5), 30.0));  // toward +x rotation
   MujocoReference ref(s, ReferenceMode::kExactConstraints);
   const mjModel* m = ref.model();
   ASSERT_EQ(m->njnt, 2);  // free root + the elbow hinge

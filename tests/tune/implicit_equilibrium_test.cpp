@@ -46,7 +46,8 @@ Scene elbow_scene() {
 }
 
 // steps until the run's pose is within tol of the equilibrium (-1: never within `steps`)
-int steps_to_reach(Scene s, double dt, int steps, const BoneFrames& target, double tol, double* last) {
+int steps_to_reach(Scene s, double dt, int steps, const BoneFrames& target, double tol,
+                   double* last) {
   s.params.dt = dt;
   s.steps = steps;
   int reached = -1;
@@ -117,8 +118,9 @@ TEST(ImplicitEquilibrium, LongStepsConvergeAsNewtonsMethodWithEitherTorque) {
     const double t = std::abs(theta_x);
     const double b = 1.0 / (t * t) - 0.5 / (t * std::tan(0.5 * t));
     const double quasi_newton = std::hypot(b * t * t, 0.5 * t);  // 0.396
-    std::cout << to_string(torque) << " torque, dt 100: locked axes " << yz[0] << ", " << yz[1] << ", " << yz[2]
-              << " (a symmetric block would contract by " << quasi_newton << " per step)\n";
+    std::cout << to_string(torque) << " torque, dt 100: locked axes " << yz[0] << ", " << yz[1]
+              << ", " << yz[2] << " (a symmetric block would contract by " << quasi_newton
+              << " per step)\n";
     EXPECT_GT(yz[0], 0.1) << "the first step leaves the locked axes off";
     EXPECT_LT(yz[1], 1e-8) << to_string(torque) << ": Newton, not " << quasi_newton << " per step";
   }

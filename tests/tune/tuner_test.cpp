@@ -31,8 +31,8 @@
 
 #include <gtest/gtest.h>
 
-#include "physik/model/errors.h"
 #include "physik/io/rig_io.h"
+#include "physik/model/errors.h"
 #include "tests/test_util.h"
 #include "tune/tuner.h"
 
@@ -88,7 +88,7 @@ TEST(Tuner, LinearMeasureRecoversTheClosedFormIseOptimum) {
 TEST(Tuner, LogMeasureRecoversTheDeadBeatDamping) {
   const double m = 1.5, h = 0.05;
   const Scene s = rod_scene(m, m / (h * h), h);  // a = 1
-  const double c_star = m / (2 * h);              // b = 1: 15 N s/m
+  const double c_star = m / (2 * h);             // b = 1: 15 N s/m
   TuneOptions opt;
   opt.params = parse_tune_params("damping", "test");
   opt.measure = SettleMeasure::kLog;
@@ -145,8 +145,9 @@ TEST(Tuner, EveryTunableIsATableRowWithItsBounds) {
   }
   // today's bounds
   const std::vector<std::tuple<std::string, double, double>> expected = {
-      {"damping", 0.01, 100.0},     {"angular_velocity_factor", 0.01, 1.0}, {"control_k", 0.1, 1000.0},
-      {"control_cap", 0.01, 100.0}, {"torsion_k", 0.1, 1000.0},             {"torsion_cap", 0.01, 3.2}};
+      {"damping", 0.01, 100.0},   {"angular_velocity_factor", 0.01, 1.0},
+      {"control_k", 0.1, 1000.0}, {"control_cap", 0.01, 100.0},
+      {"torsion_k", 0.1, 1000.0}, {"torsion_cap", 0.01, 3.2}};
   ASSERT_EQ(tunable_parameters().size(), expected.size());
   for (const auto& [name, lo, hi] : expected) {
     const auto params = parse_tune_params(name, "--params");
