@@ -4,18 +4,24 @@
 # and one more, which CI runs after make test (.ci/run):
 #   make sanitize    the core, CLI and fuzzer tests on an AddressSanitizer +
 #                    UndefinedBehaviorSanitizer build (build-sanitize/), the fuzzer with fewer cases
+# and before them, `make check-format`: every C++ file as .clang-format writes it (`make format`
+# rewrites them).
 BUILD ?= build
 JOBS ?= 2
 PYTHON ?= /usr/bin/python3
 
 SANITIZE_BUILD ?= build-sanitize
 SANITIZE_FUZZ_CASES ?= 600
+# -O1 -g1 (line tables): the sanitized build compiles in about half the time of -O2 -g (measured
+# per file: 22 s against 46 s for physik/engine/articulated_body.cpp), and its reports still name
+# the function and line
+SANITIZE_CXX_FLAGS ?= -O1 -g1 -DNDEBUG
 # halt on the first report; the uninstrumented libraries (MuJoCo, Ceres, glog) may keep memory
 # until exit, so leaks are not errors
 SANITIZE_ENV = ASAN_OPTIONS=halt_on_error=1:detect_leaks=0:abort_on_error=0 \
 	UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 
-.PHONY: all deps configure build build-cli test reproduce bench clean sanitize
+.PHONY: all deps configure build build-cli test reproduce bench clean sanitize format check-format
 
 all: build
 
@@ -45,10 +51,17 @@ bench: build
 
 sanitize: deps
 	@cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPHYSIK_SANITIZE=ON \
+		-DCMAKE_CXX_FLAGS_RELWITHDEBINFO="$(SANITIZE_CXX_FLAGS)" \
 		-DPHYSIK_CORE_SUITE_ONLY=ON \
 		-DPHYSIK_FUZZ_CASES=$(SANITIZE_FUZZ_CASES) -DPython3_EXECUTABLE=$(PYTHON) > /dev/null
 	@cmake --build $(SANITIZE_BUILD) -j $(JOBS)
 	@cd $(SANITIZE_BUILD) && $(SANITIZE_ENV) ctest --output-on-failure -j $(JOBS)
+
+check-format: deps
+	@bash scripts/check-format.sh
+
+format:
+	@git ls-files '*.cpp' '*.h' | xargs clang-format -i
 
 clean:
 	rm -rf $(BUILD) $(SANITIZE_BUILD)

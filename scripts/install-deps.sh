@@ -3,6 +3,7 @@
 set -euo pipefail
 packages=(
   build-essential cmake
+  clang-format  # the C++ style check (scripts/check-format.sh): bookworm's clang-format 14
   libeigen3-dev nlohmann-json3-dev libcli11-dev
   libmujoco-dev libqhull-dev libmujoco-samples
   libceres-dev
