@@ -1,5 +1,5 @@
 // The exact joint solve (scheme exact: articulated-body algorithm + MuJoCo's Euler in joint
-// space) beside mj_step on the equivalent ball-joint model (issue 13's targets), in thread CPU
+// space) beside mj_step on the equivalent ball-joint model, in thread CPU
 // time (other processes on a shared machine do not count). Each iteration restores the same
 // initial state and times the same first steps of the run (motion, not rest), per step:
 //   exact_us     PhysIK's whole step() with scheme exact (force stages included)
@@ -9,12 +9,12 @@
 //                without PhysIK's force stages
 //   exact_over_mj_step = exact_us / mj_step_us  (target: <= 0.5 on pinhead)
 //   implicit_us  PhysIK's step() with scheme implicit (linearised backward Euler over the
-//                exact solve, implicit_step.h; issue 14)
-//   implicit_over_mj_step = implicit_us / mj_step_us  (issue 14's target: <= 1.0 on pinhead)
+//                exact solve, implicit_step.h)
+//   implicit_over_mj_step = implicit_us / mj_step_us  (target: <= 1.0 on pinhead)
 // Scaling (BM_Exact / BM_MjStep, rig = chain or tree2 (balanced binary tree), N bones): the
 // scaling experiment's scenario (experiments/scaling.h). Targets:
 // <= 0.5 us per bone per step at 10,000 bones; cost exponent <= 1.1 (fit us_per_step vs N).
-// BM_Implicit: the same scenario with scheme implicit (issue 14's target: <= 1 us per bone
+// BM_Implicit: the same scenario with scheme implicit (target: <= 1 us per bone
 // per step at 10,000 bones).
 // mj_step grows ~N^2.7 on chains (dense ancestor blocks of M), so it is run only up to 1000 bones.
 #include <algorithm>

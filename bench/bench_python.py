@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""What the Python module costs over C++ (issue 16; a benchmark, never a test).
+"""What the Python module costs over C++ (a benchmark, never a test).
 
 1. run(): Simulation(scene).run() from Python against the engine's own run_scene(scene) called
    once from C++ (physik._core.run_scene: the same scene, the same process, no Python in the

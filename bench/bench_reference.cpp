@@ -1,4 +1,4 @@
-// PhysIK's step beside MuJoCo's mj_step on the equivalent model (issue 4), in one binary and one
+// PhysIK's step beside MuJoCo's mj_step on the equivalent model, in one binary and one
 // run. Each benchmark iteration restores the same initial state and times, in thread CPU time
 // (other processes on a shared machine do not count), per step over the first kSteps steps of the
 // scene (motion, not rest):

@@ -1,4 +1,4 @@
-// Study (issue 7): the classic IK solvers of the guide (seed 001), the rotation method (seed 002),
+// Study: the classic IK solvers of the guide (seed 001), the rotation method (seed 002),
 // Orocos KDL's ChainIkSolverPos_LMA as an outside reference, and the PhysIK engine, on chains of
 // 3, 10 and 50 bones and on pinhead's left hand.
 //
@@ -16,7 +16,7 @@
 // control point pinning the root's head (PhysIK's root is free), in a PosingSession per rig
 // (physik/posing; the time is the solve alone), stopped like the classic solvers: at the residual
 // tolerance (1e-4 of the reach), or when the residual stalls short of it (not converged), at most
-// 2000 steps; the explicit rows on fewer targets. Four rows (issue 15): physik, the solve mode
+// 2000 steps; the explicit rows on fewer targets. Four rows: physik, the solve mode
 // (scheme implicit, the potential's torsion torque, the step from the physical dt lengthening as
 // the motion settles: physik solve --solver physik); physik-explicit, the paper's engine at its dt
 // (no 50-chain: the 5 n^2 joint-pass cap makes a 50-bone step ~3 ms); and each with a DLS finish
@@ -526,7 +526,7 @@ void add_other_claims(Report& report, const TableView& val, const std::string& b
                   : "no");
 }
 
-// issue 15: the solve mode (implicit, lengthening step) against DLS and the explicit engine
+// the solve mode (implicit, lengthening step) against DLS and the explicit engine
 void add_solve_mode_claims(Report& report, const TableView& val,
                            const std::vector<std::string>& rigs) {
   std::ostringstream succ, speed, jump;

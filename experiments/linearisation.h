@@ -1,5 +1,5 @@
-// What the implicit step's linearisation leaves out (issue 15's chain50 finding), measured with
-// a dense reference step: the solve mode's rule (physik/posing/posing_session.h) and energy
+// What the implicit step's linearisation leaves out (why chain50 takes hundreds of steps), measured
+// with a dense reference step: the solve mode's rule (physik/posing/posing_session.h) and energy
 // guard (physik/engine/implicit_advance.h) around either the shipped O(n) implicit step or dense
 // steps of backward Euler that linearise more of its terms (the variants below).
 //

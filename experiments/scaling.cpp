@@ -1,4 +1,4 @@
-// Scaling (issue 13): microseconds per step against the number of bones for four solves side by
+// Scaling: microseconds per step against the number of bones for four solves side by
 // side in one run, on chains and balanced binary trees of 10 to 10,000 bones (scaling.h):
 //   gauss_seidel_paper  the paper's passes, eps 1e-3 rig units/s^2, cap 5 n^2 (joint_forces.h)
 //   gauss_seidel_tight  the same with eps 1e-9

@@ -1,4 +1,4 @@
-// The scaling study's scenario and its MuJoCo timing (issue 13), shared by the `scaling`
+// The scaling study's scenario and its MuJoCo timing, shared by the `scaling`
 // experiment and bench/bench_articulated.cpp.
 //
 // Scenario: a straight chain (make_chain_rig) or a balanced binary tree (make_tree_rig, B = 2)

@@ -1,9 +1,9 @@
-// Tuning study (issue 6): steps to converge against the damping coefficient c for pinhead pulling
+// Tuning study: steps to converge against the damping coefficient c for pinhead pulling
 // both hands (models/scenes/pinhead_two_hands.json, capped springs k = 30) at scales 0.1x, 1x,
 // 10x and mass densities 1 and 10 kg per rig unit; the Ceres optimum of the settle objective
 // (tune/tuner.h, log measure) on each curve; a closed-form rule for c, and steps to converge at
 // the paper's c = 20, the original's c = 3, the rule's and the tuned value.
-// Beside them (issue 14): damping auto's c at the start pose (critical damping of the slowest
+// Beside them: damping auto's c at the start pose (critical damping of the slowest
 // linearised mode, physik/engine/linear_modes.h), run explicit at that c and implicit with auto.
 //
 // Scaled rigs are built in code: every head and tail (world, about the origin), the cylinder

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""No function in the repository runs over 60 lines, in C++ or in Python.
+"""No function in the repository runs over 60 lines, in C++ or in Python; no source cites an issue.
 
 A function's length is counted from the line that starts its signature to the line of its closing
 brace (C++) or its last statement (Python), blank lines and comments included: what a reader has to
@@ -8,11 +8,14 @@ hold at once.
 - C++: every definition that starts at column 0 (free functions, out-of-class members, gtest
   TEST bodies; namespaces are not indented in the repository's style, .clang-format), up to the
   next line that starts with `}`. Member functions defined inside a class body are not measured.
+Issue numbers ("issue 12") are history: they belong in the commit log, not in the sources (the doc
+test checks the pages users read); the two tests that must name the pattern are exempt.
 Sources: the tracked .cpp, .h and .py files. Line width is clang-format's check (.ci/run).
 Run: python3 tests/style_test.py [REPO]  (ctest runs it as `style`).
 """
 import ast
 import os
+import re
 import subprocess
 import sys
 import unittest
@@ -70,6 +73,25 @@ def long_functions(repo):
     return found
 
 
+ISSUE = re.compile(r"\bissues? #?[0-9]+", re.IGNORECASE)
+CITES_THE_PATTERN = ("tests/doc_test.py", "tests/style_test.py")
+
+
+def issue_citations(repo):
+    """file:line of each issue number in the tracked sources."""
+    files = subprocess.check_output(["git", "ls-files", "*.cpp", "*.h", "*.py"], cwd=repo,
+                                    text=True).split()
+    found = []
+    for f in files:
+        if f in CITES_THE_PATTERN:
+            continue
+        with open(os.path.join(repo, f), encoding="utf-8") as fh:
+            for n, line in enumerate(fh, 1):
+                if ISSUE.search(line):
+                    found.append(f"{f}:{n}: {line.strip()}")
+    return found
+
+
 class Detector(unittest.TestCase):
     def test_counts_a_cpp_body_from_signature_to_brace(self):
         body = "\n".join(["  x += 1;"] * 3)
@@ -85,6 +107,11 @@ class Detector(unittest.TestCase):
         text = "TEST(Suite, Name) {\n  EXPECT_EQ(1, 1);\n}\n"
         self.assertEqual(cpp_functions(text), [(1, 3, "TEST(Suite, Name) {")])
 
+    def test_finds_issue_numbers(self):
+        self.assertTrue(ISSUE.search("// Study (issue 7): the solvers"))
+        self.assertTrue(ISSUE.search("# see Issue #15"))
+        self.assertFalse(ISSUE.search("// a known issue: the cap"))
+
     def test_counts_nested_python_defs(self):
         text = "def f():\n    def g():\n        return 1\n    return g\n"
         self.assertEqual(sorted(python_functions(text)), [(1, 4, "f"), (2, 2, "g")])
@@ -93,6 +120,10 @@ class Detector(unittest.TestCase):
 class Repository(unittest.TestCase):
     def test_no_function_runs_over_60_lines(self):
         found = long_functions(REPO)
+        self.assertEqual(found, [], "\n" + "\n".join(found))
+
+    def test_no_source_cites_an_issue(self):
+        found = issue_citations(REPO)
         self.assertEqual(found, [], "\n" + "\n".join(found))
 
 
