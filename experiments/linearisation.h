@@ -57,6 +57,15 @@
 
 namespace physik::experiments::linearisation {
 
+// The O(n) step with implicit_linearisation full (physik/engine/implicit_pose_terms.h) and its
+// term selections (PoseTermSelection, state.h), each the O(n) twin of a dense variant:
+//   full              every pose term: newton_at_rest's system
+//   full_forces       the forces' pose terms only: pose_forces' system
+//   full_inertia      the inertia's only, on the Gauss-Newton K: pose_inertia's system
+//   full_no_z         full without the turn of the joint accelerations below a moving joint ((4),
+//                     the second motion vector of the recursion)
+//   full_sketch       the shared DESIGN.md sketch: the transmitted wrench with the torsion torques
+//                     in it, no torque-frame turn, the inertia only through that wrench
 enum class Variant {
   kShipped,
   kNewton,
@@ -65,8 +74,15 @@ enum class Variant {
   kShippedDcdv,
   kPoseForces,
   kPoseInertia,
-  kShippedDense
+  kShippedDense,
+  kFull,
+  kFullForces,
+  kFullInertia,
+  kFullNoZ,
+  kFullSketch
 };
+// is the variant one of the O(n) steps (the shipped step and the full ones)
+bool is_recursive(Variant v);
 const char* variant_name(Variant v);
 
 // qvel (root v_com world, root w local, ball u local): 3 + 3 nbone entries

@@ -36,8 +36,23 @@ const char* variant_name(Variant v) {
       return "pose_inertia";
     case Variant::kShippedDense:
       return "shipped_dense";
+    case Variant::kFull:
+      return "full";
+    case Variant::kFullForces:
+      return "full_forces";
+    case Variant::kFullInertia:
+      return "full_inertia";
+    case Variant::kFullNoZ:
+      return "full_no_z";
+    case Variant::kFullSketch:
+      return "full_sketch";
   }
   return "?";
+}
+
+bool is_recursive(Variant v) {
+  return v == Variant::kShipped || v == Variant::kFull || v == Variant::kFullForces ||
+         v == Variant::kFullInertia || v == Variant::kFullNoZ || v == Variant::kFullSketch;
 }
 
 namespace {
@@ -138,7 +153,9 @@ MatX rate_derivative(const Scene& scene, const SimState& base) {
 }
 
 // shipped_dcdv's accelerations (linearisation.h)
-VecX shipped_with_dcdv(const Scene& scene, const SimState& s, double h) {
+VecX shipped_with_dcdv(const Scene& given, const SimState& s, double h) {
+  Scene scene = given;  // the shipped (Gauss-Newton) step, whatever the scene's linearisation
+  scene.params.implicit_linearisation = ImplicitLinearisation::kGaussNewton;
   const int n = nv(s);
   SimState at_rest = s;
   set_joint_velocity(at_rest, VecX::Zero(n));
@@ -221,7 +238,7 @@ MatX pose_derivative(const SimState& base, F f) {
 
 void derivatives(const Scene& scene, const SimState& state, Variant variant, MatX& A_q, MatX& A_v,
                  double h) {
-  if (variant == Variant::kShipped || variant == Variant::kShippedDcdv) {
+  if (is_recursive(variant) || variant == Variant::kShippedDcdv) {
     throw std::invalid_argument("derivatives: only the dense variants have dense derivatives");
   }
   const int n = nv(state);
@@ -252,17 +269,46 @@ void derivatives(const Scene& scene, const SimState& state, Variant variant, Mat
     return;
   }
   // -M^-1 K of the shipped step: M^-1 P = 1 + h M^-1 D + h^2 M^-1 K, M^-1 D = -A_v(pose, 0)
-  const MatX P = unit_force_response(scene, at_rest, true, h).inverse();
+  // (its Gauss-Newton K, whatever the scene's implicit_linearisation)
+  Scene gauss_newton = scene;
+  gauss_newton.params.implicit_linearisation = ImplicitLinearisation::kGaussNewton;
+  const MatX P = unit_force_response(gauss_newton, at_rest, true, h).inverse();
   A_q = -(M_inv * P - MatX::Identity(n, n) + h * A_v) / (h * h);
   if (variant == Variant::kPoseInertia) A_q += pose_derivative(at_rest, accel) - pose_forces;
 }
 
 namespace {
 
-// what the engine's energy guard passes through to the bare step: the variant, and a count of
-// every bare step taken, rejected ones included
+// the term selection of an O(n) full variant (linearisation.h)
+PoseTermSelection selection_of(Variant v) {
+  PoseTermSelection out;
+  const bool forces = v != Variant::kFullInertia, inertia = v != Variant::kFullForces;
+  out.forces = out.torque_frame = forces;
+  out.inertia_wrench = out.inertia_turn = out.turning_accelerations = inertia;
+  if (v == Variant::kFullNoZ) out.turning_accelerations = false;
+  if (v == Variant::kFullSketch) {
+    out.torsion_in_wrench = true;
+    out.torque_frame = out.inertia_turn = out.turning_accelerations = false;
+  }
+  return out;
+}
+
+// the scene an O(n) variant steps: shipped the Gauss-Newton step, the full ones the full step,
+// whatever the scene's implicit_linearisation (the dense variants: the scene as given)
+Scene linearised_scene(const Scene& scene, Variant v) {
+  Scene out = scene;
+  if (is_recursive(v)) {
+    out.params.implicit_linearisation =
+        v == Variant::kShipped ? ImplicitLinearisation::kGaussNewton : ImplicitLinearisation::kFull;
+  }
+  return out;
+}
+
+// what the engine's energy guard passes through to the bare step: the variant, its scene
+// (linearised_scene), and a count of every bare step taken, rejected ones included
 struct BareContext {
   Variant variant;
+  const Scene* linearised;
   int* taken;
 };
 
@@ -271,8 +317,9 @@ struct BareContext {
 void variant_step(const Scene& scene, SimState& s, double h, const void* context) {
   const BareContext& c = *static_cast<const BareContext*>(context);
   ++*c.taken;
-  if (c.variant == Variant::kShipped) {
-    take_implicit_step(scene, s, h, nullptr);
+  if (is_recursive(c.variant)) {
+    if (c.variant != Variant::kShipped) s.pose_term_selection = selection_of(c.variant);
+    take_implicit_step(*c.linearised, s, h, nullptr);
     return;
   }
   VecX next;
@@ -296,7 +343,8 @@ void variant_step(const Scene& scene, SimState& s, double h, const void* context
 
 void bare_step(const Scene& scene, SimState& s, double h, Variant v) {
   int taken = 0;
-  const BareContext context{v, &taken};
+  const Scene linearised = linearised_scene(scene, v);
+  const BareContext context{v, &linearised, &taken};
   variant_step(scene, s, h, &context);
   s.step += 1;
   s.time += h;
@@ -314,7 +362,8 @@ SolveCount solve(const Scene& scene, SimState& s, double tolerance, int max_step
   const StepLength length{scene.params.dt, kSolveMaxDt, kSolveDtGrowth};
   double h = scene.params.dt, previous_ke = kinetic_energy(scene.rig, s);
   SolveCount out;
-  const BareContext context{variant, &out.substeps};
+  const Scene linearised = linearised_scene(scene, variant);
+  const BareContext context{variant, &linearised, &out.substeps};
   while (out.steps < max_steps) {
     const int substeps = advance_implicit(scene, s, h, variant_step, &context);
     s.step += 1;

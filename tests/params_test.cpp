@@ -163,9 +163,16 @@ TEST(ParamTable, RowsOutOfTheSchemeAreWrittenOnlyWhereTheyCount) {
   EXPECT_EQ(params_to_json(p)["torsion_torque"], "gradient");
   EXPECT_EQ(params_from_json(params_to_json(p), "rt.json").torsion_torque,
             TorsionTorque::kGradient);
+  // implicit_linearisation: written when it is not gauss-newton
+  EXPECT_FALSE(params_to_json(p).contains("implicit_linearisation"));
+  p.implicit_linearisation = ImplicitLinearisation::kFull;
+  EXPECT_EQ(params_to_json(p)["implicit_linearisation"], "full");
+  EXPECT_EQ(params_from_json(params_to_json(p), "rt.json").implicit_linearisation,
+            ImplicitLinearisation::kFull);
   for (const ParamRow& row : param_table()) {
     if (row.name != "free_rods" && row.name != "damping_auto" &&
-        row.name != "implicit_max_splits" && row.name != "torsion_torque") {
+        row.name != "implicit_max_splits" && row.name != "torsion_torque" &&
+        row.name != "implicit_linearisation") {
       EXPECT_TRUE(row.written_at_default) << row.name;
     }
   }
@@ -213,7 +220,9 @@ ParamValue other_value(const ParamRow& row) {
 void make_it_count(const ParamRow& row, EngineParams& p) {
   if (!row.conflict || row.conflict(p).empty()) return;
   if (row.name == "torsion_cap") p.torsion_spring = SpringLaw::kCapped;
-  if (row.name == "implicit_max_splits") p.scheme = Scheme::kImplicit;
+  if (row.name == "implicit_max_splits" || row.name == "implicit_linearisation") {
+    p.scheme = Scheme::kImplicit;
+  }
   if (row.name == "interpolation_fallback") p.interpolation = Interpolation::kPolarCom;
   if (row.name == "free_rods") p.scheme = Scheme::kGaussSeidel;
   ASSERT_EQ(row.conflict(p), "");

@@ -18,6 +18,13 @@ void resize_articulated_data(int n, ArticulatedBodyData& d) {
   d.accel_spatial.assign(n, Vec6::Zero());
   d.joint_accel_local.assign(n, Vec3::Zero());
   d.root_accel_world.setZero();
+  d.inertia_z.assign(n, SpatialInertia{});
+  d.inertia_z_lower.assign(n, Mat3::Zero());
+  d.row_ang.assign(n, Mat3::Zero());
+  d.row_lin.assign(n, Mat3::Zero());
+  d.joint_torque.assign(n, Vec3::Zero());
+  d.z_accel.assign(n, Vec6::Zero());
+  d.z_spatial.assign(n, Vec6::Zero());
 }
 
 Mat6 SpatialInertia::matrix() const {
@@ -109,6 +116,23 @@ void ball_to_parent(ArticulatedBodyData& d, int i, int p, const Vec3& r, const V
   IP.C += K;
 }
 
+// X* M X for a general spatial 6x6 M = [A B; E C] handed from a child to its parent's point
+// (r = o_child - o_parent, R = [r]x): [A - B R + R (E - C R), B + R C; E - C R, C], added to
+// the parent's (PA, PB, PE, PC)
+inline void add_shifted(const Mat3& A, const Mat3& B, const Mat3& E, const Mat3& C, const Vec3& r,
+                        Mat3& PA, Mat3& PB, Mat3& PE, Mat3& PC) {
+  const Mat3 R = skew(r);
+  Mat3 Es = E;
+  Es.noalias() -= C * R;
+  PA += A;
+  PA.noalias() -= B * R;
+  PA.noalias() += R * Es;
+  PB += B;
+  PB.noalias() += R * C;
+  PE += Es;
+  PC += C;
+}
+
 // The same with general blocks: I^A = [A B; E C], D = A + J,
 //   I^a = [A D^-1 J, J D^-1 B; E D^-1 J, C - E D^-1 B] (products, no cancellation)
 void general_to_parent(ArticulatedBodyData& d, int i, int p, const Vec3& r, const Vec3& u,
@@ -134,22 +158,123 @@ void general_to_parent(ArticulatedBodyData& d, int i, int p, const Vec3& r, cons
   const Vec3 Dinv_u = Dinv * u;
   pa_ang = d.bias_force[i].head<3>() + A * Dinv_u + Aa * c.head<3>() + Ba * c.tail<3>();
   pa_lin = d.bias_force[i].tail<3>() + E * Dinv_u + Ea * c.head<3>() + Ca * c.tail<3>();
-  // X* I^a X = [A - B R + R (E - C R), B + R C; E - C R, C],  R = [r]x
-  const Mat3 R = skew(r);
-  Mat3 Es = Ea;
-  Es.noalias() -= Ca * R;
-  IP.A += Aa;
-  IP.A.noalias() -= Ba * R;
-  IP.A.noalias() += R * Es;
-  IP.B += Ba;
-  IP.B.noalias() += R * Ca;
-  d.inertia_lower[p] += Es;
-  IP.C += Ca;
+  add_shifted(Aa, Ba, Ea, Ca, r, IP.A, IP.B, d.inertia_lower[p], IP.C);
+}
+
+// Pass 2 with the pose terms (articulated_body.h, ArticulatedBodyData::pose_terms). Per joint,
+// with P = S'^T I^Z T and PE its lower block, U = I^A S' + I^Z T = [A + P; E + PE], the row
+// S'^T (I^A + G) = [A + G_A, B + G_B], D = A + G_A + P + J:
+//   I^a  = I^A - U D^-1 [A + G_A, B + G_B],   I^za = I^Z - U D^-1 [Z_A, Z_B]
+// as products where a block would be a difference of near-equal terms (A + G_A = D - P - J,
+// A + P = D - G_A - J):
+//   I^a  = [(A + P) D^-1 (P + J) - P, (G_A + J) D^-1 (B + G_B) - G_B;
+//           (E + PE) D^-1 (P + J) - PE, C - (E + PE) D^-1 (B + G_B)]
+//   I^za = [(G_A + J) D^-1 Z_A, (G_A + J) D^-1 Z_B; Z_E - (E + PE) D^-1 Z_A,
+//           Z_C - (E + PE) D^-1 Z_B]
+//   p^a  = p^A + I^a c + U D^-1 u,   u = joint_torque - S'^T p^A
+void backward_pass_pose_terms(const Rig& rig, ArticulatedBodyData& d) {
+  for (int i = rig.nbone - 1; i > 0; --i) {
+    const int p = rig.bone_parent[i];
+    const SpatialInertia& IA = d.inertia_art[i];
+    const SpatialInertia& IZ = d.inertia_z[i];
+    const Mat3& E = d.inertia_lower[i];
+    const Mat3& ZE = d.inertia_z_lower[i];
+    const Mat3& GA = d.row_ang[i];
+    const Mat3& GB = d.row_lin[i];
+    const Vec6& za = d.z_accel[i];
+    const Mat3 Ta = skew(za.head<3>()), Tl = skew(za.tail<3>());
+    Mat3 P, PE;
+    P.noalias() = IZ.A * Ta;
+    P.noalias() += IZ.B * Tl;
+    PE.noalias() = ZE * Ta;
+    PE.noalias() += IZ.C * Tl;
+    Mat3 PJ = P, GJ = GA;
+    if (d.joint_blocks) {
+      PJ += d.joint_block[i];
+      GJ += d.joint_block[i];
+    }
+    d.D_inv[i] = Mat3(IA.A + GA + PJ).inverse();
+    const Mat3& Dinv = d.D_inv[i];
+    const Mat3 UA = IA.A + P, UE = E + PE, BG = IA.B + GB;
+    Mat3 UADinv, UEDinv, GJDinv;
+    UADinv.noalias() = UA * Dinv;
+    UEDinv.noalias() = UE * Dinv;
+    GJDinv.noalias() = GJ * Dinv;
+    Mat3 Aa = -P, Ba = -GB, Ea = -PE, Ca = IA.C;
+    Aa.noalias() += UADinv * PJ;
+    Ba.noalias() += GJDinv * BG;
+    Ea.noalias() += UEDinv * PJ;
+    Ca.noalias() -= UEDinv * BG;
+    Mat3 ZAa, ZBa, ZEa = ZE, ZCa = IZ.C;
+    ZAa.noalias() = GJDinv * IZ.A;
+    ZBa.noalias() = GJDinv * IZ.B;
+    ZEa.noalias() -= UEDinv * IZ.A;
+    ZCa.noalias() -= UEDinv * IZ.B;
+    const Vec6& c = d.bias_accel[i];
+    const Vec3 u = d.joint_torque[i] - d.bias_force[i].head<3>();
+    d.u[i] = u;
+    const Vec3 Dinv_u = Dinv * u;
+    const Vec3 pa_ang =
+        d.bias_force[i].head<3>() + Aa * c.head<3>() + Ba * c.tail<3>() + UA * Dinv_u;
+    const Vec3 pa_lin =
+        d.bias_force[i].tail<3>() + Ea * c.head<3>() + Ca * c.tail<3>() + UE * Dinv_u;
+    const Vec3 r = d.point_world[i] - d.point_world[p];
+    SpatialInertia& IP = d.inertia_art[p];
+    add_shifted(Aa, Ba, Ea, Ca, r, IP.A, IP.B, d.inertia_lower[p], IP.C);
+    SpatialInertia& ZP = d.inertia_z[p];
+    add_shifted(ZAa, ZBa, ZEa, ZCa, r, ZP.A, ZP.B, d.inertia_z_lower[p], ZP.C);
+    d.bias_force[p].head<3>() += pa_ang + r.cross(pa_lin);
+    d.bias_force[p].tail<3>() += pa_lin;
+  }
+}
+
+// Pass 3 with the pose terms: the root's 6x6 (articulated_body.h), then per joint
+//   a' = X a_p + c,  z' = X z_p,  qdd' = D^-1 (u - [A + G_A, B + G_B] a' - [Z_A, Z_B] z'),
+//   a = a' + S' qdd',  z = z' + T qdd'
+void forward_pass_pose_terms(const Rig& rig, const SimState& s, ArticulatedBodyData& d) {
+  const SpatialInertia& I0 = d.inertia_art[0];
+  const SpatialInertia& Z0 = d.inertia_z[0];
+  const Vec3 alpha_z = d.z_accel[0].head<3>(), a_z = d.z_accel[0].tail<3>();
+  const Mat3 Ta = skew(alpha_z), Tl = skew(a_z);
+  Mat6 M0;
+  M0 << I0.A + d.row_ang[0] + Z0.A * Ta + Z0.B * Tl, I0.B + d.row_lin[0],
+      d.inertia_lower[0] + d.inertia_z_lower[0] * Ta + Z0.C * Tl, I0.C;
+  Vec6 rhs = -d.bias_force[0];
+  rhs.head<3>() += d.joint_torque[0];
+  d.root_lu.compute(M0);
+  d.accel_spatial[0] = d.root_lu.solve(rhs);
+  const Vec3 alpha0 = d.accel_spatial[0].head<3>();
+  d.z_spatial[0] << alpha_z.cross(alpha0), a_z.cross(alpha0);
+  d.root_accel_world = d.accel_spatial[0].tail<3>() + s.omega_world[0].cross(s.vel_world[0]);
+  d.joint_accel_local[0] = s.frames.orient_world[0].conjugate() * alpha0;
+
+  for (int i = 1; i < rig.nbone; ++i) {
+    const int p = rig.bone_parent[i];
+    const Vec3 r = d.point_world[i] - d.point_world[p];
+    const Vec6& ap = d.accel_spatial[p];
+    const Vec6& zp = d.z_spatial[p];
+    const Vec3 alpha = ap.head<3>() + d.bias_accel[i].head<3>();
+    const Vec3 lin = ap.tail<3>() - r.cross(ap.head<3>()) + d.bias_accel[i].tail<3>();
+    const Vec3 z_ang = zp.head<3>();
+    const Vec3 z_lin = zp.tail<3>() - r.cross(zp.head<3>());
+    const SpatialInertia& IA = d.inertia_art[i];
+    const SpatialInertia& IZ = d.inertia_z[i];
+    const Vec3 qdd = d.D_inv[i] * (d.u[i] - (IA.A + d.row_ang[i]) * alpha -
+                                   (IA.B + d.row_lin[i]) * lin - IZ.A * z_ang - IZ.B * z_lin);
+    d.accel_spatial[i] << alpha + qdd, lin;
+    const Vec6& za = d.z_accel[i];
+    d.z_spatial[i] << z_ang + za.head<3>().cross(qdd), z_lin + za.tail<3>().cross(qdd);
+    d.joint_accel_local[i] = s.frames.orient_world[i].conjugate() * qdd;
+  }
 }
 
 }  // namespace
 
 void articulated_backward_pass(const Rig& rig, ArticulatedBodyData& d) {
+  if (d.pose_terms) {
+    backward_pass_pose_terms(rig, d);
+    return;
+  }
   const bool ball = !d.joint_blocks;  // every J = 0: I^A stays symmetric, E = B^T
   if (!ball) {
     // E starts as each body's own (symmetric) B^T; children add theirs below
@@ -173,6 +298,10 @@ void articulated_backward_pass(const Rig& rig, ArticulatedBodyData& d) {
 
 void articulated_forward_pass(const Rig& rig, const SimState& s, ArticulatedBodyData& d) {
   if (rig.nbone == 0) return;
+  if (d.pose_terms) {
+    forward_pass_pose_terms(rig, s, d);
+    return;
+  }
   // the free root: I^A a = -p^A (no joint force), then classical accelerations
   if (d.joint_blocks) {
     Mat6 I0;

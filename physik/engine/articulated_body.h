@@ -117,6 +117,27 @@ struct ArticulatedBodyData {
   Eigen::LDLT<Mat6> root_ldlt{Mat6::Identity()};
   Eigen::PartialPivLU<Mat6> root_lu{Mat6::Identity()};
 
+  // --- the implicit step's pose terms (implicit_linearisation full; implicit_pose_terms.h) ---
+  // With pose_terms the backward and forward passes solve, per joint i (S' = [1; 0]),
+  //   S'^T (I^A_i a_i + I^Z_i z_i + p^A_i) + G_i a_i + J_i qdd'_i = joint_torque_i
+  //   a_i = X a_p + c_i + S' qdd'_i,   z_i = X z_p + T_i qdd'_i,   T_i = [[alpha]x; [a]x]
+  // where G_i = [row_ang, row_lin] is a term of joint i's own row only (not handed to the
+  // parent), z a second motion vector carried root to leaves (its inertia I^Z, handed to the
+  // parent as I^A is), (alpha; a) = z_accel[i] about o_i. The root:
+  //   (I^A_0 + [G_0; 0] + I^Z_0 T_0) a_0 = -p^A_0 + [joint_torque_0; 0],  z_0 = T_0 a_0,
+  //   T_0 = [[alpha]x, 0; [a]x, 0]
+  // (T_0 c_0 = 0: the root's bias acceleration has no angular part). The caller sets
+  // inertia_lower (E, every body: the pass does not start it from B^T), inertia_z and its
+  // lower block, row_ang, row_lin, joint_torque and z_accel. With every one of them zero this is
+  // the general pass above.
+  bool pose_terms = false;
+  std::vector<SpatialInertia> inertia_z;  // (nbone) I^Z_i about o_i: A, B, C blocks, kg m^2 ...
+  std::vector<Mat3> inertia_z_lower;      // (nbone) its lower-left block, kg m
+  std::vector<Mat3> row_ang, row_lin;     // (nbone) G_i = [row_ang row_lin], N m; N m/(rig unit)
+  std::vector<Vec3> joint_torque;         // (nbone) world axes, N m
+  std::vector<Vec6> z_accel;              // (nbone) (alpha; a) of T_i, rad/s^2; rig units/s^2
+  std::vector<Vec6> z_spatial;            // (nbone) z_i (forward pass), same units
+
   // --- pass 3 (forward pass): MuJoCo's qacc layout ---
   std::vector<Vec6> accel_spatial;       // (nbone) a_i about o_i
   Vec3 root_accel_world = Vec3::Zero();  // classical acceleration of the root's centre of mass

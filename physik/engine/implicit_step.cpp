@@ -2,6 +2,7 @@
 
 #include "physik/engine/articulated_body.h"
 #include "physik/engine/control_springs.h"
+#include "physik/engine/implicit_pose_terms.h"
 #include "physik/engine/integrate_joint_space.h"
 #include "physik/engine/newton_euler.h"
 #include "physik/engine/torsion_springs.h"
@@ -17,9 +18,11 @@ void element_tangents(const Scene& scene, SimState& s) {
                                                    s.target_effective_world[c] - a);
   }
   const Rig& rig = scene.rig;
+  const bool full = p.implicit_linearisation == ImplicitLinearisation::kFull;
   for (int i = 0; i < rig.nbone; ++i) {
     const auto& limits = rig.bone_limit[i];
     const bool limited = limits[0].limited || limits[1].limited || limits[2].limited;
+    s.torsion_torque_world[i].setZero();
     if (i == 0 || !limited || p.torsion_k == 0.0) {
       s.torsion_stiffness[i].setZero();
       s.torsion_block_world[i].setZero();  // torsion_block_world() reads it without the stiffness
@@ -32,6 +35,23 @@ void element_tangents(const Scene& scene, SimState& s) {
     s.torsion_block_world[i] =
         R * torsion_step_block_local(s.torsion_stiffness[i], theta, p.torsion_torque) *
         R.transpose();
+    if (full && !s.torsion_stiffness[i].isZero(0.0)) {
+      // the torque the force stage applied, and its pose terms (implicit_pose_terms.h (5))
+      const Vec3 tau_local = torsion_torque_local(limits, theta, p);
+      const Vec3 tau_pr = p.torsion_torque == TorsionTorque::kGradient
+                              ? Vec3(left_jacobian_inverse_transpose(theta) * tau_local)
+                              : tau_local;
+      s.torsion_torque_world[i] = R * tau_pr;
+      const PoseTermSelection& use = s.pose_term_selection;
+      if (use.forces) {
+        s.torsion_block_world[i] +=
+            torsion_pose_block(R, theta, tau_local, p.torsion_torque, s.torsion_torque_world[i]);
+      }
+      // torsion_pose_block's frame term, -[tau]x, taken back when not selected
+      if (use.forces != use.torque_frame) {
+        s.torsion_block_world[i] += (use.forces ? 1.0 : -1.0) * skew(s.torsion_torque_world[i]);
+      }
+    }
   }
 }
 
@@ -149,8 +169,12 @@ JointSolveStats solve_implicit(const Scene& scene, SimState& s, double h) {
   add_stiffness_rate_forces(scene, h, s);  // tau - h K v
   articulated_velocity_pass(rig, s, d);    // rigid inertias, bias forces
   velocity_product_accels(rig, d, s.accel_bias);
+  const bool full = p.implicit_linearisation == ImplicitLinearisation::kFull;
+  if (full) rest_accelerations(scene, s);           // a0 and W, for the pose terms
   augment_bodies(scene, h, step_damping(p, s), s);  // + h D + h^2 K of body elements
-  joint_blocks(rig, h, s);                          // + h^2 K of joint elements
+  d.pose_terms = false;
+  if (full) add_pose_terms(scene, h, s);  // + h^2 K's pose terms
+  joint_blocks(rig, h, s);                // + h^2 K of joint elements
   articulated_backward_pass(rig, d);
   articulated_forward_pass(rig, s, d);
   articulated_joint_forces(rig, s);

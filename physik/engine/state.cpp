@@ -26,6 +26,10 @@ void size_state(const Rig& rig, std::size_t ncontrol, SimState& s) {
   s.torsion_stiffness.assign(n, Vec3::Zero());
   s.control_stiffness.assign(ncontrol, Mat3::Zero());
   s.torsion_block_world.assign(n, Mat3::Zero());
+  resize_articulated_data(n, s.articulated_rest);
+  s.rest_wrench.assign(n, Vec6::Zero());
+  s.torsion_torque_world.assign(n, Vec3::Zero());
+  s.pose_rate.assign(n, Vec6::Zero());
   s.implicit_snapshots.clear();  // sized by init_state for implicit scenes (implicit_advance.h)
   s.implicit_split_steps = 0;
   s.implicit_max_substeps = 0;

@@ -20,6 +20,21 @@ struct JointStateSnapshot {
   std::vector<Quat> bone_local_rotation;  // (nbone)
 };
 
+// Which of the pose terms the implicit step with implicit_linearisation full keeps
+// (implicit_pose_terms.h (1)-(5); all of them unless a study drops some: the linearisation
+// experiment, tests/experiments/pose_terms_test.cpp)
+struct PoseTermSelection {
+  bool forces = true;                 // (2), the gradient torque's curvature in (5), and the
+                                      // world-held forces' share of (1)
+  bool torque_frame = true;           // (5): the torsion torque's frame turning, -[tau]x
+  bool inertia_wrench = true;         // the d'Alembert wrenches' share of (1)
+  bool inertia_turn = true;           // (3)
+  bool turning_accelerations = true;  // (4)
+  bool torsion_in_wrench = false;     // the torsion torques in (1)'s wrench (the shared DESIGN.md
+                                      // sketch, with torque_frame off)
+  bool needs_rest() const { return inertia_wrench || inertia_turn || turning_accelerations; }
+};
+
 struct SimState {
   // --- configuration and velocity (integrated) ---
   BoneFrames frames;              // head/tail/orientation, world, rig units
@@ -64,6 +79,14 @@ struct SimState {
                                           //   (torsion_step_stiffness_local), N m/rad
   std::vector<Mat3> torsion_block_world;  // (nbone) the torsion block K_j this step, world axes,
                                           //   N m/rad (implicit_step.h torsion_block_world)
+  // implicit_linearisation full (implicit_pose_terms.h): the rest solve, the rest wrench per
+  // body about its point o_i, then the subtree's transmitted wrench (N m; N), the torsion
+  // torques (world, N m) and the pose terms' rate z(v)
+  PoseTermSelection pose_term_selection;
+  ArticulatedBodyData articulated_rest;
+  std::vector<Vec6> rest_wrench;           // (nbone)
+  std::vector<Vec3> torsion_torque_world;  // (nbone)
+  std::vector<Vec6> pose_rate;             // (nbone)
   std::vector<JointStateSnapshot>
       implicit_snapshots;         // (implicit_max_splits + 1) the energy guard's
   int implicit_split_steps = 0;   // steps the energy guard split (implicit_advance.h)

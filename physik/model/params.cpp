@@ -27,6 +27,11 @@ const std::vector<std::string>& choice_names(TorsionTorque) {
   return names;
 }
 
+const std::vector<std::string>& choice_names(ImplicitLinearisation) {
+  static const std::vector<std::string> names = {"gauss-newton", "full"};
+  return names;
+}
+
 const std::vector<std::string>& choice_names(Interpolation) {
   static const std::vector<std::string> names = {"none", "linear", "polar-head", "polar-com"};
   return names;
@@ -42,6 +47,9 @@ const char* to_string(Interpolation s) {
   return choice_names(s)[static_cast<int>(s)].c_str();
 }
 const char* to_string(TorsionTorque s) {
+  return choice_names(s)[static_cast<int>(s)].c_str();
+}
+const char* to_string(ImplicitLinearisation s) {
   return choice_names(s)[static_cast<int>(s)].c_str();
 }
 
@@ -306,6 +314,14 @@ std::vector<ParamRow> scheme_rows() {
                                "two half steps, at most this many halvings deep (the smallest "
                                "substep dt / 2^N)")),
                            "the bare linearised step, never split"),
+                implicit_only),
+      conflicts(omitted_at_default(row<&E::implicit_linearisation>(
+                    "implicit_linearisation", "",
+                    {ImplicitLinearisation::kGaussNewton, ImplicitLinearisation::kGaussNewton,
+                     ImplicitLinearisation::kGaussNewton},
+                    kAny,
+                    "scheme implicit: gauss-newton (the elements' own stiffness) or full (also "
+                    "how the forces and the inertia turn with the pose)")),
                 implicit_only),
   };
 }

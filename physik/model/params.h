@@ -42,17 +42,23 @@ enum class Interpolation { kNone, kLinear, kPolarHead, kPolarCom };
 // the torsion spring's torque (torsion_springs.h): the paper's k x excess about each rest axis, or
 // the exact gradient of the same potential (conservative at every angle)
 enum class TorsionTorque { kAxes, kGradient };
+// what the implicit step linearises (implicit_step.h): the Gauss-Newton stiffness of its elements,
+// or the full pose derivative of the rest dynamics (the forces' and the inertia's pose terms,
+// implicit_pose_terms.h)
+enum class ImplicitLinearisation { kGaussNewton, kFull };
 
 // each enum's names in the scene format, in the enum's order (the table's choices)
 const std::vector<std::string>& choice_names(SpringLaw);
 const std::vector<std::string>& choice_names(Scheme);
 const std::vector<std::string>& choice_names(Interpolation);
 const std::vector<std::string>& choice_names(TorsionTorque);
+const std::vector<std::string>& choice_names(ImplicitLinearisation);
 
 const char* to_string(SpringLaw s);
 const char* to_string(Scheme s);
 const char* to_string(Interpolation s);
 const char* to_string(TorsionTorque s);
+const char* to_string(ImplicitLinearisation s);
 
 struct EngineParams {
   EngineParams();                  // the default preset (kDefaultPreset)
@@ -85,6 +91,8 @@ struct EngineParams {
   int implicit_max_splits;       // scheme implicit: a step that adds energy is taken
                                  // again in halves, at most this deep (implicit_advance.h);
                                  // 0 = the bare linearised step
+  ImplicitLinearisation implicit_linearisation;  // scheme implicit: gauss-newton or full
+                                                 // (implicit_step.h)
   Interpolation interpolation;
   int interpolation_steps;        // steps over which a target jump is spread
                                   // (original: 25% of its 50 iterations)

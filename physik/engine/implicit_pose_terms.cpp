@@ -1,0 +1,232 @@
+// The implicit step's pose terms (implicit_pose_terms.h gives the derivation).
+#include "physik/engine/implicit_pose_terms.h"
+
+#include <cmath>
+
+#include "physik/engine/articulated_body.h"
+#include "physik/engine/torsion_springs.h"
+
+namespace physik {
+
+namespace {
+
+// a force vector (n; f) about o_child moved to o_parent, r = o_child - o_parent
+inline Vec6 shift_force(const Vec6& w, const Vec3& r) {
+  Vec6 out;
+  out << w.head<3>() + r.cross(w.tail<3>()), w.tail<3>();
+  return out;
+}
+
+// a motion vector (w; v) about o_parent seen at o_child, r = o_child - o_parent
+inline Vec6 shift_motion(const Vec6& m, const Vec3& r) {
+  Vec6 out;
+  out << m.head<3>(), m.tail<3>() - r.cross(m.head<3>());
+  return out;
+}
+
+// the rigid inertia of body i about its point o_i times a motion vector
+inline Vec6 rigid_times(const Rig& rig, const ArticulatedBodyData& d, const SimState& s, int i,
+                        const Vec6& m) {
+  const double mass = rig.bone_mass[i];
+  const Vec3 e = s.com_world[i] - d.point_world[i];
+  // I = [I_c + m [e]x [e]x^T, m [e]x; m [e]x^T, m]: the centre's momentum and its moment
+  const Vec3 lin = mass * (m.tail<3>() + m.head<3>().cross(e));  // m (v + w x e)
+  Vec6 out;
+  out << d.inertia_com_world[i] * m.head<3>() + e.cross(lin), lin;
+  return out;
+}
+
+// body i's velocity twist about o_i: (w; velocity of the body point at o_i)
+inline Vec6 body_twist(const ArticulatedBodyData& d, const SimState& s, int i) {
+  const Vec3& w = s.omega_world[i];
+  Vec6 out;
+  out << w, s.vel_world[i] - w.cross(s.com_world[i] - d.point_world[i]);
+  return out;
+}
+
+// h^2 [dA dB; dE 0] into body i's augmented inertia, and its share of the right-hand side:
+// the bias force gets [dA dB; dE 0] (h V_i - h^2 a0_i) (the -h K v force, and the velocity
+// products' part the augmented inertia multiplies: implicit_step.h)
+inline void add_body_stiffness(double h, const Mat3& dA, const Mat3& dB, const Mat3& dE,
+                               const Vec6& y, int i, ArticulatedBodyData& d) {
+  d.inertia_art[i].A += h * h * dA;
+  d.inertia_art[i].B += h * h * dB;
+  d.inertia_lower[i] += h * h * dE;
+  d.bias_force[i].head<3>() += dA * y.head<3>() + dB * y.tail<3>();
+  d.bias_force[i].tail<3>() += dE * y.head<3>();
+}
+
+// (2): each control spring's point moving under its held force, -G_p = [[-[f]x[r]x, [f]x]; 0]
+void add_spring_geometric_stiffness(const Scene& scene, double h, SimState& s) {
+  ArticulatedBodyData& d = s.articulated;
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    const int b = cp.bone;
+    const Vec3 r = point_on_bone(s.frames, b, cp.alpha) - d.point_world[b];
+    const Mat3 F = skew(s.control_force_world[c]);
+    const Vec6 y = h * body_twist(d, s, b) - h * h * s.accel_bias[b];
+    add_body_stiffness(h, -F * skew(r), F, Mat3::Zero(), y, b, d);
+  }
+}
+
+// (3) and the d'Alembert wrenches: H(I_b a0_b) = [[-[n]x, -[g]x]; [-[g]x, 0]] per body (with
+// `turn`), and rest_wrench_b <- F_b - I_b a0_b (with `wrench`)
+void add_inertia_turn(const Rig& rig, double h, bool wrench, bool turn, SimState& s) {
+  ArticulatedBodyData& d = s.articulated;
+  const ArticulatedBodyData& r = s.articulated_rest;
+  for (int i = 0; i < rig.nbone; ++i) {
+    const Vec6 w = rigid_times(rig, d, s, i, r.accel_spatial[i]);
+    if (wrench) s.rest_wrench[i] -= w;
+    if (!turn) continue;
+    const Mat3 N = skew(w.head<3>()), G = skew(w.tail<3>());
+    const Vec6 y = h * body_twist(d, s, i) - h * h * s.accel_bias[i];
+    add_body_stiffness(h, -N, -G, -G, y, i, d);
+  }
+}
+
+// (1): W_j, the subtree's wrench, leaves to root; joint j's row G_j = h^2 [-[n]x, -[g]x] (the
+// top rows of H(W_j) about o_j) and its right-hand side G_j (h^2 a0_j - h V_j) / h^2
+void add_turning_axes(const Rig& rig, double h, SimState& s) {
+  ArticulatedBodyData& d = s.articulated;
+  for (int i = rig.nbone - 1; i > 0; --i) {
+    const int p = rig.bone_parent[i];
+    s.rest_wrench[p] += shift_force(s.rest_wrench[i], d.point_world[i] - d.point_world[p]);
+  }
+  // the root: its rotation rows only (its translation columns do not turn); with the d'Alembert
+  // wrenches in, the whole tree's W_0 vanishes (a free root), up to round-off
+  for (int j = 0; j < rig.nbone; ++j) {
+    const Vec3 n = s.rest_wrench[j].head<3>(), g = s.rest_wrench[j].tail<3>();
+    d.row_ang[j] = -h * h * skew(n);
+    d.row_lin[j] = -h * h * skew(g);
+    const Vec6 y = h * h * s.accel_bias[j] - h * body_twist(d, s, j);
+    d.joint_torque[j] = -n.cross(y.head<3>()) - g.cross(y.tail<3>());
+  }
+}
+
+// (4): I^Z = h^2 I_b (rigid), T_i from the parent's rest acceleration at o_i, and the rate
+// z(v) = sum A0_p(i) x S_i v_i, root to leaves, whose force -h I_b z_b(v) joins the bias
+void add_turning_accelerations(const Rig& rig, double h, SimState& s) {
+  ArticulatedBodyData& d = s.articulated;
+  const ArticulatedBodyData& r = s.articulated_rest;
+  for (int i = 0; i < rig.nbone; ++i) {
+    const double m = rig.bone_mass[i];
+    const Vec3 e = s.com_world[i] - d.point_world[i];
+    SpatialInertia& Z = d.inertia_z[i];
+    Z.A = h * h * d.inertia_com_world[i];
+    Z.A.noalias() += (h * h * m) * (e.squaredNorm() * Mat3::Identity() - e * e.transpose());
+    Z.B = (h * h * m) * skew(e);
+    Z.C = (h * h * m) * Mat3::Identity();
+    d.inertia_z_lower[i] = Z.B.transpose();
+    const int p = rig.bone_parent[i];
+    if (p < 0) {
+      d.z_accel[i] << Vec3::Zero(), r.accel_spatial[i].tail<3>();  // the root's (0; a_com)
+      s.pose_rate[i] << Vec3::Zero(), d.z_accel[i].tail<3>().cross(s.omega_world[i]);
+    } else {
+      const Vec3 rr = d.point_world[i] - d.point_world[p];
+      d.z_accel[i] = shift_motion(r.accel_spatial[p], rr);
+      const Vec3 w_rel = s.omega_world[i] - s.omega_world[p];
+      s.pose_rate[i] = shift_motion(s.pose_rate[p], rr);
+      s.pose_rate[i].head<3>() += d.z_accel[i].head<3>().cross(w_rel);
+      s.pose_rate[i].tail<3>() += d.z_accel[i].tail<3>().cross(w_rel);
+    }
+    d.bias_force[i] += h * rigid_times(rig, d, s, i, s.pose_rate[i]);
+  }
+}
+
+}  // namespace
+
+void rest_accelerations(const Scene& scene, SimState& s) {
+  const Rig& rig = scene.rig;
+  const ArticulatedBodyData& d = s.articulated;
+  ArticulatedBodyData& r = s.articulated_rest;
+  for (int i = 0; i < rig.nbone; ++i) {
+    r.inertia_art[i] = d.inertia_art[i];
+    r.point_world[i] = d.point_world[i];
+    s.rest_wrench[i].setZero();
+  }
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    const Vec3& f = s.control_force_world[c];
+    const Vec3 arm = point_on_bone(s.frames, cp.bone, cp.alpha) - d.point_world[cp.bone];
+    s.rest_wrench[cp.bone].head<3>() += arm.cross(f);
+    s.rest_wrench[cp.bone].tail<3>() += f;
+  }
+  if (!s.pose_term_selection.needs_rest()) return;  // a0 is not needed
+  // the ABA's bias force is minus the external wrench; the torsion torques join it here but not
+  // rest_wrench, which holds the world-held forces only (implicit_pose_terms.h, (1) and (5))
+  for (int i = 0; i < rig.nbone; ++i) r.bias_force[i] = -s.rest_wrench[i];
+  for (int i = 1; i < rig.nbone; ++i) {
+    const Vec3& t = s.torsion_torque_world[i];
+    r.bias_force[i].head<3>() -= t;
+    r.bias_force[rig.bone_parent[i]].head<3>() += t;
+  }
+  articulated_backward_pass(rig, r);
+  articulated_forward_pass(rig, s, r);
+}
+
+void add_pose_terms(const Scene& scene, double h, SimState& s) {
+  const Rig& rig = scene.rig;
+  ArticulatedBodyData& d = s.articulated;
+  const PoseTermSelection& use = s.pose_term_selection;
+  for (int i = 0; i < rig.nbone; ++i) d.inertia_lower[i] = d.inertia_art[i].B.transpose();
+  if (use.forces) {
+    add_spring_geometric_stiffness(scene, h, s);
+  } else {
+    for (Vec6& w : s.rest_wrench) w.setZero();  // (1) without the forces' share
+  }
+  if (use.inertia_wrench || use.inertia_turn) {
+    add_inertia_turn(rig, h, use.inertia_wrench, use.inertia_turn, s);
+  }
+  if (use.torsion_in_wrench) {  // the torsion torques in the transmitted wrench
+    for (int i = 1; i < rig.nbone; ++i) {
+      s.rest_wrench[i].head<3>() += s.torsion_torque_world[i];
+      s.rest_wrench[rig.bone_parent[i]].head<3>() -= s.torsion_torque_world[i];
+    }
+  }
+  add_turning_axes(rig, h, s);
+  if (use.turning_accelerations) {
+    add_turning_accelerations(rig, h, s);
+  } else {
+    for (int i = 0; i < rig.nbone; ++i) {  // no I^Z: the pass's z stays 0
+      d.inertia_z[i] = SpatialInertia{};
+      d.inertia_z_lower[i].setZero();
+      d.z_accel[i].setZero();
+    }
+  }
+  d.pose_terms = true;
+}
+
+Mat3 left_jacobian_inverse_transpose_derivative(const Vec3& theta, const Vec3& tau) {
+  // J_l^-T = 1 + W/2 + b W^2, W = [theta]x, b(t) = 1/t^2 - cot(t/2) / (2 t):
+  //   d(W tau / 2) = -[tau]x dtheta / 2
+  //   d(b W^2 tau) = (b'(t) / t) (W^2 tau) theta^T dtheta - b ([theta x tau]x + W [tau]x) dtheta
+  // b'(t) / t = -2/t^4 + cot(t/2) / (2 t^3) + 1 / (4 t^2 sin^2(t/2)), its series near 0 (the
+  // terms cancel there): 1/360 + t^2/7560 + t^4/201600
+  const double t2 = theta.squaredNorm(), t = std::sqrt(t2);
+  double b, db_over_t;
+  if (t < 0.1) {
+    b = 1.0 / 12.0 + t2 / 720.0 + t2 * t2 / 30240.0 + t2 * t2 * t2 / 1209600.0;
+    db_over_t = 1.0 / 360.0 + t2 / 7560.0 + t2 * t2 / 201600.0;
+  } else {
+    const double cot = 1.0 / std::tan(0.5 * t), sn = std::sin(0.5 * t);
+    b = 1.0 / t2 - 0.5 * cot / t;
+    db_over_t = -2.0 / (t2 * t2) + 0.5 * cot / (t2 * t) + 0.25 / (t2 * sn * sn);
+  }
+  const Mat3 W = skew(theta);
+  const Vec3 W2tau = theta.cross(theta.cross(tau));
+  return -0.5 * skew(tau) + db_over_t * W2tau * theta.transpose() -
+         b * (skew(theta.cross(tau)) + W * skew(tau));
+}
+
+Mat3 torsion_pose_block(const Mat3& R_pr, const Vec3& theta, const Vec3& tau_local,
+                        TorsionTorque torque, const Vec3& tau_world) {
+  Mat3 out = -skew(tau_world);
+  if (torque == TorsionTorque::kGradient) {
+    const Mat3 Jl_inv = left_jacobian_inverse_transpose(theta).transpose();
+    out -= R_pr * left_jacobian_inverse_transpose_derivative(theta, tau_local) * Jl_inv *
+           R_pr.transpose();
+  }
+  return out;
+}
+
+}  // namespace physik

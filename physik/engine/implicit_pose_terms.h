@@ -1,0 +1,75 @@
+// The implicit step's pose terms (implicit_linearisation full): the derivative of the rest
+// dynamics in the pose, held in the O(n) articulated-body recursion.
+//
+// Sources: R. Featherstone, Rigid Body Dynamics Algorithms, Springer 2008 (spatial algebra,
+// ch. 2; the articulated-body algorithm, ch. 7); D. Baraff and A. Witkin, "Large steps in cloth
+// simulation", SIGGRAPH 1998 (one Newton step of backward Euler). The linearisation experiment
+// (experiments/linearisation.h) measured what these terms are worth with dense steps.
+//
+// What is linearised. The shipped step (implicit_step.h) solves (M + h D + h^2 K) a = tau - C
+// - h K v with K the Gauss-Newton stiffness of the elements. `full` takes instead
+//   K = -d/dq [tau(q, 0) - M(q) a0],   a0 = M^-1 tau(q, 0)
+// (the rest accelerations: the springs alone, as dampers, the factor and the velocity products
+// vanish at v = 0), which is exactly the linearisation experiment's newton_at_rest step:
+// M A_q(q, 0) = -K. Write R_j(q) = S_j^T W_j + Q_t,j(q_j), the generalised force of joint j at
+// fixed qdd = a0, with W_j = sum over the bodies b of j's subtree of (F_b - I_b A_b) (F_b the
+// world-held point forces, the control springs; I_b A_b the d'Alembert wrench at a0) and Q_t the
+// torsion springs (a joint's own, a function of its own rotation only). Moving dof i (a twist
+// xi = S_i dq of the subtree of i; a ball turns about its own local axes, so its own S turns too;
+// the root's translation columns are world-fixed) gives, with H(W) xi = xi x* W:
+//   (1) the axes of S_j turn for i at or above j:   +S_j^T H(W_j) S_i   (joint j's row only)
+//   (2) a spring's point moves, its force held:     +S_j^T (-G_p) S_i,
+//       G_p = [[f]x[r]x, -[f]x; 0, 0],
+//       and its force follows (Gauss-Newton):         +S_j^T Phi^T K_c Phi S_i   (already shipped)
+//   (3) the inertia turns with the body:            +S_j^T H(I_b A0_b) S_i
+//   (4) the joint accelerations below i turn with i: +S_j^T I_b (A0_p(i) x S_i),  A0_p(i) the
+//       acceleration of i's parent (of the root: its translation part (0; a_com))
+//   (5) a torsion torque, held in its parent's rest frame, on the child's turning axes:
+//       -[tau_world]x, and for the gradient torque the turn of J_l^-T with theta
+// for every body b below both i and j. (2) and (3) are body-level 6x6 stiffnesses, general
+// matrices added to the augmented inertias. (1) is a term of joint j's row alone (G_i in
+// ArticulatedBodyData). (4) is not body-level: it depends on i through A0_p(i); summed over
+// i it is I_b z_b with z_b = sum_{i at or above b} A0_p(i) x S_i qdd_i, a second motion vector
+// carried root to leaves as a is (T_i = A0_p(i) x S_i; ArticulatedBodyData::inertia_z). So every
+// term stays O(n): the recursion carries a second inertia I^Z (h^2 I_b at each body) beside I^A.
+// The right-hand side gets -h K v the same way (each term applied to the velocities).
+//
+// The shared DESIGN.md sketch takes (1) over strict ancestors with the whole transmitted wrench,
+// torsion torques included, and no (5). Measured against the dense step, that differs (the
+// torsion torques turn with their parent: with them in W, (1) needs their own turning term for
+// strict ancestors; without them, (1) reaches joint j itself and (5) follows), and (3) and (4)
+// are needed beside the d'Alembert part of (1): tests/experiments/pose_terms_test.cpp.
+//
+// Left as the shipped step keeps them: the control springs' and torsion springs' step stiffness
+// (the secant beyond a cap, where the tangent has none) and the paper's torque's clipped block
+// (implicit_step.h); with linear springs, within the caps and no clip acting, the step is the
+// dense newton_at_rest step to round-off.
+// No allocation per step (state.articulated_rest and the buffers of state.h, sized once).
+// Units: s, kg, N, N m, rig units, rad.
+#pragma once
+
+#include "physik/engine/state.h"
+#include "physik/model/scene.h"
+
+namespace physik {
+
+// After articulated_velocity_pass (rigid inertias in state.articulated) and the force stages: the
+// rest accelerations a0 (state.articulated_rest.accel_spatial, about each o_i) under the control
+// springs' and the torsion springs' forces alone, by a second articulated-body solve with the rigid
+// inertias. Reads state.control_force_world and state.torsion_torque_world (element_tangents).
+void rest_accelerations(const Scene& scene, SimState& state);
+
+// After augment_bodies (implicit_step.cpp): terms (1)-(4) above into state.articulated (its
+// inertias, their lower blocks, bias forces, the rows G, I^Z and T), and pose_terms on.
+void add_pose_terms(const Scene& scene, double h, SimState& state);
+
+// N = d/dtheta (J_l(theta)^-T tau) at fixed tau (torsion_springs.h
+// left_jacobian_inverse_transpose): the gradient torque's curvature term, 1/rad times tau's units.
+Mat3 left_jacobian_inverse_transpose_derivative(const Vec3& theta, const Vec3& tau);
+
+// The pose terms' share of bone i's torsion block (world axes on the relative rate, N m/rad):
+// -[tau_world]x, and for the gradient torque -R_pr N(theta, tau_local) J_l^-1 R_pr^T.
+Mat3 torsion_pose_block(const Mat3& R_pr, const Vec3& theta, const Vec3& tau_local,
+                        TorsionTorque torque, const Vec3& tau_world);
+
+}  // namespace physik

@@ -1,0 +1,219 @@
+// The implicit step with implicit_linearisation full (physik/engine/implicit_pose_terms.h) against
+// the linearisation experiment's dense newton_at_rest step (experiments/linearisation.h), which
+// linearises the rest dynamics a(q, 0) by central differences: on random branching trees, moving,
+// pulled by linear control springs, with engaged linear torsion springs of either torque, at
+// several step lengths, one bare step each (no energy guard).
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <ostream>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "experiments/linearisation.h"
+#include "physik/engine/engine.h"
+#include "physik/engine/implicit_step.h"
+#include "physik/engine/integrate_joint_space.h"
+#include "physik/engine/torsion_springs.h"
+#include "physik/model/params.h"
+#include "tests/dense_dynamics.h"
+
+namespace physik {
+namespace {
+
+using experiments::linearisation::accelerations;
+using experiments::linearisation::bare_step;
+using experiments::linearisation::derivatives;
+using experiments::linearisation::joint_velocity;
+using experiments::linearisation::unit_force_response;
+using experiments::linearisation::Variant;
+using experiments::linearisation::variant_name;
+
+struct PoseCase {
+  Scene scene;
+  SimState s;
+};
+
+// a random tree of n bones: limits on some axes (violated at random poses: engaged torsion
+// springs), linear control springs on random bones toward random targets, moving
+PoseCase random_pose_case(std::mt19937& rng, int n, TorsionTorque torque) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  PoseCase out;
+  Scene& sc = out.scene;
+  sc.file = "<random>";
+  sc.rig = dense::random_rig(rng, n);
+  for (int i = 1; i < n; ++i) {
+    for (int a = 0; a < 3; ++a) {
+      if ((i + a) % 3 == 0) sc.rig.bone_limit[i][a] = {true, -0.2, 0.1 + 0.1 * a};
+    }
+  }
+  sc.params = preset_params("original");
+  sc.params.scheme = Scheme::kImplicit;
+  sc.params.implicit_linearisation = ImplicitLinearisation::kFull;
+  sc.params.implicit_max_splits = 0;
+  sc.params.interpolation = Interpolation::kNone;
+  sc.params.damping = 1.5;
+  sc.params.angular_velocity_factor = 0.7;
+  sc.params.torsion_k = 13.0;
+  sc.params.torsion_torque = torque;
+  sc.initial_pose = rest_pose(sc.rig);
+  for (int k = 0; k < 1 + n / 2; ++k) {
+    ControlPoint cp;
+    cp.bone = std::uniform_int_distribution<int>(0, n - 1)(rng);
+    cp.alpha = 0.5 + 0.5 * u(rng);
+    cp.target_world = 2.0 * Vec3(u(rng), u(rng), u(rng));
+    cp.k = 5.0 + 20.0 * std::abs(u(rng));
+    cp.spring = SpringLaw::kLinear;
+    sc.control_points.push_back(cp);
+  }
+  init_state(sc, out.s);
+  SimState& s = out.s;
+  for (int i = 1; i < n; ++i) {
+    s.pose.bone_local_rotation[i] = Quat(Eigen::AngleAxisd(1.5 * u(rng), dense::random_unit(rng)));
+  }
+  s.root_com_world = Vec3(u(rng), u(rng), u(rng));
+  s.root_orient_world = Quat(Eigen::AngleAxisd(3.0 * u(rng), dense::random_unit(rng)));
+  s.root_vel_world = Vec3(u(rng), u(rng), u(rng));
+  for (int i = 0; i < n; ++i) s.joint_vel_local[i] = Vec3(u(rng), u(rng), u(rng));
+  world_from_joint_space(sc.rig, s);
+  return out;
+}
+
+// does the paper torque's clip act on some engaged joint (then the step's block is not the
+// dense step's tangent)
+bool clip_acts(const Scene& sc, const SimState& s) {
+  if (sc.params.torsion_torque != TorsionTorque::kAxes) return false;
+  for (int i = 1; i < sc.rig.nbone; ++i) {
+    const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[i]);
+    const Vec3 k = torsion_step_stiffness_local(sc.rig.bone_limit[i], theta, sc.params);
+    const Mat3 tangent = k.asDiagonal() * left_jacobian_inverse_transpose(theta).transpose();
+    if (!(torsion_step_block_local(k, theta, TorsionTorque::kAxes) - tangent).isZero(1e-14))
+      return true;
+  }
+  return false;
+}
+
+// The O(n) variant's accelerations against the dense variant's linear system
+// (1 - h A_v - h^2 A_q) a = a_explicit + h A_q v (linearisation.h (L)), at h = 0.05, 1 and 20 s:
+//   - the normwise backward error of the O(n) accelerations in the dense system, every h;
+//   - the O(n) system, M^-1 (M + h D + h^2 K) from its responses to unit generalised forces (it is
+//     linear in them), against the dense one, h <= 1 (at h = 20 the responses are ~1e-4 of the
+//     accelerations they are differences of, and inverting them loses the digits);
+//   - the accelerations themselves at h = dt (at longer steps the systems' condition numbers, up
+//     to ~1e5 here, amplify the central differences' noise in the dense step's solution).
+// Returns the worst of each.
+struct Worst {
+  double backward = 0.0, system = 0.0, solution = 0.0;
+  int compared = 0;
+};
+
+// one bare step of the O(n) full step with these pose terms
+void recursive_step(const Scene& scene, SimState& s, double h, const PoseTermSelection& use) {
+  Scene bare = scene;
+  bare.params.implicit_max_splits = 0;
+  bare.params.implicit_linearisation = ImplicitLinearisation::kFull;
+  s.pose_term_selection = use;
+  step(bare, s, h);
+}
+
+Worst compare_with_dense(const PoseTermSelection& use, Variant dense_variant, unsigned seed) {
+  std::mt19937 rng(seed);
+  Worst w;
+  for (int trial = 0; trial < 24; ++trial) {
+    const TorsionTorque torque = trial % 2 ? TorsionTorque::kAxes : TorsionTorque::kGradient;
+    PoseCase pc = random_pose_case(rng, 2 + trial % 7, torque);
+    if (clip_acts(pc.scene, pc.s)) continue;
+    pc.s.pose_term_selection = use;  // for the unit-force responses
+    const Eigen::MatrixXd M_inv = unit_force_response(pc.scene, pc.s, false, 0.05);
+    const Eigen::VectorXd v = joint_velocity(pc.s);
+    for (double h : {0.05, 1.0, 20.0}) {
+      SCOPED_TRACE(testing::Message() << "trial " << trial << " n " << pc.scene.rig.nbone << " h "
+                                      << h << " torque " << to_string(torque));
+      Eigen::MatrixXd A_q, A_v;
+      derivatives(pc.scene, pc.s, dense_variant, A_q, A_v, h);
+      const int n = static_cast<int>(A_q.rows());
+      const Eigen::MatrixXd S = Eigen::MatrixXd::Identity(n, n) - h * A_v - h * h * A_q;
+      SimState a = pc.s, b = pc.s;
+      recursive_step(pc.scene, a, h, use);
+      bare_step(pc.scene, b, h, dense_variant);
+      const Eigen::VectorXd acc = (joint_velocity(a) - v) / h,
+                            acc_dense = (joint_velocity(b) - v) / h;
+      const Eigen::VectorXd rhs = accelerations(pc.scene, pc.s) + h * (A_q * v);
+      w.backward =
+          std::max(w.backward, (S * acc - rhs).norm() / (S.norm() * acc.norm() + rhs.norm()));
+      if (h <= 1.0) {
+        const Eigen::MatrixXd S_step =
+            M_inv * unit_force_response(pc.scene, pc.s, true, h).inverse();
+        w.system = std::max(w.system, (S_step - S).norm() / S.norm());
+      }
+      if (h == 0.05) w.solution = std::max(w.solution, (acc - acc_dense).norm() / acc_dense.norm());
+      ++w.compared;
+    }
+  }
+  return w;
+}
+
+std::ostream& operator<<(std::ostream& o, const Worst& w) {
+  return o << "backward error " << w.backward << ", system " << w.system
+           << ", accelerations at h = dt " << w.solution;
+}
+
+void expect_equal(const char* name, const PoseTermSelection& use, Variant dense_variant) {
+  const Worst w = compare_with_dense(use, dense_variant, 5);
+  EXPECT_GT(w.compared, 30);
+  EXPECT_LT(w.backward, 1e-8);
+  EXPECT_LT(w.system, 1e-8);
+  EXPECT_LT(w.solution, 1e-8);
+  std::cout << name << " vs " << variant_name(dense_variant) << ": " << w << "\n";
+}
+
+TEST(PoseTerms, TheFullStepIsTheDenseNewtonAtRestStep) {
+  expect_equal("every pose term", PoseTermSelection{}, Variant::kNewtonAtRest);
+}
+
+TEST(PoseTerms, TheForcesTermsAloneAreTheDensePoseForcesStep) {
+  PoseTermSelection use;
+  use.inertia_wrench = use.inertia_turn = use.turning_accelerations = false;
+  expect_equal("the forces' terms", use, Variant::kPoseForces);
+}
+
+TEST(PoseTerms, TheInertiasTermsAloneAreTheDensePoseInertiaStep) {
+  PoseTermSelection use;
+  use.forces = use.torque_frame = false;
+  expect_equal("the inertia's terms", use, Variant::kPoseInertia);
+}
+
+// Term by term: each term dropped from the full step, and the shared DESIGN.md sketch, miss the
+// dense step by far more than the central differences' noise (implicit_pose_terms.h)
+TEST(PoseTerms, EachTermAndTheSketchMatter) {
+  struct Drop {
+    const char* name;
+    bool PoseTermSelection::*term;
+  };
+  for (const Drop& d :
+       {Drop{"(1..3, 5) the forces' terms", &PoseTermSelection::forces},
+        Drop{"(5) the torque frame's turn", &PoseTermSelection::torque_frame},
+        Drop{"(1) the d'Alembert wrenches", &PoseTermSelection::inertia_wrench},
+        Drop{"(3) the inertia's turn", &PoseTermSelection::inertia_turn},
+        Drop{"(4) the joint accelerations' turn", &PoseTermSelection::turning_accelerations}}) {
+    PoseTermSelection use;
+    use.*d.term = false;
+    const Worst w = compare_with_dense(use, Variant::kNewtonAtRest, 5);
+    EXPECT_GT(w.backward, 1e-4) << d.name;
+    std::cout << "without " << d.name << ": " << w << "\n";
+  }
+  PoseTermSelection sketch;  // (1) over the whole transmitted wrench, no frame term, no (3), (4)
+  sketch.torsion_in_wrench = true;
+  sketch.torque_frame = sketch.inertia_turn = sketch.turning_accelerations = false;
+  const Worst w = compare_with_dense(sketch, Variant::kNewtonAtRest, 5);
+  EXPECT_GT(w.backward, 1e-4);
+  std::cout << "the sketch: " << w << "\n";
+  sketch.inertia_turn = sketch.turning_accelerations = true;  // its torsion handling alone
+  const Worst t = compare_with_dense(sketch, Variant::kNewtonAtRest, 5);
+  EXPECT_GT(t.backward, 1e-4);
+  std::cout << "the sketch's torsion handling with (3) and (4): " << t << "\n";
+}
+
+}  // namespace
+}  // namespace physik
