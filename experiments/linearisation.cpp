@@ -1,7 +1,8 @@
 // Linearisation study (chain50's step count; docs/engine.md "The implicit scheme"): the solve
 // mode's rule on the ik_comparison scenes (the effector's target jumped to a random reachable
-// point, the root's head pinned), with the shipped O(n) implicit step or a dense Newton step of
-// backward Euler (linearisation.h, which gives the equations and the variants).
+// point, the root's head pinned), with the shipped O(n) implicit step, a dense Newton step of
+// backward Euler (linearisation.h, which gives the equations and the variants), and the O(n)
+// step with the pose terms (implicit_linearisation full) and its term selections.
 //   runs.csv   rig, target, variant: converged, steps, bare steps taken, final residual
 // Rigs: the 10- and 50-bone chains and pinhead's left hand; targets from one fixed seed, as
 // ik_comparison draws them (uniform in the ball of 0.95 of the reach; pinhead's hand tip in
@@ -79,15 +80,20 @@ std::vector<StudyRig> study_rigs(const Context& ctx) {
   return rigs;
 }
 
-// the pose split's variants on the rigs up to 20 bones: on chain50 pose_forces takes thousands
-// of bare steps of O(n^3) each
+// the pose split's dense variants on the rigs up to 20 bones: on chain50 pose_forces takes
+// thousands of bare steps of O(n^3) each
 std::vector<Variant> variants_of(const Context& ctx, const StudyRig& r) {
-  if (ctx.quick) return std::vector<Variant>{Variant::kShipped, Variant::kNewton};
+  if (ctx.quick) return std::vector<Variant>{Variant::kShipped, Variant::kNewton, Variant::kFull};
   std::vector<Variant> v = {Variant::kShipped, Variant::kShippedDcdv, Variant::kNewton,
                             Variant::kNewtonAtRest, Variant::kNewtonNoGyro};
   if (r.rig.nbone <= 20) {
     for (Variant x : {Variant::kPoseForces, Variant::kPoseInertia, Variant::kShippedDense})
       v.push_back(x);
+  }
+  // the O(n) steps with the pose terms (implicit_linearisation full), on every rig
+  for (Variant x : {Variant::kFull, Variant::kFullForces, Variant::kFullInertia, Variant::kFullNoZ,
+                    Variant::kFullSketch}) {
+    v.push_back(x);
   }
   return v;
 }
@@ -176,13 +182,69 @@ void add_notes(Report& report) {
           "and the "
           "inertia's; chain10 and pinhead only); shipped_dense = the shipped step rebuilt densely, "
           "a check. "
-          "Same rule and guard for all (experiments/linearisation.h).")
+          "full = the O(n) implicit step with implicit_linearisation full, newton_at_rest's system "
+          "in the "
+          "articulated-body recursion (physik/engine/implicit_pose_terms.h); full_forces, "
+          "full_inertia = "
+          "its forces' and its inertia's terms alone (pose_forces' and pose_inertia's systems); "
+          "full_no_z = "
+          "full without the turn of the joint accelerations below a moving joint; full_sketch = "
+          "the "
+          "design sketch (the transmitted wrench, torsion torques in it, turning the joint axes; "
+          "no other "
+          "term). Same rule and guard for all (experiments/linearisation.h).")
       .note(
           "The dense step costs O(n^3) per step and is a measuring instrument, not a solver: the "
           "table counts steps, not time. A run that does not converge counts its 2000 steps.");
 }
 
-// the gyroscopic and the pinhead claims
+// the claims on the O(n) step with the pose terms (implicit_linearisation full)
+template <class Steps, class Pair>
+void add_full_step_claims(Report& report, const std::vector<StudyRig>& rigs, const Steps& steps,
+                          const Pair& pair) {
+  bool same = true, fewer = true;
+  std::string same_text, fewer_text;
+  for (const StudyRig& r : rigs) {
+    const double a = steps(r.name, Variant::kFull), b = steps(r.name, Variant::kNewtonAtRest);
+    same = same && std::abs(a - b) <= 0.1 * b;
+    fewer = fewer && a < steps(r.name, Variant::kShipped);
+    same_text +=
+        (same_text.empty() ? "" : "; ") + pair(r.name, Variant::kFull, Variant::kNewtonAtRest);
+    fewer_text +=
+        (fewer_text.empty() ? "" : "; ") + pair(r.name, Variant::kFull, Variant::kShipped);
+  }
+  report
+      .claim(
+          "The O(n) step with the pose terms is the dense newton_at_rest step (the same system to "
+          "round-off, checked by a test): full within 10% of newton_at_rest's median steps on "
+          "every "
+          "rig",
+          same_text, same ? "yes" : "no")
+      .named("full-equals-dense");
+  report
+      .claim(
+          "The pose terms in O(n) cut the solve's steps: full needs fewer median steps than the "
+          "shipped (Gauss-Newton) step on every rig",
+          fewer_text, fewer ? "yes" : "no")
+      .named("full-fewer-steps");
+  bool each = true;
+  std::string each_text;
+  for (Variant v :
+       {Variant::kFullForces, Variant::kFullInertia, Variant::kFullNoZ, Variant::kFullSketch}) {
+    each = each && steps("chain50", v) > steps("chain50", Variant::kFull);
+    each_text += (each_text.empty() ? "" : "; ") + pair("chain50", v, Variant::kFull);
+  }
+  report
+      .claim(
+          "Every term counts on chain50: the forces' terms alone, the inertia's alone, full "
+          "without "
+          "the joint accelerations' turn, and the design sketch each need more median steps than "
+          "full",
+          each_text, each ? "yes" : "no")
+      .named("every-term-counts");
+}
+
+// the gyroscopic and the pinhead claims, then the full step's
 template <class Steps, class Pair>
 void add_more_claims(Report& report, const std::vector<StudyRig>& rigs, const Steps& steps,
                      const Pair& pair) {
@@ -219,6 +281,7 @@ void add_more_claims(Report& report, const std::vector<StudyRig>& rigs, const St
           std::to_string(ramp),
       steps("pinhead", Variant::kNewton) >= 0.8 * steps("pinhead", Variant::kShipped) ? "yes"
                                                                                       : "no");
+  add_full_step_claims(report, rigs, steps, pair);
 }
 
 // the claims of a full run (a quick run has neither chain50 nor pinhead)
