@@ -282,6 +282,7 @@ namespace {
 // the term selection of an O(n) full variant (linearisation.h)
 PoseTermSelection selection_of(Variant v) {
   PoseTermSelection out;
+  out.gauss_newton_retake = false;  // the dense variants' twins: the bare recursion
   const bool forces = v != Variant::kFullInertia, inertia = v != Variant::kFullForces;
   out.forces = out.torque_frame = forces;
   out.inertia_wrench = out.inertia_turn = out.turning_accelerations = inertia;

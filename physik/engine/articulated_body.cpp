@@ -172,7 +172,14 @@ void general_to_parent(ArticulatedBodyData& d, int i, int p, const Vec3& r, cons
 //   I^za = [(G_A + J) D^-1 Z_A, (G_A + J) D^-1 Z_B; Z_E - (E + PE) D^-1 Z_A,
 //           Z_C - (E + PE) D^-1 Z_B]
 //   p^a  = p^A + I^a c + U D^-1 u,   u = joint_torque - S'^T p^A
+// is the symmetric part (A + A^T) / 2 positive definite (its Cholesky factor exists)
+template <typename M>
+bool symmetric_part_positive(const M& A) {
+  return Eigen::LLT<M>(M(0.5 * (A + A.transpose()))).info() == Eigen::Success;
+}
+
 void backward_pass_pose_terms(const Rig& rig, ArticulatedBodyData& d) {
+  d.pose_terms_positive = true;
   for (int i = rig.nbone - 1; i > 0; --i) {
     const int p = rig.bone_parent[i];
     const SpatialInertia& IA = d.inertia_art[i];
@@ -193,7 +200,9 @@ void backward_pass_pose_terms(const Rig& rig, ArticulatedBodyData& d) {
       PJ += d.joint_block[i];
       GJ += d.joint_block[i];
     }
-    d.D_inv[i] = Mat3(IA.A + GA + PJ).inverse();
+    const Mat3 D = IA.A + GA + PJ;
+    if (!symmetric_part_positive(D)) d.pose_terms_positive = false;
+    d.D_inv[i] = D.inverse();
     const Mat3& Dinv = d.D_inv[i];
     const Mat3 UA = IA.A + P, UE = E + PE, BG = IA.B + GB;
     Mat3 UADinv, UEDinv, GJDinv;
@@ -241,6 +250,7 @@ void forward_pass_pose_terms(const Rig& rig, const SimState& s, ArticulatedBodyD
       d.inertia_lower[0] + d.inertia_z_lower[0] * Ta + Z0.C * Tl, I0.C;
   Vec6 rhs = -d.bias_force[0];
   rhs.head<3>() += d.joint_torque[0];
+  if (!symmetric_part_positive(M0)) d.pose_terms_positive = false;
   d.root_lu.compute(M0);
   d.accel_spatial[0] = d.root_lu.solve(rhs);
   const Vec3 alpha0 = d.accel_spatial[0].head<3>();

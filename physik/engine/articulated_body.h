@@ -131,6 +131,9 @@ struct ArticulatedBodyData {
   // lower block, row_ang, row_lin, joint_torque and z_accel. With every one of them zero this is
   // the general pass above.
   bool pose_terms = false;
+  // the last pass with pose_terms: every pivot's symmetric part, and the root 6x6's, positive
+  // definite
+  bool pose_terms_positive = true;
   std::vector<SpatialInertia> inertia_z;  // (nbone) I^Z_i about o_i: A, B, C blocks, kg m^2 ...
   std::vector<Mat3> inertia_z_lower;      // (nbone) its lower-left block, kg m
   std::vector<Mat3> row_ang, row_lin;     // (nbone) G_i = [row_ang row_lin], N m; N m/(rig unit)

@@ -1,5 +1,7 @@
 #include "physik/engine/implicit_step.h"
 
+#include <algorithm>
+
 #include "physik/engine/articulated_body.h"
 #include "physik/engine/control_springs.h"
 #include "physik/engine/implicit_pose_terms.h"
@@ -9,7 +11,9 @@
 
 namespace physik {
 
-void element_tangents(const Scene& scene, SimState& s) {
+namespace {
+
+void element_tangents(const Scene& scene, bool full, SimState& s) {
   const EngineParams& p = scene.params;
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
     const ControlPoint& cp = scene.control_points[c];
@@ -18,7 +22,6 @@ void element_tangents(const Scene& scene, SimState& s) {
                                                    s.target_effective_world[c] - a);
   }
   const Rig& rig = scene.rig;
-  const bool full = p.implicit_linearisation == ImplicitLinearisation::kFull;
   for (int i = 0; i < rig.nbone; ++i) {
     const auto& limits = rig.bone_limit[i];
     const bool limited = limits[0].limited || limits[1].limited || limits[2].limited;
@@ -53,6 +56,12 @@ void element_tangents(const Scene& scene, SimState& s) {
       }
     }
   }
+}
+
+}  // namespace
+
+void element_tangents(const Scene& scene, SimState& s) {
+  element_tangents(scene, scene.params.implicit_linearisation == ImplicitLinearisation::kFull, s);
 }
 
 Mat3 torsion_block_world(const Rig&, const SimState& s, int i) {
@@ -158,18 +167,17 @@ JointSolveStats solve_implicit(const Scene& scene, SimState& s) {
   return solve_implicit(scene, s, scene.params.dt);
 }
 
-JointSolveStats solve_implicit(const Scene& scene, SimState& s, double h) {
+namespace {
+
+// one linearised step of h with or without the pose terms; the forces are the step's input
+void linearised_step(const Scene& scene, SimState& s, double h, bool full) {
   const Rig& rig = scene.rig;
   const EngineParams& p = scene.params;
   ArticulatedBodyData& d = s.articulated;
-  d.torque_per_omega = (p.angular_velocity_factor - 1.0) / p.dt;  // the explicit factor torque
-  d.cancel_gyroscopic = !p.gyroscopic;
-
-  element_tangents(scene, s);
+  element_tangents(scene, full, s);
   add_stiffness_rate_forces(scene, h, s);  // tau - h K v
   articulated_velocity_pass(rig, s, d);    // rigid inertias, bias forces
   velocity_product_accels(rig, d, s.accel_bias);
-  const bool full = p.implicit_linearisation == ImplicitLinearisation::kFull;
   if (full) rest_accelerations(scene, s);           // a0 and W, for the pose terms
   augment_bodies(scene, h, step_damping(p, s), s);  // + h D + h^2 K of body elements
   d.pose_terms = false;
@@ -177,6 +185,31 @@ JointSolveStats solve_implicit(const Scene& scene, SimState& s, double h) {
   joint_blocks(rig, h, s);                // + h^2 K of joint elements
   articulated_backward_pass(rig, d);
   articulated_forward_pass(rig, s, d);
+}
+
+}  // namespace
+
+JointSolveStats solve_implicit(const Scene& scene, SimState& s, double h) {
+  const Rig& rig = scene.rig;
+  const EngineParams& p = scene.params;
+  ArticulatedBodyData& d = s.articulated;
+  d.torque_per_omega = (p.angular_velocity_factor - 1.0) / p.dt;  // the explicit factor torque
+  d.cancel_gyroscopic = !p.gyroscopic;
+
+  const bool full = p.implicit_linearisation == ImplicitLinearisation::kFull;
+  if (full && s.pose_term_selection.gauss_newton_retake) {  // kept for a Gauss-Newton retake
+    std::copy(s.force_world.begin(), s.force_world.end(), s.step_force_world.begin());
+    std::copy(s.torque_world.begin(), s.torque_world.end(), s.step_torque_world.begin());
+  }
+  linearised_step(scene, s, h, full);
+  if (full && s.pose_term_selection.gauss_newton_retake && !d.pose_terms_positive) {
+    // a pivot's symmetric part is not positive definite with the pose terms: the step is taken
+    // again with the Gauss-Newton system, whose pivots' are (implicit_step.h)
+    std::copy(s.step_force_world.begin(), s.step_force_world.end(), s.force_world.begin());
+    std::copy(s.step_torque_world.begin(), s.step_torque_world.end(), s.torque_world.begin());
+    linearised_step(scene, s, h, false);
+    ++s.implicit_gauss_newton_steps;
+  }
   articulated_joint_forces(rig, s);
 
   JointSolveStats stats;

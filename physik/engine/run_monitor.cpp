@@ -284,6 +284,7 @@ void fill_final_state(const Scene& scene, const SimState& s, RunSummary& out) {
   out.damping_auto_updates = s.damping_auto_updates;
   out.implicit_split_steps = s.implicit_split_steps;
   out.implicit_max_substeps = s.implicit_max_substeps;
+  out.implicit_gauss_newton_steps = s.implicit_gauss_newton_steps;
 }
 
 std::string divergence_hint(const Scene& scene) {

@@ -56,6 +56,8 @@ struct RunSummary {
   int damping_auto_updates = 0;     // how often it was chosen (start + target changes)
   int implicit_split_steps = 0;     // scheme implicit: steps the energy guard split in
   int implicit_max_substeps = 0;    //   halves, and the most substeps of one (implicit_advance.h)
+  int implicit_gauss_newton_steps = 0;  // implicit_linearisation full: (sub)steps retaken as
+                                        //   Gauss-Newton (implicit_step.h)
   Pose final_pose;
   BoneFrames final_frames;
 };

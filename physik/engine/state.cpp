@@ -30,6 +30,9 @@ void size_state(const Rig& rig, std::size_t ncontrol, SimState& s) {
   s.rest_wrench.assign(n, Vec6::Zero());
   s.torsion_torque_world.assign(n, Vec3::Zero());
   s.pose_rate.assign(n, Vec6::Zero());
+  s.step_force_world.assign(n, Vec3::Zero());
+  s.step_torque_world.assign(n, Vec3::Zero());
+  s.implicit_gauss_newton_steps = 0;
   s.implicit_snapshots.clear();  // sized by init_state for implicit scenes (implicit_advance.h)
   s.implicit_split_steps = 0;
   s.implicit_max_substeps = 0;

@@ -32,6 +32,10 @@ struct PoseTermSelection {
   bool turning_accelerations = true;  // (4)
   bool torsion_in_wrench = false;     // the torsion torques in (1)'s wrench (the shared DESIGN.md
                                       // sketch, with torque_frame off)
+  bool gauss_newton_retake = true;    // a step whose recursion meets a pivot whose symmetric
+                                      // part is not positive definite is taken again as
+                                      // Gauss-Newton (off: the bare recursion, for the dense
+                                      // comparisons)
   bool needs_rest() const { return inertia_wrench || inertia_turn || turning_accelerations; }
 };
 
@@ -84,13 +88,16 @@ struct SimState {
   // torques (world, N m) and the pose terms' rate z(v)
   PoseTermSelection pose_term_selection;
   ArticulatedBodyData articulated_rest;
-  std::vector<Vec6> rest_wrench;           // (nbone)
-  std::vector<Vec3> torsion_torque_world;  // (nbone)
-  std::vector<Vec6> pose_rate;             // (nbone)
+  std::vector<Vec6> rest_wrench;                          // (nbone)
+  std::vector<Vec3> torsion_torque_world;                 // (nbone)
+  std::vector<Vec6> pose_rate;                            // (nbone)
+  std::vector<Vec3> step_force_world, step_torque_world;  // (nbone) the forces, kept for a
+                                                          //   Gauss-Newton retake, N; N m
   std::vector<JointStateSnapshot>
-      implicit_snapshots;         // (implicit_max_splits + 1) the energy guard's
-  int implicit_split_steps = 0;   // steps the energy guard split (implicit_advance.h)
-  int implicit_max_substeps = 0;  // the most substeps one step took
+      implicit_snapshots;               // (implicit_max_splits + 1) the energy guard's
+  int implicit_gauss_newton_steps = 0;  // full steps taken as gauss-newton (implicit_step.h)
+  int implicit_split_steps = 0;         // steps the energy guard split (implicit_advance.h)
+  int implicit_max_substeps = 0;        // the most substeps one step took
 
   // --- damping_auto (linear_modes.h) ---
   double damping_auto_value = 0.0;  // N s/m, the damping chosen at the last target change

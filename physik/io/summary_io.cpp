@@ -59,6 +59,9 @@ nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s) {
   if (scene.params.scheme == Scheme::kImplicit) {
     out["implicit_split_steps"] = s.implicit_split_steps;
     out["implicit_max_substeps"] = s.implicit_max_substeps;
+    if (scene.params.implicit_linearisation == ImplicitLinearisation::kFull) {
+      out["implicit_gauss_newton_steps"] = s.implicit_gauss_newton_steps;
+    }
   }
   return out;
 }

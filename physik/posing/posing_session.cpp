@@ -159,7 +159,9 @@ SolveResult PosingSession::solve(const SolveRule& rule) {
   start_effective_world_ = state_.target_effective_world;
   start_interp_left_ = state_.interp_steps_left;
   start_damping_auto_ = state_.damping_auto_value;
-  state_.implicit_split_steps = state_.implicit_max_substeps = 0;  // the summary's are this solve's
+  // the summary's are this solve's
+  state_.implicit_split_steps = state_.implicit_max_substeps = 0;
+  state_.implicit_gauss_newton_steps = 0;
   out.tolerance = rule.tolerance > 0.0 ? rule.tolerance : rule.tolerance_fraction * reach_;
   RunRules rules = run_rules(scene_);
   rules.stop_at_residual = true;

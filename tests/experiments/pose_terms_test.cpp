@@ -117,7 +117,8 @@ void recursive_step(const Scene& scene, SimState& s, double h, const PoseTermSel
   step(bare, s, h);
 }
 
-Worst compare_with_dense(const PoseTermSelection& use, Variant dense_variant, unsigned seed) {
+Worst compare_with_dense(PoseTermSelection use, Variant dense_variant, unsigned seed) {
+  use.gauss_newton_retake = false;  // the bare recursion: the dense step has no retake
   std::mt19937 rng(seed);
   Worst w;
   for (int trial = 0; trial < 24; ++trial) {
@@ -182,6 +183,38 @@ TEST(PoseTerms, TheInertiasTermsAloneAreTheDensePoseInertiaStep) {
   PoseTermSelection use;
   use.forces = use.torque_frame = false;
   expect_equal("the inertia's terms", use, Variant::kPoseInertia);
+}
+
+// The shipped full step retakes a step as Gauss-Newton exactly where the recursion with the pose
+// terms met a pivot (or the root's 6x6) whose symmetric part is not positive definite, and only
+// there; the retaken step is the Gauss-Newton step. The random poses give both cases.
+TEST(PoseTerms, APivotNotPositiveRetakesTheStepAsGaussNewton) {
+  std::mt19937 rng(11);
+  int retaken = 0, kept = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    PoseCase pc = random_pose_case(rng, 2 + trial % 7, TorsionTorque::kGradient);
+    for (double h : {0.05, 1.0, 20.0}) {
+      SCOPED_TRACE(testing::Message() << "trial " << trial << " h " << h);
+      PoseTermSelection bare_terms;
+      bare_terms.gauss_newton_retake = false;
+      SimState shipped = pc.s, bare = pc.s, gauss_newton = pc.s;
+      recursive_step(pc.scene, shipped, h, PoseTermSelection{});
+      recursive_step(pc.scene, bare, h, bare_terms);
+      Scene gn = pc.scene;
+      gn.params.implicit_linearisation = ImplicitLinearisation::kGaussNewton;
+      step(gn, gauss_newton, h);
+      const bool positive = bare.articulated.pose_terms_positive;
+      const SimState& expected = positive ? bare : gauss_newton;
+      EXPECT_EQ(shipped.implicit_gauss_newton_steps, positive ? 0 : 1);
+      EXPECT_EQ(joint_velocity(shipped), joint_velocity(expected));
+      EXPECT_NE(joint_velocity(bare), joint_velocity(gauss_newton));
+      (positive ? kept : retaken) += 1;
+    }
+  }
+  EXPECT_GT(retaken, 0);
+  EXPECT_GT(kept, 0);
+  std::cout << "retaken as Gauss-Newton " << retaken << ", kept " << kept << " of "
+            << retaken + kept << " steps\n";
 }
 
 // Term by term: each term dropped from the full step, and the shared DESIGN.md sketch, miss the
