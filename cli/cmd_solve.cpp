@@ -64,11 +64,31 @@ SceneSolveOptions solve_options(const SolveOptions& o, const CLI::App& cmd) {
   return out;
 }
 
+// The solve mode (--solver physik) runs the implicit scheme whatever the scene's: an --set of a
+// row that only the implicit scheme reads (implicit_linearisation, implicit_max_splits) is the
+// run's, so scheme=implicit goes in front of the overrides
+std::vector<std::string> solve_mode_overrides(const std::vector<std::string>& set) {
+  const EngineParams scene_default = preset_params("original");
+  EngineParams implicit = scene_default;
+  implicit.scheme = Scheme::kImplicit;
+  for (const std::string& assignment : set) {
+    const ParamRow* row = find_param(assignment.substr(0, assignment.find('=')));
+    if (row && row->conflict && !row->conflict(scene_default).empty() &&
+        row->conflict(implicit).empty()) {
+      std::vector<std::string> out{"scheme=implicit"};
+      out.insert(out.end(), set.begin(), set.end());
+      return out;
+    }
+  }
+  return set;
+}
+
 void run_solve(const SolveOptions& o, const CLI::App& cmd) {
-  const ParamOverrides overrides = parse_param_overrides(o.set, "--set");
   if (!std::filesystem::exists(o.scene))
     throw_input_error(o.scene, "", "", "scene file does not exist");
   const SceneSolveOptions options = solve_options(o, cmd);
+  const ParamOverrides overrides = parse_param_overrides(
+      options.solver == "physik" ? solve_mode_overrides(o.set) : o.set, "--set");
   check_solve_options(options);  // before the scene: a bad flag is reported first
   const Scene scene = load_scene(o.scene, overrides);
   create_output_dir(o.out, "--out");

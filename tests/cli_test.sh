@@ -184,6 +184,14 @@ if [ "$rows" -eq 18 ]; then pass=$((pass+1)); else
 check "solve mode at the paper's damping" 0 "$bin" solve "$tmp/s4.json" --solver physik --out "$tmp/solve_mode" --quiet
 expect_in "solve mode converged" "$tmp/solve_mode/summary.json" '"converged": true'
 expect_in "solve mode growth" "$tmp/solve_mode/summary.json" '"dt_growth"'
+# the solve mode's step with the pose terms: an implicit-only --set is the run's on a scene of
+# another scheme, the summary counts the Gauss-Newton retakes; a solver that runs the scene's
+# scheme refuses it
+check "solve mode full" 0 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" --solver physik --set implicit_linearisation=full --out "$tmp/solve_full" --quiet
+expect_in "solve mode full converged" "$tmp/solve_full/summary.json" '"converged": true'
+expect_in "solve mode full retakes" "$tmp/solve_full/summary.json" '"implicit_gauss_newton_steps"'
+check "solve explicit refuses full" 2 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" --solver physik-explicit --set implicit_linearisation=full --out "$tmp/solve_full2" --quiet
+expect_in "solve explicit refuses full message" "$tmp/err" "applies to the implicit scheme only"
 check "solve hybrid" 0 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" --solver physik-explicit --finish dls --out "$tmp/solve_hyb" --quiet
 expect_in "solve hybrid finish" "$tmp/solve_hyb/summary.json" '"finish": "dls"'
 # the finish takes the classic solvers' flags: 15 physics steps, then DLS held to 2 iterations
