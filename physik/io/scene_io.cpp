@@ -253,14 +253,12 @@ void read_contacts_and_gravity(const JsonContext& top, const Json& doc, Scene& s
   if (doc.contains("gravity")) s.gravity_world = bounded_vec3(top, doc, "gravity");
 }
 
-// The contact rows take part only where something can touch: given for a scene without a ground
-// or self_collision they would change nothing, and are refused like any unused value.
+// the contact rows given for a scene without contacts (contact_param_conflict): refused like any
+// value the run would not use
 void check_contact_params(const Scene& s, const ParamOverrides& overrides) {
-  if (s.collision.any()) return;
-  for (const char* name : {"contact_k", "contact_damping", "friction", "friction_speed"}) {
-    const auto& given = s.params_given;
-    if (std::find(given.begin(), given.end(), name) == given.end()) continue;
-    const std::string why = "applies only to a scene with a ground or \"self_collision\": true";
+  for (const std::string& name : s.params_given) {
+    const std::string why = contact_param_conflict(s, name);
+    if (why.empty()) continue;
     if (overrides.has(name)) throw_input_error(overrides.source, "", name, why);
     throw_input_error(s.file, "params", name, why);
   }
@@ -324,6 +322,14 @@ void read_old_scheme_keys(const JsonContext& ctx, const Json& params,
 }
 
 }  // namespace
+
+std::string contact_param_conflict(const Scene& s, const std::string& name) {
+  if (s.collision.any()) return "";
+  for (const char* row : {"contact_k", "contact_damping", "friction", "friction_speed"}) {
+    if (name == row) return "applies only to a scene with a ground or \"self_collision\": true";
+  }
+  return "";
+}
 
 EngineParams params_from_json(const Json& params, const std::string& source,
                               const ParamOverrides& overrides,
