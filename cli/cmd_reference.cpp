@@ -8,6 +8,7 @@
 #include "cli/commands.h"
 #include "physik/io/output_files.h"
 #include "physik/io/rig_io.h"
+#include "physik/io/scene_io.h"
 #include "physik/model/errors.h"
 #include "reference/mjcf_export.h"
 
@@ -20,7 +21,17 @@ struct ExportMjcfOptions {
   std::string out;             // "" or "-" = stdout
   std::string joints = "rig";  // rig | ball
   double dt = 0.05;            // s
+  std::string contacts;        // a scene file whose gravity, ground and self-collision to write
 };
+
+// the options with --contacts' gravity, ground and self-collision; its rig must be RIG's
+MjcfOptions with_scene_contacts(const ExportMjcfOptions& opt, const Rig& rig, MjcfOptions o) {
+  const Scene scene = load_scene(opt.contacts);
+  if (scene.rig.bone_name != rig.bone_name) {
+    throw_input_error(opt.contacts, "", "rig", "not the rig of " + opt.rig + " (its bones differ)");
+  }
+  return mjcf_contacts(scene, o);
+}
 
 }  // namespace
 
@@ -29,8 +40,9 @@ void add_reference_commands(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "export-mjcf",
       "Print the rig as MuJoCo MJCF: one body per bone with PhysIK's mass and inertia, a free "
-      "root, ball/hinge/welded joints from the rig's limits (or balls everywhere), no gravity, no "
-      "contacts, Euler integrator. The MJCF is compiled by MuJoCo before it is printed.");
+      "root, ball/hinge/welded joints from the rig's limits (or balls everywhere), Euler "
+      "integrator; no gravity and no contacts unless --contacts gives a scene. The MJCF is "
+      "compiled by MuJoCo before it is printed.");
   cmd->add_option("RIG", opt->rig, "Rig file (JSON, see models/README.md)")->required();
   cmd->add_option(
       "--out", opt->out,
@@ -43,6 +55,10 @@ void add_reference_commands(CLI::App& app) {
       ->check(CLI::IsMember({"rig", "ball"}))
       ->capture_default_str();
   cmd->add_option("--dt", opt->dt, "Time step, s")->capture_default_str();
+  cmd->add_option("--contacts", opt->contacts,
+                  "A scene file on the same rig: write its gravity, ground plane and "
+                  "self-collision (the bones' collision capsules, pairs sharing a joint and its "
+                  "collision_exclude pairs left out) and its friction");
   cmd->callback([opt] {
     check_mjcf_timestep(opt->dt, "--dt");
     const Rig rig = load_rig(opt->rig);
@@ -50,6 +66,7 @@ void add_reference_commands(CLI::App& app) {
     o.joints = opt->joints == "ball" ? JointModel::kBallJoints : JointModel::kRigJoints;
     o.dt = opt->dt;
     o.source = opt->rig;
+    if (!opt->contacts.empty()) o = with_scene_contacts(*opt, rig, o);
     // deep rigs: the main file and include files beside it (MuJoCo's parser nests ~100 deep)
     const bool to_stdout = opt->out.empty() || opt->out == "-";
     const std::filesystem::path out(to_stdout ? "physik_rig.xml" : opt->out);

@@ -62,6 +62,10 @@ void update_params(Scene& s, const nlohmann::json& changes, const std::string& s
   for (const auto& [key, value] : changes.items()) read[key] = value;
   s.params = params_from_json(read, source);
   for (const auto& [key, value] : changes.items()) {
+    const std::string why = contact_param_conflict(s, key);
+    if (!why.empty()) throw_input_error(source, "params", key, why);
+  }
+  for (const auto& [key, value] : changes.items()) {
     if (key != "preset" &&
         std::find(s.params_given.begin(), s.params_given.end(), key) == s.params_given.end()) {
       s.params_given.push_back(key);

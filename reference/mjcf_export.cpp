@@ -181,9 +181,41 @@ void write_body(std::ostringstream& x, const MjcfWriter& w, int i, int depth, in
   x << in << "<inertial pos=\"0 0 0\" mass=\"" << num(rig.bone_mass[i]) << "\" diaginertia=\""
     << vec(rig.bone_inertia_local[i]) << "\"/>\n";
   x << in << "<geom name=\"" << xml_attr(rig.bone_name[i]) << "\" type=\"capsule\" fromto=\"0 "
-    << num(-0.5 * L) << " 0 0 " << num(0.5 * L) << " 0\" size=\"" << num(0.06 * L) << "\"/>\n";
+    << num(-0.5 * L) << " 0 0 " << num(0.5 * L) << " 0\" size=\""
+    << num(rig.bone_collision_radius[i]) << "\"/>\n";
   write_children(x, w, i, depth, file_depth);
   x << pad << "</body>\n";
+}
+
+// the ground plane: through height x normal, its z axis the normal; it collides with the bones
+// (contype 1) but they are not its type (contype 0: planes never collide with each other)
+void write_ground(std::ostringstream& x, const GroundPlane& g) {
+  x << "    <geom name=\"ground\" type=\"plane\" size=\"0 0 1\" pos=\""
+    << vec(g.height * g.normal_world) << "\" zaxis=\"" << vec(g.normal_world)
+    << "\" contype=\"0\" conaffinity=\"1\" rgba=\"0.5 0.5 0.5 1\"/>\n";
+}
+
+// the pairs PhysIK never collides that MuJoCo's filterparent leaves in: two children of one
+// parent, and the scene's excluded pairs
+void write_exclusions(std::ostringstream& x, const Rig& rig, const CollisionSettings& c) {
+  std::vector<std::pair<int, int>> pairs = c.excluded_pairs;
+  for (int p = 0; p < rig.nbone; ++p) {
+    const std::vector<int>& kids = rig.bone_children[p];
+    for (std::size_t a = 0; a < kids.size(); ++a) {
+      for (std::size_t b = a + 1; b < kids.size(); ++b) {
+        pairs.emplace_back(std::min(kids[a], kids[b]), std::max(kids[a], kids[b]));
+      }
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  if (pairs.empty()) return;
+  x << "  <contact>\n";
+  for (const auto& [a, b] : pairs) {
+    x << "    <exclude body1=\"" << xml_attr(rig.bone_name[a]) << "\" body2=\""
+      << xml_attr(rig.bone_name[b]) << "\"/>\n";
+  }
+  x << "  </contact>\n";
 }
 
 // the main file around the root body
@@ -214,15 +246,26 @@ std::string write_main(const MjcfWriter& w) {
     << " -->\n";
   x << "<mujoco model=\"" << xml_attr(rig.name.empty() ? "rig" : rig.name) << "\">\n";
   x << "  <compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n";
-  x << "  <option timestep=\"" << num(o.dt) << "\" gravity=\"0 0 0\" integrator=\"Euler\">\n";
-  x << "    <flag contact=\"disable\"/>\n";
+  const bool contacts = o.collision.any();
+  const std::string gravity = o.gravity.isZero(0.0) ? "0 0 0" : vec(o.gravity);
+  x << "  <option timestep=\"" << num(o.dt) << "\" gravity=\"" << gravity
+    << "\" integrator=\"Euler\">\n";
+  if (!contacts) x << "    <flag contact=\"disable\"/>\n";
   x << "  </option>\n";
   x << "  <default>\n";
-  x << "    <geom contype=\"0\" conaffinity=\"0\" rgba=\"0.8 0.6 0.4 1\"/>\n";
+  if (contacts) {
+    const char* affinity = o.collision.self_collision ? "1" : "0";
+    x << "    <geom contype=\"1\" conaffinity=\"" << affinity << "\" friction=\"" << num(o.friction)
+      << " 0.005 0.0001\" rgba=\"0.8 0.6 0.4 1\"/>\n";
+  } else {
+    x << "    <geom contype=\"0\" conaffinity=\"0\" rgba=\"0.8 0.6 0.4 1\"/>\n";
+  }
   x << "  </default>\n";
   x << "  <worldbody>\n";
+  if (o.collision.ground) write_ground(x, *o.collision.ground);
   write_body(x, w, rig.root(), 2, 1);
   x << "  </worldbody>\n";
+  if (o.collision.self_collision) write_exclusions(x, rig, o.collision);
   x << "</mujoco>\n";
   return x.str();
 }
@@ -232,6 +275,13 @@ std::string write_main(const MjcfWriter& w) {
 Quat mjcf_joint_offset(const Rig& rig, int bone, JointModel joints) {
   if (bone == rig.root() || joints == JointModel::kBallJoints) return Quat::Identity();
   return locked_rotation(rig.bone_limit[bone]);
+}
+
+MjcfOptions mjcf_contacts(const Scene& scene, MjcfOptions o) {
+  o.gravity = scene.gravity_world;
+  o.collision = scene.collision;
+  o.friction = scene.params.friction;
+  return o;
 }
 
 std::string rig_to_mjcf(const Rig& rig, const MjcfOptions& o) {

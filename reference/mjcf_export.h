@@ -26,9 +26,19 @@
 //     0 DOF                    no joint: welded at its locked angles
 //   kBallJoints (same-forces mode): a ball at every non-root bone and no limits, i.e. exactly the
 //     freedom of PhysIK's bones, whose limits are torsion springs applied as forces.
-// Physics: no gravity, contacts disabled and every geom contype = conaffinity = 0, the Euler
-// integrator, timestep = the scene's dt. Geoms are thin capsules for viewing only
-// (inertiafromgeom="false": they carry no mass).
+// Physics: the Euler integrator, timestep = the scene's dt. Geoms are the bones' collision
+// capsules (rig.h bone_collision_radius, by default 0.06 x the length) and carry no mass
+// (inertiafromgeom="false"). By default (MjcfOptions without contacts) no gravity, contacts
+// disabled and every geom contype = conaffinity = 0: the capsules are for viewing only.
+// With the scene's contacts and gravity (mjcf_contacts):
+//   <option gravity> the scene's; the ground a plane geom (contype 0, conaffinity 1) through
+//   height x normal with its z axis along the normal; the bones contype 1, conaffinity 1 with
+//   self-collision (else 0: they touch the plane only); friction "mu 0.005 0.0001" (sliding mu,
+//   MuJoCo's default torsional and rolling); MuJoCo's default solref (0.02 1) and solimp: its
+//   soft contacts are its own, not PhysIK's penalty law (contacts.h), and the comparison says so.
+//   Bones that share a joint never collide in PhysIK: MuJoCo's filterparent flag (on by default)
+//   drops parent-child pairs, and <contact><exclude> drops the rest (two children of one parent)
+//   and the scene's collision_exclude pairs.
 // Units: the rig's (rig units, kg, s), angles in radians (compiler angle="radian").
 #pragma once
 
@@ -39,6 +49,7 @@
 #include <mujoco/mujoco.h>
 
 #include "physik/model/rig.h"
+#include "physik/model/scene.h"
 
 namespace physik {
 
@@ -48,7 +59,14 @@ struct MjcfOptions {
   JointModel joints = JointModel::kRigJoints;
   double dt = 0.05;    // s, <option timestep>
   std::string source;  // the rig's file, for error messages ("" = the rig's name)
+  // contacts and gravity (none by default: the MJCF of a rig as it has always been written)
+  Vec3 gravity = Vec3::Zero();  // rig units/s^2
+  CollisionSettings collision;  // the ground and self-collision
+  double friction = 1.0;        // sliding mu
 };
+
+// The options above with a scene's gravity, ground, self-collision and friction.
+MjcfOptions mjcf_contacts(const Scene& scene, MjcfOptions options);
 
 // Deepest body tree written (bones from the root to the deepest leaf): the writer recurses once
 // per level, and MuJoCo's compile grows about as N^3 on chains long before this; a deeper rig is an

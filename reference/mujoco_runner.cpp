@@ -89,7 +89,7 @@ MujocoReference::MujocoReference(const Scene& scene, ReferenceMode mode)
   o.joints = joint_model(mode);
   o.dt = scene.params.dt;
   o.source = scene.rig_file;
-  m_ = rig_to_mjmodel(scene.rig, o);
+  m_ = rig_to_mjmodel(scene.rig, mjcf_contacts(scene, o));  // MuJoCo's own gravity and contacts
   d_.reset(mj_makeData(m_.get()));
   reset();
 }
@@ -120,7 +120,11 @@ StepStats MujocoReference::step() {
 
   // PhysIK's own force stages on the PhysIK view of MuJoCo's state
   update_targets(scene_, s_);
-  apply_forces(scene_, s_, {mode_ == ReferenceMode::kSameForces});
+  ForceSelection forces;
+  forces.torsion_springs = mode_ == ReferenceMode::kSameForces;
+  forces.gravity = false;   // MuJoCo's <option gravity> (mjcf_contacts)
+  forces.contacts = false;  // MuJoCo's own contacts against the same capsules and plane
+  apply_forces(scene_, s_, forces);
 
   // the angular-velocity factor as a torque, and the external forces into MuJoCo
   const double torque_per_w = (p.angular_velocity_factor - 1.0) / p.dt;

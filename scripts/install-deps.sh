@@ -7,6 +7,7 @@ packages=(
   libeigen3-dev nlohmann-json3-dev libcli11-dev
   libmujoco-dev libqhull-dev libmujoco-samples
   libceres-dev
+  libfcl-dev
   libgtest-dev libbenchmark-dev
   liborocos-kdl-dev
   python3-matplotlib python3-numpy

@@ -83,6 +83,31 @@ expect_in "override each kind: max_passes" "$tmp/kinds/summary.json" '"max_passe
 expect_in "override each kind: centripetal" "$tmp/kinds/summary.json" '"centripetal": true'
 expect_in "override each kind: torsion_spring" "$tmp/kinds/summary.json" '"torsion_spring": "capped"'
 
+# contacts and gravity: each bad value exits 2 naming its field
+rig="$src/models/rigs/elbow.json"
+bad_contact() {  # bad_contact NAME JSON_FIELDS EXPECTED_TEXT
+  printf '{"rig": "%s", %s}' "$rig" "$2" > "$tmp/c.json"
+  check "contacts: $1" 2 "$bin" simulate "$tmp/c.json" --out "$tmp/x" --quiet
+  expect_in "contacts: $1 message" "$tmp/err" "$3"
+}
+bad_contact "zero normal" '"ground": {"height": 0, "normal": [0, 0, 0]}' "c.json: ground: field 'normal': zero length"
+bad_contact "gravity not a vector" '"gravity": [0, 0]' "c.json: field 'gravity': expected an array of 3 numbers"
+bad_contact "gravity beyond range" '"gravity": [0, 0, 1e300]' "c.json: field 'gravity': a coordinate beyond +-1e9"
+bad_contact "gravity not a number" '"gravity": [0, "x", 0]' "c.json: field 'gravity[1]': expected a number"
+bad_contact "unknown bone excluded" '"self_collision": true, "collision_exclude": [["upper_arm", "wrist"]]' "c.json: field 'collision_exclude[0]': unknown bone 'wrist'"
+bad_contact "negative stiffness" '"ground": {"height": 0}, "params": {"contact_k": -1}' "c.json: params: field 'contact_k'"
+bad_contact "contact params without contacts" '"params": {"contact_k": 100}' "c.json: params: field 'contact_k': applies only to a scene with a ground"
+printf '{"bones": [{"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,1], "collision_radius": -0.1}]}' > "$tmp/negr.json"
+printf '{"rig": "%s", "ground": {"height": 0}}' "$tmp/negr.json" > "$tmp/c.json"
+check "contacts: negative radius" 2 "$bin" simulate "$tmp/c.json" --out "$tmp/x" --quiet
+expect_in "contacts: negative radius message" "$tmp/err" "negr.json: bones[0] 'a': field 'collision_radius': must be positive"
+printf '{"defaults": {"collision_radius": -1}, "bones": [{"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,1]}]}' > "$tmp/negd.json"
+check "contacts: negative default radius" 2 "$bin" rig info "$tmp/negd.json"
+expect_in "contacts: negative default radius message" "$tmp/err" "negd.json: defaults: field 'collision_radius': must be positive"
+printf '{"rig": "%s", "ground": {"height": -1}, "gravity": [0, 0, -9.81], "params": {"dt": 0.01}}' "$rig" > "$tmp/drop.json"
+check "contacts: a drop runs" 0 "$bin" simulate "$tmp/drop.json" --out "$tmp/drop" --steps 20 --quiet
+expect_in "contacts: the scene keeps its ground" "$tmp/drop/scene.json" '"ground"'
+
 # params: the parameter table, for people and for the report
 check "params help" 0 "$bin" params --help
 check "params" 0 "$bin" params

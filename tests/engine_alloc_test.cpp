@@ -81,6 +81,32 @@ TEST(EngineAllocations, ASplitImplicitStepAllocatesNothing) {
   EXPECT_GT(s.implicit_split_steps, 0) << "the case must split to test the split";
 }
 
+// Contacts in every scheme: pinhead's feet in a floor under gravity, its hands pulled toward its
+// torso with self-collision, so that ground contacts are found every step and FCL's broad phase is
+// refitted and its capsule distances asked (for the pairs whose boxes overlap). The contact lists
+// are reserved by init_state; FCL's tree update and distance queries must not allocate either.
+TEST(EngineAllocations, ContactStepsAllocateNothing) {
+  for (const Scheme scheme : {Scheme::kGaussSeidel, Scheme::kExact, Scheme::kImplicit}) {
+    Scene scene = load_scene(test::model_path("scenes/pinhead_two_hands.json"));
+    scene.params.scheme = scheme;
+    scene.params.dt = scheme == Scheme::kImplicit ? 0.05 : 0.002;
+    scene.params.interpolation = Interpolation::kNone;
+    scene.gravity_world = Vec3(0, 0, -9.81);
+    scene.collision.ground = GroundPlane{Vec3::UnitZ(), -2.45};  // the feet sink at once
+    scene.collision.self_collision = true;
+    for (ControlPoint& c : scene.control_points) c.target_world = Vec3(0.0, 0.0, 1.0);
+    SimState s;
+    init_state(scene, s);
+    for (int n = 0; n < 20; ++n) step(scene, s);  // warm up
+    g_allocations = 0;
+    g_counting = true;
+    for (int n = 0; n < 50; ++n) step(scene, s);
+    g_counting = false;
+    EXPECT_GT(s.contacts.size(), 0u) << to_string(scheme);
+    EXPECT_EQ(g_allocations.load(), 0) << to_string(scheme);
+  }
+}
+
 // The embedding API's per-frame calls allocate nothing either: a target moved, a few steps, and
 // a physics-only solve.
 TEST(EngineAllocations, PosingSessionCallsAllocateNothing) {

@@ -7,6 +7,8 @@
 
 A file may include its own layer and the layers below it, never one above or beside it. Besides:
   - the core (physik/) includes neither MuJoCo nor Ceres;
+  - FCL (collision detection) is included only by physik/engine's .cpp files, never by a
+    header, so no code above the engine compiles against it;
   - no header of physik/model, physik/engine, physik/ik or physik/posing reaches a JSON library, even through
     other headers (only physik/io and above read or write files);
   - inside physik/engine, the step (engine.h) and the run monitor (run_monitor.h) are the top: a stage or
@@ -38,6 +40,7 @@ ALLOWED["viewer"] = CORE | {"viewer"}
 ALLOWED["cli"] = ALLOWED["cli"] | {"viewer"}
 JSON_FREE = {"physik/model", "physik/engine", "physik/ik", "physik/posing"}
 FORBIDDEN_IN_CORE = ("mujoco/", "ceres/")
+FCL = "fcl/"
 
 # inside physik/engine: the files only their own .cpp and the step may include
 ENGINE_TOP = {"physik/engine/engine.h": {"physik/engine/engine.cpp"},
@@ -80,6 +83,9 @@ def check(repo):
             if kind == "<":
                 if layer in CORE and inc.startswith(FORBIDDEN_IN_CORE):
                     problems.append("%s: the core includes <%s> (no MuJoCo, no Ceres in physik/)" % (path, inc))
+                if inc.startswith(FCL) and not (layer == "physik/engine" and path.endswith(".cpp")):
+                    problems.append("%s: includes <%s> (FCL only in physik/engine's .cpp files)"
+                                    % (path, inc))
                 continue
             if layer == "physik/engine" and inc in ENGINE_TOP and path not in ENGINE_TOP[inc]:
                 problems.append("%s: includes \"%s\", above the stages inside physik/engine" % (path, inc))
@@ -157,6 +163,18 @@ class LayeringTest(unittest.TestCase):
         with tempfile.TemporaryDirectory() as root:
             self.write(root, "physik/io/x.cpp", "#include <mujoco/mujoco.h>\n")
             self.assertIn("no MuJoCo", check(root)[0])
+
+    def test_fcl_outside_the_engine_sources_fails(self):
+        with tempfile.TemporaryDirectory() as root:
+            fcl = "#include <fcl/narrowphase/distance.h>\n"
+            self.write(root, "physik/engine/collision.cpp", fcl)
+            self.write(root, "physik/engine/collision.h", "#include <fcl/geometry/shape/capsule.h>\n")
+            self.write(root, "reference/r.cpp", "#include <fcl/narrowphase/distance.h>\n")
+            self.assertEqual(sorted(check(root)), [
+                "physik/engine/collision.h: includes <fcl/geometry/shape/capsule.h> "
+                "(FCL only in physik/engine's .cpp files)",
+                "reference/r.cpp: includes <fcl/narrowphase/distance.h> "
+                "(FCL only in physik/engine's .cpp files)"])
 
     def test_a_stage_including_the_step_fails(self):
         with tempfile.TemporaryDirectory() as root:

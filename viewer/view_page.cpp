@@ -132,26 +132,34 @@ nlohmann::json run_json(const ViewRun& r) {
     cps["bones"].push_back(c.bone);
     cps["alphas"].push_back(c.alpha);
   }
-  return {{"label", r.label},
-          {"folder", r.folder},
-          {"rig", rig.name},
-          {"bones",
-           {{"names", rig.bone_name}, {"parents", rig.bone_parent}, {"radii", rig.bone_radius}}},
-          {"control_points", cps},
-          {"dt", r.scene.params.dt},
-          {"frames", r.steps.size()},
-          {"rows_recorded", r.rows_recorded},
-          {"summary", summary_fields(r.summary)},
-          {"notes", r.notes},
-          {"steps", b64(r.steps)},
-          {"times", b64(r.times)},
-          {"kinetic_energy", b64(r.kinetic_energy)},
-          {"max_residual", b64(r.max_residual)},
-          {"max_residual_point", b64(r.max_residual_point)},
-          {"positions", b64(r.positions)},
-          {"targets", b64(r.targets)},
-          {"limit_excess",
-           r.limit_excess.empty() ? nlohmann::json(nullptr) : nlohmann::json(b64(r.limit_excess))}};
+  nlohmann::json out = {
+      {"label", r.label},
+      {"folder", r.folder},
+      {"rig", rig.name},
+      {"bones",
+       {{"names", rig.bone_name}, {"parents", rig.bone_parent}, {"radii", rig.bone_radius}}},
+      {"control_points", cps},
+      {"dt", r.scene.params.dt},
+      {"frames", r.steps.size()},
+      {"rows_recorded", r.rows_recorded},
+      {"summary", summary_fields(r.summary)},
+      {"notes", r.notes},
+      {"steps", b64(r.steps)},
+      {"times", b64(r.times)},
+      {"kinetic_energy", b64(r.kinetic_energy)},
+      {"max_residual", b64(r.max_residual)},
+      {"max_residual_point", b64(r.max_residual_point)},
+      {"positions", b64(r.positions)},
+      {"targets", b64(r.targets)},
+      {"limit_excess",
+       r.limit_excess.empty() ? nlohmann::json(nullptr) : nlohmann::json(b64(r.limit_excess))}};
+  // the scene's ground plane, only where it has one (the page draws it; others stay as they were)
+  if (r.scene.collision.ground) {
+    const GroundPlane& g = *r.scene.collision.ground;
+    out["ground"] = {{"height", g.height},
+                     {"normal", {g.normal_world.x(), g.normal_world.y(), g.normal_world.z()}}};
+  }
+  return out;
 }
 
 // `text` with each marker of `markers` (in order of appearance) replaced by its content;

@@ -314,6 +314,29 @@
     return box;
   }
 
+  // the ground plane of the first run whose scene has one: a translucent square through the
+  // plane's point nearest the rig's centre, facing along the plane's normal
+  function buildGround(v) {
+    var g = null;
+    v.runs.forEach(function(r) {
+      if (!g && r.raw.ground) g = r.raw.ground;
+    });
+    if (!g) return;
+    var n = new THREE.Vector3().fromArray(g.normal).normalize();
+    var floor = new THREE.Mesh(
+        new THREE.PlaneBufferGeometry(2 * v.extent, 2 * v.extent), new THREE.MeshLambertMaterial({
+          color: 0x8d96a3,
+          transparent: true,
+          opacity: 0.45,
+          side: THREE.DoubleSide,
+          depthWrite: false
+        }));
+    floor.quaternion.setFromUnitVectors(new THREE.Vector3(0, 0, 1), n);
+    var off = n.dot(v.center) - g.height;
+    floor.position.copy(v.center).addScaledVector(n, -off);
+    v.scene.add(floor);
+  }
+
   function buildScene(v) {
     v.scene = new THREE.Scene();
     v.scene.background = new THREE.Color(0xf4f5f7);
@@ -328,6 +351,7 @@
     grid.rotation.x = Math.PI / 2;  // into the XY plane: the floor of a Z-up world
     grid.position.set(v.center.x, v.center.y, box.min.z);
     v.scene.add(grid);
+    buildGround(v);
     v.cylinder = new THREE.CylinderBufferGeometry(1, 1, 1, 10, 1, true);
     v.sphere = new THREE.SphereBufferGeometry(1, 10, 7);
     v.runs.forEach(function (run) { buildRunMeshes(v, run); });

@@ -27,7 +27,7 @@ import math
 AXES = ("x", "y", "z")
 TOP_KEYS = ("name", "comment", "source", "units", "defaults", "bones")
 BONE_KEYS = ("name", "parent", "head", "tail", "rest_frame", "roll_deg", "limits_deg",
-             "mass_per_length", "mass", "radius", "inertia_local", "comment")
+             "mass_per_length", "mass", "radius", "inertia_local", "collision_radius", "comment")
 DEFAULT_MASS_PER_LENGTH = 1.0  # kg per rig unit, the original code's
 DEFAULT_RADIUS = 0.5           # rig units, the original code's
 MAX_NAME_BYTES = 63            # Blender's bone names hold 63 bytes (MAXBONENAME 64 with the NUL)
@@ -311,7 +311,17 @@ def _parse_mass(b, bone, defaults, source, el):
         bone["inertia_local"] = _vec3(b["inertia_local"], source, el, "inertia_local")
         if not min(bone["inertia_local"]) > 0.0:
             raise InputError(source, el, "inertia_local", "moments must be positive")
+    _parse_collision_radius(b, bone, source, el)
     return total, radius
+
+
+def _parse_collision_radius(obj, out, source, el):
+    """The contact capsule's radius where given (rig_io.cpp read_collision_radius): positive."""
+    if obj.get("collision_radius") is None:
+        return
+    out["collision_radius"] = _number(obj["collision_radius"], source, el, "collision_radius")
+    if not out["collision_radius"] > 0.0:
+        raise InputError(source, el, "collision_radius", "must be positive")
 
 
 def _parse_bone(b, i, source, defaults):
@@ -445,13 +455,14 @@ def _parse_top(doc, source):
     defaults = doc.get("defaults", {})
     if not isinstance(defaults, dict):
         raise InputError(source, "defaults", "defaults", "expected a JSON object")
-    _only_keys(defaults, ("mass_per_length", "radius"), source, "defaults")
+    _only_keys(defaults, ("mass_per_length", "radius", "collision_radius"), source, "defaults")
     d = {"mass_per_length": _number_or(defaults, "mass_per_length", DEFAULT_MASS_PER_LENGTH,
                                        source, "defaults"),
          "radius": _number_or(defaults, "radius", DEFAULT_RADIUS, source, "defaults")}
     for key, value in d.items():
         if not value > 0.0:
             raise InputError(source, "defaults", key, "must be positive")
+    _parse_collision_radius(defaults, d, source, "defaults")
     if "bones" not in doc:
         raise InputError(source, "", "bones", "missing required field")
     if not isinstance(doc["bones"], list):

@@ -43,6 +43,15 @@ void init_state(const Scene& scene, SimState& s) {
       snap.bone_local_rotation.assign(rig.nbone, Quat::Identity());
     }
   }
+  if (scene.collision.any()) {
+    // the FCL objects and room for the contacts now, so the steps allocate nothing: two ends
+    // per bone on the ground, and as many bone pairs again (more only in a tangled rig)
+    s.collision_world.prepare(scene);
+    const std::size_t room = 4 * static_cast<std::size_t>(rig.nbone);
+    s.contacts.reserve(room);
+    s.contact_elements.reserve(room);
+    s.contact_scratch.reserve(room);
+  }
   if (scene.params.damping_auto) update_auto_damping(scene, s);
 }
 

@@ -1,5 +1,6 @@
 #include "physik/engine/forces.h"
 
+#include "physik/engine/contacts.h"
 #include "physik/engine/control_springs.h"
 #include "physik/engine/damping.h"
 #include "physik/engine/newton_euler.h"
@@ -15,6 +16,8 @@ void apply_forces(const Scene& scene, SimState& s, const ForceSelection& selecti
   apply_damping(rig, p, s);
   apply_control_springs(scene, s);
   if (selection.torsion_springs) apply_torsion_springs(rig, p, s);
+  if (selection.gravity) apply_gravity(scene, s);
+  if (selection.contacts) apply_contacts(scene, s);
 }
 
 }  // namespace physik

@@ -7,6 +7,9 @@
 //   apply_control_springs linear or capped springs toward the effective targets control_springs.h
 //   apply_torsion_springs joint-limit springs, +tau on the bone, -tau on its parent
 //   torsion_springs.h
+//   apply_gravity         m g at every centre of mass (nothing when gravity is zero)  contacts.h
+//   apply_contacts        the ground's and self-collision's penalty springs, dampers and
+//                         friction at the contacts found at this state                 contacts.h
 // Result: state.force_world (N, at the centre of mass) and state.torque_world (N m, about it),
 // world axes, per bone. The inter-joint forces are not among them: they are the joint solve's.
 #pragma once
@@ -19,6 +22,8 @@ namespace physik {
 struct ForceSelection {
   bool torsion_springs = true;  // false where joint limits are enforced otherwise (MuJoCo's own
                                 // limits in the exact-constraints reference mode)
+  bool gravity = true;          // false where gravity is applied otherwise (MuJoCo's own)
+  bool contacts = true;         // false where contacts are resolved otherwise (MuJoCo's own)
 };
 
 void apply_forces(const Scene& scene, SimState& state, const ForceSelection& selection = {});

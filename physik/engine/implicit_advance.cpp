@@ -12,7 +12,7 @@
 namespace physik {
 
 double mechanical_energy(const Scene& scene, const SimState& s) {
-  return kinetic_energy(scene.rig, s) + spring_potential(scene, s);
+  return kinetic_energy(scene.rig, s) + potential_energy(scene, s);
 }
 
 namespace {

@@ -10,7 +10,8 @@
 // its inertia is tiny, and the rig's energy grows 4.5x in that one step (the exact dynamics,
 // dt = 1e-4, reach 0.28 rad and lose energy). So every step is checked. With the targets held
 // for the step, the mechanical energy
-//   E = KE + U_control(this step's targets) + U_torsion          (J; potential.h)
+//   E = KE + U_control(this step's targets) + U_torsion + U_gravity + U_contact
+//                                                   (J; potential.h potential_energy, contacts.h)
 // may not grow by more than kEnergyGrowthTolerance (E + E_floor), E_floor = M speed_tol^2 / 2
 // (the run monitor's floor: the kinetic energy of the rig moving at its rest speed), and no joint
 // may turn by more than kMaxStepRotation in it (1 rad: the step is linear in the rotations only to
@@ -55,7 +56,7 @@ void take_implicit_step(const Scene& scene, SimState& state, double h, const voi
 int advance_implicit(const Scene& scene, SimState& state, double h,
                      BareStep bare = take_implicit_step, const void* context = nullptr);
 
-// The mechanical energy the guard holds: KE + spring_potential (J).
+// The mechanical energy the guard holds: KE + potential_energy (J; springs, gravity, contacts).
 double mechanical_energy(const Scene& scene, const SimState& state);
 
 }  // namespace physik

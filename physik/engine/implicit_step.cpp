@@ -84,8 +84,26 @@ inline void add_point_bias(const Mat3& A, const Vec3& r, const Vec6& a0, Vec6& b
   bias.tail<3>() -= f;
 }
 
+// the velocity of bone b's material point at p (rig units/s)
+inline Vec3 point_velocity(const SimState& s, int b, const Vec3& p) {
+  return s.vel_world[b] + s.omega_world[b].cross(p - s.com_world[b]);
+}
+
+// the contacts' share of -h K v: K times the relative velocity of a's point to b's (b, when a
+// bone, moving on at its start-of-step velocity: contacts.h), on a, and its opposite on b
+void add_contact_rate_forces(double h, SimState& s) {
+  for (const ContactElement& e : s.contact_elements) {
+    Vec3 v = point_velocity(s, e.bone, e.point_world);
+    if (e.other_bone >= 0) v -= point_velocity(s, e.other_bone, e.point_world);
+    const Vec3 f = -h * (e.stiffness * v);
+    apply_force_at(s, e.bone, f, e.point_world);
+    if (e.other_bone >= 0) apply_force_at(s, e.other_bone, -f, e.point_world);
+  }
+}
+
 // the stiffness' share of the step on the right-hand side: -h K v per element
 void add_stiffness_rate_forces(const Scene& scene, double h, SimState& s) {
+  add_contact_rate_forces(h, s);
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
     const ControlPoint& cp = scene.control_points[c];
     const Vec3 a = point_on_bone(s.frames, cp.bone, cp.alpha);
@@ -147,6 +165,23 @@ void augment_bodies(const Scene& scene, double h, double c, SimState& s) {
   }
 }
 
+// h^2 K + h D of every contact on each bone it touches: the ground's exactly; a self-contact's
+// twice on each of its two bones, without its coupling block (contacts.h: backward Euler on the
+// pair's relative motion with an effective mass at least the true one)
+void augment_contacts(double h, SimState& s) {
+  ArticulatedBodyData& d = s.articulated;
+  for (const ContactElement& e : s.contact_elements) {
+    const double share = e.other_bone >= 0 ? 2.0 : 1.0;
+    const Mat3 A = share * (h * h * e.stiffness + h * e.damping);
+    for (const int b : {e.bone, e.other_bone}) {
+      if (b < 0) continue;
+      const Vec3 r = e.point_world - d.point_world[b];
+      add_point_inertia(A, r, d.inertia_art[b]);
+      add_point_bias(A, r, s.accel_bias[b], d.bias_force[b]);
+    }
+  }
+}
+
 // h^2 K_j of the torsion springs as joint blocks
 void joint_blocks(const Rig& rig, double h, SimState& s) {
   ArticulatedBodyData& d = s.articulated;
@@ -180,6 +215,7 @@ void linearised_step(const Scene& scene, SimState& s, double h, bool full) {
   velocity_product_accels(rig, d, s.accel_bias);
   if (full) rest_accelerations(scene, s);           // a0 and W, for the pose terms
   augment_bodies(scene, h, step_damping(p, s), s);  // + h D + h^2 K of body elements
+  augment_contacts(h, s);                           // + h D + h^2 K of the contacts
   d.pose_terms = false;
   if (full) add_pose_terms(scene, h, s);  // + h^2 K's pose terms
   joint_blocks(rig, h, s);                // + h^2 K of joint elements

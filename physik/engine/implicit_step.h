@@ -61,9 +61,13 @@
 //     R_pr diag(k) R_pr^T; with the tangent, as Newton's method;
 //     tests/tune/implicit_equilibrium_test.cpp). h^2 K_j is the joint's 3x3 block
 //     (articulated_body.h joint_block: D_i = A_i + J_i)
+//       contact           A = h^2 K + h D at the contact point (contacts.h: K = k n n^T, D the
+//                         normal damper and the friction's viscous share); a ground contact on
+//                         its bone exactly; a self-contact as 2 A on each of its two bones, the
+//                         coupling block between them left out (block Jacobi, contacts.h)
 // Right-hand side of (1): the start-of-step forces (force stages unchanged), plus -h K v per
 // stiffness element: the force -h K_c v_p at each control point, the torque pair -h K_j (w_i - w_p)
-// at each torsion spring.
+// at each torsion spring, -h K (v_a - v_b) at each contact (on a; its opposite on b).
 // The augmented inertia also multiplies the velocity-product part of the body's spatial
 // acceleration (a_b = J_b a + a0_b, a0_b the accelerations at a = 0): the element force is
 // -A Phi (a_b - a0_b), so each body's bias force gets -Phi^T A Phi a0_b as well; then the

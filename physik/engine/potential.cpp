@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "physik/engine/contacts.h"
+
 namespace physik {
 
 double control_spring_potential(SpringLaw law, double k, double cap, double d) {
@@ -62,6 +64,14 @@ double spring_potential(const Scene& scene, const SimState& s) {
         (point_on_bone(s.frames, cp.bone, cp.alpha) - s.target_effective_world[c]).norm());
   }
   return u + torsion_potential(scene.rig, scene.params, s.pose);
+}
+
+double potential_energy(const Scene& scene, const SimState& s) {
+  double u = spring_potential(scene, s);
+  // both terms are absent, not 0 + u, for a scene without them: its energies stay bit for bit
+  if (!scene.gravity_world.isZero(0.0)) u += gravity_potential(scene, s.frames);
+  if (scene.collision.any()) u += contact_potential(scene, s);
+  return u;
 }
 
 }  // namespace physik

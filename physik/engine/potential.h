@@ -50,4 +50,9 @@ double torsion_potential(const Rig& rig, const EngineParams& params, const Pose&
 // (the run monitor's energy ledger, the implicit step's energy guard). Allocates nothing.
 double spring_potential(const Scene& scene, const SimState& state);
 
+// The whole potential energy of a state (the run monitor's energy ledger, the implicit step's
+// energy guard): its springs, gravity and contacts (contacts.h; gravity's and the contacts' only
+// where the scene has them). Allocates nothing once the state's collision world is built.
+double potential_energy(const Scene& scene, const SimState& state);
+
 }  // namespace physik

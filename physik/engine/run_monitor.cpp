@@ -7,6 +7,7 @@
 #include <sstream>
 #include <utility>
 
+#include "physik/engine/contacts.h"
 #include "physik/engine/joint_forces.h"
 #include "physik/engine/measures.h"
 #include "physik/engine/potential.h"
@@ -34,7 +35,17 @@ std::string num(double v) {
 
 double initial_energy(const Scene& scene) {
   const double ke = 0.5 * scene.rig.total_mass() * scene.initial_velocity_world.squaredNorm();
-  return ke + torsion_potential(scene.rig, scene.params, scene.initial_pose);
+  double u = torsion_potential(scene.rig, scene.params, scene.initial_pose);
+  if (!scene.gravity_world.isZero(0.0) || scene.collision.any()) {
+    // gravity's and the contacts' of the initial pose (the control springs start at rest)
+    const BoneFrames f = forward_kinematics(scene.rig, scene.initial_pose);
+    if (!scene.gravity_world.isZero(0.0)) u += gravity_potential(scene, f);
+    CollisionWorld world;
+    std::vector<Contact> contacts;
+    world.detect(scene, f, contacts);
+    u += contact_potential(scene, contacts);
+  }
+  return ke + u;
 }
 
 RunRules run_rules(const Scene& scene) {
@@ -78,7 +89,7 @@ StepObservation observe_step(const Scene& scene, const SimState& s, const StepSt
   for (int left : s.interp_steps_left) o.target_moving = o.target_moving || left > 0;
   o.max_residual = st.max_residual;
   // U toward this step's targets: the targets are the state's, the attachments its frames'
-  o.potential_energy = spring_potential(scene, s);
+  o.potential_energy = potential_energy(scene, s);
   o.state = &s;
   o.unreached_joints = unreached_joints(scene.rig, s);
   return o;

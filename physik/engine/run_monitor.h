@@ -16,11 +16,13 @@
 // Over the run it keeps the peak KE, the largest joint separation (rig units), the largest limit
 // violation (deg), steps_run and the joint passes (mean and max per step).
 //
-// The energy rule. The rig's mechanical energy is E = KE + U, with U the spring
-// potential (physik/engine/potential.h: control springs toward the targets of the step, torsion
-// springs of the pose). With no gravity, the only forces that can add energy are the springs'
-// targets when they move: damping (-c v) and the angular-velocity factor (w <- f w) only remove
-// it, and the joint forces do no work on a rigid, connected rig. So along the exact motion
+// The energy rule. The rig's mechanical energy is E = KE + U, with U the potential
+// (physik/engine/potential.h potential_energy: control springs toward the targets of the step,
+// torsion springs of the pose, and gravity and the contact springs where the scene has them,
+// contacts.h). The only forces that can add energy are the springs' targets when they move:
+// damping (-c v), the angular-velocity factor (w <- f w), the contacts' dampers and friction
+// only remove it, gravity and the contact springs are in U, and the joint forces do no work on
+// a rigid, connected rig. So along the exact motion
 //     E_k <= E_in,k = E_0 + W_k,    W_k = sum_{j<=k} [U_c(a_{j-1}, t_j) - U_c(a_{j-1}, t_{j-1})]
 // where E_0 = KE_0 + U_0 is the initial state's energy (the initial targets count as a jump from
 // the attachment points, so they enter through W_1) and W_k is the work of the targets'

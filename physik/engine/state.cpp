@@ -36,6 +36,9 @@ void size_state(const Rig& rig, std::size_t ncontrol, SimState& s) {
   s.implicit_snapshots.clear();  // sized by init_state for implicit scenes (implicit_advance.h)
   s.implicit_split_steps = 0;
   s.implicit_max_substeps = 0;
+  s.contacts.clear();
+  s.contact_elements.clear();
+  s.contact_scratch.clear();
   s.damping_auto_value = 0.0;
   s.damping_auto_updates = 0;
 

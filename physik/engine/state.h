@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "physik/engine/articulated_body.h"
+#include "physik/engine/collision.h"
 #include "physik/engine/mode_operators.h"
 #include "physik/model/kinematics.h"
 #include "physik/model/scene.h"
@@ -37,6 +38,16 @@ struct PoseTermSelection {
                                       // Gauss-Newton (off: the bare recursion, for the dense
                                       // comparisons)
   bool needs_rest() const { return inertia_wrench || inertia_turn || turning_accelerations; }
+};
+
+// A contact as the implicit step sees it (contacts.h, implicit_step.h): a point element on
+// `bone`, and with the opposite sign on `other_bone` when it is a bone (-1: the ground).
+struct ContactElement {
+  int bone = -1;
+  int other_bone = -1;
+  Vec3 point_world = Vec3::Zero();  // rig units
+  Mat3 stiffness = Mat3::Zero();    // N/m, K = -dF/dx of a's point relative to b's, world axes
+  Mat3 damping = Mat3::Zero();      // N s/m, D = -dF/dv of the same, world axes
 };
 
 struct SimState {
@@ -98,6 +109,14 @@ struct SimState {
   int implicit_gauss_newton_steps = 0;  // full steps taken as gauss-newton (implicit_step.h)
   int implicit_split_steps = 0;         // steps the energy guard split (implicit_advance.h)
   int implicit_max_substeps = 0;        // the most substeps one step took
+
+  // --- contacts (contacts.h; detection collision.h) ---
+  std::vector<Contact> contacts;                 // found by the last force stage
+  std::vector<ContactElement> contact_elements;  // those that push, for the implicit step
+  // FCL's objects, and the contacts of a potential's query (a measure of a const state detects
+  // too: contact_potential); built by init_state, so the steps allocate nothing for them
+  mutable CollisionWorld collision_world;
+  mutable std::vector<Contact> contact_scratch;
 
   // --- damping_auto (linear_modes.h) ---
   double damping_auto_value = 0.0;  // N s/m, the damping chosen at the last target change

@@ -1,5 +1,7 @@
 #include "physik/io/rig_io.h"
 
+#include <cmath>
+
 #include "physik/io/axis_limits.h"
 #include "physik/model/errors.h"
 
@@ -9,14 +11,28 @@ namespace {
 
 const char* const kAxisName[3] = {"x", "y", "z"};
 
-void read_mass(const Json& b, const JsonContext& ctx, double default_mpl, double default_radius,
-               BoneSpec& s);
+// the rig's fallbacks for bones that give none (mass and radius: the original code's values)
+struct BoneDefaults {
+  double mass_per_length = 1.0;   // kg per rig unit
+  double radius = 0.5;            // rig units, the inertia cylinder's
+  double collision_radius = 0.0;  // rig units; 0 = kCollisionRadiusPerLength x the bone's length
+};
 
-BoneSpec bone_from_json(const Json& b, const JsonContext& ctx, double default_mpl,
-                        double default_radius) {
+void read_mass(const Json& b, const JsonContext& ctx, const BoneDefaults& d, BoneSpec& s);
+
+// a collision radius as given (absent: `fallback`); a given one must be positive
+double read_collision_radius(const Json& obj, const JsonContext& ctx, double fallback) {
+  if (!obj.contains("collision_radius")) return fallback;
+  const double r = ctx.number(obj, "collision_radius");
+  if (!(r > 0.0)) ctx.fail("collision_radius", "must be positive");
+  return r;
+}
+
+BoneSpec bone_from_json(const Json& b, const JsonContext& ctx, const BoneDefaults& d) {
   ctx.require_object(b, "");
-  ctx.only_keys(b, {"name", "parent", "head", "tail", "rest_frame", "roll_deg", "limits_deg",
-                    "mass_per_length", "mass", "radius", "inertia_local", "comment"});
+  ctx.only_keys(
+      b, {"name", "parent", "head", "tail", "rest_frame", "roll_deg", "limits_deg",
+          "mass_per_length", "mass", "radius", "inertia_local", "collision_radius", "comment"});
   BoneSpec s;
   s.name = ctx.string(b, "name");
   const Json& parent = ctx.require(b, "parent");
@@ -51,13 +67,13 @@ BoneSpec bone_from_json(const Json& b, const JsonContext& ctx, double default_mp
   }
 
   if (b.contains("limits_deg")) s.limit = parse_axis_limits(b["limits_deg"], ctx, "limits_deg");
-  read_mass(b, ctx, default_mpl, default_radius, s);
+  read_mass(b, ctx, d, s);
+  s.collision_radius = read_collision_radius(b, ctx, d.collision_radius);
   return s;
 }
 
 // mass (or mass per length), radius and explicit moments of a bone whose head and tail are read
-void read_mass(const Json& b, const JsonContext& ctx, double default_mpl, double default_radius,
-               BoneSpec& s) {
+void read_mass(const Json& b, const JsonContext& ctx, const BoneDefaults& d, BoneSpec& s) {
   const double length = (s.tail_world - s.head_world).norm();
   if (b.contains("mass") && b.contains("mass_per_length")) {
     ctx.fail("mass", "give either mass or mass_per_length, not both");
@@ -66,11 +82,11 @@ void read_mass(const Json& b, const JsonContext& ctx, double default_mpl, double
     s.mass = ctx.number(b, "mass");
     if (!(s.mass > 0.0)) ctx.fail("mass", "must be positive");
   } else {
-    const double mpl = ctx.number_or(b, "mass_per_length", default_mpl);
+    const double mpl = ctx.number_or(b, "mass_per_length", d.mass_per_length);
     if (!(mpl > 0.0)) ctx.fail("mass_per_length", "must be positive");
     s.mass = mpl * length;
   }
-  s.radius = ctx.number_or(b, "radius", default_radius);
+  s.radius = ctx.number_or(b, "radius", d.radius);
   if (!(s.radius > 0.0)) ctx.fail("radius", "must be positive");
   if (b.contains("inertia_local")) {
     s.inertia_local = ctx.vec3(b, "inertia_local");
@@ -84,16 +100,17 @@ Rig rig_from_json(const Json& doc, const std::string& source) {
   JsonContext top{source, ""};
   top.require_object(doc, "");
   top.only_keys(doc, {"name", "comment", "source", "units", "defaults", "bones"});
-  double default_mpl = 1.0, default_radius = 0.5;  // the original code's values
+  BoneDefaults defaults;
   if (doc.contains("defaults")) {
     const Json& d = doc["defaults"];
     JsonContext dctx{source, "defaults"};
     dctx.require_object(d, "defaults");
-    dctx.only_keys(d, {"mass_per_length", "radius"});
-    default_mpl = dctx.number_or(d, "mass_per_length", default_mpl);
-    default_radius = dctx.number_or(d, "radius", default_radius);
-    if (!(default_mpl > 0.0)) dctx.fail("mass_per_length", "must be positive");
-    if (!(default_radius > 0.0)) dctx.fail("radius", "must be positive");
+    dctx.only_keys(d, {"mass_per_length", "radius", "collision_radius"});
+    defaults.mass_per_length = dctx.number_or(d, "mass_per_length", defaults.mass_per_length);
+    defaults.radius = dctx.number_or(d, "radius", defaults.radius);
+    if (!(defaults.mass_per_length > 0.0)) dctx.fail("mass_per_length", "must be positive");
+    if (!(defaults.radius > 0.0)) dctx.fail("radius", "must be positive");
+    defaults.collision_radius = read_collision_radius(d, dctx, 0.0);
   }
   const Json& bones = top.require(doc, "bones");
   if (!bones.is_array()) top.fail("bones", "expected an array of bones");
@@ -103,8 +120,7 @@ Rig rig_from_json(const Json& doc, const std::string& source) {
     if (bones[i].is_object() && bones[i].contains("name") && bones[i]["name"].is_string()) {
       element += " '" + bones[i]["name"].get<std::string>() + "'";
     }
-    specs.push_back(
-        bone_from_json(bones[i], JsonContext{source, element}, default_mpl, default_radius));
+    specs.push_back(bone_from_json(bones[i], JsonContext{source, element}, defaults));
   }
   return build_rig(specs, source, top.string_or(doc, "name", ""));
 }
@@ -142,6 +158,10 @@ Json rig_to_json(const Rig& rig) {
     const Vec3& in = rig.bone_inertia_local[i];
     const Vec3 cyl = cylinder_inertia(rig.bone_mass[i], rig.bone_radius[i], rig.bone_length[i]);
     if ((in - cyl).norm() > 1e-12 * cyl.norm()) b["inertia_local"] = {in.x(), in.y(), in.z()};
+    // the collision radius only where it is not the default fraction of the length
+    const double cr = rig.bone_collision_radius[i];
+    const double cr0 = kCollisionRadiusPerLength * rig.bone_length[i];
+    if (std::abs(cr - cr0) > 1e-12 * cr0) b["collision_radius"] = cr;
     bones.push_back(b);
   }
   Json doc;

@@ -2,7 +2,8 @@
 //
 // {
 //   "name": "pinhead",                              optional
-//   "defaults": {"mass_per_length": 1.0, "radius": 0.5},   optional, per-bone fallbacks
+//   "defaults": {"mass_per_length": 1.0, "radius": 0.5,    optional, per-bone fallbacks
+//                "collision_radius": 0.05},
 //   "bones": [
 //     {"name": "torso", "parent": "head" | null,     required; exactly one null (the root)
 //      "head": [x, y, z], "tail": [x, y, z],        world rest positions, rig units
@@ -11,8 +12,10 @@
 //      "limits_deg": {"x": [min, max], "z": [..]},  absent axis = free, min == max = locked
 //      "mass_per_length": 1.0 | "mass": 1.36,       kg per rig unit, or kg in total
 //      "radius": 0.5,                               rig units, for the cylinder inertia
-//      "inertia_local": [Ixx, Iyy, Izz]}            optional kg m^2 about the bone's centre,
+//      "inertia_local": [Ixx, Iyy, Izz],            optional kg m^2 about the bone's centre,
 //                                                   bone-local axes; replaces the cylinder's
+//      "collision_radius": 0.05}                    optional rig units, the contact capsule's
+//                                                   (default 0.06 x the bone's length)
 //   ]
 // }
 #pragma once

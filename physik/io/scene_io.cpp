@@ -1,6 +1,7 @@
 #include "physik/io/scene_io.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <optional>
 
@@ -190,6 +191,79 @@ void read_initial_pose(const JsonContext& top, const Json& doc, Scene& s) {
   }
 }
 
+// --- contacts and gravity ---------------------------------------------------------------------
+
+void read_ground(const JsonContext& top, const Json& doc, Scene& s) {
+  if (!doc.contains("ground") || doc["ground"].is_null()) return;
+  const Json& g = doc["ground"];
+  const JsonContext ctx{top.file, "ground"};
+  ctx.require_object(g, "ground");
+  ctx.only_keys(g, {"height", "normal", "comment"});
+  GroundPlane plane;
+  plane.height = ctx.number_or(g, "height", 0.0);
+  if (std::abs(plane.height) > kMaxCoordinate) {
+    ctx.fail("height", "beyond +-1e9 (rig.h kMaxCoordinate)");
+  }
+  if (g.contains("normal")) {
+    const Vec3 n = bounded_vec3(ctx, g, "normal");
+    // a normal far below any coordinate's scale is as good as zero: its direction is round-off
+    if (!(n.norm() > 1e-12)) ctx.fail("normal", "zero length: the plane has no direction");
+    plane.normal_world = n.normalized();
+  }
+  s.collision.ground = plane;
+}
+
+// one [bone, bone] pair of collision_exclude, as (lower index, higher index)
+std::pair<int, int> excluded_pair(const JsonContext& top, const Json& e, const std::string& field,
+                                  const Rig& rig) {
+  if (!e.is_array() || e.size() != 2 || !e[0].is_string() || !e[1].is_string()) {
+    top.fail(field, "expected a pair of bone names [\"a\", \"b\"]");
+  }
+  int b[2];
+  for (int k = 0; k < 2; ++k) {
+    const std::string name = e[k].get<std::string>();
+    b[k] = rig.find_bone(name);
+    if (b[k] < 0) top.fail(field, "unknown bone '" + name + "'");
+  }
+  if (b[0] == b[1]) top.fail(field, "a bone paired with itself");
+  return {std::min(b[0], b[1]), std::max(b[0], b[1])};
+}
+
+// self_collision and the bone pairs it leaves out (bones sharing a joint are left out anyway)
+void read_self_collision(const JsonContext& top, const Json& doc, Scene& s) {
+  s.collision.self_collision = top.boolean_or(doc, "self_collision", false);
+  if (!doc.contains("collision_exclude")) return;
+  const Json& ex = doc["collision_exclude"];
+  if (!ex.is_array()) top.fail("collision_exclude", "expected an array of [bone, bone] pairs");
+  if (!s.collision.self_collision && !ex.empty()) {
+    top.fail("collision_exclude", "applies only with \"self_collision\": true");
+  }
+  auto& pairs = s.collision.excluded_pairs;
+  for (std::size_t i = 0; i < ex.size(); ++i) {
+    pairs.push_back(
+        excluded_pair(top, ex[i], "collision_exclude[" + std::to_string(i) + "]", s.rig));
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+}
+
+void read_contacts_and_gravity(const JsonContext& top, const Json& doc, Scene& s) {
+  read_ground(top, doc, s);
+  read_self_collision(top, doc, s);
+  if (doc.contains("gravity")) s.gravity_world = bounded_vec3(top, doc, "gravity");
+}
+
+// the contact rows given for a scene without contacts (contact_param_conflict): refused like any
+// value the run would not use
+void check_contact_params(const Scene& s, const ParamOverrides& overrides) {
+  for (const std::string& name : s.params_given) {
+    const std::string why = contact_param_conflict(s, name);
+    if (why.empty()) continue;
+    if (overrides.has(name)) throw_input_error(overrides.source, "", name, why);
+    throw_input_error(s.file, "params", name, why);
+  }
+}
+
 }  // namespace
 
 namespace {
@@ -248,6 +322,14 @@ void read_old_scheme_keys(const JsonContext& ctx, const Json& params,
 }
 
 }  // namespace
+
+std::string contact_param_conflict(const Scene& s, const std::string& name) {
+  if (s.collision.any()) return "";
+  for (const char* row : {"contact_k", "contact_damping", "friction", "friction_speed"}) {
+    if (name == row) return "applies only to a scene with a ground or \"self_collision\": true";
+  }
+  return "";
+}
 
 EngineParams params_from_json(const Json& params, const std::string& source,
                               const ParamOverrides& overrides,
@@ -353,7 +435,8 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
   const JsonContext top{source, ""};
   top.require_object(doc, "");
   top.only_keys(doc, {"name", "comment", "rig", "params", "control_points", "schedule", "steps",
-                      "convergence", "initial_pose", "initial_velocity", "solve"});
+                      "convergence", "initial_pose", "initial_velocity", "solve", "gravity",
+                      "ground", "self_collision", "collision_exclude"});
   if (doc.contains("solve")) solve_options_from_json(doc["solve"], source);  // checked at load
   Scene s;
   s.file = source;
@@ -369,6 +452,8 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
   if (doc.contains("initial_velocity")) {
     s.initial_velocity_world = bounded_vec3(top, doc, "initial_velocity");
   }
+  read_contacts_and_gravity(top, doc, s);
+  check_contact_params(s, overrides);
   return s;
 }
 
@@ -430,6 +515,31 @@ Scene load_scene(const std::string& path, const ParamOverrides& overrides) {
   return scene_from_json(doc, path, base.empty() ? "." : base, overrides);
 }
 
+namespace {
+
+Json vec_json(const Vec3& v) {
+  return {v.x(), v.y(), v.z()};
+}
+
+// gravity and the contact settings, only where the scene has them (older scenes stay as written)
+void add_contacts_json(const Scene& s, Json& out) {
+  if (!s.gravity_world.isZero(0.0)) out["gravity"] = vec_json(s.gravity_world);
+  const CollisionSettings& c = s.collision;
+  if (c.ground) {
+    out["ground"] = {{"height", c.ground->height}, {"normal", vec_json(c.ground->normal_world)}};
+  }
+  if (c.self_collision) out["self_collision"] = true;
+  if (!c.excluded_pairs.empty()) {
+    Json ex = Json::array();
+    for (const auto& [a, b] : c.excluded_pairs) {
+      ex.push_back({s.rig.bone_name[a], s.rig.bone_name[b]});
+    }
+    out["collision_exclude"] = ex;
+  }
+}
+
+}  // namespace
+
 Json scene_to_json(const Scene& s, bool rig_inline) {
   Json cps = Json::array();
   for (const ControlPoint& c : s.control_points) {
@@ -455,7 +565,7 @@ Json scene_to_json(const Scene& s, bool rig_inline) {
     if (v.norm() > 0.0) rot[s.rig.bone_name[i]] = {v.x(), v.y(), v.z()};
   }
   const Vec3& r = s.initial_pose.root_head_world;
-  return {
+  Json out = {
       {"rig", rig_inline || s.rig_file.empty()
                   ? rig_to_json(s.rig)
                   : Json(std::filesystem::absolute(s.rig_file).lexically_normal().string())},
@@ -473,6 +583,8 @@ Json scene_to_json(const Scene& s, bool rig_inline) {
       {"initial_pose", {{"root_head", {r.x(), r.y(), r.z()}}, {"rotation_deg", rot}}},
       {"initial_velocity",
        {s.initial_velocity_world.x(), s.initial_velocity_world.y(), s.initial_velocity_world.z()}}};
+  add_contacts_json(s, out);
+  return out;
 }
 
 }  // namespace physik

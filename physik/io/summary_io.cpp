@@ -2,11 +2,26 @@
 
 #include <cstdio>
 
+#include "physik/engine/contacts.h"
 #include "physik/engine/measures.h"
 #include "physik/engine/run_monitor.h"
 #include "physik/io/scene_io.h"
 
 namespace physik {
+
+namespace {
+
+// the contacts of the final pose (contacts.h), only for scenes with a ground or self-collision:
+// how many, the deepest overlap (rig units) and that depth over the thinner capsule's radius
+void add_contact_fields(const Scene& scene, const RunSummary& s, nlohmann::json& out) {
+  if (!scene.collision.any()) return;
+  const Penetration pen = penetration(scene, s.final_frames);
+  out["final_contacts"] = pen.contacts;
+  out["final_max_penetration"] = pen.max_depth;
+  out["final_max_penetration_fraction"] = pen.max_depth_fraction;
+}
+
+}  // namespace
 
 nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s) {
   // a flat rig has height 0: its residuals are then over its mean bone length (no inf or nan)
@@ -55,6 +70,7 @@ nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s) {
     out["damping_auto_value"] = s.damping_auto_value;
     out["damping_auto_updates"] = s.damping_auto_updates;
   }
+  add_contact_fields(scene, s, out);
   // the implicit step's energy guard (implicit_advance.h), only for implicit runs
   if (scene.params.scheme == Scheme::kImplicit) {
     out["implicit_split_steps"] = s.implicit_split_steps;

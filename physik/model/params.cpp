@@ -346,9 +346,37 @@ std::vector<ParamRow> interpolation_rows() {
   };
 }
 
+// contacts: the ground's and the rig's own (not tuned; read only when the scene has them:
+// scene_io.cpp refuses a value given for a scene without; written only when not at their
+// default, so older scenes' summaries stay as they were). The defaults, the same in every preset: k
+// such that a 1 kg bone under 9.81 sinks by about 1e-3 rig units; c the critical damping of a
+// quarter of that mass on k (a bone's end point: 1/m_eff = 1/m + (L/2)^2 / (m L^2 / 12) = 4/m); mu
+// 1 as MuJoCo's; below 0.01 rig units/s of slip the friction is viscous. The explicit schemes are
+// stable only for dt < 2 sqrt(m_eff / k) (0.01 s for these); the implicit one at any dt.
+std::vector<ParamRow> contact_rows() {
+  return {
+      omitted_at_default(row<&E::contact_k>(
+          "contact_k", "N/m", {1e4, 1e4, 1e4}, kNonNegative,
+          "contacts: stiffness k of each contact's penalty spring, force k d at depth d (at "
+          "rest a load W sinks by W / k)")),
+      omitted_at_default(row<&E::contact_damping>(
+          "contact_damping", "N s/m", {100.0, 100.0, 100.0}, kNonNegative,
+          "contacts: normal damping c, force -c v_n while touching (the normal force never "
+          "pulls)")),
+      omitted_at_default(row<&E::friction>("friction", "1", {1.0, 1.0, 1.0}, kNonNegative,
+                                           "contacts: Coulomb coefficient mu, tangential force "
+                                           "at most mu times the normal force")),
+      omitted_at_default(row<&E::friction_speed>(
+          "friction_speed", "rig units/s", {0.01, 0.01, 0.01}, kPositive,
+          "contacts: friction is viscous below this slip speed (mu F_n v / speed), full "
+          "Coulomb above")),
+  };
+}
+
 std::vector<ParamRow> build_table() {
   std::vector<ParamRow> table;
-  for (auto group : {step_rows, joint_solve_rows, spring_rows, scheme_rows, interpolation_rows}) {
+  for (auto group :
+       {step_rows, joint_solve_rows, spring_rows, scheme_rows, interpolation_rows, contact_rows}) {
     for (ParamRow& r : group()) table.push_back(std::move(r));
   }
   return table;

@@ -86,6 +86,11 @@ double Rig::length_scale() const {
   return nbone ? sum / nbone : 0.0;
 }
 
+bool Rig::bones_share_joint(int a, int b) const {
+  const int pa = bone_parent[a], pb = bone_parent[b];
+  return pa == b || pb == a || (pa >= 0 && pa == pb);
+}
+
 namespace {
 
 // stage 1: names are non-empty, printable UTF-8 and unique; returns name -> index in `specs`
@@ -241,6 +246,14 @@ void check_mass(const BoneSpec& b, const std::string& source, const std::string&
     throw_input_error(source, el, "radius",
                       "radius " + fmt(b.radius) + " rig units is out of range" + range);
   }
+  // collision_radius 0 is the default (a fraction of the length), else within the radius' range
+  if (!std::isfinite(b.collision_radius) || b.collision_radius < 0.0 ||
+      (b.collision_radius > 0.0 &&
+       (b.collision_radius < kMinScale || b.collision_radius > kMaxScale))) {
+    throw_input_error(source, el, "collision_radius",
+                      "collision radius " + fmt(b.collision_radius) +
+                          " rig units must be positive and finite" + range);
+  }
   if (b.inertia_local.isZero()) return;
   const Vec3& in = b.inertia_local;
   if (!in.allFinite() || !(in.minCoeff() > 0.0)) {
@@ -292,6 +305,8 @@ void fill_bones(const std::vector<BoneSpec>& specs, const std::vector<std::size_
     rig.bone_length.push_back(len);
     rig.bone_mass.push_back(b.mass);
     rig.bone_radius.push_back(b.radius);
+    rig.bone_collision_radius.push_back(b.collision_radius > 0.0 ? b.collision_radius
+                                                                 : kCollisionRadiusPerLength * len);
     rig.bone_inertia_local.push_back(
         b.inertia_local.isZero() ? cylinder_inertia(b.mass, b.radius, len) : b.inertia_local);
     rig.bone_limit.push_back(b.limit);

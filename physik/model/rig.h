@@ -38,6 +38,10 @@ constexpr int kMaxBones = 1000000;      // bones per rig (about 1 GB of rig and 
 constexpr double kMaxCoordinate = 1e9;  // rig units, any head or tail coordinate
 constexpr double kMinScale = 1e-9;      // smallest mass (kg) or radius (rig units)
 constexpr double kMaxScale = 1e9;       // largest mass (kg) or radius (rig units)
+// a bone's collision capsule radius when neither the bone nor the rig's defaults give one, as a
+// fraction of the bone's length: the capsule the MJCF export has always drawn, so PhysIK and the
+// MuJoCo reference collide the same shapes, and it scales with each rig's own units
+constexpr double kCollisionRadiusPerLength = 0.06;
 
 struct AxisLimit {
   bool limited = false;  // false: the axis is free
@@ -59,6 +63,9 @@ struct BoneSpec {
   // optional explicit principal moments about the bone's centre, bone-local x, y, z (kg m^2);
   // zero (the default) means the cylinder of `radius` (e.g. MuJoCo bodies imported as bones)
   Vec3 inertia_local = Vec3::Zero();
+  // rig units, the collision capsule's radius (contacts); 0 (the default) means
+  // kCollisionRadiusPerLength x the bone's length
+  double collision_radius = 0.0;
 };
 
 struct Joint {
@@ -84,7 +91,8 @@ struct Rig {
                                                 //         the parent's head (root: zero)
   std::vector<double> bone_length;              // (nbone) rig units
   std::vector<double> bone_mass;                // (nbone) kg
-  std::vector<double> bone_radius;              // (nbone) rig units
+  std::vector<double> bone_radius;              // (nbone) rig units, the inertia cylinder's
+  std::vector<double> bone_collision_radius;    // (nbone) rig units, the collision capsule's
   std::vector<Vec3> bone_inertia_local;         // (nbone) principal moments about the centre of
                                                 //         mass, bone-local x, y, z (kg m^2)
   std::vector<std::array<AxisLimit, 3>> bone_limit;  // (nbone) per local axis
@@ -110,6 +118,9 @@ struct Rig {
   // the mean bone length (rig units): the rig's own length scale, whatever the arrangement of its
   // bones (a flat rig has height 0, a 300-bone chain along Z a height of 300 bone lengths)
   double length_scale() const;
+  // two bones meet at one joint (parent and child, or two children of one parent): their
+  // collision capsules never collide
+  bool bones_share_joint(int a, int b) const;
 };
 
 // Cylinder inertia about the centre, bone-local axes (local y along the bone). kg m^2.

@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "physik/model/kinematics.h"
@@ -55,6 +56,23 @@ struct ConvergenceParams {
                                       // 0 = the energy rule (physik/engine/run_monitor.h)
 };
 
+// What bones touch (physik/engine/contacts.h): an optional ground plane, and the bones' own
+// capsules (Rig::bone_collision_radius) against each other. None of it by default: a scene
+// without them runs exactly as before.
+struct GroundPlane {
+  Vec3 normal_world = Vec3::UnitZ();  // unit; bodies belong on the side it points to
+  double height = 0.0;                // rig units: the plane is {x : normal . x = height}
+};
+
+struct CollisionSettings {
+  std::optional<GroundPlane> ground;
+  bool self_collision = false;  // bone capsules against each other (bones sharing a joint never)
+  // further bone pairs that never collide, each (lower index, higher index), sorted, unique
+  std::vector<std::pair<int, int>> excluded_pairs;
+  // anything to touch: the contact stage runs at all
+  bool any() const { return ground.has_value() || self_collision; }
+};
+
 struct Scene {
   std::string file;      // where it came from ("" if built in code)
   std::string rig_file;  // resolved rig path
@@ -68,6 +86,8 @@ struct Scene {
   ConvergenceParams convergence;
   Pose initial_pose;
   Vec3 initial_velocity_world = Vec3::Zero();  // rig units/s, a rigid translation of every bone
+  Vec3 gravity_world = Vec3::Zero();  // rig units/s^2, on every bone's mass; zero as in the paper
+  CollisionSettings collision;        // ground and self-collision (none by default)
 
   double residual_tol() const;
   double speed_tol() const;

@@ -47,7 +47,8 @@ TEST(Experiments, EveryExpectedExperimentIsRegisteredInRunOrder) {
                                              "tuning_study",
                                              "scaling",
                                              "beyond_the_paper",
-                                             "outside_rigs"};
+                                             "outside_rigs",
+                                             "contacts"};
   EXPECT_EQ(names, expected);
 }
 

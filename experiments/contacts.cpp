@@ -1,0 +1,189 @@
+// Contacts (physik/engine/contacts.h): a floor and self-collision on the paper's rig, against
+// MuJoCo's own contacts on the same capsules (reference/compare.h, same-forces mode: MuJoCo
+// resolves gravity and the contacts itself, the engine's damping is given to both).
+//   drop  pinhead dropped on a floor under gravity, lying flat and turned 60 degrees from
+//         standing, run 30 s (both engines at rest, KE about 5e-5 J; at 6 s the limbs still
+//         sag): the gap between PhysIK's resting pose and MuJoCo's over the rig's height
+//         (the target: within 2%), and the deepest penetration at rest (the target: 5% of the
+//         thinner touching capsule's radius)
+//   hand  pinhead's left hand pulled through its torso to the far side, the torso held, with and
+//         without self-collision: the deepest bone-bone overlap over the run (does the arm go
+//         through the torso or round it), against MuJoCo's (its solref's penetration)
+// Not here yet: Fig 11 with a seat (no static obstacles in the scene format), Fig 7's cannon with
+// self-collision (its paper scheme at dt 0.05 is unstable at any contact stiffness that stops a
+// bone), and the 1,000-bone chain coiling on the floor.
+#include <algorithm>
+#include <cmath>
+
+#include "experiments/common.h"
+#include "experiments/report.h"
+#include "physik/engine/contacts.h"
+#include "physik/io/scene_io.h"
+#include "reference/compare.h"
+
+namespace physik::experiments {
+
+namespace {
+
+// pinhead turned `tilt_deg` about x at its root's head, that head at `height` above a floor
+Scene drop_scene(const Context& ctx, double tilt_deg, double height) {
+  const nlohmann::json doc = {
+      {"rig", ctx.models_dir + "/rigs/pinhead.json"},
+      {"params", {{"preset", "robust"}, {"dt", 0.01}, {"damping", 1.0}}},
+      {"steps", ctx.quick ? 100 : 3000},
+      {"gravity", {0, 0, -9.81}},
+      {"ground", {{"height", 0.0}, {"normal", {0, 0, 1}}}},
+      {"initial_pose",
+       {{"root_head", {0, 0, height}}, {"rotation_deg", {{"head", {tilt_deg, 0, 0}}}}}}};
+  return scene_from_json(doc, "contacts_drop_" + std::to_string(static_cast<int>(tilt_deg)), ".");
+}
+
+// pinhead's torso held at its rest head and tail, the left hand's tip pulled to the right of the
+// torso (through it), with or without self-collision
+Scene hand_scene(const Context& ctx, bool self_collision) {
+  const nlohmann::json doc = {{"rig", ctx.models_dir + "/rigs/pinhead.json"},
+                              {"params", {{"preset", "robust"}, {"dt", 0.05}, {"damping", 3.0}}},
+                              {"steps", ctx.quick ? 60 : 300},
+                              {"self_collision", self_collision},
+                              {"control_points",
+                               {{{"name", "neck"},
+                                 {"bone", "torso"},
+                                 {"alpha", 0.0},
+                                 {"target", {0, 0, 1.8155}},
+                                 {"k", 300}},
+                                {{"name", "pelvis"},
+                                 {"bone", "torso"},
+                                 {"alpha", 1.0},
+                                 {"target", {0, 0, 0.4541}},
+                                 {"k", 300}},
+                                {{"name", "hand.L"},
+                                 {"bone", "hand.L"},
+                                 {"alpha", 1.0},
+                                 {"target", {-1.0, 0, 1.0}},
+                                 {"k", 30}}}}};
+  return scene_from_json(doc, self_collision ? "contacts_hand_on" : "contacts_hand_off", ".");
+}
+
+// the deepest overlap of a pose, as a fraction of the thinner touching capsule's radius
+double penetration_fraction(const Scene& scene, const BoneFrames& frames) {
+  return penetration(scene, frames).max_depth_fraction;
+}
+
+struct Measured {
+  double gap_fraction = 0.0;        // 1, final pose gap to MuJoCo over the rig's height
+  double physik_penetration = 0.0;  // 1, of the radius, at PhysIK's final pose
+  double mujoco_penetration = 0.0;  // 1, at MuJoCo's
+  bool diverged = false;
+  double hand_x = 0.0;  // rig units, the left hand's tip at PhysIK's final pose
+  // 1, the deepest overlap of two bones over the whole run (self-collision measured even where
+  // the run had it off), PhysIK's and MuJoCo's
+  double physik_run_overlap = 0.0, mujoco_run_overlap = 0.0;
+};
+
+// the deepest bone-bone overlap over a run's frames, self-collision measured on
+double deepest_over_run(Scene scene, const std::vector<BoneFrames>& frames) {
+  scene.collision.self_collision = true;
+  scene.collision.ground.reset();
+  double deepest = 0.0;
+  for (const BoneFrames& f : frames) deepest = std::max(deepest, penetration_fraction(scene, f));
+  return deepest;
+}
+
+Measured against_mujoco(const Context& ctx, const std::string& name, const Scene& scene) {
+  const Comparison c = compare_with_mujoco(scene, ReferenceMode::kSameForces);
+  write_run_folder(ctx, name, scene);  // for the viewer
+  Measured m;
+  m.diverged = !diverged_runs(c).empty();
+  m.gap_fraction = c.gap.final_pose_gap / scene.rig.height();
+  m.physik_penetration = penetration_fraction(scene, c.physik.summary.final_frames);
+  m.mujoco_penetration = penetration_fraction(scene, c.mujoco.summary.final_frames);
+  m.hand_x = c.physik.summary.final_frames.tail_world[scene.rig.find_bone("hand.L")].x();
+  m.physik_run_overlap = deepest_over_run(scene, c.physik.frames);
+  m.mujoco_run_overlap = deepest_over_run(scene, c.mujoco.frames);
+  if (ctx.log) {
+    *ctx.log << "  " << name << ": gap " << num(m.gap_fraction) << " of the height, penetration "
+             << num(m.physik_penetration) << " (MuJoCo " << num(m.mujoco_penetration) << ")\n";
+  }
+  return m;
+}
+
+nlohmann::json to_json(const Measured& m) {
+  return {{"final_pose_gap_over_height", m.gap_fraction},
+          {"physik_penetration_over_radius", m.physik_penetration},
+          {"mujoco_penetration_over_radius", m.mujoco_penetration},
+          {"hand_tip_x", m.hand_x},
+          {"physik_deepest_bone_overlap_over_radius", m.physik_run_overlap},
+          {"mujoco_deepest_bone_overlap_over_radius", m.mujoco_run_overlap},
+          {"diverged", m.diverged}};
+}
+
+void add_drop_claims(Report& report, const Measured& flat, const Measured& tilted) {
+  const double worst = std::max(flat.gap_fraction, tilted.gap_fraction);
+  report.claim(
+      "A rig dropped on the floor comes to rest within 2% of the rig height of MuJoCo's "
+      "resting pose",
+      "final pose gap over the rig's height: lying flat " + num(flat.gap_fraction) +
+          ", turned 60 deg " + num(tilted.gap_fraction),
+      flat.diverged || tilted.diverged ? "no (a run diverged)"
+      : worst <= 0.02                  ? "yes"
+      : flat.gap_fraction <= 0.02      ? "partly (lying flat only)"
+      : tilted.gap_fraction <= 0.02
+          ? "partly (turned 60 deg only; lying flat, the limbs settle into another resting pose)"
+          : "no");
+  const double pen = std::max(flat.physik_penetration, tilted.physik_penetration);
+  report.claim("At rest on the floor, no penetration deeper than 5% of a bone's radius",
+               "deepest at rest: " + num(pen) + " of the radius (MuJoCo's poses: " +
+                   num(std::max(flat.mujoco_penetration, tilted.mujoco_penetration)) + ")",
+               pen <= 0.05 ? "yes" : "no");
+}
+
+void add_hand_claims(Report& report, const Measured& on, const Measured& off) {
+  // an overlap of more than one radius of the thinner bone puts that bone's centre line inside
+  // the other capsule: the arm went into the torso rather than against it
+  report.claim(
+      "A hand pulled through the torso passes through it without self-collision and "
+      "not with it",
+      "deepest bone-bone overlap over the run, over the thinner bone's radius: " +
+          num(off.physik_run_overlap) + " without, " + num(on.physik_run_overlap) +
+          " with (the hand's tip ends at x = " + num(off.hand_x) + " and " + num(on.hand_x) +
+          ": with self-collision the arm reaches round the torso)",
+      off.physik_run_overlap > 1.0 && on.physik_run_overlap < 1.0 ? "yes" : "no");
+  report.claim(
+      "The hand's penetration into the torso is of the order of MuJoCo's for its solref",
+      "deepest overlap over the run with self-collision: PhysIK " + num(on.physik_run_overlap) +
+          ", MuJoCo " + num(on.mujoco_run_overlap) + " of the thinner bone's radius",
+      on.mujoco_run_overlap > 0.0 && on.physik_run_overlap < 10.0 * on.mujoco_run_overlap &&
+              on.mujoco_run_overlap < 10.0 * on.physik_run_overlap
+          ? "yes"
+          : "no");
+}
+
+void run(const Context& ctx) {
+  const Measured flat = against_mujoco(ctx, "drop_flat", drop_scene(ctx, 90.0, 0.8));
+  const Measured tilted = against_mujoco(ctx, "drop_tilted", drop_scene(ctx, 60.0, 2.6));
+  const Measured on = against_mujoco(ctx, "hand_self_collision", hand_scene(ctx, true));
+  const Measured off = against_mujoco(ctx, "hand_no_self_collision", hand_scene(ctx, false));
+  Report report("Contacts: a floor and self-collision against MuJoCo's contacts");
+  add_drop_claims(report, flat, tilted);
+  add_hand_claims(report, on, off);
+  report.note(
+      "PhysIK's contacts are penalty springs (contact_k 1e4 N/m, contact_damping 100 N s/m, "
+      "friction 1); MuJoCo's are its own soft contacts at its default solref (0.02 s, 1) on the "
+      "same capsules (0.06 x each bone's length) and plane, with the same friction. Penetration "
+      "is measured by PhysIK's detection on each engine's final pose.");
+  report.figures({"contacts_poses.png"});
+  write_summary(ctx,
+                {{"experiment", "contacts"},
+                 {"drop_flat", to_json(flat)},
+                 {"drop_tilted", to_json(tilted)},
+                 {"hand_self_collision", to_json(on)},
+                 {"hand_no_self_collision", to_json(off)}},
+                report);
+}
+
+const Registration registered{
+    290, {"contacts", "Contacts", "a floor and self-collision against MuJoCo's contacts", run}};
+
+}  // namespace
+
+}  // namespace physik::experiments

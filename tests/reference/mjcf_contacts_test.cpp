@@ -1,0 +1,89 @@
+// The MJCF export with contacts (reference/mjcf_export.h mjcf_contacts): MuJoCo, on the exported
+// model, finds contacts between exactly the shape pairs PhysIK's detection finds (collision.h):
+// parent and child filtered by MuJoCo's filterparent, two children of one parent and the scene's
+// excluded pairs by <exclude>, the ground plane where PhysIK has it, and the scene's gravity.
+#include <algorithm>
+#include <set>
+#include <utility>
+
+#include <gtest/gtest.h>
+
+#include "physik/engine/collision.h"
+#include "physik/engine/engine.h"
+#include "reference/mjcf_export.h"
+#include "reference/mujoco_runner.h"
+#include "tests/contact_test_util.h"
+
+namespace physik {
+namespace {
+
+using test::bone;
+
+using Pairs = std::set<std::pair<int, int>>;  // (bone, other bone or -1 for the ground)
+
+Pairs physik_pairs(const Scene& s) {
+  std::vector<Contact> contacts;
+  CollisionWorld world;
+  world.detect(s, forward_kinematics(s.rig, s.initial_pose), contacts);
+  Pairs out;
+  for (const Contact& c : contacts) {
+    out.insert(c.other_bone < 0 ? std::make_pair(c.bone, -1)
+                                : std::pair<int, int>(std::minmax(c.bone, c.other_bone)));
+  }
+  return out;
+}
+
+Pairs mujoco_pairs(const Scene& s) {
+  MjcfOptions o;
+  o.joints = JointModel::kBallJoints;
+  MjModelPtr m = rig_to_mjmodel(s.rig, mjcf_contacts(s, o));
+  MjDataPtr d(mj_makeData(m.get()));
+  SimState st;
+  init_state(s, st);
+  set_mujoco_state(s.rig, st, m.get(), d.get());
+  mj_forward(m.get(), d.get());
+  Pairs out;
+  for (int k = 0; k < d->ncon; ++k) {
+    const int a = m->geom_bodyid[d->contact[k].geom1] - 1;  // body b = bone b - 1; world: -1
+    const int b = m->geom_bodyid[d->contact[k].geom2] - 1;
+    out.insert(a < 0 || b < 0 ? std::make_pair(std::max(a, b), -1)
+                              : std::pair<int, int>(std::minmax(a, b)));
+  }
+  EXPECT_EQ(m->opt.gravity[2], s.gravity_world.z());
+  return out;
+}
+
+TEST(MjcfContacts, MuJoCoTouchesTheSamePairs) {
+  // a U (post and leg 0.1 apart: they overlap) and, on the post's top, a second bar whose
+  // sibling overlaps it; the leg's foot sinks into the ground
+  const Rig rig = build_rig({bone("post", "", Vec3(0, 0, 0.2), Vec3(0, 0, 1)),
+                             bone("bar", "post", Vec3(0, 0, 1), Vec3(0.1, 0, 1)),
+                             bone("leg", "bar", Vec3(0.1, 0, 1), Vec3(0.1, 0, 0.03)),
+                             bone("twin", "post", Vec3(0, 0, 1), Vec3(0.1, 0, 1.02))},
+                            "u", "u");
+  Scene s = test::scene_for(rig, EngineParams{}, 1);
+  s.gravity_world = Vec3(0, 0, -9.81);
+  s.collision.ground = GroundPlane{};
+  s.collision.self_collision = true;
+  const Pairs expected = {{0, 2}, {2, -1}, {2, 3}};  // post-leg, leg-ground, leg-twin
+  EXPECT_EQ(physik_pairs(s), expected);
+  EXPECT_EQ(mujoco_pairs(s), expected);
+  s.collision.excluded_pairs = {{2, 3}};
+  EXPECT_EQ(physik_pairs(s), (Pairs{{0, 2}, {2, -1}}));
+  EXPECT_EQ(mujoco_pairs(s), (Pairs{{0, 2}, {2, -1}}));
+  s.collision.self_collision = false;  // the ground alone
+  s.collision.excluded_pairs.clear();
+  EXPECT_EQ(physik_pairs(s), (Pairs{{2, -1}}));
+  EXPECT_EQ(mujoco_pairs(s), (Pairs{{2, -1}}));
+}
+
+TEST(MjcfContacts, WithoutContactsTheModelIsAsBefore) {
+  const Rig rig = build_rig({bone("a", "", Vec3(0, 0, 0), Vec3(0, 0, 1))}, "a", "a");
+  const std::string plain = rig_to_mjcf(rig, MjcfOptions{});
+  EXPECT_NE(plain.find("<flag contact=\"disable\"/>"), std::string::npos);
+  EXPECT_NE(plain.find("gravity=\"0 0 0\""), std::string::npos);
+  EXPECT_EQ(plain.find("plane"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace physik
