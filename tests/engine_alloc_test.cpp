@@ -149,7 +149,9 @@ TEST(EngineAllocations, SolveModeCallsAllocateNothing) {
     }
     g_counting = false;
     EXPECT_EQ(g_allocations.load(), 0) << to_string(lin);
-    if (lin == ImplicitLinearisation::kFull) EXPECT_GT(retakes, 0) << "the retake must be tested";
+    if (lin == ImplicitLinearisation::kFull) {
+      EXPECT_GT(retakes, 0) << "the retake must be tested";
+    }
     EXPECT_TRUE(session.solve(solve_mode_rule()).converged) << to_string(lin);
   }
 }
