@@ -161,6 +161,12 @@ void general_to_parent(ArticulatedBodyData& d, int i, int p, const Vec3& r, cons
   add_shifted(Aa, Ba, Ea, Ca, r, IP.A, IP.B, d.inertia_lower[p], IP.C);
 }
 
+// is the symmetric part (A + A^T) / 2 positive definite (its Cholesky factor exists)
+template <typename M>
+bool symmetric_part_positive(const M& A) {
+  return Eigen::LLT<M>(M(0.5 * (A + A.transpose()))).info() == Eigen::Success;
+}
+
 // Pass 2 with the pose terms (articulated_body.h, ArticulatedBodyData::pose_terms). Per joint,
 // with P = S'^T I^Z T and PE its lower block, U = I^A S' + I^Z T = [A + P; E + PE], the row
 // S'^T (I^A + G) = [A + G_A, B + G_B], D = A + G_A + P + J:
@@ -172,12 +178,6 @@ void general_to_parent(ArticulatedBodyData& d, int i, int p, const Vec3& r, cons
 //   I^za = [(G_A + J) D^-1 Z_A, (G_A + J) D^-1 Z_B; Z_E - (E + PE) D^-1 Z_A,
 //           Z_C - (E + PE) D^-1 Z_B]
 //   p^a  = p^A + I^a c + U D^-1 u,   u = joint_torque - S'^T p^A
-// is the symmetric part (A + A^T) / 2 positive definite (its Cholesky factor exists)
-template <typename M>
-bool symmetric_part_positive(const M& A) {
-  return Eigen::LLT<M>(M(0.5 * (A + A.transpose()))).info() == Eigen::Success;
-}
-
 void backward_pass_pose_terms(const Rig& rig, ArticulatedBodyData& d) {
   d.pose_terms_positive = true;
   for (int i = rig.nbone - 1; i > 0; --i) {
