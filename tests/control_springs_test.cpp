@@ -21,7 +21,9 @@ TEST(ControlSprings, CappedForceNeverExceedsKTimesCap) {
     // it points along the displacement
     ASSERT_GT(f.dot(d), 0.0);
     // within the cap it is the linear law
-    if (d.norm() <= cap) ASSERT_TRUE(test::near(f, k * d, 1e-12));
+    if (d.norm() <= cap) {
+      ASSERT_TRUE(test::near(f, k * d, 1e-12));
+    }
   }
 }
 

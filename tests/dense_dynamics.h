@@ -51,6 +51,18 @@ inline Rig random_rig(std::mt19937& rng, int n) {
   return build_rig(specs, "<random>", "random");
 }
 
+// random_rig with limits on some axes of every joint but the root's (narrow enough that random
+// poses violate them: engaged torsion springs)
+inline Rig random_limited_rig(std::mt19937& rng, int n) {
+  Rig rig = random_rig(rng, n);
+  for (int i = 1; i < n; ++i) {
+    for (int a = 0; a < 3; ++a) {
+      if ((i + a) % 3 == 0) rig.bone_limit[i][a] = {true, -0.2, 0.1 + 0.1 * a};
+    }
+  }
+  return rig;
+}
+
 // random joint state (poses, velocities) and forces; the world view from the joint state
 inline RandomTree random_tree(std::mt19937& rng, int n, bool moving) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);

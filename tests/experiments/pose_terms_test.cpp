@@ -42,12 +42,7 @@ PoseCase random_pose_case(std::mt19937& rng, int n, TorsionTorque torque) {
   PoseCase out;
   Scene& sc = out.scene;
   sc.file = "<random>";
-  sc.rig = dense::random_rig(rng, n);
-  for (int i = 1; i < n; ++i) {
-    for (int a = 0; a < 3; ++a) {
-      if ((i + a) % 3 == 0) sc.rig.bone_limit[i][a] = {true, -0.2, 0.1 + 0.1 * a};
-    }
-  }
+  sc.rig = dense::random_limited_rig(rng, n);
   sc.params = preset_params("original");
   sc.params.scheme = Scheme::kImplicit;
   sc.params.implicit_linearisation = ImplicitLinearisation::kFull;

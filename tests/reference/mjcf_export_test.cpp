@@ -19,6 +19,14 @@
 namespace physik {
 namespace {
 
+// the export's options for a joint model and a time step, the rest at their defaults
+MjcfOptions options(JointModel joints, double dt) {
+  MjcfOptions o;
+  o.joints = joints;
+  o.dt = dt;
+  return o;
+}
+
 std::vector<std::string> shipped_rigs() {
   std::vector<std::string> out;
   for (const auto& e : std::filesystem::directory_iterator(test::model_path("rigs"))) {
@@ -112,7 +120,7 @@ TEST(MjcfExport, RestPoseOfTheModelIsTheRigsRestPose) {
     const Rig rig = load_rig(path);
     const BoneFrames rest = forward_kinematics(rig, rest_pose(rig));
     for (JointModel jm : {JointModel::kRigJoints, JointModel::kBallJoints}) {
-      const MjModelPtr m = rig_to_mjmodel(rig, MjcfOptions{jm, 0.05});
+      const MjModelPtr m = rig_to_mjmodel(rig, options(jm, 0.05));
       const MjDataPtr d(mj_makeData(m.get()));
       mj_forward(m.get(), d.get());  // qpos0
       Scene scene = test::scene_for(rig, preset_params("original"), 1);
@@ -154,7 +162,7 @@ TEST(MjcfExport, JointTypesFollowTheDegreesOfFreedom) {
   EXPECT_EQ(m->nv, 6 + 2 + 2 * 7 + 2 * 7);
 
   // ball joints everywhere in the same-forces model: 6 + 3 per non-root bone, no limits
-  const MjModelPtr mb = rig_to_mjmodel(rig, MjcfOptions{JointModel::kBallJoints, 0.05});
+  const MjModelPtr mb = rig_to_mjmodel(rig, options(JointModel::kBallJoints, 0.05));
   EXPECT_EQ(mb->nv, 6 + 3 * (rig.nbone - 1));
   for (int k = 0; k < mb->njnt; ++k) EXPECT_FALSE(mb->jnt_limited[k]);
 
@@ -167,7 +175,7 @@ TEST(MjcfExport, JointTypesFollowTheDegreesOfFreedom) {
 
 TEST(MjcfExport, PhysicsOptionsAreTheEnginesOwn) {
   const Rig rig = load_rig(test::model_path("rigs/chain3.json"));
-  const MjModelPtr m = rig_to_mjmodel(rig, MjcfOptions{JointModel::kRigJoints, 0.02});
+  const MjModelPtr m = rig_to_mjmodel(rig, options(JointModel::kRigJoints, 0.02));
   EXPECT_EQ(m->opt.timestep, 0.02);
   EXPECT_EQ(m->opt.integrator, mjINT_EULER);
   EXPECT_EQ(m->opt.gravity[0], 0.0);
@@ -191,11 +199,11 @@ TEST(MjcfExport, ShallowRigsStayInOneFile) {
 TEST(MjcfExport, OneFileFailsBeyondMujocosXmlDepthIncludeFilesDoNot) {
   // MuJoCo 2.2.2's parser stops at ~100 nested elements (XML_ELEMENT_DEPTH_EXCEEDED)
   const Rig chain = make_chain_rig(120, 0.5, 0.2);
-  EXPECT_THROW(compile_mjcf(rig_to_mjcf(chain, MjcfOptions{JointModel::kBallJoints, 0.05})),
+  EXPECT_THROW(compile_mjcf(rig_to_mjcf(chain, options(JointModel::kBallJoints, 0.05))),
                std::runtime_error);
-  const auto files = rig_to_mjcf_files(chain, MjcfOptions{JointModel::kBallJoints, 0.05});
+  const auto files = rig_to_mjcf_files(chain, options(JointModel::kBallJoints, 0.05));
   EXPECT_EQ(files.size(), 2u);  // 64 bodies per file
-  EXPECT_EQ(rig_to_mjmodel(chain, MjcfOptions{JointModel::kBallJoints, 0.05})->nbody, 121);
+  EXPECT_EQ(rig_to_mjmodel(chain, options(JointModel::kBallJoints, 0.05))->nbody, 121);
 }
 
 TEST(MjcfExport, FiveHundredBoneChainCompilesAndRunsAsTheExactSolve) {
