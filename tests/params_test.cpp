@@ -21,13 +21,6 @@
 namespace physik {
 namespace {
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 std::vector<std::string> split(const std::string& s, const std::string& sep) {
   std::vector<std::string> out;
   std::size_t at = 0;
@@ -47,7 +40,7 @@ std::string strip(std::string s) {
 // models/README.md documents every parameter with the `original` preset's value and unit:
 // "| `control_k`, `control_spring`, `control_cap` | 10, `linear`, 1 | N/m, -, rig units | ... |"
 std::map<std::string, std::pair<std::string, std::string>> documented_original() {
-  const std::string doc = read_text(std::string(PHYSIK_SOURCE_DIR) + "/models/README.md");
+  const std::string doc = test::read_file(std::string(PHYSIK_SOURCE_DIR) + "/models/README.md");
   const auto from = doc.find("Engine parameters (`params`)");
   EXPECT_NE(from, std::string::npos);
   std::map<std::string, std::pair<std::string, std::string>> out;  // name -> (value, unit)

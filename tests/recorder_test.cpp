@@ -64,13 +64,6 @@ std::string table_of(const Scene& scene, int every, RowRule rule, RecordedRun* r
   return csv.str();
 }
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream buf;
-  buf << in.rdbuf();
-  return buf.str();
-}
-
 TEST(Recorder, EveryNAndTheScenesLastStep) {
   const Scene scene = short_scene(7);
   // step 0 is the initial state
@@ -232,7 +225,7 @@ TEST(Recorder, SimulateWritesTheRecordersTable) {
                           " --steps 25 --every 4 --quiet --out " + out;
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   const Scene scene = short_scene(25);
-  EXPECT_EQ(read_file(out + "/trajectory.csv"), table_of(scene, 4, RowRule::kEveryAndLast));
+  EXPECT_EQ(test::read_file(out + "/trajectory.csv"), table_of(scene, 4, RowRule::kEveryAndLast));
 }
 
 // the table's header is spelled in one source file: every writer goes through the recorder
@@ -244,7 +237,8 @@ TEST(Recorder, OneWriterOfTheTrajectoryTable) {
     for (const auto& e : std::filesystem::recursive_directory_iterator(root)) {
       const std::string ext = e.path().extension().string();
       if (ext != ".cpp" && ext != ".h") continue;
-      if (read_file(e.path().string()).find("\"step,time,kinetic_energy") != std::string::npos) {
+      if (test::read_file(e.path().string()).find("\"step,time,kinetic_energy") !=
+          std::string::npos) {
         spelled.push_back(std::filesystem::relative(e.path(), PHYSIK_SOURCE_DIR).string());
       }
     }

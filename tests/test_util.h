@@ -1,6 +1,8 @@
-// Shared test helpers: one tolerance helper, paths to shipped models.
+// Shared test helpers: one tolerance helper, paths to shipped models, a file's text.
 #pragma once
 
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -11,6 +13,14 @@ namespace physik::test {
 
 inline std::string model_path(const std::string& rel) {
   return std::string(PHYSIK_SOURCE_DIR) + "/models/" + rel;
+}
+
+// the whole text of a file ("" when it cannot be read: the caller's assertions then fail)
+inline std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream buf;
+  buf << in.rdbuf();
+  return buf.str();
 }
 
 // |a - b| <= tol, element-wise max norm, with a readable failure message

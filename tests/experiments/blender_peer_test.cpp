@@ -17,6 +17,7 @@
 #include "experiments/experiment.h"
 #include "physik/io/json_fields.h"
 #include "physik/io/scene_io.h"
+#include "tests/test_util.h"
 
 namespace physik::experiments {
 namespace {
@@ -72,13 +73,6 @@ Scene fig9() {
   return load_scene(models() + "/scenes/fig9_outstretched.json");
 }
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream buf;
-  buf << in.rdbuf();
-  return buf.str();
-}
-
 TEST(BlenderPeer, PhysikBlenderOffOrNotExecutableIsAbsentWithWhy) {
   for (const char* off : {"none", "off", "0", ""}) {
     BlenderEnv env(std::string{off});
@@ -116,7 +110,7 @@ TEST(BlenderPeer, AFailingBlenderIsOneLineAndLeavesNoPose) {
       << run.reason;
   EXPECT_EQ(run.reason.find('\n'), std::string::npos);
   EXPECT_FALSE(fs::exists(dir + "/itasc_final.csv"));
-  EXPECT_NE(read_file(dir + "/itasc_log.txt").find("something broke"), std::string::npos);
+  EXPECT_NE(test::read_file(dir + "/itasc_log.txt").find("something broke"), std::string::npos);
 }
 
 TEST(BlenderPeer, ABlenderThatWritesNothingIsReported) {

@@ -15,16 +15,10 @@
 #include "experiments/report.h"
 #include "physik/io/json_fields.h"
 #include "physik/io/scene_io.h"
+#include "tests/test_util.h"
 
 namespace physik::experiments {
 namespace {
-
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream buf;
-  buf << in.rdbuf();
-  return buf.str();
-}
 
 TEST(Experiments, EveryExpectedExperimentIsRegisteredInRunOrder) {
   std::vector<std::string> names;
@@ -138,7 +132,7 @@ TEST(Experiments, Fig5WritesItsReportAndTheRecordersTable) {
   RecordOptions o = trajectory_table("", 10);
   o.csv_stream = &csv;
   record_run(scene, o);
-  EXPECT_EQ(read_file(ctx.out_dir + "/trajectory.csv"), csv.str());
+  EXPECT_EQ(test::read_file(ctx.out_dir + "/trajectory.csv"), csv.str());
   // the first rows are the initial state (step 0) and step 1
   const std::string rows = csv.str().substr(csv.str().find('\n') + 1);
   EXPECT_EQ(rows.substr(0, 2), "0,");
@@ -159,7 +153,7 @@ TEST(Experiments, Fig11LeavesItsRunAsARunFolder) {
   ASSERT_NE(fig11, nullptr);
   fig11->run(ctx);
 
-  EXPECT_EQ(read_file(ctx.out_dir + "/runs/order.txt"), "sit\n");
+  EXPECT_EQ(test::read_file(ctx.out_dir + "/runs/order.txt"), "sit\n");
   const std::string run = ctx.out_dir + "/runs/sit";
   for (const char* f : {"scene.json", "trajectory.csv", "targets_and_limits.csv", "summary.json",
                         "final_pose.csv"}) {

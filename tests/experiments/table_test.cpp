@@ -15,16 +15,10 @@
 
 #include "experiments/columns.h"
 #include "experiments/table.h"
+#include "tests/test_util.h"
 
 namespace physik::experiments {
 namespace {
-
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream buf;
-  buf << in.rdbuf();
-  return buf.str();
-}
 
 std::string temp_dir(const std::string& name) {
   const auto d = std::filesystem::temp_directory_path() / ("physik_table_test_" + name);
@@ -50,7 +44,7 @@ Table sample() {
 TEST(Table, TheCsvWritesEachCellAsItsColumnSays) {
   const std::string dir = temp_dir("csv");
   sample().write_csv(dir);
-  EXPECT_EQ(read_file(dir + "/sample.csv"),
+  EXPECT_EQ(test::read_file(dir + "/sample.csv"),
             "scene,damping,steps_to_converge,converged,x9,gap,exact,label\n"
             "pinhead,0.333333,42,1,3.14159265,,0.1,\"a, b\"\n"
             "fig5,1e+06,-1,0,2,0.5,1e-300,\"c\"\n");
