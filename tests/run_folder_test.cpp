@@ -1,7 +1,10 @@
-// Run folders (physik/io/run_folder.h) and their targets-and-limits table
-// (physik/io/targets_limits.h): a pose past a known limit gives its excess, the tables keep the
-// same rows, the table's largest excess is the run's limit violation, and an interpolated
-// target's path is the interpolation's (a straight segment for linear).
+// Run folders (physik/io/run_folder.h), their targets-and-limits table
+// (physik/io/targets_limits.h) and their contacts table (physik/io/contacts_table.h): a pose
+// past a known limit gives its excess, the tables keep the same rows, the table's largest excess
+// is the run's limit violation, an interpolated target's path is the interpolation's (a straight
+// segment for linear); a rod resting on the floor records its two end contacts at the analytic
+// depth and force, a dropped rod none before it can reach the floor, a run without contacts no
+// table.
 #include "physik/io/run_folder.h"
 
 #include <cmath>
@@ -14,7 +17,9 @@
 #include <gtest/gtest.h>
 
 #include "physik/engine/engine.h"
+#include "physik/io/contacts_table.h"
 #include "physik/io/scene_io.h"
+#include "tests/contact_test_util.h"
 #include "tests/test_util.h"
 
 namespace physik {
@@ -137,6 +142,75 @@ TEST(RunFolder, LinearTargetPathIsAStraightSegment) {
     EXPECT_LT((off - off.dot(dir_unit) * dir_unit).norm(), 1e-6) << "row " << r;
   }
   EXPECT_TRUE(test::near(target(limits.rows.size() - 1), goal, 1e-7));
+}
+
+// a 1 kg, 1 m rod lying on the floor (contacts_test.cpp): at rest each end carries m g / 2, so
+// each end contact sinks by m g / (2 k) and its spring pushes m g / 2
+TEST(RunFolder, RestingRodRecordsItsTwoEndContacts) {
+  const double k = 1e4, load = 1.0 * 9.81 / 2.0;
+  Scene scene = test::floor_scene(test::lying_rod(0.06), Scheme::kImplicit, 0.05);
+  scene.params.contact_k = k;
+  scene.steps = 60;  // 3 s
+  const std::string dir = fresh_dir("rod");
+  simulate_into_folder(scene, dir, 10);
+  const Table traj = read_table(dir + "/trajectory.csv");
+  const Table contacts = read_table(dir + "/" + kContactsFile);
+  ASSERT_EQ(contacts.columns,
+            std::vector<std::string>(std::begin(kContactsColumns), std::end(kContactsColumns)));
+  // every row at a trajectory row's step and time; step 0 (no force stage yet) has none
+  for (const std::vector<double>& row : contacts.rows) {
+    ASSERT_EQ(row.size(), contacts.columns.size());
+    EXPECT_GT(row[0], 0);
+    bool found = false;
+    for (const std::vector<double>& t : traj.rows) found |= t[0] == row[0] && t[1] == row[1];
+    EXPECT_TRUE(found) << "step " << row[0];
+  }
+  std::vector<std::vector<double>> last;
+  for (const std::vector<double>& row : contacts.rows) {
+    if (row[0] == scene.steps) last.push_back(row);
+  }
+  ASSERT_EQ(last.size(), 2u);
+  for (const std::vector<double>& row : last) {
+    EXPECT_EQ(row[contacts.column("bone")], 0);
+    EXPECT_EQ(row[contacts.column("other_bone")], -1);  // the ground
+    const int n = contacts.column("normal_x");
+    EXPECT_TRUE(test::near(Vec3(row[n], row[n + 1], row[n + 2]), Vec3::UnitZ(), 1e-12));
+    const double depth = row[contacts.column("depth")];
+    EXPECT_NEAR(depth, load / k, 1e-6 * load / k);
+    EXPECT_NEAR(row[contacts.column("normal_force")], load, 1e-6 * load);
+    // midway between the end sphere's bottom (-depth) and the floor (0)
+    EXPECT_NEAR(row[contacts.column("point_z")], -0.5 * depth, 1e-9);
+  }
+  const int x = contacts.column("point_x");
+  EXPECT_NEAR(std::min(last[0][x], last[1][x]), 0.0, 1e-6);  // the rod's two ends
+  EXPECT_NEAR(std::max(last[0][x], last[1][x]), 1.0, 1e-6);
+}
+
+// dropped from 0.3 (its underside 0.24 above the floor), the rod touches nothing before it has
+// fallen that far: t = sqrt(2 0.24 / g), and lies on the floor by the end
+TEST(RunFolder, DroppedRodRecordsNoContactBeforeItReachesTheFloor) {
+  Scene scene = test::floor_scene(test::lying_rod(0.3), Scheme::kImplicit, 0.01);
+  scene.steps = 100;
+  const std::string dir = fresh_dir("drop");
+  simulate_into_folder(scene, dir, 2);
+  const Table contacts = read_table(dir + "/" + kContactsFile);
+  const double fall = std::sqrt(2.0 * 0.24 / 9.81);
+  ASSERT_FALSE(contacts.rows.empty());
+  double first = contacts.rows[0][1];
+  for (const std::vector<double>& row : contacts.rows) first = std::min(first, row[1]);
+  EXPECT_GT(first, 0.9 * fall);
+  EXPECT_LT(first, 1.5 * fall);
+  EXPECT_EQ(contacts.rows.back()[0], scene.steps);
+}
+
+// a scene without a ground or self-collision writes no contacts table
+TEST(RunFolder, NoContactsTableWithoutContacts) {
+  Scene scene = load_scene(test::model_path("scenes/fig6_elbow_linear.json"));
+  scene.steps = 5;
+  const std::string dir = fresh_dir("no_contacts");
+  simulate_into_folder(scene, dir, 1);
+  EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/trajectory.csv"));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/" + kContactsFile));
 }
 
 }  // namespace

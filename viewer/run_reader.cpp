@@ -9,6 +9,7 @@
 #include <limits>
 #include <unordered_map>
 
+#include "physik/io/contacts_table.h"
 #include "physik/io/json_fields.h"
 #include "physik/io/pose_io.h"
 #include "physik/io/recorder.h"
@@ -232,6 +233,54 @@ void read_targets_limits(const std::string& path, ViewRun& run) {
   }
 }
 
+// one contacts.csv row's bone index: a bone of the rig, or -1 (the ground) where `ground_ok`
+int contact_bone(const CsvFile& csv, const std::vector<std::string>& f, std::size_t k,
+                 const std::vector<std::string>& names, int nbone, bool ground_ok) {
+  const double b = csv.number(f, k, names);
+  if (b != std::floor(b) || b < (ground_ok ? -1 : 0) || b >= nbone) {
+    csv.fail(names[k], "'" + f[k] + "' is not a bone of the rig (0 to " +
+                           std::to_string(nbone - 1) +
+                           (ground_ok ? ", or -1 for the ground)" : ")"));
+  }
+  return static_cast<int>(b);
+}
+
+// The contacts of the kept frames, grouped by frame (contact_start); rows of frames decimation
+// left out are skipped.
+void read_contacts(const std::string& path, ViewRun& run) {
+  const int nframe = static_cast<int>(run.steps.size()), nbone = run.scene.rig.nbone;
+  std::vector<std::vector<int>> bones(nframe);
+  std::vector<std::vector<float>> values(nframe);
+  CsvFile csv(path);
+  const std::vector<std::string> names(std::begin(kContactsColumns), std::end(kContactsColumns));
+  csv.check_header(names);
+  const std::unordered_map<int, int> frame = frame_of_step(run);
+  std::vector<std::string> f;
+  while (csv.next(f)) {
+    if (f.size() != names.size()) {
+      csv.fail("", std::to_string(f.size()) + " fields where the header has " +
+                       std::to_string(names.size()));
+    }
+    const int a = contact_bone(csv, f, 2, names, nbone, false);
+    const int b = contact_bone(csv, f, 3, names, nbone, true);
+    std::vector<float> v;
+    for (std::size_t k = 4; k < names.size(); ++k) {
+      v.push_back(static_cast<float>(csv.number(f, k, names)));
+    }
+    const auto it = frame.find(static_cast<int>(csv.number(f, 0, names)));
+    if (it == frame.end()) continue;  // a row decimation left out, or no trajectory row
+    bones[it->second].insert(bones[it->second].end(), {a, b});
+    values[it->second].insert(values[it->second].end(), v.begin(), v.end());
+  }
+  run.has_contacts = true;
+  run.contact_start.assign(1, 0);
+  for (int k = 0; k < nframe; ++k) {
+    run.contact_bones.insert(run.contact_bones.end(), bones[k].begin(), bones[k].end());
+    run.contact_values.insert(run.contact_values.end(), values[k].begin(), values[k].end());
+    run.contact_start.push_back(static_cast<int>(run.contact_bones.size() / 2));
+  }
+}
+
 // Without the table: each frame's goal targets from the scene and its schedule.
 void goal_targets(ViewRun& run) {
   const Scene& sc = run.scene;
@@ -278,6 +327,8 @@ ViewRun read_run_folder(const std::string& folder, int max_frames) {
     run.notes.push_back(std::string("no ") + kTargetsLimitsFile +
                         ": targets are the scene's goals, joint limits are not shown");
   }
+  const fs::path contacts = fs::path(folder) / kContactsFile;
+  if (fs::is_regular_file(contacts, ec)) read_contacts(contacts.string(), run);
   if (static_cast<int>(run.steps.size()) < run.rows_recorded) {
     run.notes.push_back("decimated: " + std::to_string(run.rows_recorded) +
                         " recorded rows shown as " + std::to_string(run.steps.size()) +

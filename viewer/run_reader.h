@@ -1,6 +1,8 @@
 // A run folder (physik/io/run_folder.h) read for the viewer: the scene as run, the recorded
 // frames (every bone's head and tail), the per-frame readouts, and, from
-// targets_and_limits.csv, the control points' targets and each bone's joint-limit excess.
+// targets_and_limits.csv, the control points' targets and each bone's joint-limit excess, and,
+// from contacts.csv (physik/io/contacts_table.h) where the folder has one, each kept frame's
+// contacts.
 //
 // Runs longer than `max_frames` rows are decimated to exactly max_frames rows, evenly spread:
 //   kept row k = round(k (rows - 1) / (max_frames - 1)),  k = 0 .. max_frames - 1
@@ -8,7 +10,8 @@
 // Bad input is an InputError naming the folder or the file and what is wrong: not a folder,
 // no scene.json or trajectory.csv (not a run folder), an empty trajectory, a header that is not
 // the scene's columns, a row with the wrong number of fields, a value that is not a finite
-// number; and, for an overlay, runs whose rigs differ in their bones.
+// number, a contact of a bone the rig does not have; and, for an overlay, runs whose rigs differ
+// in their bones.
 #pragma once
 
 #include <string>
@@ -36,7 +39,13 @@ struct ViewRun {
   std::vector<float> targets;           // (nframe x ncontrol x 3) world, rig units
   std::vector<float> limit_excess;      // (nframe x nbone) largest |excess| over the axes,
                                         //   rad; empty when the folder has no table
-  std::vector<std::string> notes;       // what the page should say about this run
+  // contacts.csv's rows of the kept frames, frame by frame; all empty without the file
+  bool has_contacts = false;          // the folder has contacts.csv
+  std::vector<int> contact_start;     // (nframe + 1) frame f's contacts are [start[f], start[f+1])
+  std::vector<int> contact_bones;     // (ncontact x 2) bone, other bone (-1: the ground)
+  std::vector<float> contact_values;  // (ncontact x 8) point x y z (world, rig units), normal
+                                      //   x y z (world, unit), depth (rig units), normal force (N)
+  std::vector<std::string> notes;     // what the page should say about this run
 };
 
 // Reads one run folder; max_frames >= 2.

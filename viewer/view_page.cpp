@@ -159,6 +159,12 @@ nlohmann::json run_json(const ViewRun& r) {
     out["ground"] = {{"height", g.height},
                      {"normal", {g.normal_world.x(), g.normal_world.y(), g.normal_world.z()}}};
   }
+  // the contacts of each frame, only where the folder has contacts.csv
+  if (r.has_contacts) {
+    out["contacts"] = {{"start", b64(r.contact_start)},
+                       {"bones", b64(r.contact_bones)},
+                       {"values", b64(r.contact_values)}};
+  }
   return out;
 }
 

@@ -10,7 +10,8 @@
 // names with textContent, never as markup.
 //
 // Frame arrays travel as base64 of little-endian typed arrays (Float32 positions, targets,
-// readouts and excess; Float64 times; Int32 steps and indices): a 100-bone, 10,000-frame run
+// readouts, excess and contact values; Float64 times; Int32 steps, indices and each frame's
+// first contact, run_reader.h ViewRun): a 100-bone, 10,000-frame run
 // is 24 MB of positions, where decimal JSON would be about twice that and slower to parse.
 #pragma once
 

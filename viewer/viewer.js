@@ -10,6 +10,11 @@
 // - bones whose joint angle is past a limit by more than LIMIT_SHOWN_RAD are drawn in the
 //   highlight colour (the excess comes from targets_and_limits.csv: a bone's twist cannot be
 //   seen in its head and tail);
+// - a run folder with contacts.csv gets its contacts drawn at each frame: a sphere at the
+//   contact point and a line along the normal, of a fixed length (a tenth of the scene's size:
+//   an impact's force and a resting one differ by orders of magnitude, so a line scaled by the
+//   force hides the resting contacts), in CONTACT_COLOR, over the bodies; the readout gives the
+//   count and the largest normal force;
 // - names come from user files: they are only ever set as text (textContent), never as markup.
 // World Z is up (the rigs' convention); the camera starts in front of the rig (-Y).
 (function () {
@@ -18,6 +23,7 @@
   var PALETTE = ['#1f77b4', '#ff7f0e', '#2ca02c', '#9467bd', '#8c564b', '#17becf', '#7f7f7f',
                  '#bcbd22'];
   var HIGHLIGHT = '#e6194b';
+  var CONTACT_COLOR = '#ff00ff';
   var LIMIT_SHOWN_RAD = 0.1 * Math.PI / 180;  // 0.1 deg: round-off never lights a bone
   var SPEEDS = [0.1, 0.25, 0.5, 1, 2, 5, 10, 20, 50, 100];
   var Y_AXIS = new THREE.Vector3(0, 1, 0);
@@ -41,9 +47,15 @@
       maxResidualPoint: decode(raw.max_residual_point, Int32Array),
       positions: decode(raw.positions, Float32Array),
       targets: decode(raw.targets, Float32Array),
-      excess: raw.limit_excess === null ? null : decode(raw.limit_excess, Float32Array)
+      excess: raw.limit_excess === null ? null : decode(raw.limit_excess, Float32Array),
+      contacts: null
     };
     run.nframe = run.steps.length;
+    if (raw.contacts) {
+      run.contacts = { start: decode(raw.contacts.start, Int32Array),
+                       bones: decode(raw.contacts.bones, Int32Array),
+                       values: decode(raw.contacts.values, Float32Array) };
+    }
     return run;
   }
 
@@ -112,6 +124,12 @@
     hi.appendChild(swatch(HIGHLIGHT));
     hi.appendChild(el('span', 'label', 'past a joint limit (by more than 0.1 deg)'));
     legend.appendChild(hi);
+    if (anyContacts(v)) {
+      var ct = el('span', 'run');
+      ct.appendChild(swatch(CONTACT_COLOR));
+      ct.appendChild(el('span', 'label', 'contact: the point and its normal'));
+      legend.appendChild(ct);
+    }
     return legend;
   }
 
@@ -140,6 +158,9 @@
     c.appendChild(buildThickness(v));
     c.appendChild(checkbox('targets', true, function (on) { v.setTargetsShown(on); }));
     c.appendChild(checkbox('target paths', true, function (on) { v.setPathsShown(on); }));
+    if (anyContacts(v)) {
+      c.appendChild(checkbox('contacts', true, function (on) { v.setContactsShown(on); }));
+    }
     return c;
   }
 
@@ -192,8 +213,12 @@
     return label;
   }
 
+  function anyContacts(v) {
+    return v.runs.some(function (r) { return r.contacts !== null; });
+  }
+
   var READOUT_COLUMNS = ['run', 'step', 'time (s)', 'kinetic energy (J)',
-                         'largest residual (rig units)', 'past a joint limit'];
+                         'largest residual (rig units)', 'past a joint limit', 'contacts'];
 
   function buildReadout(v) {
     var table = el('table', 'readout');
@@ -247,6 +272,32 @@
     };
     Object.keys(run.meshes).forEach(function (k) { v.scene.add(run.meshes[k]); });
     buildTargets(v, run);
+    buildContacts(v, run);
+  }
+
+  // a sphere per contact and a line along its normal, as many as the busiest frame has; drawn
+  // over the bodies (the point lies inside a capsule or under the floor)
+  function buildContacts(v, run) {
+    var c = run.contacts;
+    if (c === null) return;
+    var most = 0;
+    for (var f = 0; f < run.nframe; f++) most = Math.max(most, c.start[f + 1] - c.start[f]);
+    run.contactSize = 0.02 * v.extent;
+    run.contactLength = 0.1 * v.extent;
+    var mat = new THREE.MeshBasicMaterial({ color: CONTACT_COLOR, depthTest: false });
+    run.contactGroup = new THREE.Group();
+    run.contactDots = instanced(v.sphere, mat, most);
+    run.contactDots.renderOrder = 2;
+    var geo = new THREE.BufferGeometry();
+    var ends = new Float32Array(6 * Math.max(1, most));  // the point and the normal's end
+    geo.setAttribute('position', new THREE.BufferAttribute(ends, 3));
+    run.contactLines = new THREE.LineSegments(
+        geo, new THREE.LineBasicMaterial({ color: CONTACT_COLOR, depthTest: false }));
+    run.contactLines.renderOrder = 2;
+    run.contactLines.frustumCulled = false;
+    run.contactGroup.add(run.contactDots);
+    run.contactGroup.add(run.contactLines);
+    v.scene.add(run.contactGroup);
   }
 
   function buildTargets(v, run) {
@@ -435,6 +486,28 @@
     springs.needsUpdate = true;
   }
 
+  function placeContacts(run, f) {
+    var c = run.contacts;
+    if (c === null) return;
+    var lines = run.contactLines.geometry, ends = lines.attributes.position, n = 0;
+    tmp.s.set(run.contactSize, run.contactSize, run.contactSize);
+    for (var k = c.start[f]; k < c.start[f + 1]; k++, n++) {
+      var o = 8 * k;
+      tmp.h.fromArray(c.values, o);
+      tmp.d.fromArray(c.values, o + 3);
+      tmp.t.copy(tmp.h).addScaledVector(tmp.d, run.contactLength);
+      run.contactDots.setMatrixAt(n, tmp.m.compose(tmp.h, tmp.one, tmp.s));
+      ends.setXYZ(2 * n, tmp.h.x, tmp.h.y, tmp.h.z);
+      ends.setXYZ(2 * n + 1, tmp.t.x, tmp.t.y, tmp.t.z);
+    }
+    run.contactDots.count = n;
+    run.contactDots.visible = n > 0;
+    run.contactDots.instanceMatrix.needsUpdate = true;
+    lines.setDrawRange(0, 2 * n);
+    run.contactLines.visible = n > 0;
+    ends.needsUpdate = true;
+  }
+
   function fmt(x, digits) {
     if (!isFinite(x)) return String(x);
     return Math.abs(x) >= 1e5 || (x !== 0 && Math.abs(x) < 1e-3) ? x.toExponential(digits - 1)
@@ -462,6 +535,16 @@
     cells[3].textContent = p < 0 ? '(no control points)'
         : fmt(run.maxResidual[f], 4) + ' (' + (run.raw.control_points.names[p] || '#' + p) + ')';
     cells[4].textContent = limitText(run, f);
+    cells[5].textContent = contactText(run, f);
+  }
+
+  function contactText(run, f) {
+    var c = run.contacts;
+    if (c === null) return 'not recorded';
+    var n = c.start[f + 1] - c.start[f], most = 0;
+    if (n === 0) return 'none';
+    for (var k = c.start[f]; k < c.start[f + 1]; k++) most = Math.max(most, c.values[8 * k + 7]);
+    return n + ', largest force ' + fmt(most, 3) + ' N';
   }
 
   // --- the viewer -----------------------------------------------------------------------------
@@ -507,6 +590,7 @@
       var f = run.frameAt[self.frame];
       placeBones(run, f, self.radiusScale);
       placeTargets(run, f);
+      placeContacts(run, f);
       showReadout(run, f);
     });
     this.slider.value = this.frame;
@@ -558,6 +642,11 @@
 
   Viewer.prototype.setTargetsShown = function (on) {
     this.runs.forEach(function (r) { r.targetGroup.visible = on; });
+    this.requestRender();
+  };
+
+  Viewer.prototype.setContactsShown = function (on) {
+    this.runs.forEach(function (r) { if (r.contactGroup) r.contactGroup.visible = on; });
     this.requestRender();
   };
 

@@ -12,9 +12,10 @@ numbers with its own joint parametrisation; the project reads them as rotation-v
 Mass: pose-bone properties `physik_mass` (kg) or `physik_mass_per_length` (kg per rig unit), else
 the original add-on's `fwik_mass` (per length: its final wrappers.py, FWIKBone.get_mass, returns
 fwik_mass x length), else the armature's `physik_mass_per_length` default; radius likewise from
-`physik_radius`; explicit moments from `physik_inertia_local` (3 numbers, kg m^2); free text
-from `physik_comment` (bones and armature data), `physik_source`, `physik_units`; the rig's name
-from `physik_rig_name`. Absent = the rig defaults (1 kg per unit, radius 0.5).
+`physik_radius`, the contact capsule's from `physik_collision_radius` (rig units); explicit
+moments from `physik_inertia_local` (3 numbers, kg m^2); free text from `physik_comment` (bones
+and armature data), `physik_source`, `physik_units`; the rig's name from `physik_rig_name`.
+Absent = the rig defaults (1 kg per unit, radius 0.5; the contact capsule 0.06 x the length).
 
 Writing (rig_to_armature): one edit bone per rig bone, connected to its parent, its roll set so
 that the bone's z axis is the rig frame's z (EditBone.align_roll); limits back as above ([0, 0]
@@ -120,9 +121,10 @@ def _mass_fields(pb, source, element):
         legacy = _positive_prop(pb, "fwik_mass", source, element)  # the paper's add-on
         if legacy is not None:
             out["mass_per_length"] = legacy
-    radius = _positive_prop(pb, "physik_radius", source, element)
-    if radius is not None:
-        out["radius"] = radius
+    for key in ("radius", "collision_radius"):
+        value = _positive_prop(pb, "physik_" + key, source, element)
+        if value is not None:
+            out[key] = value
     return out
 
 
@@ -216,7 +218,7 @@ def _rig_fields(obj, source):
     defaults = {} if keys is not None else {
         "mass_per_length": rig_format.DEFAULT_MASS_PER_LENGTH,
         "radius": rig_format.DEFAULT_RADIUS}
-    for key in ("mass_per_length", "radius"):
+    for key in ("mass_per_length", "radius", "collision_radius"):
         v = _positive_prop(data, "physik_" + key, source, "armature data")
         if v is not None:
             defaults[key] = v
@@ -319,8 +321,8 @@ def _build_bones(obj, rig, origin):
 
 
 def _put_bone_fields(pb, b):
-    """A file bone's masses, radius, moments and comment as the pose bone's properties."""
-    for key in ("mass", "mass_per_length", "radius"):
+    """A file bone's masses, radii, moments and comment as the pose bone's properties."""
+    for key in ("mass", "mass_per_length", "radius", "collision_radius"):
         if b.get(key) is not None:
             pb["physik_" + key] = float(b[key])
     if b.get("inertia_local") is not None:
@@ -337,7 +339,7 @@ def _put_rig_fields(data, doc):
         if isinstance(doc.get(key), str):
             data["physik_" + key] = doc[key]
     given = doc.get("defaults") if isinstance(doc.get("defaults"), dict) else {}
-    for key in ("mass_per_length", "radius"):
+    for key in ("mass_per_length", "radius", "collision_radius"):
         if given.get(key) is not None:
             data["physik_" + key] = float(given[key])
     data[rig_record.PROP] = rig_record.rig_record(doc)

@@ -30,6 +30,7 @@ BONE_KEYS = ("name", "parent", "head", "tail", "rest_frame", "roll_deg", "limits
              "mass_per_length", "mass", "radius", "inertia_local", "collision_radius", "comment")
 DEFAULT_MASS_PER_LENGTH = 1.0  # kg per rig unit, the original code's
 DEFAULT_RADIUS = 0.5           # rig units, the original code's
+COLLISION_RADIUS_PER_LENGTH = 0.06  # rig.h kCollisionRadiusPerLength: the default contact capsule
 MAX_NAME_BYTES = 63            # Blender's bone names hold 63 bytes (MAXBONENAME 64 with the NUL)
 
 

@@ -11,8 +11,9 @@ presets or default change, the panel follows. Damping is a value or "auto" (the 
 `damping_auto`; the engine decides what auto means).
 
 Without the module nothing here can run the engine (Solve, Simulate and Bake say so), so the
-settings hold only the add-on's own fields (steps per frame, bake every, steps) and params_dict
-is empty.
+settings hold only the add-on's own fields (steps per frame, bake every, steps, collide) and
+params_dict is empty. Collide is the scene's `ground` and `self_collision`, not a param
+(scene_dict.collision_dict).
 """
 import struct
 
@@ -107,6 +108,11 @@ def _own_annotations():
                                   description="one keyframe every N steps"),
         "max_steps": IntProperty(name="Steps", default=600, min=1, soft_max=10000,
                                  description="steps for Solve (at most) and Bake"),
+        "collide": BoolProperty(
+            name="Collide", default=False,
+            description="contacts: a floor (normal +Z) at the rig's lowest rest point, where its "
+                        "lowest bone capsule touches, and the bones' capsules against each other "
+                        "(the scene's ground and self_collision); gravity stays off"),
     }
 
 

@@ -31,6 +31,7 @@ class PHYSIK_PT_panel(bpy.types.Panel):
         col.prop(s, "steps_per_frame")
         col.prop(s, "bake_every")
         col.prop(s, "max_steps")
+        col.prop(s, "collide")
         row = layout.row(align=True)
         row.operator("physik.simulate", icon='PLAY')
         row.operator("physik.solve", icon='CHECKMARK')

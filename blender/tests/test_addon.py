@@ -555,6 +555,53 @@ class TestSettingsAndScene(Base):
         self.assertEqual(len(scene["rig"]["bones"]), 18)
         self.assertEqual(scene["control_points"][0]["bone"], "hand.R")
 
+    def scene_of(self, arm, bone):
+        control_points.add_control_point(bpy.context, arm, bone, 1.0)
+        bpy.context.view_layer.objects.active = arm
+        return scene_dict.build_scene(bpy.context, arm)
+
+    def test_collide_off_adds_no_contacts(self):
+        _, arm = build("elbow")
+        bpy.context.scene.physik.collide = False
+        scene = self.scene_of(arm, "forearm")
+        self.assertNotIn("ground", scene)
+        self.assertNotIn("self_collision", scene)
+        self.assertNotIn("gravity", scene)
+
+    def test_collide_puts_the_floor_under_the_rest_capsules(self):
+        # elbow: the upper arm's head at the origin, length 2, so its capsule (0.06 x 2) reaches
+        # 0.12 below it; the object moved up by 1.5 (Blender units are rig units) moves the floor
+        _, arm = build("elbow")
+        arm.location = (0.3, -0.2, 1.5)
+        bpy.context.scene.physik.collide = True
+        try:
+            scene = self.scene_of(arm, "forearm")
+        finally:
+            bpy.context.scene.physik.collide = False
+        self.assertEqual(scene["ground"]["normal"], [0.0, 0.0, 1.0])
+        self.assertAlmostEqual(scene["ground"]["height"], 1.5 - 0.12, delta=POS_TOL)
+        self.assertIs(scene["self_collision"], True)
+        self.assertNotIn("gravity", scene)  # the add-on has no gravity setting
+        json.dumps(scene)
+
+    def test_collide_takes_a_bones_own_collision_radius(self):
+        # chain3 (three bones of length 1 up from z = 0) with the root's capsule 0.25 wide; a pose
+        # does not move the floor: it is the rest pose's
+        with open(os.path.join(RIGS, "chain3.json")) as f:
+            rig = json.load(f)
+        rig["bones"][0]["collision_radius"] = 0.25
+        with tempfile.TemporaryDirectory() as tmp:
+            arm = import_file(write_json(tmp, "wide_root.json", rig))
+        lowest = min(min(b["head"][2], b["tail"][2]) for b in rig["bones"])
+        arm.pose.bones[rig["bones"][1]["name"]].rotation_mode = 'XYZ'
+        arm.pose.bones[rig["bones"][1]["name"]].rotation_euler = (2.5, 0.0, 0.0)  # bent down
+        bpy.context.scene.physik.collide = True
+        try:
+            scene = self.scene_of(arm, rig["bones"][2]["name"])
+        finally:
+            bpy.context.scene.physik.collide = False
+        self.assertAlmostEqual(scene["ground"]["height"], lowest - 0.25, delta=POS_TOL)
+
     def test_a_control_point_selects_its_armature(self):
         _, arm = build("elbow")
         empty = control_points.add_control_point(bpy.context, arm, "forearm")

@@ -15,6 +15,10 @@ The add-on reaches `import physik` (on --pythonpath). What is checked:
   - Solve reports INFO when converged, a WARNING with the largest residual when not;
   - damping 'auto' with the implicit step solves (the engine's damping_auto); a diverged Solve or
     Bake gives one Blender error, nothing changed;
+  - Collide: the scene dict's floor and self-collision run in the engine as in `physik simulate`
+    (the same final_state_hash), whose run folder records the ground contacts; the arm pulled
+    toward a target below the floor stays on it (its capsules sink less than 0.05 rig units
+    into it) where without Collide it goes through;
   - Blender's undo works across Solve, Bake and Reset: each operator, called as the panel's
     button calls it (with an undo push: bpy.ops.physik.solve('EXEC_DEFAULT', True)), is one undo
     step; bpy.ops.ed.undo() returns the armature to exactly the pose before it (the channels and
@@ -209,6 +213,46 @@ class TestSolve(Base):
         # the hand reached its target (the scene's residual tolerance: 1e-3 x height)
         hand = posed["hand.R"][1]
         self.assertLess((hand - Vector((-2.4, -0.6, 1.5))).length, summary["residual_tol"])
+
+
+class TestCollide(Base):
+    def arm_pulled_down(self, collide):
+        """elbow (upright from the origin, 4 long) with its root head held and its forearm's tail
+        pulled toward (0, 3, -1.5), below the floor Collide puts at -0.12; engine.solve's
+        (scene, summary)."""
+        rig = rig_format.load_rig(os.path.join(REPO, "models", "rigs", "elbow.json"))
+        arm = armature_io.rig_to_armature(rig, bpy.context)
+        control_points.add_control_point(bpy.context, arm, "upper_arm", 0.0, (0, 0, 0))
+        control_points.add_control_point(bpy.context, arm, "forearm", 1.0, (0, 3, -1.5))
+        bpy.context.view_layer.objects.active = arm
+        s = bpy.context.scene.physik
+        # the implicit step: the explicit schemes need dt < 0.01 s with contacts (models/README.md)
+        s.preset, s.collide, s.max_steps = "robust", collide, 400
+        try:
+            scene = scene_dict.build_scene(bpy.context, arm)
+        finally:
+            s.collide = False
+        return scene, engine.solve(scene)[1]
+
+    def test_the_floor_holds_the_arm_as_the_cli_runs_it(self):
+        scene, summary = self.arm_pulled_down(True)
+        floor = scene["ground"]["height"]
+        self.assertAlmostEqual(floor, -0.12, delta=1e-9)
+        lowest = min(min(h[2], t[2]) for h, t in zip(summary["heads_world"],
+                                                     summary["tails_world"]))
+        self.assertGreater(lowest - 0.12, floor - 0.05)  # the capsules' bottoms (0.06 x 2)
+        with tempfile.TemporaryDirectory() as tmp:
+            cli_summary, _ = simulate_cli(scene, tmp)
+            self.assertEqual(cli_summary["final_state_hash"], summary["final_state_hash"])
+            with open(os.path.join(tmp, "out", "contacts.csv")) as f:
+                rows = list(csv.DictReader(f))
+        last = [r for r in rows if int(r["step"]) == cli_summary["steps_run"]]
+        self.assertTrue(last and all(r["other_bone"] == "-1" for r in last), last)
+
+    def test_without_collide_the_arm_goes_through(self):
+        scene, summary = self.arm_pulled_down(False)
+        self.assertNotIn("ground", scene)
+        self.assertLess(min(t[2] for t in summary["tails_world"]), -0.5)
 
 
 class TestBakeAndLive(Base):

@@ -67,6 +67,8 @@ Recorder::Recorder(const Scene& scene, RecordOptions options)
   if (csv_ && opt_.targets_limits_stream) {
     targets_limits_ = std::make_unique<TargetsLimitsCsv>(scene, *opt_.targets_limits_stream);
   }
+  if (csv_ && opt_.contacts_stream)
+    contacts_ = std::make_unique<ContactsCsv>(*opt_.contacts_stream);
   if (!opt_.all_frames &&
       std::find(opt_.frame_steps.begin(), opt_.frame_steps.end(), 0) != opt_.frame_steps.end()) {
     run_.frame_steps.push_back(0);
@@ -78,9 +80,11 @@ StepObserver Recorder::observer() {
   return [this](const SimState& s, const StepStats& st) { observe(s, st); };
 }
 
-// the trajectory row, and its targets-and-limits row when the trajectory row was written
+// the trajectory row, and its targets-and-limits and contacts rows when it was written
 void Recorder::write_rows(const SimState& s, const StepStats& st) {
-  if (csv_->write_row(s, st, res_) && targets_limits_) targets_limits_->write_row(s);
+  if (!csv_->write_row(s, st, res_)) return;
+  if (targets_limits_) targets_limits_->write_row(s);
+  if (contacts_) contacts_->write_rows(s);
 }
 
 bool Recorder::wants_frame(int step) const {
@@ -110,6 +114,7 @@ void Recorder::observe(const SimState& s, const StepStats& st) {
 
 RecordedRun Recorder::finish(RunSummary summary) {
   targets_limits_.reset();
+  contacts_.reset();
   if (csv_) csv_.reset();
   if (file_.is_open()) file_.close();
   run_.summary = std::move(summary);

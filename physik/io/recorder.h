@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "physik/engine/run_summary.h"
+#include "physik/io/contacts_table.h"
 #include "physik/io/targets_limits.h"
 #include "physik/model/scene.h"
 
@@ -67,6 +68,9 @@ struct RecordOptions {
   // the targets-and-limits table (targets_limits.h), a row beside every trajectory row written
   // (the caller's stream; needs the trajectory table)
   std::ostream* targets_limits_stream = nullptr;
+  // the contacts table (contacts_table.h), the state's contacts beside every trajectory row
+  // written (the caller's stream; needs the trajectory table)
+  std::ostream* contacts_stream = nullptr;
   // kept in memory
   bool all_frames = false;       // the frames after every step
   std::vector<int> frame_steps;  // else only at these steps (0 = the initial pose, kept first)
@@ -113,6 +117,7 @@ class Recorder {
   std::ofstream file_;
   std::unique_ptr<TrajectoryCsv> csv_;
   std::unique_ptr<TargetsLimitsCsv> targets_limits_;
+  std::unique_ptr<ContactsCsv> contacts_;
   std::vector<double> res_;  // this step's control residuals
   RecordedRun run_;
 };

@@ -29,9 +29,19 @@ RecordOptions RunFolderWriter::record_options(int every) {
   return o;
 }
 
+RecordOptions RunFolderWriter::engine_record_options(int every) {
+  RecordOptions o = record_options(every);
+  if (scene_.collision.any()) {
+    contacts_ = open_output_file(dir_ + "/" + kContactsFile, option_);
+    o.contacts_stream = &contacts_;
+  }
+  return o;
+}
+
 void RunFolderWriter::finish(const nlohmann::json& summary, const BoneFrames& final_frames) {
   trajectory_.close();
   targets_limits_.close();
+  if (contacts_.is_open()) contacts_.close();
   write_json(summary, dir_ + "/" + kSummaryFile);
   std::ofstream pose = open_output_file(dir_ + "/" + kFinalPoseFile, option_);
   write_bones_csv(scene_.rig, final_frames, pose);
@@ -40,7 +50,7 @@ void RunFolderWriter::finish(const nlohmann::json& summary, const BoneFrames& fi
 RunSummary simulate_into_folder(const Scene& scene, const std::string& dir, int every,
                                 const StepObserver& also, const std::string& option) {
   RunFolderWriter folder(scene, dir, option);
-  RecordedRun run = record_run(scene, folder.record_options(every), also);
+  RecordedRun run = record_run(scene, folder.engine_record_options(every), also);
   folder.finish(summary_to_json(scene, run.summary), run.summary.final_frames);
   return std::move(run.summary);
 }

@@ -7,6 +7,10 @@
 //   targets_and_limits.csv   targets and joint-limit excess, the same rows (targets_limits.h)
 //   summary.json             the run's summary (summary_io.h), with what the writer adds
 //   final_pose.csv           the final pose as a bones table (pose_io.h)
+//   contacts.csv             the PhysIK engine's contacts, the same rows (contacts_table.h); only
+//                            for a scene with a ground or self-collision, and only from the
+//                            engine's runs (MuJoCo resolves its contacts itself: its run folder
+//                            has none)
 //
 // A pose folder is the same for one pose that no run produced (an IK solver's answer): a
 // trajectory of one row at step 0, time 0, with no motion (kinetic energy, passes and joint
@@ -36,6 +40,9 @@ class RunFolderWriter {
   // Recorder options that write both tables: a row every `every` steps, the initial state and
   // the scene's last step.
   RecordOptions record_options(int every);
+  // The same, and, when the scene has a ground or self-collision, contacts.csv of the state's
+  // contacts (SimState::contacts: the PhysIK engine's; a scene without either gets no file).
+  RecordOptions engine_record_options(int every);
   // summary.json and final_pose.csv; the tables are closed first.
   void finish(const nlohmann::json& summary, const BoneFrames& final_frames);
 
@@ -44,7 +51,7 @@ class RunFolderWriter {
  private:
   const Scene& scene_;
   std::string dir_, option_;
-  std::ofstream trajectory_, targets_limits_;
+  std::ofstream trajectory_, targets_limits_, contacts_;
 };
 
 // `physik simulate`'s run: the PhysIK engine on `scene` into a run folder (a trajectory row

@@ -2,15 +2,18 @@
 """The viewer: `physik view` (cli/cmd_view.cpp, viewer/) on run folders.
 
 ViewCommandTest (no browser): bad input exits 2 naming the folder and what is missing (not a
-folder, not a run folder, an empty trajectory, a short row, rigs with other bones); long runs
-are decimated to the cap and the page says so; the page loads nothing (no src or href, a
-content policy that forbids every load).
+folder, not a run folder, an empty trajectory, a short row, rigs with other bones, a contact of
+a bone the rig does not have); long runs are decimated to the cap and the page says so; a run
+folder's contacts.csv is in the page (only where there is one); the page loads nothing (no src
+or href, a content policy that forbids every load).
 
 BrowserTest, in headless Chromium (Debian's chromium, chromium-driver and python3-selenium;
 SwiftShader renders WebGL): the page loads from file:// with no console error and a canvas;
 moving the slider changes the rendered pixels and a paused frame stays the same; Play
 advances; an overlay of two runs draws both colours; a rig bent past a locked joint is drawn
-in the highlight colour; a rig, scene, folder and title of hostile names (</script><img ...>)
+in the highlight colour; a rod dropped on the floor (a run with contacts.csv) shows no contact
+marker while it falls and its two end contacts once it lies there, and the contacts toggle
+hides them; a rig, scene, folder and title of hostile names (</script><img ...>)
 show as text and run nothing; REPORT.html (analysis/report.py) shows an experiment's runs in
 the viewer, in an iframe beside its figure, with its hostile title as text. It skips, with a
 message, only where Chromium cannot start.
@@ -43,8 +46,8 @@ import headless_chromium  # noqa: E402
 SHOTS = os.environ.get("PHYSIK_VIEWER_SHOTS") or os.path.join(REPO, "build", "viewer_screenshots")
 SKIPPED = 77
 
-# the viewer's colours (viewer/viewer.js PALETTE, HIGHLIGHT): hues in degrees
-BLUE, ORANGE, HIGHLIGHT = 205, 28, 346
+# the viewer's colours (viewer/viewer.js PALETTE, HIGHLIGHT, CONTACT_COLOR): hues in degrees
+BLUE, ORANGE, HIGHLIGHT, CONTACT = 205, 28, 346, 300
 HOSTILE = '</script><img src=x onerror="window.__pwned=1;alert(1)">'
 HOSTILE_BONE = '"><svg onload="window.__pwned=2">'
 HOSTILE_POINT = "<script>window.__pwned=3</script>&amp;,\"tip\""
@@ -77,6 +80,22 @@ def chain_scene(folder, rig, tip_x, point_names=("root", "tip"), steps=40):
     scene = {"rig": "rig.json", "steps": steps, "control_points": [
         {"name": point_names[0], "bone": names[0], "alpha": 0.0, "target": [0, 0, 0]},
         {"name": point_names[1], "bone": names[2], "alpha": 1.0, "target": [tip_x, 0, 1.8]}]}
+    path = os.path.join(folder, "scene.json")
+    with open(path, "w") as f:
+        json.dump(scene, f)
+    return path
+
+
+def drop_scene(folder):
+    """A scene file in `folder`: a 1 m rod lying 0.3 above the floor (its capsule's underside
+    0.24 above), falling under gravity onto the ground, where it lies from about 0.22 s on."""
+    os.makedirs(folder, exist_ok=True)
+    rig = {"name": "rod", "bones": [{"name": "rod", "parent": None, "head": [0, 0, 0.3],
+                                     "tail": [1, 0, 0.3], "radius": 0.06}]}
+    with open(os.path.join(folder, "rod.json"), "w") as f:
+        json.dump(rig, f)
+    scene = {"rig": "rod.json", "steps": 100, "gravity": [0, 0, -9.81], "ground": {"height": 0},
+             "params": {"dt": 0.01}}
     path = os.path.join(folder, "scene.json")
     with open(path, "w") as f:
         json.dump(scene, f)
@@ -197,6 +216,37 @@ class ViewCommandTest(unittest.TestCase):
         self.assertIn("--max-frames", msg)
         self.assertIn("must be at least 2", msg)
 
+    def test_contacts_are_in_the_page_only_where_recorded(self):
+        drop = simulate(drop_scene(os.path.join(self.tmp, "d")), os.path.join(self.tmp, "drop"),
+                        "--every", "5")
+        out = os.path.join(self.tmp, "drop.html")
+        self.assertEqual(physik("view", drop, "--out", out)[0], 0)
+        run = page_data(out)["runs"][0]
+        frames = run["frames"]
+        start = struct.unpack("<%di" % (frames + 1), base64.b64decode(run["contacts"]["start"]))
+        rows = open(os.path.join(drop, "contacts.csv")).read().splitlines()[1:]
+        self.assertEqual(start[0], 0)
+        self.assertEqual(start[-1], len(rows))  # every row, each at its frame
+        self.assertEqual(start[1], 0)  # step 0: no contact
+        self.assertEqual(start[-1] - start[-2], 2)  # lying on the floor: both ends
+        plain = os.path.join(self.tmp, "plain_contacts.html")
+        self.assertEqual(physik("view", self.run_dir, "--out", plain)[0], 0)
+        self.assertNotIn("contacts", page_data(plain)["runs"][0])
+        self.assertFalse(os.path.exists(os.path.join(self.run_dir, "contacts.csv")))
+
+    def test_a_contact_of_a_bone_the_rig_has_not(self):
+        drop = simulate(drop_scene(os.path.join(self.tmp, "d2")), os.path.join(self.tmp, "bad"),
+                        "--every", "5")
+        path = os.path.join(drop, "contacts.csv")
+        lines = open(path).read().splitlines()
+        fields = lines[-1].split(",")
+        fields[2] = "1"  # the rod is bone 0, the only one
+        lines[-1] = ",".join(fields)
+        open(path, "w").write("\n".join(lines) + "\n")
+        msg = self.error(drop, "--out", os.path.join(self.tmp, "x.html"))
+        self.assertIn(path + ": line %d: field 'bone': '1' is not a bone of the rig" % len(lines),
+                      msg)
+
     def test_the_page_loads_nothing(self):
         out = os.path.join(self.tmp, "plain.html")
         self.assertEqual(physik("view", self.run_dir, "--out", out)[0], 0)
@@ -235,9 +285,10 @@ class BrowserTest(unittest.TestCase):
         hostile_rig = chain_rig((HOSTILE, HOSTILE_BONE, "b2"), name=HOSTILE, locked_middle=True)
         hostile = simulate(chain_scene(t + "/s3", hostile_rig, 3.0, (HOSTILE, HOSTILE_POINT)),
                            os.path.join(t, HOSTILE_FOLDER), "--every", "2")
+        drop = simulate(drop_scene(t + "/s4"), t + "/drop", "--every", "2")
         cls.pages = {"single": t + "/single.html", "overlay": t + "/overlay.html",
-                     "hostile": t + "/hostile.html"}
-        for args in ([right, "--out", cls.pages["single"]],
+                     "hostile": t + "/hostile.html", "drop": t + "/drop.html"}
+        for args in ([right, "--out", cls.pages["single"]], [drop, "--out", cls.pages["drop"]],
                      [right, left, "--out", cls.pages["overlay"]],
                      [hostile, "--title", HOSTILE, "--out", cls.pages["hostile"]]):
             status, err = physik("view", *args)
@@ -331,6 +382,37 @@ class BrowserTest(unittest.TestCase):
         counts = hue_counts(self.settled_canvas(canvas), (HIGHLIGHT,))
         self.shot("limit_highlighted")
         self.assertGreater(counts[HIGHLIGHT], 100, (counts, data["notes"]))
+
+    def contacts_at(self, canvas, frame):
+        """At timeline entry `frame`: the markers placed, the readout's contacts cell, and the
+        contact colour's pixels."""
+        self.js("window.physikViewers[0].setFrame(arguments[0]);", frame)
+        pixels = hue_counts(self.settled_canvas(canvas), (CONTACT,), tol=10)[CONTACT]
+        placed = self.js("return window.physikViewers[0].runs[0].contactDots.count")
+        cell = self.js("return document.querySelectorAll('.physik-viewer tbody td')[6]"
+                       ".textContent")
+        return placed, cell, pixels
+
+    def test_contacts_show_where_the_run_has_them(self):
+        canvas = self.load("drop")
+        last = self.js("return window.physikViewers[0].times.length - 1")
+        # 0.1 s: still falling (the rod reaches the floor after sqrt(2 0.24 / 9.81) = 0.22 s)
+        placed, cell, pixels = self.contacts_at(canvas, 5)
+        self.assertEqual((placed, cell, pixels), (0, "none", 0))
+        self.shot("contacts_falling")
+        placed, cell, pixels = self.contacts_at(canvas, last)
+        self.shot("contacts_lying")
+        self.assertEqual(placed, 2)
+        self.assertTrue(cell.startswith("2, largest force "), cell)
+        self.assertGreater(pixels, 20)
+        box = self.driver.find_element(
+            "xpath", "//label[contains(., 'contacts')]/input[@type='checkbox']")
+        box.click()  # the toggle hides them
+        self.assertEqual(hue_counts(self.settled_canvas(canvas), (CONTACT,), tol=10)[CONTACT], 0)
+        box.click()
+        self.assertGreater(hue_counts(self.settled_canvas(canvas), (CONTACT,), tol=10)[CONTACT],
+                           20)
+        self.assertEqual(self.errors(), [])
 
     def test_hostile_names_show_as_text_and_run_nothing(self):
         from selenium.common.exceptions import NoAlertPresentException
