@@ -1,0 +1,34 @@
+// The coil: a long chain of bones on a floor with self-collision, shared by the contacts
+// experiment's `coil` section (experiments/contacts.cpp) and bench/bench_contacts.cpp.
+//
+// The chain: N bones of length L = 0.1 rig units, 1 kg per rig unit (0.1 kg a bone, the original's
+// mass per length), no joint limits (a free ball at every joint: a rope of capsules), collision
+// radius r = L / 4, the inertia's cylinder of the same radius. Its rest pose is the shape below
+// (the rig is built in that shape), so the initial pose is the rest pose.
+//   flat spiral  an Archimedean spiral rho = rho_0 + s theta / (2 pi) in the plane z = r - e,
+//                inner radius rho_0 = 3 L, turns s = 2 r - e apart, e = r / 25: every end sphere
+//                sinks e into the floor and neighbouring turns overlap by e plus up to the chords'
+//                sag L^2 / (8 rho) (at most 0.17 r, on the innermost turn), so the pose has 2N
+//                ground contacts and a self-contact or two per bone of an inner turn
+//   helix        `turns` turns of radius N L / (2 pi turns) about the vertical, pitch 3 r (the
+//                turns do not touch), its lowest bone r above the floor: dropped under gravity,
+//                the turns fall onto one another and pile on the floor
+// Points are placed along each curve with chords of exactly L (a few secant corrections per
+// bone). Scene: gravity 9.81 down, the floor z = 0, self-collision on (`contacts` false: neither,
+// gravity kept), the implicit scheme (the explicit ones need dt below the contact's period,
+// docs/engine.md) at dt 0.01 s with the end dampers at `damping` N s/m, the default contact law.
+// Units: rig units, kg, s.
+#pragma once
+
+#include "physik/model/scene.h"
+
+namespace physik::experiments {
+
+constexpr double kCoilBoneLength = 0.1;  // rig units
+constexpr double kCoilRadius = 0.025;    // rig units, collision and inertia radius
+constexpr double kCoilDamping = 0.1;     // N s/m at each bone end
+
+Scene coil_flat_spiral_scene(int nbone, bool contacts, int steps = 100);
+Scene coil_helix_scene(int nbone, int turns, int steps);
+
+}  // namespace physik::experiments
