@@ -71,7 +71,8 @@ Scene coil_scene(const Rig& rig, const std::string& name, bool contacts, int ste
 
 Scene coil_flat_spiral_scene(int nbone, bool contacts, int steps) {
   const double e = kCoilRadius / 25.0;
-  const double rho0 = 3.0 * kCoilBoneLength, pitch = 2.0 * kCoilRadius - e;
+  const double rho0 = 3.0 * kCoilBoneLength;
+  const double pitch = 2.0 * kCoilRadius - e + kCoilBoneLength * kCoilBoneLength / (8.0 * rho0);
   const Curve spiral = [&](double theta) {
     const double rho = rho0 + pitch * theta / (2.0 * kPi);
     return Vec3(rho * std::cos(theta), rho * std::sin(theta), kCoilRadius - e);

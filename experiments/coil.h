@@ -6,10 +6,11 @@
 // radius r = L / 4, the inertia's cylinder of the same radius. Its rest pose is the shape below
 // (the rig is built in that shape), so the initial pose is the rest pose.
 //   flat spiral  an Archimedean spiral rho = rho_0 + s theta / (2 pi) in the plane z = r - e,
-//                inner radius rho_0 = 3 L, turns s = 2 r - e apart, e = r / 25: every end sphere
-//                sinks e into the floor and neighbouring turns overlap by e plus up to the chords'
-//                sag L^2 / (8 rho) (at most 0.17 r, on the innermost turn), so the pose has 2N
-//                ground contacts and a self-contact or two per bone of an inner turn
+//                inner radius rho_0 = 3 L, e = r / 25, turns s = 2 r - e + L^2 / (8 rho_0) apart
+//                (a chord of a turn sags inward by L^2 / (8 rho)): every end sphere sinks e into
+//                the floor, the inner turns overlap by up to e and the outer ones, whose chords sag
+//                less, just clear each other: 2N ground contacts, a few self-contacts on the
+//                innermost turns, and every turn a candidate of its neighbours' in the broad phase
 //   helix        `turns` turns of radius N L / (2 pi turns) about the vertical, pitch 3 r (the
 //                turns do not touch), its lowest bone r above the floor: dropped under gravity,
 //                the turns fall onto one another and pile on the floor

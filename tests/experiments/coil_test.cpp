@@ -30,12 +30,10 @@ TEST(Coil, FlatSpiralLiesOnTheFloorWithItsTurnsTouching) {
   int ground = 0, bones = 0;
   for (const Contact& c : contacts_at_start(s)) {
     (c.other_bone < 0 ? ground : bones) += 1;
-    // at most e and the sag of a chord of the innermost turn (coil.h)
-    const double e = kCoilRadius / 25.0, rho0 = 3.0 * kCoilBoneLength;
-    EXPECT_LE(c.depth, e + kCoilBoneLength * kCoilBoneLength / (8.0 * rho0) + 1e-12);
+    EXPECT_LE(c.depth, kCoilRadius / 25.0 + 1e-12);  // at most e (coil.h)
   }
   EXPECT_EQ(ground, 2 * 250);  // both end spheres of every bone sink e
-  EXPECT_GT(bones, 250);       // the turns overlap: more than a contact a bone
+  EXPECT_GT(bones, 0);         // the innermost turns overlap
   EXPECT_FALSE(coil_flat_spiral_scene(250, false).collision.any());
 }
 
