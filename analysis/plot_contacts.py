@@ -1,11 +1,16 @@
 #!/usr/bin/env python3
 """Contacts: PhysIK's final poses of the contacts experiment's runs (the drops on the floor, the
-hand pulled through the torso with and without self-collision), from results/contacts/runs/."""
+hand pulled through the torso with and without self-collision), and the coils (a long chain dropped
+in a helix onto the floor, and laid in a flat spiral) at their last step, from
+results/contacts/runs/."""
 import argparse
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.collections import LineCollection  # noqa: E402
+
 import physik_plot as pp  # noqa: E402
 
 RUNS = [("drop_flat", "dropped lying flat"), ("drop_tilted", "dropped turned 60 deg"),
@@ -23,10 +28,48 @@ def plot(folder):
                           views=("front", "side"), suptitle="Contacts: final poses (PhysIK)")
 
 
+def segments(bones, i, j):
+    return [[(b["head"][i], b["head"][j]), (b["tail"][i], b["tail"][j])] for b in bones]
+
+
+COILS = [("coil", "dropped in a helix"), ("coil_laid", "laid in a flat spiral")]
+
+
+def plot_coil(folder):
+    """Each coil's last pose from above (bones coloured by height) and from the front."""
+    runs = [(os.path.join(folder, "runs", name, "final_pose.csv"), title) for name, title in COILS]
+    runs = [(path, title) for path, title in runs if os.path.exists(path)]
+    if not runs:
+        return None
+    fig, axes = plt.subplots(len(runs), 2, figsize=(11, 5 * len(runs)), squeeze=False,
+                             gridspec_kw={"width_ratios": [3, 2]})
+    for (path, title), (top, front) in zip(runs, axes):
+        bones = pp.read_bones_csv(path)
+        height = [0.5 * (b["head"][2] + b["tail"][2]) for b in bones]
+        for ax, (i, j, xl, yl) in ((top, (0, 1, "x", "y")), (front, (0, 2, "x", "z"))):
+            lines = LineCollection(segments(bones, i, j), linewidths=1.5, cmap="viridis")
+            lines.set_array(height)
+            ax.add_collection(lines)
+            ax.autoscale()
+            ax.set_aspect("equal", adjustable="datalim")
+            ax.set_xlabel(xl)
+            ax.set_ylabel(yl)
+            ax.grid(True, lw=0.3)
+        fig.colorbar(top.collections[0], ax=top, label="height of the bone's centre (rig units)")
+        top.set_title("%d bones %s: from above" % (len(bones), title), fontsize=9)
+        front.set_title("from the front", fontsize=9)
+    fig.suptitle("Contacts: the coils at their last step (PhysIK)")
+    return pp.save(fig, os.path.join(folder, "contacts_coil.png"))
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("folder", help="results/contacts")
-    print("  wrote", plot(ap.parse_args(argv).folder))
+    folder = ap.parse_args(argv).folder
+    print("  wrote", plot(folder))
+    coil = plot_coil(folder)
+    if coil:
+        print("  wrote", coil)
 
 
 if __name__ == "__main__":

@@ -11,14 +11,23 @@
 //   hand  pinhead's left hand pulled through its torso to the far side, the torso held, with and
 //         without self-collision: the deepest bone-bone overlap over the run (does the arm go
 //         through the torso or round it), against MuJoCo's (its solref's penetration)
-// Not here yet: Fig 11 with a seat (no static obstacles in the scene format), Fig 7's cannon with
-// self-collision (its paper scheme at dt 0.05 is unstable at any contact stiffness that stops a
-// bone), and the 1,000-bone chain coiling on the floor.
+//   coil  a 1,000-bone chain (experiments/coil.h) with self-collision on, two ways: dropped in a
+//         helix of 10 turns just above the floor (the turns fall onto one another and pile), and
+//         laid in a flat spiral whose turns touch. The implicit scheme, run until at rest (or
+//         30 s): does each come to rest without diverging, and the deepest penetration at rest,
+//         into the floor and between bones, against 5% of the radius. PhysIK only (MuJoCo's step
+//         grows ~N^2.7 on chains, experiment `scaling`). The quick mode runs 100 bones (2 turns)
+//         for 1 s.
+// Not here yet: Fig 11 with a seat (no static obstacles in the scene format), and Fig 7's cannon
+// with self-collision (its paper scheme at dt 0.05 is unstable at any contact stiffness that stops
+// a bone).
 #include <algorithm>
 #include <cmath>
 
+#include "experiments/coil.h"
 #include "experiments/common.h"
 #include "experiments/report.h"
+#include "physik/engine/collision.h"
 #include "physik/engine/contacts.h"
 #include "physik/io/scene_io.h"
 #include "reference/compare.h"
@@ -199,26 +208,144 @@ void add_hand_claims(Report& report, const Measured& on, const Measured& off) {
           : "no");
 }
 
+// the coil's run and its resting pose (the section's header comment)
+struct CoilMeasured {
+  int nbone = 0;
+  RunSummary run;
+  Penetration ground, bones;  // at the final pose: into the floor, between bones
+  double speed_tol = 0.0;     // rig units/s, the run's rest speed
+};
+
+// one coil run into the run folder `name`, measured at its last pose
+CoilMeasured coil(const Context& ctx, const std::string& name, Scene scene) {
+  CoilMeasured m;
+  m.nbone = scene.rig.nbone;
+  scene.convergence.stop_when_converged = true;
+  m.speed_tol = scene.speed_tol();
+  m.run = write_run_folder(ctx, name, scene);
+  CollisionWorld world;
+  std::vector<Contact> contacts, ground, bones;
+  world.detect(scene, m.run.final_frames, contacts);
+  for (const Contact& c : contacts) (c.other_bone < 0 ? ground : bones).push_back(c);
+  m.ground = penetration(scene, ground);
+  m.bones = penetration(scene, bones);
+  if (ctx.log) {
+    *ctx.log << "  " << name << " " << m.nbone << ": " << m.run.steps_run << " steps, "
+             << (m.run.diverged    ? "diverged"
+                 : m.run.converged ? "at rest"
+                                   : "not at rest")
+             << ", KE " << num(m.run.final_kinetic_energy) << " J, " << contacts.size()
+             << " contacts, " << num(m.run.wall_time_s) << " s\n";
+  }
+  return m;
+}
+
+nlohmann::json to_json(const CoilMeasured& m) {
+  return {{"nbone", m.nbone},
+          {"steps_run", m.run.steps_run},
+          {"converged", m.run.converged},
+          {"steps_to_converge", m.run.steps_to_converge},
+          {"diverged", m.run.diverged},
+          {"final_kinetic_energy", m.run.final_kinetic_energy},
+          {"peak_kinetic_energy", m.run.peak_kinetic_energy},
+          {"speed_tol", m.speed_tol},
+          {"ground_contacts", m.ground.contacts},
+          {"bone_contacts", m.bones.contacts},
+          {"ground_penetration_over_radius", m.ground.max_depth_fraction},
+          {"bone_penetration_over_radius", m.bones.max_depth_fraction},
+          {"implicit_split_steps", m.run.implicit_split_steps},
+          {"wall_time_s", m.run.wall_time_s}};
+}
+
+// "at rest after ..." or "not at rest after ...", with what the run ended on
+std::string coil_outcome(const CoilMeasured& m, double dt) {
+  if (m.run.diverged) return "diverged (" + m.run.divergence_reason + ")";
+  const std::string contacts = std::to_string(m.ground.contacts + m.bones.contacts) +
+                               " contacts (" + std::to_string(m.bones.contacts) + " between bones)";
+  if (!m.run.converged) {
+    return "not at rest after " + num(m.run.steps_run * dt) + " s: kinetic energy " +
+           num(m.run.final_kinetic_energy) + " J, " + contacts;
+  }
+  return "at rest after " + num(m.run.steps_to_converge * dt) + " s (rms speed below " +
+         num(m.speed_tol) + " rig units/s), " + contacts;
+}
+
+std::string rest_verdict(const CoilMeasured& m) {
+  return m.run.diverged ? "no (diverged)" : m.run.converged ? "yes" : "no";
+}
+
+// the deepest penetration of a coil at its last pose, over the radius; "" when it diverged
+std::string coil_depths(const std::string& label, const CoilMeasured& m) {
+  return label + ": into the floor " + num(m.ground.max_depth_fraction) + ", between bones " +
+         num(m.bones.max_depth_fraction) +
+         (m.run.diverged    ? " (diverged)"
+          : m.run.converged ? ""
+                            : " (not at rest)");
+}
+
+void add_coil_claims(Report& report, const CoilMeasured& dropped, const CoilMeasured& laid,
+                     double dt) {
+  const std::string bones = std::to_string(dropped.nbone) + "-bone chain";
+  report.claim("A " + bones + " dropped in a coil onto the floor comes to rest without diverging",
+               coil_outcome(dropped, dt), rest_verdict(dropped));
+  report.named("coil-rests");
+  report.claim("A " + bones + " laid in a flat coil on the floor comes to rest",
+               coil_outcome(laid, dt), rest_verdict(laid));
+  report.named("coil-laid-rests");
+  // only a run at rest is judged
+  double deepest = 0.0;
+  bool any_at_rest = false;
+  for (const CoilMeasured* m : {&dropped, &laid}) {
+    if (!m->run.converged) continue;
+    any_at_rest = true;
+    deepest = std::max({deepest, m->ground.max_depth_fraction, m->bones.max_depth_fraction});
+  }
+  report.claim("The coils at rest: no penetration deeper than 5% of a bone's radius",
+               "deepest, over the radius, " + coil_depths("dropped", dropped) + "; " +
+                   coil_depths("laid", laid),
+               !any_at_rest     ? "n/a (no coil at rest)"
+               : deepest > 0.05 ? "no"
+               : dropped.run.converged && laid.run.converged
+                   ? "yes"
+                   : "partly (only the coil at rest is judged)");
+  report.named("coil-penetration");
+}
+
 void run(const Context& ctx) {
   const Measured flat = against_mujoco(ctx, "drop_flat", drop_scene(ctx, 90.0, 0.8), true);
   const Measured tilted = against_mujoco(ctx, "drop_tilted", drop_scene(ctx, 60.0, 2.6), true);
   const Measured on = against_mujoco(ctx, "hand_self_collision", hand_scene(ctx, true));
   const Measured off = against_mujoco(ctx, "hand_no_self_collision", hand_scene(ctx, false));
+  const int coil_bones = ctx.quick ? 100 : 1000, coil_steps = ctx.quick ? 100 : 3000;
+  const CoilMeasured dropped =
+      coil(ctx, "coil", coil_helix_scene(coil_bones, ctx.quick ? 2 : 10, coil_steps));
+  const CoilMeasured laid =
+      coil(ctx, "coil_laid", coil_flat_spiral_scene(coil_bones, true, coil_steps));
   Report report("Contacts: a floor and self-collision against MuJoCo's contacts");
   add_drop_claims(report, flat, tilted);
   add_hand_claims(report, on, off);
+  add_coil_claims(report, dropped, laid, coil_helix_scene(coil_bones, 1, 1).params.dt);
   report.note(
       "PhysIK's contacts are penalty springs (contact_k 1e4 N/m, contact_damping 100 N s/m, "
       "friction 1); MuJoCo's are its own soft contacts at its default solref (0.02 s, 1) on the "
       "same capsules (0.06 x each bone's length) and plane, with the same friction. Penetration "
       "is measured by PhysIK's detection on each engine's final pose.");
-  report.figures({"contacts_poses.png"});
+  report.note(
+      "The coil: a chain of bones 0.1 rig units long and 0.025 in radius (experiments/coil.h), "
+      "the implicit scheme at dt 0.01 s with damping " +
+      num(kCoilDamping) +
+      " N s/m at each bone end and the same contact law; PhysIK only (MuJoCo's step on a chain "
+      "this long is the scaling experiment's). bench/bench_contacts.cpp times the step on a "
+      "flat coil beside the same chain without contacts.");
+  report.figures({"contacts_poses.png", "contacts_coil.png"});
   write_summary(ctx,
                 {{"experiment", "contacts"},
                  {"drop_flat", to_json(flat)},
                  {"drop_tilted", to_json(tilted)},
                  {"hand_self_collision", to_json(on)},
-                 {"hand_no_self_collision", to_json(off)}},
+                 {"hand_no_self_collision", to_json(off)},
+                 {"coil", to_json(dropped)},
+                 {"coil_laid", to_json(laid)}},
                 report);
 }
 

@@ -1,8 +1,13 @@
 // Collision detection (physik/engine/collision.h): the ground's contacts and FCL's capsule pairs
 // against closed forms; bones sharing a joint and excluded pairs never collide.
 #include <cmath>
+#include <memory>
+#include <random>
+#include <string>
 #include <vector>
 
+#include <fcl/geometry/shape/capsule.h>
+#include <fcl/narrowphase/distance.h>
 #include <gtest/gtest.h>
 
 #include "physik/engine/collision.h"
@@ -74,6 +79,93 @@ TEST(Collision, SiblingsShareAJoint) {
   CollisionWorld world;
   world.detect(s, forward_kinematics(rig, s.initial_pose), c);
   EXPECT_TRUE(c.empty());
+}
+
+// a chain of `n` bones of length 0.1 and collision radius 0.04 on a random walk folded into a
+// box of side 0.3: many bones overlap, turned every way
+Rig crumpled_chain(int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g;
+  std::vector<BoneSpec> specs;
+  Vec3 p = Vec3::Zero();
+  for (int i = 0; i < n; ++i) {
+    Vec3 q;
+    do {
+      q = p + 0.1 * Vec3(g(rng), g(rng), g(rng)).normalized();
+    } while (q.cwiseAbs().maxCoeff() > 0.15);
+    specs.push_back(bone("b" + std::to_string(i), i ? "b" + std::to_string(i - 1) : "", p, q));
+    specs.back().collision_radius = 0.04;
+    p = q;
+  }
+  return build_rig(specs, "crumpled", "crumpled");
+}
+
+// every overlapping pair by FCL's capsule distance over all pairs (no broad phase), (a, b) a < b
+std::vector<std::pair<int, int>> overlapping_pairs(const Rig& rig, const BoneFrames& f) {
+  std::vector<std::unique_ptr<fcl::CollisionObjectd>> o;
+  for (int i = 0; i < rig.nbone; ++i) {
+    auto shape = std::make_shared<fcl::Capsuled>(rig.bone_collision_radius[i], rig.bone_length[i]);
+    fcl::Transform3d tf = fcl::Transform3d::Identity();
+    // FCL's capsule axis is local z; the bone's is local y
+    tf.linear() = f.orient_world[i].toRotationMatrix() *
+                  Eigen::AngleAxisd(-0.5 * kPi, Vec3::UnitX()).toRotationMatrix();
+    tf.translation() = 0.5 * (f.head_world[i] + f.tail_world[i]);
+    o.push_back(std::make_unique<fcl::CollisionObjectd>(shape, tf));
+  }
+  std::vector<std::pair<int, int>> out;
+  for (int a = 0; a < rig.nbone; ++a) {
+    for (int b = a + 1; b < rig.nbone; ++b) {
+      if (rig.bones_share_joint(a, b)) continue;
+      fcl::DistanceResultd res;
+      fcl::distance(o[a].get(), o[b].get(), fcl::DistanceRequestd(true), res);
+      if (res.min_distance < -1e-12 * (rig.bone_collision_radius[a] + rig.bone_collision_radius[b]))
+        out.emplace_back(a, b);
+    }
+  }
+  return out;
+}
+
+std::vector<std::pair<int, int>> pairs_of(const std::vector<Contact>& c) {
+  std::vector<std::pair<int, int>> out;
+  for (const Contact& k : c) out.emplace_back(k.bone, k.other_bone);
+  return out;
+}
+
+// the broad phase (the capsules' own boxes) finds every overlap that all pairs find, in order of
+// (a, b), and a world asked again about a pose, or about another pose and back, answers as a new
+// world does
+TEST(Collision, BroadPhaseFindsEveryOverlapOfACrumpledChain) {
+  for (unsigned seed : {1u, 2u, 3u}) {
+    const Rig rig = crumpled_chain(80, seed);
+    Scene s = test::scene_for(rig, EngineParams{}, 1);
+    s.collision.self_collision = true;
+    const BoneFrames f = forward_kinematics(rig, s.initial_pose);
+    CollisionWorld world;
+    std::vector<Contact> c;
+    world.detect(s, f, c);
+    const std::vector<std::pair<int, int>> all = overlapping_pairs(rig, f);
+    EXPECT_GT(all.size(), 40u) << seed;  // the case is a crowded one
+    EXPECT_EQ(pairs_of(c), all) << seed;
+    // another pose (the chain turned 0.3 rad about y at its root), then the first again
+    Pose turned = s.initial_pose;
+    turned.bone_local_rotation[0] = Quat(Eigen::AngleAxisd(0.3, Vec3::UnitY()));
+    const BoneFrames g = forward_kinematics(rig, turned);
+    std::vector<Contact> c_turned, c_again, c_fresh;
+    world.detect(s, g, c_turned);
+    CollisionWorld().detect(s, g, c_fresh);
+    EXPECT_EQ(pairs_of(c_turned), pairs_of(c_fresh)) << seed;
+    world.detect(s, f, c_again);
+    world.detect(s, f, c_fresh);
+    ASSERT_EQ(c_again.size(), c.size());
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      EXPECT_EQ(c_again[i].depth, c[i].depth);
+      EXPECT_EQ(c_fresh[i].point_world, c[i].point_world);
+    }
+    // an exclusion changes the answer at the same pose
+    s.collision.excluded_pairs = {all.front()};
+    world.detect(s, f, c_again);
+    EXPECT_EQ(c_again.size(), c.size() - 1) << seed;
+  }
 }
 
 }  // namespace

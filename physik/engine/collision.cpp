@@ -32,6 +32,19 @@ int index_of(const CollisionObjectd* o) {
   return static_cast<int>(reinterpret_cast<std::uintptr_t>(o->getUserData()));
 }
 
+// A bone's FCL object with the capsule's own bounding box: FCL's computeAABB bounds a turned shape
+// by the cube around its bounding sphere (sides 2 sqrt(2 r^2 + (L/2 + r)^2)), which on a coil
+// makes each bone a candidate of several turns' bones; the capsule's box is the segment's, grown
+// by r.
+class BoneObject : public CollisionObjectd {
+ public:
+  using CollisionObjectd::CollisionObjectd;
+  void set_capsule_aabb(const Vec3& head_world, const Vec3& tail_world, double radius) {
+    const Vec3 r = Vec3::Constant(radius);
+    aabb = fcl::AABBd(head_world.cwiseMin(tail_world) - r, head_world.cwiseMax(tail_world) + r);
+  }
+};
+
 struct BroadPhaseData {
   const Scene* scene;
   std::vector<std::pair<int, int>>* pairs;
@@ -49,18 +62,50 @@ bool candidate(CollisionObjectd* o1, CollisionObjectd* o2, void* data) {
   return false;  // false: go on
 }
 
+// Sort the pairs (a, b) by a, then b, in O(pairs + nbone): a counting sort by a into `scratch`,
+// then each a's few partners by b. `start` is scratch of nbone + 1.
+void sort_pairs(std::vector<std::pair<int, int>>& pairs, int nbone, std::vector<int>& start,
+                std::vector<std::pair<int, int>>& scratch) {
+  start.assign(static_cast<std::size_t>(nbone) + 1, 0);
+  for (const auto& p : pairs) ++start[p.first + 1];
+  for (int a = 0; a < nbone; ++a) start[a + 1] += start[a];
+  scratch.resize(pairs.size());
+  for (const auto& p : pairs) scratch[start[p.first]++] = p;  // start[a]: now a's end
+  for (int a = nbone - 1, end = static_cast<int>(pairs.size()); a >= 0; --a) {
+    const int begin = a > 0 ? start[a - 1] : 0;
+    std::sort(scratch.begin() + begin, scratch.begin() + end);
+    end = begin;
+  }
+  pairs.swap(scratch);
+}
+
 }  // namespace
 
 struct CollisionWorld::Impl {
   std::vector<double> radius;  // (nbone) what the world was built for, rig units
   std::vector<double> length;  // (nbone) rig units
-  std::vector<std::unique_ptr<CollisionObjectd>> bones;  // (nbone) capsules
+  std::vector<std::unique_ptr<BoneObject>> bones;  // (nbone) capsules
   fcl::DynamicAABBTreeCollisionManagerd tree;
   std::vector<std::pair<int, int>> pairs;  // the broad phase's candidates this call, scratch
+  std::vector<std::pair<int, int>> pairs_scratch;  // scratch of sort_pairs
+  std::vector<int> pair_start;                     // (nbone + 1) scratch of sort_pairs
+  // the last query: its frames and exclusions, and the bone pairs' contacts it found
+  BoneFrames last_frames;
+  std::vector<int> last_parent;  // (nbone) the rig's parents
+  std::vector<std::pair<int, int>> last_excluded;
+  std::vector<Contact> last_pair_contacts;
+  bool has_last = false;
 
   bool built_for(const Rig& rig) const {
     return radius == rig.bone_collision_radius && length == rig.bone_length;
   }
+  bool same_query(const Scene& scene, const BoneFrames& frames) const {
+    return has_last && last_frames.head_world == frames.head_world &&
+           last_frames.tail_world == frames.tail_world &&
+           last_frames.orient_world == frames.orient_world &&
+           last_parent == scene.rig.bone_parent && last_excluded == scene.collision.excluded_pairs;
+  }
+  void remember(const Scene& scene, const BoneFrames& frames);
   void build(const Rig& rig);
   void place_bones(const BoneFrames& frames);
   void broad_phase(const Scene& scene);
@@ -70,18 +115,34 @@ struct CollisionWorld::Impl {
 void CollisionWorld::Impl::build(const Rig& rig) {
   radius = rig.bone_collision_radius;
   length = rig.bone_length;
+  has_last = false;
   tree.clear();
   bones.clear();
   std::vector<CollisionObjectd*> objs;
   for (int i = 0; i < rig.nbone; ++i) {
     auto shape = std::make_shared<fcl::Capsuled>(radius[i], length[i]);
-    bones.push_back(std::make_unique<CollisionObjectd>(shape));
+    bones.push_back(std::make_unique<BoneObject>(shape));
     bones.back()->setUserData(tag(i));
     objs.push_back(bones.back().get());
   }
   tree.registerObjects(objs);
   tree.setup();
+  // room for the queries, so that a run's steps allocate nothing (as the state's contact lists)
   pairs.reserve(4 * static_cast<std::size_t>(rig.nbone));
+  pairs_scratch.reserve(pairs.capacity());
+  pair_start.reserve(static_cast<std::size_t>(rig.nbone) + 1);
+  last_pair_contacts.reserve(2 * static_cast<std::size_t>(rig.nbone));
+  last_frames.resize(rig.nbone);
+  last_parent.reserve(rig.nbone);
+}
+
+void CollisionWorld::Impl::remember(const Scene& scene, const BoneFrames& frames) {
+  last_frames.head_world = frames.head_world;
+  last_frames.tail_world = frames.tail_world;
+  last_frames.orient_world = frames.orient_world;
+  last_parent = scene.rig.bone_parent;
+  last_excluded = scene.collision.excluded_pairs;
+  has_last = true;
 }
 
 void CollisionWorld::Impl::place_bones(const BoneFrames& f) {
@@ -91,7 +152,7 @@ void CollisionWorld::Impl::place_bones(const BoneFrames& f) {
     tf.linear() = f.orient_world[i].toRotationMatrix() * kZtoY;
     tf.translation() = 0.5 * (f.head_world[i] + f.tail_world[i]);
     bones[i]->setTransform(tf);
-    bones[i]->computeAABB();
+    bones[i]->set_capsule_aabb(f.head_world[i], f.tail_world[i], radius[i]);
   }
   tree.update();
 }
@@ -101,7 +162,7 @@ void CollisionWorld::Impl::broad_phase(const Scene& scene) {
   BroadPhaseData data{&scene, &pairs};
   tree.collide(&data, candidate);
   // the tree's order depends on its history: sort, so the contacts' order depends on the shapes
-  std::sort(pairs.begin(), pairs.end());
+  sort_pairs(pairs, static_cast<int>(bones.size()), pair_start, pairs_scratch);
 }
 
 void CollisionWorld::Impl::pair_contacts(std::vector<Contact>& out) const {
@@ -143,6 +204,16 @@ void ground_contacts(const Scene& scene, const BoneFrames& f, std::vector<Contac
   }
 }
 
+bool finite_frames(const BoneFrames& f) {
+  for (std::size_t i = 0; i < f.head_world.size(); ++i) {
+    if (!f.head_world[i].allFinite() || !f.tail_world[i].allFinite() ||
+        !f.orient_world[i].coeffs().allFinite()) {
+      return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 CollisionWorld::CollisionWorld() = default;
@@ -167,10 +238,19 @@ void CollisionWorld::detect(const Scene& scene, const BoneFrames& frames,
   const CollisionSettings& c = scene.collision;
   if (c.ground) ground_contacts(scene, frames, out);
   if (!c.self_collision) return;
+  // a pose gone non-finite has no bone pairs (FCL's tree cannot split non-finite boxes); the run
+  // monitor reports the divergence
+  if (!finite_frames(frames)) return;
   prepare(scene);
-  impl_->place_bones(frames);
-  impl_->broad_phase(scene);
-  impl_->pair_contacts(out);
+  // the energy guard and the force stage ask about the same pose: answer it once
+  if (!impl_->same_query(scene, frames)) {
+    impl_->place_bones(frames);
+    impl_->broad_phase(scene);
+    impl_->last_pair_contacts.clear();
+    impl_->pair_contacts(impl_->last_pair_contacts);
+    impl_->remember(scene, frames);
+  }
+  out.insert(out.end(), impl_->last_pair_contacts.begin(), impl_->last_pair_contacts.end());
 }
 
 }  // namespace physik

@@ -1,0 +1,87 @@
+// The implicit step with contacts on a long chain coiled on the floor (experiments/coil.h, the
+// flat spiral: about 2N ground contacts and a self-contact or two per bone), beside the same chain
+// in the same pose with the contacts off (gravity kept), in the same run, thread CPU time.
+// Each iteration puts the initial pose back (set_pose: the state's buffers and its collision world
+// are kept, as in a run) and times the same first steps of each, per step:
+//   contacts_us      step() with the ground and self-collision (FCL broad and narrow phase, the
+//                    contact forces and their elements, the step with augmented inertias)
+//   no_contacts_us   step() with neither
+//   ratio            contacts_us / no_contacts_us (target: at most 5 at 1,000 bones)
+//   detect_us        CollisionWorld::detect alone (part of contacts_us), alternately on the initial
+//                    pose and on the pose after the steps
+//   contacts, self_contacts   found at the initial pose
+//   substeps         the energy guard's substeps per step (implicit_advance.h)
+// Growth target: contacts_us no faster than n log n from 125 to 1000 bones (a factor 8 log 1000 /
+// log 125 = 11.4); fit the exponent from the four sizes.
+#include <benchmark/benchmark.h>
+
+#include "bench/alloc_counter.h"
+#include "experiments/coil.h"
+#include "experiments/scaling.h"
+#include "physik/engine/collision.h"
+#include "physik/engine/engine.h"
+
+namespace {
+
+using physik::experiments::coil_flat_spiral_scene;
+using physik::experiments::thread_seconds;
+
+constexpr int kSteps = 10;
+
+// s of thread time for kSteps steps from the initial pose; adds the substeps taken
+double time_steps(const physik::Scene& scene, physik::SimState& s, long& substeps) {
+  physik::set_pose(scene, s, scene.initial_pose);
+  const double t0 = thread_seconds();
+  for (int k = 0; k < kSteps; ++k) {
+    const physik::StepStats st = physik::step(scene, s);
+    substeps += st.substeps;
+    benchmark::DoNotOptimize(st.kinetic_energy);
+  }
+  return thread_seconds() - t0;
+}
+
+void BM_ImplicitCoil(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const physik::Scene on = coil_flat_spiral_scene(n, true);
+  const physik::Scene off = coil_flat_spiral_scene(n, false);
+  physik::SimState s_on, s_off;
+  physik::init_state(on, s_on);
+  physik::init_state(off, s_off);
+  const physik::BoneFrames start = s_on.frames;
+  std::vector<physik::Contact> contacts;
+  physik::CollisionWorld world;
+  world.detect(on, start, contacts);
+  long warm = 0;  // one untimed batch of each: buffers at their run's size, FCL's world built
+  time_steps(on, s_on, warm);
+  time_steps(off, s_off, warm);
+  double t_on = 0.0, t_off = 0.0, t_detect = 0.0;
+  long steps = 0, sub_on = 0, sub_off = 0, allocs = 0;
+  for (auto _ : state) {
+    const long a0 = physik::bench::allocations();
+    t_on += time_steps(on, s_on, sub_on);
+    allocs += physik::bench::allocations() - a0;
+    t_off += time_steps(off, s_off, sub_off);
+    // alternately at the start and at the pose the steps reached, so no query repeats the last
+    const double t0 = thread_seconds();
+    for (int k = 0; k < kSteps; ++k) world.detect(on, k % 2 == 0 ? start : s_on.frames, contacts);
+    t_detect += thread_seconds() - t0;
+    steps += kSteps;
+  }
+  world.detect(on, start, contacts);
+  int self = 0;
+  for (const physik::Contact& c : contacts) self += c.other_bone >= 0 ? 1 : 0;
+  state.counters["contacts_us"] = 1e6 * t_on / steps;
+  state.counters["no_contacts_us"] = 1e6 * t_off / steps;
+  state.counters["ratio"] = t_on / t_off;
+  state.counters["detect_us"] = 1e6 * t_detect / steps;
+  state.counters["contacts"] = static_cast<double>(contacts.size());
+  state.counters["self_contacts"] = self;
+  state.counters["substeps"] = static_cast<double>(sub_on) / steps;
+  state.counters["substeps_off"] = static_cast<double>(sub_off) / steps;
+  state.counters["allocs_per_step"] = static_cast<double>(allocs) / steps;
+  state.counters["nbone"] = n;
+}
+
+BENCHMARK(BM_ImplicitCoil)->Arg(125)->Arg(250)->Arg(500)->Arg(1000)->Unit(benchmark::kMillisecond);
+
+}  // namespace

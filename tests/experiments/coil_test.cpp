@@ -1,0 +1,79 @@
+// The coil (experiments/coil.h) and the contacts experiment's coil section (quick): the chain's
+// shapes are what the header says (bones of L, the spiral's contacts, the helix clear of the floor
+// and of itself), and the section writes its run, its claims and its measures.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "experiments/coil.h"
+#include "experiments/experiment.h"
+#include "physik/engine/collision.h"
+#include "physik/io/json_fields.h"
+
+namespace physik::experiments {
+namespace {
+
+std::vector<Contact> contacts_at_start(const Scene& s) {
+  std::vector<Contact> c;
+  CollisionWorld().detect(s, forward_kinematics(s.rig, s.initial_pose), c);
+  return c;
+}
+
+TEST(Coil, FlatSpiralLiesOnTheFloorWithItsTurnsTouching) {
+  const Scene s = coil_flat_spiral_scene(250, true);
+  ASSERT_EQ(s.rig.nbone, 250);
+  for (double l : s.rig.bone_length) EXPECT_NEAR(l, kCoilBoneLength, 1e-9);
+  int ground = 0, bones = 0;
+  for (const Contact& c : contacts_at_start(s)) {
+    (c.other_bone < 0 ? ground : bones) += 1;
+    EXPECT_LE(c.depth, kCoilRadius / 25.0 + 1e-12);  // at most e (coil.h)
+  }
+  EXPECT_EQ(ground, 2 * 250);  // both end spheres of every bone sink e
+  EXPECT_GT(bones, 0);         // the innermost turns overlap
+  EXPECT_FALSE(coil_flat_spiral_scene(250, false).collision.any());
+}
+
+TEST(Coil, HelixStartsClearOfTheFloorAndOfItself) {
+  const Scene s = coil_helix_scene(300, 3, 10);
+  for (double l : s.rig.bone_length) EXPECT_NEAR(l, kCoilBoneLength, 1e-9);
+  EXPECT_TRUE(contacts_at_start(s).empty());
+  EXPECT_TRUE(s.collision.self_collision);
+  EXPECT_EQ(s.params.scheme, Scheme::kImplicit);
+}
+
+TEST(Experiments, ContactsQuickWritesTheCoilSection) {
+  Context ctx;
+  ctx.out_dir = ::testing::TempDir() + "/experiments_contacts";
+  std::filesystem::remove_all(ctx.out_dir);
+  std::filesystem::create_directories(ctx.out_dir);
+  ctx.models_dir = std::string(PHYSIK_SOURCE_DIR) + "/models";
+  ctx.quick = true;
+  for (const Experiment& e : all_experiments()) {
+    if (e.name == "contacts") e.run(ctx);
+  }
+  const nlohmann::json summary = read_json_file(ctx.out_dir + "/summary.json");
+  const nlohmann::json& coil = summary.at("coil");
+  EXPECT_EQ(coil.at("nbone"), 100);
+  EXPECT_FALSE(coil.at("diverged").get<bool>());
+  EXPECT_GT(coil.at("ground_contacts").get<int>(), 0);  // it reached the floor in the quick second
+  for (const char* k :
+       {"ground_penetration_over_radius", "bone_penetration_over_radius", "final_kinetic_energy"}) {
+    EXPECT_TRUE(std::isfinite(coil.at(k).get<double>())) << k;
+  }
+  std::vector<std::string> names;
+  for (const auto& c : summary.at("report").at("claims")) names.push_back(c.value("name", ""));
+  for (const char* n : {"coil-rests", "coil-laid-rests", "coil-penetration"}) {
+    EXPECT_NE(std::find(names.begin(), names.end(), n), names.end()) << n;
+  }
+  for (const char* run : {"coil", "coil_laid"}) {
+    EXPECT_TRUE(std::filesystem::exists(ctx.out_dir + "/runs/" + run + "/final_pose.csv")) << run;
+  }
+  EXPECT_FALSE(summary.at("coil_laid").at("diverged").get<bool>());
+}
+
+}  // namespace
+}  // namespace physik::experiments
