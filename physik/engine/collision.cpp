@@ -126,6 +126,10 @@ void CollisionWorld::Impl::build(const Rig& rig) {
     objs.push_back(bones.back().get());
   }
   tree.registerObjects(objs);
+  // FCL's update() refits the tree and, once its height passes log2(n) + this level, rebuilds it
+  // top-down through a heap-allocated list of leaves (every few steps on a 1,000-bone coil):
+  // always the incremental rebalance instead (tree rotations, no allocation)
+  tree.max_tree_nonbalanced_level = 1 << 20;
   tree.setup();
   // room for the queries, so that a run's steps allocate nothing (as the state's contact lists)
   pairs.reserve(4 * static_cast<std::size_t>(rig.nbone));
