@@ -107,6 +107,16 @@ expect_in "contacts: negative default radius message" "$tmp/err" "negd.json: def
 printf '{"rig": "%s", "ground": {"height": -1}, "gravity": [0, 0, -9.81], "params": {"dt": 0.01}}' "$rig" > "$tmp/drop.json"
 check "contacts: a drop runs" 0 "$bin" simulate "$tmp/drop.json" --out "$tmp/drop" --steps 20 --quiet
 expect_in "contacts: the scene keeps its ground" "$tmp/drop/scene.json" '"ground"'
+# a solver that knows only the rig refuses a scene with contacts or gravity rather than ignore them
+printf '{"rig": "%s", "ground": {"height": -3}, "gravity": [0, 0, -9.81], "control_points": [{"bone": "hand.L", "alpha": 1, "target": [0, 0, 1]}]}' "$src/models/rigs/pinhead.json" > "$tmp/floor_cp.json"
+check "contacts: dls refuses a ground" 2 "$bin" solve "$tmp/floor_cp.json" --solver dls --out "$tmp/x" --quiet
+expect_in "contacts: dls refusal names the field" "$tmp/err" "floor_cp.json: ground: the dls solver does not read it"
+check "contacts: a classic finish refuses a ground" 2 "$bin" solve "$tmp/floor_cp.json" --solver physik --finish dls --out "$tmp/x" --quiet
+expect_in "contacts: finish refusal names the field" "$tmp/err" "the dls finish does not read it"
+check "contacts: the solve mode takes a ground" 0 "$bin" solve "$tmp/floor_cp.json" --solver physik --out "$tmp/x" --quiet
+printf '{"rig": "%s", "gravity": [0, 0, -9.81], "control_points": [{"bone": "hand.L", "alpha": 1, "target": [0, 0, 1]}]}' "$src/models/rigs/pinhead.json" > "$tmp/grav_cp.json"
+check "contacts: equilibrium refuses gravity" 2 "$bin" equilibrium "$tmp/grav_cp.json" --out "$tmp/x"
+expect_in "contacts: equilibrium refusal names the field" "$tmp/err" "grav_cp.json: gravity: the exact equilibrium has the springs' potential only"
 
 # params: the parameter table, for people and for the report
 check "params help" 0 "$bin" params --help

@@ -209,6 +209,11 @@ EquilibriumResult solve_equilibrium(const Scene& scene, const EquilibriumOptions
     throw_input_error(scene.file, "control_points", "",
                       "an equilibrium needs at least one control point (else every pose is one)");
   }
+  if (const char* field = scene.world_field()) {
+    throw_input_error(scene.file, field, "",
+                      "the exact equilibrium has the springs' potential only (no contacts or "
+                      "gravity): it would be the equilibrium of another scene");
+  }
   const Pose start = opt.start ? *opt.start : scene.initial_pose;
   if (static_cast<int>(start.bone_local_rotation.size()) != rig.nbone) {
     throw_input_error(scene.file, "initial_pose", "", "start pose does not match the rig");

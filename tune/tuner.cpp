@@ -210,7 +210,9 @@ class Objective_ {
       reference_ = mujoco_reference_trajectory(opt.mujoco_scene ? *opt.mujoco_scene : base);
       if (reference_.empty()) {
         throw_input_error(base.file, "", "",
-                          "MuJoCo's same-forces run of this scene diverged at once");
+                          "MuJoCo's same-forces run of this scene diverged at once (its Euler "
+                          "step is unstable at the scene's dt on its springs: give the scene a "
+                          "smaller dt, e.g. a tenth, with ten times the steps)");
       }
     }
   }

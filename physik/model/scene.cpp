@@ -19,4 +19,11 @@ double Scene::divergence_energy() const {
                                              : 1e6 * rig.total_mass() * h * h;
 }
 
+const char* Scene::world_field() const {
+  if (collision.ground) return "ground";
+  if (collision.self_collision) return "self_collision";
+  if (!gravity_world.isZero()) return "gravity";
+  return nullptr;
+}
+
 }  // namespace physik

@@ -14,6 +14,21 @@ bool engine_solver(const std::string& s) {
   return s == "physik" || s == "physik-explicit";
 }
 
+// The classic solvers, and the classic finish after the engine, know the rig's geometry and
+// limits only: a scene's ground, self-collision or gravity would be ignored by them, so such a
+// scene is refused rather than solved as if it had none
+void refuse_unread_world(const Scene& scene, const SceneSolveOptions& o) {
+  const bool classic = !engine_solver(o.solver);
+  if (!classic && o.finish == "none") return;
+  const char* field = scene.world_field();
+  if (!field) return;
+  const std::string who = classic ? "the " + o.solver + " solver" : "the " + o.finish + " finish";
+  throw_input_error(scene.file, field, "",
+                    who +
+                        " does not read it (no contacts or gravity): solve this scene with "
+                        "--solver physik and no --finish");
+}
+
 }  // namespace
 
 std::vector<IkGoal> scene_goals(const Scene& scene) {
@@ -107,6 +122,7 @@ SceneSolveResult solve_scene(Scene scene, const SceneSolveOptions& o, OptionSpel
   if (scene.control_points.empty()) {
     throw_input_error(scene.file, "control_points", "", "a solve needs at least one control point");
   }
+  refuse_unread_world(scene, o);
   const std::vector<IkGoal> goals = scene_goals(scene);
   SceneSolveResult r =
       engine_solver(o.solver) ? solve_with_engine(scene, o, goals) : solve_classic(scene, o, goals);
