@@ -302,6 +302,15 @@ nlohmann::json sit_section(const Context& ctx, Report& report) {
                !mujoco_ran || physik_diverged ? "n/a (a run diverged)"
                : gap <= 0.02                  ? "yes"
                                               : "no");
+  const BoneFrames f0 = forward_kinematics(scene.rig, scene.initial_pose);
+  const double foot_gap = std::abs(capsule_bottom(scene, f0, scene.rig.find_bone("foot.L")) -
+                                   capsule_bottom(scene, f0, scene.rig.find_bone("foot.R")));
+  report.note(
+      "Sit: the floor is at the lower foot's lowest point in the paper's sitting pose; the "
+      "other foot stands " +
+      num(foot_gap) +
+      " rig units higher there (the paper's heel and toe targets of the two feet differ), "
+      "held by its springs.");
   const BoxObstacle& seat = scene.collision.obstacles[0];
   nlohmann::json out = {
       {"physik", to_json(p)},
