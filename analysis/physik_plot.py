@@ -146,17 +146,31 @@ def plot_rest_pose(bones_csv, out_png, title=None):
     return save(fig, out_png)
 
 
+def draw_boxes(ax, boxes, floor, view):
+    """Static scenery under a stick figure: boxes (center, half_extents) as grey rectangles in the
+    view's plane, a floor at height z as a grey line."""
+    i, j, _, _ = VIEWS[view]
+    for center, half in boxes:
+        ax.add_patch(plt.Rectangle((center[i] - half[i], center[j] - half[j]), 2 * half[i],
+                                   2 * half[j], color="0.8", zorder=0))
+    if floor is not None:
+        ax.axhline(floor, color="0.6", lw=1, zorder=0)
+
+
 def pose_panels(panels, out_png, views=("front", "side"), suptitle=None, size=3.2):
     """A grid of stick figures: one row per view, one column per panel.
 
     panels: list of dicts {"bones": [...], "title": str, "targets": [(x,y,z)], "color": str,
-            "overlay": [{"bones": [...], "color": str, "label": str}]}
+            "overlay": [{"bones": [...], "color": str, "label": str}],
+            "boxes": [(center, half_extents)] (axis-aligned static boxes, drawn as rectangles),
+            "floor": z (a horizontal line)}
     """
     ncol = len(panels)
     fig, axes = plt.subplots(len(views), ncol, figsize=(size * ncol, size * len(views)), squeeze=False)
     for c, p in enumerate(panels):
         for r, view in enumerate(views):
             ax = axes[r][c]
+            draw_boxes(ax, p.get("boxes", []), p.get("floor"), view)
             draw_pose(ax, p["bones"], view, color=p.get("color", "k"), label=p.get("label"),
                       targets=p.get("targets"))
             for o in p.get("overlay", []):

@@ -195,6 +195,16 @@ void write_ground(std::ostringstream& x, const GroundPlane& g) {
     << "\" contype=\"0\" conaffinity=\"1\" rgba=\"0.5 0.5 0.5 1\"/>\n";
 }
 
+// the static boxes: world geoms like the ground (contype 0: they never collide with each other or
+// the ground), size = the half extents, named "obstacle:" + the scene's name (bones keep theirs)
+void write_obstacles(std::ostringstream& x, const std::vector<BoxObstacle>& obstacles) {
+  for (const BoxObstacle& b : obstacles) {
+    x << "    <geom name=\"obstacle:" << xml_attr(b.name) << "\" type=\"box\" size=\""
+      << vec(b.half_extents) << "\" pos=\"" << vec(b.center_world) << "\" quat=\""
+      << quat(b.orient_world) << "\" contype=\"0\" conaffinity=\"1\" rgba=\"0.5 0.5 0.6 1\"/>\n";
+  }
+}
+
 // the pairs PhysIK never collides that MuJoCo's filterparent leaves in: two children of one
 // parent, and the scene's excluded pairs
 void write_exclusions(std::ostringstream& x, const Rig& rig, const CollisionSettings& c) {
@@ -263,6 +273,7 @@ std::string write_main(const MjcfWriter& w) {
   x << "  </default>\n";
   x << "  <worldbody>\n";
   if (o.collision.ground) write_ground(x, *o.collision.ground);
+  write_obstacles(x, o.collision.obstacles);
   write_body(x, w, rig.root(), 2, 1);
   x << "  </worldbody>\n";
   if (o.collision.self_collision) write_exclusions(x, rig, o.collision);

@@ -32,8 +32,10 @@
 // disabled and every geom contype = conaffinity = 0: the capsules are for viewing only.
 // With the scene's contacts and gravity (mjcf_contacts):
 //   <option gravity> the scene's; the ground a plane geom (contype 0, conaffinity 1) through
-//   height x normal with its z axis along the normal; the bones contype 1, conaffinity 1 with
-//   self-collision (else 0: they touch the plane only); friction "mu 0.005 0.0001" (sliding mu,
+//   height x normal with its z axis along the normal; each static obstacle a box geom in the
+//   worldbody (size = its half extents, pos and quat its centre and rotation, contype 0,
+//   conaffinity 1); the bones contype 1, conaffinity 1 with self-collision (else 0: they touch
+//   the plane and the boxes only); friction "mu 0.005 0.0001" (sliding mu,
 //   MuJoCo's default torsional and rolling); MuJoCo's default solref (0.02 1) and solimp: its
 //   soft contacts are its own, not PhysIK's penalty law (contacts.h), and the comparison says so.
 //   Bones that share a joint never collide in PhysIK: MuJoCo's filterparent flag (on by default)

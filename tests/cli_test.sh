@@ -97,6 +97,13 @@ bad_contact "gravity not a number" '"gravity": [0, "x", 0]' "c.json: field 'grav
 bad_contact "unknown bone excluded" '"self_collision": true, "collision_exclude": [["upper_arm", "wrist"]]' "c.json: field 'collision_exclude[0]': unknown bone 'wrist'"
 bad_contact "negative stiffness" '"ground": {"height": 0}, "params": {"contact_k": -1}' "c.json: params: field 'contact_k'"
 bad_contact "contact params without contacts" '"params": {"contact_k": 100}' "c.json: params: field 'contact_k': applies only to a scene with a ground"
+bad_contact "obstacles not a list" '"obstacles": {"name": "seat"}' "c.json: field 'obstacles': expected an array"
+bad_contact "obstacle without a name" '"obstacles": [{"box": {"center": [0, 0, 0], "half_extents": [1, 1, 1]}}]' "c.json: obstacles[0]: field 'name': missing required field"
+bad_contact "obstacle of an unknown shape" '"obstacles": [{"name": "seat", "cone": {}}]' "c.json: obstacles[0]: field 'cone': unknown shape"
+bad_contact "obstacle without extents" '"obstacles": [{"name": "seat", "box": {"center": [0, 0, 0]}}]' "c.json: obstacles[0] box: field 'half_extents': missing required field"
+bad_contact "obstacle with a negative extent" '"obstacles": [{"name": "seat", "box": {"center": [0, 0, 0], "half_extents": [1, -0.5, 1]}}]' "c.json: obstacles[0] box: field 'half_extents': each must be positive"
+bad_contact "obstacle with an extent beyond range" '"obstacles": [{"name": "seat", "box": {"center": [0, 0, 0], "half_extents": [1, 1e300, 1]}}]' "c.json: obstacles[0] box: field 'half_extents': a coordinate beyond"
+bad_contact "duplicate obstacle" '"obstacles": [{"name": "seat", "box": {"center": [0, 0, 0], "half_extents": [1, 1, 1]}}, {"name": "seat", "box": {"center": [0, 3, 0], "half_extents": [1, 1, 1]}}]' "c.json: obstacles[1]: field 'name': duplicate obstacle name 'seat'"
 printf '{"bones": [{"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,1], "collision_radius": -0.1}]}' > "$tmp/negr.json"
 printf '{"rig": "%s", "ground": {"height": 0}}' "$tmp/negr.json" > "$tmp/c.json"
 check "contacts: negative radius" 2 "$bin" simulate "$tmp/c.json" --out "$tmp/x" --quiet
@@ -107,6 +114,9 @@ expect_in "contacts: negative default radius message" "$tmp/err" "negd.json: def
 printf '{"rig": "%s", "ground": {"height": -1}, "gravity": [0, 0, -9.81], "params": {"dt": 0.01}}' "$rig" > "$tmp/drop.json"
 check "contacts: a drop runs" 0 "$bin" simulate "$tmp/drop.json" --out "$tmp/drop" --steps 20 --quiet
 expect_in "contacts: the scene keeps its ground" "$tmp/drop/scene.json" '"ground"'
+printf '{"rig": "%s", "obstacles": [{"name": "seat", "box": {"center": [0, 0, -1.5], "half_extents": [1, 1, 0.5]}}], "gravity": [0, 0, -9.81], "params": {"dt": 0.01}}' "$rig" > "$tmp/seat.json"
+check "contacts: a drop on a box runs" 0 "$bin" simulate "$tmp/seat.json" --out "$tmp/seat" --steps 20 --quiet
+expect_in "contacts: the scene keeps its obstacle" "$tmp/seat/scene.json" '"obstacles"'
 # a solver that knows only the rig refuses a scene with contacts or gravity rather than ignore them
 printf '{"rig": "%s", "ground": {"height": -3}, "gravity": [0, 0, -9.81], "control_points": [{"bone": "hand.L", "alpha": 1, "target": [0, 0, 1]}]}' "$src/models/rigs/pinhead.json" > "$tmp/floor_cp.json"
 check "contacts: dls refuses a ground" 2 "$bin" solve "$tmp/floor_cp.json" --solver dls --out "$tmp/x" --quiet

@@ -66,6 +66,76 @@ TEST(Collision, CapsulePairsByFclSkipSharedJointsAndExclusions) {
   EXPECT_TRUE(c.empty());
 }
 
+// a 1 m rod along +x at height z (radius 0.06) and one box, no ground
+Scene box_scene(double z, const BoxObstacle& box) {
+  Scene s = floor_scene(lying_rod(z), Scheme::kImplicit, 0.05);
+  s.collision.ground.reset();
+  s.collision.obstacles = {box};
+  return s;
+}
+
+std::vector<Contact> contacts_of(const Scene& s) {
+  std::vector<Contact> c;
+  CollisionWorld world;
+  world.detect(s, forward_kinematics(s.rig, s.initial_pose), c);
+  return c;
+}
+
+TEST(Collision, RodOnABoxTopTouchesAtBothEnds) {
+  // the box's top at z = 0.5, the rod's centre line 0.05 above it: d = 0.06 - 0.05 at each end
+  BoxObstacle box{"seat", Vec3(0.5, 0, 0.25), Vec3(1, 0.5, 0.25), Quat::Identity()};
+  const std::vector<Contact> c = contacts_of(box_scene(0.55, box));
+  ASSERT_EQ(c.size(), 2u);
+  for (const Contact& k : c) {
+    EXPECT_EQ(k.other_bone, -1);
+    EXPECT_EQ(k.obstacle, 0);
+    EXPECT_NEAR(k.depth, 0.01, 1e-12);
+    EXPECT_NEAR((k.normal_world - Vec3::UnitZ()).norm(), 0.0, 1e-12);
+    EXPECT_NEAR(k.point_world.z(), 0.495, 1e-12);  // midway: the sphere's bottom to the face
+  }
+  EXPECT_NEAR(c[0].point_world.x(), 0.0, 1e-12);
+  EXPECT_NEAR(c[1].point_world.x(), 1.0, 1e-12);
+  // lifted clear of the box (0.07 above): nothing; the box moved off to the side: nothing
+  EXPECT_TRUE(contacts_of(box_scene(0.57, box)).empty());
+  box.center_world.y() = 0.6;
+  EXPECT_TRUE(contacts_of(box_scene(0.55, box)).empty());
+}
+
+TEST(Collision, RodAcrossARidgeTouchesAtItsDeepestPoint) {
+  // a narrow box under the rod's middle: its ends hang off, one contact at x = 0.5
+  const BoxObstacle narrow{"beam", Vec3(0.5, 0, 0.25), Vec3(0.2, 1, 0.25), Quat::Identity()};
+  std::vector<Contact> c = contacts_of(box_scene(0.55, narrow));
+  ASSERT_EQ(c.size(), 1u);
+  EXPECT_NEAR(c[0].depth, 0.01, 1e-9);
+  EXPECT_NEAR((c[0].normal_world - Vec3::UnitZ()).norm(), 0.0, 1e-6);
+  EXPECT_GE(c[0].point_world.x(), 0.3 - 1e-9);
+  EXPECT_LE(c[0].point_world.x(), 0.7 + 1e-9);
+  // a box turned 45 degrees about y, its ridge (an edge along y) at z = 0.25 sqrt 2 under x = 0.5:
+  // the rod 0.05 above the ridge touches it there, the normal straight up
+  const double ridge = 0.25 * std::sqrt(2.0);
+  BoxObstacle turned{"ridge", Vec3(0.5, 0, 0), Vec3(0.25, 1, 0.25),
+                     Quat(Eigen::AngleAxisd(kPi / 4, Vec3::UnitY()))};
+  c = contacts_of(box_scene(ridge + 0.05, turned));
+  ASSERT_EQ(c.size(), 1u);
+  EXPECT_NEAR(c[0].depth, 0.01, 1e-9);
+  EXPECT_NEAR((c[0].normal_world - Vec3::UnitZ()).norm(), 0.0, 1e-6);
+  EXPECT_NEAR(c[0].point_world.x(), 0.5, 1e-6);
+  EXPECT_NEAR(c[0].point_world.z(), ridge - 0.005, 1e-9);  // midway: sphere bottom to ridge
+}
+
+TEST(Collision, RodSunkInABoxIsPushedOutOfTheNearestFace) {
+  // the rod's centre line 0.1 below the top (0.5), far from the other faces: d = r + 0.1 at each
+  // end, pushed up; the contact midway between the sphere's lowest point and the face
+  const BoxObstacle box{"block", Vec3(0.5, 0, 0), Vec3(2, 2, 0.5), Quat::Identity()};
+  const std::vector<Contact> c = contacts_of(box_scene(0.4, box));
+  ASSERT_EQ(c.size(), 2u);
+  for (const Contact& k : c) {
+    EXPECT_NEAR(k.depth, 0.16, 1e-12);
+    EXPECT_NEAR((k.normal_world - Vec3::UnitZ()).norm(), 0.0, 1e-12);
+    EXPECT_NEAR(k.point_world.z(), 0.5 - 0.08, 1e-12);
+  }
+}
+
 TEST(Collision, SiblingsShareAJoint) {
   const Rig rig = build_rig({bone("root", "", Vec3(0, 0, 0), Vec3(0, 0, 1)),
                              bone("a", "root", Vec3(0, 0, 1), Vec3(1, 0, 1.01)),

@@ -1,6 +1,6 @@
-// Contacts and gravity in the engine (physik/engine/contacts.h): a bone resting on the floor at
-// the analytic penetration in every scheme, the energy of a bone dropped on the floor, two bones
-// driven into each other with and without self-collision.
+// Contacts and gravity in the engine (physik/engine/contacts.h): a bone resting on the floor (and
+// on a box) at the analytic penetration in every scheme, the energy of a bone dropped on the floor,
+// two bones driven into each other with and without self-collision.
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -43,6 +43,24 @@ TEST(Contacts, RodRestsAtTheAnalyticPenetrationInEveryScheme) {
     SCOPED_TRACE(to_string(scheme));
     const double dt = scheme == Scheme::kImplicit ? 0.05 : 0.002;  // explicit: dt < 0.01
     Scene s = floor_scene(lying_rod(0.06), scheme, dt);
+    s.params.contact_k = k;
+    const auto [d0, d1] = settled_depths(s, static_cast<int>(std::lround(3.0 / dt)));
+    EXPECT_NEAR(d0, expected, 1e-6 * expected);
+    EXPECT_NEAR(d1, expected, 1e-6 * expected);
+  }
+}
+
+TEST(Contacts, RodRestsOnABoxTopAtTheAnalyticPenetration) {
+  // the same rod on a box (top at z = 0.5, no ground): each end carries m g / 2 as on the floor,
+  // and the box's contacts take the floor's path through every scheme
+  const double k = 1e4, expected = 1.0 * 9.81 / (2.0 * k);
+  for (const Scheme scheme : {Scheme::kImplicit, Scheme::kExact}) {
+    SCOPED_TRACE(to_string(scheme));
+    const double dt = scheme == Scheme::kImplicit ? 0.05 : 0.002;
+    Scene s = floor_scene(lying_rod(0.56), scheme, dt);
+    s.collision.ground.reset();
+    s.collision.obstacles = {
+        BoxObstacle{"seat", Vec3(0.5, 0, 0.25), Vec3(0.75, 0.5, 0.25), Quat::Identity()}};
     s.params.contact_k = k;
     const auto [d0, d1] = settled_depths(s, static_cast<int>(std::lround(3.0 / dt)));
     EXPECT_NEAR(d0, expected, 1e-6 * expected);

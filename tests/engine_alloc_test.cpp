@@ -1,4 +1,5 @@
 // The per-step path allocates nothing: count global allocations around step().
+#include <algorithm>
 #include <atomic>
 #include <cstdlib>
 #include <new>
@@ -81,10 +82,11 @@ TEST(EngineAllocations, ASplitImplicitStepAllocatesNothing) {
   EXPECT_GT(s.implicit_split_steps, 0) << "the case must split to test the split";
 }
 
-// Contacts in every scheme: pinhead's feet in a floor under gravity, its hands pulled toward its
-// torso with self-collision, so that ground contacts are found every step and FCL's broad phase is
-// refitted and its capsule distances asked (for the pairs whose boxes overlap). The contact lists
-// are reserved by init_state; FCL's tree update and distance queries must not allocate either.
+// Contacts in every scheme: pinhead's feet in a floor and a foot on a block under gravity, its
+// hands pulled toward its torso with self-collision, so that ground and box contacts are found
+// every step (the box's through FCL's sphere-box routine) and FCL's broad phase is refitted and its
+// capsule distances asked (for the pairs whose boxes overlap). The contact lists are reserved by
+// init_state; FCL's tree update and distance queries must not allocate either.
 TEST(EngineAllocations, ContactStepsAllocateNothing) {
   for (const Scheme scheme : {Scheme::kGaussSeidel, Scheme::kExact, Scheme::kImplicit}) {
     Scene scene = load_scene(test::model_path("scenes/pinhead_two_hands.json"));
@@ -93,6 +95,10 @@ TEST(EngineAllocations, ContactStepsAllocateNothing) {
     scene.params.interpolation = Interpolation::kNone;
     scene.gravity_world = Vec3(0, 0, -9.81);
     scene.collision.ground = GroundPlane{Vec3::UnitZ(), -2.45};  // the feet sink at once
+    // a block under the right foot, its top level with the floor (FCL's sphere-box,
+    // the deepest-point search)
+    scene.collision.obstacles = {
+        BoxObstacle{"block", Vec3(-0.43, 0, -2.95), Vec3(0.3, 0.3, 0.5), Quat::Identity()}};
     scene.collision.self_collision = true;
     for (ControlPoint& c : scene.control_points) c.target_world = Vec3(0.0, 0.0, 1.0);
     SimState s;
@@ -100,9 +106,15 @@ TEST(EngineAllocations, ContactStepsAllocateNothing) {
     for (int n = 0; n < 20; ++n) step(scene, s);  // warm up
     g_allocations = 0;
     g_counting = true;
-    for (int n = 0; n < 50; ++n) step(scene, s);
+    int box_steps = 0;  // steps that found a contact with the box
+    for (int n = 0; n < 50; ++n) {
+      step(scene, s);
+      box_steps += std::any_of(s.contacts.begin(), s.contacts.end(),
+                               [](const Contact& c) { return c.obstacle == 0; });
+    }
     g_counting = false;
     EXPECT_GT(s.contacts.size(), 0u) << to_string(scheme);
+    EXPECT_GT(box_steps, 0) << to_string(scheme) << ": the box must be touched to test it";
     EXPECT_EQ(g_allocations.load(), 0) << to_string(scheme);
   }
 }

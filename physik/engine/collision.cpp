@@ -7,7 +7,10 @@
 #include <utility>
 
 #include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
+#include <fcl/geometry/shape/box.h>
 #include <fcl/geometry/shape/capsule.h>
+#include <fcl/geometry/shape/sphere.h>
+#include <fcl/narrowphase/detail/primitive_shape_algorithm/sphere_box.h>
 #include <fcl/narrowphase/distance.h>
 
 namespace physik {
@@ -95,6 +98,7 @@ struct CollisionWorld::Impl {
   std::vector<std::pair<int, int>> last_excluded;
   std::vector<Contact> last_pair_contacts;
   bool has_last = false;
+  std::vector<fcl::ContactPointd> sphere_box;  // FCL's sphere-box answer, scratch (capacity 1)
 
   bool built_for(const Rig& rig) const {
     return radius == rig.bone_collision_radius && length == rig.bone_length;
@@ -110,6 +114,9 @@ struct CollisionWorld::Impl {
   void place_bones(const BoneFrames& frames);
   void broad_phase(const Scene& scene);
   void pair_contacts(std::vector<Contact>& out) const;
+  void box_contacts(const Scene& scene, const BoneFrames& f, std::vector<Contact>& out);
+  void sphere_in_box(const fcl::Boxd& box, const fcl::Transform3d& box_tf, const Vec3& centre,
+                     double r, Contact& c, std::vector<Contact>& out);
 };
 
 void CollisionWorld::Impl::build(const Rig& rig) {
@@ -190,6 +197,94 @@ void CollisionWorld::Impl::pair_contacts(std::vector<Contact>& out) const {
 
 namespace {
 
+// signed distance of a point q (box frame) to a box of half extents h: outside, the distance to
+// the nearest point of the box; inside, minus the distance to the nearest face. Convex in q.
+double box_signed_distance(const Vec3& q, const Vec3& h) {
+  const Vec3 outside = (q.cwiseAbs() - h).cwiseMax(0.0);
+  if (outside.squaredNorm() > 0.0) return outside.norm();
+  return -(h - q.cwiseAbs()).minCoeff();
+}
+
+// the t in [0, 1] that minimises the box's signed distance along the segment a + t (b - a):
+// golden-section search on a convex function, a fixed 48 shrinks (0.618^48 < 1e-9 of the bone)
+double deepest_along(const Vec3& a, const Vec3& b, const Vec3& h) {
+  constexpr double kInvPhi = 0.6180339887498949;
+  double lo = 0.0, hi = 1.0;
+  double t1 = hi - kInvPhi * (hi - lo), t2 = lo + kInvPhi * (hi - lo);
+  double f1 = box_signed_distance(a + t1 * (b - a), h);
+  double f2 = box_signed_distance(a + t2 * (b - a), h);
+  for (int k = 0; k < 48; ++k) {
+    if (f1 <= f2) {
+      hi = t2, t2 = t1, f2 = f1;
+      t1 = hi - kInvPhi * (hi - lo);
+      f1 = box_signed_distance(a + t1 * (b - a), h);
+    } else {
+      lo = t1, t1 = t2, f1 = f2;
+      t2 = lo + kInvPhi * (hi - lo);
+      f2 = box_signed_distance(a + t2 * (b - a), h);
+    }
+  }
+  return 0.5 * (lo + hi);
+}
+
+}  // namespace
+
+// FCL's sphere-box contact of the sphere (centre, r) with the box; kept when it overlaps by more
+// than round-off. FCL's normal points from the sphere into the box: ours, from the box.
+void CollisionWorld::Impl::sphere_in_box(const fcl::Boxd& box, const fcl::Transform3d& box_tf,
+                                         const Vec3& centre, double r, Contact& c,
+                                         std::vector<Contact>& out) {
+  sphere_box.clear();
+  fcl::Transform3d sphere_tf = fcl::Transform3d::Identity();
+  sphere_tf.translation() = centre;
+  fcl::detail::sphereBoxIntersect(fcl::Sphered(r), sphere_tf, box, box_tf, &sphere_box);
+  if (sphere_box.empty() || !(sphere_box[0].penetration_depth > 1e-12 * r)) return;
+  c.depth = sphere_box[0].penetration_depth;
+  c.normal_world = -sphere_box[0].normal;
+  c.point_world = sphere_box[0].pos;
+  out.push_back(c);
+}
+
+// each bone against each box: the spheres at its two ends and, where the segment dips deeper
+// between them (across an edge or a corner), the sphere at its deepest point
+void CollisionWorld::Impl::box_contacts(const Scene& scene, const BoneFrames& f,
+                                        std::vector<Contact>& out) {
+  const auto& obstacles = scene.collision.obstacles;
+  for (std::size_t o = 0; o < obstacles.size(); ++o) {
+    const BoxObstacle& b = obstacles[o];
+    const fcl::Boxd box(2.0 * b.half_extents);
+    fcl::Transform3d box_tf = fcl::Transform3d::Identity();
+    box_tf.linear() = b.orient_world.toRotationMatrix();
+    box_tf.translation() = b.center_world;
+    const Mat3 to_box = box_tf.linear().transpose();
+    for (int i = 0; i < scene.rig.nbone; ++i) {
+      const double r = scene.rig.bone_collision_radius[i];
+      const Vec3 qa = to_box * (f.head_world[i] - b.center_world);
+      const Vec3 qb = to_box * (f.tail_world[i] - b.center_world);
+      // the capsule's box in the box's frame misses the box grown by r: no contact
+      const Vec3 reach = b.half_extents + Vec3::Constant(r);
+      if ((qa.cwiseMin(qb).array() > reach.array()).any() ||
+          (qa.cwiseMax(qb).array() < -reach.array()).any()) {
+        continue;
+      }
+      Contact c;
+      c.bone = i;
+      c.obstacle = static_cast<int>(o);
+      sphere_in_box(box, box_tf, f.head_world[i], r, c, out);
+      sphere_in_box(box, box_tf, f.tail_world[i], r, c, out);
+      const double t = deepest_along(qa, qb, b.half_extents);
+      const double ends = std::min(box_signed_distance(qa, b.half_extents),
+                                   box_signed_distance(qb, b.half_extents));
+      if (box_signed_distance(qa + t * (qb - qa), b.half_extents) < ends - 1e-6 * r) {
+        sphere_in_box(box, box_tf, f.head_world[i] + t * (f.tail_world[i] - f.head_world[i]), r, c,
+                      out);
+      }
+    }
+  }
+}
+
+namespace {
+
 // each end sphere of each bone that sinks below the plane
 void ground_contacts(const Scene& scene, const BoneFrames& f, std::vector<Contact>& out) {
   const GroundPlane& g = *scene.collision.ground;
@@ -231,9 +326,13 @@ CollisionWorld::CollisionWorld(CollisionWorld&&) noexcept = default;
 CollisionWorld& CollisionWorld::operator=(CollisionWorld&&) noexcept = default;
 
 void CollisionWorld::prepare(const Scene& scene) {
-  if (!scene.collision.self_collision) return;  // the ground alone needs no FCL objects
-  if (!impl_) impl_ = std::make_unique<Impl>();
-  if (!impl_->built_for(scene.rig)) impl_->build(scene.rig);
+  const CollisionSettings& c = scene.collision;
+  if (!c.self_collision && c.obstacles.empty()) return;  // the ground alone needs no FCL objects
+  if (!impl_) {
+    impl_ = std::make_unique<Impl>();
+    impl_->sphere_box.reserve(1);
+  }
+  if (c.self_collision && !impl_->built_for(scene.rig)) impl_->build(scene.rig);
 }
 
 void CollisionWorld::detect(const Scene& scene, const BoneFrames& frames,
@@ -241,11 +340,13 @@ void CollisionWorld::detect(const Scene& scene, const BoneFrames& frames,
   out.clear();
   const CollisionSettings& c = scene.collision;
   if (c.ground) ground_contacts(scene, frames, out);
-  if (!c.self_collision) return;
-  // a pose gone non-finite has no bone pairs (FCL's tree cannot split non-finite boxes); the run
-  // monitor reports the divergence
+  if (c.obstacles.empty() && !c.self_collision) return;
+  // a pose gone non-finite has no box or bone-pair contacts (FCL's tree cannot split non-finite
+  // boxes); the run monitor reports the divergence
   if (!finite_frames(frames)) return;
   prepare(scene);
+  if (!c.obstacles.empty()) impl_->box_contacts(scene, frames, out);
+  if (!c.self_collision) return;
   // the energy guard and the force stage ask about the same pose: answer it once
   if (!impl_->same_query(scene, frames)) {
     impl_->place_bones(frames);

@@ -4,7 +4,7 @@
 //
 // Contact force law, per contact found at the state (bodies a, b; point p; unit normal n from b
 // toward a; depth d > 0): with v = v_a(p) - v_b(p) the relative velocity of the two bodies'
-// material points at p (v_b = 0 for the ground), v_n = v . n and v_t = v - v_n n,
+// material points at p (v_b = 0 for the ground and obstacles), v_n = v . n and v_t = v - v_n n,
 //   normal    F_n = max(0, k d - c v_n)      a penalty spring with a damper (compliant, like
 //                                            MuJoCo's soft contacts), never pulling
 //   friction  F_t = -mu F_n v_t / max(|v_t|, v_s)
@@ -26,9 +26,9 @@
 // Implicit step (implicit_step.h): each contact is a point element, linearised at the start of
 // the step (Gauss-Newton: the turn of n with the motion is dropped; it is multiplied by the force)
 //   stiffness K = k n n^T,  damping D = c n n^T + (mu F_n / max(|v_t|, v_s)) (1 - n n^T)
-// (beyond the slip speed the friction's secant, a majoriser as the capped springs'). A ground
-// contact is then exactly an augmented inertia h^2 K + h D on its bone, like a control spring,
-// O(n). A self-contact couples two bodies; the exact step would need the coupling block -A
+// (beyond the slip speed the friction's secant, a majoriser as the capped springs'). A ground or
+// obstacle contact is then exactly an augmented inertia h^2 K + h D on its bone, like a control
+// spring, O(n). A self-contact couples two bodies; the exact step would need the coupling block -A
 // between them (A = h^2 K + h D), which the articulated recursion cannot take in O(n). Instead each
 // of the two bones gets 2 A at the contact point, with the other moving on at its start-of-step
 // velocity (the -h K v term takes the relative velocity): block Jacobi, O(n + contacts), no dense
@@ -57,8 +57,8 @@ namespace physik {
 void apply_gravity(const Scene& scene, SimState& state);
 
 // Detect the contacts at the state's frames (state.contacts), apply their forces, and list their
-// elements for the implicit step (state.contact_elements). Nothing when the scene has no ground
-// and no self-collision.
+// elements for the implicit step (state.contact_elements). Nothing when the scene has no ground,
+// no obstacles and no self-collision.
 void apply_contacts(const Scene& scene, SimState& state);
 
 // x_0 of U_gravity (above).

@@ -45,9 +45,11 @@ void init_state(const Scene& scene, SimState& s) {
   }
   if (scene.collision.any()) {
     // the FCL objects and room for the contacts now, so the steps allocate nothing: two ends
-    // per bone on the ground, and as many bone pairs again (more only in a tangled rig)
+    // per bone on the ground, three per bone and obstacle (the ends and an edge), and as many
+    // bone pairs again as ground contacts (more only in a tangled rig)
     s.collision_world.prepare(scene);
-    const std::size_t room = 4 * static_cast<std::size_t>(rig.nbone);
+    const std::size_t room =
+        (4 + 3 * scene.collision.obstacles.size()) * static_cast<std::size_t>(rig.nbone);
     s.contacts.reserve(room);
     s.contact_elements.reserve(room);
     s.contact_scratch.reserve(room);

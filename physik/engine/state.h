@@ -41,7 +41,8 @@ struct PoseTermSelection {
 };
 
 // A contact as the implicit step sees it (contacts.h, implicit_step.h): a point element on
-// `bone`, and with the opposite sign on `other_bone` when it is a bone (-1: the ground).
+// `bone`, and with the opposite sign on `other_bone` when it is a bone (-1: the ground or an
+// obstacle).
 struct ContactElement {
   int bone = -1;
   int other_bone = -1;

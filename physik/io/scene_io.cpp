@@ -213,6 +213,54 @@ void read_ground(const JsonContext& top, const Json& doc, Scene& s) {
   s.collision.ground = plane;
 }
 
+// a rotation vector in degrees (its direction the axis, its length the angle) as a quaternion
+Quat rotation_from_deg(const Vec3& v_deg) {
+  const Vec3 v = v_deg * (kPi / 180.0);
+  const double angle = v.norm();
+  return angle > 0.0 ? Quat(Eigen::AngleAxisd(angle, v / angle)) : Quat::Identity();
+}
+
+// a box: centre (rig units, world), half extents (rig units, each > 0), an optional rotation
+void read_box(const JsonContext& ctx, const Json& b, BoxObstacle& box) {
+  ctx.require_object(b, "box");
+  ctx.only_keys(b, {"center", "half_extents", "rotation_deg"});
+  box.center_world = bounded_vec3(ctx, b, "center");
+  box.half_extents = bounded_vec3(ctx, b, "half_extents");
+  if (!(box.half_extents.minCoeff() > 0.0)) {
+    ctx.fail("half_extents", "each must be positive (rig units, half the box's side)");
+  }
+  if (b.contains("rotation_deg")) {
+    const Vec3 r = ctx.vec3(b, "rotation_deg");
+    if (!(r.cwiseAbs().maxCoeff() <= 1e6)) ctx.fail("rotation_deg", "beyond +-1e6 degrees");
+    box.orient_world = rotation_from_deg(r);
+  }
+}
+
+// static obstacles, each a named shape (a box is the one shape)
+void read_obstacles(const JsonContext& top, const Json& doc, Scene& s) {
+  if (!doc.contains("obstacles")) return;
+  const Json& obs = doc["obstacles"];
+  if (!obs.is_array()) top.fail("obstacles", "expected an array of obstacles");
+  for (std::size_t i = 0; i < obs.size(); ++i) {
+    const JsonContext ctx{top.file, "obstacles[" + std::to_string(i) + "]"};
+    ctx.require_object(obs[i], "");
+    for (auto it = obs[i].begin(); it != obs[i].end(); ++it) {
+      if (it.key() != "name" && it.key() != "box" && it.key() != "comment") {
+        ctx.fail(it.key(), "unknown shape or field (an obstacle has \"name\" and \"box\")");
+      }
+    }
+    BoxObstacle box;
+    box.name = ctx.string(obs[i], "name");
+    if (box.name.empty()) ctx.fail("name", "must not be empty");
+    for (const BoxObstacle& o : s.collision.obstacles) {
+      if (o.name == box.name) ctx.fail("name", "duplicate obstacle name '" + box.name + "'");
+    }
+    const JsonContext box_ctx{top.file, ctx.element + " box"};
+    read_box(box_ctx, ctx.require(obs[i], "box"), box);
+    s.collision.obstacles.push_back(box);
+  }
+}
+
 // one [bone, bone] pair of collision_exclude, as (lower index, higher index)
 std::pair<int, int> excluded_pair(const JsonContext& top, const Json& e, const std::string& field,
                                   const Rig& rig) {
@@ -249,6 +297,7 @@ void read_self_collision(const JsonContext& top, const Json& doc, Scene& s) {
 
 void read_contacts_and_gravity(const JsonContext& top, const Json& doc, Scene& s) {
   read_ground(top, doc, s);
+  read_obstacles(top, doc, s);
   read_self_collision(top, doc, s);
   if (doc.contains("gravity")) s.gravity_world = bounded_vec3(top, doc, "gravity");
 }
@@ -326,7 +375,9 @@ void read_old_scheme_keys(const JsonContext& ctx, const Json& params,
 std::string contact_param_conflict(const Scene& s, const std::string& name) {
   if (s.collision.any()) return "";
   for (const char* row : {"contact_k", "contact_damping", "friction", "friction_speed"}) {
-    if (name == row) return "applies only to a scene with a ground or \"self_collision\": true";
+    if (name == row) {
+      return "applies only to a scene with a ground, obstacles or \"self_collision\": true";
+    }
   }
   return "";
 }
@@ -436,7 +487,7 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
   top.require_object(doc, "");
   top.only_keys(doc, {"name", "comment", "rig", "params", "control_points", "schedule", "steps",
                       "convergence", "initial_pose", "initial_velocity", "solve", "gravity",
-                      "ground", "self_collision", "collision_exclude"});
+                      "ground", "obstacles", "self_collision", "collision_exclude"});
   if (doc.contains("solve")) solve_options_from_json(doc["solve"], source);  // checked at load
   Scene s;
   s.file = source;
@@ -527,6 +578,18 @@ void add_contacts_json(const Scene& s, Json& out) {
   const CollisionSettings& c = s.collision;
   if (c.ground) {
     out["ground"] = {{"height", c.ground->height}, {"normal", vec_json(c.ground->normal_world)}};
+  }
+  if (!c.obstacles.empty()) {
+    Json obs = Json::array();
+    for (const BoxObstacle& b : c.obstacles) {
+      const Eigen::AngleAxisd aa(b.orient_world);
+      obs.push_back({{"name", b.name},
+                     {"box",
+                      {{"center", vec_json(b.center_world)},
+                       {"half_extents", vec_json(b.half_extents)},
+                       {"rotation_deg", vec_json(aa.axis() * aa.angle() * (180.0 / kPi))}}}});
+    }
+    out["obstacles"] = obs;
   }
   if (c.self_collision) out["self_collision"] = true;
   if (!c.excluded_pairs.empty()) {

@@ -22,6 +22,7 @@ double Scene::divergence_energy() const {
 const char* Scene::world_field() const {
   if (collision.ground) return "ground";
   if (collision.self_collision) return "self_collision";
+  if (!collision.obstacles.empty()) return "obstacles";
   if (!gravity_world.isZero()) return "gravity";
   return nullptr;
 }

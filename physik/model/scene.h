@@ -56,21 +56,30 @@ struct ConvergenceParams {
                                       // 0 = the energy rule (physik/engine/run_monitor.h)
 };
 
-// What bones touch (physik/engine/contacts.h): an optional ground plane, and the bones' own
-// capsules (Rig::bone_collision_radius) against each other. None of it by default: a scene
-// without them runs exactly as before.
+// What bones touch (physik/engine/contacts.h): an optional ground plane, static obstacles, and
+// the bones' own capsules (Rig::bone_collision_radius) against each other. None of it by default:
+// a scene without them runs exactly as before.
 struct GroundPlane {
   Vec3 normal_world = Vec3::UnitZ();  // unit; bodies belong on the side it points to
   double height = 0.0;                // rig units: the plane is {x : normal . x = height}
 };
 
+// A static box (a seat, a table): fixed in the world, it only pushes bones out (collision.h).
+struct BoxObstacle {
+  std::string name;                      // unique within the scene
+  Vec3 center_world = Vec3::Zero();      // rig units
+  Vec3 half_extents = Vec3::Ones();      // rig units, > 0, along the box's own x, y, z axes
+  Quat orient_world = Quat::Identity();  // the box's axes in the world frame
+};
+
 struct CollisionSettings {
   std::optional<GroundPlane> ground;
+  std::vector<BoxObstacle> obstacles;  // static boxes, in the order the scene lists them
   bool self_collision = false;  // bone capsules against each other (bones sharing a joint never)
   // further bone pairs that never collide, each (lower index, higher index), sorted, unique
   std::vector<std::pair<int, int>> excluded_pairs;
   // anything to touch: the contact stage runs at all
-  bool any() const { return ground.has_value() || self_collision; }
+  bool any() const { return ground.has_value() || !obstacles.empty() || self_collision; }
 };
 
 struct Scene {
@@ -94,7 +103,7 @@ struct Scene {
   // the fixed bound before the energy rule (1e6 M h^2 unless given), still quoted by
   // experiments/hand_explodes.cpp's note; the run monitor uses it only when given
   double divergence_energy() const;
-  // the first of "ground", "self_collision", "gravity" that the scene sets, or nullptr: what a
+  // the first of "ground", "self_collision", "obstacles", "gravity" that the scene sets, or nullptr: what a
   // solver that knows only the rig (the classic IK solvers, the exact equilibrium) cannot read
   const char* world_field() const;
 };

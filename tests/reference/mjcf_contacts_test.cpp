@@ -1,7 +1,8 @@
 // The MJCF export with contacts (reference/mjcf_export.h mjcf_contacts): MuJoCo, on the exported
 // model, finds contacts between exactly the shape pairs PhysIK's detection finds (collision.h):
 // parent and child filtered by MuJoCo's filterparent, two children of one parent and the scene's
-// excluded pairs by <exclude>, the ground plane where PhysIK has it, and the scene's gravity.
+// excluded pairs by <exclude>, the ground plane and the static boxes where PhysIK has them, and
+// the scene's gravity.
 #include <algorithm>
 #include <set>
 #include <utility>
@@ -75,6 +76,33 @@ TEST(MjcfContacts, MuJoCoTouchesTheSamePairs) {
   s.collision.excluded_pairs.clear();
   EXPECT_EQ(physik_pairs(s), (Pairs{{2, -1}}));
   EXPECT_EQ(mujoco_pairs(s), (Pairs{{2, -1}}));
+}
+
+TEST(MjcfContacts, MuJoCoTouchesTheSameBoxAtTheSameDepth) {
+  // a rod 0.05 above a turned box's top (radius 0.06: 0.01 deep): MuJoCo's static box geom
+  // touches it at the same depth; moved 0.02 higher, neither touches
+  Scene s = test::scene_for(test::lying_rod(0.55), EngineParams{}, 1);
+  s.collision.obstacles = {BoxObstacle{"seat", Vec3(0.5, 0, 0.25), Vec3(0.75, 0.5, 0.25),
+                                       Quat(Eigen::AngleAxisd(0.3, Vec3::UnitZ()))}};
+  EXPECT_EQ(physik_pairs(s), (Pairs{{0, -1}}));
+  EXPECT_EQ(mujoco_pairs(s), (Pairs{{0, -1}}));
+  MjcfOptions o;
+  o.joints = JointModel::kBallJoints;
+  const std::string xml = rig_to_mjcf(s.rig, mjcf_contacts(s, o));
+  EXPECT_NE(xml.find("name=\"obstacle:seat\" type=\"box\" size=\"0.75 0.5 0.25\""),
+            std::string::npos)
+      << xml;
+  MjModelPtr m = rig_to_mjmodel(s.rig, mjcf_contacts(s, o));
+  MjDataPtr d(mj_makeData(m.get()));
+  SimState st;
+  init_state(s, st);
+  set_mujoco_state(s.rig, st, m.get(), d.get());
+  mj_forward(m.get(), d.get());
+  ASSERT_GT(d->ncon, 0);
+  for (int k = 0; k < d->ncon; ++k) EXPECT_NEAR(d->contact[k].dist, -0.01, 1e-9);
+  s.collision.obstacles[0].center_world.z() -= 0.02;
+  EXPECT_TRUE(physik_pairs(s).empty());
+  EXPECT_TRUE(mujoco_pairs(s).empty());
 }
 
 TEST(MjcfContacts, WithoutContactsTheModelIsAsBefore) {
