@@ -322,268 +322,268 @@ void add_coil_claims(Report& report, const CoilMeasured& dropped, const CoilMeas
                    ? "yes"
                    : "partly (only the coil at rest is judged)");
   report.named("coil-penetration");
+}
 
-  // --- sit: Fig 11 with a seat and a floor ----------------------------------------------------
+// --- sit: Fig 11 with a seat and a floor ----------------------------------------------------
 
-  // the paper's Fig 11 run as shipped (no gravity, no contacts): its last pose, local rotations
-  Pose paper_sitting_pose(const Scene& paper) {
-    SimState st;
-    init_state(paper, st);
-    for (int k = 0; k < paper.steps; ++k) step(paper, st);
-    return st.pose;
+// the paper's Fig 11 run as shipped (no gravity, no contacts): its last pose, local rotations
+Pose paper_sitting_pose(const Scene& paper) {
+  SimState st;
+  init_state(paper, st);
+  for (int k = 0; k < paper.steps; ++k) step(paper, st);
+  return st.pose;
+}
+
+// the lowest point (rig units, z) of bone b's capsule
+double capsule_bottom(const Scene& s, const BoneFrames& f, int b) {
+  return std::min(f.head_world[b].z(), f.tail_world[b].z()) - s.rig.bone_collision_radius[b];
+}
+
+// the seat under the sitting pose: its top at the lowest point of the thighs' capsules, from
+// 0.5 behind the pelvis (+y is behind: the paper's pelvis moves to +y) to a thigh radius short
+// of the knees (so the shins hang in front of it), 0.3 wider than the hips on each side, 0.4
+// thick; the floor at the lowest point of the feet's capsules
+void add_seat_and_floor(Scene& s, const BoneFrames& f) {
+  const Rig& rig = s.rig;
+  const int pelvis = rig.find_bone("torso"), thigh_l = rig.find_bone("thigh.L"),
+            thigh_r = rig.find_bone("thigh.R");
+  const double top = std::min(capsule_bottom(s, f, thigh_l), capsule_bottom(s, f, thigh_r));
+  const double back = f.tail_world[pelvis].y() + 0.5;
+  const double front = std::max(f.tail_world[thigh_l].y(), f.tail_world[thigh_r].y()) +
+                       2.0 * rig.bone_collision_radius[thigh_l];
+  const double half_x =
+      std::max(std::abs(f.head_world[thigh_l].x()), std::abs(f.head_world[thigh_r].x())) + 0.3;
+  BoxObstacle seat;
+  seat.name = "seat";
+  seat.half_extents = Vec3(half_x, 0.5 * (back - front), 0.2);
+  seat.center_world = Vec3(0.0, 0.5 * (back + front), top - 0.2);
+  s.collision.obstacles = {seat};
+  const double floor = std::min(capsule_bottom(s, f, rig.find_bone("foot.L")),
+                                capsule_bottom(s, f, rig.find_bone("foot.R")));
+  s.collision.ground = GroundPlane{Vec3::UnitZ(), floor};
+}
+
+// Fig 11's scene from its sitting pose, targets at their last values, gravity on, with a seat
+// and a floor; the implicit scheme at dt 0.01 with the original's damping (3 N s/m)
+Scene sit_scene(const Context& ctx) {
+  Scene s = scene_named(ctx, "fig11_sit");
+  s.initial_pose = paper_sitting_pose(s);
+  for (const TargetChange& t : s.schedule)
+    s.control_points[t.control_point].target_world = t.target_world;
+  s.schedule.clear();
+  s.params.scheme = Scheme::kImplicit;
+  s.params.dt = 0.01;
+  s.params.damping_auto = false;
+  s.params.damping = 3.0;
+  s.params.interpolation = Interpolation::kNone;
+  s.steps = ctx.quick ? 100 : 1000;
+  s.gravity_world = Vec3(0, 0, -9.81);
+  add_seat_and_floor(s, forward_kinematics(s.rig, s.initial_pose));
+  s.file = "contacts_sit";
+  return s;
+}
+
+struct Seated {
+  std::vector<std::string> on_seat, on_floor;  // the bones touching the seat, the floor
+  bool feet_on_floor = false;                  // both feet's bones touch the floor
+  bool hips_on_seat = false;                   // the pelvis, a hip or a thigh on the seat
+  double penetration = 0.0;                    // 1, of the radius, the deepest contact
+};
+
+// which bones touch what at a pose (PhysIK's detection), and how deep
+Seated seated(const Scene& s, const BoneFrames& f) {
+  std::vector<Contact> contacts;
+  CollisionWorld world;
+  world.detect(s, f, contacts);
+  Seated out;
+  for (const Contact& c : contacts) {
+    auto& list = c.obstacle >= 0 ? out.on_seat : out.on_floor;
+    const std::string& name = s.rig.bone_name[c.bone];
+    if (std::find(list.begin(), list.end(), name) == list.end()) list.push_back(name);
   }
-
-  // the lowest point (rig units, z) of bone b's capsule
-  double capsule_bottom(const Scene& s, const BoneFrames& f, int b) {
-    return std::min(f.head_world[b].z(), f.tail_world[b].z()) - s.rig.bone_collision_radius[b];
-  }
-
-  // the seat under the sitting pose: its top at the lowest point of the thighs' capsules, from
-  // 0.5 behind the pelvis (+y is behind: the paper's pelvis moves to +y) to a thigh radius short
-  // of the knees (so the shins hang in front of it), 0.3 wider than the hips on each side, 0.4
-  // thick; the floor at the lowest point of the feet's capsules
-  void add_seat_and_floor(Scene & s, const BoneFrames& f) {
-    const Rig& rig = s.rig;
-    const int pelvis = rig.find_bone("torso"), thigh_l = rig.find_bone("thigh.L"),
-              thigh_r = rig.find_bone("thigh.R");
-    const double top = std::min(capsule_bottom(s, f, thigh_l), capsule_bottom(s, f, thigh_r));
-    const double back = f.tail_world[pelvis].y() + 0.5;
-    const double front = std::max(f.tail_world[thigh_l].y(), f.tail_world[thigh_r].y()) +
-                         2.0 * rig.bone_collision_radius[thigh_l];
-    const double half_x =
-        std::max(std::abs(f.head_world[thigh_l].x()), std::abs(f.head_world[thigh_r].x())) + 0.3;
-    BoxObstacle seat;
-    seat.name = "seat";
-    seat.half_extents = Vec3(half_x, 0.5 * (back - front), 0.2);
-    seat.center_world = Vec3(0.0, 0.5 * (back + front), top - 0.2);
-    s.collision.obstacles = {seat};
-    const double floor = std::min(capsule_bottom(s, f, rig.find_bone("foot.L")),
-                                  capsule_bottom(s, f, rig.find_bone("foot.R")));
-    s.collision.ground = GroundPlane{Vec3::UnitZ(), floor};
-  }
-
-  // Fig 11's scene from its sitting pose, targets at their last values, gravity on, with a seat
-  // and a floor; the implicit scheme at dt 0.01 with the original's damping (3 N s/m)
-  Scene sit_scene(const Context& ctx) {
-    Scene s = scene_named(ctx, "fig11_sit");
-    s.initial_pose = paper_sitting_pose(s);
-    for (const TargetChange& t : s.schedule)
-      s.control_points[t.control_point].target_world = t.target_world;
-    s.schedule.clear();
-    s.params.scheme = Scheme::kImplicit;
-    s.params.dt = 0.01;
-    s.params.damping_auto = false;
-    s.params.damping = 3.0;
-    s.params.interpolation = Interpolation::kNone;
-    s.steps = ctx.quick ? 100 : 1000;
-    s.gravity_world = Vec3(0, 0, -9.81);
-    add_seat_and_floor(s, forward_kinematics(s.rig, s.initial_pose));
-    s.file = "contacts_sit";
-    return s;
-  }
-
-  struct Seated {
-    std::vector<std::string> on_seat, on_floor;  // the bones touching the seat, the floor
-    bool feet_on_floor = false;                  // both feet's bones touch the floor
-    bool hips_on_seat = false;                   // the pelvis, a hip or a thigh on the seat
-    double penetration = 0.0;                    // 1, of the radius, the deepest contact
+  const auto has = [](const std::vector<std::string>& l, const char* n) {
+    return std::find(l.begin(), l.end(), n) != l.end();
   };
-
-  // which bones touch what at a pose (PhysIK's detection), and how deep
-  Seated seated(const Scene& s, const BoneFrames& f) {
-    std::vector<Contact> contacts;
-    CollisionWorld world;
-    world.detect(s, f, contacts);
-    Seated out;
-    for (const Contact& c : contacts) {
-      auto& list = c.obstacle >= 0 ? out.on_seat : out.on_floor;
-      const std::string& name = s.rig.bone_name[c.bone];
-      if (std::find(list.begin(), list.end(), name) == list.end()) list.push_back(name);
-    }
-    const auto has = [](const std::vector<std::string>& l, const char* n) {
-      return std::find(l.begin(), l.end(), n) != l.end();
-    };
-    out.feet_on_floor = has(out.on_floor, "foot.L") && has(out.on_floor, "foot.R");
-    for (const char* b : {"torso", "hip.L", "hip.R", "thigh.L", "thigh.R"}) {
-      out.hips_on_seat = out.hips_on_seat || has(out.on_seat, b);
-    }
-    out.penetration = penetration(s, contacts).max_depth_fraction;
-    return out;
+  out.feet_on_floor = has(out.on_floor, "foot.L") && has(out.on_floor, "foot.R");
+  for (const char* b : {"torso", "hip.L", "hip.R", "thigh.L", "thigh.R"}) {
+    out.hips_on_seat = out.hips_on_seat || has(out.on_seat, b);
   }
+  out.penetration = penetration(s, contacts).max_depth_fraction;
+  return out;
+}
 
-  nlohmann::json to_json(const Seated& m) {
-    return {{"bones_on_seat", m.on_seat},
-            {"bones_on_floor", m.on_floor},
-            {"feet_on_floor", m.feet_on_floor},
-            {"pelvis_or_thighs_on_seat", m.hips_on_seat},
-            {"penetration_over_radius", m.penetration}};
-  }
+nlohmann::json to_json(const Seated& m) {
+  return {{"bones_on_seat", m.on_seat},
+          {"bones_on_floor", m.on_floor},
+          {"feet_on_floor", m.feet_on_floor},
+          {"pelvis_or_thighs_on_seat", m.hips_on_seat},
+          {"penetration_over_radius", m.penetration}};
+}
 
-  std::string joined(const std::vector<std::string>& names) {
-    std::string out;
-    for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
-    return out.empty() ? "none" : out;
-  }
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out.empty() ? "none" : out;
+}
 
-  nlohmann::json sit_section(const Context& ctx, Report& report) {
-    const Scene scene = sit_scene(ctx);
-    const Comparison c = compare_with_mujoco(scene, ReferenceMode::kSameForces);
-    write_run_folder(ctx, "sit", scene);
-    const bool physik_diverged = c.physik.summary.diverged, mujoco_ran = !c.mujoco.summary.diverged;
-    const Seated p = seated(scene, c.physik.summary.final_frames);
-    const Seated m = seated(scene, c.mujoco.summary.final_frames);
-    const double ke = c.physik.summary.final_kinetic_energy;
-    const double gap = c.gap.final_pose_gap / scene.rig.height();
-    report.claim(
-        "Fig 11 with a seat and a floor: the rig sits on the seat, with its feet on the floor",
-        "after " + num(scene.steps * scene.params.dt) + " s under gravity: on the seat " +
-            joined(p.on_seat) + "; on the floor " + joined(p.on_floor) + "; KE " + num(ke) +
-            " J (MuJoCo: seat " + joined(m.on_seat) + "; floor " + joined(m.on_floor) + ")",
-        physik_diverged                     ? "no (the run diverged)"
-        : p.hips_on_seat && p.feet_on_floor ? "yes"
-        : p.hips_on_seat                    ? "partly (on the seat, the feet off the floor)"
-                                            : "no");
-    report.named("sit-on-seat");
-    report.claim("Seated, no penetration deeper than 5% of a bone's radius",
-                 "deepest at the end: " + num(p.penetration) +
-                     " of the radius (MuJoCo's pose: " + num(m.penetration) + ")",
-                 p.penetration <= 0.05 ? "yes" : "no");
-    report.claim("The seated pose is MuJoCo's within 2% of the rig height",
-                 "final pose gap over the rig's height: " + num(gap),
-                 !mujoco_ran || physik_diverged ? "n/a (a run diverged)"
-                 : gap <= 0.02                  ? "yes"
-                                                : "no");
-    const BoneFrames f0 = forward_kinematics(scene.rig, scene.initial_pose);
-    const double foot_gap = std::abs(capsule_bottom(scene, f0, scene.rig.find_bone("foot.L")) -
-                                     capsule_bottom(scene, f0, scene.rig.find_bone("foot.R")));
-    report.note(
-        "Sit: the floor is at the lower foot's lowest point in the paper's sitting pose; the "
-        "other foot stands " +
-        num(foot_gap) +
-        " rig units higher there (the paper's heel and toe targets of the two feet differ), "
-        "held by its springs.");
-    const BoxObstacle& seat = scene.collision.obstacles[0];
-    nlohmann::json out = {
-        {"physik", to_json(p)},
-        {"mujoco", to_json(m)},
-        {"physik_kinetic_energy", ke},
-        {"final_pose_gap_over_height", gap},
-        {"diverged", physik_diverged},
-        {"seat_center", {seat.center_world.x(), seat.center_world.y(), seat.center_world.z()}},
-        {"seat_half_extents",
-         {seat.half_extents.x(), seat.half_extents.y(), seat.half_extents.z()}},
-        {"floor_height", scene.collision.ground->height}};
-    if (ctx.log)
-      *ctx.log << "  sit: seat " << joined(p.on_seat) << ", floor " << joined(p.on_floor)
-               << ", gap " << num(gap) << "\n";
-    return out;
-  }
+nlohmann::json sit_section(const Context& ctx, Report& report) {
+  const Scene scene = sit_scene(ctx);
+  const Comparison c = compare_with_mujoco(scene, ReferenceMode::kSameForces);
+  write_run_folder(ctx, "sit", scene);
+  const bool physik_diverged = c.physik.summary.diverged, mujoco_ran = !c.mujoco.summary.diverged;
+  const Seated p = seated(scene, c.physik.summary.final_frames);
+  const Seated m = seated(scene, c.mujoco.summary.final_frames);
+  const double ke = c.physik.summary.final_kinetic_energy;
+  const double gap = c.gap.final_pose_gap / scene.rig.height();
+  report.claim(
+      "Fig 11 with a seat and a floor: the rig sits on the seat, with its feet on the floor",
+      "after " + num(scene.steps * scene.params.dt) + " s under gravity: on the seat " +
+          joined(p.on_seat) + "; on the floor " + joined(p.on_floor) + "; KE " + num(ke) +
+          " J (MuJoCo: seat " + joined(m.on_seat) + "; floor " + joined(m.on_floor) + ")",
+      physik_diverged                     ? "no (the run diverged)"
+      : p.hips_on_seat && p.feet_on_floor ? "yes"
+      : p.hips_on_seat                    ? "partly (on the seat, the feet off the floor)"
+                                          : "no");
+  report.named("sit-on-seat");
+  report.claim("Seated, no penetration deeper than 5% of a bone's radius",
+               "deepest at the end: " + num(p.penetration) +
+                   " of the radius (MuJoCo's pose: " + num(m.penetration) + ")",
+               p.penetration <= 0.05 ? "yes" : "no");
+  report.claim("The seated pose is MuJoCo's within 2% of the rig height",
+               "final pose gap over the rig's height: " + num(gap),
+               !mujoco_ran || physik_diverged ? "n/a (a run diverged)"
+               : gap <= 0.02                  ? "yes"
+                                              : "no");
+  const BoneFrames f0 = forward_kinematics(scene.rig, scene.initial_pose);
+  const double foot_gap = std::abs(capsule_bottom(scene, f0, scene.rig.find_bone("foot.L")) -
+                                   capsule_bottom(scene, f0, scene.rig.find_bone("foot.R")));
+  report.note(
+      "Sit: the floor is at the lower foot's lowest point in the paper's sitting pose; the "
+      "other foot stands " +
+      num(foot_gap) +
+      " rig units higher there (the paper's heel and toe targets of the two feet differ), "
+      "held by its springs.");
+  const BoxObstacle& seat = scene.collision.obstacles[0];
+  nlohmann::json out = {
+      {"physik", to_json(p)},
+      {"mujoco", to_json(m)},
+      {"physik_kinetic_energy", ke},
+      {"final_pose_gap_over_height", gap},
+      {"diverged", physik_diverged},
+      {"seat_center", {seat.center_world.x(), seat.center_world.y(), seat.center_world.z()}},
+      {"seat_half_extents", {seat.half_extents.x(), seat.half_extents.y(), seat.half_extents.z()}},
+      {"floor_height", scene.collision.ground->height}};
+  if (ctx.log)
+    *ctx.log << "  sit: seat " << joined(p.on_seat) << ", floor " << joined(p.on_floor) << ", gap "
+             << num(gap) << "\n";
+  return out;
+}
 
-  // --- cannon: Fig 7's linear cannon with self-collision ----------------------------------------
+// --- cannon: Fig 7's linear cannon with self-collision ----------------------------------------
 
-  struct CannonRun {
-    double deepest = 0.0;  // 1, the deepest bone-bone overlap over the run over the thinner radius
-    bool diverged = false;
-  };
+struct CannonRun {
+  double deepest = 0.0;  // 1, the deepest bone-bone overlap over the run over the thinner radius
+  bool diverged = false;
+};
 
-  // the scene run with its every step's deepest bone-bone overlap measured (self-collision on for
-  // the measure whatever the run has)
-  CannonRun cannon_run(const Context& ctx, const std::string& name, const Scene& scene) {
-    Scene measure = scene;
-    measure.collision.self_collision = true;
-    CollisionWorld world;
-    std::vector<Contact> contacts;
-    contacts.reserve(8 * static_cast<std::size_t>(scene.rig.nbone));
-    CannonRun out;
-    const RecordedRun run =
-        record_run(scene, RecordOptions{}, [&](const SimState& s, const StepStats&) {
-          world.detect(measure, s.frames, contacts);
-          out.deepest = std::max(out.deepest, penetration(measure, contacts).max_depth_fraction);
-        });
-    out.diverged = run.summary.diverged;
-    write_run_folder(ctx, name, scene);
-    if (ctx.log) *ctx.log << "  " << name << ": deepest overlap " << num(out.deepest) << "\n";
-    return out;
-  }
+// the scene run with its every step's deepest bone-bone overlap measured (self-collision on for
+// the measure whatever the run has)
+CannonRun cannon_run(const Context& ctx, const std::string& name, const Scene& scene) {
+  Scene measure = scene;
+  measure.collision.self_collision = true;
+  CollisionWorld world;
+  std::vector<Contact> contacts;
+  contacts.reserve(8 * static_cast<std::size_t>(scene.rig.nbone));
+  CannonRun out;
+  const RecordedRun run =
+      record_run(scene, RecordOptions{}, [&](const SimState& s, const StepStats&) {
+        world.detect(measure, s.frames, contacts);
+        out.deepest = std::max(out.deepest, penetration(measure, contacts).max_depth_fraction);
+      });
+  out.diverged = run.summary.diverged;
+  write_run_folder(ctx, name, scene);
+  if (ctx.log) *ctx.log << "  " << name << ": deepest overlap " << num(out.deepest) << "\n";
+  return out;
+}
 
-  nlohmann::json to_json(const CannonRun& r) {
-    return {{"deepest_bone_overlap_over_radius", r.deepest}, {"diverged", r.diverged}};
-  }
+nlohmann::json to_json(const CannonRun& r) {
+  return {{"deepest_bone_overlap_over_radius", r.deepest}, {"diverged", r.diverged}};
+}
 
-  nlohmann::json cannon_section(const Context& ctx, Report& report) {
-    Scene paper = scene_named(ctx, "fig7_cannon_linear");
-    if (ctx.quick) paper.steps = 100;
-    const CannonRun as_shipped = cannon_run(ctx, "cannon_paper", paper);
-    Scene implicit = paper;
-    implicit.params.scheme = Scheme::kImplicit;
-    const CannonRun off = cannon_run(ctx, "cannon_implicit_no_self_collision", implicit);
-    implicit.collision.self_collision = true;
-    const CannonRun on = cannon_run(ctx, "cannon_implicit_self_collision", implicit);
-    // more than one radius of the thinner bone: a centre line inside another capsule, the rig
-    // folded through itself
-    const auto through = [](const CannonRun& r) { return r.diverged || r.deepest > 1.0; };
-    report.claim(
-        "Fig 7's linear cannon folds the rig through itself without self-collision and not with it",
-        "deepest bone-bone overlap over the run, over the thinner bone's radius: paper's scheme " +
-            num(as_shipped.deepest) + (as_shipped.diverged ? " (diverged)" : "") +
-            "; implicit scheme " + num(off.deepest) + " without self-collision, " +
-            num(on.deepest) + " with" + (on.diverged || off.diverged ? " (a run diverged)" : ""),
-        on.diverged || off.diverged             ? "no (a run diverged)"
-        : through(off) && !through(on)          ? "yes"
-        : !through(off) && !through(as_shipped) ? "n/a (no fold through itself without it either)"
-        : !through(off) ? "partly (the paper's scheme folds through itself; the implicit one does "
-                          "not, with or without)"
-                        : "no");
-    report.named("cannon-self-collision");
-    return {{"paper_scheme", to_json(as_shipped)},
-            {"implicit_no_self_collision", to_json(off)},
-            {"implicit_self_collision", to_json(on)}};
-  }
+nlohmann::json cannon_section(const Context& ctx, Report& report) {
+  Scene paper = scene_named(ctx, "fig7_cannon_linear");
+  if (ctx.quick) paper.steps = 100;
+  const CannonRun as_shipped = cannon_run(ctx, "cannon_paper", paper);
+  Scene implicit = paper;
+  implicit.params.scheme = Scheme::kImplicit;
+  const CannonRun off = cannon_run(ctx, "cannon_implicit_no_self_collision", implicit);
+  implicit.collision.self_collision = true;
+  const CannonRun on = cannon_run(ctx, "cannon_implicit_self_collision", implicit);
+  // more than one radius of the thinner bone: a centre line inside another capsule, the rig
+  // folded through itself
+  const auto through = [](const CannonRun& r) { return r.diverged || r.deepest > 1.0; };
+  report.claim(
+      "Fig 7's linear cannon folds the rig through itself without self-collision and not with it",
+      "deepest bone-bone overlap over the run, over the thinner bone's radius: paper's scheme " +
+          num(as_shipped.deepest) + (as_shipped.diverged ? " (diverged)" : "") +
+          "; implicit scheme " + num(off.deepest) + " without self-collision, " + num(on.deepest) +
+          " with" + (on.diverged || off.diverged ? " (a run diverged)" : ""),
+      on.diverged || off.diverged             ? "no (a run diverged)"
+      : through(off) && !through(on)          ? "yes"
+      : !through(off) && !through(as_shipped) ? "n/a (no fold through itself without it either)"
+      : !through(off) ? "partly (the paper's scheme folds through itself; the implicit one does "
+                        "not, with or without)"
+                      : "no");
+  report.named("cannon-self-collision");
+  return {{"paper_scheme", to_json(as_shipped)},
+          {"implicit_no_self_collision", to_json(off)},
+          {"implicit_self_collision", to_json(on)}};
+}
 
-  void run(const Context& ctx) {
-    const Measured flat = against_mujoco(ctx, "drop_flat", drop_scene(ctx, 90.0, 0.8), true);
-    const Measured tilted = against_mujoco(ctx, "drop_tilted", drop_scene(ctx, 60.0, 2.6), true);
-    const Measured on = against_mujoco(ctx, "hand_self_collision", hand_scene(ctx, true));
-    const Measured off = against_mujoco(ctx, "hand_no_self_collision", hand_scene(ctx, false));
-    const int coil_bones = ctx.quick ? 100 : 1000, coil_steps = ctx.quick ? 100 : 3000;
-    const CoilMeasured dropped =
-        coil(ctx, "coil", coil_helix_scene(coil_bones, ctx.quick ? 2 : 10, coil_steps));
-    const CoilMeasured laid =
-        coil(ctx, "coil_laid", coil_flat_spiral_scene(coil_bones, true, coil_steps));
-    Report report("Contacts: a floor and self-collision against MuJoCo's contacts");
-    add_drop_claims(report, flat, tilted);
-    add_hand_claims(report, on, off);
-    add_coil_claims(report, dropped, laid, coil_helix_scene(coil_bones, 1, 1).params.dt);
-    const nlohmann::json sit = sit_section(ctx, report);
-    const nlohmann::json cannon = cannon_section(ctx, report);
-    report.note(
-        "PhysIK's contacts are penalty springs (contact_k 1e4 N/m, contact_damping 100 N s/m, "
-        "friction 1); MuJoCo's are its own soft contacts at its default solref (0.02 s, 1) on the "
-        "same capsules (0.06 x each bone's length) and plane, with the same friction. Penetration "
-        "is measured by PhysIK's detection on each engine's final pose.");
-    report.note(
-        "The coil: a chain of bones 0.1 rig units long and 0.025 in radius (experiments/coil.h), "
-        "the implicit scheme at dt 0.01 s with damping " +
-        num(kCoilDamping) +
-        " N s/m at each bone end and the same contact law; PhysIK only (MuJoCo's step on a chain "
-        "this long is the scaling experiment's). bench/bench_contacts.cpp times the step on a "
-        "flat coil beside the same chain without contacts.");
-    report.figures({"contacts_poses.png", "contacts_coil.png"});
-    write_summary(ctx,
-                  {{"experiment", "contacts"},
-                   {"drop_flat", to_json(flat)},
-                   {"drop_tilted", to_json(tilted)},
-                   {"hand_self_collision", to_json(on)},
-                   {"hand_no_self_collision", to_json(off)},
-                   {"coil", to_json(dropped)},
-                   {"coil_laid", to_json(laid)},
-                   {"sit", sit},
-                   {"cannon", cannon}},
-                  report);
-  }
+void run(const Context& ctx) {
+  const Measured flat = against_mujoco(ctx, "drop_flat", drop_scene(ctx, 90.0, 0.8), true);
+  const Measured tilted = against_mujoco(ctx, "drop_tilted", drop_scene(ctx, 60.0, 2.6), true);
+  const Measured on = against_mujoco(ctx, "hand_self_collision", hand_scene(ctx, true));
+  const Measured off = against_mujoco(ctx, "hand_no_self_collision", hand_scene(ctx, false));
+  const int coil_bones = ctx.quick ? 100 : 1000, coil_steps = ctx.quick ? 100 : 3000;
+  const CoilMeasured dropped =
+      coil(ctx, "coil", coil_helix_scene(coil_bones, ctx.quick ? 2 : 10, coil_steps));
+  const CoilMeasured laid =
+      coil(ctx, "coil_laid", coil_flat_spiral_scene(coil_bones, true, coil_steps));
+  Report report("Contacts: a floor and self-collision against MuJoCo's contacts");
+  add_drop_claims(report, flat, tilted);
+  add_hand_claims(report, on, off);
+  add_coil_claims(report, dropped, laid, coil_helix_scene(coil_bones, 1, 1).params.dt);
+  const nlohmann::json sit = sit_section(ctx, report);
+  const nlohmann::json cannon = cannon_section(ctx, report);
+  report.note(
+      "PhysIK's contacts are penalty springs (contact_k 1e4 N/m, contact_damping 100 N s/m, "
+      "friction 1); MuJoCo's are its own soft contacts at its default solref (0.02 s, 1) on the "
+      "same capsules (0.06 x each bone's length) and plane, with the same friction. Penetration "
+      "is measured by PhysIK's detection on each engine's final pose.");
+  report.note(
+      "The coil: a chain of bones 0.1 rig units long and 0.025 in radius (experiments/coil.h), "
+      "the implicit scheme at dt 0.01 s with damping " +
+      num(kCoilDamping) +
+      " N s/m at each bone end and the same contact law; PhysIK only (MuJoCo's step on a chain "
+      "this long is the scaling experiment's). bench/bench_contacts.cpp times the step on a "
+      "flat coil beside the same chain without contacts.");
+  report.figures({"contacts_poses.png", "contacts_coil.png"});
+  write_summary(ctx,
+                {{"experiment", "contacts"},
+                 {"drop_flat", to_json(flat)},
+                 {"drop_tilted", to_json(tilted)},
+                 {"hand_self_collision", to_json(on)},
+                 {"hand_no_self_collision", to_json(off)},
+                 {"coil", to_json(dropped)},
+                 {"coil_laid", to_json(laid)},
+                 {"sit", sit},
+                 {"cannon", cannon}},
+                report);
+}
 
-  const Registration registered{
-      290, {"contacts", "Contacts", "a floor and self-collision against MuJoCo's contacts", run}};
+const Registration registered{
+    290, {"contacts", "Contacts", "a floor and self-collision against MuJoCo's contacts", run}};
 
 }  // namespace
 
