@@ -125,7 +125,7 @@ check "contacts: a classic finish refuses a ground" 2 "$bin" solve "$tmp/floor_c
 expect_in "contacts: finish refusal names the field" "$tmp/err" "the dls finish does not read it"
 check "contacts: the solve mode takes a ground" 0 "$bin" solve "$tmp/floor_cp.json" --solver physik --out "$tmp/x" --quiet
 printf '{"rig": "%s", "gravity": [0, 0, -9.81], "control_points": [{"bone": "hand.L", "alpha": 1, "target": [0, 0, 1]}]}' "$src/models/rigs/pinhead.json" > "$tmp/grav_cp.json"
-check "contacts: equilibrium refuses gravity" 2 "$bin" equilibrium "$tmp/grav_cp.json" --out "$tmp/x"
+check "contacts: equilibrium refuses gravity" 2 "$bin" equilibrium "$tmp/grav_cp.json" --out "$tmp/eq.json"
 expect_in "contacts: equilibrium refusal names the field" "$tmp/err" "grav_cp.json: gravity: the exact equilibrium has the springs' potential only"
 
 # params: the parameter table, for people and for the report

@@ -201,10 +201,8 @@ Pose pose_from_blocks(const std::vector<double>& root,
   return pose;
 }
 
-}  // namespace
-
-EquilibriumResult solve_equilibrium(const Scene& scene, const EquilibriumOptions& opt) {
-  const Rig& rig = scene.rig;
+// what the equilibrium can solve: control points, and no potential but the springs'
+void check_equilibrium_scene(const Scene& scene) {
   if (scene.control_points.empty()) {
     throw_input_error(scene.file, "control_points", "",
                       "an equilibrium needs at least one control point (else every pose is one)");
@@ -214,6 +212,13 @@ EquilibriumResult solve_equilibrium(const Scene& scene, const EquilibriumOptions
                       "the exact equilibrium has the springs' potential only (no contacts or "
                       "gravity): it would be the equilibrium of another scene");
   }
+}
+
+}  // namespace
+
+EquilibriumResult solve_equilibrium(const Scene& scene, const EquilibriumOptions& opt) {
+  const Rig& rig = scene.rig;
+  check_equilibrium_scene(scene);
   const Pose start = opt.start ? *opt.start : scene.initial_pose;
   if (static_cast<int>(start.bone_local_rotation.size()) != rig.nbone) {
     throw_input_error(scene.file, "initial_pose", "", "start pose does not match the rig");
