@@ -15,6 +15,44 @@ Vec3 point_velocity(const SimState& s, int b, const Vec3& p) {
   return s.vel_world[b] + s.omega_world[b].cross(p - s.com_world[b]);
 }
 
+// an upper bound on bone b's compliance at p, 1/kg (the speed a unit impulse at p gives the free
+// bone's point there, along any direction; the joints only lower it): with r = p - c_b split
+// along the bone (r_axial) and across it (r_perp), |r x f|^2 / I over the principal moments is at
+// most (r_perp^2 / I_axial + |r|^2 / I_perp) |f|^2 (only r_perp turns the bone about its axis)
+double compliance_bound(const Rig& rig, const SimState& s, int b, const Vec3& p) {
+  const Vec3 r = p - s.com_world[b];
+  const Vec3 axis = s.frames.tail_world[b] - s.frames.head_world[b];
+  const double length2 = axis.squaredNorm();
+  const double along = length2 > 0.0 ? r.dot(axis) : 0.0;
+  const double r_perp2 =
+      std::max(r.squaredNorm() - (length2 > 0.0 ? along * along / length2 : 0.0), 0.0);
+  const Vec3& inertia = rig.bone_inertia_local[b];  // local y along the bone
+  return 1.0 / rig.bone_mass[b] + r_perp2 / inertia.y() +
+         r.squaredNorm() / std::min(inertia.x(), inertia.z());
+}
+
+void count_self_contacts(const Rig& rig, SimState& s) {
+  // init_state sizes it; a state built otherwise gets it here, once
+  if (s.self_contact_count.size() != static_cast<std::size_t>(rig.nbone)) {
+    s.self_contact_count.assign(rig.nbone, 0);
+  }
+  std::fill(s.self_contact_count.begin(), s.self_contact_count.end(), 0);
+  for (const Contact& c : s.contacts) {
+    if (c.other_bone < 0) continue;
+    ++s.self_contact_count[c.bone];
+    ++s.self_contact_count[c.other_bone];
+  }
+}
+
+// the most a self-contact's explicit friction may damp the slip over a step of h, N s/m:
+// 1 / (h W_c), W_c = n_a w_a(p) + n_b w_b(p) (contacts.h)
+double self_contact_friction_cap(const Rig& rig, const SimState& s, const Contact& c, double h) {
+  const double w =
+      s.self_contact_count[c.bone] * compliance_bound(rig, s, c.bone, c.point_world) +
+      s.self_contact_count[c.other_bone] * compliance_bound(rig, s, c.other_bone, c.point_world);
+  return 1.0 / (h * w);
+}
+
 }  // namespace
 
 void apply_gravity(const Scene& scene, SimState& s) {
@@ -23,33 +61,38 @@ void apply_gravity(const Scene& scene, SimState& s) {
   for (int i = 0; i < scene.rig.nbone; ++i) s.force_world[i] += scene.rig.bone_mass[i] * g;
 }
 
-void apply_contacts(const Scene& scene, SimState& s) {
+void apply_contacts(const Scene& scene, SimState& s, double h) {
   s.contact_elements.clear();
   s.contacts.clear();
   if (!scene.collision.any()) return;
   s.collision_world.detect(scene, s.frames, s.contacts);
+  if (scene.collision.self_collision) count_self_contacts(scene.rig, s);
   const EngineParams& p = scene.params;
   for (Contact& c : s.contacts) {
+    const bool self = c.other_bone >= 0;
     const Vec3& n = c.normal_world;
     Vec3 v = point_velocity(s, c.bone, c.point_world);
-    if (c.other_bone >= 0) v -= point_velocity(s, c.other_bone, c.point_world);
+    if (self) v -= point_velocity(s, c.other_bone, c.point_world);
     const double vn = v.dot(n);
     const double fn = p.contact_k * c.depth - p.contact_damping * vn;
     c.normal_force = std::max(fn, 0.0);
     if (!(fn > 0.0)) continue;  // separating faster than the spring pushes: no force
     const Vec3 vt = v - vn * n;
-    const double friction_damping = p.friction * fn / std::max(vt.norm(), p.friction_speed);
+    double friction_damping = p.friction * fn / std::max(vt.norm(), p.friction_speed);
+    if (self)
+      friction_damping = std::min(friction_damping, self_contact_friction_cap(scene.rig, s, c, h));
     const Vec3 f = fn * n - friction_damping * vt;
     apply_force_at(s, c.bone, f, c.point_world);
-    if (c.other_bone >= 0) apply_force_at(s, c.other_bone, -f, c.point_world);
-    // the implicit step's element (contacts.h)
+    if (self) apply_force_at(s, c.other_bone, -f, c.point_world);
+    // the implicit step's element (contacts.h): a self-contact's friction stays explicit
     const Mat3 nn = n * n.transpose();
     ContactElement e;
     e.bone = c.bone;
     e.other_bone = c.other_bone;
     e.point_world = c.point_world;
     e.stiffness = p.contact_k * nn;
-    e.damping = p.contact_damping * nn + friction_damping * (Mat3::Identity() - nn);
+    e.damping = p.contact_damping * nn;
+    if (!self) e.damping += friction_damping * (Mat3::Identity() - nn);
     s.contact_elements.push_back(e);
   }
 }

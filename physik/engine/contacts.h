@@ -23,26 +23,43 @@
 // them in U, the run monitor's E_k <= E_0 + W_k still holds along the exact motion
 // (run_monitor.h) and the implicit step's guard holds E (implicit_advance.h).
 //
+// A self-contact's friction is capped for the step h it is taken over: with n_b the bone-bone
+// contacts of bone b and w_b(p) = 1/m_b + r_perp^2 / I_axial,b + |r|^2 / I_perp,b (r = p - c_b)
+// an upper bound on the free bone's compliance at p (the joints only lower it: Rayleigh), its
+// coefficient mu F_n / max(|v_t|, v_s) is at most 1 / (h W_c), W_c = n_a w_a(p) + n_b w_b(p).
+// Then the step's friction impulses f_c h cannot add kinetic energy: dKE = -h sum u_c.D_c u_c +
+// h^2/2 |sum J_c^T f_c|^2_{M^-1} (u_c the slip at c, f_c = D_c u_c), and by Cauchy-Schwarz over
+// each bone's n_b contacts the second term is at most h^2/2 sum |f_c|^2 W_c <= h/2 sum u_c.D_c u_c
+// (margin 2: an isolated pair whose bound is tight has its slip stopped in one step, not
+// reversed). As h -> 0 the cap goes to infinity and the law is the one above.
+//
 // Implicit step (implicit_step.h): each contact is a point element, linearised at the start of
 // the step (Gauss-Newton: the turn of n with the motion is dropped; it is multiplied by the force)
 //   stiffness K = k n n^T,  damping D = c n n^T + (mu F_n / max(|v_t|, v_s)) (1 - n n^T)
 // (beyond the slip speed the friction's secant, a majoriser as the capped springs'). A ground or
 // obstacle contact is then exactly an augmented inertia h^2 K + h D on its bone, like a control
-// spring, O(n). A self-contact couples two bodies; the exact step would need the coupling block -A
-// between them (A = h^2 K + h D), which the articulated recursion cannot take in O(n). Instead each
-// of the two bones gets 2 A at the contact point, with the other moving on at its start-of-step
-// velocity (the -h K v term takes the relative velocity): block Jacobi, O(n + contacts), no dense
-// matrix. Along the contact, for two point masses m_a, m_b, the relative acceleration is then
-// F g with g = 1/(m_a + 2A) + 1/(m_b + 2A), and exact backward Euler has (m_a + m_b) /
-// (m_a m_b + A (m_a + m_b)); the second minus the first is A (m_a - m_b)^2 / (...) >= 0. So the
-// split is backward Euler on the pair's relative motion with an effective mass at least the true
-// one (equal to it for equal masses): stable at every h, k, c, like the one-body element (the
-// plain Jacobi split, A on each, is not: for equal masses at large h its amplification is
-// -1 - sqrt 2). The price: while they touch, the pair's common motion carries 2 A of extra inertia
-// per bone, a drag that vanishes at rest. Rotations and the articulated coupling make this an
-// argument for the point-mass reduction only; the energy guard (implicit_advance.h) halves any
-// step that adds energy all the same. At rest (v = 0, a = 0) the forces are the exact ones, so
-// resting poses do not depend on the split.
+// spring, O(n). A self-contact couples two bodies; the exact step would need the coupling block
+// between them, which the articulated recursion cannot take in O(n). Its spring is split: each
+// of the two bones gets 2 A = 2 h^2 K at the contact point, with the other moving on at its
+// start-of-step velocity (the -h K v term takes the relative velocity): block Jacobi,
+// O(n + contacts). For two point masses m_a, m_b, the relative acceleration is F g
+// with g = 1/(m_a + 2A) + 1/(m_b + 2A), and exact backward Euler has (m_a + m_b) / (m_a m_b + A
+// (m_a + m_b)); the second minus the first is A (m_a - m_b)^2 / (...) >= 0: backward Euler on
+// the relative motion with an effective mass at least the true one, stable at every h and k
+// (share 1, A on each, is not: for equal masses at large h its amplification is -1 - sqrt 2).
+// Its normal damper is split the same way (A = h^2 K + h D along n). Its friction is not: it
+// stays explicit, capped as above. A split friction is stable at fixed coefficients too, but it
+// drags the pair's common motion (the 2 h D each bone carries): that stores up to 2 h u.D u per
+// contact, u the common velocity, which returns as kinetic energy when the coefficients or the
+// contacts change, and the friction's secant mu F_n / max(|v_t|, v_s) (~1e3 N s/m on 0.1 kg bones
+// in a pile) changes with every step. A helix dropped on the floor (experiments/coil.h) piles its
+// turns so: with the split friction every helix tried, 200 to 1,000 bones, diverged within 20
+// steps of dt 0.01, the energy guard splitting down to dt / 256 and still finding energy added;
+// with the capped explicit friction it comes to rest (tests/experiments/coil_test.cpp). The
+// price: at a long step two bones slide on each other more easily than the law says (the cap),
+// and the spring's and the normal damper's split still drag the common motion by 2 (h^2 k + h c)
+// per bone while two bones touch. At rest (v = 0, a = 0) the forces are the exact ones, so
+// resting poses depend on neither.
 // Units: N, N m, rig units, s, J.
 #pragma once
 
@@ -59,7 +76,8 @@ void apply_gravity(const Scene& scene, SimState& state);
 // Detect the contacts at the state's frames (state.contacts), apply their forces, and list their
 // elements for the implicit step (state.contact_elements). Nothing when the scene has no ground,
 // no obstacles and no self-collision.
-void apply_contacts(const Scene& scene, SimState& state);
+// h: the step the forces are taken over, s (the self-contacts' cap, above).
+void apply_contacts(const Scene& scene, SimState& state, double h);
 
 // x_0 of U_gravity (above).
 Vec3 gravity_reference(const Scene& scene);

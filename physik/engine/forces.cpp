@@ -17,7 +17,7 @@ void apply_forces(const Scene& scene, SimState& s, const ForceSelection& selecti
   apply_control_springs(scene, s);
   if (selection.torsion_springs) apply_torsion_springs(rig, p, s);
   if (selection.gravity) apply_gravity(scene, s);
-  if (selection.contacts) apply_contacts(scene, s);
+  if (selection.contacts) apply_contacts(scene, s, selection.step > 0.0 ? selection.step : p.dt);
 }
 
 }  // namespace physik

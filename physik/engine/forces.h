@@ -24,6 +24,8 @@ struct ForceSelection {
                                 // limits in the exact-constraints reference mode)
   bool gravity = true;          // false where gravity is applied otherwise (MuJoCo's own)
   bool contacts = true;         // false where contacts are resolved otherwise (MuJoCo's own)
+  double step = 0.0;            // s, the step the forces are taken over (0: params.dt); it caps a
+                                // self-contact's damper and friction (contacts.h)
 };
 
 void apply_forces(const Scene& scene, SimState& state, const ForceSelection& selection = {});

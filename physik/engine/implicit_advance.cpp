@@ -72,7 +72,9 @@ int substep(const Scene& scene, SimState& s, double h, int depth, const Guard& g
 }  // namespace
 
 void take_implicit_step(const Scene& scene, SimState& s, double h, const void* /*context*/) {
-  apply_forces(scene, s);
+  ForceSelection forces;
+  forces.step = h;  // a self-contact's damper and friction are capped for this step (contacts.h)
+  apply_forces(scene, s, forces);
   solve_implicit(scene, s, h);
   integrate_joint_space(scene.rig, h, s);
 }

@@ -166,8 +166,9 @@ void augment_bodies(const Scene& scene, double h, double c, SimState& s) {
 }
 
 // h^2 K + h D of every contact on each bone it touches: the ground's exactly; a self-contact's
-// twice on each of its two bones, without its coupling block (contacts.h: backward Euler on the
-// pair's relative motion with an effective mass at least the true one)
+// (D = 0: its damper and friction are explicit) twice on each of its two bones, without its
+// coupling block (contacts.h: backward Euler on the pair's relative motion with an effective mass
+// at least the true one)
 void augment_contacts(double h, SimState& s) {
   ArticulatedBodyData& d = s.articulated;
   for (const ContactElement& e : s.contact_elements) {

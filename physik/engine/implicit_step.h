@@ -63,8 +63,9 @@
 //     (articulated_body.h joint_block: D_i = A_i + J_i)
 //       contact           A = h^2 K + h D at the contact point (contacts.h: K = k n n^T, D the
 //                         normal damper and the friction's viscous share); a ground contact on
-//                         its bone exactly; a self-contact as 2 A on each of its two bones, the
-//                         coupling block between them left out (block Jacobi, contacts.h)
+//                         its bone exactly; a self-contact's spring as 2 h^2 K on each of its
+//                         two bones, the coupling block between them left out (block Jacobi),
+//                         its damper and friction explicit and capped (contacts.h)
 // Right-hand side of (1): the start-of-step forces (force stages unchanged), plus -h K v per
 // stiffness element: the force -h K_c v_p at each control point, the torque pair -h K_j (w_i - w_p)
 // at each torsion spring, -h K (v_a - v_b) at each contact (on a; its opposite on b).

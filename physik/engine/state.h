@@ -114,6 +114,8 @@ struct SimState {
   // --- contacts (contacts.h; detection collision.h) ---
   std::vector<Contact> contacts;                 // found by the last force stage
   std::vector<ContactElement> contact_elements;  // those that push, for the implicit step
+  std::vector<int> self_contact_count;           // (nbone) bone-bone contacts per bone, found by
+                                                 //   the last force stage (contacts.h's cap)
   // FCL's objects, and the contacts of a potential's query (a measure of a const state detects
   // too: contact_potential); built by init_state, so the steps allocate nothing for them
   mutable CollisionWorld collision_world;
