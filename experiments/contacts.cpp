@@ -225,8 +225,9 @@ void add_hand_claims(Report& report, const Measured& on, const Measured& off) {
 struct CoilMeasured {
   int nbone = 0;
   RunSummary run;
-  Penetration ground, bones;  // at the final pose: into the floor, between bones
-  double speed_tol = 0.0;     // rig units/s, the run's rest speed
+  Penetration ground, bones;     // at the final pose: into the floor, between bones
+  double speed_tol = 0.0;        // rig units/s, the run's rest speed
+  double final_rms_speed = 0.0;  // rig units/s, sqrt(2 KE / M) at the end
 };
 
 // one coil run into the run folder `name`, measured at its last pose
@@ -236,6 +237,7 @@ CoilMeasured coil(const Context& ctx, const std::string& name, Scene scene) {
   scene.convergence.stop_when_converged = true;
   m.speed_tol = scene.speed_tol();
   m.run = write_run_folder(ctx, name, scene);
+  m.final_rms_speed = std::sqrt(2.0 * m.run.final_kinetic_energy / scene.rig.total_mass());
   CollisionWorld world;
   std::vector<Contact> contacts, ground, bones;
   world.detect(scene, m.run.final_frames, contacts);
@@ -262,6 +264,7 @@ nlohmann::json to_json(const CoilMeasured& m) {
           {"final_kinetic_energy", m.run.final_kinetic_energy},
           {"peak_kinetic_energy", m.run.peak_kinetic_energy},
           {"speed_tol", m.speed_tol},
+          {"final_rms_speed", m.final_rms_speed},
           {"ground_contacts", m.ground.contacts},
           {"bone_contacts", m.bones.contacts},
           {"ground_penetration_over_radius", m.ground.max_depth_fraction},
@@ -276,15 +279,18 @@ std::string coil_outcome(const CoilMeasured& m, double dt) {
   const std::string contacts = std::to_string(m.ground.contacts + m.bones.contacts) +
                                " contacts (" + std::to_string(m.bones.contacts) + " between bones)";
   if (!m.run.converged) {
-    return "not at rest after " + num(m.run.steps_run * dt) + " s: kinetic energy " +
-           num(m.run.final_kinetic_energy) + " J, " + contacts;
+    return "not at rest after " + num(m.run.steps_run * dt) + " s: rms speed " +
+           num(m.final_rms_speed) + " rig units/s (at rest below " + num(m.speed_tol) +
+           "), kinetic energy " + num(m.run.final_kinetic_energy) + " J, " + contacts;
   }
   return "at rest after " + num(m.run.steps_to_converge * dt) + " s (rms speed below " +
          num(m.speed_tol) + " rig units/s), " + contacts;
 }
 
 std::string rest_verdict(const CoilMeasured& m) {
-  return m.run.diverged ? "no (diverged)" : m.run.converged ? "yes" : "no";
+  return m.run.diverged    ? "no (diverged)"
+         : m.run.converged ? "yes"
+                           : "partly (finite, still moving at the end)";
 }
 
 // the deepest penetration of a coil at its last pose, over the radius; "" when it diverged

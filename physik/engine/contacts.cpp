@@ -44,9 +44,9 @@ void count_self_contacts(const Rig& rig, SimState& s) {
   }
 }
 
-// the most a self-contact's explicit friction may damp the slip over a step of h, N s/m:
-// 1 / (h W_c), W_c = n_a w_a(p) + n_b w_b(p) (contacts.h)
-double self_contact_friction_cap(const Rig& rig, const SimState& s, const Contact& c, double h) {
+// the most a self-contact's explicit damper and friction may damp its relative motion over a step
+// of h, N s/m: 1 / (h W_c), W_c = n_a w_a(p) + n_b w_b(p) (contacts.h)
+double self_contact_damping_cap(const Rig& rig, const SimState& s, const Contact& c, double h) {
   const double w =
       s.self_contact_count[c.bone] * compliance_bound(rig, s, c.bone, c.point_world) +
       s.self_contact_count[c.other_bone] * compliance_bound(rig, s, c.other_bone, c.point_world);
@@ -73,26 +73,27 @@ void apply_contacts(const Scene& scene, SimState& s, double h) {
     const Vec3& n = c.normal_world;
     Vec3 v = point_velocity(s, c.bone, c.point_world);
     if (self) v -= point_velocity(s, c.other_bone, c.point_world);
+    // a self-contact's damper and friction: explicit, capped for the step (contacts.h)
+    const double cap = self ? self_contact_damping_cap(scene.rig, s, c, h) : 0.0;
+    const double damping = self ? std::min(p.contact_damping, cap) : p.contact_damping;
     const double vn = v.dot(n);
-    const double fn = p.contact_k * c.depth - p.contact_damping * vn;
+    const double fn = p.contact_k * c.depth - damping * vn;
     c.normal_force = std::max(fn, 0.0);
     if (!(fn > 0.0)) continue;  // separating faster than the spring pushes: no force
     const Vec3 vt = v - vn * n;
     double friction_damping = p.friction * fn / std::max(vt.norm(), p.friction_speed);
-    if (self)
-      friction_damping = std::min(friction_damping, self_contact_friction_cap(scene.rig, s, c, h));
+    if (self) friction_damping = std::min(friction_damping, cap);
     const Vec3 f = fn * n - friction_damping * vt;
     apply_force_at(s, c.bone, f, c.point_world);
     if (self) apply_force_at(s, c.other_bone, -f, c.point_world);
-    // the implicit step's element (contacts.h): a self-contact's friction stays explicit
+    // the implicit step's element (contacts.h): a self-contact's spring alone
     const Mat3 nn = n * n.transpose();
     ContactElement e;
     e.bone = c.bone;
     e.other_bone = c.other_bone;
     e.point_world = c.point_world;
     e.stiffness = p.contact_k * nn;
-    e.damping = p.contact_damping * nn;
-    if (!self) e.damping += friction_damping * (Mat3::Identity() - nn);
+    if (!self) e.damping = damping * nn + friction_damping * (Mat3::Identity() - nn);
     s.contact_elements.push_back(e);
   }
 }

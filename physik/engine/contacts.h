@@ -23,12 +23,13 @@
 // them in U, the run monitor's E_k <= E_0 + W_k still holds along the exact motion
 // (run_monitor.h) and the implicit step's guard holds E (implicit_advance.h).
 //
-// A self-contact's friction is capped for the step h it is taken over: with n_b the bone-bone
-// contacts of bone b and w_b(p) = 1/m_b + r_perp^2 / I_axial,b + |r|^2 / I_perp,b (r = p - c_b)
-// an upper bound on the free bone's compliance at p (the joints only lower it: Rayleigh), its
-// coefficient mu F_n / max(|v_t|, v_s) is at most 1 / (h W_c), W_c = n_a w_a(p) + n_b w_b(p).
-// Then the step's friction impulses f_c h cannot add kinetic energy: dKE = -h sum u_c.D_c u_c +
-// h^2/2 |sum J_c^T f_c|^2_{M^-1} (u_c the slip at c, f_c = D_c u_c), and by Cauchy-Schwarz over
+// A self-contact's damper and friction are capped for the step h they are taken over: with n_b
+// the bone-bone contacts of bone b and w_b(p) = 1/m_b + r_perp^2 / I_axial,b + |r|^2 / I_perp,b
+// (r = p - c_b) an upper bound on the free bone's compliance at p (the joints, and the step's
+// augmented inertias, only lower it: Rayleigh), both c and mu F_n / max(|v_t|, v_s) are at most
+// 1 / (h W_c), W_c = n_a w_a(p) + n_b w_b(p). Then the step's damper and friction impulses f_c h
+// cannot add kinetic energy: dKE = -h sum u_c.D_c u_c + h^2/2 |sum J_c^T f_c|^2_{M^-1} (u_c the
+// relative velocity at c, f_c = D_c u_c), and by Cauchy-Schwarz over
 // each bone's n_b contacts the second term is at most h^2/2 sum |f_c|^2 W_c <= h/2 sum u_c.D_c u_c
 // (margin 2: an isolated pair whose bound is tight has its slip stopped in one step, not
 // reversed). As h -> 0 the cap goes to infinity and the law is the one above.
@@ -47,19 +48,19 @@
 // (m_a + m_b)); the second minus the first is A (m_a - m_b)^2 / (...) >= 0: backward Euler on
 // the relative motion with an effective mass at least the true one, stable at every h and k
 // (share 1, A on each, is not: for equal masses at large h its amplification is -1 - sqrt 2).
-// Its normal damper is split the same way (A = h^2 K + h D along n). Its friction is not: it
-// stays explicit, capped as above. A split friction is stable at fixed coefficients too, but it
-// drags the pair's common motion (the 2 h D each bone carries): that stores up to 2 h u.D u per
-// contact, u the common velocity, which returns as kinetic energy when the coefficients or the
-// contacts change, and the friction's secant mu F_n / max(|v_t|, v_s) (~1e3 N s/m on 0.1 kg bones
-// in a pile) changes with every step. A helix dropped on the floor (experiments/coil.h) piles its
-// turns so: with the split friction every helix tried, 200 to 1,000 bones, diverged within 20
-// steps of dt 0.01, the energy guard splitting down to dt / 256 and still finding energy added;
-// with the capped explicit friction it comes to rest (tests/experiments/coil_test.cpp). The
-// price: at a long step two bones slide on each other more easily than the law says (the cap),
-// and the spring's and the normal damper's split still drag the common motion by 2 (h^2 k + h c)
-// per bone while two bones touch. At rest (v = 0, a = 0) the forces are the exact ones, so
-// resting poses depend on neither.
+// Its damper and friction are not split: they stay explicit, capped as above. Split, they are
+// stable at fixed coefficients too, but they drag the pair's common motion (the 2 h D each bone
+// carries): that stores up to 2 h u.D u per contact, u the common velocity, which returns as
+// kinetic energy when the coefficients or the contacts change, and the friction's secant
+// mu F_n / max(|v_t|, v_s) (~1e3 N s/m on 0.1 kg bones in a pile) changes with every step. A helix
+// dropped on the floor (experiments/coil.h) piles its turns so: with the split damper and
+// friction every helix tried, 200 to 1,000 bones, diverged within 20 steps of dt 0.01, the energy
+// guard splitting down to dt / 256 and still finding energy added; with the split damper and the
+// capped friction the 1,000-bone one still diverged (step 28); with both capped it comes to rest
+// (tests/experiments/coil_test.cpp, the contacts experiment). The price: at a long step two
+// bones slide on each other, and bounce off each other, more freely than the law says (the cap),
+// and the spring's split still drags the common motion by 2 h^2 k per bone while two bones touch.
+// At rest (v = 0, a = 0) the forces are the exact ones, so resting poses depend on neither.
 // Units: N, N m, rig units, s, J.
 #pragma once
 
