@@ -164,6 +164,28 @@ TEST(Tuner, TheBaselineOfADampingAutoSceneIsTheSceneAsItRuns) {
   EXPECT_EQ(no_improvement(r), !(r.final_cost < scene_cost));
 }
 
+// A scene whose own value lies outside the bounds is still the baseline: the dead-beat rod (c* =
+// 15 N s/m, J = the first step's residual only) tuned within [1, 5] cannot match it, and the
+// result says there is no improvement, although the search improved on its clamped start (5).
+TEST(Tuner, NoImprovementOverASceneOutsideTheBounds) {
+  const double m = 1.5, h = 0.05;
+  Scene s = rod_scene(m, m / (h * h), h);
+  set_param(s, "damping", m / (2 * h));
+  TuneOptions opt;
+  opt.params = parse_tune_params("damping", "test");
+  apply_bounds(opt.params, "damping=1:5", "test");
+  opt.scan_points = 5;
+  const TuneResult r = tune_scene(s, opt);
+  std::vector<double> res;
+  settle_residuals(s, SettleMeasure::kLog, res);
+  EXPECT_NEAR(r.initial_cost, cost_of(res), 1e-12 * cost_of(res));
+  EXPECT_EQ(r.initial_values[0], m / (2 * h));
+  EXPECT_GT(r.start_cost, r.initial_cost);  // the start is clamped to 5
+  EXPECT_LE(r.final_cost, r.start_cost);
+  EXPECT_GT(r.final_cost, r.initial_cost);
+  EXPECT_TRUE(no_improvement(r));
+}
+
 TEST(Tuner, EveryTunableIsATableRowWithItsBounds) {
   for (const TunableSpec& t : tunable_parameters()) {
     const ParamRow* row = find_param(t.name);
