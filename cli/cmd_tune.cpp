@@ -110,24 +110,52 @@ tune::TuneOptions tune_options(const TuneCliOptions& o) {
   return to;
 }
 
+std::string run_text(const RunSummary& run) {
+  return run.diverged    ? "diverged"
+         : run.converged ? "converged at step " + std::to_string(run.steps_to_converge)
+                         : std::string("not converged");
+}
+
+// the baseline: the scene as it runs, with damping auto's choice named
+void print_tune_baseline(const tune::TuneResult& r) {
+  if (r.damping_auto) {
+    std::cout << "  scene's damping: auto, resolved to " << r.damping_auto_value
+              << " N s/m at the start pose (chosen " << r.damping_auto_updates
+              << (r.damping_auto_updates == 1 ? " time" : " times")
+              << " in its run); the tuned damping is fixed\n";
+  }
+  std::cout << "  scene run (baseline, as it runs): " << run_text(r.scene_run)
+            << ", max final residual " << max_of(r.scene_run.final_residuals) << "\n";
+  if (r.start_cost != r.initial_cost) {
+    std::cout << "  search start (the scene's values, fixed and within the bounds): J "
+              << r.start_cost << "\n";
+  }
+}
+
 void print_tune_result(const tune::TuneResult& r, const tune::TuneOptions& to) {
   std::cout << r.ceres_full << "\n";
-  std::cout << "tuned (" << tune::to_string(to.objective) << ", " << r.evaluations << " runs, "
-            << r.wall_time_s << " s):\n";
+  std::cout << "tuned (" << tune::to_string(to.objective) << ", " << r.evaluations << " runs + "
+            << r.scene_evaluations << " of the scene as it is, " << r.wall_time_s << " s):\n";
   for (std::size_t i = 0; i < r.names.size(); ++i) {
-    std::cout << "  " << r.names[i] << ": " << r.initial_values[i] << " -> " << r.values[i] << "\n";
+    const bool auto_value = r.damping_auto && r.names[i] == "damping";
+    std::cout << "  " << r.names[i] << ": " << (auto_value ? "auto = " : "") << r.initial_values[i]
+              << " -> " << r.values[i] << "\n";
   }
   if (to.objective == tune::Objective::kMujoco) {
     std::cout << "  MuJoCo same-forces reference: " << r.reference_steps << " steps\n";
   }
-  std::cout << "  objective J: " << r.initial_cost << " (scene) -> " << r.scan_cost << " (scan) -> "
+  print_tune_baseline(r);
+  std::cout << "  objective J: " << r.initial_cost << " (scene"
+            << (r.damping_auto ? ", damping auto" : "") << ") -> " << r.scan_cost << " (scan) -> "
             << r.final_cost << " (ceres)\n";
-  std::cout << "  tuned run: "
-            << (r.tuned_run.diverged ? "diverged"
-                : r.tuned_run.converged
-                    ? "converged at step " + std::to_string(r.tuned_run.steps_to_converge)
-                    : std::string("not converged"))
-            << ", max final residual " << max_of(r.tuned_run.final_residuals) << "\n";
+  std::cout << "  tuned run: " << run_text(r.tuned_run) << ", max final residual "
+            << max_of(r.tuned_run.final_residuals) << "\n";
+  if (tune::no_improvement(r)) {
+    std::cout << "  no improvement: the tuned values' J " << r.final_cost
+              << " is not below the scene's " << r.initial_cost << " as it runs\n";
+    std::cerr << "physik: warning: tune: no improvement on the scene as it runs (J " << r.final_cost
+              << " tuned, " << r.initial_cost << " scene)\n";
+  }
 }
 
 void run_tune(const TuneCliOptions& o) {
@@ -153,8 +181,9 @@ void add_tune(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "tune",
       "Tune engine coefficients of a scene with Ceres: a coarse log-grid scan, then bounded "
-      "Levenberg-Marquardt on a smoothed objective. Prints Ceres' summary; writes the tuned "
-      "scene (--out) and a JSON report (--report).");
+      "Levenberg-Marquardt on a smoothed objective. The baseline is the scene as it runs: with "
+      "\"damping\": \"auto\" the search starts at auto's choice, which the output names. Prints "
+      "Ceres' summary; writes the tuned scene (--out) and a JSON report (--report).");
   add_tune_options(cmd, *opt);
   cmd->callback([opt] { run_tune(*opt); });
 }

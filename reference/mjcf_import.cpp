@@ -380,10 +380,51 @@ void set_spec_masses(const std::vector<double>& mass_in, const std::vector<Mat3>
       rep.max_offdiag_inertia =
           std::max(rep.max_offdiag_inertia, off.cwiseAbs().maxCoeff() / diag.maxCoeff());
     } else {
-      spec.inertia_local.setZero();  // the cylinder of the default radius
+      spec.inertia_local.setZero();  // the cylinder of the bone's radius
       ++rep.cylinder_inertia_bones;
     }
     rep.rig_mass += spec.mass;
+  }
+}
+
+// the radius (size[0]) of body b's capsule geom best aligned with `axis_world`, if it is better
+// aligned than `best_alignment` (|cos| of the angle, updated); 0 when none is
+double aligned_capsule_radius(const mjModel* m, const mjData* d, int b, const Vec3& axis_world,
+                              double& best_alignment) {
+  double radius = 0.0;
+  for (int g = m->body_geomadr[b]; g >= 0 && g < m->body_geomadr[b] + m->body_geomnum[b]; ++g) {
+    if (m->geom_type[g] != mjGEOM_CAPSULE) continue;
+    const double alignment = std::abs(m9(d->geom_xmat + 9 * g).col(2).dot(axis_world));
+    if (alignment > best_alignment) {
+      best_alignment = alignment;
+      radius = m->geom_size[3 * g];
+    }
+  }
+  return radius;
+}
+
+// bone radii from the capsule geoms of the body each bone follows and of the bodies at its origin
+// (zero-offset ancestors: a shin whose twist body carries the bone): the capsule whose axis (geom
+// z) is best aligned with the bone, first on ties. Its size[0] is the radius in the model's length
+// unit, which is the rig's. A bone with no such capsule keeps the rig's defaults, and is listed in
+// the report.
+void set_capsule_radii(const mjModel* m, const mjData* d, const MjcfRig& out,
+                       const std::vector<PivotNode>& nodes, const std::vector<bool>& zero_offset,
+                       PivotBones& bones, MjcfImportReport& rep) {
+  for (std::size_t s = 0; s < bones.specs.size(); ++s) {
+    BoneSpec& spec = bones.specs[s];
+    const Vec3 axis = (spec.tail_world - spec.head_world).normalized();
+    double best_alignment = -1.0, radius = 0.0;
+    for (int n = bones.spec_node[s]; n >= 0; n = zero_offset[n] ? nodes[n].parent : -1) {
+      const double r = aligned_capsule_radius(m, d, out.node_body[n], axis, best_alignment);
+      if (r > 0.0) radius = r;
+    }
+    if (radius > 0.0) {
+      spec.collision_radius = radius;
+      spec.radius = radius;
+    } else {
+      rep.bones_without_capsule.push_back(spec.name);
+    }
   }
 }
 
@@ -423,6 +464,7 @@ MjcfRig import_mjcf_model(const mjModel* m, const std::string& source,
   std::vector<Mat3> inertia;
   share_body_masses(m, d, out, nodes, zero_offset, bones, mass, inertia, rep);
   set_spec_masses(mass, inertia, bones, rep);
+  set_capsule_radii(m, d, out, nodes, zero_offset, bones, rep);
 
   const char* model_name = m->nnames > 0 ? m->names : "";  // the model name comes first
   out.pivots = finish_pivot_rig(nodes, bones, source, model_name);

@@ -26,6 +26,15 @@
 // and the shift of the centre of mass from the body's xipos to the bones' midpoints (the rig puts
 // a bone's mass at its midpoint, so the body's first moment about it is not carried).
 //
+// Radii: a bone's collision capsule radius (BoneSpec::collision_radius) is the radius (size[0]) of
+// the capsule geom best aligned with it among those of its body and of the bodies at its head
+// (zero-offset ancestors), in the model's length unit (the rig's: the import does not scale). The
+// inertia cylinder's radius (BoneSpec::radius) takes the same value: it matters only where the
+// body's inertia is unusable (the cylinder fallback) and for drawing, and the body's own thickness
+// is a better guess there than the rig default 0.5. A bone whose body has no capsule keeps the rig
+// defaults (radius 0.5; collision radius 0.06 x its length) and is listed in the report
+// (bones_without_capsule).
+//
 // Joints -> limits (rig.h: per bone-local axis, intervals on the rotation-vector components):
 //   no joint (welded)        all three axes locked [0, 0]
 //   hinges                   the bone's roll is chosen so that the first hinge not along the bone
@@ -69,6 +78,7 @@ struct MjcfImportReport {
   double max_offdiag_inertia = 0.0;  // dropped off-diagonal / largest moment
   double max_com_shift = 0.0;        // rig units, xipos vs the mean of its bones' midpoints
   int cylinder_inertia_bones = 0;    // bones whose body inertia was unusable (cylinder used)
+  std::vector<std::string> bones_without_capsule;  // bones given the default radii (no capsule)
 };
 
 struct MjcfRig {

@@ -205,6 +205,34 @@ fi
 printf '<mujoco><worldbody><body></worldbody></mujoco>' > "$tmp/bad.xml"
 check "from-mjcf bad xml" 2 "$bin" rig from-mjcf "$tmp/bad.xml"
 expect_in "from-mjcf message" "$tmp/err" "bad.xml: MuJoCo cannot load it"
+# capsule radii -> each bone's radius and collision_radius; a body with no capsule keeps the
+# defaults and is named
+cat > "$tmp/capsules.xml" <<'XML'
+<mujoco model="two_capsules">
+  <worldbody>
+    <body name="upper" pos="0 0 1">
+      <freejoint/>
+      <geom type="capsule" fromto="0 0 0 0 0 -0.4" size="0.07"/>
+      <body name="lower" pos="0 0 -0.4">
+        <joint type="hinge" axis="0 1 0" limited="true" range="-2 0"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.3" size="0.03"/>
+        <body name="tip" pos="0 0 -0.3">
+          <geom type="sphere" size="0.05" pos="0 0 -0.05"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+XML
+check "from-mjcf capsule radii" 0 "$bin" rig from-mjcf "$tmp/capsules.xml" --out "$tmp/capsules.json"
+expect_in "from-mjcf names a bone without a capsule" "$tmp/err" "no capsule geom on their body (first: tip)"
+check "from-mjcf collision radii are the capsules'" 0 python3 - "$tmp/capsules.json" <<'PY'
+import json, sys
+bones = {b["name"]: b for b in json.load(open(sys.argv[1]))["bones"]}
+for name, r in (("upper", 0.07), ("lower", 0.03)):
+    assert bones[name]["collision_radius"] == r and bones[name]["radius"] == r, bones[name]
+assert "collision_radius" not in bones["tip"] and bones["tip"]["radius"] == 0.5, bones["tip"]
+PY
 
 # physik solve: classic IK solvers and the engine on a scene's control points
 check "solve help" 0 "$bin" solve --help
@@ -262,6 +290,24 @@ expect_in "tune prints ceres" "$tmp/out" "Termination:"
 expect_in "tuned scene params" "$tmp/tuned.json" '"damping"'
 expect_in "tune report values" "$tmp/tune_report.json" '"values"'
 check "tuned scene runs" 0 "$bin" simulate "$tmp/tuned.json" --out "$tmp/tuned_run" --quiet
+# damping auto: the baseline is the scene as simulate runs it (auto's choice), not damping 3
+elbow="$src/models/scenes/fig6_elbow_linear.json"
+check "tune a damping auto scene" 0 "$bin" tune "$elbow" --set damping=auto --scan-points 3 --max-iterations 2 --report "$tmp/tune_auto.json" --quiet
+expect_in "tune names damping auto" "$tmp/out" "scene's damping: auto, resolved to"
+expect_in "tune labels the auto baseline" "$tmp/out" "(scene, damping auto)"
+check "simulate the damping auto scene" 0 "$bin" simulate "$elbow" --set damping=auto --out "$tmp/auto_run" --quiet
+check "tune's baseline is simulate's run" 0 python3 - "$tmp/tune_auto.json" "$tmp/auto_run/summary.json" <<'PY'
+import json, sys
+rep, run = (json.load(open(f)) for f in sys.argv[1:3])
+c = run["damping_auto_value"]
+assert abs(rep["damping_auto"]["value_at_start"] - c) <= 1e-12 * c, (rep["damping_auto"], c)
+assert abs(rep["initial_values"][0] - c) <= 1e-12 * c, (rep["initial_values"], c)
+assert abs(c - 3.0) > 0.1, c  # auto is not the numeric default
+assert rep["scene_run"]["steps_to_converge"] == run["steps_to_converge"], (rep["scene_run"], run)
+# one choice (no target change): the fixed start runs the same scene as auto
+assert abs(rep["start_cost"] - rep["initial_cost"]) <= 1e-9 * rep["initial_cost"], rep
+assert rep["improved"] == (rep["final_cost"] < rep["initial_cost"]), rep
+PY
 check "equilibrium missing scene" 2 "$bin" equilibrium "$tmp/none.json"
 check "equilibrium bad start" 2 "$bin" equilibrium "$src/models/scenes/pinhead_two_hands.json" --start middle
 check "equilibrium" 0 "$bin" equilibrium "$src/models/scenes/pinhead_two_hands.json" --compare --start physik --out "$tmp/eq.json" --bones "$tmp/eq.csv"

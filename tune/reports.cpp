@@ -23,21 +23,31 @@ nlohmann::json tune_report_to_json(const Scene& scene, const TuneOptions& to, co
                     {"diverged", s.diverged},
                     {"steps_to_converge", s.steps_to_converge}});
   }
-  return {{"scene", scene.file},
-          {"objective", to_string(to.objective)},
-          {"measure", to_string(to.measure)},
-          {"params", r.names},
-          {"initial_values", r.initial_values},
-          {"values", r.values},
-          {"initial_cost", r.initial_cost},
-          {"scan_cost", r.scan_cost},
-          {"final_cost", r.final_cost},
-          {"evaluations", r.evaluations},
-          {"reference_steps", r.reference_steps},
-          {"wall_time_s", r.wall_time_s},
-          {"ceres", r.ceres_brief},
-          {"tuned_run", summary_to_json(r.tuned_scene, r.tuned_run)},
-          {"scan", scan}};
+  nlohmann::json doc = {{"scene", scene.file},
+                        {"objective", to_string(to.objective)},
+                        {"measure", to_string(to.measure)},
+                        {"params", r.names},
+                        {"initial_values", r.initial_values},
+                        {"values", r.values},
+                        {"initial_cost", r.initial_cost},
+                        {"start_cost", r.start_cost},
+                        {"scan_cost", r.scan_cost},
+                        {"final_cost", r.final_cost},
+                        {"improved", !no_improvement(r)},
+                        {"evaluations", r.evaluations},
+                        {"scene_evaluations", r.scene_evaluations},
+                        {"reference_steps", r.reference_steps},
+                        {"wall_time_s", r.wall_time_s},
+                        {"ceres", r.ceres_brief},
+                        {"scene_run", summary_to_json(scene, r.scene_run)},
+                        {"tuned_run", summary_to_json(r.tuned_scene, r.tuned_run)},
+                        {"scan", scan}};
+  // the scene's damping was auto: the value it resolved to at the start (N s/m)
+  if (r.damping_auto) {
+    doc["damping_auto"] = {{"value_at_start", r.damping_auto_value},
+                           {"updates", r.damping_auto_updates}};
+  }
+  return doc;
 }
 
 void check_equilibrium_start(const std::string& start) {

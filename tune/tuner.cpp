@@ -235,6 +235,12 @@ class Objective_ {
     return sum;
   }
 
+  // residuals of the base scene as it is (damping auto stays auto); not a candidate: not counted
+  RunSummary eval_scene(std::vector<double>& res) const {
+    return opt_.objective == Objective::kSettle ? settle_residuals(base_, opt_.measure, res)
+                                                : mujoco_residuals(base_, reference_, res);
+  }
+
   Scene scene_with(const std::vector<double>& p) const {
     Scene s = base_;
     for (std::size_t i = 0; i < opt_.params.size(); ++i) set_param(s, opt_.params[i].name, p[i]);
@@ -304,21 +310,45 @@ std::string values_text(const std::vector<TuneParam>& params, const std::vector<
 
 namespace {
 
-// The scene's own values, clamped into the bounds; out.initial_* record where the search starts.
+// damping auto's choice at the scene's start pose (N s/m): the damping the scene starts with
+double auto_damping_at_start(const Scene& scene) {
+  SimState s;
+  init_state(scene, s);
+  return s.damping_auto_value;
+}
+
+// The values the scene runs with: a parameter's own value, damping auto's choice for damping.
+double scene_value(const Scene& scene, const std::string& name, const TuneResult& out) {
+  return name == "damping" && out.damping_auto ? out.damping_auto_value : get_param(scene, name);
+}
+
+// The start: the scene's values clamped into the bounds (out.start_cost is J there); and the
+// baseline, the scene as it runs (out.initial_cost; damping auto resolved in out.damping_auto*),
+// run apart only when the start differs from it. Returns the start.
 std::vector<double> start_values(const Scene& scene, const TuneOptions& opt, const Objective_& obj,
                                  TuneResult& out) {
   const int n = static_cast<int>(opt.params.size());
   std::vector<double> start(n), res;
+  out.damping_auto = scene.params.damping_auto;
+  if (out.damping_auto) out.damping_auto_value = auto_damping_at_start(scene);
+  bool same_as_scene = !out.damping_auto;  // setting a value the scene has changes nothing
   for (int i = 0; i < n; ++i) {
     out.names.push_back(opt.params[i].name);
-    start[i] = std::clamp(get_param(scene, opt.params[i].name), opt.params[i].lo, opt.params[i].hi);
-    out.initial_values.push_back(get_param(scene, opt.params[i].name));
+    out.initial_values.push_back(scene_value(scene, opt.params[i].name, out));
+    start[i] = std::clamp(out.initial_values[i], opt.params[i].lo, opt.params[i].hi);
+    same_as_scene = same_as_scene && start[i] == out.initial_values[i];
   }
   obj.eval(start.data(), res);
-  out.initial_cost = cost_of(res);
+  out.start_cost = cost_of(res);
+  out.initial_cost = out.start_cost;
+  if (!same_as_scene) {
+    obj.eval_scene(res);
+    out.initial_cost = cost_of(res);
+    out.scene_evaluations += 1;
+  }
   if (opt.verbose)
-    std::cerr << "tune: start " << values_text(opt.params, start) << "  J " << out.initial_cost
-              << "\n";
+    std::cerr << "tune: scene J " << out.initial_cost << "; start "
+              << values_text(opt.params, start) << "  J " << out.start_cost << "\n";
   return start;
 }
 
@@ -423,7 +453,7 @@ TuneResult tune_scene(const Scene& scene, const TuneOptions& opt) {
   Objective_ obj(scene, opt);
   TuneResult out;
   std::vector<double> best = start_values(scene, opt, obj, out), res;
-  double best_cost = out.initial_cost;
+  double best_cost = out.start_cost;
   scan_log_grid(opt, obj, best, best_cost, out);
   out.scan_cost = best_cost;
 
@@ -435,6 +465,9 @@ TuneResult tune_scene(const Scene& scene, const TuneOptions& opt) {
   out.final_cost = std::min(refined_cost, best_cost);
   out.tuned_scene = obj.scene_with(out.values);
   out.reference_steps = obj.reference_steps();
+  out.scene_run = run_scene(scene);
+  out.scene_evaluations += 1;
+  if (out.damping_auto) out.damping_auto_updates = out.scene_run.damping_auto_updates;
   out.tuned_run = run_scene(out.tuned_scene);
   out.evaluations = obj.evaluations + 1;
   out.diverged_evaluations = obj.diverged + (out.tuned_run.diverged ? 1 : 0);
@@ -444,6 +477,10 @@ TuneResult tune_scene(const Scene& scene, const TuneOptions& opt) {
               << "  (" << out.evaluations << " runs, " << out.wall_time_s << " s)\n";
   }
   return out;
+}
+
+bool no_improvement(const TuneResult& r) {
+  return !(r.final_cost < r.initial_cost);
 }
 
 std::string tune_failure(const TuneResult& r) {

@@ -37,6 +37,13 @@
 //      NumericDiffCostFunction only offers steps relative to |u|, which degenerate at p = 1.
 // Least squares fits: J is a sum of squares of per-step errors, LM uses J^T J as the Hessian.
 // Working in ln p makes the bounds positive by construction and the steps relative.
+//
+// The baseline. The tuned values are compared with the scene as it runs: J of the scene itself
+// (initial_cost), not of a stand-in. A scene with "damping": "auto" runs at damping auto's choice
+// (physik/engine/linear_modes.h), not at params.damping (which it never reads): the search starts
+// at that choice, and a tuned damping replaces auto with a fixed value. Auto chooses again when
+// the targets change; a fixed value cannot, so then the start's J (start_cost) may differ from
+// the scene's and only initial_cost is the baseline.
 #pragma once
 
 #include <string>
@@ -106,17 +113,27 @@ struct ScanPoint {
 
 struct TuneResult {
   std::vector<std::string> names;
-  std::vector<double> initial_values, values;  // before / after
-  double initial_cost = 0.0;                   // J at the scene's own values
-  double scan_cost = 0.0;                      // J at the scan's best point
-  double final_cost = 0.0;                     // J after Ceres
-  int evaluations = 0;                         // simulations run
+  // before / after; before = the values the scene runs with (damping auto: its choice at the
+  // start pose), which the search starts from (clamped into the bounds)
+  std::vector<double> initial_values, values;
+  double initial_cost = 0.0;  // J of the scene as it runs (the baseline: damping auto stays auto)
+  double start_cost = 0.0;    // J where the search starts: initial_values clamped into the bounds
+                              // and fixed (equal to initial_cost unless clamped, or unless damping
+                              // auto chose again at a target change)
+  bool damping_auto = false;  // the scene chooses its damping ("damping": "auto")
+  double damping_auto_value = 0.0;  // N s/m, damping auto's choice at the start pose
+  int damping_auto_updates = 0;     // how often the scene's run chose it (start + target changes)
+  double scan_cost = 0.0;           // J at the scan's best point
+  double final_cost = 0.0;          // J after Ceres
+  int evaluations = 0;  // simulations run at values within the bounds (the tuned run's included)
   int diverged_evaluations = 0;  // of them, those that diverged (the tuned run's included)
+  int scene_evaluations = 0;     // simulations of the scene as it is (baseline, scene_run)
   double wall_time_s = 0.0;
   std::string ceres_brief, ceres_full;
   bool ceres_usable = false;    // Ceres' termination was not a failure
   std::vector<ScanPoint> scan;  // the coarse scan, in order
   int reference_steps = 0;      // mujoco objective: steps of the MuJoCo reference compared
+  RunSummary scene_run;         // the scene run as it is (the baseline's convergence)
   RunSummary tuned_run;         // the scene run with the tuned values
   Scene tuned_scene;
 };
@@ -138,6 +155,10 @@ RunSummary mujoco_residuals(const Scene& scene, const std::vector<BoneFrames>& r
 // control point overrides it). Check the result with tune_failure: every run may have
 // diverged, or the tuned one.
 TuneResult tune_scene(const Scene& scene, const TuneOptions& options);
+
+// True when the tuned values are no better than the scene as it runs (J not below initial_cost):
+// then there is no improvement to report.
+bool no_improvement(const TuneResult& result);
 
 // "" when the tuning found a value worth using; else why not, in one line (every candidate
 // diverged, or the tuned run did).

@@ -32,6 +32,7 @@
 #include <gtest/gtest.h>
 
 #include "physik/io/rig_io.h"
+#include "physik/io/scene_io.h"
 #include "physik/model/errors.h"
 #include "tests/test_util.h"
 #include "tune/tuner.h"
@@ -129,6 +130,60 @@ TEST(Tuner, ControlKAndCapReachThePointsThatGiveNone) {
   set_param(tuned, "control_k", 40.0);
   EXPECT_EQ(state_hash(run_scene(tuned).final_frames),
             state_hash(run_scene(rod_scene(1.0, 40.0, 0.05)).final_frames));
+}
+
+// A scene with damping auto runs at auto's choice, not at params.damping (which it never reads):
+// the tuner's baseline is that run. Its J equals the objective of the scene as it is, the start
+// is auto's choice (the value the run reports), and with no target change fixing damping at that
+// value runs the same scene, so the start's J is the baseline's.
+TEST(Tuner, TheBaselineOfADampingAutoSceneIsTheSceneAsItRuns) {
+  Scene s = load_scene(test::model_path("scenes/fig6_elbow_linear.json"));
+  s.params.damping_auto = true;
+  s.steps = 300;
+  ASSERT_TRUE(s.schedule.empty());  // no target change: auto chooses once
+  std::vector<double> res;
+  settle_residuals(s, SettleMeasure::kLog, res);
+  const double scene_cost = cost_of(res);
+  const RunSummary run = run_scene(s);
+  ASSERT_GT(run.damping_auto_value, 0.0);
+  ASSERT_GT(std::abs(run.damping_auto_value - s.params.damping), 0.1);  // auto is not params'
+  TuneOptions opt;
+  opt.params = parse_tune_params("damping", "test");
+  opt.scan_points = 3;
+  opt.max_iterations = 2;
+  const TuneResult r = tune_scene(s, opt);
+  EXPECT_TRUE(r.damping_auto);
+  EXPECT_EQ(r.damping_auto_updates, 1);
+  EXPECT_NEAR(r.initial_cost, scene_cost, 1e-12 * scene_cost);
+  EXPECT_NEAR(r.initial_values[0], run.damping_auto_value, 1e-12);
+  EXPECT_NEAR(r.damping_auto_value, run.damping_auto_value, 1e-12);
+  EXPECT_NEAR(r.start_cost, r.initial_cost, 1e-9 * scene_cost);
+  EXPECT_EQ(r.scene_run.converged, run.converged);
+  EXPECT_EQ(r.scene_run.steps_to_converge, run.steps_to_converge);
+  EXPECT_LE(r.final_cost, r.start_cost);
+  EXPECT_EQ(no_improvement(r), !(r.final_cost < scene_cost));
+}
+
+// A scene whose own value lies outside the bounds is still the baseline: the dead-beat rod (c* =
+// 15 N s/m, J = the first step's residual only) tuned within [1, 5] cannot match it, and the
+// result says there is no improvement, although the search improved on its clamped start (5).
+TEST(Tuner, NoImprovementOverASceneOutsideTheBounds) {
+  const double m = 1.5, h = 0.05;
+  Scene s = rod_scene(m, m / (h * h), h);
+  set_param(s, "damping", m / (2 * h));
+  TuneOptions opt;
+  opt.params = parse_tune_params("damping", "test");
+  apply_bounds(opt.params, "damping=1:5", "test");
+  opt.scan_points = 5;
+  const TuneResult r = tune_scene(s, opt);
+  std::vector<double> res;
+  settle_residuals(s, SettleMeasure::kLog, res);
+  EXPECT_NEAR(r.initial_cost, cost_of(res), 1e-12 * cost_of(res));
+  EXPECT_EQ(r.initial_values[0], m / (2 * h));
+  EXPECT_GT(r.start_cost, r.initial_cost);  // the start is clamped to 5
+  EXPECT_LE(r.final_cost, r.start_cost);
+  EXPECT_GT(r.final_cost, r.initial_cost);
+  EXPECT_TRUE(no_improvement(r));
 }
 
 TEST(Tuner, EveryTunableIsATableRowWithItsBounds) {
