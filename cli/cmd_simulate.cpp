@@ -1,7 +1,9 @@
 // physik simulate SCENE: run the PhysIK engine on a scene into a run folder (scene.json,
 // trajectory.csv, targets_and_limits.csv, summary.json, final_pose.csv; physik/io/run_folder.h).
 //
-//   prepare_scene      load, --set, --steps; every bad option exits 2 before the run
+//   prepare_scene      load, --set, --steps; every bad option exits 2 before the run, and so
+//                      does a rig that starts through the ground or an obstacle (a rig that
+//                      starts into one gets a warning; physik/engine/start_contacts.h)
 //   progress_observer  --bvh frames and progress lines, beside the run folder's tables
 //   --reference        the MuJoCo run as a run folder of its own (<out>/mujoco) and
 //                      comparison.json (reference/compare.h)
@@ -12,6 +14,7 @@
 
 #include "cli/commands.h"
 #include "physik/engine/run_monitor.h"
+#include "physik/engine/start_contacts.h"
 #include "physik/io/bvh.h"
 #include "physik/io/output_files.h"
 #include "physik/io/run_folder.h"
@@ -64,6 +67,9 @@ Scene prepare_scene(const SimulateOptions& o) {
   if (!o.reference.empty()) parse_reference_spec(o.reference);  // bad spec: exit 2 first
   if (!o.bvh.empty()) check_output_file(o.bvh, "--bvh");        // before the run, not after
   if (o.steps > 0) scene.steps = o.steps;
+  const std::string start_warning = check_start_contacts(scene);
+  if (!start_warning.empty())
+    std::cerr << "physik: warning: " << scene.file << ": " << start_warning << "\n";
   return scene;
 }
 

@@ -117,6 +117,41 @@ expect_in "contacts: the scene keeps its ground" "$tmp/drop/scene.json" '"ground
 printf '{"rig": "%s", "obstacles": [{"name": "seat", "box": {"center": [0, 0, -1.5], "half_extents": [1, 1, 0.5]}}], "gravity": [0, 0, -9.81], "params": {"dt": 0.01}}' "$rig" > "$tmp/seat.json"
 check "contacts: a drop on a box runs" 0 "$bin" simulate "$tmp/seat.json" --out "$tmp/seat" --steps 20 --quiet
 expect_in "contacts: the scene keeps its obstacle" "$tmp/seat/scene.json" '"obstacles"'
+expect_absent() {  # expect_absent NAME FILE TEXT
+  if grep -qF -- "$3" "$2"; then fail=$((fail+1)); echo "FAIL $1: '$3' in:"; cat "$2"; else pass=$((pass+1)); fi
+}
+# a rig that starts into the ground or a box: a warning past 5% of the bone's collision radius,
+# exit 2 past the whole radius (physik/engine/start_contacts.h); the elbow's upper_arm runs from
+# z = 0 up, its collision radius 0.12 (0.06 of its length 2), so a ground at height h sinks its
+# lower end by 0.12 + h
+start_scene() {  # start_scene FILE JSON_FIELDS
+  printf '{"rig": "%s", %s, "gravity": [0, 0, -9.81], "params": {"dt": 0.01}}' "$rig" "$2" > "$1"
+}
+start_scene "$tmp/touch.json" '"ground": {"height": -0.119}'
+check "start: just touching runs" 0 "$bin" simulate "$tmp/touch.json" --out "$tmp/touch" --steps 5 --quiet
+expect_absent "start: just touching does not warn" "$tmp/err" "warning"
+start_scene "$tmp/sunk.json" '"ground": {"height": -0.06}'
+check "start: into the ground runs" 0 "$bin" simulate "$tmp/sunk.json" --out "$tmp/sunk" --steps 5 --quiet
+expect_in "start: into the ground warns" "$tmp/err" "physik: warning: $tmp/sunk.json: bone 'upper_arm' starts 0.06 rig units into the ground, 0.5 times its collision radius 0.12"
+expect_in "start: the warning says what to change" "$tmp/err" "raise the rig (initial_pose.root_head) or lower the ground (ground.height)"
+start_scene "$tmp/below.json" '"ground": {"height": 0}, "initial_pose": {"root_head": [0, 0, -100]}'
+check "start: below the ground is bad input" 2 "$bin" simulate "$tmp/below.json" --out "$tmp/below" --quiet
+expect_in "start: below the ground names the field" "$tmp/err" "below.json: ground: field 'height': bone 'upper_arm' starts 100 rig units into the ground, 834 times its collision radius 0.12: its centre line is past the surface"
+[ ! -e "$tmp/below" ] && pass=$((pass+1)) || { fail=$((fail+1)); echo "FAIL start: below the ground wrote a run folder"; }
+start_scene "$tmp/below_cp.json" '"ground": {"height": 0}, "initial_pose": {"root_head": [0, 0, -100]}, "control_points": [{"bone": "forearm", "alpha": 1, "target": [0, 1, -97]}]'
+check "start: the solve mode refuses it too" 2 "$bin" solve "$tmp/below_cp.json" --solver physik --out "$tmp/below" --quiet
+expect_in "start: the solve mode names the field" "$tmp/err" "below_cp.json: ground: field 'height'"
+start_scene "$tmp/inbox.json" '"obstacles": [{"name": "seat", "box": {"center": [0, 0, -0.56], "half_extents": [1, 1, 0.5]}}]'
+check "start: into a box runs" 0 "$bin" simulate "$tmp/inbox.json" --out "$tmp/inbox" --steps 5 --quiet
+expect_in "start: into a box warns" "$tmp/err" "bone 'upper_arm' starts 0.06 rig units into obstacle 'seat'"
+start_scene "$tmp/thrubox.json" '"obstacles": [{"name": "seat", "box": {"center": [0, 0, 0], "half_extents": [1, 1, 0.5]}}]'
+check "start: through a box is bad input" 2 "$bin" simulate "$tmp/thrubox.json" --out "$tmp/x" --quiet
+expect_in "start: through a box names it" "$tmp/err" "thrubox.json: obstacles[0]: field 'box': bone 'upper_arm' starts"
+# no shipped scene starts into anything
+for scene in "$src"/models/scenes/*.json; do
+  check "start: $(basename "$scene") runs" 0 "$bin" simulate "$scene" --out "$tmp/shipped" --steps 1 --quiet
+  expect_absent "start: $(basename "$scene") does not warn of its start" "$tmp/err" "rig units into"
+done
 # a solver that knows only the rig refuses a scene with contacts or gravity rather than ignore them
 printf '{"rig": "%s", "ground": {"height": -3}, "gravity": [0, 0, -9.81], "control_points": [{"bone": "hand.L", "alpha": 1, "target": [0, 0, 1]}]}' "$src/models/rigs/pinhead.json" > "$tmp/floor_cp.json"
 check "contacts: dls refuses a ground" 2 "$bin" solve "$tmp/floor_cp.json" --solver dls --out "$tmp/x" --quiet

@@ -1,0 +1,90 @@
+// The contacts a scene starts in (start_contacts.h): the initial pose's ground and obstacle
+// contacts from collision.h, measured by contacts.h's penetration().
+#include "physik/engine/start_contacts.h"
+
+#include <algorithm>
+#include <sstream>
+#include <vector>
+
+#include "physik/engine/collision.h"
+#include "physik/engine/contacts.h"
+#include "physik/model/errors.h"
+
+namespace physik {
+
+namespace {
+
+// %g-style, 3 significant digits
+std::string format_number(double v) {
+  std::ostringstream o;
+  o.precision(3);
+  o << v;
+  return o.str();
+}
+
+// "the ground" or "obstacle 'seat'"
+std::string surface_name(const Scene& scene, const StartContact& c) {
+  if (c.obstacle < 0) return "the ground";
+  return "obstacle '" + scene.collision.obstacles[c.obstacle].name + "'";
+}
+
+// what to change to start clear of the surface
+std::string surface_fix(const StartContact& c) {
+  if (c.obstacle < 0)
+    return "raise the rig (initial_pose.root_head) or lower the ground (ground.height)";
+  return "move the rig (initial_pose.root_head) or the box (obstacles[" +
+         std::to_string(c.obstacle) + "] box center) apart";
+}
+
+}  // namespace
+
+StartContact deepest_start_contact(const Scene& scene) {
+  StartContact out;
+  if (!scene.collision.ground && scene.collision.obstacles.empty()) return out;
+  CollisionWorld world;
+  std::vector<Contact> contacts;
+  world.detect(scene, forward_kinematics(scene.rig, scene.initial_pose), contacts);
+  // the static surfaces only: bones touching each other at the start are left alone
+  contacts.erase(std::remove_if(contacts.begin(), contacts.end(),
+                                [](const Contact& c) { return c.other_bone >= 0; }),
+                 contacts.end());
+  const Penetration pen = penetration(scene, contacts);
+  out.contacts = pen.contacts;
+  out.energy = contact_potential(scene, contacts);
+  for (const Contact& c : contacts) {
+    const double fraction = c.depth / scene.rig.bone_collision_radius[c.bone];
+    if (fraction < pen.max_depth_fraction) continue;  // the deepest, first in detection order
+    out.bone = c.bone;
+    out.obstacle = c.obstacle;
+    out.depth = c.depth;
+    out.fraction = fraction;
+    break;
+  }
+  return out;
+}
+
+std::string check_start_contacts(const Scene& scene) {
+  const StartContact c = deepest_start_contact(scene);
+  if (c.bone < 0 || c.fraction <= kStartContactWarnFraction) return "";
+  const double radius = scene.rig.bone_collision_radius[c.bone];
+  const std::string what = "bone '" + scene.rig.bone_name[c.bone] + "' starts " +
+                           format_number(c.depth) + " rig units into " + surface_name(scene, c) +
+                           ", " + format_number(c.fraction) + " times its collision radius " +
+                           format_number(radius);
+  // a small tolerance: a root joint placed exactly on the ground is d = r up to round-off
+  if (c.fraction > 1.0 + 1e-9) {
+    throw_input_error(scene.file,
+                      c.obstacle < 0 ? "ground" : "obstacles[" + std::to_string(c.obstacle) + "]",
+                      c.obstacle < 0 ? "height" : "box",
+                      what +
+                          ": its centre line is past the surface, and the contact spring would "
+                          "throw the rig out with " +
+                          format_number(c.energy) + " J; " + surface_fix(c));
+  }
+  return what + " (more than " + format_number(kStartContactWarnFraction) +
+         " times, the contacts' target depth at rest): the contact springs start with " +
+         format_number(c.energy) + " J (k d^2 / 2), which push the rig out in the first steps; " +
+         surface_fix(c);
+}
+
+}  // namespace physik
