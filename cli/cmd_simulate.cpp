@@ -5,6 +5,7 @@
 //                      does a rig that starts through the ground or an obstacle (a rig that
 //                      starts into one gets a warning; physik/engine/start_contacts.h)
 //   progress_observer  --bvh frames and progress lines, beside the run folder's tables
+//   clear_run_folder   an earlier run in <out> goes first, the user's own files there stay
 //   --reference        the MuJoCo run as a run folder of its own (<out>/mujoco) and
 //                      comparison.json (reference/compare.h)
 #include <algorithm>
@@ -141,7 +142,10 @@ void run_simulate(const SimulateOptions& o) {
     bvh = std::make_unique<BvhRecorder>(scene.rig, scene.params.dt * o.every);
     bvh->record(scene.initial_pose);
   }
-  // the run folder (physik/io/run_folder.h): scene.json, both tables, summary.json, final_pose.csv
+  // the run folder (physik/io/run_folder.h): scene.json, both tables, summary.json, final_pose.csv;
+  // an earlier run's files there go first (after every input check: a bad option keeps them),
+  // its reference run and comparison too, so that the folder holds this run alone
+  clear_run_folder(o.out, "--out", {kComparisonFile}, {kReferenceFolder});
   const RunSummary sum =
       simulate_into_folder(scene, o.out, o.every, progress_observer(scene, o, bvh.get()));
   if (bvh) bvh->save(o.bvh);

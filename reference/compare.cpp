@@ -258,11 +258,12 @@ nlohmann::json write_reference_comparison(const Scene& scene, const std::string&
   const Comparison c = compare_with_mujoco(scene, mode, folder.record_options(every));
   folder.finish(mujoco_summary_json(scene, c.mujoco.summary, mode), c.mujoco.summary.final_frames);
   const nlohmann::json j = comparison_to_json(scene, c);
-  write_json(j, out_dir + "/comparison.json");
+  write_json(j, out_dir + "/" + kComparisonFile);
   if (verbose && j["diverged"].empty()) {
     std::cerr << "reference: rms gap " << c.gap.rms_gap << ", max gap " << c.gap.max_gap
               << ", final pose gap " << c.gap.final_pose_gap << " ("
-              << j["equilibrium"].get<std::string>() << ") -> " << out_dir << "/comparison.json\n";
+              << j["equilibrium"].get<std::string>() << ") -> " << out_dir << "/" << kComparisonFile
+              << "\n";
   }
   return j;
 }

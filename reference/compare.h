@@ -82,6 +82,7 @@ RunSummary write_reference_run_folder(const Scene& scene, ReferenceMode mode,
 
 // The reference run's folder under `simulate --reference`'s output folder.
 inline constexpr const char* kReferenceFolder = "mujoco";
+inline constexpr const char* kComparisonFile = "comparison.json";
 
 // The `simulate --reference` output: the MuJoCo run as a run folder of its own,
 // <out>/mujoco (physik/io/run_folder.h: scene.json, trajectory.csv, targets_and_limits.csv,

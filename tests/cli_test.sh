@@ -203,6 +203,23 @@ expect_in "comparison.json" "$tmp/ref/comparison.json" '"final_pose_gap"'
 expect_in "mujoco csv header" "$tmp/ref/mujoco/trajectory.csv" "step,time,kinetic_energy,passes,joint_mismatch,joint_separation,residual_"
 expect_in "mujoco run folder" "$tmp/ref/mujoco/summary.json" '"mode": "exact-constraints"'
 expect_in "mujoco run folder scene" "$tmp/ref/mujoco/scene.json" '"bones"'
+# a run into the folder of an earlier one leaves none of the earlier run's files; the user's stay
+check "simulate reference into a folder" 0 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --steps 20 --quiet --reference mujoco --out "$tmp/rerun"
+echo "my notes" > "$tmp/rerun/notes.txt"
+echo "mine" > "$tmp/rerun/mujoco/mine.txt"
+check "rerun without a reference" 0 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --steps 20 --quiet --out "$tmp/rerun"
+[ ! -e "$tmp/rerun/comparison.json" ] && pass=$((pass+1)) || { fail=$((fail+1)); echo "FAIL rerun kept comparison.json"; }
+[ ! -e "$tmp/rerun/mujoco/summary.json" ] && [ ! -e "$tmp/rerun/mujoco/trajectory.csv" ] && pass=$((pass+1)) || { fail=$((fail+1)); echo "FAIL rerun kept the mujoco run"; ls -R "$tmp/rerun"; }
+expect_in "rerun keeps the user's file" "$tmp/rerun/notes.txt" "my notes"
+expect_in "rerun keeps the user's file in mujoco/" "$tmp/rerun/mujoco/mine.txt" "mine"
+expect_in "rerun writes its own run" "$tmp/rerun/summary.json" '"mean_passes_per_step"'
+check "simulate reference again" 0 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --steps 20 --quiet --reference mujoco --out "$tmp/ref2"
+check "rerun without a reference (clean folder)" 0 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --steps 20 --quiet --out "$tmp/ref2"
+[ ! -e "$tmp/ref2/mujoco" ] && [ ! -e "$tmp/ref2/comparison.json" ] && pass=$((pass+1)) || { fail=$((fail+1)); echo "FAIL rerun kept mujoco/ or comparison.json"; ls -R "$tmp/ref2"; }
+# a folder that is not a run folder (no summary.json) loses nothing
+mkdir -p "$tmp/notrun" && echo '{"mine": 1}' > "$tmp/notrun/comparison.json"
+check "run into a folder that is not a run folder" 0 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --steps 5 --quiet --out "$tmp/notrun"
+expect_in "a foreign comparison.json stays" "$tmp/notrun/comparison.json" '"mine"'
 expect_in "mujoco targets and limits" "$tmp/ref/mujoco/targets_and_limits.csv" "step,"
 
 # interchange: BVH / qBVH, joint-limit files, MJCF

@@ -4,7 +4,7 @@
 // is the run's limit violation, an interpolated target's path is the interpolation's (a straight
 // segment for linear); a rod resting on the floor records its two end contacts at the analytic
 // depth and force, a dropped rod none before it can reach the floor, a run without contacts no
-// table.
+// table; clearing an earlier run removes its files and keeps the user's.
 #include "physik/io/run_folder.h"
 
 #include <cmath>
@@ -211,6 +211,34 @@ TEST(RunFolder, NoContactsTableWithoutContacts) {
   simulate_into_folder(scene, dir, 1);
   EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/trajectory.csv"));
   EXPECT_FALSE(std::filesystem::exists(dir + "/" + kContactsFile));
+}
+
+// clearing an earlier run: its own files and the named extras go, the user's stay, and a folder
+// that is not a run folder (no summary.json) loses nothing
+TEST(RunFolder, ClearingAnEarlierRunKeepsTheUsersFiles) {
+  namespace fs = std::filesystem;
+  Scene scene = load_scene(test::model_path("scenes/fig6_elbow_linear.json"));
+  scene.steps = 2;
+  const std::string dir = fresh_dir("clear");
+  simulate_into_folder(scene, dir, 1);
+  simulate_into_folder(scene, dir + "/ref", 1);
+  simulate_into_folder(scene, dir + "/ref_kept", 1);
+  std::ofstream(dir + "/extra.json") << "{}";
+  std::ofstream(dir + "/notes.txt") << "mine";
+  std::ofstream(dir + "/ref_kept/notes.txt") << "mine";
+  clear_run_folder(dir, "--out", {"extra.json"}, {"ref", "ref_kept", "absent"});
+  for (const char* name : {kSceneFile, kTrajectoryFile, kTargetsLimitsFile, kSummaryFile,
+                           kFinalPoseFile, "extra.json", "ref"}) {
+    EXPECT_FALSE(fs::exists(dir + "/" + name)) << name;
+  }
+  EXPECT_TRUE(fs::is_regular_file(dir + "/notes.txt"));
+  EXPECT_TRUE(fs::is_regular_file(dir + "/ref_kept/notes.txt"));
+  EXPECT_FALSE(fs::exists(dir + "/ref_kept/" + kSummaryFile));
+  // no summary.json now: not a run folder, so the user's notes.txt and ref_kept stay as they are
+  std::ofstream(dir + "/" + kTrajectoryFile) << "mine";
+  clear_run_folder(dir, "--out", {}, {"ref_kept"});
+  EXPECT_TRUE(fs::is_regular_file(dir + "/" + kTrajectoryFile));
+  EXPECT_TRUE(fs::is_regular_file(dir + "/ref_kept/notes.txt"));
 }
 
 }  // namespace

@@ -2,14 +2,55 @@
 // the experiments, and pose folders for one pose.
 #include "physik/io/run_folder.h"
 
+#include <filesystem>
+#include <system_error>
+
 #include "physik/engine/engine.h"
 #include "physik/io/json_fields.h"
 #include "physik/io/output_files.h"
 #include "physik/io/pose_io.h"
 #include "physik/io/scene_io.h"
 #include "physik/io/summary_io.h"
+#include "physik/model/errors.h"
 
 namespace physik {
+
+namespace {
+
+// `path` removed if it is there (a file, or a folder that is empty); InputError naming `option`
+// when it cannot be (a folder that is not empty is kept: it holds the user's files)
+void remove_owned(const std::filesystem::path& path, const std::string& option) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(path, ec))) return;
+  if (fs::is_directory(fs::symlink_status(path, ec)) && !fs::is_empty(path, ec)) return;
+  fs::remove(path, ec);
+  if (ec) {
+    throw_input_error(path.string(), "", option,
+                      "cannot remove the earlier run's file (" + ec.message() + ")");
+  }
+}
+
+}  // namespace
+
+void clear_run_folder(const std::string& dir, const std::string& option,
+                      const std::vector<std::string>& also_files,
+                      const std::vector<std::string>& also_folders) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::is_regular_file(fs::path(dir) / kSummaryFile, ec)) return;  // not a run folder
+  for (const char* name : {kSceneFile, kTrajectoryFile, kTargetsLimitsFile, kSummaryFile,
+                           kFinalPoseFile, kContactsFile}) {
+    remove_owned(fs::path(dir) / name, option);
+  }
+  for (const std::string& name : also_files) remove_owned(fs::path(dir) / name, option);
+  for (const std::string& name : also_folders) {
+    const fs::path sub = fs::path(dir) / name;
+    if (!fs::is_directory(fs::symlink_status(sub, ec))) continue;  // a file of that name: kept
+    clear_run_folder(sub.string(), option);
+    remove_owned(sub, option);
+  }
+}
 
 RunFolderWriter::RunFolderWriter(const Scene& scene, const std::string& dir,
                                  const std::string& option)

@@ -12,6 +12,14 @@
 //                            engine's runs (MuJoCo resolves its contacts itself: its run folder
 //                            has none)
 //
+// A folder that held an earlier run: `physik simulate` first clears it (clear_run_folder) of the
+// files a run folder's writers own (the names above, and what its caller adds: `--reference`'s
+// mujoco/ and comparison.json), so that a run without a reference leaves none of the last
+// run's. Only those names go, and only from a folder that is a run folder (it holds a
+// summary.json, the file a run writes last); any other file or folder in it is the user's and
+// stays, and a folder without a summary.json (not a run folder, or a run that stopped before its
+// end) has only the files the new run writes overwritten.
+//
 // A pose folder is the same for one pose that no run produced (an IK solver's answer): a
 // trajectory of one row at step 0, time 0, with no motion (kinetic energy, passes and joint
 // mismatch 0), its summary.json saying "kind": "pose".
@@ -19,6 +27,7 @@
 
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -59,6 +68,14 @@ class RunFolderWriter {
 RunSummary simulate_into_folder(const Scene& scene, const std::string& dir, int every,
                                 const StepObserver& also = nullptr,
                                 const std::string& option = "--out");
+
+// Removes from `dir`, if it is a run folder (above), its own files (the names above), the
+// `also_files` and the `also_folders`: each such folder is cleared by the same rule and removed
+// when it is then empty (one that holds a file of the user's stays, with that file). A missing
+// `dir` is nothing to clear; a name that cannot be removed is an InputError naming `option`.
+void clear_run_folder(const std::string& dir, const std::string& option,
+                      const std::vector<std::string>& also_files = {},
+                      const std::vector<std::string>& also_folders = {});
 
 // A pose folder for `frames`, a pose of the scene's rig; `summary` is summary.json (its "kind"
 // is set to "pose").
