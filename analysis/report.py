@@ -264,12 +264,14 @@ def motion_lines(results, name):
     gif = os.path.join(name, "animation.gif")
     if os.path.isfile(os.path.join(results, gif)):
         out.append("![%s: animation](%s)" % (name, gif))
-    view = os.path.join(name, "view.html")
-    if os.path.isfile(os.path.join(results, view)):
+    pages = report_html.view_pages(results, name)
+    if pages:
         runs = len(report_html.run_folders(results, name))
-        out += ["", "3D viewer of the %d run%s: [%s](%s) (%.1f MB, self-contained; REPORT.html "
-                "embeds it)" % (runs, "" if runs == 1 else "s", view, view,
-                               os.path.getsize(os.path.join(results, view)) / 1e6)]
+        links = ", ".join("[%s](%s) (%.1f MB)" % (p, p, os.path.getsize(os.path.join(results, p))
+                                                  / 1e6) for p in pages)
+        out += ["", "3D viewer of the %d run%s%s: %s (self-contained; REPORT.html embeds the "
+                "first)" % (runs, "" if runs == 1 else "s",
+                            ", a page per rig" if len(pages) > 1 else "", links)]
     return out
 
 

@@ -3,7 +3,9 @@ viewer beside its PNGs.
 
 - make_views: for every experiment that left run folders (<name>/runs/order.txt lists them,
   experiments/common.h write_run_folder), `physik view` writes <name>/view.html, one
-  self-contained page (three.js inlined) overlaying the runs;
+  self-contained page (three.js inlined) overlaying the runs; runs of another rig (the contacts
+  experiment's 1,000-bone coils beside pinhead) go to view-2.html, view-3.html, ..., and a long
+  rig's runs are decimated to BONE_FRAMES bone-frames;
 - to_html: the markdown analysis/report.py writes (headings, tables, bullets, images, links,
   `code`, **bold**: the subset it uses) as HTML. Every text is escaped first (html.escape), so
   names from user files stay text; a link is made only to a relative path or an http(s) URL.
@@ -11,6 +13,7 @@ viewer beside its PNGs.
   that page; the animated GIF, the markdown's stand-in for the viewer, is left out there.
 """
 import html
+import json
 import os
 import re
 import subprocess
@@ -39,17 +42,53 @@ def run_folders(results, name):
     return [os.path.join(results, name, "runs", n) for n in names]
 
 
+# bone-frames kept per run in a report's page (`physik view --max-frames` = this over the bones,
+# at most its default 10,000 frames): a 1,000-bone run keeps 60 frames, about 10 MB
+BONE_FRAMES = 60000
+
+
+def rig_key(folder):
+    """The bones (name, parent) of a run folder's rig: runs with the same key can be overlaid."""
+    with open(os.path.join(folder, "scene.json")) as f:
+        bones = json.load(f)["rig"]["bones"]
+    return tuple((b["name"], b.get("parent", "")) for b in bones)
+
+
+def view_groups(folders):
+    """The folders grouped by rig, each group in the order written, groups by first appearance:
+    `physik view` overlays only runs of the same bones."""
+    groups = {}
+    for folder in folders:
+        groups.setdefault(rig_key(folder), []).append(folder)
+    return list(groups.values())
+
+
+def view_pages(results, name):
+    """The viewer pages of an experiment, as make_views names them: view.html for the runs of its
+    first rig, view-2.html, view-3.html, ... for the others."""
+    pages = []
+    for k in range(1, 100):
+        page = os.path.join(name, "view.html" if k == 1 else "view-%d.html" % k)
+        if not os.path.isfile(os.path.join(results, page)):
+            break
+        pages.append(page)
+    return pages
+
+
 def make_views(results, sections, physik):
-    """<name>/view.html for every experiment with run folders; {name: page size in bytes}."""
+    """<name>/view.html (and view-2.html, ... for runs of other rigs) for every experiment with
+    run folders; {page: size in bytes}."""
     sizes = {}
     for name, _, rep in sections:
         folders = run_folders(results, name)
-        if not folders:
-            continue
-        out = os.path.join(results, name, "view.html")
-        subprocess.run([physik, "view"] + folders + ["--out", out, "--title",
-                                                      rep.get("title", name)], check=True)
-        sizes[name] = os.path.getsize(out)
+        for k, group in enumerate(view_groups(folders) if folders else [], start=1):
+            page = os.path.join(name, "view.html" if k == 1 else "view-%d.html" % k)
+            out = os.path.join(results, page)
+            frames = max(50, min(10000, BONE_FRAMES // len(rig_key(group[0]))))
+            subprocess.run([physik, "view"] + group + ["--out", out, "--title",
+                                                      rep.get("title", name),
+                                                      "--max-frames", str(frames)], check=True)
+            sizes[page] = os.path.getsize(out)
     return sizes
 
 

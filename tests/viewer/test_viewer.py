@@ -191,6 +191,32 @@ class ViewCommandTest(unittest.TestCase):
         self.assertIn(other + ": scene.json rig: field 'bones[0]': 'a'", msg)
         self.assertIn("an overlay draws runs of the same bones", msg)
 
+    def test_the_report_writes_a_page_per_rig(self):
+        # an experiment whose runs have two rigs (the contacts experiment's coils beside pinhead):
+        # report.py overlays the runs of each rig on its own page and links both
+        results = os.path.join(self.tmp, "report_rigs")
+        runs = os.path.join(results, "e", "runs")
+        shutil.copytree(self.run_dir, os.path.join(runs, "first"))
+        simulate(chain_scene(os.path.join(self.tmp, "s3"), chain_rig(("a", "b", "c")), 1),
+                 os.path.join(runs, "other"), "--steps", "5")
+        shutil.copytree(self.run_dir, os.path.join(runs, "again"))
+        with open(os.path.join(runs, "order.txt"), "w") as f:
+            f.write("first\nother\nagain\n")
+        with open(os.path.join(results, "e", "summary.json"), "w") as f:
+            json.dump({"report": {"title": "two rigs"}}, f)
+        done = subprocess.run([sys.executable, os.path.join(REPO, "analysis", "report.py"),
+                               results, "--physik", BINARY], check=True, capture_output=True,
+                              text=True)
+        said = done.stdout + done.stderr  # physik view's line per page
+        self.assertIn("view: 2 runs, ", said)  # first and again, overlaid
+        self.assertIn("-> " + os.path.join(results, "e", "view.html"), said)
+        self.assertIn("view: 1 run, ", said)
+        self.assertIn("-> " + os.path.join(results, "e", "view-2.html"), said)
+        with open(os.path.join(results, "REPORT.md")) as f:
+            report = f.read()
+        self.assertIn("(e/view.html)", report)
+        self.assertIn("(e/view-2.html)", report)
+
     def test_decimated_to_the_cap_and_said(self):
         out = os.path.join(self.tmp, "cap.html")
         self.assertEqual(physik("view", self.run_dir, "--max-frames", "10", "--out", out)[0], 0)
