@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <sstream>
 #include <utility>
 
 #include "physik/engine/contacts.h"
@@ -12,18 +11,11 @@
 #include "physik/engine/measures.h"
 #include "physik/engine/potential.h"
 #include "physik/model/kinematics.h"
+#include "physik/model/message_number.h"
 
 namespace physik {
 
 namespace {
-
-// %g-style, 3 significant digits
-std::string format_number(double v) {
-  std::ostringstream o;
-  o.precision(3);
-  o << v;
-  return o.str();
-}
 
 std::string num(double v) {
   char buf[32];
@@ -302,7 +294,7 @@ std::string divergence_hint(const Scene& scene) {
   const EngineParams& p = scene.params;
   const double dt = p.dt;  // s
   if (p.scheme == Scheme::kImplicit) {
-    return "try a smaller dt (now " + format_number(dt) + " s) or more implicit_max_splits";
+    return "try a smaller dt (now " + message_number(dt) + " s) or more implicit_max_splits";
   }
   // semi-implicit Euler with -c v at both ends of a bone of mass m is stable in translation while
   // 2 c dt / m < 2: c below the lightest bone's m / dt
@@ -310,10 +302,10 @@ std::string divergence_hint(const Scene& scene) {
   for (int i = 0; i < scene.rig.nbone; ++i) c_max = std::min(c_max, scene.rig.bone_mass[i] / dt);
   std::string hint = "try --set preset=robust (the implicit step, stable at any dt and damping)";
   if (!p.damping_auto && p.damping >= c_max) {
-    return hint + ", or damping below " + format_number(c_max) + " N s/m (now " +
-           format_number(p.damping) + ")";
+    return hint + ", or damping below " + message_number(c_max) + " N s/m (now " +
+           message_number(p.damping) + ")";
   }
-  return hint + ", or a smaller dt (now " + format_number(dt) + " s)";
+  return hint + ", or a smaller dt (now " + message_number(dt) + " s)";
 }
 
 }  // namespace physik

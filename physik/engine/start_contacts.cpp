@@ -3,24 +3,16 @@
 #include "physik/engine/start_contacts.h"
 
 #include <algorithm>
-#include <sstream>
 #include <vector>
 
 #include "physik/engine/collision.h"
 #include "physik/engine/contacts.h"
 #include "physik/model/errors.h"
+#include "physik/model/message_number.h"
 
 namespace physik {
 
 namespace {
-
-// %g-style, 3 significant digits
-std::string format_number(double v) {
-  std::ostringstream o;
-  o.precision(3);
-  o << v;
-  return o.str();
-}
 
 // "the ground" or "obstacle 'seat'"
 std::string surface_name(const Scene& scene, const StartContact& c) {
@@ -68,9 +60,9 @@ std::string check_start_contacts(const Scene& scene) {
   if (c.bone < 0 || c.fraction <= kStartContactWarnFraction) return "";
   const double radius = scene.rig.bone_collision_radius[c.bone];
   const std::string what = "bone '" + scene.rig.bone_name[c.bone] + "' starts " +
-                           format_number(c.depth) + " rig units into " + surface_name(scene, c) +
-                           ", " + format_number(c.fraction) + " times its collision radius " +
-                           format_number(radius);
+                           message_number(c.depth) + " rig units into " + surface_name(scene, c) +
+                           ", " + message_number(c.fraction) + " times its collision radius " +
+                           message_number(radius);
   // a small tolerance: a root joint placed exactly on the ground is d = r up to round-off
   if (c.fraction > 1.0 + 1e-9) {
     throw_input_error(scene.file,
@@ -79,11 +71,11 @@ std::string check_start_contacts(const Scene& scene) {
                       what +
                           ": its centre line is past the surface, and the contact spring would "
                           "throw the rig out with " +
-                          format_number(c.energy) + " J; " + surface_fix(c));
+                          message_number(c.energy) + " J; " + surface_fix(c));
   }
-  return what + " (more than " + format_number(kStartContactWarnFraction) +
+  return what + " (more than " + message_number(kStartContactWarnFraction) +
          " times, the contacts' target depth at rest): the contact springs start with " +
-         format_number(c.energy) + " J (k d^2 / 2), which push the rig out in the first steps; " +
+         message_number(c.energy) + " J (k d^2 / 2), which push the rig out in the first steps; " +
          surface_fix(c);
 }
 
