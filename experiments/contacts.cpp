@@ -2,12 +2,13 @@
 // MuJoCo's own contacts on the same capsules (reference/compare.h, same-forces mode: MuJoCo
 // resolves gravity and the contacts itself, the engine's damping is given to both).
 //   drop  pinhead dropped on a floor under gravity, lying flat and turned 60 degrees from
-//         standing, run 30 s (both engines at rest, KE about 5e-5 J; at 6 s the limbs still
-//         sag): the gap between PhysIK's resting pose and MuJoCo's over the rig's height
-//         (the target: within 2%), and the deepest penetration at rest (the target: 5% of the
-//         thinner touching capsule's radius); and each engine against itself at dt / 2: a
-//         rig lying on a floor with friction rests in a family of poses, and which one the
-//         path picks, so the gap to MuJoCo is read against that
+//         standing, its lowest capsule 0.1 rig units above the floor (a bone started through
+//         the floor is thrown out by the contact spring: start_contacts.h), run 30 s (both engines
+//         at rest, KE about 5e-5 J; at 6 s the limbs still sag): the gap between PhysIK's resting
+//         pose and MuJoCo's over the rig's height (the target: within 2%), and the deepest
+//         penetration at rest (the target: 5% of the thinner touching capsule's radius); and each
+//         engine against itself at dt / 2: a rig lying on a floor with friction rests in a family
+//         of poses, and which one the path picks, so the gap to MuJoCo is read against that
 //   hand  pinhead's left hand pulled through its torso to the far side, the torso held, with and
 //         without self-collision: the deepest bone-bone overlap over the run (does the arm go
 //         through the torso or round it), against MuJoCo's (its solref's penetration)
@@ -15,9 +16,10 @@
 //         helix of 10 turns just above the floor (the turns fall onto one another and pile), and
 //         laid in a flat spiral whose turns touch. The implicit scheme, run until at rest (or
 //         30 s): does each come to rest without diverging, and the deepest penetration at rest,
-//         into the floor and between bones, against 5% of the radius. PhysIK only (MuJoCo's step
-//         grows ~N^2.7 on chains, experiment `scaling`). The quick mode runs 100 bones (2 turns)
-//         for 1 s.
+//         into the floor and between bones, against 5% of the radius; and the dropped one
+//         again with static friction against the floor (friction_stiffness = contact_k).
+//         PhysIK only (MuJoCo's step grows ~N^2.7 on chains, experiment `scaling`). The quick
+//         mode runs 100 bones (2 turns) for 1 s.
 //   sit   Fig 11's sitting pose (the paper's scene run as shipped, no gravity) with a seat (a box
 //         whose top is at the bottom of the thighs' capsules there, from behind the pelvis to
 //         short of the knees) and a floor (at the feet's lowest point), gravity switched on, the
@@ -34,6 +36,8 @@
 //         0.05 is unstable at any contact stiffness that stops a bone)
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <stdexcept>
 
 #include "experiments/coil.h"
 #include "experiments/common.h"
@@ -41,6 +45,7 @@
 #include "physik/engine/collision.h"
 #include "physik/engine/contacts.h"
 #include "physik/engine/engine.h"
+#include "physik/engine/start_contacts.h"
 #include "physik/io/recorder.h"
 #include "physik/io/scene_io.h"
 #include "reference/compare.h"
@@ -49,17 +54,42 @@ namespace physik::experiments {
 
 namespace {
 
-// pinhead turned `tilt_deg` about x at its root's head, that head at `height` above a floor
-Scene drop_scene(const Context& ctx, double tilt_deg, double height) {
-  const nlohmann::json doc = {
-      {"rig", ctx.models_dir + "/rigs/pinhead.json"},
-      {"params", {{"preset", "robust"}, {"dt", 0.01}, {"damping", 1.0}}},
-      {"steps", ctx.quick ? 100 : 3000},
-      {"gravity", {0, 0, -9.81}},
-      {"ground", {{"height", 0.0}, {"normal", {0, 0, 1}}}},
-      {"initial_pose",
-       {{"root_head", {0, 0, height}}, {"rotation_deg", {{"head", {tilt_deg, 0, 0}}}}}}};
-  return scene_from_json(doc, "contacts_drop_" + std::to_string(static_cast<int>(tilt_deg)), ".");
+// the drops' start: the lowest capsule this far above the floor, rig units
+constexpr double kDropClearance = 0.1;
+
+// pinhead turned `tilt_deg` about x at its root's head, raised so that its lowest capsule starts
+// kDropClearance above the floor (start_contacts.h finds nothing to push out)
+Scene drop_scene(const Context& ctx, double tilt_deg) {
+  const auto at_height = [&](double height) {
+    const nlohmann::json doc = {
+        {"rig", ctx.models_dir + "/rigs/pinhead.json"},
+        {"params", {{"preset", "robust"}, {"dt", 0.01}, {"damping", 1.0}}},
+        {"steps", ctx.quick ? 100 : 3000},
+        {"gravity", {0, 0, -9.81}},
+        {"ground", {{"height", 0.0}, {"normal", {0, 0, 1}}}},
+        {"initial_pose",
+         {{"root_head", {0, 0, height}}, {"rotation_deg", {{"head", {tilt_deg, 0, 0}}}}}}};
+    return scene_from_json(doc, "contacts_drop_" + std::to_string(static_cast<int>(tilt_deg)), ".");
+  };
+  const Scene level = at_height(0.0);
+  const BoneFrames f = forward_kinematics(level.rig, level.initial_pose);
+  double lowest = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < level.rig.nbone; ++i) {
+    lowest = std::min(lowest, std::min(f.head_world[i].z(), f.tail_world[i].z()) -
+                                  level.rig.bone_collision_radius[i]);
+  }
+  return at_height(kDropClearance - lowest);
+}
+
+// an experiment scene must start at rest against its ground and obstacles (start_contacts.h: a
+// bone started into the floor is thrown out of it, and the run measures that instead)
+const Scene& checked_start(const Scene& scene) {
+  const std::string warning = check_start_contacts(scene);
+  if (!warning.empty()) {
+    throw std::runtime_error("contacts experiment: scene " + scene.file +
+                             " starts in contact: " + warning);
+  }
+  return scene;
 }
 
 // pinhead's torso held at its rest head and tail, the left hand's tip pulled to the right of the
@@ -177,6 +207,7 @@ void add_drop_claims(Report& report, const Measured& flat, const Measured& tilte
       : flat.gap_fraction <= 0.02      ? "partly (lying flat only)"
       : tilted.gap_fraction <= 0.02    ? "partly (turned 60 deg only)"
                                        : "no");
+  report.named("drop-agrees");
   // A gap to MuJoCo can only be read against each engine's own: where the resting pose moves
   // by more than the target when an engine halves its step, the drop's path picks the pose
   report.claim(
@@ -303,28 +334,34 @@ std::string coil_depths(const std::string& label, const CoilMeasured& m) {
 }
 
 void add_coil_claims(Report& report, const CoilMeasured& dropped, const CoilMeasured& laid,
-                     double dt) {
+                     const CoilMeasured& anchored, double dt) {
   const std::string bones = std::to_string(dropped.nbone) + "-bone chain";
   report.claim("A " + bones + " dropped in a coil onto the floor comes to rest without diverging",
                coil_outcome(dropped, dt), rest_verdict(dropped));
   report.named("coil-rests");
+  report.claim(
+      "With static friction against the floor (friction_stiffness = contact_k), the "
+      "dropped coil comes to rest",
+      coil_outcome(anchored, dt), rest_verdict(anchored));
+  report.named("coil-rests-static-friction");
   report.claim("A " + bones + " laid in a flat coil on the floor comes to rest",
                coil_outcome(laid, dt), rest_verdict(laid));
   report.named("coil-laid-rests");
   // only a run at rest is judged
   double deepest = 0.0;
   bool any_at_rest = false;
-  for (const CoilMeasured* m : {&dropped, &laid}) {
+  for (const CoilMeasured* m : {&dropped, &laid, &anchored}) {
     if (!m->run.converged) continue;
     any_at_rest = true;
     deepest = std::max({deepest, m->ground.max_depth_fraction, m->bones.max_depth_fraction});
   }
   report.claim("The coils at rest: no penetration deeper than 5% of a bone's radius",
                "deepest, over the radius, " + coil_depths("dropped", dropped) + "; " +
-                   coil_depths("laid", laid),
+                   coil_depths("laid", laid) + "; " +
+                   coil_depths("dropped with static friction", anchored),
                !any_at_rest     ? "n/a (no coil at rest)"
                : deepest > 0.05 ? "no"
-               : dropped.run.converged && laid.run.converged
+               : dropped.run.converged && laid.run.converged && anchored.run.converged
                    ? "yes"
                    : "partly (only the coil at rest is judged)");
   report.named("coil-penetration");
@@ -433,7 +470,7 @@ std::string joined(const std::vector<std::string>& names) {
 }
 
 nlohmann::json sit_section(const Context& ctx, Report& report) {
-  const Scene scene = sit_scene(ctx);
+  const Scene scene = checked_start(sit_scene(ctx));
   const Comparison c = compare_with_mujoco(scene, ReferenceMode::kSameForces);
   write_run_folder(ctx, "sit", scene);
   const bool physik_diverged = c.physik.summary.diverged, mujoco_ran = !c.mujoco.summary.diverged;
@@ -547,8 +584,10 @@ nlohmann::json cannon_section(const Context& ctx, Report& report) {
 }
 
 void run(const Context& ctx) {
-  const Measured flat = against_mujoco(ctx, "drop_flat", drop_scene(ctx, 90.0, 0.8), true);
-  const Measured tilted = against_mujoco(ctx, "drop_tilted", drop_scene(ctx, 60.0, 2.6), true);
+  const Measured flat =
+      against_mujoco(ctx, "drop_flat", checked_start(drop_scene(ctx, 90.0)), true);
+  const Measured tilted =
+      against_mujoco(ctx, "drop_tilted", checked_start(drop_scene(ctx, 60.0)), true);
   const Measured on = against_mujoco(ctx, "hand_self_collision", hand_scene(ctx, true));
   const Measured off = against_mujoco(ctx, "hand_no_self_collision", hand_scene(ctx, false));
   const int coil_bones = ctx.quick ? 100 : 1000, coil_steps = ctx.quick ? 100 : 3000;
@@ -556,17 +595,24 @@ void run(const Context& ctx) {
       coil(ctx, "coil", coil_helix_scene(coil_bones, ctx.quick ? 2 : 10, coil_steps));
   const CoilMeasured laid =
       coil(ctx, "coil_laid", coil_flat_spiral_scene(coil_bones, true, coil_steps));
+  Scene anchored_scene = coil_helix_scene(coil_bones, ctx.quick ? 2 : 10, coil_steps);
+  anchored_scene.params.friction_stiffness = anchored_scene.params.contact_k;
+  const CoilMeasured anchored = coil(ctx, "coil_static_friction", anchored_scene);
   Report report("Contacts: a floor and self-collision against MuJoCo's contacts");
   add_drop_claims(report, flat, tilted);
   add_hand_claims(report, on, off);
-  add_coil_claims(report, dropped, laid, coil_helix_scene(coil_bones, 1, 1).params.dt);
+  add_coil_claims(report, dropped, laid, anchored, coil_helix_scene(coil_bones, 1, 1).params.dt);
   const nlohmann::json sit = sit_section(ctx, report);
   const nlohmann::json cannon = cannon_section(ctx, report);
-  report.note(
-      "PhysIK's contacts are penalty springs (contact_k 1e4 N/m, contact_damping 100 N s/m, "
-      "friction 1); MuJoCo's are its own soft contacts at its default solref (0.02 s, 1) on the "
-      "same capsules (0.06 x each bone's length) and plane, with the same friction. Penetration "
-      "is measured by PhysIK's detection on each engine's final pose.");
+  const EngineParams cp = drop_scene(ctx, 90.0).params;
+  report.note("PhysIK's contacts are penalty springs (contact_k " + num(cp.contact_k) +
+              " N/m, contact_damping " + num(cp.contact_damping) + " N s/m, friction " +
+              num(cp.friction) + ", regularised below friction_speed " + num(cp.friction_speed) +
+              " rig units/s, friction_stiffness " + num(cp.friction_stiffness) +
+              " N/m: no static part, as MuJoCo's soft friction creeps too); MuJoCo's are its own "
+              "soft contacts at its default solref (0.02 s, 1) on the "
+              "same capsules (0.06 x each bone's length) and plane, with the same friction. "
+              "Penetration is measured by PhysIK's detection on each engine's final pose.");
   report.note(
       "The coil: a chain of bones 0.1 rig units long and 0.025 in radius (experiments/coil.h), "
       "the implicit scheme at dt 0.01 s with damping " +
@@ -583,6 +629,7 @@ void run(const Context& ctx) {
                  {"hand_no_self_collision", to_json(off)},
                  {"coil", to_json(dropped)},
                  {"coil_laid", to_json(laid)},
+                 {"coil_static_friction", to_json(anchored)},
                  {"sit", sit},
                  {"cannon", cannon}},
                 report);

@@ -97,6 +97,102 @@ TEST(Contacts, DroppedRodLosesEnergyWithDampingOn) {
   }
 }
 
+// A 1 kg rod lying along x on the floor (or a box top), gravity tilted by theta about y: a slope
+// of theta down +x. Each end carries N = m g cos(theta) / 2 and a pull T = m g sin(theta) / 2
+// along the slope. Returns the rod's centre's travel along x over `seconds` after it settled
+// (1 s) and its speed then, rig units and rig units/s.
+struct SlopeRun {
+  double travel = 0.0;
+  double speed = 0.0;
+};
+
+SlopeRun rod_on_slope(Scheme scheme, double dt, double tan_theta, double friction_stiffness,
+                      bool on_box, double seconds) {
+  const double theta = std::atan(tan_theta);
+  Scene s = floor_scene(lying_rod(on_box ? 0.56 : 0.06), scheme, dt);
+  if (on_box) {
+    s.collision.ground.reset();
+    s.collision.obstacles = {
+        BoxObstacle{"seat", Vec3(0.5, 0, 0.25), Vec3(5.0, 0.5, 0.25), Quat::Identity()}};
+  }
+  s.gravity_world = 9.81 * Vec3(std::sin(theta), 0, -std::cos(theta));
+  s.params.friction_stiffness = friction_stiffness;
+  SimState st;
+  init_state(s, st);
+  const auto steps = [dt](double t) { return static_cast<int>(std::lround(t / dt)); };
+  for (int k = 0; k < steps(1.0); ++k) step(s, st);
+  const double x0 = st.com_world[0].x();
+  for (int k = 0; k < steps(seconds); ++k) step(s, st);
+  return {st.com_world[0].x() - x0, st.vel_world[0].x()};
+}
+
+// Below the friction angle (tan theta = 0.5 < mu = 1) static friction holds the rod: each end's
+// anchor spring stretches by T / k_t and no further. The regularised law alone (friction_stiffness
+// 0) has no static part: the rod creeps at the speed where mu N v / v_s = T, v = v_s tan(theta) /
+// mu, for ever.
+TEST(Contacts, StaticFrictionHoldsARodOnASlopeBelowTheFrictionAngle) {
+  const double tan_theta = 0.5, mu = 1.0, v_s = 0.01, k_t = 1e4;
+  for (const bool on_box : {false, true}) {
+    for (const Scheme scheme : {Scheme::kImplicit, Scheme::kExact, Scheme::kGaussSeidel}) {
+      SCOPED_TRACE(std::string(to_string(scheme)) + (on_box ? " on a box" : " on the floor"));
+      const double dt = scheme == Scheme::kImplicit ? 0.05 : 0.002;
+      const SlopeRun held = rod_on_slope(scheme, dt, tan_theta, k_t, on_box, 3.0);
+      EXPECT_LT(std::abs(held.travel), 1e-7);
+      EXPECT_LT(std::abs(held.speed), 1e-7);
+      // the explicit schemes take the creep's viscous friction, mu N / v_s = 219 N s/m at each
+      // end, stably only for dt < 2 m_eff / c (m_eff = m / 4 at an end: 0.0011 s)
+      const double creep_dt = scheme == Scheme::kImplicit ? dt : 2e-4;
+      const SlopeRun crept = rod_on_slope(scheme, creep_dt, tan_theta, 0.0, on_box, 3.0);
+      const double creep = v_s * tan_theta / mu;
+      EXPECT_NEAR(crept.speed, creep, 1e-3 * creep);
+      EXPECT_NEAR(crept.travel, 3.0 * creep, 1e-2 * 3.0 * creep);
+    }
+  }
+}
+
+// The stretch that holds it is the analytic one: at rest the two ends' anchor springs carry the
+// rod's weight along the slope, k_t (s_1 + s_2) = m g sin(theta), about half each (the friction
+// acts a radius below the centre of mass, so the lower end presses a little harder).
+TEST(Contacts, StaticFrictionStretchesByTheLoadOverItsStiffness) {
+  const double tan_theta = 0.5, k_t = 1e4;
+  const double theta = std::atan(tan_theta);
+  const double total = 9.81 * std::sin(theta) / k_t;
+  for (const Scheme scheme : {Scheme::kImplicit, Scheme::kExact}) {
+    SCOPED_TRACE(to_string(scheme));
+    // explicit: below 2 m_eff / c for the stuck contact's viscous share, (mu N - T) / v_s
+    const double dt = scheme == Scheme::kImplicit ? 0.05 : 5e-4;
+    Scene s = floor_scene(lying_rod(0.06), scheme, dt);
+    s.gravity_world = 9.81 * Vec3(std::sin(theta), 0, -std::cos(theta));
+    s.params.friction_stiffness = k_t;
+    SimState st;
+    init_state(s, st);
+    for (int k = 0; k < static_cast<int>(std::lround(3.0 / dt)); ++k) step(s, st);
+    EXPECT_LT(kinetic_energy(s.rig, st), 1e-12);
+    ASSERT_EQ(st.friction_anchors.size(), 2u);
+    const Vec3 sum = st.friction_anchors[0].stretch_world + st.friction_anchors[1].stretch_world;
+    EXPECT_NEAR(sum.x(), total, 1e-6 * total);
+    EXPECT_NEAR(sum.y(), 0.0, 1e-9 * total);
+    for (const FrictionAnchor& a : st.friction_anchors) {
+      EXPECT_NEAR(a.stretch_world.x(), total / 2.0, 0.01 * total / 2.0);
+    }
+  }
+}
+
+// Above it (tan theta = 2 > mu = 1) the rod slides, with kinetic Coulomb friction: it accelerates
+// at g (sin theta - mu cos theta), the static spring at its limit and the viscous share gone.
+TEST(Contacts, StaticFrictionLetsARodSlideAboveTheFrictionAngle) {
+  const double tan_theta = 2.0, mu = 1.0;
+  const double theta = std::atan(tan_theta);
+  const double a = 9.81 * (std::sin(theta) - mu * std::cos(theta));
+  for (const Scheme scheme : {Scheme::kImplicit, Scheme::kExact}) {
+    SCOPED_TRACE(to_string(scheme));
+    const double dt = scheme == Scheme::kImplicit ? 0.01 : 0.002;
+    const SlopeRun t1 = rod_on_slope(scheme, dt, tan_theta, 1e4, false, 0.5);
+    const SlopeRun t2 = rod_on_slope(scheme, dt, tan_theta, 1e4, false, 1.0);
+    EXPECT_NEAR((t2.speed - t1.speed) / 0.5, a, 1e-3 * a);
+  }
+}
+
 // the U rig's leg pulled through its post (the post and the bar's tail held): where the leg's tail
 // ends up, and the deepest contact between bones over the run (over the thinner radius). Without
 // contacts the leg points from its pivot (0.5, 0, 1) at the target (-0.5, 0, 0.2), 1.28 away:

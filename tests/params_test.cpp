@@ -165,7 +165,8 @@ TEST(ParamTable, RowsOutOfTheSchemeAreWrittenOnlyWhereTheyCount) {
   for (const ParamRow& row : param_table()) {
     // the contact rows too: a scene without contacts never gives them
     const bool contact = row.name == "contact_k" || row.name == "contact_damping" ||
-                         row.name == "friction" || row.name == "friction_speed";
+                         row.name == "friction" || row.name == "friction_speed" ||
+                         row.name == "friction_stiffness";
     if (row.name != "free_rods" && row.name != "damping_auto" &&
         row.name != "implicit_max_splits" && row.name != "torsion_torque" &&
         row.name != "implicit_linearisation" && !contact) {

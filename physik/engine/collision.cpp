@@ -270,8 +270,11 @@ void CollisionWorld::Impl::box_contacts(const Scene& scene, const BoneFrames& f,
       Contact c;
       c.bone = i;
       c.obstacle = static_cast<int>(o);
+      c.feature = 0;
       sphere_in_box(box, box_tf, f.head_world[i], r, c, out);
+      c.feature = 1;
       sphere_in_box(box, box_tf, f.tail_world[i], r, c, out);
+      c.feature = 2;
       const double t = deepest_along(qa, qb, b.half_extents);
       const double ends = std::min(box_signed_distance(qa, b.half_extents),
                                    box_signed_distance(qb, b.half_extents));
@@ -291,9 +294,11 @@ void ground_contacts(const Scene& scene, const BoneFrames& f, std::vector<Contac
   const Vec3& n = g.normal_world;
   for (int i = 0; i < scene.rig.nbone; ++i) {
     const double r = scene.rig.bone_collision_radius[i];
-    for (const Vec3* e : {&f.head_world[i], &f.tail_world[i]}) {
+    for (int end = 0; end < 2; ++end) {
+      const Vec3* e = end == 0 ? &f.head_world[i] : &f.tail_world[i];
       Contact c;
       c.bone = i;
+      c.feature = end;
       c.normal_world = n;
       c.depth = r - (n.dot(*e) - g.height);
       if (!(c.depth > 0.0)) continue;

@@ -63,6 +63,9 @@ struct Contact {
   int bone = -1;                      // body a
   int other_bone = -1;                // body b when it is a bone; -1: static (ground, obstacle)
   int obstacle = -1;                  // body b's index in CollisionSettings::obstacles, or -1
+  int feature = 0;                    // which of the pair's contacts: against the ground or a box,
+                                      //   0 the head's end sphere, 1 the tail's, 2 the segment's
+                                      //   deepest point (a box's edge); 0 between two bones
   Vec3 point_world = Vec3::Zero();    // rig units, midway between the two surfaces
   Vec3 normal_world = Vec3::UnitZ();  // unit, from body b toward body a
   double depth = 0.0;                 // rig units, > 0

@@ -2,6 +2,7 @@
 #include "physik/engine/contacts.h"
 
 #include <algorithm>
+#include <tuple>
 
 #include "physik/engine/measures.h"
 #include "physik/engine/newton_euler.h"
@@ -53,6 +54,86 @@ double self_contact_damping_cap(const Rig& rig, const SimState& s, const Contact
   return 1.0 / (h * w);
 }
 
+// the order the force stage lists a state's contacts in (collision.h detect): the ground's, the
+// obstacles' by obstacle, then the bone pairs'; each by bone, then feature
+bool contact_before(const FrictionAnchor& a, const Contact& c) {
+  const auto group = [](int other_bone, int obstacle) {
+    return other_bone >= 0 ? 2 : (obstacle >= 0 ? 1 : 0);
+  };
+  return std::make_tuple(group(a.other_bone, a.obstacle), a.obstacle, a.bone, a.other_bone,
+                         a.feature) < std::make_tuple(group(c.other_bone, c.obstacle), c.obstacle,
+                                                      c.bone, c.other_bone, c.feature);
+}
+
+bool same_contact(const FrictionAnchor& a, const Contact& c) {
+  return a.bone == c.bone && a.other_bone == c.other_bone && a.obstacle == c.obstacle &&
+         a.feature == c.feature;
+}
+
+// the anchor of the last force stage's contact that `c` continues, or null (a new contact)
+const FrictionAnchor* find_anchor(const std::vector<FrictionAnchor>& anchors, const Contact& c) {
+  const auto it = std::lower_bound(anchors.begin(), anchors.end(), c, contact_before);
+  return it != anchors.end() && same_contact(*it, c) ? &*it : nullptr;
+}
+
+Vec3 clamp_length(const Vec3& x, double limit) {
+  const double len = x.norm();
+  return len > limit ? Vec3(x * (limit / len)) : x;
+}
+
+// the stretch an anchor's spring is carried to now, before its limit: stretch + step v_t, v_t the
+// tangential relative velocity at its point now; rig units
+Vec3 carried_stretch(const SimState& s, const FrictionAnchor& a) {
+  Vec3 v = point_velocity(s, a.bone, a.point_world);
+  if (a.other_bone >= 0) v -= point_velocity(s, a.other_bone, a.point_world);
+  const Vec3& n = a.normal_world;
+  return a.stretch_world + a.step * (v - v.dot(n) * n);
+}
+
+// its stretch now: at most its limit (the contact slips there)
+Vec3 current_stretch(const SimState& s, const FrictionAnchor& a) {
+  return clamp_length(carried_stretch(s, a), a.limit);
+}
+
+// a ground or obstacle contact's anchor spring at this force stage: the stretch carried over
+// from the contact it continues, turned into this contact's tangent plane and held at `limit`
+// (mu F_n / k_t), and whether it slips; the contact's anchor is listed for the next force stage
+struct AnchorNow {
+  Vec3 stretch = Vec3::Zero();  // rig units
+  bool slipping = false;        // it slid over the last step, and slides on
+};
+
+AnchorNow anchor_contact(SimState& s, const Contact& c, double limit, double h) {
+  AnchorNow out;
+  const Vec3& n = c.normal_world;
+  if (const FrictionAnchor* a = find_anchor(s.friction_anchors, c)) {
+    out.stretch = carried_stretch(s, *a);
+    out.stretch -= out.stretch.dot(n) * n;
+    out.slipping = out.stretch.norm() >= limit;
+    out.stretch = clamp_length(out.stretch, limit);
+  }
+  FrictionAnchor next;
+  next.bone = c.bone;
+  next.other_bone = c.other_bone;
+  next.obstacle = c.obstacle;
+  next.feature = c.feature;
+  next.point_world = c.point_world;
+  next.normal_world = n;
+  next.stretch_world = out.stretch;
+  next.step = h;
+  next.limit = limit;
+  s.friction_anchors_next.push_back(next);
+  return out;
+}
+
+// the anchor spring's stiffness, N/m: k_t along the tangent plane, but none along the slip of a
+// slipping one (it pulls a constant mu F_n there)
+Mat3 anchor_stiffness(const AnchorNow& anchor, const Mat3& tangent, double k_t) {
+  if (!anchor.slipping) return k_t * tangent;
+  const Vec3 slip = anchor.stretch.normalized();
+  return k_t * (tangent - slip * slip.transpose());
+}
+
 }  // namespace
 
 void apply_gravity(const Scene& scene, SimState& s) {
@@ -64,7 +145,11 @@ void apply_gravity(const Scene& scene, SimState& s) {
 void apply_contacts(const Scene& scene, SimState& s, double h) {
   s.contact_elements.clear();
   s.contacts.clear();
-  if (!scene.collision.any()) return;
+  s.friction_anchors_next.clear();
+  if (!scene.collision.any()) {
+    s.friction_anchors.clear();
+    return;
+  }
   s.collision_world.detect(scene, s.frames, s.contacts);
   if (scene.collision.self_collision) count_self_contacts(scene.rig, s);
   const EngineParams& p = scene.params;
@@ -81,21 +166,34 @@ void apply_contacts(const Scene& scene, SimState& s, double h) {
     c.normal_force = std::max(fn, 0.0);
     if (!(fn > 0.0)) continue;  // separating faster than the spring pushes: no force
     const Vec3 vt = v - vn * n;
-    double friction_damping = p.friction * fn / std::max(vt.norm(), p.friction_speed);
+    const double coulomb = p.friction * fn;  // N, the most the friction can pull
+    // static friction (a ground or obstacle contact)
+    const bool anchored = !self && p.friction_stiffness > 0.0 && coulomb > 0.0;
+    const AnchorNow anchor =
+        anchored ? anchor_contact(s, c, coulomb / p.friction_stiffness, h) : AnchorNow{};
+    const Vec3& stretch = anchor.stretch;
+    // the viscous share: what the spring leaves of mu F_n, over max(|v_t|, v_s)
+    const double spring_pull = p.friction_stiffness * stretch.norm();
+    double friction_damping =
+        std::max(coulomb - spring_pull, 0.0) / std::max(vt.norm(), p.friction_speed);
     if (self) friction_damping = std::min(friction_damping, cap);
-    const Vec3 f = fn * n - friction_damping * vt;
+    const Vec3 f = fn * n - p.friction_stiffness * stretch - friction_damping * vt;
     apply_force_at(s, c.bone, f, c.point_world);
     if (self) apply_force_at(s, c.other_bone, -f, c.point_world);
     // the implicit step's element (contacts.h): a self-contact's spring alone
     const Mat3 nn = n * n.transpose();
+    const Mat3 tangent = Mat3::Identity() - nn;
     ContactElement e;
     e.bone = c.bone;
     e.other_bone = c.other_bone;
     e.point_world = c.point_world;
     e.stiffness = p.contact_k * nn;
-    if (!self) e.damping = damping * nn + friction_damping * (Mat3::Identity() - nn);
+    if (anchored) e.stiffness += anchor_stiffness(anchor, tangent, p.friction_stiffness);
+    if (!self) e.damping = damping * nn + friction_damping * tangent;
     s.contact_elements.push_back(e);
   }
+  // the anchors, in the contacts' order (collision.h detect), for the next force stage
+  std::swap(s.friction_anchors, s.friction_anchors_next);
 }
 
 Vec3 gravity_reference(const Scene& scene) {
@@ -122,10 +220,18 @@ double contact_potential(const Scene& scene, const std::vector<Contact>& contact
   return u;
 }
 
+double friction_potential(const Scene& scene, const SimState& s) {
+  double u = 0.0;
+  for (const FrictionAnchor& a : s.friction_anchors) {
+    u += 0.5 * scene.params.friction_stiffness * current_stretch(s, a).squaredNorm();
+  }
+  return u;
+}
+
 double contact_potential(const Scene& scene, const SimState& s) {
   if (!scene.collision.any()) return 0.0;
   s.collision_world.detect(scene, s.frames, s.contact_scratch);
-  return contact_potential(scene, s.contact_scratch);
+  return contact_potential(scene, s.contact_scratch) + friction_potential(scene, s);
 }
 
 Penetration penetration(const Scene& scene, const std::vector<Contact>& contacts) {

@@ -24,6 +24,7 @@ void save(const SimState& s, JointStateSnapshot& snap) {
   std::copy(s.joint_vel_local.begin(), s.joint_vel_local.end(), snap.joint_vel_local.begin());
   std::copy(s.pose.bone_local_rotation.begin(), s.pose.bone_local_rotation.end(),
             snap.bone_local_rotation.begin());
+  snap.friction_anchors = s.friction_anchors;  // keeps its capacity: no allocation once grown
 }
 
 void restore(const Rig& rig, const JointStateSnapshot& snap, SimState& s) {
@@ -33,6 +34,7 @@ void restore(const Rig& rig, const JointStateSnapshot& snap, SimState& s) {
   std::copy(snap.joint_vel_local.begin(), snap.joint_vel_local.end(), s.joint_vel_local.begin());
   std::copy(snap.bone_local_rotation.begin(), snap.bone_local_rotation.end(),
             s.pose.bone_local_rotation.begin());
+  s.friction_anchors = snap.friction_anchors;
   world_from_joint_space(rig, s);
 }
 

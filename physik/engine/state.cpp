@@ -39,6 +39,8 @@ void size_state(const Rig& rig, std::size_t ncontrol, SimState& s) {
   s.contacts.clear();
   s.contact_elements.clear();
   s.contact_scratch.clear();
+  s.friction_anchors.clear();
+  s.friction_anchors_next.clear();
   s.damping_auto_value = 0.0;
   s.damping_auto_updates = 0;
 

@@ -12,13 +12,29 @@
 
 namespace physik {
 
+// A contact's static friction (contacts.h): its tangential anchor spring's stretch, as the last
+// force stage left it. The stretch now is stretch_world + step v_t, v_t the relative velocity at
+// point_world now, tangent to normal_world, no longer than limit (contacts.h current_stretch).
+struct FrictionAnchor {
+  int bone = -1;  // the contact's bodies and feature (collision.h Contact)
+  int other_bone = -1;
+  int obstacle = -1;
+  int feature = 0;
+  Vec3 point_world = Vec3::Zero();    // rig units, the contact point at that force stage
+  Vec3 normal_world = Vec3::UnitZ();  // unit, its normal then
+  Vec3 stretch_world = Vec3::Zero();  // rig units, the spring's stretch then, tangent to normal
+  double step = 0.0;                  // s, the step that force stage was taken over
+  double limit = 0.0;                 // rig units, mu F_n / k_t: the stretch at which it slips
+};
+
 // The joint-space state at the start of an implicit (sub)step, to undo it (implicit_advance.h).
 struct JointStateSnapshot {
   Vec3 root_com_world = Vec3::Zero();
   Vec3 root_vel_world = Vec3::Zero();
   Quat root_orient_world = Quat::Identity();
-  std::vector<Vec3> joint_vel_local;      // (nbone)
-  std::vector<Quat> bone_local_rotation;  // (nbone)
+  std::vector<Vec3> joint_vel_local;             // (nbone)
+  std::vector<Quat> bone_local_rotation;         // (nbone)
+  std::vector<FrictionAnchor> friction_anchors;  // the contacts' static friction (contacts.h)
 };
 
 // Which of the pose terms the implicit step with implicit_linearisation full keeps
@@ -116,6 +132,9 @@ struct SimState {
   std::vector<ContactElement> contact_elements;  // those that push, for the implicit step
   std::vector<int> self_contact_count;           // (nbone) bone-bone contacts per bone, found by
                                                  //   the last force stage (contacts.h's cap)
+  std::vector<FrictionAnchor> friction_anchors;  // the static friction of the last force stage's
+                                                 //   contacts that push, in their detection order
+  std::vector<FrictionAnchor> friction_anchors_next;  // the force stage's scratch
   // FCL's objects, and the contacts of a potential's query (a measure of a const state detects
   // too: contact_potential); built by init_state, so the steps allocate nothing for them
   mutable CollisionWorld collision_world;

@@ -374,7 +374,8 @@ void read_old_scheme_keys(const JsonContext& ctx, const Json& params,
 
 std::string contact_param_conflict(const Scene& s, const std::string& name) {
   if (s.collision.any()) return "";
-  for (const char* row : {"contact_k", "contact_damping", "friction", "friction_speed"}) {
+  for (const char* row :
+       {"contact_k", "contact_damping", "friction", "friction_speed", "friction_stiffness"}) {
     if (name == row) {
       return "applies only to a scene with a ground, obstacles or \"self_collision\": true";
     }

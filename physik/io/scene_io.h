@@ -31,7 +31,8 @@ EngineParams params_from_json(const nlohmann::json& params, const std::string& s
                               std::vector<std::string>* given_out = nullptr);
 nlohmann::json params_to_json(const EngineParams& p);
 // Why a parameter given explicitly would not be used by this scene ("" when it would): the
-// contact rows (contact_k, contact_damping, friction, friction_speed) take part only in a scene
+// contact rows (contact_k, contact_damping, friction, friction_speed,
+// friction_stiffness) take part only in a scene
 // with a ground or self-collision. scene_from_json refuses them; so does Scene.update.
 std::string contact_param_conflict(const Scene& scene, const std::string& name);
 // One value as the scene format writes it: a number, an integer, true/false or the choice's name.

@@ -351,8 +351,10 @@ std::vector<ParamRow> interpolation_rows() {
 // default, so older scenes' summaries stay as they were). The defaults, the same in every preset: k
 // such that a 1 kg bone under 9.81 sinks by about 1e-3 rig units; c the critical damping of a
 // quarter of that mass on k (a bone's end point: 1/m_eff = 1/m + (L/2)^2 / (m L^2 / 12) = 4/m); mu
-// 1 as MuJoCo's; below 0.01 rig units/s of slip the friction is viscous. The explicit schemes are
-// stable only for dt < 2 sqrt(m_eff / k) (0.01 s for these); the implicit one at any dt.
+// 1 as MuJoCo's; below 0.01 rig units/s of slip the friction is viscous; the static friction's
+// anchor spring as stiff as the normal one (a tangential load T moves a stuck contact by T / k_t,
+// as a normal load sinks it). The explicit schemes are stable only for dt < 2 sqrt(m_eff / k)
+// (0.01 s for these); the implicit one at any dt.
 std::vector<ParamRow> contact_rows() {
   return {
       omitted_at_default(row<&E::contact_k>(
@@ -370,6 +372,10 @@ std::vector<ParamRow> contact_rows() {
           "friction_speed", "rig units/s", {0.01, 0.01, 0.01}, kPositive,
           "contacts: friction is viscous below this slip speed (mu F_n v / speed), full "
           "Coulomb above")),
+      omitted_at_default(row<&E::friction_stiffness>(
+          "friction_stiffness", "N/m", {0.0, 0.0, 0.0}, kNonNegative,
+          "contacts: static friction, a tangential spring k_t from where the contact stuck, "
+          "slipping beyond mu F_n (0: none, the viscous law alone)")),
   };
 }
 

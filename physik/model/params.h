@@ -99,11 +99,13 @@ struct EngineParams {
   double interpolation_fallback;  // rig units: polar falls back to linear this near the origin
   // contacts (physik/engine/contacts.h), read only by scenes with a ground or self_collision: a
   // penalty spring and damper along the normal, regularised Coulomb friction
-  double contact_k;        // N/m, normal stiffness of each contact
-  double contact_damping;  // N s/m, normal damping of each contact
-  double friction;         // 1, Coulomb coefficient mu
-  double friction_speed;   // rig units/s, slip speed below which friction is viscous
-                           //    (mu F_n / friction_speed per unit slip speed)
+  double contact_k;           // N/m, normal stiffness of each contact
+  double contact_damping;     // N s/m, normal damping of each contact
+  double friction;            // 1, Coulomb coefficient mu
+  double friction_speed;      // rig units/s, slip speed below which friction is viscous
+                              //    (mu F_n / friction_speed per unit slip speed)
+  double friction_stiffness;  // N/m, the static friction's tangential anchor spring k_t (0:
+                              //    none, the regularised law alone)
 
   int passes_cap(int nbone) const { return max_passes > 0 ? max_passes : 5 * nbone * nbone; }
   // the state is the joint-space one of the articulated-body recursion (exact and implicit)
