@@ -122,6 +122,32 @@ nlohmann::json summary_fields(const nlohmann::json& summary) {
   return out;
 }
 
+// the scene's ground plane and box obstacles, each only where the scene has it (the page draws
+// them; other runs' JSON stays as it was)
+void add_world(const Scene& s, nlohmann::json& out) {
+  // the ground plane
+  if (s.collision.ground) {
+    const GroundPlane& g = *s.collision.ground;
+    out["ground"] = {{"height", g.height},
+                     {"normal", {g.normal_world.x(), g.normal_world.y(), g.normal_world.z()}}};
+  }
+  // the box obstacles, each in its own frame: centre and half extents in rig units, world frame,
+  // along the box's own axes, and the rotation turning those axes into the world
+  // (physik/model/scene.h BoxObstacle) as a unit quaternion in three.js's order, x y z w
+  if (!s.collision.obstacles.empty()) {
+    nlohmann::json boxes = nlohmann::json::array();
+    for (const BoxObstacle& b : s.collision.obstacles) {
+      const Quat q = b.orient_world.normalized();
+      boxes.push_back(
+          {{"name", b.name},
+           {"center", {b.center_world.x(), b.center_world.y(), b.center_world.z()}},
+           {"half_extents", {b.half_extents.x(), b.half_extents.y(), b.half_extents.z()}},
+           {"quaternion", {q.x(), q.y(), q.z(), q.w()}}});
+    }
+    out["boxes"] = boxes;
+  }
+}
+
 nlohmann::json run_json(const ViewRun& r) {
   const Rig& rig = r.scene.rig;
   nlohmann::json cps = {{"names", nlohmann::json::array()},
@@ -153,12 +179,7 @@ nlohmann::json run_json(const ViewRun& r) {
       {"targets", b64(r.targets)},
       {"limit_excess",
        r.limit_excess.empty() ? nlohmann::json(nullptr) : nlohmann::json(b64(r.limit_excess))}};
-  // the scene's ground plane, only where it has one (the page draws it; others stay as they were)
-  if (r.scene.collision.ground) {
-    const GroundPlane& g = *r.scene.collision.ground;
-    out["ground"] = {{"height", g.height},
-                     {"normal", {g.normal_world.x(), g.normal_world.y(), g.normal_world.z()}}};
-  }
+  add_world(r.scene, out);
   // the contacts of each frame, only where the folder has contacts.csv
   if (r.has_contacts) {
     out["contacts"] = {{"start", b64(r.contact_start)},

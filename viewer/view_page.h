@@ -13,6 +13,9 @@
 // readouts, excess and contact values; Float64 times; Int32 steps, indices and each frame's
 // first contact, run_reader.h ViewRun): a 100-bone, 10,000-frame run
 // is 24 MB of positions, where decimal JSON would be about twice that and slower to parse.
+// A run whose scene has a ground has "ground" (height, normal), one with box obstacles has
+// "boxes" (name, center, half_extents, quaternion x y z w: scene.h BoxObstacle), one with
+// contacts.csv has "contacts"; other runs have none of these keys.
 #pragma once
 
 #include <string>

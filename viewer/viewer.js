@@ -15,6 +15,10 @@
 //   an impact's force and a resting one differ by orders of magnitude, so a line scaled by the
 //   force hides the resting contacts), in CONTACT_COLOR, over the bodies; the readout gives the
 //   count and the largest normal force;
+// - a scene's box obstacles (scene.h BoxObstacle: centre, half extents along the box's own axes,
+//   the rotation turning those axes into the world) are translucent lit boxes in BOX_COLOR with
+//   opaque edges, each in its own frame; a box several runs' scenes share is drawn once. The
+//   camera frames them with the rig and its targets (and the grid lies under them all);
 // - names come from user files: they are only ever set as text (textContent), never as markup.
 // World Z is up (the rigs' convention); the camera starts in front of the rig (-Y).
 (function () {
@@ -24,6 +28,7 @@
                  '#bcbd22'];
   var HIGHLIGHT = '#e6194b';
   var CONTACT_COLOR = '#ff00ff';
+  var BOX_COLOR = '#d4a017', BOX_EDGE_COLOR = '#8a6a0f', BOX_OPACITY = 0.5;
   var LIMIT_SHOWN_RAD = 0.1 * Math.PI / 180;  // 0.1 deg: round-off never lights a bone
   var SPEEDS = [0.1, 0.25, 0.5, 1, 2, 5, 10, 20, 50, 100];
   var Y_AXIS = new THREE.Vector3(0, 1, 0);
@@ -130,6 +135,14 @@
       ct.appendChild(el('span', 'label', 'contact: the point and its normal'));
       legend.appendChild(ct);
     }
+    var boxes = sceneBoxes(v);
+    if (boxes.length) {
+      var bx = el('span', 'run');
+      bx.appendChild(swatch(BOX_COLOR));
+      bx.appendChild(el('span', 'label', (boxes.length === 1 ? 'obstacle: ' : 'obstacles: ') +
+          boxes.map(function (b) { return b.name; }).join(', ')));
+      legend.appendChild(bx);
+    }
     return legend;
   }
 
@@ -160,6 +173,9 @@
     c.appendChild(checkbox('target paths', true, function (on) { v.setPathsShown(on); }));
     if (anyContacts(v)) {
       c.appendChild(checkbox('contacts', true, function (on) { v.setContactsShown(on); }));
+    }
+    if (sceneBoxes(v).length) {
+      c.appendChild(checkbox('obstacles', true, function (on) { v.setBoxesShown(on); }));
     }
     return c;
   }
@@ -215,6 +231,21 @@
 
   function anyContacts(v) {
     return v.runs.some(function (r) { return r.contacts !== null; });
+  }
+
+  // every run's box obstacles, a box that several runs give (the same numbers) once
+  function sceneBoxes(v) {
+    var seen = {}, out = [];
+    v.runs.forEach(function (r) {
+      (r.raw.boxes || []).forEach(function (b) {
+        var key = JSON.stringify([b.center, b.half_extents, b.quaternion]);
+        if (!seen[key]) {
+          seen[key] = true;
+          out.push(b);
+        }
+      });
+    });
+    return out;
   }
 
   var READOUT_COLUMNS = ['run', 'step', 'time (s)', 'kinetic energy (J)',
@@ -348,9 +379,18 @@
     return group;
   }
 
-  // The rig's bounds at every run's first frame, with every target: what the camera frames.
-  function initialBounds(runs) {
-    var box = new THREE.Box3(), p = new THREE.Vector3(), maxRadius = 0;
+  // The rig's bounds at every run's first frame, with every target and the corners of every box
+  // obstacle: what the camera frames.
+  function initialBounds(v) {
+    var runs = v.runs, box = new THREE.Box3(), p = new THREE.Vector3(), maxRadius = 0;
+    sceneBoxes(v).forEach(function (b) {
+      var q = new THREE.Quaternion().fromArray(b.quaternion).normalize();
+      for (var k = 0; k < 8; k++) {
+        p.set(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1).multiply(
+            new THREE.Vector3().fromArray(b.half_extents));
+        box.expandByPoint(p.applyQuaternion(q).add(new THREE.Vector3().fromArray(b.center)));
+      }
+    });
     runs.forEach(function (r) {
       for (var k = 0; k < 2 * r.nbone; k++) {
         box.expandByPoint(p.fromArray(r.positions, 3 * k));
@@ -388,6 +428,26 @@
     v.scene.add(floor);
   }
 
+  // each box obstacle in its own frame: a box of its full sides along its axes, turned by its
+  // rotation and moved to its centre (world frame, rig units)
+  function buildBoxes(v) {
+    v.boxGroup = new THREE.Group();
+    var faces = new THREE.MeshLambertMaterial({ color: BOX_COLOR, transparent: true,
+                                               opacity: BOX_OPACITY, depthWrite: false });
+    var edges = new THREE.LineBasicMaterial({ color: BOX_EDGE_COLOR });
+    sceneBoxes(v).forEach(function (b) {
+      var h = b.half_extents, q = b.quaternion;
+      var geo = new THREE.BoxBufferGeometry(2 * h[0], 2 * h[1], 2 * h[2]);
+      var box = new THREE.Group();
+      box.add(new THREE.Mesh(geo, faces));
+      box.add(new THREE.LineSegments(new THREE.EdgesGeometry(geo), edges));
+      box.position.fromArray(b.center);
+      box.quaternion.set(q[0], q[1], q[2], q[3]).normalize();
+      v.boxGroup.add(box);
+    });
+    v.scene.add(v.boxGroup);
+  }
+
   function buildScene(v) {
     v.scene = new THREE.Scene();
     v.scene.background = new THREE.Color(0xf4f5f7);
@@ -395,7 +455,7 @@
     var sun = new THREE.DirectionalLight(0xffffff, 0.55);
     sun.position.set(0.4, -1, 1.2);
     v.scene.add(sun);
-    var box = initialBounds(v.runs);
+    var box = initialBounds(v);
     v.center = box.getCenter(new THREE.Vector3());
     v.extent = Math.max(1e-6, box.getSize(new THREE.Vector3()).length());
     var grid = new THREE.GridHelper(2 * v.extent, 20, 0xb8bcc6, 0xd6d9e0);
@@ -403,6 +463,7 @@
     grid.position.set(v.center.x, v.center.y, box.min.z);
     v.scene.add(grid);
     buildGround(v);
+    buildBoxes(v);
     v.cylinder = new THREE.CylinderBufferGeometry(1, 1, 1, 10, 1, true);
     v.sphere = new THREE.SphereBufferGeometry(1, 10, 7);
     v.runs.forEach(function (run) { buildRunMeshes(v, run); });
@@ -647,6 +708,11 @@
 
   Viewer.prototype.setContactsShown = function (on) {
     this.runs.forEach(function (r) { if (r.contactGroup) r.contactGroup.visible = on; });
+    this.requestRender();
+  };
+
+  Viewer.prototype.setBoxesShown = function (on) {
+    this.boxGroup.visible = on;
     this.requestRender();
   };
 

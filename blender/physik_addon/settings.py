@@ -12,8 +12,8 @@ presets or default change, the panel follows. Damping is a value or "auto" (the 
 
 Without the module nothing here can run the engine (Solve, Simulate and Bake say so), so the
 settings hold only the add-on's own fields (steps per frame, bake every, steps, collide) and
-params_dict is empty. Collide is the scene's `ground` and `self_collision`, not a param
-(scene_dict.collision_dict).
+params_dict is empty. Collide is the scene's `ground`, `self_collision` and `obstacles` (the
+mesh objects of the collection "PhysIK Obstacles"), not a param (scene_dict.collision_dict).
 """
 import struct
 
@@ -111,8 +111,10 @@ def _own_annotations():
         "collide": BoolProperty(
             name="Collide", default=False,
             description="contacts: a floor (normal +Z) at the rig's lowest rest point, where its "
-                        "lowest bone capsule touches, and the bones' capsules against each other "
-                        "(the scene's ground and self_collision); gravity stays off"),
+                        "lowest bone capsule touches, the bones' capsules against each other, and "
+                        "each mesh in the collection 'PhysIK Obstacles' as a box (its oriented "
+                        "bounding box) (the scene's ground, self_collision and obstacles); "
+                        "gravity stays off"),
     }
 
 

@@ -7,7 +7,9 @@ The add-on is enabled from the repository folder: blender/ goes on sys.path and
 addon_utils.enable("physik_addon") imports and registers it (test_install.py covers the zip).
 What is checked: the rig read from the paper's pinhead.blend against models/rigs/pinhead.json;
 rig files round-tripping through an armature; control-point empties; poses, keyframes and reset;
-every bad input giving one Blender error report and no traceback; the missing engine reported.
+Collide's floor, self-collision and box obstacles (the meshes of "PhysIK Obstacles", each box's
+corners the mesh's world vertices); every bad input giving one Blender error report and no
+traceback; the missing engine reported.
 Tolerances: positions and frames 1e-6 (Blender keeps them in single precision: ~1e-7 of their
 size), limits 1e-6 rad (Blender keeps radians in single precision: 160 deg comes back as
 159.9999953 deg, 8e-8 rad off); against the 4-decimal pinhead.json, 1e-4.
@@ -25,7 +27,7 @@ from mathutils import Quaternion, Vector
 
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from blender_harness import clear_scene, enable_addon, script_args  # noqa: E402
+from blender_harness import box_mesh, clear_scene, enable_addon, script_args  # noqa: E402
 from test_rig_format import EVERY_FIELD  # noqa: E402
 
 ARGS = script_args((["--shared"], {"default": None, "help": "folder with data/pinhead.blend"}))
@@ -53,6 +55,31 @@ def angle_between(q1, q2):
 
 def max_diff(a, b):
     return max(abs(x - y) for x, y in zip(a, b))
+
+
+def rotation_matrix(rotation_deg):
+    """The rotation of a rotation vector in degrees (the scene format's `rotation_deg`), in double
+    precision: Rodrigues, R = I + sin(a) K + (1 - cos(a)) K^2, K the unit axis's cross matrix."""
+    v = [math.radians(x) for x in rotation_deg]
+    a = math.sqrt(sum(x * x for x in v))
+    if a == 0.0:
+        return [[float(r == c) for c in range(3)] for r in range(3)]
+    x, y, z = (c / a for c in v)
+    k = [[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]]
+    k2 = [[sum(k[r][m] * k[m][c] for m in range(3)) for c in range(3)] for r in range(3)]
+    return [[(r == c) + math.sin(a) * k[r][c] + (1.0 - math.cos(a)) * k2[r][c] for c in range(3)]
+            for r in range(3)]
+
+
+def box_corners(box):
+    """A scene box's 8 world corners: center + R (+-a, +-b, +-c)."""
+    r = rotation_matrix(box.get("rotation_deg", [0, 0, 0]))
+    h, c = box["half_extents"], box["center"]
+    out = []
+    for k in range(8):
+        local = [h[a] * (1 if k >> a & 1 else -1) for a in range(3)]
+        out.append([c[i] + sum(r[i][a] * local[a] for a in range(3)) for i in range(3)])
+    return out
 
 
 def run_op(op, **kw):
@@ -582,7 +609,47 @@ class TestSettingsAndScene(Base):
         self.assertAlmostEqual(scene["ground"]["height"], 1.5 - 0.12, delta=POS_TOL)
         self.assertIs(scene["self_collision"], True)
         self.assertNotIn("gravity", scene)  # the add-on has no gravity setting
+        self.assertNotIn("obstacles", scene)  # no collection "PhysIK Obstacles"
         json.dumps(scene)
+
+    def assert_box_of(self, box, obj):
+        """The box's corners are the mesh's world vertices (each to the nearest, both ways)."""
+        corners = box_corners(box)
+        verts = [list(obj.matrix_world @ v.co) for v in obj.data.vertices]
+        for a, b in ((verts, corners), (corners, verts)):
+            for p in a:
+                self.assertLess(min(math.dist(p, q) for q in b), POS_TOL, (obj.name, p, box))
+
+    def test_collide_makes_the_obstacle_collections_meshes_boxes(self):
+        _, arm = build("elbow")
+        seat = box_mesh("seat")  # Blender's cube, turned and scaled
+        seat.location, seat.rotation_euler, seat.scale = (1, 2.5, 0.5), (0.3, -0.2, 0.7), (
+            0.5, 1.5, 0.25)
+        # a box off its origin, mirrored, under an empty (in the collection: not a mesh, left
+        # out) turned and scaled 2
+        holder = bpy.data.objects.new("holder", None)
+        bpy.data.collections["PhysIK Obstacles"].objects.link(holder)
+        holder.location, holder.rotation_euler, holder.scale = (-3, 1, 0), (0, 0, 0.5), (2, 2, 2)
+        shelf = box_mesh("shelf", lo=(0, 0, 0), hi=(2, 1, 0.2))
+        shelf.parent = holder
+        shelf.location, shelf.scale = (0.5, 0, 1), (-1, 1, 1)
+        box_mesh("elsewhere", collection="Not obstacles")
+        bpy.context.scene.physik.collide = True
+        try:
+            scene = self.scene_of(arm, "forearm")
+        finally:
+            bpy.context.scene.physik.collide = False
+        self.assertEqual([o["name"] for o in scene["obstacles"]], ["seat", "shelf"])
+        seat_box, shelf_box = (o["box"] for o in scene["obstacles"])
+        self.assertLess(max_diff(seat_box["center"], (1, 2.5, 0.5)), POS_TOL)
+        self.assertLess(max_diff(seat_box["half_extents"], (0.5, 1.5, 0.25)), POS_TOL)
+        self.assertLess(max_diff(shelf_box["half_extents"], (2, 1, 0.2)), POS_TOL)  # x 2
+        self.assert_box_of(seat_box, seat)
+        self.assert_box_of(shelf_box, shelf)
+        self.assertIn("ground", scene)  # with the floor and self-collision
+        self.assertIs(scene["self_collision"], True)
+        json.dumps(scene)
+        self.assertNotIn("obstacles", self.scene_of(arm, "upper_arm"))  # Collide off
 
     def test_collide_takes_a_bones_own_collision_radius(self):
         # chain3 (three bones of length 1 up from z = 0) with the root's capsule 0.25 wide; a pose
@@ -682,6 +749,39 @@ class TestBadInput(Base):
         with tempfile.TemporaryDirectory() as tmp:
             msg = run_op(bpy.ops.physik.export_rig, filepath=os.path.join(tmp, "x.json"))
         self.assert_report(msg, "bone 'fore,arm'", "field 'name'", "the bones CSV")
+
+    def test_an_obstacle_that_is_no_box(self):
+        self.armature_with_point()
+
+        def flat():  # a plane
+            return box_mesh("flat", lo=(-1, -1, 0), hi=(1, 1, 0))
+
+        def squashed():
+            obj = box_mesh("squashed")
+            obj.scale = (1, 0, 1)
+            return obj
+
+        def sheared():  # turned under a parent scaled unevenly
+            holder = bpy.data.objects.new("holder", None)
+            bpy.context.scene.collection.objects.link(holder)
+            holder.scale = (1, 3, 1)
+            obj = box_mesh("sheared")
+            obj.parent, obj.rotation_euler = holder, (0, 0, 0.5)
+            return obj
+
+        bpy.context.scene.physik.collide = True
+        try:
+            for make, field, why in ((flat, "field 'dimensions'", "no thickness along its local z"),
+                                     (squashed, "field 'dimensions'", "along its local y axis"),
+                                     (sheared, "field 'scale'", "its axes are sheared")):
+                obj = make()
+                for op in self.ENGINE_OPS:
+                    self.assert_report(run_op(getattr(bpy.ops.physik, op)),
+                                       "obstacle '%s' (collection 'PhysIK Obstacles')" % obj.name,
+                                       field, why)
+                bpy.data.objects.remove(obj)
+        finally:
+            bpy.context.scene.physik.collide = False
 
     def test_other_rig_file_errors(self):
         self.import_bad("{not json", "invalid JSON")

@@ -18,7 +18,9 @@ The add-on reaches `import physik` (on --pythonpath). What is checked:
   - Collide: the scene dict's floor and self-collision run in the engine as in `physik simulate`
     (the same final_state_hash), whose run folder records the ground contacts; the arm pulled
     toward a target below the floor stays on it (its capsules sink less than 0.05 rig units
-    into it) where without Collide it goes through;
+    into it) where without Collide it goes through; a cube in "PhysIK Obstacles" under its way
+    down holds it on the cube's top (as `physik simulate` runs the scene), where the floor alone
+    lets it lower;
   - Blender's undo works across Solve, Bake and Reset: each operator, called as the panel's
     button calls it (with an undo push: bpy.ops.physik.solve('EXEC_DEFAULT', True)), is one undo
     step; bpy.ops.ed.undo() returns the armature to exactly the pose before it (the channels and
@@ -40,7 +42,7 @@ from mathutils import Vector
 
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from blender_harness import clear_scene, enable_addon, script_args  # noqa: E402
+from blender_harness import box_mesh, clear_scene, enable_addon, script_args  # noqa: E402
 
 ARGS = script_args(
     (["--pythonpath"], {"required": True, "help": "the folder holding the physik package"}),
@@ -248,6 +250,28 @@ class TestCollide(Base):
                 rows = list(csv.DictReader(f))
         last = [r for r in rows if int(r["step"]) == cli_summary["steps_run"]]
         self.assertTrue(last and all(r["other_bone"] == "-1" for r in last), last)
+
+    def test_an_obstacle_box_holds_the_arm_above_the_floor(self):
+        # a cube in "PhysIK Obstacles" under the forearm's way down: 2 wide in x, from y = 0.5
+        # to 4, its top at z = 0.5; the forearm's tail (its capsule 0.12) comes to rest on the
+        # top, sinking less than 0.05 into it, where the floor alone lets it down to about 0
+        step = box_mesh("step")
+        step.location, step.scale = (0, 2.25, 0.25), (1, 1.75, 0.25)
+        scene, summary = self.arm_pulled_down(True)
+        self.assertEqual(scene["obstacles"], [{"name": "step", "box": {
+            "center": [0.0, 2.25, 0.25], "half_extents": [1.0, 1.75, 0.25],
+            "rotation_deg": [0.0, 0.0, 0.0]}}])
+        tail = summary["tails_world"][1]  # the forearm's
+        self.assertTrue(0.5 < tail[1] < 4, tail)  # over the box
+        self.assertGreater(tail[2] - 0.12, 0.5 - 0.05, tail)
+        self.assertLess(tail[2] - 0.12, 0.5 + 0.05, tail)  # on it, not held up above it
+        with tempfile.TemporaryDirectory() as tmp:
+            cli_summary, _ = simulate_cli(scene, tmp)
+        self.assertEqual(cli_summary["final_state_hash"], summary["final_state_hash"])
+        clear_scene()  # the box too
+        floor_scene, floor_only = self.arm_pulled_down(True)
+        self.assertNotIn("obstacles", floor_scene)
+        self.assertLess(floor_only["tails_world"][1][2], 0.5, floor_only["tails_world"])
 
     def test_without_collide_the_arm_goes_through(self):
         scene, summary = self.arm_pulled_down(False)

@@ -4,8 +4,9 @@
 ViewCommandTest (no browser): bad input exits 2 naming the folder and what is missing (not a
 folder, not a run folder, an empty trajectory, a short row, rigs with other bones, a contact of
 a bone the rig does not have); long runs are decimated to the cap and the page says so; a run
-folder's contacts.csv is in the page (only where there is one); the page loads nothing (no src
-or href, a content policy that forbids every load).
+folder's contacts.csv is in the page (only where there is one); a scene's box obstacles are in
+the page with their names, centres, half extents and rotations (only where it has some); the
+page loads nothing (no src or href, a content policy that forbids every load).
 
 BrowserTest, in headless Chromium (Debian's chromium, chromium-driver and python3-selenium;
 SwiftShader renders WebGL): the page loads from file:// with no console error and a canvas;
@@ -13,7 +14,10 @@ moving the slider changes the rendered pixels and a paused frame stays the same;
 advances; an overlay of two runs draws both colours; a rig bent past a locked joint is drawn
 in the highlight colour; a rod dropped on the floor (a run with contacts.csv) shows no contact
 marker while it falls and its two end contacts once it lies there, and the contacts toggle
-hides them; a rig, scene, folder and title of hostile names (</script><img ...>)
+hides them; a rod falling onto a turned box obstacle shows the box's colour inside the box's
+outline (its corners from the scene's numbers, projected by the page's camera) and not outside
+it, the "obstacles" toggle hides it, and a scene without a box shows none of its colour; a rig,
+scene, folder and title of hostile names (</script><img ...>)
 show as text and run nothing; REPORT.html (analysis/report.py) shows an experiment's runs in
 the viewer, in an iframe beside its figure, with its hostile title as text. It skips, with a
 message, only where Chromium cannot start.
@@ -26,6 +30,7 @@ import base64
 import colorsys
 import io
 import json
+import math
 import os
 import re
 import shutil
@@ -46,8 +51,9 @@ import headless_chromium  # noqa: E402
 SHOTS = os.environ.get("PHYSIK_VIEWER_SHOTS") or os.path.join(REPO, "build", "viewer_screenshots")
 SKIPPED = 77
 
-# the viewer's colours (viewer/viewer.js PALETTE, HIGHLIGHT, CONTACT_COLOR): hues in degrees
-BLUE, ORANGE, HIGHLIGHT, CONTACT = 205, 28, 346, 300
+# the viewer's colours (viewer/viewer.js PALETTE, HIGHLIGHT, CONTACT_COLOR, BOX_COLOR): hues in
+# degrees
+BLUE, ORANGE, HIGHLIGHT, CONTACT, BOX = 205, 28, 346, 300, 44
 HOSTILE = '</script><img src=x onerror="window.__pwned=1;alert(1)">'
 HOSTILE_BONE = '"><svg onload="window.__pwned=2">'
 HOSTILE_POINT = "<script>window.__pwned=3</script>&amp;,\"tip\""
@@ -100,6 +106,62 @@ def drop_scene(folder):
     with open(path, "w") as f:
         json.dump(scene, f)
     return path
+
+
+# a seat for the rod of drop_scene: its top at z = 0, its long side turned 30 deg about z (the
+# rod, along x, lands across it with both ends on it)
+SEAT = {"name": "seat", "box": {"center": [0.5, 0, -0.1], "half_extents": [0.6, 0.3, 0.1],
+                                "rotation_deg": [0, 0, 30]}}
+# a box away from the rod, turned about all three axes
+SHELF = {"name": "shelf", "box": {"center": [0.2, 3, 0.5], "half_extents": [0.3, 0.2, 0.05],
+                                  "rotation_deg": [10, -20, 35]}}
+
+
+def box_scene(folder, obstacles):
+    """drop_scene's rod falling onto `obstacles` (scene entries) instead of a floor."""
+    path = drop_scene(folder)
+    with open(path) as f:
+        scene = json.load(f)
+    del scene["ground"]
+    scene["obstacles"] = obstacles
+    with open(path, "w") as f:
+        json.dump(scene, f)
+    return path
+
+
+def rotation_matrix(rotation_deg):
+    """The rotation of a rotation vector in degrees (the scene format's `rotation_deg`):
+    Rodrigues, R = I + sin(a) K + (1 - cos(a)) K^2 for the unit axis's cross-product matrix K."""
+    v = [math.radians(x) for x in rotation_deg]
+    a = math.sqrt(sum(x * x for x in v))
+    if a == 0:
+        return [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+    x, y, z = (c / a for c in v)
+    k = [[0, -z, y], [z, 0, -x], [-y, x, 0]]
+    k2 = [[sum(k[r][m] * k[m][c] for m in range(3)) for c in range(3)] for r in range(3)]
+    return [[(r == c) + math.sin(a) * k[r][c] + (1 - math.cos(a)) * k2[r][c] for c in range(3)]
+            for r in range(3)]
+
+
+def rotation_quaternion(rotation_deg):
+    """The same rotation as a unit quaternion, x y z w (w >= 0)."""
+    v = [math.radians(x) for x in rotation_deg]
+    a = math.sqrt(sum(x * x for x in v))
+    if a == 0:
+        return [0.0, 0.0, 0.0, 1.0]
+    return [math.sin(a / 2) * c / a for c in v] + [math.cos(a / 2)]
+
+
+def box_corners(box):
+    """The 8 world corners of a scene box: centre + R (+-a, +-b, +-c), indexed by the signs'
+    bits (bit 0: x, bit 1: y, bit 2: z)."""
+    r = rotation_matrix(box.get("rotation_deg", [0, 0, 0]))
+    h, c = box["half_extents"], box["center"]
+    out = []
+    for k in range(8):
+        local = [h[a] * (1 if k >> a & 1 else -1) for a in range(3)]
+        out.append([c[i] + sum(r[i][a] * local[a] for a in range(3)) for i in range(3)])
+    return out
 
 
 def simulate(scene, out, *extra):
@@ -260,6 +322,31 @@ class ViewCommandTest(unittest.TestCase):
         self.assertNotIn("contacts", page_data(plain)["runs"][0])
         self.assertFalse(os.path.exists(os.path.join(self.run_dir, "contacts.csv")))
 
+    def test_boxes_are_in_the_page_only_where_the_scene_has_them(self):
+        run_dir = simulate(box_scene(os.path.join(self.tmp, "b"), [SEAT, SHELF]),
+                           os.path.join(self.tmp, "boxes"), "--steps", "10")
+        out = os.path.join(self.tmp, "boxes.html")
+        self.assertEqual(physik("view", run_dir, "--out", out)[0], 0)
+        boxes = page_data(out)["runs"][0]["boxes"]
+        self.assertEqual([b["name"] for b in boxes], ["seat", "shelf"])  # the scene's order
+        for got, given in zip(boxes, (SEAT, SHELF)):
+            want = given["box"]
+            for key in ("center", "half_extents"):
+                self.assertEqual(len(got[key]), 3)
+                for g, w in zip(got[key], want[key]):
+                    self.assertAlmostEqual(g, w, delta=1e-12, msg=(given["name"], key))
+            q, wq = got["quaternion"], rotation_quaternion(want["rotation_deg"])
+            sign = 1 if q[3] >= 0 else -1  # q and -q are the same rotation
+            self.assertEqual(len(q), 4)
+            for g, w in zip(q, wq):
+                self.assertAlmostEqual(sign * g, w, delta=1e-12, msg=(given["name"], q, wq))
+        for plain in (self.run_dir,  # no contacts at all
+                      simulate(drop_scene(os.path.join(self.tmp, "d3")),
+                               os.path.join(self.tmp, "ground_only"), "--steps", "5")):
+            page = os.path.join(self.tmp, "no_boxes.html")
+            self.assertEqual(physik("view", plain, "--out", page)[0], 0)
+            self.assertNotIn("boxes", page_data(page)["runs"][0])
+
     def test_a_contact_of_a_bone_the_rig_has_not(self):
         drop = simulate(drop_scene(os.path.join(self.tmp, "d2")), os.path.join(self.tmp, "bad"),
                         "--every", "5")
@@ -282,17 +369,20 @@ class ViewCommandTest(unittest.TestCase):
         self.assertIn("default-src 'none'", parser.policy)
 
 
+def of_hue(rgb, h, tol):
+    """A saturated pixel of hue h (degrees) within tol."""
+    hh, s, v = colorsys.rgb_to_hsv(rgb[0] / 255, rgb[1] / 255, rgb[2] / 255)
+    return s >= 0.35 and v >= 0.15 and abs((360 * hh - h + 180) % 360 - 180) <= tol
+
+
 def hue_counts(png, hues, tol=18):
     """Pixels (of a PNG screenshot) of each hue, in degrees, among the saturated ones."""
     from PIL import Image
     img = Image.open(io.BytesIO(png)).convert("RGB").resize((250, 250))
     counts = {h: 0 for h in hues}
-    for r, g, b in img.getdata():
-        hh, s, v = colorsys.rgb_to_hsv(r / 255, g / 255, b / 255)
-        if s < 0.35 or v < 0.15:
-            continue
+    for rgb in img.getdata():
         for h in hues:
-            if abs((360 * hh - h + 180) % 360 - 180) <= tol:
+            if of_hue(rgb, h, tol):
                 counts[h] += 1
     return counts
 
@@ -312,9 +402,12 @@ class BrowserTest(unittest.TestCase):
         hostile = simulate(chain_scene(t + "/s3", hostile_rig, 3.0, (HOSTILE, HOSTILE_POINT)),
                            os.path.join(t, HOSTILE_FOLDER), "--every", "2")
         drop = simulate(drop_scene(t + "/s4"), t + "/drop", "--every", "2")
+        seated = simulate(box_scene(t + "/s5", [SEAT]), t + "/seated", "--every", "2")
         cls.pages = {"single": t + "/single.html", "overlay": t + "/overlay.html",
-                     "hostile": t + "/hostile.html", "drop": t + "/drop.html"}
+                     "hostile": t + "/hostile.html", "drop": t + "/drop.html",
+                     "seated": t + "/seated.html"}
         for args in ([right, "--out", cls.pages["single"]], [drop, "--out", cls.pages["drop"]],
+                     [seated, "--out", cls.pages["seated"]],
                      [right, left, "--out", cls.pages["overlay"]],
                      [hostile, "--title", HOSTILE, "--out", cls.pages["hostile"]]):
             status, err = physik("view", *args)
@@ -438,6 +531,65 @@ class BrowserTest(unittest.TestCase):
         box.click()
         self.assertGreater(hue_counts(self.settled_canvas(canvas), (CONTACT,), tol=10)[CONTACT],
                            20)
+        self.assertEqual(self.errors(), [])
+
+    def box_pixels(self, canvas, box, tol=10):
+        """Pixels of the box colour on the canvas, (inside, outside) the box's outline: its six
+        faces with their corners from the scene's numbers (box_corners, not the page's),
+        projected by the viewer's camera, the outline widened by 3 pixels (anti-aliasing)."""
+        from PIL import Image, ImageDraw
+        img = Image.open(io.BytesIO(self.settled_canvas(canvas))).convert("RGB")
+        width, points = self.js(
+            "var v = window.physikViewers[0], c = v.renderer.domElement;"
+            "return [c.clientWidth, arguments[0].map(function (p) {"
+            "  var n = new THREE.Vector3(p[0], p[1], p[2]).project(v.camera);"
+            "  return [(n.x + 1) / 2 * c.clientWidth, (1 - n.y) / 2 * c.clientHeight]; })];",
+            box_corners(box))
+        scale = img.width / width  # screenshot pixels per CSS pixel
+        points = [(x * scale, y * scale) for x, y in points]
+        mask = Image.new("L", img.size, 0)
+        draw = ImageDraw.Draw(mask)
+        for a in range(3):  # the faces at -1 and +1 along axis a: corners in a cycle
+            b, c = [x for x in range(3) if x != a]
+            for side in (0, 1):
+                face = [points[side << a | i << b | j << c] for i, j in ((0, 0), (1, 0), (1, 1),
+                                                                         (0, 1))]
+                draw.polygon(face, fill=255)
+                draw.line(face + face[:1], fill=255, width=int(round(6 * scale)) + 1)
+        inside = outside = 0
+        for rgb, m in zip(img.getdata(), mask.getdata()):
+            if of_hue(rgb, BOX, tol):
+                if m:
+                    inside += 1
+                else:
+                    outside += 1
+        return inside, outside, sum(1 for m in mask.getdata() if m)
+
+    def test_a_box_obstacle_is_drawn_where_the_scene_puts_it(self):
+        canvas = self.load("seated")
+        last = self.js("return window.physikViewers[0].times.length - 1")
+        for frame in (0, last):  # falling toward it, lying on it
+            self.js("window.physikViewers[0].setFrame(arguments[0]);", frame)
+            inside, outside, area = self.box_pixels(canvas, SEAT["box"])
+            self.shot("box_frame%d" % frame)
+            self.assertGreater(inside, area // 2, (frame, inside, outside, area))
+            self.assertLessEqual(outside, area // 100, (frame, inside, outside, area))
+        legend = self.driver.find_element("css selector", ".physik-viewer .legend").text
+        self.assertIn("obstacle: seat", legend)
+        toggle = self.driver.find_element(
+            "xpath", "//label[contains(., 'obstacles')]/input[@type='checkbox']")
+        toggle.click()  # the toggle hides it
+        self.assertEqual(self.box_pixels(canvas, SEAT["box"])[:2], (0, 0))
+        toggle.click()
+        self.assertGreater(self.box_pixels(canvas, SEAT["box"])[0], 0)
+        self.assertEqual(self.errors(), [])
+
+    def test_no_box_where_the_scene_has_none(self):
+        canvas = self.load("drop")  # a floor, and no box
+        self.js("var v = window.physikViewers[0]; v.setFrame(v.times.length - 1);")
+        self.assertEqual(hue_counts(self.settled_canvas(canvas), (BOX,), tol=10)[BOX], 0)
+        self.assertEqual(self.driver.find_elements(
+            "xpath", "//label[contains(., 'obstacles')]"), [])
         self.assertEqual(self.errors(), [])
 
     def test_hostile_names_show_as_text_and_run_nothing(self):
