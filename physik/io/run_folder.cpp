@@ -56,7 +56,9 @@ RunFolderWriter::RunFolderWriter(const Scene& scene, const std::string& dir,
                                  const std::string& option)
     : scene_(scene), dir_(dir), option_(option) {
   create_output_dir(dir, option);
-  write_json(scene_to_json(scene, /*rig_inline=*/true), dir + "/" + kSceneFile);
+  nlohmann::json doc = scene_to_json(scene, /*rig_inline=*/true);
+  doc["params"] = params_as_run_json(scene);  // as summary.json: every row the run reads
+  write_json(doc, dir + "/" + kSceneFile);
   trajectory_ = open_output_file(dir + "/" + kTrajectoryFile, option);
   targets_limits_ = open_output_file(dir + "/" + kTargetsLimitsFile, option);
 }
