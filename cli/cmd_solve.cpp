@@ -134,10 +134,15 @@ void add_solve_options(CLI::App* cmd, SolveOptions& o) {
     }
     const std::string def = solve_option_default_text(row);
     if (!def.empty()) help += " [default: " + def + "]";
+    // the values are read as text (parse_solve_option checks them by the row), so the help's
+    // type name is the row's kind, not CLI11's TEXT for a string
     if (row.kind == SolveOptionKind::kVec3) {
-      cmd->add_option(flag, o.vectors[row.name], help)->expected(3);
+      cmd->add_option(flag, o.vectors[row.name], help)->expected(3)->type_name("FLOAT");
     } else {
-      cmd->add_option(flag, o.texts[row.name], help);
+      cmd->add_option(flag, o.texts[row.name], help)
+          ->type_name(row.kind == SolveOptionKind::kReal      ? "FLOAT"
+                      : row.kind == SolveOptionKind::kInteger ? "INT"
+                                                              : "TEXT");
     }
   }
 }

@@ -288,6 +288,10 @@ PY
 
 # physik solve: classic IK solvers and the engine on a scene's control points
 check "solve help" 0 "$bin" solve --help
+# numeric options name their type (the solve options are read as text, then checked by their row)
+expect_in "solve help: a real option is FLOAT" "$tmp/out" "--tol FLOAT"
+expect_in "solve help: an integer option is INT" "$tmp/out" "--max-iterations INT"
+expect_in "solve help: three numbers" "$tmp/out" "--gravity FLOAT x 3"
 check "solve bad solver" 2 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" --solver newton --out "$tmp/solve"
 expect_in "solve bad solver message" "$tmp/err" "--solver: unknown value 'newton' (expected fabrik|ccd"
 check "solve missing scene" 2 "$bin" solve "$tmp/none.json" --solver dls --out "$tmp/solve"
