@@ -6,6 +6,12 @@
 
 namespace physik::cli {
 
+// Every command's --help ends with this (main.cpp sets it as the app's footer before the
+// commands are added, and CLI11 copies a parent's footer into each subcommand it creates);
+// physik/model/errors.h has the codes.
+inline constexpr const char* kExitStatusHelp =
+    "Exit status: 0 success, 1 an unexpected failure, 2 bad input, 3 a diverged run.";
+
 void add_rig_commands(CLI::App& app);
 void add_interchange_commands(CLI::App& app);  // after add_rig_commands: adds to `rig`
 void add_experiment_commands(CLI::App& app);

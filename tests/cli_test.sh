@@ -21,6 +21,13 @@ check "rig info help" 0 "$bin" rig info --help
 check "rig chain help" 0 "$bin" rig chain --help
 check "no command" 2 "$bin"
 check "unknown option" 2 "$bin" rig info "$src/models/rigs/pinhead.json" --bogus
+# every command's --help ends with the exit statuses, an unexpected failure (1) among them
+for cmd in "" rig "rig info" "rig chain" "rig tree" "rig from-bvh" "rig to-bvh" "rig limits" \
+    "rig from-mjcf" bvh "bvh convert" experiment "experiment list" "experiment run" simulate \
+    export-mjcf tune equilibrium solve params view; do
+  check "help: physik $cmd" 0 "$bin" $cmd --help
+  expect_in "help: physik $cmd lists the exit statuses" "$tmp/out" "Exit status: 0 success, 1 an unexpected failure, 2 bad input, 3 a diverged run"
+done
 
 check "rig info" 0 "$bin" rig info "$src/models/rigs/pinhead.json"
 expect_in "rig info text" "$tmp/out" "bones: 18"
