@@ -165,7 +165,9 @@ check "contacts: dls refuses a ground" 2 "$bin" solve "$tmp/floor_cp.json" --sol
 expect_in "contacts: dls refusal names the field" "$tmp/err" "floor_cp.json: ground: the dls solver does not read it"
 check "contacts: a classic finish refuses a ground" 2 "$bin" solve "$tmp/floor_cp.json" --solver physik --finish dls --out "$tmp/x" --quiet
 expect_in "contacts: finish refusal names the field" "$tmp/err" "the dls finish does not read it"
-check "contacts: the solve mode takes a ground" 0 "$bin" solve "$tmp/floor_cp.json" --solver physik --out "$tmp/x" --quiet
+# (it runs: under gravity the hand stops short of its target, so it exits 4, not converged)
+check "contacts: the solve mode takes a ground" 4 "$bin" solve "$tmp/floor_cp.json" --solver physik --out "$tmp/x" --quiet
+expect_in "contacts: the solve mode ran" "$tmp/x/summary.json" '"solver": "physik"'
 printf '{"rig": "%s", "gravity": [0, 0, -9.81], "control_points": [{"bone": "hand.L", "alpha": 1, "target": [0, 0, 1]}]}' "$src/models/rigs/pinhead.json" > "$tmp/grav_cp.json"
 check "contacts: equilibrium refuses gravity" 2 "$bin" equilibrium "$tmp/grav_cp.json" --out "$tmp/eq.json"
 expect_in "contacts: equilibrium refusal names the field" "$tmp/err" "grav_cp.json: gravity: the exact equilibrium has the springs' potential only"
@@ -332,9 +334,20 @@ check "solve hybrid" 0 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" 
 expect_in "solve hybrid finish" "$tmp/solve_hyb/summary.json" '"finish": "dls"'
 # the finish takes the classic solvers' flags: 15 physics steps, then DLS held to 2 iterations
 printf '{"rig": "%s/models/rigs/pinhead.json", "control_points": [{"bone": "hand.L", "target": [0.6, -0.3, 1.0]}, {"bone": "hand.R", "target": [-0.6, -0.3, 1.0]}], "steps": 15}' "$src" > "$tmp/s15.json"
-check "solve hybrid capped" 0 "$bin" solve "$tmp/s15.json" --solver physik-explicit --finish dls --max-iterations 2 --out "$tmp/solve_hyb2" --quiet
+check "solve hybrid capped" 4 "$bin" solve "$tmp/s15.json" --solver physik-explicit --finish dls --max-iterations 2 --out "$tmp/solve_hyb2" --quiet
+expect_in "solve hybrid capped says it fell short" "$tmp/err" "physik: not converged: the physics used the scene's steps after 15 steps, then the dls finish 2 iterations, at residual"
 expect_in "solve hybrid out of steps" "$tmp/solve_hyb2/summary.json" '"out_of_steps": true'
 expect_in "solve hybrid --max-iterations" "$tmp/solve_hyb2/summary.json" '"finish_iterations": 2'
+# a solve short of its tolerance says so and exits 4, after writing its last pose and summary:
+# DLS held to 2 iterations, and FABRIK after a target out of the elbow's reach (it stalls)
+check "solve dls out of iterations" 4 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" --solver dls --max-iterations 2 --out "$tmp/solve_short" --quiet
+expect_in "solve dls out of iterations message" "$tmp/err" "physik: not converged: dls used its iterations (max_iterations) after 2 iterations at residual"
+expect_in "solve dls out of iterations summary" "$tmp/solve_short/summary.json" '"not_converged_reason": "dls used its iterations'
+expect_in "solve dls out of iterations pose" "$tmp/solve_short/final_pose.csv" "hand.L"
+printf '{"rig": "%s/models/rigs/elbow.json", "control_points": [{"bone": "forearm", "alpha": 1, "target": [0, 0, 40]}]}' "$src" > "$tmp/far.json"
+check "solve fabrik stalls" 4 "$bin" solve "$tmp/far.json" --solver fabrik --out "$tmp/solve_far" --quiet
+expect_in "solve fabrik stalls message" "$tmp/err" "physik: not converged: fabrik stalled (the residual stopped improving)"
+expect_in "solve converged has no reason" "$tmp/solve/summary.json" '"not_converged_reason": ""'
 check "solve bad growth" 2 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" --solver physik --dt-growth 0.5 --out "$tmp/solve" --quiet
 expect_in "solve bad growth message" "$tmp/err" "--dt-growth"
 check "solve bad finish" 2 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" --solver physik --finish newton --out "$tmp/solve" --quiet

@@ -124,6 +124,7 @@ nlohmann::json classic_solve_json(const SceneSolveResult& r) {
 nlohmann::json solve_summary_to_json(const SceneSolveResult& r) {
   nlohmann::json j = r.engine ? engine_solve_json(r) : classic_solve_json(r);
   j["solver"] = r.solver;
+  j["not_converged_reason"] = solve_shortfall(r);  // "" when it converged (or diverged)
   return j;
 }
 
