@@ -266,8 +266,8 @@ fi
 printf '<mujoco><worldbody><body></worldbody></mujoco>' > "$tmp/bad.xml"
 check "from-mjcf bad xml" 2 "$bin" rig from-mjcf "$tmp/bad.xml"
 expect_in "from-mjcf message" "$tmp/err" "bad.xml: MuJoCo cannot load it"
-# capsule radii -> each bone's radius and collision_radius; a body with no capsule keeps the
-# defaults and is named
+# capsule radii -> each bone's radius and collision_radius; a body with only a sphere takes the
+# sphere's; a body with neither (a box) keeps the defaults and is named
 cat > "$tmp/capsules.xml" <<'XML'
 <mujoco model="two_capsules">
   <worldbody>
@@ -279,6 +279,9 @@ cat > "$tmp/capsules.xml" <<'XML'
         <geom type="capsule" fromto="0 0 0 0 0 -0.3" size="0.03"/>
         <body name="tip" pos="0 0 -0.3">
           <geom type="sphere" size="0.05" pos="0 0 -0.05"/>
+          <body name="toe" pos="0 0 -0.1">
+            <geom type="box" size="0.02 0.02 0.02" pos="0 0 -0.02"/>
+          </body>
         </body>
       </body>
     </body>
@@ -286,13 +289,14 @@ cat > "$tmp/capsules.xml" <<'XML'
 </mujoco>
 XML
 check "from-mjcf capsule radii" 0 "$bin" rig from-mjcf "$tmp/capsules.xml" --out "$tmp/capsules.json"
-expect_in "from-mjcf names a bone without a capsule" "$tmp/err" "no capsule geom on their body (first: tip)"
+expect_in "from-mjcf names a bone without a capsule or sphere" "$tmp/err" "no capsule or sphere geom on their body (first: toe)"
 check "from-mjcf collision radii are the capsules'" 0 python3 - "$tmp/capsules.json" <<'PY'
 import json, sys
 bones = {b["name"]: b for b in json.load(open(sys.argv[1]))["bones"]}
 for name, r in (("upper", 0.07), ("lower", 0.03)):
     assert bones[name]["collision_radius"] == r and bones[name]["radius"] == r, bones[name]
-assert "collision_radius" not in bones["tip"] and bones["tip"]["radius"] == 0.5, bones["tip"]
+assert bones["tip"]["collision_radius"] == 0.05 and bones["tip"]["radius"] == 0.05, bones["tip"]
+assert "collision_radius" not in bones["toe"] and bones["toe"]["radius"] == 0.5, bones["toe"]
 PY
 
 # physik solve: classic IK solvers and the engine on a scene's control points
