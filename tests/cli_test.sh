@@ -148,6 +148,12 @@ expect_in "start: below the ground names the field" "$tmp/err" "below.json: grou
 start_scene "$tmp/below_cp.json" '"ground": {"height": 0}, "initial_pose": {"root_head": [0, 0, -100]}, "control_points": [{"bone": "forearm", "alpha": 1, "target": [0, 1, -97]}]'
 check "start: the solve mode refuses it too" 2 "$bin" solve "$tmp/below_cp.json" --solver physik --out "$tmp/below" --quiet
 expect_in "start: the solve mode names the field" "$tmp/err" "below_cp.json: ground: field 'height'"
+# tune runs the scene from its start too: the same warning, the same refusal before any run
+start_scene "$tmp/sunk_cp.json" '"ground": {"height": -0.06}, "control_points": [{"bone": "forearm", "alpha": 1, "target": [0, 1, 3]}]'
+check "start: tune into the ground runs" 0 "$bin" tune "$tmp/sunk_cp.json" --steps 5 --scan-points 0 --max-iterations 1 --quiet
+expect_in "start: tune warns" "$tmp/err" "physik: warning: $tmp/sunk_cp.json: bone 'upper_arm' starts 0.06 rig units into the ground"
+check "start: tune refuses a start below the ground" 2 "$bin" tune "$tmp/below_cp.json" --steps 5 --scan-points 0 --quiet
+expect_in "start: tune names the field" "$tmp/err" "below_cp.json: ground: field 'height'"
 start_scene "$tmp/inbox.json" '"obstacles": [{"name": "seat", "box": {"center": [0, 0, -0.56], "half_extents": [1, 1, 0.5]}}]'
 check "start: into a box runs" 0 "$bin" simulate "$tmp/inbox.json" --out "$tmp/inbox" --steps 5 --quiet
 expect_in "start: into a box warns" "$tmp/err" "bone 'upper_arm' starts 0.06 rig units into obstacle 'seat'"
