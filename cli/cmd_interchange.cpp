@@ -138,8 +138,8 @@ void add_from_mjcf(CLI::App* rig) {
   auto* from_mjcf = rig->add_subcommand(
       "from-mjcf",
       "Rig of a MuJoCo model (loaded by MuJoCo): bodies -> bones, joint ranges -> "
-      "limits, masses and inertias, capsule geom radii -> bone radius and collision_radius; "
-      "prints JSON");
+      "limits, masses and inertias, capsule (or else sphere) geom radii -> bone radius and "
+      "collision_radius; prints JSON");
   from_mjcf->add_option("MODEL", fm->path, "MJCF file")->required();
   from_mjcf->add_option("--out", fm->out, "Write the rig JSON here instead of stdout");
   from_mjcf->add_option("--body", fm->body,
@@ -164,10 +164,10 @@ void add_from_mjcf(CLI::App* rig) {
               << r.max_offdiag_inertia << " of the largest moment, centre of mass moved up to "
               << r.max_com_shift << ", " << r.mass_floor_bones << " massless bones floored, "
               << r.cylinder_inertia_bones << " bones with cylinder inertia\n";
-    if (!r.bones_without_capsule.empty()) {
-      std::cerr << "from-mjcf: note: " << r.bones_without_capsule.size()
-                << " bones have no capsule geom on their body (first: "
-                << r.bones_without_capsule[0]
+    if (!r.bones_default_radius.empty()) {
+      std::cerr << "from-mjcf: note: " << r.bones_default_radius.size()
+                << " bones have no capsule or sphere geom on their body (first: "
+                << r.bones_default_radius[0]
                 << "): they keep the default radius 0.5 and collision radius ("
                 << kCollisionRadiusPerLength << " x length)\n";
     }

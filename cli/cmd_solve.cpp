@@ -1,6 +1,8 @@
 // physik solve SCENE --solver NAME: solve a scene's control points as IK goals with one of the
 // classic solvers (physik/ik_solver.h) or with the PhysIK engine; writes final_pose.csv and a
-// summary.json with the same keys as `physik simulate` (converged, final_residuals, ...).
+// summary.json with the same keys as `physik simulate` (converged, final_residuals, ...). Exit 3
+// for a diverged engine run, 4 for a solve short of its tolerance (scene_solve.h
+// solve_shortfall), after writing both.
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -115,6 +117,12 @@ void run_solve(const SolveOptions& o, const CLI::App& cmd) {
     std::cerr << "physik: diverged: " << reason << "; " << divergence_hint(r.scene) << "\n";
     throw DivergedRun(reason);
   }
+  const std::string shortfall = solve_shortfall(r);
+  if (!shortfall.empty()) {  // said even with --quiet, as a divergence is
+    std::cerr << "physik: not converged: " << shortfall << "; the last pose is in " << o.out
+              << "\n";
+    throw NotConverged(shortfall);
+  }
 }
 
 // one CLI option per row of the solve options' table
@@ -134,10 +142,15 @@ void add_solve_options(CLI::App* cmd, SolveOptions& o) {
     }
     const std::string def = solve_option_default_text(row);
     if (!def.empty()) help += " [default: " + def + "]";
+    // the values are read as text (parse_solve_option checks them by the row), so the help's
+    // type name is the row's kind, not CLI11's TEXT for a string
     if (row.kind == SolveOptionKind::kVec3) {
-      cmd->add_option(flag, o.vectors[row.name], help)->expected(3);
+      cmd->add_option(flag, o.vectors[row.name], help)->expected(3)->type_name("FLOAT");
     } else {
-      cmd->add_option(flag, o.texts[row.name], help);
+      cmd->add_option(flag, o.texts[row.name], help)
+          ->type_name(row.kind == SolveOptionKind::kReal      ? "FLOAT"
+                      : row.kind == SolveOptionKind::kInteger ? "INT"
+                                                              : "TEXT");
     }
   }
 }
@@ -152,7 +165,9 @@ void add_solve_commands(CLI::App& app) {
       "or the PhysIK engine (physik: the implicit step, lengthening from the scene's dt into a "
       "quasi-static solve; physik-explicit: the scene's own engine at its dt): writes "
       "<out>/final_pose.csv and <out>/summary.json. The scene's \"solve\" object gives options "
-      "the flags do not.");
+      "the flags do not. A solve that stops short of its tolerance (stalled, or out of "
+      "iterations or steps) writes both, says why and exits 4.");
+  cmd->footer(kSolveExitStatusHelp);
   cmd->add_option("SCENE", opt->scene, "Scene file (JSON, see models/README.md)")->required();
   add_solve_options(cmd, *opt);
   cmd->add_option("--out", opt->out, "Output folder")->capture_default_str();

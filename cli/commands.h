@@ -2,9 +2,30 @@
 // One file per family (cmd_<family>.cpp); main.cpp only dispatches and maps errors to exit codes.
 #pragma once
 
+#include <stdexcept>
+
 #include <CLI/CLI.hpp>
 
 namespace physik::cli {
+
+// Every command's --help ends with this (main.cpp sets it as the app's footer before the
+// commands are added, and CLI11 copies a parent's footer into each subcommand it creates);
+// physik/model/errors.h has the codes.
+inline constexpr const char* kExitStatusHelp =
+    "Exit status: 0 success, 1 an unexpected failure, 2 bad input, 3 a diverged run.";
+
+// `physik solve`: a solve that stopped short of its tolerance (stalled, or out of iterations or
+// steps) without diverging. It writes its last pose and summary.json, says why on stderr, and
+// the CLI exits with kExitNotConverged.
+inline constexpr int kExitNotConverged = 4;
+inline constexpr const char* kSolveExitStatusHelp =
+    "Exit status: 0 success, 1 an unexpected failure, 2 bad input, 3 a diverged run, 4 not "
+    "converged (the solve stopped short of its tolerance; final_pose.csv and summary.json hold "
+    "its last pose).";
+class NotConverged : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 void add_rig_commands(CLI::App& app);
 void add_interchange_commands(CLI::App& app);  // after add_rig_commands: adds to `rig`

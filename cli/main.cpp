@@ -11,7 +11,8 @@
 int main(int argc, char** argv) {
   CLI::App app{
       "physik: physics-based inverse kinematics testbed (PhysIK engine, MuJoCo reference, "
-      "Ceres tuning, classic IK baselines).\nExit status: 0 ok, 2 bad input, 3 diverged run."};
+      "Ceres tuning, classic IK baselines)."};
+  app.footer(physik::cli::kExitStatusHelp);  // before the commands: each one inherits it
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Show help for every command");
   app.set_version_flag("--version", physik::kVersion, "Print the version and exit");
@@ -41,6 +42,8 @@ int main(int argc, char** argv) {
     return physik::kExitBadInput;
   } catch (const physik::DivergedRun&) {
     return physik::kExitDiverged;  // already reported by the command
+  } catch (const physik::cli::NotConverged&) {
+    return physik::cli::kExitNotConverged;  // `physik solve`, already reported
   } catch (const std::filesystem::filesystem_error& e) {
     // a path the user gave that the system refuses (the commands name most of them first)
     std::cerr << "physik: error: " << e.path1().string() << ": " << e.code().message() << "\n";

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "physik/engine/start_contacts.h"
 #include "physik/model/errors.h"
 #include "physik/model/joint_angles.h"
 
@@ -170,6 +171,15 @@ std::string python_wording(const char* what) {
 }
 
 }  // namespace
+
+void check_start(const Scene& scene) {
+  const std::string warning = check_start_contacts(scene);  // InputError past the surface
+  if (warning.empty()) return;
+  static PyObject* warning_class =
+      py::object(py::module_::import("physik.errors").attr("StartContactWarning")).release().ptr();
+  const std::string text = scene.file.empty() ? warning : scene.file + ": " + warning;
+  if (PyErr_WarnEx(warning_class, text.c_str(), 1) < 0) throw py::error_already_set();
+}
 
 void register_errors(py::module_& m) {
   // the classes live in pure Python (physik/errors.py); leaked on purpose: they must outlive

@@ -10,6 +10,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include "physik/model/kinematics.h"
+#include "physik/model/scene.h"
 
 namespace physik::python {
 
@@ -40,6 +41,12 @@ py::tuple joint_angle_arrays(const Rig& rig, const Pose& pose, std::vector<Vec3>
 
 // C++ errors as the package's Python exceptions (physik.errors): InputError, DivergedError.
 void register_errors(py::module_& m);
+
+// The start-contact check of `physik simulate` (physik/engine/start_contacts.h) before a run of
+// the engine: a rig started through the ground or a box is an InputError; one started into it
+// issues physik.errors.StartContactWarning with the CLI's warning text (an error when the
+// warnings filter makes it one).
+void check_start(const Scene& scene);
 
 void bind_model(py::module_& m);       // Rig, Scene
 void bind_simulation(py::module_& m);  // Simulation

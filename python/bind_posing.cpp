@@ -29,7 +29,9 @@ Scene session_scene(const Scene& scene, bool solve_mode) {
 
 struct Session {
   Session(const Scene& scene, bool solve_mode)
-      : session(session_scene(scene, solve_mode)), scratch(session.pose()) {}
+      : session(session_scene(scene, solve_mode)), scratch(session.pose()) {
+    check_start(session.scene());
+  }
 
   PosingSession session;
   Pose scratch;      // set_pose's input, sized once

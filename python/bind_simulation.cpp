@@ -100,6 +100,7 @@ py::dict trajectory_dict(const Scene& scene, const TrajectoryRows& t) {
 
 struct Simulation {
   explicit Simulation(const Scene& s) : scene(s), monitor(scene) {  // the monitor keeps &scene
+    check_start(scene);  // before the clock: a check, not the run
     const auto t0 = std::chrono::steady_clock::now();
     init_state(scene, state);
     wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -177,6 +178,7 @@ void bind_simulation(py::module_& m) {
   m.def(
       "run_scene",
       [](const Scene& scene) {
+        check_start(scene);
         RunSummary r;
         {
           py::gil_scoped_release release;

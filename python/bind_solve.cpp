@@ -111,6 +111,8 @@ void bind_solve(py::module_& m) {
           if (row->kind == SolveOptionKind::kVec3 && value.is_none()) continue;
           set_solve_option(o, *row, option_value(*row, value), OptionSpelling::kName);
         }
+        // the engine runs the contacts from the initial pose; a classic solver refuses a ground
+        if (o.solver == "physik" || o.solver == "physik-explicit") check_start(scene);
         SceneSolveResult r;
         {
           py::gil_scoped_release release;

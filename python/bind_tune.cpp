@@ -61,6 +61,7 @@ void bind_tune(py::module_& m) {
         to.scan_points = scan_points;
         to.max_iterations = std::max(1, max_iterations);
         to.verbose = verbose;
+        check_start(scene);
         tune::TuneResult r;
         {
           py::gil_scoped_release release;

@@ -403,27 +403,40 @@ double aligned_capsule_radius(const mjModel* m, const mjData* d, int b, const Ve
   return radius;
 }
 
+// the radius (size[0]) of body b's largest sphere geom; 0 when it has none
+double largest_sphere_radius(const mjModel* m, int b) {
+  double radius = 0.0;
+  for (int g = m->body_geomadr[b]; g >= 0 && g < m->body_geomadr[b] + m->body_geomnum[b]; ++g) {
+    if (m->geom_type[g] == mjGEOM_SPHERE)
+      radius = std::max(radius, static_cast<double>(m->geom_size[3 * g]));
+  }
+  return radius;
+}
+
 // bone radii from the capsule geoms of the body each bone follows and of the bodies at its origin
 // (zero-offset ancestors: a shin whose twist body carries the bone): the capsule whose axis (geom
 // z) is best aligned with the bone, first on ties. Its size[0] is the radius in the model's length
-// unit, which is the rig's. A bone with no such capsule keeps the rig's defaults, and is listed in
-// the report.
-void set_capsule_radii(const mjModel* m, const mjData* d, const MjcfRig& out,
-                       const std::vector<PivotNode>& nodes, const std::vector<bool>& zero_offset,
-                       PivotBones& bones, MjcfImportReport& rep) {
+// unit, which is the rig's. A bone with no capsule there takes the largest sphere geom of those
+// bodies (a head, a hand: the sphere is the body's thickness in every direction); a bone with
+// neither keeps the rig's defaults, and is listed in the report.
+void set_geom_radii(const mjModel* m, const mjData* d, const MjcfRig& out,
+                    const std::vector<PivotNode>& nodes, const std::vector<bool>& zero_offset,
+                    PivotBones& bones, MjcfImportReport& rep) {
   for (std::size_t s = 0; s < bones.specs.size(); ++s) {
     BoneSpec& spec = bones.specs[s];
     const Vec3 axis = (spec.tail_world - spec.head_world).normalized();
-    double best_alignment = -1.0, radius = 0.0;
+    double best_alignment = -1.0, radius = 0.0, sphere = 0.0;
     for (int n = bones.spec_node[s]; n >= 0; n = zero_offset[n] ? nodes[n].parent : -1) {
       const double r = aligned_capsule_radius(m, d, out.node_body[n], axis, best_alignment);
       if (r > 0.0) radius = r;
+      sphere = std::max(sphere, largest_sphere_radius(m, out.node_body[n]));
     }
+    if (radius <= 0.0) radius = sphere;
     if (radius > 0.0) {
       spec.collision_radius = radius;
       spec.radius = radius;
     } else {
-      rep.bones_without_capsule.push_back(spec.name);
+      rep.bones_default_radius.push_back(spec.name);
     }
   }
 }
@@ -464,7 +477,7 @@ MjcfRig import_mjcf_model(const mjModel* m, const std::string& source,
   std::vector<Mat3> inertia;
   share_body_masses(m, d, out, nodes, zero_offset, bones, mass, inertia, rep);
   set_spec_masses(mass, inertia, bones, rep);
-  set_capsule_radii(m, d, out, nodes, zero_offset, bones, rep);
+  set_geom_radii(m, d, out, nodes, zero_offset, bones, rep);
 
   const char* model_name = m->nnames > 0 ? m->names : "";  // the model name comes first
   out.pivots = finish_pivot_rig(nodes, bones, source, model_name);

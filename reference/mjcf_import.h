@@ -31,9 +31,10 @@
 // (zero-offset ancestors), in the model's length unit (the rig's: the import does not scale). The
 // inertia cylinder's radius (BoneSpec::radius) takes the same value: it matters only where the
 // body's inertia is unusable (the cylinder fallback) and for drawing, and the body's own thickness
-// is a better guess there than the rig default 0.5. A bone whose body has no capsule keeps the rig
-// defaults (radius 0.5; collision radius 0.06 x its length) and is listed in the report
-// (bones_without_capsule).
+// is a better guess there than the rig default 0.5. A bone whose bodies have no capsule takes the
+// radius of their largest sphere geom (the humanoid's head and hands), the same for both; a bone
+// with neither keeps the rig defaults (radius 0.5; collision radius 0.06 x its length) and is
+// listed in the report (bones_default_radius).
 //
 // Joints -> limits (rig.h: per bone-local axis, intervals on the rotation-vector components):
 //   no joint (welded)        all three axes locked [0, 0]
@@ -78,7 +79,8 @@ struct MjcfImportReport {
   double max_offdiag_inertia = 0.0;  // dropped off-diagonal / largest moment
   double max_com_shift = 0.0;        // rig units, xipos vs the mean of its bones' midpoints
   int cylinder_inertia_bones = 0;    // bones whose body inertia was unusable (cylinder used)
-  std::vector<std::string> bones_without_capsule;  // bones given the default radii (no capsule)
+  std::vector<std::string> bones_default_radius;  // bones given the default radii (no capsule
+                                                  // or sphere geom)
 };
 
 struct MjcfRig {

@@ -21,6 +21,13 @@ check "rig info help" 0 "$bin" rig info --help
 check "rig chain help" 0 "$bin" rig chain --help
 check "no command" 2 "$bin"
 check "unknown option" 2 "$bin" rig info "$src/models/rigs/pinhead.json" --bogus
+# every command's --help ends with the exit statuses, an unexpected failure (1) among them
+for cmd in "" rig "rig info" "rig chain" "rig tree" "rig from-bvh" "rig to-bvh" "rig limits" \
+    "rig from-mjcf" bvh "bvh convert" experiment "experiment list" "experiment run" simulate \
+    export-mjcf tune equilibrium solve params view; do
+  check "help: physik $cmd" 0 "$bin" $cmd --help
+  expect_in "help: physik $cmd lists the exit statuses" "$tmp/out" "Exit status: 0 success, 1 an unexpected failure, 2 bad input, 3 a diverged run"
+done
 
 check "rig info" 0 "$bin" rig info "$src/models/rigs/pinhead.json"
 expect_in "rig info text" "$tmp/out" "bones: 18"
@@ -141,6 +148,12 @@ expect_in "start: below the ground names the field" "$tmp/err" "below.json: grou
 start_scene "$tmp/below_cp.json" '"ground": {"height": 0}, "initial_pose": {"root_head": [0, 0, -100]}, "control_points": [{"bone": "forearm", "alpha": 1, "target": [0, 1, -97]}]'
 check "start: the solve mode refuses it too" 2 "$bin" solve "$tmp/below_cp.json" --solver physik --out "$tmp/below" --quiet
 expect_in "start: the solve mode names the field" "$tmp/err" "below_cp.json: ground: field 'height'"
+# tune runs the scene from its start too: the same warning, the same refusal before any run
+start_scene "$tmp/sunk_cp.json" '"ground": {"height": -0.06}, "control_points": [{"bone": "forearm", "alpha": 1, "target": [0, 1, 3]}]'
+check "start: tune into the ground runs" 0 "$bin" tune "$tmp/sunk_cp.json" --steps 5 --scan-points 0 --max-iterations 1 --quiet
+expect_in "start: tune warns" "$tmp/err" "physik: warning: $tmp/sunk_cp.json: bone 'upper_arm' starts 0.06 rig units into the ground"
+check "start: tune refuses a start below the ground" 2 "$bin" tune "$tmp/below_cp.json" --steps 5 --scan-points 0 --quiet
+expect_in "start: tune names the field" "$tmp/err" "below_cp.json: ground: field 'height'"
 start_scene "$tmp/inbox.json" '"obstacles": [{"name": "seat", "box": {"center": [0, 0, -0.56], "half_extents": [1, 1, 0.5]}}]'
 check "start: into a box runs" 0 "$bin" simulate "$tmp/inbox.json" --out "$tmp/inbox" --steps 5 --quiet
 expect_in "start: into a box warns" "$tmp/err" "bone 'upper_arm' starts 0.06 rig units into obstacle 'seat'"
@@ -158,7 +171,9 @@ check "contacts: dls refuses a ground" 2 "$bin" solve "$tmp/floor_cp.json" --sol
 expect_in "contacts: dls refusal names the field" "$tmp/err" "floor_cp.json: ground: the dls solver does not read it"
 check "contacts: a classic finish refuses a ground" 2 "$bin" solve "$tmp/floor_cp.json" --solver physik --finish dls --out "$tmp/x" --quiet
 expect_in "contacts: finish refusal names the field" "$tmp/err" "the dls finish does not read it"
-check "contacts: the solve mode takes a ground" 0 "$bin" solve "$tmp/floor_cp.json" --solver physik --out "$tmp/x" --quiet
+# (it runs: under gravity the hand stops short of its target, so it exits 4, not converged)
+check "contacts: the solve mode takes a ground" 4 "$bin" solve "$tmp/floor_cp.json" --solver physik --out "$tmp/x" --quiet
+expect_in "contacts: the solve mode ran" "$tmp/x/summary.json" '"solver": "physik"'
 printf '{"rig": "%s", "gravity": [0, 0, -9.81], "control_points": [{"bone": "hand.L", "alpha": 1, "target": [0, 0, 1]}]}' "$src/models/rigs/pinhead.json" > "$tmp/grav_cp.json"
 check "contacts: equilibrium refuses gravity" 2 "$bin" equilibrium "$tmp/grav_cp.json" --out "$tmp/eq.json"
 expect_in "contacts: equilibrium refusal names the field" "$tmp/err" "grav_cp.json: gravity: the exact equilibrium has the springs' potential only"
@@ -257,8 +272,8 @@ fi
 printf '<mujoco><worldbody><body></worldbody></mujoco>' > "$tmp/bad.xml"
 check "from-mjcf bad xml" 2 "$bin" rig from-mjcf "$tmp/bad.xml"
 expect_in "from-mjcf message" "$tmp/err" "bad.xml: MuJoCo cannot load it"
-# capsule radii -> each bone's radius and collision_radius; a body with no capsule keeps the
-# defaults and is named
+# capsule radii -> each bone's radius and collision_radius; a body with only a sphere takes the
+# sphere's; a body with neither (a box) keeps the defaults and is named
 cat > "$tmp/capsules.xml" <<'XML'
 <mujoco model="two_capsules">
   <worldbody>
@@ -270,6 +285,9 @@ cat > "$tmp/capsules.xml" <<'XML'
         <geom type="capsule" fromto="0 0 0 0 0 -0.3" size="0.03"/>
         <body name="tip" pos="0 0 -0.3">
           <geom type="sphere" size="0.05" pos="0 0 -0.05"/>
+          <body name="toe" pos="0 0 -0.1">
+            <geom type="box" size="0.02 0.02 0.02" pos="0 0 -0.02"/>
+          </body>
         </body>
       </body>
     </body>
@@ -277,17 +295,22 @@ cat > "$tmp/capsules.xml" <<'XML'
 </mujoco>
 XML
 check "from-mjcf capsule radii" 0 "$bin" rig from-mjcf "$tmp/capsules.xml" --out "$tmp/capsules.json"
-expect_in "from-mjcf names a bone without a capsule" "$tmp/err" "no capsule geom on their body (first: tip)"
+expect_in "from-mjcf names a bone without a capsule or sphere" "$tmp/err" "no capsule or sphere geom on their body (first: toe)"
 check "from-mjcf collision radii are the capsules'" 0 python3 - "$tmp/capsules.json" <<'PY'
 import json, sys
 bones = {b["name"]: b for b in json.load(open(sys.argv[1]))["bones"]}
 for name, r in (("upper", 0.07), ("lower", 0.03)):
     assert bones[name]["collision_radius"] == r and bones[name]["radius"] == r, bones[name]
-assert "collision_radius" not in bones["tip"] and bones["tip"]["radius"] == 0.5, bones["tip"]
+assert bones["tip"]["collision_radius"] == 0.05 and bones["tip"]["radius"] == 0.05, bones["tip"]
+assert "collision_radius" not in bones["toe"] and bones["toe"]["radius"] == 0.5, bones["toe"]
 PY
 
 # physik solve: classic IK solvers and the engine on a scene's control points
 check "solve help" 0 "$bin" solve --help
+# numeric options name their type (the solve options are read as text, then checked by their row)
+expect_in "solve help: a real option is FLOAT" "$tmp/out" "--tol FLOAT"
+expect_in "solve help: an integer option is INT" "$tmp/out" "--max-iterations INT"
+expect_in "solve help: three numbers" "$tmp/out" "--gravity FLOAT x 3"
 check "solve bad solver" 2 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" --solver newton --out "$tmp/solve"
 expect_in "solve bad solver message" "$tmp/err" "--solver: unknown value 'newton' (expected fabrik|ccd"
 check "solve missing scene" 2 "$bin" solve "$tmp/none.json" --solver dls --out "$tmp/solve"
@@ -321,9 +344,20 @@ check "solve hybrid" 0 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" 
 expect_in "solve hybrid finish" "$tmp/solve_hyb/summary.json" '"finish": "dls"'
 # the finish takes the classic solvers' flags: 15 physics steps, then DLS held to 2 iterations
 printf '{"rig": "%s/models/rigs/pinhead.json", "control_points": [{"bone": "hand.L", "target": [0.6, -0.3, 1.0]}, {"bone": "hand.R", "target": [-0.6, -0.3, 1.0]}], "steps": 15}' "$src" > "$tmp/s15.json"
-check "solve hybrid capped" 0 "$bin" solve "$tmp/s15.json" --solver physik-explicit --finish dls --max-iterations 2 --out "$tmp/solve_hyb2" --quiet
+check "solve hybrid capped" 4 "$bin" solve "$tmp/s15.json" --solver physik-explicit --finish dls --max-iterations 2 --out "$tmp/solve_hyb2" --quiet
+expect_in "solve hybrid capped says it fell short" "$tmp/err" "physik: not converged: the physics used the scene's steps after 15 steps, then the dls finish 2 iterations, at residual"
 expect_in "solve hybrid out of steps" "$tmp/solve_hyb2/summary.json" '"out_of_steps": true'
 expect_in "solve hybrid --max-iterations" "$tmp/solve_hyb2/summary.json" '"finish_iterations": 2'
+# a solve short of its tolerance says so and exits 4, after writing its last pose and summary:
+# DLS held to 2 iterations, and FABRIK after a target out of the elbow's reach (it stalls)
+check "solve dls out of iterations" 4 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" --solver dls --max-iterations 2 --out "$tmp/solve_short" --quiet
+expect_in "solve dls out of iterations message" "$tmp/err" "physik: not converged: dls used its iterations (max_iterations) after 2 iterations at residual"
+expect_in "solve dls out of iterations summary" "$tmp/solve_short/summary.json" '"not_converged_reason": "dls used its iterations'
+expect_in "solve dls out of iterations pose" "$tmp/solve_short/final_pose.csv" "hand.L"
+printf '{"rig": "%s/models/rigs/elbow.json", "control_points": [{"bone": "forearm", "alpha": 1, "target": [0, 0, 40]}]}' "$src" > "$tmp/far.json"
+check "solve fabrik stalls" 4 "$bin" solve "$tmp/far.json" --solver fabrik --out "$tmp/solve_far" --quiet
+expect_in "solve fabrik stalls message" "$tmp/err" "physik: not converged: fabrik stalled (the residual stopped improving)"
+expect_in "solve converged has no reason" "$tmp/solve/summary.json" '"not_converged_reason": ""'
 check "solve bad growth" 2 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" --solver physik --dt-growth 0.5 --out "$tmp/solve" --quiet
 expect_in "solve bad growth message" "$tmp/err" "--dt-growth"
 check "solve bad finish" 2 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" --solver physik --finish newton --out "$tmp/solve" --quiet

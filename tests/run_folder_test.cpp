@@ -4,7 +4,9 @@
 // is the run's limit violation, an interpolated target's path is the interpolation's (a straight
 // segment for linear); a rod resting on the floor records its two end contacts at the analytic
 // depth and force, a dropped rod none before it can reach the floor, a run without contacts no
-// table; clearing an earlier run removes its files and keeps the user's.
+// table; the params recorded are every one the run reads; a rerun, and a run of the folder's
+// scene.json, is the same run bit for bit; clearing an earlier run removes its files and keeps
+// the user's.
 #include "physik/io/run_folder.h"
 
 #include <cmath>
@@ -211,6 +213,82 @@ TEST(RunFolder, NoContactsTableWithoutContacts) {
   simulate_into_folder(scene, dir, 1);
   EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/trajectory.csv"));
   EXPECT_FALSE(std::filesystem::exists(dir + "/" + kContactsFile));
+}
+
+// summary.json's and scene.json's params: every row the run reads, at the value it used, the
+// rows the scene writer leaves out at their defaults (implicit_*, contact_*, friction*) too;
+// read back, scene.json gives the same params; a scene without contacts lists no contact row
+TEST(RunFolder, ParamsListEveryParameterTheRunReads) {
+  const auto read_json = [](const std::string& path) {
+    std::ifstream in(path);
+    return nlohmann::json::parse(in);
+  };
+  Scene scene = test::floor_scene(test::lying_rod(0.06), Scheme::kImplicit, 0.05);
+  scene.params.friction = 0.5;  // one value away from its default, the rest at theirs
+  scene.steps = 3;
+  const std::string dir = fresh_dir("params");
+  simulate_into_folder(scene, dir, 1);
+  const nlohmann::json params = read_json(dir + "/" + kSummaryFile)["params"];
+  for (const ParamRow& row : param_table()) {
+    if (row.name == "damping_auto") continue;                           // the damping row's "auto"
+    if (row.conflict && !row.conflict(scene.params).empty()) continue;  // the run never reads it
+    ASSERT_TRUE(params.contains(row.name)) << row.name << " in " << params.dump();
+    EXPECT_EQ(params[row.name], param_value_json(row, row.get(scene.params))) << row.name;
+  }
+  for (const char* name : {"implicit_max_splits", "implicit_linearisation", "contact_k",
+                           "contact_damping", "friction", "friction_speed"}) {
+    EXPECT_TRUE(params.contains(name)) << name;
+  }
+  EXPECT_EQ(params["friction"], 0.5);
+  const nlohmann::json scene_doc = read_json(dir + "/" + kSceneFile);
+  EXPECT_EQ(scene_doc["params"], params);
+  const Scene back = scene_from_json(scene_doc, "scene.json", dir);
+  EXPECT_EQ(params_as_run_json(back), params);
+
+  Scene plain = load_scene(test::model_path("scenes/fig6_elbow_linear.json"));
+  plain.steps = 2;
+  const std::string plain_dir = fresh_dir("params_plain");
+  simulate_into_folder(plain, plain_dir, 1);
+  const nlohmann::json plain_params = read_json(plain_dir + "/" + kSummaryFile)["params"];
+  for (const char* name : {"contact_k", "contact_damping", "friction", "friction_speed"}) {
+    EXPECT_FALSE(plain_params.contains(name)) << name;
+  }
+  EXPECT_TRUE(plain_params.contains("torsion_torque"));
+}
+
+// the same scene twice (contacts, self-collision, gravity, damping auto): the same trajectory and
+// final state, bit for bit; and the run folder's scene.json, run again, is the same run (its rig
+// the rig file's own numbers: the rig writer's rest frames read back an ulp away)
+TEST(RunFolder, RerunsAndTheFoldersSceneGiveTheSameRun) {
+  const auto text = [](const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream all;
+    all << in.rdbuf();
+    return all.str();
+  };
+  const auto hash = [&](const std::string& dir) {
+    std::ifstream in(dir + "/" + kSummaryFile);
+    return nlohmann::json::parse(in)["final_state_hash"].get<std::string>();
+  };
+  const std::string scene_file = ::testing::TempDir() + "/run_folder_rerun_scene.json";
+  std::ofstream(scene_file) << R"({"rig": ")" << test::model_path("rigs/pinhead.json")
+                            << R"(", "steps": 40, "gravity": [0, 0, -9.81],
+      "ground": {"height": -2.5}, "self_collision": true, "params": {"damping": "auto"},
+      "control_points": [{"bone": "hand.L", "target": [0.8, -0.6, 1.2]}]})";
+  const Scene scene = load_scene(scene_file);
+  ASSERT_TRUE(scene.params.damping_auto);
+  const std::string a = fresh_dir("rerun_a"), b = fresh_dir("rerun_b"), c = fresh_dir("rerun_c");
+  simulate_into_folder(scene, a, 1);
+  simulate_into_folder(load_scene(scene_file), b, 1);
+  const Table contacts = read_table(a + "/" + kContactsFile);
+  EXPECT_FALSE(contacts.rows.empty());  // the run touches the floor
+  EXPECT_EQ(hash(a), hash(b));
+  // the tables compared whole (a difference would print them: say which instead)
+  EXPECT_TRUE(text(a + "/" + kTrajectoryFile) == text(b + "/" + kTrajectoryFile)) << "trajectory";
+  EXPECT_TRUE(text(a + "/" + kContactsFile) == text(b + "/" + kContactsFile)) << "contacts";
+  simulate_into_folder(load_scene(a + "/" + kSceneFile), c, 1);
+  EXPECT_EQ(hash(c), hash(a));
+  EXPECT_TRUE(text(c + "/" + kTrajectoryFile) == text(a + "/" + kTrajectoryFile)) << "rerun";
 }
 
 // clearing an earlier run: its own files and the named extras go, the user's stay, and a folder

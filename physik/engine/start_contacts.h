@@ -1,8 +1,9 @@
 // The contacts a scene starts in: a rig whose initial pose already sinks into the ground or into
 // an obstacle. The contact spring books such an overlap d as potential energy k d^2 / 2
 // (contacts.h), and the first steps turn it into kinetic energy: a rig started through the floor
-// is thrown out of it. `physik simulate` and `physik solve --solver physik` check the start with
-// this before they run.
+// is thrown out of it. `physik simulate`, `physik solve --solver physik|physik-explicit` and
+// `physik tune` check the start with this before they run, and so does the Python module
+// (Simulation, run_scene, PosingSession, solve with an engine solver, tune: python/bind_common.h).
 //
 // Rule, with d the depth of the start's deepest contact with the ground or an obstacle (the
 // deepest as a fraction of its bone's collision radius r; collision.h measures it):

@@ -9,6 +9,7 @@
 #include "physik/io/json_fields.h"
 #include "physik/io/output_files.h"
 #include "physik/io/pose_io.h"
+#include "physik/io/rig_io.h"
 #include "physik/io/scene_io.h"
 #include "physik/io/summary_io.h"
 #include "physik/model/errors.h"
@@ -29,6 +30,31 @@ void remove_owned(const std::filesystem::path& path, const std::string& option) 
     throw_input_error(path.string(), "", option,
                       "cannot remove the earlier run's file (" + ec.message() + ")");
   }
+}
+
+// The rig as its file gave it: the rig file's document, or the scene file's inline "rig" object,
+// when that document builds the scene's rig exactly (rig_to_json of both equal: the run did not
+// change the rig after loading it); null otherwise. Written into scene.json, it makes a rerun of
+// scene.json the same run bit for bit: rig_to_json writes each rest frame as the matrix of the
+// rig's quaternion, and reading that matrix back (a quaternion again, normalised, its y axis
+// folded onto the bone) lands an ulp or so away (a reread rig differed by 4e-16 in its rest
+// frames, and the run's final_state_hash with it).
+nlohmann::json rig_as_read(const Scene& scene) {
+  try {
+    nlohmann::json doc;
+    if (!scene.rig_file.empty()) {
+      doc = read_json_file(scene.rig_file);
+    } else if (!scene.file.empty()) {
+      const nlohmann::json top = read_json_file(scene.file);
+      if (top.is_object() && top.contains("rig") && top["rig"].is_object()) doc = top["rig"];
+    }
+    if (doc.is_object() && rig_to_json(rig_from_json(doc, "rig")) == rig_to_json(scene.rig)) {
+      return doc;
+    }
+  } catch (const std::exception&) {
+    // a file that changed or went since the scene was read: the rig as the writer writes it
+  }
+  return nullptr;
 }
 
 }  // namespace
@@ -56,7 +82,11 @@ RunFolderWriter::RunFolderWriter(const Scene& scene, const std::string& dir,
                                  const std::string& option)
     : scene_(scene), dir_(dir), option_(option) {
   create_output_dir(dir, option);
-  write_json(scene_to_json(scene, /*rig_inline=*/true), dir + "/" + kSceneFile);
+  nlohmann::json doc = scene_to_json(scene, /*rig_inline=*/true);
+  doc["params"] = params_as_run_json(scene);  // as summary.json: every row the run reads
+  const nlohmann::json rig = rig_as_read(scene);
+  if (!rig.is_null()) doc["rig"] = rig;  // the rig's own numbers: a rerun is the same run
+  write_json(doc, dir + "/" + kSceneFile);
   trajectory_ = open_output_file(dir + "/" + kTrajectoryFile, option);
   targets_limits_ = open_output_file(dir + "/" + kTargetsLimitsFile, option);
 }

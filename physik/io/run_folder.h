@@ -2,7 +2,10 @@
 // writes one, `simulate --reference` writes another for the reference run (DIR/mujoco), the
 // experiments leave theirs for the report's viewers, and `physik view` reads them.
 //
-//   scene.json               the scene as run (overrides applied, the rig inline; scene_io.h)
+//   scene.json               the scene as run (overrides applied, the rig inline, every
+//                            parameter the run reads at its value: params_as_run_json, scene_io.h);
+//                            the rig as its file gave it when that is the rig the run used (so
+//                            that `physik simulate DIR/scene.json` reruns the run bit for bit)
 //   trajectory.csv           the trajectory table (recorder.h): step 0, every N-th step, the last
 //   targets_and_limits.csv   targets and joint-limit excess, the same rows (targets_limits.h)
 //   summary.json             the run's summary (summary_io.h), with what the writer adds

@@ -464,6 +464,19 @@ Json params_to_json(const EngineParams& p) {
   return j;
 }
 
+Json params_as_run_json(const Scene& scene) {
+  const EngineParams& p = scene.params;
+  Json j = params_to_json(p);
+  for (const ParamRow& row : param_table()) {
+    // damping_auto is the damping row's "auto"; a row already written stays as it is
+    if (row.name == "damping_auto" || j.contains(row.name)) continue;
+    if (row.conflict && !row.conflict(p).empty()) continue;          // the scheme does not read it
+    if (!contact_param_conflict(scene, row.name).empty()) continue;  // no contacts to read it
+    j[row.name] = param_value_json(row, row.get(p));
+  }
+  return j;
+}
+
 Json param_table_json() {
   Json rows = Json::array();
   for (const ParamRow& r : param_table()) {

@@ -30,6 +30,12 @@ EngineParams params_from_json(const nlohmann::json& params, const std::string& s
                               const ParamOverrides& overrides = {},
                               std::vector<std::string>* given_out = nullptr);
 nlohmann::json params_to_json(const EngineParams& p);
+// The params a run of `scene` reads, each at the value it uses: params_to_json's, and the rows it
+// leaves out at their default (ParamRow::written_at_default false: torsion_torque, free_rods, the
+// implicit_* rows, the contact rows) wherever the run reads them (a scheme's own rows under that
+// scheme, the contact rows in a scene with contacts). The run folder's summary.json and
+// scene.json record these "params" (read back, they give the same EngineParams).
+nlohmann::json params_as_run_json(const Scene& scene);
 // Why a parameter given explicitly would not be used by this scene ("" when it would): the
 // contact rows (contact_k, contact_damping, friction, friction_speed,
 // friction_stiffness) take part only in a scene

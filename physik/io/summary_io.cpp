@@ -31,7 +31,7 @@ nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s) {
   nlohmann::json out = {
       {"scene", scene.file},
       {"rig", scene.rig_file},
-      {"params", params_to_json(scene.params)},
+      {"params", params_as_run_json(scene)},  // every row the run reads, at its value
       // N s/m, the damping the run used: damping auto's last choice, or the set value
       {"damping", scene.params.damping_auto ? s.damping_auto_value : scene.params.damping},
       {"converged", s.converged},
@@ -124,6 +124,7 @@ nlohmann::json classic_solve_json(const SceneSolveResult& r) {
 nlohmann::json solve_summary_to_json(const SceneSolveResult& r) {
   nlohmann::json j = r.engine ? engine_solve_json(r) : classic_solve_json(r);
   j["solver"] = r.solver;
+  j["not_converged_reason"] = solve_shortfall(r);  // "" when it converged (or diverged)
   return j;
 }
 

@@ -16,7 +16,9 @@ nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s);
 // solve's (iterations = physics steps, residual, residual_tol, stalled, out_of_steps, finish,
 // finish_iterations; dt_growth and max_dt for the solve mode); for a classic solver its report
 // (converged, stalled, iterations, final_residuals, residual, residual_tol, reach,
-// max_limit_violation_deg); both with "solver" and "time_s".
+// max_limit_violation_deg); both with "solver", "time_s" and "not_converged_reason" (why a solve
+// that did not diverge stopped short of its tolerance, "" when it converged: scene_solve.h
+// solve_shortfall).
 nlohmann::json solve_summary_to_json(const SceneSolveResult& result);
 
 }  // namespace physik

@@ -5,6 +5,7 @@
 
 #include "physik/engine/engine.h"
 #include "physik/model/errors.h"
+#include "physik/model/message_number.h"
 
 namespace physik {
 
@@ -116,6 +117,29 @@ SceneSolveResult solve_classic(const Scene& scene, const SceneSolveOptions& o,
 }
 
 }  // namespace
+
+std::string solve_shortfall(const SceneSolveResult& r) {
+  const std::string residual = "residual " +
+                               message_number(r.engine ? r.solve.residual : r.classic.residual) +
+                               " rig units, above the tolerance " +
+                               message_number(r.engine ? r.solve.tolerance : r.classic.tolerance);
+  if (!r.engine) {
+    if (r.classic.converged) return "";
+    return r.solver +
+           (r.classic.stalled ? " stalled (the residual stopped improving)"
+                              : " used its iterations (max_iterations)") +
+           " after " + std::to_string(r.classic.iterations) + " iterations at " + residual;
+  }
+  if (r.diverged || r.solve.converged) return "";
+  std::string why = r.solve.stalled ? "the physics stalled (the residual stopped improving)"
+                                    : "the physics used the scene's steps";
+  why += " after " + std::to_string(r.solve.steps) + " steps";
+  if (r.solve.finish_iterations > 0) {
+    why += ", then the " + std::string(r.rule.finish == SolveFinish::kCcd ? "ccd" : "dls") +
+           " finish " + std::to_string(r.solve.finish_iterations) + " iterations";
+  }
+  return why + ", at " + residual;
+}
 
 SceneSolveResult solve_scene(Scene scene, const SceneSolveOptions& o, OptionSpelling spelling) {
   check_solve_options(o, spelling);

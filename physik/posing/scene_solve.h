@@ -49,6 +49,13 @@ struct SceneSolveResult {
   std::string warning;    // the engine's joint-solve warning (RunSummary::joint_solve_warning)
 };
 
+// Why a solve that did not diverge stopped short of its tolerance, in one line ("" when it
+// converged or diverged): the classic solver stalled or used its iterations, or the engine's
+// physics stalled or used the scene's steps (and what a classic finish then left), with the
+// residual and the tolerance (rig units). `physik solve` prints it and exits 4; the summary
+// gives it as "not_converged_reason".
+std::string solve_shortfall(const SceneSolveResult& result);
+
 // Solve `scene` (taken by value: the engine's run changes its convergence settings).
 // InputError for bad options (named as `spelling` says) or a scene without control points.
 SceneSolveResult solve_scene(Scene scene, const SceneSolveOptions& options,

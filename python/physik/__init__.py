@@ -20,6 +20,7 @@ Names (each has its own docstring):
   tune(scene, params, objective), equilibrium(scene)        Ceres
   view(runs, path)                                          `physik view`: run folders in 3D
   InputError (a ValueError), DivergedError                  errors
+  StartContactWarning                                       a rig started into the ground or a box
   __version__                                               `physik --version`
   physik.sweep                                              grids of runs on Dask (python3 -m physik.sweep)
 
@@ -29,7 +30,7 @@ scipy.spatial.transform.Rotation.from_quat reads them); Pose.as_blender() gives 
 """
 from collections import namedtuple
 
-from .errors import DivergedError, InputError
+from .errors import DivergedError, InputError, StartContactWarning
 from . import _core
 from ._core import (PosingSolveResult, Rig, Scene, __version__, compare_mujoco, export_mjcf,
                     param_table, scaled_scene, solve_mode_rule)
@@ -37,7 +38,7 @@ from ._core import (PosingSolveResult, Rig, Scene, __version__, compare_mujoco, 
 __all__ = ["Rig", "Scene", "param_table", "Simulation", "Pose", "Trajectory", "RunResult",
            "PosingSession", "PosingSolveResult", "solve_mode_rule", "SolveResult", "solve",
            "export_mjcf", "compare_mujoco", "scaled_scene", "tune", "equilibrium", "view", "View",
-           "InputError", "DivergedError", "__version__"]
+           "InputError", "DivergedError", "StartContactWarning", "__version__"]
 
 
 class Pose:

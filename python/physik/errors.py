@@ -1,7 +1,8 @@
-"""The exceptions of the physik package.
+"""The exceptions and warnings of the physik package.
 
 The C++ core's errors arrive as these classes (python/bind_common.cpp translates them):
-bad input is InputError, a run that diverged (when asked to raise) is DivergedError.
+bad input is InputError, a run that diverged (when asked to raise) is DivergedError. A run that
+starts with a bone into the ground or a box warns with StartContactWarning.
 """
 
 
@@ -21,4 +22,16 @@ class DivergedError(RuntimeError):
     Raised only on request (raise_on_divergence=True); otherwise divergence is the summary's
     "diverged" flag, as `physik simulate` exits 3 and still writes summary.json. str(error) is the
     divergence reason.
+    """
+
+
+class StartContactWarning(UserWarning):
+    """A rig that starts into the ground or an obstacle (physik/engine/start_contacts.h).
+
+    Issued (warnings.warn) when a Simulation, a PosingSession, solve() with an engine solver,
+    run_scene() or tune() starts from a pose whose deepest contact with the ground or a box is
+    more than 5% of the bone's collision radius and no more than that radius: the run begins by
+    pushing the bone out. str(warning) is the CLI's warning text after "physik: warning: ". A
+    bone started past the surface (deeper than its radius) is an InputError instead, as the CLI's
+    exit 2.
     """

@@ -227,8 +227,8 @@ def read_bones_csv(path):
 def test_solve_equals_the_cli(solver, tmp):
     path = scene_path("pinhead_two_hands")
     status, _, err = cli("solve", path, "--solver", solver, "--out", tmp, "--quiet")
-    assert status == 0, err
     expected = read_json(os.path.join(tmp, "summary.json"))
+    assert status == (0 if expected["converged"] else 4), err  # 4: short of its tolerance
     result = physik.solve(physik.Scene.load(path), solver)
     timing = ("time_s", "wall_time_s")
     assert without(result.summary, *timing) == without(expected, *timing)

@@ -9,7 +9,7 @@ import sys
 import pytest
 
 import physik
-from conftest import RIGS, SOURCE_DIR, cli_error, scene_path
+from conftest import RIGS, SOURCE_DIR, cli, cli_error, scene_path
 
 ELBOW = os.path.join(RIGS, "elbow.json")
 
@@ -209,6 +209,38 @@ def test_equilibrium_and_mujoco_options():
     expected = cli_error("export-mjcf", os.path.join(RIGS, "pinhead.json"), "--dt", "0")
     assert raises_input_error(physik.export_mjcf, scene.rig, dt=0) == \
         keyword(expected, "--dt", "dt")
+
+
+# a rig started into the ground warns as `physik simulate` warns, and one started through it is the
+# CLI's bad input, in every call that runs the engine from the scene's start
+def test_start_contacts_are_checked_as_the_cli_checks_them(tmp):
+    def start_scene(name, fields):
+        doc = {"rig": ELBOW, "gravity": [0, 0, -9.81], "params": {"dt": 0.01},
+               "control_points": [{"bone": "forearm", "alpha": 1, "target": [0, 1, 3]}]}
+        doc.update(fields)
+        return write(tmp, name, json.dumps(doc))
+
+    sunk = start_scene("sunk.json", {"ground": {"height": -0.06}})
+    status, _, err = cli("simulate", sunk, "--out", os.path.join(tmp, "sunk"), "--steps", "1", "--quiet")
+    assert status == 0, err
+    (cli_warning,) = [l[len("physik: warning: "):] for l in err.splitlines()
+                      if l.startswith("physik: warning: ")]
+    scene = physik.Scene.load(sunk, steps=2)
+    calls = [lambda: physik.Simulation(scene), lambda: physik._core.run_scene(scene),
+             lambda: physik.PosingSession(scene), lambda: physik.solve(scene, "physik"),
+             lambda: physik.tune(scene, scan_points=0, max_iterations=1)]
+    for call in calls:
+        with pytest.warns(physik.StartContactWarning) as record:
+            call()
+        assert [str(w.message) for w in record] == [cli_warning]
+    below = start_scene("below.json", {"ground": {"height": 0},
+                                       "initial_pose": {"root_head": [0, 0, -100]}})
+    expected = cli_error("simulate", below, "--out", os.path.join(tmp, "below"), "--quiet")
+    scene = physik.Scene.load(below)
+    for call in [lambda: physik.Simulation(scene), lambda: physik._core.run_scene(scene),
+                 lambda: physik.PosingSession(scene), lambda: physik.solve(scene, "physik"),
+                 lambda: physik.tune(scene, scan_points=0, max_iterations=1)]:
+        assert raises_input_error(call) == expected
 
 
 def test_step_count_must_not_be_negative():

@@ -154,29 +154,26 @@ TEST(MjcfImport, MassAndInertiaCarryOver) {
 }
 
 // Capsule geoms give the bones' radii, in the model's lengths: the capsule of the bone's body, or
-// of a body at its head (the shin's for the bone that follows the zero-offset shin_twist); a bone
-// with none (the head's sphere, the foot's box) keeps the rig defaults and is reported.
+// of a body at its head (the shin's for the bone that follows the zero-offset shin_twist); a body
+// with only a sphere (the head) gives the sphere's; a bone with neither (the foot's box) keeps the
+// rig defaults and is reported.
 TEST(MjcfImport, CapsuleRadiiBecomeBoneRadii) {
   const MjcfRig mr = load_mjcf(write_temp("testman_radii.xml", kModel));
   const Rig& rig = mr.rig();
   const std::vector<std::pair<std::string, double>> want = {
       {"torso", 0.1},     {"torso>head", 0.1}, {"torso>thigh", 0.1}, {"upper_arm", 0.04},
-      {"forearm", 0.035}, {"thigh", 0.06},     {"shin_twist", 0.05}};
+      {"forearm", 0.035}, {"thigh", 0.06},     {"shin_twist", 0.05}, {"head", 0.1}};
   for (const auto& [name, r] : want) {
     const int b = rig.find_bone(name);
     ASSERT_GE(b, 0) << name;
     EXPECT_DOUBLE_EQ(rig.bone_collision_radius[b], r) << name;
     EXPECT_DOUBLE_EQ(rig.bone_radius[b], r) << name;
   }
-  std::vector<std::string> none = mr.report.bones_without_capsule;
-  std::sort(none.begin(), none.end());
-  EXPECT_EQ(none, (std::vector<std::string>{"foot", "head"}));
-  for (const char* name : {"head", "foot"}) {
-    const int b = rig.find_bone(name);
-    EXPECT_DOUBLE_EQ(rig.bone_radius[b], 0.5) << name;
-    EXPECT_NEAR(rig.bone_collision_radius[b], kCollisionRadiusPerLength * rig.bone_length[b], 1e-12)
-        << name;
-  }
+  EXPECT_EQ(mr.report.bones_default_radius, std::vector<std::string>{"foot"});
+  const int foot = rig.find_bone("foot");
+  EXPECT_DOUBLE_EQ(rig.bone_radius[foot], 0.5);
+  EXPECT_NEAR(rig.bone_collision_radius[foot], kCollisionRadiusPerLength * rig.bone_length[foot],
+              1e-12);
 }
 
 TEST(MjcfImport, LimitsCarryOver) {
