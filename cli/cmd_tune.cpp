@@ -46,6 +46,7 @@ struct EquilibriumCliOptions {
   std::string bones;
   bool compare = false;
   std::string start = "initial";
+  int max_iterations = tune::EquilibriumOptions{}.max_iterations;
 };
 
 Scene load_existing_scene(const std::string& path, const std::vector<std::string>& set) {
@@ -211,20 +212,22 @@ void add_equilibrium(CLI::App& app) {
       "--compare", opt->compare,
       "Also run PhysIK on the scene and report its final-pose distance to the equilibrium "
       "(exit 3 if that run diverges)");
+  cmd->add_option("--max-iterations", opt->max_iterations,
+                  "Ceres iterations at most; a minimisation that stops short of convergence "
+                  "writes its last iterate and exits 4")
+      ->capture_default_str();
   cmd->add_option("--set", opt->set, kSetHelp);
+  cmd->footer(kEquilibriumExitStatusHelp);
   cmd->callback([opt] {
     tune::check_equilibrium_start(opt->start);
     const Scene scene = load_existing_scene(opt->scene, opt->set);
     if (!opt->out.empty() && opt->out != "-") check_output_file(opt->out, "--out");
     if (!opt->bones.empty()) check_output_file(opt->bones, "--bones");
-    const tune::EquilibriumReport rep = tune::equilibrium_report(scene, opt->start, opt->compare);
+    const tune::EquilibriumReport rep =
+        tune::equilibrium_report(scene, opt->start, opt->compare, opt->max_iterations);
     const tune::EquilibriumResult& e = rep.result;
     const nlohmann::json& doc = rep.doc;
     std::cerr << "equilibrium: " << e.ceres_brief << "\n";
-    if (!e.converged) {
-      std::cerr << "physik: warning: " << scene.file
-                << ": Ceres stopped before converging: the pose is its last iterate\n";
-    }
     if (rep.ran_physik && rep.physik_run.diverged) {
       write_json(doc, opt->out);
       std::cerr << "physik: diverged: PhysIK's run diverged (" << rep.physik_run.divergence_reason
@@ -241,6 +244,11 @@ void add_equilibrium(CLI::App& app) {
     if (!opt->bones.empty()) {
       std::ofstream csv = open_output_file(opt->bones, "--bones");
       write_bones_csv(scene.rig, e.frames, csv);
+    }
+    if (!e.converged) {  // after the outputs, which hold the last iterate; said as solve says it
+      std::cerr << "physik: not converged: " << scene.file
+                << ": Ceres stopped before converging; the pose written is its last iterate\n";
+      throw NotConverged("Ceres stopped before converging");
     }
   });
 }

@@ -22,6 +22,10 @@ inline constexpr const char* kSolveExitStatusHelp =
     "Exit status: 0 success, 1 an unexpected failure, 2 bad input, 3 a diverged run, 4 not "
     "converged (the solve stopped short of its tolerance; final_pose.csv and summary.json hold "
     "its last pose).";
+// `physik equilibrium`: Ceres stopped before converging (its output holds the last iterate).
+inline constexpr const char* kEquilibriumExitStatusHelp =
+    "Exit status: 0 success, 1 an unexpected failure, 2 bad input, 3 a diverged run (--compare's "
+    "PhysIK run), 4 not converged (Ceres stopped short; the output holds its last iterate).";
 class NotConverged : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;

@@ -400,6 +400,15 @@ check "equilibrium" 0 "$bin" equilibrium "$src/models/scenes/pinhead_two_hands.j
 expect_in "equilibrium converged" "$tmp/eq.json" '"converged": true'
 expect_in "equilibrium physik gap" "$tmp/eq.json" '"max_pose_distance"'
 expect_in "equilibrium bones" "$tmp/eq.csv" "hand.L"
+# a minimisation that Ceres stops short of convergence is not a result: exit 4, its last iterate
+# written and marked
+check "equilibrium out of iterations" 4 "$bin" equilibrium "$src/models/scenes/pinhead_two_hands.json" --max-iterations 1 --out "$tmp/eq1.json"
+expect_in "equilibrium out of iterations says so" "$tmp/err" "physik: not converged:"
+expect_in "equilibrium out of iterations marks its output" "$tmp/eq1.json" '"converged": false'
+check "equilibrium bad max-iterations" 2 "$bin" equilibrium "$src/models/scenes/pinhead_two_hands.json" --max-iterations 0
+expect_in "equilibrium bad max-iterations names it" "$tmp/err" "--max-iterations"
+check "equilibrium help lists exit 4" 0 "$bin" equilibrium --help
+expect_in "equilibrium help lists exit 4" "$tmp/out" "4 not converged"
 
 # robustness: absurd sizes, overflowing values, bad names, deep nesting, blow-ups
 check "chain absurd size" 2 "$bin" rig chain 2147483647

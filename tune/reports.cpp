@@ -56,12 +56,17 @@ void check_equilibrium_start(const std::string& start) {
   }
 }
 
-EquilibriumReport equilibrium_report(const Scene& scene, const std::string& start, bool compare) {
+EquilibriumReport equilibrium_report(const Scene& scene, const std::string& start, bool compare,
+                                     int max_iterations) {
   check_equilibrium_start(start);
+  if (max_iterations < 1) {
+    throw_input_error("--max-iterations", "", "", "expected a positive integer");
+  }
   EquilibriumReport out;
   out.ran_physik = compare || start == "physik";
   if (out.ran_physik) out.physik_run = run_scene(scene);
   EquilibriumOptions eo;
+  eo.max_iterations = max_iterations;
   if (start == "physik") eo.start = &out.physik_run.final_pose;
   out.result = solve_equilibrium(scene, eo);
   const EquilibriumResult& e = out.result;

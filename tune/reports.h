@@ -27,7 +27,9 @@ struct EquilibriumReport {
 };
 
 // The exact static pose from `start`; with `compare` (or start = physik) PhysIK's run too and
-// its final-pose distance to the equilibrium in doc["physik"].
-EquilibriumReport equilibrium_report(const Scene& scene, const std::string& start, bool compare);
+// its final-pose distance to the equilibrium in doc["physik"]. max_iterations: Ceres's
+// (EquilibriumOptions), > 0.
+EquilibriumReport equilibrium_report(const Scene& scene, const std::string& start, bool compare,
+                                     int max_iterations = EquilibriumOptions{}.max_iterations);
 
 }  // namespace physik::tune
