@@ -139,7 +139,7 @@ TEST(Contacts, StaticFrictionHoldsARodOnASlopeBelowTheFrictionAngle) {
       const SlopeRun held = rod_on_slope(scheme, dt, tan_theta, k_t, on_box, 3.0);
       EXPECT_LT(std::abs(held.travel), 1e-7);
       EXPECT_LT(std::abs(held.speed), 1e-7);
-      // the explicit schemes take the creep's viscous friction, mu N / v_s = 219 N s/m at each
+      // the explicit schemes take the creep's viscous friction, mu N / v_s = 439 N s/m at each
       // end, stably only for dt < 2 m_eff / c (m_eff = m / 4 at an end: 0.0011 s)
       const double creep_dt = scheme == Scheme::kImplicit ? dt : 2e-4;
       const SlopeRun crept = rod_on_slope(scheme, creep_dt, tan_theta, 0.0, on_box, 3.0);

@@ -351,10 +351,12 @@ std::vector<ParamRow> interpolation_rows() {
 // default, so older scenes' summaries stay as they were). The defaults, the same in every preset: k
 // such that a 1 kg bone under 9.81 sinks by about 1e-3 rig units; c the critical damping of a
 // quarter of that mass on k (a bone's end point: 1/m_eff = 1/m + (L/2)^2 / (m L^2 / 12) = 4/m); mu
-// 1 as MuJoCo's; below 0.01 rig units/s of slip the friction is viscous; the static friction's
-// anchor spring as stiff as the normal one (a tangential load T moves a stuck contact by T / k_t,
-// as a normal load sinks it). The explicit schemes are stable only for dt < 2 sqrt(m_eff / k)
-// (0.01 s for these); the implicit one at any dt.
+// 1 as MuJoCo's; below 0.01 rig units/s of slip the friction is viscous; no static friction
+// (friction_stiffness 0: MuJoCo's soft friction creeps as the regularised law does, and the
+// contacts experiment's drops agree with it so; k_t = k holds a tangential load T at T / k_t, as
+// a normal load sinks by W / k). The explicit schemes are stable only for dt < 2 sqrt(m_eff / k)
+// (0.01 s for these) and, for the friction's viscous slope c = mu F_n / friction_speed at rest,
+// dt < 2 m_eff / c (0.001 s for a 1 kg bone lying on the floor); the implicit one at any dt.
 std::vector<ParamRow> contact_rows() {
   return {
       omitted_at_default(row<&E::contact_k>(
