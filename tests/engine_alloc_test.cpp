@@ -86,37 +86,43 @@ TEST(EngineAllocations, ASplitImplicitStepAllocatesNothing) {
 // hands pulled toward its torso with self-collision, so that ground and box contacts are found
 // every step (the box's through FCL's sphere-box routine) and FCL's broad phase is refitted and its
 // capsule distances asked (for the pairs whose boxes overlap). The contact lists are reserved by
-// init_state; FCL's tree update and distance queries must not allocate either.
+// init_state; FCL's tree update and distance queries must not allocate either. With static
+// friction on too: the anchors (and the energy guard's copies of them) are reserved with the
+// contacts.
 TEST(EngineAllocations, ContactStepsAllocateNothing) {
-  for (const Scheme scheme : {Scheme::kGaussSeidel, Scheme::kExact, Scheme::kImplicit}) {
-    Scene scene = load_scene(test::model_path("scenes/pinhead_two_hands.json"));
-    scene.params.scheme = scheme;
-    scene.params.dt = scheme == Scheme::kImplicit ? 0.05 : 0.002;
-    scene.params.interpolation = Interpolation::kNone;
-    scene.gravity_world = Vec3(0, 0, -9.81);
-    scene.collision.ground = GroundPlane{Vec3::UnitZ(), -2.45};  // the feet sink at once
-    // a block under the right foot, its top level with the floor (FCL's sphere-box,
-    // the deepest-point search)
-    scene.collision.obstacles = {
-        BoxObstacle{"block", Vec3(-0.43, 0, -2.95), Vec3(0.3, 0.3, 0.5), Quat::Identity()}};
-    scene.collision.self_collision = true;
-    for (ControlPoint& c : scene.control_points) c.target_world = Vec3(0.0, 0.0, 1.0);
-    SimState s;
-    init_state(scene, s);
-    for (int n = 0; n < 20; ++n) step(scene, s);  // warm up
-    g_allocations = 0;
-    g_counting = true;
-    int box_steps = 0;  // steps that found a contact with the box
-    for (int n = 0; n < 50; ++n) {
-      step(scene, s);
-      box_steps += std::any_of(s.contacts.begin(), s.contacts.end(),
-                               [](const Contact& c) { return c.obstacle == 0; });
+  for (const double friction_stiffness : {0.0, 1e4})
+    for (const Scheme scheme : {Scheme::kGaussSeidel, Scheme::kExact, Scheme::kImplicit}) {
+      SCOPED_TRACE("friction_stiffness " + std::to_string(friction_stiffness));
+      Scene scene = load_scene(test::model_path("scenes/pinhead_two_hands.json"));
+      scene.params.friction_stiffness = friction_stiffness;
+      scene.params.scheme = scheme;
+      scene.params.dt = scheme == Scheme::kImplicit ? 0.05 : 0.002;
+      scene.params.interpolation = Interpolation::kNone;
+      scene.gravity_world = Vec3(0, 0, -9.81);
+      scene.collision.ground = GroundPlane{Vec3::UnitZ(), -2.45};  // the feet sink at once
+      // a block under the right foot, its top level with the floor (FCL's sphere-box,
+      // the deepest-point search)
+      scene.collision.obstacles = {
+          BoxObstacle{"block", Vec3(-0.43, 0, -2.95), Vec3(0.3, 0.3, 0.5), Quat::Identity()}};
+      scene.collision.self_collision = true;
+      for (ControlPoint& c : scene.control_points) c.target_world = Vec3(0.0, 0.0, 1.0);
+      SimState s;
+      init_state(scene, s);
+      for (int n = 0; n < 20; ++n) step(scene, s);  // warm up
+      g_allocations = 0;
+      g_counting = true;
+      int box_steps = 0;  // steps that found a contact with the box
+      for (int n = 0; n < 50; ++n) {
+        step(scene, s);
+        box_steps += std::any_of(s.contacts.begin(), s.contacts.end(),
+                                 [](const Contact& c) { return c.obstacle == 0; });
+      }
+      g_counting = false;
+      EXPECT_GT(s.contacts.size(), 0u) << to_string(scheme);
+      EXPECT_GT(box_steps, 0) << to_string(scheme) << ": the box must be touched to test it";
+      if (friction_stiffness > 0.0) EXPECT_GT(s.friction_anchors.size(), 0u) << to_string(scheme);
+      EXPECT_EQ(g_allocations.load(), 0) << to_string(scheme);
     }
-    g_counting = false;
-    EXPECT_GT(s.contacts.size(), 0u) << to_string(scheme);
-    EXPECT_GT(box_steps, 0) << to_string(scheme) << ": the box must be touched to test it";
-    EXPECT_EQ(g_allocations.load(), 0) << to_string(scheme);
-  }
 }
 
 // The embedding API's per-frame calls allocate nothing either: a target moved, a few steps, and
