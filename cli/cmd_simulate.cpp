@@ -68,9 +68,7 @@ Scene prepare_scene(const SimulateOptions& o) {
   if (!o.reference.empty()) parse_reference_spec(o.reference);  // bad spec: exit 2 first
   if (!o.bvh.empty()) check_output_file(o.bvh, "--bvh");        // before the run, not after
   if (o.steps > 0) scene.steps = o.steps;
-  const std::string start_warning = check_start_contacts(scene);
-  if (!start_warning.empty())
-    std::cerr << "physik: warning: " << scene.file << ": " << start_warning << "\n";
+  warn_start_contacts(scene);
   return scene;
 }
 
@@ -166,6 +164,11 @@ void run_simulate(const SimulateOptions& o) {
 }
 
 }  // namespace
+
+void warn_start_contacts(const Scene& scene) {
+  const std::string warning = check_start_contacts(scene);
+  if (!warning.empty()) std::cerr << "physik: warning: " << scene.file << ": " << warning << "\n";
+}
 
 void add_simulate_commands(CLI::App& app) {
   auto opt = std::make_shared<SimulateOptions>();

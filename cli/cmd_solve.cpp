@@ -11,7 +11,6 @@
 
 #include "cli/commands.h"
 #include "physik/engine/run_monitor.h"
-#include "physik/engine/start_contacts.h"
 #include "physik/io/json_fields.h"
 #include "physik/io/output_files.h"
 #include "physik/io/pose_io.h"
@@ -97,9 +96,7 @@ void run_solve(const SolveOptions& o, const CLI::App& cmd) {
   // the engine runs the contacts from the initial pose (start_contacts.h); a classic solver
   // refuses a ground or obstacles outright (scene_solve.h)
   if (options.solver == "physik" || options.solver == "physik-explicit") {
-    const std::string start_warning = check_start_contacts(scene);
-    if (!start_warning.empty())
-      std::cerr << "physik: warning: " << scene.file << ": " << start_warning << "\n";
+    warn_start_contacts(scene);
   }
   create_output_dir(o.out, "--out");
   const SceneSolveResult r = solve_scene(scene, options);

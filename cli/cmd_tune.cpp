@@ -8,7 +8,6 @@
 
 #include "cli/commands.h"
 #include "physik/engine/run_monitor.h"
-#include "physik/engine/start_contacts.h"
 #include "physik/io/json_fields.h"
 #include "physik/io/output_files.h"
 #include "physik/io/pose_io.h"
@@ -166,9 +165,7 @@ void run_tune(const TuneCliOptions& o) {
   if (o.steps > 0) scene.steps = o.steps;
   // every run of the tuner starts from the scene's pose: a start into the ground warns, one
   // through it is bad input (start_contacts.h), before any run
-  const std::string start_warning = check_start_contacts(scene);
-  if (!start_warning.empty())
-    std::cerr << "physik: warning: " << scene.file << ": " << start_warning << "\n";
+  warn_start_contacts(scene);
   if (!o.out.empty()) check_output_file(o.out, "--out");
   if (!o.report.empty()) check_output_file(o.report, "--report");
   const tune::TuneResult r = tune::tune_scene(scene, to);

@@ -6,7 +6,16 @@
 
 #include <CLI/CLI.hpp>
 
+namespace physik {
+struct Scene;
+}
+
 namespace physik::cli {
+
+// The start-contact check (physik/engine/start_contacts.h) as every command that runs a scene
+// reports it: its warning on stderr, named by the scene's file; a start through the ground or a
+// box throws InputError (exit 2). Defined in cmd_simulate.cpp.
+void warn_start_contacts(const Scene& scene);
 
 // Every command's --help ends with this (main.cpp sets it as the app's footer before the
 // commands are added, and CLI11 copies a parent's footer into each subcommand it creates);
