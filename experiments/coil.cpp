@@ -1,6 +1,7 @@
 // The coil's chain and scenes (coil.h).
 #include "experiments/coil.h"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <string>
@@ -48,6 +49,11 @@ Rig chain_through(const std::vector<Vec3>& p, const std::string& name) {
   return build_rig(specs, "<" + name + ">", name);
 }
 
+// the inward sag of a chord L of a turn of radius rho, L^2 / (8 rho) (coil.h)
+double chord_sag(double rho) {
+  return kCoilBoneLength * kCoilBoneLength / (8.0 * rho);
+}
+
 Scene coil_scene(const Rig& rig, const std::string& name, bool contacts, int steps) {
   Scene s;
   s.file = "<" + name + ">";
@@ -67,18 +73,39 @@ Scene coil_scene(const Rig& rig, const std::string& name, bool contacts, int ste
   return s;
 }
 
-}  // namespace
-
-Scene coil_flat_spiral_scene(int nbone, bool contacts, int steps) {
+// the flat spiral from inner radius rho0 with turns `pitch` apart, rig units (coil.h)
+Curve flat_spiral(double rho0, double pitch) {
   const double e = kCoilRadius / 25.0;
-  const double rho0 = 3.0 * kCoilBoneLength;
-  const double pitch = 2.0 * kCoilRadius - e + kCoilBoneLength * kCoilBoneLength / (8.0 * rho0);
-  const Curve spiral = [&](double theta) {
+  return [=](double theta) {
     const double rho = rho0 + pitch * theta / (2.0 * kPi);
     return Vec3(rho * std::cos(theta), rho * std::sin(theta), kCoilRadius - e);
   };
+}
+
+}  // namespace
+
+Scene coil_flat_spiral_scene(int nbone, bool contacts, int steps) {
   const std::string name = "coil flat spiral " + std::to_string(nbone);
+  const double rho0 = 3.0 * kCoilBoneLength, e = kCoilRadius / 25.0;
+  const Curve spiral = flat_spiral(rho0, 2.0 * kCoilRadius - e + chord_sag(rho0));
   return coil_scene(chain_through(chord_points(spiral, nbone), name), name, contacts, steps);
+}
+
+Scene coil_flat_ring_scene(int nbone, int turns, bool contacts, int steps) {
+  // the length of `turns` turns from rho0 is 2 pi turns rho0 + pi s turns^2: solve for rho0 (the
+  // pitch s depends on rho0 only through the sag, a few fixed-point passes)
+  const double e = kCoilRadius / 25.0;
+  double rho0 = 3.0 * kCoilBoneLength, pitch = 0.0;
+  for (int k = 0; k < 5; ++k) {
+    pitch = 2.0 * kCoilRadius + e + chord_sag(rho0);
+    const double fit =
+        (nbone * kCoilBoneLength - kPi * pitch * turns * turns) / (2.0 * kPi * turns);
+    rho0 = std::max(3.0 * kCoilBoneLength, fit);
+  }
+  pitch = 2.0 * kCoilRadius + e + chord_sag(rho0);
+  const std::string name = "coil flat ring " + std::to_string(nbone);
+  return coil_scene(chain_through(chord_points(flat_spiral(rho0, pitch), nbone), name), name,
+                    contacts, steps);
 }
 
 Scene coil_helix_scene(int nbone, int turns, int steps) {

@@ -11,6 +11,15 @@
 //                the floor, the inner turns overlap by up to e and the outer ones, whose chords sag
 //                less, just clear each other: 2N ground contacts, a few self-contacts on the
 //                innermost turns, and every turn a candidate of its neighbours' in the broad phase
+//   flat ring    a flat spiral with a fixed number of turns: its inner radius rho_0 grows with N
+//                so that N bones fill `turns` turns (rho_0 = (N L - pi s turns^2) / (2 pi turns),
+//                at least 3 L), its turns s = 2 r + e + L^2 / (8 rho_0) apart, so that they clear
+//                each other by at least e: 2N ground contacts and no self-contact at the start.
+//                Every N has the same share of bones on the inner and outer turns, which have one
+//                neighbouring turn where the others have two, so the broad phase's candidate pairs
+//                per bone hardly change with N: the workload of the growth benchmark
+//                (bench/bench_contacts.cpp). The flat spiral's turn count grows with N instead,
+//                and its pairs per bone with it
 //   helix        `turns` turns of radius N L / (2 pi turns) about the vertical, pitch 3 r (the
 //                turns do not touch), its lowest bone r above the floor: dropped under gravity,
 //                the turns fall onto one another and pile on the floor
@@ -30,6 +39,7 @@ constexpr double kCoilRadius = 0.025;    // rig units, collision and inertia rad
 constexpr double kCoilDamping = 0.1;     // N s/m at each bone end
 
 Scene coil_flat_spiral_scene(int nbone, bool contacts, int steps = 100);
+Scene coil_flat_ring_scene(int nbone, int turns, bool contacts, int steps = 100);
 Scene coil_helix_scene(int nbone, int turns, int steps);
 
 }  // namespace physik::experiments

@@ -39,6 +39,32 @@ TEST(Coil, FlatSpiralLiesOnTheFloorWithItsTurnsTouching) {
   EXPECT_FALSE(coil_flat_spiral_scene(250, false).collision.any());
 }
 
+// The ring has `turns` turns at every N and its turns clear each other, so its candidate pairs per
+// bone hardly change with N (the growth benchmark's workload, bench/bench_contacts.cpp).
+TEST(Coil, FlatRingHasItsTurnsAtEverySizeAndTouchesOnlyTheFloor) {
+  for (const int n : {125, 1000}) {
+    const Scene s = coil_flat_ring_scene(n, 4, true);
+    ASSERT_EQ(s.rig.nbone, n);
+    for (double l : s.rig.bone_length) EXPECT_NEAR(l, kCoilBoneLength, 1e-9);
+    const BoneFrames f = forward_kinematics(s.rig, s.initial_pose);
+    // the chain's angle about the centre, unwrapped: four turns within a bone's angle
+    double angle = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const Vec3& a = f.head_world[i];
+      const Vec3& b = f.tail_world[i];
+      angle += std::atan2(a.x() * b.y() - a.y() * b.x(), a.x() * b.x() + a.y() * b.y());
+    }
+    const double rho0 = f.head_world[0].head<2>().norm();
+    EXPECT_NEAR(angle, 4 * 2.0 * kPi, kCoilBoneLength / rho0) << n << " bones";
+    int ground = 0;
+    for (const Contact& c : contacts_at_start(s)) {
+      EXPECT_LT(c.other_bone, 0) << "bones " << c.bone << " and " << c.other_bone << " touch";
+      ground += c.other_bone < 0 ? 1 : 0;
+    }
+    EXPECT_EQ(ground, 2 * n);
+  }
+}
+
 TEST(Coil, HelixStartsClearOfTheFloorAndOfItself) {
   const Scene s = coil_helix_scene(300, 3, 10);
   for (double l : s.rig.bone_length) EXPECT_NEAR(l, kCoilBoneLength, 1e-9);
