@@ -17,10 +17,19 @@
 //   ImplicitCoil      the flat spiral, the contacts experiment's: its turn count grows with N, and
 //                     its pairs per bone with it (by about a quarter from 125 to 1,000 bones)
 //   ImplicitCoilRing  the flat ring, four turns at every N: the same pairs per bone at every N
+// BM_ImplicitPinheadContacts: pinhead under gravity with its torso held by two springs and its
+// left hand pulled through the torso (the contacts experiment's hand scene), the floor at its
+// rest pose's lowest point and self-collision on, beside the same scene with neither: the feet
+// and hands come onto the floor and the arm onto the torso. Times the whole run (300 steps of the
+// implicit scheme, dt 0.05 s), per step, each from the initial pose put back with set_pose (the
+// buffers kept, as in a run; the targets stay where the last run left them, at their goals).
+// ground_contacts and self_contacts: per step over the run. Target: ratio at most 2.
 // Growth target: contacts_us no faster than n log n from 125 to 1000 bones (a factor 8 log 1000 /
 // log 125 = 11.4), judged on the ring, whose work per bone is the same at every size.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -30,6 +39,7 @@
 #include "experiments/scaling.h"
 #include "physik/engine/collision.h"
 #include "physik/engine/engine.h"
+#include "physik/io/scene_io.h"
 
 namespace {
 
@@ -121,6 +131,84 @@ void BM_ImplicitCoilRing(benchmark::State& state) {
            coil_flat_ring_scene(n, kRingTurns, false));
 }
 
+// the contacts experiment's hand scene under gravity, with the floor and self-collision or neither
+physik::Scene pinhead_scene(bool contacts) {
+  nlohmann::json doc = {{"rig", std::string(PHYSIK_SOURCE_DIR) + "/models/rigs/pinhead.json"},
+                        {"params", {{"preset", "robust"}, {"dt", 0.05}, {"damping", 3.0}}},
+                        {"steps", 300},
+                        {"gravity", {0, 0, -9.81}},
+                        {"control_points",
+                         {{{"name", "neck"},
+                           {"bone", "torso"},
+                           {"alpha", 0.0},
+                           {"target", {0, 0, 1.8155}},
+                           {"k", 300}},
+                          {{"name", "pelvis"},
+                           {"bone", "torso"},
+                           {"alpha", 1.0},
+                           {"target", {0, 0, 0.4541}},
+                           {"k", 300}},
+                          {{"name", "hand.L"},
+                           {"bone", "hand.L"},
+                           {"alpha", 1.0},
+                           {"target", {-1.0, 0, 1.0}},
+                           {"k", 30}}}}};
+  physik::Scene probe = physik::scene_from_json(doc, "bench_pinhead", ".");
+  if (contacts) {
+    const physik::BoneFrames f = physik::forward_kinematics(probe.rig, probe.initial_pose);
+    double lowest = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < probe.rig.nbone; ++i) {
+      lowest = std::min(lowest, std::min(f.head_world[i].z(), f.tail_world[i].z()) -
+                                    probe.rig.bone_collision_radius[i]);
+    }
+    doc["ground"] = {{"height", lowest}, {"normal", {0, 0, 1}}};
+    doc["self_collision"] = true;
+  }
+  return physik::scene_from_json(doc, "bench_pinhead", ".");
+}
+
+// per step over one run from the initial pose: its s of thread time, its substeps, its ground
+// and bone-bone contacts
+struct PinheadRun {
+  double seconds = 0.0;
+  long substeps = 0, ground = 0, self = 0;
+};
+void run_pinhead(const physik::Scene& scene, physik::SimState& s, PinheadRun& r) {
+  physik::set_pose(scene, s, scene.initial_pose);
+  const double t0 = thread_seconds();
+  for (int k = 0; k < scene.steps; ++k) {
+    r.substeps += physik::step(scene, s).substeps;
+    for (const physik::Contact& c : s.contacts) ++(c.other_bone >= 0 ? r.self : r.ground);
+  }
+  r.seconds += thread_seconds() - t0;
+}
+
+void BM_ImplicitPinheadContacts(benchmark::State& state) {
+  const physik::Scene on = pinhead_scene(true), off = pinhead_scene(false);
+  physik::SimState s_on, s_off;
+  physik::init_state(on, s_on);
+  physik::init_state(off, s_off);
+  PinheadRun warm, r_on, r_off;  // one untimed run of each: buffers at their run's size
+  run_pinhead(on, s_on, warm);
+  run_pinhead(off, s_off, warm);
+  long steps = 0, allocs = 0;
+  for (auto _ : state) {
+    const long a0 = physik::bench::allocations();
+    run_pinhead(on, s_on, r_on);
+    allocs += physik::bench::allocations() - a0;
+    run_pinhead(off, s_off, r_off);
+    steps += on.steps;
+  }
+  state.counters["contacts_us"] = 1e6 * r_on.seconds / steps;
+  state.counters["no_contacts_us"] = 1e6 * r_off.seconds / steps;
+  state.counters["ratio"] = r_on.seconds / r_off.seconds;
+  state.counters["ground_contacts"] = static_cast<double>(r_on.ground) / steps;
+  state.counters["self_contacts"] = static_cast<double>(r_on.self) / steps;
+  state.counters["substeps"] = static_cast<double>(r_on.substeps) / steps;
+  state.counters["allocs_per_step"] = static_cast<double>(allocs) / steps;
+}
+
+BENCHMARK(BM_ImplicitPinheadContacts)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ImplicitCoil)->Arg(125)->Arg(250)->Arg(500)->Arg(1000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ImplicitCoilRing)
     ->Arg(125)
