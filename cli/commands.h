@@ -25,8 +25,7 @@ inline constexpr const char* kExitStatusHelp =
 
 // `physik solve`: a solve that stopped short of its tolerance (stalled, or out of iterations or
 // steps) without diverging. It writes its last pose and summary.json, says why on stderr, and
-// the CLI exits with kExitNotConverged.
-inline constexpr int kExitNotConverged = 4;
+// the CLI exits with kExitNotConverged (errors.h).
 inline constexpr const char* kSolveExitStatusHelp =
     "Exit status: 0 success, 1 an unexpected failure, 2 bad input, 3 a diverged run, 4 not "
     "converged (the solve stopped short of its tolerance; final_pose.csv and summary.json hold "

@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
   } catch (const physik::DivergedRun&) {
     return physik::kExitDiverged;  // already reported by the command
   } catch (const physik::cli::NotConverged&) {
-    return physik::cli::kExitNotConverged;  // `physik solve` or `equilibrium`, already reported
+    return physik::kExitNotConverged;  // `physik solve` or `equilibrium`, already reported
   } catch (const std::filesystem::filesystem_error& e) {
     // a path the user gave that the system refuses (the commands name most of them first)
     std::cerr << "physik: error: " << e.path1().string() << ": " << e.code().message() << "\n";

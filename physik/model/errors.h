@@ -2,7 +2,9 @@
 //
 // Bad input is caught at the edge (file loaders, CLI) and reported as one line naming the file,
 // the element and the field; the engine then trusts its inputs. Exit codes are part of the CLI
-// contract: 0 success, 2 bad input, 3 a diverged run.
+// contract: 0 success, 1 an unexpected failure, 2 bad input, 3 a diverged run, 4 not converged
+// (`physik solve` or `physik equilibrium` stopped short of its tolerance without diverging: it
+// writes its last iterate, says why on stderr and exits 4).
 #pragma once
 
 #include <stdexcept>
@@ -14,6 +16,7 @@ constexpr int kExitOk = 0;
 constexpr int kExitRuntimeFailure = 1;
 constexpr int kExitBadInput = 2;
 constexpr int kExitDiverged = 3;
+constexpr int kExitNotConverged = 4;
 
 // A malformed or contradictory input file or argument. what() is the full one-line message:
 // "<file>: <element>: <field>: <reason>".

@@ -277,7 +277,9 @@ def equilibrium(scene, *, start="initial", compare=False, with_pose=False):
 
     start: "initial" (the scene's initial pose) or "physik" (PhysIK's final pose); compare: also run
     PhysIK and report its final-pose distance in the result's "physik" entry. Returns the CLI's
-    JSON as a dict, or (dict, Pose) with with_pose.
+    JSON as a dict, or (dict, Pose) with with_pose. When Ceres stops short of convergence, the
+    dict holds its last iterate with "converged" False (the CLI exits 4): read that flag, as
+    solve()'s summary's.
     """
     doc, arrays = _core._equilibrium(scene, start, compare)
     if with_pose:
