@@ -1,5 +1,6 @@
 // physik: the testbed's command line program.
-// Exit status: 0 success, 1 an unexpected failure, 2 bad input, 3 a diverged run.
+// Exit status: 0 success, 1 an unexpected failure, 2 bad input, 3 a diverged run, 4 not converged
+// (`physik solve` or `physik equilibrium`; physik/model/errors.h).
 #include <exception>
 #include <filesystem>
 #include <iostream>

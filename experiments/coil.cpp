@@ -4,8 +4,11 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <Eigen/Geometry>
 
 #include "physik/model/params.h"
 
@@ -92,8 +95,9 @@ Scene coil_flat_spiral_scene(int nbone, bool contacts, int steps) {
 }
 
 Scene coil_flat_ring_scene(int nbone, int turns, bool contacts, int steps) {
-  // the length of `turns` turns from rho0 is 2 pi turns rho0 + pi s turns^2: solve for rho0 (the
-  // pitch s depends on rho0 only through the sag, a few fixed-point passes)
+  if (turns < 1) throw std::invalid_argument("coil_flat_ring_scene: turns must be at least 1");
+  // the length of `turns` turns from rho0 is about 2 pi turns rho0 + pi s turns^2: solve for rho0
+  // (the pitch s depends on rho0 only through the sag, a few fixed-point passes)
   const double e = kCoilRadius / 25.0;
   double rho0 = 3.0 * kCoilBoneLength, pitch = 0.0;
   for (int k = 0; k < 5; ++k) {
@@ -117,6 +121,23 @@ Scene coil_helix_scene(int nbone, int turns, int steps) {
   };
   const std::string name = "coil helix " + std::to_string(nbone);
   return coil_scene(chain_through(chord_points(helix, nbone), name), name, true, steps);
+}
+
+double candidate_pairs_per_bone(const Scene& scene, const BoneFrames& f) {
+  const int n = scene.rig.nbone;
+  std::vector<Eigen::AlignedBox3d> box(n);
+  for (int i = 0; i < n; ++i) {
+    const Vec3 r = Vec3::Constant(scene.rig.bone_collision_radius[i]);
+    box[i] = Eigen::AlignedBox3d(f.head_world[i].cwiseMin(f.tail_world[i]) - r,
+                                 f.head_world[i].cwiseMax(f.tail_world[i]) + r);
+  }
+  long count = 0;
+  for (int a = 0; a < n; ++a) {
+    for (int b = a + 1; b < n; ++b) {
+      if (!scene.rig.bones_share_joint(a, b) && box[a].intersects(box[b])) ++count;
+    }
+  }
+  return static_cast<double>(count) / n;
 }
 
 }  // namespace physik::experiments

@@ -12,14 +12,16 @@
 //                less, just clear each other: 2N ground contacts, a few self-contacts on the
 //                innermost turns, and every turn a candidate of its neighbours' in the broad phase
 //   flat ring    a flat spiral with a fixed number of turns: its inner radius rho_0 grows with N
-//                so that N bones fill `turns` turns (rho_0 = (N L - pi s turns^2) / (2 pi turns),
-//                at least 3 L), its turns s = 2 r + e + L^2 / (8 rho_0) apart, so that they clear
-//                each other by at least e: 2N ground contacts and no self-contact at the start.
-//                Every N has the same share of bones on the inner and outer turns, which have one
-//                neighbouring turn where the others have two, so the broad phase's candidate pairs
-//                per bone hardly change with N: the workload of the growth benchmark
-//                (bench/bench_contacts.cpp). The flat spiral's turn count grows with N instead,
-//                and its pairs per bone with it
+//                so that N bones fill `turns` turns (the arc length of T turns is about
+//                2 pi T rho_0 + pi s T^2, so rho_0 = (N L - pi s T^2) / (2 pi T)), its turns
+//                s = 2 r + e + L^2 / (8 rho_0) apart, so that they clear each other by at least
+//                e: 2N ground contacts and no self-contact at the start. rho_0 is at least 3 L,
+//                as the spiral's: below that (fewer than about 104 bones at 4 turns) the chain
+//                ends short of its turns. Every N has a similar share of bones on the inner and
+//                outer turns, which have one neighbouring turn where the others have two, so the
+//                broad phase's candidate pairs per bone stay within a few percent at every N:
+//                the workload of the growth benchmark (bench/bench_contacts.cpp). The flat
+//                spiral's turn count grows with N instead, and its pairs per bone with it
 //   helix        `turns` turns of radius N L / (2 pi turns) about the vertical, pitch 3 r (the
 //                turns do not touch), its lowest bone r above the floor: dropped under gravity,
 //                the turns fall onto one another and pile on the floor
@@ -30,6 +32,7 @@
 // Units: rig units, kg, s.
 #pragma once
 
+#include "physik/model/kinematics.h"
 #include "physik/model/scene.h"
 
 namespace physik::experiments {
@@ -39,7 +42,13 @@ constexpr double kCoilRadius = 0.025;    // rig units, collision and inertia rad
 constexpr double kCoilDamping = 0.1;     // N s/m at each bone end
 
 Scene coil_flat_spiral_scene(int nbone, bool contacts, int steps = 100);
+// std::invalid_argument when turns < 1.
 Scene coil_flat_ring_scene(int nbone, int turns, bool contacts, int steps = 100);
 Scene coil_helix_scene(int nbone, int turns, int steps);
+
+// The broad phase's workload at these frames: the bone pairs whose capsule boxes (each bone's
+// segment's box grown by its collision radius, collision.h) overlap, bones that share a joint
+// excluded, over the bones. A brute-force count, O(N^2).
+double candidate_pairs_per_bone(const Scene& scene, const BoneFrames& frames);
 
 }  // namespace physik::experiments

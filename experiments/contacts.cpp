@@ -42,6 +42,7 @@
 
 #include "experiments/coil.h"
 #include "experiments/common.h"
+#include "experiments/contacts_scenes.h"
 #include "experiments/report.h"
 #include "physik/engine/collision.h"
 #include "physik/engine/contacts.h"
@@ -52,6 +53,30 @@
 #include "reference/compare.h"
 
 namespace physik::experiments {
+
+Scene contacts_hand_scene(const std::string& models_dir, bool self_collision, int steps) {
+  const nlohmann::json doc = {{"rig", models_dir + "/rigs/pinhead.json"},
+                              {"params", {{"preset", "robust"}, {"dt", 0.05}, {"damping", 3.0}}},
+                              {"steps", steps},
+                              {"self_collision", self_collision},
+                              {"control_points",
+                               {{{"name", "neck"},
+                                 {"bone", "torso"},
+                                 {"alpha", 0.0},
+                                 {"target", {0, 0, 1.8155}},
+                                 {"k", 300}},
+                                {{"name", "pelvis"},
+                                 {"bone", "torso"},
+                                 {"alpha", 1.0},
+                                 {"target", {0, 0, 0.4541}},
+                                 {"k", 300}},
+                                {{"name", "hand.L"},
+                                 {"bone", "hand.L"},
+                                 {"alpha", 1.0},
+                                 {"target", {-1.0, 0, 1.0}},
+                                 {"k", 30}}}}};
+  return scene_from_json(doc, self_collision ? "contacts_hand_on" : "contacts_hand_off", ".");
+}
 
 namespace {
 
@@ -93,30 +118,9 @@ const Scene& checked_start(const Scene& scene) {
   return scene;
 }
 
-// pinhead's torso held at its rest head and tail, the left hand's tip pulled to the right of the
-// torso (through it), with or without self-collision
+// the hand scene (contacts_scenes.h), 300 steps (60 quick)
 Scene hand_scene(const Context& ctx, bool self_collision) {
-  const nlohmann::json doc = {{"rig", ctx.models_dir + "/rigs/pinhead.json"},
-                              {"params", {{"preset", "robust"}, {"dt", 0.05}, {"damping", 3.0}}},
-                              {"steps", ctx.quick ? 60 : 300},
-                              {"self_collision", self_collision},
-                              {"control_points",
-                               {{{"name", "neck"},
-                                 {"bone", "torso"},
-                                 {"alpha", 0.0},
-                                 {"target", {0, 0, 1.8155}},
-                                 {"k", 300}},
-                                {{"name", "pelvis"},
-                                 {"bone", "torso"},
-                                 {"alpha", 1.0},
-                                 {"target", {0, 0, 0.4541}},
-                                 {"k", 300}},
-                                {{"name", "hand.L"},
-                                 {"bone", "hand.L"},
-                                 {"alpha", 1.0},
-                                 {"target", {-1.0, 0, 1.0}},
-                                 {"k", 30}}}}};
-  return scene_from_json(doc, self_collision ? "contacts_hand_on" : "contacts_hand_off", ".");
+  return contacts_hand_scene(ctx.models_dir, self_collision, ctx.quick ? 60 : 300);
 }
 
 // the deepest overlap of a pose, as a fraction of the thinner touching capsule's radius

@@ -1,9 +1,11 @@
 // The coil (experiments/coil.h) and the contacts experiment's coil section (quick): the chain's
-// shapes are what the header says (bones of L, the spiral's contacts, the helix clear of the floor
-// and of itself), and the section writes its run, its claims and its measures.
+// shapes are what the header says (bones of L, the spiral's contacts, the ring's turns and
+// clearance, the helix clear of the floor and of itself), and the section writes its run, its
+// claims and its measures.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -39,9 +41,12 @@ TEST(Coil, FlatSpiralLiesOnTheFloorWithItsTurnsTouching) {
   EXPECT_FALSE(coil_flat_spiral_scene(250, false).collision.any());
 }
 
-// The ring has `turns` turns at every N and its turns clear each other, so its candidate pairs per
-// bone hardly change with N (the growth benchmark's workload, bench/bench_contacts.cpp).
+// The ring has `turns` turns at every N, its turns clear each other by e, and its candidate pairs
+// per bone stay nearly the same from 125 to 1,000 bones (the growth benchmark's workload,
+// bench/bench_contacts.cpp), where the flat spiral's rise.
 TEST(Coil, FlatRingHasItsTurnsAtEverySizeAndTouchesOnlyTheFloor) {
+  const double e = kCoilRadius / 25.0;
+  std::vector<double> pairs;
   for (const int n : {125, 1000}) {
     const Scene s = coil_flat_ring_scene(n, 4, true);
     ASSERT_EQ(s.rig.nbone, n);
@@ -62,7 +67,19 @@ TEST(Coil, FlatRingHasItsTurnsAtEverySizeAndTouchesOnlyTheFloor) {
       ground += c.other_bone < 0 ? 1 : 0;
     }
     EXPECT_EQ(ground, 2 * n);
+    // every capsule grown by just under e / 2: the turns still clear each other
+    Scene grown = s;
+    for (double& r : grown.rig.bone_collision_radius) r += 0.49 * e;
+    for (const Contact& c : contacts_at_start(grown)) EXPECT_LT(c.other_bone, 0) << n << " bones";
+    pairs.push_back(candidate_pairs_per_bone(s, f));
   }
+  EXPECT_NEAR(pairs[1] / pairs[0], 1.0, 0.1);
+  const auto spiral_pairs = [](int n) {
+    const Scene s = coil_flat_spiral_scene(n, true);
+    return candidate_pairs_per_bone(s, forward_kinematics(s.rig, s.initial_pose));
+  };
+  EXPECT_GT(spiral_pairs(1000) / spiral_pairs(125), 1.2);  // why the ring exists
+  EXPECT_THROW(coil_flat_ring_scene(100, 0, true), std::invalid_argument);
 }
 
 TEST(Coil, HelixStartsClearOfTheFloorAndOfItself) {
