@@ -474,6 +474,17 @@ std::string joined(const std::vector<std::string>& names) {
   return out.empty() ? "none" : out;
 }
 
+// the feet that do not touch the floor, named: "foot.L", "foot.L and foot.R" (or "none")
+std::string feet_off_floor(const Seated& m) {
+  std::vector<std::string> off;
+  for (const char* foot : {"foot.L", "foot.R"}) {
+    if (std::find(m.on_floor.begin(), m.on_floor.end(), foot) == m.on_floor.end()) {
+      off.emplace_back(foot);
+    }
+  }
+  return off.size() == 2 ? off[0] + " and " + off[1] : joined(off);
+}
+
 nlohmann::json sit_section(const Context& ctx, Report& report) {
   const Scene scene = checked_start(sit_scene(ctx));
   const Comparison c = compare_with_mujoco(scene, ReferenceMode::kSameForces);
@@ -490,8 +501,8 @@ nlohmann::json sit_section(const Context& ctx, Report& report) {
           " J (MuJoCo: seat " + joined(m.on_seat) + "; floor " + joined(m.on_floor) + ")",
       physik_diverged                     ? "no (the run diverged)"
       : p.hips_on_seat && p.feet_on_floor ? "yes"
-      : p.hips_on_seat                    ? "partly (on the seat, the feet off the floor)"
-                                          : "no");
+      : p.hips_on_seat ? "partly (on the seat; " + feet_off_floor(p) + " off the floor)"
+                       : "no");
   report.named("sit-on-seat");
   report.claim("Seated, no penetration deeper than 5% of a bone's radius",
                "deepest at the end: " + num(p.penetration) +
