@@ -2,12 +2,14 @@
 // time per step. Every timed run starts from init_state (untimed, as a run starts), so that the
 // runs of a benchmark are one and the same run; allocations are counted over the timed steps.
 //
-// ImplicitPinheadContacts: the contacts experiment's hand scene (experiments/contacts_scenes.h:
-// pinhead's torso held by two springs, its left hand pulled through the torso) under gravity,
-// with the floor at the rest pose's lowest point and self-collision, beside the same scene with
-// neither (gravity kept): the feet and the shins' lower ends come onto the floor, the left upper
-// arm onto the torso and the right forearm onto the right thigh. The whole run, 300 steps of the
-// implicit scheme at dt 0.05 s. Target: ratio at most 2.
+// The experiment `contacts_cost` (experiments/contacts_cost.cpp) times the same runs on every
+// `make reproduce` and reports the targets' claims; these are its benchmarks, with warm-up and
+// medians.
+//
+// ImplicitPinheadContacts: experiments/contacts_scenes.h contacts_cost_pinhead_scene (the
+// contacts experiment's hand scene under gravity, with the floor and self-collision), beside
+// the same scene with neither (gravity kept). The whole run, 300 steps of the implicit scheme at
+// dt 0.05 s. Target: ratio at most 2.
 //
 // ImplicitCoil, ImplicitCoilRing: a chain of N bones lying coiled on the floor with
 // self-collision (experiments/coil.h), beside the same chain in the same pose with neither
@@ -35,10 +37,8 @@
 //   pairs_per_bone   (coils) the broad phase's workload at the initial pose (coil.h)
 #include <benchmark/benchmark.h>
 
-#include <algorithm>
-#include <cmath>
-#include <limits>
 #include <string>
+#include <vector>
 
 #include "bench/alloc_counter.h"
 #include "experiments/coil.h"
@@ -53,59 +53,38 @@ using physik::experiments::coil_flat_ring_scene;
 using physik::experiments::coil_flat_spiral_scene;
 using physik::experiments::thread_seconds;
 
-// A timed run of `steps` steps from the scene's start.
+// A timed run of `steps` steps from the scene's start (init_state, untimed), its allocations.
 struct Run {
-  double seconds = 0.0;  // thread CPU time of the steps
-  long substeps = 0;
+  physik::experiments::TimedSteps timed;
   long allocations = 0;
-  bool finite = true;  // every step's kinetic energy finite
 };
 
 void time_run(const physik::Scene& scene, physik::SimState& s, int steps, Run& r) {
   physik::init_state(scene, s);
   const long a0 = physik::bench::allocations();
-  const double t0 = thread_seconds();
-  for (int k = 0; k < steps; ++k) {
-    const physik::StepStats st = physik::step(scene, s);
-    r.substeps += st.substeps;
-    r.finite = r.finite && std::isfinite(st.kinetic_energy);
-  }
-  r.seconds += thread_seconds() - t0;
+  physik::experiments::time_steps(scene, s, steps, r.timed);
   r.allocations += physik::bench::allocations() - a0;
 }
 
 // the shared counters of a benchmark's runs with and without the contacts; false (and the
 // benchmark skipped with an error) when a run did not stay finite
 bool report_runs(benchmark::State& state, const Run& on, const Run& off, long steps) {
-  if (!on.finite || !off.finite) {
-    state.SkipWithError(on.finite ? "the run without contacts diverged" : "the run diverged");
+  if (!on.timed.finite || !off.timed.finite) {
+    state.SkipWithError(on.timed.finite ? "the run without contacts diverged" : "the run diverged");
     return false;
   }
-  state.counters["contacts_us"] = 1e6 * on.seconds / steps;
-  state.counters["no_contacts_us"] = 1e6 * off.seconds / steps;
-  state.counters["ratio"] = on.seconds / off.seconds;
-  state.counters["substeps"] = static_cast<double>(on.substeps) / steps;
-  state.counters["substeps_off"] = static_cast<double>(off.substeps) / steps;
+  state.counters["contacts_us"] = 1e6 * on.timed.seconds / steps;
+  state.counters["no_contacts_us"] = 1e6 * off.timed.seconds / steps;
+  state.counters["ratio"] = on.timed.seconds / off.timed.seconds;
+  state.counters["substeps"] = static_cast<double>(on.timed.substeps) / steps;
+  state.counters["substeps_off"] = static_cast<double>(off.timed.substeps) / steps;
   state.counters["allocs_per_step"] = static_cast<double>(on.allocations) / steps;
   return true;
 }
 
-// the hand scene under gravity, with the floor at the rest pose's lowest point and
-// self-collision, or with neither
 physik::Scene pinhead_scene(bool contacts) {
-  physik::Scene s = physik::experiments::contacts_hand_scene(
-      std::string(PHYSIK_SOURCE_DIR) + "/models", contacts, 300);
-  s.gravity_world = physik::Vec3(0, 0, -9.81);
-  if (contacts) {
-    const physik::BoneFrames f = physik::forward_kinematics(s.rig, s.initial_pose);
-    double lowest = std::numeric_limits<double>::infinity();
-    for (int i = 0; i < s.rig.nbone; ++i) {
-      lowest = std::min(lowest, std::min(f.head_world[i].z(), f.tail_world[i].z()) -
-                                    s.rig.bone_collision_radius[i]);
-    }
-    s.collision.ground = physik::GroundPlane{physik::Vec3::UnitZ(), lowest};
-  }
-  return s;
+  return physik::experiments::contacts_cost_pinhead_scene(
+      std::string(PHYSIK_SOURCE_DIR) + "/models", contacts);
 }
 
 void BM_ImplicitPinheadContacts(benchmark::State& state) {

@@ -663,8 +663,8 @@ void run(const Context& ctx) {
       "the implicit scheme at dt 0.01 s with damping " +
       num(kCoilDamping) +
       " N s/m at each bone end and the same contact law; PhysIK only (MuJoCo's step on a chain "
-      "this long is the scaling experiment's). bench/bench_contacts.cpp times the step beside the "
-      "same scene without contacts (docs/engine.md).");
+      "this long is the scaling experiment's). The step's cost beside the same scene without "
+      "contacts is the experiment contacts_cost's.");
   report.figures({"contacts_poses.png", "contacts_coil.png"});
   write_summary(ctx,
                 {{"experiment", "contacts"},

@@ -8,6 +8,7 @@ import unittest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
+import plot_contacts_cost  # noqa: E402
 import plot_damping_sweep  # noqa: E402
 import plot_fig5_running  # noqa: E402
 import plot_fig6_elbow  # noqa: E402
@@ -80,6 +81,17 @@ class PaperFigureScripts(unittest.TestCase):
         write(self.d, "summary.json", {"rows": [
             {"scene": "s", "us_per_step": 10.0, "passes_per_step": 4.0, "passes_per_step_while_moving": 12.0}]})
         self.assertPng(plot_timing.plot(self.d))
+
+    def test_contacts_cost(self):
+        rows = [{"workload": "pinhead", "bones": 19, "contacts_us": 12.0, "no_contacts_us": 8.0,
+                 "ratio": 1.5}]
+        rows += [{"workload": w, "bones": n, "contacts_us": 0.1 * n, "no_contacts_us": 0.04 * n,
+                  "ratio": 2.5} for w in ("flat_spiral", "flat_ring") for n in (125, 250)]
+        write(self.d, "summary.json", {"rows": rows})
+        self.assertPng(plot_contacts_cost.plot(self.d))
+        write(self.d, "summary.json", {"rows": rows[:1]})
+        with self.assertRaises(ValueError):
+            plot_contacts_cost.plot(self.d)
 
     def test_tracking(self):
         write(self.d, "frames.csv", "solver,frame,cost_us,lag,jump_ratio\nphysik k=3,1,5.0,0.01,1.2\n"

@@ -138,5 +138,41 @@ TEST(Experiments, ContactsQuickWritesTheCoilSection) {
   EXPECT_FALSE(summary.at("coil_laid").at("diverged").get<bool>());
 }
 
+// The contacts_cost experiment (quick: 125 and 250 bones) writes a row per workload and size and
+// its three named claims. No time is judged here (the report's claims do that on a full run):
+// the rows' contacts are the scenes' (the ring lies on the floor on both end spheres of every
+// bone and on nothing else; the pinhead run touches the floor and itself), and every time is a
+// positive number.
+TEST(Experiments, ContactsCostQuickWritesItsRowsAndClaims) {
+  Context ctx;
+  ctx.out_dir = ::testing::TempDir() + "/experiments_contacts_cost";
+  std::filesystem::remove_all(ctx.out_dir);
+  std::filesystem::create_directories(ctx.out_dir);
+  ctx.models_dir = std::string(PHYSIK_SOURCE_DIR) + "/models";
+  ctx.quick = true;
+  for (const Experiment& e : all_experiments()) {
+    if (e.name == "contacts_cost") e.run(ctx);
+  }
+  const nlohmann::json summary = read_json_file(ctx.out_dir + "/summary.json");
+  const nlohmann::json& rows = summary.at("rows");
+  ASSERT_EQ(rows.size(), 5u);  // pinhead, then each coil at 125 and 250 bones
+  EXPECT_EQ(rows[0].at("workload"), "pinhead");
+  EXPECT_GT(rows[0].at("ground_contacts").get<double>(), 0.0);
+  EXPECT_GT(rows[0].at("self_contacts").get<double>(), 0.0);
+  for (const nlohmann::json& r : rows) {
+    EXPECT_GT(r.at("contacts_us").get<double>(), 0.0);
+    EXPECT_GT(r.at("no_contacts_us").get<double>(), 0.0);
+    if (r.at("workload") != "flat_ring") continue;
+    const double n = r.at("bones").get<double>();
+    EXPECT_NEAR(r.at("ground_contacts").get<double>(), 2.0 * n, 0.02 * n);
+    EXPECT_EQ(r.at("self_contacts").get<double>(), 0.0);
+  }
+  std::vector<std::string> names;
+  for (const nlohmann::json& c : summary.at("report").at("claims")) {
+    if (c.contains("name")) names.push_back(c.at("name"));
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"pinhead-step", "coil-step", "coil-growth"}));
+}
+
 }  // namespace
 }  // namespace physik::experiments

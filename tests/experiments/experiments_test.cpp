@@ -42,7 +42,8 @@ TEST(Experiments, EveryExpectedExperimentIsRegisteredInRunOrder) {
                                              "scaling",
                                              "beyond_the_paper",
                                              "outside_rigs",
-                                             "contacts"};
+                                             "contacts",
+                                             "contacts_cost"};
   EXPECT_EQ(names, expected);
 }
 
