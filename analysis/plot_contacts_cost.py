@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Contacts' step cost: the coils' microseconds per step against bones, log-log, with and without
 the contacts, n log n through the ring's smallest size dashed; and the ratios against the
-targets (pinhead 2x, the 1,000-bone coils 5x). Reads the summary's rows; computes nothing."""
+targets (pinhead 2x, the largest coils 5x). Reads the summary's rows; computes only the n log n
+reference line."""
 import argparse
 import math
 import os
@@ -9,6 +10,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import physik_plot as pp  # noqa: E402
+from matplotlib.ticker import ScalarFormatter  # noqa: E402
 
 COLORS = {"flat_spiral": "tab:blue", "flat_ring": "tab:orange"}
 
@@ -17,8 +19,9 @@ def plot(folder):
     rows = pp.load_summary(folder)["rows"]
     coils = [r for r in rows if r["workload"] in COLORS]
     pinhead = [r for r in rows if r["workload"] == "pinhead"]
-    if not coils or not pinhead:
-        raise ValueError("%s/summary.json: no coil or no pinhead rows" % folder)
+    missing = [w for w in ("pinhead", *COLORS) if not any(r["workload"] == w for r in rows)]
+    if missing:
+        raise ValueError("%s/summary.json: no %s rows" % (folder, ", ".join(missing)))
     fig, (a, b) = pp.plt.subplots(1, 2, figsize=(11, 4.2))
     for name, color in COLORS.items():
         pts = sorted((r["bones"], r["contacts_us"], r["no_contacts_us"]) for r in coils
@@ -30,6 +33,9 @@ def plot(folder):
             n0, t0 = pts[0][0], pts[0][1]
             a.loglog(n, [t0 * m * math.log(m) / (n0 * math.log(n0)) for m in n], "k--", lw=1,
                      label="n log n from the ring's first size")
+    a.set_xticks(sorted({r["bones"] for r in coils}))
+    a.get_xaxis().set_major_formatter(ScalarFormatter())
+    a.minorticks_off()
     a.set_xlabel("bones")
     a.set_ylabel("us per step (thread CPU time)")
     a.legend(fontsize=7)

@@ -3,8 +3,8 @@
 // runs of a benchmark are one and the same run; allocations are counted over the timed steps.
 //
 // The experiment `contacts_cost` (experiments/contacts_cost.cpp) times the same runs on every
-// `make reproduce` and reports the targets' claims; these are its benchmarks, with warm-up and
-// medians.
+// `make reproduce` (the fastest of several) and reports the targets' claims; here each counter
+// is the mean per step over the benchmark's iterations (--benchmark_repetitions=3 for medians).
 //
 // ImplicitPinheadContacts: experiments/contacts_scenes.h contacts_cost_pinhead_scene (the
 // contacts experiment's hand scene under gravity, with the floor and self-collision), beside

@@ -54,30 +54,6 @@
 
 namespace physik::experiments {
 
-Scene contacts_hand_scene(const std::string& models_dir, bool self_collision, int steps) {
-  const nlohmann::json doc = {{"rig", models_dir + "/rigs/pinhead.json"},
-                              {"params", {{"preset", "robust"}, {"dt", 0.05}, {"damping", 3.0}}},
-                              {"steps", steps},
-                              {"self_collision", self_collision},
-                              {"control_points",
-                               {{{"name", "neck"},
-                                 {"bone", "torso"},
-                                 {"alpha", 0.0},
-                                 {"target", {0, 0, 1.8155}},
-                                 {"k", 300}},
-                                {{"name", "pelvis"},
-                                 {"bone", "torso"},
-                                 {"alpha", 1.0},
-                                 {"target", {0, 0, 0.4541}},
-                                 {"k", 300}},
-                                {{"name", "hand.L"},
-                                 {"bone", "hand.L"},
-                                 {"alpha", 1.0},
-                                 {"target", {-1.0, 0, 1.0}},
-                                 {"k", 30}}}}};
-  return scene_from_json(doc, self_collision ? "contacts_hand_on" : "contacts_hand_off", ".");
-}
-
 namespace {
 
 // the drops' start: the lowest capsule this far above the floor, rig units

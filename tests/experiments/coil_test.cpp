@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -155,13 +156,21 @@ TEST(Experiments, ContactsCostQuickWritesItsRowsAndClaims) {
   }
   const nlohmann::json summary = read_json_file(ctx.out_dir + "/summary.json");
   const nlohmann::json& rows = summary.at("rows");
-  ASSERT_EQ(rows.size(), 5u);  // pinhead, then each coil at 125 and 250 bones
-  EXPECT_EQ(rows[0].at("workload"), "pinhead");
+  // the order the claims read: pinhead, then each coil from its smallest size to its largest
+  std::vector<std::pair<std::string, int>> order;
+  for (const nlohmann::json& r : rows) order.emplace_back(r.at("workload"), r.at("bones"));
+  const int pinhead_bones = rows[0].at("bones");
+  EXPECT_EQ(order, (std::vector<std::pair<std::string, int>>{{"pinhead", pinhead_bones},
+                                                             {"flat_spiral", 125},
+                                                             {"flat_spiral", 250},
+                                                             {"flat_ring", 125},
+                                                             {"flat_ring", 250}}));
   EXPECT_GT(rows[0].at("ground_contacts").get<double>(), 0.0);
   EXPECT_GT(rows[0].at("self_contacts").get<double>(), 0.0);
   for (const nlohmann::json& r : rows) {
-    EXPECT_GT(r.at("contacts_us").get<double>(), 0.0);
-    EXPECT_GT(r.at("no_contacts_us").get<double>(), 0.0);
+    const double on = r.at("contacts_us"), off = r.at("no_contacts_us");
+    EXPECT_TRUE(std::isfinite(on) && on > 0.0 && std::isfinite(off) && off > 0.0);
+    EXPECT_NEAR(r.at("ratio").get<double>(), on / off, 1e-12 * on / off);
     if (r.at("workload") != "flat_ring") continue;
     const double n = r.at("bones").get<double>();
     EXPECT_NEAR(r.at("ground_contacts").get<double>(), 2.0 * n, 0.02 * n);
