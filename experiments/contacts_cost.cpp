@@ -16,7 +16,9 @@
 // run), so that a spell of a busy machine slows one sweep, not all of a workload's runs. An
 // untimed run first counts the contacts per step. Each sweep's first run of a workload with the
 // contacts follows another workload's runs, whose data fills the caches: the fastest of those
-// is reported too (cold_contacts_us), without a verdict. The benchmark reports the mean per step
+// is reported too (cold_contacts_us), without a verdict. Each workload keeps its own states, so
+// that no timed run starts on buffers another workload's rig resized. The benchmark reports the
+// mean per step
 // over its iterations (medians with --benchmark_repetitions); both are this machine's times, not
 // a test. Quick: 125 and 250 bones, one run each.
 #include <algorithm>
@@ -233,9 +235,8 @@ void run(const Context& ctx) {
           " sweeps over the workloads, each taking " + std::to_string(repeats(ctx)) +
           " runs of a workload in a row, as a long run's steps follow one another on the same "
           "data (warm caches). The cold column is the fastest of each sweep's first run of a "
-          "workload with contacts, which follows another workload's runs: the contact path "
-          "has the larger working set (FCL's tree and objects, the contacts), so it pays more "
-          "for cold caches. Coils: the first 10 steps of dt 0.01 s; pinhead: the whole 300-step "
+          "workload with contacts, which follows another workload's runs (their data in the "
+          "caches). Coils: the first 10 steps of dt 0.01 s; pinhead: the whole 300-step "
           "run. `make bench` times the same runs (bench/bench_contacts.cpp).")
       .figures({"contacts_cost.png"});
   write_summary(ctx, {{"experiment", "contacts_cost"}, {"rows", table.rows_json()}}, report,
