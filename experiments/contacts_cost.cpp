@@ -18,9 +18,8 @@
 // contacts follows another workload's runs, whose data fills the caches: the fastest of those
 // is reported too (cold_contacts_us), without a verdict. Each workload keeps its own states, so
 // that no timed run starts on buffers another workload's rig resized. The benchmark reports the
-// mean per step
-// over its iterations (medians with --benchmark_repetitions); both are this machine's times, not
-// a test. Quick: 125 and 250 bones, one run each.
+// mean per step over its iterations (medians with --benchmark_repetitions); both are this
+// machine's times, not a test. Quick: 125 and 250 bones, one run each.
 #include <algorithm>
 #include <cmath>
 #include <limits>
