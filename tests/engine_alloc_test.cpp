@@ -120,7 +120,9 @@ TEST(EngineAllocations, ContactStepsAllocateNothing) {
       g_counting = false;
       EXPECT_GT(s.contacts.size(), 0u) << to_string(scheme);
       EXPECT_GT(box_steps, 0) << to_string(scheme) << ": the box must be touched to test it";
-      if (friction_stiffness > 0.0) EXPECT_GT(s.friction_anchors.size(), 0u) << to_string(scheme);
+      if (friction_stiffness > 0.0) {
+        EXPECT_GT(s.friction_anchors.size(), 0u) << to_string(scheme);
+      }
       EXPECT_EQ(g_allocations.load(), 0) << to_string(scheme);
     }
 }

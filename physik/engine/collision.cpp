@@ -10,8 +10,8 @@
 #include <fcl/geometry/shape/box.h>
 #include <fcl/geometry/shape/capsule.h>
 #include <fcl/geometry/shape/sphere.h>
+#include <fcl/narrowphase/detail/primitive_shape_algorithm/capsule_capsule.h>
 #include <fcl/narrowphase/detail/primitive_shape_algorithm/sphere_box.h>
-#include <fcl/narrowphase/distance.h>
 
 namespace physik {
 
@@ -114,6 +114,9 @@ struct CollisionWorld::Impl {
   void place_bones(const BoneFrames& frames);
   void broad_phase(const Scene& scene);
   void pair_contacts(std::vector<Contact>& out) const;
+  const fcl::Capsuled& capsule(int bone) const {
+    return static_cast<const fcl::Capsuled&>(*bones[bone]->collisionGeometry());
+  }
   void box_contacts(const Scene& scene, const BoneFrames& f, std::vector<Contact>& out);
   void sphere_in_box(const fcl::Boxd& box, const fcl::Transform3d& box_tf, const Vec3& centre,
                      double r, Contact& c, std::vector<Contact>& out);
@@ -177,14 +180,17 @@ void CollisionWorld::Impl::broad_phase(const Scene& scene) {
 }
 
 void CollisionWorld::Impl::pair_contacts(std::vector<Contact>& out) const {
-  const fcl::DistanceRequestd request(true);  // the witness points too
   for (const auto& [a, b] : pairs) {
-    fcl::DistanceResultd res;
-    fcl::distance(bones[a].get(), bones[b].get(), request, res);
-    const double s = res.min_distance;
+    // FCL's capsule-capsule distance, the function fcl::distance dispatches a capsule pair to
+    // (its GJK solvers' shapeDistance), called directly: the same numbers without the generic
+    // traversal's set-up per pair. Signed: negative when the capsules overlap; witness points
+    // in the world frame.
+    double s = 0.0;
+    Vec3 pa, pb;
+    fcl::detail::capsuleCapsuleDistance(capsule(a), bones[a]->getTransform(), capsule(b),
+                                        bones[b]->getTransform(), &s, &pa, &pb);
     // a touch within round-off of the radii carries no force and has no reliable normal
     if (!(s < -1e-12 * (radius[a] + radius[b]))) continue;
-    const Vec3 pa = res.nearest_points[0], pb = res.nearest_points[1];
     Contact c;
     c.bone = a;
     c.other_bone = b;

@@ -4,7 +4,9 @@
 // Source: FCL, the Flexible Collision Library (J. Pan, S. Chitta, D. Manocha, ICRA 2012; Debian
 // libfcl-dev 0.7): its dynamic AABB tree for the broad phase and its capsule-capsule signed
 // distance (fcl/narrowphase/detail/primitive_shape_algorithm/capsule_capsule.h: the closest
-// points of the two centre segments, Ericson, Real-Time Collision Detection, 2005, 5.1.9).
+// points of the two centre segments, Ericson, Real-Time Collision Detection, 2005, 5.1.9),
+// called directly: fcl::distance dispatches a capsule pair to the same function through a
+// generic traversal it sets up per pair.
 //
 // Shapes (scene.h CollisionSettings, rig.h bone_collision_radius):
 //   bone i   the capsule around its segment head-tail, radius r_i
