@@ -74,12 +74,8 @@ Scene drop_scene(const Context& ctx, double tilt_deg) {
     return scene_from_json(doc, "contacts_drop_" + std::to_string(static_cast<int>(tilt_deg)), ".");
   };
   const Scene level = at_height(0.0);
-  const BoneFrames f = forward_kinematics(level.rig, level.initial_pose);
-  double lowest = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < level.rig.nbone; ++i) {
-    lowest = std::min(lowest, std::min(f.head_world[i].z(), f.tail_world[i].z()) -
-                                  level.rig.bone_collision_radius[i]);
-  }
+  const double lowest =
+      lowest_capsule_point(level.rig, forward_kinematics(level.rig, level.initial_pose));
   return at_height(kDropClearance - lowest);
 }
 
@@ -358,11 +354,6 @@ Pose paper_sitting_pose(const Scene& paper) {
   return st.pose;
 }
 
-// the lowest point (rig units, z) of bone b's capsule
-double capsule_bottom(const Scene& s, const BoneFrames& f, int b) {
-  return std::min(f.head_world[b].z(), f.tail_world[b].z()) - s.rig.bone_collision_radius[b];
-}
-
 // the seat under the sitting pose: its top at the lowest point of the thighs' capsules, from
 // 0.5 behind the pelvis (+y is behind: the paper's pelvis moves to +y) to a thigh radius short
 // of the knees (so the shins hang in front of it), 0.3 wider than the hips on each side, 0.4
@@ -371,7 +362,7 @@ void add_seat_and_floor(Scene& s, const BoneFrames& f) {
   const Rig& rig = s.rig;
   const int pelvis = rig.find_bone("torso"), thigh_l = rig.find_bone("thigh.L"),
             thigh_r = rig.find_bone("thigh.R");
-  const double top = std::min(capsule_bottom(s, f, thigh_l), capsule_bottom(s, f, thigh_r));
+  const double top = std::min(capsule_bottom(s.rig, f, thigh_l), capsule_bottom(s.rig, f, thigh_r));
   const double back = f.tail_world[pelvis].y() + 0.5;
   const double front = std::max(f.tail_world[thigh_l].y(), f.tail_world[thigh_r].y()) +
                        2.0 * rig.bone_collision_radius[thigh_l];
@@ -382,8 +373,8 @@ void add_seat_and_floor(Scene& s, const BoneFrames& f) {
   seat.half_extents = Vec3(half_x, 0.5 * (back - front), 0.2);
   seat.center_world = Vec3(0.0, 0.5 * (back + front), top - 0.2);
   s.collision.obstacles = {seat};
-  const double floor = std::min(capsule_bottom(s, f, rig.find_bone("foot.L")),
-                                capsule_bottom(s, f, rig.find_bone("foot.R")));
+  const double floor = std::min(capsule_bottom(s.rig, f, rig.find_bone("foot.L")),
+                                capsule_bottom(s.rig, f, rig.find_bone("foot.R")));
   s.collision.ground = GroundPlane{Vec3::UnitZ(), floor};
 }
 
@@ -481,8 +472,8 @@ double gap_without_arms(const Rig& rig, const BoneFrames& a, const BoneFrames& b
 // the report's note on the sit's floor: at the lower foot, the other foot above it
 void sit_foot_note(const Scene& scene, Report& report) {
   const BoneFrames f0 = forward_kinematics(scene.rig, scene.initial_pose);
-  const double foot_gap = std::abs(capsule_bottom(scene, f0, scene.rig.find_bone("foot.L")) -
-                                   capsule_bottom(scene, f0, scene.rig.find_bone("foot.R")));
+  const double foot_gap = std::abs(capsule_bottom(scene.rig, f0, scene.rig.find_bone("foot.L")) -
+                                   capsule_bottom(scene.rig, f0, scene.rig.find_bone("foot.R")));
   report.note(
       "Sit: the floor is at the lower foot's lowest point in the paper's sitting pose; the "
       "other foot stands " +

@@ -38,17 +38,22 @@ Scene contacts_hand_scene(const std::string& models_dir, bool self_collision, in
   return scene_from_json(doc, self_collision ? "contacts_hand_on" : "contacts_hand_off", ".");
 }
 
+double capsule_bottom(const Rig& rig, const BoneFrames& f, int b) {
+  return std::min(f.head_world[b].z(), f.tail_world[b].z()) - rig.bone_collision_radius[b];
+}
+
+double lowest_capsule_point(const Rig& rig, const BoneFrames& f) {
+  double lowest = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < rig.nbone; ++i) lowest = std::min(lowest, capsule_bottom(rig, f, i));
+  return lowest;
+}
+
 Scene contacts_cost_pinhead_scene(const std::string& models_dir, bool contacts) {
   Scene s = contacts_hand_scene(models_dir, contacts, 300);
   s.gravity_world = Vec3(0, 0, -9.81);
   if (contacts) {
-    const BoneFrames f = forward_kinematics(s.rig, s.initial_pose);
-    double lowest = std::numeric_limits<double>::infinity();
-    for (int i = 0; i < s.rig.nbone; ++i) {
-      lowest = std::min(lowest, std::min(f.head_world[i].z(), f.tail_world[i].z()) -
-                                    s.rig.bone_collision_radius[i]);
-    }
-    s.collision.ground = GroundPlane{Vec3::UnitZ(), lowest};
+    const double floor = lowest_capsule_point(s.rig, forward_kinematics(s.rig, s.initial_pose));
+    s.collision.ground = GroundPlane{Vec3::UnitZ(), floor};
   }
   return s;
 }

@@ -7,9 +7,15 @@
 #include <string>
 
 #include "physik/engine/state.h"
+#include "physik/model/kinematics.h"
 #include "physik/model/scene.h"
 
 namespace physik::experiments {
+
+// The lowest point of bone b's capsule at these frames (its lower end's z minus its collision
+// radius), and of every bone's: where a floor under the pose (z up) touches it. Rig units.
+double capsule_bottom(const Rig& rig, const BoneFrames& frames, int bone);
+double lowest_capsule_point(const Rig& rig, const BoneFrames& frames);
 
 // pinhead (models_dir/rigs/pinhead.json) with its torso held at its rest head and tail by two
 // springs of 300 N/m, the left hand's tip pulled by a spring of 30 N/m to x = -1, to the right
