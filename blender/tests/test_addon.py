@@ -27,7 +27,10 @@ from mathutils import Quaternion, Vector
 
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+# tests/scene_boxes.py: the box oracle the viewer test shares
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tests"))
 from blender_harness import box_mesh, clear_scene, enable_addon, script_args  # noqa: E402
+from scene_boxes import box_corners  # noqa: E402
 from test_rig_format import EVERY_FIELD  # noqa: E402
 
 ARGS = script_args((["--shared"], {"default": None, "help": "folder with data/pinhead.blend"}))
@@ -55,31 +58,6 @@ def angle_between(q1, q2):
 
 def max_diff(a, b):
     return max(abs(x - y) for x, y in zip(a, b))
-
-
-def rotation_matrix(rotation_deg):
-    """The rotation of a rotation vector in degrees (the scene format's `rotation_deg`), in double
-    precision: Rodrigues, R = I + sin(a) K + (1 - cos(a)) K^2, K the unit axis's cross matrix."""
-    v = [math.radians(x) for x in rotation_deg]
-    a = math.sqrt(sum(x * x for x in v))
-    if a == 0.0:
-        return [[float(r == c) for c in range(3)] for r in range(3)]
-    x, y, z = (c / a for c in v)
-    k = [[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]]
-    k2 = [[sum(k[r][m] * k[m][c] for m in range(3)) for c in range(3)] for r in range(3)]
-    return [[(r == c) + math.sin(a) * k[r][c] + (1.0 - math.cos(a)) * k2[r][c] for c in range(3)]
-            for r in range(3)]
-
-
-def box_corners(box):
-    """A scene box's 8 world corners: center + R (+-a, +-b, +-c)."""
-    r = rotation_matrix(box.get("rotation_deg", [0, 0, 0]))
-    h, c = box["half_extents"], box["center"]
-    out = []
-    for k in range(8):
-        local = [h[a] * (1 if k >> a & 1 else -1) for a in range(3)]
-        out.append([c[i] + sum(r[i][a] * local[a] for a in range(3)) for i in range(3)])
-    return out
 
 
 def run_op(op, **kw):

@@ -46,7 +46,9 @@ REPO = os.environ.get("PHYSIK_SOURCE_DIR") or os.path.dirname(
     os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BINARY = os.environ.get("PHYSIK_BINARY") or os.path.join(REPO, "build", "physik")
 sys.path.insert(0, os.path.join(REPO, "analysis"))
+sys.path.insert(0, os.path.join(REPO, "tests"))
 import headless_chromium  # noqa: E402
+from scene_boxes import box_corners  # noqa: E402
 
 SHOTS = os.environ.get("PHYSIK_VIEWER_SHOTS") or os.path.join(REPO, "build", "viewer_screenshots")
 SKIPPED = 77
@@ -129,39 +131,14 @@ def box_scene(folder, obstacles):
     return path
 
 
-def rotation_matrix(rotation_deg):
-    """The rotation of a rotation vector in degrees (the scene format's `rotation_deg`):
-    Rodrigues, R = I + sin(a) K + (1 - cos(a)) K^2 for the unit axis's cross-product matrix K."""
-    v = [math.radians(x) for x in rotation_deg]
-    a = math.sqrt(sum(x * x for x in v))
-    if a == 0:
-        return [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
-    x, y, z = (c / a for c in v)
-    k = [[0, -z, y], [z, 0, -x], [-y, x, 0]]
-    k2 = [[sum(k[r][m] * k[m][c] for m in range(3)) for c in range(3)] for r in range(3)]
-    return [[(r == c) + math.sin(a) * k[r][c] + (1 - math.cos(a)) * k2[r][c] for c in range(3)]
-            for r in range(3)]
-
-
 def rotation_quaternion(rotation_deg):
-    """The same rotation as a unit quaternion, x y z w (w >= 0)."""
+    """The rotation of a rotation vector in degrees (the scene format's `rotation_deg`) as a unit
+    quaternion, x y z w (w >= 0)."""
     v = [math.radians(x) for x in rotation_deg]
     a = math.sqrt(sum(x * x for x in v))
     if a == 0:
         return [0.0, 0.0, 0.0, 1.0]
     return [math.sin(a / 2) * c / a for c in v] + [math.cos(a / 2)]
-
-
-def box_corners(box):
-    """The 8 world corners of a scene box: centre + R (+-a, +-b, +-c), indexed by the signs'
-    bits (bit 0: x, bit 1: y, bit 2: z)."""
-    r = rotation_matrix(box.get("rotation_deg", [0, 0, 0]))
-    h, c = box["half_extents"], box["center"]
-    out = []
-    for k in range(8):
-        local = [h[a] * (1 if k >> a & 1 else -1) for a in range(3)]
-        out.append([c[i] + sum(r[i][a] * local[a] for a in range(3)) for i in range(3)])
-    return out
 
 
 def simulate(scene, out, *extra):
