@@ -17,6 +17,7 @@
 #include "experiments/experiment.h"
 #include "physik/io/json_fields.h"
 #include "physik/io/scene_io.h"
+#include "tests/experiments/experiments_test_util.h"
 #include "tests/test_util.h"
 
 namespace physik::experiments {
@@ -136,14 +137,7 @@ TEST(BlenderPeer, AHangingBlenderIsStoppedAtTheTimeout) {
 
 // fig9_outstretched (quick) into its own folder; its summary
 nlohmann::json run_fig9(const std::string& out_dir) {
-  Context ctx;
-  ctx.out_dir = out_dir;
-  ctx.models_dir = models();
-  ctx.quick = true;
-  for (const Experiment& e : all_experiments()) {
-    if (e.name == "fig9_outstretched") e.run(ctx);
-  }
-  return read_json_file(out_dir + "/summary.json");
+  return test::run_quick_experiment("fig9_outstretched", out_dir);
 }
 
 const nlohmann::json* claim(const nlohmann::json& summary, const std::string& prefix) {

@@ -18,6 +18,7 @@
 #include "physik/engine/contacts.h"
 #include "physik/engine/engine.h"
 #include "physik/io/json_fields.h"
+#include "tests/experiments/experiments_test_util.h"
 
 namespace physik::experiments {
 namespace {
@@ -110,16 +111,8 @@ TEST(Coil, DroppedHelixPilesOnTheFloorAndComesToRest) {
 }
 
 TEST(Experiments, ContactsQuickWritesTheCoilSection) {
-  Context ctx;
-  ctx.out_dir = ::testing::TempDir() + "/experiments_contacts";
-  std::filesystem::remove_all(ctx.out_dir);
-  std::filesystem::create_directories(ctx.out_dir);
-  ctx.models_dir = std::string(PHYSIK_SOURCE_DIR) + "/models";
-  ctx.quick = true;
-  for (const Experiment& e : all_experiments()) {
-    if (e.name == "contacts") e.run(ctx);
-  }
-  const nlohmann::json summary = read_json_file(ctx.out_dir + "/summary.json");
+  const std::string out_dir = test::fresh_temp_dir("experiments_contacts");
+  const nlohmann::json summary = test::run_quick_experiment("contacts", out_dir);
   const nlohmann::json& coil = summary.at("coil");
   EXPECT_EQ(coil.at("nbone"), 100);
   EXPECT_FALSE(coil.at("diverged").get<bool>());
@@ -134,7 +127,7 @@ TEST(Experiments, ContactsQuickWritesTheCoilSection) {
     EXPECT_NE(std::find(names.begin(), names.end(), n), names.end()) << n;
   }
   for (const char* run : {"coil", "coil_laid"}) {
-    EXPECT_TRUE(std::filesystem::exists(ctx.out_dir + "/runs/" + run + "/final_pose.csv")) << run;
+    EXPECT_TRUE(std::filesystem::exists(out_dir + "/runs/" + run + "/final_pose.csv")) << run;
   }
   EXPECT_FALSE(summary.at("coil_laid").at("diverged").get<bool>());
 }
@@ -145,16 +138,8 @@ TEST(Experiments, ContactsQuickWritesTheCoilSection) {
 // bone and on nothing else; the pinhead run touches the floor and itself), and every time is a
 // positive number.
 TEST(Experiments, ContactsCostQuickWritesItsRowsAndClaims) {
-  Context ctx;
-  ctx.out_dir = ::testing::TempDir() + "/experiments_contacts_cost";
-  std::filesystem::remove_all(ctx.out_dir);
-  std::filesystem::create_directories(ctx.out_dir);
-  ctx.models_dir = std::string(PHYSIK_SOURCE_DIR) + "/models";
-  ctx.quick = true;
-  for (const Experiment& e : all_experiments()) {
-    if (e.name == "contacts_cost") e.run(ctx);
-  }
-  const nlohmann::json summary = read_json_file(ctx.out_dir + "/summary.json");
+  const nlohmann::json summary = test::run_quick_experiment(
+      "contacts_cost", test::fresh_temp_dir("experiments_contacts_cost"));
   const nlohmann::json& rows = summary.at("rows");
   // the order the claims read: pinhead, then each coil from its smallest size to its largest
   std::vector<std::pair<std::string, int>> order;

@@ -15,6 +15,7 @@
 #include "experiments/report.h"
 #include "physik/io/json_fields.h"
 #include "physik/io/scene_io.h"
+#include "tests/experiments/experiments_test_util.h"
 #include "tests/test_util.h"
 
 namespace physik::experiments {
@@ -107,18 +108,8 @@ TEST(Report, NamesTheLastClaimAndRefusesBadOrRepeatedNames) {
 // fig5_running (quick): its summary carries the report, and its trajectory table is the bytes a
 // recorder writes with the experiments' rule (a row every 10 steps and at step 1)
 TEST(Experiments, Fig5WritesItsReportAndTheRecordersTable) {
-  Context ctx;
-  ctx.out_dir = ::testing::TempDir() + "/experiments_fig5";
-  std::filesystem::remove_all(ctx.out_dir);
-  std::filesystem::create_directories(ctx.out_dir);
-  ctx.models_dir = std::string(PHYSIK_SOURCE_DIR) + "/models";
-  ctx.quick = true;
-  const Experiment* fig5 = nullptr;
-  for (const Experiment& e : all_experiments()) fig5 = e.name == "fig5_running" ? &e : fig5;
-  ASSERT_NE(fig5, nullptr);
-  fig5->run(ctx);
-
-  const nlohmann::json summary = read_json_file(ctx.out_dir + "/summary.json");
+  const std::string out_dir = test::fresh_temp_dir("experiments_fig5");
+  const nlohmann::json summary = test::run_quick_experiment("fig5_running", out_dir);
   const nlohmann::json& report = summary["report"];
   EXPECT_EQ(report["title"], "Fig 5: a running pose from 8 control points");
   ASSERT_EQ(report["claims"].size(), 2u);
@@ -127,13 +118,13 @@ TEST(Experiments, Fig5WritesItsReportAndTheRecordersTable) {
   }
   EXPECT_TRUE(report["settings"].is_object());
 
-  Scene scene = load_scene(ctx.models_dir + "/scenes/fig5_running.json");
+  Scene scene = load_scene(test::model_path("scenes/fig5_running.json"));
   scene.steps = 100;  // the quick run's
   std::ostringstream csv;
   RecordOptions o = trajectory_table("", 10);
   o.csv_stream = &csv;
   record_run(scene, o);
-  EXPECT_EQ(test::read_file(ctx.out_dir + "/trajectory.csv"), csv.str());
+  EXPECT_EQ(test::read_file(out_dir + "/trajectory.csv"), csv.str());
   // the first rows are the initial state (step 0) and step 1
   const std::string rows = csv.str().substr(csv.str().find('\n') + 1);
   EXPECT_EQ(rows.substr(0, 2), "0,");
@@ -143,25 +134,17 @@ TEST(Experiments, Fig5WritesItsReportAndTheRecordersTable) {
 // fig11_sit (quick) leaves its run as a run folder for the viewer, listed in runs/order.txt,
 // and it is the experiment's own run (the same final state)
 TEST(Experiments, Fig11LeavesItsRunAsARunFolder) {
-  Context ctx;
-  ctx.out_dir = ::testing::TempDir() + "/experiments_fig11";
-  std::filesystem::remove_all(ctx.out_dir);
-  std::filesystem::create_directories(ctx.out_dir);
-  ctx.models_dir = std::string(PHYSIK_SOURCE_DIR) + "/models";
-  ctx.quick = true;
-  const Experiment* fig11 = nullptr;
-  for (const Experiment& e : all_experiments()) fig11 = e.name == "fig11_sit" ? &e : fig11;
-  ASSERT_NE(fig11, nullptr);
-  fig11->run(ctx);
+  const std::string out_dir = test::fresh_temp_dir("experiments_fig11");
+  const nlohmann::json summary = test::run_quick_experiment("fig11_sit", out_dir);
 
-  EXPECT_EQ(test::read_file(ctx.out_dir + "/runs/order.txt"), "sit\n");
-  const std::string run = ctx.out_dir + "/runs/sit";
+  EXPECT_EQ(test::read_file(out_dir + "/runs/order.txt"), "sit\n");
+  const std::string run = out_dir + "/runs/sit";
   for (const char* f : {"scene.json", "trajectory.csv", "targets_and_limits.csv", "summary.json",
                         "final_pose.csv"}) {
     EXPECT_TRUE(std::filesystem::exists(run + "/" + f)) << f;
   }
   const nlohmann::json mine = read_json_file(run + "/summary.json");
-  const nlohmann::json theirs = read_json_file(ctx.out_dir + "/summary.json")["run"];
+  const nlohmann::json theirs = summary.at("run");
   EXPECT_EQ(mine["final_state_hash"], theirs["final_state_hash"]);
   EXPECT_EQ(mine["steps_run"], theirs["steps_run"]);
 }

@@ -25,6 +25,7 @@
 #include "physik/model/params.h"
 #include "physik/model/rig_generators.h"
 #include "reference/mjcf_import.h"
+#include "tests/experiments/experiments_test_util.h"
 
 namespace physik::experiments::outside_rigs {
 namespace {
@@ -164,14 +165,7 @@ std::vector<std::map<std::string, std::string>> read_csv(const std::string& path
 }
 
 void run_quick(const std::string& out_dir) {
-  Context ctx;
-  ctx.out_dir = out_dir;
-  ctx.models_dir = std::string(PHYSIK_SOURCE_DIR) + "/models";
-  ctx.quick = true;
-  for (const Experiment& e : all_experiments()) {
-    if (e.name == "outside_rigs") return e.run(ctx);
-  }
-  FAIL() << "outside_rigs is not registered";
+  test::run_quick_experiment("outside_rigs", out_dir);
 }
 
 // the quick run's folder, run once per process for the tests below (named after the first test
