@@ -188,8 +188,8 @@ std::vector<std::string> diverged_runs(const Comparison& c) {
 }
 
 nlohmann::json comparison_to_json(const Scene& scene, const Comparison& c) {
-  // over the height, or the mean bone length for a flat rig (no inf or nan in the output)
-  const double h = scene.rig.height() > 0.0 ? scene.rig.height() : scene.rig.length_scale();
+  // over the height, or the mean bone length for a flat rig (no inf or nan: Rig::reference_length)
+  const double h = scene.rig.reference_length();
   const std::vector<std::string> diverged = diverged_runs(c);
   // a gap to a run that blew up measures nothing: the gaps are null then
   nlohmann::json j = gap_json(c.gap, h);

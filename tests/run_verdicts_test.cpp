@@ -256,6 +256,26 @@ TEST(EnergyRule, EveryShippedSceneKeepsItsVerdictAndTheTightHandDiverges) {
 
 // ---------------------------------------------------------------- scale-aware rest
 
+// A rig flat up to round-off (`rig from-mjcf` gives MuJoCo's arm26 a height of 6.3e-17): its
+// tolerances and reported ratios are over its mean bone length, not over the round-off (the
+// residual tolerance was 6e-20, so it could never converge, and the summary's gap over the
+// height 5e13).
+TEST(RestRule, ARigFlatUpToRoundOffTakesItsMeanBoneLengthAsItsScale) {
+  std::vector<BoneSpec> specs(2);
+  for (int i = 0; i < 2; ++i) {
+    specs[i].name = i ? "b" : "a";
+    specs[i].parent = i ? "a" : "";
+    specs[i].head_world = Vec3(0.5 * i, 0, 0);
+    specs[i].tail_world = Vec3(0.5 * (i + 1), 0, i ? -6.3e-17 : 0.0);
+    specs[i].rest_frame_world = rest_frame_from_roll(specs[i].head_world, specs[i].tail_world, 0);
+  }
+  const Scene s = test::scene_for(build_rig(specs, "flat"), preset_params("robust"), 10);
+  ASSERT_GT(s.rig.height(), 0.0);
+  ASSERT_LT(s.rig.height(), 1e-15);
+  EXPECT_DOUBLE_EQ(s.rig.reference_length(), 0.5);
+  EXPECT_DOUBLE_EQ(s.residual_tol(), 5e-4);
+}
+
 TEST(RestRule, AFlatRigWhoseTargetIsMetIsAtRestNotDiverged) {
   // height 0 gave a divergence bound of 0 (diverged at step 1) and a speed tolerance of 0
   std::vector<BoneSpec> specs(2);

@@ -24,8 +24,8 @@ void add_contact_fields(const Scene& scene, const RunSummary& s, nlohmann::json&
 }  // namespace
 
 nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s) {
-  // a flat rig has height 0: its residuals are then over its mean bone length (no inf or nan)
-  const double h = scene.rig.height() > 0.0 ? scene.rig.height() : scene.rig.length_scale();
+  // over the height, or the mean bone length for a flat rig (no inf or nan: Rig::reference_length)
+  const double h = scene.rig.reference_length();
   nlohmann::json rel = nlohmann::json::array();
   for (double r : s.final_residuals) rel.push_back(r / h);
   nlohmann::json out = {

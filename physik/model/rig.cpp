@@ -86,6 +86,10 @@ double Rig::length_scale() const {
   return nbone ? sum / nbone : 0.0;
 }
 
+double Rig::reference_length() const {
+  return std::max(height(), length_scale());
+}
+
 bool Rig::bones_share_joint(int a, int b) const {
   const int pa = bone_parent[a], pb = bone_parent[b];
   return pa == b || pb == a || (pa >= 0 && pa == pb);

@@ -118,6 +118,11 @@ struct Rig {
   // the mean bone length (rig units): the rig's own length scale, whatever the arrangement of its
   // bones (a flat rig has height 0, a 300-bone chain along Z a height of 300 bone lengths)
   double length_scale() const;
+  // the length residuals, gaps and tolerances are taken over (rig units): the rest pose's height,
+  // or its mean bone length when that is larger. A flat rig (a MuJoCo arm converted lying along
+  // x has a height of 6e-17, round-off) would otherwise divide by nothing; an upright rig's
+  // height is longer than its mean bone.
+  double reference_length() const;
   // two bones meet at one joint (parent and child, or two children of one parent): their
   // collision capsules never collide
   bool bones_share_joint(int a, int b) const;

@@ -4,9 +4,7 @@ namespace physik {
 
 double Scene::residual_tol() const {
   if (convergence.residual_tol > 0.0) return convergence.residual_tol;
-  // a flat rig has height 0: its own length scale instead
-  const double h = rig.height();
-  return 1e-3 * (h > 0.0 ? h : rig.length_scale());
+  return 1e-3 * rig.reference_length();
 }
 
 double Scene::speed_tol() const {

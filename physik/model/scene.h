@@ -43,9 +43,9 @@ struct TargetChange {
 };
 
 struct ConvergenceParams {
-  double residual_tol = 0.0;  // rig units; 0 = 1e-3 of the rig's height (of its mean bone length
-                              // when the rig is flat). Reported, and a run whose final residuals
-                              // exceed it is "converged" only if at rest
+  double residual_tol = 0.0;  // rig units; 0 = 1e-3 of Rig::reference_length (the height, or
+                              // the mean bone length when that is longer). Reported, and a run
+                              // whose final residuals exceed it is "converged" only if at rest
   double speed_tol = 0.0;     // rig units/s; 0 = 1e-3 of the rig's mean bone length per second
                               // (Rig::length_scale). At rest when sqrt(2 KE / total mass) is below
   int settle_steps = 10;      // consecutive steps at rest to call the run converged
