@@ -101,9 +101,14 @@ void write_joints(std::ostringstream& x, const Rig& rig, int i, JointModel model
                   const std::string& pad) {
   const std::string& name = rig.bone_name[i];
   const double half = 0.5 * rig.bone_length[i];
-  if (i == rig.root()) {
-    x << pad << "<joint name=\"" << xml_attr(name) << ":free\" type=\"free\"/>\n";
-    return;
+  switch (rig.bone_joint_type[i]) {
+    case JointType::kFree:
+      x << pad << "<joint name=\"" << xml_attr(name) << ":free\" type=\"free\"/>\n";
+      return;
+    case JointType::kWeld:  // welded into its group's body, or a fixed root: no joint
+      return;
+    case JointType::kBall:  // below: a ball at the head (a pinned root's, to the world)
+      break;
   }
   const auto& limit = rig.bone_limit[i];
   const int dof = rig.bone_dof(i);
@@ -130,12 +135,35 @@ struct MjcfWriter {
 
 void write_body(std::ostringstream& x, const MjcfWriter& w, int i, int depth, int file_depth);
 
-// the children of bone i, inline or, at the file's depth limit, in a new include file
-void write_children(std::ostringstream& x, const MjcfWriter& w, int i, int depth, int file_depth) {
+// the bones of the body that bone i (not welded) starts: i and the bones welded to it, directly
+// or through one another, in DFS order
+std::vector<int> body_members(const Rig& rig, int i) {
+  std::vector<int> members{i};
+  if (!rig.has_welds()) return members;
+  for (int j = i + 1; j < rig.nbone; ++j) {
+    if (rig.bone_body[j] == i) members.push_back(j);
+  }
+  return members;
+}
+
+// the bodies below a body: the children of its bones that are not welded into it
+std::vector<int> body_children(const Rig& rig, const std::vector<int>& members) {
+  std::vector<int> out;
+  for (int m : members) {
+    for (int c : rig.bone_children[m]) {
+      if (rig.bone_weld[c] < 0) out.push_back(c);
+    }
+  }
+  return out;
+}
+
+// the children of body i, inline or, at the file's depth limit, in a new include file
+void write_children(std::ostringstream& x, const MjcfWriter& w, const std::vector<int>& children,
+                    int i, int depth, int file_depth) {
   const Rig& rig = w.rig;
-  if (rig.bone_children[i].empty()) return;
+  if (children.empty()) return;
   if (!w.includes || file_depth < w.bodies_per_file) {
-    for (int c : rig.bone_children[i]) write_body(x, w, c, depth + 1, file_depth + 1);
+    for (int c : children) write_body(x, w, c, depth + 1, file_depth + 1);
     return;
   }
   if (static_cast<int>(w.includes->size()) + 2 >= mjMAXVFS) {
@@ -151,9 +179,40 @@ void write_children(std::ostringstream& x, const MjcfWriter& w, int i, int depth
   part << "<!-- PhysIK rig '" << rig.name << "': the bodies below '" << rig.bone_name[i]
        << "' (included: MuJoCo's XML parser takes about 100 nested elements per file) -->\n";
   part << "<mujocoinclude>\n";
-  for (int c : rig.bone_children[i]) write_body(part, w, c, 1, 1);
+  for (int c : children) write_body(part, w, c, 1, 1);
   part << "</mujocoinclude>\n";
   (*w.includes)[slot].text = part.str();
+}
+
+// a body's own inertial: one bone's rod at the frame's origin, or a welded group's composite
+// mass, centre and full inertia (parallel axes) in the body frame
+void write_inertial(std::ostringstream& x, const Rig& rig, const std::vector<int>& members,
+                    const std::string& in) {
+  const int i = members[0];
+  if (members.size() == 1) {
+    x << in << "<inertial pos=\"0 0 0\" mass=\"" << num(rig.bone_mass[i]) << "\" diaginertia=\""
+      << vec(rig.bone_inertia_local[i]) << "\"/>\n";
+    return;
+  }
+  double mass = 0.0;
+  Vec3 centre = Vec3::Zero();
+  for (int m : members) {
+    const MjcfBodyOffset o = mjcf_body_offset(rig, m);
+    mass += rig.bone_mass[m];
+    centre += rig.bone_mass[m] * o.pos;
+  }
+  centre /= mass;
+  Mat3 inertia = Mat3::Zero();
+  for (int m : members) {
+    const MjcfBodyOffset o = mjcf_body_offset(rig, m);
+    const Mat3 R = o.quat.toRotationMatrix();
+    const Vec3 r = o.pos - centre;
+    inertia += R * rig.bone_inertia_local[m].asDiagonal() * R.transpose() +
+               rig.bone_mass[m] * (r.squaredNorm() * Mat3::Identity() - r * r.transpose());
+  }
+  x << in << "<inertial pos=\"" << vec(centre) << "\" mass=\"" << num(mass) << "\" fullinertia=\""
+    << num(inertia(0, 0)) << " " << num(inertia(1, 1)) << " " << num(inertia(2, 2)) << " "
+    << num(inertia(0, 1)) << " " << num(inertia(0, 2)) << " " << num(inertia(1, 2)) << "\"/>\n";
 }
 
 void write_body(std::ostringstream& x, const MjcfWriter& w, int i, int depth, int file_depth) {
@@ -166,24 +225,41 @@ void write_body(std::ostringstream& x, const MjcfWriter& w, int i, int depth, in
   if (i == rig.root()) {
     // world frame: the rest centre of mass and orientation (the free joint's qpos0)
     q = rig.bone_rest_orient_world[i];
+    if (rig.bone_joint_type[i] == JointType::kBall) q = q * mjcf_joint_offset(rig, i, o.joints);
     pos = 0.5 * (rig.bone_rest_head_world[i] + rig.bone_rest_tail_world[i]);
   } else {
+    // in its parent bone's frame, then in the frame of the body that bone belongs to
     const int p = rig.bone_parent[i];
     q = rig.bone_rest_orient_parent[i] * mjcf_joint_offset(rig, i, o.joints);
     pos =
         rig.bone_head_in_parent[i] - Vec3(0, 0.5 * rig.bone_length[p], 0) + q * Vec3(0, 0.5 * L, 0);
+    if (rig.bone_body[p] != p) {
+      const MjcfBodyOffset po = mjcf_body_offset(rig, p);
+      pos = po.pos + po.quat * pos;
+      q = po.quat * q;
+    }
   }
   q.normalize();
+  const std::vector<int> members = body_members(rig, i);
   x << pad << "<body name=\"" << xml_attr(rig.bone_name[i]) << "\" pos=\"" << vec(pos)
     << "\" quat=\"" << quat(q) << "\">\n";
   const std::string in = pad + "  ";
   write_joints(x, rig, i, o.joints, in);
-  x << in << "<inertial pos=\"0 0 0\" mass=\"" << num(rig.bone_mass[i]) << "\" diaginertia=\""
-    << vec(rig.bone_inertia_local[i]) << "\"/>\n";
-  x << in << "<geom name=\"" << xml_attr(rig.bone_name[i]) << "\" type=\"capsule\" fromto=\"0 "
-    << num(-0.5 * L) << " 0 0 " << num(0.5 * L) << " 0\" size=\""
-    << num(rig.bone_collision_radius[i]) << "\"/>\n";
-  write_children(x, w, i, depth, file_depth);
+  write_inertial(x, rig, members, in);
+  for (int m : members) {
+    // the capsule from head to tail, in the body frame
+    x << in << "<geom name=\"" << xml_attr(rig.bone_name[m]) << "\" type=\"capsule\" fromto=\"";
+    const double half = 0.5 * rig.bone_length[m];
+    if (m == i) {
+      x << "0 " << num(-half) << " 0 0 " << num(half) << " 0";
+    } else {
+      const MjcfBodyOffset mo = mjcf_body_offset(rig, m);
+      x << vec(mo.pos + mo.quat * Vec3(0, -half, 0)) << " "
+        << vec(mo.pos + mo.quat * Vec3(0, half, 0));
+    }
+    x << "\" size=\"" << num(rig.bone_collision_radius[m]) << "\"/>\n";
+  }
+  write_children(x, w, body_children(rig, members), i, depth, file_depth);
   x << pad << "</body>\n";
 }
 
@@ -206,15 +282,20 @@ void write_obstacles(std::ostringstream& x, const std::vector<BoxObstacle>& obst
 }
 
 // the pairs PhysIK never collides that MuJoCo's filterparent leaves in: two children of one
-// parent, and the scene's excluded pairs
+// parent, and the scene's excluded pairs, as the bodies that carry them (bones welded into one
+// body never collide in MuJoCo either)
 void write_exclusions(std::ostringstream& x, const Rig& rig, const CollisionSettings& c) {
-  std::vector<std::pair<int, int>> pairs = c.excluded_pairs;
+  std::vector<std::pair<int, int>> pairs;
+  const auto add = [&](int a, int b) {
+    a = rig.bone_body[a];
+    b = rig.bone_body[b];
+    if (a != b) pairs.emplace_back(std::min(a, b), std::max(a, b));
+  };
+  for (const auto& [a, b] : c.excluded_pairs) add(a, b);
   for (int p = 0; p < rig.nbone; ++p) {
     const std::vector<int>& kids = rig.bone_children[p];
     for (std::size_t a = 0; a < kids.size(); ++a) {
-      for (std::size_t b = a + 1; b < kids.size(); ++b) {
-        pairs.emplace_back(std::min(kids[a], kids[b]), std::max(kids[a], kids[b]));
-      }
+      for (std::size_t b = a + 1; b < kids.size(); ++b) add(kids[a], kids[b]);
     }
   }
   std::sort(pairs.begin(), pairs.end());
@@ -284,8 +365,23 @@ std::string write_main(const MjcfWriter& w) {
 }  // namespace
 
 Quat mjcf_joint_offset(const Rig& rig, int bone, JointModel joints) {
-  if (bone == rig.root() || joints == JointModel::kBallJoints) return Quat::Identity();
+  if (rig.bone_joint_type[bone] != JointType::kBall || joints == JointModel::kBallJoints) {
+    return Quat::Identity();
+  }
   return locked_rotation(rig.bone_limit[bone]);
+}
+
+MjcfBodyOffset mjcf_body_offset(const Rig& rig, int bone) {
+  MjcfBodyOffset out;
+  const int b = rig.bone_body[bone];
+  if (b == bone) return out;
+  // at rest: the bone's centre and axes in the body's (its first bone's centre and axes)
+  const Quat Rb = rig.bone_rest_orient_world[b];
+  const Vec3 cb = 0.5 * (rig.bone_rest_head_world[b] + rig.bone_rest_tail_world[b]);
+  const Vec3 ci = 0.5 * (rig.bone_rest_head_world[bone] + rig.bone_rest_tail_world[bone]);
+  out.pos = Rb.conjugate() * (ci - cb);
+  out.quat = (Rb.conjugate() * rig.bone_rest_orient_world[bone]).normalized();
+  return out;
 }
 
 MjcfOptions mjcf_contacts(const Scene& scene, MjcfOptions o) {

@@ -1,20 +1,28 @@
 // Rig -> MJCF: the same rig as a MuJoCo articulated model
 // (docs/engine.md "MuJoCo as the reference").
 //
-// Bodies: one per bone, nested in the rig's DFS order (MuJoCo body id = bone index + 1). Every
-// body frame sits at the bone's centre of mass with the bone's axes (local +Y along the bone), so
+// Bodies: one per rigid body of the rig, nested in DFS order and named after its first bone: a
+// bone that is not welded starts one, and every bone welded to it (rig.h "Welds") joins it as a
+// geom, MuJoCo's own form of one rigid body. Every body frame sits at its first bone's centre of
+// mass with that bone's axes (local +Y along the bone), so for a body of one bone
 //   xipos = xpos = centre of mass,  xquat = orientation world<-bone,
-//   head = xpos - R (0, L/2, 0),  tail = xpos + R (0, L/2, 0).
-// Each body carries <inertial pos="0 0 0" mass="m" diaginertia="Ixx Iyy Izz"/> with PhysIK's rod
-// (rig.h: solid cylinder about its centre, bone-local axes). In its parent's body frame a child
-// body sits at
+//   head = xpos - R (0, L/2, 0),  tail = xpos + R (0, L/2, 0);
+// a welded bone sits at the fixed offset mjcf_body_offset in its body's frame. A body of one bone
+// carries <inertial pos="0 0 0" mass="m" diaginertia="Ixx Iyy Izz"/> with PhysIK's rod (rig.h:
+// solid cylinder about its centre, bone-local axes); a welded group its composite mass, centre
+// and full inertia (parallel axes) in the body frame. In its parent bone's frame a child body sits
+// at
 //   pos  = h - (0, L_parent/2, 0) + Q (0, L/2, 0)     h = bone_head_in_parent (the parent's tail)
 //   quat = Q = R_rest_in_parent * exp(locked angles)
-// and its joints are at its head, pos = (0, -L/2, 0).
+// (then moved into the frame of the parent bone's body) and its joints are at its head,
+// pos = (0, -L/2, 0).
 //
 // Joints (JointModel):
 //   kRigJoints (exact-constraints mode, `physik export-mjcf` default):
-//     root                     free joint (6 DOF; its qpos is the body's world pose)
+//     root                     free joint (6 DOF; its qpos is the body's world pose); a pinned
+//                              root's joint to the world is a ball's (below) at its head, a fixed
+//                              root has none
+//     welded bone              no joint: a geom of its group's body
 //     3 free, unlimited axes   ball joint (no limit)
 //     3 DOF, some axis limited three hinges x, y, z, each with its range (a ball's limit is a cone,
 //                              which cannot express per-axis intervals)
@@ -99,8 +107,16 @@ std::vector<MjcfFile> rig_to_mjcf_files(const Rig& rig, const MjcfOptions& optio
                                         const std::string& main_name = "physik_rig.xml");
 
 // The fixed rotation between bone i's rest frame and its body frame at zero joint angles:
-// exp(locked angles) for rig joints, identity for the root and for ball joints.
+// exp(locked angles) for rig joints, identity for a free or fixed root, welds and ball joints.
 Quat mjcf_joint_offset(const Rig& rig, int bone, JointModel joints);
+
+// Where bone i sits in the frame of its body (the body of its first bone, Rig::bone_body): its
+// centre of mass and axes, fixed; zero and identity for a body's first bone.
+struct MjcfBodyOffset {
+  Vec3 pos = Vec3::Zero();       // rig units, body frame
+  Quat quat = Quat::Identity();  // body <- bone
+};
+MjcfBodyOffset mjcf_body_offset(const Rig& rig, int bone);
 
 struct MjModelDeleter {
   void operator()(mjModel* m) const { mj_deleteModel(m); }

@@ -303,6 +303,30 @@ void limits_from_joints(const BodyJoints& j, BoneSpec& spec, MjcfImportReport& r
   }
 }
 
+// a body's joints are its first segment's: its other segments are welded to that one
+// (pivot_bones), and a bone whose chain of bodies has no joint at all is welded to its parent
+// (MuJoCo's jointless body); a welded bone has no limits of its own
+void weld_jointless(const BodyJoints& j, int s, PivotBones& bones) {
+  BoneSpec& spec = bones.specs[s];
+  if (s > 0 && !j.free && !j.ball && j.hinges.empty() && spec.weld.empty()) {
+    spec.weld = bones.specs[bones.spec_parent[s]].name;
+  }
+  if (!spec.weld.empty()) spec.limit = {};
+}
+
+// the root body's joint to the world: free, a hinge or ball (pinned at the root bone's head,
+// limited as any bone), or none (fixed)
+RootJoint root_joint_of(const BodyJoints& j, BoneSpec& root, MjcfImportReport& rep) {
+  if (j.free) return RootJoint::kFree;
+  if (j.ball || !j.hinges.empty()) {
+    rep.root_joint = "pinned";
+    return RootJoint::kPinned;
+  }
+  root.limit = {};
+  rep.root_joint = "fixed";
+  return RootJoint::kFixed;
+}
+
 // the bones that carry body i's mass: its own, else those of its zero-offset descendants, else
 // the bone ending at its origin
 std::vector<int> mass_carriers(std::size_t i, const std::vector<std::vector<int>>& followers,
@@ -464,13 +488,15 @@ MjcfRig import_mjcf_model(const mjModel* m, const std::string& source,
   add_leaf_tips(m, d, out, zero_offset, extent, nodes);
   PivotBones bones = pivot_bones(nodes, source);
 
-  // frames (roll to the first hinge) and limits per bone
+  // frames (roll to the first hinge) and limits per bone; the root's joint to the world
   const std::vector<BodyJoints> bj = body_joints(m, d, out, nodes.size(), rep);
   for (int s = 0; s < static_cast<int>(bones.specs.size()); ++s) {
     const BodyJoints j = chain_joints(bones, nodes, bj, s);
     roll_to_first_hinge(j, bones.specs[s]);
     limits_from_joints(j, bones.specs[s], rep);
+    weld_jointless(j, s, bones);
   }
+  bones.root_joint = root_joint_of(chain_joints(bones, nodes, bj, 0), bones.specs[0], rep);
 
   // mass and inertia: each body shared by the bones that follow it
   std::vector<double> mass;

@@ -37,14 +37,16 @@
 // listed in the report (bones_default_radius).
 //
 // Joints -> limits (rig.h: per bone-local axis, intervals on the rotation-vector components):
-//   no joint (welded)        all three axes locked [0, 0]
+//   no joint (welded)        the bone is welded to its parent (rig.h "Welds"); a body's other
+//                            segments are welded to its first, which alone carries its limits
 //   hinges                   the bone's roll is chosen so that the first hinge not along the bone
 //                            is its local x axis; each hinge maps to the bone-local axis it is
 //                            within 20 deg of (range sign-flipped if anti-parallel; an unlimited
 //                            hinge leaves its axis free); the axes no hinge maps to are locked. A
 //                            hinge more than 20 deg from every axis makes the bone free (reported).
 //   ball                     limited: every axis [-r, r] (r = its cone angle); otherwise free
-//   free (root)              free (the rig's root is free anyway)
+//   free (root)              the rig's root is free; a root body with a hinge or ball to the world
+//                            is a pinned root (its head held; arm26's shoulder), with none fixed
 //   slide                    cannot be represented (bones have fixed lengths): dropped, reported
 // Ranges beyond +-180 deg are clamped (reported). MuJoCo's ranges are radians in the compiled
 // model.
@@ -81,6 +83,7 @@ struct MjcfImportReport {
   int cylinder_inertia_bones = 0;    // bones whose body inertia was unusable (cylinder used)
   std::vector<std::string> bones_default_radius;  // bones given the default radii (no capsule
                                                   // or sphere geom)
+  std::string root_joint = "free";                // the root's joint to the world (rig.h)
 };
 
 struct MjcfRig {

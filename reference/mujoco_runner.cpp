@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 #include "physik/engine/forces.h"
 #include "physik/engine/interpolation.h"
@@ -29,10 +30,35 @@ void put(mjtNum* p, const Vec3& v) {
 
 }  // namespace
 
+MjcfBodyMap::MjcfBodyMap(const Rig& rig, const mjModel* m)
+    : body(rig.nbone, -1), offset(rig.nbone), single(rig.nbone, 1) {
+  for (int i = 0; i < rig.nbone; ++i) {
+    const int lead = rig.bone_body[i];
+    if (lead == i) {
+      body[i] = mj_name2id(m, mjOBJ_BODY, rig.bone_name[i].c_str());
+      if (body[i] < 0) {
+        throw std::runtime_error("MuJoCo: no body named '" + rig.bone_name[i] +
+                                 "' in the rig's model");
+      }
+    } else {
+      body[i] = body[lead];
+      offset[i] = mjcf_body_offset(rig, i);
+      single[i] = 0;
+      single[lead] = 0;
+    }
+  }
+}
+
 void set_mujoco_state(const Rig& rig, const SimState& s, const mjModel* m, mjData* d) {
+  set_mujoco_state(rig, s, m, d, MjcfBodyMap(rig, m));
+}
+
+void set_mujoco_state(const Rig& rig, const SimState& s, const mjModel* m, mjData* d,
+                      const MjcfBodyMap& bodies) {
   mj_resetData(m, d);
   for (int i = 0; i < rig.nbone; ++i) {
-    const int b = i + 1;
+    if (rig.bone_weld[i] >= 0) continue;  // in its group's body, which has the group's joint
+    const int b = bodies.body[i];
     const Quat& R = s.frames.orient_world[i];
     const int p = rig.bone_parent[i];
     // angular velocity relative to the parent, in the bone's own frame
@@ -64,21 +90,37 @@ void set_mujoco_state(const Rig& rig, const SimState& s, const mjModel* m, mjDat
 }
 
 void read_mujoco_state(const Rig& rig, const mjModel* m, const mjData* d, SimState& s) {
+  read_mujoco_state(rig, m, d, s, MjcfBodyMap(rig, m));
+}
+
+void read_mujoco_state(const Rig& rig, const mjModel* m, const mjData* d, SimState& s,
+                       const MjcfBodyMap& bodies) {
   mjtNum vel6[6];
   for (int i = 0; i < rig.nbone; ++i) {
-    const int b = i + 1;
+    const int b = bodies.body[i];
     const mjtNum* q = d->xquat + 4 * b;
-    const Quat R = Quat(q[0], q[1], q[2], q[3]).normalized();
-    const Vec3 com = vec_at(d->xpos + 3 * b);
+    const Quat Rb = Quat(q[0], q[1], q[2], q[3]).normalized();
+    const Vec3 xb = vec_at(d->xpos + 3 * b);
+    // (rotation, translation) of the body's centre of mass xipos, world axes: the body frame's
+    // origin for a body of one bone
+    mj_objectVelocity(m, d, mjOBJ_BODY, b, vel6, 0);
+    Quat R = Rb;
+    Vec3 com = xb;
+    Vec3 v = vec_at(vel6 + 3);
+    const Vec3 w = vec_at(vel6);
+    if (!bodies.single[i]) {  // a welded group's bone at its offset in the body
+      const MjcfBodyOffset& o = bodies.offset[i];
+      R = (Rb * o.quat).normalized();
+      com = xb + Rb * o.pos;
+      v += w.cross(Vec3(com - vec_at(d->xipos + 3 * b)));
+    }
     const Vec3 half = R * Vec3(0, 0.5 * rig.bone_length[i], 0);
     s.frames.orient_world[i] = R;
     s.frames.head_world[i] = com - half;
     s.frames.tail_world[i] = com + half;
     s.com_world[i] = com;
-    // (rotation, translation) of the body frame origin = centre of mass, world axes
-    mj_objectVelocity(m, d, mjOBJ_BODY, b, vel6, 0);
-    s.omega_world[i] = vec_at(vel6);
-    s.vel_world[i] = vec_at(vel6 + 3);
+    s.omega_world[i] = w;
+    s.vel_world[i] = v;
   }
   local_rotations_from_world(rig, s.frames, s.pose);
 }
@@ -91,6 +133,7 @@ MujocoReference::MujocoReference(const Scene& scene, ReferenceMode mode)
   o.source = scene.rig_file;
   m_ = rig_to_mjmodel(scene.rig, mjcf_contacts(scene, o));  // MuJoCo's own gravity and contacts
   d_.reset(mj_makeData(m_.get()));
+  bodies_ = std::make_unique<MjcfBodyMap>(scene.rig, m_.get());
   reset();
 }
 
@@ -102,9 +145,9 @@ void MujocoReference::reset() {
 
 void MujocoReference::set_state(const SimState& state) {
   s_ = state;
-  set_mujoco_state(scene_.rig, s_, m_.get(), d_.get());
+  set_mujoco_state(scene_.rig, s_, m_.get(), d_.get(), *bodies_);
   mj_step1(m_.get(), d_.get());
-  read_mujoco_state(scene_.rig, m_.get(), d_.get(), s_);
+  read_mujoco_state(scene_.rig, m_.get(), d_.get(), s_, *bodies_);
 }
 
 bool MujocoReference::bad_acceleration() const {
@@ -126,20 +169,34 @@ StepStats MujocoReference::step() {
   forces.contacts = false;  // MuJoCo's own contacts against the same capsules and plane
   apply_forces(scene_, s_, forces);
 
-  // the angular-velocity factor as a torque, and the external forces into MuJoCo
+  // the angular-velocity factor as a torque, and the external forces into MuJoCo: each body's
+  // at its centre of mass (xipos), its bones' forces and torques moved there
   const double torque_per_w = (p.angular_velocity_factor - 1.0) / p.dt;
+  mju_zero(d->xfrc_applied, 6 * m->nbody);
   for (int i = 0; i < rig.nbone; ++i) {
     const Vec3& w = s_.omega_world[i];
     const Mat3 I = inertia_world(rig, s_.frames.orient_world[i], i);
     Vec3 torque = s_.torque_world[i] + I * (torque_per_w * w);
+    // gyroscopic off: each rod's own w x I w about its centre (MuJoCo's body term is their sum
+    // and the parallel axes' part, which the rods' centres' motion carries in PhysIK too)
     if (!p.gyroscopic) torque += w.cross(I * w);
-    put(d->xfrc_applied + 6 * (i + 1), s_.force_world[i]);
-    put(d->xfrc_applied + 6 * (i + 1) + 3, torque);
+    const int b = bodies_->body[i];
+    if (bodies_->single[i]) {
+      put(d->xfrc_applied + 6 * b, s_.force_world[i]);
+      put(d->xfrc_applied + 6 * b + 3, torque);
+      continue;
+    }
+    torque += Vec3(s_.com_world[i] - vec_at(d->xipos + 3 * b)).cross(s_.force_world[i]);
+    mjtNum* f = d->xfrc_applied + 6 * b;
+    for (int k = 0; k < 3; ++k) {
+      f[k] += s_.force_world[i][k];
+      f[3 + k] += torque[k];
+    }
   }
   mj_step2(m, d);
   const int solver_iter = d->solver_iter;
   mj_step1(m, d);
-  read_mujoco_state(rig, m, d, s_);
+  read_mujoco_state(rig, m, d, s_, *bodies_);
   s_.step += 1;
   s_.time += p.dt;
 

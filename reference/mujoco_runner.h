@@ -2,8 +2,9 @@
 //
 // Every step, with the state after the previous step (MuJoCo's mj_step1 has computed positions
 // and velocities):
-//   1. the PhysIK view of MuJoCo's state is built: per bone (body b = bone + 1)
-//        com = xpos[b] (body frame at the centre of mass), R = xquat[b],
+//   1. the PhysIK view of MuJoCo's state is built: per bone (its body b, MjcfBodyMap)
+//        com = xpos[b] (body frame at the centre of mass), R = xquat[b] (a welded bone at its
+//        fixed offset in b's frame),
 //        head/tail = com -/+ R (0, L/2, 0),  (w, v_com) = mj_objectVelocity(body b, world axes),
 //        pose = local_rotations_from_world(frames)
 //   2. PhysIK's own stages run on that state (no formula is copied here):
@@ -20,8 +21,8 @@
 //      does. If params.gyroscopic is off, +w x I w is added too, cancelling MuJoCo's own gyroscopic
 //      term.
 //   4. xfrc_applied[b] = (force_world, torque_world): the net force at the centre of mass and the
-//      torque about it, world axes; then mj_step2 (constraint solve, Euler integration) and
-//      mj_step1 for the new state.
+//      torque about it, world axes (a welded group's bones' summed at the body's centre of mass,
+//      xipos); then mj_step2 (constraint solve, Euler integration) and mj_step1 for the new state.
 // Modes:
 //   same-forces:        ball joints everywhere, no limits, torsion springs applied as torques;
 //                       only PhysIK's joint-force heuristic differs from MuJoCo's exact dynamics.
@@ -33,6 +34,7 @@
 // 0.95), with tau = max(0.02, 2 dt): r = 0.05 x 0.01 s^2 x a0 = 5e-4 s^2 x a0 for dt = 0.05 s.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -49,16 +51,30 @@ inline JointModel joint_model(ReferenceMode mode) {
   return mode == ReferenceMode::kSameForces ? JointModel::kBallJoints : JointModel::kRigJoints;
 }
 
+// Where each bone lives in a model built by rig_to_mjcf: its body's id (the body named after the
+// first bone of its rigid body, Rig::bone_body) and its fixed offset there (mjcf_body_offset);
+// `single` where the body holds that bone alone.
+struct MjcfBodyMap {
+  MjcfBodyMap(const Rig& rig, const mjModel* m);
+  std::vector<int> body;               // (nbone) MuJoCo body id
+  std::vector<MjcfBodyOffset> offset;  // (nbone) the bone in its body's frame
+  std::vector<char> single;            // (nbone) 1: the body is this bone alone
+};
+
 // Set qpos/qvel of a model built by rig_to_mjcf from a PhysIK state (positions, velocities and
 // local rotations in state.pose). Ball joints take the local rotation exactly; hinges take the
 // component of its rotation vector along their axis (exact for one hinge, first order for
 // two or three); welded bones keep their locked angles. Non-root joint velocities are set from the
 // relative angular velocity R_i^T (w_i - w_parent) the same way.
 void set_mujoco_state(const Rig& rig, const SimState& state, const mjModel* m, mjData* d);
+void set_mujoco_state(const Rig& rig, const SimState& state, const mjModel* m, mjData* d,
+                      const MjcfBodyMap& bodies);
 
 // The PhysIK view (frames, com, velocities, pose) of MuJoCo's state; needs mj_step1 or
 // mj_forward to have run. Other fields of `state` are left as they are.
 void read_mujoco_state(const Rig& rig, const mjModel* m, const mjData* d, SimState& state);
+void read_mujoco_state(const Rig& rig, const mjModel* m, const mjData* d, SimState& state,
+                       const MjcfBodyMap& bodies);
 
 // One scene run in MuJoCo, step by step.
 class MujocoReference {
@@ -81,6 +97,7 @@ class MujocoReference {
   ReferenceMode mode_;
   MjModelPtr m_;
   MjDataPtr d_;
+  std::unique_ptr<MjcfBodyMap> bodies_;
   SimState s_;
   std::vector<double> residuals_;  // (ncontrol) step()'s scratch, rig units
 };

@@ -256,9 +256,12 @@ printf 'HIERARCHY\nROOT A\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Zrotation Xrotation Y
 check "bvh nan" 2 "$bin" rig from-bvh "$tmp/nan.bvh"
 expect_in "bvh nan message" "$tmp/err" "nan.bvh: line 10: field 'MOTION'"
 check "bvh bad axes" 2 "$bin" rig from-bvh "$tmp/p.bvh" --axes x-up
-printf '{"limits_deg": {"forearm.L": {"x": [-120, 0]}, "head": "locked"}}' > "$tmp/lim.json"
+printf '{"limits_deg": {"forearm.L": {"x": [-120, 0]}, "torso": "locked"}}' > "$tmp/lim.json"
 check "rig limits" 0 "$bin" rig limits "$src/models/rigs/pinhead.json" "$tmp/lim.json" --out "$tmp/lim_rig.json"
 check "rig limits info" 0 "$bin" rig info --json "$tmp/lim_rig.json"
+# limits on a free root hold against nothing
+printf '{"limits_deg": {"head": "locked"}}' > "$tmp/rootlim.json"
+check "rig limits on a free root" 2 "$bin" rig limits "$src/models/rigs/pinhead.json" "$tmp/rootlim.json"
 printf '{"limits_deg": {"no_such_bone": {"x": [-120, 0]}}}' > "$tmp/badlim.json"
 check "rig limits unknown bone" 2 "$bin" rig limits "$src/models/rigs/pinhead.json" "$tmp/badlim.json"
 expect_in "unknown bone message" "$tmp/err" "badlim.json: limits_deg 'no_such_bone': unknown bone"

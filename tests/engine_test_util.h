@@ -1,6 +1,9 @@
 // Scenes built in code for the engine tests.
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include "physik/io/rig_io.h"
 #include "physik/model/scene.h"
 
@@ -16,6 +19,46 @@ inline Rig one_rod(double length = 1.0, double mass = 1.0, double radius = 0.5) 
   b.mass = mass;
   b.radius = radius;
   return build_rig({b}, "one_rod", "one_rod");
+}
+
+// A small figure with welds (rig.h "Welds"), Z up: a pelvis root, and at its tail one source
+// joint's three segments, spine (its ball, limited) with hip.L and hip.R welded to it as
+// siblings; chest welded to spine (its parent); legs and an arm that turn. 10 bones, 3 welded.
+inline Rig welded_figure(RootJoint root = RootJoint::kFree) {
+  std::vector<BoneSpec> bones;
+  const auto add = [&](const std::string& name, const std::string& parent, const Vec3& head,
+                       const Vec3& tail, const std::string& weld = "") {
+    BoneSpec b;
+    b.name = name;
+    b.parent = parent;
+    b.head_world = head;
+    b.tail_world = tail;
+    b.rest_frame_world = rest_frame_from_roll(head, tail, 0.0);
+    b.mass = 10.0 * (tail - head).norm();  // heavy and wide enough for the explicit schemes'
+    b.radius = 0.3;                        // damping bound with the original's damping
+    b.weld = weld;
+    bones.push_back(b);
+    return &bones.back();
+  };
+  add("pelvis", "", Vec3(0, 0, 0.9), Vec3(0, 0, 1.0));
+  add("spine", "pelvis", Vec3(0, 0, 1.0), Vec3(0, 0.02, 1.4))->limit = {
+      AxisLimit{true, -0.5, 0.5}, AxisLimit{true, -0.3, 0.3}, AxisLimit{true, -0.4, 0.4}};
+  add("hip.L", "pelvis", Vec3(0, 0, 1.0), Vec3(0.15, 0, 0.95), "spine");
+  add("hip.R", "pelvis", Vec3(0, 0, 1.0), Vec3(-0.15, 0, 0.95), "spine");
+  add("chest", "spine", Vec3(0, 0.02, 1.4), Vec3(0, 0.02, 1.6), "spine");
+  add("arm.L", "chest", Vec3(0, 0.02, 1.6), Vec3(0.35, 0.02, 1.55));
+  for (const char* side : {"L", "R"}) {
+    const double x = side[0] == 'L' ? 0.15 : -0.15;
+    const std::string s(side);
+    add("thigh." + s, "hip." + s, Vec3(x, 0, 0.95), Vec3(x, 0.01, 0.5));
+    add("shin." + s, "thigh." + s, Vec3(x, 0.01, 0.5), Vec3(x, 0, 0.1))->limit[0] =
+        AxisLimit{true, -2.0, 0.3};
+  }
+  if (root == RootJoint::kPinned) {  // a hinge to the world about the pelvis's local x
+    bones[0].limit = {AxisLimit{true, -1.0, 1.0}, AxisLimit{true, 0.0, 0.0},
+                      AxisLimit{true, 0.0, 0.0}};
+  }
+  return build_rig(bones, "welded_figure", "welded_figure", root);
 }
 
 inline Scene scene_for(const Rig& rig, const EngineParams& params, int steps = 100) {

@@ -6,6 +6,7 @@
 #include "physik/io/rig_io.h"
 #include "physik/model/errors.h"
 #include "test_util.h"
+#include "tests/engine_test_util.h"
 
 namespace physik {
 namespace {
@@ -20,7 +21,7 @@ TEST(JointLimits, AppliedByNameReplacingTheListedBonesOnly) {
   const JointLimits lim =
       joint_limits_from_json(parse_json_text(R"({"comment": "test", "limits_deg": {
         "forearm.L": {"x": [-90, 0]},
-        "head": "locked",
+        "torso": "locked",
         "upper_arm.L": "free"}})",
                                              "l.json"),
                              "l.json");
@@ -31,7 +32,7 @@ TEST(JointLimits, AppliedByNameReplacingTheListedBonesOnly) {
   EXPECT_DOUBLE_EQ(rig.bone_limit[fa][0].max, 0.0);
   EXPECT_FALSE(rig.bone_limit[fa][1].limited);  // absent axis: free
   EXPECT_FALSE(rig.bone_limit[fa][2].limited);
-  EXPECT_EQ(rig.bone_dof(rig.find_bone("head")), 0);
+  EXPECT_EQ(rig.bone_dof(rig.find_bone("torso")), 0);
   EXPECT_EQ(rig.bone_dof(rig.find_bone("upper_arm.L")), 3);
   for (int a = 0; a < 3; ++a) EXPECT_FALSE(rig.bone_limit[rig.find_bone("upper_arm.L")][a].limited);
   // unlisted bones keep theirs
@@ -40,6 +41,29 @@ TEST(JointLimits, AppliedByNameReplacingTheListedBonesOnly) {
     EXPECT_EQ(rig.bone_limit[fr][a].limited, before.bone_limit[fr][a].limited);
     EXPECT_EQ(rig.bone_limit[fr][a].min, before.bone_limit[fr][a].min);
   }
+}
+
+// a free root turns against nothing, a welded bone has nothing to turn: limits on either are
+// refused, naming the file and the bone
+TEST(JointLimits, NoneOnAFreeRootOrAWeldedBone) {
+  Rig rig = load_rig(test::model_path("rigs/pinhead.json"));
+  const auto refused = [&](const char* text, const char* fragment) {
+    try {
+      apply_joint_limits(rig, joint_limits_from_json(parse_json_text(text, "l.json"), "l.json"));
+      ADD_FAILURE() << "accepted " << text;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  };
+  refused(R"({"limits_deg": {"head": "locked"}})",
+          "l.json: limits_deg 'head': the rig's root is free");
+  rig = test::welded_figure();
+  refused(R"({"limits_deg": {"hip.L": {"x": [-10, 10]}}})",
+          "l.json: limits_deg 'hip.L': welded to 'spine'");
+  // "free" on a welded bone asks for nothing
+  apply_joint_limits(
+      rig, joint_limits_from_json(parse_json_text(R"({"limits_deg": {"hip.L": "free"}})", "l.json"),
+                                  "l.json"));
 }
 
 TEST(JointLimits, WrittenLimitsReapplyToTheSameRig) {

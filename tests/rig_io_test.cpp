@@ -223,5 +223,73 @@ TEST(RigInput, JsonNestedTooDeepIsRejectedBeforeParsing) {
   EXPECT_THROW(parse_json_text("[" + at_limit + "]", "over.json"), InputError);
 }
 
+// ---------------------------------------------------------------- welds and the root's joint
+
+// a root with three children at its tail: "a" and "b" siblings, "c" a child of "a"
+std::string replaced(std::string s, const std::string& from, const std::string& to) {
+  return s.replace(s.find(from), from.size(), to);
+}
+
+std::string weld_rig(const std::string& b_extra, const std::string& c_extra = "",
+                     const std::string& top = "") {
+  return std::string(R"({)") + top + R"("bones": [
+      {"name": "r", "parent": null, "head": [0,0,0], "tail": [0,0,1])" +
+         (top.find("pinned") != std::string::npos ? R"(, "limits_deg": {"x": [-10, 10]})" : "") +
+         R"(},
+      {"name": "a", "parent": "r", "head": [0,0,1], "tail": [0,0,2]},
+      {"name": "b", "parent": "r", "head": [0,0,1], "tail": [1,0,1])" +
+         b_extra + R"(},
+      {"name": "c", "parent": "a", "head": [0,0,2], "tail": [0,0,3])" +
+         c_extra + R"(}]})";
+}
+
+TEST(RigInput, WeldsToAParentOrAnEarlierSiblingAndRoundTrip) {
+  const Rig rig = rig_from_json_text(weld_rig(R"(, "weld": "a")", R"(, "weld": "a")"), "w.json");
+  EXPECT_EQ(rig.bone_weld[rig.find_bone("b")], rig.find_bone("a"));
+  EXPECT_EQ(rig.bone_weld[rig.find_bone("c")], rig.find_bone("a"));
+  EXPECT_EQ(rig.bone_body[rig.find_bone("c")], rig.find_bone("a"));
+  EXPECT_EQ(rig.nv, 6 + 3);
+  const Rig back = rig_from_json(rig_to_json(rig), "back");
+  EXPECT_EQ(back.bone_weld, rig.bone_weld);
+  const Rig pinned = rig_from_json_text(weld_rig("", "", R"("root": "pinned", )"), "p.json");
+  EXPECT_EQ(pinned.root_joint, RootJoint::kPinned);
+  EXPECT_EQ(rig_from_json(rig_to_json(pinned), "back").root_joint, RootJoint::kPinned);
+  EXPECT_EQ(rig_to_json(rig).contains("root"), false);  // free is the default, left out
+}
+
+TEST(RigInput, BadWeldsNameTheBoneAndField) {
+  // on the root
+  expect_error(R"({"bones": [{"name": "r", "parent": null, "head": [0,0,0], "tail": [0,0,1],
+                              "weld": "r"}]})",
+               {"'r'", "weld", "root has no parent"});
+  // a cycle of siblings
+  expect_error(replaced(weld_rig(R"(, "weld": "a")"), R"("name": "a", "parent": "r",)",
+                        R"("name": "a", "parent": "r", "weld": "b",)"),
+               {"weld", "weld cycle"});
+  // a welded bone with limits
+  expect_error(weld_rig(R"(, "weld": "a", "limits_deg": {"x": [-10, 10]})"),
+               {"'b'", "limits_deg", "welded"});
+  // neither parent nor sibling
+  expect_error(weld_rig("", R"(, "weld": "b")"), {"'c'", "weld", "neither"});
+  // a sibling listed after it
+  expect_error(replaced(weld_rig(""), R"("name": "a", "parent": "r",)",
+                        R"("name": "a", "parent": "r", "weld": "b",)"),
+               {"'a'", "weld", "must come before"});
+  expect_error(weld_rig(R"(, "weld": "nobody")"), {"'b'", "weld", "unknown bone 'nobody'"});
+  expect_error(weld_rig(R"(, "weld": "b")"), {"'b'", "weld", "itself"});
+  expect_error(weld_rig(R"(, "weld": "")"), {"'b'", "weld", "empty"});
+}
+
+TEST(RigInput, BadRootJointsNameTheField) {
+  expect_error(weld_rig("", "", R"("root": "hinged", )"), {"root", "\"pinned\""});
+  // limits on a free root hold against nothing
+  expect_error(R"({"bones": [{"name": "r", "parent": null, "head": [0,0,0], "tail": [0,0,1],
+                              "limits_deg": {"x": [-10, 10]}}]})",
+               {"'r'", "limits_deg", "free root"});
+  expect_error(R"({"root": "fixed", "bones": [{"name": "r", "parent": null, "head": [0,0,0],
+                  "tail": [0,0,1], "limits_deg": {"x": [-10, 10]}}]})",
+               {"'r'", "limits_deg", "fixed root"});
+}
+
 }  // namespace
 }  // namespace physik

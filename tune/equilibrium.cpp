@@ -48,7 +48,7 @@ T torsion_residual(SpringLaw law, double k, double c, const T& d) {
 struct PotentialResiduals {
   const Scene* scene;
   std::vector<Vec3> targets;       // (ncontrol) goal targets
-  std::vector<int> limited_bones;  // non-root bones with at least one limited axis
+  std::vector<int> limited_bones;  // bones with at least one limited axis (a root only pinned)
 
   int num_residuals() const {
     return 3 * static_cast<int>(scene->control_points.size() + limited_bones.size());
@@ -66,11 +66,14 @@ struct PotentialResiduals {
       local[i] = Q<T>(q[3], q[0], q[1], q[2]).normalized();
       const Q<T> rest = rig.bone_rest_orient_parent[i].cast<T>();
       const int p = rig.bone_parent[i];
+      const int w = rig.bone_weld[i];
       if (p < 0) {
         orient[i] = rest * local[i];
         head[i] = V3<T>(params[0][0], params[0][1], params[0][2]);
       } else {
-        orient[i] = orient[p] * rest * local[i];
+        // a welded bone keeps its rest frame in its weld's (its block is held constant)
+        orient[i] = w >= 0 ? Q<T>(orient[w] * rig.bone_rest_orient_weld[i].cast<T>())
+                           : Q<T>(orient[p] * rest * local[i]);
         head[i] = head[p] + orient[p] * rig.bone_head_in_parent[i].cast<T>();
       }
       tail[i] = head[i] + orient[i] * V3<T>(T(0), T(rig.bone_length[i]), T(0));
@@ -121,7 +124,7 @@ double scene_potential(const Scene& scene, const Pose& pose) {
                                   (point_on_bone(f, cp.bone, cp.alpha) - t[c]).norm());
   }
   if (scene.params.torsion_k > 0.0) {
-    for (int i = 1; i < scene.rig.nbone; ++i) {
+    for (int i = 0; i < scene.rig.nbone; ++i) {
       const Vec3 d = torsion_excess_of(scene, pose, i);
       for (int k = 0; k < 3; ++k) {
         u += torsion_spring_potential(scene.params.torsion_spring, scene.params.torsion_k,
@@ -214,6 +217,19 @@ void check_equilibrium_scene(const Scene& scene) {
   }
 }
 
+// every rotation on its manifold; the blocks with nothing to solve for held: a weld's rotation
+// (its weld's), a fixed root's, an anchored root's head
+void hold_joints(const Rig& rig, std::vector<double>& root,
+                 std::vector<std::array<double, 4>>& quats, ceres::Problem& problem) {
+  for (int i = 0; i < rig.nbone; ++i) {
+    problem.SetManifold(quats[i].data(), new ceres::EigenQuaternionManifold);
+    if (rig.welded(i) || (i == 0 && rig.root_joint == RootJoint::kFixed)) {
+      problem.SetParameterBlockConstant(quats[i].data());
+    }
+  }
+  if (rig.root_anchored()) problem.SetParameterBlockConstant(root.data());
+}
+
 }  // namespace
 
 EquilibriumResult solve_equilibrium(const Scene& scene, const EquilibriumOptions& opt) {
@@ -226,7 +242,7 @@ EquilibriumResult solve_equilibrium(const Scene& scene, const EquilibriumOptions
 
   auto* functor = new PotentialResiduals{&scene, final_targets(scene), {}};
   if (scene.params.torsion_k > 0.0) {
-    for (int i = 1; i < rig.nbone; ++i) {
+    for (int i = 0; i < rig.nbone; ++i) {
       const auto& l = rig.bone_limit[i];
       if (l[0].limited || l[1].limited || l[2].limited) functor->limited_bones.push_back(i);
     }
@@ -253,14 +269,14 @@ EquilibriumResult solve_equilibrium(const Scene& scene, const EquilibriumOptions
 
   ceres::Problem problem;
   problem.AddResidualBlock(cost, nullptr, blocks);
-  for (int i = 0; i < rig.nbone; ++i) {
-    problem.SetManifold(quats[i].data(), new ceres::EigenQuaternionManifold);
-  }
+  hold_joints(rig, root, quats, problem);
   ceres::Solver::Summary summary;
   ceres::Solve(solver_options(opt), &problem, &summary);
 
   EquilibriumResult out;
   out.pose = pose_from_blocks(root, quats);
+  // a welded bone's rotation follows its weld's (kinematics.h)
+  if (rig.has_welds()) local_rotations_from_world(rig, forward_kinematics(rig, out.pose), out.pose);
   measure_result(scene, limited_bones, out);
   out.iterations = static_cast<int>(summary.iterations.size());
   if (!summary.iterations.empty())

@@ -14,7 +14,9 @@ the original add-on's `fwik_mass` (per length: its final wrappers.py, FWIKBone.g
 fwik_mass x length), else the armature's `physik_mass_per_length` default; radius likewise from
 `physik_radius`, the contact capsule's from `physik_collision_radius` (rig units); explicit
 moments from `physik_inertia_local` (3 numbers, kg m^2); free text from `physik_comment` (bones
-and armature data), `physik_source`, `physik_units`; the rig's name from `physik_rig_name`.
+and armature data), `physik_source`, `physik_units`; the rig's name from `physik_rig_name`;
+a weld (models/README.md "Welded bones and the root's joint") from the pose bone's
+`physik_weld` (the bone it is welded to), the root's joint from the armature's `physik_root`.
 Absent = the rig defaults (1 kg per unit, radius 0.5; the contact capsule 0.06 x the length).
 
 Writing (rig_to_armature): one edit bone per rig bone, connected to its parent, its roll set so
@@ -143,6 +145,8 @@ def _bone_props(pb, source, element):
         out["inertia_local"] = [float(v) for v in values]
     if isinstance(pb.get("physik_comment"), str):
         out["comment"] = pb["physik_comment"]
+    if isinstance(pb.get("physik_weld"), str):  # welded to its parent or a sibling (rig.h)
+        out["weld"] = pb["physik_weld"]
     return out
 
 
@@ -215,6 +219,8 @@ def _rig_fields(obj, source):
             out[key] = extra[key]
     if keys is None and "comment" not in out:
         out["comment"] = "read from Blender armature '%s' by physik_addon" % obj.name
+    if isinstance(data.get("physik_root"), str):  # the root's joint to the world (rig.h)
+        out["root"] = data["physik_root"]
     defaults = {} if keys is not None else {
         "mass_per_length": rig_format.DEFAULT_MASS_PER_LENGTH,
         "radius": rig_format.DEFAULT_RADIUS}
@@ -329,12 +335,16 @@ def _put_bone_fields(pb, b):
         pb["physik_inertia_local"] = [float(v) for v in b["inertia_local"]]
     if isinstance(b.get("comment"), str):
         pb["physik_comment"] = b["comment"]
+    if isinstance(b.get("weld"), str):
+        pb["physik_weld"] = b["weld"]
 
 
 def _put_rig_fields(data, doc):
     """The file's top-level fields as the armature data's properties and record."""
     if isinstance(doc.get("name"), str):
         data["physik_rig_name"] = doc["name"]
+    if isinstance(doc.get("root"), str):
+        data["physik_root"] = doc["root"]
     for key in rig_record.FREE_TEXT:
         if isinstance(doc.get(key), str):
             data["physik_" + key] = doc[key]

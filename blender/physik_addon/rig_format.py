@@ -25,9 +25,11 @@ import json
 import math
 
 AXES = ("x", "y", "z")
-TOP_KEYS = ("name", "comment", "source", "units", "defaults", "bones")
+TOP_KEYS = ("name", "comment", "source", "units", "root", "defaults", "bones")
 BONE_KEYS = ("name", "parent", "head", "tail", "rest_frame", "roll_deg", "limits_deg",
-             "mass_per_length", "mass", "radius", "inertia_local", "collision_radius", "comment")
+             "mass_per_length", "mass", "radius", "inertia_local", "collision_radius", "weld",
+             "comment")
+ROOT_JOINTS = ("free", "pinned", "fixed")  # rig.h RootJoint
 DEFAULT_MASS_PER_LENGTH = 1.0  # kg per rig unit, the original code's
 DEFAULT_RADIUS = 0.5           # rig units, the original code's
 COLLISION_RADIUS_PER_LENGTH = 0.06  # rig.h kCollisionRadiusPerLength: the default contact capsule
@@ -353,6 +355,13 @@ def _parse_bone(b, i, source, defaults):
     bone = {"name": b["name"], "parent": parent, "head": head, "tail": tail,
             "axes": _parse_frame(b, head, tail, source, el)}
     bone["limits_deg"] = parse_limits(b["limits_deg"], source, el) if "limits_deg" in b else {}
+    if "weld" in b:
+        if not isinstance(b["weld"], str):
+            raise InputError(source, el, "weld", "expected a string, got %s" % _json_type(b["weld"]))
+        if not b["weld"]:
+            raise InputError(source, el, "weld",
+                             "empty name (leave the key out for a bone that turns)")
+        bone["weld"] = b["weld"]
     bone["_mass"], bone["_radius"] = _parse_mass(b, bone, defaults, source, el)
     if isinstance(b.get("comment"), str):
         bone["comment"] = b["comment"]
@@ -409,6 +418,61 @@ def _dfs_order(bones, source):
     return order
 
 
+def _limited(bone):
+    return any(bone.get("limits_deg", {}).get(a) for a in AXES)
+
+
+def _check_welds(bones, source, root_joint):
+    """rig.cpp stage 2b (check_welds): a weld names the bone's parent or a sibling listed before
+    it, forms no cycle, and sits on a bone without limits below the root; then no limits on a
+    free or fixed root."""
+    index = {b["name"]: i for i, b in enumerate(bones)}
+    target = {}
+    for i, b in enumerate(bones):
+        weld = b.get("weld")
+        if weld is None:
+            continue
+        el = _bone_element(b, i)
+        if b["parent"] is None:
+            raise InputError(source, el, "weld", "the root has no parent to weld to (a root held "
+                             "to the world is the rig's \"root\": \"fixed\")")
+        if weld == b["name"]:
+            raise InputError(source, el, "weld", "a bone cannot weld to itself")
+        if weld not in index:
+            raise InputError(source, el, "weld", "unknown bone '%s'" % weld)
+        if weld != b["parent"] and bones[index[weld]]["parent"] != b["parent"]:
+            raise InputError(source, el, "weld", "'%s' is neither this bone's parent '%s' nor a "
+                             "sibling of it (a bone welds to its parent, or to a bone with the "
+                             "same parent)" % (weld, b["parent"]))
+        if _limited(b):
+            raise InputError(source, el, "limits_deg", "a welded bone has no degree of freedom "
+                             "to limit (welded to '%s')" % weld)
+        target[i] = index[weld]
+    for i, b in enumerate(bones):
+        path, k, steps = b["name"], i, 0
+        while k in target and bones[k].get("weld") != bones[k]["parent"]:
+            k = target[k]
+            path += " -> " + bones[k]["name"]
+            steps += 1
+            if k == i or steps > len(bones):
+                raise InputError(source, _bone_element(b, i), "weld", "weld cycle " + path)
+    for i, b in enumerate(bones):
+        if i not in target or b["weld"] == b["parent"]:
+            continue
+        siblings = [k for k, c in enumerate(bones) if c["parent"] == b["parent"]]
+        if siblings.index(target[i]) > siblings.index(i):
+            raise InputError(source, _bone_element(b, i), "weld", "the sibling '%s' it welds to "
+                             "must come before it among the children of '%s'"
+                             % (b["weld"], b["parent"]))
+    if root_joint != "pinned":
+        i = next(k for k, b in enumerate(bones) if b["parent"] is None)
+        if _limited(bones[i]):
+            raise InputError(source, _bone_element(bones[i], i), "limits_deg",
+                             "a free root has nothing to limit its turn against (limits on the "
+                             "root need the rig's \"root\": \"pinned\")" if root_joint == "free"
+                             else "a fixed root does not turn: it has nothing to limit")
+
+
 def _check_geometry(bone, source, el):
     """rig.cpp stage 4a: coordinates within range; a right-handed orthonormal frame along the
     bone."""
@@ -453,6 +517,12 @@ def _parse_top(doc, source):
     if not isinstance(doc, dict):
         raise InputError(source, "", "", "expected a JSON object")
     _only_keys(doc, TOP_KEYS, source, "")
+    root = doc.get("root", "free")
+    if not isinstance(root, str):
+        raise InputError(source, "", "root", "expected a string, got %s" % _json_type(root))
+    if root not in ROOT_JOINTS:
+        raise InputError(source, "", "root",
+                         'expected "free", "pinned" or "fixed", got "%s"' % root)
     defaults = doc.get("defaults", {})
     if not isinstance(defaults, dict):
         raise InputError(source, "defaults", "defaults", "expected a JSON object")
@@ -471,7 +541,7 @@ def _parse_top(doc, source):
     name = doc.get("name")
     if name is not None and not isinstance(name, str):
         raise InputError(source, "", "name", "expected a string, got %s" % _json_type(name))
-    rig = {"name": name or "", "defaults": d}
+    rig = {"name": name or "", "defaults": d, "root": root}
     if isinstance(doc.get("comment"), str):
         rig["comment"] = doc["comment"]
     return rig
@@ -488,6 +558,7 @@ def parse_rig(doc, source="<rig>"):
         raise InputError(source, "", "bones", "%d bones, more than the %d a rig may have "
                          "(rig.h kMaxBones)" % (len(parsed), MAX_BONES))
     order = _dfs_order(parsed, source)
+    _check_welds(parsed, source, rig["root"])
     for i, b in enumerate(parsed):
         _check_geometry(b, source, _bone_element(b, i))
     for i, b in enumerate(parsed):

@@ -22,6 +22,8 @@ from physik_addon import rig_format as rf  # noqa: E402
 BINARY = os.environ.get("PHYSIK_BINARY")
 A = {"name": "a", "parent": None, "head": [0, 0, 0], "tail": [0, 0, 1]}
 B = {"name": "b", "parent": "a", "head": [0, 0, 1], "tail": [0, 0, 2]}
+C = {"name": "c", "parent": "a", "head": [0, 0, 1], "tail": [1, 0, 1]}
+D = {"name": "d", "parent": "b", "head": [0, 0, 2], "tail": [0, 0, 3]}
 BAD = {
     "zero": [A, dict(B, tail=[0, 0, 1])],
     "parent": [A, dict(B, parent="zz")],
@@ -54,6 +56,17 @@ BAD = {
     "inertia_sign": [dict(A, inertia_local=[1, -1, 1])],
     "inertia_range": [dict(A, inertia_local=[1, 1, 1e-30])],
     "inertia_triangle": [dict(A, inertia_local=[1, 1, 3])],
+    # welds (rig.h "Welds"): C and D are children of A beside B
+    "weld_root": [dict(A, weld="a")],
+    "weld_type": [A, dict(B, weld=5)],
+    "weld_empty": [A, dict(B, weld="")],
+    "weld_unknown": [A, dict(B, weld="zz")],
+    "weld_itself": [A, dict(B, weld="b")],
+    "weld_limits": [A, dict(B, weld="a", limits_deg={"x": [-10, 10]})],
+    "weld_cycle": [A, dict(B, weld="c"), dict(C, weld="b")],
+    "weld_later": [A, dict(B, weld="c"), C],
+    "weld_cousin": [A, B, C, dict(D, weld="c")],
+    "root_limits": [dict(A, limits_deg={"x": [-10, 10]})],
 }
 # a valid rig with every optional field: roll, an inexact frame, an unsnapped head, mass and
 # mass per length, radius, explicit moments (and moments the engine reads as none: all within
@@ -77,6 +90,10 @@ BAD_FILES = {
     "bones_type": json.dumps({"bones": {}}).encode(),
     "top_type": b"[1, 2]",
     "top_unknown": json.dumps({"wings": 1, "bones": [A]}).encode(),
+    "root_value": json.dumps({"root": "hinged", "bones": [A]}).encode(),
+    "root_type": json.dumps({"root": 1, "bones": [A]}).encode(),
+    "fixed_root_limits": json.dumps(
+        {"root": "fixed", "bones": [dict(A, limits_deg={"x": [-10, 10]})]}).encode(),
     "deep": b'{"comment": ' + b"[" * 300 + b"]" * 300 + b', "bones": []}',
 }
 # refused by both, in each JSON parser's own words after this common prefix

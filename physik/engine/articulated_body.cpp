@@ -57,16 +57,21 @@ void articulated_velocity_pass(const Rig& rig, const SimState& s, ArticulatedBod
     const Vec3& c = s.com_world[i];
     const Vec3& w = s.omega_world[i];
     const Vec3& v_com = s.vel_world[i];
-    const int p = rig.bone_parent[i];
-    const Vec3 o = p < 0 ? c : s.frames.head_world[i];
+    const int p = rig.bone_joint_parent[i];
+    const JointType type = rig.bone_joint_type[i];
+    // the joint's point: a free root's centre of mass, else the head (an anchored root's too)
+    const Vec3 o = type == JointType::kFree ? c : s.frames.head_world[i];
     const Vec3 e = c - o;
     d.point_world[i] = o;
 
-    // velocity-product acceleration of the joint (Featherstone's c = V x v_J), v_o = v - w x e
-    if (p < 0) {
+    // velocity-product acceleration of the joint (Featherstone's c = V x v_J), v_o = v - w x e;
+    // a weld has no joint velocity
+    if (type == JointType::kFree) {
       d.bias_accel[i] << Vec3::Zero(), -w.cross(v_com);
+    } else if (type == JointType::kWeld) {
+      d.bias_accel[i].setZero();
     } else {
-      const Vec3 w_rel = w - s.omega_world[p];
+      const Vec3 w_rel = p < 0 ? w : Vec3(w - s.omega_world[p]);
       d.bias_accel[i] << w.cross(w_rel), (v_com - w.cross(e)).cross(w_rel);
     }
 
@@ -131,6 +136,20 @@ inline void add_shifted(const Mat3& A, const Mat3& B, const Mat3& E, const Mat3&
   PB.noalias() += R * C;
   PE += Es;
   PC += C;
+}
+
+// A weld hands its whole articulated inertia and bias on to its joint parent (no coordinate to
+// eliminate: I^a = I^A, p^a = p^A + I^A c with c = 0). E = B^T unless `general`.
+void weld_to_parent(ArticulatedBodyData& d, int i, int p, const Vec3& r, bool general) {
+  const SpatialInertia& IA = d.inertia_art[i];
+  SpatialInertia& IP = d.inertia_art[p];
+  Mat3 unused_lower;
+  const Mat3 E = general ? d.inertia_lower[i] : Mat3(IA.B.transpose());
+  add_shifted(IA.A, IA.B, E, IA.C, r, IP.A, IP.B, general ? d.inertia_lower[p] : unused_lower,
+              IP.C);
+  const Vec6& pa = d.bias_force[i];
+  d.bias_force[p].head<3>() += pa.head<3>() + r.cross(Vec3(pa.tail<3>()));
+  d.bias_force[p].tail<3>() += pa.tail<3>();
 }
 
 // The same with general blocks: I^A = [A B; E C], D = A + J,
@@ -291,10 +310,14 @@ void articulated_backward_pass(const Rig& rig, ArticulatedBodyData& d) {
     for (int i = 0; i < rig.nbone; ++i) d.inertia_lower[i] = d.inertia_art[i].B.transpose();
   }
   for (int i = rig.nbone - 1; i > 0; --i) {
-    const int p = rig.bone_parent[i];
+    const int p = rig.bone_joint_parent[i];
+    const Vec3 r = d.point_world[i] - d.point_world[p];  // to the parent's point
+    if (rig.bone_joint_type[i] == JointType::kWeld) {
+      weld_to_parent(d, i, p, r, !ball);
+      continue;
+    }
     const Vec3 u = -d.bias_force[i].head<3>();
     d.u[i] = u;
-    const Vec3 r = d.point_world[i] - d.point_world[p];  // to the parent's point
     Vec3 pa_ang, pa_lin;
     if (ball) {
       ball_to_parent(d, i, p, r, u, pa_ang, pa_lin);
@@ -306,32 +329,68 @@ void articulated_backward_pass(const Rig& rig, ArticulatedBodyData& d) {
   }
 }
 
+namespace {
+
+// the root's spatial acceleration a_0 about o_0 by its joint to the world: a free root's
+// I^A a = -p^A (LDL^T; LU with joint blocks); a pinned root's ball, qdd = D^-1 (u - S'^T I^A c),
+// D = A (+ J); a fixed root's none
+void root_acceleration(const Rig& rig, ArticulatedBodyData& d) {
+  const SpatialInertia& I0 = d.inertia_art[0];
+  switch (rig.bone_joint_type[0]) {
+    case JointType::kFree:
+      if (d.joint_blocks) {
+        Mat6 M0;
+        M0 << I0.A, I0.B, d.inertia_lower[0], I0.C;
+        d.root_lu.compute(M0);
+        d.accel_spatial[0] = d.root_lu.solve(-d.bias_force[0]);
+      } else {
+        d.root_ldlt.compute(I0.matrix());
+        d.accel_spatial[0] = d.root_ldlt.solve(-d.bias_force[0]);
+      }
+      return;
+    case JointType::kBall: {
+      const Vec6& c = d.bias_accel[0];
+      d.D_inv[0] = d.joint_blocks ? Mat3(I0.A + d.joint_block[0]).inverse() : I0.A.inverse();
+      d.u[0] = -d.bias_force[0].head<3>();
+      const Vec3 qdd = d.D_inv[0] * (d.u[0] - I0.A * c.head<3>() - I0.B * c.tail<3>());
+      d.accel_spatial[0] << c.head<3>() + qdd, c.tail<3>();
+      return;
+    }
+    case JointType::kWeld:
+      d.accel_spatial[0].setZero();
+      return;
+  }
+}
+
+}  // namespace
+
 void articulated_forward_pass(const Rig& rig, const SimState& s, ArticulatedBodyData& d) {
   if (rig.nbone == 0) return;
   if (d.pose_terms) {
     forward_pass_pose_terms(rig, s, d);
     return;
   }
-  // the free root: I^A a = -p^A (no joint force), then classical accelerations
-  if (d.joint_blocks) {
-    Mat6 I0;
-    I0 << d.inertia_art[0].A, d.inertia_art[0].B, d.inertia_lower[0], d.inertia_art[0].C;
-    d.root_lu.compute(I0);
-    d.accel_spatial[0] = d.root_lu.solve(-d.bias_force[0]);
-  } else {
-    d.root_ldlt.compute(d.inertia_art[0].matrix());
-    d.accel_spatial[0] = d.root_ldlt.solve(-d.bias_force[0]);
-  }
+  root_acceleration(rig, d);
+  // the classical acceleration of the root's centre: a.lin + alpha x e + w x v_com (e = 0 for a
+  // free root, whose point is its centre)
   const Vec3 alpha0 = d.accel_spatial[0].head<3>();
   d.root_accel_world = d.accel_spatial[0].tail<3>() + s.omega_world[0].cross(s.vel_world[0]);
+  if (rig.bone_joint_type[0] != JointType::kFree) {
+    d.root_accel_world += alpha0.cross(Vec3(s.com_world[0] - d.point_world[0]));
+  }
   d.joint_accel_local[0] = s.frames.orient_world[0].conjugate() * alpha0;
 
   for (int i = 1; i < rig.nbone; ++i) {
-    const int p = rig.bone_parent[i];
+    const int p = rig.bone_joint_parent[i];
     const Vec3 r = d.point_world[i] - d.point_world[p];
     const Vec6& ap = d.accel_spatial[p];
     const Vec3 alpha = ap.head<3>() + d.bias_accel[i].head<3>();
     const Vec3 lin = ap.tail<3>() - r.cross(ap.head<3>()) + d.bias_accel[i].tail<3>();
+    if (rig.bone_joint_type[i] == JointType::kWeld) {  // moves with its joint parent
+      d.accel_spatial[i] << alpha, lin;
+      d.joint_accel_local[i].setZero();
+      continue;
+    }
     // qdd' = D^-1 (u - S'^T I^A a'),  S'^T I^A a' = A alpha + B lin
     const SpatialInertia& IA = d.inertia_art[i];
     const Vec3 qdd = d.D_inv[i] * (d.u[i] - IA.A * alpha - IA.B * lin);  // world axes

@@ -10,6 +10,7 @@
 #include "physik/engine/interpolation.h"
 #include "physik/engine/joint_forces.h"
 #include "physik/engine/linear_modes.h"
+#include "physik/engine/newton_euler.h"
 #include "physik/engine/run_monitor.h"
 #include "physik/model/errors.h"
 
@@ -24,12 +25,15 @@ void set_pose(const Scene& scene, SimState& s, const Pose& pose, const Vec3& vel
     s.omega_world[i].setZero();
   }
   s.pose = pose;
+  // a welded bone's rotation is its weld's, whatever the pose said (kinematics.h)
+  if (rig.has_welds()) local_rotations_from_world(rig, s.frames, s.pose);
   // the exact and implicit schemes integrate the joint-space state: take it from the world view
   if (scene.params.joint_space()) init_joint_space(rig, s);
 }
 
 void init_state(const Scene& scene, SimState& s) {
   const Rig& rig = scene.rig;
+  check_scene_joints(scene);
   size_state(rig, scene.control_points.size(), s);
   set_pose(scene, s, scene.initial_pose, scene.initial_velocity_world);
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
@@ -82,6 +86,7 @@ void step_gauss_seidel(const Scene& scene, SimState& s, double h, StepStats& st)
   const Rig& rig = scene.rig;
   const auto t0 = Clock::now();
   apply_forces(scene, s);
+  if (rig.has_welds()) prepare_welded_bodies(rig, scene.params, s);  // welded groups as bodies
   const JointSolveStats js = solve_joint_forces(rig, scene.params, s);
   st.joint_solve_s = seconds_since(t0);
   st.passes = js.passes;

@@ -6,7 +6,7 @@
 //   newton_euler.h apply_damping         -c v at head and tail of every bone damping.h
 //   apply_control_springs linear or capped springs toward the effective targets control_springs.h
 //   apply_torsion_springs joint-limit springs, +tau on the bone, -tau on its parent
-//   torsion_springs.h
+//                         (torsion_springs.h)
 //   apply_gravity         m g at every centre of mass (nothing when gravity is zero)  contacts.h
 //   apply_contacts        the ground's and self-collision's penalty springs, dampers and
 //                         friction at the contacts found at this state                 contacts.h

@@ -24,16 +24,15 @@ void element_tangents(const Scene& scene, bool full, SimState& s) {
   const Rig& rig = scene.rig;
   for (int i = 0; i < rig.nbone; ++i) {
     const auto& limits = rig.bone_limit[i];
-    const bool limited = limits[0].limited || limits[1].limited || limits[2].limited;
     s.torsion_torque_world[i].setZero();
-    if (i == 0 || !limited || p.torsion_k == 0.0) {
+    if (!has_torsion_spring(rig, i) || p.torsion_k == 0.0) {
       s.torsion_stiffness[i].setZero();
       s.torsion_block_world[i].setZero();  // torsion_block_world() reads it without the stiffness
       continue;
     }
     const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[i]);
     s.torsion_stiffness[i] = torsion_step_stiffness_local(limits, theta, p);
-    const Mat3 R = (s.frames.orient_world[rig.bone_parent[i]] * rig.bone_rest_orient_parent[i])
+    const Mat3 R = (torsion_parent_orient(rig, s.frames, i) * rig.bone_rest_orient_parent[i])
                        .toRotationMatrix();  // R_pr
     s.torsion_block_world[i] =
         R * torsion_step_block_local(s.torsion_stiffness[i], theta, p.torsion_torque) *
@@ -111,12 +110,13 @@ void add_stiffness_rate_forces(const Scene& scene, double h, SimState& s) {
     apply_force_at(s, cp.bone, -h * (s.control_stiffness[c] * v), a);
   }
   const Rig& rig = scene.rig;
-  for (int i = 1; i < rig.nbone; ++i) {
+  for (int i = 0; i < rig.nbone; ++i) {
     if (s.torsion_stiffness[i].isZero(0.0)) continue;
     const int p = rig.bone_parent[i];
-    const Vec3 tau = -h * (torsion_block_world(rig, s, i) * (s.omega_world[i] - s.omega_world[p]));
+    const Vec3 w_rel = p < 0 ? s.omega_world[i] : Vec3(s.omega_world[i] - s.omega_world[p]);
+    const Vec3 tau = -h * (torsion_block_world(rig, s, i) * w_rel);
     s.torque_world[i] += tau;
-    s.torque_world[p] -= tau;
+    if (p >= 0) s.torque_world[p] -= tau;
   }
 }
 
@@ -125,8 +125,9 @@ void velocity_product_accels(const Rig& rig, const ArticulatedBodyData& d, std::
   if (rig.nbone == 0) return;
   a0[0] = d.bias_accel[0];
   for (int i = 1; i < rig.nbone; ++i) {
-    const Vec6& ap = a0[rig.bone_parent[i]];
-    const Vec3 r = d.point_world[i] - d.point_world[rig.bone_parent[i]];
+    const int p = rig.bone_joint_parent[i];
+    const Vec6& ap = a0[p];
+    const Vec3 r = d.point_world[i] - d.point_world[p];
     a0[i].head<3>() = ap.head<3>() + d.bias_accel[i].head<3>();
     a0[i].tail<3>() = ap.tail<3>() - r.cross(ap.head<3>()) + d.bias_accel[i].tail<3>();
   }
@@ -187,7 +188,7 @@ void augment_contacts(double h, SimState& s) {
 void joint_blocks(const Rig& rig, double h, SimState& s) {
   ArticulatedBodyData& d = s.articulated;
   d.joint_blocks = false;
-  for (int i = 1; i < rig.nbone; ++i) {
+  for (int i = 0; i < rig.nbone; ++i) {
     if (s.torsion_stiffness[i].isZero(0.0)) {
       d.joint_block[i].setZero();
       continue;

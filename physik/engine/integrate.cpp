@@ -14,7 +14,8 @@ namespace {
 
 void update_angular(const Rig& rig, const EngineParams& params, double dt, SimState& s) {
   const double f = params.angular_velocity_factor;
-  for (int i = 0; i < rig.nbone; ++i) {
+  // a fixed root never turns
+  for (int i = rig.root_joint == RootJoint::kFixed ? 1 : 0; i < rig.nbone; ++i) {
     s.omega_world[i] = f * s.omega_world[i] + angular_accel(s, i) * dt;
     s.frames.orient_world[i] = rotate_by(s.frames.orient_world[i], s.omega_world[i], dt);
   }
@@ -29,12 +30,65 @@ void place_from_com(const Rig& rig, SimState& s, int i) {
 
 }  // namespace
 
+namespace {
+
+// With welds: every body (at its first bone) turns by its own composite Newton-Euler, w <- f w +
+// alpha dt; a welded bone takes its weld's w and its rest frame in its weld's; a free root's
+// centre moves with its body's acceleration at that point, a_c + alpha x r [+ w x (w x r)]
+void integrate_welded_bodies(const Rig& rig, const EngineParams& params, double dt, SimState& s) {
+  const double f = params.angular_velocity_factor;
+  if (rig.root_joint == RootJoint::kFree) {
+    const Vec3 alpha =
+        s.body_inertia_inv_world[0] * (s.body_torque_world[0] - s.body_gyro_world[0]);
+    const Vec3 r = s.com_world[0] - s.body_com_world[0];
+    Vec3 a = s.body_force_world[0] / s.body_mass[0] + alpha.cross(r);
+    if (params.centripetal) a += s.omega_world[0].cross(s.omega_world[0].cross(r));
+    s.vel_world[0] += a * dt;
+    s.com_world[0] += s.vel_world[0] * dt;
+  }
+  for (int i = rig.root_joint == RootJoint::kFixed ? 1 : 0; i < rig.nbone; ++i) {
+    const int w = rig.bone_weld[i];
+    if (w >= 0) {
+      s.omega_world[i] = s.omega_world[w];
+      s.frames.orient_world[i] =
+          (s.frames.orient_world[w] * rig.bone_rest_orient_weld[i]).normalized();
+      continue;
+    }
+    const Vec3 alpha =
+        s.body_inertia_inv_world[i] * (s.body_torque_world[i] - s.body_gyro_world[i]);
+    s.omega_world[i] = f * s.omega_world[i] + alpha * dt;
+    s.frames.orient_world[i] = rotate_by(s.frames.orient_world[i], s.omega_world[i], dt);
+  }
+}
+
+// an anchored root turns about its head, which stays where it is
+void place_anchored_root(const Rig& rig, SimState& s) {
+  const Vec3 half = s.frames.orient_world[0] * Vec3(0, 0.5 * rig.bone_length[0], 0);
+  s.frames.head_world[0] = rig.bone_rest_head_world[0];
+  s.com_world[0] = s.frames.head_world[0] + half;
+  s.frames.tail_world[0] = s.com_world[0] + half;
+  s.vel_world[0] = s.omega_world[0].cross(half);
+}
+
+}  // namespace
+
 void integrate_articulated(const Rig& rig, const EngineParams& params, double dt, SimState& s) {
-  // the root translates with its own linear acceleration (read before forces change)
-  s.vel_world[0] += linear_accel(rig, s, 0) * dt;
-  s.com_world[0] += s.vel_world[0] * dt;
-  update_angular(rig, params, dt, s);
-  place_from_com(rig, s, 0);
+  const bool free_root = rig.root_joint == RootJoint::kFree;
+  if (rig.has_welds()) {
+    integrate_welded_bodies(rig, params, dt, s);
+  } else {
+    if (free_root) {
+      // the root translates with its own linear acceleration (read before forces change)
+      s.vel_world[0] += linear_accel(rig, s, 0) * dt;
+      s.com_world[0] += s.vel_world[0] * dt;
+    }
+    update_angular(rig, params, dt, s);
+  }
+  if (free_root) {
+    place_from_com(rig, s, 0);
+  } else {
+    place_anchored_root(rig, s);
+  }
   // the rest follow by forward kinematics; their velocities follow from the chain
   for (int i = 1; i < rig.nbone; ++i) {
     const int p = rig.bone_parent[i];
@@ -49,13 +103,56 @@ void integrate_articulated(const Rig& rig, const EngineParams& params, double dt
   }
 }
 
+namespace {
+
+// Free rods with welds: every body moves as one rigid body of its own, its centre c by its
+// composite force, its turn by its composite Newton-Euler (as integrate_welded_bodies); its bones
+// keep their offsets from c, turned with it: c_i = c + dR (c_i - c), R_i = dR R_i,
+// v_i = v + w x (c_i - c)
+void integrate_free_bodies(const Rig& rig, const EngineParams& params, double dt, SimState& s) {
+  const double f = params.angular_velocity_factor;
+  const int first = rig.root_joint == RootJoint::kFixed ? 1 : 0;
+  // each body's new w and centre velocity, at its first bone
+  for (int b = first; b < rig.nbone; ++b) {
+    if (rig.bone_weld[b] >= 0) continue;
+    const Vec3 w0 = s.omega_world[b];
+    s.body_vel_world[b] = s.vel_world[b] + w0.cross(Vec3(s.body_com_world[b] - s.com_world[b])) +
+                          s.body_force_world[b] / s.body_mass[b] * dt;
+    const Vec3 alpha =
+        s.body_inertia_inv_world[b] * (s.body_torque_world[b] - s.body_gyro_world[b]);
+    s.omega_world[b] = f * w0 + alpha * dt;
+  }
+  // every bone with its body
+  for (int i = first; i < rig.nbone; ++i) {
+    const int b = rig.bone_body[i];
+    const Vec3& w = s.omega_world[b];
+    const Vec3& v = s.body_vel_world[b];
+    const Quat turn = rotate_by(Quat::Identity(), w, dt);
+    const Vec3 r = turn * Vec3(s.com_world[i] - s.body_com_world[b]);
+    s.com_world[i] = s.body_com_world[b] + v * dt + r;
+    s.frames.orient_world[i] = (turn * s.frames.orient_world[i]).normalized();
+    s.omega_world[i] = w;
+    s.vel_world[i] = v + w.cross(r);
+    place_from_com(rig, s, i);
+  }
+}
+
+}  // namespace
+
 void integrate_free_rods(const Rig& rig, const EngineParams& params, double dt, SimState& s) {
-  for (int i = 0; i < rig.nbone; ++i) {
+  if (rig.has_welds()) {
+    integrate_free_bodies(rig, params, dt, s);
+    return;
+  }
+  // a fixed root never moves; a pinned one's head is held by its joint's forces only
+  for (int i = rig.root_joint == RootJoint::kFixed ? 1 : 0; i < rig.nbone; ++i) {
     s.vel_world[i] += linear_accel(rig, s, i) * dt;
     s.com_world[i] += s.vel_world[i] * dt;
   }
   update_angular(rig, params, dt, s);
-  for (int i = 0; i < rig.nbone; ++i) place_from_com(rig, s, i);
+  for (int i = rig.root_joint == RootJoint::kFixed ? 1 : 0; i < rig.nbone; ++i) {
+    place_from_com(rig, s, i);
+  }
 }
 
 }  // namespace physik

@@ -16,6 +16,11 @@
 //  free rods (the paper's text; free_rods true): every bone integrates its own v, cm, w and R;
 //  joints may drift
 //     apart, and the drift is measured (engine.h: joint separation).
+// Welded groups (rig.h "Welds") move as one body each (prepare_welded_bodies, newton_euler.h): its
+// composite w <- f w + alpha dt turns its first bone, the others keep their rest frames in their
+// welds'; free rods move every body as a rigid body of its own.
+// An anchored root (rig.h: pinned or fixed) does not translate: a pinned root turns about its
+// head, held at its rest position, a fixed one not at all.
 // Two choices the paper does not state (docs/engine.md "The paper's scheme"): the root moves its
 // centre of mass and turns about it (the original turns it about its head: a difference of about
 // (|w| dt)^2 L / 2 per step), and the gyroscopic term w x I w of alpha uses the start-of-step w,

@@ -28,7 +28,8 @@ void init_joint_space(const Rig& rig, SimState& s) {
   s.root_vel_world = s.vel_world[0];
   s.root_orient_world = s.frames.orient_world[0];
   for (int i = 0; i < n; ++i) {
-    const int p = rig.bone_parent[i];
+    if (rig.bone_joint_type[i] == JointType::kWeld) continue;  // no joint velocity
+    const int p = rig.bone_joint_parent[i];
     const Vec3 w_rel = s.omega_world[i] - (p < 0 ? Vec3::Zero() : s.omega_world[p]);
     s.joint_vel_local[i] = s.frames.orient_world[i].conjugate() * w_rel;
   }
@@ -72,32 +73,55 @@ inline void derive_body(const Rig& rig, SimState& s, int i) {
     f.orient_world[i] = s.root_orient_world.normalized();
     const Mat3 R = f.orient_world[i].toRotationMatrix();
     const Vec3 half = half_length * R.col(1);  // R (0, L/2, 0)
-    s.com_world[i] = s.root_com_world;
-    f.head_world[i] = s.root_com_world - half;
-    f.tail_world[i] = s.root_com_world + half;
     s.omega_world[i] = R * s.joint_vel_local[i];
+    if (rig.root_anchored()) {
+      // the head stays at its rest position; the centre turns about it
+      f.head_world[i] = rig.bone_rest_head_world[i];
+      s.root_com_world = f.head_world[i] + half;
+      s.root_vel_world = s.omega_world[i].cross(half);
+    } else {
+      f.head_world[i] = s.root_com_world - half;
+    }
+    s.com_world[i] = s.root_com_world;
+    f.tail_world[i] = s.root_com_world + half;
     s.vel_world[i] = s.root_vel_world;
     return;
   }
   // as mj_kinematics: the ball's quaternion normalised, the products not
   const Quat& q_parent = f.orient_world[p];
-  f.orient_world[i] =
-      q_parent * rig.bone_rest_orient_parent[i] * s.pose.bone_local_rotation[i].normalized();
+  const int w = rig.bone_weld[i];
+  if (w >= 0) {
+    // a weld turns with the bone it is welded to
+    f.orient_world[i] = f.orient_world[w] * rig.bone_rest_orient_weld[i];
+    s.omega_world[i] = s.omega_world[w];
+  } else {
+    f.orient_world[i] =
+        q_parent * rig.bone_rest_orient_parent[i] * s.pose.bone_local_rotation[i].normalized();
+  }
   const Mat3 R = f.orient_world[i].toRotationMatrix();
   f.head_world[i] = f.head_world[p] + q_parent * rig.bone_head_in_parent[i];
   const Vec3 half = half_length * R.col(1);
   s.com_world[i] = f.head_world[i] + half;
   f.tail_world[i] = s.com_world[i] + half;
-  s.omega_world[i] = s.omega_world[p] + R * s.joint_vel_local[i];
+  if (w < 0) s.omega_world[i] = s.omega_world[p] + R * s.joint_vel_local[i];
   s.vel_world[i] = s.vel_world[p] + s.omega_world[p].cross(f.head_world[i] - s.com_world[p]) +
                    s.omega_world[i].cross(half);
 }
 
-// the root's entry of the pose follows its orientation (R_0 = R_rest q_0)
-void root_pose_entry(const Rig& rig, SimState& s) {
+// the pose's local rotations follow the world view: the root's (R_0 = R_rest q_0), and a welded
+// bone's, which the step does not integrate
+void pose_from_derived(const Rig& rig, SimState& s) {
   s.pose.root_head_world = s.frames.head_world[0];
   s.pose.bone_local_rotation[0] =
       (rig.bone_rest_orient_parent[0].conjugate() * s.frames.orient_world[0]).normalized();
+  if (!rig.has_welds()) return;
+  for (int i = 1; i < rig.nbone; ++i) {
+    if (rig.bone_weld[i] < 0) continue;
+    const Quat& q_parent = s.frames.orient_world[rig.bone_parent[i]];
+    s.pose.bone_local_rotation[i] = (rig.bone_rest_orient_parent[i].conjugate() *
+                                     q_parent.conjugate() * s.frames.orient_world[i])
+                                        .normalized();
+  }
 }
 
 }  // namespace
@@ -107,23 +131,36 @@ void integrate_joint_space(const Rig& rig, double h, SimState& s) {
   if (rig.nbone == 0) return;
   // per joint: velocity first (mj_advance), then position with the new velocity
   // (mj_integratePos); joints are independent, so one pass, parents first, also rebuilds the
-  // world view
-  s.root_vel_world += h * d.root_accel_world;
-  s.joint_vel_local[0] += h * d.joint_accel_local[0];
-  s.root_com_world += h * s.root_vel_world;
-  quat_integrate(s.root_orient_world, s.joint_vel_local[0], h);
+  // world view. An anchored root's centre follows its turn (derive_body); a fixed one's and a
+  // weld's coordinates stay zero.
+  switch (rig.bone_joint_type[0]) {
+    case JointType::kFree:
+      s.root_vel_world += h * d.root_accel_world;
+      s.joint_vel_local[0] += h * d.joint_accel_local[0];
+      s.root_com_world += h * s.root_vel_world;
+      quat_integrate(s.root_orient_world, s.joint_vel_local[0], h);
+      break;
+    case JointType::kBall:
+      s.joint_vel_local[0] += h * d.joint_accel_local[0];
+      quat_integrate(s.root_orient_world, s.joint_vel_local[0], h);
+      break;
+    case JointType::kWeld:
+      break;
+  }
   derive_body(rig, s, 0);
   for (int i = 1; i < rig.nbone; ++i) {
-    s.joint_vel_local[i] += h * d.joint_accel_local[i];
-    quat_integrate(s.pose.bone_local_rotation[i], s.joint_vel_local[i], h);
+    if (rig.bone_joint_type[i] == JointType::kBall) {
+      s.joint_vel_local[i] += h * d.joint_accel_local[i];
+      quat_integrate(s.pose.bone_local_rotation[i], s.joint_vel_local[i], h);
+    }
     derive_body(rig, s, i);
   }
-  root_pose_entry(rig, s);
+  pose_from_derived(rig, s);
 }
 
 void world_from_joint_space(const Rig& rig, SimState& s) {
   for (int i = 0; i < rig.nbone; ++i) derive_body(rig, s, i);
-  if (rig.nbone > 0) root_pose_entry(rig, s);
+  if (rig.nbone > 0) pose_from_derived(rig, s);
 }
 
 }  // namespace physik

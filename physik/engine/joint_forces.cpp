@@ -6,20 +6,60 @@
 
 namespace physik {
 
+namespace {
+
+// The bodies the joint solve moves: the bones themselves, or, on a rig with welds, the welded
+// groups' composite bodies (prepare_welded_bodies), indexed by the body's first bone
+struct SolveBodies {
+  const double* mass;
+  const Vec3* com_world;
+  const Mat3* inertia_inv_world;
+  const Vec3* gyro_world;
+  Vec3* force_world;
+  Vec3* torque_world;
+};
+
+SolveBodies solve_bodies(const Rig& rig, SimState& s) {
+  if (!rig.has_welds()) {
+    return {rig.bone_mass.data(), s.com_world.data(),   s.inertia_inv_world.data(),
+            s.gyro_world.data(),  s.force_world.data(), s.torque_world.data()};
+  }
+  return {s.body_mass.data(),       s.body_com_world.data(),   s.body_inertia_inv_world.data(),
+          s.body_gyro_world.data(), s.body_force_world.data(), s.body_torque_world.data()};
+}
+
+// the acceleration of the point at offset r from body b's centre (newton_euler.h, eq. 2); a
+// body turns with its first bone's w
+inline Vec3 body_point_accel(const SolveBodies& bodies, const SimState& s, int b, const Vec3& r,
+                             bool centripetal) {
+  const Vec3 alpha = bodies.inertia_inv_world[b] * (bodies.torque_world[b] - bodies.gyro_world[b]);
+  Vec3 a = bodies.force_world[b] / bodies.mass[b] + alpha.cross(r);
+  if (centripetal) {
+    const Vec3& w = s.omega_world[b];
+    a += w.cross(w.cross(r));
+  }
+  return a;
+}
+
+}  // namespace
+
 void prepare_joint_solve(const Rig& rig, SimState& s) {
+  const SolveBodies bodies = solve_bodies(rig, s);
   const int njoint = static_cast<int>(rig.joints.size());
   for (int j = 0; j < njoint; ++j) {
     Mat3 sum = Mat3::Zero();
     for (int m = rig.joint_first_member[j]; m < rig.joint_first_member[j + 1]; ++m) {
-      const int b = rig.joint_member_bone[m];
+      const int b = rig.joint_member_bone[m], body = rig.joint_member_body[m];
       const Vec3& point =
           rig.joint_member_at_tail[m] ? s.frames.tail_world[b] : s.frames.head_world[b];
-      s.member_r_world[m] = point - s.com_world[b];
+      s.member_r_world[m] = point - bodies.com_world[body];
       s.member_Minv[m] =
-          force_to_accel(rig.bone_mass[b], s.inertia_inv_world[b], s.member_r_world[m]).inverse();
+          force_to_accel(bodies.mass[body], bodies.inertia_inv_world[body], s.member_r_world[m])
+              .inverse();
       sum += s.member_Minv[m];
     }
-    s.joint_Sinv[j] = sum.inverse();
+    // an anchored joint's point does not accelerate: v = 0, no average to take
+    s.joint_Sinv[j] = rig.joint_anchored[j] ? Mat3::Zero() : Mat3(sum.inverse());
   }
 }
 
@@ -27,12 +67,12 @@ namespace {
 
 // accelerations of joint j's points, into s.member_accel; returns their largest pairwise gap
 // and, in `size`, the largest of them
-double measure_joint(const Rig& rig, const EngineParams& params, SimState& s, int j,
-                     double* size = nullptr) {
+double measure_joint(const Rig& rig, const EngineParams& params, const SolveBodies& bodies,
+                     SimState& s, int j, double* size = nullptr) {
   const int first = rig.joint_first_member[j], last = rig.joint_first_member[j + 1];
   for (int m = first; m < last; ++m) {
-    s.member_accel[m] =
-        point_accel(rig, s, rig.joint_member_bone[m], s.member_r_world[m], params.centripetal);
+    s.member_accel[m] = body_point_accel(bodies, s, rig.joint_member_body[m], s.member_r_world[m],
+                                         params.centripetal);
   }
   double gap = 0.0, largest = 0.0;
   for (int m = first; m < last; ++m) {
@@ -41,6 +81,8 @@ double measure_joint(const Rig& rig, const EngineParams& params, SimState& s, in
       gap = std::max(gap, (s.member_accel[m] - s.member_accel[n]).norm());
     }
   }
+  // the world's point at an anchored joint does not accelerate
+  if (rig.joint_anchored[j]) gap = std::max(gap, largest);
   if (size) *size = largest;
   return gap;
 }
@@ -48,9 +90,10 @@ double measure_joint(const Rig& rig, const EngineParams& params, SimState& s, in
 }  // namespace
 
 double joint_accel_mismatch(const Rig& rig, const EngineParams& params, SimState& s) {
+  const SolveBodies bodies = solve_bodies(rig, s);
   double worst = 0.0;
   for (int j = 0; j < static_cast<int>(rig.joints.size()); ++j) {
-    worst = std::max(worst, measure_joint(rig, params, s, j));
+    worst = std::max(worst, measure_joint(rig, params, bodies, s, j));
   }
   return worst;
 }
@@ -60,6 +103,8 @@ JointSolveStats solve_joint_forces(const Rig& rig, const EngineParams& params, S
   const int njoint = static_cast<int>(rig.joints.size());
   if (njoint == 0) return stats;
   prepare_joint_solve(rig, s);
+  const SolveBodies bodies = solve_bodies(rig, s);
+  const bool welds = rig.has_welds();
   for (Vec3& f : s.member_force_world) f.setZero();
   const int cap = params.passes_cap(rig.nbone);
   const double rel = params.joint_eps_relative, floor = 1e-9 * params.joint_eps;
@@ -68,23 +113,29 @@ JointSolveStats solve_joint_forces(const Rig& rig, const EngineParams& params, S
     bool relative_ok = true;  // every gap below rel x its joint's largest acceleration
     for (int j = 0; j < njoint; ++j) {
       double size = 0.0;
-      const double gap = measure_joint(rig, params, s, j, &size);
+      const double gap = measure_joint(rig, params, bodies, s, j, &size);
       pass_mismatch = std::max(pass_mismatch, gap);
       if (rel > 0.0 && gap > std::max(rel * size, floor)) relative_ok = false;
       const int first = rig.joint_first_member[j], last = rig.joint_first_member[j + 1];
-      // v = (sum M^-1)^-1 sum M^-1 a   (corrected eq. 11)
-      Vec3 rhs = Vec3::Zero();
-      for (int m = first; m < last; ++m) rhs += s.member_Minv[m] * s.member_accel[m];
-      const Vec3 v = s.joint_Sinv[j] * rhs;
+      // v = (sum M^-1)^-1 sum M^-1 a   (corrected eq. 11); 0 where the world holds the joint
+      Vec3 v = Vec3::Zero();
+      if (!rig.joint_anchored[j]) {
+        Vec3 rhs = Vec3::Zero();
+        for (int m = first; m < last; ++m) rhs += s.member_Minv[m] * s.member_accel[m];
+        v = s.joint_Sinv[j] * rhs;
+      }
       // F_i = M_i^-1 (v - a_i), applied at the joint point; sum_i F_i = 0 up to round-off
       for (int m = first; m < last; ++m) {
-        const int b = rig.joint_member_bone[m];
+        const int b = rig.joint_member_bone[m], body = rig.joint_member_body[m];
         const Vec3 f = s.member_Minv[m] * (v - s.member_accel[m]);
         const Vec3 tau = s.member_r_world[m].cross(f);
-        s.force_world[b] += f;
-        s.torque_world[b] += tau;
+        bodies.force_world[body] += f;
+        bodies.torque_world[body] += tau;
+        // the bone's own record: the force at the joint point, its torque about the bone's centre
         s.joint_force_world[b] += f;
-        s.joint_torque_world[b] += tau;
+        s.joint_torque_world[b] +=
+            welds ? Vec3((s.member_r_world[m] + bodies.com_world[body] - s.com_world[b]).cross(f))
+                  : tau;
         s.member_force_world[m] += f;
       }
     }

@@ -9,6 +9,9 @@
 // (eq. 11 as printed gives v = (sum A_i^-1)^-1 0, wrong for affine A_i; the original code does
 // the above with 4x4 affine matrices and a homogeneous divide).
 //
+// A joint the world holds (a pinned root's head, a fixed root's tail: rig.h Joint::anchored)
+// has v = 0: its forces F_i = -M_i^-1 a_i stop every point there.
+//
 // Joints are solved one after another (Gauss-Seidel): each joint's forces are added to its
 // bones at once, so later joints see them; passes repeat until the largest difference of
 // joint-point accelerations at any joint falls below eps (rig units/s^2), or the pass cap

@@ -13,26 +13,26 @@ namespace {
 
 using MatX = Eigen::MatrixXd;
 
-int nv_of(const Rig& rig) {
-  return 6 + 3 * (rig.nbone - 1);
-}
-int rot_dof(int bone) {
-  return bone == 0 ? 3 : 3 + 3 * bone;
+// the first rotational coordinate of a joint: after a free root's three translations
+int rot_dof(const Rig& rig, int bone) {
+  return rig.bone_dofadr[bone] + (rig.bone_joint_type[bone] == JointType::kFree ? 3 : 0);
 }
 
 // the rotation Jacobian of body b and the velocity Jacobian of a point p on it: each DOF turns
-// about its axis through its pivot (root: its centre of mass, ball: the head); the root also
-// translates
+// about its axis through its pivot (a free root: its centre of mass, which also translates; a
+// ball, a pinned root's too: the head); a weld has none
 void body_jacobians(const Rig& rig, const SimState& s, int b, const Vec3& p, MatX& Jw, MatX& Jp) {
-  Jw.setZero(3, nv_of(rig));
-  Jp.setZero(3, nv_of(rig));
-  Jp.leftCols<3>().setIdentity();
-  for (int j = b; j >= 0; j = rig.bone_parent[j]) {
-    const Vec3 pivot = j == 0 ? s.com_world[0] : s.frames.head_world[j];
+  Jw.setZero(3, rig.nv);
+  Jp.setZero(3, rig.nv);
+  if (rig.bone_joint_type[0] == JointType::kFree) Jp.leftCols<3>().setIdentity();
+  for (int j = b; j >= 0; j = rig.bone_joint_parent[j]) {
+    const JointType type = rig.bone_joint_type[j];
+    if (type == JointType::kWeld) continue;
+    const Vec3 pivot = type == JointType::kFree ? s.com_world[0] : s.frames.head_world[j];
     for (int k = 0; k < 3; ++k) {
       const Vec3 axis = s.frames.orient_world[j] * Vec3::Unit(k);
-      Jw.col(rot_dof(j) + k) = axis;
-      Jp.col(rot_dof(j) + k) = axis.cross(p - pivot);
+      Jw.col(rot_dof(rig, j) + k) = axis;
+      Jp.col(rot_dof(rig, j) + k) = axis.cross(p - pivot);
     }
   }
 }
@@ -48,7 +48,7 @@ DenseModeMatrices dense_mode_matrices(const Scene& scene, const SimState& s,
                                       const std::vector<Vec3>& targets) {
   const Rig& rig = scene.rig;
   const EngineParams& prm = scene.params;
-  const int nv = nv_of(rig);
+  const int nv = rig.nv;
   DenseModeMatrices out{MatX::Zero(nv, nv), MatX::Zero(nv, nv), MatX::Zero(nv, nv),
                         MatX::Zero(nv, nv)};
   MatX &M = out.M, &K = out.K, &D1 = out.D1, &Dr = out.Dr;
@@ -63,13 +63,19 @@ DenseModeMatrices dense_mode_matrices(const Scene& scene, const SimState& s,
       body_jacobians(rig, s, b, *p, Jw, Jp);
       D1 += Jp.transpose() * Jp;
     }
-    if (b == 0 || prm.torsion_k == 0.0) continue;
+    if (!has_torsion_spring(rig, b) || prm.torsion_k == 0.0) continue;
     const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[b]);
     const Vec3 k = torsion_stiffness_local(rig.bone_limit[b], theta, prm);
     if (k.isZero(0.0)) continue;
     const Mat3 T =
-        torsion_torque_frame(rig, prm, s.frames.orient_world[rig.bone_parent[b]], b, theta);
-    body_jacobians(rig, s, rig.bone_parent[b], s.com_world[b], Jwp, Jdummy);
+        torsion_torque_frame(rig, prm, torsion_parent_orient(rig, s.frames, b), b, theta);
+    // the turn relative to the parent (a pinned root's: to the world)
+    const int parent = rig.bone_parent[b];
+    if (parent >= 0) {
+      body_jacobians(rig, s, parent, s.com_world[b], Jwp, Jdummy);
+    } else {
+      Jwp.setZero(3, nv);
+    }
     const MatX Jrel = Jw - Jwp;
     K += Jrel.transpose() * (T * k.asDiagonal() * T.transpose()) * Jrel;
   }

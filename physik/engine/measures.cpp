@@ -19,6 +19,8 @@ double kinetic_energy(const Rig& rig, const SimState& s) {
 
 double max_joint_separation(const Rig& rig, const BoneFrames& f) {
   double gap = 0.0;
+  // an anchored root's head from its anchor, its rest position
+  if (rig.root_anchored()) gap = (f.head_world[0] - rig.bone_rest_head_world[0]).norm();
   for (int i = 1; i < rig.nbone; ++i) {
     const int p = rig.bone_parent[i];
     const Vec3 joint = f.head_world[p] + f.orient_world[p] * rig.bone_head_in_parent[i];

@@ -7,8 +7,9 @@
 //   control residual    r_c = |a_c - g_c|: control point c's attachment a_c (a point on its bone,
 //                       world) to its goal target g_c (not the interpolated one), rig units
 //   joint separation    max over joints of |head_child - (head_parent + R_parent h_child)|: how far
-//                       a child's head is from its joint on the parent, rig units (0 unless the
-//                       scheme integrates free rods)
+//                       a child's head is from its joint on the parent, and an anchored root's
+//                       head from its rest position, rig units (0 unless the scheme integrates
+//                       free rods)
 //   centre of mass      a bone's is its midpoint (a uniform rod), world, rig units
 //   state hash          FNV-1a over the bit patterns of every head, tail and orientation
 #pragma once

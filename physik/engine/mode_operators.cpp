@@ -13,9 +13,10 @@ namespace physik {
 
 namespace {
 
-int ball_dof(int bone) {
-  return 3 + 3 * bone;
-}  // first coordinate of a ball (bone > 0)
+// a joint with a ball's three coordinates: every bone's but a weld's, a pinned root's too
+inline bool is_ball(const Rig& rig, int bone) {
+  return rig.bone_joint_type[bone] == JointType::kBall;
+}
 
 // adds the wrench about o of a point element K at offset r moving with V = (w; v at o)
 inline void add_point_wrench(const Mat3& K, const Vec3& r, const Vec6& V, Vec6& W) {
@@ -32,7 +33,7 @@ ModeOperators::ModeOperators(const Scene& scene, const SimState& s,
   const Rig& rig = scene.rig;
   const EngineParams& prm = scene.params;
   const int n = rig.nbone;
-  nv_ = 6 + 3 * (n - 1);
+  nv_ = rig.nv;
   ArticulatedBodyData& d = ws.articulated;
   if (static_cast<int>(d.inertia_art.size()) != n) resize_articulated_data(n, d);
   if (static_cast<int>(ws.velocity.size()) != n) {
@@ -46,17 +47,19 @@ ModeOperators::ModeOperators(const Scene& scene, const SimState& s,
   for (int i = 0; i < n; ++i) {
     const Mat3 R = s.frames.orient_world[i].toRotationMatrix();
     d.inertia_com_world[i] = R * rig.bone_inertia_local[i].asDiagonal() * R.transpose();
-    d.point_world[i] = rig.bone_parent[i] < 0 ? s.com_world[i] : s.frames.head_world[i];
+    d.point_world[i] =
+        rig.bone_joint_type[i] == JointType::kFree ? s.com_world[i] : s.frames.head_world[i];
     d.bias_accel[i].setZero();
   }
   factor_damper_ = (1.0 - prm.angular_velocity_factor) / prm.dt;
   ws.torsion.clear();
-  for (int b = 1; b < n && prm.torsion_k != 0.0; ++b) {
+  for (int b = 0; b < n && prm.torsion_k != 0.0; ++b) {
+    if (!has_torsion_spring(rig, b)) continue;
     const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[b]);
     const Vec3 k = torsion_stiffness_local(rig.bone_limit[b], theta, prm);
     if (k.isZero(0.0)) continue;
     const Mat3 T =
-        torsion_torque_frame(rig, prm, s.frames.orient_world[rig.bone_parent[b]], b, theta);
+        torsion_torque_frame(rig, prm, torsion_parent_orient(rig, s.frames, b), b, theta);
     ws.torsion.emplace_back(b, T * k.asDiagonal() * T.transpose());
   }
   ws.springs.clear();
@@ -106,27 +109,50 @@ void ModeOperators::multiply(Matrix which, const VecX& x, VecX& y) {
   std::vector<Vec6>& V = ws_.velocity;
   std::vector<Vec6>& W = ws_.wrench;
   y.resize(nv_);
-  // velocities outward: V = (w; v at o)
-  V[0] << x.segment<3>(3), x.head<3>();
+  // velocities outward: V = (w; v at o); a pinned root turns about its fixed head
+  switch (rig_.bone_joint_type[0]) {
+    case JointType::kFree:
+      V[0] << x.segment<3>(3), x.head<3>();
+      break;
+    case JointType::kBall:
+      V[0] << x.head<3>(), Vec3::Zero();
+      break;
+    case JointType::kWeld:
+      V[0].setZero();
+      break;
+  }
   for (int i = 1; i < n; ++i) {
-    const int p = rig_.bone_parent[i];
+    const int p = rig_.bone_joint_parent[i];
     const Vec3 r = d.point_world[i] - d.point_world[p];
-    V[i].head<3>() = V[p].head<3>() + x.segment<3>(ball_dof(i));
+    V[i].head<3>() = V[p].head<3>();
+    if (is_ball(rig_, i)) V[i].head<3>() += x.segment<3>(rig_.bone_dofadr[i]);
     V[i].tail<3>() = V[p].tail<3>() - r.cross(Vec3(V[p].head<3>()));
   }
   element_wrenches(which);
   // wrenches inward; each ball's coordinate takes its subtree's torque about the joint
   for (int i = n - 1; i > 0; --i) {
-    const int p = rig_.bone_parent[i];
+    const int p = rig_.bone_joint_parent[i];
     const Vec3 r = d.point_world[i] - d.point_world[p];
-    y.segment<3>(ball_dof(i)) = W[i].head<3>();
+    if (is_ball(rig_, i)) y.segment<3>(rig_.bone_dofadr[i]) = W[i].head<3>();
     W[p].head<3>() += W[i].head<3>() + r.cross(Vec3(W[i].tail<3>()));
     W[p].tail<3>() += W[i].tail<3>();
   }
-  y.head<3>() = W[0].tail<3>();
-  y.segment<3>(3) = W[0].head<3>();
+  switch (rig_.bone_joint_type[0]) {
+    case JointType::kFree:
+      y.head<3>() = W[0].tail<3>();
+      y.segment<3>(3) = W[0].head<3>();
+      break;
+    case JointType::kBall:
+      y.head<3>() = W[0].head<3>();
+      break;
+    case JointType::kWeld:
+      break;
+  }
   if (which != Matrix::kStiffness) return;
-  for (const auto& [b, K] : ws_.torsion) y.segment<3>(ball_dof(b)) += K * x.segment<3>(ball_dof(b));
+  for (const auto& [b, K] : ws_.torsion) {
+    const int a = rig_.bone_dofadr[b];
+    y.segment<3>(a) += K * x.segment<3>(a);
+  }
 }
 
 void ModeOperators::set_shift(double s) {
@@ -163,15 +189,23 @@ int ModeOperators::count_below(double sigma) {
   int negative = 0;
   Eigen::SelfAdjointEigenSolver<Mat3> eig3;
   for (int i = 1; i < rig_.nbone; ++i) {
+    if (!is_ball(rig_, i)) continue;  // a weld has no pivot
     // D^-1 has D's signs; K is symmetric, so D is up to round-off
     eig3.compute(0.5 * (d.D_inv[i] + d.D_inv[i].transpose()), Eigen::EigenvaluesOnly);
     negative += static_cast<int>((eig3.eigenvalues().array() < 0.0).count());
   }
-  Mat6 root = d.inertia_art[0].matrix();
-  if (d.joint_blocks) root.bottomLeftCorner<3, 3>() = d.inertia_lower[0];
-  const Eigen::SelfAdjointEigenSolver<Mat6> eig6(0.5 * (root + root.transpose()),
-                                                 Eigen::EigenvaluesOnly);
-  negative += static_cast<int>((eig6.eigenvalues().array() < 0.0).count());
+  // the root's pivot: a free root's 6x6, a pinned root's 3x3 ball block, none for a fixed root
+  if (rig_.bone_joint_type[0] == JointType::kFree) {
+    Mat6 root = d.inertia_art[0].matrix();
+    if (d.joint_blocks) root.bottomLeftCorner<3, 3>() = d.inertia_lower[0];
+    const Eigen::SelfAdjointEigenSolver<Mat6> eig6(0.5 * (root + root.transpose()),
+                                                   Eigen::EigenvaluesOnly);
+    negative += static_cast<int>((eig6.eigenvalues().array() < 0.0).count());
+  } else if (rig_.bone_joint_type[0] == JointType::kBall) {
+    const Mat3 D0 = d.inertia_art[0].A + (d.joint_blocks ? d.joint_block[0] : Mat3::Zero());
+    eig3.compute(0.5 * (D0 + D0.transpose()), Eigen::EigenvaluesOnly);
+    negative += static_cast<int>((eig3.eigenvalues().array() < 0.0).count());
+  }
   set_shift(saved);
   return nv_ - negative;
 }
@@ -181,21 +215,42 @@ void ModeOperators::solve(const VecX& b, VecX& x) {
   ArticulatedBodyData& d = ws_.articulated;
   // b as external torques: b_i on bone i, -b_i on its parent (bias force = -external wrench)
   load_inertias();
-  d.bias_force[0] << -b.segment<3>(3), -b.head<3>();
+  switch (rig_.bone_joint_type[0]) {
+    case JointType::kFree:
+      d.bias_force[0] << -b.segment<3>(3), -b.head<3>();
+      break;
+    case JointType::kBall:
+      d.bias_force[0].head<3>() -= b.head<3>();
+      break;
+    case JointType::kWeld:
+      break;
+  }
   for (int i = 1; i < n; ++i) {
-    d.bias_force[i].head<3>() -= b.segment<3>(ball_dof(i));
-    d.bias_force[rig_.bone_parent[i]].head<3>() += b.segment<3>(ball_dof(i));
+    if (!is_ball(rig_, i)) continue;
+    const int a = rig_.bone_dofadr[i];
+    d.bias_force[i].head<3>() -= b.segment<3>(a);
+    d.bias_force[rig_.bone_joint_parent[i]].head<3>() += b.segment<3>(a);
   }
   // (M + K / s) a = b, so x = a / s
   articulated_backward_pass(rig_, d);
   articulated_forward_pass(rig_, state_, d);
   const double inv = 1.0 / shift_;
   x.resize(nv_);
-  x.head<3>() = inv * d.accel_spatial[0].tail<3>();
-  x.segment<3>(3) = inv * d.accel_spatial[0].head<3>();
+  switch (rig_.bone_joint_type[0]) {
+    case JointType::kFree:
+      x.head<3>() = inv * d.accel_spatial[0].tail<3>();
+      x.segment<3>(3) = inv * d.accel_spatial[0].head<3>();
+      break;
+    case JointType::kBall:
+      x.head<3>() = inv * d.accel_spatial[0].head<3>();
+      break;
+    case JointType::kWeld:
+      break;
+  }
   for (int i = 1; i < n; ++i) {
-    x.segment<3>(ball_dof(i)) =
-        inv * (d.accel_spatial[i].head<3>() - d.accel_spatial[rig_.bone_parent[i]].head<3>());
+    if (!is_ball(rig_, i)) continue;
+    x.segment<3>(rig_.bone_dofadr[i]) =
+        inv * (d.accel_spatial[i].head<3>() - d.accel_spatial[rig_.bone_joint_parent[i]].head<3>());
   }
 }
 
@@ -215,7 +270,8 @@ void ModeOperators::compute_end_damper_scale() {
     Q[i] = S[i] * S[i].transpose();
     N[i] = 2.0;
   }
-  double scale = 2.0 * n;
+  const JointType root = rig_.bone_joint_type[0];
+  double scale = root == JointType::kFree ? 2.0 * n : 0.0;
   const auto shift = [&](int c, const Vec3& dv, Mat3& Qo, Vec3& So) {
     Qo += Q[c] + S[c] * dv.transpose() + dv * S[c].transpose() + N[c] * dv * dv.transpose();
     So += S[c] + N[c] * dv;
@@ -226,17 +282,22 @@ void ModeOperators::compute_end_damper_scale() {
       scale = std::max(scale, Qj.trace() - a.dot(Qj * a));
     }
   };
+  // a weld's ends move with its joint parent: they join that joint's moments
   for (int i = n - 1; i > 0; --i) {
-    axes_max(Q[i], i);
-    const int p = rig_.bone_parent[i];
+    if (is_ball(rig_, i)) axes_max(Q[i], i);
+    const int p = rig_.bone_joint_parent[i];
     shift(i, f.head_world[i] - f.head_world[p], Q[p], S[p]);
     N[p] += N[i];
   }
-  // the root turns about its centre of mass
-  Mat3 Q0 = Mat3::Zero();
-  Vec3 S0 = Vec3::Zero();
-  shift(0, f.head_world[0] - state_.com_world[0], Q0, S0);
-  axes_max(Q0, 0);
+  if (root == JointType::kFree) {
+    // the free root turns about its centre of mass
+    Mat3 Q0 = Mat3::Zero();
+    Vec3 S0 = Vec3::Zero();
+    shift(0, f.head_world[0] - state_.com_world[0], Q0, S0);
+    axes_max(Q0, 0);
+  } else if (root == JointType::kBall) {
+    axes_max(Q[0], 0);  // a pinned root turns about its head
+  }
   end_damper_scale_ = scale;
 }
 

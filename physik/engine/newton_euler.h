@@ -21,6 +21,13 @@ namespace physik {
 // the exact and implicit schemes only the clearing: nothing reads the other two).
 void prepare_bodies(const Rig& rig, const EngineParams& params, SimState& state);
 
+// On a rig with welds (rig.h "Welds"), the scheme gauss-seidel's bodies after the force stages:
+// per welded group (at its first bone's index) its mass, centre of mass, the net force, the
+// torque about that centre (sum tau_i + (c_i - c) x F_i), the inverse of its world inertia
+// (parallel axes: sum R_i I_i R_i^T + m_i (|r_i|^2 1 - r_i r_i^T)) and w x I w; a body of one bone
+// copies the bone's. The joint solve and the integration move these bodies.
+void prepare_welded_bodies(const Rig& rig, const EngineParams& params, SimState& state);
+
 // Add a force applied at a world point to bone i (force, and torque about its centre of mass).
 inline void apply_force_at(SimState& s, int bone, const Vec3& force_world,
                            const Vec3& point_world) {

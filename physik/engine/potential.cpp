@@ -42,7 +42,7 @@ double control_potential(const Scene& scene, const std::vector<Vec3>& attach_wor
 double torsion_potential(const Rig& rig, const EngineParams& params, const Pose& pose) {
   if (params.torsion_k == 0.0) return 0.0;
   double u = 0.0;
-  for (int i = 1; i < rig.nbone; ++i) {
+  for (int i = 0; i < rig.nbone; ++i) {
     const Vec3 e =
         torsion_excess(rig.bone_limit[i], params.torsion_tolerance, pose.bone_local_rotation[i]);
     for (int k = 0; k < 3; ++k) {

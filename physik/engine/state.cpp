@@ -15,6 +15,15 @@ void size_state(const Rig& rig, std::size_t ncontrol, SimState& s) {
   s.inertia_inv_world.assign(n, Mat3::Zero());
   s.gyro_world.assign(n, Vec3::Zero());
 
+  const std::size_t nbody = rig.has_welds() ? n : 0;
+  s.body_mass.assign(nbody, 0.0);
+  s.body_com_world.assign(nbody, Vec3::Zero());
+  s.body_force_world.assign(nbody, Vec3::Zero());
+  s.body_torque_world.assign(nbody, Vec3::Zero());
+  s.body_inertia_inv_world.assign(nbody, Mat3::Zero());
+  s.body_gyro_world.assign(nbody, Vec3::Zero());
+  s.body_vel_world.assign(nbody, Vec3::Zero());
+
   const std::size_t nmember = rig.joint_member_bone.size();
   s.member_r_world.assign(nmember, Vec3::Zero());
   s.member_Minv.assign(nmember, Mat3::Zero());

@@ -84,6 +84,16 @@ struct SimState {
   std::vector<Mat3> inertia_inv_world;  // (nbone) I^-1 in world axes, 1/(kg m^2)
   std::vector<Vec3> gyro_world;         // (nbone) w x I w, N m (0 when gyroscopic is off)
 
+  // --- the gauss-seidel scheme's rigid bodies where bones are welded (rig.h "Welds"; sized only
+  // for a rig with welds): per body, at its first bone's index; a body of one bone copies it ---
+  std::vector<double> body_mass;             // (nbone) kg
+  std::vector<Vec3> body_com_world;          // (nbone) rig units
+  std::vector<Vec3> body_force_world;        // (nbone) N, at the body's centre of mass
+  std::vector<Vec3> body_torque_world;       // (nbone) N m, about it
+  std::vector<Mat3> body_inertia_inv_world;  // (nbone) 1/(kg m^2)
+  std::vector<Vec3> body_gyro_world;         // (nbone) w x I w, N m
+  std::vector<Vec3> body_vel_world;          // (nbone) free rods: its centre's new velocity
+
   // --- joint solve workspace, per joint member (Rig::joint_member_bone, ...) ---
   std::vector<Vec3> member_r_world;      // (nmember) joint point minus centre of mass
   std::vector<Mat3> member_Minv;         // (nmember) inverse of M_i = m^-1 I + [r]x^T I^-1 [r]x

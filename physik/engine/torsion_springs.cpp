@@ -90,17 +90,18 @@ Mat3 torsion_step_block_local(const Vec3& k, const Vec3& theta, TorsionTorque to
 void apply_torsion_springs(const Rig& rig, const EngineParams& params, SimState& s) {
   if (params.torsion_k == 0.0) return;
   const bool gradient = params.torsion_torque == TorsionTorque::kGradient;
-  for (int i = 1; i < rig.nbone; ++i) {
+  for (int i = 0; i < rig.nbone; ++i) {
+    if (!has_torsion_spring(rig, i)) continue;
     const auto& limits = rig.bone_limit[i];
-    if (!limits[0].limited && !limits[1].limited && !limits[2].limited) continue;
     const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[i]);
     Vec3 tau_local = torsion_torque_local(limits, theta, params);
     if (tau_local.isZero(0.0)) continue;
     if (gradient) tau_local = left_jacobian_inverse_transpose(theta) * tau_local;  // tau_pr
     const int p = rig.bone_parent[i];
-    const Vec3 tau_world = s.frames.orient_world[p] * (rig.bone_rest_orient_parent[i] * tau_local);
+    const Vec3 tau_world =
+        torsion_parent_orient(rig, s.frames, i) * (rig.bone_rest_orient_parent[i] * tau_local);
     s.torque_world[i] += tau_world;
-    s.torque_world[p] -= tau_world;
+    if (p >= 0) s.torque_world[p] -= tau_world;
   }
 }
 

@@ -9,7 +9,9 @@
 //   linear  tau_k = k d              capped  tau_k = k min(|d|, c) sign(d)
 // A locked axis (min == max) always pulls toward its value. The torque, turned to world axes
 // (tau_world = R_p R_rest_in_parent tau_local), acts on the bone; its opposite acts on the parent.
-// k in N m/rad, c in rad. The root has no parent and no limits.
+// k in N m/rad, c in rad. A free root has no limits; a pinned root's hold it against the world
+// (its parent frame is the world's, its opposite torque goes nowhere).
+// A welded bone (rig.h "Welds") has no torsion spring: every scheme moves its group as one body.
 //
 // torsion_torque (params): `axes` is the above, the paper's (seed 000 Sec. 3.4, the original
 // fwik.py). It is -dU/dtheta, the gradient in the rotation vector, not in the rotation: the
@@ -79,6 +81,19 @@ Mat3 torsion_step_block_local(const Vec3& k, const Vec3& theta, TorsionTorque to
 
 // J_l(theta)^-T (above).
 Mat3 left_jacobian_inverse_transpose(const Vec3& theta);
+
+// A bone's torsion spring acts: it has a limited axis (a root only when pinned).
+inline bool has_torsion_spring(const Rig& rig, int bone) {
+  const auto& l = rig.bone_limit[bone];
+  return l[0].limited || l[1].limited || l[2].limited;
+}
+
+// The world orientation a bone's torsion spring holds against: its parent's, the world's for the
+// root.
+inline Quat torsion_parent_orient(const Rig& rig, const BoneFrames& frames, int bone) {
+  const int p = rig.bone_parent[bone];
+  return p < 0 ? Quat::Identity() : frames.orient_world[p];
+}
 
 // Requires state.pose to hold the current local rotations.
 void apply_torsion_springs(const Rig& rig, const EngineParams& params, SimState& state);

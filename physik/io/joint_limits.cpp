@@ -62,6 +62,19 @@ void apply_joint_limits(Rig& rig, const JointLimits& limits) {
                             (rig.name.empty() ? std::string() : "'" + rig.name + "' ") +
                             "has no bone of that name (its bones: " + known + ")");
     }
+    const auto& l = b.limit;
+    const bool limited = l[0].limited || l[1].limited || l[2].limited;
+    if (limited && i == 0 && rig.root_joint != RootJoint::kPinned) {
+      throw_input_error(limits.source, "limits_deg '" + b.bone + "'", "",
+                        std::string("the rig's root is ") + to_string(rig.root_joint) +
+                            ": it has nothing to limit its turn against (limits on the root "
+                            "need the rig's \"root\": \"pinned\")");
+    }
+    if (limited && rig.welded(i)) {
+      throw_input_error(limits.source, "limits_deg '" + b.bone + "'", "",
+                        "welded to '" + rig.bone_name[rig.bone_weld[i]] +
+                            "': a welded bone has no degree of freedom to limit");
+    }
     index.push_back(i);
   }
   for (std::size_t k = 0; k < index.size(); ++k) rig.bone_limit[index[k]] = limits.bones[k].limit;

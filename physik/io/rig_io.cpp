@@ -30,9 +30,9 @@ double read_collision_radius(const Json& obj, const JsonContext& ctx, double fal
 
 BoneSpec bone_from_json(const Json& b, const JsonContext& ctx, const BoneDefaults& d) {
   ctx.require_object(b, "");
-  ctx.only_keys(
-      b, {"name", "parent", "head", "tail", "rest_frame", "roll_deg", "limits_deg",
-          "mass_per_length", "mass", "radius", "inertia_local", "collision_radius", "comment"});
+  ctx.only_keys(b, {"name", "parent", "head", "tail", "rest_frame", "roll_deg", "limits_deg",
+                    "mass_per_length", "mass", "radius", "inertia_local", "collision_radius",
+                    "weld", "comment"});
   BoneSpec s;
   s.name = ctx.string(b, "name");
   const Json& parent = ctx.require(b, "parent");
@@ -67,6 +67,10 @@ BoneSpec bone_from_json(const Json& b, const JsonContext& ctx, const BoneDefault
   }
 
   if (b.contains("limits_deg")) s.limit = parse_axis_limits(b["limits_deg"], ctx, "limits_deg");
+  if (b.contains("weld")) {
+    s.weld = ctx.string(b, "weld");
+    if (s.weld.empty()) ctx.fail("weld", "empty name (leave the key out for a bone that turns)");
+  }
   read_mass(b, ctx, d, s);
   s.collision_radius = read_collision_radius(b, ctx, d.collision_radius);
   return s;
@@ -99,7 +103,20 @@ void read_mass(const Json& b, const JsonContext& ctx, const BoneDefaults& d, Bon
 Rig rig_from_json(const Json& doc, const std::string& source) {
   JsonContext top{source, ""};
   top.require_object(doc, "");
-  top.only_keys(doc, {"name", "comment", "source", "units", "defaults", "bones"});
+  top.only_keys(doc, {"name", "comment", "source", "units", "root", "defaults", "bones"});
+  RootJoint root = RootJoint::kFree;
+  if (doc.contains("root")) {
+    const std::string r = top.string(doc, "root");
+    if (r == "free") {
+      root = RootJoint::kFree;
+    } else if (r == "pinned") {
+      root = RootJoint::kPinned;
+    } else if (r == "fixed") {
+      root = RootJoint::kFixed;
+    } else {
+      top.fail("root", "expected \"free\", \"pinned\" or \"fixed\", got \"" + r + "\"");
+    }
+  }
   BoneDefaults defaults;
   if (doc.contains("defaults")) {
     const Json& d = doc["defaults"];
@@ -122,7 +139,7 @@ Rig rig_from_json(const Json& doc, const std::string& source) {
     }
     specs.push_back(bone_from_json(bones[i], JsonContext{source, element}, defaults));
   }
-  return build_rig(specs, source, top.string_or(doc, "name", ""));
+  return build_rig(specs, source, top.string_or(doc, "name", ""), root);
 }
 
 Rig rig_from_json_text(const std::string& text, const std::string& source) {
@@ -152,6 +169,7 @@ Json rig_to_json(const Rig& rig) {
       if (l.limited) lim[kAxisName[a]] = {rad2deg(l.min), rad2deg(l.max)};
     }
     if (!lim.empty()) b["limits_deg"] = lim;
+    if (rig.bone_weld[i] >= 0) b["weld"] = rig.bone_name[rig.bone_weld[i]];
     b["mass"] = rig.bone_mass[i];
     b["radius"] = rig.bone_radius[i];
     // explicit moments only where they are not the cylinder's
@@ -166,6 +184,7 @@ Json rig_to_json(const Rig& rig) {
   }
   Json doc;
   if (!rig.name.empty()) doc["name"] = rig.name;
+  if (rig.root_joint != RootJoint::kFree) doc["root"] = to_string(rig.root_joint);
   doc["bones"] = bones;
   return doc;
 }

@@ -2,6 +2,7 @@
 //
 // {
 //   "name": "pinhead",                              optional
+//   "root": "free" | "pinned" | "fixed",            optional (free): the root's joint to the world
 //   "defaults": {"mass_per_length": 1.0, "radius": 0.5,    optional, per-bone fallbacks
 //                "collision_radius": 0.05},
 //   "bones": [
@@ -14,8 +15,10 @@
 //      "radius": 0.5,                               rig units, for the cylinder inertia
 //      "inertia_local": [Ixx, Iyy, Izz],            optional kg m^2 about the bone's centre,
 //                                                   bone-local axes; replaces the cylinder's
-//      "collision_radius": 0.05}                    optional rig units, the contact capsule's
+//      "collision_radius": 0.05,                    optional rig units, the contact capsule's
 //                                                   (default 0.06 x the bone's length)
+//      "weld": "torso"}                             optional: welded to its parent or to a
+//                                                   sibling listed before it (no limits then)
 //   ]
 // }
 #pragma once

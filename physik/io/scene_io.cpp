@@ -517,6 +517,7 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
   if (doc.contains("initial_velocity")) {
     s.initial_velocity_world = bounded_vec3(top, doc, "initial_velocity");
   }
+  check_scene_joints(s);
   read_contacts_and_gravity(top, doc, s);
   check_contact_params(s, overrides);
   return s;

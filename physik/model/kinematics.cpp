@@ -26,8 +26,11 @@ void forward_kinematics(const Rig& rig, const Pose& pose, BoneFrames& out) {
       out.orient_world[i] = rig.bone_rest_orient_parent[i] * pose.bone_local_rotation[i];
       out.head_world[i] = pose.root_head_world;
     } else {
-      out.orient_world[i] =
-          out.orient_world[p] * rig.bone_rest_orient_parent[i] * pose.bone_local_rotation[i];
+      const int w = rig.bone_weld[i];
+      // a welded bone keeps its rest frame in its weld's frame, whatever the pose says
+      out.orient_world[i] = w >= 0 ? Quat(out.orient_world[w] * rig.bone_rest_orient_weld[i])
+                                   : Quat(out.orient_world[p] * rig.bone_rest_orient_parent[i] *
+                                          pose.bone_local_rotation[i]);
       out.head_world[i] = out.head_world[p] + out.orient_world[p] * rig.bone_head_in_parent[i];
     }
     out.orient_world[i].normalize();

@@ -9,6 +9,8 @@
 //   R_i    = R_parent * R_rest_in_parent_i * q_i,  head_i    = head_parent + R_parent * h_i
 //   tail_i = head_i + R_i * (0, L_i, 0)
 // where R_rest_in_parent_i and h_i (= (0, L_parent, 0) for a connected child) are rig constants.
+// A welded bone ignores its q: R_i = R_weld * R_rest_in_weld_i (rig.h "Welds"), so every pose
+// gives a welded group its rest shape.
 //
 // Joint angles for limits: the rotation vector (exponential map, |v| <= pi) of q_i, whose
 // components along the bone's local x, y, z are compared with the per-axis limits.

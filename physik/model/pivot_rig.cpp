@@ -272,13 +272,23 @@ PivotBones pivot_bones(const std::vector<PivotNode>& nodes, const std::string& s
     out.node_incoming[j] =
         incoming[j] >= 0 ? spec_of_seg[incoming[j]] : (out.synthetic_root ? 0 : -1);
   }
+  // welds (pivot_rig.h, 3b.): a pivot's segments are one body; the first one (emitted first
+  // among its siblings) carries the joint
+  for (int j = 0; j < n; ++j) {
+    const std::vector<int>& own = out.node_specs[j];
+    if (j == 0 && out.synthetic_root) {
+      for (int s : own) out.specs[s].weld = out.specs[0].name;
+      continue;
+    }
+    for (std::size_t k = 1; k < own.size(); ++k) out.specs[own[k]].weld = out.specs[own[0]].name;
+  }
   return out;
 }
 
 PivotRig finish_pivot_rig(const std::vector<PivotNode>& nodes, const PivotBones& bones,
                           const std::string& source, const std::string& name) {
   PivotRig pr;
-  pr.rig = build_rig(bones.specs, source, name);
+  pr.rig = build_rig(bones.specs, source, name, bones.root_joint);
   pr.nodes = nodes;
   pr.synthetic_root = bones.synthetic_root;
   pr.bone_node.assign(pr.rig.nbone, -1);

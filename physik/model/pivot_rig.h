@@ -15,6 +15,9 @@
 //      (0 or >= 2, e.g. BVH Hips -> Spine, LeftUpLeg, RightUpLeg) a synthetic root bone is added
 //      from p_root - l * Z to p_root (l = mean length of the bones starting there, 1 if none), that
 //      follows the root pivot; the other bones hang from its tail.
+//   3b. welds (rig.h "Welds"): a pivot's segments turn together, one rigid body: its first segment
+//      carries the pivot's joint, the others are welded to it (siblings); below a synthetic root
+//      the root pivot's segments are welded to it (their parent), which follows the same pivot.
 //   4. names: a bone is named after its pivot when the pivot has one segment, otherwise
 //      "<pivot>><first child pivot>" (or "<pivot>>end", "<pivot>>end2", ... for end points); the
 //      synthetic root takes the root pivot's name (or "<root>_root" if that is taken).
@@ -45,6 +48,7 @@ struct PivotBones {
   std::vector<int> spec_tail_node;  // (nspec) child pivot at the tail, or -1
   std::vector<int> spec_tail_end;   // (nspec) index into the pivot's ends_world at the tail, or -1
   bool synthetic_root = false;      // spec 0 is the synthetic root (tail = root pivot)
+  RootJoint root_joint = RootJoint::kFree;   // the root's joint to the world (the caller's)
   std::vector<std::vector<int>> node_specs;  // (nnode) segments starting at each pivot
   std::vector<int> node_incoming;            // (nnode) spec whose tail is at the pivot, -1 for none
 };

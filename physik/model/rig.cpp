@@ -63,7 +63,24 @@ int Rig::max_bones_per_joint() const {
   return best;
 }
 
+const char* to_string(RootJoint root) {
+  switch (root) {
+    case RootJoint::kFree:
+      return "free";
+    case RootJoint::kPinned:
+      return "pinned";
+    case RootJoint::kFixed:
+      return "fixed";
+  }
+  return "?";
+}
+
+bool Rig::has_welds() const {
+  return std::any_of(bone_weld.begin(), bone_weld.end(), [](int w) { return w >= 0; });
+}
+
 int Rig::bone_dof(int bone) const {
+  if (bone_joint_type[bone] == JointType::kWeld) return 0;
   int dof = 3;
   for (const AxisLimit& a : bone_limit[bone]) dof -= a.locked() ? 1 : 0;
   return dof;
@@ -92,7 +109,7 @@ double Rig::reference_length() const {
 
 bool Rig::bones_share_joint(int a, int b) const {
   const int pa = bone_parent[a], pb = bone_parent[b];
-  return pa == b || pb == a || (pa >= 0 && pa == pb);
+  return pa == b || pb == a || (pa >= 0 && pa == pb) || bone_body[a] == bone_body[b];
 }
 
 namespace {
@@ -152,6 +169,68 @@ std::size_t link_parents(const std::vector<BoneSpec>& specs,
                       "no root bone (every bone has a parent, so the parents form a cycle)");
   }
   return root;
+}
+
+// stage 2b: welds name the bone's parent or a sibling listed before it (the group's first bone
+// then comes first in DFS order), form no cycle, and sit on bones without limits below the root
+void check_welds(const std::vector<BoneSpec>& specs,
+                 const std::unordered_map<std::string, std::size_t>& index_of,
+                 const std::vector<std::vector<std::size_t>>& children, const std::string& source) {
+  const std::size_t n = specs.size();
+  std::vector<std::size_t> target(n, n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const BoneSpec& b = specs[i];
+    if (b.weld.empty()) continue;
+    const std::string el = bone_element(b, i);
+    if (b.parent.empty()) {
+      throw_input_error(source, el, "weld",
+                        "the root has no parent to weld to (a root held to the world is the "
+                        "rig's \"root\": \"fixed\")");
+    }
+    if (b.weld == b.name) throw_input_error(source, el, "weld", "a bone cannot weld to itself");
+    auto it = index_of.find(b.weld);
+    if (it == index_of.end()) {
+      throw_input_error(source, el, "weld", "unknown bone '" + b.weld + "'");
+    }
+    const BoneSpec& w = specs[it->second];
+    if (b.weld != b.parent && w.parent != b.parent) {
+      throw_input_error(source, el, "weld",
+                        "'" + b.weld + "' is neither this bone's parent '" + b.parent +
+                            "' nor a sibling of it (a bone welds to its parent, or to a bone "
+                            "with the same parent)");
+    }
+    for (int a = 0; a < 3; ++a) {
+      if (b.limit[a].limited) {
+        throw_input_error(
+            source, el, "limits_deg",
+            "a welded bone has no degree of freedom to limit (welded to '" + b.weld + "')");
+      }
+    }
+    target[i] = it->second;
+  }
+  // sibling welds: a chain never returns to where it started, and ends on an earlier sibling
+  for (std::size_t i = 0; i < n; ++i) {
+    std::string path = specs[i].name;
+    std::size_t k = i, steps = 0;
+    while (target[k] != n && specs[k].weld != specs[k].parent) {
+      k = target[k];
+      path += " -> " + specs[k].name;
+      if (k == i || ++steps > n) {
+        throw_input_error(source, bone_element(specs[i], i), "weld", "weld cycle " + path);
+      }
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (target[i] == n || specs[i].weld == specs[i].parent) continue;
+    const std::vector<std::size_t>& kids = children[index_of.at(specs[i].parent)];
+    const auto pos = [&](std::size_t x) { return std::find(kids.begin(), kids.end(), x); };
+    if (pos(target[i]) > pos(i)) {
+      throw_input_error(source, bone_element(specs[i], i), "weld",
+                        "the sibling '" + specs[i].weld +
+                            "' it welds to must come before it among the children of '" +
+                            specs[i].parent + "'");
+    }
+  }
 }
 
 // stage 3: depth-first order from the root (children in file order); a bone the walk never
@@ -314,6 +393,7 @@ void fill_bones(const std::vector<BoneSpec>& specs, const std::vector<std::size_
     rig.bone_inertia_local.push_back(
         b.inertia_local.isZero() ? cylinder_inertia(b.mass, b.radius, len) : b.inertia_local);
     rig.bone_limit.push_back(b.limit);
+    rig.bone_weld.push_back(b.weld.empty() ? -1 : new_index[index_of.at(b.weld)]);
   }
 }
 
@@ -345,35 +425,106 @@ void derive_rest_frames(Rig& rig) {
   }
 }
 
+// stage 6b: the joint model: each bone's joint type, joint parent and velocity coordinates, its
+// rest frame in the frame of the bone it is welded to, and its rigid body
+void derive_joint_model(Rig& rig, RootJoint root) {
+  const int n = rig.nbone;
+  rig.root_joint = root;
+  rig.bone_joint_type.assign(n, JointType::kBall);
+  rig.bone_joint_parent.assign(n, -1);
+  rig.bone_dofadr.assign(n, 0);
+  rig.bone_rest_orient_weld.assign(n, Quat::Identity());
+  rig.bone_body.assign(n, 0);
+  rig.body_nbone.assign(n, 0);
+  int nv = 0;
+  for (int i = 0; i < n; ++i) {
+    const int w = rig.bone_weld[i];
+    JointType& type = rig.bone_joint_type[i];
+    if (i == 0) {
+      type = root == RootJoint::kFree     ? JointType::kFree
+             : root == RootJoint::kPinned ? JointType::kBall
+                                          : JointType::kWeld;
+    } else if (w >= 0) {
+      type = JointType::kWeld;
+    }
+    rig.bone_joint_parent[i] = w >= 0 ? w : rig.bone_parent[i];
+    rig.bone_dofadr[i] = nv;
+    nv += type == JointType::kFree ? 6 : type == JointType::kBall ? 3 : 0;
+    if (w >= 0) {
+      rig.bone_rest_orient_weld[i] =
+          (rig.bone_rest_orient_world[w].conjugate() * rig.bone_rest_orient_world[i]).normalized();
+    }
+    rig.bone_body[i] = w >= 0 ? rig.bone_body[w] : i;
+    ++rig.body_nbone[rig.bone_body[i]];
+  }
+  rig.nv = nv;
+}
+
 // stage 7: one joint per bone with children, and the members flattened for the joint solve
 void derive_joints(Rig& rig) {
   rig.bone_joint_at_tail.assign(rig.nbone, -1);
   rig.bone_joint_at_head.assign(rig.nbone, -1);
+  if (rig.root_joint == RootJoint::kPinned) {
+    // the world holds the root's head
+    Joint j;
+    j.children = {0};
+    j.anchored = true;
+    rig.bone_joint_at_head[0] = 0;
+    rig.joints.push_back(j);
+  }
   for (int i = 0; i < rig.nbone; ++i) {
     if (rig.bone_children[i].empty()) continue;
     Joint j;
     j.parent = i;
     j.children = rig.bone_children[i];
+    j.anchored = i == 0 && rig.root_joint == RootJoint::kFixed;
     rig.bone_joint_at_tail[i] = static_cast<int>(rig.joints.size());
     for (int c : j.children) rig.bone_joint_at_head[c] = static_cast<int>(rig.joints.size());
     rig.joints.push_back(j);
   }
+  // the members: one per rigid body at the joint (welded bones are one body: rig.h "Welds"),
+  // named by its first bone there; a joint inside one body holds nothing and is left out
+  std::vector<Joint> kept;
   for (const Joint& j : rig.joints) {
-    rig.joint_first_member.push_back(static_cast<int>(rig.joint_member_bone.size()));
-    rig.joint_member_bone.push_back(j.parent);
-    rig.joint_member_at_tail.push_back(1);
-    for (int c : j.children) {
-      rig.joint_member_bone.push_back(c);
-      rig.joint_member_at_tail.push_back(0);
+    const int first = static_cast<int>(rig.joint_member_bone.size());
+    std::vector<int> bodies;
+    const auto add = [&](int bone, int at_tail) {
+      const int body = rig.bone_body[bone];
+      if (std::find(bodies.begin(), bodies.end(), body) != bodies.end()) return;
+      bodies.push_back(body);
+      rig.joint_member_bone.push_back(bone);
+      rig.joint_member_body.push_back(body);
+      rig.joint_member_at_tail.push_back(at_tail);
+    };
+    if (j.parent >= 0) add(j.parent, 1);
+    for (int c : j.children) add(c, 0);
+    if (bodies.size() < 2 && !j.anchored) {
+      rig.joint_member_bone.resize(first);
+      rig.joint_member_body.resize(first);
+      rig.joint_member_at_tail.resize(first);
+      continue;
     }
+    rig.joint_first_member.push_back(first);
+    rig.joint_anchored.push_back(j.anchored ? 1 : 0);
+    kept.push_back(j);
   }
   rig.joint_first_member.push_back(static_cast<int>(rig.joint_member_bone.size()));
+  if (kept.size() != rig.joints.size()) {
+    rig.joints = kept;
+    rig.bone_joint_at_tail.assign(rig.nbone, -1);
+    rig.bone_joint_at_head.assign(rig.nbone, -1);
+    for (std::size_t k = 0; k < kept.size(); ++k) {
+      const int index = static_cast<int>(k);
+      if (kept[k].parent >= 0) rig.bone_joint_at_tail[kept[k].parent] = index;
+      for (int c : kept[k].children) rig.bone_joint_at_head[c] = index;
+    }
+  }
 }
 
 }  // namespace
 
 Rig build_rig(const std::vector<BoneSpec>& specs, const std::string& source,
-              const std::string& name) {
+              const std::string& name, RootJoint root_joint) {
   if (specs.empty()) throw_input_error(source, "", "bones", "the rig has no bones");
   if (specs.size() > static_cast<std::size_t>(kMaxBones)) {
     throw_input_error(source, "", "bones",
@@ -384,6 +535,18 @@ Rig build_rig(const std::vector<BoneSpec>& specs, const std::string& source,
   std::vector<std::vector<std::size_t>> children;
   const std::size_t root = link_parents(specs, index_of, source, children);
   const std::vector<std::size_t> order = dfs_order(specs, children, root, source);
+  check_welds(specs, index_of, children, source);
+  if (root_joint != RootJoint::kPinned) {
+    for (int a = 0; a < 3; ++a) {
+      if (specs[root].limit[a].limited) {
+        throw_input_error(source, bone_element(specs[root], root), "limits_deg",
+                          root_joint == RootJoint::kFree
+                              ? "a free root has nothing to limit its turn against (limits on "
+                                "the root need the rig's \"root\": \"pinned\")"
+                              : "a fixed root does not turn: it has nothing to limit");
+      }
+    }
+  }
   for (std::size_t i = 0; i < specs.size(); ++i) {
     const std::string el = bone_element(specs[i], i);
     check_geometry(specs[i], source, el);
@@ -395,6 +558,7 @@ Rig build_rig(const std::vector<BoneSpec>& specs, const std::string& source,
   rig.nbone = static_cast<int>(specs.size());
   fill_bones(specs, order, index_of, source, rig);
   derive_rest_frames(rig);
+  derive_joint_model(rig, root_joint);
   derive_joints(rig);
   return rig;
 }

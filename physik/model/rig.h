@@ -17,6 +17,16 @@
 // relative to its rest orientation in its parent's frame. An absent axis is free; min == max
 // locks the axis.
 //
+// Welds (models/README.md "Welded bones"): a bone may be welded to its parent, or to a sibling
+// listed before it (the segments of one BVH joint or MuJoCo body, which turn together). A welded
+// bone has no degree of freedom of its own: it keeps its rest orientation relative to the bone it
+// is welded to, and a group of bones welded together is one rigid body. Its joint (the joint
+// types below) is a weld; its joint parent is the bone it is welded to.
+//
+// The root's joint to the world: free (6 DOF, the default), pinned (a ball at its head, held at
+// its rest position: 3 DOF, its limits relative to its rest frame in the world, so that two
+// locked axes make a hinge to the world) or fixed (0 DOF, it never moves).
+//
 // Arrays are indexed by bone in DFS order: every parent comes before its children.
 //
 // Sizes and magnitudes (checked by build_rig, so every product the engine forms stays finite:
@@ -43,6 +53,18 @@ constexpr double kMaxScale = 1e9;       // largest mass (kg) or radius (rig unit
 // MuJoCo reference collide the same shapes, and it scales with each rig's own units
 constexpr double kCollisionRadiusPerLength = 0.06;
 
+// How a bone is attached across its joint (MuJoCo's mjtJoint, less slide and hinge: a hinge is a
+// ball with two locked axes, held by its torsion springs)
+enum class JointType {
+  kFree,  // the root only: 6 DOF, velocity (v_com world, w local)
+  kBall,  // 3 DOF at the bone's head: a ball to its parent, or a pinned root's to the world
+  kWeld,  // 0 DOF: welded to its joint parent, or a fixed root to the world
+};
+
+// The root's attachment to the world, as a rig file names it ("root").
+enum class RootJoint { kFree, kPinned, kFixed };
+const char* to_string(RootJoint root);
+
 struct AxisLimit {
   bool limited = false;  // false: the axis is free
   double min = 0.0;      // rad, lower bound of the rotation-vector component
@@ -66,17 +88,24 @@ struct BoneSpec {
   // rig units, the collision capsule's radius (contacts); 0 (the default) means
   // kCollisionRadiusPerLength x the bone's length
   double collision_radius = 0.0;
+  // the bone this one is welded to (its parent, or a sibling listed before it); empty: not welded
+  std::string weld;
 };
 
 struct Joint {
-  int parent = -1;            // the bone whose tail is the joint
+  int parent = -1;            // the bone whose tail is the joint; -1: the world (a pinned root's
+                              // head, its only child the root)
   std::vector<int> children;  // bones whose heads meet there, in DFS order
-  int nbone() const { return 1 + static_cast<int>(children.size()); }
+  bool anchored = false;      // held by the world: the point does not accelerate (a pinned
+                              // root's head; a fixed root's tail)
+  int nbone() const { return (parent >= 0 ? 1 : 0) + static_cast<int>(children.size()); }
 };
 
 struct Rig {
   std::string name;  // from the file, or generated
   int nbone = 0;
+  RootJoint root_joint = RootJoint::kFree;
+  int nv = 0;  // velocity coordinates: 6, 3 or 0 for the root, 3 per ball, 0 per weld
 
   // per bone, DFS order
   std::vector<std::string> bone_name;           // (nbone)
@@ -99,20 +128,42 @@ struct Rig {
   std::vector<int> bone_joint_at_tail;               // (nbone) joint index at the tail, or -1
   std::vector<int> bone_joint_at_head;  // (nbone) joint index at the head, or -1 (root)
 
-  // joints, one per bone with children, in DFS order of the parent
+  // the joint model of the exact and implicit schemes (and MuJoCo's): per bone its joint's type,
+  // the bone across it, and where its velocity coordinates start
+  std::vector<JointType> bone_joint_type;   // (nbone) root: free, ball (pinned) or weld (fixed)
+  std::vector<int> bone_joint_parent;       // (nbone) the bone it is welded to, else its parent;
+                                            //         -1 for the root (the world)
+  std::vector<int> bone_dofadr;             // (nbone) its first coordinate in (nv)
+  std::vector<int> bone_weld;               // (nbone) the bone it is welded to, or -1
+  std::vector<Quat> bone_rest_orient_weld;  // (nbone) a welded bone's rest frame in the frame of
+                                            //         the bone it is welded to (else identity)
+  std::vector<int> bone_body;   // (nbone) the first bone of its rigid body: a bone that is not
+                                //         welded is its own; a welded one, its weld's body
+  std::vector<int> body_nbone;  // (nbone) the bones of the body bone i starts (0: i is welded)
+
+  // joints, one per bone with children (but a joint inside one welded body), in DFS order of the
+  // parent; a pinned root's head first
   std::vector<Joint> joints;
-  // the same joints' members flattened for the joint solve: a joint's parent, then its children
-  std::vector<int> joint_member_bone;     // (nmember) bone index
+  // the same joints' members flattened for the joint solve: a joint's parent, then its children,
+  // one member per rigid body (a joint inside one welded body is not among the joints)
+  std::vector<int> joint_member_bone;     // (nmember) bone index (the body's first bone there)
+  std::vector<int> joint_member_body;     // (nmember) its body (Rig::bone_body)
   std::vector<int> joint_member_at_tail;  // (nmember) 1 if the joint point is that bone's tail
   std::vector<int> joint_first_member;    // (njoint + 1) offsets into the member arrays
+  std::vector<int> joint_anchored;        // (njoint) 1 where Joint::anchored
 
   int find_bone(const std::string& name) const;  // -1 if absent
   int root() const { return 0; }
   double total_mass() const;
   int max_bones_per_joint() const;
-  // rotational degrees of freedom of a bone relative to its parent: 3 minus locked axes
-  // (the root's 6 free DOF are not counted here)
+  // rotational degrees of freedom of a bone relative to its parent: 3 minus locked axes, 0 for a
+  // welded bone (the root's: its limits' relative to the world for a pinned root, 0 for a fixed
+  // one; a free root's 6 are not counted here)
   int bone_dof(int bone) const;
+  bool welded(int bone) const { return bone_weld[bone] >= 0; }
+  bool has_welds() const;
+  // the root's head never moves (pinned or fixed)
+  bool root_anchored() const { return root_joint != RootJoint::kFree; }
   // length of the longest root-to-leaf path plus nothing else: the rig's reach from its root
   double height() const;  // extent of the rest pose along world Z (rig units)
   // the mean bone length (rig units): the rig's own length scale, whatever the arrangement of its
@@ -123,8 +174,8 @@ struct Rig {
   // x has a height of 6e-17, round-off) would otherwise divide by nothing; an upright rig's
   // height is longer than its mean bone.
   double reference_length() const;
-  // two bones meet at one joint (parent and child, or two children of one parent): their
-  // collision capsules never collide
+  // two bones meet at one joint (parent and child, or two children of one parent) or belong to
+  // one rigid body (welded together): their collision capsules never collide
   bool bones_share_joint(int a, int b) const;
 };
 
@@ -132,11 +183,12 @@ struct Rig {
 Vec3 cylinder_inertia(double mass, double radius, double length);
 
 // Build a rig from bone specs in any order: validates the tree (one root, known parents, no
-// cycles, no duplicate names), lengths, frames, limits and masses, reorders to DFS (children in
-// the order given), derives joints and inertias. `source` names the file in error messages.
-// Throws InputError.
+// cycles, no duplicate names), lengths, frames, limits, masses and welds (to a parent or an
+// earlier sibling, no cycle, no limits on a welded bone, none on a free root), reorders to DFS
+// (children in the order given), derives joints, the joint model and inertias. `source` names
+// the file in error messages. Throws InputError.
 Rig build_rig(const std::vector<BoneSpec>& specs, const std::string& source,
-              const std::string& name = "");
+              const std::string& name = "", RootJoint root = RootJoint::kFree);
 
 // Blender's rest frame from head, tail and roll: the minimal rotation taking +Y to the bone
 // direction, followed by a roll about the bone's own Y (rad). Columns are bone x, y, z in world.

@@ -1,5 +1,9 @@
 #include "physik/model/scene.h"
 
+#include <algorithm>
+
+#include "physik/model/errors.h"
+
 namespace physik {
 
 double Scene::residual_tol() const {
@@ -23,6 +27,32 @@ const char* Scene::world_field() const {
   if (!collision.obstacles.empty()) return "obstacles";
   if (!gravity_world.isZero()) return "gravity";
   return nullptr;
+}
+
+void check_scene_joints(const Scene& s) {
+  const Rig& rig = s.rig;
+  if (s.params.scheme == Scheme::kImplicit &&
+      s.params.implicit_linearisation == ImplicitLinearisation::kFull &&
+      (rig.has_welds() || rig.root_anchored())) {
+    throw_input_error(s.file, "params", "implicit_linearisation",
+                      "full needs a rig with a free root and no welds (rig '" + rig.name +
+                          "'); gauss-newton takes any rig");
+  }
+  if (!rig.root_anchored() || rig.nbone == 0) return;
+  const std::string root = std::string("the rig's root is ") + to_string(rig.root_joint);
+  const double tol = 1e-9 * std::max(1.0, rig.reference_length());
+  if ((s.initial_pose.root_head_world - rig.bone_rest_head_world[0]).norm() > tol) {
+    throw_input_error(s.file, "initial_pose", "root_head",
+                      root + ": its head stays at its rest position");
+  }
+  if (!s.initial_velocity_world.isZero(0.0)) {
+    throw_input_error(s.file, "", "initial_velocity", root + ": the rig cannot translate");
+  }
+  if (rig.root_joint == RootJoint::kFixed &&
+      s.initial_pose.bone_local_rotation[0].angularDistance(Quat::Identity()) > 1e-12) {
+    throw_input_error(s.file, "initial_pose", "rotation_deg." + rig.bone_name[0],
+                      root + ": it does not turn");
+  }
 }
 
 }  // namespace physik

@@ -106,5 +106,29 @@ TEST(ExactVsMujoco, BalancedTreeAgrees) {
   EXPECT_GT(g.travel, 0.5);
 }
 
+// welded groups are one MuJoCo body with several geoms (mjcf_export.h); an anchored root is a
+// ball (pinned) or no joint (fixed) to the world
+TEST(ExactVsMujoco, WeldedAndAnchoredRigsAgree) {
+  for (const RootJoint root : {RootJoint::kFree, RootJoint::kPinned, RootJoint::kFixed}) {
+    const Rig rig = test::welded_figure(root);
+    Scene s = test::scene_for(rig, preset_params("original"), kSteps);
+    s.control_points.push_back(
+        test::control(rig.find_bone("arm.L"), 1.0, Vec3(0.3, -0.4, 1.9), 10.0, SpringLaw::kCapped));
+    s.control_points.push_back(test::control(rig.find_bone("shin.L"), 1.0, Vec3(0.3, -0.3, 0.3),
+                                             10.0, SpringLaw::kCapped));
+    s.control_points.push_back(
+        test::control(rig.find_bone("shin.R"), 0.5, Vec3(-0.2, 0.3, 0.2), 10.0));
+    for (const bool gyroscopic : {true, false}) {
+      s.params.gyroscopic = gyroscopic;
+      const Gap g = exact_vs_mujoco(s);
+      ASSERT_TRUE(g.stable) << to_string(root);
+      std::cout << "[exact vs MuJoCo] welded figure, root " << to_string(root)
+                << (gyroscopic ? "" : ", gyroscopic off") << ": max gap " << g.max_gap << "\n";
+      EXPECT_LE(g.max_gap, 1e-9) << to_string(root);
+      EXPECT_GT(g.travel, 0.1) << to_string(root);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace physik

@@ -291,3 +291,44 @@ TEST(MjcfImport, RootBodyCanBeChosenAndBadInputIsAnInputError) {
 
 }  // namespace
 }  // namespace physik
+
+namespace physik {
+namespace {
+
+// A body is one rigid body: the torso's segments (to the head, the arm and the thigh) are welded
+// to the synthetic root that follows the torso; a jointless body's bone is welded to its parent;
+// a body's joint limits sit on one bone, not one copy per segment
+TEST(MjcfImport, ABodyWithSeveralChildrenIsOneRigidBody) {
+  const MjcfRig mr = load_mjcf(write_temp("testman3.xml", kModel));
+  const Rig& rig = mr.rig();
+  EXPECT_EQ(rig.root_joint, RootJoint::kFree);
+  int torso_segments = 0;
+  for (int b = 1; b < rig.nbone; ++b) {
+    if (rig.bone_name[b].rfind("torso>", 0) != 0) continue;
+    ++torso_segments;
+    EXPECT_EQ(rig.bone_body[b], 0) << rig.bone_name[b];
+    EXPECT_EQ(rig.bone_dof(b), 0) << rig.bone_name[b];
+  }
+  EXPECT_EQ(torso_segments, 3);
+  EXPECT_EQ(rig.bone_joint_type[rig.find_bone("foot")], JointType::kWeld);
+  for (int b = 0; b < rig.nbone; ++b) {
+    if (!rig.welded(b)) continue;
+    for (const AxisLimit& l : rig.bone_limit[b]) EXPECT_FALSE(l.limited) << rig.bone_name[b];
+  }
+}
+
+// MuJoCo's arm26: the shoulder is a hinge to the world, so the rig's root is pinned at its head,
+// a hinge (one free axis), and a pull moves the arm without moving the shoulder
+TEST(MjcfImport, ARootHingedToTheWorldStaysHinged) {
+  const std::string path = "/usr/share/mujoco/model/tendon_arm/arm26.xml";
+  if (!std::ifstream(path)) GTEST_SKIP() << path << " not installed (libmujoco-samples)";
+  const MjcfRig mr = load_mjcf(path);
+  const Rig& rig = mr.rig();
+  EXPECT_EQ(rig.root_joint, RootJoint::kPinned);
+  EXPECT_EQ(mr.report.root_joint, "pinned");
+  EXPECT_EQ(rig.bone_dof(0), 1);
+  EXPECT_LE((rig.bone_rest_head_world[0] - Vec3::Zero()).norm(), 1e-12);  // the shoulder
+}
+
+}  // namespace
+}  // namespace physik

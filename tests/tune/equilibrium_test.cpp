@@ -108,6 +108,39 @@ TEST(Equilibrium, PhysikConvergedPoseMatchesTheUniqueEquilibrium) {
   EXPECT_LT(max_pose_distance(polished.frames, e.frames), 1e-8);
 }
 
+// a welded group stays one body and an anchored root stays put in the exact static pose, which
+// Ceres finds from where the implicit scheme settled, at a potential no higher
+TEST(Equilibrium, WeldsAndAnAnchoredRootHoldInTheStaticPose) {
+  for (const RootJoint root : {RootJoint::kPinned, RootJoint::kFixed}) {
+    const Rig rig = test::welded_figure(root);
+    Scene s = scene_of(rig);
+    s.params.scheme = Scheme::kImplicit;
+    s.params.damping_auto = true;
+    s.params.torsion_torque = TorsionTorque::kGradient;  // the potential's force (equilibrium.h)
+    s.steps = 2000;
+    s.convergence.stop_when_converged = true;
+    s.control_points.push_back(
+        test::control(rig.find_bone("arm.L"), 1.0, Vec3(0.3, -0.4, 1.9), 10.0, SpringLaw::kCapped));
+    s.control_points.push_back(
+        test::control(rig.find_bone("shin.L"), 1.0, Vec3(0.3, -0.3, 0.3), 10.0));
+    const RunSummary run = run_scene(s);
+    ASSERT_TRUE(run.converged) << to_string(root);
+    EquilibriumOptions from_physik;
+    from_physik.start = &run.final_pose;
+    const EquilibriumResult e = solve_equilibrium(s, from_physik);
+    ASSERT_TRUE(e.converged) << e.ceres_brief;
+    EXPECT_LE(e.potential, scene_potential(s, run.final_pose) * (1 + 1e-12)) << to_string(root);
+    EXPECT_EQ((e.frames.head_world[0] - rig.bone_rest_head_world[0]).norm(), 0.0);
+    for (int i = 0; i < rig.nbone; ++i) {
+      const int w = rig.bone_weld[i];
+      if (w < 0) continue;
+      EXPECT_LT((e.frames.orient_world[w] * rig.bone_rest_orient_weld[i])
+                    .angularDistance(e.frames.orient_world[i]),
+                1e-12);
+    }
+  }
+}
+
 TEST(Equilibrium, BadInputs) {
   Scene s = scene_of(make_chain_rig(2, 1.0));
   EXPECT_THROW(solve_equilibrium(s), InputError);  // no control point
