@@ -18,12 +18,15 @@ start, the rig, the scene and init_state (set-up) are not counted. Each case run
 with I the instructions (callgrind's Ir) and n the bones. Why the toggle and not the difference
 alone: the toggle removes set-up exactly (at 10,000 bones init_state costs more than a step), and
 the difference then shows whether the first N steps are typical of the run.
+With --cache-sim, callgrind also simulates the data caches (with this machine's first-level and
+last-level sizes; no second level), and the table adds the first N steps' misses per bone-step:
+a count of what a time sees as the state leaving the caches.
 
 The table goes to stdout, the rows to OUT/bench_count.csv and OUT/bench_count.json
 (default OUT: build/bench_count, never in git).
 
     /usr/bin/python3 bench/bench_count.py --binary build/physik_count [--sizes 100,1000,10000]
-        [--schemes exact,implicit] [--out DIR]
+        [--schemes exact,implicit] [--steps N] [--cache-sim] [--out DIR]
 """
 import argparse
 import csv
@@ -40,7 +43,7 @@ SOURCE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TOGGLE = "count_stepping_loop*"
 COLUMNS = ["rig", "bones", "scheme", "steps", "ir_first", "ir_double", "ir_per_bone_step",
            "ir_per_bone_step_next", "next_over_first", "iterations_first", "iterations_double",
-           "final_state_hash", "valgrind_s"]
+           "final_state_hash", "valgrind_s", "d1_miss_per_bone_step", "ll_miss_per_bone_step"]
 # gauss-seidel's joint passes per step grow with n (a long chain's plateau in docs/DESIGN.md), so
 # its step costs about n^2: it is counted over fewer steps, and only up to 1,000 bones
 GAUSS_SEIDEL_MAX_BONES = 1000
@@ -52,22 +55,32 @@ def steps_for(scheme):
     return 10 if scheme == "gauss-seidel" else 100
 
 
-def callgrind_total(path):
-    """Ir collected in a callgrind output file: its `totals:` line (`summary:` in older files)."""
-    total = None
+def callgrind_totals(path):
+    """{event: count} collected in a callgrind output file: its `events:` line named by its
+    `totals:` line (`summary:` in older files), whose trailing zeros callgrind leaves out"""
+    events, totals = ["Ir"], None
     with open(path) as f:
         for line in f:
-            if line.startswith("totals:") or (total is None and line.startswith("summary:")):
-                total = int(line.split()[1])
-    if total is None:
+            if line.startswith("events:"):
+                events = line.split()[1:]
+            elif line.startswith("totals:") or (totals is None and line.startswith("summary:")):
+                totals = [int(x) for x in line.split()[1:]]
+    if totals is None:
         raise ValueError(f"{path}: no 'totals:' or 'summary:' line (not a callgrind output file?)")
-    return total
+    return dict(zip(events, totals + [0] * (len(events) - len(totals))))
 
 
-def count(binary, rig, bones, scheme, steps, scratch):
-    """(Ir inside count_stepping_loop, the driver's JSON line, s under valgrind) for one run"""
+def callgrind_total(path):
+    """Ir collected in a callgrind output file"""
+    return callgrind_totals(path)["Ir"]
+
+
+def count(binary, rig, bones, scheme, steps, scratch, cache_sim=False):
+    """({event: count} inside count_stepping_loop, the driver's JSON line, s under valgrind) for
+    one run"""
     out = os.path.join(scratch, f"callgrind.{rig}.{bones}.{scheme}.{steps}.out")
     cmd = ["valgrind", "--tool=callgrind", f"--toggle-collect={TOGGLE}",
+           f"--cache-sim={'yes' if cache_sim else 'no'}",
            f"--callgrind-out-file={out}", binary, "--rig", rig, "--bones", str(bones),
            "--scheme", scheme, "--steps", str(steps)]
     t0 = time.monotonic()
@@ -75,30 +88,44 @@ def count(binary, rig, bones, scheme, steps, scratch):
     seconds = time.monotonic() - t0
     if p.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd)}: exit {p.returncode}\n{p.stderr[-2000:]}")
-    return callgrind_total(out), json.loads(p.stdout.strip().splitlines()[-1]), seconds
+    return callgrind_totals(out), json.loads(p.stdout.strip().splitlines()[-1]), seconds
 
 
-def case(binary, rig, bones, scheme, steps, scratch):
-    """one row: N and 2 N steps counted"""
-    i1, run1, s1 = count(binary, rig, bones, scheme, steps, scratch)
-    i2, run2, s2 = count(binary, rig, bones, scheme, 2 * steps, scratch)
+def case(binary, rig, bones, scheme, steps, scratch, cache_sim=False):
+    """one row: N and 2 N steps counted; with cache_sim also the first N steps' data-cache
+    misses (reads and writes) per bone-step in callgrind's first level (D1) and last level (LL)
+    caches, simulated with this machine's sizes"""
+    e1, run1, s1 = count(binary, rig, bones, scheme, steps, scratch, cache_sim)
+    e2, run2, s2 = count(binary, rig, bones, scheme, 2 * steps, scratch, cache_sim)
+    i1, i2 = e1["Ir"], e2["Ir"]
     first = i1 / (steps * bones)
     nxt = (i2 - i1) / (steps * bones)
+    misses = {}
+    for level in ("D1", "DL"):
+        if cache_sim:
+            misses[level] = (e1[level + "mr"] + e1[level + "mw"]) / (steps * bones)
     return {"rig": rig, "bones": bones, "scheme": scheme, "steps": steps, "ir_first": i1,
             "ir_double": i2, "ir_per_bone_step": first, "ir_per_bone_step_next": nxt,
             "next_over_first": nxt / first if first > 0 else math.nan,
             "iterations_first": run1["iterations"], "iterations_double": run2["iterations"],
-            "final_state_hash": run2["final_state_hash"], "valgrind_s": s1 + s2}
+            "final_state_hash": run2["final_state_hash"], "valgrind_s": s1 + s2,
+            "d1_miss_per_bone_step": misses.get("D1", ""),
+            "ll_miss_per_bone_step": misses.get("DL", "")}
 
 
 def print_table(rows, file=sys.stdout):
-    head = ("rig", "bones", "scheme", "N", "Ir/bone-step", "next N", "next/first", "iter 2N")
+    cache = any(r["d1_miss_per_bone_step"] != "" for r in rows)
+    head = ["rig", "bones", "scheme", "N", "Ir/bone-step", "next N", "next/first", "iter 2N"]
+    head += ["D1 miss/bone-step", "LL miss/bone-step"] if cache else []
     print("| " + " | ".join(head) + " |", file=file)
     print("|" + "---|" * len(head), file=file)
     for r in rows:
-        print(f"| {r['rig']} | {r['bones']:,} | {r['scheme']} | {r['steps']} | "
-              f"{r['ir_per_bone_step']:,.0f} | {r['ir_per_bone_step_next']:,.0f} | "
-              f"{r['next_over_first']:.4f} | {r['iterations_double']} |", file=file)
+        line = (f"| {r['rig']} | {r['bones']:,} | {r['scheme']} | {r['steps']} | "
+                f"{r['ir_per_bone_step']:,.0f} | {r['ir_per_bone_step_next']:,.0f} | "
+                f"{r['next_over_first']:.4f} | {r['iterations_double']} |")
+        if cache:
+            line += f" {r['d1_miss_per_bone_step']:.2f} | {r['ll_miss_per_bone_step']:.3f} |"
+        print(line, file=file)
 
 
 def write(rows, out):
@@ -121,6 +148,8 @@ def parse_args(argv):
                         f"{GAUSS_SEIDEL_MAX_BONES} bones")
     p.add_argument("--steps", type=int, default=0, help="N (default: steps_for the scheme)")
     p.add_argument("--out", default=os.path.join(SOURCE_DIR, "build", "bench_count"))
+    p.add_argument("--cache-sim", action="store_true",
+                   help="also simulate the data caches (D1 and LL misses per bone-step; slower)")
     a = p.parse_args(argv)
     try:
         a.sizes = [int(x) for x in a.sizes.split(",")]
@@ -130,8 +159,10 @@ def parse_args(argv):
     for s in a.schemes:
         if s not in ("exact", "implicit", "gauss-seidel"):
             p.error(f"--schemes: '{s}' is not exact, implicit or gauss-seidel")
-    if any(n < 1 for n in a.sizes) or a.steps < 0:
-        p.error("--sizes and --steps must be positive")
+    if any(n < 1 for n in a.sizes):
+        p.error(f"--sizes: every size must be at least 1 bone, not {a.sizes}")
+    if a.steps < 0:
+        p.error(f"--steps: must be positive (0: steps_for the scheme), not {a.steps}")
     if not os.access(a.binary, os.X_OK):
         p.error(f"--binary: {a.binary} is not an executable (build the physik_count target)")
     if shutil.which("valgrind") is None:
@@ -148,7 +179,7 @@ def main(argv=None):
                 if scheme == "gauss-seidel" and bones > GAUSS_SEIDEL_MAX_BONES:
                     continue
                 steps = a.steps or steps_for(scheme)
-                rows.append(case(a.binary, a.rig, bones, scheme, steps, scratch))
+                rows.append(case(a.binary, a.rig, bones, scheme, steps, scratch, a.cache_sim))
                 print(f"counted {a.rig} {bones} {scheme}: {rows[-1]['valgrind_s']:.0f} s",
                       file=sys.stderr)
     print_table(rows)

@@ -3,7 +3,8 @@
 
     bench_count_test.py SOURCE_DIR PHYSIK_COUNT
 
-- the parser reads a callgrind output file's `totals:` line, and refuses a file without one;
+- the parser reads a callgrind output file's `totals:` line by its `events:` line (callgrind
+  leaves out trailing zeros), and refuses a file without one;
 - a 10-bone chain counted over N and 2 N steps, schemes exact and implicit: every count positive
   and finite, and per bone-step the same for steps N+1 .. 2N as for the first N (within 2%: the
   exact step's work does not depend on the state, so a set-up counted with the steps, or steps
@@ -35,6 +36,16 @@ class ParserTest(unittest.TestCase):
                     "fn=(1) count_stepping_loop\n5 12\nsummary: 123456\ntotals: 123457\n")
         try:
             self.assertEqual(bench_count.callgrind_total(f.name), 123457)
+        finally:
+            os.unlink(f.name)
+
+    def test_events_and_trailing_zeros(self):
+        with tempfile.NamedTemporaryFile("w", suffix=".out", delete=False) as f:
+            f.write("events: Ir Dr Dw I1mr D1mr D1mw ILmr DLmr DLmw\n"
+                    "totals: 5215956 1420142 494122 1389 26385 25611 372 14\n")
+        try:
+            e = bench_count.callgrind_totals(f.name)
+            self.assertEqual((e["Ir"], e["D1mw"], e["DLmr"], e["DLmw"]), (5215956, 25611, 14, 0))
         finally:
             os.unlink(f.name)
 
