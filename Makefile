@@ -21,7 +21,7 @@ SANITIZE_CXX_FLAGS ?= -O1 -g1 -DNDEBUG
 SANITIZE_ENV = ASAN_OPTIONS=halt_on_error=1:detect_leaks=0:abort_on_error=0 \
 	UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 
-.PHONY: all deps configure build build-cli test reproduce bench clean sanitize format check-format
+.PHONY: all deps configure build build-cli test reproduce bench bench-count clean sanitize format check-format
 
 all: build
 
@@ -48,6 +48,13 @@ bench: build
 	@cmake --build $(BUILD) -j $(JOBS) --target physik_bench
 	@$(BUILD)/physik_bench
 	@PYTHONPATH=$(BUILD)/python $(PYTHON) bench/bench_python.py --binary $(BUILD)/physik
+
+# instructions per bone-step, counted by callgrind on the chains (bench/bench_count.py): a count,
+# not a time, so that a change is judged the same on a busy machine; table on stdout, rows in
+# $(BUILD)/bench_count/
+bench-count: configure
+	@cmake --build $(BUILD) -j $(JOBS) --target physik_count
+	@$(PYTHON) bench/bench_count.py --binary $(BUILD)/physik_count --out $(BUILD)/bench_count
 
 sanitize: deps
 	@cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPHYSIK_SANITIZE=ON \

@@ -9,6 +9,7 @@ packages=(
   libceres-dev
   libfcl-dev
   libgtest-dev libbenchmark-dev
+  valgrind  # `make bench-count`: callgrind's instruction counts (bench/bench_count.py)
   liborocos-kdl-dev
   python3-matplotlib python3-numpy
   pybind11-dev python3-dev python3-pytest python3-distributed

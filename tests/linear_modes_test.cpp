@@ -17,6 +17,7 @@
 #include "physik/engine/linear_modes_dense.h"
 #include "physik/engine/mode_operators.h"
 #include "physik/io/scene_io.h"
+#include "physik/model/rig_generators.h"
 #include "tests/dense_dynamics.h"
 #include "tests/engine_test_util.h"
 #include "tests/test_util.h"
@@ -130,6 +131,35 @@ TEST(LinearModes, IterativeEqualsDenseOnRandomTreesUpTo400Bones) {
     }
   }
   EXPECT_GT(torsion, 100);  // engaged torsion springs in K (a test of them, not only of springs)
+}
+
+// A straight chain of n unit rods pulled at its tail by one spring k: its slowest constrained mode
+// is the whole chain's translation along itself against the spring, w^2 = k / (n m) with m the
+// rod's mass, which the end dampers damp with phi^T D1 phi = 2 n / (n m) (every head and tail
+// moving at 1 / sqrt(n m)), so c = 2 w m / 2. Lanczos must find it without the walk, whose counts
+// cost a bisection each: the first Ritz pair, the tail's sideways mode, must not pass for the
+// slowest from a start vector that F's shift filtered toward the stiff end.
+TEST(LinearModes, LongChainsSlowestModeFoundByLanczos) {
+  for (int n : {100, 1000, 10000}) {
+    if (PHYSIK_SANITIZED && n > 1000) break;
+    EngineParams p = preset_params("original");
+    Scene scene = test::scene_for(make_chain_rig(n), p);
+    const double k = 10.0;  // N/m
+    scene.control_points.push_back(
+        test::control(n - 1, 1.0, scene.rig.bone_rest_tail_world[n - 1], k, SpringLaw::kCapped));
+    SimState st;
+    init_state(scene, st);
+    const LinearModes it = linear_modes(scene, st, at_points(scene, st));
+    const double m = scene.rig.bone_mass[0];  // kg, every rod's
+    const std::string what = std::to_string(n) + " bones";
+    ASSERT_TRUE(it.found) << what;
+    EXPECT_FALSE(it.walked) << what;
+    EXPECT_EQ(it.counts, 2) << what;  // the certificate's two, no walk
+    EXPECT_NEAR(it.slowest_omega * it.slowest_omega, k / (n * m), 1e-9 * k / (n * m)) << what;
+    EXPECT_NEAR(it.slowest_d1, 2.0 / m, 1e-9) << what;
+    EXPECT_NEAR(it.critical_damping, std::sqrt(k / (n * m)) * m, 1e-9 * std::sqrt(k * m / n))
+        << what;
+  }
 }
 
 }  // namespace

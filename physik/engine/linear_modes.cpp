@@ -231,7 +231,13 @@ bool SlowestModeSearch::judge() {
   threshold_ = kZeroModeFraction * w2_top_;
   walked_.clear();
   for (int k = 0; k < m; ++k) {
-    double gap = 1.0;  // F's spectrum lies in [0, 1)
+    // the distance to the other Ritz values (F's spectrum lies in [0, 1)); a lone Ritz value
+    // before range(F) is spanned has none, and only the floor accepts it: the start vector was
+    // filtered by F at a shift near the stiff end (mu = w^2 / (w^2 + s)), which can leave a
+    // slow mode's part in it, and in the first residual, below the test (a long chain's
+    // translation along itself), so the stiff Ritz value would pass for the slowest mode and
+    // the count would then send the search on the walk
+    double gap = m > 1 || exhausted_ ? 1.0 : 0.0;
     if (k > 0) gap = theta_[k] - theta_[k - 1];
     if (k + 1 < m) gap = std::min(gap, theta_[k + 1] - theta_[k]);
     const bool converged = residual(k) <= std::max(kResidualPerGap * gap, kResidualFloor);

@@ -46,9 +46,12 @@
 //   shift starts at a Rayleigh quotient in range(F) and moves to the next candidate's w^2 on a
 //   restart; converged Ritz vectors the rule skipped are locked out of later runs; Ritz
 //   vectors are purified (F y / theta, no part on null(K)); a Ritz pair is accepted when its
-//   residual is below 1e-10 of its gap to the other Ritz values; w^2 and the quadratic forms
-//   are the Ritz vector's Rayleigh quotients (y^T K y / y^T M y, ...). w^2_max for the
-//   zero-mode threshold is the top Ritz value (a lower bound).
+//   residual is below 1e-10 of its gap to the other Ritz values (1e-13, when it is the only one
+//   and range(F) is not yet spanned: the start vector is F's image at a shift near the stiff end,
+//   in which a slow mode's part can lie below 1e-10, as a long chain's translation along itself
+//   does); w^2 and the quadratic forms are the Ritz vector's Rayleigh quotients
+//   (y^T K y / y^T M y, ...). w^2_max for the zero-mode threshold is the top Ritz value (a lower
+//   bound).
 //   Certificate. The modes below any sigma > 0 are counted exactly in O(n) from the signs of
 //   the recursion's pivots of K - sigma M (Sylvester's law of inertia, mode_operators.h). The
 //   answer stands when the count between the count's floor (1e-6 w^2_max: below about 1e-8 the
