@@ -206,9 +206,10 @@ void write_obstacles(std::ostringstream& x, const std::vector<BoxObstacle>& obst
 }
 
 // the pairs PhysIK never collides that MuJoCo's filterparent leaves in: two children of one
-// parent, and the scene's excluded pairs
+// parent, and the scene's and the rig's excluded pairs
 void write_exclusions(std::ostringstream& x, const Rig& rig, const CollisionSettings& c) {
   std::vector<std::pair<int, int>> pairs = c.excluded_pairs;
+  pairs.insert(pairs.end(), rig.collision_exclude.begin(), rig.collision_exclude.end());
   for (int p = 0; p < rig.nbone; ++p) {
     const std::vector<int>& kids = rig.bone_children[p];
     for (std::size_t a = 0; a < kids.size(); ++a) {
