@@ -543,7 +543,12 @@ def parse_rig(doc, source="<rig>"):
         out.append(b)
     rig["bones"] = out
     _parse_source(doc, source)
-    rig["collision_exclude"] = _parse_collision_exclude(doc, tail_of, source)
+    pairs = _parse_collision_exclude(doc, tail_of, source)
+    if pairs:  # as the engine keeps them: each pair in DFS order, sorted, once
+        index = {b["name"]: k for k, b in enumerate(out)}
+        keyed = sorted({tuple(sorted(p, key=index.get)) for p in pairs},
+                       key=lambda p: (index[p[0]], index[p[1]]))
+        rig["collision_exclude"] = [list(p) for p in keyed]
     return rig
 
 
