@@ -6,6 +6,8 @@
 #include <cmath>
 #include <iostream>
 #include <memory>
+#include <sstream>
+#include <vector>
 
 #include "cli/commands.h"
 #include "physik/io/bvh.h"
@@ -13,6 +15,7 @@
 #include "physik/io/json_fields.h"
 #include "physik/io/rig_io.h"
 #include "physik/model/errors.h"
+#include "physik/model/rig_sizing.h"
 #include "reference/mjcf_import.h"
 
 namespace physik::cli {
@@ -41,6 +44,29 @@ void check_scale_option(double scale) {
   }
 }
 
+// --radius, --mass-per-length, --total-mass (rig_sizing.h); checked by the converters
+void add_sizing_options(CLI::App* cmd, SizingOptions& z, const char* default_radius) {
+  cmd->add_option("--radius", z.radius,
+                  std::string("Every bone's radius and collision radius, rig units (after "
+                              "--scale); default: ") +
+                      default_radius);
+  cmd->add_option("--mass-per-length", z.mass_per_length,
+                  "Every bone's mass per rig unit of its length (kg per rig unit); default: a "
+                  "rod of the bone's radius at 1000 kg per cubic rig unit (BVH), the model's "
+                  "masses (MJCF)");
+  cmd->add_option("--total-mass", z.total_mass,
+                  "Scale every bone's mass so that the rig weighs this (kg)");
+}
+
+// a list of names on stderr, one line: "<heading> (n): a; b; c"
+void print_named(const std::string& command, const std::string& heading,
+                 const std::vector<std::string>& items) {
+  if (items.empty()) return;
+  std::cerr << command << ": " << heading << " (" << items.size() << "):";
+  for (std::size_t i = 0; i < items.size(); ++i) std::cerr << (i ? "; " : " ") << items[i];
+  std::cerr << "\n";
+}
+
 void add_axes_option(CLI::App* cmd, std::string& axes) {
   cmd->add_option("--axes", axes,
                   "y-up: the file is Y up (BVH habit, Blender's default), mapped to the rig's Z "
@@ -53,6 +79,7 @@ void add_from_bvh(CLI::App* rig) {
   struct FromBvh {
     std::string path, out, axes = "y-up";
     double scale = 1.0;
+    SizingOptions sizing;
   };
   auto fb = std::make_shared<FromBvh>();
   auto* from_bvh = rig->add_subcommand(
@@ -62,19 +89,39 @@ void add_from_bvh(CLI::App* rig) {
   add_axes_option(from_bvh, fb->axes);
   from_bvh->add_option("--scale", fb->scale, "Rig units per file unit (e.g. 0.01 for cm)")
       ->capture_default_str();
+  add_sizing_options(from_bvh, fb->sizing, "0.14 x the bone's length");
   from_bvh->callback([fb] {
     check_scale_option(fb->scale);
+    check_sizing_options(fb->sizing);
     BvhImportOptions o;
     o.axes = parse_axes(fb->axes);
     o.scale = fb->scale;
+    o.sizing = fb->sizing;
     const BvhAnimation anim = load_bvh(fb->path, o);
-    std::cerr << "from-bvh: " << anim.rig().nbone << " bones, " << anim.poses.size()
+    const Rig& rig = anim.rig();
+    std::cerr << "from-bvh: " << rig.nbone << " bones, " << anim.poses.size()
               << " frames, max |FK - BVH| = " << anim.max_position_error << " rig units\n";
-    if (anim.max_position_error > 1e-6 * std::max(1.0, anim.rig().height())) {
+    std::cerr << "from-bvh: height " << rig.height() << " rig units, mass " << rig.total_mass()
+              << " kg\n";
+    double suggested = 0.0;
+    const std::string unit = guess_bvh_units(rig.height(), suggested);
+    if (!unit.empty()) {
+      std::cerr << "from-bvh: warning: a figure " << rig.height()
+                << " rig units tall looks like a file in " << unit
+                << " (rig units are read as metres): convert it with --scale "
+                << suggested * fb->scale << "\n";
+    }
+    for (const std::string& w : anim.warnings) std::cerr << "from-bvh: warning: " << w << "\n";
+    if (anim.max_position_error > 1e-6 * std::max(1.0, rig.height())) {
       std::cerr << "from-bvh: warning: position channels on non-root joints move them along "
                    "their bones; the rig keeps fixed lengths\n";
     }
-    write_json(rig_to_json(anim.rig()), fb->out);
+    std::vector<std::string> pairs;
+    for (const BoneOverlap& p : anim.rest_overlaps) {
+      pairs.push_back(rig.bone_name[p.a] + "/" + rig.bone_name[p.b]);
+    }
+    print_named("from-bvh", "collision_exclude: bone pairs whose capsules overlap at rest", pairs);
+    write_json(rig_to_json(rig), fb->out);
   });
 }
 
@@ -133,6 +180,7 @@ void add_limits(CLI::App* rig) {
 void add_from_mjcf(CLI::App* rig) {
   struct FromMjcf {
     std::string path, out, body;
+    SizingOptions sizing;
   };
   auto fm = std::make_shared<FromMjcf>();
   auto* from_mjcf = rig->add_subcommand(
@@ -144,9 +192,13 @@ void add_from_mjcf(CLI::App* rig) {
   from_mjcf->add_option("--out", fm->out, "Write the rig JSON here instead of stdout");
   from_mjcf->add_option("--body", fm->body,
                         "Body whose subtree becomes the rig (default: the largest top-level one)");
+  add_sizing_options(from_mjcf, fm->sizing,
+                     "the body's capsule or sphere geom, else 0.14 x the bone's length");
   from_mjcf->callback([fm] {
+    check_sizing_options(fm->sizing);
     MjcfImportOptions o;
     o.root_body = fm->body;
+    o.sizing = fm->sizing;
     const MjcfRig mr = load_mjcf(fm->path, o);
     const MjcfImportReport& r = mr.report;
     std::cerr << "from-mjcf: " << mr.rig().nbone << " bones from " << r.nbody_used << " of "
@@ -164,12 +216,20 @@ void add_from_mjcf(CLI::App* rig) {
               << r.max_offdiag_inertia << " of the largest moment, centre of mass moved up to "
               << r.max_com_shift << ", " << r.mass_floor_bones << " massless bones floored, "
               << r.cylinder_inertia_bones << " bones with cylinder inertia\n";
-    if (!r.bones_default_radius.empty()) {
-      std::cerr << "from-mjcf: note: " << r.bones_default_radius.size()
-                << " bones have no capsule or sphere geom on their body (first: "
-                << r.bones_default_radius[0]
-                << "): they keep the default radius 0.5 and collision radius ("
-                << kCollisionRadiusPerLength << " x length)\n";
+    print_named("from-mjcf", "slide joints dropped", r.dropped_slides);
+    print_named("from-mjcf", "bones freed by unaligned hinges", r.freed_bones);
+    print_named("from-mjcf", "ranges clamped to +-180 deg", r.clamped);
+    std::ostringstream band;
+    band << "limits widened: the rest angle was inside the torsion band (torsion_tolerance "
+         << r.fitted_tolerance << "), now at its edge";
+    print_named("from-mjcf", band.str(), r.widened_limits);
+    print_named("from-mjcf", "collision_exclude: bone pairs whose capsules overlap at rest",
+                r.rest_overlaps);
+    if (fm->sizing.radius <= 0.0) {
+      std::ostringstream fit;
+      fit << "no capsule or sphere geom on their body: radius and collision radius "
+          << kRadiusPerLength << " x length";
+      print_named("from-mjcf", fit.str(), r.bones_fitted_radius);
     }
     write_json(rig_to_json(mr.rig()), fm->out);
   });

@@ -5,10 +5,13 @@
 #include <sstream>
 
 #include "cli/commands.h"
+#include "physik/engine/bone_overlaps.h"
 #include "physik/io/json_fields.h"
 #include "physik/io/rig_io.h"
 #include "physik/model/errors.h"
 #include "physik/model/kinematics.h"
+#include "physik/model/params.h"
+#include "physik/model/rest_limits.h"
 #include "physik/model/rig_generators.h"
 
 namespace physik::cli {
@@ -19,14 +22,76 @@ nlohmann::json vec_json(const Vec3& v) {
   return {v.x(), v.y(), v.z()};
 }
 
+const char* const kAxisName[3] = {"x", "y", "z"};
+
+// what rig info says about the rest pose: the capsule pairs that overlap, and the limits whose
+// torsion band holds the rest angle at the parameter table's torsion_tolerance
+struct RestChecks {
+  std::vector<BoneOverlap> overlaps;
+  double tolerance = 0.0;
+  std::vector<RestBandProblem> bands;
+};
+
+RestChecks rest_checks(const Rig& rig) {
+  RestChecks c;
+  c.overlaps = rest_overlaps(rig);
+  c.tolerance = preset_params("robust").torsion_tolerance;
+  c.bands = rest_band_problems(rig, c.tolerance);
+  return c;
+}
+
+// "[-90, 0]", "free", "locked at 0" (deg)
+std::string limit_text(const AxisLimit& l) {
+  std::ostringstream s;
+  s.precision(4);
+  if (!l.limited) return "free";
+  if (l.locked()) {
+    s << "locked at " << rad2deg(l.min);
+  } else {
+    s << "[" << rad2deg(l.min) << ", " << rad2deg(l.max) << "]";
+  }
+  return s.str();
+}
+
+// the rig's exclusions, its capsule pairs overlapping at rest and its limits whose torsion band
+// holds the rest angle (with the converters' fix)
+void add_rest_checks_json(const Rig& rig, const RestChecks& checks, nlohmann::json& out) {
+  nlohmann::json overlaps = nlohmann::json::array();
+  for (const BoneOverlap& o : checks.overlaps) {
+    overlaps.push_back({{"bones", {rig.bone_name[o.a], rig.bone_name[o.b]}},
+                        {"depth", o.depth},
+                        {"excluded", o.excluded}});
+  }
+  nlohmann::json bands = nlohmann::json::array();
+  for (const RestBandProblem& p : checks.bands) {
+    bands.push_back(
+        {{"bone", rig.bone_name[p.bone]},
+         {"axis", kAxisName[p.axis]},
+         {"limit_deg", {rad2deg(p.before.min), rad2deg(p.before.max)}},
+         {"fix_deg", p.fixed() ? nlohmann::json({rad2deg(p.after.min), rad2deg(p.after.max)})
+                               : nlohmann::json(nullptr)}});
+  }
+  nlohmann::json excluded = nlohmann::json::array();
+  for (const auto& [a, b] : rig.collision_exclude) {
+    excluded.push_back({rig.bone_name[a], rig.bone_name[b]});
+  }
+  out["collision_exclude"] = excluded;
+  out["rest_overlaps"] = overlaps;
+  out["torsion_tolerance"] = checks.tolerance;
+  out["rest_inside_torsion_band"] = bands;
+}
+
 nlohmann::json rig_info_json(const Rig& rig, const std::string& path) {
+  const RestChecks checks = rest_checks(rig);
   nlohmann::json bones = nlohmann::json::array();
   for (int i = 0; i < rig.nbone; ++i) {
     nlohmann::json limits = nlohmann::json::object();
-    static const char* kAxis[3] = {"x", "y", "z"};
+    nlohmann::json axes = nlohmann::json::object();
+    const Mat3 frame = rig.bone_rest_orient_world[i].toRotationMatrix();
     for (int a = 0; a < 3; ++a) {
       const AxisLimit& l = rig.bone_limit[i][a];
-      if (l.limited) limits[kAxis[a]] = {rad2deg(l.min), rad2deg(l.max)};
+      if (l.limited) limits[kAxisName[a]] = {rad2deg(l.min), rad2deg(l.max)};
+      axes[kAxisName[a]] = vec_json(frame.col(a));
     }
     bones.push_back(
         {{"name", rig.bone_name[i]},
@@ -35,6 +100,9 @@ nlohmann::json rig_info_json(const Rig& rig, const std::string& path) {
          {"head", vec_json(rig.bone_rest_head_world[i])},
          {"tail", vec_json(rig.bone_rest_tail_world[i])},
          {"length", rig.bone_length[i]},
+         {"axes_world", axes},
+         {"radius", rig.bone_radius[i]},
+         {"collision_radius", rig.bone_collision_radius[i]},
          {"mass", rig.bone_mass[i]},
          {"inertia_local", vec_json(rig.bone_inertia_local[i])},
          {"dof", rig.bone_parent[i] < 0 ? 6 : rig.bone_dof(i)},
@@ -54,15 +122,65 @@ nlohmann::json rig_info_json(const Rig& rig, const std::string& path) {
                       {"nbone", j.nbone()},
                       {"dof", dof}});
   }
-  return {{"file", path},
-          {"name", rig.name},
-          {"bones", rig.nbone},
-          {"joints", static_cast<int>(rig.joints.size())},
-          {"max_bones_per_joint", rig.max_bones_per_joint()},
-          {"total_mass", rig.total_mass()},
-          {"height", rig.height()},
-          {"bone_list", bones},
-          {"joint_list", joints}};
+  nlohmann::json out = {{"file", path},
+                        {"name", rig.name},
+                        {"source", rig.source},
+                        {"units", rig.units},
+                        {"bones", rig.nbone},
+                        {"joints", static_cast<int>(rig.joints.size())},
+                        {"max_bones_per_joint", rig.max_bones_per_joint()},
+                        {"total_mass", rig.total_mass()},
+                        {"height", rig.height()},
+                        {"bone_list", bones},
+                        {"joint_list", joints}};
+  add_rest_checks_json(rig, checks, out);
+  return out;
+}
+
+// each bone's local axes in world at rest, and its limits per local axis (deg)
+void print_bone_frames(const Rig& rig) {
+  std::cout << "  bones (local axes in world at rest; limits per local axis, deg, on the "
+               "rotation from rest):\n";
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(3);
+  for (int i = 0; i < rig.nbone; ++i) {
+    const Mat3 f = rig.bone_rest_orient_world[i].toRotationMatrix();
+    s.str("");
+    s << "    " << rig.bone_name[i] << ":";
+    for (int a = 0; a < 3; ++a) {
+      s << "  " << kAxisName[a] << " (" << f(0, a) << ", " << f(1, a) << ", " << f(2, a) << ")";
+    }
+    if (rig.bone_parent[i] < 0) {
+      s << "  root (free)";
+    } else {
+      for (int a = 0; a < 3; ++a)
+        s << "  " << kAxisName[a] << " " << limit_text(rig.bone_limit[i][a]);
+    }
+    std::cout << s.str() << "\n";
+  }
+}
+
+// the rest pose's overlapping capsules and the limits that push at rest
+void print_rest_checks(const Rig& rig, const RestChecks& c) {
+  int open = 0;
+  for (const BoneOverlap& o : c.overlaps) open += o.excluded ? 0 : 1;
+  std::cout << std::setprecision(4)
+            << "  bone pairs whose capsules overlap at rest: " << c.overlaps.size();
+  if (!c.overlaps.empty()) {
+    std::cout << " (" << open << " not in collision_exclude: under self_collision they push "
+              << "apart from the first step)";
+  }
+  std::cout << "\n";
+  for (const BoneOverlap& o : c.overlaps) {
+    std::cout << "    " << rig.bone_name[o.a] << " / " << rig.bone_name[o.b] << "  depth "
+              << o.depth << " rig units" << (o.excluded ? "  (excluded)" : "  NOT excluded")
+              << "\n";
+  }
+  std::cout << "  limits whose torsion band holds the rest angle (torsion_tolerance " << c.tolerance
+            << "; they push at rest): " << c.bands.size() << "\n";
+  for (const RestBandProblem& p : c.bands) {
+    std::cout << "    " << describe(p, rig.bone_name[p.bone]) << "\n";
+  }
 }
 
 void print_rig_info(const Rig& rig, const std::string& path) {
@@ -84,6 +202,8 @@ void print_rig_info(const Rig& rig, const std::string& path) {
     std::cout << "    [" << k << "] " << rig.bone_name[j.parent] << " ->" << kids.str() << "  "
               << j.nbone() << " bones, " << dof << " DOF\n";
   }
+  print_bone_frames(rig);
+  print_rest_checks(rig, rest_checks(rig));
 }
 
 // options live as long as the app: each command owns its options through a shared_ptr
@@ -93,7 +213,11 @@ void add_info(CLI::App* rig) {
     bool json = false;
   };
   auto info_opt = std::make_shared<InfoOptions>();
-  auto* info = rig->add_subcommand("info", "Bones, joints, DOF per joint and total mass of a rig");
+  auto* info = rig->add_subcommand(
+      "info",
+      "Bones, joints, DOF per joint and total mass of a rig; each bone's local axes in world at "
+      "rest and its limits per axis; the bone pairs whose capsules overlap at rest and the "
+      "limits whose torsion band holds the rest angle");
   info->add_option("RIG", info_opt->path, "Rig file (JSON)")->required();
   info->add_flag("--json", info_opt->json, "Print JSON instead of text");
   info->callback([info_opt] {

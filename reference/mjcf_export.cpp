@@ -292,6 +292,7 @@ void write_exclusions(std::ostringstream& x, const Rig& rig, const CollisionSett
     if (a != b) pairs.emplace_back(std::min(a, b), std::max(a, b));
   };
   for (const auto& [a, b] : c.excluded_pairs) add(a, b);
+  for (const auto& [a, b] : rig.collision_exclude) add(a, b);
   for (int p = 0; p < rig.nbone; ++p) {
     const std::vector<int>& kids = rig.bone_children[p];
     for (std::size_t a = 0; a < kids.size(); ++a) {

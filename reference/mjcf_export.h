@@ -48,7 +48,7 @@
 //   soft contacts are its own, not PhysIK's penalty law (contacts.h), and the comparison says so.
 //   Bones that share a joint never collide in PhysIK: MuJoCo's filterparent flag (on by default)
 //   drops parent-child pairs, and <contact><exclude> drops the rest (two children of one parent)
-//   and the scene's collision_exclude pairs.
+//   and the scene's and the rig's collision_exclude pairs.
 // Units: the rig's (rig units, kg, s), angles in radians (compiler angle="radian").
 #pragma once
 

@@ -18,8 +18,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
+#include "physik/engine/bone_overlaps.h"
 #include "physik/model/errors.h"
+#include "physik/model/params.h"
+#include "physik/model/rest_limits.h"
 
 namespace physik {
 
@@ -190,9 +194,17 @@ void add_leaf_tips(const mjModel* m, const mjData* d, const MjcfRig& out,
 // the joints of one body, or of a chain of bodies
 struct BodyJoints {
   std::vector<std::pair<Vec3, std::array<double, 3>>> hinges;  // world axis; lo, hi, limited
+  std::vector<std::string> hinge_names;                        // (nhinge) MuJoCo's joint names
+  std::vector<std::string> slides;  // "slide joint 'j' of body 'b'": dropped
+  std::string ball_name;
   bool ball = false, ball_limited = false, free = false;
   double ball_range = 0.0;
 };
+
+std::string joint_name(const mjModel* m, int j) {
+  const char* n = mj_id2name(m, mjOBJ_JOINT, j);
+  return n && *n ? std::string(n) : "joint" + std::to_string(j);
+}
 
 std::vector<BodyJoints> body_joints(const mjModel* m, const mjData* d, const MjcfRig& out,
                                     std::size_t nnode, MjcfImportReport& rep) {
@@ -211,13 +223,17 @@ std::vector<BodyJoints> body_joints(const mjModel* m, const mjData* d, const Mjc
           bj[i].ball = true;
           bj[i].ball_limited = bj[i].ball_limited || limited;
           bj[i].ball_range = std::max(lo, hi);
+          bj[i].ball_name = joint_name(m, j);
           break;
         case mjJNT_SLIDE:
           ++rep.slide_joints_dropped;
+          bj[i].slides.push_back("slide joint '" + joint_name(m, j) + "' of body '" +
+                                 body_name(m, b) + "'");
           break;
         case mjJNT_HINGE:
           bj[i].hinges.push_back(
               {(xmat * v3(m->jnt_axis + 3 * j)).normalized(), {lo, hi, limited ? 1.0 : 0.0}});
+          bj[i].hinge_names.push_back(joint_name(m, j));
           break;
       }
     }
@@ -234,6 +250,9 @@ BodyJoints chain_joints(const PivotBones& bones, const std::vector<PivotNode>& n
   for (int n = bones.spec_node[s]; n >= 0 && n != stop; n = nodes[n].parent) {
     const BodyJoints& j = bj[n];
     all.hinges.insert(all.hinges.begin(), j.hinges.begin(), j.hinges.end());
+    all.hinge_names.insert(all.hinge_names.begin(), j.hinge_names.begin(), j.hinge_names.end());
+    all.slides.insert(all.slides.begin(), j.slides.begin(), j.slides.end());
+    if (!j.ball_name.empty()) all.ball_name = j.ball_name;
     all.ball = all.ball || j.ball;
     all.ball_limited = all.ball_limited || j.ball_limited;
     all.ball_range = std::max(all.ball_range, j.ball_range);
@@ -245,8 +264,17 @@ BodyJoints chain_joints(const PivotBones& bones, const std::vector<PivotNode>& n
 
 const double kAlign = std::cos(deg2rad(20.0));  // a hinge within 20 deg of a bone axis maps to it
 
-double clamp_pi(double v, MjcfImportReport& rep) {
-  if (v < -kPi || v > kPi) ++rep.clamped_ranges;
+// a range bound clamped to +-180 deg, counted and named with the bone and the joint
+double clamp_pi(double v, MjcfImportReport& rep, const std::string& bone,
+                const std::string& joint) {
+  if (v < -kPi || v > kPi) {
+    ++rep.clamped_ranges;
+    std::ostringstream s;
+    s.precision(4);
+    s << "bone '" << bone << "': joint '" << joint << "' range bound " << rad2deg(v)
+      << " deg clamped to " << (v < 0 ? "-180" : "180") << " deg";
+    rep.clamped.push_back(s.str());
+  }
   return std::clamp(v, -kPi, kPi);
 }
 
@@ -268,22 +296,31 @@ void roll_to_first_hinge(const BodyJoints& j, BoneSpec& spec) {
 // joints -> per-axis limits (see the header's table)
 void limits_from_joints(const BodyJoints& j, BoneSpec& spec, MjcfImportReport& rep) {
   for (AxisLimit& l : spec.limit) l = AxisLimit{};
+  for (const std::string& slide : j.slides) {
+    rep.dropped_slides.push_back("bone '" + spec.name + "': " + slide + " dropped");
+  }
   if (j.free) return;
   if (j.ball) {
     if (j.ball_limited) {
-      const double r = clamp_pi(j.ball_range, rep);
+      const double r = clamp_pi(j.ball_range, rep, spec.name, j.ball_name);
       for (AxisLimit& l : spec.limit) l = AxisLimit{true, -r, r};
     }
     return;
   }
   for (AxisLimit& l : spec.limit) l = AxisLimit{true, 0.0, 0.0};  // welded unless a hinge frees it
-  bool unaligned = false;
-  for (const auto& h : j.hinges) {
+  std::string unaligned;
+  for (std::size_t hi_index = 0; hi_index < j.hinges.size(); ++hi_index) {
+    const auto& h = j.hinges[hi_index];
+    const std::string& name = j.hinge_names[hi_index];
     const Vec3 local = spec.rest_frame_world.transpose() * h.first;
     int k = 0;
     for (int a = 1; a < 3; ++a) k = std::abs(local[a]) > std::abs(local[k]) ? a : k;
     if (std::abs(local[k]) < kAlign) {
-      unaligned = true;
+      std::ostringstream s;
+      s.precision(3);
+      s << (unaligned.empty() ? "" : ", ") << "hinge '" << name << "' "
+        << rad2deg(std::acos(std::min(1.0, std::abs(local[k])))) << " deg from every bone axis";
+      unaligned += s.str();
       continue;
     }
     rep.max_hinge_misalignment_deg = std::max(
@@ -292,13 +329,18 @@ void limits_from_joints(const BodyJoints& j, BoneSpec& spec, MjcfImportReport& r
     if (h.second[2] == 0.0) {
       spec.limit[k] = AxisLimit{};
     } else if (local[k] > 0) {
-      spec.limit[k] = AxisLimit{true, clamp_pi(lo, rep), clamp_pi(hi, rep)};
+      spec.limit[k] =
+          AxisLimit{true, clamp_pi(lo, rep, spec.name, name), clamp_pi(hi, rep, spec.name, name)};
     } else {
-      spec.limit[k] = AxisLimit{true, clamp_pi(-hi, rep), clamp_pi(-lo, rep)};
+      spec.limit[k] =
+          AxisLimit{true, clamp_pi(-hi, rep, spec.name, name), clamp_pi(-lo, rep, spec.name, name)};
     }
   }
-  if (unaligned) {
+  if (!unaligned.empty()) {
     ++rep.unaligned_hinges;
+    rep.freed_bones.push_back(
+        "bone '" + spec.name + "': " + unaligned +
+        ": made free and unlimited (a hinge maps to a bone axis within 20 deg)");
     for (AxisLimit& l : spec.limit) l = AxisLimit{};
   }
 }
@@ -442,10 +484,11 @@ double largest_sphere_radius(const mjModel* m, int b) {
 // z) is best aligned with the bone, first on ties. Its size[0] is the radius in the model's length
 // unit, which is the rig's. A bone with no capsule there takes the largest sphere geom of those
 // bodies (a head, a hand: the sphere is the body's thickness in every direction); a bone with
-// neither keeps the rig's defaults, and is listed in the report.
+// neither gets the radius fitted to its length (rig_sizing.h), and is listed in the report. A
+// --radius replaces them all.
 void set_geom_radii(const mjModel* m, const mjData* d, const MjcfRig& out,
                     const std::vector<PivotNode>& nodes, const std::vector<bool>& zero_offset,
-                    PivotBones& bones, MjcfImportReport& rep) {
+                    const SizingOptions& sizing, PivotBones& bones, MjcfImportReport& rep) {
   for (std::size_t s = 0; s < bones.specs.size(); ++s) {
     BoneSpec& spec = bones.specs[s];
     const Vec3 axis = (spec.tail_world - spec.head_world).normalized();
@@ -456,13 +499,51 @@ void set_geom_radii(const mjModel* m, const mjData* d, const MjcfRig& out,
       sphere = std::max(sphere, largest_sphere_radius(m, out.node_body[n]));
     }
     if (radius <= 0.0) radius = sphere;
-    if (radius > 0.0) {
-      spec.collision_radius = radius;
-      spec.radius = radius;
-    } else {
-      rep.bones_default_radius.push_back(spec.name);
+    if (radius <= 0.0) {
+      rep.bones_fitted_radius.push_back(spec.name);
+      radius = fitted_radius(sizing, (spec.tail_world - spec.head_world).norm());
     }
+    if (sizing.radius > 0.0) radius = sizing.radius;
+    spec.collision_radius = radius;
+    spec.radius = radius;
   }
+}
+
+// one note: a heading and its list ("" when the list is empty)
+void add_note(const std::string& heading, const std::vector<std::string>& items,
+              std::vector<std::string>& notes) {
+  if (items.empty()) return;
+  std::string s = heading + " (" + std::to_string(items.size()) + "): ";
+  for (std::size_t i = 0; i < items.size(); ++i) s += (i ? "; " : "") + items[i];
+  notes.push_back(s);
+}
+
+// the rig's source notes and units: where it came from and every change to the model's joints
+void write_mjcf_notes(const std::string& source, const MjcfImportOptions& options,
+                      const MjcfImportReport& rep, Rig& rig) {
+  std::ostringstream s;
+  s.precision(6);
+  s << "rig from-mjcf " << source << ": " << rig.nbone << " bones from " << rep.nbody_used << " of "
+    << rep.nbody_model << " bodies; mass " << rep.rig_mass << " kg (model " << rep.model_mass
+    << " kg)";
+  const SizingOptions& z = options.sizing;
+  if (z.radius > 0.0) s << "; --radius " << z.radius;
+  if (z.mass_per_length > 0.0) s << "; --mass-per-length " << z.mass_per_length;
+  if (z.total_mass > 0.0) s << "; --total-mass " << z.total_mass;
+  rig.source.push_back(s.str());
+  add_note("slide joints dropped", rep.dropped_slides, rig.source);
+  add_note("bones freed by unaligned hinges", rep.freed_bones, rig.source);
+  add_note("ranges clamped to +-180 deg", rep.clamped, rig.source);
+  std::ostringstream t;
+  t << "limits widened so that the rest angle is at the edge of the torsion band (tolerance "
+    << rep.fitted_tolerance << ")";
+  add_note(t.str(), rep.widened_limits, rig.source);
+  add_note("collision_exclude: bone pairs whose capsules overlap at rest", rep.rest_overlaps,
+           rig.source);
+  std::ostringstream r;
+  r << "radius " << kRadiusPerLength << " x length (no capsule or sphere geom)";
+  if (z.radius <= 0.0) add_note(r.str(), rep.bones_fitted_radius, rig.source);
+  rig.units = "the model's (lengths read as metres), kg";
 }
 
 }  // namespace
@@ -488,7 +569,8 @@ MjcfRig import_mjcf_model(const mjModel* m, const std::string& source,
   add_leaf_tips(m, d, out, zero_offset, extent, nodes);
   PivotBones bones = pivot_bones(nodes, source);
 
-  // frames (roll to the first hinge) and limits per bone; the root's joint to the world
+  // frames (roll to the first hinge) and limits per bone, the root's joint to the world; limits
+  // whose band holds the rest angle widened to it (rest_limits.h)
   const std::vector<BodyJoints> bj = body_joints(m, d, out, nodes.size(), rep);
   for (int s = 0; s < static_cast<int>(bones.specs.size()); ++s) {
     const BodyJoints j = chain_joints(bones, nodes, bj, s);
@@ -497,16 +579,32 @@ MjcfRig import_mjcf_model(const mjModel* m, const std::string& source,
     weld_jointless(j, s, bones);
   }
   bones.root_joint = root_joint_of(chain_joints(bones, nodes, bj, 0), bones.specs[0], rep);
+  rep.fitted_tolerance = preset_params("robust").torsion_tolerance;
+  for (const RestBandProblem& p : fit_limits_to_rest(bones.specs, rep.fitted_tolerance)) {
+    rep.widened_limits.push_back(describe(p, bones.specs[p.bone].name));
+  }
 
-  // mass and inertia: each body shared by the bones that follow it
+  // mass and inertia: each body shared by the bones that follow it; radii from the geoms
+  check_sizing_options(options.sizing);
   std::vector<double> mass;
   std::vector<Mat3> inertia;
   share_body_masses(m, d, out, nodes, zero_offset, bones, mass, inertia, rep);
   set_spec_masses(mass, inertia, bones, rep);
-  set_geom_radii(m, d, out, nodes, zero_offset, bones, rep);
+  set_geom_radii(m, d, out, nodes, zero_offset, options.sizing, bones, rep);
+  fit_masses(bones.specs, options.sizing, std::vector<bool>(bones.specs.size(), true));
+  if (options.sizing.mass_per_length > 0.0 || options.sizing.total_mass > 0.0) {
+    rep.rig_mass = 0.0;
+    for (const BoneSpec& b : bones.specs) rep.rig_mass += b.mass;
+  }
 
   const char* model_name = m->nnames > 0 ? m->names : "";  // the model name comes first
   out.pivots = finish_pivot_rig(nodes, bones, source, model_name);
+  // the pairs of capsules that overlap at rest never collide
+  Rig& rig = out.pivots.rig;
+  for (const BoneOverlap& o : exclude_rest_overlaps(rig)) {
+    rep.rest_overlaps.push_back(rig.bone_name[o.a] + "/" + rig.bone_name[o.b]);
+  }
+  write_mjcf_notes(source, options, rep, rig);
   return out;
 }
 

@@ -33,8 +33,14 @@
 // body's inertia is unusable (the cylinder fallback) and for drawing, and the body's own thickness
 // is a better guess there than the rig default 0.5. A bone whose bodies have no capsule takes the
 // radius of their largest sphere geom (the humanoid's head and hands), the same for both; a bone
-// with neither keeps the rig defaults (radius 0.5; collision radius 0.06 x its length) and is
-// listed in the report (bones_default_radius).
+// with neither gets kRadiusPerLength x its length for both (rig_sizing.h) and is listed in the
+// report (bones_fitted_radius). MjcfImportOptions::sizing can replace radii and masses.
+//
+// At rest (rest_limits.h, bone_overlaps.h): a limit whose torsion band holds the rest angle (the
+// humanoid's knees, -160..2 deg) is widened until the band's edge is at rest, and the bone pairs
+// whose capsules overlap at rest are added to the rig's collision_exclude; both are reported by
+// bone (and axis), and written into the rig's source notes with every joint dropped, freed or
+// clamped.
 //
 // Joints -> limits (rig.h: per bone-local axis, intervals on the rotation-vector components):
 //   no joint (welded)        the bone is welded to its parent (rig.h "Welds"); a body's other
@@ -59,12 +65,16 @@
 
 #include "physik/model/kinematics.h"
 #include "physik/model/pivot_rig.h"
+#include "physik/model/rig_sizing.h"
 #include "reference/mjcf_export.h"
 
 namespace physik {
 
 struct MjcfImportOptions {
   std::string root_body;  // body whose subtree becomes the rig; empty: the largest top-level one
+  // radii and masses (rig_sizing.h): a radius replaces every geom's; mass_per_length replaces
+  // the model's masses (cylinder inertias then), total_mass scales them
+  SizingOptions sizing;
 };
 
 struct MjcfImportReport {
@@ -78,12 +88,23 @@ struct MjcfImportReport {
   int unaligned_hinges = 0;                 // hinges > 20 deg from every bone axis (bone freed)
   double max_hinge_misalignment_deg = 0.0;  // of the mapped hinges
   int clamped_ranges = 0;
+  // each joint dropped, freed or clamped, named with the bone it was to move: "bone 'left_foot':
+  // hinge 'left_ankle_y' 35 deg from every bone axis", in the order met
+  std::vector<std::string> dropped_slides;  // "bone 'b': slide joint 'j' of body 'c' dropped"
+  std::vector<std::string> freed_bones;     // the bones an unaligned hinge freed, and why
+  std::vector<std::string> clamped;         // "bone 'b': joint 'j' range ... clamped to +-180 deg"
+  // limits whose torsion band held the rest angle, widened (rest_limits.h), and the tolerance
+  // they were fitted for (the parameter table's torsion_tolerance)
+  std::vector<std::string> widened_limits;
+  double fitted_tolerance = 0.0;
+  // the bone pairs whose capsules overlap at rest, added to the rig's collision_exclude
+  std::vector<std::string> rest_overlaps;
   double max_offdiag_inertia = 0.0;  // dropped off-diagonal / largest moment
   double max_com_shift = 0.0;        // rig units, xipos vs the mean of its bones' midpoints
   int cylinder_inertia_bones = 0;    // bones whose body inertia was unusable (cylinder used)
-  std::vector<std::string> bones_default_radius;  // bones given the default radii (no capsule
-                                                  // or sphere geom)
-  std::string root_joint = "free";                // the root's joint to the world (rig.h)
+  std::vector<std::string> bones_fitted_radius;  // bones with no capsule or sphere geom: radius
+                                                 // fitted to their length (rig_sizing.h)
+  std::string root_joint = "free";               // the root's joint to the world (rig.h)
 };
 
 struct MjcfRig {

@@ -298,15 +298,64 @@ cat > "$tmp/capsules.xml" <<'XML'
 </mujoco>
 XML
 check "from-mjcf capsule radii" 0 "$bin" rig from-mjcf "$tmp/capsules.xml" --out "$tmp/capsules.json"
-expect_in "from-mjcf names a bone without a capsule or sphere" "$tmp/err" "no capsule or sphere geom on their body (first: toe)"
+expect_in "from-mjcf names a bone without a capsule or sphere" "$tmp/err" "no capsule or sphere geom on their body: radius and collision radius 0.14 x length (1): toe"
+expect_in "from-mjcf names a widened limit" "$tmp/err" "limits widened: the rest angle was inside the torsion band (torsion_tolerance 0.1), now at its edge (1): lower x: [-2, 0] -> [-2, 0.2222] deg"
 check "from-mjcf collision radii are the capsules'" 0 python3 - "$tmp/capsules.json" <<'PY'
-import json, sys
-bones = {b["name"]: b for b in json.load(open(sys.argv[1]))["bones"]}
-for name, r in (("upper", 0.07), ("lower", 0.03)):
-    assert bones[name]["collision_radius"] == r and bones[name]["radius"] == r, bones[name]
-assert bones["tip"]["collision_radius"] == 0.05 and bones["tip"]["radius"] == 0.05, bones["tip"]
-assert "collision_radius" not in bones["toe"] and bones["toe"]["radius"] == 0.5, bones["toe"]
+import json, math, sys
+rig = json.load(open(sys.argv[1]))
+bones = {b["name"]: b for b in rig["bones"]}
+def radius(b, key):
+    return b.get(key, rig["defaults"].get(key))
+for name, r in (("upper", 0.07), ("lower", 0.03), ("tip", 0.05)):
+    assert radius(bones[name], "collision_radius") == r and radius(bones[name], "radius") == r, name
+toe = bones["toe"]
+length = math.dist(toe["head"], toe["tail"])
+assert abs(radius(toe, "radius") - 0.14 * length) < 1e-12 * length, toe
+assert radius(toe, "collision_radius") == radius(toe, "radius"), toe
+assert any("limits widened" in n for n in rig["source"]), rig["source"]
 PY
+check "from-mjcf bad radius" 2 "$bin" rig from-mjcf "$tmp/capsules.xml" --radius -0.1
+expect_in "from-mjcf bad radius message" "$tmp/err" "physik: error: --radius: must be a positive finite number"
+check "from-mjcf total mass" 0 "$bin" rig from-mjcf "$tmp/capsules.xml" --total-mass 7 --out "$tmp/caps7.json"
+check "from-mjcf total mass sums" 0 python3 -c "import json,sys; r=json.load(open('$tmp/caps7.json')); assert abs(sum(b['mass'] for b in r['bones']) - 7) < 1e-9"
+
+# a mocap skeleton in centimetres: its height, the unit warning, sizes that fit, options
+printf 'HIERARCHY\nROOT Hips\n{\n OFFSET 0 95 0\n CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n JOINT Spine\n {\n  OFFSET 0 10 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n  End Site\n  {\n   OFFSET 0 80 0\n  }\n }\n JOINT LeftLeg\n {\n  OFFSET 9 -5 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n  End Site\n  {\n   OFFSET 0 -90 0\n  }\n }\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n0 95 0 0 0 0 0 0 0 0 0 0\n' > "$tmp/cm.bvh"
+check "from-bvh cm" 0 "$bin" rig from-bvh "$tmp/cm.bvh" --out "$tmp/cm.json"
+expect_in "from-bvh prints the height" "$tmp/err" "from-bvh: height 185 rig units"
+expect_in "from-bvh names the scale" "$tmp/err" "looks like a file in centimetres (rig units are read as metres): convert it with --scale 0.01"
+check "from-bvh cm scaled" 0 "$bin" rig from-bvh "$tmp/cm.bvh" --scale 0.01 --radius 0.05 --out "$tmp/m.json"
+check "from-bvh radius once in the defaults" 0 python3 -c "import json; r=json.load(open('$tmp/m.json')); assert r['defaults']['radius'] == 0.05 and not any('radius' in b for b in r['bones']), r"
+check "from-bvh no warning in metres" 1 grep -q "looks like" "$tmp/err"
+for opt in --radius --mass-per-length --total-mass; do
+  check "from-bvh bad $opt" 2 "$bin" rig from-bvh "$tmp/cm.bvh" $opt nan
+  expect_in "from-bvh bad $opt message" "$tmp/err" "physik: error: $opt: must be a positive finite number"
+done
+printf 'HIERARCHY\nROOT A\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n  End Site\n  {\n    OFFSET 0 1 0\n    CHANNELS 1 Zrotation\n  }\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n0 0 0\n' > "$tmp/endch.bvh"
+check "bvh channels on an End Site" 2 "$bin" rig from-bvh "$tmp/endch.bvh"
+expect_in "bvh End Site channels message" "$tmp/err" "endch.bvh: line 9: field 'CHANNELS': an End Site has no channels"
+printf 'HIERARCHY\nROOT A\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n  JOINT B\n  {\n    OFFSET 0 0 0\n    CHANNELS 3 Zrotation Xrotation Yrotation\n    End Site\n    {\n      OFFSET 0 1 0\n    }\n  }\n  JOINT C\n  {\n    OFFSET 0 0 0\n    CHANNELS 3 Zrotation Xrotation Yrotation\n    End Site\n    {\n      OFFSET 1 0 0\n    }\n  }\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n0 0 0 10 20 30 0 0 0\n' > "$tmp/zero.bvh"
+check "bvh zero offsets to several children" 0 "$bin" rig from-bvh "$tmp/zero.bvh" --out "$tmp/zero.json"
+expect_in "bvh zero offsets named" "$tmp/err" "from-bvh: warning: joint 'A' (line 2) has 2 children at its own position (zero OFFSET: B, C)"
+check "bvh zero offsets no nan" 1 grep -qi nan "$tmp/zero.json"
+printf 'HIERARCHY\nROOT A\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n  JOINT B\n  {\n    OFFSET 0 1 0\n    CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n    End Site\n    {\n      OFFSET 0 1 0\n    }\n  }\n}\nMOTION\nFrames: 2\nFrame Time: 0.1\n0 0 0 0 1 0 0 0 0\n0 0 0 0 1.5 0 0 0 0\n' > "$tmp/slide.bvh"
+check "bvh position channels off the offset" 0 "$bin" rig from-bvh "$tmp/slide.bvh" --out "$tmp/slide.json"
+expect_in "bvh position channels named by joint and bone" "$tmp/err" "from-bvh: warning: joint 'B' (line 6, bone 'A'): its position channels move it off its OFFSET"
+
+# the rig's collision_exclude, and what rig info says about the rest pose
+printf '{"bones": [{"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,1]}, {"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2]}], "collision_exclude": [["a", "b"], ["b", "b"]]}' > "$tmp/twice.json"
+check "rig exclusion naming one bone twice" 2 "$bin" rig info "$tmp/twice.json"
+expect_in "rig exclusion message" "$tmp/err" "twice.json: field 'collision_exclude[1]': bone 'b' is paired with itself"
+check "rig info pinhead" 0 "$bin" rig info "$src/models/rigs/pinhead.json"
+expect_in "rig info axes" "$tmp/out" "forearm.L:  x ("
+expect_in "rig info limits per axis" "$tmp/out" "z [-160, 0]"
+expect_in "rig info rest band" "$tmp/out" "limits whose torsion band holds the rest angle (torsion_tolerance 0.1; they push at rest): 4"
+# a scene that starts with overlapping capsules under self-collision is warned about, by pair
+printf '{"bones": [{"name": "r", "parent": null, "head": [0,0,0], "tail": [0,0,1], "collision_radius": 0.1}, {"name": "b", "parent": "r", "head": [0,0,1], "tail": [1,0,1], "collision_radius": 0.1}, {"name": "b1", "parent": "b", "head": [1,0,1], "tail": [0.5,0,1.5], "collision_radius": 0.1}, {"name": "c", "parent": "r", "head": [0,0,1], "tail": [0.5,0,1.6], "collision_radius": 0.1}]}' > "$tmp/cross.json"
+printf '{"rig": "cross.json", "steps": 3, "self_collision": true}' > "$tmp/cross_scene.json"
+check "simulate overlapping start" 0 "$bin" simulate "$tmp/cross_scene.json" --out "$tmp/cross_run" --quiet
+expect_in "simulate names the overlapping pair" "$tmp/err" '1 bone pair overlaps at the start under self_collision (depth in rig units): ["b1", "c"]'
+expect_in "simulate says what to change" "$tmp/err" "add the pairs to collision_exclude"
 
 # physik solve: classic IK solvers and the engine on a scene's control points
 check "solve help" 0 "$bin" solve --help

@@ -74,12 +74,27 @@ TEST(StartContacts, IntoABoxNamesTheBox) {
   EXPECT_THROW(check_start_contacts(s), InputError);
 }
 
-TEST(StartContacts, BonesOverlappingEachOtherAreNotChecked) {
+TEST(StartContacts, BonesOverlappingEachOtherAreNamedInAWarningNeverRefused) {
   // the U's post and leg 0.05 apart with radius 0.06: they overlap by 0.07, more than r
   Scene s = test::floor_scene(test::u_rig(0.05, 0.5, kRadius), Scheme::kImplicit, 0.01);
   s.collision.ground->height = -1.0;  // a ground, clear of the U
   s.collision.self_collision = true;
-  EXPECT_EQ(deepest_start_contact(s).bone, -1);
+  EXPECT_EQ(deepest_start_contact(s).bone, -1);  // the surfaces' check: bones are not surfaces
+  const std::string warning = check_start_contacts(s);
+  EXPECT_EQ(warning.rfind("1 bone pair overlaps at the start under self_collision (depth in rig "
+                          "units): [\"post\", \"leg\"] (0.07)",
+                          0),
+            0u)
+      << warning;
+  EXPECT_NE(warning.find("add the pairs to collision_exclude"), std::string::npos) << warning;
+  // excluded by the scene (or the rig), or without self-collision: nothing to say
+  s.collision.excluded_pairs = {{0, 2}};
+  EXPECT_EQ(check_start_contacts(s), "");
+  s.collision.excluded_pairs.clear();
+  s.rig.collision_exclude = {{0, 2}};
+  EXPECT_EQ(check_start_contacts(s), "");
+  s.rig.collision_exclude.clear();
+  s.collision.self_collision = false;
   EXPECT_EQ(check_start_contacts(s), "");
 }
 

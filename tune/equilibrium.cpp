@@ -276,7 +276,7 @@ EquilibriumResult solve_equilibrium(const Scene& scene, const EquilibriumOptions
   EquilibriumResult out;
   out.pose = pose_from_blocks(root, quats);
   // a welded bone's rotation follows its weld's (kinematics.h)
-  if (rig.has_welds()) local_rotations_from_world(rig, forward_kinematics(rig, out.pose), out.pose);
+  welded_local_rotations(rig, forward_kinematics(rig, out.pose), out.pose);
   measure_result(scene, limited_bones, out);
   out.iterations = static_cast<int>(summary.iterations.size());
   if (!summary.iterations.empty())

@@ -89,10 +89,14 @@ class CsvFile {
     return false;
   }
 
-  // The header must be `expected`: the scene's columns.
-  void check_header(const std::vector<std::string>& expected) {
+  // The header must be `expected`: the scene's columns. With `older` (the columns an earlier
+  // version wrote, a prefix of `expected`), a header of those is taken too; returns whether the
+  // header was the whole of `expected`.
+  bool check_header(const std::vector<std::string>& expected,
+                    const std::vector<std::string>& older = {}) {
     std::vector<std::string> header;
     if (!next(header)) throw_input_error(path_, "", "", "empty file (no header)");
+    if (!older.empty() && header == older) return false;
     for (std::size_t k = 0; k < std::max(header.size(), expected.size()); ++k) {
       const std::string got = k < header.size() ? header[k] : "(none)";
       const std::string want = k < expected.size() ? expected[k] : "(none)";
@@ -101,6 +105,7 @@ class CsvFile {
                            "scene.json gives '" + want + "'");
       }
     }
+    return true;
   }
 
   [[noreturn]] void fail(const std::string& field, const std::string& reason) const {
@@ -211,8 +216,18 @@ void read_targets_limits(const std::string& path, ViewRun& run) {
   run.targets.assign(std::size_t(nframe) * ncontrol * 3, kNaN);
   run.limit_excess.assign(std::size_t(nframe) * nbone, kNaN);
   CsvFile csv(path);
-  const std::vector<std::string> names = unquoted({"step"}, targets_limits_column_names(run.scene));
-  csv.check_header(names);
+  std::vector<std::string> names = unquoted({"step"}, targets_limits_column_names(run.scene));
+  // folders recorded before the orientation columns: targets and excess only
+  const std::vector<std::string> older(names.begin(), names.end() - 4 * std::size_t(nbone));
+  if (csv.check_header(names, older)) {
+    run.orientations.assign(std::size_t(nframe) * nbone * 4, kNaN);
+  } else {
+    names = older;
+    run.notes.push_back(std::string(kTargetsLimitsFile) +
+                        " has no bone orientations (recorded by an earlier version): bone axes "
+                        "and limit ranges are not shown");
+  }
+  const std::size_t orient_col = 1 + 3 * std::size_t(ncontrol) + 3 * std::size_t(nbone);
   const std::unordered_map<int, int> frame = frame_of_step(run);
   std::vector<std::string> f;
   while (csv.next(f)) {
@@ -229,6 +244,15 @@ void read_targets_limits(const std::string& path, ViewRun& run) {
       for (int a = 0; a < 3; ++a)
         e = std::max(e, std::abs(csv.number(f, 1 + 3 * ncontrol + 3 * b + a, names)));
       run.limit_excess[std::size_t(it->second) * nbone + b] = static_cast<float>(e);
+    }
+    if (run.orientations.empty()) continue;
+    // w x y z in the file, x y z w (three.js's order) in the page
+    float* q = run.orientations.data() + std::size_t(it->second) * nbone * 4;
+    for (int b = 0; b < nbone; ++b) {
+      const std::size_t c = orient_col + 4 * std::size_t(b);
+      q[4 * b + 3] = static_cast<float>(csv.number(f, c, names));
+      for (int k = 0; k < 3; ++k)
+        q[4 * b + k] = static_cast<float>(csv.number(f, c + 1 + k, names));
     }
   }
 }

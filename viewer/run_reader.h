@@ -39,6 +39,8 @@ struct ViewRun {
   std::vector<float> targets;           // (nframe x ncontrol x 3) world, rig units
   std::vector<float> limit_excess;      // (nframe x nbone) largest |excess| over the axes,
                                         //   rad; empty when the folder has no table
+  std::vector<float> orientations;      // (nframe x nbone x 4) world <- bone, quaternion x y z
+                                        //   w; empty when the table has no orientations
   // contacts.csv's rows of the kept frames, frame by frame; all empty without the file
   bool has_contacts = false;          // the folder has contacts.csv
   std::vector<int> contact_start;     // (nframe + 1) frame f's contacts are [start[f], start[f+1])

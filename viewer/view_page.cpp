@@ -150,6 +150,19 @@ void add_world(const Scene& s, nlohmann::json& out) {
 
 nlohmann::json run_json(const ViewRun& r) {
   const Rig& rig = r.scene.rig;
+  // each bone's rest frame in its parent's (x y z w) and its limits per local axis (rad; null
+  // for a free axis): the viewer draws a limit's range in the frame the parent carries
+  nlohmann::json rest_in_parent = nlohmann::json::array(), limits = nlohmann::json::array();
+  for (int b = 0; b < rig.nbone; ++b) {
+    const Quat& q = rig.bone_rest_orient_parent[b];
+    rest_in_parent.push_back({q.x(), q.y(), q.z(), q.w()});
+    nlohmann::json axes = nlohmann::json::array();
+    for (const AxisLimit& l : rig.bone_limit[b]) {
+      axes.push_back(l.limited && rig.bone_parent[b] >= 0 ? nlohmann::json({l.min, l.max})
+                                                          : nlohmann::json(nullptr));
+    }
+    limits.push_back(axes);
+  }
   nlohmann::json cps = {{"names", nlohmann::json::array()},
                         {"bones", nlohmann::json::array()},
                         {"alphas", nlohmann::json::array()}};
@@ -163,7 +176,12 @@ nlohmann::json run_json(const ViewRun& r) {
       {"folder", r.folder},
       {"rig", rig.name},
       {"bones",
-       {{"names", rig.bone_name}, {"parents", rig.bone_parent}, {"radii", rig.bone_radius}}},
+       {{"names", rig.bone_name},
+        {"parents", rig.bone_parent},
+        {"radii", rig.bone_radius},
+        {"lengths", rig.bone_length},
+        {"rest_in_parent", rest_in_parent},
+        {"limits", limits}}},
       {"control_points", cps},
       {"dt", r.scene.params.dt},
       {"frames", r.steps.size()},
@@ -178,7 +196,9 @@ nlohmann::json run_json(const ViewRun& r) {
       {"positions", b64(r.positions)},
       {"targets", b64(r.targets)},
       {"limit_excess",
-       r.limit_excess.empty() ? nlohmann::json(nullptr) : nlohmann::json(b64(r.limit_excess))}};
+       r.limit_excess.empty() ? nlohmann::json(nullptr) : nlohmann::json(b64(r.limit_excess))},
+      {"orientations",
+       r.orientations.empty() ? nlohmann::json(nullptr) : nlohmann::json(b64(r.orientations))}};
   add_world(r.scene, out);
   // the contacts of each frame, only where the folder has contacts.csv
   if (r.has_contacts) {

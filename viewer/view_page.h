@@ -10,12 +10,14 @@
 // names with textContent, never as markup.
 //
 // Frame arrays travel as base64 of little-endian typed arrays (Float32 positions, targets,
-// readouts, excess and contact values; Float64 times; Int32 steps, indices and each frame's
-// first contact, run_reader.h ViewRun): a 100-bone, 10,000-frame run
-// is 24 MB of positions, where decimal JSON would be about twice that and slower to parse.
-// A run whose scene has a ground has "ground" (height, normal), one with box obstacles has
-// "boxes" (name, center, half_extents, quaternion x y z w: scene.h BoxObstacle), one with
-// contacts.csv has "contacts"; other runs have none of these keys.
+// readouts, excess, orientations and contact values; Float64 times; Int32 steps, indices and each
+// frame's first contact, run_reader.h ViewRun): a 100-bone, 10,000-frame run is 24 MB of positions,
+// where decimal JSON would be about twice that and slower to parse. Each run's bones carry their
+// lengths, rest frames in their parents' (quaternion x y z w) and limits per local axis (rad, null
+// where free) for the axes and limit ranges the page draws. A run whose scene has a ground has
+// "ground" (height, normal), one with box obstacles has "boxes" (name, center, half_extents,
+// quaternion x y z w: scene.h BoxObstacle), one with contacts.csv has "contacts"; other runs have
+// none of these keys.
 #pragma once
 
 #include <string>

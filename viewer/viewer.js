@@ -7,9 +7,18 @@
 // - the runs share one timeline, the union of their recorded times: at time t each run shows
 //   its last frame at or before t (a run that stopped early holds its last pose; a pose folder,
 //   one frame, shows at every time);
-// - bones whose joint angle is past a limit by more than LIMIT_SHOWN_RAD are drawn in the
-//   highlight colour (the excess comes from targets_and_limits.csv: a bone's twist cannot be
-//   seen in its head and tail);
+// - a bone whose joint angle is past a limit by more than LIMIT_SHOWN_RAD keeps its run's
+//   colour and gets an outline in HIGHLIGHT (a larger capsule drawn from its back faces), so an
+//   overlay still tells the runs apart (the excess comes from targets_and_limits.csv: a bone's
+//   twist cannot be seen in its head and tail);
+// - the "axes and limits" toggle (off at first) draws each bone's local axes at its head (x, y,
+//   z in AXIS_COLORS, 0.3 of its length; from the bone orientations of targets_and_limits.csv)
+//   and, for each limited axis, the limit's range as a fan at the head: the bone's direction
+//   (for the y axis, its twist: the x axis) turned about that axis of the frame its parent
+//   carries from min to max, the range of a turn about that axis alone (limits are intervals on
+//   the rotation vector's components, rig.h);
+// - targets are drawn in TARGET_COLOR, whatever their run (the spring to each is the run's);
+// - a floor grid only where a run's scene has a ground, in the ground's plane;
 // - a run folder with contacts.csv gets its contacts drawn at each frame: a sphere at the
 //   contact point and a line along the normal, of a fixed length (a tenth of the scene's size:
 //   an impact's force and a resting one differ by orders of magnitude, so a line scaled by the
@@ -18,7 +27,7 @@
 // - a scene's box obstacles (scene.h BoxObstacle: centre, half extents along the box's own axes,
 //   the rotation turning those axes into the world) are translucent lit boxes in BOX_COLOR with
 //   opaque edges, each in its own frame; a box several runs' scenes share is drawn once. The
-//   camera frames them with the rig and its targets (and the grid lies under them all);
+//   camera frames them with the rig and its targets;
 // - names come from user files: they are only ever set as text (textContent), never as markup.
 // World Z is up (the rigs' convention); the camera starts in front of the rig (-Y).
 (function () {
@@ -27,6 +36,11 @@
   var PALETTE = ['#1f77b4', '#ff7f0e', '#2ca02c', '#9467bd', '#8c564b', '#17becf', '#7f7f7f',
                  '#bcbd22'];
   var HIGHLIGHT = '#e6194b';
+  var OUTLINE_SCALE = 1.45;  // the limit outline's radius, of the bone's
+  var TARGET_COLOR = '#000000';
+  var AXIS_COLORS = ['#ff2a2a', '#1fbf1f', '#2a5cff'];  // local x, y, z
+  var AXES_LENGTH = 0.3;  // of the bone's length
+  var ARC_SEGMENTS = 16;
   var CONTACT_COLOR = '#ff00ff';
   var BOX_COLOR = '#d4a017', BOX_EDGE_COLOR = '#8a6a0f', BOX_OPACITY = 0.5;
   var LIMIT_SHOWN_RAD = 0.1 * Math.PI / 180;  // 0.1 deg: round-off never lights a bone
@@ -53,6 +67,7 @@
       positions: decode(raw.positions, Float32Array),
       targets: decode(raw.targets, Float32Array),
       excess: raw.limit_excess === null ? null : decode(raw.limit_excess, Float32Array),
+      orient: raw.orientations ? decode(raw.orientations, Float32Array) : null,
       contacts: null
     };
     run.nframe = run.steps.length;
@@ -127,8 +142,14 @@
     });
     var hi = el('span', 'run');
     hi.appendChild(swatch(HIGHLIGHT));
-    hi.appendChild(el('span', 'label', 'past a joint limit (by more than 0.1 deg)'));
+    hi.appendChild(el('span', 'label', 'outline: past a joint limit (by more than 0.1 deg)'));
     legend.appendChild(hi);
+    if (v.runs.some(function (r) { return r.ncontrol > 0; })) {
+      var tg = el('span', 'run');
+      tg.appendChild(swatch(TARGET_COLOR));
+      tg.appendChild(el('span', 'label', 'target'));
+      legend.appendChild(tg);
+    }
     if (anyContacts(v)) {
       var ct = el('span', 'run');
       ct.appendChild(swatch(CONTACT_COLOR));
@@ -170,6 +191,9 @@
     c.appendChild(buildSpeed(v));
     c.appendChild(buildThickness(v));
     c.appendChild(checkbox('targets', true, function (on) { v.setTargetsShown(on); }));
+    if (anyOrientations(v)) {
+      c.appendChild(checkbox('axes and limits', false, function (on) { v.setAxesShown(on); }));
+    }
     c.appendChild(checkbox('target paths', true, function (on) { v.setPathsShown(on); }));
     if (anyContacts(v)) {
       c.appendChild(checkbox('contacts', true, function (on) { v.setContactsShown(on); }));
@@ -227,6 +251,10 @@
     label.appendChild(box);
     label.appendChild(document.createTextNode(' ' + text));
     return label;
+  }
+
+  function anyOrientations(v) {
+    return v.runs.some(function (r) { return r.orient !== null; });
   }
 
   function anyContacts(v) {
@@ -296,14 +324,50 @@
 
   function buildRunMeshes(v, run) {
     var mat = new THREE.MeshLambertMaterial({ color: run.color });
-    var hot = new THREE.MeshLambertMaterial({ color: HIGHLIGHT, emissive: 0x330000 });
+    // the outline: the back faces of a larger capsule, a rim around the bone's own colour
+    var rim = new THREE.MeshBasicMaterial({ color: HIGHLIGHT, side: THREE.BackSide });
     run.meshes = {
-      cyl: instanced(v.cylinder, mat, run.nbone), cylHot: instanced(v.cylinder, hot, run.nbone),
-      sph: instanced(v.sphere, mat, 2 * run.nbone), sphHot: instanced(v.sphere, hot, 2 * run.nbone)
+      cyl: instanced(v.cylinder, mat, run.nbone), sph: instanced(v.sphere, mat, 2 * run.nbone),
+      cylRim: instanced(v.cylinder, rim, run.nbone), sphRim: instanced(v.sphere, rim, 2 * run.nbone)
     };
     Object.keys(run.meshes).forEach(function (k) { v.scene.add(run.meshes[k]); });
     buildTargets(v, run);
     buildContacts(v, run);
+    buildAxes(v, run);
+  }
+
+  // each bone's local axes (3 segments) and its limits' fans (an arc and its two end radii per
+  // limited axis that is not locked), coloured per axis; hidden until the toggle shows them
+  function buildAxes(v, run) {
+    if (run.orient === null) return;
+    var limits = run.raw.bones.limits, narc = 0;
+    run.fans = [];
+    for (var b = 0; b < run.nbone; b++) {
+      for (var k = 0; k < 3; k++) {
+        var l = limits[b][k];
+        if (l && l[1] > l[0]) run.fans.push({ bone: b, axis: k, min: l[0], max: l[1] });
+      }
+    }
+    narc = run.fans.length;
+    var nseg = 3 * run.nbone + narc * (ARC_SEGMENTS + 2);
+    var geo = new THREE.BufferGeometry();
+    geo.setAttribute('position', new THREE.BufferAttribute(new Float32Array(6 * nseg), 3));
+    var colors = new Float32Array(6 * nseg), c = new THREE.Color(), at = 0;
+    function paint(color, segments) {
+      c.set(color);
+      for (var i = 0; i < 2 * segments; i++, at += 3) c.toArray(colors, at);
+    }
+    for (var b2 = 0; b2 < run.nbone; b2++) {
+      for (var k2 = 0; k2 < 3; k2++) paint(AXIS_COLORS[k2], 1);
+    }
+    run.fans.forEach(function (f) { paint(AXIS_COLORS[f.axis], ARC_SEGMENTS + 2); });
+    geo.setAttribute('color', new THREE.BufferAttribute(colors, 3));
+    run.axes = new THREE.LineSegments(
+        geo, new THREE.LineBasicMaterial({ vertexColors: THREE.VertexColors, depthTest: false }));
+    run.axes.renderOrder = 3;  // over the bodies: an axis inside a capsule is still seen
+    run.axes.frustumCulled = false;
+    run.axes.visible = false;
+    v.scene.add(run.axes);
   }
 
   // a sphere per contact and a line along its normal, as many as the busiest frame has; drawn
@@ -334,7 +398,7 @@
   function buildTargets(v, run) {
     var size = 0.025 * v.extent;
     // drawn over the bodies (no depth test): a target inside a capsule is still seen
-    var basic = new THREE.MeshBasicMaterial({ color: run.color, depthTest: false });
+    var basic = new THREE.MeshBasicMaterial({ color: TARGET_COLOR, depthTest: false });
     run.targetGroup = new THREE.Group();
     run.targetMarks = [];
     for (var c = 0; c < run.ncontrol; c++) {
@@ -426,6 +490,12 @@
     var off = n.dot(v.center) - g.height;
     floor.position.copy(v.center).addScaledVector(n, -off);
     v.scene.add(floor);
+    // the grid lies in the ground's plane (a scene without a ground has none: no floor to show)
+    var grid = new THREE.GridHelper(2 * v.extent, 20, 0xb8bcc6, 0xd6d9e0);
+    grid.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), n);  // the grid's plane is XZ
+    grid.position.copy(floor.position);
+    v.grid = grid;
+    v.scene.add(grid);
   }
 
   // each box obstacle in its own frame: a box of its full sides along its axes, turned by its
@@ -458,10 +528,6 @@
     var box = initialBounds(v);
     v.center = box.getCenter(new THREE.Vector3());
     v.extent = Math.max(1e-6, box.getSize(new THREE.Vector3()).length());
-    var grid = new THREE.GridHelper(2 * v.extent, 20, 0xb8bcc6, 0xd6d9e0);
-    grid.rotation.x = Math.PI / 2;  // into the XY plane: the floor of a Z-up world
-    grid.position.set(v.center.x, v.center.y, box.min.z);
-    v.scene.add(grid);
     buildGround(v);
     buildBoxes(v);
     v.cylinder = new THREE.CylinderBufferGeometry(1, 1, 1, 10, 1, true);
@@ -503,7 +569,7 @@
   }
 
   function placeBones(run, f, scale) {
-    var ms = run.meshes, n = { cyl: 0, cylHot: 0, sph: 0, sphHot: 0 }, radii = run.raw.bones.radii;
+    var ms = run.meshes, n = { cyl: 0, sph: 0, cylRim: 0, sphRim: 0 }, radii = run.raw.bones.radii;
     for (var b = 0; b < run.nbone; b++) {
       var o = (f * run.nbone + b) * 6, r = radii[b] * scale, isHot = hot(run, f, b);
       tmp.h.fromArray(run.positions, o);
@@ -512,20 +578,76 @@
       var len = tmp.d.length();
       tmp.q.setFromUnitVectors(Y_AXIS, len > 0 ? tmp.d.divideScalar(len) : Y_AXIS);
       tmp.mid.addVectors(tmp.h, tmp.t).multiplyScalar(0.5);
-      var cyl = isHot ? 'cylHot' : 'cyl', sph = isHot ? 'sphHot' : 'sph';
-      tmp.m.compose(tmp.mid, tmp.q, tmp.s.set(r, len, r));
-      ms[cyl].setMatrixAt(n[cyl]++, tmp.m);
+      ms.cyl.setMatrixAt(n.cyl++, tmp.m.compose(tmp.mid, tmp.q, tmp.s.set(r, len, r)));
       tmp.s.set(r, r, r);
-      if (isHot || headShown(run, f, b, r, scale)) {
-        ms[sph].setMatrixAt(n[sph]++, tmp.m.compose(tmp.h, tmp.one, tmp.s));
+      if (headShown(run, f, b, r, scale)) {
+        ms.sph.setMatrixAt(n.sph++, tmp.m.compose(tmp.h, tmp.one, tmp.s));
       }
-      ms[sph].setMatrixAt(n[sph]++, tmp.m.compose(tmp.t, tmp.one, tmp.s));
+      ms.sph.setMatrixAt(n.sph++, tmp.m.compose(tmp.t, tmp.one, tmp.s));
+      if (!isHot) continue;
+      var R = r * OUTLINE_SCALE;
+      ms.cylRim.setMatrixAt(n.cylRim++, tmp.m.compose(tmp.mid, tmp.q, tmp.s.set(R, len, R)));
+      tmp.s.set(R, R, R);
+      ms.sphRim.setMatrixAt(n.sphRim++, tmp.m.compose(tmp.h, tmp.one, tmp.s));
+      ms.sphRim.setMatrixAt(n.sphRim++, tmp.m.compose(tmp.t, tmp.one, tmp.s));
     }
     Object.keys(ms).forEach(function (k) {
       ms[k].count = n[k];
       ms[k].visible = n[k] > 0;
       ms[k].instanceMatrix.needsUpdate = true;
     });
+  }
+
+  var ax = { q: new THREE.Quaternion(), p: new THREE.Quaternion(), r: new THREE.Quaternion(),
+             e: new THREE.Vector3(), u: new THREE.Vector3(), a: new THREE.Vector3(),
+             w: new THREE.Vector3(), turn: new THREE.Quaternion() };
+  var UNIT = [new THREE.Vector3(1, 0, 0), new THREE.Vector3(0, 1, 0), new THREE.Vector3(0, 0, 1)];
+
+  // the axes and fans of frame f (run.axes's segments in buildAxes's order)
+  function placeAxes(run, f) {
+    if (!run.axes || !run.axes.visible) return;
+    var pos = run.axes.geometry.attributes.position, n = 0, bones = run.raw.bones;
+    function seg(a, b) {
+      pos.setXYZ(n++, a.x, a.y, a.z);
+      pos.setXYZ(n++, b.x, b.y, b.z);
+    }
+    function orientation(b, out) {
+      var o = (f * run.nbone + b) * 4;
+      return out.set(run.orient[o], run.orient[o + 1], run.orient[o + 2], run.orient[o + 3]);
+    }
+    for (var b = 0; b < run.nbone; b++) {
+      tmp.h.fromArray(run.positions, (f * run.nbone + b) * 6);
+      orientation(b, ax.q);
+      var len = AXES_LENGTH * bones.lengths[b];
+      for (var k = 0; k < 3; k++) {
+        ax.e.copy(UNIT[k]).applyQuaternion(ax.q).multiplyScalar(len).add(tmp.h);
+        seg(tmp.h, ax.e);
+      }
+    }
+    run.fans.forEach(function (fan) {
+      var b = fan.bone, p = bones.parents[b];
+      tmp.h.fromArray(run.positions, (f * run.nbone + b) * 6);
+      // the frame the parent carries: its orientation times the bone's rest frame in it
+      orientation(p, ax.p).multiply(ax.r.fromArray(bones.rest_in_parent[b]));
+      var len = (AXES_LENGTH + 0.1) * bones.lengths[b];
+      ax.u.copy(fan.axis === 1 ? UNIT[0] : UNIT[1]);  // turned: the bone, or its x for a twist
+      var first = null;
+      for (var i = 0; i <= ARC_SEGMENTS; i++) {
+        var t = fan.min + (fan.max - fan.min) * i / ARC_SEGMENTS;
+        ax.turn.setFromAxisAngle(UNIT[fan.axis], t);
+        ax.w.copy(ax.u).applyQuaternion(ax.turn).applyQuaternion(ax.p).multiplyScalar(len)
+            .add(tmp.h);
+        if (i === 0) {
+          seg(tmp.h, ax.w);  // the min's radius
+          first = ax.a.copy(ax.w);
+        } else {
+          seg(first, ax.w);
+          first.copy(ax.w);
+        }
+      }
+      seg(tmp.h, first);  // the max's radius
+    });
+    pos.needsUpdate = true;
   }
 
   function placeTargets(run, f) {
@@ -650,6 +772,7 @@
     this.runs.forEach(function (run) {
       var f = run.frameAt[self.frame];
       placeBones(run, f, self.radiusScale);
+      placeAxes(run, f);
       placeTargets(run, f);
       placeContacts(run, f);
       showReadout(run, f);
@@ -704,6 +827,11 @@
   Viewer.prototype.setTargetsShown = function (on) {
     this.runs.forEach(function (r) { r.targetGroup.visible = on; });
     this.requestRender();
+  };
+
+  Viewer.prototype.setAxesShown = function (on) {
+    this.runs.forEach(function (r) { if (r.axes) r.axes.visible = on; });
+    this.setFrame(this.frame);
   };
 
   Viewer.prototype.setContactsShown = function (on) {

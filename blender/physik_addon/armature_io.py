@@ -221,6 +221,8 @@ def _rig_fields(obj, source):
         out["comment"] = "read from Blender armature '%s' by physik_addon" % obj.name
     if isinstance(data.get("physik_root"), str):  # the root's joint to the world (rig.h)
         out["root"] = data["physik_root"]
+    if "collision_exclude" in extra:
+        out["collision_exclude"] = extra["collision_exclude"]
     defaults = {} if keys is not None else {
         "mass_per_length": rig_format.DEFAULT_MASS_PER_LENGTH,
         "radius": rig_format.DEFAULT_RADIUS}
@@ -254,6 +256,10 @@ def armature_to_rig(obj):
                                     "bone '%s'" % bone["name"])
         bones.append(bone)
     rig["bones"] = bones
+    if "collision_exclude" in rig:  # the file's pairs whose bones the armature still has
+        names = {b["name"] for b in bones}
+        rig["collision_exclude"] = [p for p in rig["collision_exclude"]
+                                    if p[0] in names and p[1] in names]
     return rig
 
 

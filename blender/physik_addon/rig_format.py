@@ -25,7 +25,8 @@ import json
 import math
 
 AXES = ("x", "y", "z")
-TOP_KEYS = ("name", "comment", "source", "units", "root", "defaults", "bones")
+TOP_KEYS = ("name", "comment", "source", "units", "root", "defaults", "bones",
+            "collision_exclude")
 BONE_KEYS = ("name", "parent", "head", "tail", "rest_frame", "roll_deg", "limits_deg",
              "mass_per_length", "mass", "radius", "inertia_local", "collision_radius", "weld",
              "comment")
@@ -547,6 +548,40 @@ def _parse_top(doc, source):
     return rig
 
 
+def _parse_source(doc, source):
+    """source: one note or a list of notes (rig_io.cpp read_notes)."""
+    notes = doc.get("source")
+    if notes is None or isinstance(notes, str):
+        return
+    if not isinstance(notes, list):
+        raise InputError(source, "", "source", "expected a note or a list of notes (strings)")
+    for i, n in enumerate(notes):
+        if not isinstance(n, str):
+            raise InputError(source, "", "source[%d]" % i, "expected a string")
+
+
+def _parse_collision_exclude(doc, names, source):
+    """collision_exclude: pairs of two different known bones (rig_io.cpp read_collision_exclude,
+    rig.cpp set_collision_exclude), as [[a, b], ...] in the file's order."""
+    pairs = doc.get("collision_exclude")
+    if pairs is None:
+        return []
+    if not isinstance(pairs, list):
+        raise InputError(source, "", "collision_exclude", "expected an array of [bone, bone] pairs")
+    for i, e in enumerate(pairs):
+        if not (isinstance(e, list) and len(e) == 2 and all(isinstance(n, str) for n in e)):
+            raise InputError(source, "", "collision_exclude[%d]" % i,
+                             'expected a pair of bone names ["a", "b"]')
+    for i, e in enumerate(pairs):
+        for n in e:
+            if n not in names:
+                raise InputError(source, "", "collision_exclude[%d]" % i, "unknown bone '%s'" % n)
+        if e[0] == e[1]:
+            raise InputError(source, "", "collision_exclude[%d]" % i, "bone '%s' is paired with "
+                             "itself (an exclusion names two different bones)" % e[0])
+    return [list(e) for e in pairs]
+
+
 def parse_rig(doc, source="<rig>"):
     """A checked rig in canonical form: bones in DFS order, heads snapped onto their parents'
     tails, frames as the engine builds them. Raises InputError with the engine's message."""
@@ -579,6 +614,13 @@ def parse_rig(doc, source="<rig>"):
         length_of[b["name"]] = norm(sub(b["tail"], b["head"]))
         out.append(b)
     rig["bones"] = out
+    _parse_source(doc, source)
+    pairs = _parse_collision_exclude(doc, tail_of, source)
+    if pairs:  # as the engine keeps them: each pair in DFS order, sorted, once
+        index = {b["name"]: k for k, b in enumerate(out)}
+        keyed = sorted({tuple(sorted(p, key=index.get)) for p in pairs},
+                       key=lambda p: (index[p[0]], index[p[1]]))
+        rig["collision_exclude"] = [list(p) for p in keyed]
     return rig
 
 

@@ -24,7 +24,8 @@ it gets Blender's single-precision frame, the same rig to 1e-5.
 
 Masses, radii, moments, defaults and free text are custom properties holding doubles and
 strings, read as they are; the rig's record (armature data, `physik_file`) keeps which
-top-level fields the file gave and any free text that is not a string.
+top-level fields the file gave, any free text that is not a string, and the file's
+collision_exclude (the pairs whose bones are still there come back).
 """
 import json
 
@@ -90,9 +91,12 @@ def _frame(bone, file_part, blender, key):
 
 
 def rig_record(doc):
-    """The JSON text for the rig: which top-level fields the file gave, and its free text that
-    is not a string (a string is a custom property the user can edit)."""
+    """The JSON text for the rig: which top-level fields the file gave, its free text that is not
+    a string (a string is a custom property the user can edit), and its collision_exclude pairs
+    (Blender has no place for them)."""
     extra = {k: doc[k] for k in FREE_TEXT if k in doc and not isinstance(doc[k], str)}
+    if "collision_exclude" in doc:
+        extra["collision_exclude"] = doc["collision_exclude"]
     return json.dumps({"keys": sorted(k for k in doc if k != "bones"), "extra": extra})
 
 

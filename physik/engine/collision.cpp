@@ -61,6 +61,7 @@ bool candidate(CollisionObjectd* o1, CollisionObjectd* o2, void* data) {
   if (d->scene->rig.bones_share_joint(a, b)) return false;
   const auto& ex = d->scene->collision.excluded_pairs;
   if (std::binary_search(ex.begin(), ex.end(), std::make_pair(a, b))) return false;
+  if (d->scene->rig.collision_excluded(a, b)) return false;  // the rig's own exclusions
   d->pairs->emplace_back(a, b);
   return false;  // false: go on
 }
@@ -96,6 +97,7 @@ struct CollisionWorld::Impl {
   BoneFrames last_frames;
   std::vector<int> last_parent;  // (nbone) the rig's parents
   std::vector<std::pair<int, int>> last_excluded;
+  std::vector<std::pair<int, int>> last_rig_excluded;
   std::vector<Contact> last_pair_contacts;
   bool has_last = false;
   std::vector<fcl::ContactPointd> sphere_box;  // FCL's sphere-box answer, scratch (capacity 1)
@@ -107,7 +109,9 @@ struct CollisionWorld::Impl {
     return has_last && last_frames.head_world == frames.head_world &&
            last_frames.tail_world == frames.tail_world &&
            last_frames.orient_world == frames.orient_world &&
-           last_parent == scene.rig.bone_parent && last_excluded == scene.collision.excluded_pairs;
+           last_parent == scene.rig.bone_parent &&
+           last_excluded == scene.collision.excluded_pairs &&
+           last_rig_excluded == scene.rig.collision_exclude;
   }
   void remember(const Scene& scene, const BoneFrames& frames);
   void build(const Rig& rig);
@@ -156,6 +160,7 @@ void CollisionWorld::Impl::remember(const Scene& scene, const BoneFrames& frames
   last_frames.orient_world = frames.orient_world;
   last_parent = scene.rig.bone_parent;
   last_excluded = scene.collision.excluded_pairs;
+  last_rig_excluded = scene.rig.collision_exclude;
   has_last = true;
 }
 

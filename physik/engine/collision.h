@@ -42,10 +42,11 @@
 //
 // Broad phase (self-collision only): FCL's DynamicAABBTreeCollisionManager over the bone
 // capsules, refitted at every call. Pairs of bones that share a joint (Rig::bones_share_joint),
-// and the scene's excluded pairs, are dropped before the narrow phase; the candidate pairs are
-// sorted so the contacts' order (and the float sums of their forces) depends on the shapes only.
-// The ground needs no broad phase: every bone is tested against it, O(n). Obstacles: each bone
-// against each box, after a bounding-box test in the box's frame (the box grown by r), O(n m).
+// and the scene's and the rig's excluded pairs (Rig::collision_exclude), are dropped before the
+// narrow phase; the candidate pairs are sorted so the contacts' order (and the float sums of their
+// forces) depends on the shapes only. The ground needs no broad phase: every bone is tested against
+// it, O(n). Obstacles: each bone against each box, after a bounding-box test in the box's frame
+// (the box grown by r), O(n m).
 //
 // The world is built on first use for a scene (the FCL objects, allocated once) and rebuilt only
 // when the rig or the settings change; a copy of a world starts empty and builds its own.

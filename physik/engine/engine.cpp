@@ -26,7 +26,7 @@ void set_pose(const Scene& scene, SimState& s, const Pose& pose, const Vec3& vel
   }
   s.pose = pose;
   // a welded bone's rotation is its weld's, whatever the pose said (kinematics.h)
-  if (rig.has_welds()) local_rotations_from_world(rig, s.frames, s.pose);
+  welded_local_rotations(rig, s.frames, s.pose);
   // the exact and implicit schemes integrate the joint-space state: take it from the world view
   if (scene.params.joint_space()) init_joint_space(rig, s);
 }
@@ -82,6 +82,21 @@ bool targets_change_now(const Scene& scene, const SimState& s) {
 
 // --- the schemes: each fills the stats of its solve (passes or substeps, mismatch, time) --------
 
+// The joint angles of the scheme's new world frames. A bone that did not turn this step and
+// whose parent did not either (both angular velocities exactly zero: integrate.h rotate_by left
+// both orientations as they were) keeps its joint angle: recomputed from the frames, an angle of
+// exactly 0 at rest comes back as round-off (1e-16 rad), which the torsion springs of locked axes
+// turn into torques, and an unstable step (the paper's scheme at dt 0.05 on a converted MuJoCo
+// humanoid) grows them into a run that leaves its rest by itself.
+void refresh_pose_gauss_seidel(const Rig& rig, SimState& s) {
+  s.pose.root_head_world = s.frames.head_world[0];
+  for (int i = 0; i < rig.nbone; ++i) {
+    const int p = rig.bone_parent[i];
+    const bool still = s.omega_world[i].isZero(0.0) && (p < 0 || s.omega_world[p].isZero(0.0));
+    if (!still) s.pose.bone_local_rotation[i] = local_rotation_from_world(rig, s.frames, i);
+  }
+}
+
 void step_gauss_seidel(const Scene& scene, SimState& s, double h, StepStats& st) {
   const Rig& rig = scene.rig;
   const auto t0 = Clock::now();
@@ -96,7 +111,7 @@ void step_gauss_seidel(const Scene& scene, SimState& s, double h, StepStats& st)
   } else {
     integrate_articulated(rig, scene.params, h, s);
   }
-  local_rotations_from_world(rig, s.frames, s.pose);
+  refresh_pose_gauss_seidel(rig, s);
 }
 
 void step_exact(const Scene& scene, SimState& s, double h, StepStats& st) {

@@ -114,14 +114,7 @@ void pose_from_derived(const Rig& rig, SimState& s) {
   s.pose.root_head_world = s.frames.head_world[0];
   s.pose.bone_local_rotation[0] =
       (rig.bone_rest_orient_parent[0].conjugate() * s.frames.orient_world[0]).normalized();
-  if (!rig.has_welds()) return;
-  for (int i = 1; i < rig.nbone; ++i) {
-    if (rig.bone_weld[i] < 0) continue;
-    const Quat& q_parent = s.frames.orient_world[rig.bone_parent[i]];
-    s.pose.bone_local_rotation[i] = (rig.bone_rest_orient_parent[i].conjugate() *
-                                     q_parent.conjugate() * s.frames.orient_world[i])
-                                        .normalized();
-  }
+  welded_local_rotations(rig, s.frames, s.pose);
 }
 
 }  // namespace

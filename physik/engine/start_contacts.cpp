@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "physik/engine/bone_overlaps.h"
 #include "physik/engine/collision.h"
 #include "physik/engine/contacts.h"
 #include "physik/model/errors.h"
@@ -55,7 +56,45 @@ StartContact deepest_start_contact(const Scene& scene) {
   return out;
 }
 
+std::vector<BoneOverlap> start_bone_overlaps(const Scene& scene) {
+  if (!scene.collision.self_collision) return {};
+  std::vector<BoneOverlap> all = bone_overlaps(
+      scene.rig, forward_kinematics(scene.rig, scene.initial_pose), scene.collision.excluded_pairs);
+  all.erase(std::remove_if(all.begin(), all.end(), [](const BoneOverlap& o) { return o.excluded; }),
+            all.end());
+  return all;
+}
+
+std::string check_start_bone_overlaps(const Scene& scene) {
+  const std::vector<BoneOverlap> overlaps = start_bone_overlaps(scene);
+  if (overlaps.empty()) return "";
+  std::string list;
+  const std::size_t shown = std::min<std::size_t>(overlaps.size(), kStartOverlapsNamed);
+  for (std::size_t i = 0; i < shown; ++i) {
+    const BoneOverlap& o = overlaps[i];
+    list += (i ? ", [\"" : "[\"") + scene.rig.bone_name[o.a] + "\", \"" + scene.rig.bone_name[o.b] +
+            "\"] (" + message_number(o.depth) + ")";
+  }
+  if (shown < overlaps.size()) {
+    list +=
+        " and " + std::to_string(overlaps.size() - shown) + " more (`physik rig info` lists all)";
+  }
+  return std::to_string(overlaps.size()) +
+         (overlaps.size() == 1 ? " bone pair overlaps" : " bone pairs overlap") +
+         " at the start under self_collision (depth in rig units): " + list +
+         "; their contact springs push them apart from the first step, so the rig moves with no "
+         "target pulling it: add the pairs to collision_exclude (the scene's, or the rig's for "
+         "every scene)";
+}
+
 std::string check_start_contacts(const Scene& scene) {
+  const std::string surface = check_start_surface_contacts(scene);
+  const std::string bones = check_start_bone_overlaps(scene);
+  if (surface.empty() || bones.empty()) return surface + bones;
+  return surface + "; and " + bones;
+}
+
+std::string check_start_surface_contacts(const Scene& scene) {
   const StartContact c = deepest_start_contact(scene);
   if (c.bone < 0 || c.fraction <= kStartContactWarnFraction) return "";
   const double radius = scene.rig.bone_collision_radius[c.bone];

@@ -18,13 +18,20 @@
 //                                        spring's k d^2 / 2 is then at least k r^2 / 2 per
 //                                        contact (50 J at the default k and r = 0.1) and launches
 //                                        the rig
-// Bones touching each other at the start (a hand resting on a hip) are common in real rigs and
-// are left alone: only the ground and the obstacles are checked.
+// Bones overlapping each other at the start are checked under `self_collision` only: every pair
+// whose capsules overlap (bone_overlaps.h) and that neither the scene's nor the rig's
+// collision_exclude names is a contact spring compressed from the first step, so the rig moves
+// with no target pulling it (a converted MuJoCo humanoid's torso and lower waist).
+// Such a start is legitimate (a hand resting on a hip) but is named in a warning with what to
+// change (collision_exclude), never refused.
 // Units: rig units, J.
 #pragma once
 
+#include <cstddef>
 #include <string>
+#include <vector>
 
+#include "physik/engine/bone_overlaps.h"
 #include "physik/model/scene.h"
 
 namespace physik {
@@ -45,6 +52,16 @@ StartContact deepest_start_contact(const Scene& scene);
 // The rule above: "" for a start at rest (or a scene without a ground or obstacles), the warning
 // (naming the bone, its depth, the surface and what to change) for a risky one; an InputError
 // naming the scene file and the surface's field for a bone whose centre line is past it.
+std::string check_start_surface_contacts(const Scene& scene);
+
+// The bone pairs that overlap at the start under self_collision and that no collision_exclude
+// names (none without self_collision), and the warning naming them ("" for none; the first
+// kStartOverlapsNamed pairs are named, the count of the rest given).
+inline constexpr std::size_t kStartOverlapsNamed = 10;
+std::vector<BoneOverlap> start_bone_overlaps(const Scene& scene);
+std::string check_start_bone_overlaps(const Scene& scene);
+
+// Both checks: the surface's warning (or its InputError) and the bone pairs', joined by "; and ".
 std::string check_start_contacts(const Scene& scene);
 
 }  // namespace physik

@@ -17,6 +17,10 @@
 // normalise; the writer keeps consecutive frames in the same hemisphere (w >= 0 on frame 0).
 // Files we write use the extension .qbvh.
 //
+// Sizes (rig_sizing.h): every bone's radius and collision radius 0.14 x its length (or
+// --radius), its mass a rod of density 1000 kg/m^3 (or mass_per_length x L), all after the scale;
+// the pairs of bones whose capsules overlap at rest are added to the rig's collision_exclude.
+//
 // BVH -> rig (pivot_rig.h): every BVH joint is a pivot; its children and End Sites give bones from
 // the joint to each distinct child offset. A joint with one such offset gives one bone named after
 // the joint (Blender's convention: bone "LeftArm" starts at joint LeftArm and carries its
@@ -45,9 +49,11 @@
 #include <string>
 #include <vector>
 
+#include "physik/engine/bone_overlaps.h"
 #include "physik/model/kinematics.h"
 #include "physik/model/pivot_rig.h"
 #include "physik/model/rig.h"
+#include "physik/model/rig_sizing.h"
 
 namespace physik {
 
@@ -94,18 +100,30 @@ Quat bvh_axes_to_rig(BvhAxes axes);
 
 struct BvhImportOptions {
   BvhAxes axes = BvhAxes::kYUp;
-  double scale = 1.0;            // rig units per file unit
-  double mass_per_length = 1.0;  // kg per rig unit (the rig format's default)
-  double radius = 0.5;           // rig units (the rig format's default)
+  double scale = 1.0;    // rig units per file unit
+  SizingOptions sizing;  // radii and masses (rig_sizing.h): by default r = 0.14 L, rod masses
+  // add the bone pairs whose capsules overlap at rest to the rig's collision_exclude
+  // (bone_overlaps.h); its cost grows with the pairs of bones piled at one point
+  bool exclude_rest_overlaps = true;
 };
 
 struct BvhAnimation {
-  PivotRig pivots;                  // the rig (pivots.rig) and its bone -> BVH joint map
-  std::vector<Pose> poses;          // one per frame
-  double frame_time = 1.0 / 30.0;   // s
-  double max_position_error = 0.0;  // rig units: largest |FK - BVH| of any joint or End Site
+  PivotRig pivots;                         // the rig (pivots.rig) and its bone -> BVH joint map
+  std::vector<Pose> poses;                 // one per frame
+  double frame_time = 1.0 / 30.0;          // s
+  double max_position_error = 0.0;         // rig units: largest |FK - BVH| of any joint or End Site
+  std::vector<BoneOverlap> rest_overlaps;  // the pairs added to the rig's collision_exclude
+  // what the file asks that the rig cannot quite be, by joint: "joint 'Hips' has 2 children at
+  // its own position (zero OFFSET: Spine, Hip2)..."
+  std::vector<std::string> warnings;
   const Rig& rig() const { return pivots.rig; }
 };
+
+// The unit a BVH file's standing figure of `height` file units x `scale` rig units looks like it
+// is in, by the height of a person (1 to 2.5 m): "centimetres" for 100 to 250 rig units,
+// "millimetres" for 1000 to 2500, "" otherwise; `suggested_scale` is then the --scale that makes
+// metres (0.01, 0.001).
+std::string guess_bvh_units(double height, double& suggested_scale);
 
 BvhAnimation bvh_to_rig(const BvhFile& bvh, const std::string& source,
                         const BvhImportOptions& options = {});

@@ -272,9 +272,15 @@ class Parser {
     if (upper(site.text) != "SITE") fail(site.line, "End Site", "expected 'Site' after 'End'");
     expect_open(kw, "an End Site");
     const Token& o = next("OFFSET");
+    if (upper(o.text) == "CHANNELS") {
+      fail(o.line, "CHANNELS", "an End Site has no channels (it is a point, only an OFFSET)");
+    }
     if (upper(o.text) != "OFFSET") fail(o.line, "End Site", "expected OFFSET");
     bvh_.joints[index].end_sites.push_back(offset());
     const Token& close = next("}");
+    if (upper(close.text) == "CHANNELS") {
+      fail(close.line, "CHANNELS", "an End Site has no channels (it is a point, only an OFFSET)");
+    }
     if (close.text != "}") {
       fail(close.line, "}",
            "unbalanced braces: the End Site at line " + std::to_string(kw.line) +

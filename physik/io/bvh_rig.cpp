@@ -108,19 +108,106 @@ Quat bvh_axes_to_rig(BvhAxes axes) {
   return Quat(Eigen::AngleAxisd(kPi / 2, Vec3::UnitX()));  // file Y -> rig Z, file Z -> rig -Y
 }
 
-BvhAnimation bvh_to_rig(const BvhFile& bvh, const std::string& source,
-                        const BvhImportOptions& options) {
-  if (!(options.scale > 0.0) || !std::isfinite(options.scale)) {
-    throw_input_error(source, "", "scale", "must be a positive number");
+namespace {
+
+// joints with several children at their own position: those children have no bone of their
+// own (pivot_rig.h, 2.), each one's rotation drives the bones below it
+void zero_offset_warnings(const BvhFile& bvh, const std::vector<PivotNode>& nodes,
+                          BvhAnimation& anim) {
+  std::vector<std::vector<int>> at_joint(nodes.size());
+  for (std::size_t c = 1; c < nodes.size(); ++c) {
+    const int p = nodes[c].parent;
+    if ((nodes[c].rest_world - nodes[p].rest_world).norm() <=
+        1e-9 * std::max(1.0, nodes[p].rest_world.norm())) {
+      at_joint[p].push_back(static_cast<int>(c));
+    }
   }
+  for (std::size_t j = 0; j < nodes.size(); ++j) {
+    if (at_joint[j].size() < 2) continue;
+    std::string names;
+    for (int c : at_joint[j]) names += (names.empty() ? "" : ", ") + nodes[c].name;
+    anim.warnings.push_back(
+        "joint '" + nodes[j].name + "' (line " + std::to_string(bvh.joints[j].line) + ") has " +
+        std::to_string(at_joint[j].size()) +
+        " children at its own position (zero OFFSET: " + names +
+        "): they get no bone of their own, and each one's rotation turns the bones below it "
+        "about that point");
+  }
+}
+
+// non-root joints whose position channels move them off their OFFSET: the rig keeps its bones'
+// lengths, so that motion is dropped (max_position_error measures it); named with the bone that
+// ends at the joint
+void position_channel_warnings(const BvhFile& bvh, const PivotBones& bones, BvhAnimation& anim) {
+  for (std::size_t j = 1; j < bvh.joints.size(); ++j) {
+    const BvhJoint& joint = bvh.joints[j];
+    const double tol = 1e-9 * std::max(1.0, joint.offset.norm());
+    const bool moved = std::any_of(bvh.frames.begin(), bvh.frames.end(), [&](const auto& row) {
+      return (bvh_local_translation(joint, row) - joint.offset).norm() > tol;
+    });
+    if (!moved) continue;
+    // the bone that ends at the joint is the one whose length the channels would change
+    const int incoming = bones.node_incoming[j];
+    const std::string names = incoming >= 0 ? "'" + bones.specs[incoming].name + "'" : "none";
+    anim.warnings.push_back("joint '" + joint.name + "' (line " + std::to_string(joint.line) +
+                            ", bone " + names +
+                            "): its position channels move it off its OFFSET, which the rig "
+                            "drops (its bones keep their lengths)");
+  }
+}
+
+// what the rig came from and what the conversion chose, in the rig's source notes and units
+void write_bvh_notes(const std::string& source, const BvhImportOptions& options,
+                     BvhAnimation& anim) {
+  Rig& rig = anim.pivots.rig;
+  std::ostringstream s;
+  s.precision(6);
+  s << "rig from-bvh " << source << ": axes "
+    << (options.axes == BvhAxes::kYUp ? "y-up (file Y is the rig's Z)" : "z-up") << ", scale "
+    << options.scale << " rig units per file unit; height " << rig.height() << " rig units";
+  double suggested = 0.0;
+  const std::string unit = guess_bvh_units(rig.height(), suggested);
+  if (!unit.empty()) s << " (looks like " << unit << ": --scale " << suggested << " makes metres)";
+  rig.source.push_back(s.str());
+  s.str("");
+  const SizingOptions& z = options.sizing;
+  s << "sizes: radius and collision radius ";
+  if (z.radius > 0.0) {
+    s << z.radius << " rig units (--radius)";
+  } else {
+    s << kRadiusPerLength << " x each bone's length";
+  }
+  s << "; mass ";
+  if (z.mass_per_length > 0.0) {
+    s << z.mass_per_length << " kg per rig unit (--mass-per-length)";
+  } else {
+    s << "a rod of density " << kBodyDensity << " kg per cubic rig unit";
+  }
+  if (z.total_mass > 0.0) s << ", scaled to " << z.total_mass << " kg in all (--total-mass)";
+  rig.source.push_back(s.str());
+  for (const std::string& w : anim.warnings) rig.source.push_back("warning: " + w);
+  if (!anim.rest_overlaps.empty()) {
+    std::string names;
+    for (const BoneOverlap& o : anim.rest_overlaps) {
+      names += (names.empty() ? "" : ", ") + rig.bone_name[o.a] + "/" + rig.bone_name[o.b];
+    }
+    rig.source.push_back("collision_exclude: " + std::to_string(anim.rest_overlaps.size()) +
+                         " bone pairs whose capsules overlap at rest: " + names);
+  }
+  std::ostringstream u;
+  u << "rig units = file units x " << options.scale << " (read as metres), kg";
+  rig.units = u.str();
+}
+
+// every joint as a pivot at its rest position in rig axes and units (rig.h's coordinate range)
+std::vector<PivotNode> bvh_pivots(const BvhFile& bvh, const std::string& source,
+                                  const BvhImportOptions& options) {
   const Quat a = bvh_axes_to_rig(options.axes);
   const double s = options.scale;
-
   std::vector<Quat> rot;
   std::vector<Vec3> pos;
   bvh_world(bvh, -1, rot, pos);
   std::vector<PivotNode> nodes(bvh.joints.size());
-  // rest positions in rig units must stay within the rig's coordinate range (rig.h)
   auto rig_point = [&](const BvhJoint& j, const Vec3& file_pos) {
     const Vec3 p = s * (a * file_pos);
     if (!(p.cwiseAbs().maxCoeff() <= kMaxCoordinate)) {
@@ -138,13 +225,37 @@ BvhAnimation bvh_to_rig(const BvhFile& bvh, const std::string& source,
     nodes[i].rest_world = rig_point(j, pos[i]);
     for (const Vec3& e : j.end_sites) nodes[i].ends_world.push_back(rig_point(j, pos[i] + e));
   }
-  const PivotBones bones = pivot_bones(nodes, source, options.mass_per_length, options.radius);
+  return nodes;
+}
+
+}  // namespace
+
+BvhAnimation bvh_to_rig(const BvhFile& bvh, const std::string& source,
+                        const BvhImportOptions& options) {
+  if (!(options.scale > 0.0) || !std::isfinite(options.scale)) {
+    throw_input_error(source, "", "scale", "must be a positive number");
+  }
+  const Quat a = bvh_axes_to_rig(options.axes);
+  const double s = options.scale;
+  const std::vector<PivotNode> nodes = bvh_pivots(bvh, source, options);
+  check_sizing_options(options.sizing);
+  PivotBones bones = pivot_bones(nodes, source);
+  for (BoneSpec& b : bones.specs) {
+    b.radius = fitted_radius(options.sizing, (b.tail_world - b.head_world).norm());
+    b.collision_radius = b.radius;
+  }
+  fit_masses(bones.specs, options.sizing);
   BvhAnimation anim;
   anim.pivots = finish_pivot_rig(nodes, bones, source, "");
   anim.frame_time = bvh.frame_time;
+  if (options.exclude_rest_overlaps) anim.rest_overlaps = exclude_rest_overlaps(anim.pivots.rig);
+  zero_offset_warnings(bvh, nodes, anim);
+  position_channel_warnings(bvh, bones, anim);
+  write_bvh_notes(source, options, anim);
 
   // per frame: every pivot's rotation and position in rig axes -> pose; check FK against BVH
-  std::vector<Quat> node_rot(nodes.size());
+  std::vector<Quat> rot, node_rot(nodes.size());
+  std::vector<Vec3> pos;
   std::vector<Vec3> node_pos(nodes.size());
   BoneFrames scratch, fk;
   std::vector<Vec3> want_head, want_tail;
@@ -165,6 +276,19 @@ BvhAnimation bvh_to_rig(const BvhFile& bvh, const std::string& source,
     }
   }
   return anim;
+}
+
+std::string guess_bvh_units(double height, double& suggested_scale) {
+  suggested_scale = 0.0;
+  if (height >= 100.0 && height <= 250.0) {
+    suggested_scale = 0.01;
+    return "centimetres";
+  }
+  if (height >= 1000.0 && height <= 2500.0) {
+    suggested_scale = 0.001;
+    return "millimetres";
+  }
+  return "";
 }
 
 BvhAnimation load_bvh(const std::string& path, const BvhImportOptions& options) {

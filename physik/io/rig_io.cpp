@@ -1,5 +1,6 @@
 #include "physik/io/rig_io.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "physik/io/axis_limits.h"
@@ -98,12 +99,91 @@ void read_mass(const Json& b, const JsonContext& ctx, const BoneDefaults& d, Bon
   }
 }
 
+// the free text: comment, units, and source (one note, or a list of notes)
+void read_notes(const Json& doc, const JsonContext& top, Rig& rig) {
+  // comment and units are kept when they are text (any other value is free text too, unread)
+  if (doc.contains("comment") && doc["comment"].is_string()) rig.comment = doc["comment"];
+  if (doc.contains("units") && doc["units"].is_string()) rig.units = doc["units"];
+  if (!doc.contains("source")) return;
+  const Json& src = doc["source"];
+  if (src.is_string()) {
+    rig.source = {src.get<std::string>()};
+    return;
+  }
+  if (!src.is_array()) top.fail("source", "expected a note or a list of notes (strings)");
+  for (std::size_t i = 0; i < src.size(); ++i) {
+    if (!src[i].is_string()) top.fail("source[" + std::to_string(i) + "]", "expected a string");
+    rig.source.push_back(src[i].get<std::string>());
+  }
+}
+
+// collision_exclude: [[bone, bone], ...], pairs of the rig's bones whose capsules never collide
+void read_collision_exclude(const Json& doc, const JsonContext& top, Rig& rig) {
+  if (!doc.contains("collision_exclude")) return;
+  const Json& ex = doc["collision_exclude"];
+  if (!ex.is_array()) top.fail("collision_exclude", "expected an array of [bone, bone] pairs");
+  std::vector<std::pair<std::string, std::string>> pairs;
+  for (std::size_t i = 0; i < ex.size(); ++i) {
+    const Json& e = ex[i];
+    if (!e.is_array() || e.size() != 2 || !e[0].is_string() || !e[1].is_string()) {
+      top.fail("collision_exclude[" + std::to_string(i) + "]",
+               "expected a pair of bone names [\"a\", \"b\"]");
+    }
+    pairs.emplace_back(e[0].get<std::string>(), e[1].get<std::string>());
+  }
+  set_collision_exclude(rig, pairs, top.file);
+}
+
+// the value most bones share (the first of the most common on ties); `values` not empty
+double most_common(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  double best = values[0];
+  std::size_t best_count = 0;
+  for (std::size_t i = 0; i < values.size();) {
+    std::size_t j = i;
+    while (j < values.size() && values[j] == values[i]) ++j;
+    if (j - i > best_count) {
+      best_count = j - i;
+      best = values[i];
+    }
+    i = j;
+  }
+  return best;
+}
+
+// a bone's collision radius is the default fraction of its length (what a bone that names none
+// gets when the defaults name none either)
+bool fraction_collision_radius(const Rig& rig, int i) {
+  const double cr0 = kCollisionRadiusPerLength * rig.bone_length[i];
+  return std::abs(rig.bone_collision_radius[i] - cr0) <= 1e-12 * cr0;
+}
+
+// the defaults the writer names: the radius most bones share, and the collision radius most
+// bones share (none when most have the default fraction of their length); each bone then
+// names only the values that differ
+BoneDefaults shared_defaults(const Rig& rig) {
+  BoneDefaults d;
+  d.radius = most_common(rig.bone_radius);
+  std::vector<double> explicit_cr;
+  for (int i = 0; i < rig.nbone; ++i) {
+    if (!fraction_collision_radius(rig, i)) explicit_cr.push_back(rig.bone_collision_radius[i]);
+  }
+  if (2 * explicit_cr.size() > static_cast<std::size_t>(rig.nbone)) {
+    const double cr = most_common(explicit_cr);
+    std::size_t count = 0;
+    for (double v : explicit_cr) count += v == cr ? 1 : 0;
+    if (2 * count > static_cast<std::size_t>(rig.nbone)) d.collision_radius = cr;
+  }
+  return d;
+}
+
 }  // namespace
 
 Rig rig_from_json(const Json& doc, const std::string& source) {
   JsonContext top{source, ""};
   top.require_object(doc, "");
-  top.only_keys(doc, {"name", "comment", "source", "units", "root", "defaults", "bones"});
+  top.only_keys(doc, {"name", "comment", "source", "units", "root", "defaults", "bones",
+                      "collision_exclude"});
   RootJoint root = RootJoint::kFree;
   if (doc.contains("root")) {
     const std::string r = top.string(doc, "root");
@@ -139,7 +219,10 @@ Rig rig_from_json(const Json& doc, const std::string& source) {
     }
     specs.push_back(bone_from_json(bones[i], JsonContext{source, element}, defaults));
   }
-  return build_rig(specs, source, top.string_or(doc, "name", ""), root);
+  Rig rig = build_rig(specs, source, top.string_or(doc, "name", ""), root);
+  read_notes(doc, top, rig);
+  read_collision_exclude(doc, top, rig);
+  return rig;
 }
 
 Rig rig_from_json_text(const std::string& text, const std::string& source) {
@@ -151,6 +234,7 @@ Rig load_rig(const std::string& path) {
 }
 
 Json rig_to_json(const Rig& rig) {
+  const BoneDefaults d = shared_defaults(rig);
   Json bones = Json::array();
   for (int i = 0; i < rig.nbone; ++i) {
     Json b;
@@ -171,21 +255,35 @@ Json rig_to_json(const Rig& rig) {
     if (!lim.empty()) b["limits_deg"] = lim;
     if (rig.bone_weld[i] >= 0) b["weld"] = rig.bone_name[rig.bone_weld[i]];
     b["mass"] = rig.bone_mass[i];
-    b["radius"] = rig.bone_radius[i];
+    if (rig.bone_radius[i] != d.radius) b["radius"] = rig.bone_radius[i];
     // explicit moments only where they are not the cylinder's
     const Vec3& in = rig.bone_inertia_local[i];
     const Vec3 cyl = cylinder_inertia(rig.bone_mass[i], rig.bone_radius[i], rig.bone_length[i]);
     if ((in - cyl).norm() > 1e-12 * cyl.norm()) b["inertia_local"] = {in.x(), in.y(), in.z()};
-    // the collision radius only where it is not the default fraction of the length
+    // the collision radius only where the defaults do not give it
     const double cr = rig.bone_collision_radius[i];
-    const double cr0 = kCollisionRadiusPerLength * rig.bone_length[i];
-    if (std::abs(cr - cr0) > 1e-12 * cr0) b["collision_radius"] = cr;
+    if (d.collision_radius > 0.0 ? cr != d.collision_radius : !fraction_collision_radius(rig, i)) {
+      b["collision_radius"] = cr;
+    }
     bones.push_back(b);
   }
   Json doc;
   if (!rig.name.empty()) doc["name"] = rig.name;
   if (rig.root_joint != RootJoint::kFree) doc["root"] = to_string(rig.root_joint);
+  if (!rig.comment.empty()) doc["comment"] = rig.comment;
+  if (!rig.units.empty()) doc["units"] = rig.units;
+  if (rig.source.size() == 1) doc["source"] = rig.source[0];
+  if (rig.source.size() > 1) doc["source"] = rig.source;
+  doc["defaults"] = {{"radius", d.radius}};
+  if (d.collision_radius > 0.0) doc["defaults"]["collision_radius"] = d.collision_radius;
   doc["bones"] = bones;
+  if (!rig.collision_exclude.empty()) {
+    Json ex = Json::array();
+    for (const auto& [a, b] : rig.collision_exclude) {
+      ex.push_back({rig.bone_name[a], rig.bone_name[b]});
+    }
+    doc["collision_exclude"] = ex;
+  }
   return doc;
 }
 

@@ -3,8 +3,10 @@
 // {
 //   "name": "pinhead",                              optional
 //   "root": "free" | "pinned" | "fixed",            optional (free): the root's joint to the world
-//   "defaults": {"mass_per_length": 1.0, "radius": 0.5,    optional, per-bone fallbacks
-//                "collision_radius": 0.05},
+//   "comment": "...", "units": "...",                optional free text, kept
+//   "source": "..." | ["...", ...],                 optional notes (a converter's), kept
+//   "defaults": {"mass_per_length": 1.0, "radius": 0.5,    optional, for every bone that
+//                "collision_radius": 0.05},                names no value of its own
 //   "bones": [
 //     {"name": "torso", "parent": "head" | null,     required; exactly one null (the root)
 //      "head": [x, y, z], "tail": [x, y, z],        world rest positions, rig units
@@ -19,7 +21,8 @@
 //                                                   (default 0.06 x the bone's length)
 //      "weld": "torso"}                             optional: welded to its parent or to a
 //                                                   sibling listed before it (no limits then)
-//   ]
+//   ],
+//   "collision_exclude": [["a", "b"], ...]          optional bone pairs that never collide
 // }
 #pragma once
 
@@ -34,7 +37,10 @@ Rig load_rig(const std::string& path);
 Rig rig_from_json(const Json& doc, const std::string& source);
 Rig rig_from_json_text(const std::string& text, const std::string& source);
 
-// Writes the rig back in the same format (explicit rest frames, total masses, limits in deg).
+// Writes the rig back in the same format (explicit rest frames, total masses, limits in deg): the
+// radius most bones share, and a collision radius most bones share, once in "defaults" (each
+// bone names only the values that differ), the notes and the exclusions; reading it back gives
+// the same rig.
 Json rig_to_json(const Rig& rig);
 
 }  // namespace physik

@@ -273,7 +273,10 @@ std::pair<int, int> excluded_pair(const JsonContext& top, const Json& e, const s
     b[k] = rig.find_bone(name);
     if (b[k] < 0) top.fail(field, "unknown bone '" + name + "'");
   }
-  if (b[0] == b[1]) top.fail(field, "a bone paired with itself");
+  if (b[0] == b[1]) {
+    top.fail(field, "bone '" + rig.bone_name[b[0]] +
+                        "' is paired with itself (an exclusion names two different bones)");
+  }
   return {std::min(b[0], b[1]), std::max(b[0], b[1])};
 }
 

@@ -26,6 +26,11 @@ std::vector<std::string> targets_limits_column_names(const Scene& scene) {
       names.push_back(csv_field(bone + ".limit_excess_" + axis));
     }
   }
+  for (const std::string& bone : scene.rig.bone_name) {
+    for (const char* part : {"w", "x", "y", "z"}) {
+      names.push_back(csv_field(bone + ".orient_" + part));
+    }
+  }
   return names;
 }
 
@@ -45,11 +50,17 @@ bool TargetsLimitsCsv::write_row(const SimState& s) {
   for (const Vec3& e : excess_) {
     if (!finite(e)) return false;
   }
+  for (const Quat& q : s.frames.orient_world) {
+    if (!q.coeffs().allFinite()) return false;
+  }
   out_ << s.step;
   for (const Vec3& t : s.target_effective_world) {
     out_ << "," << t.x() << "," << t.y() << "," << t.z();
   }
   for (const Vec3& e : excess_) out_ << "," << e.x() << "," << e.y() << "," << e.z();
+  for (const Quat& q : s.frames.orient_world) {
+    out_ << "," << q.w() << "," << q.x() << "," << q.y() << "," << q.z();
+  }
   out_ << "\n";
   return true;
 }

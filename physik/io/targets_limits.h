@@ -3,7 +3,8 @@
 // axis moves neither end, so a bone past a joint limit cannot be told from trajectory.csv; and
 // an interpolated target (linear, polar) is the engine's, not the scene file's.
 //
-//   step,<cp>.target_x,<cp>.target_y,<cp>.target_z,...,<bone>.limit_excess_x,..._y,..._z
+//   step,<cp>.target_x,<cp>.target_y,<cp>.target_z,...,<bone>.limit_excess_x,..._y,..._z,...,
+//   <bone>.orient_w,..._x,..._y,..._z,...
 //
 // One row per row of trajectory.csv (the recorder writes both together, same steps):
 //   <cp>.target_*        the target the control point's spring pulls toward after the step
@@ -11,6 +12,8 @@
 //                        residual columns (the index when the point has no name)
 //   <bone>.limit_excess_* the signed excess of the bone's joint angle past its limit on each
 //                        local axis (physik/model/joint_angles.h), rad; 0 within the limits
+//   <bone>.orient_*      the bone's orientation, the unit quaternion world <- bone (w, x, y, z):
+//                        its local axes in the world, twist included (the viewer draws them)
 // Names are CSV-quoted where they need it (RFC 4180), 9 significant digits.
 #pragma once
 
@@ -26,7 +29,8 @@ namespace physik {
 // The file's name in a run folder.
 inline constexpr const char* kTargetsLimitsFile = "targets_and_limits.csv";
 
-// The column names after `step`, CSV-quoted: every control point's target, every bone's excess.
+// The column names after `step`, CSV-quoted: every control point's target, every bone's excess,
+// every bone's orientation.
 std::vector<std::string> targets_limits_column_names(const Scene& scene);
 
 class TargetsLimitsCsv {

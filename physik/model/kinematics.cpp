@@ -44,16 +44,27 @@ BoneFrames forward_kinematics(const Rig& rig, const Pose& pose) {
   return f;
 }
 
+Quat local_rotation_from_world(const Rig& rig, const BoneFrames& frames, int i) {
+  const int p = rig.bone_parent[i];
+  const Quat parent_world = p < 0 ? Quat::Identity() : frames.orient_world[p];
+  // R_i = R_parent * R_rest_in_parent * q  =>  q = R_rest_in_parent^-1 R_parent^-1 R_i
+  return (rig.bone_rest_orient_parent[i].conjugate() * parent_world.conjugate() *
+          frames.orient_world[i])
+      .normalized();
+}
+
 void local_rotations_from_world(const Rig& rig, const BoneFrames& frames, Pose& out) {
   out.bone_local_rotation.resize(rig.nbone);
   out.root_head_world = frames.head_world[0];
   for (int i = 0; i < rig.nbone; ++i) {
-    const int p = rig.bone_parent[i];
-    const Quat parent_world = p < 0 ? Quat::Identity() : frames.orient_world[p];
-    // R_i = R_parent * R_rest_in_parent * q  =>  q = R_rest_in_parent^-1 R_parent^-1 R_i
-    out.bone_local_rotation[i] = (rig.bone_rest_orient_parent[i].conjugate() *
-                                  parent_world.conjugate() * frames.orient_world[i])
-                                     .normalized();
+    out.bone_local_rotation[i] = local_rotation_from_world(rig, frames, i);
+  }
+}
+
+void welded_local_rotations(const Rig& rig, const BoneFrames& frames, Pose& pose) {
+  if (!rig.has_welds()) return;
+  for (int i = 1; i < rig.nbone; ++i) {
+    if (rig.welded(i)) pose.bone_local_rotation[i] = local_rotation_from_world(rig, frames, i);
   }
 }
 

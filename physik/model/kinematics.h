@@ -44,6 +44,13 @@ BoneFrames forward_kinematics(const Rig& rig, const Pose& pose);
 // Inverse of FK for orientations: the local rotations and root position that reproduce the given
 // world orientations (heads other than the root's are ignored).
 void local_rotations_from_world(const Rig& rig, const BoneFrames& frames, Pose& out);
+// One bone's local rotation from the world orientations (the same expression).
+Quat local_rotation_from_world(const Rig& rig, const BoneFrames& frames, int bone);
+
+// The local rotations of the welded bones only (rig.h "Welds"), from their world orientations,
+// which forward kinematics puts at their welds' frames whatever a pose says: a pose made
+// consistent with its frames, every other bone's rotation left exactly as it was.
+void welded_local_rotations(const Rig& rig, const BoneFrames& frames, Pose& pose);
 
 // Rotation vector of a unit quaternion (angle in [0, pi], radians times unit axis).
 Vec3 rotation_vector(const Quat& q);

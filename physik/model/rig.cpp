@@ -112,6 +112,39 @@ bool Rig::bones_share_joint(int a, int b) const {
   return pa == b || pb == a || (pa >= 0 && pa == pb) || bone_body[a] == bone_body[b];
 }
 
+bool Rig::collision_excluded(int a, int b) const {
+  const std::pair<int, int> key{std::min(a, b), std::max(a, b)};
+  return std::binary_search(collision_exclude.begin(), collision_exclude.end(), key);
+}
+
+void set_collision_exclude(Rig& rig, const std::vector<std::pair<std::string, std::string>>& pairs,
+                           const std::string& source) {
+  std::unordered_map<std::string, int> index_of;
+  index_of.reserve(rig.nbone);
+  for (int b = 0; b < rig.nbone; ++b) index_of.emplace(rig.bone_name[b], b);
+  std::vector<std::pair<int, int>> out;
+  out.reserve(pairs.size());
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    const std::string field = "collision_exclude[" + std::to_string(i) + "]";
+    int b[2];
+    for (int k = 0; k < 2; ++k) {
+      const std::string& name = k == 0 ? pairs[i].first : pairs[i].second;
+      auto it = index_of.find(name);
+      if (it == index_of.end()) throw_input_error(source, "", field, "unknown bone '" + name + "'");
+      b[k] = it->second;
+    }
+    if (b[0] == b[1]) {
+      throw_input_error(source, "", field,
+                        "bone '" + pairs[i].first +
+                            "' is paired with itself (an exclusion names two different bones)");
+    }
+    out.emplace_back(std::min(b[0], b[1]), std::max(b[0], b[1]));
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  rig.collision_exclude = std::move(out);
+}
+
 namespace {
 
 // stage 1: names are non-empty, printable UTF-8 and unique; returns name -> index in `specs`

@@ -38,6 +38,7 @@
 
 #include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "physik/model/types.h"
@@ -177,7 +178,24 @@ struct Rig {
   // two bones meet at one joint (parent and child, or two children of one parent) or belong to
   // one rigid body (welded together): their collision capsules never collide
   bool bones_share_joint(int a, int b) const;
+
+  // further bone pairs whose capsules never collide, in every scene of this rig (the rig file's
+  // collision_exclude: e.g. the pairs a converter found overlapping at rest), each (lower index,
+  // higher index), sorted, unique; a scene's own collision_exclude adds to them
+  std::vector<std::pair<int, int>> collision_exclude;
+  bool collision_excluded(int a, int b) const;  // the pair is in collision_exclude
+
+  // the rig file's free text, kept so that a rig written back still says what it is
+  std::string comment;
+  std::string units;                // e.g. "metres (BVH centimetres x 0.01), kg"
+  std::vector<std::string> source;  // notes: where the rig came from, what a converter changed
 };
+
+// Sets rig.collision_exclude from bone-name pairs (sorted, duplicates dropped). An unknown bone
+// or a bone paired with itself is an InputError naming `source`, the field
+// "collision_exclude[i]" and the bone.
+void set_collision_exclude(Rig& rig, const std::vector<std::pair<std::string, std::string>>& pairs,
+                           const std::string& source);
 
 // Cylinder inertia about the centre, bone-local axes (local y along the bone). kg m^2.
 Vec3 cylinder_inertia(double mass, double radius, double length);

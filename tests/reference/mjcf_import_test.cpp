@@ -155,8 +155,8 @@ TEST(MjcfImport, MassAndInertiaCarryOver) {
 
 // Capsule geoms give the bones' radii, in the model's lengths: the capsule of the bone's body, or
 // of a body at its head (the shin's for the bone that follows the zero-offset shin_twist); a body
-// with only a sphere (the head) gives the sphere's; a bone with neither (the foot's box) keeps the
-// rig defaults and is reported.
+// with only a sphere (the head) gives the sphere's; a bone with neither (the foot's box) gets
+// kRadiusPerLength x its length (rig_sizing.h) for both, and is reported.
 TEST(MjcfImport, CapsuleRadiiBecomeBoneRadii) {
   const MjcfRig mr = load_mjcf(write_temp("testman_radii.xml", kModel));
   const Rig& rig = mr.rig();
@@ -169,11 +169,10 @@ TEST(MjcfImport, CapsuleRadiiBecomeBoneRadii) {
     EXPECT_DOUBLE_EQ(rig.bone_collision_radius[b], r) << name;
     EXPECT_DOUBLE_EQ(rig.bone_radius[b], r) << name;
   }
-  EXPECT_EQ(mr.report.bones_default_radius, std::vector<std::string>{"foot"});
+  EXPECT_EQ(mr.report.bones_fitted_radius, std::vector<std::string>{"foot"});
   const int foot = rig.find_bone("foot");
-  EXPECT_DOUBLE_EQ(rig.bone_radius[foot], 0.5);
-  EXPECT_NEAR(rig.bone_collision_radius[foot], kCollisionRadiusPerLength * rig.bone_length[foot],
-              1e-12);
+  EXPECT_DOUBLE_EQ(rig.bone_radius[foot], kRadiusPerLength * rig.bone_length[foot]);
+  EXPECT_EQ(rig.bone_collision_radius[foot], rig.bone_radius[foot]);
 }
 
 TEST(MjcfImport, LimitsCarryOver) {
@@ -182,10 +181,12 @@ TEST(MjcfImport, LimitsCarryOver) {
   MjModelPtr m(mj_loadXML((::testing::TempDir() + "testman2.xml").c_str(), nullptr, nullptr, 0));
   const int forearm_body = mj_name2id(m.get(), mjOBJ_BODY, "forearm");
   const int fa = rig.find_bone("forearm");
-  // elbow: hinge about body y, perpendicular to the bone (along body x) -> local x, [-150, 0]
+  // elbow: hinge about body y, perpendicular to the bone (along body x) -> local x, [-150, 0];
+  // the rest angle 0 is inside its torsion band (0.1 of the range from each end), so the max is
+  // widened until the band ends at rest: 150 x 0.1 / 0.9 deg (rest_limits.h)
   EXPECT_TRUE(rig.bone_limit[fa][0].limited);
   EXPECT_NEAR(rad2deg(rig.bone_limit[fa][0].min), -150, 1e-9);
-  EXPECT_NEAR(rad2deg(rig.bone_limit[fa][0].max), 0, 1e-9);
+  EXPECT_NEAR(rad2deg(rig.bone_limit[fa][0].max), 150 * 0.1 / 0.9, 1e-6);
   EXPECT_TRUE(rig.bone_limit[fa][1].locked());
   EXPECT_TRUE(rig.bone_limit[fa][2].locked());
   EXPECT_EQ(rig.bone_dof(fa), 1);
@@ -205,7 +206,10 @@ TEST(MjcfImport, LimitsCarryOver) {
   const int sh = rig.find_bone("shin_twist");
   EXPECT_EQ(rig.bone_dof(sh), 2);
   EXPECT_NEAR(rad2deg(rig.bone_limit[sh][0].min), -160, 1e-9);
-  EXPECT_NEAR(rad2deg(rig.bone_limit[sh][0].max), -2, 1e-9);
+  EXPECT_NEAR(rad2deg(rig.bone_limit[sh][0].max), 160 * 0.1 / 0.9, 1e-6);  // -2, widened
+  EXPECT_EQ(mr.report.widened_limits,
+            (std::vector<std::string>{"forearm x: [-150, 0] -> [-150, 16.67] deg",
+                                      "shin_twist x: [-160, -2] -> [-160, 17.78] deg"}));
   EXPECT_FALSE(rig.bone_limit[sh][1].limited);
   EXPECT_TRUE(rig.bone_limit[sh][2].locked());
   // the shin's mass goes to the bone that starts at its origin

@@ -56,6 +56,7 @@ SKIPPED = 77
 # the viewer's colours (viewer/viewer.js PALETTE, HIGHLIGHT, CONTACT_COLOR, BOX_COLOR): hues in
 # degrees
 BLUE, ORANGE, HIGHLIGHT, CONTACT, BOX = 205, 28, 346, 300, 44
+AXIS_X, AXIS_Y, AXIS_Z = 0, 120, 225  # AXIS_COLORS
 HOSTILE = '</script><img src=x onerror="window.__pwned=1;alert(1)">'
 HOSTILE_BONE = '"><svg onload="window.__pwned=2">'
 HOSTILE_POINT = "<script>window.__pwned=3</script>&amp;,\"tip\""
@@ -67,14 +68,17 @@ def physik(*args):
     return p.returncode, p.stderr
 
 
-def chain_rig(names=("b0", "b1", "b2"), name="chain3", locked_middle=False):
-    """Three bones of length 1 up +Z, radius 0.2; optionally the middle joint locked."""
+def chain_rig(names=("b0", "b1", "b2"), name="chain3", locked_middle=False, middle_limits=None):
+    """Three bones of length 1 up +Z, radius 0.2; optionally the middle joint locked, or limited
+    by `middle_limits` (a limits_deg object)."""
     bones = []
     for k, n in enumerate(names):
         b = {"name": n, "parent": names[k - 1] if k else None, "head": [0, 0, k],
              "tail": [0, 0, k + 1], "radius": 0.2}
         if locked_middle and k == 1:
             b["limits_deg"] = {"x": [0, 0], "y": [0, 0], "z": [0, 0]}
+        if middle_limits and k == 1:
+            b["limits_deg"] = middle_limits
         bones.append(b)
     return {"name": name, "bones": bones}
 
@@ -281,6 +285,39 @@ class ViewCommandTest(unittest.TestCase):
         self.assertIn("--max-frames", msg)
         self.assertIn("must be at least 2", msg)
 
+    def test_bone_orientations_and_limits_are_in_the_page(self):
+        out = os.path.join(self.tmp, "axes.html")
+        self.assertEqual(physik("view", self.run_dir, "--out", out)[0], 0)
+        run = page_data(out)["runs"][0]
+        bones = run["bones"]
+        self.assertEqual(bones["lengths"], [1.0, 1.0, 1.0])
+        self.assertEqual(bones["limits"], [[None] * 3] * 3)  # chain_rig's bones are free
+        self.assertEqual(len(bones["rest_in_parent"]), 3)
+        quats = struct.unpack("<%df" % (run["frames"] * 3 * 4),
+                              base64.b64decode(run["orientations"]))
+        # unit quaternions, and at step 0 the rest pose: every bone along +Z, so its frame is
+        # +90 deg about x from the world's (local +y up the bone)
+        for k in range(0, len(quats), 4):
+            self.assertAlmostEqual(sum(q * q for q in quats[k:k + 4]), 1.0, places=5)
+        s = math.sqrt(0.5)
+        for b in range(3):
+            self.assertEqual([round(q, 6) for q in quats[4 * b:4 * b + 4]],
+                             [round(s, 6), 0.0, 0.0, round(s, 6)])
+
+    def test_an_older_table_without_orientations_still_shows(self):
+        run = self.copy_run("older_table")
+        path = os.path.join(run, "targets_and_limits.csv")
+        rows = [l.split(",") for l in open(path).read().splitlines()]
+        keep = [k for k, name in enumerate(rows[0]) if ".orient_" not in name]
+        self.assertEqual(len(rows[0]) - len(keep), 12)  # 3 bones x w x y z
+        open(path, "w").write("\n".join(",".join(r[k] for k in keep) for r in rows) + "\n")
+        out = os.path.join(self.tmp, "older.html")
+        status, err = physik("view", run, "--out", out)
+        self.assertEqual(status, 0, err)
+        data = page_data(out)["runs"][0]
+        self.assertIsNone(data["orientations"])
+        self.assertTrue(any("no bone orientations" in n for n in data["notes"]), data["notes"])
+
     def test_contacts_are_in_the_page_only_where_recorded(self):
         drop = simulate(drop_scene(os.path.join(self.tmp, "d")), os.path.join(self.tmp, "drop"),
                         "--every", "5")
@@ -352,10 +389,13 @@ def of_hue(rgb, h, tol):
     return s >= 0.35 and v >= 0.15 and abs((360 * hh - h + 180) % 360 - 180) <= tol
 
 
-def hue_counts(png, hues, tol=18):
-    """Pixels (of a PNG screenshot) of each hue, in degrees, among the saturated ones."""
+def hue_counts(png, hues, tol=18, size=(250, 250)):
+    """Pixels (of a PNG screenshot, resized to `size` unless None) of each hue, in degrees, among
+    the saturated ones."""
     from PIL import Image
-    img = Image.open(io.BytesIO(png)).convert("RGB").resize((250, 250))
+    img = Image.open(io.BytesIO(png)).convert("RGB")
+    if size:
+        img = img.resize(size)
     counts = {h: 0 for h in hues}
     for rgb in img.getdata():
         for h in hues:
@@ -380,11 +420,15 @@ class BrowserTest(unittest.TestCase):
                            os.path.join(t, HOSTILE_FOLDER), "--every", "2")
         drop = simulate(drop_scene(t + "/s4"), t + "/drop", "--every", "2")
         seated = simulate(box_scene(t + "/s5", [SEAT]), t + "/seated", "--every", "2")
+        limited_rig = chain_rig(middle_limits={"x": [-30, 60], "z": [-10, 10], "y": [0, 0]})
+        limited = simulate(chain_scene(t + "/s6", limited_rig, 1.5), t + "/limited", "--every",
+                           "2")
         cls.pages = {"single": t + "/single.html", "overlay": t + "/overlay.html",
                      "hostile": t + "/hostile.html", "drop": t + "/drop.html",
-                     "seated": t + "/seated.html"}
+                     "seated": t + "/seated.html", "limited": t + "/limited.html"}
         for args in ([right, "--out", cls.pages["single"]], [drop, "--out", cls.pages["drop"]],
                      [seated, "--out", cls.pages["seated"]],
+                     [limited, "--out", cls.pages["limited"]],
                      [right, left, "--out", cls.pages["overlay"]],
                      [hostile, "--title", HOSTILE, "--out", cls.pages["hostile"]]):
             status, err = physik("view", *args)
@@ -466,18 +510,85 @@ class BrowserTest(unittest.TestCase):
         self.assertGreater(counts[ORANGE], 300, counts)
         self.assertEqual(self.errors(), [])
 
-    def test_a_bone_past_its_limit_is_highlighted(self):
+    def test_a_bone_past_its_limit_is_outlined_and_keeps_its_colour(self):
         data = page_data(self.pages["hostile"])["runs"][0]
         canvas = self.load("hostile")
-        self.assertEqual(hue_counts(self.settled_canvas(canvas), (HIGHLIGHT,))[HIGHLIGHT], 0)
+        before = hue_counts(self.settled_canvas(canvas), (HIGHLIGHT, BLUE))
+        self.assertEqual(before[HIGHLIGHT], 0)
         self.js("var v = window.physikViewers[0]; v.setFrame(v.times.length - 1);")
         readout = self.wait_for(
             "var t = document.querySelectorAll('.physik-viewer tbody td')[5].textContent;"
             "return t !== 'none' && t", "the limit readout")
         self.assertIn(HOSTILE_BONE, readout)  # the locked joint's bone, by name
-        counts = hue_counts(self.settled_canvas(canvas), (HIGHLIGHT,))
+        counts = hue_counts(self.settled_canvas(canvas), (HIGHLIGHT, BLUE))
         self.shot("limit_highlighted")
-        self.assertGreater(counts[HIGHLIGHT], 100, (counts, data["notes"]))
+        self.assertGreater(counts[HIGHLIGHT], 50, (counts, data["notes"]))
+        # the bones keep the run's colour: the outline is around them, not instead of them
+        self.assertGreater(counts[BLUE], 0.6 * before[BLUE], (before, counts))
+        self.assertGreater(counts[BLUE], counts[HIGHLIGHT], counts)
+
+    def axis_counts(self, canvas):
+        # at the canvas's own resolution: the axes are lines one pixel wide
+        return hue_counts(self.settled_canvas(canvas), (AXIS_X, AXIS_Y, AXIS_Z), tol=12,
+                          size=None)
+
+    def test_axes_and_limit_ranges_show_with_their_toggle(self):
+        canvas = self.load("limited")
+        off = self.axis_counts(canvas)
+        toggle = [l for l in self.driver.find_elements("css selector", ".physik-viewer label")
+                  if l.text.strip() == "axes and limits"]
+        self.assertEqual(len(toggle), 1)
+        toggle[0].find_element("css selector", "input").click()
+        self.wait_for("return window.physikViewers[0].runs[0].axes.visible", "the axes")
+        on = self.axis_counts(canvas)
+        self.shot("axes_and_limits")
+        for hue in (AXIS_X, AXIS_Y, AXIS_Z):
+            self.assertGreater(on[hue], off[hue] + 20, (off, on))
+        # two fans on the middle bone (x and z: y is locked), each an arc 0.4 of its length from
+        # its head and its two end radii, spanning the limit: [-30, 60] about x is 90 deg
+        fans = self.js("var r = window.physikViewers[0].runs[0]; return r.fans.map("
+                       "function (f) { return [f.bone, f.axis, f.min, f.max]; })")
+        self.assertEqual([f[:2] for f in fans], [[1, 0], [1, 2]])
+        self.assertAlmostEqual(math.degrees(fans[0][3] - fans[0][2]), 90.0, places=6)
+        geometry = self.js(
+            "var v = window.physikViewers[0], r = v.runs[0], f = r.frameAt[v.frame];"
+            "var p = r.axes.geometry.attributes.position.array, o = 6 * 9;"  # after 9 axes
+            "var h = [r.positions[(f * 3 + 1) * 6], r.positions[(f * 3 + 1) * 6 + 1],"
+            "         r.positions[(f * 3 + 1) * 6 + 2]];"
+            "var d = []; for (var i = 0; i < 18; i++) {"
+            "  var k = o + 6 * i + 3; d.push(Math.hypot(p[k] - h[0], p[k + 1] - h[1],"
+            "                                           p[k + 2] - h[2])); }"
+            "var a = [p[o + 3] - h[0], p[o + 4] - h[1], p[o + 5] - h[2]],"
+            "    b = [p[o + 105] - h[0], p[o + 106] - h[1], p[o + 107] - h[2]];"  # 6 x 17 + 3
+            "var c = (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) / (Math.hypot.apply(null, a) *"
+            "        Math.hypot.apply(null, b));"
+            "return [d, Math.acos(Math.max(-1, Math.min(1, c))) * 180 / Math.PI];")
+        for dist in geometry[0][:17]:
+            self.assertAlmostEqual(dist, 0.4, places=4)  # on the arc, 0.4 x length 1
+        self.assertAlmostEqual(geometry[1], 90.0, places=3)  # the min's and max's radii
+        self.assertEqual(self.errors(), [])
+
+    def test_a_floor_grid_only_where_the_scene_has_a_ground(self):
+        grids = "return window.physikViewers[0].scene.children.filter(" \
+                "function (c) { return c instanceof THREE.GridHelper; }).length"
+        self.load("single")
+        self.assertEqual(self.js(grids), 0)
+        self.load("drop")
+        self.assertEqual(self.js(grids), 1)
+
+    def dark_pixels(self, canvas):
+        from PIL import Image
+        img = Image.open(io.BytesIO(self.settled_canvas(canvas))).convert("RGB")
+        return sum(1 for p in img.getdata() if max(p) < 40)
+
+    def test_targets_have_their_own_colour(self):
+        canvas = self.load("overlay")
+        shown = self.dark_pixels(canvas)
+        self.js("window.physikViewers[0].setTargetsShown(false);")
+        hidden = self.dark_pixels(canvas)
+        # the targets of both runs are drawn in TARGET_COLOR (black), nothing else is that dark
+        self.assertGreater(shown, 100, (shown, hidden))
+        self.assertLess(hidden, 0.1 * shown, (shown, hidden))
 
     def contacts_at(self, canvas, frame):
         """At timeline entry `frame`: the markers placed, the readout's contacts cell, and the
