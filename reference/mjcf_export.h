@@ -75,7 +75,10 @@ MjcfOptions mjcf_contacts(const Scene& scene, MjcfOptions options);
 // InputError naming the rig file.
 constexpr int kMaxMjcfDepth = 5000;
 
-// The MJCF text of the rig, in one file (names as XML entities where they hold & < > " ').
+// The MJCF text of the rig, in one file (names as XML entities where they hold & < > " ', and
+// unique where MuJoCo needs them so: a bone named "world", MuJoCo's world body, is written
+// "world_2", and a ground or box whose name a bone has takes the first free "_2", "_3" suffix;
+// comments carry names with "--" broken up).
 // MuJoCo 2.2.2's XML parser rejects elements nested about 100 deep (XML_ELEMENT_DEPTH_EXCEEDED):
 // one file holds rigs up to about 95 bones deep.
 std::string rig_to_mjcf(const Rig& rig, const MjcfOptions& options);

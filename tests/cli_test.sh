@@ -111,6 +111,25 @@ bad_contact "obstacle without extents" '"obstacles": [{"name": "seat", "box": {"
 bad_contact "obstacle with a negative extent" '"obstacles": [{"name": "seat", "box": {"center": [0, 0, 0], "half_extents": [1, -0.5, 1]}}]' "c.json: obstacles[0] box: field 'half_extents': each must be positive"
 bad_contact "obstacle with an extent beyond range" '"obstacles": [{"name": "seat", "box": {"center": [0, 0, 0], "half_extents": [1, 1e300, 1]}}]' "c.json: obstacles[0] box: field 'half_extents': a coordinate beyond"
 bad_contact "duplicate obstacle" '"obstacles": [{"name": "seat", "box": {"center": [0, 0, 0], "half_extents": [1, 1, 1]}}, {"name": "seat", "box": {"center": [0, 3, 0], "half_extents": [1, 1, 1]}}]' "c.json: obstacles[1]: field 'name': duplicate obstacle name 'seat'"
+# a control character in any name a file carries is refused before it reaches MuJoCo (whose parser
+# rejected the MJCF: exit 1, "internal error"), naming the file and the field
+bad_contact "obstacle name with a NUL" '"obstacles": [{"name": "o\u0000", "box": {"center": [0, 0, -1.5], "half_extents": [1, 1, 0.5]}}]' "c.json: obstacles[0]: field 'name': control character 0x00 at offset 1"
+printf '{"rig": "%s", "obstacles": [{"name": "o\\u0000", "box": {"center": [0, 0, -1.5], "half_extents": [1, 1, 0.5]}}]}' "$rig" > "$tmp/nul_obstacle.json"
+check "names: export-mjcf refuses a NUL obstacle" 2 "$bin" export-mjcf "$rig" --contacts "$tmp/nul_obstacle.json" --out "$tmp/nul.xml"
+expect_in "names: export-mjcf names the field" "$tmp/err" "nul_obstacle.json: obstacles[0]: field 'name': control character 0x00"
+check "names: simulate --reference refuses it first" 2 "$bin" simulate "$tmp/nul_obstacle.json" --reference mujoco --out "$tmp/nul_ref" --quiet
+[ ! -e "$tmp/nul_ref/trajectory.csv" ] && pass=$((pass+1)) || { fail=$((fail+1)); echo "FAIL names: a run was written before the refusal"; }
+printf '{"name": "r\\u0000", "bones": [{"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,1]}]}' > "$tmp/nul_rig.json"
+check "names: a rig name with a NUL" 2 "$bin" export-mjcf "$tmp/nul_rig.json"
+expect_in "names: the rig's name field" "$tmp/err" "nul_rig.json: field 'name': control character 0x00 at offset 1"
+# names the readers accept come back from MuJoCo's parser: its own "world", the ground's name,
+# markup and an XML comment's end, in a rig and a scene with a ground and a box
+printf '{"name": "r--><", "bones": [{"name": "world", "parent": null, "head": [0,0,0.5], "tail": [0,0,1.5]}, {"name": "ground", "parent": "world", "head": [0,0,1.5], "tail": [0,0,2.5]}, {"name": "a\\"<&>--", "parent": "ground", "head": [0,0,2.5], "tail": [0,0,3.5]}]}' > "$tmp/hostile_rig.json"
+printf '{"rig": "hostile_rig.json", "ground": {}, "self_collision": true, "obstacles": [{"name": "ground", "box": {"center": [3, 0, 0.5], "half_extents": [0.5, 0.5, 0.5]}}]}' > "$tmp/hostile_scene.json"
+check "names: hostile names export" 0 "$bin" export-mjcf "$tmp/hostile_rig.json" --contacts "$tmp/hostile_scene.json" --out "$tmp/hostile.xml"
+expect_in "names: a bone named world is renamed" "$tmp/hostile.xml" '<body name="world_2"'
+expect_in "names: the ground geom steps aside" "$tmp/hostile.xml" '<geom name="ground_2" type="plane"'
+check "names: hostile names run in MuJoCo" 0 "$bin" simulate "$tmp/hostile_scene.json" --steps 3 --reference mujoco --out "$tmp/hostile_run" --quiet
 printf '{"bones": [{"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,1], "collision_radius": -0.1}]}' > "$tmp/negr.json"
 printf '{"rig": "%s", "ground": {"height": 0}}' "$tmp/negr.json" > "$tmp/c.json"
 check "contacts: negative radius" 2 "$bin" simulate "$tmp/c.json" --out "$tmp/x" --quiet

@@ -226,6 +226,46 @@ TEST(SceneInput, InitialPoseUnknownBone) {
                {"initial_pose", "rotation_deg.knee", "unknown bone"});
 }
 
+// every name a scene carries, and every name it refers to, is refused with a control character
+// in it (the MJCF writer and MuJoCo's parser cannot take one), naming the field and the byte but
+// never the name itself (it would carry the byte into the message)
+TEST(SceneInput, ControlCharactersInEveryName) {
+  const std::string cp = R"({"bone": "forearm", "target": [0, 0, 4]})";
+  const std::string contacts = R"("ground": {}, "self_collision": true)";
+  const std::string nul = "control character 0x00 at offset 1";
+  expect_error(R"({"rig": "elbow.json", "name": "s\u0000"})", {"field 'name'", nul.c_str()});
+  expect_error(with_cp(R"({"name": "p\u0000", "bone": "forearm", "target": [0, 0, 4]})"),
+               {"control_points[0]", "field 'name'", nul.c_str()});
+  expect_error(with_cp(R"({"bone": "f\u0000", "target": [0, 0, 4]})"),
+               {"control_points[0]", "field 'bone'", nul.c_str()});
+  expect_error(
+      R"({"rig": "elbow.json", "steps": 5, "control_points": [)" + cp +
+          R"(], "schedule": [{"step": 1, "control_point": "t\u001f", "target": [0, 0, 3]}]})",
+      {"schedule[0]", "field 'control_point'", "control character 0x1f at offset 1"});
+  expect_error(
+      R"({"rig": "elbow.json", "initial_pose": {"rotation_deg": {"f\u007f": [0, 0, 1]}}})",
+      {"initial_pose: field 'rotation_deg': a bone name: control character 0x7f at offset 1"});
+  expect_error(R"({"rig": "elbow.json", "obstacles": [{"name": "o\u0000", "box": )"
+               R"({"center": [0, 0, -1], "half_extents": [1, 1, 0.1]}}]})",
+               {"obstacles[0]", "field 'name'", nul.c_str()});
+  expect_error(R"({"rig": "elbow.json", )" + contacts +
+                   R"(, "collision_exclude": [["upper_arm", "f\u0000"]]})",
+               {"collision_exclude[0]", nul.c_str()});
+  expect_error(R"({"rig": {"name": "r\u0000", "bones": [{"name": "a", "parent": null, )"
+               R"("head": [0, 0, 0], "tail": [0, 0, 1]}]}})",
+               {"rig", "field 'name'", nul.c_str()});
+  // the messages never hold the byte itself
+  for (const std::string& text : {std::string(R"({"rig": "elbow.json", "name": "s\u0000"})"),
+                                  with_cp(R"({"bone": "f\u0000", "target": [0, 0, 4]})")}) {
+    try {
+      parse(text);
+      ADD_FAILURE() << "no error for " << text;
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).find('\0'), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(SceneInput, BadRigInsideSceneNamesTheRigFile) {
   const auto dir = std::filesystem::temp_directory_path() / "physik_scene_test";
   std::filesystem::create_directories(dir);

@@ -7,6 +7,7 @@
 
 #include "physik/io/rig_io.h"
 #include "physik/model/errors.h"
+#include "physik/model/names.h"
 
 namespace physik {
 
@@ -68,6 +69,7 @@ int control_point_ref(const JsonContext& ctx, const Json& v, const std::vector<C
     return i;
   }
   if (v.is_string()) {
+    ctx.check_name(v.get<std::string>(), "control_point");
     for (std::size_t i = 0; i < cps.size(); ++i) {
       if (cps[i].name == v.get<std::string>()) return static_cast<int>(i);
     }
@@ -104,8 +106,8 @@ ControlPoint control_point_from_json(const JsonContext& ctx, const Json& c, cons
   ctx.require_object(c, "");
   ctx.only_keys(c, {"name", "bone", "alpha", "target", "spring", "k", "cap", "comment"});
   ControlPoint cp;
-  cp.name = ctx.string_or(c, "name", "");
-  const std::string bone = ctx.string(c, "bone");
+  cp.name = ctx.name_or(c, "name", "");
+  const std::string bone = ctx.name(c, "bone");
   cp.bone = s.rig.find_bone(bone);
   if (cp.bone < 0) ctx.fail("bone", "unknown bone '" + bone + "' in rig " + s.rig_file);
   cp.alpha = ctx.number_or(c, "alpha", 1.0);
@@ -182,6 +184,8 @@ void read_initial_pose(const JsonContext& top, const Json& doc, Scene& s) {
   const Json& rot = ip["rotation_deg"];
   ctx.require_object(rot, "rotation_deg");
   for (auto it = rot.begin(); it != rot.end(); ++it) {
+    const std::string bad = name_problem(it.key());
+    if (!bad.empty()) ctx.fail("rotation_deg", "a bone name: " + bad);
     const int b = s.rig.find_bone(it.key());
     if (b < 0) ctx.fail("rotation_deg." + it.key(), "unknown bone");
     const Vec3 v = ctx.vec3_value(*it, "rotation_deg." + it.key()) * (kPi / 180.0);
@@ -250,7 +254,7 @@ void read_obstacles(const JsonContext& top, const Json& doc, Scene& s) {
       }
     }
     BoxObstacle box;
-    box.name = ctx.string(obs[i], "name");
+    box.name = ctx.name(obs[i], "name");
     if (box.name.empty()) ctx.fail("name", "must not be empty");
     for (const BoxObstacle& o : s.collision.obstacles) {
       if (o.name == box.name) ctx.fail("name", "duplicate obstacle name '" + box.name + "'");
@@ -270,6 +274,7 @@ std::pair<int, int> excluded_pair(const JsonContext& top, const Json& e, const s
   int b[2];
   for (int k = 0; k < 2; ++k) {
     const std::string name = e[k].get<std::string>();
+    top.check_name(name, field);
     b[k] = rig.find_bone(name);
     if (b[k] < 0) top.fail(field, "unknown bone '" + name + "'");
   }
@@ -503,6 +508,7 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
                       "convergence", "initial_pose", "initial_velocity", "solve", "gravity",
                       "ground", "obstacles", "self_collision", "collision_exclude"});
   if (doc.contains("solve")) solve_options_from_json(doc["solve"], source);  // checked at load
+  top.name_or(doc, "name", "");  // a label the run does not use, checked like every name
   Scene s;
   s.file = source;
   read_rig(top, doc, base_dir, s);
