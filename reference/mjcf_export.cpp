@@ -257,6 +257,23 @@ void write_exclusions(std::ostringstream& x, const Rig& rig, const CollisionSett
   x << "  </contact>\n";
 }
 
+// the joints' generalized velocities: 6 at the free root, 3 at a ball, 1 per hinge (write_joints)
+int velocity_count(const Rig& rig, JointModel model) {
+  int nv = 0;
+  for (int i = 0; i < rig.nbone; ++i) {
+    const auto& limit = rig.bone_limit[i];
+    const bool any_limited = limit[0].limited || limit[1].limited || limit[2].limited;
+    if (i == rig.root()) {
+      nv += 6;
+    } else if (model == JointModel::kBallJoints || (rig.bone_dof(i) == 3 && !any_limited)) {
+      nv += 3;
+    } else {
+      nv += rig.bone_dof(i);
+    }
+  }
+  return nv;
+}
+
 // the main file around the root body
 std::string write_main(const MjcfWriter& w) {
   const Rig& rig = w.rig;
@@ -291,6 +308,8 @@ std::string write_main(const MjcfWriter& w) {
     << "\" integrator=\"Euler\">\n";
   if (!contacts) x << "    <flag contact=\"disable\"/>\n";
   x << "  </option>\n";
+  const MjcfSize size = mjcf_size(rig, o);
+  x << "  <size nconmax=\"" << size.nconmax << "\" njmax=\"" << size.njmax << "\"/>\n";
   x << "  <default>\n";
   if (contacts) {
     const char* affinity = o.collision.self_collision ? "1" : "0";
@@ -311,6 +330,46 @@ std::string write_main(const MjcfWriter& w) {
 }
 
 }  // namespace
+
+MjcfSize mjcf_size(const Rig& rig, const MjcfOptions& o) {
+  const CollisionSettings& c = o.collision;
+  const long n = rig.nbone;
+  long contacts = 0;
+  if (c.ground) contacts += 2 * n;
+  contacts += 2 * n * static_cast<long>(c.obstacles.size());
+  if (c.self_collision) {
+    // candidate pairs: every pair but those sharing a joint and the excluded ones
+    long sharing = 0;
+    for (int p = 0; p < rig.nbone; ++p) {
+      const long k = static_cast<long>(rig.bone_children[p].size());
+      sharing += k + k * (k - 1) / 2;  // parent-child, and children of one parent
+    }
+    const long pairs =
+        std::max(0L, n * (n - 1) / 2 - sharing - static_cast<long>(c.excluded_pairs.size()));
+    contacts += 2 * std::min(pairs, n);
+  }
+  if (!c.any()) contacts = 0;
+  long rows = 4 * contacts;
+  if (o.joints == JointModel::kRigJoints) {  // a limited hinge's row (write_joints)
+    for (int i = 0; i < rig.nbone; ++i) {
+      const auto& limit = rig.bone_limit[i];
+      const bool any_limited = limit[0].limited || limit[1].limited || limit[2].limited;
+      if (i == rig.root() || (rig.bone_dof(i) == 3 && !any_limited)) continue;
+      for (const AxisLimit& l : limit) rows += l.limited && !l.locked() ? 1 : 0;
+    }
+  }
+  // njmax x njmax (efc_AR, doubles and ints) and two njmax x nv Jacobians (doubles and ints),
+  // with about 256 bytes of per-row vectors: within kMjcfConstraintBytes
+  const double nv = velocity_count(rig, o.joints);
+  const double b = 24.0 * nv + 256.0;
+  const long max_rows =
+      static_cast<long>((-b + std::sqrt(b * b + 48.0 * kMjcfConstraintBytes)) / 24.0);
+  MjcfSize size;
+  size.nconmax = static_cast<int>(std::max<long>(kMujocoDefaultNconmax, contacts));
+  size.njmax = static_cast<int>(std::max<long>(kMujocoDefaultNjmax, std::min(rows, max_rows)));
+  size.rows_needed = rows;
+  return size;
+}
 
 Quat mjcf_joint_offset(const Rig& rig, int bone, JointModel joints) {
   if (bone == rig.root() || joints == JointModel::kBallJoints) return Quat::Identity();
