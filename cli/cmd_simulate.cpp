@@ -149,6 +149,8 @@ void run_simulate(const SimulateOptions& o) {
   if (!sum.joint_solve_warning.empty()) {
     std::cerr << "physik: warning: " << scene.file << ": " << sum.joint_solve_warning << "\n";
   }
+  const std::string guard = energy_guard_warning(scene, sum);  // once a run
+  if (!guard.empty()) std::cerr << "physik: warning: " << scene.file << ": " << guard << "\n";
   if (!o.quiet) print_outcome(sum, o.out);
   if (!o.reference.empty()) {
     const nlohmann::json cmp =
@@ -159,6 +161,11 @@ void run_simulate(const SimulateOptions& o) {
     std::cerr << "physik: diverged: " << sum.divergence_reason << "; " << divergence_hint(scene)
               << "\n";
     throw DivergedRun(sum.divergence_reason);
+  }
+  if (!sum.converged) {  // a run that ends short says what to try, as a divergence does
+    std::cerr << "physik: not converged: " << scene.file << ": the run ended after "
+              << sum.steps_run << " steps short of convergence; " << not_converged_hint(scene, sum)
+              << "\n";
   }
 }
 

@@ -58,6 +58,11 @@ expect_in "missing file message" "$tmp/err" "none.json: cannot open"
 # simulate: success, bad scenes (exit 2), a diverged run (exit 3)
 check "simulate help" 0 "$bin" simulate --help
 check "simulate" 0 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --out "$tmp/sim" --steps 50 --quiet
+# a run that ends short of convergence says what to try, as a divergence does (and exits 0)
+expect_in "simulate short of convergence" "$tmp/err" "physik: not converged: $src/models/scenes/pinhead_two_hands.json: the run ended after 50 steps short of convergence; try more steps (--steps 100, twice this run's)"
+expect_in "simulate short of convergence: the preset" "$tmp/err" "or --set preset=robust"
+check "simulate short of convergence, robust" 0 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --set preset=robust --out "$tmp/sim_robust" --steps 5 --quiet
+expect_in "simulate short of convergence, robust: damping" "$tmp/err" "or a fixed damping above damping auto's choice"
 expect_in "simulate summary" "$tmp/sim/summary.json" '"mean_passes_per_step"'
 expect_in "simulate csv" "$tmp/sim/trajectory.csv" 'step,time,kinetic_energy,passes,joint_mismatch,joint_separation,residual_hand.L,residual_hand.R'
 expect_in "simulate csv step 0" "$tmp/sim/trajectory.csv" $'\n0,0,0,0,0,0,'

@@ -36,6 +36,10 @@ void size_state(const Rig& rig, std::size_t ncontrol, SimState& s) {
   s.implicit_snapshots.clear();  // sized by init_state for implicit scenes (implicit_advance.h)
   s.implicit_split_steps = 0;
   s.implicit_max_substeps = 0;
+  s.implicit_retaken_steps = 0;
+  s.implicit_unresolved_steps = 0;
+  s.implicit_deepest_steps = 0;
+  s.implicit_reached.clear();
   s.contacts.clear();
   s.contact_elements.clear();
   s.contact_scratch.clear();
