@@ -63,6 +63,10 @@ expect_in "simulate short of convergence" "$tmp/err" "physik: not converged: $sr
 expect_in "simulate short of convergence: the preset" "$tmp/err" "or --set preset=robust"
 check "simulate short of convergence, robust" 0 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --set preset=robust --out "$tmp/sim_robust" --steps 5 --quiet
 expect_in "simulate short of convergence, robust: damping" "$tmp/err" "or a fixed damping above damping auto's choice"
+# an old key keeps its meaning: joint_solve exact without integration is the exact scheme
+printf '{"rig": "%s", "steps": 5, "params": {"joint_solve": "exact"}, "control_points": [{"bone": "forearm", "target": [0, 1, 3]}]}' "$src/models/rigs/elbow.json" > "$tmp/old_keys.json"
+check "old key joint_solve exact" 0 "$bin" simulate "$tmp/old_keys.json" --out "$tmp/old_keys" --quiet
+expect_in "old key joint_solve exact runs the exact scheme" "$tmp/old_keys/scene.json" '"scheme": "exact"'
 expect_in "simulate summary" "$tmp/sim/summary.json" '"mean_passes_per_step"'
 expect_in "simulate csv" "$tmp/sim/trajectory.csv" 'step,time,kinetic_energy,passes,joint_mismatch,joint_separation,residual_hand.L,residual_hand.R'
 expect_in "simulate csv step 0" "$tmp/sim/trajectory.csv" $'\n0,0,0,0,0,0,'

@@ -78,8 +78,12 @@ TEST(Scene, TheKeysSchemeReplacedMapOntoIt) {
   EXPECT_EQ(scheme_of(R"({"integration": "articulated"})").scheme, Scheme::kGaussSeidel);
   EXPECT_EQ(scheme_of(R"({"integration": "articulated", "joint_solve": "exact"})").scheme,
             Scheme::kExact);
-  EXPECT_EQ(scheme_of(R"({"joint_solve": "exact"})").scheme,
-            Scheme::kImplicit);  // implicit is exact
+  // joint_solve alone meant integration articulated, the default before scheme: exact is exact
+  // under the default preset too (it ran scheme implicit once the default became robust)
+  EXPECT_EQ(scheme_of(R"({"joint_solve": "exact"})").scheme, Scheme::kExact);
+  EXPECT_EQ(scheme_of(R"({"preset": "robust", "joint_solve": "exact"})").scheme, Scheme::kExact);
+  EXPECT_EQ(scheme_of(R"({"integration": "implicit", "joint_solve": "exact"})").scheme,
+            Scheme::kImplicit);
   EXPECT_EQ(scheme_of(R"({"preset": "original", "joint_solve": "gauss-seidel"})").scheme,
             Scheme::kGaussSeidel);
   expect_error(with_cp("", R"({"integration": "implicit", "joint_solve": "gauss-seidel"})"),
