@@ -270,6 +270,30 @@ TEST(SceneInput, ControlCharactersInEveryName) {
   }
 }
 
+// a written scene refers to its rig as the scene it came from did: a relative path stays relative
+// (from where it is written), an absolute one absolute
+TEST(Scene, WrittenScenesKeepTheRigPathRelativeAsGiven) {
+  namespace fs = std::filesystem;
+  const std::string source = test::model_path("scenes/pinhead_two_hands.json");
+  const Scene s = load_scene(source);
+  ASSERT_EQ(s.rig_ref, "../rigs/pinhead.json");
+  const fs::path beside = fs::path(source).parent_path() / "tuned.json";
+  EXPECT_EQ(scene_to_json(s, false, beside.string())["rig"], "../rigs/pinhead.json");
+  const fs::path elsewhere = fs::temp_directory_path() / "physik_scene_test" / "deep" / "t.json";
+  fs::create_directories(elsewhere.parent_path());
+  const std::string rel = scene_to_json(s, false, elsewhere.string())["rig"];
+  EXPECT_TRUE(fs::path(rel).is_relative()) << rel;
+  EXPECT_TRUE(fs::equivalent(elsewhere.parent_path() / rel, s.rig_file)) << rel;
+  // no folder to be relative to (stdout, a dictionary): absolute, as before
+  EXPECT_TRUE(fs::path(scene_to_json(s)["rig"].get<std::string>()).is_absolute());
+  EXPECT_TRUE(fs::path(scene_to_json(s, false, "-")["rig"].get<std::string>()).is_absolute());
+  // an absolute path stays absolute wherever the scene goes
+  Scene a = s;
+  a.rig_ref = fs::absolute(s.rig_file).string();
+  EXPECT_EQ(scene_to_json(a, false, beside.string())["rig"],
+            fs::absolute(s.rig_file).lexically_normal().string());
+}
+
 TEST(SceneInput, BadRigInsideSceneNamesTheRigFile) {
   const auto dir = std::filesystem::temp_directory_path() / "physik_scene_test";
   std::filesystem::create_directories(dir);

@@ -88,6 +88,7 @@ void read_rig(const JsonContext& top, const Json& doc, const std::string& base_d
     return;
   }
   const std::string rig_ref = top.string(doc, "rig");
+  s.rig_ref = rig_ref;
   std::filesystem::path rig_path(rig_ref);
   if (rig_path.is_relative()) rig_path = std::filesystem::path(base_dir) / rig_path;
   s.rig_file = rig_path.lexically_normal().string();
@@ -623,7 +624,24 @@ void add_contacts_json(const Scene& s, Json& out) {
 
 }  // namespace
 
-Json scene_to_json(const Scene& s, bool rig_inline) {
+namespace {
+
+// the rig's path as scene_to_json writes it (scene_io.h)
+std::string rig_path_for(const Scene& s, const std::string& written_to) {
+  namespace fs = std::filesystem;
+  const fs::path rig = fs::absolute(s.rig_file).lexically_normal();
+  if (written_to.empty() || written_to == "-" || s.rig_ref.empty() ||
+      fs::path(s.rig_ref).is_absolute()) {
+    return rig.string();
+  }
+  const fs::path folder = fs::absolute(written_to).lexically_normal().parent_path();
+  const fs::path relative = rig.lexically_relative(folder);
+  return relative.empty() ? rig.string() : relative.string();
+}
+
+}  // namespace
+
+Json scene_to_json(const Scene& s, bool rig_inline, const std::string& written_to) {
   Json cps = Json::array();
   for (const ControlPoint& c : s.control_points) {
     Json j = {{"bone", s.rig.bone_name[c.bone]},
@@ -649,9 +667,8 @@ Json scene_to_json(const Scene& s, bool rig_inline) {
   }
   const Vec3& r = s.initial_pose.root_head_world;
   Json out = {
-      {"rig", rig_inline || s.rig_file.empty()
-                  ? rig_to_json(s.rig)
-                  : Json(std::filesystem::absolute(s.rig_file).lexically_normal().string())},
+      {"rig",
+       rig_inline || s.rig_file.empty() ? rig_to_json(s.rig) : Json(rig_path_for(s, written_to))},
       {"params", params_to_json(s.params)},
       {"control_points", cps},
       {"schedule", sch},
