@@ -219,7 +219,8 @@ def animate_experiment(folder, view="oblique", frames=60):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("paths", nargs="+", metavar="OUT.gif RUN_DIR",
                     help="the GIF to write, then the run folders; with --experiment, its folder")
     ap.add_argument("--experiment", action="store_true",

@@ -15,6 +15,7 @@ import json
 import os
 import re
 import sys
+import textwrap
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import report_html  # noqa: E402
@@ -125,16 +126,43 @@ def settings_section(results, sections=()):
     return out
 
 
+LINE_MAX = 600  # characters in any line of REPORT.md (analysis/tests checks it)
+WRAP = 100  # prose wraps at this width; a table row cannot wrap and is a bullet when too long
+
+
+def wrapped(text, first="", rest=""):
+    """text in lines of at most WRAP characters, broken at spaces only (a line break reads as a
+    space, so never at a hyphen), the first line after `first`, the others after `rest`."""
+    return textwrap.wrap(text, width=WRAP, initial_indent=first, subsequent_indent=rest,
+                         break_long_words=False, break_on_hyphens=False) or [first.rstrip()]
+
+
+def pieces(text):
+    """text cut at its "; " outside parentheses: the items of a measured list."""
+    out, depth, start = [], 0, 0
+    for k, ch in enumerate(text):
+        depth += {"(": 1, ")": -1}.get(ch, 0)
+        if depth == 0 and text.startswith("; ", k):
+            out.append(text[start:k])
+            start = k + 2
+    return [p for p in out + [text[start:]] if p.strip()]
+
+
 def table_lines(table):
-    """A report table as markdown: its title in bold, then the columns and rows."""
+    """A report table as markdown: its title in bold, then the columns and rows; a table with a
+    row longer than LINE_MAX as one bullet per row ("column: cell; ..."), wrapped."""
     cols = table["columns"]
-    out = ["**%s**" % table["title"], "", "| " + " | ".join(cols) + " |",
-           "|" + "---|" * len(cols)]
     for row in table["rows"]:
         if len(row) != len(cols):
             raise ValueError("table '%s': a row has %d cells for %d columns" %
                              (table["title"], len(row), len(cols)))
-        out.append("| " + " | ".join(str(c) for c in row) + " |")
+    rows = ["| " + " | ".join(str(c) for c in row) + " |" for row in table["rows"]]
+    if all(len(r) <= LINE_MAX for r in rows):
+        return (["**%s**" % table["title"], "", "| " + " | ".join(cols) + " |",
+                 "|" + "---|" * len(cols)] + rows + [""])
+    out = ["**%s**" % table["title"], ""]
+    for row in table["rows"]:
+        out += wrapped("; ".join("%s: %s" % (c, v) for c, v in zip(cols, row)), "- ", "  ")
     return out + [""]
 
 
@@ -204,8 +232,8 @@ def headline_lines(sections, readme):
     if not found:
         return ["README's headline cites claim `%s/%s`, which this run did not report." %
                 m.groups(), ""]
-    return ["README's headline cites claim `%s/%s`: **%s** (%s)." %
-            (m.group(1), m.group(2), found[0]["holds"], found[0]["measured"]), ""]
+    return wrapped("README's headline cites claim `%s/%s`: **%s** (%s)." %
+                   (m.group(1), m.group(2), found[0]["holds"], found[0]["measured"])) + [""]
 
 
 def summary_section(sections, readme):
@@ -219,29 +247,36 @@ def summary_section(sections, readme):
 
 
 def claims_lines(rep):
-    """An experiment's claims, whole: claim, verdict with its reason, what was measured."""
+    """An experiment's claims, whole: claim, verdict with its reason, what was measured; where
+    that is longer than a line, the measured list as short bullets under the claim."""
     out = []
     for c in rep.get("claims", []):
         named = " (`%s`)" % c["name"] if c.get("name") else ""
-        out.append("- **%s**%s: %s. %s" % (c["claim"], named, c["holds"], c["measured"]))
+        head = "- **%s**%s: %s." % (c["claim"], named, c["holds"])
+        if len(head) + 1 + len(c["measured"]) <= WRAP:
+            out.append(head + " " + c["measured"])
+            continue
+        out += wrapped(head[2:], "- ", "  ")
+        for item in pieces(c["measured"]):
+            out += wrapped(item, "  - ", "    ")
     return out + ([""] if out else [])
 
 
 def render(sections, results=None, readme=None):
-    out = ["# PhysIK reproduction report", "",
-           "Written by `analysis/report.py` from `results/*/summary.json` on %s. Every number below "
-           "was measured by the run that wrote this file (`make reproduce`)." %
-           datetime.datetime.now().strftime("%Y-%m-%d %H:%M"), ""]
+    written = ("Written by `analysis/report.py` from `results/*/summary.json` on %s. Every number "
+               "below was measured by the run that wrote this file (`make reproduce`)." %
+               datetime.datetime.now().strftime("%Y-%m-%d %H:%M"))
+    out = ["# PhysIK reproduction report", ""] + wrapped(written) + [""]
     out += summary_section(sections, readme)
     for name, summary, rep in sections:
         out += ['<a id="%s"></a>' % name, "", "## %s" % rep.get("title", name), ""]
         settings = rep.get("settings")
         if settings:
-            out.append("Settings: " + ", ".join("%s = %s" % kv for kv in settings.items()))
+            out += wrapped("Settings: " + ", ".join("%s = %s" % kv for kv in settings.items()))
             out.append("")
         out += claims_lines(rep)
         for note in rep.get("notes", []):
-            out.append("- " + note)
+            out += wrapped(note, "- ", "  ")
         if rep.get("notes"):
             out.append("")
         for table in rep.get("tables", []):

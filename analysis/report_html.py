@@ -136,17 +136,42 @@ def figures_html(lines, results):
 
 def blocks(md):
     """The markdown's lines grouped: (kind, lines) with kind table, images, bullets, heading or
-    text."""
+    text. An indented line continues the bullets above it (a wrapped bullet, or a bullet under a
+    bullet: analysis/report.py wraps at WRAP); consecutive text lines are one paragraph."""
     out = []
     for line in md.splitlines():
         kind = ("blank" if not line.strip() else "heading" if line.startswith("#")
                 else "table" if line.startswith("|") else "images" if IMAGE.match(line)
                 else "bullets" if line.startswith("- ") else "text")
-        if out and out[-1][0] == kind and kind in ("table", "images", "bullets"):
+        if kind == "text" and line[:1].isspace() and out and out[-1][0] == "bullets":
+            kind = "bullets"
+        if out and out[-1][0] == kind and kind in ("table", "images", "bullets", "text"):
             out[-1][1].append(line)
         else:
             out.append((kind, [line]))
     return out
+
+
+def bullets_html(lines):
+    """Bullet lines as nested lists: "- " an item, "  - " an item under it, any other indented
+    line the text of the item above it, continued."""
+    items = []  # [text, [sub-item texts]]
+    for line in lines:
+        stripped = line.lstrip()
+        indent = len(line) - len(stripped)
+        if indent == 0 and stripped.startswith("- "):
+            items.append([stripped[2:], []])
+        elif stripped.startswith("- ") and items:
+            items[-1][1].append(stripped[2:])
+        elif items and items[-1][1] and indent > 2:
+            items[-1][1][-1] += " " + stripped
+        elif items:
+            items[-1][0] += " " + stripped
+    out = ["<ul>"]
+    for text, subs in items:
+        inner = "".join("<li>%s</li>" % inline(s) for s in subs)
+        out.append("<li>%s%s</li>" % (inline(text), "<ul>%s</ul>" % inner if subs else ""))
+    return out + ["</ul>"]
 
 
 def to_html(md, results=None, title="PhysIK reproduction report"):
@@ -161,9 +186,9 @@ def to_html(md, results=None, title="PhysIK reproduction report"):
         elif kind == "images":
             body += figures_html(lines, results)
         elif kind == "bullets":
-            body += ["<ul>"] + ["<li>%s</li>" % inline(l[2:]) for l in lines] + ["</ul>"]
+            body += bullets_html(lines)
         elif kind == "text":
-            body.append("<p>%s</p>" % inline(lines[0]))
+            body.append("<p>%s</p>" % inline(" ".join(l.strip() for l in lines)))
     return "\n".join(['<!DOCTYPE html>', '<html lang="en">', "<head>", '<meta charset="utf-8">',
                       "<title>%s</title>" % html.escape(title), "<style>%s</style>" % STYLE,
                       "</head>", "<body>"] + body + ["</body>", "</html>", ""])

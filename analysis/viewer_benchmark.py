@@ -164,7 +164,8 @@ def report(chain_page, view_s, browser, pinhead):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("out", help="the benchmark's folder (results/viewer_benchmark)")
     ap.add_argument("--physik", required=True, help="the physik binary")
     ap.add_argument("--models", default="models")

@@ -25,6 +25,12 @@
 // 1,000 bones (a factor 8 log 1000 / log 125 = 11.4), judged on the ring, whose work per bone is
 // nearly the same at every size.
 //
+// ImplicitStiffFloorAtRest: one bone (1 kg, 1 rig unit) lying on a floor of contact_k 1e20 under
+// gravity, implicit_max_splits 20: its rest depth W / k is below a coordinate's resolution, so
+// every step starts just off the floor (implicit_advance.h). The run of 10 steps, the energy
+// guard's substeps and retaken (sub)steps per step. Target: the run under 0.5 s (the guard split
+// every step 2^19 times before it retook a step with the contacts it reached: 9.8 s).
+//
 // Counters:
 //   contacts_us, no_contacts_us   step() with the contacts, without them
 //   ratio            contacts_us / no_contacts_us
@@ -157,7 +163,48 @@ void BM_ImplicitCoilRing(benchmark::State& state) {
            coil_flat_ring_scene(n, kRingTurns, false));
 }
 
+// one bone lying on a floor too stiff for its rest depth (above)
+physik::Scene stiff_floor_scene() {
+  physik::BoneSpec b;
+  b.name = "a";
+  b.head_world = physik::Vec3(0.0, 0.0, 0.06);  // the capsule (radius 0.06) on the floor
+  b.tail_world = physik::Vec3(1.0, 0.0, 0.06);
+  b.rest_frame_world = physik::rest_frame_from_roll(b.head_world, b.tail_world, 0.0);
+  b.mass = 1.0;
+  b.radius = 0.5;
+  physik::Scene s;
+  s.rig = physik::build_rig({b}, "<bench>", "bone");
+  s.params = physik::preset_params("robust");
+  s.params.contact_k = 1e20;
+  s.params.implicit_max_splits = 20;
+  s.initial_pose = physik::rest_pose(s.rig);
+  s.gravity_world = physik::Vec3(0.0, 0.0, -9.81);
+  s.collision.ground = physik::GroundPlane{};
+  s.steps = 10;
+  return s;
+}
+
+void BM_ImplicitStiffFloorAtRest(benchmark::State& state) {
+  const physik::Scene scene = stiff_floor_scene();
+  physik::SimState s;
+  Run r;
+  long steps = 0;
+  for (auto _ : state) {
+    time_run(scene, s, scene.steps, r);
+    steps += scene.steps;
+  }
+  if (!r.timed.finite) {
+    state.SkipWithError("the run diverged");
+    return;
+  }
+  state.counters["run_ms"] = 1e3 * r.timed.seconds * scene.steps / steps;
+  state.counters["substeps"] = static_cast<double>(r.timed.substeps) / steps;
+  state.counters["retaken"] = static_cast<double>(s.implicit_retaken_steps) / scene.steps;
+  state.counters["allocs_per_step"] = static_cast<double>(r.allocations) / steps;
+}
+
 BENCHMARK(BM_ImplicitPinheadContacts)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ImplicitStiffFloorAtRest)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ImplicitCoil)->Arg(125)->Arg(250)->Arg(500)->Arg(1000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ImplicitCoilRing)
     ->Arg(125)

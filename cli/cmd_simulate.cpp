@@ -111,11 +111,12 @@ void print_outcome(const RunSummary& sum, const std::string& out) {
             << " -> " << out << "\n";
 }
 
-// A comparison with a run that diverged measures nothing: say which, and exit 3.
-// MuJoCo alone diverging is its own step's limit (semi-implicit Euler, stable only below the
-// stiffest spring's period), not PhysIK's: the hint says so.
+// A comparison with a run that diverged, or a MuJoCo run that raised a warning (not comparable),
+// measures nothing: say which, and exit 3. MuJoCo alone ending early is its own limit (its Euler
+// step, stable only below the stiffest spring's period, or its buffers), not PhysIK's: the hint
+// says which (mujoco_runner.h mujoco_hint).
 [[noreturn]] void report_diverged_comparison(const nlohmann::json& cmp, const std::string& out,
-                                             double dt) {
+                                             const Scene& scene) {
   std::string which, reason;
   for (const auto& run : cmp["diverged"]) {
     const std::string name = run.get<std::string>();
@@ -125,9 +126,7 @@ void print_outcome(const RunSummary& sum, const std::string& out) {
   std::cerr << "physik: diverged: " << which << " (" << reason
             << "): no gap to report (comparison.json in " << out << " lists the runs)";
   if (which == "MuJoCo") {
-    std::cerr << "; PhysIK's own run did not diverge: MuJoCo's Euler step is unstable at dt " << dt
-              << " s on this scene's springs; try a smaller step, e.g. --set dt=" << dt / 10
-              << " with --steps ten times the scene's (the same duration)";
+    std::cerr << "; PhysIK's own run did not diverge: " << mujoco_hint(scene, reason);
   }
   std::cerr << "\n";
   throw DivergedRun(reason);
@@ -150,16 +149,23 @@ void run_simulate(const SimulateOptions& o) {
   if (!sum.joint_solve_warning.empty()) {
     std::cerr << "physik: warning: " << scene.file << ": " << sum.joint_solve_warning << "\n";
   }
+  const std::string guard = energy_guard_warning(scene, sum);  // once a run
+  if (!guard.empty()) std::cerr << "physik: warning: " << scene.file << ": " << guard << "\n";
   if (!o.quiet) print_outcome(sum, o.out);
   if (!o.reference.empty()) {
     const nlohmann::json cmp =
         write_reference_comparison(scene, o.reference, o.out, o.every, !o.quiet);
-    if (!cmp["diverged"].empty()) report_diverged_comparison(cmp, o.out, scene.params.dt);
+    if (!cmp["diverged"].empty()) report_diverged_comparison(cmp, o.out, scene);
   }
   if (sum.diverged) {
     std::cerr << "physik: diverged: " << sum.divergence_reason << "; " << divergence_hint(scene)
               << "\n";
     throw DivergedRun(sum.divergence_reason);
+  }
+  if (!sum.converged) {  // a run that ends short says what to try, as a divergence does
+    std::cerr << "physik: not converged: " << scene.file << ": the run ended after "
+              << sum.steps_run << " steps short of convergence; " << not_converged_hint(scene, sum)
+              << "\n";
   }
 }
 

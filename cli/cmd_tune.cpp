@@ -91,7 +91,8 @@ void add_tune_options(CLI::App* cmd, TuneCliOptions& o) {
   cmd->add_option("--scan-points", o.scan_points, "Grid points per parameter in the scan")
       ->capture_default_str();
   cmd->add_option("--max-iterations", o.max_iterations, "Ceres iterations")->capture_default_str();
-  cmd->add_flag("--quiet", o.quiet, "No progress output");
+  cmd->add_flag("--quiet", o.quiet,
+                "No progress output, and Ceres' one-line brief instead of its full report");
 }
 
 // the tuner's options from the command line's; bad values exit 2 before any run
@@ -133,8 +134,9 @@ void print_tune_baseline(const tune::TuneResult& r) {
   }
 }
 
+// the result; Ceres' full report unless --quiet (its one-line brief then)
 void print_tune_result(const tune::TuneResult& r, const tune::TuneOptions& to) {
-  std::cout << r.ceres_full << "\n";
+  std::cout << (to.verbose ? r.ceres_full : "ceres: " + r.ceres_brief) << "\n";
   std::cout << "tuned (" << tune::to_string(to.objective) << ", " << r.evaluations << " runs + "
             << r.scene_evaluations << " of the scene as it is, " << r.wall_time_s << " s):\n";
   for (std::size_t i = 0; i < r.names.size(); ++i) {
@@ -151,6 +153,8 @@ void print_tune_result(const tune::TuneResult& r, const tune::TuneOptions& to) {
             << r.final_cost << " (ceres)\n";
   std::cout << "  tuned run: " << run_text(r.tuned_run) << ", max final residual "
             << max_of(r.tuned_run.final_residuals) << "\n";
+  const std::string disagree = tune::measures_disagree(r);
+  if (!disagree.empty()) std::cout << "  " << disagree << "\n";
   if (tune::no_improvement(r)) {
     std::cout << "  no improvement: the tuned values' J " << r.final_cost
               << " is not below the scene's " << r.initial_cost << " as it runs\n";
@@ -168,7 +172,13 @@ void run_tune(const TuneCliOptions& o) {
   warn_start_contacts(scene);
   if (!o.out.empty()) check_output_file(o.out, "--out");
   if (!o.report.empty()) check_output_file(o.report, "--report");
-  const tune::TuneResult r = tune::tune_scene(scene, to);
+  tune::TuneResult r;
+  try {
+    r = tune::tune_scene(scene, to);
+  } catch (const DivergedRun& e) {  // the mujoco objective's reference run
+    std::cerr << "physik: diverged: tune: " << e.what() << "\n";
+    throw;
+  }
   if (!o.report.empty()) write_json(tune::tune_report_to_json(scene, to, r), o.report);
   const std::string failure = tune::tune_failure(r);
   if (!failure.empty()) {  // no tuned value to print or write
@@ -177,7 +187,17 @@ void run_tune(const TuneCliOptions& o) {
     throw DivergedRun(failure);
   }
   print_tune_result(r, to);
-  if (!o.out.empty()) write_json(scene_to_json(r.tuned_scene), o.out);
+  if (!o.out.empty()) write_json(scene_to_json(r.tuned_scene, false, o.out), o.out);
+  if (!tune::converges_no_later(r)) {  // after the outputs, as solve says it
+    const std::string disagree = tune::measures_disagree(r);
+    std::cerr << "physik: not converged: tune: " << scene.file << ": the tuned run "
+              << (r.tuned_run.converged   ? "converges later than the scene's"
+                  : r.scene_run.converged ? "does not converge (the scene's does)"
+                                          : "does not converge (nor does the scene's)")
+              << (disagree.empty() ? "" : " (" + disagree + ")")
+              << (o.out.empty() ? "" : "; " + o.out + " holds the tuned values") << "\n";
+    throw NotConverged("the tuned run converges later than the scene's");
+  }
 }
 
 void add_tune(CLI::App& app) {
@@ -189,6 +209,7 @@ void add_tune(CLI::App& app) {
       "\"damping\": \"auto\" the search starts at auto's choice, which the output names. Prints "
       "Ceres' summary; writes the tuned scene (--out) and a JSON report (--report).");
   add_tune_options(cmd, *opt);
+  cmd->footer(kTuneExitStatusHelp);
   cmd->callback([opt] { run_tune(*opt); });
 }
 

@@ -34,6 +34,13 @@ inline constexpr const char* kSolveExitStatusHelp =
 inline constexpr const char* kEquilibriumExitStatusHelp =
     "Exit status: 0 success, 1 an unexpected failure, 2 bad input, 3 a diverged run (--compare's "
     "PhysIK run), 4 not converged (Ceres stopped short; the output holds its last iterate).";
+// `physik tune`: the tuned run converges later than the scene's, or not at all (the tuned scene
+// is written; stderr says both measures).
+inline constexpr const char* kTuneExitStatusHelp =
+    "Exit status: 0 success, 1 an unexpected failure, 2 bad input, 3 a diverged run (every "
+    "candidate, the tuned run, or the mujoco objective's MuJoCo reference), 4 not converged (the "
+    "tuned run converges later than the scene's, or never; --out still holds the tuned values): "
+    "0 only when the tuned run converges no later than the scene's.";
 class NotConverged : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;

@@ -1,6 +1,6 @@
 // physik: the testbed's command line program.
 // Exit status: 0 success, 1 an unexpected failure, 2 bad input, 3 a diverged run, 4 not converged
-// (`physik solve` or `physik equilibrium`; physik/model/errors.h).
+// (`physik solve`, `physik equilibrium` or `physik tune`; physik/model/errors.h).
 #include <exception>
 #include <filesystem>
 #include <iostream>
@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
   } catch (const physik::DivergedRun&) {
     return physik::kExitDiverged;  // already reported by the command
   } catch (const physik::cli::NotConverged&) {
-    return physik::kExitNotConverged;  // `physik solve` or `equilibrium`, already reported
+    return physik::kExitNotConverged;  // solve, equilibrium or tune, already reported
   } catch (const std::filesystem::filesystem_error& e) {
     // a path the user gave that the system refuses (the commands name most of them first)
     std::cerr << "physik: error: " << e.path1().string() << ": " << e.code().message() << "\n";

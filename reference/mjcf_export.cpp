@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "physik/model/errors.h"
+#include "physik/model/unique_names.h"
 #include "reference/mujoco_log.h"
 
 namespace physik {
@@ -97,9 +98,8 @@ void write_hinge(std::ostringstream& x, const std::string& bone, int axis, const
   x << "/>\n";
 }
 
-void write_joints(std::ostringstream& x, const Rig& rig, int i, JointModel model,
-                  const std::string& pad) {
-  const std::string& name = rig.bone_name[i];
+void write_joints(std::ostringstream& x, const Rig& rig, int i, const std::string& name,
+                  JointModel model, const std::string& pad) {
   const double half = 0.5 * rig.bone_length[i];
   switch (rig.bone_joint_type[i]) {
     case JointType::kFree:
@@ -124,10 +124,35 @@ void write_joints(std::ostringstream& x, const Rig& rig, int i, JointModel model
   }
 }
 
+// The names MuJoCo gets: each bone's body and geom the bone's name, the ground "ground", each box
+// "obstacle:" + its name, except where MuJoCo would meet a name twice (its "repeated name" error):
+// a bone named "world" (MuJoCo's world body) and a ground or box whose name a bone has take the
+// first free "_2", "_3", ... suffix (UniqueNames). Joint names are the body's with ":free",
+// ":ball" or ":x" (":y", ":z"), unique since the body names are.
+struct MjcfNames {
+  std::vector<std::string> bone;      // (nbone) body and geom
+  std::string ground;                 // the ground plane's geom
+  std::vector<std::string> obstacle;  // (nobstacle) the boxes' geoms
+};
+
+MjcfNames mjcf_names(const Rig& rig, const CollisionSettings& c) {
+  MjcfNames out;
+  UniqueNames taken;  // one set for bodies and geoms: a bone's name is both
+  taken.take("world");
+  for (const std::string& b : rig.bone_name) taken.take(b);
+  out.bone.reserve(rig.nbone);
+  for (const std::string& b : rig.bone_name) out.bone.push_back(b == "world" ? taken.make(b) : b);
+  if (c.ground) out.ground = taken.make("ground");
+  for (const BoxObstacle& box : c.obstacles)
+    out.obstacle.push_back(taken.make("obstacle:" + box.name));
+  return out;
+}
+
 // Where the bodies go: the main file, and include files once a file's bodies nest too deep.
 struct MjcfWriter {
   const Rig& rig;
   const MjcfOptions& o;
+  const MjcfNames& names;
   std::string stem;                 // include files are stem.partK.xml
   int bodies_per_file;              // 0: never split
   std::vector<MjcfFile>* includes;  // nullptr: never split
@@ -176,7 +201,8 @@ void write_children(std::ostringstream& x, const MjcfWriter& w, const std::vecto
   w.includes->push_back({name, ""});
   const std::size_t slot = w.includes->size() - 1;
   std::ostringstream part;
-  part << "<!-- PhysIK rig '" << rig.name << "': the bodies below '" << rig.bone_name[i]
+  part << "<!-- PhysIK rig '" << xml_comment(rig.name) << "': the bodies below '"
+       << xml_comment(rig.bone_name[i])
        << "' (included: MuJoCo's XML parser takes about 100 nested elements per file) -->\n";
   part << "<mujocoinclude>\n";
   for (int c : children) write_body(part, w, c, 1, 1);
@@ -241,14 +267,15 @@ void write_body(std::ostringstream& x, const MjcfWriter& w, int i, int depth, in
   }
   q.normalize();
   const std::vector<int> members = body_members(rig, i);
-  x << pad << "<body name=\"" << xml_attr(rig.bone_name[i]) << "\" pos=\"" << vec(pos)
-    << "\" quat=\"" << quat(q) << "\">\n";
+  const std::string& name = w.names.bone[i];
+  x << pad << "<body name=\"" << xml_attr(name) << "\" pos=\"" << vec(pos) << "\" quat=\""
+    << quat(q) << "\">\n";
   const std::string in = pad + "  ";
-  write_joints(x, rig, i, o.joints, in);
+  write_joints(x, rig, i, name, o.joints, in);
   write_inertial(x, rig, members, in);
   for (int m : members) {
     // the capsule from head to tail, in the body frame
-    x << in << "<geom name=\"" << xml_attr(rig.bone_name[m]) << "\" type=\"capsule\" fromto=\"";
+    x << in << "<geom name=\"" << xml_attr(w.names.bone[m]) << "\" type=\"capsule\" fromto=\"";
     const double half = 0.5 * rig.bone_length[m];
     if (m == i) {
       x << "0 " << num(-half) << " 0 0 " << num(half) << " 0";
@@ -265,26 +292,29 @@ void write_body(std::ostringstream& x, const MjcfWriter& w, int i, int depth, in
 
 // the ground plane: through height x normal, its z axis the normal; it collides with the bones
 // (contype 1) but they are not its type (contype 0: planes never collide with each other)
-void write_ground(std::ostringstream& x, const GroundPlane& g) {
-  x << "    <geom name=\"ground\" type=\"plane\" size=\"0 0 1\" pos=\""
+void write_ground(std::ostringstream& x, const GroundPlane& g, const std::string& name) {
+  x << "    <geom name=\"" << xml_attr(name) << "\" type=\"plane\" size=\"0 0 1\" pos=\""
     << vec(g.height * g.normal_world) << "\" zaxis=\"" << vec(g.normal_world)
     << "\" contype=\"0\" conaffinity=\"1\" rgba=\"0.5 0.5 0.5 1\"/>\n";
 }
 
 // the static boxes: world geoms like the ground (contype 0: they never collide with each other or
-// the ground), size = the half extents, named "obstacle:" + the scene's name (bones keep theirs)
-void write_obstacles(std::ostringstream& x, const std::vector<BoxObstacle>& obstacles) {
-  for (const BoxObstacle& b : obstacles) {
-    x << "    <geom name=\"obstacle:" << xml_attr(b.name) << "\" type=\"box\" size=\""
+// the ground), size = the half extents, named "obstacle:" + the scene's name (MjcfNames)
+void write_obstacles(std::ostringstream& x, const std::vector<BoxObstacle>& obstacles,
+                     const std::vector<std::string>& names) {
+  for (std::size_t k = 0; k < obstacles.size(); ++k) {
+    const BoxObstacle& b = obstacles[k];
+    x << "    <geom name=\"" << xml_attr(names[k]) << "\" type=\"box\" size=\""
       << vec(b.half_extents) << "\" pos=\"" << vec(b.center_world) << "\" quat=\""
       << quat(b.orient_world) << "\" contype=\"0\" conaffinity=\"1\" rgba=\"0.5 0.5 0.6 1\"/>\n";
   }
 }
 
 // the pairs PhysIK never collides that MuJoCo's filterparent leaves in: two children of one
-// parent, and the scene's excluded pairs, as the bodies that carry them (bones welded into one
-// body never collide in MuJoCo either)
-void write_exclusions(std::ostringstream& x, const Rig& rig, const CollisionSettings& c) {
+// parent, and the scene's and the rig's excluded pairs, as the bodies that carry them (bones
+// welded into one body never collide in MuJoCo either)
+void write_exclusions(std::ostringstream& x, const Rig& rig, const CollisionSettings& c,
+                      const std::vector<std::string>& names) {
   std::vector<std::pair<int, int>> pairs;
   const auto add = [&](int a, int b) {
     a = rig.bone_body[a];
@@ -304,10 +334,27 @@ void write_exclusions(std::ostringstream& x, const Rig& rig, const CollisionSett
   if (pairs.empty()) return;
   x << "  <contact>\n";
   for (const auto& [a, b] : pairs) {
-    x << "    <exclude body1=\"" << xml_attr(rig.bone_name[a]) << "\" body2=\""
-      << xml_attr(rig.bone_name[b]) << "\"/>\n";
+    x << "    <exclude body1=\"" << xml_attr(names[a]) << "\" body2=\"" << xml_attr(names[b])
+      << "\"/>\n";
   }
   x << "  </contact>\n";
+}
+
+// the joints' generalized velocities: 6 at the free root, 3 at a ball, 1 per hinge (write_joints)
+int velocity_count(const Rig& rig, JointModel model) {
+  int nv = 0;
+  for (int i = 0; i < rig.nbone; ++i) {
+    const auto& limit = rig.bone_limit[i];
+    const bool any_limited = limit[0].limited || limit[1].limited || limit[2].limited;
+    if (i == rig.root()) {
+      nv += 6;
+    } else if (model == JointModel::kBallJoints || (rig.bone_dof(i) == 3 && !any_limited)) {
+      nv += 3;
+    } else {
+      nv += rig.bone_dof(i);
+    }
+  }
+  return nv;
 }
 
 // the main file around the root body
@@ -344,6 +391,8 @@ std::string write_main(const MjcfWriter& w) {
     << "\" integrator=\"Euler\">\n";
   if (!contacts) x << "    <flag contact=\"disable\"/>\n";
   x << "  </option>\n";
+  const MjcfSize size = mjcf_size(rig, o);
+  x << "  <size nconmax=\"" << size.nconmax << "\" njmax=\"" << size.njmax << "\"/>\n";
   x << "  <default>\n";
   if (contacts) {
     const char* affinity = o.collision.self_collision ? "1" : "0";
@@ -354,16 +403,60 @@ std::string write_main(const MjcfWriter& w) {
   }
   x << "  </default>\n";
   x << "  <worldbody>\n";
-  if (o.collision.ground) write_ground(x, *o.collision.ground);
-  write_obstacles(x, o.collision.obstacles);
+  if (o.collision.ground) write_ground(x, *o.collision.ground, w.names.ground);
+  write_obstacles(x, o.collision.obstacles, w.names.obstacle);
   write_body(x, w, rig.root(), 2, 1);
   x << "  </worldbody>\n";
-  if (o.collision.self_collision) write_exclusions(x, rig, o.collision);
+  if (o.collision.self_collision) write_exclusions(x, rig, o.collision, w.names.bone);
   x << "</mujoco>\n";
   return x.str();
 }
 
 }  // namespace
+
+MjcfSize mjcf_size(const Rig& rig, const MjcfOptions& o) {
+  const CollisionSettings& c = o.collision;
+  const long n = rig.nbone;
+  long contacts = 0;
+  if (c.ground) contacts += 2 * n;
+  contacts += 2 * n * static_cast<long>(c.obstacles.size());
+  if (c.self_collision) {
+    // candidate pairs: every pair but those sharing a joint and the excluded ones
+    long sharing = 0;
+    for (int p = 0; p < rig.nbone; ++p) {
+      const long k = static_cast<long>(rig.bone_children[p].size());
+      sharing += k + k * (k - 1) / 2;  // parent-child, and children of one parent
+    }
+    const long pairs =
+        std::max(0L, n * (n - 1) / 2 - sharing - static_cast<long>(c.excluded_pairs.size()));
+    contacts += 2 * std::min(pairs, n);
+  }
+  if (!c.any()) contacts = 0;
+  long rows = 4 * contacts;
+  if (o.joints == JointModel::kRigJoints) {  // a limited hinge's row (write_joints)
+    for (int i = 0; i < rig.nbone; ++i) {
+      const auto& limit = rig.bone_limit[i];
+      const bool any_limited = limit[0].limited || limit[1].limited || limit[2].limited;
+      if (i == rig.root() || (rig.bone_dof(i) == 3 && !any_limited)) continue;
+      for (const AxisLimit& l : limit) rows += l.limited && !l.locked() ? 1 : 0;
+    }
+  }
+  // njmax x njmax (efc_AR, doubles and ints) and two njmax x nv Jacobians (doubles and ints),
+  // with about 256 bytes of per-row vectors: within kMjcfConstraintBytes
+  const double nv = velocity_count(rig, o.joints);
+  const double b = 24.0 * nv + 256.0;
+  const long max_rows =
+      static_cast<long>((-b + std::sqrt(b * b + 48.0 * kMjcfConstraintBytes)) / 24.0);
+  MjcfSize size;
+  size.nconmax = static_cast<int>(std::max<long>(kMujocoDefaultNconmax, contacts));
+  size.njmax = static_cast<int>(std::max<long>(kMujocoDefaultNjmax, std::min(rows, max_rows)));
+  size.rows_needed = rows;
+  return size;
+}
+
+std::vector<std::string> mjcf_bone_names(const Rig& rig) {
+  return mjcf_names(rig, CollisionSettings{}).bone;
+}
 
 Quat mjcf_joint_offset(const Rig& rig, int bone, JointModel joints) {
   if (rig.bone_joint_type[bone] != JointType::kBall || joints == JointModel::kBallJoints) {
@@ -393,7 +486,8 @@ MjcfOptions mjcf_contacts(const Scene& scene, MjcfOptions o) {
 }
 
 std::string rig_to_mjcf(const Rig& rig, const MjcfOptions& o) {
-  return write_main(MjcfWriter{rig, o, "", 0, nullptr});
+  const MjcfNames names = mjcf_names(rig, o.collision);
+  return write_main(MjcfWriter{rig, o, names, "", 0, nullptr});
 }
 
 void check_mjcf_timestep(double dt, const std::string& option) {
@@ -408,7 +502,9 @@ std::vector<MjcfFile> rig_to_mjcf_files(const Rig& rig, const MjcfOptions& o,
                                ? main_name.substr(0, main_name.size() - 4)
                                : main_name;
   std::vector<MjcfFile> includes;
-  const std::string main = write_main(MjcfWriter{rig, o, stem, kMjcfBodiesPerFile, &includes});
+  const MjcfNames names = mjcf_names(rig, o.collision);
+  const std::string main =
+      write_main(MjcfWriter{rig, o, names, stem, kMjcfBodiesPerFile, &includes});
   std::vector<MjcfFile> files;
   files.reserve(includes.size() + 1);
   files.push_back({main_name, main});

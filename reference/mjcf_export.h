@@ -83,7 +83,33 @@ MjcfOptions mjcf_contacts(const Scene& scene, MjcfOptions options);
 // InputError naming the rig file.
 constexpr int kMaxMjcfDepth = 5000;
 
-// The MJCF text of the rig, in one file (names as XML entities where they hold & < > " ').
+// MuJoCo 2.2's buffers for the model, written as <size nconmax njmax> (MuJoCo's defaults, 100
+// contacts and 500 constraint rows, drop contacts on the 1,000-bone coil, and MuJoCo only warns):
+//   contacts  2 per bone on the ground (a capsule on a plane touches at its two end spheres),
+//             2 per bone and box, and with self-collision 2 per bone pair (parallel capsules touch
+//             at two points) for the candidate pairs (bones sharing a joint and the excluded
+//             pairs left out) up to one pair per bone;
+//   rows      4 per contact (condim 3 in MuJoCo's pyramidal friction cone: 2 (condim - 1)) and
+//             one per limited hinge (JointModel::kRigJoints);
+// never below MuJoCo's defaults. MuJoCo 2.2.2 allocates mjData in one buffer of at most INT_MAX
+// bytes holding two njmax x nv Jacobians and an njmax x njmax matrix (efc_AR): njmax stops where
+// those pass kMjcfConstraintBytes, and a run that needs more rows raises MuJoCo's constraint-full
+// warning, which the runner reports (mujoco_runner.h mujoco_warning). nstack is MuJoCo's own
+// default, which grows with njmax.
+constexpr int kMujocoDefaultNconmax = 100;
+constexpr int kMujocoDefaultNjmax = 500;
+constexpr double kMjcfConstraintBytes = 1.5e9;  // bytes
+struct MjcfSize {
+  int nconmax = kMujocoDefaultNconmax;
+  int njmax = kMujocoDefaultNjmax;
+  long rows_needed = 0;  // the rows the counts above ask for (njmax unless capped)
+};
+MjcfSize mjcf_size(const Rig& rig, const MjcfOptions& options);
+
+// The MJCF text of the rig, in one file (names as XML entities where they hold & < > " ', and
+// unique where MuJoCo needs them so: a bone named "world", MuJoCo's world body, is written
+// "world_2", and a ground or box whose name a bone has takes the first free "_2", "_3" suffix;
+// comments carry names with "--" broken up).
 // MuJoCo 2.2.2's XML parser rejects elements nested about 100 deep (XML_ELEMENT_DEPTH_EXCEEDED):
 // one file holds rigs up to about 95 bones deep.
 std::string rig_to_mjcf(const Rig& rig, const MjcfOptions& options);
@@ -109,6 +135,10 @@ std::vector<MjcfFile> rig_to_mjcf_files(const Rig& rig, const MjcfOptions& optio
 // The fixed rotation between bone i's rest frame and its body frame at zero joint angles:
 // exp(locked angles) for rig joints, identity for a free or fixed root, welds and ball joints.
 Quat mjcf_joint_offset(const Rig& rig, int bone, JointModel joints);
+
+// The name of each bone's body and geom in the MJCF: the bone's, but "world" (MuJoCo's world
+// body) which takes a "_2" suffix.
+std::vector<std::string> mjcf_bone_names(const Rig& rig);
 
 // Where bone i sits in the frame of its body (the body of its first bone, Rig::bone_body): its
 // centre of mass and axes, fixed; zero and identity for a body's first bone.

@@ -9,6 +9,7 @@
 #include "physik/engine/interpolation.h"
 #include "physik/engine/newton_euler.h"
 #include "physik/engine/run_monitor.h"
+#include "physik/model/message_number.h"
 
 namespace physik {
 
@@ -32,13 +33,13 @@ void put(mjtNum* p, const Vec3& v) {
 
 MjcfBodyMap::MjcfBodyMap(const Rig& rig, const mjModel* m)
     : body(rig.nbone, -1), offset(rig.nbone), single(rig.nbone, 1) {
+  const std::vector<std::string> names = mjcf_bone_names(rig);
   for (int i = 0; i < rig.nbone; ++i) {
     const int lead = rig.bone_body[i];
     if (lead == i) {
-      body[i] = mj_name2id(m, mjOBJ_BODY, rig.bone_name[i].c_str());
+      body[i] = mj_name2id(m, mjOBJ_BODY, names[i].c_str());
       if (body[i] < 0) {
-        throw std::runtime_error("MuJoCo: no body named '" + rig.bone_name[i] +
-                                 "' in the rig's model");
+        throw std::runtime_error("MuJoCo: no body named '" + names[i] + "' in the rig's model");
       }
     } else {
       body[i] = body[lead];
@@ -210,6 +211,44 @@ StepStats MujocoReference::step() {
   return st;
 }
 
+std::string mujoco_warning(const mjModel* m, const mjData* d) {
+  const struct {
+    int index;
+    const char* name;
+    std::string meaning;
+  } kinds[] = {
+      {mjWARN_CONTACTFULL, "mjWARN_CONTACTFULL",
+       "its contact list (nconmax " + std::to_string(m->nconmax) + ") was full: contacts dropped"},
+      {mjWARN_CNSTRFULL, "mjWARN_CNSTRFULL",
+       "its constraint rows (njmax " + std::to_string(m->njmax) +
+           ") were full: contacts or limits dropped"},
+      {mjWARN_BADQACC, "mjWARN_BADQACC", "a non-finite acceleration: it reset its state"},
+      {mjWARN_BADQVEL, "mjWARN_BADQVEL", "a non-finite velocity: it reset its state"},
+      {mjWARN_BADQPOS, "mjWARN_BADQPOS", "a non-finite position: it reset its state"},
+  };
+  for (const auto& k : kinds) {
+    if (d->warning[k.index].number > 0) return std::string(k.name) + " (" + k.meaning + ")";
+  }
+  return "";
+}
+
+bool mujoco_buffer_full(const std::string& reason) {
+  return reason.find("mjWARN_CONTACTFULL") != std::string::npos ||
+         reason.find("mjWARN_CNSTRFULL") != std::string::npos;
+}
+
+std::string mujoco_hint(const Scene& scene, const std::string& reason) {
+  if (mujoco_buffer_full(reason)) {
+    return "the scene has more contacts than the export sizes MuJoCo's buffers for "
+           "(reference/mjcf_export.h mjcf_size; MuJoCo 2.2 keeps its constraint rows in dense "
+           "arrays, capped to fit its one buffer): compare a scene with fewer bones in contact";
+  }
+  const double dt = scene.params.dt;
+  return "MuJoCo's Euler step is unstable at dt " + message_number(dt) +
+         " s on this scene's springs; try a smaller step, e.g. --set dt=" +
+         message_number(dt / 10) + " with --steps ten times the scene's (the same duration)";
+}
+
 RunSummary run_mujoco(const Scene& scene, ReferenceMode mode, const StepObserver& observer,
                       bool observe_initial) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -217,15 +256,23 @@ RunSummary run_mujoco(const Scene& scene, ReferenceMode mode, const StepObserver
   if (observer && observe_initial) observer(ref.state(), initial_stats(scene, ref.state()));
   // the same rules as run_scene; MuJoCo's bad qacc/qvel/qpos warning counts as non-finite
   RunMonitor monitor(scene, "MuJoCo: ");
+  std::string warning;  // mujoco_warning, with its step
   for (int k = 0; k < scene.steps; ++k) {
     const StepStats st = ref.step();
     StepObservation obs = observe_step(scene, ref.state(), st);
     obs.engine_non_finite = ref.bad_acceleration();
     const bool stop = monitor.observe(obs);
     if (observer) observer(ref.state(), st);
-    if (stop) break;
+    warning = mujoco_warning(ref.model(), ref.data());
+    if (!warning.empty()) warning += " at step " + std::to_string(ref.state().step);
+    if (stop || !warning.empty()) break;
   }
   RunSummary out = monitor.summary();
+  if (!warning.empty()) {  // not comparable: said as MuJoCo said it
+    out.converged = false;
+    out.diverged = true;
+    out.divergence_reason = "MuJoCo raised " + warning + ": not comparable";
+  }
   monitor.fill_final(scene, ref.state(), out);
   out.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;

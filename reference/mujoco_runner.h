@@ -102,9 +102,28 @@ class MujocoReference {
   std::vector<double> residuals_;  // (ncontrol) step()'s scratch, rig units
 };
 
+// The MuJoCo warning raised in `d` that makes a run not comparable, named as MuJoCo names it with
+// what it means, or "" when none was: mjWARN_CONTACTFULL (the contact list, nconmax, was full:
+// contacts were dropped), mjWARN_CNSTRFULL (the constraint rows, njmax, were full: contacts or
+// limits dropped), mjWARN_BADQACC, mjWARN_BADQVEL, mjWARN_BADQPOS (a non-finite acceleration,
+// velocity or position: MuJoCo reset its state). The export sizes the buffers for the scene
+// (mjcf_export.h mjcf_size); this is what says when that was not enough.
+std::string mujoco_warning(const mjModel* m, const mjData* d);
+
+// True when a MuJoCo run's divergence_reason is a full buffer (mjWARN_CONTACTFULL or
+// mjWARN_CNSTRFULL), which a smaller dt does not mend.
+bool mujoco_buffer_full(const std::string& reason);
+
+// What to try after MuJoCo's run of `scene` ended for `reason` while PhysIK's did not, in one
+// line: a full buffer is the model's size (MuJoCo 2.2's dense constraint arrays), anything else
+// MuJoCo's Euler step, unstable at the scene's dt on its springs: a tenth of dt, ten times the
+// steps.
+std::string mujoco_hint(const Scene& scene, const std::string& reason);
+
 // The whole run, with the same convergence and divergence rules as physik::run_scene
-// (physik/run_monitor.h; a MuJoCo bad qacc/qvel/qpos warning counts as a non-finite state);
-// with observe_initial the observer sees the initial state first (step 0), as run_scene's.
+// (physik/run_monitor.h); a MuJoCo warning (mujoco_warning) ends it as diverged, not comparable,
+// its reason naming the warning and the step. With observe_initial the observer sees the initial
+// state first (step 0), as run_scene's.
 RunSummary run_mujoco(const Scene& scene, ReferenceMode mode,
                       const StepObserver& observer = nullptr, bool observe_initial = false);
 

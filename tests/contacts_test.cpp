@@ -152,7 +152,11 @@ TEST(Contacts, StaticFrictionHoldsARodOnASlopeBelowTheFrictionAngle) {
 
 // The stretch that holds it is the analytic one: at rest the two ends' anchor springs carry the
 // rod's weight along the slope, k_t (s_1 + s_2) = m g sin(theta), about half each (the friction
-// acts a radius below the centre of mass, so the lower end presses a little harder).
+// acts a radius below the centre of mass, so the lower end presses a little harder). How the two
+// share it is not fixed by statics (two springs in parallel hold one load): it is set by how the
+// rod landed. The implicit step lands it in its first step, retaken with the contacts it reached
+// (implicit_advance.h), where the energy guard used to halve its fall into the floor: the ends'
+// shares are 48.3 : 51.7 of the load now, within 1% of half each then.
 TEST(Contacts, StaticFrictionStretchesByTheLoadOverItsStiffness) {
   const double tan_theta = 0.5, k_t = 1e4;
   const double theta = std::atan(tan_theta);
@@ -173,7 +177,7 @@ TEST(Contacts, StaticFrictionStretchesByTheLoadOverItsStiffness) {
     EXPECT_NEAR(sum.x(), total, 1e-6 * total);
     EXPECT_NEAR(sum.y(), 0.0, 1e-9 * total);
     for (const FrictionAnchor& a : st.friction_anchors) {
-      EXPECT_NEAR(a.stretch_world.x(), total / 2.0, 0.01 * total / 2.0);
+      EXPECT_NEAR(a.stretch_world.x(), total / 2.0, 0.05 * total / 2.0);
     }
   }
 }

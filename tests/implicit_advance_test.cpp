@@ -11,6 +11,9 @@
 #include <gtest/gtest.h>
 
 #include "physik/engine/engine.h"
+#include "physik/engine/integrate_joint_space.h"
+#include "physik/engine/interpolation.h"
+#include "physik/engine/run_monitor.h"
 #include "physik/io/rig_io.h"
 #include "physik/io/scene_io.h"
 #include "physik/model/rig_generators.h"
@@ -98,6 +101,77 @@ TEST(ImplicitAdvance, NoShippedSceneIsSplitAndItsRunIsTheBareStepsBitForBit) {
     EXPECT_EQ(guarded.implicit_max_substeps, 1) << name;
     EXPECT_EQ(state_hash(guarded.final_frames), state_hash(bare.final_frames)) << name;
   }
+}
+
+// One bone of 1 kg lying on a floor of contact_k 1e20 under gravity: its rest depth W / k (1e-19)
+// is below a coordinate's resolution at z = 0.06 (7e-18), so every step starts with the contact
+// just off, and the bare step falls 2.4 cm into the spring (6e16 J). The old guard halved that
+// 19 times every step (524,288 substeps, 10 steps in 9.8 s); retaken with the contacts it reached
+// (implicit_advance.h), the step lands on the floor whole.
+TEST(ImplicitAdvance, ABoneAtRestOnAStiffFloorIsNeverSplit) {
+  BoneSpec b;
+  b.name = "a";
+  b.head_world = Vec3(0.0, 0.0, 0.06);  // the capsule (radius 0.06) on the floor
+  b.tail_world = Vec3(1.0, 0.0, 0.06);
+  b.rest_frame_world = rest_frame_from_roll(b.head_world, b.tail_world, 0.0);
+  b.mass = 1.0;
+  b.radius = 0.5;
+  Scene s = test::scene_for(build_rig({b}, "<test>", "bone"), preset_params("robust"), 10);
+  s.gravity_world = Vec3(0.0, 0.0, -9.81);
+  s.collision.ground = GroundPlane{};
+  s.params.contact_k = 1e20;
+  s.params.implicit_max_splits = 20;
+  const RunSummary r = run_scene(s);
+  EXPECT_FALSE(r.diverged) << r.divergence_reason;
+  EXPECT_EQ(r.implicit_split_steps, 0);
+  EXPECT_EQ(r.implicit_max_substeps, 1);
+  EXPECT_EQ(r.implicit_retaken_steps, 10);  // every step, from just off the floor
+  EXPECT_LT(r.peak_kinetic_energy, 1e-12);
+  for (const Vec3& p : {r.final_frames.head_world[0], r.final_frames.tail_world[0]}) {
+    EXPECT_NEAR(p.z(), 0.06, 1e-12);  // on the floor, not in it
+  }
+}
+
+// a bare step that adds the same energy at every step length: the shipped step, then the root
+// pushed up by 10 rig units/s (on the 0.1x pinhead, 1.4 kg: 68 J, 30 times its energy)
+void pushed_step(const Scene& scene, SimState& s, double h, const void* /*context*/) {
+  take_implicit_step(scene, s, h, nullptr);
+  s.root_vel_world += Vec3(0.0, 0.0, 10.0);
+  world_from_joint_space(scene.rig, s);
+}
+
+TEST(ImplicitAdvance, HalvingStopsWhereItNoLongerLowersTheEnergy) {
+  // the same push at every length: a half ends no lower than its whole step, which is kept (the
+  // old guard took it as 24 substeps)
+  Scene s = small_pinhead(3.0);
+  s.params.implicit_max_splits = 8;
+  SimState st;
+  init_state(s, st);
+  update_targets(s, st);
+  EXPECT_EQ(advance_implicit(s, st, s.params.dt, pushed_step), 1);
+  EXPECT_EQ(st.implicit_unresolved_steps, 1);
+  EXPECT_EQ(st.implicit_deepest_steps, 0);
+}
+
+// the 0.1x pinhead at c = 100 (its bare first step gains 4.5x its energy) with one halving
+// allowed: its halves are taken unchecked, and the run says so once, suggesting no value past
+// implicit_max_splits' range
+TEST(ImplicitAdvance, AStepSplitToTheDeepestLevelIsSaidOnce) {
+  Scene s = small_pinhead(100.0);
+  s.steps = 60;
+  s.params.implicit_max_splits = 1;
+  const RunSummary r = run_scene(s);
+  EXPECT_GE(r.implicit_deepest_steps, 1);
+  const std::string said = energy_guard_warning(s, r);
+  EXPECT_NE(said.find(std::to_string(r.implicit_deepest_steps) +
+                      " split to implicit_max_splits (1: substeps of dt / 2), taken unchecked"),
+            std::string::npos)
+      << said;
+  EXPECT_NE(said.find("more implicit_max_splits (now 1, at most 20)"), std::string::npos) << said;
+  s.params.implicit_max_splits = 20;  // at the range's end: never suggested past it
+  EXPECT_EQ(energy_guard_warning(s, r).find("more implicit_max_splits"), std::string::npos);
+  EXPECT_EQ(divergence_hint(s).find("implicit_max_splits"), std::string::npos);
+  EXPECT_EQ(energy_guard_warning(s, RunSummary{}), "");
 }
 
 // pinhead's left hand pulled up over its head (an ik_comparison target that bends the elbow far)

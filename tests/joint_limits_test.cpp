@@ -117,6 +117,10 @@ TEST(JointLimits, EveryBadFileIsAnInputErrorNamingBoneAndField) {
       {R"({"comment": "no limits"})", "field 'limits_deg': missing required field"},
       {R"({"limits_deg": {"a": {"x": [0, 1e999]}}})", "l.json"},
       {R"({"limits_deg": {"a": {"x": [NaN, 0]}}})", "invalid JSON"},
+      // a bone name with a control character, named by position, never echoed
+      {R"({"limits_deg": {"a": {}, "b\u0000": "free"}})",
+       "limits_deg: a bone name: control character 0x00 at offset 1"},
+      {R"({"rig": "r\u0007", "limits_deg": {}})", "field 'rig': control character 0x07"},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.text);

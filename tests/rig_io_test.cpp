@@ -207,6 +207,22 @@ TEST(RigInput, BoneNamesMustBePrintable) {
   EXPECT_EQ(rig.bone_name[1], "b\"<,c");
 }
 
+// the rig's own name and a parent's name go into MJCF, CSV and messages like the bones' names
+TEST(RigInput, RigNameAndParentNamesMustBePrintable) {
+  expect_error(std::string(R"({"name": "r\u0000", "bones": [)") + kRoot + "]}",
+               {"field 'name'", "control character 0x00 at offset 1"});
+  expect_error(rig_with(R"({"name": "b", "parent": "a\u0001", "head": [0,0,1], "tail": [0,0,2]})"),
+               {"bones[1]", "field 'parent'", "control character 0x01 at offset 1"});
+  // a bone whose name is bad is named by its index alone, whatever else is wrong with it
+  try {
+    rig_from_json_text(R"({"bones": [{"name": "a\u0000", "parent": null, "head": [0,0,0]}]})",
+                       "bad.json");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).find('\0'), std::string::npos) << e.what();
+  }
+}
+
 TEST(RigInput, JsonNestedTooDeepIsRejectedBeforeParsing) {
   // a 200,000-deep array overflowed the stack when the document was copied
   const std::string deep =

@@ -260,6 +260,35 @@ TEST(EnergyRule, EveryShippedSceneKeepsItsVerdictAndTheTightHandDiverges) {
 // tolerances and reported ratios are over its mean bone length, not over the round-off (the
 // residual tolerance was 6e-20, so it could never converge, and the summary's gap over the
 // height 5e13).
+// a run that ends short of convergence gets one line of what to try, as a divergence does: more
+// steps, more damping where it would take, the robust preset where the scheme is explicit; never
+// a damping past the explicit step's bound
+TEST(EnergyRule, ARunShortOfConvergenceSaysWhatToTry) {
+  const Scene paper = load_scene(test::model_path("scenes/pinhead_two_hands.json"));
+  RunSummary run;
+  run.steps_run = 50;
+  const std::string explicit_hint = not_converged_hint(paper, run);
+  EXPECT_EQ(explicit_hint.rfind("try more steps (--steps 100, twice this run's)", 0), 0u)
+      << explicit_hint;
+  EXPECT_NE(explicit_hint.find("--set preset=robust"), std::string::npos) << explicit_hint;
+  // damping 3 doubled passes pinhead's bound (its lightest bone's m / dt is about 6 N s/m)
+  EXPECT_EQ(explicit_hint.find("--set damping="), std::string::npos) << explicit_hint;
+  Scene robust = load_scene(test::model_path("scenes/pinhead_two_hands.json"),
+                            parse_param_overrides({"preset=robust"}, "--set"));
+  run.damping_auto_value = 2.5;
+  EXPECT_NE(not_converged_hint(robust, run)
+                .find("or a fixed damping above damping auto's choice (2.5 N s/m), e.g. "
+                      "--set damping=5"),
+            std::string::npos)
+      << not_converged_hint(robust, run);
+  robust.params.damping_auto = false;
+  robust.params.damping = 1.5;
+  EXPECT_NE(not_converged_hint(robust, run)
+                .find("more damping (now 1.5 N s/m, e.g. --set damping=3) or --set damping=auto"),
+            std::string::npos)
+      << not_converged_hint(robust, run);
+}
+
 TEST(RestRule, ARigFlatUpToRoundOffTakesItsMeanBoneLengthAsItsScale) {
   std::vector<BoneSpec> specs(2);
   for (int i = 0; i < 2; ++i) {

@@ -78,8 +78,12 @@ TEST(Scene, TheKeysSchemeReplacedMapOntoIt) {
   EXPECT_EQ(scheme_of(R"({"integration": "articulated"})").scheme, Scheme::kGaussSeidel);
   EXPECT_EQ(scheme_of(R"({"integration": "articulated", "joint_solve": "exact"})").scheme,
             Scheme::kExact);
-  EXPECT_EQ(scheme_of(R"({"joint_solve": "exact"})").scheme,
-            Scheme::kImplicit);  // implicit is exact
+  // joint_solve alone meant integration articulated, the default before scheme: exact is exact
+  // under the default preset too (it ran scheme implicit once the default became robust)
+  EXPECT_EQ(scheme_of(R"({"joint_solve": "exact"})").scheme, Scheme::kExact);
+  EXPECT_EQ(scheme_of(R"({"preset": "robust", "joint_solve": "exact"})").scheme, Scheme::kExact);
+  EXPECT_EQ(scheme_of(R"({"integration": "implicit", "joint_solve": "exact"})").scheme,
+            Scheme::kImplicit);
   EXPECT_EQ(scheme_of(R"({"preset": "original", "joint_solve": "gauss-seidel"})").scheme,
             Scheme::kGaussSeidel);
   expect_error(with_cp("", R"({"integration": "implicit", "joint_solve": "gauss-seidel"})"),
@@ -224,6 +228,70 @@ TEST(SceneInput, Schedule) {
 TEST(SceneInput, InitialPoseUnknownBone) {
   expect_error(R"({"rig": "elbow.json", "initial_pose": {"rotation_deg": {"knee": [0, 0, 10]}}})",
                {"initial_pose", "rotation_deg.knee", "unknown bone"});
+}
+
+// every name a scene carries, and every name it refers to, is refused with a control character
+// in it (the MJCF writer and MuJoCo's parser cannot take one), naming the field and the byte but
+// never the name itself (it would carry the byte into the message)
+TEST(SceneInput, ControlCharactersInEveryName) {
+  const std::string cp = R"({"bone": "forearm", "target": [0, 0, 4]})";
+  const std::string contacts = R"("ground": {}, "self_collision": true)";
+  const std::string nul = "control character 0x00 at offset 1";
+  expect_error(R"({"rig": "elbow.json", "name": "s\u0000"})", {"field 'name'", nul.c_str()});
+  expect_error(with_cp(R"({"name": "p\u0000", "bone": "forearm", "target": [0, 0, 4]})"),
+               {"control_points[0]", "field 'name'", nul.c_str()});
+  expect_error(with_cp(R"({"bone": "f\u0000", "target": [0, 0, 4]})"),
+               {"control_points[0]", "field 'bone'", nul.c_str()});
+  expect_error(
+      R"({"rig": "elbow.json", "steps": 5, "control_points": [)" + cp +
+          R"(], "schedule": [{"step": 1, "control_point": "t\u001f", "target": [0, 0, 3]}]})",
+      {"schedule[0]", "field 'control_point'", "control character 0x1f at offset 1"});
+  expect_error(
+      R"({"rig": "elbow.json", "initial_pose": {"rotation_deg": {"f\u007f": [0, 0, 1]}}})",
+      {"initial_pose: field 'rotation_deg': a bone name: control character 0x7f at offset 1"});
+  expect_error(R"({"rig": "elbow.json", "obstacles": [{"name": "o\u0000", "box": )"
+               R"({"center": [0, 0, -1], "half_extents": [1, 1, 0.1]}}]})",
+               {"obstacles[0]", "field 'name'", nul.c_str()});
+  expect_error(R"({"rig": "elbow.json", )" + contacts +
+                   R"(, "collision_exclude": [["upper_arm", "f\u0000"]]})",
+               {"collision_exclude[0]", nul.c_str()});
+  expect_error(R"({"rig": {"name": "r\u0000", "bones": [{"name": "a", "parent": null, )"
+               R"("head": [0, 0, 0], "tail": [0, 0, 1]}]}})",
+               {"rig", "field 'name'", nul.c_str()});
+  // the messages never hold the byte itself
+  for (const std::string& text : {std::string(R"({"rig": "elbow.json", "name": "s\u0000"})"),
+                                  with_cp(R"({"bone": "f\u0000", "target": [0, 0, 4]})")}) {
+    try {
+      parse(text);
+      ADD_FAILURE() << "no error for " << text;
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).find('\0'), std::string::npos) << e.what();
+    }
+  }
+}
+
+// a written scene refers to its rig as the scene it came from did: a relative path stays relative
+// (from where it is written), an absolute one absolute
+TEST(Scene, WrittenScenesKeepTheRigPathRelativeAsGiven) {
+  namespace fs = std::filesystem;
+  const std::string source = test::model_path("scenes/pinhead_two_hands.json");
+  const Scene s = load_scene(source);
+  ASSERT_EQ(s.rig_ref, "../rigs/pinhead.json");
+  const fs::path beside = fs::path(source).parent_path() / "tuned.json";
+  EXPECT_EQ(scene_to_json(s, false, beside.string())["rig"], "../rigs/pinhead.json");
+  const fs::path elsewhere = fs::temp_directory_path() / "physik_scene_test" / "deep" / "t.json";
+  fs::create_directories(elsewhere.parent_path());
+  const std::string rel = scene_to_json(s, false, elsewhere.string())["rig"];
+  EXPECT_TRUE(fs::path(rel).is_relative()) << rel;
+  EXPECT_TRUE(fs::equivalent(elsewhere.parent_path() / rel, s.rig_file)) << rel;
+  // no folder to be relative to (stdout, a dictionary): absolute, as before
+  EXPECT_TRUE(fs::path(scene_to_json(s)["rig"].get<std::string>()).is_absolute());
+  EXPECT_TRUE(fs::path(scene_to_json(s, false, "-")["rig"].get<std::string>()).is_absolute());
+  // an absolute path stays absolute wherever the scene goes
+  Scene a = s;
+  a.rig_ref = fs::absolute(s.rig_file).string();
+  EXPECT_EQ(scene_to_json(a, false, beside.string())["rig"],
+            fs::absolute(s.rig_file).lexically_normal().string());
 }
 
 TEST(SceneInput, BadRigInsideSceneNamesTheRigFile) {

@@ -164,8 +164,14 @@ std::vector<BoneFrames> mujoco_reference_trajectory(const Scene& scene_in) {
   RecordOptions every_frame;
   every_frame.all_frames = true;
   RecordedRun run = record_mujoco(scene, ReferenceMode::kSameForces, every_frame);
-  // the diverging step itself is not a reference
-  if (run.summary.diverged && !run.frames.empty()) run.frames.pop_back();
+  if (run.summary.diverged) {
+    throw DivergedRun(
+        "MuJoCo's same-forces run of " +
+        (scene.file.empty() ? std::string("the scene") : scene.file) +
+        ", the objective's reference, ended after " + std::to_string(run.summary.steps_run) +
+        " of " + std::to_string(scene.steps) + " steps (" + run.summary.divergence_reason +
+        "): no reference to tune against; " + mujoco_hint(scene, run.summary.divergence_reason));
+  }
   return std::move(run.frames);
 }
 
@@ -208,12 +214,6 @@ class Objective_ {
   Objective_(const Scene& base, const TuneOptions& opt) : base_(base), opt_(opt) {
     if (opt.objective == Objective::kMujoco) {
       reference_ = mujoco_reference_trajectory(opt.mujoco_scene ? *opt.mujoco_scene : base);
-      if (reference_.empty()) {
-        throw_input_error(base.file, "", "",
-                          "MuJoCo's same-forces run of this scene diverged at once (its Euler "
-                          "step is unstable at the scene's dt on its springs: give the scene a "
-                          "smaller dt, e.g. a tenth, with ten times the steps)");
-      }
     }
   }
 
@@ -481,6 +481,30 @@ TuneResult tune_scene(const Scene& scene, const TuneOptions& opt) {
 
 bool no_improvement(const TuneResult& r) {
   return !(r.final_cost < r.initial_cost);
+}
+
+bool converges_no_later(const TuneResult& r) {
+  const RunSummary &scene = r.scene_run, &tuned = r.tuned_run;
+  return tuned.converged &&
+         (!scene.converged || tuned.steps_to_converge <= scene.steps_to_converge);
+}
+
+std::string measures_disagree(const TuneResult& r) {
+  const auto step = [](const RunSummary& run) {
+    return run.converged ? std::to_string(run.steps_to_converge) : std::string("never");
+  };
+  const RunSummary &scene = r.scene_run, &tuned = r.tuned_run;
+  const bool lower = !no_improvement(r);
+  const bool later = scene.converged ? !converges_no_later(r) : false;  // never -> never: not later
+  const bool earlier =
+      tuned.converged && (!scene.converged || tuned.steps_to_converge < scene.steps_to_converge);
+  if (lower && later) {
+    return "objective lower, convergence later: step " + step(scene) + " -> " + step(tuned);
+  }
+  if (!lower && earlier) {
+    return "objective not lower, convergence earlier: step " + step(scene) + " -> " + step(tuned);
+  }
+  return "";
 }
 
 std::string tune_failure(const TuneResult& r) {

@@ -145,7 +145,10 @@ RunSummary settle_residuals(const Scene& scene, SettleMeasure measure,
 double cost_of(const std::vector<double>& residuals);  // 1/2 sum r^2
 
 // The mujoco objective's reference: every bone's head and tail after each step of MuJoCo's
-// same-forces run of `scene` (as it is), until it ends or diverges.
+// same-forces run of `scene` (as it is). A run that diverged, or raised a MuJoCo warning (its
+// buffers full: mujoco_runner.h mujoco_warning), is no reference: every candidate would be
+// compared with a run that stopped (J the same at every value); throws DivergedRun with the
+// reason and what to try (mujoco_hint).
 std::vector<BoneFrames> mujoco_reference_trajectory(const Scene& scene);
 // Its residual vector (size reference steps x 2 nbone) for a scene as it is.
 RunSummary mujoco_residuals(const Scene& scene, const std::vector<BoneFrames>& reference,
@@ -163,5 +166,14 @@ bool no_improvement(const TuneResult& result);
 // "" when the tuning found a value worth using; else why not, in one line (every candidate
 // diverged, or the tuned run did).
 std::string tune_failure(const TuneResult& result);
+
+// True when the tuned run converges and no later than the scene's (which may not converge at
+// all): the one outcome `physik tune` exits 0 with.
+bool converges_no_later(const TuneResult& result);
+
+// "" when the objective and the convergence step agree (both better, or both no better); else the
+// two measures side by side, e.g. "objective lower, convergence later: step 52 -> 61" (a run that
+// never converges: "never").
+std::string measures_disagree(const TuneResult& result);
 
 }  // namespace physik::tune

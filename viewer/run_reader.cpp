@@ -24,7 +24,17 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+// the viewer's bounds (run_reader.h): coordinates within the rig's, the rest within a float's
+constexpr double kFloatMax = std::numeric_limits<float>::max();
+
+// The first kept frame holding a value past the bounds: it and the later frames are left out.
+struct Cut {
+  int frame = std::numeric_limits<int>::max();  // the first frame left out
+  int step = 0;                                 // its step
+  std::string file, line, column, field, reason;
+
+  bool before(int f) const { return f < frame; }
+};
 
 // The fields of one CSV line (RFC 4180: a quoted field may hold commas and doubled quotes;
 // names hold no line breaks, the rig loader refuses control characters). False on an
@@ -123,6 +133,34 @@ class CsvFile {
     return v;
   }
 
+  // field k as a float the page can hold: within `bound` (a coordinate: the rig's bound; else a
+  // float's range). Past it, frame `frame` is where `cut` starts unless it starts earlier already;
+  // false then.
+  bool bounded(const std::vector<std::string>& fields, std::size_t k,
+               const std::vector<std::string>& names, bool coordinate, int frame, int step,
+               Cut& cut, float& out) const {
+    const double v = number(fields, k, names);
+    const double bound = coordinate ? kMaxCoordinate : kFloatMax;
+    if (std::abs(v) <= bound) {
+      out = static_cast<float>(v);
+      return true;
+    }
+    if (cut.before(frame)) {
+      static_assert(kMaxCoordinate == 1e9, "the message quotes it");
+      cut.frame = frame;
+      cut.step = step;
+      cut.file = path_;
+      cut.line = std::to_string(line_);
+      cut.column = std::to_string(k + 1);
+      cut.field = names[k];
+      cut.reason =
+          "'" + fields[k] + "' is beyond " +
+          (coordinate ? std::string("the rig's coordinate bound +-1e9 (rig.h kMaxCoordinate)")
+                      : std::string("the viewer's float range (+-3.4e38)"));
+    }
+    return false;
+  }
+
  private:
   std::string path_;
   std::ifstream in_;
@@ -148,32 +186,44 @@ std::vector<std::string> trajectory_columns(const Scene& scene) {
       {"step", "time", "kinetic_energy", "passes", "joint_mismatch", "joint_separation"}, quoted);
 }
 
-// One kept trajectory row into the run's arrays.
-void keep_row(const CsvFile& csv, const std::vector<std::string>& f,
-              const std::vector<std::string>& names, ViewRun& run) {
+// One kept trajectory row into the run's arrays; false (nothing kept, `cut` set) where a value
+// lies past the viewer's bounds.
+bool keep_row(const CsvFile& csv, const std::vector<std::string>& f,
+              const std::vector<std::string>& names, Cut& cut, ViewRun& run) {
   const int ncontrol = static_cast<int>(run.scene.control_points.size());
+  const int frame = static_cast<int>(run.steps.size());
   const double step = csv.number(f, 0, names);
   if (step != std::floor(step) || step < 0 || step > 2e9) csv.fail("step", "not a step number");
-  run.steps.push_back(static_cast<int>(step));
-  run.times.push_back(csv.number(f, 1, names));
-  run.kinetic_energy.push_back(static_cast<float>(csv.number(f, 2, names)));
-  double largest = 0.0;
+  const int n = static_cast<int>(step);
+  const double time = csv.number(f, 1, names);
+  float ke = 0.0f, largest = 0.0f, r = 0.0f;
+  if (!csv.bounded(f, 2, names, false, frame, n, cut, ke)) return false;
   int which = -1;
   for (int c = 0; c < ncontrol; ++c) {
-    const double r = csv.number(f, 6 + c, names);
+    if (!csv.bounded(f, 6 + c, names, false, frame, n, cut, r)) return false;
     if (which < 0 || r > largest) {
       largest = r;
       which = c;
     }
   }
-  run.max_residual.push_back(static_cast<float>(largest));
-  run.max_residual_point.push_back(which);
+  const std::size_t first = run.positions.size();
   for (std::size_t k = 6 + ncontrol; k < f.size(); ++k) {
-    run.positions.push_back(static_cast<float>(csv.number(f, k, names)));
+    float x = 0.0f;
+    if (!csv.bounded(f, k, names, true, frame, n, cut, x)) {
+      run.positions.resize(first);
+      return false;
+    }
+    run.positions.push_back(x);
   }
+  run.steps.push_back(n);
+  run.times.push_back(time);
+  run.kinetic_energy.push_back(ke);
+  run.max_residual.push_back(largest);
+  run.max_residual_point.push_back(which);
+  return true;
 }
 
-void read_trajectory(const std::string& path, int max_frames, ViewRun& run) {
+void read_trajectory(const std::string& path, int max_frames, Cut& cut, ViewRun& run) {
   run.rows_recorded = count_rows(path);
   if (run.rows_recorded == 0) {
     throw_input_error(path, "", "",
@@ -196,7 +246,7 @@ void read_trajectory(const std::string& path, int max_frames, ViewRun& run) {
                        std::to_string(names.size()));
     }
     if (next < kept && r == kept_row(next)) {
-      keep_row(csv, f, names, run);
+      if (!keep_row(csv, f, names, cut, run)) return;  // this frame and the later ones left out
       ++next;
     }
   }
@@ -209,18 +259,54 @@ std::unordered_map<int, int> frame_of_step(const ViewRun& run) {
   return frame;
 }
 
-// Targets and limit excess of the kept frames; NaN where a frame has no row.
-void read_targets_limits(const std::string& path, ViewRun& run) {
+// One targets_and_limits.csv row of kept frame fr: its targets, limit excess and (where the file
+// has them) bone orientations; stops at the first value past the bounds (`cut`)
+void read_targets_row(const CsvFile& csv, const std::vector<std::string>& f,
+                      const std::vector<std::string>& names, int fr, std::size_t orient_col,
+                      Cut& cut, ViewRun& run) {
+  const int nbone = run.scene.rig.nbone;
+  const int ncontrol = static_cast<int>(run.scene.control_points.size());
+  float* t = run.targets.data() + std::size_t(fr) * ncontrol * 3;
+  bool ok = true;
+  const int step = run.steps[fr];
+  for (int k = 0; k < 3 * ncontrol && ok; ++k) {
+    ok = csv.bounded(f, 1 + k, names, true, fr, step, cut, t[k]);
+  }
+  for (int b = 0; b < nbone && ok; ++b) {
+    float e = 0.0f, x = 0.0f;
+    for (int a = 0; a < 3 && ok; ++a) {
+      ok = csv.bounded(f, 1 + 3 * ncontrol + 3 * b + a, names, false, fr, step, cut, x);
+      e = std::max(e, std::abs(x));
+    }
+    run.limit_excess[std::size_t(fr) * nbone + b] = e;
+  }
+  if (!ok || run.orientations.empty()) return;
+  // w x y z in the file, x y z w (three.js's order) in the page; unit quaternions, within any
+  // bound
+  float* q = run.orientations.data() + std::size_t(fr) * nbone * 4;
+  for (int b = 0; b < nbone && ok; ++b) {
+    const std::size_t c = orient_col + 4 * std::size_t(b);
+    ok = csv.bounded(f, c, names, false, fr, step, cut, q[4 * b + 3]);
+    for (int k = 0; k < 3 && ok; ++k) {
+      ok = csv.bounded(f, c + 1 + k, names, false, fr, step, cut, q[4 * b + k]);
+    }
+  }
+}
+
+// Targets and limit excess of the kept frames (before `cut`, which a value past the bounds moves
+// earlier); every kept frame must have its row.
+void read_targets_limits(const std::string& path, Cut& cut, ViewRun& run) {
   const int nframe = static_cast<int>(run.steps.size()), nbone = run.scene.rig.nbone;
   const int ncontrol = static_cast<int>(run.scene.control_points.size());
-  run.targets.assign(std::size_t(nframe) * ncontrol * 3, kNaN);
-  run.limit_excess.assign(std::size_t(nframe) * nbone, kNaN);
+  run.targets.assign(std::size_t(nframe) * ncontrol * 3, 0.0f);
+  run.limit_excess.assign(std::size_t(nframe) * nbone, 0.0f);
+  std::vector<char> has_row(nframe, 0);
   CsvFile csv(path);
   std::vector<std::string> names = unquoted({"step"}, targets_limits_column_names(run.scene));
   // folders recorded before the orientation columns: targets and excess only
   const std::vector<std::string> older(names.begin(), names.end() - 4 * std::size_t(nbone));
   if (csv.check_header(names, older)) {
-    run.orientations.assign(std::size_t(nframe) * nbone * 4, kNaN);
+    run.orientations.assign(std::size_t(nframe) * nbone * 4, 0.0f);
   } else {
     names = older;
     run.notes.push_back(std::string(kTargetsLimitsFile) +
@@ -236,23 +322,17 @@ void read_targets_limits(const std::string& path, ViewRun& run) {
                        std::to_string(names.size()));
     }
     const auto it = frame.find(static_cast<int>(csv.number(f, 0, names)));
-    if (it == frame.end()) continue;  // a row decimation left out
-    float* t = run.targets.data() + std::size_t(it->second) * ncontrol * 3;
-    for (int k = 0; k < 3 * ncontrol; ++k) t[k] = static_cast<float>(csv.number(f, 1 + k, names));
-    for (int b = 0; b < nbone; ++b) {
-      double e = 0.0;
-      for (int a = 0; a < 3; ++a)
-        e = std::max(e, std::abs(csv.number(f, 1 + 3 * ncontrol + 3 * b + a, names)));
-      run.limit_excess[std::size_t(it->second) * nbone + b] = static_cast<float>(e);
-    }
-    if (run.orientations.empty()) continue;
-    // w x y z in the file, x y z w (three.js's order) in the page
-    float* q = run.orientations.data() + std::size_t(it->second) * nbone * 4;
-    for (int b = 0; b < nbone; ++b) {
-      const std::size_t c = orient_col + 4 * std::size_t(b);
-      q[4 * b + 3] = static_cast<float>(csv.number(f, c, names));
-      for (int k = 0; k < 3; ++k)
-        q[4 * b + k] = static_cast<float>(csv.number(f, c + 1 + k, names));
+    if (it == frame.end() || !cut.before(it->second)) continue;  // a frame left out
+    const int fr = it->second;
+    if (has_row[fr]) continue;  // a step recorded twice keeps its first row, as its frame
+    has_row[fr] = 1;
+    read_targets_row(csv, f, names, fr, orient_col, cut, run);
+  }
+  for (int fr = 0; fr < nframe && cut.before(fr); ++fr) {
+    if (!has_row[fr]) {
+      throw_input_error(path, "", "step",
+                        "no row for step " + std::to_string(run.steps[fr]) + " of " +
+                            kTrajectoryFile + " (a run folder's tables hold the same steps)");
     }
   }
 }
@@ -271,7 +351,7 @@ int contact_bone(const CsvFile& csv, const std::vector<std::string>& f, std::siz
 
 // The contacts of the kept frames, grouped by frame (contact_start); rows of frames decimation
 // left out are skipped.
-void read_contacts(const std::string& path, ViewRun& run) {
+void read_contacts(const std::string& path, Cut& cut, ViewRun& run) {
   const int nframe = static_cast<int>(run.steps.size()), nbone = run.scene.rig.nbone;
   std::vector<std::vector<int>> bones(nframe);
   std::vector<std::vector<float>> values(nframe);
@@ -287,12 +367,17 @@ void read_contacts(const std::string& path, ViewRun& run) {
     }
     const int a = contact_bone(csv, f, 2, names, nbone, false);
     const int b = contact_bone(csv, f, 3, names, nbone, true);
-    std::vector<float> v;
-    for (std::size_t k = 4; k < names.size(); ++k) {
-      v.push_back(static_cast<float>(csv.number(f, k, names)));
-    }
     const auto it = frame.find(static_cast<int>(csv.number(f, 0, names)));
-    if (it == frame.end()) continue;  // a row decimation left out, or no trajectory row
+    // a row decimation left out, no trajectory row, or a frame left out
+    if (it == frame.end() || !cut.before(it->second)) continue;
+    std::vector<float> v(names.size() - 4);
+    bool ok = true;
+    // point x y z (a coordinate), normal x y z, depth (a coordinate), force
+    for (std::size_t k = 4; k < names.size() && ok; ++k) {
+      const bool coordinate = k < 7 || k == 10;
+      ok = csv.bounded(f, k, names, coordinate, it->second, run.steps[it->second], cut, v[k - 4]);
+    }
+    if (!ok) continue;
     bones[it->second].insert(bones[it->second].end(), {a, b});
     values[it->second].insert(values[it->second].end(), v.begin(), v.end());
   }
@@ -322,6 +407,37 @@ void goal_targets(ViewRun& run) {
   }
 }
 
+// The frames before the cut kept, the rest left out, and the page told where; a cut at the first
+// frame leaves nothing to show: refused, naming the file, line, column and value.
+void apply_cut(const Cut& cut, ViewRun& run) {
+  if (cut.frame == std::numeric_limits<int>::max()) return;  // every value within the bounds
+  if (cut.frame == 0) {
+    throw_input_error(cut.file, "line " + cut.line + ", column " + cut.column, cut.field,
+                      cut.reason + ", in the first frame: no frame to show");
+  }
+  // a cut in the trajectory ended its frames there already
+  const std::size_t keep = std::min(static_cast<std::size_t>(cut.frame), run.steps.size());
+  const int nbone = run.scene.rig.nbone;
+  const std::size_t ncontrol = run.scene.control_points.size();
+  run.steps.resize(keep);
+  run.times.resize(keep);
+  run.kinetic_energy.resize(keep);
+  run.max_residual.resize(keep);
+  run.max_residual_point.resize(keep);
+  run.positions.resize(keep * nbone * 6);
+  run.targets.resize(keep * ncontrol * 3);
+  if (!run.limit_excess.empty()) run.limit_excess.resize(keep * nbone);
+  if (!run.orientations.empty()) run.orientations.resize(keep * nbone * 4);
+  if (run.has_contacts) {
+    run.contact_start.resize(keep + 1);
+    run.contact_bones.resize(std::size_t(run.contact_start.back()) * 2);
+    run.contact_values.resize(std::size_t(run.contact_start.back()) * 8);
+  }
+  run.notes.push_back("frames from step " + std::to_string(cut.step) + " on left out: " + cut.file +
+                      " line " + cut.line + ", column " + cut.column + " ('" + cut.field +
+                      "'): " + cut.reason);
+}
+
 }  // namespace
 
 ViewRun read_run_folder(const std::string& folder, int max_frames) {
@@ -342,20 +458,22 @@ ViewRun read_run_folder(const std::string& folder, int max_frames) {
   run.scene = load_scene((fs::path(folder) / kSceneFile).string());
   const fs::path summary = fs::path(folder) / kSummaryFile;
   if (fs::is_regular_file(summary, ec)) run.summary = read_json_file(summary.string());
-  read_trajectory((fs::path(folder) / kTrajectoryFile).string(), max_frames, run);
+  Cut cut;
+  read_trajectory((fs::path(folder) / kTrajectoryFile).string(), max_frames, cut, run);
   const fs::path table = fs::path(folder) / kTargetsLimitsFile;
   if (fs::is_regular_file(table, ec)) {
-    read_targets_limits(table.string(), run);
+    read_targets_limits(table.string(), cut, run);
   } else {
     goal_targets(run);
     run.notes.push_back(std::string("no ") + kTargetsLimitsFile +
                         ": targets are the scene's goals, joint limits are not shown");
   }
   const fs::path contacts = fs::path(folder) / kContactsFile;
-  if (fs::is_regular_file(contacts, ec)) read_contacts(contacts.string(), run);
-  if (static_cast<int>(run.steps.size()) < run.rows_recorded) {
+  if (fs::is_regular_file(contacts, ec)) read_contacts(contacts.string(), cut, run);
+  apply_cut(cut, run);
+  if (run.rows_recorded > max_frames) {
     run.notes.push_back("decimated: " + std::to_string(run.rows_recorded) +
-                        " recorded rows shown as " + std::to_string(run.steps.size()) +
+                        " recorded rows shown as " + std::to_string(max_frames) +
                         " frames, evenly spread, the first and the last among them (the cap is " +
                         std::to_string(max_frames) + " frames per run: --max-frames)");
   }

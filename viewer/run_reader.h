@@ -7,11 +7,18 @@
 // Runs longer than `max_frames` rows are decimated to exactly max_frames rows, evenly spread:
 //   kept row k = round(k (rows - 1) / (max_frames - 1)),  k = 0 .. max_frames - 1
 // (the first and the last row among them); the page says so.
+// The page holds floats: a kept frame whose value lies past the viewer's bounds (a coordinate of
+// a bone, a target or a contact point beyond the rig's bound, rig.h kMaxCoordinate = 1e9; any
+// other value beyond a float's range) would draw or read as Infinity. That frame and every later
+// one are left out, and the page says where (file, line, column, value): a diverged run shows up
+// to where it left the bounds. Where no frame comes before it, the folder is refused, naming the
+// same. The page's arrays never hold a non-finite number.
 // Bad input is an InputError naming the folder or the file and what is wrong: not a folder,
 // no scene.json or trajectory.csv (not a run folder), an empty trajectory, a header that is not
 // the scene's columns, a row with the wrong number of fields, a value that is not a finite
-// number, a contact of a bone the rig does not have; and, for an overlay, runs whose rigs differ
-// in their bones.
+// number, a first frame past the bounds above, a contact of a bone the rig does not have, a kept
+// step with no row in targets_and_limits.csv (a run folder's tables hold the same steps); and,
+// for an overlay, runs whose rigs differ in their bones.
 #pragma once
 
 #include <string>

@@ -1,6 +1,7 @@
 """Each plot function runs on a small fixture and writes a non-empty PNG; the report renders."""
 import json
 import os
+import re
 import sys
 import tempfile
 import unittest
@@ -8,9 +9,11 @@ import unittest
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
 import physik_plot  # noqa: E402
+import plot_pose  # noqa: E402
 import plot_rest_poses  # noqa: E402
 import plot_scaling  # noqa: E402
 import report  # noqa: E402
+import report_html  # noqa: E402
 
 FIXTURE_BONES = """bone,parent,head_x,head_y,head_z,tail_x,tail_y,tail_z
 a,,0,0,0,0,0,1
@@ -76,7 +79,8 @@ class ReportTest(unittest.TestCase):
             self.assertTrue(all(len(r) <= report.ROW_MAX for r in rows), rows)
             self.assertIn("\u2026", rows[0])
             self.assertIn("| partly |", rows[0])
-            self.assertIn(long_measured, text)  # the section has it whole
+            for piece in long_measured.split("; "):  # the section has it whole, in short bullets
+                self.assertIn("  - " + piece, text)
             case = "Fig 6: linear springs over-bend a limited elbow more than capped ones " \
                    "(near target (the figure's geometry), cap c = 0.1)"
             short = report.shorten_claim(case, 105)
@@ -87,6 +91,34 @@ class ReportTest(unittest.TestCase):
             write(d, "README.md", "<!-- headline: exp/missing -->\n")
             self.assertIn("which this run did not report",
                           report.render(report.collect(d), None, readme))
+
+    def test_no_line_is_longer_than_600_characters(self):
+        # details as one bullet made lines of 1,265 characters: long measured phrases, notes,
+        # settings, a headline and a table with a long cell all fit in lines of at most 600, and
+        # the HTML page (report_html) still holds every word of them
+        long_measured = "; ".join("rig %d (Gauss-Seidel) converged in %d steps" % (k, 10 * k)
+                                  for k in range(60))
+        long_note = " ".join("word%d" % k for k in range(250))
+        claims = [{"claim": "A claim stated at some length, " * 6, "measured": long_measured,
+                   "holds": "partly (only in the transient)", "name": "long-one"}]
+        table = {"title": "wide", "columns": ["case", "what"],
+                 "rows": [["a", "x" * 40 + " " + " ".join(["cell"] * 200)], ["b", "short"]]}
+        settings = {"setting_%d" % k: "value %d" % k for k in range(80)}
+        with tempfile.TemporaryDirectory() as d:
+            os.makedirs(os.path.join(d, "exp"))
+            write(os.path.join(d, "exp"), "summary.json", json.dumps({"report": {
+                "title": "X", "claims": claims, "notes": [long_note], "tables": [table],
+                "settings": settings}}))
+            readme = write(d, "README.md", "<!-- headline: exp/long-one -->\n")
+            text = report.render(report.collect(d), None, readme)
+            longest = max(text.splitlines(), key=len)
+            self.assertLessEqual(len(longest), report.LINE_MAX, longest[:200])
+            page = report_html.to_html(text)
+            flat = " ".join(re.sub(r"<[^>]+>", " ", page).split())
+            for piece in long_measured.split("; ") + [long_note, "setting_79 = value 79"]:
+                self.assertIn(piece, flat)
+            self.assertIn(" ".join(["cell"] * 200), flat)
+            self.assertNotIn("Gauss- Seidel", flat)  # wrapped at spaces, never at a hyphen
 
     def test_settings_table_takes_values_and_units_from_params_json(self):
         def row(name, kind, unit, original, paper, **extra):
@@ -166,3 +198,69 @@ class ScalingPlotTest(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+# a rig facing +x, as MuJoCo's humanoid: its left side at +y
+HUMANOID_BONES = """bone,parent,head_x,head_y,head_z,tail_x,tail_y,tail_z
+torso,,0,0,1,0,0,1.5
+left_arm,torso,0,0.2,1.5,0,0.6,1.5
+right_arm,torso,0,-0.2,1.5,0,-0.6,1.5
+left_leg,torso,0,0.1,1,0,0.1,0
+right_leg,torso,0,-0.1,1,0,-0.1,0
+"""
+# the same figure facing -y, as pinhead: its left (.L) at +x
+PINHEAD_BONES = """bone,parent,head_x,head_y,head_z,tail_x,tail_y,tail_z
+torso,,0,0,1,0,0,1.5
+arm.L,torso,0.2,0,1.5,0.6,0,1.5
+arm.R,torso,-0.2,0,1.5,-0.6,0,1.5
+leg.L,torso,0.1,0,1,0.1,0,0
+leg.R,torso,-0.1,0,1,-0.1,0,0
+"""
+
+
+class PlotPoseTest(unittest.TestCase):
+    """plot_pose.py frames a rig from its own facing: the front view shows its width whichever
+    way it faces (the fixed x-z view showed MuJoCo's humanoid from its side)."""
+
+    def bones(self, text):
+        with tempfile.TemporaryDirectory() as d:
+            return physik_plot.read_bones_csv(write(d, "pose.csv", text))
+
+    def test_facing_from_the_left_and_right_names(self):
+        self.assertEqual(plot_pose.rig_facing(self.bones(HUMANOID_BONES)), (1.0, 0.0))
+        self.assertEqual(plot_pose.rig_facing(self.bones(PINHEAD_BONES)), (0.0, -1.0))
+
+    def test_facing_from_the_extent_without_names(self):
+        anon = lambda text: text.replace("arm.L", "a1").replace("arm.R", "a2").replace(  # noqa
+            "leg.L", "g1").replace("leg.R", "g2")
+        wide_in_x = self.bones(anon(PINHEAD_BONES))
+        self.assertEqual([round(c, 9) for c in plot_pose.rig_facing(wide_in_x)], [0.0, -1.0])
+        wide_in_y = [dict(b, head=(b["head"][1], b["head"][0], b["head"][2]),
+                          tail=(b["tail"][1], b["tail"][0], b["tail"][2])) for b in wide_in_x]
+        self.assertEqual([round(c, 9) for c in plot_pose.rig_facing(wide_in_y)], [1.0, 0.0])
+
+    def test_the_front_view_spreads_the_rig_across_its_width(self):
+        for text in (HUMANOID_BONES, PINHEAD_BONES):
+            bones = self.bones(text)
+            turned = plot_pose.in_view_frame(bones, plot_pose.rig_facing(bones))
+            front = {b["bone"]: b["tail"][0] for b in turned}  # the front view's horizontal
+            side = {b["bone"]: b["tail"][1] for b in turned}
+            left = [k for k in front if plot_pose.LEFT.search(k) and "leg" not in k][0]
+            right = [k for k in front if plot_pose.RIGHT.search(k) and "leg" not in k][0]
+            self.assertAlmostEqual(front[left], 0.6)  # its left on the picture's right
+            self.assertAlmostEqual(front[right], -0.6)
+            self.assertAlmostEqual(side[left], 0.0)  # the side view sees the arms end on
+        # the world's x-z view (the old front view) saw the humanoid's arms on top of each other
+        hum = {b["bone"]: b["tail"][0] for b in self.bones(HUMANOID_BONES)}
+        self.assertEqual(hum["left_arm"], hum["right_arm"])
+
+    def test_the_script_writes_the_views(self):
+        with tempfile.TemporaryDirectory() as d:
+            pose = write(d, "final_pose.csv", HUMANOID_BONES)
+            scene = write(d, "scene.json", json.dumps({"control_points": [
+                {"bone": "left_arm", "target": [0.3, 0.7, 1.6]}]}))
+            out = os.path.join(d, "pose.png")
+            plot_pose.main([pose, "--scene", scene, "--out", out])
+            self.assertGreater(os.path.getsize(out), 1000)
+            plot_pose.main([pose, "--facing=-y", "--out", out])
+            self.assertGreater(os.path.getsize(out), 1000)

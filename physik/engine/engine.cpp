@@ -57,6 +57,7 @@ void init_state(const Scene& scene, SimState& s) {
     s.contacts.reserve(room);
     s.contact_elements.reserve(room);
     s.contact_scratch.reserve(room);
+    s.implicit_reached.reserve(room);
     s.friction_anchors.reserve(room);
     s.friction_anchors_next.reserve(room);
     for (JointStateSnapshot& snap : s.implicit_snapshots) snap.friction_anchors.reserve(room);

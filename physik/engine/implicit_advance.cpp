@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "physik/engine/forces.h"
 #include "physik/engine/implicit_step.h"
 #include "physik/engine/integrate_joint_space.h"
 #include "physik/engine/measures.h"
+#include "physik/engine/newton_euler.h"
 #include "physik/engine/potential.h"
 
 namespace physik {
@@ -46,29 +48,139 @@ double largest_rotation(const SimState& s, double h) {
   return h * std::sqrt(w);
 }
 
+// E_round, J: what the rig's own round-off can change in E (implicit_advance.h)
+double roundoff_energy(const Scene& scene, const SimState& s, double e0) {
+  double coordinate = 0.0;  // rig units, the largest |coordinate| of a bone's end
+  for (int i = 0; i < scene.rig.nbone; ++i) {
+    coordinate = std::max({coordinate, s.frames.head_world[i].cwiseAbs().maxCoeff(),
+                           s.frames.tail_world[i].cwiseAbs().maxCoeff()});
+  }
+  const double r = coordinate + scene.rig.reference_length();
+  return kRoundoffGrowth * std::numeric_limits<double>::epsilon() *
+         (std::abs(e0) + scene.rig.total_mass() * scene.gravity_world.norm() * r);
+}
+
 // the guard's bounds for one step
 struct Guard {
   BareStep bare;
   const void* context;
-  int max_depth;  // halvings
-  double floor;   // J, E_floor
+  int max_depth;         // halvings
+  double floor;          // J, E_floor
+  bool deepest = false;  // a substep of this step was split max_depth deep (taken unchecked)
 };
 
-// one substep of h at `depth`, split in two while it adds energy (below max_depth); returns the
-// substeps taken
-int substep(const Scene& scene, SimState& s, double h, int depth, const Guard& g) {
-  const bool guarded = depth < g.max_depth;
-  if (guarded) save(s, s.implicit_snapshots[depth]);
-  const double e0 = guarded ? mechanical_energy(scene, s) : 0.0;
+// The check of a (sub)step of h just taken from energy e0 (J): its joints turned at most
+// kMaxStepRotation and its energy grew at most the tolerance. `growth` gets E_1 - e0 (J).
+bool step_holds(const Scene& scene, const SimState& s, double h, double e0, const Guard& g,
+                double& growth) {
+  growth = mechanical_energy(scene, s) - e0;
+  return largest_rotation(s, h) <= kMaxStepRotation &&
+         growth <=
+             kEnergyGrowthTolerance * (std::max(e0, 0.0) + g.floor) + roundoff_energy(scene, s, e0);
+}
+
+// The ground and obstacle contacts of the state's frames (mechanical_energy has just detected them
+// into contact_scratch) into implicit_reached, each point bone-local and its depth stored as
+// d + n . p: from the step's start, d_0 = depth - n . p_0 (first order: the depth grows as the
+// point moves against n). True when there are any.
+bool keep_reached_contacts(SimState& s) {
+  s.implicit_reached.clear();
+  for (const Contact& c : s.contact_scratch) {
+    if (c.other_bone >= 0) continue;  // a self-contact is split between its bones (contacts.h)
+    Contact r = c;
+    r.depth = c.depth + c.normal_world.dot(c.point_world);
+    r.point_world =
+        s.frames.orient_world[c.bone].conjugate() * (c.point_world - s.com_world[c.bone]);
+    s.implicit_reached.push_back(r);
+  }
+  return !s.implicit_reached.empty();
+}
+
+// whether the force stage at the step's start pushes at the contact `c` (the same bone, obstacle
+// and feature: collision.h Contact), so that it is in the step already
+bool pushed_at_start(const SimState& s, const Contact& c) {
+  for (const Contact& a : s.contacts) {
+    if (a.bone == c.bone && a.other_bone < 0 && a.obstacle == c.obstacle &&
+        a.feature == c.feature && a.normal_force > 0.0) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// The shipped bare step with the reached contacts that its start's force stage does not push at
+// linearised from the start as well: each a spring k along n of depth d_0 (<= 0 where the start
+// does not touch, to round-off otherwise), force k d_0 n (pulling where d_0 < 0: the spring's
+// first-order force at the depth the step meets), an element like a contact's (contacts.h).
+void take_step_with_reached(const Scene& scene, SimState& s, double h) {
+  ForceSelection forces;
+  forces.step = h;
+  apply_forces(scene, s, forces);
+  const double k = scene.params.contact_k;
+  for (const Contact& c : s.implicit_reached) {
+    if (pushed_at_start(s, c)) continue;  // in the step already
+    const Vec3& n = c.normal_world;
+    const Vec3 p0 = s.com_world[c.bone] + s.frames.orient_world[c.bone] * c.point_world;
+    const double d0 = c.depth - n.dot(p0);
+    apply_force_at(s, c.bone, k * d0 * n, p0);
+    ContactElement e;
+    e.bone = c.bone;
+    e.point_world = p0;
+    e.stiffness = k * n * n.transpose();
+    s.contact_elements.push_back(e);
+  }
+  solve_implicit(scene, s, h);
+  integrate_joint_space(scene.rig, h, s);
+}
+
+// One attempt at a (sub)step of h from energy e0 (J), the state saved at `depth`: the bare step,
+// and where the check rejects it, the shipped bare step again with the contacts it reached. True
+// when the last attempt holds; `energy` gets its E (J).
+bool attempt(const Scene& scene, SimState& s, double h, int depth, const Guard& g, double e0,
+             double& energy) {
   g.bare(scene, s, h, g.context);
-  if (!guarded || (largest_rotation(s, h) <= kMaxStepRotation &&
-                   mechanical_energy(scene, s) <=
-                       e0 + kEnergyGrowthTolerance * (std::max(e0, 0.0) + g.floor))) {
+  double growth = 0.0;
+  bool held = step_holds(scene, s, h, e0, g, growth);
+  if (!held && g.bare == take_implicit_step && scene.collision.any() && keep_reached_contacts(s)) {
+    restore(scene.rig, s.implicit_snapshots[depth], s);
+    take_step_with_reached(scene, s, h);
+    held = step_holds(scene, s, h, e0, g, growth);
+    if (held) ++s.implicit_retaken_steps;
+  }
+  energy = e0 + growth;
+  return held;
+}
+
+constexpr int kNoLower = -1;  // substep's answer: this half ends no lower than its whole step
+
+// One substep of h at `depth`; returns the substeps taken, or kNoLower. A substep the check
+// rejects (attempt) is split in two, each checked in turn, below max_depth. A half whose energy
+// ends no lower than its whole step's (`whole_energy`, J) answers kNoLower: halving no longer
+// changes the outcome, and the whole step, retaken as it was, is kept.
+int substep(const Scene& scene, SimState& s, double h, int depth, Guard& g, double whole_energy) {
+  if (depth >= g.max_depth) {  // the deepest split (or implicit_max_splits 0): taken unchecked
+    g.deepest = g.max_depth > 0;
+    g.bare(scene, s, h, g.context);
     return 1;
   }
+  save(s, s.implicit_snapshots[depth]);
+  const double e0 = mechanical_energy(scene, s);
+  double energy = 0.0;
+  if (attempt(scene, s, h, depth, g, e0, energy)) return 1;
+  const bool turned_too_far = largest_rotation(s, h) > kMaxStepRotation;
+  if (!turned_too_far && energy >= whole_energy) return kNoLower;
   restore(scene.rig, s.implicit_snapshots[depth], s);
-  const int first = substep(scene, s, 0.5 * h, depth + 1, g);
-  return first + substep(scene, s, 0.5 * h, depth + 1, g);
+  int taken = substep(scene, s, 0.5 * h, depth + 1, g, energy);
+  if (taken != kNoLower) {
+    const int second = substep(scene, s, 0.5 * h, depth + 1, g, energy);
+    taken = second == kNoLower ? kNoLower : taken + second;
+  }
+  if (taken != kNoLower) return taken;
+  // halving does not lower the energy: this (sub)step as its attempt took it
+  restore(scene.rig, s.implicit_snapshots[depth], s);
+  attempt(scene, s, h, depth, g, e0, energy);
+  ++s.implicit_unresolved_steps;
+  return 1;
 }
 
 }  // namespace
@@ -85,12 +197,13 @@ int advance_implicit(const Scene& scene, SimState& s, double h, BareStep bare,
                      const void* context) {
   const double v = scene.speed_tol();
   // init_state sized one snapshot per depth; the bound guards a state sized for other params
-  const Guard g{
+  Guard g{
       bare, context,
       std::min(scene.params.implicit_max_splits, static_cast<int>(s.implicit_snapshots.size()) - 1),
       0.5 * scene.rig.total_mass() * v * v};
-  const int substeps = substep(scene, s, h, 0, g);
+  const int substeps = substep(scene, s, h, 0, g, std::numeric_limits<double>::infinity());
   if (substeps > 1) ++s.implicit_split_steps;
+  if (g.deepest) ++s.implicit_deepest_steps;
   s.implicit_max_substeps = std::max(s.implicit_max_substeps, substeps);
   return substeps;
 }

@@ -12,20 +12,40 @@
 // for the step, the mechanical energy
 //   E = KE + U_control(this step's targets) + U_torsion + U_gravity + U_contact
 //                                                   (J; potential.h potential_energy, contacts.h)
-// may not grow by more than kEnergyGrowthTolerance (E + E_floor), E_floor = M speed_tol^2 / 2
-// (the run monitor's floor: the kinetic energy of the rig moving at its rest speed), and no joint
-// may turn by more than kMaxStepRotation in it (1 rad: the step is linear in the rotations only to
+// may not grow by more than kEnergyGrowthTolerance (E + E_floor) + E_round, E_floor = M speed_tol^2
+// / 2 (the run monitor's floor: the kinetic energy of the rig moving at its rest speed), E_round =
+// kRoundoffGrowth eps (|E| + M |g| R) the growth the rig's own round-off can show (eps the double's
+// epsilon, R the largest |coordinate| of a bone's end plus Rig::reference_length: gravity's
+// potential is of the order M |g| R whatever its reference), and no joint may turn by more than
+// kMaxStepRotation in it (1 rad: the step is linear in the rotations only to
 // first order, and where it turns a joint this far the energy test can pass by chance: at
 // dt = 25.6 s a solve of pinhead's hand turned it 5.6 rad about its own axis, a direction with
 // almost no stiffness and no end damping; the substeps of a split that held energy alone then
 // blew up to NaN; the shipped scenes turn a joint at most 0.48 rad in a step at dt 0.05). A step
-// that does either is undone and taken as two half steps, each checked in turn, at most
-// params.implicit_max_splits halvings deep (default 8: a substep of dt / 256 is accepted as it
-// is; 0: the bare linearised step, never split). The substeps
+// that does either is undone and:
+//   1. retaken with the contacts it reached (scenes with a ground or obstacles): the linearised
+//      step knows only the contacts its start touches, so a bone resting on a stiff floor, whose
+//      rest depth W / k is below a coordinate's resolution (k = 1e20: 1e-19 against 7e-18 at
+//      z = 0.06), starts each step just off it and falls freely into the spring (a 1 kg bone at
+//      dt 0.05: 2.4 cm into 1e20 N/m, 6e16 J), which halving took 19 levels to land softly.
+//      Each ground or obstacle contact of the rejected step's end that its start did not touch
+//      enters the retaken step as a spring k along its normal n, linearised from the start
+//      (depth d_0 = d - n . (p_0 - p) <= 0, force k d_0 n: the spring's first-order force, which
+//      the solve balances where the step meets the surface), like a contact (contacts.h);
+//   2. otherwise taken as two half steps, each checked in turn, at most
+//      params.implicit_max_splits halvings deep (default 8: a substep of dt / 256 is accepted as
+//      it is, and the step counts in implicit_deepest_steps, which the run reports once; 0: the
+//      bare linearised step, never split). A half step whose energy grows by at least half of
+//      what its whole step's grew is kept as it is (implicit_unresolved_steps): the two halves
+//      would end no lower than the whole, so halving no longer changes the outcome (a contact so
+//      stiff that no step the guard can take resolves it); the run monitor then judges the
+//      energy (run_monitor.h). The substeps
 // integrate the same equations of motion (damping c, the factor's damper (1 - f) / dt I_com,
 // every spring); as h -> 0 the step tends to the exact dynamics, which add no energy with the
 // targets held, so the halving ends. On every shipped scene no step is split (their largest
 // growth in a step is 2.3e-7 of E, hand_tight), so their runs are as before, bit for bit.
+// Summaries of implicit runs count implicit_split_steps, implicit_retaken_steps,
+// implicit_unresolved_steps and implicit_deepest_steps.
 // The world view, the ball state and the velocities are undone from a snapshot of the joint
 // state (the joint-space state is the whole state: integrate_joint_space.h), held in
 // state.implicit_snapshots (one per depth, sized by init_state): no allocation per step.
@@ -38,6 +58,7 @@
 namespace physik {
 
 constexpr double kEnergyGrowthTolerance = 1e-6;  // 1, of E + E_floor
+constexpr double kRoundoffGrowth = 64.0;         // 1, of eps (|E| + M |g| R): E_round
 constexpr double kMaxStepRotation = 1.0;         // rad, the most a (sub)step may turn a joint
 
 // The bare step the guard takes and checks: the forces, a solve and the joint-space update of
@@ -48,9 +69,10 @@ using BareStep = void (*)(const Scene& scene, SimState& state, double h, const v
 // The shipped bare step: apply_forces, solve_implicit (implicit_step.h), integrate_joint_space.
 void take_implicit_step(const Scene& scene, SimState& state, double h, const void* context);
 
-// The step after update_targets: `bare` of length h, split as above. Returns the substeps taken
-// (1 unless split); counts a split step in state.implicit_split_steps and the most substeps of one
-// step in state.implicit_max_substeps.
+// The step after update_targets: `bare` of length h, retaken and split as above (the retake only
+// with the shipped bare step). Returns the substeps taken (1 unless split); counts a split step in
+// state.implicit_split_steps, the most substeps of one step in state.implicit_max_substeps, and
+// the retaken, unresolved and deepest (sub)steps above.
 // h: the step's length, s (step() passes params.dt; a longer one integrates the same equations
 // of motion, whose dampers are set by params.dt, with a longer step: the solve mode).
 int advance_implicit(const Scene& scene, SimState& state, double h,

@@ -287,25 +287,86 @@ void fill_final_state(const Scene& scene, const SimState& s, RunSummary& out) {
   out.damping_auto_updates = s.damping_auto_updates;
   out.implicit_split_steps = s.implicit_split_steps;
   out.implicit_max_substeps = s.implicit_max_substeps;
+  out.implicit_retaken_steps = s.implicit_retaken_steps;
+  out.implicit_unresolved_steps = s.implicit_unresolved_steps;
+  out.implicit_deepest_steps = s.implicit_deepest_steps;
   out.implicit_gauss_newton_steps = s.implicit_gauss_newton_steps;
 }
+
+namespace {
+
+// semi-implicit Euler with -c v at both ends of a bone of mass m is stable in translation while
+// 2 c dt / m < 2: c below the lightest bone's m / dt (N s/m)
+double explicit_damping_bound(const Scene& scene) {
+  double c_max = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < scene.rig.nbone; ++i) {
+    c_max = std::min(c_max, scene.rig.bone_mass[i] / scene.params.dt);
+  }
+  return c_max;
+}
+
+}  // namespace
 
 std::string divergence_hint(const Scene& scene) {
   const EngineParams& p = scene.params;
   const double dt = p.dt;  // s
   if (p.scheme == Scheme::kImplicit) {
-    return "try a smaller dt (now " + message_number(dt) + " s) or more implicit_max_splits";
+    std::string hint = "try a smaller dt (now " + message_number(dt) + " s)";
+    const ParamRow& splits = param_row("implicit_max_splits");
+    const double most = splits.valid.hi ? *splits.valid.hi : p.implicit_max_splits;
+    if (p.implicit_max_splits < most) {
+      hint += " or more implicit_max_splits (now " + std::to_string(p.implicit_max_splits) +
+              ", at most " + message_number(most) + ")";
+    }
+    return hint;
   }
-  // semi-implicit Euler with -c v at both ends of a bone of mass m is stable in translation while
-  // 2 c dt / m < 2: c below the lightest bone's m / dt
-  double c_max = std::numeric_limits<double>::infinity();  // N s/m
-  for (int i = 0; i < scene.rig.nbone; ++i) c_max = std::min(c_max, scene.rig.bone_mass[i] / dt);
+  const double c_max = explicit_damping_bound(scene);
   std::string hint = "try --set preset=robust (the implicit step, stable at any dt and damping)";
   if (!p.damping_auto && p.damping >= c_max) {
     return hint + ", or damping below " + message_number(c_max) + " N s/m (now " +
            message_number(p.damping) + ")";
   }
   return hint + ", or a smaller dt (now " + message_number(dt) + " s)";
+}
+
+std::string energy_guard_warning(const Scene& scene, const RunSummary& run) {
+  if (run.implicit_deepest_steps == 0 && run.implicit_unresolved_steps == 0) return "";
+  const int splits = scene.params.implicit_max_splits;
+  std::string out = "the implicit step's energy guard could not hold the energy of every step:";
+  if (run.implicit_deepest_steps > 0) {
+    out += " " + std::to_string(run.implicit_deepest_steps) + " split to implicit_max_splits (" +
+           std::to_string(splits) + ": substeps of dt / " +
+           message_number(std::ldexp(1.0, splits)) + "), taken unchecked there;";
+  }
+  if (run.implicit_unresolved_steps > 0) {
+    out += " " + std::to_string(run.implicit_unresolved_steps) +
+           " (sub)steps kept as they were where halving did not lower their energy;";
+  }
+  return out + " " + divergence_hint(scene);
+}
+
+std::string not_converged_hint(const Scene& scene, const RunSummary& run) {
+  const EngineParams& p = scene.params;
+  std::string hint = "try more steps (--steps " + std::to_string(2L * std::max(run.steps_run, 1)) +
+                     ", twice this run's)";
+  if (p.damping_auto) {
+    if (run.damping_auto_value > 0.0) {
+      hint += ", or a fixed damping above damping auto's choice (" +
+              message_number(run.damping_auto_value) +
+              " N s/m), e.g. --set damping=" + message_number(2.0 * run.damping_auto_value);
+    }
+  } else if (p.scheme == Scheme::kImplicit) {
+    hint += ", more damping (now " + message_number(p.damping) + " N s/m" +
+            (p.damping > 0.0 ? ", e.g. --set damping=" + message_number(2.0 * p.damping) : "") +
+            ") or --set damping=auto";
+  } else {
+    if (p.damping > 0.0 && 2.0 * p.damping < explicit_damping_bound(scene)) {
+      hint += ", more damping (--set damping=" + message_number(2.0 * p.damping) + ", now " +
+              message_number(p.damping) + " N s/m)";
+    }
+    hint += ", or --set preset=robust (the implicit step with damping auto)";
+  }
+  return hint;
 }
 
 }  // namespace physik

@@ -176,7 +176,21 @@ void fill_final_state(const Scene& scene, const SimState& state, RunSummary& out
 
 // What to try after the scene's run diverged, in one line: the robust preset where the scheme
 // is explicit, less damping where it passes the explicit step's bound for translation
-// (c dt / m < 1 at a bone's end, summed over both ends: 2 c dt / m < 2), a smaller dt otherwise.
+// (c dt / m < 1 at a bone's end, summed over both ends: 2 c dt / m < 2), a smaller dt otherwise;
+// under the implicit scheme a smaller dt, and more implicit_max_splits only while the parameter's
+// range has more (it never suggests a value past a parameter's range).
 std::string divergence_hint(const Scene& scene);
+
+// What the implicit step's energy guard could not hold in a run (implicit_advance.h), in one line
+// for the user, or "": the steps split implicit_max_splits deep (taken unchecked there) and those
+// kept where halving did not lower the energy, and what to try (a smaller dt, and more
+// implicit_max_splits only while its range has more).
+std::string energy_guard_warning(const Scene& scene, const RunSummary& run);
+
+// What to try after the scene's run ended short of convergence without diverging, in one line:
+// more steps (twice this run's), more damping where it would take (a fixed damping above damping
+// auto's last choice; under an explicit scheme only below the bound above), and the robust preset
+// where the scheme is explicit.
+std::string not_converged_hint(const Scene& scene, const RunSummary& run);
 
 }  // namespace physik

@@ -2,6 +2,22 @@
 
 namespace physik {
 
+namespace {
+
+// the gauss-seidel scheme's bodies (state.h), for a rig with welds only
+void size_welded_bodies(const Rig& rig, SimState& s) {
+  const std::size_t nbody = rig.has_welds() ? static_cast<std::size_t>(rig.nbone) : 0;
+  s.body_mass.assign(nbody, 0.0);
+  s.body_com_world.assign(nbody, Vec3::Zero());
+  s.body_force_world.assign(nbody, Vec3::Zero());
+  s.body_torque_world.assign(nbody, Vec3::Zero());
+  s.body_inertia_inv_world.assign(nbody, Mat3::Zero());
+  s.body_gyro_world.assign(nbody, Vec3::Zero());
+  s.body_vel_world.assign(nbody, Vec3::Zero());
+}
+
+}  // namespace
+
 void size_state(const Rig& rig, std::size_t ncontrol, SimState& s) {
   const int n = rig.nbone;
   s.frames.resize(n);
@@ -15,14 +31,7 @@ void size_state(const Rig& rig, std::size_t ncontrol, SimState& s) {
   s.inertia_inv_world.assign(n, Mat3::Zero());
   s.gyro_world.assign(n, Vec3::Zero());
 
-  const std::size_t nbody = rig.has_welds() ? n : 0;
-  s.body_mass.assign(nbody, 0.0);
-  s.body_com_world.assign(nbody, Vec3::Zero());
-  s.body_force_world.assign(nbody, Vec3::Zero());
-  s.body_torque_world.assign(nbody, Vec3::Zero());
-  s.body_inertia_inv_world.assign(nbody, Mat3::Zero());
-  s.body_gyro_world.assign(nbody, Vec3::Zero());
-  s.body_vel_world.assign(nbody, Vec3::Zero());
+  size_welded_bodies(rig, s);
 
   const std::size_t nmember = rig.joint_member_bone.size();
   s.member_r_world.assign(nmember, Vec3::Zero());
@@ -45,6 +54,10 @@ void size_state(const Rig& rig, std::size_t ncontrol, SimState& s) {
   s.implicit_snapshots.clear();  // sized by init_state for implicit scenes (implicit_advance.h)
   s.implicit_split_steps = 0;
   s.implicit_max_substeps = 0;
+  s.implicit_retaken_steps = 0;
+  s.implicit_unresolved_steps = 0;
+  s.implicit_deepest_steps = 0;
+  s.implicit_reached.clear();
   s.contacts.clear();
   s.contact_elements.clear();
   s.contact_scratch.clear();

@@ -132,10 +132,15 @@ struct SimState {
   std::vector<Vec3> step_force_world, step_torque_world;  // (nbone) the forces, kept for a
                                                           //   Gauss-Newton retake, N; N m
   std::vector<JointStateSnapshot>
-      implicit_snapshots;               // (implicit_max_splits + 1) the energy guard's
-  int implicit_gauss_newton_steps = 0;  // full steps taken as gauss-newton (implicit_step.h)
-  int implicit_split_steps = 0;         // steps the energy guard split (implicit_advance.h)
-  int implicit_max_substeps = 0;        // the most substeps one step took
+      implicit_snapshots;                 // (implicit_max_splits + 1) the energy guard's
+  int implicit_gauss_newton_steps = 0;    // full steps taken as gauss-newton (implicit_step.h)
+  int implicit_split_steps = 0;           // steps the energy guard split (implicit_advance.h)
+  int implicit_max_substeps = 0;          // the most substeps one step took
+  int implicit_retaken_steps = 0;         // (sub)steps retaken with the contacts they reached
+  int implicit_unresolved_steps = 0;      // (sub)steps kept where halving did not lower the energy
+  int implicit_deepest_steps = 0;         // steps split to implicit_max_splits (taken unchecked)
+  std::vector<Contact> implicit_reached;  // the world contacts a rejected (sub)step reached, their
+                                          //   points bone-local, depth minus n . point
 
   // --- contacts (contacts.h; detection collision.h) ---
   std::vector<Contact> contacts;                 // found by the last force stage

@@ -5,6 +5,7 @@
 
 #include "physik/io/axis_limits.h"
 #include "physik/model/errors.h"
+#include "physik/model/names.h"
 
 namespace physik {
 
@@ -18,6 +19,7 @@ JointLimits joint_limits_from_json(const Json& doc, const std::string& source) {
   JsonContext top{source, ""};
   top.require_object(doc, "");
   top.only_keys(doc, {"comment", "rig", "limits_deg"});
+  top.name_or(doc, "rig", "");  // the rig's name, as joint_limits_to_json writes it
   const Json& all = top.require(doc, "limits_deg");
   if (!all.is_object())
     top.fail("limits_deg", "expected an object {\"bone\": {\"x\": [min, max]}}");
@@ -26,6 +28,8 @@ JointLimits joint_limits_from_json(const Json& doc, const std::string& source) {
   for (auto it = all.begin(); it != all.end(); ++it) {
     BoneLimits b;
     b.bone = it.key();
+    const std::string bad = name_problem(b.bone);
+    if (!bad.empty()) throw_input_error(source, "limits_deg", "", "a bone name: " + bad);
     const JsonContext ctx{source, "limits_deg '" + b.bone + "'"};
     const Json& v = it.value();
     if (v.is_string()) {

@@ -9,6 +9,7 @@
 
 #include "physik/io/output_files.h"
 #include "physik/model/errors.h"
+#include "physik/model/names.h"
 
 namespace physik {
 
@@ -90,6 +91,24 @@ std::string JsonContext::string_or(const Json& obj, const std::string& key,
   if (it == obj.end() || it->is_null()) return fallback;
   if (!it->is_string()) fail(key, "expected a string, got " + std::string(it->type_name()));
   return it->get<std::string>();
+}
+
+void JsonContext::check_name(const std::string& text, const std::string& field) const {
+  const std::string bad = name_problem(text);
+  if (!bad.empty()) fail(field, bad);
+}
+
+std::string JsonContext::name(const Json& obj, const std::string& key) const {
+  std::string text = string(obj, key);
+  check_name(text, key);
+  return text;
+}
+
+std::string JsonContext::name_or(const Json& obj, const std::string& key,
+                                 const std::string& fallback) const {
+  std::string text = string_or(obj, key, fallback);
+  check_name(text, key);
+  return text;
 }
 
 std::string JsonContext::choice_or(const Json& obj, const std::string& key,

@@ -31,6 +31,13 @@ struct JsonContext {
   bool boolean_or(const Json& obj, const std::string& key, bool fallback) const;
   std::string string(const Json& obj, const std::string& key) const;
   std::string string_or(const Json& obj, const std::string& key, const std::string& fallback) const;
+  // A name (a bone, a control point, an obstacle, a rig or a scene, or a reference to one): a
+  // string of valid UTF-8 without control characters (physik/model/names.h). The reason names the
+  // offending byte and its offset, never the name itself.
+  std::string name(const Json& obj, const std::string& key) const;
+  std::string name_or(const Json& obj, const std::string& key, const std::string& fallback) const;
+  // `text` (a name read as a key or an array element) checked the same way, `field` named
+  void check_name(const std::string& text, const std::string& field) const;
   // one of `choices`
   std::string choice_or(const Json& obj, const std::string& key,
                         std::initializer_list<const char*> choices,

@@ -5,6 +5,7 @@
 
 #include "physik/io/axis_limits.h"
 #include "physik/model/errors.h"
+#include "physik/model/names.h"
 
 namespace physik {
 
@@ -35,13 +36,14 @@ BoneSpec bone_from_json(const Json& b, const JsonContext& ctx, const BoneDefault
                     "mass_per_length", "mass", "radius", "inertia_local", "collision_radius",
                     "weld", "comment"});
   BoneSpec s;
-  s.name = ctx.string(b, "name");
+  s.name = ctx.string(b, "name");  // checked by build_rig, which names the bone by its index
   const Json& parent = ctx.require(b, "parent");
   if (parent.is_null()) {
     s.parent.clear();
   } else if (parent.is_string()) {
     s.parent = parent.get<std::string>();
     if (s.parent.empty()) ctx.fail("parent", "empty name (use null for the root)");
+    ctx.check_name(s.parent, "parent");
   } else {
     ctx.fail("parent", "expected a bone name or null");
   }
@@ -214,12 +216,14 @@ Rig rig_from_json(const Json& doc, const std::string& source) {
   std::vector<BoneSpec> specs;
   for (std::size_t i = 0; i < bones.size(); ++i) {
     std::string element = "bones[" + std::to_string(i) + "]";
-    if (bones[i].is_object() && bones[i].contains("name") && bones[i]["name"].is_string()) {
+    // a name that is not printable stays out of the element (build_rig says why)
+    if (bones[i].is_object() && bones[i].contains("name") && bones[i]["name"].is_string() &&
+        name_problem(bones[i]["name"].get<std::string>()).empty()) {
       element += " '" + bones[i]["name"].get<std::string>() + "'";
     }
     specs.push_back(bone_from_json(bones[i], JsonContext{source, element}, defaults));
   }
-  Rig rig = build_rig(specs, source, top.string_or(doc, "name", ""), root);
+  Rig rig = build_rig(specs, source, top.name_or(doc, "name", ""), root);
   read_notes(doc, top, rig);
   read_collision_exclude(doc, top, rig);
   return rig;

@@ -7,6 +7,7 @@
 
 #include "physik/io/rig_io.h"
 #include "physik/model/errors.h"
+#include "physik/model/names.h"
 
 namespace physik {
 
@@ -68,6 +69,7 @@ int control_point_ref(const JsonContext& ctx, const Json& v, const std::vector<C
     return i;
   }
   if (v.is_string()) {
+    ctx.check_name(v.get<std::string>(), "control_point");
     for (std::size_t i = 0; i < cps.size(); ++i) {
       if (cps[i].name == v.get<std::string>()) return static_cast<int>(i);
     }
@@ -86,6 +88,7 @@ void read_rig(const JsonContext& top, const Json& doc, const std::string& base_d
     return;
   }
   const std::string rig_ref = top.string(doc, "rig");
+  s.rig_ref = rig_ref;
   std::filesystem::path rig_path(rig_ref);
   if (rig_path.is_relative()) rig_path = std::filesystem::path(base_dir) / rig_path;
   s.rig_file = rig_path.lexically_normal().string();
@@ -104,8 +107,8 @@ ControlPoint control_point_from_json(const JsonContext& ctx, const Json& c, cons
   ctx.require_object(c, "");
   ctx.only_keys(c, {"name", "bone", "alpha", "target", "spring", "k", "cap", "comment"});
   ControlPoint cp;
-  cp.name = ctx.string_or(c, "name", "");
-  const std::string bone = ctx.string(c, "bone");
+  cp.name = ctx.name_or(c, "name", "");
+  const std::string bone = ctx.name(c, "bone");
   cp.bone = s.rig.find_bone(bone);
   if (cp.bone < 0) ctx.fail("bone", "unknown bone '" + bone + "' in rig " + s.rig_file);
   cp.alpha = ctx.number_or(c, "alpha", 1.0);
@@ -182,6 +185,8 @@ void read_initial_pose(const JsonContext& top, const Json& doc, Scene& s) {
   const Json& rot = ip["rotation_deg"];
   ctx.require_object(rot, "rotation_deg");
   for (auto it = rot.begin(); it != rot.end(); ++it) {
+    const std::string bad = name_problem(it.key());
+    if (!bad.empty()) ctx.fail("rotation_deg", "a bone name: " + bad);
     const int b = s.rig.find_bone(it.key());
     if (b < 0) ctx.fail("rotation_deg." + it.key(), "unknown bone");
     const Vec3 v = ctx.vec3_value(*it, "rotation_deg." + it.key()) * (kPi / 180.0);
@@ -250,7 +255,7 @@ void read_obstacles(const JsonContext& top, const Json& doc, Scene& s) {
       }
     }
     BoxObstacle box;
-    box.name = ctx.string(obs[i], "name");
+    box.name = ctx.name(obs[i], "name");
     if (box.name.empty()) ctx.fail("name", "must not be empty");
     for (const BoxObstacle& o : s.collision.obstacles) {
       if (o.name == box.name) ctx.fail("name", "duplicate obstacle name '" + box.name + "'");
@@ -270,6 +275,7 @@ std::pair<int, int> excluded_pair(const JsonContext& top, const Json& e, const s
   int b[2];
   for (int k = 0; k < 2; ++k) {
     const std::string name = e[k].get<std::string>();
+    top.check_name(name, field);
     b[k] = rig.find_bone(name);
     if (b[k] < 0) top.fail(field, "unknown bone '" + name + "'");
   }
@@ -506,6 +512,7 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
                       "convergence", "initial_pose", "initial_velocity", "solve", "gravity",
                       "ground", "obstacles", "self_collision", "collision_exclude"});
   if (doc.contains("solve")) solve_options_from_json(doc["solve"], source);  // checked at load
+  top.name_or(doc, "name", "");  // a label the run does not use, checked like every name
   Scene s;
   s.file = source;
   read_rig(top, doc, base_dir, s);
@@ -621,7 +628,24 @@ void add_contacts_json(const Scene& s, Json& out) {
 
 }  // namespace
 
-Json scene_to_json(const Scene& s, bool rig_inline) {
+namespace {
+
+// the rig's path as scene_to_json writes it (scene_io.h)
+std::string rig_path_for(const Scene& s, const std::string& written_to) {
+  namespace fs = std::filesystem;
+  const fs::path rig = fs::absolute(s.rig_file).lexically_normal();
+  if (written_to.empty() || written_to == "-" || s.rig_ref.empty() ||
+      fs::path(s.rig_ref).is_absolute()) {
+    return rig.string();
+  }
+  const fs::path folder = fs::absolute(written_to).lexically_normal().parent_path();
+  const fs::path relative = rig.lexically_relative(folder);
+  return relative.empty() ? rig.string() : relative.string();
+}
+
+}  // namespace
+
+Json scene_to_json(const Scene& s, bool rig_inline, const std::string& written_to) {
   Json cps = Json::array();
   for (const ControlPoint& c : s.control_points) {
     Json j = {{"bone", s.rig.bone_name[c.bone]},
@@ -647,9 +671,8 @@ Json scene_to_json(const Scene& s, bool rig_inline) {
   }
   const Vec3& r = s.initial_pose.root_head_world;
   Json out = {
-      {"rig", rig_inline || s.rig_file.empty()
-                  ? rig_to_json(s.rig)
-                  : Json(std::filesystem::absolute(s.rig_file).lexically_normal().string())},
+      {"rig",
+       rig_inline || s.rig_file.empty() ? rig_to_json(s.rig) : Json(rig_path_for(s, written_to))},
       {"params", params_to_json(s.params)},
       {"control_points", cps},
       {"schedule", sch},

@@ -55,7 +55,11 @@ SceneSolveOptions solve_options_from_json(const nlohmann::json& solve, const std
 SceneSolveOptions load_solve_options(const std::string& scene_path);
 
 // The scene back to JSON (rig given by its path, or inline when it has none or rig_inline), e.g.
-// for a tuned scene, or a run folder's scene.json.
-nlohmann::json scene_to_json(const Scene& scene, bool rig_inline = false);
+// for a tuned scene, or a run folder's scene.json. The rig's path stays as the scene gave it:
+// absolute when it was, and relative when it was, then from the folder of `written_to` (the file
+// the JSON goes to) to the rig, so that it reads back from there; absolute when `written_to` is
+// "" or "-" (no folder to be relative to).
+nlohmann::json scene_to_json(const Scene& scene, bool rig_inline = false,
+                             const std::string& written_to = "");
 
 }  // namespace physik

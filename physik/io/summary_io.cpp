@@ -21,6 +21,19 @@ void add_contact_fields(const Scene& scene, const RunSummary& s, nlohmann::json&
   out["final_max_penetration_fraction"] = pen.max_depth_fraction;
 }
 
+// the implicit step's energy guard (implicit_advance.h), only for implicit runs
+void add_implicit_fields(const Scene& scene, const RunSummary& s, nlohmann::json& out) {
+  if (scene.params.scheme != Scheme::kImplicit) return;
+  out["implicit_split_steps"] = s.implicit_split_steps;
+  out["implicit_max_substeps"] = s.implicit_max_substeps;
+  out["implicit_retaken_steps"] = s.implicit_retaken_steps;
+  out["implicit_unresolved_steps"] = s.implicit_unresolved_steps;
+  out["implicit_deepest_steps"] = s.implicit_deepest_steps;
+  if (scene.params.implicit_linearisation == ImplicitLinearisation::kFull) {
+    out["implicit_gauss_newton_steps"] = s.implicit_gauss_newton_steps;
+  }
+}
+
 }  // namespace
 
 nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s) {
@@ -71,14 +84,7 @@ nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s) {
     out["damping_auto_updates"] = s.damping_auto_updates;
   }
   add_contact_fields(scene, s, out);
-  // the implicit step's energy guard (implicit_advance.h), only for implicit runs
-  if (scene.params.scheme == Scheme::kImplicit) {
-    out["implicit_split_steps"] = s.implicit_split_steps;
-    out["implicit_max_substeps"] = s.implicit_max_substeps;
-    if (scene.params.implicit_linearisation == ImplicitLinearisation::kFull) {
-      out["implicit_gauss_newton_steps"] = s.implicit_gauss_newton_steps;
-    }
-  }
+  add_implicit_fields(scene, s, out);
   return out;
 }
 

@@ -4,7 +4,8 @@
 // the element and the field; the engine then trusts its inputs. Exit codes are part of the CLI
 // contract: 0 success, 1 an unexpected failure, 2 bad input, 3 a diverged run, 4 not converged
 // (`physik solve` or `physik equilibrium` stopped short of its tolerance without diverging: it
-// writes its last iterate, says why on stderr and exits 4).
+// writes its last iterate, says why on stderr and exits 4; `physik tune` when the tuned run
+// converges later than the scene's, or never).
 #pragma once
 
 #include <stdexcept>

@@ -302,7 +302,10 @@ std::vector<ParamRow> scheme_rows() {
           "scheme", "", {Scheme::kGaussSeidel, Scheme::kGaussSeidel, Scheme::kImplicit}, kAny,
           "gauss-seidel (the paper's: joint passes, semi-implicit Euler), exact "
           "(articulated-body algorithm, MuJoCo's Euler) or implicit (linearised backward "
-          "Euler over the exact solve, stable at any dt and damping)"),
+          "Euler over the exact solve, stable at any dt and damping). The keys it replaced "
+          "are still read, as they were meant: integration (articulated, free-rods, implicit) "
+          "and joint_solve (gauss-seidel, exact), joint_solve alone with integration "
+          "articulated (joint_solve exact is scheme exact)"),
       conflicts(omitted_at_default(row<&E::free_rods>(
                     "free_rods", "", {false, false, false}, kAny,
                     "gauss-seidel: every bone integrates its own motion, joints may drift apart "
@@ -613,8 +616,9 @@ void apply_old_scheme_keys(EngineParams& p, const std::string& integration,
   if (!joint_solve.empty() && joint_solve != "gauss-seidel" && joint_solve != "exact") {
     fail("joint_solve", "unknown value '" + joint_solve + "' (expected gauss-seidel|exact)");
   }
-  if (integration == "implicit" ||
-      (integration.empty() && p.scheme == Scheme::kImplicit && !joint_solve.empty())) {
+  // joint_solve without integration keeps the meaning it had: integration articulated, its
+  // default then (joint_solve exact is scheme exact, whatever the preset's scheme)
+  if (integration == "implicit") {
     if (joint_solve == "gauss-seidel") {
       fail("joint_solve",
            "gauss-seidel cannot run with integration implicit, which solves the "

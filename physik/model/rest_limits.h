@@ -17,9 +17,9 @@
 // The spring then engages where the source's limit is reached at rest, and the other side of
 // the range keeps its band; limits beyond +-180 deg are not made. A locked axis (min == max)
 // away from 0 cannot be widened without unlocking it: it is reported, not changed. A root has
-// limits only when pinned (against the world), and they are fitted the same way. The tolerance is the engine parameter's: a scene with a larger
-// torsion_tolerance than the one the rig was fitted for can push at rest again.
-// Units: rad.
+// limits only when pinned (against the world), and they are fitted the same way. The tolerance is
+// the engine parameter's: a scene with a larger torsion_tolerance than the one the rig was fitted
+// for can push at rest again. Units: rad.
 #pragma once
 
 #include <string>

@@ -564,6 +564,8 @@ Rig build_rig(const std::vector<BoneSpec>& specs, const std::string& source,
                       std::to_string(specs.size()) + " bones, more than the " +
                           std::to_string(kMaxBones) + " a rig may have (rig.h kMaxBones)");
   }
+  const std::string bad_name = name_problem(name);
+  if (!bad_name.empty()) throw_input_error(source, "", "name", "the rig's name: " + bad_name);
   const auto index_of = index_names(specs, source);
   std::vector<std::vector<std::size_t>> children;
   const std::size_t root = link_parents(specs, index_of, source, children);

@@ -85,6 +85,7 @@ struct CollisionSettings {
 struct Scene {
   std::string file;      // where it came from ("" if built in code)
   std::string rig_file;  // resolved rig path
+  std::string rig_ref;   // the rig path as the scene file gives it ("" for an inline rig)
   Rig rig;
   EngineParams params;
   std::vector<std::string> params_given;  // the params keys the scene file or an override gave

@@ -142,6 +142,16 @@ void check_rule(const SolveRule& r) {
 
 }  // namespace
 
+namespace {
+
+// the implicit step's counts (implicit_advance.h): a summary's are its solve's
+void reset_guard_counts(SimState& s) {
+  s.implicit_split_steps = s.implicit_max_substeps = s.implicit_gauss_newton_steps = 0;
+  s.implicit_retaken_steps = s.implicit_unresolved_steps = s.implicit_deepest_steps = 0;
+}
+
+}  // namespace
+
 SolveResult PosingSession::solve(const SolveRule& rule) {
   if (goals_.empty())
     throw_input_error(scene_.file, "control_points", "", "a solve needs a control point");
@@ -160,8 +170,7 @@ SolveResult PosingSession::solve(const SolveRule& rule) {
   start_interp_left_ = state_.interp_steps_left;
   start_damping_auto_ = state_.damping_auto_value;
   // the summary's are this solve's
-  state_.implicit_split_steps = state_.implicit_max_substeps = 0;
-  state_.implicit_gauss_newton_steps = 0;
+  reset_guard_counts(state_);
   out.tolerance = rule.tolerance > 0.0 ? rule.tolerance : rule.tolerance_fraction * reach_;
   RunRules rules = run_rules(scene_);
   rules.stop_at_residual = true;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iostream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -18,6 +19,8 @@
 #include "physik/engine/contacts.h"
 #include "physik/engine/engine.h"
 #include "physik/io/json_fields.h"
+#include "reference/mjcf_export.h"
+#include "reference/mujoco_runner.h"
 #include "tests/experiments/experiments_test_util.h"
 
 namespace physik::experiments {
@@ -166,6 +169,44 @@ TEST(Experiments, ContactsCostQuickWritesItsRowsAndClaims) {
     if (c.contains("name")) names.push_back(c.at("name"));
   }
   EXPECT_EQ(names, (std::vector<std::string>{"pinhead-step", "coil-step", "coil-growth"}));
+}
+
+// The 1,000-bone coil lies on the floor with about 2,000 contacts: MuJoCo's defaults (100
+// contacts, 500 constraint rows) dropped all but 100 of them and only warned. The exported model
+// sizes its buffers for the scene (mjcf_export.h mjcf_size): for the 1,000-bone coil its contacts
+// and as many constraint rows as MuJoCo 2.2's one buffer holds (measured with this test at 1,000
+// bones: 2,007 contacts and 8,028 rows at its start, under its nconmax 4,000 and njmax 8,565, no
+// warning; compiling and one mj_forward take minutes there), and MuJoCo finds every contact of
+// the 250-bone coil (500 on the floor: five times its default) at its start, raising no warning.
+TEST(Coil, MujocosBuffersHoldTheCoilsContacts) {
+  MjcfOptions o;
+  o.joints = JointModel::kBallJoints;
+  const Scene big = coil_flat_spiral_scene(1000, true);
+  const MjcfSize big_size = mjcf_size(big.rig, mjcf_contacts(big, o));
+  EXPECT_EQ(big_size.nconmax, 2 * 1000 + 2 * 1000);  // the floor, and one bone pair per bone
+  EXPECT_GE(big_size.njmax, 4 * 2 * 1000);           // the floor's contacts' rows at least
+  EXPECT_LT(big_size.njmax, big_size.rows_needed);   // capped: MuJoCo 2.2's buffer
+  const Scene s = coil_flat_spiral_scene(250, true);
+  const int physik_contacts = static_cast<int>(contacts_at_start(s).size());
+  o = mjcf_contacts(s, o);
+  const MjcfSize size = mjcf_size(s.rig, o);
+  EXPECT_EQ(size.njmax, size.rows_needed);  // not capped
+  MjModelPtr m = rig_to_mjmodel(s.rig, o);
+  EXPECT_EQ(m->nconmax, size.nconmax);
+  EXPECT_EQ(m->njmax, size.njmax);
+  MjDataPtr d(mj_makeData(m.get()));
+  ASSERT_NE(d, nullptr);
+  SimState st;
+  init_state(s, st);
+  set_mujoco_state(s.rig, st, m.get(), d.get());
+  mj_forward(m.get(), d.get());
+  EXPECT_EQ(mujoco_warning(m.get(), d.get()), "");
+  EXPECT_GE(d->ncon, 2 * 250);  // both ends of every bone on the floor, as PhysIK's
+  EXPECT_LE(d->ncon, size.nconmax);
+  std::cout << "[coil] 250 bones: MuJoCo " << d->ncon << " contacts (" << d->nefc
+            << " rows), PhysIK " << physik_contacts << "; nconmax " << size.nconmax << ", njmax "
+            << size.njmax << "; 1,000 bones: nconmax " << big_size.nconmax << ", njmax "
+            << big_size.njmax << " of " << big_size.rows_needed << " rows\n";
 }
 
 }  // namespace

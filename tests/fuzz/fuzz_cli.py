@@ -14,7 +14,8 @@ mutates one seed (bytes, numbers, JSON values, BVH structure) and runs one comma
 
 A case that breaks a rule is a failure (its input is kept with --keep).
 The corpus (tests/fuzz/corpus) holds the robustness reproducers as regression cases with their
-expected exit code and message. Counts by outcome are printed at the end.
+expected exit code and message (argv may name the case's folder, @DIR@, and a case may ask that a
+viewer page's decoded frames be finite, "finite_page"). Counts by outcome are printed at the end.
 
 usage: fuzz_cli.py PHYSIK SOURCE_DIR [--cases N] [--seed S] [--jobs J] [--timeout T]
 """
@@ -489,7 +490,8 @@ def run_corpus(args, physik):
             with open(p, "wb") as f:
                 f.write(data)
             files[key] = p
-        argv = [a.replace("@SRC@", args.src).replace("@OUT@", d + "/out") for a in entry["argv"]]
+        argv = [a.replace("@SRC@", args.src).replace("@OUT@", d + "/out").replace("@DIR@", d)
+                for a in entry["argv"]]
         argv = [files.get(a[1:-1], a) if a.startswith("{") and a.endswith("}") else a for a in argv]
         rc, out, err = run([physik] + argv, entry.get("timeout", args.timeout))
         ok = rc in entry["exit"]
@@ -503,11 +505,45 @@ def run_corpus(args, physik):
             if os.path.exists(p) and re.search(text, open(p, errors="replace").read()):
                 ok = False
                 detail += ", %s holds '%s'" % (os.path.basename(p), text)
+        for path in entry.get("finite_page", []):
+            p = path.replace("@OUT@", d + "/out")
+            bad = nonfinite_in_page(p) if os.path.exists(p) else "no page written"
+            if bad:
+                ok = False
+                detail += ", %s: %s" % (os.path.basename(p), bad)
         if not ok:
             detail += " | " + (err.strip().splitlines() or [""])[-1][:200]
         results.append((entry["name"], ok, detail))
         shutil.rmtree(d, ignore_errors=True)
     return results
+
+
+# the typed arrays of a `physik view` page's runs (viewer/view_page.h): name -> struct code
+PAGE_ARRAYS = {"steps": "i", "times": "d", "kinetic_energy": "f", "max_residual": "f",
+               "max_residual_point": "i", "positions": "f", "targets": "f", "limit_excess": "f"}
+
+
+def nonfinite_in_page(path):
+    """a description of a non-finite number in a viewer page's decoded frames, or None"""
+    import base64
+    import struct
+    text = open(path, encoding="utf-8").read()
+    m = re.search(r'<script type="application/json" id="physik-data">(.*?)</script>', text, re.S)
+    if not m:
+        return "no data element"
+    for k, run in enumerate(json.loads(m.group(1))["runs"]):
+        arrays = {n: (run.get(n), c) for n, c in PAGE_ARRAYS.items()}
+        for n, c in (("start", "i"), ("bones", "i"), ("values", "f")):
+            arrays["contacts." + n] = (run.get("contacts", {}).get(n), c)
+        for name, (b64, code) in arrays.items():
+            if b64 is None:
+                continue
+            raw = base64.b64decode(b64)
+            size = struct.calcsize("<" + code)
+            values = struct.unpack("<%d%s" % (len(raw) // size, code), raw)
+            if not all(math.isfinite(v) for v in values):
+                return "run %d: %s holds a non-finite number" % (k, name)
+    return None
 
 
 def generate(spec):

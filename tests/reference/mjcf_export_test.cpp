@@ -244,6 +244,86 @@ TEST(MjcfExport, FiveHundredBoneChainCompilesAndRunsAsTheExactSolve) {
   EXPECT_GT((p.frames.tail_world[n - 1] - rest.tail_world[n - 1]).norm(), 1e-3);  // it moved
 }
 
+// Names the readers accept (printable UTF-8: quotes, '<', '&', "--" and "-->" that would end an
+// XML comment, MuJoCo's own "world", the static geoms' "ground" and "obstacle:..." names, spaces,
+// non-ASCII, 300 characters), as the first bones of a chain n bones long up +z, read by the rig
+// reader (which accepts every one)
+Rig hostile_chain(int n) {
+  const std::vector<std::string> hostile = {"a\"b<c>&'d",
+                                            "x--y",
+                                            "-",
+                                            "--",
+                                            "-->",
+                                            "<!--",
+                                            "]]>",
+                                            "world",
+                                            "ground",
+                                            "obstacle:seat",
+                                            " ",
+                                            "  lead",
+                                            "trail ",
+                                            "caf\u00e9",
+                                            "\u2603",
+                                            "\u0085nel",
+                                            "\uffff",
+                                            "\U0010ffff",
+                                            std::string(300, 'x'),
+                                            "a:free",
+                                            "&amp;",
+                                            "%s",
+                                            "\\",
+                                            "{}",
+                                            "seat"};
+  Json bones = Json::array();
+  for (int i = 0; i < n; ++i) {
+    const std::string name =
+        i < static_cast<int>(hostile.size()) ? hostile[i] : "b" + std::to_string(i);
+    bones.push_back({{"name", name},
+                     {"parent", i == 0 ? Json(nullptr) : bones[i - 1]["name"]},
+                     {"head", {0.0, 0.0, 0.1 * i + 1.0}},
+                     {"tail", {0.0, 0.0, 0.1 * i + 1.1}}});
+  }
+  return rig_from_json(Json{{"name", "r--<\"&\u00e9>"}, {"bones", bones}}, "hostile.json");
+}
+
+// Those names never make MuJoCo reject the file: a chain deep enough for include files (whose
+// comments name bones), with a ground, boxes named like bones and self-collision, compiles from
+// its exported MJCF, every body but the one named "world" (MuJoCo's world body) named as its bone.
+TEST(MjcfExport, HostileNamesCompileAndComeBackUnchanged) {
+  const int n = 120;  // deeper than kMjcfBodiesPerFile
+  const Rig rig = hostile_chain(n);
+  ASSERT_EQ(rig.nbone, n);
+  Scene scene = test::scene_for(rig, preset_params("robust"), 1);
+  scene.collision.ground = GroundPlane{};
+  for (const char* name : {"seat", "ground", "b40", "--"}) {
+    BoxObstacle box;
+    box.name = name;
+    box.center_world = Vec3(3.0, 0.0, 0.5);
+    scene.collision.obstacles.push_back(box);
+  }
+  scene.collision.self_collision = true;
+  scene.collision.excluded_pairs = {{0, 5}, {2, 9}};
+  for (const JointModel joints : {JointModel::kBallJoints, JointModel::kRigJoints}) {
+    MjcfOptions o;
+    o.joints = joints;
+    const std::vector<MjcfFile> files = rig_to_mjcf_files(rig, mjcf_contacts(scene, o));
+    ASSERT_GE(files.size(), 2u);
+    MjModelPtr m;
+    ASSERT_NO_THROW(m = compile_mjcf(files));
+    ASSERT_EQ(m->nbody, n + 1);
+    for (int i = 0; i < n; ++i) {
+      const char* got = mj_id2name(m.get(), mjOBJ_BODY, i + 1);
+      ASSERT_NE(got, nullptr) << i;
+      if (rig.bone_name[i] == "world") {
+        EXPECT_NE(std::string(got), "world");
+      } else {
+        EXPECT_EQ(std::string(got), rig.bone_name[i]) << i;
+      }
+    }
+    EXPECT_EQ(m->ngeom, n + 1 + 4);  // the bones, the ground, the boxes
+  }
+}
+
 TEST(MjcfExport, BadMjcfIsReportedWithMujocosMessage) {
   EXPECT_THROW(
       compile_mjcf(

@@ -137,5 +137,59 @@ TEST(MujocoReference, RunReportsConvergenceLikeTheEngine) {
   EXPECT_FALSE(b.diverged);
 }
 
+// A bundle: n bones zig-zagging along one unit segment, each a little beside the last (0.002
+// apart, within their 0.06 collision radius of each other), lying on the ground with
+// self-collision: every pair of bones that share no joint overlaps, some 2 n^2 MuJoCo contacts,
+// more than the export sizes the buffers for (mjcf_export.h mjcf_size: one pair per bone).
+Scene bundle_scene(int n) {
+  std::vector<BoneSpec> specs;
+  for (int i = 0; i < n; ++i) {
+    BoneSpec b;
+    b.name = "b" + std::to_string(i);
+    b.parent = i ? "b" + std::to_string(i - 1) : "";
+    b.head_world = Vec3(i % 2, 0.002 * i, 0.06);
+    b.tail_world = Vec3((i + 1) % 2, 0.002 * (i + 1), 0.06);
+    b.rest_frame_world = rest_frame_from_roll(b.head_world, b.tail_world, 0.0);
+    b.mass = 1.0;
+    b.radius = 0.06;
+    b.collision_radius = 0.06;
+    specs.push_back(b);
+  }
+  Scene s = test::scene_for(build_rig(specs, "<test>", "bundle"), preset_params("robust"), 5);
+  s.collision.ground = GroundPlane{};
+  s.collision.self_collision = true;
+  return s;
+}
+
+TEST(MujocoReference, AFullContactBufferEndsTheRunAsNotComparableNamingTheWarning) {
+  const Scene s = bundle_scene(40);
+  const RunSummary run = run_mujoco(s, ReferenceMode::kSameForces);
+  EXPECT_TRUE(run.diverged);
+  EXPECT_FALSE(run.converged);
+  EXPECT_EQ(run.steps_run, 1);
+  EXPECT_NE(run.divergence_reason.find("MuJoCo raised mjWARN_CONTACTFULL (its contact list "
+                                       "(nconmax "),
+            std::string::npos)
+      << run.divergence_reason;
+  EXPECT_NE(run.divergence_reason.find("at step 1: not comparable"), std::string::npos);
+  EXPECT_TRUE(mujoco_buffer_full(run.divergence_reason));
+  // what to try names the buffers, not the step
+  EXPECT_EQ(mujoco_hint(s, run.divergence_reason).find("dt"), std::string::npos);
+  EXPECT_NE(mujoco_hint(s, "MuJoCo: non-finite state").find("--set dt=0.005"), std::string::npos);
+  // the helper reads MuJoCo's own counters: none on a fresh model, each by name once raised
+  MujocoReference ref(free_rod_scene(SpringLaw::kLinear), ReferenceMode::kSameForces);
+  EXPECT_EQ(mujoco_warning(ref.model(), ref.data()), "");
+  ref.data()->warning[mjWARN_CNSTRFULL].number = 1;
+  EXPECT_EQ(mujoco_warning(ref.model(), ref.data())
+                .rfind("mjWARN_CNSTRFULL (its constraint rows "
+                       "(njmax ",
+                       0),
+            0u);
+  ref.data()->warning[mjWARN_CNSTRFULL].number = 0;
+  ref.data()->warning[mjWARN_BADQACC].number = 1;
+  EXPECT_EQ(mujoco_warning(ref.model(), ref.data()),
+            "mjWARN_BADQACC (a non-finite acceleration: it reset its state)");
+}
+
 }  // namespace
 }  // namespace physik

@@ -3,7 +3,10 @@
 
 ViewCommandTest (no browser): bad input exits 2 naming the folder and what is missing (not a
 folder, not a run folder, an empty trajectory, a short row, rigs with other bones, a contact of
-a bone the rig does not have); long runs are decimated to the cap and the page says so; a run
+a bone the rig does not have, a first frame past the viewer's bounds, a step without its row of
+targets); a value past the bounds later in a run (a diverged run's 5e193, a hand-edited 1e308)
+ends the page's frames there with a note naming the file, line and column, and no decoded frame
+array holds a non-finite number; long runs are decimated to the cap and the page says so; a run
 folder's contacts.csv is in the page (only where there is one); a scene's box obstacles are in
 the page with their names, centres, half extents and rotations (only where it has some); the
 page loads nothing (no src or href, a content policy that forbids every load).
@@ -149,6 +152,28 @@ def simulate(scene, out, *extra):
     status, err = physik("simulate", scene, "--out", out, "--quiet", *extra)
     if status != 0:
         raise RuntimeError("simulate %s: exit %d: %s" % (scene, status, err))
+    return out
+
+
+# each frame array of a run's page data and the typed array it decodes to (viewer/view_page.h)
+FRAME_ARRAYS = {"steps": "i", "times": "d", "kinetic_energy": "f", "max_residual": "f",
+                "max_residual_point": "i", "positions": "f", "targets": "f", "limit_excess": "f"}
+CONTACT_ARRAYS = {"start": "i", "bones": "i", "values": "f"}
+
+
+def decoded(b64, code):
+    """A base64 typed array of the page as a tuple of numbers."""
+    raw = base64.b64decode(b64)
+    size = struct.calcsize("<" + code)
+    return struct.unpack("<%d%s" % (len(raw) // size, code), raw)
+
+
+def page_frames(run):
+    """Every frame array of one run's page data, decoded: {name: tuple}."""
+    out = {k: decoded(run[k], c) for k, c in FRAME_ARRAYS.items() if run.get(k) is not None}
+    for k, c in CONTACT_ARRAYS.items():
+        if "contacts" in run:
+            out["contacts." + k] = decoded(run["contacts"][k], c)
     return out
 
 
@@ -373,6 +398,81 @@ class ViewCommandTest(unittest.TestCase):
         msg = self.error(drop, "--out", os.path.join(self.tmp, "x.html"))
         self.assertIn(path + ": line %d: field 'bone': '1' is not a bone of the rig" % len(lines),
                       msg)
+
+    def assert_all_finite(self, run):
+        for name, values in page_frames(run).items():
+            bad = [v for v in values if not math.isfinite(v)]
+            self.assertEqual(bad, [], "%s holds non-finite numbers" % name)
+
+    def edited_run(self, name, table, line, column, text):
+        """A copy of the run with one cell of one table replaced (line 1 = the header)."""
+        run = self.copy_run(name)
+        path = os.path.join(run, table)
+        lines = open(path).read().splitlines()
+        fields = lines[line - 1].split(",")
+        fields[column - 1] = text
+        lines[line - 1] = ",".join(fields)
+        open(path, "w").write("\n".join(lines) + "\n")
+        return run, path
+
+    def test_values_past_the_bounds_end_the_frames_with_a_note(self):
+        # a diverged run's 5e193 in a position, a hand-edited 1e308 in the kinetic energy (past a
+        # float's range) or in a target: the frames from that row on are left out, said in the
+        # page with the file, line and column; no array holds a non-finite number
+        header = open(os.path.join(self.run_dir, "trajectory.csv")).readline().strip().split(",")
+        position = header.index("b1.head_z") + 1
+        targets_header = open(os.path.join(self.run_dir, "targets_and_limits.csv")).readline()
+        target = targets_header.strip().split(",").index("tip.target_x") + 1
+        cases = [("trajectory.csv", 41, position, "5e193", "b1.head_z",
+                  "beyond the rig's coordinate bound"),
+                 ("trajectory.csv", 61, 3, "1e308", "kinetic_energy",
+                  "beyond the viewer's float range"),
+                 ("targets_and_limits.csv", 31, target, "1e308", "tip.target_x",
+                  "beyond the rig's coordinate bound")]
+        for k, (table, line, column, text, field, why) in enumerate(cases):
+            with self.subTest(table=table, field=field):
+                run, path = self.edited_run("bounds%d" % k, table, line, column, text)
+                out = os.path.join(self.tmp, "bounds%d.html" % k)
+                status, err = physik("view", run, "--out", out)
+                self.assertEqual(status, 0, err)
+                data = page_data(out)["runs"][0]
+                self.assertEqual(data["frames"], line - 2)  # the rows before it (step 0 first)
+                self.assertEqual(decoded(data["steps"], "i"), tuple(range(line - 2)))
+                note = [n for n in data["notes"] if "left out" in n]
+                self.assertEqual(len(note), 1, data["notes"])
+                self.assertIn("frames from step %d on left out: %s line %d, column %d ('%s'): "
+                              "'%s' is %s" % (line - 2, path, line, column, field, text, why),
+                              note[0])
+                self.assert_all_finite(data)
+
+    def test_a_first_frame_past_the_bounds_is_refused(self):
+        run, path = self.edited_run("bounds_first", "trajectory.csv", 2, 9, "1e308")
+        msg = self.error(run, "--out", os.path.join(self.tmp, "x.html"))
+        self.assertIn(path + ": line 2, column 9: field '", msg)
+        self.assertIn("'1e308' is beyond the rig's coordinate bound", msg)
+        self.assertIn("in the first frame: no frame to show", msg)
+
+    def test_a_step_without_its_targets_row_is_refused(self):
+        run = self.copy_run("no_targets_row")
+        path = os.path.join(run, "targets_and_limits.csv")
+        lines = open(path).read().splitlines()
+        del lines[11]  # step 10
+        open(path, "w").write("\n".join(lines) + "\n")
+        msg = self.error(run, "--out", os.path.join(self.tmp, "x.html"))
+        self.assertIn(path + ": field 'step': no row for step 10 of trajectory.csv", msg)
+
+    def test_a_diverged_run_shows_finite_frames(self):
+        # the paper's tight hand diverges (exit 3); its run folder plays up to there
+        out = os.path.join(self.tmp, "tight")
+        status, err = physik("simulate", os.path.join(REPO, "models", "scenes", "hand_tight.json"),
+                             "--out", out, "--quiet")
+        self.assertEqual(status, 3, err)
+        page = os.path.join(self.tmp, "tight.html")
+        status, err = physik("view", out, "--out", page)
+        self.assertEqual(status, 0, err)
+        data = page_data(page)["runs"][0]
+        self.assertGreater(data["frames"], 1)
+        self.assert_all_finite(data)
 
     def test_the_page_loads_nothing(self):
         out = os.path.join(self.tmp, "plain.html")
