@@ -101,7 +101,7 @@ void BM_ImplicitPinheadContacts(benchmark::State& state) {
   physik::init_state(on, s_on);
   for (int k = 0; k < on.steps; ++k) {
     physik::step(on, s_on);
-    for (const physik::Contact& c : s_on.contacts) ++(c.other_bone >= 0 ? self : ground);
+    for (const physik::Contact& c : s_on.contact.found) ++(c.other_bone >= 0 ? self : ground);
   }
   Run r_on, r_off;
   long steps = 0;

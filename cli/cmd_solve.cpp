@@ -75,8 +75,8 @@ std::vector<std::string> solve_mode_overrides(const std::vector<std::string>& se
   implicit.scheme = Scheme::kImplicit;
   for (const std::string& assignment : set) {
     const ParamRow* row = find_param(assignment.substr(0, assignment.find('=')));
-    if (row && row->conflict && !row->conflict(scene_default).empty() &&
-        row->conflict(implicit).empty()) {
+    if (row && row->conflict && !row->conflict_reason(scene_default).empty() &&
+        row->conflict_reason(implicit).empty()) {
       std::vector<std::string> out{"scheme=implicit"};
       out.insert(out.end(), set.begin(), set.end());
       return out;

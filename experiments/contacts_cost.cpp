@@ -65,7 +65,7 @@ Cost workload(const std::string& name, Scene on, Scene off, int steps) {
   init_state(c.on, c.s_on);  // the untimed run: contacts per step
   for (int k = 0; k < steps; ++k) {
     step(c.on, c.s_on);
-    for (const Contact& ct : c.s_on.contacts) {
+    for (const Contact& ct : c.s_on.contact.found) {
       (ct.other_bone >= 0 ? c.self : c.ground) += 1.0 / steps;
     }
   }

@@ -96,8 +96,9 @@ void derivatives(const Scene& scene, const SimState& state, Variant v, Eigen::Ma
 Eigen::VectorXd applied_generalised_force(const Scene& scene, const SimState& state);
 // The response of the shipped implicit solve of h (implicit) or of the exact explicit solve to a
 // unit generalised force on each dof, column by column: P^-1 = (M + h D + h^2 K)^-1, or M^-1
+// (with `terms`, the pose terms an O(n) full variant keeps)
 Eigen::MatrixXd unit_force_response(const Scene& scene, const SimState& state, bool implicit,
-                                    double h);
+                                    double h, const PoseTermSelection& terms = {});
 // one unguarded step of h of the variant (kShipped: physik::step with no splits)
 void bare_step(const Scene& scene, SimState& state, double h, Variant v);
 

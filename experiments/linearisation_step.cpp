@@ -117,13 +117,14 @@ void add_unit_force(const Rig& rig, SimState& s, int k) {
 
 // the accelerations of the shipped implicit solve (implicit = true) or the exact explicit one,
 // with a unit generalised force on dof k added (k < 0: none)
-VecX solve_with_force(const Scene& scene, const SimState& state, int k, bool implicit, double h) {
+VecX solve_with_force(const Scene& scene, const SimState& state, int k, bool implicit, double h,
+                      const PoseTermSelection& terms = {}) {
   SimState& s = scratch(state);
   world_from_joint_space(scene.rig, s);
   apply_forces(scene, s);
   if (k >= 0) add_unit_force(scene.rig, s, k);
   if (implicit) {
-    solve_implicit(scene, s, h);
+    solve_implicit(scene, s, h, terms);
   } else {
     solve_articulated(scene.rig, scene.params, s);
   }
@@ -167,11 +168,12 @@ VecX shipped_with_dcdv(const Scene& given, const SimState& s, double h) {
 
 }  // namespace
 
-MatX unit_force_response(const Scene& scene, const SimState& s, bool implicit, double h) {
+MatX unit_force_response(const Scene& scene, const SimState& s, bool implicit, double h,
+                         const PoseTermSelection& terms) {
   const int n = nv(s);
-  const VecX base = solve_with_force(scene, s, -1, implicit, h);
+  const VecX base = solve_with_force(scene, s, -1, implicit, h, terms);
   MatX out(n, n);
-  for (int k = 0; k < n; ++k) out.col(k) = solve_with_force(scene, s, k, implicit, h) - base;
+  for (int k = 0; k < n; ++k) out.col(k) = solve_with_force(scene, s, k, implicit, h, terms) - base;
   return out;
 }
 
@@ -319,8 +321,13 @@ void variant_step(const Scene& scene, SimState& s, double h, const void* context
   const BareContext& c = *static_cast<const BareContext*>(context);
   ++*c.taken;
   if (is_recursive(c.variant)) {
-    if (c.variant != Variant::kShipped) s.pose_term_selection = selection_of(c.variant);
-    take_implicit_step(*c.linearised, s, h, nullptr);
+    // the engine's bare step (implicit_advance.h take_implicit_step) with the variant's terms
+    ForceStage stage;
+    stage.step = h;
+    apply_forces(*c.linearised, s, stage);
+    solve_implicit(*c.linearised, s, h,
+                   c.variant == Variant::kShipped ? PoseTermSelection{} : selection_of(c.variant));
+    integrate_joint_space(c.linearised->rig, h, s);
     return;
   }
   VecX next;

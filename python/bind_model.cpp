@@ -60,11 +60,7 @@ void update_params(Scene& s, const nlohmann::json& changes, const std::string& s
     read.erase("damping_auto");
   }
   for (const auto& [key, value] : changes.items()) read[key] = value;
-  s.params = params_from_json(read, source);
-  for (const auto& [key, value] : changes.items()) {
-    const std::string why = contact_param_conflict(s, key);
-    if (!why.empty()) throw_input_error(source, "params", key, why);
-  }
+  s.params = params_from_json(read, source, {}, nullptr, param_scene(s));
   for (const auto& [key, value] : changes.items()) {
     if (key != "preset" &&
         std::find(s.params_given.begin(), s.params_given.end(), key) == s.params_given.end()) {

@@ -135,7 +135,7 @@ struct MjcfNames {
   std::vector<std::string> obstacle;  // (nobstacle) the boxes' geoms
 };
 
-MjcfNames mjcf_names(const Rig& rig, const CollisionSettings& c) {
+MjcfNames mjcf_names(const Rig& rig, const ContactModel& c) {
   MjcfNames out;
   UniqueNames taken;  // one set for bodies and geoms: a bone's name is both
   taken.take("world");
@@ -313,7 +313,7 @@ void write_obstacles(std::ostringstream& x, const std::vector<BoxObstacle>& obst
 // the pairs PhysIK never collides that MuJoCo's filterparent leaves in: two children of one
 // parent, and the scene's and the rig's excluded pairs, as the bodies that carry them (bones
 // welded into one body never collide in MuJoCo either)
-void write_exclusions(std::ostringstream& x, const Rig& rig, const CollisionSettings& c,
+void write_exclusions(std::ostringstream& x, const Rig& rig, const ContactModel& c,
                       const std::vector<std::string>& names) {
   std::vector<std::pair<int, int>> pairs;
   const auto add = [&](int a, int b) {
@@ -415,7 +415,7 @@ std::string write_main(const MjcfWriter& w) {
 }  // namespace
 
 MjcfSize mjcf_size(const Rig& rig, const MjcfOptions& o) {
-  const CollisionSettings& c = o.collision;
+  const ContactModel& c = o.collision;
   const long n = rig.nbone;
   long contacts = 0;
   if (c.ground) contacts += 2 * n;
@@ -455,7 +455,7 @@ MjcfSize mjcf_size(const Rig& rig, const MjcfOptions& o) {
 }
 
 std::vector<std::string> mjcf_bone_names(const Rig& rig) {
-  return mjcf_names(rig, CollisionSettings{}).bone;
+  return mjcf_names(rig, ContactModel{}).bone;
 }
 
 Quat mjcf_joint_offset(const Rig& rig, int bone, JointModel joints) {

@@ -45,10 +45,10 @@
 //   conaffinity 1); the bones contype 1, conaffinity 1 with self-collision (else 0: they touch
 //   the plane and the boxes only); friction "mu 0.005 0.0001" (sliding mu,
 //   MuJoCo's default torsional and rolling); MuJoCo's default solref (0.02 1) and solimp: its
-//   soft contacts are its own, not PhysIK's penalty law (contacts.h), and the comparison says so.
-//   Bones that share a joint never collide in PhysIK: MuJoCo's filterparent flag (on by default)
-//   drops parent-child pairs, and <contact><exclude> drops the rest (two children of one parent)
-//   and the scene's and the rig's collision_exclude pairs.
+//   soft contacts are its own, not PhysIK's penalty law (ground_contacts.h, self_contacts.h), and
+//   the comparison says so. Bones that share a joint never collide in PhysIK: MuJoCo's filterparent
+//   flag (on by default) drops parent-child pairs, and <contact><exclude> drops the rest (two
+//   children of one parent) and the scene's and the rig's collision_exclude pairs.
 // Units: the rig's (rig units, kg, s), angles in radians (compiler angle="radian").
 #pragma once
 
@@ -71,7 +71,7 @@ struct MjcfOptions {
   std::string source;  // the rig's file, for error messages ("" = the rig's name)
   // contacts and gravity (none by default: the MJCF of a rig as it has always been written)
   Vec3 gravity = Vec3::Zero();  // rig units/s^2
-  CollisionSettings collision;  // the ground and self-collision
+  ContactModel collision;       // the ground and self-collision
   double friction = 1.0;        // sliding mu
 };
 

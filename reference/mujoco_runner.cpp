@@ -164,11 +164,12 @@ StepStats MujocoReference::step() {
 
   // PhysIK's own force stages on the PhysIK view of MuJoCo's state
   update_targets(scene_, s_);
-  ForceSelection forces;
-  forces.torsion_springs = mode_ == ReferenceMode::kSameForces;
-  forces.gravity = false;   // MuJoCo's <option gravity> (mjcf_contacts)
-  forces.contacts = false;  // MuJoCo's own contacts against the same capsules and plane
-  apply_forces(scene_, s_, forces);
+  // the elements MuJoCo does not apply itself (forces.h: gravity and the contacts are its own,
+  // and in exact-constraints mode its joint limits replace the torsion springs)
+  ForceStage stage;
+  stage.for_ = mode_ == ReferenceMode::kSameForces ? ForceStage::For::kMujocoSameForces
+                                                   : ForceStage::For::kMujocoExactConstraints;
+  apply_forces(scene_, s_, stage);
 
   // the angular-velocity factor as a torque, and the external forces into MuJoCo: each body's
   // at its centre of mass (xipos), its bones' forces and torques moved there

@@ -87,6 +87,7 @@ class MujocoReference {
   StepStats step();  // one step (see above); passes = MuJoCo's constraint-solver iterations
 
   const SimState& state() const { return s_; }
+  SimState& state() { return s_; }  // the run monitor's potential detects into its contact data
   const mjModel* model() const { return m_.get(); }
   mjData* data() { return d_.get(); }
   ReferenceMode mode() const { return mode_; }

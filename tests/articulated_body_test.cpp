@@ -53,7 +53,7 @@ TEST(ArticulatedBody, AccelerationsEqualADenseSolveOnRandomTrees) {
   for (int trial = 0; trial < 60; ++trial) {
     const int n = 1 + trial % 12;
     RandomTree t = random_tree(rng, n, true);
-    articulated_accelerations(t.rig, t.s, t.s.articulated);
+    articulated_accelerations(t.rig, body_motion(t.s), t.s.articulated);
     const MatX M = mass_matrix(t.rig, t.s);
     const VecX expected = M.ldlt().solve(generalised_force(t.rig, t.s));
     const VecX got = aba_qacc(t.rig, t.s.articulated);
@@ -72,7 +72,7 @@ TEST(ArticulatedBody, RotationalDamperAndGyroscopicCancellationMatchTheDenseSolv
     RandomTree t = random_tree(rng, 1 + trial % 9, true);
     t.s.articulated.torque_per_omega = -10.0;
     t.s.articulated.cancel_gyroscopic = trial % 2 == 0;
-    articulated_accelerations(t.rig, t.s, t.s.articulated);
+    articulated_accelerations(t.rig, body_motion(t.s), t.s.articulated);
     const VecX expected = mass_matrix(t.rig, t.s).ldlt().solve(generalised_force(t.rig, t.s));
     const VecX got = aba_qacc(t.rig, t.s.articulated);
     EXPECT_LT((got - expected).cwiseAbs().maxCoeff(),
@@ -89,7 +89,7 @@ TEST(ArticulatedBody, VelocityProductsAloneMatchTheDenseSolve) {
       t.s.force_world[i].setZero();
       t.s.torque_world[i].setZero();
     }
-    articulated_accelerations(t.rig, t.s, t.s.articulated);
+    articulated_accelerations(t.rig, body_motion(t.s), t.s.articulated);
     const VecX expected = mass_matrix(t.rig, t.s).ldlt().solve(generalised_force(t.rig, t.s));
     const VecX got = aba_qacc(t.rig, t.s.articulated);
     ASSERT_GT(expected.norm(), 1e-3);  // the velocities really act
@@ -109,7 +109,7 @@ TEST(ArticulatedBody, ExtraBodyInertiaAndJointBlocksAddToTheMassMatrix) {
     RandomTree t = random_tree(rng, 2 + trial % 8, false);
     const Rig& rig = t.rig;
     ArticulatedBodyData& d = t.s.articulated;
-    articulated_velocity_pass(rig, t.s, d);
+    articulated_velocity_pass(rig, body_motion(t.s), d);
     MatX M = mass_matrix(rig, t.s);
     MatX Jw, Jv;
     for (int b = 0; b < rig.nbone; ++b) {
@@ -134,7 +134,7 @@ TEST(ArticulatedBody, ExtraBodyInertiaAndJointBlocksAddToTheMassMatrix) {
       M.block<3, 3>(dof(b), dof(b)) += R.transpose() * K * R;
     }
     articulated_backward_pass(rig, d);
-    articulated_forward_pass(rig, t.s, d);
+    articulated_forward_pass(rig, body_motion(t.s), d);
     ASSERT_EQ((M - M.transpose()).norm() > 1e-3, unsymmetric && rig.nbone > 1) << "trial " << trial;
     const VecX expected = M.partialPivLu().solve(generalised_force(rig, t.s));
     const VecX got = aba_qacc(rig, d);

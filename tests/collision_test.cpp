@@ -11,7 +11,10 @@
 #include <gtest/gtest.h>
 
 #include "physik/engine/collision.h"
-#include "physik/engine/contacts.h"
+#include "physik/engine/contact_data.h"
+#include "physik/engine/gravity.h"
+#include "physik/engine/ground_contacts.h"
+#include "physik/engine/self_contacts.h"
 #include "tests/contact_test_util.h"
 
 namespace physik {

@@ -1,6 +1,6 @@
-// Contacts and gravity in the engine (physik/engine/contacts.h): a bone resting on the floor (and
-// on a box) at the analytic penetration in every scheme, the energy of a bone dropped on the floor,
-// two bones driven into each other with and without self-collision.
+// Contacts and gravity in the engine (physik/engine/ground_contacts.h, self_contacts.h): a bone
+// resting on the floor (and on a box) at the analytic penetration in every scheme, the energy of a
+// bone dropped on the floor, two bones driven into each other with and without self-collision.
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -8,10 +8,13 @@
 #include <gtest/gtest.h>
 
 #include "physik/engine/collision.h"
-#include "physik/engine/contacts.h"
+#include "physik/engine/contact_data.h"
 #include "physik/engine/engine.h"
+#include "physik/engine/gravity.h"
+#include "physik/engine/ground_contacts.h"
 #include "physik/engine/implicit_advance.h"
 #include "physik/engine/measures.h"
+#include "physik/engine/self_contacts.h"
 #include "tests/contact_test_util.h"
 
 namespace physik {
@@ -172,11 +175,11 @@ TEST(Contacts, StaticFrictionStretchesByTheLoadOverItsStiffness) {
     init_state(s, st);
     for (int k = 0; k < static_cast<int>(std::lround(3.0 / dt)); ++k) step(s, st);
     EXPECT_LT(kinetic_energy(s.rig, st), 1e-12);
-    ASSERT_EQ(st.friction_anchors.size(), 2u);
-    const Vec3 sum = st.friction_anchors[0].stretch_world + st.friction_anchors[1].stretch_world;
+    ASSERT_EQ(st.contact.anchors.size(), 2u);
+    const Vec3 sum = st.contact.anchors[0].stretch_world + st.contact.anchors[1].stretch_world;
     EXPECT_NEAR(sum.x(), total, 1e-6 * total);
     EXPECT_NEAR(sum.y(), 0.0, 1e-9 * total);
-    for (const FrictionAnchor& a : st.friction_anchors) {
+    for (const FrictionAnchor& a : st.contact.anchors) {
       EXPECT_NEAR(a.stretch_world.x(), total / 2.0, 0.05 * total / 2.0);
     }
   }
@@ -222,10 +225,10 @@ PulledLeg pull_leg(bool self_collision) {
   PulledLeg out;
   for (int k = 0; k < s.steps; ++k) {
     step(s, st);
-    out.deepest = std::max(out.deepest, penetration(s, st.contacts).max_depth_fraction);
+    out.deepest = std::max(out.deepest, penetration(s, st.contact.found).max_depth_fraction);
   }
   out.tail_world = st.frames.tail_world[2];
-  out.final = penetration(s, st.frames).max_depth_fraction;
+  out.final = penetration(s, contacts_at_pose(s, st.frames)).max_depth_fraction;
   return out;
 }
 

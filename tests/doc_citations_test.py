@@ -37,14 +37,26 @@ def headings(repo, path):
         return [line.lstrip("#").strip().lower() for line in f if line.startswith("#")]
 
 
+COMMENT = re.compile(r"^\s*(?://+|#+)\s?")
+
+
 def citations(repo, files):
-    """(file, line number, document name, section) for every citation in `files`."""
+    """(file, line number, document name, section) for every citation in `files`, also one split
+    over two comment lines (`docs/engine.md` at the end of one, `"The implicit scheme"` on the
+    next): each line is read joined with the next comment line's text."""
     out = []
     for path in files:
         with open(os.path.join(repo, path), encoding="utf-8", errors="replace") as f:
-            for n, line in enumerate(f, 1):
-                for doc, section in CITATION.findall(line):
-                    out.append((path, n, doc, section))
+            lines = f.read().split("\n")
+        for n, line in enumerate(lines, 1):
+            found = CITATION.findall(line)
+            nxt = lines[n] if n < len(lines) else ""
+            if COMMENT.match(line) and COMMENT.match(nxt):
+                joined = line.rstrip() + " " + COMMENT.sub("", nxt, count=1)
+                own = set(found) | set(CITATION.findall(nxt))
+                found += [c for c in CITATION.findall(joined) if c not in own]
+            for doc, section in found:
+                out.append((path, n, doc, section))
     return out
 
 
@@ -85,6 +97,19 @@ class DocCitationsTest(unittest.TestCase):
             self.assertEqual(len(found), 2, found)
             self.assertIn('cites DESIGN.md "Nowhere": docs/DESIGN.md has no such section', found[0])
             self.assertIn("no such document", found[1])
+
+    def test_a_citation_split_over_two_comment_lines_is_checked(self):
+        with tempfile.TemporaryDirectory() as root:
+            os.makedirs(os.path.join(root, "docs"))
+            with open(os.path.join(root, "docs", "DESIGN.md"), "w") as f:
+                f.write("# Design\n\n## Layers\n")
+            with open(os.path.join(root, "a.h"), "w") as f:
+                f.write('// the layers, as in DESIGN.md\n// "Layers"; the forces, DESIGN.md\n'
+                        '// "Elsewhere" here\n')
+            found = problems(root, ["a.h"])
+            self.assertEqual(len(found), 1, found)
+            self.assertIn('a.h:2: cites DESIGN.md "Elsewhere": docs/DESIGN.md has no such section',
+                          found[0])
 
 
 if __name__ == "__main__":

@@ -114,14 +114,14 @@ TEST(EngineAllocations, ContactStepsAllocateNothing) {
       int box_steps = 0;  // steps that found a contact with the box
       for (int n = 0; n < 50; ++n) {
         step(scene, s);
-        box_steps += std::any_of(s.contacts.begin(), s.contacts.end(),
+        box_steps += std::any_of(s.contact.found.begin(), s.contact.found.end(),
                                  [](const Contact& c) { return c.obstacle == 0; });
       }
       g_counting = false;
-      EXPECT_GT(s.contacts.size(), 0u) << to_string(scheme);
+      EXPECT_GT(s.contact.found.size(), 0u) << to_string(scheme);
       EXPECT_GT(box_steps, 0) << to_string(scheme) << ": the box must be touched to test it";
       if (friction_stiffness > 0.0) {
-        EXPECT_GT(s.friction_anchors.size(), 0u) << to_string(scheme);
+        EXPECT_GT(s.contact.anchors.size(), 0u) << to_string(scheme);
       }
       EXPECT_EQ(g_allocations.load(), 0) << to_string(scheme);
     }

@@ -50,7 +50,8 @@ EnergyTrace trace(const Scene& scene) {
   EnergyTrace t;
   double before = -1.0;
   t.summary = run_scene(scene, [&](const SimState& st, const StepStats&) {
-    const double e = mechanical_energy(scene, st);
+    SimState at = st;  // the observer's state is const; the potential detects into its own
+    const double e = mechanical_energy(scene, at);
     if (before >= 0.0) t.worst_growth = std::max(t.worst_growth, (e - before) / (before + floor));
     before = e;
   });

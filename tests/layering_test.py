@@ -12,7 +12,9 @@ A file may include its own layer and the layers below it, never one above or bes
   - no header of physik/model, physik/engine, physik/ik or physik/posing reaches a JSON library, even through
     other headers (only physik/io and above read or write files);
   - inside physik/engine, the step (engine.h) and the run monitor (run_monitor.h) are the top: a stage or
-    a measure never includes them (the measures they share are in measures.h).
+    a measure never includes them (the measures they share are in measures.h);
+  - inside physik/engine, no include runs back up: a file's unit (its .h and .cpp together) never
+    includes, directly or through others, a unit that includes it (the units form a DAG).
 Run: python3 tests/layering_test.py [REPO]  (ctest runs it as `layering`).
 """
 import os
@@ -97,12 +99,45 @@ def check(repo):
             if target not in ALLOWED[layer]:
                 problems.append("%s: includes \"%s\": layer %s may not depend on %s"
                                 % (path, inc, layer, target))
+    problems += engine_cycles(repo, files)
     # transitive: the JSON-free layers' headers never reach nlohmann
     for path in files:
         if layer_of(path) in JSON_FREE and path.endswith(".h"):
             chain = reaches_json(repo, path, [])
             if chain:
                 problems.append("%s: reaches a JSON library through %s" % (path, " -> ".join(chain)))
+    return problems
+
+
+def engine_cycles(repo, files):
+    """Every include inside physik/engine that runs back up: an edge of the unit graph (a unit is
+    x.h with x.cpp) that lies on a cycle, as 'file: reason' lines."""
+    unit = lambda p: os.path.splitext(p)[0]
+    edges = {}
+    for path in files:
+        if layer_of(path) != "physik/engine":
+            continue
+        for kind, inc in includes(repo, path):
+            if kind == '"' and layer_of(inc) == "physik/engine" and unit(inc) != unit(path):
+                edges.setdefault(unit(path), {}).setdefault(unit(inc), path)
+
+    def reaches(a, b):  # is unit b reachable from unit a
+        seen, todo = set(), [a]
+        while todo:
+            u = todo.pop()
+            if u == b:
+                return True
+            if u not in seen:
+                seen.add(u)
+                todo.extend(edges.get(u, {}))
+        return False
+
+    problems = []
+    for a in sorted(edges):
+        for b, path in sorted(edges[a].items()):
+            if reaches(b, a):
+                problems.append("%s: includes \"%s.h\", which includes %s back (an include running "
+                                "back up inside physik/engine)" % (path, b, a))
     return problems
 
 
@@ -185,6 +220,17 @@ class LayeringTest(unittest.TestCase):
             self.write(root, "physik/posing/p.cpp", '#include "physik/engine/engine.h"\n')
             self.assertEqual(check(root), ['physik/engine/damping.cpp: includes "physik/engine/engine.h", '
                                            'above the stages inside physik/engine'])
+
+    def test_an_include_back_up_inside_the_engine_fails(self):
+        with tempfile.TemporaryDirectory() as root:
+            self.write(root, "physik/engine/state.h", '#include "physik/engine/workspace.h"\n')
+            self.write(root, "physik/engine/workspace.h", "#pragma once\n")
+            self.write(root, "physik/engine/workspace.cpp", '#include "physik/engine/state.h"\n')
+            self.write(root, "physik/engine/damping.cpp", '#include "physik/engine/state.h"\n')
+            problems = check(root)
+            self.assertEqual(len(problems), 2, problems)
+            self.assertTrue(any(p.startswith("physik/engine/workspace.cpp: includes") for p in problems))
+            self.assertTrue(all("back up" in p for p in problems))
 
     def test_the_viewer_may_not_include_the_reference(self):
         with tempfile.TemporaryDirectory() as root:

@@ -216,14 +216,14 @@ ParamValue other_value(const ParamRow& row) {
 // make it: a capped torsion spring for torsion_cap, the implicit step for its splits, a polar
 // interpolation for its fallback; a row of the scheme itself keeps the scheme it sets.
 void make_it_count(const ParamRow& row, EngineParams& p) {
-  if (!row.conflict || row.conflict(p).empty()) return;
+  if (row.conflict_reason(p).empty()) return;
   if (row.name == "torsion_cap") p.torsion_spring = SpringLaw::kCapped;
   if (row.name == "implicit_max_splits" || row.name == "implicit_linearisation") {
     p.scheme = Scheme::kImplicit;
   }
   if (row.name == "interpolation_fallback") p.interpolation = Interpolation::kPolarCom;
   if (row.name == "free_rods") p.scheme = Scheme::kGaussSeidel;
-  ASSERT_EQ(row.conflict(p), "");
+  ASSERT_EQ(row.conflict_reason(p), "");
 }
 
 TEST(ParamTable, EveryRowRoundTripsThroughTheSceneFormatAndText) {

@@ -425,7 +425,7 @@ void check_tunable_in(const Scene& scene, const TuneParam& p) {
   Scene s = scene;
   set_param(s, p.name, p.lo);  // as every evaluation sets it (damping: auto off)
   if (row.conflict) {
-    const std::string why = row.conflict(s.params);
+    const std::string why = row.conflict_reason(s.params, param_scene(s));
     if (!why.empty())
       throw_input_error("--params", "", p.name, why + ": tuning it changes nothing");
   }

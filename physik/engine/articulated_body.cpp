@@ -1,7 +1,5 @@
 #include "physik/engine/articulated_body.h"
 
-#include "physik/engine/state.h"
-
 namespace physik {
 
 void resize_articulated_data(int n, ArticulatedBodyData& d) {
@@ -48,7 +46,7 @@ SpatialInertia spatial_inertia(double m, const Mat3& I_com, const Vec3& e) {
   return out;
 }
 
-void articulated_velocity_pass(const Rig& rig, const SimState& s, ArticulatedBodyData& d) {
+void articulated_velocity_pass(const Rig& rig, const BodyMotion& s, ArticulatedBodyData& d) {
   for (int i = 0; i < rig.nbone; ++i) {
     const double m = rig.bone_mass[i];
     const Mat3 R = s.frames.orient_world[i].toRotationMatrix();
@@ -259,7 +257,7 @@ void backward_pass_pose_terms(const Rig& rig, ArticulatedBodyData& d) {
 // Pass 3 with the pose terms: the root's 6x6 (articulated_body.h), then per joint
 //   a' = X a_p + c,  z' = X z_p,  qdd' = D^-1 (u - [A + G_A, B + G_B] a' - [Z_A, Z_B] z'),
 //   a = a' + S' qdd',  z = z' + T qdd'
-void forward_pass_pose_terms(const Rig& rig, const SimState& s, ArticulatedBodyData& d) {
+void forward_pass_pose_terms(const Rig& rig, const BodyMotion& s, ArticulatedBodyData& d) {
   const SpatialInertia& I0 = d.inertia_art[0];
   const SpatialInertia& Z0 = d.inertia_z[0];
   const Vec3 alpha_z = d.z_accel[0].head<3>(), a_z = d.z_accel[0].tail<3>();
@@ -364,7 +362,7 @@ void root_acceleration(const Rig& rig, ArticulatedBodyData& d) {
 
 }  // namespace
 
-void articulated_forward_pass(const Rig& rig, const SimState& s, ArticulatedBodyData& d) {
+void articulated_forward_pass(const Rig& rig, const BodyMotion& s, ArticulatedBodyData& d) {
   if (rig.nbone == 0) return;
   if (d.pose_terms) {
     forward_pass_pose_terms(rig, s, d);

@@ -66,11 +66,21 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
+#include "physik/model/kinematics.h"
 #include "physik/model/rig.h"
 
 namespace physik {
 
-struct SimState;
+// What the recursion reads of a state (state.h body_motion): the bodies' derived kinematics and
+// the wrench on them, as references into the state, which outlives the view.
+struct BodyMotion {
+  const BoneFrames& frames;               // world, rig units
+  const std::vector<Vec3>& com_world;     // (nbone) rig units
+  const std::vector<Vec3>& vel_world;     // (nbone) rig units/s
+  const std::vector<Vec3>& omega_world;   // (nbone) rad/s
+  const std::vector<Vec3>& force_world;   // (nbone) N, at the centre of mass
+  const std::vector<Vec3>& torque_world;  // (nbone) N m, about it
+};
 
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 using Mat6 = Eigen::Matrix<double, 6, 6>;
@@ -151,14 +161,14 @@ void resize_articulated_data(int nbone, ArticulatedBodyData& data);
 
 // Pass 1 from the state's derived kinematics (frames, com_world, vel_world, omega_world) and
 // wrench (force_world, torque_world), with the inputs above.
-void articulated_velocity_pass(const Rig& rig, const SimState& state, ArticulatedBodyData& data);
+void articulated_velocity_pass(const Rig& rig, const BodyMotion& state, ArticulatedBodyData& data);
 // Pass 2: leaves to root.
 void articulated_backward_pass(const Rig& rig, ArticulatedBodyData& data);
 // Pass 3: root to leaves; the joint accelerations in MuJoCo's coordinates.
-void articulated_forward_pass(const Rig& rig, const SimState& state, ArticulatedBodyData& data);
+void articulated_forward_pass(const Rig& rig, const BodyMotion& state, ArticulatedBodyData& data);
 
 // The three passes.
-inline void articulated_accelerations(const Rig& rig, const SimState& state,
+inline void articulated_accelerations(const Rig& rig, const BodyMotion& state,
                                       ArticulatedBodyData& data) {
   articulated_velocity_pass(rig, state, data);
   articulated_backward_pass(rig, data);

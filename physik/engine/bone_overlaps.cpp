@@ -1,10 +1,11 @@
-// Overlapping bone capsules (bone_overlaps.h), found by the contacts' own detection (collision.h).
+// Overlapping bone capsules (bone_overlaps.h), found by the contacts' own detection
+// (contact_data.h contacts_at_pose).
 #include "physik/engine/bone_overlaps.h"
 
 #include <algorithm>
 #include <map>
 
-#include "physik/engine/collision.h"
+#include "physik/engine/contact_data.h"
 #include "physik/model/scene.h"
 
 namespace physik {
@@ -16,9 +17,7 @@ std::vector<BoneOverlap> bone_overlaps(const Rig& rig, const BoneFrames& frames,
   scene.rig = rig;
   scene.rig.collision_exclude.clear();
   scene.collision.self_collision = true;
-  CollisionWorld world;
-  std::vector<Contact> contacts;
-  world.detect(scene, frames, contacts);
+  const std::vector<Contact> contacts = contacts_at_pose(scene, frames);
   std::map<std::pair<int, int>, double> deepest;
   for (const Contact& c : contacts) {
     if (c.other_bone < 0) continue;

@@ -1,7 +1,7 @@
 // Bone capsules that overlap each other in a pose: the self-contacts a rig starts with. Under
 // `self_collision` every such pair is a contact spring compressed by its depth d from the first
-// step (contacts.h: potential k d^2 / 2), so a rig whose capsules overlap at rest does not stay
-// at rest. Converters exclude the pairs that overlap at rest (as Unreal's physics assets and
+// step (self_contacts.h: potential k d^2 / 2), so a rig whose capsules overlap at rest does not
+// stay at rest. Converters exclude the pairs that overlap at rest (as Unreal's physics assets and
 // PhysX articulations disable collision between overlapping bodies), `rig info` lists them and
 // `physik simulate` warns about the ones a scene starts in (start_contacts.h).
 //

@@ -342,7 +342,7 @@ CollisionWorld::CollisionWorld(CollisionWorld&&) noexcept = default;
 CollisionWorld& CollisionWorld::operator=(CollisionWorld&&) noexcept = default;
 
 void CollisionWorld::prepare(const Scene& scene) {
-  const CollisionSettings& c = scene.collision;
+  const ContactModel& c = scene.collision;
   if (!c.self_collision && c.obstacles.empty()) return;  // the ground alone needs no FCL objects
   if (!impl_) {
     impl_ = std::make_unique<Impl>();
@@ -354,7 +354,7 @@ void CollisionWorld::prepare(const Scene& scene) {
 void CollisionWorld::detect(const Scene& scene, const BoneFrames& frames,
                             std::vector<Contact>& out) {
   out.clear();
-  const CollisionSettings& c = scene.collision;
+  const ContactModel& c = scene.collision;
   if (c.ground) ground_contacts(scene, frames, out);
   if (c.obstacles.empty() && !c.self_collision) return;
   // a pose gone non-finite has no box or bone-pair contacts (FCL's tree cannot split non-finite

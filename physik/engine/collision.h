@@ -1,5 +1,6 @@
-// Collision detection for the contacts (contacts.h): which shapes of a scene overlap, where and
-// how deep. The force law is contacts.h's; this file only measures the geometry.
+// Collision detection for the contacts (ground_contacts.h, self_contacts.h): which shapes of a
+// scene overlap, where and how deep. The force laws are those files'; this one only measures the
+// geometry.
 //
 // Source: FCL, the Flexible Collision Library (J. Pan, S. Chitta, D. Manocha, ICRA 2012; Debian
 // libfcl-dev 0.7): its dynamic AABB tree for the broad phase and its capsule-capsule signed
@@ -8,7 +9,7 @@
 // called directly: fcl::distance dispatches a capsule pair to the same function through a
 // generic traversal it sets up per pair.
 //
-// Shapes (scene.h CollisionSettings, rig.h bone_collision_radius):
+// Shapes (scene.h ContactModel, rig.h bone_collision_radius):
 //   bone i   the capsule around its segment head-tail, radius r_i
 //   ground   the plane {x : n . x = h}; bodies belong on the side n points to
 //   obstacle a static box: centre c, rotation R, half extents e (its points R q + c, |q_j| <= e_j)
@@ -65,14 +66,15 @@ namespace physik {
 struct Contact {
   int bone = -1;                      // body a
   int other_bone = -1;                // body b when it is a bone; -1: static (ground, obstacle)
-  int obstacle = -1;                  // body b's index in CollisionSettings::obstacles, or -1
+  int obstacle = -1;                  // body b's index in ContactModel::obstacles, or -1
   int feature = 0;                    // which of the pair's contacts: against the ground or a box,
                                       //   0 the head's end sphere, 1 the tail's, 2 the segment's
                                       //   deepest point (a box's edge); 0 between two bones
   Vec3 point_world = Vec3::Zero();    // rig units, midway between the two surfaces
   Vec3 normal_world = Vec3::UnitZ();  // unit, from body b toward body a
   double depth = 0.0;                 // rig units, > 0
-  double normal_force = 0.0;          // N, F_n of the force stage (contacts.h); 0 until it runs
+  double normal_force =
+      0.0;  // N, F_n of the force stage (ground_contacts.h, self_contacts.h); 0 until it runs
 };
 
 class CollisionWorld {

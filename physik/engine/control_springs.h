@@ -3,8 +3,20 @@
 //   linear         F = k (t - a)
 //   capped-linear  F = k min(|t - a|, c) (t - a) / |t - a|      (|F| <= k c)
 // F in N, k in N/m, c and distances in rig units. The force acts at a on the bone.
+//
+// Potential, d = |a - t|: linear U = k d^2 / 2; capped U = k d^2 / 2 (d <= c),
+// k c (d - c/2) (d > c); F is minus its gradient in a. Energies in J.
+//
+// Implicit step (implicit_step.h): a point element at a, A = h^2 K_c with K_c = the step
+// stiffness below (the tangent, and beyond the cap the secant), and the force -h K_c v_a on the
+// right-hand side. Damping auto's modes (linear_modes.h): a point element K = the tangent toward
+// the given targets. The pose-terms step reads the stage's forces (state.control_force_world).
+// MuJoCo's reference applies the same force.
 #pragma once
 
+#include <vector>
+
+#include "physik/engine/force_stages.h"
 #include "physik/engine/state.h"
 #include "physik/model/scene.h"
 
@@ -32,6 +44,21 @@ Mat3 spring_tangent(SpringLaw law, double k, double cap, const Vec3& d);
 // diverge on a chain pulled far beyond its cap; tests/implicit_step_test.cpp).
 Mat3 spring_step_stiffness(SpringLaw law, double k, double cap, const Vec3& d);
 
+// U of one spring at distance d (rig units), J; the equilibrium's residuals (tune/equilibrium.h)
+// are its square roots.
+double control_spring_potential(SpringLaw law, double k, double cap, double distance);
+
+// The force stage: every spring's force toward its effective target (state.control_force_world).
 void apply_control_springs(const Scene& scene, SimState& state);
+// U of the state's springs toward their effective targets, J.
+double control_springs_potential(const Scene& scene, const SimState& state);
+// The implicit step: the step stiffness of every spring (state.control_stiffness: tangents),
+// then -h K_c v at each point (rate); h^2 K_c into the bone's articulated inertia (augment).
+void control_springs_tangents(const Scene& scene, SimState& state);
+void control_springs_rate(const Scene& scene, const ImplicitStage& stage, SimState& state);
+void control_springs_augment(const Scene& scene, const ImplicitStage& stage, SimState& state);
+// Damping auto: the tangent toward `targets` at each point.
+void control_springs_mode_stiffness(const Scene& scene, const SimState& state,
+                                    const std::vector<Vec3>& targets, ModeStiffness& out);
 
 }  // namespace physik

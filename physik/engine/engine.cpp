@@ -47,21 +47,9 @@ void init_state(const Scene& scene, SimState& s) {
       snap.bone_local_rotation.assign(rig.nbone, Quat::Identity());
     }
   }
-  if (scene.collision.any()) {
-    // the FCL objects and room for the contacts now, so the steps allocate nothing: two ends
-    // per bone on the ground, three per bone and obstacle (the ends and an edge), and as many
-    // bone pairs again as ground contacts (more only in a tangled rig)
-    s.collision_world.prepare(scene);
-    const std::size_t room =
-        (4 + 3 * scene.collision.obstacles.size()) * static_cast<std::size_t>(rig.nbone);
-    s.contacts.reserve(room);
-    s.contact_elements.reserve(room);
-    s.contact_scratch.reserve(room);
-    s.implicit_reached.reserve(room);
-    s.friction_anchors.reserve(room);
-    s.friction_anchors_next.reserve(room);
-    for (JointStateSnapshot& snap : s.implicit_snapshots) snap.friction_anchors.reserve(room);
-    s.self_contact_count.assign(rig.nbone, 0);
+  prepare_contact_data(scene, s.contact);
+  for (JointStateSnapshot& snap : s.implicit_snapshots) {
+    snap.friction_anchors.reserve(s.contact.anchors.capacity());
   }
   if (scene.params.damping_auto) update_auto_damping(scene, s);
 }

@@ -1,23 +1,132 @@
 #include "physik/engine/forces.h"
 
-#include "physik/engine/contacts.h"
+#include "physik/engine/contact_data.h"
 #include "physik/engine/control_springs.h"
 #include "physik/engine/damping.h"
+#include "physik/engine/gravity.h"
+#include "physik/engine/ground_contacts.h"
 #include "physik/engine/newton_euler.h"
+#include "physik/engine/self_contacts.h"
 #include "physik/engine/torsion_springs.h"
 
 namespace physik {
 
-void apply_forces(const Scene& scene, SimState& s, const ForceSelection& selection) {
-  const Rig& rig = scene.rig;
-  const EngineParams& p = scene.params;
-  // torsion reads s.pose, which init_state and the end of every step keep in sync with frames
-  prepare_bodies(rig, p, s);
-  apply_damping(rig, p, s);
+namespace {
+
+// the stage functions of the elements whose own take other arguments
+void damping_apply(const Scene& scene, SimState& s, const ForceStage&) {
+  apply_damping(scene.rig, scene.params, s);
+}
+void control_apply(const Scene& scene, SimState& s, const ForceStage&) {
   apply_control_springs(scene, s);
-  if (selection.torsion_springs) apply_torsion_springs(rig, p, s);
-  if (selection.gravity) apply_gravity(scene, s);
-  if (selection.contacts) apply_contacts(scene, s, selection.step > 0.0 ? selection.step : p.dt);
+}
+void torsion_apply(const Scene& scene, SimState& s, const ForceStage&) {
+  apply_torsion_springs(scene.rig, scene.params, s);
+}
+void gravity_apply(const Scene& scene, SimState& s, const ForceStage&) {
+  apply_gravity(scene, s);
+}
+double gravity_state_potential(const Scene& scene, const SimState& s) {
+  return gravity_potential(scene, s.frames);
+}
+// a self-contact's damper and friction are capped for the step the forces are taken over
+double stage_step(const Scene& scene, const ForceStage& stage) {
+  return stage.step > 0.0 ? stage.step : scene.params.dt;
+}
+void ground_apply(const Scene& scene, SimState& s, const ForceStage& stage) {
+  apply_ground_contacts(scene, s, stage_step(scene, stage));
+}
+void self_apply(const Scene& scene, SimState& s, const ForceStage& stage) {
+  apply_self_contacts(scene, s, stage_step(scene, stage));
+}
+void ground_rate(const Scene& scene, const ImplicitStage& stage, SimState& s) {
+  ground_contacts_rate(scene, stage.h, s);
+}
+void ground_augment(const Scene& scene, const ImplicitStage& stage, SimState& s) {
+  ground_contacts_augment(scene, stage.h, s);
+}
+void self_rate(const Scene& scene, const ImplicitStage& stage, SimState& s) {
+  self_contacts_rate(scene, stage.h, s);
+}
+void self_augment(const Scene& scene, const ImplicitStage& stage, SimState& s) {
+  self_contacts_augment(scene, stage.h, s);
+}
+
+// does `stage` apply element e (the MuJoCo reference applies only what MuJoCo does not)
+bool applies(const ForceElement& e, const ForceStage& stage) {
+  switch (stage.for_) {
+    case ForceStage::For::kEngine:
+      return true;
+    case ForceStage::For::kMujocoSameForces:
+      return e.mujoco != MujocoSide::kMujocosOwn;
+    case ForceStage::For::kMujocoExactConstraints:
+      return e.mujoco == MujocoSide::kApplied;
+  }
+  return true;
+}
+
+}  // namespace
+
+const std::array<ForceElement, kForceCount>& force_elements() {
+  // clang-format off
+  static const std::array<ForceElement, kForceCount> list{{
+    // kind                         name               apply          potential
+    //   rate                 augment                  modes (K)                         MuJoCo
+    {ForceKind::kDamping,         "damping",         damping_apply, nullptr,
+       nullptr,             damping_augment,         nullptr,                         MujocoSide::kApplied},
+    {ForceKind::kControlSprings,  "control springs", control_apply, control_springs_potential,
+       control_springs_rate, control_springs_augment, control_springs_mode_stiffness, MujocoSide::kApplied},
+    {ForceKind::kTorsionSprings,  "torsion springs", torsion_apply, torsion_springs_potential,
+       torsion_springs_rate, torsion_springs_augment, torsion_springs_mode_stiffness, MujocoSide::kSameForcesOnly},
+    {ForceKind::kGravity,         "gravity",         gravity_apply, gravity_state_potential,
+       nullptr,             nullptr,                 nullptr,                         MujocoSide::kMujocosOwn},
+    {ForceKind::kGroundContacts,  "ground contacts", ground_apply,  ground_contacts_potential,
+       ground_rate,         ground_augment,          nullptr,                         MujocoSide::kMujocosOwn},
+    {ForceKind::kSelfContacts,    "self contacts",   self_apply,    self_contacts_potential,
+       self_rate,           self_augment,            nullptr,                         MujocoSide::kMujocosOwn},
+  }};
+  // clang-format on
+  return list;
+}
+
+void apply_forces(const Scene& scene, SimState& s, const ForceStage& stage) {
+  // torsion reads s.pose, which init_state and the end of every step keep in sync with frames
+  prepare_bodies(scene.rig, scene.params, s);
+  const bool contacts = stage.for_ == ForceStage::For::kEngine;
+  if (contacts) detect_step_contacts(scene, s.frames, s.contact);
+  for (const ForceElement& e : force_elements()) {
+    if (applies(e, stage)) e.apply(scene, s, stage);
+  }
+}
+
+void implicit_rates(const Scene& scene, const ImplicitStage& stage, SimState& s) {
+  // the contacts' terms first, then the others' in the list's order: the order the step has
+  // always summed -h K v into the forces in (any order is the same sum up to round-off; this one
+  // keeps every run's results bit for bit)
+  const auto contact = [](const ForceElement& e) {
+    return e.kind == ForceKind::kGroundContacts || e.kind == ForceKind::kSelfContacts;
+  };
+  for (const ForceElement& e : force_elements()) {
+    if (e.rate && contact(e)) e.rate(scene, stage, s);
+  }
+  for (const ForceElement& e : force_elements()) {
+    if (e.rate && !contact(e)) e.rate(scene, stage, s);
+  }
+}
+
+void implicit_augment(const Scene& scene, const ImplicitStage& stage, SimState& s) {
+  for (const ForceElement& e : force_elements()) {
+    if (e.augment) e.augment(scene, stage, s);
+  }
+}
+
+void mode_stiffness(const Scene& scene, const SimState& s, const std::vector<Vec3>& targets,
+                    ModeStiffness& out) {
+  out.points.clear();
+  out.blocks.clear();
+  for (const ForceElement& e : force_elements()) {
+    if (e.mode_stiffness) e.mode_stiffness(scene, s, targets, out);
+  }
 }
 
 }  // namespace physik

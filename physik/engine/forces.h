@@ -1,33 +1,77 @@
-// Every force of a PhysIK step, in one place: the engine's step() and the MuJoCo reference
-// (reference/mujoco_runner.cpp) both call apply_forces(), so a new force lands in both.
+// Every force of PhysIK, listed once. Each force is an element in its own file that owns its law,
+// its potential and its implicit terms (as Box2D keeps each joint type's stages in its own file,
+// and MuJoCo pairs mj_passive with mjd_passive_vel); every caller walks this list:
+//   the force stage        apply_forces (every scheme; the MuJoCo reference, by its side below)
+//   the potential          potential_energy (potential.h): the run monitor's ledger, the
+//                          implicit step's energy guard, the exact equilibrium's report
+//   the implicit step      the elements' -h K v (rate) and h D + h^2 K (augment): implicit_step.h
+//   damping auto's modes   the elements' stiffness K (mode_stiffness): linear_modes.h, dense and
+//                          O(n)
+// A force that leaves a stage out has a null entry there, and its header says why.
 //
-// Stages, in order, on the state as it stands (positions, velocities and state.pose in sync):
-//   prepare_bodies        clear force/torque accumulators, refresh I^-1 (world), w x I w
-//   newton_euler.h apply_damping         -c v at head and tail of every bone damping.h
-//   apply_control_springs linear or capped springs toward the effective targets control_springs.h
-//   apply_torsion_springs joint-limit springs, +tau on the bone, -tau on its parent
-//                         (torsion_springs.h)
-//   apply_gravity         m g at every centre of mass (nothing when gravity is zero)  contacts.h
-//   apply_contacts        the ground's and self-collision's penalty springs, dampers and
-//                         friction at the contacts found at this state                 contacts.h
-// Result: state.force_world (N, at the centre of mass) and state.torque_world (N m, about it),
-// world axes, per bone. The inter-joint forces are not among them: they are the joint solve's.
+// clang-format off
+//   element          file               potential   implicit        modes (K)   MuJoCo reference
+//   damping          damping.h          none [1]    augment         D1, Dr [2]  applied
+//   control springs  control_springs.h  yes         rate, augment   yes         applied
+//   torsion springs  torsion_springs.h  yes         rate, augment   yes         same-forces mode
+//   gravity          gravity.h          yes         none [3]        none [3]    MuJoCo's own
+//   ground contacts  ground_contacts.h  yes         rate, augment   none [4]    MuJoCo's own
+//   self contacts    self_contacts.h    yes         rate, augment   none [4]    MuJoCo's own
+// clang-format on
+//   [1] a damper only removes energy.
+//   [2] the end dampers' unit matrix D1 and the angular-velocity factor's Dr are the damping's
+//       own: damping auto chooses c for them (mode_operators.h, linear_modes_dense.h).
+//   [3] a constant force at each centre of mass: no stiffness, no damping.
+//   [4] contacts come and go between the target changes at which damping auto chooses c; a
+//       contact's own damper damps its normal motion (ground_contacts.h, self_contacts.h).
+// The pose-terms step (implicit_linearisation full, implicit_pose_terms.h) takes the control
+// springs' forces and the torsion springs' torques their stages leave in the state.
+//
+// Adding a force: one file with its stage functions and this list's row (forces.cpp), then the
+// docs (docs/DESIGN.md "Adding things").
+// Result of the force stage: state.force_world (N, at the centre of mass) and state.torque_world
+// (N m, about it), world axes, per bone. The inter-joint forces are not among them: they are the
+// joint solve's.
 #pragma once
 
+#include <array>
+#include <vector>
+
+#include "physik/engine/force_stages.h"
 #include "physik/engine/state.h"
 #include "physik/model/scene.h"
 
 namespace physik {
 
-struct ForceSelection {
-  bool torsion_springs = true;  // false where joint limits are enforced otherwise (MuJoCo's own
-                                // limits in the exact-constraints reference mode)
-  bool gravity = true;          // false where gravity is applied otherwise (MuJoCo's own)
-  bool contacts = true;         // false where contacts are resolved otherwise (MuJoCo's own)
-  double step = 0.0;            // s, the step the forces are taken over (0: params.dt); it caps a
-                                // self-contact's damper and friction (contacts.h)
+struct ForceElement {
+  ForceKind kind;
+  const char* name;
+  void (*apply)(const Scene&, SimState&, const ForceStage&);
+  double (*potential)(const Scene&, const SimState&);              // J; null: none
+  void (*rate)(const Scene&, const ImplicitStage&, SimState&);     // null: none
+  void (*augment)(const Scene&, const ImplicitStage&, SimState&);  // null: none
+  void (*mode_stiffness)(const Scene&, const SimState&, const std::vector<Vec3>& targets,
+                         ModeStiffness&);  // null: none
+  MujocoSide mujoco;
 };
 
-void apply_forces(const Scene& scene, SimState& state, const ForceSelection& selection = {});
+// The list, in the order every stage walks it (a fixed array: walking it allocates nothing, the
+// first walk included).
+inline constexpr int kForceCount = 6;
+const std::array<ForceElement, kForceCount>& force_elements();
+
+// The force stage: the bodies' accumulators cleared (prepare_bodies), the contacts at the state
+// detected (contact_data.h) when the scene has any, then every element's force that `stage` is for.
+void apply_forces(const Scene& scene, SimState& state, const ForceStage& stage = {});
+
+// The implicit step's terms of every element: -h K v into the state's forces (before the
+// recursion's velocity pass), h D + h^2 K into its augmented inertias and joint blocks (after).
+void implicit_rates(const Scene& scene, const ImplicitStage& stage, SimState& state);
+void implicit_augment(const Scene& scene, const ImplicitStage& stage, SimState& state);
+
+// The stiffness of every element at the state's pose, its control springs pulling toward
+// `targets` (one per control point), into `out` (cleared first; no allocation once it has room).
+void mode_stiffness(const Scene& scene, const SimState& state, const std::vector<Vec3>& targets,
+                    ModeStiffness& out);
 
 }  // namespace physik

@@ -13,7 +13,7 @@
 
 namespace physik {
 
-double mechanical_energy(const Scene& scene, const SimState& s) {
+double mechanical_energy(const Scene& scene, SimState& s) {
   return kinetic_energy(scene.rig, s) + potential_energy(scene, s);
 }
 
@@ -26,7 +26,7 @@ void save(const SimState& s, JointStateSnapshot& snap) {
   std::copy(s.joint_vel_local.begin(), s.joint_vel_local.end(), snap.joint_vel_local.begin());
   std::copy(s.pose.bone_local_rotation.begin(), s.pose.bone_local_rotation.end(),
             snap.bone_local_rotation.begin());
-  snap.friction_anchors = s.friction_anchors;  // keeps its capacity: no allocation once grown
+  snap.friction_anchors = s.contact.anchors;  // keeps its capacity: no allocation once grown
 }
 
 void restore(const Rig& rig, const JointStateSnapshot& snap, SimState& s) {
@@ -36,7 +36,7 @@ void restore(const Rig& rig, const JointStateSnapshot& snap, SimState& s) {
   std::copy(snap.joint_vel_local.begin(), snap.joint_vel_local.end(), s.joint_vel_local.begin());
   std::copy(snap.bone_local_rotation.begin(), snap.bone_local_rotation.end(),
             s.pose.bone_local_rotation.begin());
-  s.friction_anchors = snap.friction_anchors;
+  s.contact.anchors = snap.friction_anchors;
   world_from_joint_space(rig, s);
 }
 
@@ -71,7 +71,7 @@ struct Guard {
 
 // The check of a (sub)step of h just taken from energy e0 (J): its joints turned at most
 // kMaxStepRotation and its energy grew at most the tolerance. `growth` gets E_1 - e0 (J).
-bool step_holds(const Scene& scene, const SimState& s, double h, double e0, const Guard& g,
+bool step_holds(const Scene& scene, SimState& s, double h, double e0, const Guard& g,
                 double& growth) {
   growth = mechanical_energy(scene, s) - e0;
   return largest_rotation(s, h) <= kMaxStepRotation &&
@@ -80,26 +80,26 @@ bool step_holds(const Scene& scene, const SimState& s, double h, double e0, cons
 }
 
 // The ground and obstacle contacts of the state's frames (mechanical_energy has just detected them
-// into contact_scratch) into implicit_reached, each point bone-local and its depth stored as
-// d + n . p: from the step's start, d_0 = depth - n . p_0 (first order: the depth grows as the
+// into the contact data's at_frames) into its reached, each point bone-local and its depth stored
+// as d + n . p: from the step's start, d_0 = depth - n . p_0 (first order: the depth grows as the
 // point moves against n). True when there are any.
 bool keep_reached_contacts(SimState& s) {
-  s.implicit_reached.clear();
-  for (const Contact& c : s.contact_scratch) {
-    if (c.other_bone >= 0) continue;  // a self-contact is split between its bones (contacts.h)
+  s.contact.reached.clear();
+  for (const Contact& c : s.contact.at_frames) {
+    if (c.other_bone >= 0) continue;  // a self-contact is split between its bones (self_contacts.h)
     Contact r = c;
     r.depth = c.depth + c.normal_world.dot(c.point_world);
     r.point_world =
         s.frames.orient_world[c.bone].conjugate() * (c.point_world - s.com_world[c.bone]);
-    s.implicit_reached.push_back(r);
+    s.contact.reached.push_back(r);
   }
-  return !s.implicit_reached.empty();
+  return !s.contact.reached.empty();
 }
 
 // whether the force stage at the step's start pushes at the contact `c` (the same bone, obstacle
 // and feature: collision.h Contact), so that it is in the step already
 bool pushed_at_start(const SimState& s, const Contact& c) {
-  for (const Contact& a : s.contacts) {
+  for (const Contact& a : s.contact.found) {
     if (a.bone == c.bone && a.other_bone < 0 && a.obstacle == c.obstacle &&
         a.feature == c.feature && a.normal_force > 0.0) {
       return true;
@@ -111,13 +111,14 @@ bool pushed_at_start(const SimState& s, const Contact& c) {
 // The shipped bare step with the reached contacts that its start's force stage does not push at
 // linearised from the start as well: each a spring k along n of depth d_0 (<= 0 where the start
 // does not touch, to round-off otherwise), force k d_0 n (pulling where d_0 < 0: the spring's
-// first-order force at the depth the step meets), an element like a contact's (contacts.h).
+// first-order force at the depth the step meets), an element like a ground contact's
+// (ground_contacts.h).
 void take_step_with_reached(const Scene& scene, SimState& s, double h) {
-  ForceSelection forces;
-  forces.step = h;
-  apply_forces(scene, s, forces);
+  ForceStage stage;
+  stage.step = h;
+  apply_forces(scene, s, stage);
   const double k = scene.params.contact_k;
-  for (const Contact& c : s.implicit_reached) {
+  for (const Contact& c : s.contact.reached) {
     if (pushed_at_start(s, c)) continue;  // in the step already
     const Vec3& n = c.normal_world;
     const Vec3 p0 = s.com_world[c.bone] + s.frames.orient_world[c.bone] * c.point_world;
@@ -127,7 +128,7 @@ void take_step_with_reached(const Scene& scene, SimState& s, double h) {
     e.bone = c.bone;
     e.point_world = p0;
     e.stiffness = k * n * n.transpose();
-    s.contact_elements.push_back(e);
+    s.contact.elements.push_back(e);
   }
   solve_implicit(scene, s, h);
   integrate_joint_space(scene.rig, h, s);
@@ -186,9 +187,10 @@ int substep(const Scene& scene, SimState& s, double h, int depth, Guard& g, doub
 }  // namespace
 
 void take_implicit_step(const Scene& scene, SimState& s, double h, const void* /*context*/) {
-  ForceSelection forces;
-  forces.step = h;  // a self-contact's damper and friction are capped for this step (contacts.h)
-  apply_forces(scene, s, forces);
+  ForceStage stage;
+  stage.step =
+      h;  // a self-contact's damper and friction are capped for this step (self_contacts.h)
+  apply_forces(scene, s, stage);
   solve_implicit(scene, s, h);
   integrate_joint_space(scene.rig, h, s);
 }

@@ -1,6 +1,6 @@
 // One implicit step of the scene's dt (scheme implicit), guarded by the rig's energy: where
-// the linearisation adds energy, the step is taken again as two half steps (DESIGN.md "Beyond
-// the paper"; stable for any coefficients).
+// the linearisation adds energy, the step is taken again as two half steps (docs/engine.md "The
+// implicit scheme"; stable for any coefficients).
 //
 // solve_implicit (implicit_step.h) is one Newton step of backward Euler with the forces
 // linearised at the start of the step. On a linear spring and damper it never adds energy
@@ -11,7 +11,7 @@
 // dt = 1e-4, reach 0.28 rad and lose energy). So every step is checked. With the targets held
 // for the step, the mechanical energy
 //   E = KE + U_control(this step's targets) + U_torsion + U_gravity + U_contact
-//                                                   (J; potential.h potential_energy, contacts.h)
+//                                                   (J; potential.h potential_energy)
 // may not grow by more than kEnergyGrowthTolerance (E + E_floor) + E_round, E_floor = M speed_tol^2
 // / 2 (the run monitor's floor: the kinetic energy of the rig moving at its rest speed), E_round =
 // kRoundoffGrowth eps (|E| + M |g| R) the growth the rig's own round-off can show (eps the double's
@@ -31,7 +31,8 @@
 //      Each ground or obstacle contact of the rejected step's end that its start did not touch
 //      enters the retaken step as a spring k along its normal n, linearised from the start
 //      (depth d_0 = d - n . (p_0 - p) <= 0, force k d_0 n: the spring's first-order force, which
-//      the solve balances where the step meets the surface), like a contact (contacts.h);
+//      the solve balances where the step meets the surface), like a ground contact
+//      (ground_contacts.h);
 //   2. otherwise taken as two half steps, each checked in turn, at most
 //      params.implicit_max_splits halvings deep (default 8: a substep of dt / 256 is accepted as
 //      it is, and the step counts in implicit_deepest_steps, which the run reports once; 0: the
@@ -79,6 +80,6 @@ int advance_implicit(const Scene& scene, SimState& state, double h,
                      BareStep bare = take_implicit_step, const void* context = nullptr);
 
 // The mechanical energy the guard holds: KE + potential_energy (J; springs, gravity, contacts).
-double mechanical_energy(const Scene& scene, const SimState& state);
+double mechanical_energy(const Scene& scene, SimState& state);
 
 }  // namespace physik

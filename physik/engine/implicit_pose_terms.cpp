@@ -135,7 +135,7 @@ void add_turning_accelerations(const Rig& rig, double h, SimState& s) {
 
 }  // namespace
 
-void rest_accelerations(const Scene& scene, SimState& s) {
+void rest_accelerations(const Scene& scene, const PoseTermSelection& terms, SimState& s) {
   const Rig& rig = scene.rig;
   const ArticulatedBodyData& d = s.articulated;
   ArticulatedBodyData& r = s.articulated_rest;
@@ -151,7 +151,7 @@ void rest_accelerations(const Scene& scene, SimState& s) {
     s.rest_wrench[cp.bone].head<3>() += arm.cross(f);
     s.rest_wrench[cp.bone].tail<3>() += f;
   }
-  if (!s.pose_term_selection.needs_rest()) return;  // a0 is not needed
+  if (!terms.needs_rest()) return;  // a0 is not needed
   // the ABA's bias force is minus the external wrench; the torsion torques join it here but not
   // rest_wrench, which holds the world-held forces only (implicit_pose_terms.h, (1) and (5))
   for (int i = 0; i < rig.nbone; ++i) r.bias_force[i] = -s.rest_wrench[i];
@@ -161,13 +161,14 @@ void rest_accelerations(const Scene& scene, SimState& s) {
     r.bias_force[rig.bone_parent[i]].head<3>() += t;
   }
   articulated_backward_pass(rig, r);
-  articulated_forward_pass(rig, s, r);
+  articulated_forward_pass(rig, body_motion(s), r);
 }
 
-void add_pose_terms(const Scene& scene, double h, SimState& s) {
+void add_pose_terms(const Scene& scene, const ImplicitStage& stage, SimState& s) {
+  const double h = stage.h;
   const Rig& rig = scene.rig;
   ArticulatedBodyData& d = s.articulated;
-  const PoseTermSelection& use = s.pose_term_selection;
+  const PoseTermSelection& use = stage.terms;
   for (int i = 0; i < rig.nbone; ++i) d.inertia_lower[i] = d.inertia_art[i].B.transpose();
   if (use.forces) {
     add_spring_geometric_stiffness(scene, h, s);
@@ -194,39 +195,6 @@ void add_pose_terms(const Scene& scene, double h, SimState& s) {
     }
   }
   d.pose_terms = true;
-}
-
-Mat3 left_jacobian_inverse_transpose_derivative(const Vec3& theta, const Vec3& tau) {
-  // J_l^-T = 1 + W/2 + b W^2, W = [theta]x, b(t) = 1/t^2 - cot(t/2) / (2 t):
-  //   d(W tau / 2) = -[tau]x dtheta / 2
-  //   d(b W^2 tau) = (b'(t) / t) (W^2 tau) theta^T dtheta - b ([theta x tau]x + W [tau]x) dtheta
-  // b'(t) / t = -2/t^4 + cot(t/2) / (2 t^3) + 1 / (4 t^2 sin^2(t/2)), its series near 0 (the
-  // terms cancel there): 1/360 + t^2/7560 + t^4/201600
-  const double t2 = theta.squaredNorm(), t = std::sqrt(t2);
-  double b, db_over_t;
-  if (t < 0.1) {
-    b = 1.0 / 12.0 + t2 / 720.0 + t2 * t2 / 30240.0 + t2 * t2 * t2 / 1209600.0;
-    db_over_t = 1.0 / 360.0 + t2 / 7560.0 + t2 * t2 / 201600.0;
-  } else {
-    const double cot = 1.0 / std::tan(0.5 * t), sn = std::sin(0.5 * t);
-    b = 1.0 / t2 - 0.5 * cot / t;
-    db_over_t = -2.0 / (t2 * t2) + 0.5 * cot / (t2 * t) + 0.25 / (t2 * sn * sn);
-  }
-  const Mat3 W = skew(theta);
-  const Vec3 W2tau = theta.cross(theta.cross(tau));
-  return -0.5 * skew(tau) + db_over_t * W2tau * theta.transpose() -
-         b * (skew(theta.cross(tau)) + W * skew(tau));
-}
-
-Mat3 torsion_pose_block(const Mat3& R_pr, const Vec3& theta, const Vec3& tau_local,
-                        TorsionTorque torque, const Vec3& tau_world) {
-  Mat3 out = -skew(tau_world);
-  if (torque == TorsionTorque::kGradient) {
-    const Mat3 Jl_inv = left_jacobian_inverse_transpose(theta).transpose();
-    out -= R_pr * left_jacobian_inverse_transpose_derivative(theta, tau_local) * Jl_inv *
-           R_pr.transpose();
-  }
-  return out;
 }
 
 }  // namespace physik

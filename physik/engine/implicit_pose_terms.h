@@ -48,6 +48,7 @@
 // Units: s, kg, N, N m, rig units, rad.
 #pragma once
 
+#include "physik/engine/force_stages.h"
 #include "physik/engine/state.h"
 #include "physik/model/scene.h"
 
@@ -57,19 +58,10 @@ namespace physik {
 // rest accelerations a0 (state.articulated_rest.accel_spatial, about each o_i) under the control
 // springs' and the torsion springs' forces alone, by a second articulated-body solve with the rigid
 // inertias. Reads state.control_force_world and state.torsion_torque_world (element_tangents).
-void rest_accelerations(const Scene& scene, SimState& state);
+void rest_accelerations(const Scene& scene, const PoseTermSelection& terms, SimState& state);
 
 // After augment_bodies (implicit_step.cpp): terms (1)-(4) above into state.articulated (its
 // inertias, their lower blocks, bias forces, the rows G, I^Z and T), and pose_terms on.
-void add_pose_terms(const Scene& scene, double h, SimState& state);
-
-// N = d/dtheta (J_l(theta)^-T tau) at fixed tau (torsion_springs.h
-// left_jacobian_inverse_transpose): the gradient torque's curvature term, 1/rad times tau's units.
-Mat3 left_jacobian_inverse_transpose_derivative(const Vec3& theta, const Vec3& tau);
-
-// The pose terms' share of bone i's torsion block (world axes on the relative rate, N m/rad):
-// -[tau_world]x, and for the gradient torque -R_pr N(theta, tau_local) J_l^-1 R_pr^T.
-Mat3 torsion_pose_block(const Mat3& R_pr, const Vec3& theta, const Vec3& tau_local,
-                        TorsionTorque torque, const Vec3& tau_world);
+void add_pose_terms(const Scene& scene, const ImplicitStage& stage, SimState& state);
 
 }  // namespace physik

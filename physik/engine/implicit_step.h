@@ -49,23 +49,21 @@
 //       axes:     B = diag(k) J_l^-1, the exact tangent of the paper's torque in theta, its
 //                 symmetric part's negative eigenvalues clipped (they occur where an axis that
 //                 is not engaged couples to an engaged one, or the engaged axes' k differ:
-//                 torsion_springs.h; they could make the step's matrix singular: on pinhead,
-//                 posed at random with rotation vectors up to 1.5 rad per axis, a pivot of the
-//                 recursion turned negative in 27 of 1000 poses from h ~ 1 s and the whole matrix
-//                 went singular in 4 before the clip, in an independent review's scratch
-//                 program; tests/implicit_step_test.cpp checks every pivot on 300 such poses).
+//                 torsion_springs.h; they can make the step's matrix singular on a rig posed at
+//                 random from h ~ 1 s; tests/implicit_step_test.cpp checks every pivot on 300
+//                 random pinhead poses).
 //     The tangent's antisymmetric part (-R_pr diag(k) (W / 2) R_pr^T where diag(k) commutes with
 //     W = [theta]x; norm sqrt(2) k |theta_x| / 2 on an elbow bent by theta_x with locked y and z)
 //     is what a symmetric block drops: long steps then converge only as a quasi-Newton iteration
-//     (0.396 per step on the 45-degree elbow at dt 100, when this engine's block was
-//     R_pr diag(k) R_pr^T; with the tangent, as Newton's method;
-//     tests/tune/implicit_equilibrium_test.cpp). h^2 K_j is the joint's 3x3 block
+//     (linearly, on a bent elbow at long steps); with the tangent, as Newton's method
+//     (tests/tune/implicit_equilibrium_test.cpp). h^2 K_j is the joint's 3x3 block
 //     (articulated_body.h joint_block: D_i = A_i + J_i)
-//       contact           A = h^2 K + h D at the contact point (contacts.h: K = k n n^T, D the
+//       contact           A = h^2 K + h D at the contact point (ground_contacts.h, self_contacts.h:
+//       K = k n n^T, D the
 //                         normal damper and the friction's viscous share); a ground contact on
 //                         its bone exactly; a self-contact's spring as 2 h^2 K on each of its
 //                         two bones, the coupling block between them left out (block Jacobi),
-//                         its damper and friction explicit and capped (contacts.h)
+//                         its damper and friction explicit and capped (self_contacts.h)
 // Right-hand side of (1): the start-of-step forces (force stages unchanged), plus -h K v per
 // stiffness element: the force -h K_c v_p at each control point, the torque pair -h K_j (w_i - w_p)
 // at each torsion spring, -h K (v_a - v_b) at each contact (on a; its opposite on b).
@@ -84,11 +82,10 @@
 // a pivot, or a root 6x6, whose symmetric part is not positive definite is taken again with the
 // Gauss-Newton system (the forces restored from state.step_force_world), counted in
 // state.implicit_gauss_newton_steps; for a symmetric system, pivots positive definite is the
-// matrix positive definite. Measured (ik_comparison's targets, and 150 chain50 solves around one
-// of them): without the retake 6 of the 150 ended in a non-finite state; a retake on a pivot of
-// non-positive determinant only fixed those but left one chain3 solve settled on a saddle, both
-// residuals 0.027 of the reach, with no pivot of negative determinant; with this rule every
-// reachable target is met (tests/experiments/pose_terms_test.cpp checks the rule).
+// matrix positive definite. Without the retake a long full step can end non-finite, and a retake
+// only on a pivot of non-positive determinant can settle on a saddle; with this rule every
+// reachable target of ik_comparison is met (CHANGELOG.md has the measurements;
+// tests/experiments/pose_terms_test.cpp checks the rule).
 // The energy statement below holds for the symmetric elements; the paper's torsion torque is the
 // gradient of no potential, and implicit_advance.h guards every step's energy.
 // One DOF (mass m, damper c, spring k): x+ = ((m + h c) x + h m v) / S, v+ = (m v - h k x) / S,
@@ -97,7 +94,6 @@
 // / 2. Units: s, kg, N, N m, rig units, rad.
 #pragma once
 
-#include "physik/engine/damping.h"
 #include "physik/engine/joint_forces.h"
 #include "physik/engine/state.h"
 #include "physik/model/scene.h"
@@ -109,17 +105,17 @@ namespace physik {
 JointSolveStats solve_implicit(const Scene& scene, SimState& state);
 // The same over a step h (s) other than params.dt, for the substeps of implicit_advance.h: the
 // ODE is the scene's (the factor's damper stays (1 - f) / dt I_com), only the step changes.
-JointSolveStats solve_implicit(const Scene& scene, SimState& state, double h);
+// `terms`: which pose terms implicit_linearisation full keeps (all; a study drops some).
+JointSolveStats solve_implicit(const Scene& scene, SimState& state, double h,
+                               const PoseTermSelection& terms = {});
 
 // Pieces, exposed for the tests and the linear modes:
-// the stiffnesses of this step: state.control_stiffness (per control point) and
-// state.torsion_stiffness (per bone, local axes)
+// the stiffnesses of this step (each element's tangents): state.control_stiffness (per control
+// point) and state.torsion_stiffness (per bone, local axes)
 void element_tangents(const Scene& scene, SimState& state);
 // K_j = R_pr B R_pr^T: bone i's torsion block on its world-axes relative rate, N m/rad
 // (B = torsion_step_block_local; element_tangents). Symmetric only for the gradient torque; its
 // symmetric part is positive semi-definite for both.
 Mat3 torsion_block_world(const Rig& rig, const SimState& state, int bone);
-// Phi^T A Phi for a point element A at offset r from the body's point: adds to `inertia`
-void add_point_inertia(const Mat3& A, const Vec3& r, SpatialInertia& inertia);
 
 }  // namespace physik

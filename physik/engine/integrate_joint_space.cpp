@@ -53,7 +53,7 @@ JointSolveStats solve_articulated(const Rig& rig, const EngineParams& params, Si
   ArticulatedBodyData& d = s.articulated;
   d.torque_per_omega = (params.angular_velocity_factor - 1.0) / params.dt;
   d.cancel_gyroscopic = !params.gyroscopic;
-  articulated_accelerations(rig, s, d);
+  articulated_accelerations(rig, body_motion(s), d);
 
   articulated_joint_forces(rig, s);
   JointSolveStats stats;

@@ -4,8 +4,7 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "physik/engine/control_springs.h"
-#include "physik/engine/torsion_springs.h"
+#include "physik/engine/forces.h"
 
 namespace physik {
 
@@ -63,28 +62,26 @@ DenseModeMatrices dense_mode_matrices(const Scene& scene, const SimState& s,
       body_jacobians(rig, s, b, *p, Jw, Jp);
       D1 += Jp.transpose() * Jp;
     }
-    if (!has_torsion_spring(rig, b) || prm.torsion_k == 0.0) continue;
-    const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[b]);
-    const Vec3 k = torsion_stiffness_local(rig.bone_limit[b], theta, prm);
-    if (k.isZero(0.0)) continue;
-    const Mat3 T =
-        torsion_torque_frame(rig, prm, torsion_parent_orient(rig, s.frames, b), b, theta);
-    // the turn relative to the parent (a pinned root's: to the world)
-    const int parent = rig.bone_parent[b];
+  }
+  // K: every force element's stiffness at the pose (forces.h mode_stiffness), as the O(n)
+  // operators see it: a point element through its point's velocity Jacobian, a joint block
+  // through the relative turn of its bone and its parent (a pinned root's: the world)
+  ModeStiffness stiffness;
+  mode_stiffness(scene, s, targets, stiffness);
+  for (const ModeStiffness::Point& e : stiffness.points) {
+    body_jacobians(rig, s, e.bone, e.point_world, Jw, Jp);
+    K += Jp.transpose() * e.stiffness * Jp;
+  }
+  for (const ModeStiffness::Block& e : stiffness.blocks) {
+    body_jacobians(rig, s, e.bone, s.com_world[e.bone], Jw, Jdummy);
+    const int parent = rig.bone_parent[e.bone];
     if (parent >= 0) {
-      body_jacobians(rig, s, parent, s.com_world[b], Jwp, Jdummy);
+      body_jacobians(rig, s, parent, s.com_world[e.bone], Jwp, Jdummy);
     } else {
       Jwp.setZero(3, nv);
     }
     const MatX Jrel = Jw - Jwp;
-    K += Jrel.transpose() * (T * k.asDiagonal() * T.transpose()) * Jrel;
-  }
-  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
-    const ControlPoint& cp = scene.control_points[c];
-    const Vec3 a = point_on_bone(s.frames, cp.bone, cp.alpha);
-    body_jacobians(rig, s, cp.bone, a, Jw, Jp);
-    K += Jp.transpose() *
-         spring_tangent(cp.spring_in(prm), cp.k_in(prm), cp.cap_in(prm), targets[c] - a) * Jp;
+    K += Jrel.transpose() * e.stiffness * Jrel;
   }
   return out;
 }

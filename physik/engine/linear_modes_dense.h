@@ -3,7 +3,8 @@
 // M, K, D1 and Dr are assembled from explicit Jacobians in the exact solve's coordinates (root
 // translation world and rotation local, every ball local), and K phi = w^2 M phi is solved by
 // Eigen's GeneralizedSelfAdjointEigenSolver (phi^T M phi = 1): O(n^3) time, O(n^2) memory (a
-// 437-bone rig takes seconds). Every mode's w comes out; the rule is linear_modes.h's.
+// 437-bone rig takes seconds). K is the force list's (forces.h mode_stiffness), the same elements
+// the O(n) operators see. Every mode's w comes out; the rule is linear_modes.h's.
 // Units: kg, N/m, N s/m, rad/s.
 #pragma once
 

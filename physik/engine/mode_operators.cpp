@@ -4,8 +4,8 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "physik/engine/control_springs.h"
-#include "physik/engine/implicit_step.h"
+#include "physik/engine/forces.h"
+#include "physik/engine/implicit_elements.h"
 #include "physik/engine/state.h"
 #include "physik/engine/torsion_springs.h"
 
@@ -52,22 +52,14 @@ ModeOperators::ModeOperators(const Scene& scene, const SimState& s,
     d.bias_accel[i].setZero();
   }
   factor_damper_ = (1.0 - prm.angular_velocity_factor) / prm.dt;
+  // K's elements, every force's (forces.h): points on bodies, blocks on balls
+  physik::mode_stiffness(scene, s, targets, ws.stiffness);
   ws.torsion.clear();
-  for (int b = 0; b < n && prm.torsion_k != 0.0; ++b) {
-    if (!has_torsion_spring(rig, b)) continue;
-    const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[b]);
-    const Vec3 k = torsion_stiffness_local(rig.bone_limit[b], theta, prm);
-    if (k.isZero(0.0)) continue;
-    const Mat3 T =
-        torsion_torque_frame(rig, prm, torsion_parent_orient(rig, s.frames, b), b, theta);
-    ws.torsion.emplace_back(b, T * k.asDiagonal() * T.transpose());
-  }
+  for (const ModeStiffness::Block& b : ws.stiffness.blocks)
+    ws.torsion.emplace_back(b.bone, b.stiffness);
   ws.springs.clear();
-  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
-    const ControlPoint& cp = scene.control_points[c];
-    const Vec3 a = point_on_bone(s.frames, cp.bone, cp.alpha);
-    const Mat3 K = spring_tangent(cp.spring_in(prm), cp.k_in(prm), cp.cap_in(prm), targets[c] - a);
-    if (!K.isZero(0.0)) ws.springs.push_back({cp.bone, a - d.point_world[cp.bone], K});
+  for (const ModeStiffness::Point& p : ws.stiffness.points) {
+    ws.springs.push_back({p.bone, p.point_world - d.point_world[p.bone], p.stiffness});
   }
   compute_end_damper_scale();
 }
@@ -233,7 +225,7 @@ void ModeOperators::solve(const VecX& b, VecX& x) {
   }
   // (M + K / s) a = b, so x = a / s
   articulated_backward_pass(rig_, d);
-  articulated_forward_pass(rig_, state_, d);
+  articulated_forward_pass(rig_, body_motion(state_), d);
   const double inv = 1.0 / shift_;
   x.resize(nv_);
   switch (rig_.bone_joint_type[0]) {

@@ -16,10 +16,9 @@
 // Every matrix is J^T E J over bodies, E_i a symmetric 6x6 element about the body's point o_i
 // (head, or the root's centre of mass), plus, for K, a 3x3 block per ball:
 //   M   E_i = the rigid spatial inertia: f = m (v + w x e), n = I_com w + e x f, e = com - o
-//   K   the control springs' point elements on their bodies: a point p = o + r moves at
-//       v + w x r, pulled by f = K_c (v + w x r) (K_c = spring_tangent toward the given target),
-//       n = r x f; the ball block the torsion spring's T diag(k) T^T (torsion_torque_frame,
-//       torsion_stiffness_local), on the ball's own coordinates
+//   K   every force's stiffness (forces.h mode_stiffness): point elements on their bodies (the
+//       control springs': a point p = o + r moves at v + w x r, pulled by f = K_c (v + w x r),
+//       n = r x f) and blocks on the balls' own coordinates (the torsion springs')
 //   D1  unit dampers at the head and the tail, the same point elements with K_c = 1
 //   Dr  n = (1 - f) / dt I_com w
 // Product: velocities outward, V_i = X_i V_parent + (u_i; 0), V_0 = (w_0; v_0); wrenches
@@ -50,34 +49,12 @@
 
 #include <Eigen/Core>
 
-#include "physik/engine/articulated_body.h"
+#include "physik/engine/mode_workspace.h"
 #include "physik/model/scene.h"
 
 namespace physik {
 
 struct SimState;
-using VecX = Eigen::VectorXd;
-
-// A control spring's element: K_c at offset r from its body's point.
-struct ModePointElement {
-  int bone = 0;
-  Vec3 offset = Vec3::Zero();     // rig units, from o_bone, world
-  Mat3 stiffness = Mat3::Zero();  // N/m, world
-};
-
-// Every buffer of the linear modes (mode_operators.h, linear_modes.cpp).
-struct ModeWorkspace {
-  ArticulatedBodyData articulated;     // the recursion's buffers at zero velocity
-  std::vector<Vec6> velocity, wrench;  // (nbone) product passes
-  std::vector<Mat3> second_moment;     // (nbone) end-damper scale, per subtree's bone
-  std::vector<Vec3> first_moment;      //         ends: sum d d^T, sum d, and their count
-  std::vector<double> ends;
-  std::vector<ModePointElement> springs;      // (ncontrol) K's point elements
-  std::vector<std::pair<int, Mat3>> torsion;  // K's ball blocks (engaged springs), N m/rad
-  std::vector<VecX> basis, basis_k, basis_f;  // Lanczos: q_j, K q_j, F q_j (grown, never shrunk)
-  std::vector<VecX> locked, locked_k;         // converged modes kept out of the Krylov space, K y
-  VecX w, kw, my, ay, start;                  // (nv) scratch vectors
-};
 
 class ModeOperators {
  public:

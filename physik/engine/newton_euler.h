@@ -35,6 +35,11 @@ inline void apply_force_at(SimState& s, int bone, const Vec3& force_world,
   s.torque_world[bone] += (point_world - s.com_world[bone]).cross(force_world);
 }
 
+// The velocity of bone i's material point at p, world (rig units/s): v_cm + w x (p - cm).
+inline Vec3 point_velocity(const SimState& s, int bone, const Vec3& point_world) {
+  return s.vel_world[bone] + s.omega_world[bone].cross(point_world - s.com_world[bone]);
+}
+
 inline Vec3 linear_accel(const Rig& rig, const SimState& s, int bone) {
   return s.force_world[bone] / rig.bone_mass[bone];
 }

@@ -6,7 +6,6 @@
 #include <limits>
 #include <utility>
 
-#include "physik/engine/contacts.h"
 #include "physik/engine/joint_forces.h"
 #include "physik/engine/measures.h"
 #include "physik/engine/potential.h"
@@ -27,17 +26,7 @@ std::string num(double v) {
 
 double initial_energy(const Scene& scene) {
   const double ke = 0.5 * scene.rig.total_mass() * scene.initial_velocity_world.squaredNorm();
-  double u = torsion_potential(scene.rig, scene.params, scene.initial_pose);
-  if (!scene.gravity_world.isZero(0.0) || scene.collision.any()) {
-    // gravity's and the contacts' of the initial pose (the control springs start at rest)
-    const BoneFrames f = forward_kinematics(scene.rig, scene.initial_pose);
-    if (!scene.gravity_world.isZero(0.0)) u += gravity_potential(scene, f);
-    CollisionWorld world;
-    std::vector<Contact> contacts;
-    world.detect(scene, f, contacts);
-    u += contact_potential(scene, contacts);
-  }
-  return ke + u;
+  return ke + initial_potential_energy(scene);
 }
 
 RunRules run_rules(const Scene& scene) {
@@ -70,7 +59,7 @@ bool state_finite(const SimState& s) {
   return s.pose.root_head_world.allFinite();
 }
 
-StepObservation observe_step(const Scene& scene, const SimState& s, const StepStats& st) {
+StepObservation observe_step(const Scene& scene, SimState& s, const StepStats& st) {
   StepObservation o;
   o.step = s.step;
   o.kinetic_energy = st.kinetic_energy;
@@ -104,7 +93,7 @@ RunMonitor::RunMonitor(const Scene& scene, std::string reason_prefix)
   last_finite_ke_ = 0.5 * scene.rig.total_mass() * scene.initial_velocity_world.squaredNorm();
 }
 
-void RunMonitor::restart(const Scene& scene, const SimState& s, const RunRules& rules) {
+void RunMonitor::restart(const Scene& scene, SimState& s, const RunRules& rules) {
   rules_ = rules;
   scene_ = &scene;
   const double ke = kinetic_energy(scene.rig, s);

@@ -19,10 +19,10 @@
 // The energy rule. The rig's mechanical energy is E = KE + U, with U the potential
 // (physik/engine/potential.h potential_energy: control springs toward the targets of the step,
 // torsion springs of the pose, and gravity and the contact springs where the scene has them,
-// contacts.h). The only forces that can add energy are the springs' targets when they move:
-// damping (-c v), the angular-velocity factor (w <- f w), the contacts' dampers and friction
-// only remove it, gravity and the contact springs are in U, and the joint forces do no work on
-// a rigid, connected rig. So along the exact motion
+// ground_contacts.h, self_contacts.h). The only forces that can add energy are the springs' targets
+// when they move: damping (-c v), the angular-velocity factor (w <- f w), the contacts' dampers and
+// friction only remove it, gravity and the contact springs are in U, and the joint forces do no
+// work on a rigid, connected rig. So along the exact motion
 //     E_k <= E_in,k = E_0 + W_k,    W_k = sum_{j<=k} [U_c(a_{j-1}, t_j) - U_c(a_{j-1}, t_{j-1})]
 // where E_0 = KE_0 + U_0 is the initial state's energy (the initial targets count as a jump from
 // the attachment points, so they enter through W_1) and W_k is the work of the targets'
@@ -34,9 +34,9 @@
 //     step stable by a margin of 2 (w dt <= 1, half its limit 2) stays within 1 / (1 - 1/2) = 2 of
 //     the energy it was given; the Gauss-Seidel joint solve (stopping at an absolute eps) and
 //     the torsion torque (the gradient in theta, not in the rotation) add errors of their own,
-//     which we allow another factor 2 for. Measured on the damping sweep grid (tests and issue
-//     12's closing note): runs that settle peak at E_k / E_in,k <= 1.3; the unstable ones pass 4
-//     within a few steps of leaving the stable region (peak ratios 10^2 - 10^8).
+//     which we allow another factor 2 for. On the damping sweep grid runs that settle peak well
+//     under 4 and the unstable ones pass it within a few steps of leaving the stable region
+//     (experiment damping_sweep; tests/run_verdicts_test.cpp).
 //   E_floor: the kinetic energy of a rig moving at the rest speed, so a rig at rest is never
 //     diverged, whatever its energy (a flat rig whose target is met from the start has E_in = 0).
 #pragma once
@@ -74,6 +74,7 @@ struct RunRules {
   int stall_steps = 50;          // steps
   double stall_fraction = 0.01;  // 1
 };
+// The scene's rules; its initial energy is initial_energy's (which allocates: once per run).
 RunRules run_rules(const Scene& scene);
 
 // One step as the monitor sees it.
@@ -100,10 +101,11 @@ struct StepObservation {
 bool state_finite(const SimState& state);
 // The observation of a state after a step with stats `st` (engine_non_finite left false):
 // also U, the joints the joint solve did not reach, and `state` itself for the target work.
-StepObservation observe_step(const Scene& scene, const SimState& state, const StepStats& st);
+StepObservation observe_step(const Scene& scene, SimState& state, const StepStats& st);
 
-// E_0 = KE_0 + U_0 of the scene's initial state (init_state): the rigid initial velocity and
-// the torsion springs of the initial pose (the control springs start at their attachments).
+// E_0 = KE_0 + U_0 of the scene's initial state (init_state): the rigid initial velocity, and
+// the force list's potential of the initial pose (potential.h initial_potential_energy; the
+// control springs start at their attachments).
 double initial_energy(const Scene& scene);
 
 class RunMonitor {
@@ -119,7 +121,7 @@ class RunMonitor {
   // its attachments and targets are the state's, every count is reset (the summary's steps are
   // this run's: from the state's step at the restart). The buffers are reused:
   // no allocation after the first restart. `scene` must outlive the monitor.
-  void restart(const Scene& scene, const SimState& state, const RunRules& rules);
+  void restart(const Scene& scene, SimState& state, const RunRules& rules);
 
   // Record one step; true when the run should stop here (diverged, or converged and the rules
   // say stop). Observations after that are not meant to be fed.

@@ -1,13 +1,13 @@
 // The contacts a scene starts in (start_contacts.h): the initial pose's ground and obstacle
-// contacts from collision.h, measured by contacts.h's penetration().
+// contacts (contact_data.h contacts_at_pose), measured by its penetration().
 #include "physik/engine/start_contacts.h"
 
 #include <algorithm>
 #include <vector>
 
 #include "physik/engine/bone_overlaps.h"
-#include "physik/engine/collision.h"
-#include "physik/engine/contacts.h"
+#include "physik/engine/contact_data.h"
+#include "physik/engine/ground_contacts.h"
 #include "physik/model/errors.h"
 #include "physik/model/message_number.h"
 
@@ -34,16 +34,15 @@ std::string surface_fix(const StartContact& c) {
 StartContact deepest_start_contact(const Scene& scene) {
   StartContact out;
   if (!scene.collision.ground && scene.collision.obstacles.empty()) return out;
-  CollisionWorld world;
-  std::vector<Contact> contacts;
-  world.detect(scene, forward_kinematics(scene.rig, scene.initial_pose), contacts);
+  std::vector<Contact> contacts =
+      contacts_at_pose(scene, forward_kinematics(scene.rig, scene.initial_pose));
   // the static surfaces only: bones touching each other at the start are left alone
   contacts.erase(std::remove_if(contacts.begin(), contacts.end(),
                                 [](const Contact& c) { return c.other_bone >= 0; }),
                  contacts.end());
   const Penetration pen = penetration(scene, contacts);
   out.contacts = pen.contacts;
-  out.energy = contact_potential(scene, contacts);
+  out.energy = ground_contact_potential(scene, contacts);
   for (const Contact& c : contacts) {
     const double fraction = c.depth / scene.rig.bone_collision_radius[c.bone];
     if (fraction < pen.max_depth_fraction) continue;  // the deepest, first in detection order

@@ -1,7 +1,7 @@
 // The contacts a scene starts in: a rig whose initial pose already sinks into the ground or into
 // an obstacle. The contact spring books such an overlap d as potential energy k d^2 / 2
-// (contacts.h), and the first steps turn it into kinetic energy: a rig started through the floor
-// is thrown out of it. `physik simulate`, `physik solve --solver physik|physik-explicit` and
+// (ground_contacts.h), and the first steps turn it into kinetic energy: a rig started through the
+// floor is thrown out of it. `physik simulate`, `physik solve --solver physik|physik-explicit` and
 // `physik tune` check the start with this before they run, and so does the Python module
 // (Simulation, run_scene, PosingSession, solve with an engine solver, tune: python/bind_common.h).
 //
@@ -45,7 +45,7 @@ struct StartContact {
   int obstacle = -1;      // its obstacle's index, -1 for the ground
   double depth = 0.0;     // rig units
   double fraction = 0.0;  // 1, of the bone's collision radius
-  double energy = 0.0;    // J, U_contact of all those contacts (contacts.h)
+  double energy = 0.0;    // J, U_contact of all those contacts (ground_contacts.h)
 };
 StartContact deepest_start_contact(const Scene& scene);
 

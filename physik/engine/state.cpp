@@ -57,12 +57,12 @@ void size_state(const Rig& rig, std::size_t ncontrol, SimState& s) {
   s.implicit_retaken_steps = 0;
   s.implicit_unresolved_steps = 0;
   s.implicit_deepest_steps = 0;
-  s.implicit_reached.clear();
-  s.contacts.clear();
-  s.contact_elements.clear();
-  s.contact_scratch.clear();
-  s.friction_anchors.clear();
-  s.friction_anchors_next.clear();
+  s.contact.found.clear();
+  s.contact.elements.clear();
+  s.contact.at_frames.clear();
+  s.contact.reached.clear();
+  s.contact.anchors.clear();
+  s.contact.anchors_next.clear();
   s.damping_auto_value = 0.0;
   s.damping_auto_updates = 0;
 

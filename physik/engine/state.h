@@ -5,66 +5,22 @@
 #include <vector>
 
 #include "physik/engine/articulated_body.h"
-#include "physik/engine/collision.h"
-#include "physik/engine/mode_operators.h"
+#include "physik/engine/contact_data.h"
+#include "physik/engine/mode_workspace.h"
 #include "physik/model/kinematics.h"
 #include "physik/model/scene.h"
 
 namespace physik {
-
-// A contact's static friction (contacts.h): its tangential anchor spring's stretch, as the last
-// force stage left it. The stretch now is stretch_world + step v_t, v_t the relative velocity at
-// point_world now, tangent to normal_world, no longer than limit (contacts.h current_stretch).
-struct FrictionAnchor {
-  int bone = -1;  // the contact's bodies and feature (collision.h Contact)
-  int other_bone = -1;
-  int obstacle = -1;
-  int feature = 0;
-  Vec3 point_world = Vec3::Zero();    // rig units, the contact point at that force stage
-  Vec3 normal_world = Vec3::UnitZ();  // unit, its normal then
-  Vec3 stretch_world = Vec3::Zero();  // rig units, the spring's stretch then, tangent to normal
-  double step = 0.0;                  // s, the step that force stage was taken over
-  double limit = 0.0;                 // rig units, mu F_n / k_t: the stretch at which it slips
-};
 
 // The joint-space state at the start of an implicit (sub)step, to undo it (implicit_advance.h).
 struct JointStateSnapshot {
   Vec3 root_com_world = Vec3::Zero();
   Vec3 root_vel_world = Vec3::Zero();
   Quat root_orient_world = Quat::Identity();
-  std::vector<Vec3> joint_vel_local;             // (nbone)
-  std::vector<Quat> bone_local_rotation;         // (nbone)
-  std::vector<FrictionAnchor> friction_anchors;  // the contacts' static friction (contacts.h)
-};
-
-// Which of the pose terms the implicit step with implicit_linearisation full keeps
-// (implicit_pose_terms.h (1)-(5); all of them unless a study drops some: the linearisation
-// experiment, tests/experiments/pose_terms_test.cpp)
-struct PoseTermSelection {
-  bool forces = true;                 // (2), the gradient torque's curvature in (5), and the
-                                      // world-held forces' share of (1)
-  bool torque_frame = true;           // (5): the torsion torque's frame turning, -[tau]x
-  bool inertia_wrench = true;         // the d'Alembert wrenches' share of (1)
-  bool inertia_turn = true;           // (3)
-  bool turning_accelerations = true;  // (4)
-  bool torsion_in_wrench = false;     // the torsion torques in (1)'s wrench (the shared DESIGN.md
-                                      // sketch, with torque_frame off)
-  bool gauss_newton_retake = true;    // a step whose recursion meets a pivot whose symmetric
-                                      // part is not positive definite is taken again as
-                                      // Gauss-Newton (off: the bare recursion, for the dense
-                                      // comparisons)
-  bool needs_rest() const { return inertia_wrench || inertia_turn || turning_accelerations; }
-};
-
-// A contact as the implicit step sees it (contacts.h, implicit_step.h): a point element on
-// `bone`, and with the opposite sign on `other_bone` when it is a bone (-1: the ground or an
-// obstacle).
-struct ContactElement {
-  int bone = -1;
-  int other_bone = -1;
-  Vec3 point_world = Vec3::Zero();  // rig units
-  Mat3 stiffness = Mat3::Zero();    // N/m, K = -dF/dx of a's point relative to b's, world axes
-  Mat3 damping = Mat3::Zero();      // N s/m, D = -dF/dv of the same, world axes
+  std::vector<Vec3> joint_vel_local;      // (nbone)
+  std::vector<Quat> bone_local_rotation;  // (nbone)
+  std::vector<FrictionAnchor>
+      friction_anchors;  // the contacts' static friction (ground_contacts.h)
 };
 
 struct SimState {
@@ -124,7 +80,6 @@ struct SimState {
   // implicit_linearisation full (implicit_pose_terms.h): the rest solve, the rest wrench per
   // body about its point o_i, then the subtree's transmitted wrench (N m; N), the torsion
   // torques (world, N m) and the pose terms' rate z(v)
-  PoseTermSelection pose_term_selection;
   ArticulatedBodyData articulated_rest;
   std::vector<Vec6> rest_wrench;                          // (nbone)
   std::vector<Vec3> torsion_torque_world;                 // (nbone)
@@ -132,28 +87,16 @@ struct SimState {
   std::vector<Vec3> step_force_world, step_torque_world;  // (nbone) the forces, kept for a
                                                           //   Gauss-Newton retake, N; N m
   std::vector<JointStateSnapshot>
-      implicit_snapshots;                 // (implicit_max_splits + 1) the energy guard's
-  int implicit_gauss_newton_steps = 0;    // full steps taken as gauss-newton (implicit_step.h)
-  int implicit_split_steps = 0;           // steps the energy guard split (implicit_advance.h)
-  int implicit_max_substeps = 0;          // the most substeps one step took
-  int implicit_retaken_steps = 0;         // (sub)steps retaken with the contacts they reached
-  int implicit_unresolved_steps = 0;      // (sub)steps kept where halving did not lower the energy
-  int implicit_deepest_steps = 0;         // steps split to implicit_max_splits (taken unchecked)
-  std::vector<Contact> implicit_reached;  // the world contacts a rejected (sub)step reached, their
-                                          //   points bone-local, depth minus n . point
+      implicit_snapshots;               // (implicit_max_splits + 1) the energy guard's
+  int implicit_gauss_newton_steps = 0;  // full steps taken as gauss-newton (implicit_step.h)
+  int implicit_split_steps = 0;         // steps the energy guard split (implicit_advance.h)
+  int implicit_max_substeps = 0;        // the most substeps one step took
+  int implicit_retaken_steps = 0;       // (sub)steps retaken with the contacts they reached
+  int implicit_unresolved_steps = 0;    // (sub)steps kept where halving did not lower the energy
+  int implicit_deepest_steps = 0;       // steps split to implicit_max_splits (taken unchecked)
 
-  // --- contacts (contacts.h; detection collision.h) ---
-  std::vector<Contact> contacts;                 // found by the last force stage
-  std::vector<ContactElement> contact_elements;  // those that push, for the implicit step
-  std::vector<int> self_contact_count;           // (nbone) bone-bone contacts per bone, found by
-                                                 //   the last force stage (contacts.h's cap)
-  std::vector<FrictionAnchor> friction_anchors;  // the static friction of the last force stage's
-                                                 //   contacts that push, in their detection order
-  std::vector<FrictionAnchor> friction_anchors_next;  // the force stage's scratch
-  // FCL's objects, and the contacts of a potential's query (a measure of a const state detects
-  // too: contact_potential); built by init_state, so the steps allocate nothing for them
-  mutable CollisionWorld collision_world;
-  mutable std::vector<Contact> contact_scratch;
+  // --- contacts: what the force stage found and carries (contact_data.h) ---
+  ContactData contact;
 
   // --- damping_auto (linear_modes.h) ---
   double damping_auto_value = 0.0;  // N s/m, the damping chosen at the last target change
@@ -173,6 +116,11 @@ struct SimState {
                       // and step() keep it in sync: code that edits frames must refresh it
                       // (local_rotations_from_world)
 };
+
+// The recursion's view of a state (articulated_body.h).
+inline BodyMotion body_motion(const SimState& s) {
+  return {s.frames, s.com_world, s.vel_world, s.omega_world, s.force_world, s.torque_world};
+}
 
 // Size every buffer for a rig and `ncontrol` control points, zeroed, at step 0. init_state
 // (engine.h) then puts the scene's initial pose, velocities and targets in.

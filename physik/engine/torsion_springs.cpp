@@ -5,9 +5,39 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "physik/engine/potential.h"
-
 namespace physik {
+
+double torsion_spring_potential(SpringLaw law, double k, double cap, double excess) {
+  const double d = std::abs(excess);
+  if (law == SpringLaw::kLinear || d <= cap) return 0.5 * k * d * d;
+  return k * cap * (d - 0.5 * cap);
+}
+
+Vec3 torsion_excess(const std::array<AxisLimit, 3>& limits, double tolerance, const Quat& q) {
+  Vec3 e = Vec3::Zero();
+  if (!limits[0].limited && !limits[1].limited && !limits[2].limited) return e;
+  const Vec3 theta = rotation_vector(q);
+  for (int k = 0; k < 3; ++k) {
+    if (limits[k].limited) e[k] = torsion_excess(limits[k], tolerance, theta[k]);
+  }
+  return e;
+}
+
+double torsion_potential(const Rig& rig, const EngineParams& params, const Pose& pose) {
+  if (params.torsion_k == 0.0) return 0.0;
+  double u = 0.0;
+  for (int i = 0; i < rig.nbone; ++i) {
+    const Vec3 e =
+        torsion_excess(rig.bone_limit[i], params.torsion_tolerance, pose.bone_local_rotation[i]);
+    for (int k = 0; k < 3; ++k) {
+      if (e[k] != 0.0) {
+        u += torsion_spring_potential(params.torsion_spring, params.torsion_k, params.torsion_cap,
+                                      e[k]);
+      }
+    }
+  }
+  return u;
+}
 
 Vec3 torsion_torque_local(const std::array<AxisLimit, 3>& limits, const Vec3& theta,
                           const EngineParams& params) {
@@ -103,6 +133,122 @@ void apply_torsion_springs(const Rig& rig, const EngineParams& params, SimState&
     s.torque_world[i] += tau_world;
     if (p >= 0) s.torque_world[p] -= tau_world;
   }
+}
+
+double torsion_springs_potential(const Scene& scene, const SimState& s) {
+  return torsion_potential(scene.rig, scene.params, s.pose);
+}
+
+void torsion_springs_tangents(const Scene& scene, const ImplicitStage& stage, SimState& s) {
+  const bool full = stage.full;
+  const EngineParams& p = scene.params;
+  const Rig& rig = scene.rig;
+  for (int i = 0; i < rig.nbone; ++i) {
+    const auto& limits = rig.bone_limit[i];
+    s.torsion_torque_world[i].setZero();
+    if (!has_torsion_spring(rig, i) || p.torsion_k == 0.0) {
+      s.torsion_stiffness[i].setZero();
+      s.torsion_block_world[i].setZero();  // torsion_block_world() reads it without the stiffness
+      continue;
+    }
+    const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[i]);
+    s.torsion_stiffness[i] = torsion_step_stiffness_local(limits, theta, p);
+    const Mat3 R = (torsion_parent_orient(rig, s.frames, i) * rig.bone_rest_orient_parent[i])
+                       .toRotationMatrix();  // R_pr
+    s.torsion_block_world[i] =
+        R * torsion_step_block_local(s.torsion_stiffness[i], theta, p.torsion_torque) *
+        R.transpose();
+    if (full && !s.torsion_stiffness[i].isZero(0.0)) {
+      // the torque the force stage applied, and its pose terms (implicit_pose_terms.h (5))
+      const Vec3 tau_local = torsion_torque_local(limits, theta, p);
+      const Vec3 tau_pr = p.torsion_torque == TorsionTorque::kGradient
+                              ? Vec3(left_jacobian_inverse_transpose(theta) * tau_local)
+                              : tau_local;
+      s.torsion_torque_world[i] = R * tau_pr;
+      const PoseTermSelection& use = stage.terms;
+      if (use.forces) {
+        s.torsion_block_world[i] +=
+            torsion_pose_block(R, theta, tau_local, p.torsion_torque, s.torsion_torque_world[i]);
+      }
+      // torsion_pose_block's frame term, -[tau]x, taken back when not selected
+      if (use.forces != use.torque_frame) {
+        s.torsion_block_world[i] += (use.forces ? 1.0 : -1.0) * skew(s.torsion_torque_world[i]);
+      }
+    }
+  }
+}
+
+void torsion_springs_rate(const Scene& scene, const ImplicitStage& stage, SimState& s) {
+  torsion_springs_tangents(scene, stage, s);
+  const Rig& rig = scene.rig;
+  for (int i = 0; i < rig.nbone; ++i) {
+    if (s.torsion_stiffness[i].isZero(0.0)) continue;
+    const int p = rig.bone_parent[i];
+    const Vec3 w_rel = p < 0 ? s.omega_world[i] : Vec3(s.omega_world[i] - s.omega_world[p]);
+    const Vec3 tau = -stage.h * (s.torsion_block_world[i] * w_rel);
+    s.torque_world[i] += tau;
+    if (p >= 0) s.torque_world[p] -= tau;
+  }
+}
+
+void torsion_springs_augment(const Scene& scene, const ImplicitStage& stage, SimState& s) {
+  ArticulatedBodyData& d = s.articulated;
+  d.joint_blocks = false;
+  for (int i = 0; i < scene.rig.nbone; ++i) {
+    if (s.torsion_stiffness[i].isZero(0.0)) {
+      d.joint_block[i].setZero();
+      continue;
+    }
+    d.joint_block[i] = stage.h * stage.h * s.torsion_block_world[i];
+    d.joint_blocks = true;
+  }
+}
+
+void torsion_springs_mode_stiffness(const Scene& scene, const SimState& s,
+                                    const std::vector<Vec3>& /*targets*/, ModeStiffness& out) {
+  const EngineParams& p = scene.params;
+  const Rig& rig = scene.rig;
+  for (int b = 0; b < rig.nbone && p.torsion_k != 0.0; ++b) {
+    if (!has_torsion_spring(rig, b)) continue;
+    const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[b]);
+    const Vec3 k = torsion_stiffness_local(rig.bone_limit[b], theta, p);
+    if (k.isZero(0.0)) continue;
+    const Mat3 T = torsion_torque_frame(rig, p, torsion_parent_orient(rig, s.frames, b), b, theta);
+    out.blocks.push_back({b, T * k.asDiagonal() * T.transpose()});
+  }
+}
+
+Mat3 left_jacobian_inverse_transpose_derivative(const Vec3& theta, const Vec3& tau) {
+  // J_l^-T = 1 + W/2 + b W^2, W = [theta]x, b(t) = 1/t^2 - cot(t/2) / (2 t):
+  //   d(W tau / 2) = -[tau]x dtheta / 2
+  //   d(b W^2 tau) = (b'(t) / t) (W^2 tau) theta^T dtheta - b ([theta x tau]x + W [tau]x) dtheta
+  // b'(t) / t = -2/t^4 + cot(t/2) / (2 t^3) + 1 / (4 t^2 sin^2(t/2)), its series near 0 (the
+  // terms cancel there): 1/360 + t^2/7560 + t^4/201600
+  const double t2 = theta.squaredNorm(), t = std::sqrt(t2);
+  double b, db_over_t;
+  if (t < 0.1) {
+    b = 1.0 / 12.0 + t2 / 720.0 + t2 * t2 / 30240.0 + t2 * t2 * t2 / 1209600.0;
+    db_over_t = 1.0 / 360.0 + t2 / 7560.0 + t2 * t2 / 201600.0;
+  } else {
+    const double cot = 1.0 / std::tan(0.5 * t), sn = std::sin(0.5 * t);
+    b = 1.0 / t2 - 0.5 * cot / t;
+    db_over_t = -2.0 / (t2 * t2) + 0.5 * cot / (t2 * t) + 0.25 / (t2 * sn * sn);
+  }
+  const Mat3 W = skew(theta);
+  const Vec3 W2tau = theta.cross(theta.cross(tau));
+  return -0.5 * skew(tau) + db_over_t * W2tau * theta.transpose() -
+         b * (skew(theta.cross(tau)) + W * skew(tau));
+}
+
+Mat3 torsion_pose_block(const Mat3& R_pr, const Vec3& theta, const Vec3& tau_local,
+                        TorsionTorque torque, const Vec3& tau_world) {
+  Mat3 out = -skew(tau_world);
+  if (torque == TorsionTorque::kGradient) {
+    const Mat3 Jl_inv = left_jacobian_inverse_transpose(theta).transpose();
+    out -= R_pr * left_jacobian_inverse_transpose_derivative(theta, tau_local) * Jl_inv *
+           R_pr.transpose();
+  }
+  return out;
 }
 
 }  // namespace physik

@@ -26,20 +26,53 @@
 // some closed paths. `gradient` is the force of the potential that `physik equilibrium`
 // minimises (tune/equilibrium.h). The implicit step linearises `axes` by its tangent in theta
 // (torsion_step_block_local below), which is not symmetric on a bent joint; a symmetric block in
-// its place (R_pr diag(k) R_pr^T, this engine's until it could solve unsymmetric blocks) made long
-// steps on bent joints stall: on ik_comparison's first 200 reachable pinhead hand targets (its
-// session and solve rule with the paper's torque; tests/experiments/solve_mode_test.cpp) the solve
-// mode split 819 steps and left 5 unconverged (up to 214 steps), against 40 split and all converged
-// within 22 steps with the clipped tangent (the same as with the bare tangent there; the gradient
-// torque: 40 and all). `gradient` enters by its Gauss-Newton block (the turn of J_l^-T with theta,
-// times the torque, dropped): its tangent where the torque vanishes.
+// its place (R_pr diag(k) R_pr^T) makes long steps on bent joints stall: the solve mode then
+// splits many more steps and leaves some unconverged (CHANGELOG.md has the measurements on
+// ik_comparison's pinhead targets; tests/experiments/solve_mode_test.cpp). `gradient` enters by its
+// Gauss-Newton block (the turn of J_l^-T with theta, times the torque, dropped): its tangent where
+// the torque vanishes.
+//
+// Potential, per limited axis, of the dead-zone excess e (the d above, rad):
+//   linear U = k e^2 / 2;  capped U = k e^2 / 2 (|e| <= c), k c (|e| - c/2) (|e| > c)
+// The paper's torque `axes` is -dU/dtheta, the gradient in the rotation vector; `gradient` is
+// the potential's own force (tune/equilibrium.h's caveat at large angles). Energies in J.
+//
+// The implicit step (implicit_step.h): a joint element, h^2 K_j on the ball's coordinates
+// (torsion_step_block_local below, in world axes), and the torque pair -h K_j (w_i - w_p) on the
+// right-hand side; with implicit_linearisation full also the torque's pose terms
+// (implicit_pose_terms.h (5)), whose step reads the torques left in state.torsion_torque_world.
+// Damping auto's modes: the block T diag(k) T^T (torsion_torque_frame, the tangent stiffness).
+// MuJoCo's reference applies the same torques in same-forces mode; its own limits in
+// exact-constraints mode.
 #pragma once
 
+#include <vector>
+
+#include "physik/engine/force_stages.h"
 #include "physik/engine/state.h"
 #include "physik/model/params.h"
 #include "physik/model/rig.h"
 
 namespace physik {
+
+// Dead-zone excess of angle theta (rad) for one limited axis; templated for Ceres' Jets.
+template <typename T>
+T torsion_excess(const AxisLimit& l, double tolerance, const T& theta) {
+  const double band = tolerance * (l.max - l.min);
+  const double lo = l.min + band, hi = l.max - band;
+  if (theta < T(lo)) return T(lo) - theta;
+  if (theta > T(hi)) return T(hi) - theta;
+  return T(0);
+}
+
+// Excess per local axis of a bone with local rotation q (0 on free axes), rad.
+Vec3 torsion_excess(const std::array<AxisLimit, 3>& limits, double tolerance, const Quat& q);
+
+// U of one axis' excess (rad), J.
+double torsion_spring_potential(SpringLaw law, double k, double cap, double excess);
+
+// U of the torsion springs of a pose (0 when torsion_k is 0), J.
+double torsion_potential(const Rig& rig, const EngineParams& params, const Pose& pose);
 
 // The local torque (N m, per rest axis) for joint angles theta of bone i.
 Vec3 torsion_torque_local(const std::array<AxisLimit, 3>& limits, const Vec3& theta,
@@ -95,7 +128,27 @@ inline Quat torsion_parent_orient(const Rig& rig, const BoneFrames& frames, int 
   return p < 0 ? Quat::Identity() : frames.orient_world[p];
 }
 
+// N = d/dtheta (J_l(theta)^-T tau) at fixed tau (left_jacobian_inverse_transpose): the gradient
+// torque's curvature term, 1/rad times tau's units.
+Mat3 left_jacobian_inverse_transpose_derivative(const Vec3& theta, const Vec3& tau);
+
+// The pose terms' share of bone i's torsion block (world axes on the relative rate, N m/rad):
+// -[tau_world]x, and for the gradient torque -R_pr N(theta, tau_local) J_l^-1 R_pr^T.
+Mat3 torsion_pose_block(const Mat3& R_pr, const Vec3& theta, const Vec3& tau_local,
+                        TorsionTorque torque, const Vec3& tau_world);
+
 // Requires state.pose to hold the current local rotations.
 void apply_torsion_springs(const Rig& rig, const EngineParams& params, SimState& state);
+
+// The element's stages (forces.h): U of the state's pose; the implicit step's blocks at the pose
+// (state.torsion_stiffness, state.torsion_block_world; with `full` the pose terms' share and
+// the torques, state.torsion_torque_world: tangents), then -h K_j (w_i - w_p) (rate); h^2 K_j as
+// the balls' joint blocks (augment); damping auto's blocks.
+double torsion_springs_potential(const Scene& scene, const SimState& state);
+void torsion_springs_tangents(const Scene& scene, const ImplicitStage& stage, SimState& state);
+void torsion_springs_rate(const Scene& scene, const ImplicitStage& stage, SimState& state);
+void torsion_springs_augment(const Scene& scene, const ImplicitStage& stage, SimState& state);
+void torsion_springs_mode_stiffness(const Scene& scene, const SimState& state,
+                                    const std::vector<Vec3>& targets, ModeStiffness& out);
 
 }  // namespace physik

@@ -18,7 +18,7 @@ ContactsCsv::ContactsCsv(std::ostream& out) : out_(out) {
 
 int ContactsCsv::write_rows(const SimState& s) {
   int rows = 0;
-  for (const Contact& c : s.contacts) {
+  for (const Contact& c : s.contact.found) {
     if (!c.point_world.allFinite() || !c.normal_world.allFinite() || !std::isfinite(c.depth) ||
         !std::isfinite(c.normal_force)) {
       continue;

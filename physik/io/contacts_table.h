@@ -1,5 +1,5 @@
 // The contacts table of a run folder (contacts.csv): the contacts the engine's force stage found
-// (SimState::contacts, contacts.h; detection collision.h), one row per contact per recorded row
+// (SimState::contact, contact_data.h; detection collision.h), one row per contact per recorded row
 // of trajectory.csv. Written only for a scene with a ground or self-collision; a recorded row
 // without a contact has no row here.
 //

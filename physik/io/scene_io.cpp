@@ -311,17 +311,6 @@ void read_contacts_and_gravity(const JsonContext& top, const Json& doc, Scene& s
   if (doc.contains("gravity")) s.gravity_world = bounded_vec3(top, doc, "gravity");
 }
 
-// the contact rows given for a scene without contacts (contact_param_conflict): refused like any
-// value the run would not use
-void check_contact_params(const Scene& s, const ParamOverrides& overrides) {
-  for (const std::string& name : s.params_given) {
-    const std::string why = contact_param_conflict(s, name);
-    if (why.empty()) continue;
-    if (overrides.has(name)) throw_input_error(overrides.source, "", name, why);
-    throw_input_error(s.file, "params", name, why);
-  }
-}
-
 }  // namespace
 
 namespace {
@@ -337,7 +326,8 @@ bool overridden(const ParamOverrides& overrides, const std::string& name) {
 // Refuse explicitly given values the run would not use (ParamRow::conflict), naming where each
 // came from: the file's params, or the override.
 void check_conflicts(const EngineParams& p, const std::vector<std::string>& from_file,
-                     const ParamOverrides& overrides, const std::string& source) {
+                     const ParamOverrides& overrides, const std::string& source,
+                     const ParamScene& scene) {
   std::vector<std::string> given = from_file;
   // overrides apply in order, later wins: of damping and damping_auto only the last one given
   // stands (--set damping=1 --set damping=auto is auto)
@@ -352,7 +342,7 @@ void check_conflicts(const EngineParams& p, const std::vector<std::string>& from
     if (!damping || static_cast<int>(i) == last_damping) given.push_back(name);
   }
   // an override is the user's latest word: name it first
-  const auto conflicts = param_conflicts(p, given);
+  const auto conflicts = param_conflicts(p, given, scene);
   for (const auto& [name, why] : conflicts) {
     if (overrides.has(name)) throw_input_error(overrides.source, "", name, why);
   }
@@ -381,20 +371,9 @@ void read_old_scheme_keys(const JsonContext& ctx, const Json& params,
 
 }  // namespace
 
-std::string contact_param_conflict(const Scene& s, const std::string& name) {
-  if (s.collision.any()) return "";
-  for (const char* row :
-       {"contact_k", "contact_damping", "friction", "friction_speed", "friction_stiffness"}) {
-    if (name == row) {
-      return "applies only to a scene with a ground, obstacles or \"self_collision\": true";
-    }
-  }
-  return "";
-}
-
 EngineParams params_from_json(const Json& params, const std::string& source,
-                              const ParamOverrides& overrides,
-                              std::vector<std::string>* given_out) {
+                              const ParamOverrides& overrides, std::vector<std::string>* given_out,
+                              const ParamScene& scene) {
   const JsonContext ctx{source, "params"};
   const bool given = !params.is_null();
   if (given) {
@@ -432,7 +411,7 @@ EngineParams params_from_json(const Json& params, const std::string& source,
     }
   }
   overrides.apply(p);
-  check_conflicts(p, from_file, overrides, source);
+  check_conflicts(p, from_file, overrides, source, scene);
   if (given_out) {
     *given_out = from_file;
     for (const auto& [row, v] : overrides.values) given_out->push_back(row->name);
@@ -467,7 +446,7 @@ Json params_to_json(const EngineParams& p) {
     const ParamValue v = row.get(p);
     if (!row.written_at_default && v == row.defaults[preset]) continue;
     // a value the run does not use, other than the preset's, would be refused when read back
-    if (row.conflict && v != row.defaults[preset] && !row.conflict(p).empty()) continue;
+    if (row.conflict && v != row.defaults[preset] && !row.conflict_reason(p).empty()) continue;
     j[row.name] = param_value_json(row, v);
   }
   return j;
@@ -479,8 +458,8 @@ Json params_as_run_json(const Scene& scene) {
   for (const ParamRow& row : param_table()) {
     // damping_auto is the damping row's "auto"; a row already written stays as it is
     if (row.name == "damping_auto" || j.contains(row.name)) continue;
-    if (row.conflict && !row.conflict(p).empty()) continue;          // the scheme does not read it
-    if (!contact_param_conflict(scene, row.name).empty()) continue;  // no contacts to read it
+    // the scheme does not read it, or the scene has nothing for it (no contacts)
+    if (!row.conflict_reason(p, param_scene(scene)).empty()) continue;
     j[row.name] = param_value_json(row, row.get(p));
   }
   return j;
@@ -516,8 +495,10 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
   Scene s;
   s.file = source;
   read_rig(top, doc, base_dir, s);
+  // the contacts first: the parameter rows' conflict rules see them (a contact row without any)
+  read_contacts_and_gravity(top, doc, s);
   s.params = params_from_json(doc.contains("params") ? doc["params"] : Json(nullptr), source,
-                              overrides, &s.params_given);
+                              overrides, &s.params_given, param_scene(s));
   s.steps = top.integer_or(doc, "steps", s.steps);
   if (s.steps < 1) top.fail("steps", "must be at least 1");
   read_control_points(top, doc, s);
@@ -528,8 +509,6 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
     s.initial_velocity_world = bounded_vec3(top, doc, "initial_velocity");
   }
   check_scene_joints(s);
-  read_contacts_and_gravity(top, doc, s);
-  check_contact_params(s, overrides);
   return s;
 }
 
@@ -600,7 +579,7 @@ Json vec_json(const Vec3& v) {
 // gravity and the contact settings, only where the scene has them (older scenes stay as written)
 void add_contacts_json(const Scene& s, Json& out) {
   if (!s.gravity_world.isZero(0.0)) out["gravity"] = vec_json(s.gravity_world);
-  const CollisionSettings& c = s.collision;
+  const ContactModel& c = s.collision;
   if (c.ground) {
     out["ground"] = {{"height", c.ground->height}, {"normal", vec_json(c.ground->normal_world)}};
   }

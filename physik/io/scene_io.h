@@ -24,11 +24,13 @@ Scene scene_from_json(const nlohmann::json& doc, const std::string& source,
 // A scene's "params" object (null: the default preset) by the parameter table: the preset, then
 // each row's value, each checked against the row's range; overridden keys are not read. A value
 // given explicitly (by the file or an override) that the run would not use is refused
-// (ParamRow::conflict): a damping value beside damping auto, a Gauss-Seidel setting under the
-// exact solve, ... `given_out` receives the keys given explicitly.
+// (ParamRow::conflict, judged with `scene`): a damping value beside damping auto, a Gauss-Seidel
+// setting under the exact solve, a contact row in a scene without contacts, ... `given_out`
+// receives the keys given explicitly.
 EngineParams params_from_json(const nlohmann::json& params, const std::string& source,
                               const ParamOverrides& overrides = {},
-                              std::vector<std::string>* given_out = nullptr);
+                              std::vector<std::string>* given_out = nullptr,
+                              const ParamScene& scene = {});
 nlohmann::json params_to_json(const EngineParams& p);
 // The params a run of `scene` reads, each at the value it uses: params_to_json's, and the rows it
 // leaves out at their default (ParamRow::written_at_default false: torsion_torque, free_rods, the
@@ -36,11 +38,6 @@ nlohmann::json params_to_json(const EngineParams& p);
 // scheme, the contact rows in a scene with contacts). The run folder's summary.json and
 // scene.json record these "params" (read back, they give the same EngineParams).
 nlohmann::json params_as_run_json(const Scene& scene);
-// Why a parameter given explicitly would not be used by this scene ("" when it would): the
-// contact rows (contact_k, contact_damping, friction, friction_speed,
-// friction_stiffness) take part only in a scene
-// with a ground or self-collision. scene_from_json refuses them; so does Scene.update.
-std::string contact_param_conflict(const Scene& scene, const std::string& name);
 // One value as the scene format writes it: a number, an integer, true/false or the choice's name.
 nlohmann::json param_value_json(const ParamRow& row, ParamValue v);
 // The parameter table for machines (`physik params --json`, physik.param_table(), analysis/

@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-#include "physik/engine/contacts.h"
+#include "physik/engine/contact_data.h"
 #include "physik/engine/measures.h"
 #include "physik/engine/run_monitor.h"
 #include "physik/io/scene_io.h"
@@ -11,11 +11,11 @@ namespace physik {
 
 namespace {
 
-// the contacts of the final pose (contacts.h), only for scenes with a ground or self-collision:
+// the contacts of the final pose (contact_data.h), only for scenes with a ground or self-collision:
 // how many, the deepest overlap (rig units) and that depth over the thinner capsule's radius
 void add_contact_fields(const Scene& scene, const RunSummary& s, nlohmann::json& out) {
   if (!scene.collision.any()) return;
-  const Penetration pen = penetration(scene, s.final_frames);
+  const Penetration pen = penetration(scene, contacts_at_pose(scene, s.final_frames));
   out["final_contacts"] = pen.contacts;
   out["final_max_penetration"] = pen.max_depth;
   out["final_max_penetration_fraction"] = pen.max_depth_fraction;

@@ -149,7 +149,7 @@ ParamRow omitted_at_default(ParamRow r) {
   return r;
 }
 
-ParamRow conflicts(ParamRow r, std::string (*why)(const EngineParams&)) {
+ParamRow conflicts(ParamRow r, std::string (*why)(const EngineParams&, const ParamScene&)) {
   r.conflict = why;
   return r;
 }
@@ -170,29 +170,29 @@ using T = TorsionTorque;
 
 // --- settings the run would not use (ParamRow::conflict) ---------------------------------------
 
-std::string gauss_seidel_only(const EngineParams& p) {
+std::string gauss_seidel_only(const EngineParams& p, const ParamScene&) {
   if (p.scheme == Scheme::kGaussSeidel) return "";
   return std::string("applies to the gauss-seidel scheme only (this run: scheme ") +
          to_string(p.scheme) + ")";
 }
 
-std::string implicit_only(const EngineParams& p) {
+std::string implicit_only(const EngineParams& p, const ParamScene&) {
   if (p.scheme == Scheme::kImplicit) return "";
   return std::string("applies to the implicit scheme only (this run: scheme ") +
          to_string(p.scheme) + ")";
 }
 
-std::string damping_conflict(const EngineParams& p) {
+std::string damping_conflict(const EngineParams& p, const ParamScene&) {
   return p.damping_auto ? "a damping value beside damping auto: give one or the other" : "";
 }
 
-std::string interpolation_steps_conflict(const EngineParams& p) {
+std::string interpolation_steps_conflict(const EngineParams& p, const ParamScene&) {
   return p.interpolation == Interpolation::kNone
              ? "applies only with an interpolation (this run: none)"
              : "";
 }
 
-std::string polar_only(const EngineParams& p) {
+std::string polar_only(const EngineParams& p, const ParamScene&) {
   if (p.interpolation == Interpolation::kPolarHead || p.interpolation == Interpolation::kPolarCom) {
     return "";
   }
@@ -200,7 +200,7 @@ std::string polar_only(const EngineParams& p) {
          to_string(p.interpolation) + ")";
 }
 
-std::string capped_torsion_only(const EngineParams& p) {
+std::string capped_torsion_only(const EngineParams& p, const ParamScene&) {
   return p.torsion_spring == S::kCapped
              ? ""
              : "applies to capped torsion springs only (this run: linear)";
@@ -360,27 +360,42 @@ std::vector<ParamRow> interpolation_rows() {
 // a normal load sinks by W / k). The explicit schemes are stable only for dt < 2 sqrt(m_eff / k)
 // (0.01 s for these) and, for the friction's viscous slope c = mu F_n / friction_speed at rest,
 // dt < 2 m_eff / c (0.001 s for a 1 kg bone lying on the floor); the implicit one at any dt.
+std::string contacts_only(const EngineParams&, const ParamScene& scene) {
+  return scene.contacts
+             ? ""
+             : "applies only to a scene with a ground, obstacles or \"self_collision\": true";
+}
+
 std::vector<ParamRow> contact_rows() {
   return {
-      omitted_at_default(row<&E::contact_k>(
-          "contact_k", "N/m", {1e4, 1e4, 1e4}, kNonNegative,
-          "contacts: stiffness k of each contact's penalty spring, force k d at depth d (at "
-          "rest a load W sinks by W / k)")),
-      omitted_at_default(row<&E::contact_damping>(
-          "contact_damping", "N s/m", {100.0, 100.0, 100.0}, kNonNegative,
-          "contacts: normal damping c, force -c v_n while touching (the normal force never "
-          "pulls)")),
-      omitted_at_default(row<&E::friction>("friction", "1", {1.0, 1.0, 1.0}, kNonNegative,
-                                           "contacts: Coulomb coefficient mu, tangential force "
-                                           "at most mu times the normal force")),
-      omitted_at_default(row<&E::friction_speed>(
-          "friction_speed", "rig units/s", {0.01, 0.01, 0.01}, kPositive,
-          "contacts: friction is viscous below this slip speed (mu F_n v / speed), full "
-          "Coulomb above")),
-      omitted_at_default(row<&E::friction_stiffness>(
-          "friction_stiffness", "N/m", {0.0, 0.0, 0.0}, kNonNegative,
-          "contacts: static friction, a tangential spring k_t from where the contact stuck, "
-          "slipping beyond mu F_n (0: none, the viscous law alone)")),
+      conflicts(
+          omitted_at_default(row<&E::contact_k>(
+              "contact_k", "N/m", {1e4, 1e4, 1e4}, kNonNegative,
+              "contacts: stiffness k of each contact's penalty spring, force k d at depth d (at "
+              "rest a load W sinks by W / k)")),
+          contacts_only),
+      conflicts(
+          omitted_at_default(row<&E::contact_damping>(
+              "contact_damping", "N s/m", {100.0, 100.0, 100.0}, kNonNegative,
+              "contacts: normal damping c, force -c v_n while touching (the normal force never "
+              "pulls)")),
+          contacts_only),
+      conflicts(
+          omitted_at_default(row<&E::friction>("friction", "1", {1.0, 1.0, 1.0}, kNonNegative,
+                                               "contacts: Coulomb coefficient mu, tangential force "
+                                               "at most mu times the normal force")),
+          contacts_only),
+      conflicts(omitted_at_default(row<&E::friction_speed>(
+                    "friction_speed", "rig units/s", {0.01, 0.01, 0.01}, kPositive,
+                    "contacts: friction is viscous below this slip speed (mu F_n v / speed), full "
+                    "Coulomb above")),
+                contacts_only),
+      conflicts(
+          omitted_at_default(row<&E::friction_stiffness>(
+              "friction_stiffness", "N/m", {0.0, 0.0, 0.0}, kNonNegative,
+              "contacts: static friction, a tangential spring k_t from where the contact stuck, "
+              "slipping beyond mu F_n (0: none, the viscous law alone)")),
+          contacts_only),
   };
 }
 
@@ -593,7 +608,7 @@ ParamValue parse_param_text(const ParamRow& row, const std::string& text,
 }
 
 std::vector<std::pair<std::string, std::string>> param_conflicts(
-    const EngineParams& p, const std::vector<std::string>& given) {
+    const EngineParams& p, const std::vector<std::string>& given, const ParamScene& scene) {
   std::vector<std::pair<std::string, std::string>> out;
   const int preset = std::max(0, preset_index(p.preset));
   for (const ParamRow& row : param_table()) {
@@ -601,7 +616,7 @@ std::vector<std::pair<std::string, std::string>> param_conflicts(
     // the preset's own value, where the scene writer lists it, changes nothing whether it
     // takes part or not (a row the writer leaves out at that value is given on purpose)
     if (row.written_at_default && row.get(p) == row.defaults[preset]) continue;
-    std::string why = row.conflict(p);
+    std::string why = row.conflict(p, scene);
     if (!why.empty()) out.emplace_back(row.name, std::move(why));
   }
   return out;

@@ -97,8 +97,8 @@ struct EngineParams {
   int interpolation_steps;        // steps over which a target jump is spread
                                   // (original: 25% of its 50 iterations)
   double interpolation_fallback;  // rig units: polar falls back to linear this near the origin
-  // contacts (physik/engine/contacts.h), read only by scenes with a ground or self_collision: a
-  // penalty spring and damper along the normal, regularised Coulomb friction
+  // contacts (physik/engine/ground_contacts.h, self_contacts.h), read only by scenes with a ground
+  // or self_collision: a penalty spring and damper along the normal, regularised Coulomb friction
   double contact_k;           // N/m, normal stiffness of each contact
   double contact_damping;     // N s/m, normal damping of each contact
   double friction;            // 1, Coulomb coefficient mu
@@ -137,6 +137,13 @@ struct ParamRange {
   bool hi_allowed = true;  // is hi itself valid
 };
 
+// What a parameter row's conflict rule sees of the scene that runs the parameters (the Scene
+// itself is above this file: physik/model/scene.h param_scene). The default is a scene that has
+// every element, so a rule judged without a scene refuses nothing on its account.
+struct ParamScene {
+  bool contacts = true;  // a ground, obstacles or self_collision (physik/model/contact_model.h)
+};
+
 struct ParamRow {
   std::string name;  // the scene's "params" key, the --set key, the EngineParams field
   ParamKind kind = ParamKind::kReal;
@@ -153,10 +160,15 @@ struct ParamRow {
   ParamValue (*get)(const EngineParams&) = nullptr;
   void (*set)(EngineParams&, ParamValue) = nullptr;
   // Why a value given explicitly for this row (by a scene file or an override) would not be the
-  // value the run uses, with the other parameters as `p` ("" when it would be): a setting
-  // another one overrides, or one the run's scheme never reads. The scene reader refuses such
-  // a value (param_conflicts); nullptr = the row always takes part.
-  std::string (*conflict)(const EngineParams& p) = nullptr;
+  // value the run uses, with the other parameters as `p` and the scene as `scene` ("" when it
+  // would be): a setting another one overrides, one the run's scheme never reads, or one the
+  // scene has nothing for (a contact row without contacts). The scene reader refuses such a
+  // value (param_conflicts); nullptr = the row always takes part.
+  std::string (*conflict)(const EngineParams& p, const ParamScene& scene) = nullptr;
+  // the rule's reason ("" without a rule); `scene` left out: a scene that has every element
+  std::string conflict_reason(const EngineParams& p, const ParamScene& scene = {}) const {
+    return conflict ? conflict(p, scene) : "";
+  }
 };
 
 // Every parameter, in the order scene files document and check them.
@@ -188,7 +200,7 @@ ParamValue parse_param_text(const ParamRow& row, const std::string& text,
 // params `p`, each as (row name, reason); empty when every given value takes part. A row at its
 // preset's value is never among them: it changes nothing either way.
 std::vector<std::pair<std::string, std::string>> param_conflicts(
-    const EngineParams& p, const std::vector<std::string>& given);
+    const EngineParams& p, const std::vector<std::string>& given, const ParamScene& scene = {});
 
 // The two keys `scheme` replaced, still read in scene files and overrides: integration
 // (articulated|free-rods|implicit) and joint_solve (gauss-seidel|exact). Sets p.scheme and

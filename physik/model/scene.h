@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "physik/model/contact_model.h"
 #include "physik/model/kinematics.h"
 #include "physik/model/params.h"
 #include "physik/model/rig.h"
@@ -56,32 +57,6 @@ struct ConvergenceParams {
                                       // 0 = the energy rule (physik/engine/run_monitor.h)
 };
 
-// What bones touch (physik/engine/contacts.h): an optional ground plane, static obstacles, and
-// the bones' own capsules (Rig::bone_collision_radius) against each other. None of it by default:
-// a scene without them runs exactly as before.
-struct GroundPlane {
-  Vec3 normal_world = Vec3::UnitZ();  // unit; bodies belong on the side it points to
-  double height = 0.0;                // rig units: the plane is {x : normal . x = height}
-};
-
-// A static box (a seat, a table): fixed in the world, it only pushes bones out (collision.h).
-struct BoxObstacle {
-  std::string name;                      // unique within the scene
-  Vec3 center_world = Vec3::Zero();      // rig units
-  Vec3 half_extents = Vec3::Ones();      // rig units, > 0, along the box's own x, y, z axes
-  Quat orient_world = Quat::Identity();  // the box's axes in the world frame
-};
-
-struct CollisionSettings {
-  std::optional<GroundPlane> ground;
-  std::vector<BoxObstacle> obstacles;  // static boxes, in the order the scene lists them
-  bool self_collision = false;  // bone capsules against each other (bones sharing a joint never)
-  // further bone pairs that never collide, each (lower index, higher index), sorted, unique
-  std::vector<std::pair<int, int>> excluded_pairs;
-  // anything to touch: the contact stage runs at all
-  bool any() const { return ground.has_value() || !obstacles.empty() || self_collision; }
-};
-
 struct Scene {
   std::string file;      // where it came from ("" if built in code)
   std::string rig_file;  // resolved rig path
@@ -97,7 +72,7 @@ struct Scene {
   Pose initial_pose;
   Vec3 initial_velocity_world = Vec3::Zero();  // rig units/s, a rigid translation of every bone
   Vec3 gravity_world = Vec3::Zero();  // rig units/s^2, on every bone's mass; zero as in the paper
-  CollisionSettings collision;        // ground and self-collision (none by default)
+  ContactModel collision;             // what the bones touch (contact_model.h; none by default)
 
   double residual_tol() const;
   double speed_tol() const;
@@ -115,5 +90,12 @@ struct Scene {
 // (initial_pose.rotation_deg); implicit_linearisation full needs a free root and no welds.
 // InputError naming the scene's file and field.
 void check_scene_joints(const Scene& scene);
+
+// What the parameter table's conflict rules see of a scene (params.h ParamScene).
+inline ParamScene param_scene(const Scene& scene) {
+  ParamScene out;
+  out.contacts = scene.collision.any();
+  return out;
+}
 
 }  // namespace physik

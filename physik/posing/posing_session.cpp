@@ -64,7 +64,8 @@ PosingSession::PosingSession(const Scene& scene) : scene_(scene) {
   start_goal_world_ = state_.target_goal_world;  // sized once: a solve copies without allocating
   start_effective_world_ = state_.target_effective_world;
   start_interp_left_ = state_.interp_steps_left;
-  monitor_.restart(scene_, state_, run_rules(scene_));  // sizes its buffers once
+  scene_rules_ = run_rules(scene_);
+  monitor_.restart(scene_, state_, scene_rules_);  // sizes its buffers once
 }
 
 void PosingSession::set_target(int c, const Vec3& target_world, bool interpolate) {
@@ -172,7 +173,7 @@ SolveResult PosingSession::solve(const SolveRule& rule) {
   // the summary's are this solve's
   reset_guard_counts(state_);
   out.tolerance = rule.tolerance > 0.0 ? rule.tolerance : rule.tolerance_fraction * reach_;
-  RunRules rules = run_rules(scene_);
+  RunRules rules = scene_rules_;
   rules.stop_at_residual = true;
   rules.residual_tol = out.tolerance;
   rules.stall_steps = rule.stall_steps;

@@ -165,6 +165,7 @@ class PosingSession {
   std::vector<int> start_interp_left_;                          // (ncontrol) steps
   double start_damping_auto_ = 0.0;                             // N s/m
   RunMonitor monitor_{RunRules{}};  // the solve's verdicts, restarted from the state each solve
+  RunRules scene_rules_;            // run_rules(scene_), taken once (its start energy allocates)
 };
 
 }  // namespace physik

@@ -16,8 +16,11 @@
 #include "experiments/coil.h"
 #include "experiments/experiment.h"
 #include "physik/engine/collision.h"
-#include "physik/engine/contacts.h"
+#include "physik/engine/contact_data.h"
 #include "physik/engine/engine.h"
+#include "physik/engine/gravity.h"
+#include "physik/engine/ground_contacts.h"
+#include "physik/engine/self_contacts.h"
 #include "physik/io/json_fields.h"
 #include "reference/mjcf_export.h"
 #include "reference/mujoco_runner.h"
@@ -97,8 +100,8 @@ TEST(Coil, HelixStartsClearOfTheFloorAndOfItself) {
 
 // A helix whose turns fall onto one another and pile on the floor: the pile's bone-bone contacts
 // must take its energy, not add to it. With the self-contacts' damper and friction split like
-// their springs (contacts.h), this helix, like every one tried from 200 to 1,000 bones, diverged
-// within 22 steps. At rest no contact may sink deeper than 5% of the radius.
+// their springs (self_contacts.h), this helix, like every one tried from 200 to 1,000 bones,
+// diverged within 22 steps. At rest no contact may sink deeper than 5% of the radius.
 TEST(Coil, DroppedHelixPilesOnTheFloorAndComesToRest) {
   Scene s = coil_helix_scene(200, 2, 6000);
   s.convergence.stop_when_converged = true;

@@ -13,8 +13,11 @@
 
 #include "experiments/linearisation.h"
 #include "physik/engine/engine.h"
+#include "physik/engine/forces.h"
+#include "physik/engine/implicit_advance.h"
 #include "physik/engine/implicit_step.h"
 #include "physik/engine/integrate_joint_space.h"
+#include "physik/engine/interpolation.h"
 #include "physik/engine/torsion_springs.h"
 #include "physik/model/params.h"
 #include "tests/dense_dynamics.h"
@@ -103,13 +106,24 @@ struct Worst {
   int compared = 0;
 };
 
+// the engine's bare step (implicit_advance.h take_implicit_step) with the pose terms `context`
+void selected_step(const Scene& scene, SimState& s, double h, const void* context) {
+  ForceStage stage;
+  stage.step = h;
+  apply_forces(scene, s, stage);
+  solve_implicit(scene, s, h, *static_cast<const PoseTermSelection*>(context));
+  integrate_joint_space(scene.rig, h, s);
+}
+
 // one bare step of the O(n) full step with these pose terms
 void recursive_step(const Scene& scene, SimState& s, double h, const PoseTermSelection& use) {
   Scene bare = scene;
   bare.params.implicit_max_splits = 0;
   bare.params.implicit_linearisation = ImplicitLinearisation::kFull;
-  s.pose_term_selection = use;
-  step(bare, s, h);
+  update_targets(bare, s);
+  advance_implicit(bare, s, h, selected_step, &use);
+  s.step += 1;
+  s.time += h;
 }
 
 Worst compare_with_dense(PoseTermSelection use, Variant dense_variant, unsigned seed) {
@@ -120,7 +134,6 @@ Worst compare_with_dense(PoseTermSelection use, Variant dense_variant, unsigned 
     const TorsionTorque torque = trial % 2 ? TorsionTorque::kAxes : TorsionTorque::kGradient;
     PoseCase pc = random_pose_case(rng, 2 + trial % 7, torque);
     if (clip_acts(pc.scene, pc.s)) continue;
-    pc.s.pose_term_selection = use;  // for the unit-force responses
     const Eigen::MatrixXd M_inv = unit_force_response(pc.scene, pc.s, false, 0.05);
     const Eigen::VectorXd v = joint_velocity(pc.s);
     for (double h : {0.05, 1.0, 20.0}) {
@@ -140,7 +153,7 @@ Worst compare_with_dense(PoseTermSelection use, Variant dense_variant, unsigned 
           std::max(w.backward, (S * acc - rhs).norm() / (S.norm() * acc.norm() + rhs.norm()));
       if (h <= 1.0) {
         const Eigen::MatrixXd S_step =
-            M_inv * unit_force_response(pc.scene, pc.s, true, h).inverse();
+            M_inv * unit_force_response(pc.scene, pc.s, true, h, use).inverse();
         w.system = std::max(w.system, (S_step - S).norm() / S.norm());
       }
       if (h == 0.05) w.solution = std::max(w.solution, (acc - acc_dense).norm() / acc_dense.norm());

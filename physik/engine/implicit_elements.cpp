@@ -1,0 +1,21 @@
+#include "physik/engine/implicit_elements.h"
+
+namespace physik {
+
+void add_point_inertia(const Mat3& A, const Vec3& r, SpatialInertia& I) {
+  const Mat3 RA = skew(r) * A;  // [r]x A
+  I.A.noalias() += RA * skew(r).transpose();
+  I.B += RA;
+  I.C += A;
+}
+
+void add_point_element(const Mat3& A, const Vec3& r, const Vec6& a0, SpatialInertia& inertia,
+                       Vec6& bias) {
+  add_point_inertia(A, r, inertia);
+  // -Phi^T A Phi a0 into the body's bias force: the element force's velocity-product share
+  const Vec3 f = A * (a0.tail<3>() + a0.head<3>().cross(r));  // A times the point's a0
+  bias.head<3>() -= r.cross(f);
+  bias.tail<3>() -= f;
+}
+
+}  // namespace physik
