@@ -681,13 +681,18 @@ void add_weld_claim(Report& report, const std::vector<const RigChecks*>& samples
   }
   const bool holds = run->run.weld_turn <= kWeldTolerance &&
                      solve->solve.weld_turn <= kWeldTolerance && runs > 0 && solves > 0;
+  // the rig that turned most, when one turned at all
+  const auto where = [](double turn, const RigChecks* c) {
+    return turn > 0.0 ? " (" + c->name + ")" : std::string();
+  };
   report
       .claim(claim,
-             std::to_string(rigs) + " rigs, " + std::to_string(welded) +
-                 " welded bones; largest turn: runs " + num(run->run.weld_turn, 3) + " rad (" +
-                 run->name + "), solves " + num(solve->solve.weld_turn, 3) + " rad (" +
-                 solve->name + "); " + std::to_string(runs) + " runs, " + std::to_string(solves) +
-                 " solves; the paper's scheme's runs " + num(paper, 3) + " rad",
+             std::to_string(rigs) + " rigs, " + std::to_string(welded) + " welded bones, " +
+                 std::to_string(runs) + " runs, " + std::to_string(solves) +
+                 " solves; largest turn: runs " + num(run->run.weld_turn, 3) + " rad" +
+                 where(run->run.weld_turn, run) + ", solves " + num(solve->solve.weld_turn, 3) +
+                 " rad" + where(solve->solve.weld_turn, solve) +
+                 "; runs under the paper's scheme (original) " + num(paper, 3) + " rad",
              holds ? "yes" : "no")
       .named("welds-rigid");
 }
