@@ -11,11 +11,27 @@
 // and ends converged (at rest, the run monitor's rule), not converged (still moving at the step
 // cap), diverged, or refused (the scene or run rejected as input;
 // a refusal counts as a failure). The targets follow one fixed rule, outside_rigs.h.
-//   rigs/*.json, scenes/*.json   the converted rigs and the scenes (`physik simulate` runs them)
-//   runs.csv                     one row per rig x scene x configuration
-//   summary.json                 counts per configuration, the skipped files, the report
 // Models that are the same rig up to names and a translation (MuJoCo ships one humanoid in six
 // files) count once; the others are listed as skipped with the rig they repeat.
+//
+// The rig's own body, on every converted model, on arm26 with its root made free (as
+// converted before anchored roots) and on a motion-capture skeleton written here
+// (experiments/mocap_bvh.h, converted as `rig from-bvh --scale 0.01`):
+//   weld turn    rad, max over every step of the default runs of its two scenes and of their
+//                solves (the solve mode, as `solve --solver physik`) of the turn of a welded bone
+//                in its weld's frame, angle(R_w q_rest, R_i) (experiments/weld_turn.h); rigid: at
+//                most 1e-9
+//   root drift   rig units, max over the same steps of |head_root - head_root^rest|
+//   rest         J, max kinetic energy over 100 steps from rest, no control point, no gravity,
+//                self_collision on, under gauss-seidel, exact and implicit (experiments/at_rest.h):
+//                every force is then a sum of exact zeros, so 0
+//   overlaps     capsule pairs overlapping at rest (physik/engine/bone_overlaps.h) not excluded
+//   rigs/*.json, scenes/*.json   the converted rigs and the scenes (`physik simulate` runs them)
+//   bvh/mocap.bvh                the skeleton's file
+//   runs.csv                     one row per rig x scene x configuration (with its weld turn and
+//                                root drift)
+//   checks.csv                   one row per checked rig (the body's measures above)
+//   summary.json                 counts per configuration, the skipped files, the report
 #include "experiments/outside_rigs.h"
 
 #include <algorithm>
@@ -382,49 +398,53 @@ Table runs_table(const std::vector<SceneRuns>& scenes) {
   return t;
 }
 
-// checks.csv: one row per checked rig (every converted sample model, arm26 with its root made
-// free, the experiment's own BVH skeleton)
-Table checks_table(const std::vector<RigChecks>& checks) {
+// checks.csv's columns
+std::vector<Column> checks_columns() {
   const auto number = [](std::string name, std::string unit, std::string doc) {
     return real(std::move(name), std::move(unit), std::move(doc)).as_json_number();
   };
   const std::string steps = std::to_string(kRestSteps);
-  Table t("checks", "checks.csv",
-          {text("rig", "the rig"),
-           text("source",
-                "mjcf (a sample model), mjcf-free-root (arm26 with its root made "
-                "free, as converted before anchored roots) or bvh (the experiment's "
-                "own motion-capture skeleton, rig from-bvh --scale 0.01)"),
-           integer("bones", "", "bones"),
-           integer("bodies", "", "rigid bodies"),
-           integer("welded", "", "welded bones"),
-           text("root", "the root's joint to the world"),
-           number("run_weld_turn", "rad",
-                  "the largest turn inside a welded group over every step of the default "
-                  "configuration's runs (simulate)"),
-           number("solve_weld_turn", "rad",
-                  "the same over every step of the solves (solve --solver physik)"),
-           number("run_root_turn", "rad", "the run's turn inside the root's body"),
-           number("solve_root_turn", "rad", "the solve's turn inside the root's body"),
-           number("run_root_drift", "rig units",
-                  "the largest distance of the root's head from rest in the runs"),
-           number("solve_root_drift", "rig units", "the same in the solves"),
-           integer("runs", "", "runs measured (not refused)"),
-           integer("runs_converged", "", "runs that converged"),
-           integer("solves", "", "solves measured (not refused)"),
-           integer("solves_converged", "", "solves that converged"),
-           number("rest_ke_gauss_seidel", "J",
-                  "the largest kinetic energy over " + steps +
-                      " steps at rest, no targets, no gravity, self_collision on: preset "
-                      "original"),
-           number("rest_ke_exact", "J", "the same, preset original with scheme exact"),
-           number("rest_ke_implicit", "J", "the same, preset robust (implicit)"),
-           integer("rest_overlaps", "", "bone pairs whose capsules overlap at rest"),
-           integer("open_overlaps", "", "those not excluded (collision_exclude)"),
-           number("radius_min", "rig units", "the smallest bone radius (inertia)"),
-           number("radius_max", "rig units", "the largest bone radius"),
-           number("collision_radius_min", "rig units", "the smallest collision radius"),
-           number("collision_radius_max", "rig units", "the largest collision radius")});
+  return {text("rig", "the rig"),
+          text("source",
+               "mjcf (a sample model), mjcf-free-root (arm26 with its root made "
+               "free, as converted before anchored roots) or bvh (the experiment's "
+               "own motion-capture skeleton, rig from-bvh --scale 0.01)"),
+          integer("bones", "", "bones"),
+          integer("bodies", "", "rigid bodies"),
+          integer("welded", "", "welded bones"),
+          text("root", "the root's joint to the world"),
+          number("run_weld_turn", "rad",
+                 "the largest turn inside a welded group over every step of the default "
+                 "configuration's runs (simulate)"),
+          number("solve_weld_turn", "rad",
+                 "the same over every step of the solves (solve --solver physik)"),
+          number("run_root_turn", "rad", "the run's turn inside the root's body"),
+          number("solve_root_turn", "rad", "the solve's turn inside the root's body"),
+          number("run_root_drift", "rig units",
+                 "the largest distance of the root's head from rest in the runs"),
+          number("solve_root_drift", "rig units", "the same in the solves"),
+          integer("runs", "", "runs measured (not refused)"),
+          integer("runs_converged", "", "runs that converged"),
+          integer("solves", "", "solves measured (not refused)"),
+          integer("solves_converged", "", "solves that converged"),
+          number("rest_ke_gauss_seidel", "J",
+                 "the largest kinetic energy over " + steps +
+                     " steps at rest, no targets, no gravity, self_collision on: preset "
+                     "original"),
+          number("rest_ke_exact", "J", "the same, preset original with scheme exact"),
+          number("rest_ke_implicit", "J", "the same, preset robust (implicit)"),
+          integer("rest_overlaps", "", "bone pairs whose capsules overlap at rest"),
+          integer("open_overlaps", "", "those not excluded (collision_exclude)"),
+          number("radius_min", "rig units", "the smallest bone radius (inertia)"),
+          number("radius_max", "rig units", "the largest bone radius"),
+          number("collision_radius_min", "rig units", "the smallest collision radius"),
+          number("collision_radius_max", "rig units", "the largest collision radius")};
+}
+
+// checks.csv: one row per checked rig (every converted sample model, arm26 with its root made
+// free, the experiment's own BVH skeleton)
+Table checks_table(const std::vector<RigChecks>& checks) {
+  Table t("checks", "checks.csv", checks_columns());
   for (const RigChecks& c : checks) {
     t.add({c.name,
            c.source,
@@ -921,6 +941,51 @@ std::vector<std::string> quick_files(const std::vector<std::string>& files) {
   return out;
 }
 
+// The rig's own body, checked: every sample model (the first `nsamples` checks), arm26 with its
+// root made free, the BVH skeleton. The checks point to the sample rigs and to `own`.
+struct BodyChecks {
+  std::vector<RigChecks> checks;
+  std::size_t nsamples = 0;
+  std::deque<OutsideRig> own;
+  MocapRig mocap;
+};
+
+void check_bodies(const Context& ctx, const std::vector<SceneRuns>& scenes, const Collection& found,
+                  int steps, BodyChecks& out) {
+  for (std::size_t k = 0; k + 1 < scenes.size(); k += 2) {
+    out.checks.push_back(check_sample(scenes[k], scenes[k + 1]));
+  }
+  out.nsamples = out.checks.size();
+  const auto arm = std::find_if(found.rigs.begin(), found.rigs.end(),
+                                [](const OutsideRig& r) { return r.name == kArm26; });
+  if (arm != found.rigs.end()) {
+    out.own.push_back({arm->name + "-free-root", arm->file, with_free_root(arm->rig)});
+    out.checks.push_back(check_own(ctx, out.own.back(), "mjcf-free-root", steps));
+  }
+  out.mocap = convert_mocap(ctx.out_dir + "/bvh/mocap.bvh");
+  out.own.push_back({"mocap-bvh", ctx.out_dir + "/bvh/mocap.bvh", out.mocap.rig});
+  out.checks.push_back(check_own(ctx, out.own.back(), "bvh", steps));
+}
+
+void add_body_claims(Report& report, const BodyChecks& body, const std::vector<SceneRuns>& scenes) {
+  std::vector<const RigChecks*> samples;
+  for (std::size_t k = 0; k < body.nsamples; ++k) samples.push_back(&body.checks[k]);
+  double paper_turn = 0.0;
+  for (const SceneRuns& s : scenes) {
+    paper_turn = std::max(paper_turn, s.runs[config_index("original")].body.weld_turn);
+  }
+  add_weld_claim(report, samples, paper_turn);
+  add_rest_claims(report, samples);
+  const auto find_check = [&](const std::string& name) -> const RigChecks* {
+    for (const RigChecks& c : body.checks) {
+      if (c.name == name) return &c;
+    }
+    return nullptr;
+  };
+  add_root_claim(report, find_check(kArm26), find_check(std::string(kArm26) + "-free-root"));
+  add_mocap_claim(report, body.checks.back(), body.mocap);
+}
+
 void run(const Context& ctx) {
   std::vector<std::string> files = sample_files(kSamplesDir);
   if (ctx.quick) files = quick_files(files);
@@ -944,42 +1009,13 @@ void run(const Context& ctx) {
                        {"counts", tally_json(tallies.back())}});
   }
   const TorsionComparison t = compare_torsion(scenes);
-  // the rig's own body: every sample model, arm26 with its root made free, the BVH skeleton
-  std::vector<RigChecks> checks;
-  for (std::size_t k = 0; k + 1 < scenes.size(); k += 2) {
-    checks.push_back(check_sample(scenes[k], scenes[k + 1]));
-  }
-  const std::size_t nsamples = checks.size();
-  std::deque<OutsideRig> own;  // the rigs the checks point to
-  const auto arm = std::find_if(found.rigs.begin(), found.rigs.end(),
-                                [](const OutsideRig& r) { return r.name == kArm26; });
-  if (arm != found.rigs.end()) {
-    own.push_back({arm->name + "-free-root", arm->file, with_free_root(arm->rig)});
-    checks.push_back(check_own(ctx, own.back(), "mjcf-free-root", steps));
-  }
-  const MocapRig mocap = convert_mocap(ctx.out_dir + "/bvh/mocap.bvh");
-  own.push_back({"mocap-bvh", ctx.out_dir + "/bvh/mocap.bvh", mocap.rig});
-  checks.push_back(check_own(ctx, own.back(), "bvh", steps));
-  const Table checked = checks_table(checks);
+  BodyChecks body;  // the rig's own body
+  check_bodies(ctx, scenes, found, steps, body);
+  const Table checked = checks_table(body.checks);
   checked.write_csv(ctx.out_dir);
   Report report("Outside rigs: MuJoCo's sample models with scenes that name no settings");
   add_claims(report, tallies[config_index("default")], static_cast<int>(found.rigs.size()), t);
-  std::vector<const RigChecks*> samples;
-  for (std::size_t k = 0; k < nsamples; ++k) samples.push_back(&checks[k]);
-  double paper_turn = 0.0;
-  for (const SceneRuns& s : scenes) {
-    paper_turn = std::max(paper_turn, s.runs[config_index("original")].body.weld_turn);
-  }
-  add_weld_claim(report, samples, paper_turn);
-  add_rest_claims(report, samples);
-  const auto find_check = [&](const std::string& name) -> const RigChecks* {
-    for (const RigChecks& c : checks) {
-      if (c.name == name) return &c;
-    }
-    return nullptr;
-  };
-  add_root_claim(report, find_check(kArm26), find_check(std::string(kArm26) + "-free-root"));
-  add_mocap_claim(report, checks.back(), mocap);
+  add_body_claims(report, body, scenes);
   add_tables(report, scenes, tallies, found.skipped);
   add_check_table(report, checked);
   add_notes(report, scenes, steps);

@@ -135,7 +135,7 @@ std::vector<std::string> sample_files(const std::string& dir);
 // duplicate.
 Collection collect_rigs(const std::vector<std::string>& files);
 
-// --- the rig's own body (issue 46): the checks of one rig, converted from a MuJoCo model or a BVH
+// --- the rig's own body: the checks of one rig, converted from a MuJoCo model or a BVH
 
 // The same rig with its root free, the limits it had against the world dropped (a free root
 // holds against nothing): the root as the converters left it before an anchored root existed.
