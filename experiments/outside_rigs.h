@@ -21,6 +21,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "physik/model/kinematics.h"
 #include "physik/model/rig.h"
 #include "physik/model/types.h"
 
@@ -38,6 +39,8 @@ constexpr int kQuickStepCap = 500;  // the quick context's
 constexpr std::array<const char*, 5> kQuickFiles = {
     "composite/rope.xml", "hammock/humanoid_body.xml", "humanoid/humanoid.xml", "mug/mug.xml",
     "tendon_arm/arm26.xml"};
+// the rig of MuJoCo's arm26 (its shoulder hinged to the world)
+constexpr const char* kArm26 = "tendon_arm-arm26";
 
 // rig units, the largest extent of the rest pose's bounding box (see the rule above)
 double rig_size(const Rig& rig);
@@ -68,6 +71,21 @@ const std::vector<Configuration>& configurations();
 enum class Outcome { kConverged, kNotConverged, kDiverged, kRefused };
 const char* to_string(Outcome o);  // converged, not_converged, diverged, refused
 
+// What a run or a solve did to the rig's own body, the largest over every step (a step whose
+// frames are not finite is left out; a diverged run's last finite steps count):
+//   weld_turn   rad, of any welded bone against its rest frame in the frame of the bone it is
+//               welded to (experiments/weld_turn.h): 0 while every welded group moves as one rigid
+//               body
+//   root_turn   rad, the same over the root's body alone (a BVH's pelvis: its root's segments)
+//   root_drift  rig units, the root's head from its rest position (0 for a pinned or fixed root)
+struct BodyMeasure {
+  double weld_turn = 0.0;
+  double root_turn = 0.0;
+  double root_drift = 0.0;
+  void observe(const Rig& rig, const BoneFrames& frames);
+  void add(const BodyMeasure& other);  // the larger of each
+};
+
 struct RunResult {
   Outcome outcome = Outcome::kRefused;
   std::string preset;          // the preset the loaded scene took ("" when refused at load)
@@ -77,11 +95,18 @@ struct RunResult {
   double damping = 0.0;       // N s/m the run used (damping auto's last choice when auto)
   double wall_s = 0.0;        // s, loading the scene and running it
   std::string refusal;        // the InputError's message when refused
+  BodyMeasure body;           // over every step (nothing when refused)
 };
 // Load the scene file with the configuration's overrides and run it, as `physik simulate SCENE
 // --set ...` does. An InputError while loading or running (the scene refused) is the outcome
 // kRefused, its message kept; any other error propagates.
 RunResult run_configuration(const std::string& scene_path, const Configuration& config);
+
+// Load the scene file and solve it as `physik solve SCENE --solver physik` does (the engine's
+// solve mode, physik/posing/scene_solve.h), measuring the body over every physics step. The
+// outcome is the solve's: converged within its tolerance, not (stalled or out of steps),
+// diverged, or refused (the InputError's message kept).
+RunResult solve_configuration(const std::string& scene_path);
 
 // The same rig up to bone names and a rigid translation: equal bone counts and parents, and
 // every bone's head offset in its parent, rest orientation, length, mass, radius, inertia and
@@ -109,5 +134,46 @@ std::vector<std::string> sample_files(const std::string& dir);
 // skipped with its message; a rig the same as an earlier one (same_rig) is skipped as its
 // duplicate.
 Collection collect_rigs(const std::vector<std::string>& files);
+
+// --- the rig's own body: the checks of one rig, converted from a MuJoCo model or a BVH
+
+// The same rig with its root free, the limits it had against the world dropped (a free root
+// holds against nothing): the root as the converters left it before an anchored root existed.
+Rig with_free_root(const Rig& rig);
+
+constexpr int kRestSteps = 100;  // steps of the rest check
+
+struct RigChecks {
+  std::string name;
+  std::string source;  // "mjcf" or "bvh"
+  const Rig* rig = nullptr;
+  int bodies = 0;  // rigid bodies (a bone that is not welded starts one)
+  int welded = 0;  // welded bones
+  // over the default configuration's runs of its scenes (simulate) and their solves (solve mode)
+  BodyMeasure run, solve;
+  int runs = 0, solves = 0;  // that ran (not refused)
+  int runs_converged = 0, solves_converged = 0;
+  // J, the largest kinetic energy over kRestSteps steps at rest, no targets, no gravity,
+  // self_collision on: gauss-seidel (preset original), exact, implicit (preset robust)
+  double rest_ke_gauss_seidel = 0.0, rest_ke_exact = 0.0, rest_ke_implicit = 0.0;
+  int rest_overlaps = 0;                      // bone pairs whose capsules overlap at rest
+  int open_overlaps = 0;                      // those not excluded
+  double radius_min = 0.0, radius_max = 0.0;  // rig units, the bones' (inertia) radii
+  double collision_radius_min = 0.0, collision_radius_max = 0.0;  // rig units
+};
+
+// The structural and rest parts of the checks (bodies, welds, the rest check in every scheme,
+// the rest overlaps, radii); the run and solve parts are the caller's.
+RigChecks check_rig(const std::string& name, const std::string& source, const Rig& rig);
+
+// The motion-capture skeleton of experiments/mocap_bvh.h converted as `physik rig from-bvh FILE
+// --scale 0.01` converts it (Y up, centimetres): written to `path`, then loaded from there.
+struct MocapRig {
+  Rig rig;
+  std::vector<int> pelvis;       // the bones that follow its root joint (the synthetic root and the
+                                 // root's segments)
+  bool pelvis_one_body = false;  // every one of them in one rigid body
+};
+MocapRig convert_mocap(const std::string& path);
 
 }  // namespace physik::experiments::outside_rigs

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <filesystem>
 
+#include "experiments/at_rest.h"
+#include "experiments/mocap_bvh.h"
 #include "physik/engine/bone_overlaps.h"
 #include "physik/engine/collision.h"
 #include "physik/engine/start_contacts.h"
@@ -16,8 +18,6 @@
 #include "physik/model/rest_limits.h"
 #include "physik/model/rig_sizing.h"
 #include "tests/engine_test_util.h"
-#include "tests/mocap_bvh.h"
-#include "tests/rest_test_util.h"
 #include "tests/test_util.h"
 
 namespace physik {
@@ -116,7 +116,8 @@ TEST(RigWriter, ReadWriteReadGivesTheSameRig) {
   // a converted skeleton: radii per bone, explicit collision radii, exclusions, notes
   BvhImportOptions o;
   o.scale = 0.01;
-  const Rig mocap = bvh_to_rig(parse_bvh(test::mocap_bvh(), "mocap.bvh"), "mocap.bvh", o).rig();
+  const Rig mocap =
+      bvh_to_rig(parse_bvh(experiments::mocap_bvh(), "mocap.bvh"), "mocap.bvh", o).rig();
   ASSERT_FALSE(mocap.collision_exclude.empty());
   ASSERT_FALSE(mocap.source.empty());
   expect_same_rig(mocap, rig_from_json(rig_to_json(mocap), "back"), "mocap");
@@ -199,7 +200,7 @@ TEST(RigSizing, BadOptionsNameTheOption) {
 }
 
 TEST(RigSizing, ACentimetreMocapSkeletonConvertsToAPersonsSizes) {
-  const BvhFile file = parse_bvh(test::mocap_bvh(), "mocap.bvh");
+  const BvhFile file = parse_bvh(experiments::mocap_bvh(), "mocap.bvh");
   BvhImportOptions o;
   o.scale = 0.01;
   const BvhAnimation anim = bvh_to_rig(file, "mocap.bvh", o);
@@ -339,10 +340,10 @@ TEST(RestOverlaps, FoundByTheEnginesCapsulesAndExcluded) {
 // The kinetic energy of a rig at rest after 100 steps, no targets, no gravity. With no force
 // acting, every scheme's accelerations are exact zeros (sums of zero terms), so the bound is 0.
 void expect_rest_stays_rest(const Rig& rig, const std::string& what) {
-  for (auto scheme :
-       {test::RestScheme::kGaussSeidel, test::RestScheme::kExact, test::RestScheme::kImplicit}) {
+  for (auto scheme : {experiments::RestScheme::kGaussSeidel, experiments::RestScheme::kExact,
+                      experiments::RestScheme::kImplicit}) {
     for (bool self : {false, true}) {
-      EXPECT_EQ(test::rest_kinetic_energy(rig, scheme, self), 0.0)
+      EXPECT_EQ(experiments::rest_kinetic_energy(rig, scheme, self), 0.0)
           << what << ", " << to_string(scheme) << (self ? ", self_collision" : "");
     }
   }
@@ -351,13 +352,14 @@ void expect_rest_stays_rest(const Rig& rig, const std::string& what) {
 TEST(RestStaysRest, AConvertedMocapSkeleton) {
   BvhImportOptions o;
   o.scale = 0.01;
-  const BvhAnimation anim = bvh_to_rig(parse_bvh(test::mocap_bvh(), "mocap.bvh"), "mocap.bvh", o);
+  const BvhAnimation anim =
+      bvh_to_rig(parse_bvh(experiments::mocap_bvh(), "mocap.bvh"), "mocap.bvh", o);
   EXPECT_FALSE(anim.rest_overlaps.empty());  // its hips, chest and shoulders overlap
   expect_rest_stays_rest(anim.rig(), "mocap");
   // without the exclusions its self-collision moves it
   Rig open = anim.rig();
   open.collision_exclude.clear();
-  EXPECT_GT(test::rest_kinetic_energy(open, test::RestScheme::kImplicit, true), 0.0);
+  EXPECT_GT(experiments::rest_kinetic_energy(open, experiments::RestScheme::kImplicit, true), 0.0);
 }
 
 TEST(RestStaysRest, EveryShippedRigOnceItsRestIsOutOfTheTorsionBands) {
@@ -371,7 +373,9 @@ TEST(RestStaysRest, EveryShippedRigOnceItsRestIsOutOfTheTorsionBands) {
     const std::vector<RestBandProblem> bands = rest_band_problems(rig, t);
     EXPECT_EQ(bands.empty(), name == "chain3") << name;
     if (!bands.empty()) {
-      EXPECT_GT(test::rest_kinetic_energy(rig, test::RestScheme::kGaussSeidel, false), 0.0) << name;
+      EXPECT_GT(experiments::rest_kinetic_energy(rig, experiments::RestScheme::kGaussSeidel, false),
+                0.0)
+          << name;
     }
     for (const RestBandProblem& p : bands) rig.bone_limit[p.bone][p.axis] = p.after;
     EXPECT_TRUE(rest_overlaps(rig).empty()) << name;

@@ -1,8 +1,8 @@
 // Welded bones and anchored roots (rig.h "Welds", the root's joint) in every scheme: a welded
-// group stays one rigid body through a run in the exact and implicit schemes (its relative turn
-// at round-off), the paper's scheme holds it by its locked weld springs (the turn measured and
-// bounded), a rig at rest stays at rest, a pinned root's head and a fixed root stay where they
-// are, and the linear modes of damping auto agree with the dense reference on such rigs.
+// group stays one rigid body through a run in every scheme (its relative turn at round-off: the
+// recursion's zero-coordinate joint, the paper's scheme's composite bodies), a rig at rest stays
+// at rest, a pinned root's head and a fixed root stay where they are, and the linear modes of
+// damping auto agree with the dense reference on such rigs.
 #include <algorithm>
 #include <cmath>
 #include <iostream>
@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "experiments/weld_turn.h"
 #include "physik/engine/engine.h"
 #include "physik/engine/linear_modes.h"
 #include "physik/engine/linear_modes_dense.h"
@@ -21,17 +22,7 @@ namespace {
 
 const Scheme kSchemes[] = {Scheme::kGaussSeidel, Scheme::kExact, Scheme::kImplicit};
 
-// the largest turn (rad) of any welded bone against its rest frame in its weld's frame
-double max_weld_turn(const Rig& rig, const BoneFrames& f) {
-  double worst = 0.0;
-  for (int i = 0; i < rig.nbone; ++i) {
-    const int w = rig.bone_weld[i];
-    if (w < 0) continue;
-    const Quat expected = f.orient_world[w] * rig.bone_rest_orient_weld[i];
-    worst = std::max(worst, expected.angularDistance(f.orient_world[i]));
-  }
-  return worst;
-}
+using experiments::max_weld_turn;
 
 // a figure pulled by its hands and feet, stable in every scheme (the original's damping)
 Scene pulled_figure(RootJoint root, Scheme scheme, int steps = 200) {

@@ -153,7 +153,7 @@ void reset_guard_counts(SimState& s) {
 
 }  // namespace
 
-SolveResult PosingSession::solve(const SolveRule& rule) {
+SolveResult PosingSession::solve(const SolveRule& rule, const StepObserver& observer) {
   if (goals_.empty())
     throw_input_error(scene_.file, "control_points", "", "a solve needs a control point");
   check_rule(rule);
@@ -189,6 +189,7 @@ SolveResult PosingSession::solve(const SolveRule& rule) {
     const StepStats st = grow ? step(scene_, state_, h) : step(scene_, state_);
     ++out.steps;
     out.final_dt = h;
+    if (observer) observer(state_, st);
     stop = monitor_.observe(observe_step(scene_, state_, st));
     if (grow) h = length.next(h, st.substeps > 1, st.kinetic_energy, previous_ke);
     previous_ke = st.kinetic_energy;

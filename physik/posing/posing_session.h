@@ -125,8 +125,9 @@ class PosingSession {
   StepStats advance(int steps = 1);
 
   // Run to the rule (see the top of this file). The session continues from the result.
-  // Throws InputError when the scene has no control point.
-  SolveResult solve(const SolveRule& rule = {});
+  // `observer`, when given, sees the state after every physics step of the solve (as
+  // run_scene's; not the classic finish). Throws InputError when the scene has no control point.
+  SolveResult solve(const SolveRule& rule = {}, const StepObserver& observer = nullptr);
 
   // Put a pose in, at rest (velocities zero). The targets stay; each control point's pull
   // starts again from its point on the new pose and moves to its target along the scene's

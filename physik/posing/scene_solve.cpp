@@ -48,7 +48,7 @@ IkOptions classic_options(const SceneSolveOptions& o);
 // the engine in a posing session (physik/posing/posing_session.h): the solve mode (physik) or the
 // scene's engine at its dt (physik-explicit); see scene_solve.h
 SceneSolveResult solve_with_engine(Scene& scene, const SceneSolveOptions& o,
-                                   const std::vector<IkGoal>& goals) {
+                                   const std::vector<IkGoal>& goals, const StepObserver& observer) {
   const bool mode = o.solver == "physik";
   if (mode) use_solve_mode(scene);
   SolveRule rule;
@@ -63,7 +63,7 @@ SceneSolveResult solve_with_engine(Scene& scene, const SceneSolveOptions& o,
   PosingSession session(scene);  // the solver object: rig, state and buffers, before the clock
   const auto t0 = std::chrono::steady_clock::now();
   SceneSolveResult r;
-  r.solve = session.solve(rule);
+  r.solve = session.solve(rule, observer);
   r.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.engine = true;
   r.rule = rule;
@@ -141,15 +141,16 @@ std::string solve_shortfall(const SceneSolveResult& r) {
   return why + ", at " + residual;
 }
 
-SceneSolveResult solve_scene(Scene scene, const SceneSolveOptions& o, OptionSpelling spelling) {
+SceneSolveResult solve_scene(Scene scene, const SceneSolveOptions& o, OptionSpelling spelling,
+                             const StepObserver& observer) {
   check_solve_options(o, spelling);
   if (scene.control_points.empty()) {
     throw_input_error(scene.file, "control_points", "", "a solve needs at least one control point");
   }
   refuse_unread_world(scene, o);
   const std::vector<IkGoal> goals = scene_goals(scene);
-  SceneSolveResult r =
-      engine_solver(o.solver) ? solve_with_engine(scene, o, goals) : solve_classic(scene, o, goals);
+  SceneSolveResult r = engine_solver(o.solver) ? solve_with_engine(scene, o, goals, observer)
+                                               : solve_classic(scene, o, goals);
   r.solver = o.solver;
   return r;
 }

@@ -57,8 +57,11 @@ struct SceneSolveResult {
 std::string solve_shortfall(const SceneSolveResult& result);
 
 // Solve `scene` (taken by value: the engine's run changes its convergence settings).
-// InputError for bad options (named as `spelling` says) or a scene without control points.
+// `observer`, when given, sees the engine's state after every physics step of its solve
+// (PosingSession::solve; a classic solver has none). InputError for bad options (named as
+// `spelling` says) or a scene without control points.
 SceneSolveResult solve_scene(Scene scene, const SceneSolveOptions& options,
-                             OptionSpelling spelling = OptionSpelling::kFlag);
+                             OptionSpelling spelling = OptionSpelling::kFlag,
+                             const StepObserver& observer = nullptr);
 
 }  // namespace physik

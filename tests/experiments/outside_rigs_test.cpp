@@ -5,9 +5,15 @@
 //  - two of MuJoCo's sample files holding one humanoid (renamed, moved) are the same rig; a mass
 //    or a limit changed makes them differ; a broken file and a duplicate are skipped with reasons;
 //  - damping auto runs on a long chain (past the dense modes' old 400-bone cap) and a short one;
+//  - the turn inside a welded group sees a welded bone turned against its weld (and only it), the
+//    root's drift its head moved; a non-finite state is left out; arm26 with its root made free
+//    drops the root's limits;
 //  - the quick run: runs.csv and summary.json agree, every configuration's counts add up to its
 //    runs, the claims are short and their verdicts follow the counts, and the CSV rows of one
-//    converted rig equal a scene built directly in C++ (no JSON, no --set) and run with run_scene.
+//    converted rig equal a scene built directly in C++ (no JSON, no --set) and run with run_scene;
+//  - the quick run's checks (checks.csv): one row per sample rig, arm26 with its root made free and
+//    the BVH skeleton; the body claims' verdicts follow the rows; the free root drifts where the
+//    pinned one stays; the BVH skeleton's file is the one converted, its pelvis one body.
 #include "experiments/outside_rigs.h"
 
 #include <filesystem>
@@ -19,9 +25,13 @@
 
 #include "experiments/common.h"
 #include "experiments/experiment.h"
+#include "experiments/mocap_bvh.h"
+#include "experiments/weld_turn.h"
 #include "physik/engine/engine.h"
+#include "physik/io/bvh.h"
 #include "physik/io/json_fields.h"
 #include "physik/io/rig_io.h"
+#include "physik/model/kinematics.h"
 #include "physik/model/params.h"
 #include "physik/model/rig_generators.h"
 #include "reference/mjcf_import.h"
@@ -146,6 +156,62 @@ TEST(OutsideRigs, DampingAutoRunsOnALongChainAndAShortOne) {
   }
 }
 
+TEST(OutsideRigs, TheWeldTurnSeesAWeldedBoneTurnedAgainstItsWeldAndOnlyIt) {
+  // a root, a bone welded to it, and a free child of the welded one
+  std::vector<BoneSpec> specs = {bone("root", "", {0, 0, 0}, {0, 0, 1}),
+                                 bone("welded", "root", {0, 0, 1}, {1, 0, 1}),
+                                 bone("free", "welded", {1, 0, 1}, {1, 0, 2})};
+  specs[1].weld = "root";
+  const Rig rig = build_rig(specs, "weld-turn");
+  ASSERT_TRUE(rig.welded(1));
+  ASSERT_FALSE(rig.welded(2));
+  BoneFrames frames = forward_kinematics(rig, rest_pose(rig));
+  EXPECT_EQ(max_weld_turn(rig, frames), 0.0);
+  BodyMeasure m;
+  m.observe(rig, frames);
+  EXPECT_EQ(m.weld_turn, 0.0);
+  EXPECT_EQ(m.root_drift, 0.0);
+
+  // the free bone turned: no weld turns
+  frames.orient_world[2] = Quat(Eigen::AngleAxisd(0.7, Vec3::UnitX())) * frames.orient_world[2];
+  EXPECT_EQ(max_weld_turn(rig, frames), 0.0);
+  // the whole welded body turned together: no weld turns either
+  const Quat whole(Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized()));
+  for (int i : {0, 1}) frames.orient_world[i] = whole * frames.orient_world[i];
+  EXPECT_LT(max_weld_turn(rig, frames), 1e-15);
+  // the welded bone turned against its weld by 0.3 rad: the turn, in the root's body too
+  frames.orient_world[1] = Quat(Eigen::AngleAxisd(0.3, Vec3::UnitZ())) * frames.orient_world[1];
+  EXPECT_NEAR(max_weld_turn(rig, frames), 0.3, 1e-12);
+  EXPECT_NEAR(max_weld_turn(rig, frames, rig.bone_body[0]), 0.3, 1e-12);
+  EXPECT_EQ(max_weld_turn(rig, frames, rig.bone_body[2]), 0.0);
+  frames.head_world[0] += Vec3(0, 0.25, 0);
+  m.observe(rig, frames);
+  EXPECT_NEAR(m.weld_turn, 0.3, 1e-12);
+  EXPECT_NEAR(m.root_turn, 0.3, 1e-12);
+  EXPECT_NEAR(m.root_drift, 0.25, 1e-15);
+  // a state gone non-finite is left out, not taken for a turn of 0 or a NaN maximum
+  frames.orient_world[1].coeffs().setConstant(std::nan(""));
+  m.observe(rig, frames);
+  EXPECT_NEAR(m.weld_turn, 0.3, 1e-12);
+  BodyMeasure more;
+  more.root_drift = 1.0;
+  m.add(more);
+  EXPECT_EQ(m.root_drift, 1.0);
+  EXPECT_NEAR(m.weld_turn, 0.3, 1e-12);
+}
+
+TEST(OutsideRigs, Arm26WithItsRootMadeFreeHasNoRootLimits) {
+  const Rig arm = load_mjcf(sample("tendon_arm/arm26.xml")).rig();
+  ASSERT_EQ(arm.root_joint, RootJoint::kPinned);
+  const Rig free = with_free_root(arm);
+  EXPECT_EQ(free.root_joint, RootJoint::kFree);
+  EXPECT_EQ(free.nbone, arm.nbone);
+  for (const AxisLimit& l : free.bone_limit[free.root()]) EXPECT_FALSE(l.limited);
+  // the rest of the rig is the same
+  EXPECT_EQ(free.bone_limit[1][0].limited, arm.bone_limit[1][0].limited);
+  EXPECT_EQ(free.bone_rest_head_world, arm.bone_rest_head_world);
+}
+
 // runs.csv as rows of named cells
 std::vector<std::map<std::string, std::string>> read_csv(const std::string& path) {
   std::ifstream in(path);
@@ -229,7 +295,7 @@ TEST(OutsideRigs, TheQuickRunsCountsAddUpInTheCsvAndTheSummary) {
 TEST(OutsideRigs, TheQuickRunsClaimsAreShortAndFollowTheCounts) {
   const nlohmann::json s = read_json_file(quick_dir() + "/summary.json");
   const nlohmann::json& claims = s["report"]["claims"];
-  ASSERT_EQ(claims.size(), 2u);
+  ASSERT_EQ(claims.size(), 7u);
   for (const auto& c : claims) EXPECT_LE(c["measured"].get<std::string>().size(), 200u);
   const nlohmann::json& d = s["configurations"][0]["counts"];
   ASSERT_EQ(s["configurations"][0]["name"], "default");
@@ -293,6 +359,118 @@ TEST(OutsideRigs, AConvertedRigsRowsAreADirectRunOfTheSameScene) {
     ++checked;
   }
   EXPECT_EQ(checked, 4);  // two scenes x two configurations
+}
+
+// the claim named `name` in the quick run's report
+const nlohmann::json& named_claim(const nlohmann::json& summary, const std::string& name) {
+  for (const auto& c : summary["report"]["claims"]) {
+    if (c.value("name", "") == name) return c;
+  }
+  ADD_FAILURE() << "no claim " << name;
+  static const nlohmann::json none = {{"holds", ""}, {"measured", ""}};
+  return none;
+}
+
+using Row = std::map<std::string, std::string>;
+
+double cell(const Row& r, const std::string& column) {
+  return std::stod(r.at(column));
+}
+
+// the quick run's checks.csv, checked for what holds of every row
+std::vector<Row> quick_checks() {
+  const auto rows = read_csv(quick_dir() + "/checks.csv");
+  for (const auto& r : rows) {
+    SCOPED_TRACE(r.at("rig"));
+    // every rig ran both its scenes and solved both
+    EXPECT_EQ(r.at("runs"), "2");
+    EXPECT_EQ(r.at("solves"), "2");
+    EXPECT_LE(std::stoi(r.at("open_overlaps")), std::stoi(r.at("rest_overlaps")));
+    EXPECT_GT(cell(r, "radius_min"), 0.0);
+    EXPECT_LE(cell(r, "radius_min"), cell(r, "radius_max"));
+  }
+  return rows;
+}
+
+TEST(OutsideRigs, TheQuickRunsBodyClaimsFollowItsChecks) {
+  const nlohmann::json s = read_json_file(quick_dir() + "/summary.json");
+  const auto rows = quick_checks();
+  const std::size_t nrigs = kQuickFiles.size() - 1;
+  ASSERT_EQ(rows.size(), nrigs + 2);  // the samples, arm26 with a free root, the BVH skeleton
+  ASSERT_EQ(s["checks"].size(), rows.size());
+  double turn = 0.0, ke = 0.0;
+  int open = 0, welded = 0;
+  for (const auto& r : rows) {
+    if (r.at("source") != "mjcf") continue;
+    turn = std::max({turn, cell(r, "run_weld_turn"), cell(r, "solve_weld_turn")});
+    ke = std::max({ke, cell(r, "rest_ke_gauss_seidel"), cell(r, "rest_ke_exact"),
+                   cell(r, "rest_ke_implicit")});
+    open += std::stoi(r.at("open_overlaps"));
+    welded += std::stoi(r.at("welded"));
+  }
+  EXPECT_GT(welded, 0);  // the humanoid's and the mug's bodies are welded groups
+  EXPECT_EQ(named_claim(s, "welds-rigid")["holds"], turn <= 1e-9 ? "yes" : "no");
+  EXPECT_NE(named_claim(s, "welds-rigid")["measured"].get<std::string>().find(
+                std::to_string(welded) + " welded bones"),
+            std::string::npos);
+  EXPECT_EQ(named_claim(s, "rest-stays-rest")["holds"], ke == 0.0 ? "yes" : "no");
+  EXPECT_EQ(named_claim(s, "no-rest-overlap")["holds"], open == 0 ? "yes" : "no");
+}
+
+TEST(OutsideRigs, TheQuickRunsArm26AndSkeletonClaimsFollowItsChecks) {
+  const nlohmann::json s = read_json_file(quick_dir() + "/summary.json");
+  const auto rows = quick_checks();
+  const Row *arm = nullptr, *free = nullptr, *mocap = nullptr;
+  for (const auto& r : rows) {
+    if (r.at("rig") == kArm26) arm = &r;
+    if (r.at("source") == "mjcf-free-root") free = &r;
+    if (r.at("source") == "bvh") mocap = &r;
+  }
+  // arm26: its root pinned; made free, the same pull moves it (the measure sees a drift)
+  ASSERT_TRUE(arm && free && mocap);
+  EXPECT_EQ(arm->at("root"), "pinned");
+  EXPECT_EQ(free->at("root"), "free");
+  const double drift = std::max(cell(*arm, "run_root_drift"), cell(*arm, "solve_root_drift"));
+  const double size = rig_size(load_rig(quick_dir() + "/rigs/" + kArm26 + ".json"));
+  EXPECT_EQ(named_claim(s, "arm26-root-fixed")["holds"], drift <= 1e-12 * size ? "yes" : "no");
+  EXPECT_GT(cell(*free, "run_root_drift"), 0.01 * size);
+  EXPECT_GT(cell(*free, "solve_root_drift"), 0.01 * size);
+
+  // the BVH skeleton: the file the experiment wrote is the skeleton, converted in metres
+  std::ifstream in(quick_dir() + "/bvh/mocap.bvh");
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_EQ(text.str(), mocap_bvh());
+  EXPECT_NEAR(rig_size(load_rig(quick_dir() + "/rigs/mocap-bvh.json")), 1.83, 0.05);
+  EXPECT_GT(std::stoi(mocap->at("welded")), 0);
+  const double mocap_turn =
+      std::max({cell(*mocap, "run_weld_turn"), cell(*mocap, "solve_weld_turn"),
+                cell(*mocap, "run_root_turn")});
+  const nlohmann::json& claim = named_claim(s, "mocap-skeleton");
+  EXPECT_NE(claim["measured"].get<std::string>().find("one body"), std::string::npos);
+  if (claim["holds"] == "yes") {
+    EXPECT_LE(mocap_turn, 1e-9);
+    EXPECT_EQ(mocap->at("open_overlaps"), "0");
+  }
+  if (mocap_turn > 1e-9 || mocap->at("open_overlaps") != "0") {
+    EXPECT_EQ(claim["holds"], "no");
+  }
+}
+
+TEST(OutsideRigs, TheBvhSkeletonsPelvisIsItsRootsSegmentsInOneBody) {
+  const std::string dir = fresh_dir("mocap");
+  const MocapRig m = convert_mocap(dir + "/bvh/mocap.bvh");
+  // the root's segments: to Spine, LeftUpLeg and RightUpLeg (and the synthetic root, if any)
+  EXPECT_GE(m.pelvis.size(), 3u);
+  EXPECT_TRUE(m.pelvis_one_body);
+  for (int b : m.pelvis) EXPECT_EQ(m.rig.bone_body[b], m.rig.bone_body[m.pelvis[0]]);
+  // as `rig from-bvh --scale 0.01` converts it
+  BvhImportOptions o;
+  o.scale = 0.01;
+  const Rig direct = bvh_to_rig(parse_bvh(mocap_bvh(), "mocap.bvh"), "mocap.bvh", o).rig();
+  EXPECT_EQ(direct.nbone, m.rig.nbone);
+  EXPECT_EQ(direct.bone_body, m.rig.bone_body);
+  EXPECT_EQ(direct.bone_rest_head_world, m.rig.bone_rest_head_world);
 }
 
 }  // namespace

@@ -5,12 +5,12 @@
 
 #include <filesystem>
 
+#include "experiments/at_rest.h"
 #include "experiments/outside_rigs.h"
 #include "physik/engine/bone_overlaps.h"
 #include "physik/model/params.h"
 #include "physik/model/rest_limits.h"
 #include "reference/mjcf_import.h"
-#include "tests/rest_test_util.h"
 
 namespace physik {
 namespace {
@@ -29,10 +29,10 @@ TEST(MjcfRest, EverySampleModelStaysAtRest) {
     EXPECT_TRUE(rest_band_problems(r.rig, t).empty()) << r.name;
     for (const BoneOverlap& o : rest_overlaps(r.rig)) EXPECT_TRUE(o.excluded) << r.name;
     // with no force acting, every scheme's accelerations are sums of exact zeros
-    for (auto scheme :
-         {test::RestScheme::kGaussSeidel, test::RestScheme::kExact, test::RestScheme::kImplicit}) {
+    for (auto scheme : {experiments::RestScheme::kGaussSeidel, experiments::RestScheme::kExact,
+                        experiments::RestScheme::kImplicit}) {
       for (bool self : {false, true}) {
-        EXPECT_EQ(test::rest_kinetic_energy(r.rig, scheme, self), 0.0)
+        EXPECT_EQ(experiments::rest_kinetic_energy(r.rig, scheme, self), 0.0)
             << r.name << ", " << to_string(scheme) << (self ? ", self_collision" : "");
       }
     }

@@ -1,12 +1,13 @@
 // A motion-capture skeleton of the kind users bring: a BVH written here, not taken from
-// anywhere. A standing figure 183 cm tall (centimetres, Y up), whose root (Hips) has three
-// children (Spine, LeftUpLeg, RightUpLeg) and whose Chest has three (Neck, LeftShoulder,
-// RightShoulder), 19 joints, one frame at rest.
+// anywhere (the outside_rigs experiment converts it, the tests of the BVH converter read it). A
+// standing figure 183 cm tall (centimetres, Y up), whose root (Hips) has three children (Spine,
+// LeftUpLeg, RightUpLeg) and whose Chest has three (Neck, LeftShoulder, RightShoulder), 19 joints,
+// one frame at rest.
 #pragma once
 
 #include <string>
 
-namespace physik::test {
+namespace physik::experiments {
 
 inline std::string mocap_bvh() {
   const std::string rot = "CHANNELS 3 Zrotation Xrotation Yrotation\n";
@@ -40,4 +41,4 @@ inline std::string mocap_bvh() {
          "}\nMOTION\nFrames: 1\nFrame Time: 0.0333333\n" + frame + "\n";
 }
 
-}  // namespace physik::test
+}  // namespace physik::experiments

@@ -1,4 +1,6 @@
-// A rig at rest, with no targets and no gravity: how much it moves by itself.
+// A rig at rest, with no targets and no gravity: how much it moves by itself (the outside_rigs
+// experiment's rest check, and the tests of converted and shipped rigs). Uses the core alone, so
+// the core's tests include it too.
 #pragma once
 
 #include "physik/engine/engine.h"
@@ -7,7 +9,7 @@
 #include "physik/model/params.h"
 #include "physik/model/scene.h"
 
-namespace physik::test {
+namespace physik::experiments {
 
 enum class RestScheme { kGaussSeidel, kExact, kImplicit };
 
@@ -46,4 +48,4 @@ inline double rest_kinetic_energy(const Rig& rig, RestScheme scheme, bool self_c
   return most;
 }
 
-}  // namespace physik::test
+}  // namespace physik::experiments
