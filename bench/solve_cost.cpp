@@ -2,7 +2,8 @@
 // On one of ik_comparison's rigs (experiments/ik_cases.h) and its first `--targets` reachable
 // targets, each target is solved from the rest pose as ik_comparison's physik row solves it (a
 // PosingSession of effector_scene in the solve mode, the target jumped to at once, the root's
-// head pinned, solve_mode_rule with the tolerance 1e-4 of the reach and at most 2000 steps):
+// head pinned, solve_mode_rule with the tolerance 1e-4 of the reach and at most 2000 steps;
+// --linearisation full as its physik-full row):
 // that is solve_cost_solve, the whole solve with its per-step bookkeeping (the energy guard's
 // snapshot and energies, the step's measures, the run monitor's observation and rules). Then
 // solve_cost_bare_steps takes, from the state that solve ended in, as many bare implicit steps
@@ -28,6 +29,7 @@
 // Exit status: 0 success, 2 bad input (the option and the reason on stderr).
 #include <time.h>
 
+#include <algorithm>
 #include <cinttypes>
 #include <cstdio>
 #include <exception>
@@ -100,7 +102,8 @@ __attribute__((noinline)) physik::IkReport solve_cost_dls(const RigCase& rc,
 
 namespace {
 
-int run(const std::string& models_dir, const std::string& rig_name, int n_targets) {
+int run(const std::string& models_dir, const std::string& rig_name, int n_targets,
+        const std::string& linearisation) {
   std::vector<RigCase> rigs = physik::experiments::make_ik_rigs(models_dir, false);
   const RigCase* rc = nullptr;
   for (const RigCase& r : rigs) {
@@ -108,8 +111,10 @@ int run(const std::string& models_dir, const std::string& rig_name, int n_target
   }
   const std::vector<physik::Vec3> targets =
       physik::experiments::make_ik_targets(*rc, n_targets, 0, 0).reach;
-  const physik::Scene scene =
-      physik::experiments::effector_scene("solve_cost", rc->rig, rc->bone, true);
+  physik::Scene scene = physik::experiments::effector_scene("solve_cost", rc->rig, rc->bone, true);
+  const std::vector<std::string>& names = physik::choice_names(physik::ImplicitLinearisation{});
+  scene.params.implicit_linearisation = static_cast<physik::ImplicitLinearisation>(
+      std::find(names.begin(), names.end(), linearisation) - names.begin());
   physik::PosingSession session(scene);
   physik::SolveRule rule = physik::solve_mode_rule();
   rule.tolerance = 1e-4 * rc->reach;
@@ -165,14 +170,18 @@ int main(int argc, char** argv) {
       "callgrind's --toggle-collect='solve_cost_solve*' or 'solve_cost_bare_steps*')."};
   std::string models = "models", rig = "chain50";
   int targets = 20;
+  std::string linearisation = "gauss-newton";
   app.add_option("--models", models, "the models folder (pinhead's rig)");
   app.add_option("--rig", rig, "chain3, chain10, chain50 or pinhead")
       ->check(CLI::IsMember({"chain3", "chain10", "chain50", "pinhead"}));
   app.add_option("--targets", targets, "the first N reachable targets")->check(CLI::Range(1, 1000));
+  app.add_option("--linearisation", linearisation,
+                 "the step's implicit_linearisation (gauss-newton, the solve mode's, or full)")
+      ->check(CLI::IsMember(physik::choice_names(physik::ImplicitLinearisation{})));
   app.footer("Exit status: 0 success, 1 an unexpected failure, 2 bad input.");
   try {
     app.parse(argc, argv);
-    return run(models, rig, targets);
+    return run(models, rig, targets, linearisation);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
