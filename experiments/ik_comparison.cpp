@@ -30,7 +30,6 @@
 #include <map>
 #include <memory>
 #include <optional>
-#include <random>
 #include <sstream>
 
 #include <kdl/chain.hpp>
@@ -38,24 +37,15 @@
 #include <kdl/chainiksolverpos_lma.hpp>
 
 #include "experiments/common.h"
+#include "experiments/ik_cases.h"
 #include "experiments/table.h"
 #include "physik/engine/engine.h"
 #include "physik/ik/ik_solver.h"
-#include "physik/io/rig_io.h"
-#include "physik/model/rig_generators.h"
 #include "physik/posing/posing_session.h"
 
 namespace physik::experiments {
 
 namespace {
-
-struct RigCase {
-  std::string name;
-  Rig rig;
-  int bone = 0;        // the effector's bone (its tail is the effector)
-  double reach = 0.0;  // rig units
-  bool chain = false;
-};
 
 struct Outcome {
   std::vector<Vec3> tails_world;  // (nbone) final tails
@@ -193,23 +183,7 @@ Budget budget(bool quick) {
 }
 
 std::vector<RigCase> make_rigs(const Context& ctx) {
-  std::vector<RigCase> rigs;
-  for (int n : {3, 10, 50}) {
-    if (ctx.quick && n == 50) continue;
-    RigCase rc;
-    rc.rig = make_chain_rig(n);
-    rc.name = "chain" + std::to_string(n);
-    rc.bone = n - 1;
-    rc.chain = true;
-    rigs.push_back(rc);
-  }
-  RigCase pinhead;
-  pinhead.rig = load_rig(ctx.models_dir + "/rigs/pinhead.json");
-  pinhead.name = "pinhead";
-  pinhead.bone = pinhead.rig.find_bone("hand.L");
-  rigs.push_back(pinhead);
-  for (RigCase& rc : rigs) rc.reach = chain_reach(rc.rig, {{rc.bone, 1.0, Vec3::Zero()}});
-  return rigs;
+  return make_ik_rigs(ctx.models_dir, ctx.quick);
 }
 
 std::vector<std::pair<std::string, Solver>> make_solvers() {
@@ -229,31 +203,8 @@ std::vector<std::pair<std::string, Solver>> make_solvers() {
   return solvers;
 }
 
-// A rig's targets, drawn from one fixed seed: reachable, unreachable, and the continuity moves.
-struct Targets {
-  std::vector<Vec3> reach, unreach, moves;
-};
-
 Targets make_targets(const RigCase& rc, const Budget& b) {
-  std::mt19937 rng(20240607);
-  Targets t;
-  const Vec3 root = rc.rig.bone_rest_head_world[0];
-  for (int k = 0; k < b.n_reach; ++k) {
-    if (rc.chain) {
-      const double r =
-          0.95 * rc.reach * std::cbrt(std::uniform_real_distribution<double>(0, 1)(rng));
-      t.reach.push_back(root + r * random_direction(rng));
-    } else {
-      t.reach.push_back(
-          forward_kinematics(rc.rig, random_legal_pose(rc.rig, rng)).tail_world[rc.bone]);
-    }
-  }
-  for (int k = 0; k < b.n_unreach; ++k) {
-    const double r = rc.reach * std::uniform_real_distribution<double>(1.1, 2.0)(rng);
-    t.unreach.push_back(root + r * random_direction(rng));
-  }
-  for (int k = 0; k < b.n_cont; ++k) t.moves.push_back(0.01 * rc.reach * random_direction(rng));
-  return t;
+  return make_ik_targets(rc, b.n_reach, b.n_unreach, b.n_cont);
 }
 
 // The two per-solve tables, 9 significant digits.

@@ -13,6 +13,8 @@
 #include "physik/engine/engine.h"
 #include "physik/engine/integrate_joint_space.h"
 #include "physik/engine/interpolation.h"
+#include "physik/engine/measures.h"
+#include "physik/engine/potential.h"
 #include "physik/engine/run_monitor.h"
 #include "physik/io/rig_io.h"
 #include "physik/io/scene_io.h"
@@ -226,6 +228,42 @@ TEST(ImplicitAdvance, CappedSpringsFarBeyondTheirCapLandAtEveryStepSize) {
     EXPECT_LE(t.worst_growth, 2e-6) << "dt " << dt;
     std::cout << "capped chain dt " << dt << ": converged at step " << t.summary.steps_to_converge
               << ", split steps " << t.summary.implicit_split_steps << "\n";
+  }
+}
+
+// The step's measures take KE and U of the state it ended in from the guard's last check
+// (StepStats::energy_measured): they must be what measuring that state gives, bit for bit, on a
+// whipping chain at the solve mode's growing steps, whose guard splits steps; a step whose last
+// substep went unchecked (implicit_max_splits 0) measures the state itself.
+TEST(ImplicitAdvance, TheStepsEnergyIsTheGuardsMeasureOfTheStateItEndsIn) {
+  const Rig rig = make_chain_rig(10, 1.0);
+  for (int max_splits : {8, 0}) {
+    Scene s = test::scene_for(rig, preset_params("original"));
+    use_solve_mode(s.params);
+    s.params.interpolation = Interpolation::kNone;
+    s.params.implicit_max_splits = max_splits;
+    s.control_points = {test::control(0, 0.0, Vec3::Zero(), 30.0),
+                        test::control(9, 1.0, Vec3(6.0, 0.0, 3.0), 30.0)};
+    SimState state;
+    init_state(s, state);
+    int measured = 0, split = 0;
+    double h = s.params.dt;
+    for (int k = 0; k < 40; ++k, h = std::min(2.0 * h, 100.0)) {
+      const StepStats st = step(s, state, h);
+      split += st.substeps > 1;
+      EXPECT_EQ(st.kinetic_energy, kinetic_energy(rig, state)) << "step " << k;
+      const StepObservation o = observe_step(s, state, st);
+      EXPECT_EQ(o.potential_energy, potential_energy(s, state)) << "step " << k;
+      measured += st.energy_measured;
+    }
+    std::cout << "implicit_max_splits " << max_splits << ": " << split << " split steps, "
+              << measured << " of 40 measured by the guard\n";
+    if (max_splits > 0) {
+      EXPECT_GT(split, 0) << "the case needs split steps";
+      EXPECT_GE(measured, 40 - state.implicit_deepest_steps);
+    } else {
+      EXPECT_EQ(measured, 0) << "no check: the step measures the state itself";
+    }
   }
 }
 

@@ -67,16 +67,22 @@ struct Guard {
   int max_depth;         // halvings
   double floor;          // J, E_floor
   bool deepest = false;  // a substep of this step was split max_depth deep (taken unchecked)
+  // the state's KE and U as the last check measured them (J), while the state is the one it
+  // measured (every change of the state below clears it): a substep that starts there, and the
+  // step's caller, take them instead of measuring the same state again
+  MeasuredEnergy measured;
 };
 
 // The check of a (sub)step of h just taken from energy e0 (J): its joints turned at most
 // kMaxStepRotation and its energy grew at most the tolerance. `growth` gets E_1 - e0 (J).
-bool step_holds(const Scene& scene, SimState& s, double h, double e0, const Guard& g,
+bool step_holds(const Scene& scene, SimState& s, double h, double e0, Guard& g,
                 double& growth) {
-  growth = mechanical_energy(scene, s) - e0;
-  return largest_rotation(s, h) <= kMaxStepRotation &&
-         growth <=
-             kEnergyGrowthTolerance * (std::max(e0, 0.0) + g.floor) + roundoff_energy(scene, s, e0);
+  g.measured = {true, kinetic_energy(scene.rig, s), potential_energy(scene, s)};
+  growth = (g.measured.kinetic + g.measured.potential) - e0;
+  if (largest_rotation(s, h) > kMaxStepRotation) return false;
+  // E_round >= 0 is measured (a pass over the bones) only for a growth past the rest of the bound
+  const double bound = kEnergyGrowthTolerance * (std::max(e0, 0.0) + g.floor);
+  return growth <= bound || growth <= bound + roundoff_energy(scene, s, e0);
 }
 
 // The ground and obstacle contacts of the state's frames (mechanical_energy has just detected them
@@ -137,13 +143,15 @@ void take_step_with_reached(const Scene& scene, SimState& s, double h) {
 // One attempt at a (sub)step of h from energy e0 (J), the state saved at `depth`: the bare step,
 // and where the check rejects it, the shipped bare step again with the contacts it reached. True
 // when the last attempt holds; `energy` gets its E (J).
-bool attempt(const Scene& scene, SimState& s, double h, int depth, const Guard& g, double e0,
+bool attempt(const Scene& scene, SimState& s, double h, int depth, Guard& g, double e0,
              double& energy) {
+  g.measured.known = false;
   g.bare(scene, s, h, g.context);
   double growth = 0.0;
   bool held = step_holds(scene, s, h, e0, g, growth);
   if (!held && g.bare == take_implicit_step && scene.collision.any() && keep_reached_contacts(s)) {
     restore(scene.rig, s.implicit_snapshots[depth], s);
+    g.measured.known = false;
     take_step_with_reached(scene, s, h);
     held = step_holds(scene, s, h, e0, g, growth);
     if (held) ++s.implicit_retaken_steps;
@@ -161,16 +169,20 @@ constexpr int kNoLower = -1;  // substep's answer: this half ends no lower than 
 int substep(const Scene& scene, SimState& s, double h, int depth, Guard& g, double whole_energy) {
   if (depth >= g.max_depth) {  // the deepest split (or implicit_max_splits 0): taken unchecked
     g.deepest = g.max_depth > 0;
+    g.measured.known = false;
     g.bare(scene, s, h, g.context);
     return 1;
   }
   save(s, s.implicit_snapshots[depth]);
-  const double e0 = mechanical_energy(scene, s);
+  // the second half of a split starts where its first half's check measured E
+  const double e0 =
+      g.measured.known ? g.measured.kinetic + g.measured.potential : mechanical_energy(scene, s);
   double energy = 0.0;
   if (attempt(scene, s, h, depth, g, e0, energy)) return 1;
   const bool turned_too_far = largest_rotation(s, h) > kMaxStepRotation;
   if (!turned_too_far && energy >= whole_energy) return kNoLower;
   restore(scene.rig, s.implicit_snapshots[depth], s);
+  g.measured.known = false;
   int taken = substep(scene, s, 0.5 * h, depth + 1, g, energy);
   if (taken != kNoLower) {
     const int second = substep(scene, s, 0.5 * h, depth + 1, g, energy);
@@ -195,18 +207,22 @@ void take_implicit_step(const Scene& scene, SimState& s, double h, const void* /
   integrate_joint_space(scene.rig, h, s);
 }
 
-int advance_implicit(const Scene& scene, SimState& s, double h, BareStep bare,
-                     const void* context) {
+int advance_implicit(const Scene& scene, SimState& s, double h, BareStep bare, const void* context,
+                     MeasuredEnergy* end) {
   const double v = scene.speed_tol();
   // init_state sized one snapshot per depth; the bound guards a state sized for other params
   Guard g{
-      bare, context,
+      bare,
+      context,
       std::min(scene.params.implicit_max_splits, static_cast<int>(s.implicit_snapshots.size()) - 1),
-      0.5 * scene.rig.total_mass() * v * v};
+      0.5 * scene.rig.total_mass() * v * v,
+      false,
+      MeasuredEnergy{}};
   const int substeps = substep(scene, s, h, 0, g, std::numeric_limits<double>::infinity());
   if (substeps > 1) ++s.implicit_split_steps;
   if (g.deepest) ++s.implicit_deepest_steps;
   s.implicit_max_substeps = std::max(s.implicit_max_substeps, substeps);
+  if (end) *end = g.measured;
   return substeps;
 }
 

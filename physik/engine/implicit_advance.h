@@ -70,14 +70,26 @@ using BareStep = void (*)(const Scene& scene, SimState& state, double h, const v
 // The shipped bare step: apply_forces, solve_implicit (implicit_step.h), integrate_joint_space.
 void take_implicit_step(const Scene& scene, SimState& state, double h, const void* context);
 
+// The energy of a state as the guard's check measured it (J): known when the (sub)step that ended
+// in the state was checked (not one taken unchecked at the deepest split).
+struct MeasuredEnergy {
+  bool known = false;
+  double kinetic = 0.0;    // J, kinetic_energy
+  double potential = 0.0;  // J, potential_energy
+};
+
 // The step after update_targets: `bare` of length h, retaken and split as above (the retake only
 // with the shipped bare step). Returns the substeps taken (1 unless split); counts a split step in
 // state.implicit_split_steps, the most substeps of one step in state.implicit_max_substeps, and
-// the retaken, unresolved and deepest (sub)steps above.
+// the retaken, unresolved and deepest (sub)steps above. `end`, when given, gets the energy of the
+// state the step ended in as its last check measured it (the same values kinetic_energy and
+// potential_energy give; known false when that (sub)step went unchecked), so the step's measures
+// need not measure it again.
 // h: the step's length, s (step() passes params.dt; a longer one integrates the same equations
 // of motion, whose dampers are set by params.dt, with a longer step: the solve mode).
 int advance_implicit(const Scene& scene, SimState& state, double h,
-                     BareStep bare = take_implicit_step, const void* context = nullptr);
+                     BareStep bare = take_implicit_step, const void* context = nullptr,
+                     MeasuredEnergy* end = nullptr);
 
 // The mechanical energy the guard holds: KE + potential_energy (J; springs, gravity, contacts).
 double mechanical_energy(const Scene& scene, SimState& state);

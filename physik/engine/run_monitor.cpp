@@ -70,7 +70,7 @@ StepObservation observe_step(const Scene& scene, SimState& s, const StepStats& s
   for (int left : s.interp_steps_left) o.target_moving = o.target_moving || left > 0;
   o.max_residual = st.max_residual;
   // U toward this step's targets: the targets are the state's, the attachments its frames'
-  o.potential_energy = potential_energy(scene, s);
+  o.potential_energy = st.energy_measured ? st.potential_energy : potential_energy(scene, s);
   o.state = &s;
   o.unreached_joints = unreached_joints(scene.rig, s);
   return o;

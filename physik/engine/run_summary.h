@@ -16,7 +16,10 @@ struct StepStats {
   int substeps = 0;             // the implicit step's substeps (1 unless the energy guard split it)
   double mismatch = 0.0;        // largest joint-point acceleration difference left, rig units/s^2
   double kinetic_energy = 0.0;  // J, after the step
-  double max_residual = 0.0;    // rig units, largest control-point distance to its goal target
+  bool energy_measured = false;   // the step measured kinetic_energy and U after the step itself
+                                  // (the implicit step's energy guard)
+  double potential_energy = 0.0;  // J, U after the step (potential.h), when energy_measured
+  double max_residual = 0.0;      // rig units, largest control-point distance to its goal target
   double joint_separation = 0.0;  // rig units, largest parent-tail to child-head gap
   double joint_solve_s = 0.0;     // s, wall time of the inter-joint force solve (profiling)
 

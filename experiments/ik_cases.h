@@ -1,0 +1,38 @@
+// The rigs and targets of the ik_comparison experiment, defined once for the experiment and the
+// solve mode's cost benchmark (bench/solve_cost.cpp): chains of 3, 10 and 50 bones along +z and
+// pinhead's left hand, each target drawn from one fixed seed.
+//
+// Targets: reachable ones uniform in the ball of 0.95 of the reach around the root for the free
+// chains, pinhead's hand tip in random legal poses; unreachable ones at 1.1..2 times the reach in
+// a uniform direction; the continuity moves, 1% of the reach in a uniform direction. World frame,
+// rig units.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "physik/model/rig.h"
+
+namespace physik::experiments {
+
+struct RigCase {
+  std::string name;
+  Rig rig;
+  int bone = 0;        // the effector's bone (its tail is the effector)
+  double reach = 0.0;  // rig units
+  bool chain = false;
+};
+
+// chain3, chain10, chain50 (unless without_chain50) and pinhead (from models_dir/rigs)
+std::vector<RigCase> make_ik_rigs(const std::string& models_dir, bool without_chain50);
+
+// A rig's targets, drawn from one fixed seed: reachable, unreachable, and the continuity moves.
+struct Targets {
+  std::vector<Vec3> reach, unreach, moves;  // rig units, world frame
+};
+
+// n_reach reachable targets, then n_unreach unreachable ones and n_cont moves, drawn in that
+// order from the one seed (the reachable ones of a shorter list are the first of a longer one)
+Targets make_ik_targets(const RigCase& rc, int n_reach, int n_unreach, int n_cont);
+
+}  // namespace physik::experiments
