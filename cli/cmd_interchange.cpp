@@ -128,20 +128,28 @@ void add_from_bvh(CLI::App* rig) {
 // physik rig to-bvh
 void add_to_bvh(CLI::App* rig) {
   struct ToBvh {
-    std::string path, out, axes = "y-up", order = "ZXY";
+    std::string path, out, axes = "y-up", order;
     double scale = 1.0;
-    bool qbvh = false;
+    bool qbvh = false, own = false;
   };
   auto tb = std::make_shared<ToBvh>();
-  auto* to_bvh = rig->add_subcommand("to-bvh", "A rig's rest pose as BVH (or qBVH), one frame");
+  auto* to_bvh = rig->add_subcommand(
+      "to-bvh",
+      "A rig's rest pose as BVH (or qBVH), one frame: on its source skeleton when it has one "
+      "(a rig made by `rig from-bvh`: the file's joint names, hierarchy, channel order, units and "
+      "axes), else one joint per bone");
   to_bvh->add_option("RIG", tb->path, "Rig file (JSON)")->required();
   to_bvh->add_option("--out", tb->out, "Write here (a .qbvh name writes qBVH) instead of stdout");
   to_bvh->add_flag("--qbvh", tb->qbvh, "Quaternion channels (qBVH)");
-  to_bvh->add_option("--order", tb->order, "Euler channel order")->capture_default_str();
+  to_bvh->add_option("--order", tb->order,
+                     "Euler channel order (default: each source joint's own; ZXY for the rig's "
+                     "own skeleton)");
   add_axes_option(to_bvh, tb->axes);
-  to_bvh->add_option("--scale", tb->scale, "File units per rig unit")->capture_default_str();
+  to_bvh->add_option("--scale", tb->scale, "File units per rig unit (the rig's own skeleton)")
+      ->capture_default_str();
+  to_bvh->add_flag("--own-skeleton", tb->own, kOwnSkeletonHelp);
   to_bvh->callback([tb] {
-    check_order_option(tb->order);
+    if (!tb->order.empty()) check_order_option(tb->order);
     check_scale_option(tb->scale);
     const Rig r = load_rig(tb->path);
     BvhExportOptions o;
@@ -149,10 +157,11 @@ void add_to_bvh(CLI::App* rig) {
     o.euler_order = tb->order;
     o.scale = tb->scale;
     o.quaternion = tb->qbvh || is_qbvh_path(tb->out);
+    o.source_skeleton = !tb->own;
     if (tb->out.empty() || tb->out == "-") {
-      write_bvh(r, {}, o, std::cout);
+      print_bvh_report("<stdout>", write_bvh(r, {}, o, std::cout));
     } else {
-      save_bvh(tb->out, r, {}, o);
+      print_bvh_report(tb->out, save_bvh(tb->out, r, {}, o));
     }
   });
 }
@@ -238,7 +247,8 @@ void add_from_mjcf(CLI::App* rig) {
 // physik bvh convert
 void add_bvh_convert(CLI::App& app) {
   struct Convert {
-    std::string in, out, axes = "y-up", order = "ZXY";
+    std::string in, out, axes = "y-up", order;
+    bool own = false;
   };
   auto co = std::make_shared<Convert>();
   auto* bvh = app.add_subcommand("bvh", "BVH and qBVH animation files");
@@ -247,11 +257,15 @@ void add_bvh_convert(CLI::App& app) {
       "convert", "Read a BVH/qBVH animation and write it again (qBVH if OUT ends in .qbvh)");
   convert->add_option("IN", co->in, "BVH or qBVH file")->required();
   convert->add_option("OUT", co->out, "Output file (.bvh or .qbvh)")->required();
-  convert->add_option("--order", co->order, "Euler channel order of a .bvh output")
-      ->capture_default_str();
+  convert->add_option("--order", co->order,
+                      "Euler channel order of a .bvh output (default: each joint's own; ZXY for "
+                      "--own-skeleton)");
   add_axes_option(convert, co->axes);
+  convert->add_flag("--own-skeleton", co->own,
+                    "Write the rig the file converts to (one joint per bone) instead of the "
+                    "file's own skeleton");
   convert->callback([co] {
-    check_order_option(co->order);
+    if (!co->order.empty()) check_order_option(co->order);
     BvhImportOptions io;
     io.axes = parse_axes(co->axes);
     const BvhAnimation anim = load_bvh(co->in, io);
@@ -260,13 +274,20 @@ void add_bvh_convert(CLI::App& app) {
     o.euler_order = co->order;
     o.frame_time = anim.frame_time;
     o.quaternion = is_qbvh_path(co->out);
-    save_bvh(co->out, anim.rig(), anim.poses, o);
+    o.source_skeleton = !co->own;
+    print_bvh_report(co->out, save_bvh(co->out, anim.rig(), anim.poses, o));
     std::cerr << "bvh convert: " << anim.rig().nbone << " bones, " << anim.poses.size()
               << " frames -> " << co->out << "\n";
   });
 }
 
 }  // namespace
+
+void print_bvh_report(const std::string& path, const BvhWriteReport& report) {
+  for (const std::string& w : report.warnings) {
+    std::cerr << "physik: warning: " << path << ": " << w << "\n";
+  }
+}
 
 void add_interchange_commands(CLI::App& app) {
   CLI::App* rig = app.get_subcommand("rig");

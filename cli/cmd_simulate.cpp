@@ -37,6 +37,7 @@ struct SimulateOptions {
   std::vector<std::string> set;  // param overrides key=value
   std::string reference;         // "" or mujoco[:same-forces|:exact-constraints]
   std::string bvh;               // "" or the BVH/qBVH animation to record
+  bool own_skeleton = false;     // --bvh on the rig's own skeleton, not its source's
 };
 
 void add_options(CLI::App* cmd, SimulateOptions& o) {
@@ -47,7 +48,9 @@ void add_options(CLI::App* cmd, SimulateOptions& o) {
       ->capture_default_str();
   cmd->add_option("--bvh", o.bvh,
                   "Also record the run as a BVH animation (qBVH if the name ends in .qbvh): the "
-                  "initial pose, then a frame every --every steps");
+                  "initial pose, then a frame every --every steps; on the rig's source "
+                  "skeleton when it has one (a rig made by `rig from-bvh`)");
+  cmd->add_flag("--own-skeleton", o.own_skeleton, kOwnSkeletonHelp);
   cmd->add_option(
       "--set", o.set,
       "Override a scene parameter before the scene is read (control points that take their k, "
@@ -136,7 +139,9 @@ void run_simulate(const SimulateOptions& o) {
   const Scene scene = prepare_scene(o);
   std::unique_ptr<BvhRecorder> bvh;
   if (!o.bvh.empty()) {
-    bvh = std::make_unique<BvhRecorder>(scene.rig, scene.params.dt * o.every);
+    BvhExportOptions bo;
+    bo.source_skeleton = !o.own_skeleton;
+    bvh = std::make_unique<BvhRecorder>(scene.rig, scene.params.dt * o.every, 1, bo);
     bvh->record(scene.initial_pose);
   }
   // the run folder (physik/io/run_folder.h): scene.json, both tables, summary.json, final_pose.csv;
@@ -145,7 +150,7 @@ void run_simulate(const SimulateOptions& o) {
   clear_run_folder(o.out, "--out", {kComparisonFile}, {kReferenceFolder});
   const RunSummary sum =
       simulate_into_folder(scene, o.out, o.every, progress_observer(scene, o, bvh.get()));
-  if (bvh) bvh->save(o.bvh);
+  if (bvh) print_bvh_report(o.bvh, bvh->save(o.bvh));
   if (!sum.joint_solve_warning.empty()) {
     std::cerr << "physik: warning: " << scene.file << ": " << sum.joint_solve_warning << "\n";
   }

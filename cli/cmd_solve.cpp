@@ -11,9 +11,11 @@
 
 #include "cli/commands.h"
 #include "physik/engine/run_monitor.h"
+#include "physik/io/bvh.h"
 #include "physik/io/json_fields.h"
 #include "physik/io/output_files.h"
 #include "physik/io/pose_io.h"
+#include "physik/io/run_folder.h"
 #include "physik/io/scene_io.h"
 #include "physik/io/summary_io.h"
 #include "physik/model/errors.h"
@@ -28,6 +30,8 @@ struct SolveOptions {
   std::string scene;
   std::vector<std::string> set;  // param overrides key=value
   std::string out = "out";
+  std::string bvh;            // "" or the BVH/qBVH file of the final pose
+  bool own_skeleton = false;  // --bvh on the rig's own skeleton, not its source's
   bool quiet = false;
   // the solve options' flags as given (their table, physik/posing/solve_options.h), by name
   std::map<std::string, std::string> texts;
@@ -35,14 +39,32 @@ struct SolveOptions {
   std::map<std::string, bool> flags;                        // boolean options
 };
 
-// final_pose.csv and summary.json, both written (and closed) before a divergence is reported
+// final_pose.csv and summary.json, both written (and closed) before a divergence is reported;
+// a solve that did not diverge writes a pose folder (run_folder.h: scene.json, a one-row
+// trajectory.csv and targets_and_limits.csv besides), which `physik view` shows
 void write_solution(const Scene& scene, const SceneSolveResult& r, const nlohmann::json& summary,
                     const std::string& out) {
+  if (!r.diverged) {
+    write_pose_folder(r.scene, out, r.frames, summary);
+    // the solve's own summary, as Python's physik.solve gives it (no pose folder "kind")
+    write_json(summary, out + "/summary.json");
+    return;
+  }
   {
     std::ofstream csv = open_output_file(out + "/final_pose.csv", "--out");
     write_bones_csv(scene.rig, r.frames, csv);
   }
   write_json(summary, out + "/summary.json");
+}
+
+// --bvh: the final pose as a one-frame animation, on the rig's source skeleton when it has one
+void write_solution_bvh(const Scene& scene, const SceneSolveResult& r, const SolveOptions& o) {
+  const Pose& pose = r.pose;
+  BvhExportOptions bo;
+  bo.source_skeleton = !o.own_skeleton;
+  bo.quaternion = is_qbvh_path(o.bvh);
+  bo.frame_time = scene.params.dt;
+  print_bvh_report(o.bvh, save_bvh(o.bvh, scene.rig, {pose}, bo));
 }
 
 // the scene's "solve" object, then the flags given on top
@@ -93,6 +115,7 @@ void run_solve(const SolveOptions& o, const CLI::App& cmd) {
       options.solver == "physik" ? solve_mode_overrides(o.set) : o.set, "--set");
   check_solve_options(options);  // before the scene: a bad flag is reported first
   const Scene scene = load_scene(o.scene, overrides);
+  if (!o.bvh.empty()) check_output_file(o.bvh, "--bvh");  // before the solve, not after
   // the engine runs the contacts from the initial pose (start_contacts.h); a classic solver
   // refuses a ground or obstacles outright (scene_solve.h)
   if (options.solver == "physik" || options.solver == "physik-explicit") {
@@ -104,6 +127,7 @@ void run_solve(const SolveOptions& o, const CLI::App& cmd) {
   if (!r.warning.empty())
     std::cerr << "physik: warning: " << scene.file << ": " << r.warning << "\n";
   write_solution(scene, r, summary, o.out);
+  if (!o.bvh.empty() && !r.diverged) write_solution_bvh(scene, r, o);
   if (!o.quiet) {
     std::cerr << "solve: " << options.solver << " "
               << (summary["converged"].get<bool>() ? "converged" : "not converged") << " after "
@@ -161,7 +185,9 @@ void add_solve_commands(CLI::App& app) {
       "Solve a scene's control points (at their final targets) as IK goals with a classic solver "
       "or the PhysIK engine (physik: the implicit step, lengthening from the scene's dt into a "
       "quasi-static solve; physik-explicit: the scene's own engine at its dt): writes "
-      "<out>/final_pose.csv and <out>/summary.json. The scene's \"solve\" object gives options "
+      "<out>/final_pose.csv and <out>/summary.json, and, unless it diverged, the rest of a pose "
+      "folder (scene.json, a one-row trajectory.csv and targets_and_limits.csv: `physik view "
+      "<out>` shows the solved pose). The scene's \"solve\" object gives options "
       "the flags do not. A solve that stops short of its tolerance (stalled, or out of "
       "iterations or steps) writes both, says why and exits 4.");
   cmd->footer(kSolveExitStatusHelp);
@@ -170,6 +196,10 @@ void add_solve_commands(CLI::App& app) {
   cmd->add_option("--out", opt->out, "Output folder")->capture_default_str();
   cmd->add_option("--set", opt->set,
                   "Override a scene parameter, as simulate's --set (the engine's solvers use it)");
+  cmd->add_option("--bvh", opt->bvh,
+                  "Also write the final pose as a one-frame BVH (qBVH if the name ends in .qbvh): "
+                  "on the rig's source skeleton when it has one (a rig made by `rig from-bvh`)");
+  cmd->add_flag("--own-skeleton", opt->own_skeleton, kOwnSkeletonHelp);
   cmd->add_flag("--quiet", opt->quiet, "No progress output");
   cmd->callback([opt, cmd] { run_solve(*opt, *cmd); });
 }

@@ -8,7 +8,8 @@
 
 namespace physik {
 struct Scene;
-}
+struct BvhWriteReport;
+}  // namespace physik
 
 namespace physik::cli {
 
@@ -16,6 +17,15 @@ namespace physik::cli {
 // reports it: its warning on stderr, named by the scene's file; a start through the ground or a
 // box throws InputError (exit 2). Defined in cmd_simulate.cpp.
 void warn_start_contacts(const Scene& scene);
+
+// What a BVH written on a rig's source skeleton could not hold (bvh.h BvhWriteReport), one
+// "physik: warning: <path>: ..." line each; and the help of the --own-skeleton flag that writes
+// the rig's own skeleton instead. Defined in cmd_interchange.cpp.
+void print_bvh_report(const std::string& path, const BvhWriteReport& report);
+inline constexpr const char* kOwnSkeletonHelp =
+    "Write the rig's own skeleton (one joint per bone, rig units and axes as --axes/--scale say) "
+    "instead of its source skeleton (a rig made by `rig from-bvh` keeps the file's joints, "
+    "channels, units and axes, and writes them by default)";
 
 // Every command's --help ends with this (main.cpp sets it as the app's footer before the
 // commands are added, and CLI11 copies a parent's footer into each subcommand it creates);
@@ -55,5 +65,6 @@ void add_tune_commands(CLI::App& app);
 void add_solve_commands(CLI::App& app);
 void add_params_commands(CLI::App& app);
 void add_view_commands(CLI::App& app);
+void add_follow_commands(CLI::App& app);
 
 }  // namespace physik::cli

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   physik::cli::add_reference_commands(app);
   physik::cli::add_tune_commands(app);
   physik::cli::add_solve_commands(app);
+  physik::cli::add_follow_commands(app);
   physik::cli::add_params_commands(app);
   physik::cli::add_view_commands(app);
 

@@ -24,7 +24,7 @@ check "unknown option" 2 "$bin" rig info "$src/models/rigs/pinhead.json" --bogus
 # every command's --help ends with the exit statuses, an unexpected failure (1) among them
 for cmd in "" rig "rig info" "rig chain" "rig tree" "rig from-bvh" "rig to-bvh" "rig limits" \
     "rig from-mjcf" bvh "bvh convert" experiment "experiment list" "experiment run" simulate \
-    export-mjcf tune equilibrium solve params view; do
+    export-mjcf tune equilibrium solve params view follow; do
   check "help: physik $cmd" 0 "$bin" $cmd --help
   expect_in "help: physik $cmd lists the exit statuses" "$tmp/out" "Exit status: 0 success, 1 an unexpected failure, 2 bad input, 3 a diverged run"
 done
@@ -380,6 +380,46 @@ expect_in "from-bvh names the scale" "$tmp/err" "looks like a file in centimetre
 check "from-bvh cm scaled" 0 "$bin" rig from-bvh "$tmp/cm.bvh" --scale 0.01 --radius 0.05 --out "$tmp/m.json"
 check "from-bvh radius once in the defaults" 0 python3 -c "import json; r=json.load(open('$tmp/m.json')); assert r['defaults']['radius'] == 0.05 and not any('radius' in b for b in r['bones']), r"
 check "from-bvh no warning in metres" 1 grep -q "looks like" "$tmp/err"
+# the source skeleton: kept in the rig file, written back by to-bvh, simulate --bvh, solve --bvh
+check "from-bvh keeps the source skeleton" 0 python3 -c "import json; s=json.load(open('$tmp/m.json'))['source_skeleton']; assert s['format'] == 'bvh' and s['scale'] == 0.01 and [j['name'] for j in s['joints']] == ['Hips', 'Spine', 'LeftLeg'], s"
+check "to-bvh source skeleton" 0 "$bin" rig to-bvh "$tmp/m.json"
+expect_in "to-bvh writes the file's root" "$tmp/out" "ROOT Hips"
+expect_in "to-bvh writes the file's units" "$tmp/out" "OFFSET 0 95 0"
+expect_in "to-bvh writes the file's channels" "$tmp/out" "CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation"
+check "to-bvh own skeleton" 0 "$bin" rig to-bvh "$tmp/m.json" --own-skeleton
+expect_in "to-bvh own skeleton: a joint per bone" "$tmp/out" "JOINT Hips>LeftLeg"
+expect_in "to-bvh own skeleton in rig units" "$tmp/out" "OFFSET 0.09 -0.05 0"
+head -n -3 "$tmp/cm.bvh" > "$tmp/clip.bvh"
+printf 'Frames: 3\nFrame Time: 0.1\n0 95 0 0 0 0 0 0 0 0 0 0\n0 96 0 10 0 0 0 20 0 0 0 -30\n0 97 0 0 0 0 0 0 0 0 0 0\n' >> "$tmp/clip.bvh"
+clip_scene() {  # clip_scene FILE INITIAL_POSE_JSON
+  printf '{"rig": "m.json", "steps": 5, "control_points": [{"bone": "Spine", "target": [0, 0.1, 1.8]}], "initial_pose": %s}\n' "$2" > "$1"
+}
+clip_scene "$tmp/clip_scene.json" '{"bvh": "clip.bvh", "frame": 1}'
+check "initial_pose from a clip" 0 "$bin" simulate "$tmp/clip_scene.json" --out "$tmp/clip_run" --bvh "$tmp/clip_run.bvh" --quiet
+expect_in "simulate --bvh on the source skeleton" "$tmp/clip_run.bvh" "JOINT LeftLeg"
+check "solve --bvh" 0 "$bin" solve "$tmp/clip_scene.json" --solver dls --out "$tmp/clip_solve" --bvh "$tmp/clip_solve.bvh" --quiet
+expect_in "solve --bvh on the source skeleton" "$tmp/clip_solve.bvh" "ROOT Hips"
+expect_in "solve --bvh one frame" "$tmp/clip_solve.bvh" "Frames: 1"
+clip_scene "$tmp/clip_past.json" '{"bvh": "clip.bvh", "frame": 3}'
+check "initial_pose frame past the clip" 2 "$bin" simulate "$tmp/clip_past.json" --out "$tmp/clip_run" --quiet
+expect_in "initial_pose frame past the clip message" "$tmp/err" "clip_past.json: initial_pose: field 'frame': frame 3 is past the end of"
+expect_in "initial_pose frame past the clip count" "$tmp/err" "(3 frames, 0 to 2)"
+clip_scene "$tmp/clip_other.json" "{\"bvh\": \"$tmp/p.bvh\", \"frame\": 0}"
+check "initial_pose from another skeleton" 2 "$bin" simulate "$tmp/clip_other.json" --out "$tmp/clip_run" --quiet
+expect_in "initial_pose from another skeleton message" "$tmp/err" "clip_other.json: initial_pose: field 'bvh': '$tmp/p.bvh' is not a clip of the rig's source skeleton"
+clip_scene "$tmp/clip_missing.json" '{"bvh": "nowhere.bvh", "frame": 0}'
+check "initial_pose bad path" 2 "$bin" simulate "$tmp/clip_missing.json" --out "$tmp/clip_run" --quiet
+expect_in "initial_pose bad path message" "$tmp/err" "clip_missing.json: initial_pose: field 'bvh': cannot read '$tmp/nowhere.bvh': no such file"
+# following a clip: a run folder, the clip's frames at its speed
+check "follow" 0 "$bin" follow "$tmp/clip.bvh" --rig "$tmp/m.json" --out "$tmp/follow" --ground -0.5 --bvh "$tmp/follow.bvh" --quiet
+check "follow run folder" 0 test -f "$tmp/follow/trajectory.csv"
+expect_in "follow --bvh on the source skeleton" "$tmp/follow.bvh" "JOINT Spine"
+check "follow frames past the clip" 2 "$bin" follow "$tmp/clip.bvh" --rig "$tmp/m.json" --out "$tmp/follow" --frames 0:5
+expect_in "follow frames message" "$tmp/err" "clip.bvh: field 'last frame': 5 is outside frames 0 to 2"
+check "follow another skeleton" 2 "$bin" follow "$tmp/p.bvh" --rig "$tmp/m.json" --out "$tmp/follow"
+expect_in "follow another skeleton message" "$tmp/err" "not a clip of the rig's source skeleton"
+check "follow unknown bone" 2 "$bin" follow "$tmp/clip.bvh" --rig "$tmp/m.json" --out "$tmp/follow" --point Nose:tail
+expect_in "follow unknown bone message" "$tmp/err" "points[0]: field 'bone': unknown bone 'Nose'"
 for opt in --radius --mass-per-length --total-mass; do
   check "from-bvh bad $opt" 2 "$bin" rig from-bvh "$tmp/cm.bvh" $opt nan
   expect_in "from-bvh bad $opt message" "$tmp/err" "physik: error: $opt: must be a positive finite number"

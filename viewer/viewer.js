@@ -28,7 +28,10 @@
 //   the rotation turning those axes into the world) are translucent lit boxes in BOX_COLOR with
 //   opaque edges, each in its own frame; a box several runs' scenes share is drawn once. The
 //   camera frames them with the rig and its targets;
-// - names come from user files: they are only ever set as text (textContent), never as markup.
+// - names come from user files: they are only ever set as text (textContent), never as markup;
+// - the page's URL may choose how it opens, so that a screenshot can show a result: ?frame=N
+//   opens at frame N (from 1, as the label counts; past the last: the last), ?frame=last at the
+//   last frame, ?play=1 plays on load (both together: plays from frame N).
 // World Z is up (the rigs' convention); the camera starts in front of the rig (-Y).
 (function () {
   'use strict';
@@ -754,7 +757,26 @@
     var self = this;
     window.addEventListener('resize', function () { self.resize(); });
     this.resize();
-    this.setFrame(0);
+    var start = startParams(window.location.search, this.times.length);
+    this.setFrame(start.frame);
+    if (start.play) this.play();
+  }
+
+  // ?frame=N (from 1, or "last") and ?play=1 of the page's URL: the frame index to open at and
+  // whether to play; anything else opens at the first frame, paused
+  function startParams(search, nframe) {
+    var out = { frame: 0, play: false };
+    (search || '').replace(/^\?/, '').split('&').forEach(function (pair) {
+      var kv = pair.split('=');
+      var key = decodeURIComponent(kv[0] || ''), value = decodeURIComponent(kv[1] || '');
+      if (key === 'frame') {
+        var n = value === 'last' ? nframe : parseInt(value, 10);
+        if (n >= 1) out.frame = Math.min(nframe, n) - 1;
+      } else if (key === 'play') {
+        out.play = value === '' || value === '1' || value === 'true';
+      }
+    });
+    return out;
   }
 
   Viewer.prototype.resize = function () {

@@ -223,6 +223,8 @@ def _rig_fields(obj, source):
         out["root"] = data["physik_root"]
     if "collision_exclude" in extra:
         out["collision_exclude"] = extra["collision_exclude"]
+    if "source_skeleton" in extra:  # the engine checks its bones when it reads the file
+        out["source_skeleton"] = extra["source_skeleton"]
     defaults = {} if keys is not None else {
         "mass_per_length": rig_format.DEFAULT_MASS_PER_LENGTH,
         "radius": rig_format.DEFAULT_RADIUS}

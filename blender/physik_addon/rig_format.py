@@ -26,7 +26,7 @@ import math
 
 AXES = ("x", "y", "z")
 TOP_KEYS = ("name", "comment", "source", "units", "root", "defaults", "bones",
-            "collision_exclude")
+            "collision_exclude", "source_skeleton")
 BONE_KEYS = ("name", "parent", "head", "tail", "rest_frame", "roll_deg", "limits_deg",
              "mass_per_length", "mass", "radius", "inertia_local", "collision_radius", "weld",
              "comment")
@@ -621,6 +621,8 @@ def parse_rig(doc, source="<rig>"):
         keyed = sorted({tuple(sorted(p, key=index.get)) for p in pairs},
                        key=lambda p: (index[p[0]], index[p[1]]))
         rig["collision_exclude"] = [list(p) for p in keyed]
+    if "source_skeleton" in doc:  # passed through: the engine checks it against the bones
+        rig["source_skeleton"] = doc["source_skeleton"]
     return rig
 
 

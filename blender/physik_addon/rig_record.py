@@ -92,11 +92,12 @@ def _frame(bone, file_part, blender, key):
 
 def rig_record(doc):
     """The JSON text for the rig: which top-level fields the file gave, its free text that is not
-    a string (a string is a custom property the user can edit), and its collision_exclude pairs
-    (Blender has no place for them)."""
+    a string (a string is a custom property the user can edit), its collision_exclude pairs and
+    its source_skeleton (Blender has no place for them)."""
     extra = {k: doc[k] for k in FREE_TEXT if k in doc and not isinstance(doc[k], str)}
-    if "collision_exclude" in doc:
-        extra["collision_exclude"] = doc["collision_exclude"]
+    for key in ("collision_exclude", "source_skeleton"):
+        if key in doc:
+            extra[key] = doc[key]
     return json.dumps({"keys": sorted(k for k in doc if k != "bones"), "extra": extra})
 
 

@@ -91,7 +91,9 @@ def load(path):
 def leaves(value, where=""):
     """[(path, leaf)] of a JSON value; bones keyed by name, so order does not matter."""
     if isinstance(value, dict):
-        if "bones" in value:
+        # a rig's bones (a source skeleton's joint lists its bones by name: a list of strings)
+        if isinstance(value.get("bones"), list) and all(isinstance(b, dict)
+                                                          for b in value["bones"]):
             value = dict(value, bones={b["name"]: b for b in value["bones"]})
         return [p for k in sorted(value) for p in leaves(value[k], where + "/" + str(k))]
     if isinstance(value, list):

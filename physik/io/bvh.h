@@ -32,13 +32,30 @@
 // rotation). FK of the rig then reproduces every joint and End Site position of every frame
 // (BvhAnimation::max_position_error measures it). Position channels on non-root joints cannot be
 // represented when they differ from the OFFSET (bones have fixed lengths): their rotation is kept
-// and max_position_error reports the gap.
+// and max_position_error reports the gap. The rig keeps the file's skeleton (Rig::
+// source_skeleton: joints, OFFSETs, channels, End Sites, the axes and the scale, and the bones
+// that turn with each joint), which the writer below writes back.
 //
 // Rig -> BVH: one BVH joint per bone at its head (named after the bone, spaces -> '_'), OFFSET the
 // rest head relative to the parent's rest head; a leaf gets an End Site at its tail. Rotation of
 // joint b per frame: L_b = Rw_parent^-1 Rw_b with Rw_b = O_b O_rest_b^-1 (the bone's world rotation
 // from rest). The root has position channels (its head). Exported then imported, every bone keeps
 // its name, parent, head and tail.
+//
+// Rig -> its source skeleton (source_skeleton.h, written by default for a rig that has one, the
+// rig made by bvh_to_rig): the source file's joints, OFFSETs, End Sites and channels as they
+// were (names, hierarchy, channel order, file units), so the pose goes back onto the character it
+// came from. Per frame (source_pose.h): each joint's world rotation from rest in file axes,
+// Rf_J = A^-1 R_J A; its rotation channels hold L_J = Rf_parent^-1 Rf_J decomposed in the
+// joint's own channel order (closest to the previous frame's angles; qBVH: its quaternion, in
+// one hemisphere from frame to frame); the root's position channels hold the root joint's
+// position, A^-1 p_root / scale; a non-root joint's position channels its OFFSET (a rig's bone
+// keeps its length). What the file cannot hold is said (BvhWriteReport): a root that moved along
+// an axis it has no position channel for, a turn about an axis a joint has no rotation channel
+// for (a joint with fewer than three: the decomposition in its order followed by the missing
+// axes, their angles left out). Options: `quaternion` writes every rotating joint's rotation
+// channels as the four quaternion channels, `euler_order` every three-angle joint's in that
+// order, the rest kept; the file's axes and scale are the source's (the options' are not read).
 //
 // Axes: BvhAxes::kYUp (default) treats the file as Y up (the BVH habit; Blender's importer default
 // axis_forward=-Z, axis_up=Y) and maps file (x, y, z) -> rig (x, -z, y) (+90 deg about X);
@@ -54,6 +71,7 @@
 #include "physik/model/pivot_rig.h"
 #include "physik/model/rig.h"
 #include "physik/model/rig_sizing.h"
+#include "physik/model/source_skeleton.h"
 
 namespace physik {
 
@@ -93,7 +111,7 @@ Vec3 bvh_local_translation(const BvhJoint& joint, const std::vector<double>& row
 void bvh_world(const BvhFile& bvh, int frame, std::vector<Quat>& rot_world,
                std::vector<Vec3>& pos_world);
 
-enum class BvhAxes { kYUp, kZUp };
+using BvhAxes = SourceAxes;  // kYUp, kZUp
 
 // file -> rig coordinates (rotation part; a vector maps as q * v, a rotation as q R q^-1)
 Quat bvh_axes_to_rig(BvhAxes axes);
@@ -130,13 +148,55 @@ BvhAnimation bvh_to_rig(const BvhFile& bvh, const std::string& source,
 BvhAnimation load_bvh(const std::string& path, const BvhImportOptions& options = {});
 
 struct BvhExportOptions {
-  bool quaternion = false;          // write qBVH
-  std::string euler_order = "ZXY";  // rotation channel order for BVH, any permutation of XYZ
+  bool quaternion = false;  // write qBVH
+  // rotation channel order for BVH, any permutation of XYZ; "" = ZXY for the rig's own skeleton,
+  // each joint's own order for the source skeleton
+  std::string euler_order;
+  // the rig's source skeleton when it has one (Rig::source_skeleton); false: the rig's own
+  // skeleton, one joint per bone (axes and scale below are read for it only)
+  bool source_skeleton = true;
   BvhAxes axes = BvhAxes::kYUp;
   double scale = 1.0;              // file units per rig unit
   double frame_time = 1.0 / 30.0;  // s
   std::string target;              // the file written, for error messages ("" = a stream)
 };
+
+// What a written file could not hold (the source skeleton's limits), one sentence each, e.g.
+// "root joint 'Hips' has no Yposition channel: the rig's root moved up to 3.2 file units along
+// file y, which the file leaves out". Empty for the rig's own skeleton, which holds every pose.
+struct BvhWriteReport {
+  bool source_skeleton = false;  // the source skeleton was written
+  std::vector<std::string> warnings;
+};
+
+// The skeleton write_bvh writes for `rig` under `options`: the source's, or the rig's own.
+bool writes_source_skeleton(const Rig& rig, const BvhExportOptions& options);
+
+// Channel names as BVH writes them ("Xposition", ..., "Zquaternion"); bvh_channel_from_name reads
+// any case and returns false for an unknown name.
+const char* bvh_channel_name(BvhChannel channel);
+bool bvh_channel_from_name(const std::string& name, BvhChannel& out);
+
+// A BvhFile as text: HIERARCHY (iteratively: any depth; indentation stops deepening at 32
+// levels) and MOTION with `frame_time`; the joints' channel_start and the file's nchannel are
+// not read (each row holds every joint's channels in order). Throws InputError naming `target`
+// for a value that is not finite.
+void write_bvh_file(const BvhFile& bvh, const std::string& target, std::ostream& out);
+
+// The source skeleton as a BvhFile (no frames): its joints, offsets, channels and End Sites.
+BvhFile source_skeleton_bvh(const SourceSkeleton& skeleton);
+
+// Whether `clip`'s skeleton is `skeleton`: the same joints in the same order with the same names,
+// parents, channels (in order) and End Sites, every OFFSET and End Site within 1e-6 of the
+// skeleton's size. "" when it is, else the first difference, e.g. "joint 4 is 'LeftArm' in the
+// clip, 'LeftShoulder' in the rig's source skeleton".
+std::string source_skeleton_mismatch(const SourceSkeleton& skeleton, const BvhFile& clip);
+
+// The rig's pose at frame `frame` (0-based) of `clip`, a clip of the rig's source skeleton
+// (source_skeleton_mismatch empty): its joints' rotations and root position through the source's
+// axes and scale (source_pose.h). `scratch` is resized.
+void source_clip_pose(const Rig& rig, const BvhFile& clip, int frame, BoneFrames& scratch,
+                      Pose& out);
 
 // true for paths ending in ".qbvh" (case-insensitive)
 bool is_qbvh_path(const std::string& path);
@@ -149,10 +209,10 @@ Quat rotation_from_euler(const Vec3& angles, const std::string& order);
 // Writes a rig and its poses (rest pose only when `poses` is empty). Throws InputError naming
 // options.target (save_bvh: the path) for a bad Euler order, a scale or frame time that is not
 // positive and finite, or a value that the scale pushes past double range.
-void write_bvh(const Rig& rig, const std::vector<Pose>& poses, const BvhExportOptions& options,
-               std::ostream& out);
-void save_bvh(const std::string& path, const Rig& rig, const std::vector<Pose>& poses,
-              const BvhExportOptions& options);
+BvhWriteReport write_bvh(const Rig& rig, const std::vector<Pose>& poses,
+                         const BvhExportOptions& options, std::ostream& out);
+BvhWriteReport save_bvh(const std::string& path, const Rig& rig, const std::vector<Pose>& poses,
+                        const BvhExportOptions& options);
 
 // Records a run as an animation: keeps the 1st, (every+1)th, ... call of record(); writes the file
 // with frame_time = dt * every. For `physik simulate --bvh OUT [--every N]`.
@@ -164,8 +224,8 @@ class BvhRecorder {
   void record(const BoneFrames& frames);  // world frames, as the engine holds them
   int recorded() const { return static_cast<int>(poses_.size()); }
   // qBVH if the path ends in .qbvh; folders are created. Throws InputError if it cannot write.
-  void save(const std::string& path) const;
-  void write(std::ostream& out) const;
+  BvhWriteReport save(const std::string& path) const;
+  BvhWriteReport write(std::ostream& out) const;
 
  private:
   const Rig& rig_;

@@ -19,6 +19,9 @@
 
 namespace physik {
 
+using bvh_detail::channel_from_name;
+using bvh_detail::is_quaternion;
+using bvh_detail::is_rotation;
 using bvh_detail::upper;
 
 namespace {
@@ -29,31 +32,6 @@ struct Token {
   std::string text;
   int line;  // 1-based
 };
-
-bool channel_from_name(const std::string& name, BvhChannel& out) {
-  static const std::pair<const char*, BvhChannel> kNames[] = {
-      {"XPOSITION", BvhChannel::kXpos},    {"YPOSITION", BvhChannel::kYpos},
-      {"ZPOSITION", BvhChannel::kZpos},    {"XROTATION", BvhChannel::kXrot},
-      {"YROTATION", BvhChannel::kYrot},    {"ZROTATION", BvhChannel::kZrot},
-      {"WQUATERNION", BvhChannel::kWquat}, {"XQUATERNION", BvhChannel::kXquat},
-      {"YQUATERNION", BvhChannel::kYquat}, {"ZQUATERNION", BvhChannel::kZquat}};
-  const std::string u = upper(name);
-  for (const auto& [n, c] : kNames) {
-    if (u == n) {
-      out = c;
-      return true;
-    }
-  }
-  return false;
-}
-
-bool is_rotation(BvhChannel c) {
-  return c == BvhChannel::kXrot || c == BvhChannel::kYrot || c == BvhChannel::kZrot;
-}
-bool is_quaternion(BvhChannel c) {
-  return c == BvhChannel::kWquat || c == BvhChannel::kXquat || c == BvhChannel::kYquat ||
-         c == BvhChannel::kZquat;
-}
 
 // the words of a line, split at the whitespace std::isspace knows (space, \t, \n, \v, \f, \r):
 // the tokenizer and the MOTION reader must agree on what a blank line is

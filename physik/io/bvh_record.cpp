@@ -25,14 +25,14 @@ void BvhRecorder::record(const BoneFrames& frames) {
   poses_.push_back(std::move(p));
 }
 
-void BvhRecorder::write(std::ostream& out) const {
-  write_bvh(rig_, poses_, options_, out);
+BvhWriteReport BvhRecorder::write(std::ostream& out) const {
+  return write_bvh(rig_, poses_, options_, out);
 }
 
-void BvhRecorder::save(const std::string& path) const {
+BvhWriteReport BvhRecorder::save(const std::string& path) const {
   BvhExportOptions o = options_;
   o.quaternion = o.quaternion || is_qbvh_path(path);
-  save_bvh(path, rig_, poses_, o);
+  return save_bvh(path, rig_, poses_, o);
 }
 
 }  // namespace physik

@@ -15,6 +15,7 @@
 #include "physik/io/bvh_detail.h"
 #include "physik/model/errors.h"
 #include "physik/model/names.h"
+#include "physik/model/source_pose.h"
 
 namespace physik {
 
@@ -104,8 +105,7 @@ void bvh_world(const BvhFile& bvh, int frame, std::vector<Quat>& rot_world,
 }
 
 Quat bvh_axes_to_rig(BvhAxes axes) {
-  if (axes == BvhAxes::kZUp) return Quat::Identity();
-  return Quat(Eigen::AngleAxisd(kPi / 2, Vec3::UnitX()));  // file Y -> rig Z, file Z -> rig -Y
+  return source_axes_to_rig(axes);
 }
 
 namespace {
@@ -228,6 +228,27 @@ std::vector<PivotNode> bvh_pivots(const BvhFile& bvh, const std::string& source,
   return nodes;
 }
 
+// the file's skeleton, kept in the rig (source_skeleton.h): its joints as the file gave them and
+// the bones that turn with each (pivot_rig.h bone_node; ascending, so a joint's first bone is the
+// one that carries it)
+void keep_source_skeleton(const BvhFile& bvh, const BvhImportOptions& options, PivotRig& pr) {
+  SourceSkeleton& s = pr.rig.source_skeleton;
+  s.format = "bvh";
+  s.axes = options.axes;
+  s.scale = options.scale;
+  s.joints.resize(bvh.joints.size());
+  for (std::size_t i = 0; i < bvh.joints.size(); ++i) {
+    const BvhJoint& j = bvh.joints[i];
+    SourceJoint& out = s.joints[i];
+    out.name = j.name;
+    out.parent = j.parent;
+    out.offset = j.offset;
+    out.end_sites = j.end_sites;
+    for (BvhChannel c : j.channels) out.channels.push_back(bvh_channel_name(c));
+  }
+  for (int b = 0; b < pr.rig.nbone; ++b) s.joints[pr.bone_node[b]].bones.push_back(b);
+}
+
 }  // namespace
 
 BvhAnimation bvh_to_rig(const BvhFile& bvh, const std::string& source,
@@ -247,6 +268,7 @@ BvhAnimation bvh_to_rig(const BvhFile& bvh, const std::string& source,
   fit_masses(bones.specs, options.sizing);
   BvhAnimation anim;
   anim.pivots = finish_pivot_rig(nodes, bones, source, "");
+  keep_source_skeleton(bvh, options, anim.pivots);
   anim.frame_time = bvh.frame_time;
   if (options.exclude_rest_overlaps) anim.rest_overlaps = exclude_rest_overlaps(anim.pivots.rig);
   zero_offset_warnings(bvh, nodes, anim);
@@ -276,6 +298,14 @@ BvhAnimation bvh_to_rig(const BvhFile& bvh, const std::string& source,
     }
   }
   return anim;
+}
+
+const char* bvh_channel_name(BvhChannel channel) {
+  return bvh_detail::channel_name(channel);
+}
+
+bool bvh_channel_from_name(const std::string& name, BvhChannel& out) {
+  return bvh_detail::channel_from_name(name, out);
 }
 
 std::string guess_bvh_units(double height, double& suggested_scale) {

@@ -57,7 +57,7 @@ std::string target_name(const BvhExportOptions& o) {
 // stage 1: options that would write nan, inf or an unreadable file
 void check_export_options(const BvhExportOptions& o) {
   const std::string t = target_name(o);
-  check_order(o.euler_order, t);
+  if (!o.euler_order.empty()) check_order(o.euler_order, t);
   if (!(o.scale > 0.0) || !std::isfinite(o.scale)) {
     throw_input_error(t, "", "scale", "must be a positive finite number");
   }
@@ -166,12 +166,15 @@ void write_frame(const Rig& rig, const Pose& pose, std::size_t f, const std::str
 
 }  // namespace
 
-void write_bvh(const Rig& rig, const std::vector<Pose>& poses_in, const BvhExportOptions& options,
-               std::ostream& out) {
+BvhWriteReport write_bvh(const Rig& rig, const std::vector<Pose>& poses_in,
+                         const BvhExportOptions& options, std::ostream& out) {
   check_export_options(options);
-  const std::string order = upper(options.euler_order);
   const std::vector<Pose> rest{rest_pose(rig)};
   const std::vector<Pose>& poses = poses_in.empty() ? rest : poses_in;
+  if (writes_source_skeleton(rig, options)) {
+    return bvh_detail::write_source_bvh(rig, poses, options, out);
+  }
+  const std::string order = options.euler_order.empty() ? "ZXY" : upper(options.euler_order);
 
   UniqueNames used;
   std::vector<std::string> names(rig.nbone);
@@ -193,16 +196,18 @@ void write_bvh(const Rig& rig, const std::vector<Pose>& poses_in, const BvhExpor
   for (std::size_t f = 0; f < poses.size(); ++f) {
     write_frame(rig, poses[f], f, order, options, fk, mem, out);
   }
+  return {};
 }
 
-void save_bvh(const std::string& path, const Rig& rig, const std::vector<Pose>& poses,
-              const BvhExportOptions& options) {
+BvhWriteReport save_bvh(const std::string& path, const Rig& rig, const std::vector<Pose>& poses,
+                        const BvhExportOptions& options) {
   BvhExportOptions o = options;
   o.target = path;
   check_export_options(o);  // before a file is created
   std::ofstream out = open_output_file(path, "");
-  write_bvh(rig, poses, o, out);
+  BvhWriteReport report = write_bvh(rig, poses, o, out);
   if (!out) throw_input_error(path, "", "", "write failed");
+  return report;
 }
 
 }  // namespace physik

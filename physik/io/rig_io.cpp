@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "physik/io/axis_limits.h"
+#include "physik/io/source_skeleton_io.h"
 #include "physik/model/errors.h"
 #include "physik/model/names.h"
 
@@ -185,7 +186,7 @@ Rig rig_from_json(const Json& doc, const std::string& source) {
   JsonContext top{source, ""};
   top.require_object(doc, "");
   top.only_keys(doc, {"name", "comment", "source", "units", "root", "defaults", "bones",
-                      "collision_exclude"});
+                      "collision_exclude", "source_skeleton"});
   RootJoint root = RootJoint::kFree;
   if (doc.contains("root")) {
     const std::string r = top.string(doc, "root");
@@ -226,6 +227,7 @@ Rig rig_from_json(const Json& doc, const std::string& source) {
   Rig rig = build_rig(specs, source, top.name_or(doc, "name", ""), root);
   read_notes(doc, top, rig);
   read_collision_exclude(doc, top, rig);
+  read_source_skeleton(doc, source, rig);
   return rig;
 }
 
@@ -288,6 +290,7 @@ Json rig_to_json(const Rig& rig) {
     }
     doc["collision_exclude"] = ex;
   }
+  if (!rig.source_skeleton.empty()) doc["source_skeleton"] = source_skeleton_to_json(rig);
   return doc;
 }
 

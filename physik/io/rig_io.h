@@ -23,6 +23,8 @@
 //                                                   sibling listed before it (no limits then)
 //   ],
 //   "collision_exclude": [["a", "b"], ...]          optional bone pairs that never collide
+//   "source_skeleton": {...}                         optional: the skeleton a converter read
+//                                                    (source_skeleton_io.h)
 // }
 #pragma once
 

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "physik/io/bvh.h"
 #include "physik/io/rig_io.h"
 #include "physik/model/errors.h"
 #include "physik/model/names.h"
@@ -172,13 +173,54 @@ void read_convergence(const JsonContext& top, const Json& doc, Scene& s) {
   s.convergence.divergence_energy = non_negative(ctx, c, "divergence_energy", 0.0);
 }
 
-// initial pose: rest, optionally with a root position and per-bone rotation vectors (deg)
-void read_initial_pose(const JsonContext& top, const Json& doc, Scene& s) {
+// initial pose from a frame of a clip of the rig's source skeleton: {"bvh": path, "frame": N},
+// the path relative to the scene's folder, N from 0 (bvh.h source_clip_pose)
+void read_initial_pose_bvh(const JsonContext& ctx, const Json& ip, const std::string& base_dir,
+                           Scene& s) {
+  ctx.only_keys(ip, {"bvh", "frame"});
+  const std::string ref = ctx.string(ip, "bvh");
+  std::filesystem::path path(ref);
+  if (path.is_relative()) path = std::filesystem::path(base_dir) / path;
+  const std::string file = path.lexically_normal().string();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec)) {
+    ctx.fail("bvh", "cannot read '" + file + "': no such file");
+  }
+  if (s.rig.source_skeleton.empty()) {
+    ctx.fail("bvh",
+             "the rig has no source skeleton (a rig made by `physik rig from-bvh` from "
+             "this clip's skeleton has one)");
+  }
+  const BvhFile clip = read_bvh_file(file);
+  const std::string mismatch = source_skeleton_mismatch(s.rig.source_skeleton, clip);
+  if (!mismatch.empty()) {
+    ctx.fail("bvh", "'" + file + "' is not a clip of the rig's source skeleton: " + mismatch);
+  }
+  const int frame = ctx.integer(ip, "frame");
+  const int nframe = static_cast<int>(clip.frames.size());
+  if (frame < 0) ctx.fail("frame", "must be 0 (the clip's first frame) or more");
+  if (frame >= nframe) {
+    ctx.fail("frame", "frame " + std::to_string(frame) + " is past the end of '" + file + "' (" +
+                          std::to_string(nframe) + " frames, 0 to " + std::to_string(nframe - 1) +
+                          ")");
+  }
+  BoneFrames scratch;
+  source_clip_pose(s.rig, clip, frame, scratch, s.initial_pose);
+}
+
+// initial pose: rest, optionally with a root position and per-bone rotation vectors (deg), or a
+// frame of a clip
+void read_initial_pose(const JsonContext& top, const Json& doc, const std::string& base_dir,
+                       Scene& s) {
   s.initial_pose = rest_pose(s.rig);
   if (!doc.contains("initial_pose")) return;
   const Json& ip = doc["initial_pose"];
   const JsonContext ctx{top.file, "initial_pose"};
   ctx.require_object(ip, "initial_pose");
+  if (ip.contains("bvh")) {
+    read_initial_pose_bvh(ctx, ip, base_dir, s);
+    return;
+  }
   ctx.only_keys(ip, {"root_head", "rotation_deg"});
   if (ip.contains("root_head")) s.initial_pose.root_head_world = bounded_vec3(ctx, ip, "root_head");
   if (!ip.contains("rotation_deg")) return;
@@ -504,7 +546,7 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
   read_control_points(top, doc, s);
   read_schedule(top, doc, s);
   read_convergence(top, doc, s);
-  read_initial_pose(top, doc, s);
+  read_initial_pose(top, doc, base_dir, s);
   if (doc.contains("initial_velocity")) {
     s.initial_velocity_world = bounded_vec3(top, doc, "initial_velocity");
   }

@@ -41,6 +41,7 @@
 #include <utility>
 #include <vector>
 
+#include "physik/model/source_skeleton.h"
 #include "physik/model/types.h"
 
 namespace physik {
@@ -189,6 +190,9 @@ struct Rig {
   std::string comment;
   std::string units;                // e.g. "metres (BVH centimetres x 0.01), kg"
   std::vector<std::string> source;  // notes: where the rig came from, what a converter changed
+  // the skeleton it was converted from (rig from-bvh): its joints, channels, units and axes, and
+  // which bones turn with each joint; empty for a rig made otherwise (source_skeleton.h)
+  SourceSkeleton source_skeleton;
 };
 
 // Sets rig.collision_exclude from bone-name pairs (sorted, duplicates dropped). An unknown bone

@@ -13,6 +13,7 @@
 #include "experiments/common.h"
 #include "experiments/experiment.h"
 #include "experiments/report.h"
+#include "physik/io/bvh.h"
 #include "physik/io/json_fields.h"
 #include "physik/io/scene_io.h"
 #include "tests/experiments/experiments_test_util.h"
@@ -44,7 +45,8 @@ TEST(Experiments, EveryExpectedExperimentIsRegisteredInRunOrder) {
                                              "beyond_the_paper",
                                              "outside_rigs",
                                              "contacts",
-                                             "contacts_cost"};
+                                             "contacts_cost",
+                                             "clip_following"};
   EXPECT_EQ(names, expected);
 }
 
@@ -129,6 +131,24 @@ TEST(Experiments, Fig5WritesItsReportAndTheRecordersTable) {
   const std::string rows = csv.str().substr(csv.str().find('\n') + 1);
   EXPECT_EQ(rows.substr(0, 2), "0,");
   EXPECT_EQ(rows.substr(rows.find('\n') + 1, 2), "1,");
+}
+
+// clip_following (quick): the walk it writes is a clip of its rig's source skeleton whose feet
+// stand on the floor and stay planted (the measures read 0 on the clip itself), and every run is
+// measured without diverging
+TEST(Experiments, ClipFollowingWritesAPlantedWalkAndMeasuresEachRun) {
+  const std::string out_dir = test::fresh_temp_dir("experiments_clip_following");
+  const nlohmann::json summary = test::run_quick_experiment("clip_following", out_dir);
+  const nlohmann::json& rows = summary["rows"];
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[0]["run"], "clip");
+  EXPECT_LT(rows[0]["max_foot_penetration_cm"].get<double>(), 1e-9);
+  EXPECT_LT(rows[0]["planted_toe_speed_mean_cm_s"].get<double>(), 1e-6);
+  EXPECT_EQ(rows[0]["time_lag_frames"], 0);
+  for (const auto& r : rows) EXPECT_FALSE(r["diverged"].get<bool>()) << r["run"];
+  const BvhFile walk = read_bvh_file(out_dir + "/walk.bvh");
+  EXPECT_EQ(walk.joints.size(), 19u);
+  EXPECT_EQ(walk.frames.size(), 40u);
 }
 
 // fig11_sit (quick) leaves its run as a run folder for the viewer, listed in runs/order.txt,

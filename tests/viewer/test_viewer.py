@@ -474,6 +474,21 @@ class ViewCommandTest(unittest.TestCase):
         self.assertGreater(data["frames"], 1)
         self.assert_all_finite(data)
 
+    def test_a_solve_folder_shows_its_solved_pose(self):
+        scene = chain_scene(os.path.join(self.tmp, "s_solve"), chain_rig(), 1.5)
+        solved = os.path.join(self.tmp, "solved")
+        status, err = physik("solve", scene, "--solver", "dls", "--out", solved, "--quiet")
+        self.assertEqual(status, 0, err)
+        page = os.path.join(self.tmp, "solved.html")
+        status, err = physik("view", solved, "--out", page)
+        self.assertEqual(status, 0, err)
+        run = page_data(page)["runs"][0]
+        frames = page_frames(run)
+        self.assertEqual(frames["steps"], (0,))  # one pose, at step 0
+        tip = frames["positions"][2 * 6 + 3:2 * 6 + 6]  # b2's tail, the tip point's target
+        for got, want in zip(tip, (1.5, 0.0, 1.8)):
+            self.assertAlmostEqual(got, want, delta=1e-3)
+
     def test_the_page_loads_nothing(self):
         out = os.path.join(self.tmp, "plain.html")
         self.assertEqual(physik("view", self.run_dir, "--out", out)[0], 0)
@@ -523,10 +538,17 @@ class BrowserTest(unittest.TestCase):
         limited_rig = chain_rig(middle_limits={"x": [-30, 60], "z": [-10, 10], "y": [0, 0]})
         limited = simulate(chain_scene(t + "/s6", limited_rig, 1.5), t + "/limited", "--every",
                            "2")
+        solved = t + "/solved"
+        status, err = physik("solve", chain_scene(t + "/s7", chain_rig(), 1.5), "--solver",
+                             "dls", "--out", solved, "--quiet")
+        if status != 0:
+            raise RuntimeError("physik solve: " + err)
         cls.pages = {"single": t + "/single.html", "overlay": t + "/overlay.html",
+                     "solved": t + "/solved.html",
                      "hostile": t + "/hostile.html", "drop": t + "/drop.html",
                      "seated": t + "/seated.html", "limited": t + "/limited.html"}
         for args in ([right, "--out", cls.pages["single"]], [drop, "--out", cls.pages["drop"]],
+                     [solved, "--out", cls.pages["solved"]],
                      [seated, "--out", cls.pages["seated"]],
                      [limited, "--out", cls.pages["limited"]],
                      [right, left, "--out", cls.pages["overlay"]],
@@ -552,9 +574,9 @@ class BrowserTest(unittest.TestCase):
             time.sleep(0.05)
         self.fail("timed out waiting for " + what)
 
-    def load(self, name):
+    def load(self, name, query=""):
         self.driver.get_log("browser")  # drop what earlier pages logged
-        self.driver.get("file://" + self.pages[name])
+        self.driver.get("file://" + self.pages[name] + query)
         self.wait_for("return window.physikViewers && window.physikViewers[0].renders > 0",
                       "the first frame of " + name)
         return self.driver.find_element("css selector", ".physik-viewer canvas")
@@ -594,6 +616,33 @@ class BrowserTest(unittest.TestCase):
         label = self.driver.find_element("css selector", ".physik-viewer .time").text
         self.assertRegex(label, r"t = 2\.000 s, step 40, frame 21/21")
         self.shot("single_last_frame")
+        self.assertEqual(self.errors(), [])
+
+    def test_the_url_opens_at_a_chosen_frame(self):
+        canvas = self.load("single", "?frame=last")
+        self.assertTrue(self.js("return !window.physikViewers[0].playing"))
+        label = self.driver.find_element("css selector", ".physik-viewer .time").text
+        self.assertRegex(label, r"t = 2\.000 s, step 40, frame 21/21")
+        last = self.settled_canvas(canvas)
+        self.shot("single_url_last_frame")
+        canvas = self.load("single", "?frame=5")
+        self.assertEqual(self.js("return window.physikViewers[0].frame"), 4)
+        self.assertNotEqual(self.settled_canvas(canvas), last)
+        self.assertEqual(self.errors(), [])
+
+    def test_the_url_plays_on_load(self):
+        self.load("single", "?play=1")
+        self.assertTrue(self.js("return window.physikViewers[0].playing || "
+                                "window.physikViewers[0].frame > 0"))
+        self.wait_for("return window.physikViewers[0].frame > 3", "playback on load")
+        self.assertEqual(self.errors(), [])
+
+    def test_a_solve_folder_opens_on_its_pose(self):
+        canvas = self.load("solved")
+        self.assertTrue(canvas.is_displayed())
+        label = self.driver.find_element("css selector", ".physik-viewer .time").text
+        self.assertRegex(label, r"step 0, frame 1/1")
+        self.shot("solved_pose")
         self.assertEqual(self.errors(), [])
 
     def test_play_advances_the_frame(self):
