@@ -24,10 +24,20 @@ SOURCE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 def run(binary, scene, scheme, out):
     cmd = [binary, "simulate", scene, "--set", f"scheme={scheme}", "--out", out, "--quiet"]
     p = subprocess.run(cmd, capture_output=True, text=True, check=False)
-    if p.returncode != 0:
-        return None, f"exit {p.returncode}: {p.stderr.strip()[-300:]}"
-    with open(os.path.join(out, "summary.json")) as f:
-        return json.load(f), None
+    error = f"exit {p.returncode}: {p.stderr.strip()[-300:]}" if p.returncode != 0 else ""
+    os.makedirs(out, exist_ok=True)
+    with open(os.path.join(out, "exit.txt"), "w") as f:
+        f.write(error)
+    if error:
+        return None, error
+    return read_summary(out), None
+
+
+def reused(out):
+    """(summary, error) of a run already in out"""
+    with open(os.path.join(out, "exit.txt")) as f:
+        error = f.read()
+    return (None, error) if error else (read_summary(out), None)
 
 
 def read_summary(out):
@@ -78,9 +88,8 @@ def main():
         name = os.path.splitext(os.path.basename(scene))[0]
         for scheme in a.schemes.split(","):
             outs = [os.path.join(a.out, which, name, scheme) for which in ("old", "new")]
-            reuse = a.reuse_old and os.path.exists(os.path.join(outs[0], "summary.json"))
-            s_old, e_old = (read_summary(outs[0]), None) if reuse else run(a.old, scene, scheme,
-                                                                           outs[0])
+            reuse = a.reuse_old and os.path.exists(os.path.join(outs[0], "exit.txt"))
+            s_old, e_old = reused(outs[0]) if reuse else run(a.old, scene, scheme, outs[0])
             s_new, e_new = run(a.new, scene, scheme, outs[1])
             if e_old or e_new:
                 same_error = e_old == e_new
