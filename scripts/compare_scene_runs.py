@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Two builds' runs of every shipped scene, compared (issue 50: a change to the recursion's order of
-operations may move trajectories by round-off, never more).
+"""Two builds' runs of every shipped scene, compared (a change to the step's order of operations may
+move trajectories by round-off, never more).
 
 For each models/scenes/*.json and each scheme, `physik simulate SCENE --set scheme=S` runs with the
 old binary and the new one; the report gives, per run, whether final_state_hash is the same and
