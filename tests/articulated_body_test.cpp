@@ -65,6 +65,27 @@ TEST(ArticulatedBody, AccelerationsEqualADenseSolveOnRandomTrees) {
   RecordProperty("worst_relative_error", std::to_string(worst));
 }
 
+TEST(ArticulatedBody, BallPassKeepsTheInertiasExactlySymmetric) {
+  // without joint blocks the pass builds A, C, D^-1 (and the rigid R diag(I) R^T) as symmetric
+  // matrices, upper triangle mirrored: every articulated inertia's A and C, every pivot's
+  // inverse, equal their transposes bit for bit, on trees whose inertias are general
+  std::mt19937 rng(17);
+  for (int trial = 0; trial < 20; ++trial) {
+    RandomTree t = random_tree(rng, 2 + trial % 10, true);
+    ArticulatedBodyData& d = t.s.articulated;
+    articulated_accelerations(t.rig, t.s, d);
+    for (int i = 0; i < t.rig.nbone; ++i) {
+      EXPECT_EQ(d.inertia_com_world[i], d.inertia_com_world[i].transpose()) << i;
+      EXPECT_EQ(d.inertia_art[i].A, d.inertia_art[i].A.transpose()) << i;
+      EXPECT_EQ(d.inertia_art[i].C, d.inertia_art[i].C.transpose()) << i;
+      if (i > 0 && t.rig.bone_joint_type[i] == JointType::kBall) {
+        EXPECT_EQ(d.D_inv[i], d.D_inv[i].transpose()) << i;
+        EXPECT_LT((d.D_inv[i] * d.inertia_art[i].A - Mat3::Identity()).norm(), 1e-12) << i;
+      }
+    }
+  }
+}
+
 TEST(ArticulatedBody, RotationalDamperAndGyroscopicCancellationMatchTheDenseSolve) {
   // the factor f's torque I (f - 1) w / dt and the gyroscopic-off switch as external torques
   std::mt19937 rng(13);

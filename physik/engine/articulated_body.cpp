@@ -46,12 +46,59 @@ SpatialInertia spatial_inertia(double m, const Mat3& I_com, const Vec3& e) {
   return out;
 }
 
+namespace {
+
+// out = R diag(d) R^T: symmetric, its upper triangle computed and mirrored
+inline void rotated_diagonal(const Mat3& R, const Vec3& diag, Mat3& out) {
+  Mat3 RD;  // R diag(d): column k scaled by d_k
+  for (int k = 0; k < 3; ++k) RD.col(k) = R.col(k) * diag[k];
+  const double i00 = RD.row(0).dot(R.row(0)), i01 = RD.row(0).dot(R.row(1));
+  const double i02 = RD.row(0).dot(R.row(2)), i11 = RD.row(1).dot(R.row(1));
+  const double i12 = RD.row(1).dot(R.row(2)), i22 = RD.row(2).dot(R.row(2));
+  out << i00, i01, i02, i01, i11, i12, i02, i12, i22;
+}
+
+// S v for a symmetric S (upper triangle read)
+inline Vec3 symmetric_times(const Mat3& S, const Vec3& v) {
+  return Vec3(S(0, 0) * v.x() + S(0, 1) * v.y() + S(0, 2) * v.z(),
+              S(0, 1) * v.x() + S(1, 1) * v.y() + S(1, 2) * v.z(),
+              S(0, 2) * v.x() + S(1, 2) * v.y() + S(2, 2) * v.z());
+}
+
+// the rigid spatial inertia of spatial_inertia(m, I_com, e) written into out, with the known
+// structure: A = I_com + m (|e|^2 1 - e e^T) (symmetric), B = m [e]x, C = m 1
+inline void rigid_inertia(double m, const Mat3& I_com, const Vec3& e, SpatialInertia& out) {
+  const Vec3 me = m * e;
+  const double ee = me.dot(e);
+  const double a00 = I_com(0, 0) + (ee - me.x() * e.x());
+  const double a01 = I_com(0, 1) - me.x() * e.y();
+  const double a02 = I_com(0, 2) - me.x() * e.z();
+  const double a11 = I_com(1, 1) + (ee - me.y() * e.y());
+  const double a12 = I_com(1, 2) - me.y() * e.z();
+  const double a22 = I_com(2, 2) + (ee - me.z() * e.z());
+  out.A << a00, a01, a02, a01, a11, a12, a02, a12, a22;
+  out.B << 0.0, -me.z(), me.y(), me.z(), 0.0, -me.x(), -me.y(), me.x(), 0.0;
+  out.C << m, 0.0, 0.0, 0.0, m, 0.0, 0.0, 0.0, m;
+}
+
+// the inverse of a symmetric 3x3 (upper triangle read) by its cofactors, mirrored
+inline void symmetric_inverse(const Mat3& S, Mat3& out) {
+  const double a = S(0, 0), b = S(0, 1), c = S(0, 2), d = S(1, 1), e = S(1, 2), f = S(2, 2);
+  const double c00 = d * f - e * e, c01 = c * e - b * f, c02 = b * e - c * d;
+  const double k = 1.0 / (a * c00 + b * c01 + c * c02);
+  const double i00 = c00 * k, i01 = c01 * k, i02 = c02 * k;
+  const double i11 = (a * f - c * c) * k, i12 = (b * c - a * e) * k, i22 = (a * d - b * b) * k;
+  out << i00, i01, i02, i01, i11, i12, i02, i12, i22;
+}
+
+}  // namespace
+
 void articulated_velocity_pass(const Rig& rig, const BodyMotion& s, ArticulatedBodyData& d) {
   for (int i = 0; i < rig.nbone; ++i) {
     const double m = rig.bone_mass[i];
     const Mat3 R = s.frames.orient_world[i].toRotationMatrix();
     Mat3& I_com = d.inertia_com_world[i];
-    I_com.noalias() = R * rig.bone_inertia_local[i].asDiagonal() * R.transpose();
+    rotated_diagonal(R, rig.bone_inertia_local[i], I_com);
     const Vec3& c = s.com_world[i];
     const Vec3& w = s.omega_world[i];
     const Vec3& v_com = s.vel_world[i];
@@ -74,15 +121,11 @@ void articulated_velocity_pass(const Rig& rig, const BodyMotion& s, ArticulatedB
     }
 
     // the external wrench; rigid inertia about o; the bias force V x* I V - f_ext about o
-    const Vec3 Iw = I_com * w;
+    const Vec3 Iw = symmetric_times(I_com, w);
     Vec3& tau = d.torque_ext_world[i];
     tau = s.torque_world[i] + d.torque_per_omega * Iw;
     if (d.cancel_gyroscopic) tau += w.cross(Iw);
-    SpatialInertia& IA = d.inertia_art[i];  // spatial_inertia(m, I_com, e), in place
-    IA.A = I_com;
-    IA.A.noalias() += m * (e.squaredNorm() * Mat3::Identity() - e * e.transpose());
-    IA.B = m * skew(e);
-    IA.C = m * Mat3::Identity();
+    rigid_inertia(m, I_com, e, d.inertia_art[i]);
     const Vec3 lin = m * w.cross(v_com) - s.force_world[i];
     d.bias_force[i] << w.cross(Iw) + e.cross(lin) - tau, lin;
   }
@@ -92,31 +135,57 @@ namespace {
 
 // A ball joint's articulated inertia handed to its parent p (every J = 0), r from p's point to
 // i's: S' = [1; 0]: U = I^A S' = [A; B^T], D = A, u = -S'^T p^A; I^a = [0, 0; 0, K] with
-// K = C - B^T A^-1 B (articulated_body.h). Returns p^a = p^A + I^a c + U D^-1 u in pa_ang, pa_lin.
-void ball_to_parent(ArticulatedBodyData& d, int i, int p, const Vec3& r, const Vec3& u,
-                    Vec3& pa_ang, Vec3& pa_lin) {
+// K = C - B^T A^-1 B (articulated_body.h). p^a = p^A + I^a c + U D^-1 u has the angular part
+// p^A_ang + A A^-1 u = 0 (u = -p^A_ang), and the linear part p^A_lin + K c_lin - (A^-1 B)^T p^A_ang
+// (A symmetric); it goes to the parent as (r x p^a_lin; p^a_lin). A, D^-1 and K are symmetric:
+// their upper triangles are computed and mirrored.
+void ball_to_parent(ArticulatedBodyData& d, int i, int p, const Vec3& r) {
   const SpatialInertia& IA = d.inertia_art[i];
-  const Mat3& A = IA.A;
   const Mat3& B = IA.B;
-  const Vec6& c = d.bias_accel[i];
-  SpatialInertia& IP = d.inertia_art[p];
-  d.D_inv[i] = A.inverse();
+  const Mat3& C = IA.C;
+  Mat3& Dinv = d.D_inv[i];
+  symmetric_inverse(IA.A, Dinv);
   Mat3 DinvB;
-  DinvB.noalias() = d.D_inv[i] * B;
-  Mat3 K = IA.C;
-  K.noalias() -= B.transpose() * DinvB;
-  K = (0.5 * (K + K.transpose())).eval();
-  const Vec3 Dinv_u = d.D_inv[i] * u;
-  pa_ang = d.bias_force[i].head<3>() + A * Dinv_u;
-  pa_lin = d.bias_force[i].tail<3>() + K * c.tail<3>() + B.transpose() * Dinv_u;
+  DinvB.noalias() = Dinv * B;
+  // K = C - B^T D^-1 B, upper triangle
+  const double k00 = C(0, 0) - B.col(0).dot(DinvB.col(0));
+  const double k01 = C(0, 1) - B.col(0).dot(DinvB.col(1));
+  const double k02 = C(0, 2) - B.col(0).dot(DinvB.col(2));
+  const double k11 = C(1, 1) - B.col(1).dot(DinvB.col(1));
+  const double k12 = C(1, 2) - B.col(1).dot(DinvB.col(2));
+  const double k22 = C(2, 2) - B.col(2).dot(DinvB.col(2));
+  Mat3 K;
+  K << k00, k01, k02, k01, k11, k12, k02, k12, k22;
+  const Vec6& c = d.bias_accel[i];
+  const Vec3 p_ang = d.bias_force[i].head<3>();
+  const Vec3 pa_lin = d.bias_force[i].tail<3>() + K * c.tail<3>() - DinvB.transpose() * p_ang;
   // a pure translational inertia K at r: X* I^a X = [R K R^T, R K; K R^T, K],  R = [r]x,
   // by cross products: column j of [r]x K is r x K_j; [r]x K [r]x^T is symmetric, its
-  // column j is r x (row j of [r]x K)
+  // entry (a, j) is (r x row j of [r]x K)_a
   Mat3 RK;
   for (int j = 0; j < 3; ++j) RK.col(j) = r.cross(K.col(j));
-  for (int j = 0; j < 3; ++j) IP.A.col(j) += r.cross(Vec3(RK.row(j).transpose()));
+  const double x = r.x(), y = r.y(), z = r.z();
+  // (r x v)_0 = y v2 - z v1, _1 = z v0 - x v2, _2 = x v1 - y v0 with v = row j of RK
+  const double s00 = y * RK(0, 2) - z * RK(0, 1);
+  const double s01 = y * RK(1, 2) - z * RK(1, 1);
+  const double s02 = y * RK(2, 2) - z * RK(2, 1);
+  const double s11 = z * RK(1, 0) - x * RK(1, 2);
+  const double s12 = z * RK(2, 0) - x * RK(2, 2);
+  const double s22 = x * RK(2, 1) - y * RK(2, 0);
+  SpatialInertia& IP = d.inertia_art[p];
+  IP.A(0, 0) += s00;
+  IP.A(0, 1) += s01;
+  IP.A(0, 2) += s02;
+  IP.A(1, 0) += s01;
+  IP.A(1, 1) += s11;
+  IP.A(1, 2) += s12;
+  IP.A(2, 0) += s02;
+  IP.A(2, 1) += s12;
+  IP.A(2, 2) += s22;
   IP.B += RK;
   IP.C += K;
+  d.bias_force[p].head<3>() += r.cross(pa_lin);
+  d.bias_force[p].tail<3>() += pa_lin;
 }
 
 // X* M X for a general spatial 6x6 M = [A B; E C] handed from a child to its parent's point
@@ -316,12 +385,12 @@ void articulated_backward_pass(const Rig& rig, ArticulatedBodyData& d) {
     }
     const Vec3 u = -d.bias_force[i].head<3>();
     d.u[i] = u;
-    Vec3 pa_ang, pa_lin;
     if (ball) {
-      ball_to_parent(d, i, p, r, u, pa_ang, pa_lin);
-    } else {
-      general_to_parent(d, i, p, r, u, pa_ang, pa_lin);
+      ball_to_parent(d, i, p, r);
+      continue;
     }
+    Vec3 pa_ang, pa_lin;
+    general_to_parent(d, i, p, r, u, pa_ang, pa_lin);
     d.bias_force[p].head<3>() += pa_ang + r.cross(pa_lin);
     d.bias_force[p].tail<3>() += pa_lin;
   }
