@@ -114,25 +114,9 @@ Vec3 torsion_excess_of(const Scene& scene, const Pose& pose, int bone) {
 }  // namespace
 
 double scene_potential(const Scene& scene, const Pose& pose) {
-  const BoneFrames f = forward_kinematics(scene.rig, pose);
-  const std::vector<Vec3> t = final_targets(scene);
-  double u = 0.0;
-  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
-    const ControlPoint& cp = scene.control_points[c];
-    const EngineParams& ep = scene.params;
-    u += control_spring_potential(cp.spring_in(ep), cp.k_in(ep), cp.cap_in(ep),
-                                  (point_on_bone(f, cp.bone, cp.alpha) - t[c]).norm());
-  }
-  if (scene.params.torsion_k > 0.0) {
-    for (int i = 0; i < scene.rig.nbone; ++i) {
-      const Vec3 d = torsion_excess_of(scene, pose, i);
-      for (int k = 0; k < 3; ++k) {
-        u += torsion_spring_potential(scene.params.torsion_spring, scene.params.torsion_k,
-                                      scene.params.torsion_cap, d[k]);
-      }
-    }
-  }
-  return u;
+  // the force list's one sum (potential.h), toward the schedule's final targets
+  SimState s = state_at_pose(scene, pose, final_targets(scene));
+  return potential_energy(scene, s);
 }
 
 double max_pose_distance(const BoneFrames& a, const BoneFrames& b) {
@@ -175,20 +159,14 @@ void measure_result(const Scene& scene, const std::vector<int>& limited_bones,
     const ControlPoint& cp = scene.control_points[c];
     const double d = (point_on_bone(out.frames, cp.bone, cp.alpha) - out.targets_world[c]).norm();
     out.control_distance.push_back(d);
-    const EngineParams& ep = scene.params;
-    out.control_potential +=
-        control_spring_potential(cp.spring_in(ep), cp.k_in(ep), cp.cap_in(ep), d);
   }
   out.torsion_excess.assign(rig.nbone, Vec3::Zero());
-  for (int i : limited_bones) {
-    out.torsion_excess[i] = torsion_excess_of(scene, out.pose, i);
-    for (int k = 0; k < 3; ++k) {
-      out.torsion_potential +=
-          torsion_spring_potential(scene.params.torsion_spring, scene.params.torsion_k,
-                                   scene.params.torsion_cap, out.torsion_excess[i][k]);
-    }
-  }
-  out.potential = out.control_potential + out.torsion_potential;
+  for (int i : limited_bones) out.torsion_excess[i] = torsion_excess_of(scene, out.pose, i);
+  // the potentials are the force list's elements' (potential.h), at the solved pose
+  SimState at = state_at_pose(scene, out.pose, out.targets_world);
+  out.control_potential = control_springs_potential(scene, at);
+  out.torsion_potential = torsion_springs_potential(scene, at);
+  out.potential = potential_energy(scene, at);
 }
 
 // The pose of the parameter blocks: root head, then one quaternion (x, y, z, w) per bone.

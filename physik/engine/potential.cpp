@@ -21,15 +21,24 @@ double potential_energy(const Scene& scene, SimState& s, PotentialOf which) {
   return u;
 }
 
-double initial_potential_energy(const Scene& scene) {
+SimState state_at_pose(const Scene& scene, const Pose& pose,
+                       const std::vector<Vec3>& targets_world) {
   SimState s;
   size_state(scene.rig, scene.control_points.size(), s);
-  s.pose = scene.initial_pose;
-  s.frames = forward_kinematics(scene.rig, scene.initial_pose);
+  s.pose = pose;
+  s.frames = forward_kinematics(scene.rig, pose);
   for (int i = 0; i < scene.rig.nbone; ++i) {
     s.com_world[i] = 0.5 * (s.frames.head_world[i] + s.frames.tail_world[i]);
   }
+  for (std::size_t c = 0; c < targets_world.size() && c < s.target_effective_world.size(); ++c) {
+    s.target_effective_world[c] = targets_world[c];
+  }
   prepare_contact_data(scene, s.contact);
+  return s;
+}
+
+double initial_potential_energy(const Scene& scene) {
+  SimState s = state_at_pose(scene, scene.initial_pose, {});
   return potential_energy(scene, s, PotentialOf::kAllButControlSprings);
 }
 

@@ -21,9 +21,16 @@ enum class PotentialOf { kAll, kAllButControlSprings };
 // data is prepared (contact_data.h).
 double potential_energy(const Scene& scene, SimState& state, PotentialOf which = PotentialOf::kAll);
 
+// A state of `pose` at rest whose control springs pull toward `targets_world` (one per control
+// point), its contact data prepared: a pose's potential outside a run (the run monitor's start,
+// the exact equilibrium's report: tune/equilibrium.h) is this state's potential_energy.
+// Allocates: once per query, never in a step.
+SimState state_at_pose(const Scene& scene, const Pose& pose,
+                       const std::vector<Vec3>& targets_world);
+
 // U of the scene's initial pose before a run (the run monitor's start, run_monitor.h): the same
-// sum, on a state of that pose at rest built here, whose control springs are at rest (init_state
-// starts every target at its attachment point). Allocates: once per run, never in a step.
+// sum on state_at_pose, without the control springs, which init_state starts at rest (every
+// target at its attachment point).
 double initial_potential_energy(const Scene& scene);
 
 }  // namespace physik
