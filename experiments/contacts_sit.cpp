@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "experiments/contacts_scenes.h"
 #include "experiments/common.h"
 #include "experiments/contacts.h"
+#include "experiments/contacts_scenes.h"
 #include "experiments/report.h"
 #include "physik/engine/contact_data.h"
 #include "physik/engine/engine.h"

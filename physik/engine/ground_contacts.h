@@ -2,9 +2,10 @@
 // potential, and their implicit elements. Detection is collision.h's, through the state's contact
 // data (contact_data.h); a bone pair's contact is self_contacts.h's.
 //
-// Contact force law, per contact found at the state (bodies a, b: a bone and the ground or a box; point p; unit normal n from b
-// toward a; depth d > 0): with v = v_a(p) - v_b(p) the relative velocity of the two bodies'
-// material points at p (v_b = 0: b is static), v_n = v . n and v_t = v - v_n n,
+// Contact force law, per contact found at the state (bodies a, b: a bone and the ground or a box;
+// point p; unit normal n from b toward a; depth d > 0): with v = v_a(p) - v_b(p) the relative
+// velocity of the two bodies' material points at p (v_b = 0: b is static), v_n = v . n and
+// v_t = v - v_n n,
 //   normal    F_n = max(0, k d - c v_n)      a penalty spring with a damper (compliant, like
 //                                            MuJoCo's soft contacts), never pulling
 //   friction  F_t = -k_t s - (mu F_n - k_t |s|) v_t / max(|v_t|, v_s)
@@ -17,13 +18,13 @@
 // spring sinks by d = W / k.
 //
 
-// Static friction (k_t = 0: none, the regularised law alone). The regularised law alone has no static part: under a steady tangential load T < mu
-// F_n a contact creeps at v_t = v_s T / (mu F_n), for ever (a rod on a slope, a pile of bones).
-// So each contact carries an anchor spring, the elastic-plastic (bristle) model of friction
-// (P. Dahl, "A solid friction model", 1968; the stick-slip spring of penalty contact, e.g. K.
-// Yamane and Y. Nakamura, "Stable penalty-based model of frictional contacts", ICRA 2006): its
-// stretch s, tangent to n, grows with the contact's slip and is held at |s| <= mu F_n / k_t (the
-// contact slips there):
+// Static friction (k_t = 0: none, the regularised law alone). The regularised law alone has no
+// static part: under a steady tangential load T < mu F_n a contact creeps at v_t = v_s T / (mu
+// F_n), for ever (a rod on a slope, a pile of bones). So each contact carries an anchor spring, the
+// elastic-plastic (bristle) model of friction (P. Dahl, "A solid friction model", 1968; the
+// stick-slip spring of penalty contact, e.g. K. Yamane and Y. Nakamura, "Stable penalty-based model
+// of frictional contacts", ICRA 2006): its stretch s, tangent to n, grows with the contact's slip
+// and is held at |s| <= mu F_n / k_t (the contact slips there):
 //   s+ = clamp(P_n+ (s + h v_t+), mu F_n+ / k_t)                  (P_n: onto the tangent plane)
 // with v_t+ the slip velocity at the end of the step (backward Euler, as the implicit step takes
 // the spring's force at the end of the step). A contact the last force stage had (the same bodies

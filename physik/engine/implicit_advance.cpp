@@ -75,8 +75,7 @@ struct Guard {
 
 // The check of a (sub)step of h just taken from energy e0 (J): its joints turned at most
 // kMaxStepRotation and its energy grew at most the tolerance. `growth` gets E_1 - e0 (J).
-bool step_holds(const Scene& scene, SimState& s, double h, double e0, Guard& g,
-                double& growth) {
+bool step_holds(const Scene& scene, SimState& s, double h, double e0, Guard& g, double& growth) {
   g.measured = {true, kinetic_energy(scene.rig, s), potential_energy(scene, s)};
   growth = (g.measured.kinetic + g.measured.potential) - e0;
   if (largest_rotation(s, h) > kMaxStepRotation) return false;

@@ -43,8 +43,8 @@ void apply_self_contacts(const Scene& scene, SimState& s, double h) {
   for (Contact& c : d.found) {
     if (c.other_bone < 0) continue;  // the ground or an obstacle: ground_contacts.h
     const Vec3& n = c.normal_world;
-    const Vec3 v = point_velocity(s, c.bone, c.point_world) -
-                   point_velocity(s, c.other_bone, c.point_world);
+    const Vec3 v =
+        point_velocity(s, c.bone, c.point_world) - point_velocity(s, c.other_bone, c.point_world);
     // the damper and friction: explicit, capped for the step (above)
     const double cap = self_contact_damping_cap(scene.rig, s, c, h);
     const double damping = std::min(p.contact_damping, cap);
@@ -86,8 +86,8 @@ void self_contacts_rate(const Scene&, double h, SimState& s) {
   for (const ContactElement& e : s.contact.elements) {
     if (e.other_bone < 0) continue;
     // b moves on at its start-of-step velocity: K times the relative velocity, on a and on b
-    const Vec3 v = point_velocity(s, e.bone, e.point_world) -
-                   point_velocity(s, e.other_bone, e.point_world);
+    const Vec3 v =
+        point_velocity(s, e.bone, e.point_world) - point_velocity(s, e.other_bone, e.point_world);
     const Vec3 f = -h * (e.stiffness * v);
     apply_force_at(s, e.bone, f, e.point_world);
     apply_force_at(s, e.other_bone, -f, e.point_world);
