@@ -27,8 +27,8 @@
 // The pose-terms step (implicit_linearisation full, implicit_pose_terms.h) takes the control
 // springs' forces and the torsion springs' torques their stages leave in the state.
 //
-// Adding a force: one file with its stage functions and this list's row (forces.cpp), then the
-// docs (docs/DESIGN.md "Adding things").
+// Adding a force: one file with its stage functions, this list's row (forces.cpp) and its
+// ForceKind (force_stages.h), then the docs (docs/DESIGN.md "Adding things").
 // Result of the force stage: state.force_world (N, at the centre of mass) and state.torque_world
 // (N m, about it), world axes, per bone. The inter-joint forces are not among them: they are the
 // joint solve's.
@@ -55,8 +55,9 @@ struct ForceElement {
   MujocoSide mujoco;
 };
 
-// The list, in the order every stage walks it (a fixed array: walking it allocates nothing, the
-// first walk included).
+// The list, in the order every stage walks it (implicit_rates alone takes the contacts' rows
+// first: forces.cpp says why); a fixed array, so walking it allocates nothing, the first walk
+// included.
 inline constexpr int kForceCount = 6;
 const std::array<ForceElement, kForceCount>& force_elements();
 
