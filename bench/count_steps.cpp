@@ -22,6 +22,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "bench/tool_main.h"
 #include "experiments/scaling.h"
 #include "physik/engine/engine.h"
 #include "physik/model/errors.h"
@@ -90,19 +91,6 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember(physik::choice_names(physik::Scheme{})));
   app.add_option("--steps", steps, "steps counted")->check(CLI::Range(1, 1000000));
   app.footer("Exit status: 0 success, 1 an unexpected failure, 2 bad input, 3 a diverged run.");
-  try {
-    app.parse(argc, argv);
-    return run(kind, bones, scheme, steps);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    app.exit(e);
-    return physik::kExitBadInput;
-  } catch (const physik::InputError& e) {
-    std::cerr << "physik_count: error: " << e.what() << "\n";
-    return physik::kExitBadInput;
-  } catch (const std::exception& e) {
-    std::cerr << "physik_count: internal error: " << e.what() << "\n";
-    return physik::kExitRuntimeFailure;
-  }
+  return physik::bench::tool_main("physik_count", app, argc, argv,
+                                  [&] { return run(kind, bones, scheme, steps); });
 }

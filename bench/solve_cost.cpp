@@ -40,6 +40,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "bench/tool_main.h"
 #include "experiments/common.h"
 #include "experiments/ik_cases.h"
 #include "physik/engine/engine.h"
@@ -179,19 +180,6 @@ int main(int argc, char** argv) {
                  "the step's implicit_linearisation (gauss-newton, the solve mode's, or full)")
       ->check(CLI::IsMember(physik::choice_names(physik::ImplicitLinearisation{})));
   app.footer("Exit status: 0 success, 1 an unexpected failure, 2 bad input.");
-  try {
-    app.parse(argc, argv);
-    return run(models, rig, targets, linearisation);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    app.exit(e);
-    return physik::kExitBadInput;
-  } catch (const physik::InputError& e) {
-    std::cerr << "physik_solve_cost: error: " << e.what() << "\n";
-    return physik::kExitBadInput;
-  } catch (const std::exception& e) {
-    std::cerr << "physik_solve_cost: internal error: " << e.what() << "\n";
-    return physik::kExitRuntimeFailure;
-  }
+  return physik::bench::tool_main("physik_solve_cost", app, argc, argv,
+                                  [&] { return run(models, rig, targets, linearisation); });
 }

@@ -2,6 +2,7 @@
 
 #include "physik/engine/contact_data.h"
 #include "physik/engine/forces.h"
+#include "physik/engine/measures.h"
 #include "physik/model/kinematics.h"
 
 namespace physik {
@@ -28,7 +29,7 @@ SimState state_at_pose(const Scene& scene, const Pose& pose,
   s.pose = pose;
   s.frames = forward_kinematics(scene.rig, pose);
   for (int i = 0; i < scene.rig.nbone; ++i) {
-    s.com_world[i] = 0.5 * (s.frames.head_world[i] + s.frames.tail_world[i]);
+    s.com_world[i] = bone_centre_world(s.frames, i);
   }
   for (std::size_t c = 0; c < targets_world.size() && c < s.target_effective_world.size(); ++c) {
     s.target_effective_world[c] = targets_world[c];
