@@ -9,16 +9,6 @@
 
 namespace physik {
 
-// The forces, in the list's order (forces.h).
-enum class ForceKind {
-  kDamping,
-  kControlSprings,
-  kTorsionSprings,
-  kGravity,
-  kGroundContacts,
-  kSelfContacts,
-};
-
 // Who applies a force when the MuJoCo reference runs the scene (reference/mujoco_runner.h).
 enum class MujocoSide {
   kApplied,         // PhysIK's force, applied to MuJoCo's bodies (xfrc_applied)
@@ -61,7 +51,7 @@ struct ImplicitStage {
 };
 
 // The stiffness damping auto's modes see at a pose (linear_modes.h): point elements K at points
-// of bodies, and 3x3 blocks on balls' relative turns.
+// of bodies, couples K on bodies' own turns, and 3x3 blocks on balls' relative turns.
 struct ModeStiffness {
   struct Point {
     int bone = 0;
@@ -72,7 +62,12 @@ struct ModeStiffness {
     int bone = 0;                   // the ball's bone (a pinned root's: against the world)
     Mat3 stiffness = Mat3::Zero();  // N m/rad, world axes, on w_bone - w_parent
   };
+  struct Couple {
+    int bone = 0;
+    Mat3 stiffness = Mat3::Zero();  // N m/rad, world axes, on w_bone (a couple: no point)
+  };
   std::vector<Point> points;
+  std::vector<Couple> couples;
   std::vector<Block> blocks;
 };
 

@@ -1,5 +1,7 @@
 #include "physik/engine/forces.h"
 
+#include <iterator>
+
 #include "physik/engine/contact_data.h"
 #include "physik/engine/control_springs.h"
 #include "physik/engine/damping.h"
@@ -65,28 +67,39 @@ bool applies(const ForceElement& e, const ForceStage& stage) {
   return true;
 }
 
+// The list: one row per element, its file the element's name (damping.h, control_springs.h, ...),
+// a null entry a stage it leaves out:
+//   damping          no potential (a damper only removes energy); in the modes its end dampers'
+//                    unit matrix D1 and the angular-velocity factor's Dr are damping auto's own
+//                    (mode_operators.h, linear_modes_dense.h), not a stiffness
+//   gravity          a constant force at each centre of mass: no stiffness, no damping
+//   ground contacts, self contacts
+//                    no modes: contacts come and go between the target changes at which damping
+//                    auto chooses c; a contact's own damper damps its normal motion
+//                    (ground_contacts.h, self_contacts.h)
+// clang-format off
+const ForceElement kForces[] = {
+  // name              apply          potential                   rate                  augment
+  //   modes (K)                        MuJoCo                        toward targets, rate first
+  {"damping",         damping_apply, nullptr,                    nullptr,              damping_augment,
+     nullptr,                        MujocoSide::kApplied,         false, false},
+  {"control springs", control_apply, control_springs_potential,  control_springs_rate, control_springs_augment,
+     control_springs_mode_stiffness, MujocoSide::kApplied,         true,  false},
+  {"torsion springs", torsion_apply, torsion_springs_potential,  torsion_springs_rate, torsion_springs_augment,
+     torsion_springs_mode_stiffness, MujocoSide::kSameForcesOnly,  false, false},
+  {"gravity",         gravity_apply, gravity_state_potential,    nullptr,              nullptr,
+     nullptr,                        MujocoSide::kMujocosOwn,      false, false},
+  {"ground contacts", ground_apply,  ground_contacts_potential,  ground_rate,          ground_augment,
+     nullptr,                        MujocoSide::kMujocosOwn,      false, true},
+  {"self contacts",   self_apply,    self_contacts_potential,    self_rate,            self_augment,
+     nullptr,                        MujocoSide::kMujocosOwn,      false, true},
+};
+// clang-format on
+
 }  // namespace
 
-const std::array<ForceElement, kForceCount>& force_elements() {
-  // clang-format off
-  static const std::array<ForceElement, kForceCount> list{{
-    // kind                         name               apply          potential
-    //   rate                 augment                  modes (K)                         MuJoCo
-    {ForceKind::kDamping,         "damping",         damping_apply, nullptr,
-       nullptr,             damping_augment,         nullptr,                         MujocoSide::kApplied},
-    {ForceKind::kControlSprings,  "control springs", control_apply, control_springs_potential,
-       control_springs_rate, control_springs_augment, control_springs_mode_stiffness, MujocoSide::kApplied},
-    {ForceKind::kTorsionSprings,  "torsion springs", torsion_apply, torsion_springs_potential,
-       torsion_springs_rate, torsion_springs_augment, torsion_springs_mode_stiffness, MujocoSide::kSameForcesOnly},
-    {ForceKind::kGravity,         "gravity",         gravity_apply, gravity_state_potential,
-       nullptr,             nullptr,                 nullptr,                         MujocoSide::kMujocosOwn},
-    {ForceKind::kGroundContacts,  "ground contacts", ground_apply,  ground_contacts_potential,
-       ground_rate,         ground_augment,          nullptr,                         MujocoSide::kMujocosOwn},
-    {ForceKind::kSelfContacts,    "self contacts",   self_apply,    self_contacts_potential,
-       self_rate,           self_augment,            nullptr,                         MujocoSide::kMujocosOwn},
-  }};
-  // clang-format on
-  return list;
+ForceList force_elements() {
+  return {std::begin(kForces), std::end(kForces)};
 }
 
 void apply_forces(const Scene& scene, SimState& s, const ForceStage& stage) {
@@ -100,17 +113,14 @@ void apply_forces(const Scene& scene, SimState& s, const ForceStage& stage) {
 }
 
 void implicit_rates(const Scene& scene, const ImplicitStage& stage, SimState& s) {
-  // the contacts' terms first, then the others' in the list's order: the order the step has
-  // always summed -h K v into the forces in (any order is the same sum up to round-off; this one
-  // keeps every run's results bit for bit)
-  const auto contact = [](const ForceElement& e) {
-    return e.kind == ForceKind::kGroundContacts || e.kind == ForceKind::kSelfContacts;
-  };
+  // the contacts' terms (rate_first) first, then the others' in the list's order: the order the
+  // step has always summed -h K v into the forces in (any order is the same sum up to round-off;
+  // this one keeps every run's results bit for bit)
   for (const ForceElement& e : force_elements()) {
-    if (e.rate && contact(e)) e.rate(scene, stage, s);
+    if (e.rate && e.rate_first) e.rate(scene, stage, s);
   }
   for (const ForceElement& e : force_elements()) {
-    if (e.rate && !contact(e)) e.rate(scene, stage, s);
+    if (e.rate && !e.rate_first) e.rate(scene, stage, s);
   }
 }
 
@@ -123,6 +133,7 @@ void implicit_augment(const Scene& scene, const ImplicitStage& stage, SimState& 
 void mode_stiffness(const Scene& scene, const SimState& s, const std::vector<Vec3>& targets,
                     ModeStiffness& out) {
   out.points.clear();
+  out.couples.clear();
   out.blocks.clear();
   for (const ForceElement& e : force_elements()) {
     if (e.mode_stiffness) e.mode_stiffness(scene, s, targets, out);

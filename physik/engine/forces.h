@@ -9,32 +9,18 @@
 //                          O(n)
 // A force that leaves a stage out has a null entry there, and its header says why.
 //
-// clang-format off
-//   element          file               potential   implicit        modes (K)   MuJoCo reference
-//   damping          damping.h          none [1]    augment         D1, Dr [2]  applied
-//   control springs  control_springs.h  yes         rate, augment   yes         applied
-//   torsion springs  torsion_springs.h  yes         rate, augment   yes         same-forces mode
-//   gravity          gravity.h          yes         none [3]        none [3]    MuJoCo's own
-//   ground contacts  ground_contacts.h  yes         rate, augment   none [4]    MuJoCo's own
-//   self contacts    self_contacts.h    yes         rate, augment   none [4]    MuJoCo's own
-// clang-format on
-//   [1] a damper only removes energy.
-//   [2] the end dampers' unit matrix D1 and the angular-velocity factor's Dr are the damping's
-//       own: damping auto chooses c for them (mode_operators.h, linear_modes_dense.h).
-//   [3] a constant force at each centre of mass: no stiffness, no damping.
-//   [4] contacts come and go between the target changes at which damping auto chooses c; a
-//       contact's own damper damps its normal motion (ground_contacts.h, self_contacts.h).
+// The list and what each element supplies: forces.cpp, one row each.
+//
 // The pose-terms step (implicit_linearisation full, implicit_pose_terms.h) takes the control
 // springs' forces and the torsion springs' torques their stages leave in the state.
 //
-// Adding a force: one file with its stage functions, this list's row (forces.cpp) and its
-// ForceKind (force_stages.h), then the docs (docs/DESIGN.md "Adding things").
+// Adding a force: one file with its stage functions and its row in the list (forces.cpp), then
+// the docs (docs/DESIGN.md "Adding things").
 // Result of the force stage: state.force_world (N, at the centre of mass) and state.torque_world
 // (N m, about it), world axes, per bone. The inter-joint forces are not among them: they are the
 // joint solve's.
 #pragma once
 
-#include <array>
 #include <vector>
 
 #include "physik/engine/force_stages.h"
@@ -44,7 +30,6 @@
 namespace physik {
 
 struct ForceElement {
-  ForceKind kind;
   const char* name;
   void (*apply)(const Scene&, SimState&, const ForceStage&);
   double (*potential)(const Scene&, const SimState&);              // J; null: none
@@ -53,13 +38,22 @@ struct ForceElement {
   void (*mode_stiffness)(const Scene&, const SimState&, const std::vector<Vec3>& targets,
                          ModeStiffness&);  // null: none
   MujocoSide mujoco;
+  bool toward_targets;  // a spring toward targets that move (a schedule, a posing session): the
+                        // run monitor's ledger leaves its potential out (potential.h)
+  bool rate_first;      // implicit_rates takes this element's rate before the others' (forces.cpp)
 };
 
-// The list, in the order every stage walks it (implicit_rates alone takes the contacts' rows
-// first: forces.cpp says why); a fixed array, so walking it allocates nothing, the first walk
-// included.
-inline constexpr int kForceCount = 6;
-const std::array<ForceElement, kForceCount>& force_elements();
+// The list, in the order every stage walks it (implicit_rates alone takes the rows marked
+// rate_first first: forces.cpp says why); a fixed array, so walking it allocates nothing, the
+// first walk included.
+struct ForceList {
+  const ForceElement* first;
+  const ForceElement* last;  // one past the end
+  const ForceElement* begin() const { return first; }
+  const ForceElement* end() const { return last; }
+  int size() const { return static_cast<int>(last - first); }
+};
+ForceList force_elements();
 
 // The force stage: the bodies' accumulators cleared (prepare_bodies), the contacts at the state
 // detected (contact_data.h) when the scene has any, then every element's force that `stage` is for.

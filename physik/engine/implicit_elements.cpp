@@ -18,4 +18,9 @@ void add_point_element(const Mat3& A, const Vec3& r, const Vec6& a0, SpatialIner
   bias.tail<3>() -= f;
 }
 
+void add_couple_element(const Mat3& A, const Vec6& a0, SpatialInertia& inertia, Vec6& bias) {
+  inertia.A += A;
+  bias.head<3>() -= A * a0.head<3>();
+}
+
 }  // namespace physik

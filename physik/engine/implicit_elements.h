@@ -20,5 +20,9 @@ void add_point_inertia(const Mat3& A, const Vec3& r, SpatialInertia& inertia);
 // body) into its bias force.
 void add_point_element(const Mat3& A, const Vec3& r, const Vec6& a0, SpatialInertia& inertia,
                        Vec6& bias);
+// A couple element (a torque on the body's own turn, an orientation spring's): A in N m s/rad (a
+// rotational damper) or N m s^2/rad (h^2 K), its map [1 0], so A joins the inertia's angular
+// block alone, and -A w0 (w0 the angular part of a0) its bias force, whatever the body's point.
+void add_couple_element(const Mat3& A, const Vec6& a0, SpatialInertia& inertia, Vec6& bias);
 
 }  // namespace physik

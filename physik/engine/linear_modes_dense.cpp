@@ -64,13 +64,18 @@ DenseModeMatrices dense_mode_matrices(const Scene& scene, const SimState& s,
     }
   }
   // K: every force element's stiffness at the pose (forces.h mode_stiffness), as the O(n)
-  // operators see it: a point element through its point's velocity Jacobian, a joint block
+  // operators see it: a point element through its point's velocity Jacobian, a couple through
+  // its body's angular velocity Jacobian, a joint block
   // through the relative turn of its bone and its parent (a pinned root's: the world)
   ModeStiffness stiffness;
   mode_stiffness(scene, s, targets, stiffness);
   for (const ModeStiffness::Point& e : stiffness.points) {
     body_jacobians(rig, s, e.bone, e.point_world, Jw, Jp);
     K += Jp.transpose() * e.stiffness * Jp;
+  }
+  for (const ModeStiffness::Couple& e : stiffness.couples) {
+    body_jacobians(rig, s, e.bone, s.com_world[e.bone], Jw, Jdummy);
+    K += Jw.transpose() * e.stiffness * Jw;
   }
   for (const ModeStiffness::Block& e : stiffness.blocks) {
     body_jacobians(rig, s, e.bone, s.com_world[e.bone], Jw, Jdummy);

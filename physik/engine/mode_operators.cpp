@@ -52,8 +52,11 @@ ModeOperators::ModeOperators(const Scene& scene, const SimState& s,
     d.bias_accel[i].setZero();
   }
   factor_damper_ = (1.0 - prm.angular_velocity_factor) / prm.dt;
-  // K's elements, every force's (forces.h): points on bodies, blocks on balls
+  // K's elements, every force's (forces.h): points on bodies, couples on them, blocks on balls
   physik::mode_stiffness(scene, s, targets, ws.stiffness);
+  ws.couples.clear();
+  for (const ModeStiffness::Couple& c : ws.stiffness.couples)
+    ws.couples.emplace_back(c.bone, c.stiffness);
   ws.torsion.clear();
   for (const ModeStiffness::Block& b : ws.stiffness.blocks)
     ws.torsion.emplace_back(b.bone, b.stiffness);
@@ -92,6 +95,9 @@ void ModeOperators::element_wrenches(Matrix which) {
   if (which != Matrix::kStiffness) return;
   for (const ModePointElement& e : ws_.springs) {
     add_point_wrench(e.stiffness, e.offset, ws_.velocity[e.bone], ws_.wrench[e.bone]);
+  }
+  for (const auto& [b, K] : ws_.couples) {
+    ws_.wrench[b].head<3>() += K * ws_.velocity[b].head<3>();
   }
 }
 
@@ -167,6 +173,7 @@ void ModeOperators::load_inertias() {
   for (const ModePointElement& e : ws_.springs) {
     add_point_inertia(e.stiffness / shift_, e.offset, d.inertia_art[e.bone]);
   }
+  for (const auto& [b, K] : ws_.couples) d.inertia_art[b].A += K / shift_;
 }
 
 // H = M - K / sigma (the shift -sigma) is -(K - sigma M) / sigma, so the modes below sigma are

@@ -18,26 +18,26 @@
 //   M   E_i = the rigid spatial inertia: f = m (v + w x e), n = I_com w + e x f, e = com - o
 //   K   every force's stiffness (forces.h mode_stiffness): point elements on their bodies (the
 //       control springs': a point p = o + r moves at v + w x r, pulled by f = K_c (v + w x r),
-//       n = r x f) and blocks on the balls' own coordinates (the torsion springs')
+//       n = r x f), couples on their bodies' own turns (n = K w: the orientation springs') and
+//       blocks on the balls' own coordinates (the torsion springs')
 //   D1  unit dampers at the head and the tail, the same point elements with K_c = 1
 //   Dr  n = (1 - f) / dt I_com w
 // Product: velocities outward, V_i = X_i V_parent + (u_i; 0), V_0 = (w_0; v_0); wrenches
 // W_i = E_i V_i, summed inward, W_parent += X_i^* W_i; then y_i = W_i.torque (+ the ball block
 // times u_i), y_0 = (W_0.force; W_0.torque). One pass each way: O(n), no allocation.
 // Solve: (K + s M) x = b is s (M + K / s) x = b: the rigid inertias plus the point elements of K
-// over s (add_point_inertia), and the balls' blocks over s as joint blocks, in articulated_body.h's
-// backward and forward passes at zero velocity (every bias acceleration 0); b enters as external
-// torques, b_i on bone i and -b_i on its parent (so that J^T of them is b), and the root's
-// (force; torque); x is read from the spatial accelerations. A negative s is allowed: the
-// recursion needs only invertible pivots.
-// Count: the backward pass eliminates each ball's coordinates in turn, leaves first, and passes
-// the Schur complement of its pivot on to the parent (articulated_body.h, pass 2), so
-// H = L diag(P) L^T with unit block-triangular L and the pivots P: each ball's 3x3 D_i and the
-// root's 6x6 I^A_0.
-// By Sylvester's law of inertia H has as many negative eigenvalues as the pivots together;
-// with H = M - K / sigma this counts the modes below sigma (the Wittrick-Williams count:
-// W. H. Wittrick, F. W. Williams, Q. J. Mech. Appl. Math. 24(3), 1971; B. N. Parlett, The
-// Symmetric Eigenvalue Problem, 1998, sec. 3.3, spectrum slicing).
+// over s (add_point_inertia; a couple's K / s joins the angular block), and the balls' blocks over
+// s as joint blocks, in articulated_body.h's backward and forward passes at zero velocity (every
+// bias acceleration 0); b enters as external torques, b_i on bone i and -b_i on its parent (so that
+// J^T of them is b), and the root's (force; torque); x is read from the spatial accelerations. A
+// negative s is allowed: the recursion needs only invertible pivots. Count: the backward pass
+// eliminates each ball's coordinates in turn, leaves first, and passes the Schur complement of its
+// pivot on to the parent (articulated_body.h, pass 2), so H = L diag(P) L^T with unit
+// block-triangular L and the pivots P: each ball's 3x3 D_i and the root's 6x6 I^A_0. By Sylvester's
+// law of inertia H has as many negative eigenvalues as the pivots together; with H = M - K / sigma
+// this counts the modes below sigma (the Wittrick-Williams count: W. H. Wittrick, F. W. Williams,
+// Q. J. Mech. Appl. Math. 24(3), 1971; B. N. Parlett, The Symmetric Eigenvalue Problem, 1998,
+// sec. 3.3, spectrum slicing).
 //
 // The buffers live in a ModeWorkspace, which the state keeps (SimState::modes): sized at the
 // first update, reused at every later one (the rig does not change during a run).
@@ -81,8 +81,11 @@ class ModeOperators {
   // the largest diagonal entry of D1 in the dense path's coordinates (linear_modes_dense.h): the
   // scale of its rule "the end dampers do not reach this mode"
   double end_damper_scale() const { return end_damper_scale_; }
-  // true when K has no element at all (no control point, no engaged torsion spring)
-  bool stiffness_empty() const { return ws_.springs.empty() && ws_.torsion.empty(); }
+  // true when K has no element at all (no control point or bone target, no engaged torsion
+  // spring)
+  bool stiffness_empty() const {
+    return ws_.springs.empty() && ws_.couples.empty() && ws_.torsion.empty();
+  }
   ModeWorkspace& workspace() { return ws_; }
 
  private:

@@ -30,6 +30,7 @@ struct ModeWorkspace {
   std::vector<double> ends;
   ModeStiffness stiffness;                    // K's elements, every force's (forces.h)
   std::vector<ModePointElement> springs;      // K's point elements, about the bodies' points
+  std::vector<std::pair<int, Mat3>> couples;  // K's couples on bodies' own turns, N m/rad
   std::vector<std::pair<int, Mat3>> torsion;  // K's ball blocks, N m/rad
   std::vector<VecX> basis, basis_k, basis_f;  // Lanczos: q_j, K q_j, F q_j (grown, never shrunk)
   std::vector<VecX> locked, locked_k;         // converged modes kept out of the Krylov space, K y

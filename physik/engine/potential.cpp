@@ -14,9 +14,7 @@ double potential_energy(const Scene& scene, SimState& s, PotentialOf which) {
   double u = 0.0;
   for (const ForceElement& e : force_elements()) {
     if (!e.potential) continue;  // a damper: no potential
-    if (which == PotentialOf::kAllButControlSprings && e.kind == ForceKind::kControlSprings) {
-      continue;
-    }
+    if (which == PotentialOf::kAllButTargetSprings && e.toward_targets) continue;
     u += e.potential(scene, s);
   }
   return u;
@@ -40,7 +38,7 @@ SimState state_at_pose(const Scene& scene, const Pose& pose,
 
 double initial_potential_energy(const Scene& scene) {
   SimState s = state_at_pose(scene, scene.initial_pose, {});
-  return potential_energy(scene, s, PotentialOf::kAllButControlSprings);
+  return potential_energy(scene, s, PotentialOf::kAllButTargetSprings);
 }
 
 }  // namespace physik

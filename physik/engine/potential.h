@@ -12,9 +12,10 @@
 
 namespace physik {
 
-// Which elements' potentials: all, or all but the control springs (whose energy the run
-// monitor's ledger counts as the targets' work instead: run_monitor.h).
-enum class PotentialOf { kAll, kAllButControlSprings };
+// Which elements' potentials: all, or all but the springs toward targets (forces.h
+// toward_targets: the control springs and the bone targets, whose energy the run monitor's ledger
+// counts as the targets' work instead: run_monitor.h).
+enum class PotentialOf { kAll, kAllButTargetSprings };
 
 // U of the state: its control springs toward their effective targets, its torsion springs,
 // gravity and contacts (the elements the scene has). Allocates nothing once the state's contact
