@@ -8,6 +8,7 @@
 #include "physik/engine/gravity.h"
 #include "physik/engine/ground_contacts.h"
 #include "physik/engine/newton_euler.h"
+#include "physik/engine/orientation_springs.h"
 #include "physik/engine/self_contacts.h"
 #include "physik/engine/torsion_springs.h"
 
@@ -21,6 +22,9 @@ void damping_apply(const Scene& scene, SimState& s, const ForceStage&) {
 }
 void control_apply(const Scene& scene, SimState& s, const ForceStage&) {
   apply_control_springs(scene, s);
+}
+void orientation_apply(const Scene& scene, SimState& s, const ForceStage&) {
+  apply_orientation_springs(scene, s);
 }
 void torsion_apply(const Scene& scene, SimState& s, const ForceStage&) {
   apply_torsion_springs(scene.rig, scene.params, s);
@@ -85,6 +89,8 @@ const ForceElement kForces[] = {
      nullptr,                        MujocoSide::kApplied,         false, false},
   {"control springs", control_apply, control_springs_potential,  control_springs_rate, control_springs_augment,
      control_springs_mode_stiffness, MujocoSide::kApplied,         true,  false},
+  {"orientation springs", orientation_apply, orientation_springs_potential, orientation_springs_rate, orientation_springs_augment,
+     orientation_springs_mode_stiffness, MujocoSide::kApplied,     true,  false},
   {"torsion springs", torsion_apply, torsion_springs_potential,  torsion_springs_rate, torsion_springs_augment,
      torsion_springs_mode_stiffness, MujocoSide::kSameForcesOnly,  false, false},
   {"gravity",         gravity_apply, gravity_state_potential,    nullptr,              nullptr,

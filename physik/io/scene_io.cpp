@@ -134,6 +134,70 @@ void read_control_points(const JsonContext& top, const Json& doc, Scene& s) {
   }
 }
 
+// a bone a target names, in the rig
+int target_bone(const JsonContext& ctx, const Json& obj, const Scene& s) {
+  const std::string bone = ctx.name(obj, "bone");
+  const int b = s.rig.find_bone(bone);
+  if (b < 0) ctx.fail("bone", "unknown bone '" + bone + "' in rig " + s.rig_file);
+  return b;
+}
+
+// "quaternion": [w, x, y, z], world<-bone, unit within 1e-6 (a rotation, not a scaled one)
+Quat unit_quaternion(const JsonContext& ctx, const Json& obj, const std::string& key) {
+  const Json& v = ctx.require(obj, key);
+  if (!v.is_array() || v.size() != 4) ctx.fail(key, "expected [w, x, y, z]");
+  const Eigen::Vector4d q(ctx.number_value(v[0], key), ctx.number_value(v[1], key),
+                          ctx.number_value(v[2], key), ctx.number_value(v[3], key));
+  if (std::abs(q.norm() - 1.0) > 1e-6) {
+    ctx.fail(key, "not a unit quaternion (norm " + std::to_string(q.norm()) +
+                      "); give [w, x, y, z] with w^2 + x^2 + y^2 + z^2 = 1");
+  }
+  return Quat(q[0], q[1], q[2], q[3]).normalized();
+}
+
+// a turning target's own spring, k and cap: k in N m/rad and cap in rad, checked against the
+// control spring's rows' ranges
+void read_turn_spring(const JsonContext& ctx, const Json& c, TurnSpring& t) {
+  if (const auto v = param_from_json(ctx, c, "spring", param_row("control_spring"))) {
+    t.spring = static_cast<SpringLaw>(static_cast<int>(*v));
+  }
+  t.k = param_from_json(ctx, c, "k", param_row("control_k"));
+  t.cap = param_from_json(ctx, c, "cap", param_row("control_cap"));
+}
+
+// an orientation target: a bone and its target frame
+void read_orientation_targets(const JsonContext& top, const Json& doc, Scene& s) {
+  if (!doc.contains("orientation_targets")) return;
+  const Json& all = doc["orientation_targets"];
+  if (!all.is_array()) top.fail("orientation_targets", "expected an array");
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const JsonContext ctx{top.file, "orientation_targets[" + std::to_string(i) + "]"};
+    const Json& c = all[i];
+    ctx.require_object(c, "");
+    ctx.only_keys(c, {"name", "bone", "quaternion", "spring", "k", "cap", "comment"});
+    OrientationTarget t;
+    t.name = ctx.name_or(c, "name", "");
+    t.bone = target_bone(ctx, c, s);
+    t.target_world = unit_quaternion(ctx, c, "quaternion");
+    read_turn_spring(ctx, c, t);
+    s.orientation_targets.push_back(t);
+  }
+}
+
+// the pose-terms step reads the control and torsion springs only (implicit_pose_terms.h)
+void check_bone_targets_linearisation(const Scene& s) {
+  if (s.params.scheme != Scheme::kImplicit ||
+      s.params.implicit_linearisation != ImplicitLinearisation::kFull) {
+    return;
+  }
+  const char* field = !s.orientation_targets.empty() ? "orientation_targets" : nullptr;
+  if (field) {
+    throw_input_error(s.file, field, "",
+                      "implicit_linearisation full reads the control and torsion springs' pose "
+                      "terms only; gauss-newton takes the bone targets");
+  }
+}
+
 // schedule of target changes, sorted by step
 void read_schedule(const JsonContext& top, const Json& doc, Scene& s) {
   if (!doc.contains("schedule")) return;
@@ -529,9 +593,10 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
                       const ParamOverrides& overrides) {
   const JsonContext top{source, ""};
   top.require_object(doc, "");
-  top.only_keys(doc, {"name", "comment", "rig", "params", "control_points", "schedule", "steps",
-                      "convergence", "initial_pose", "initial_velocity", "solve", "gravity",
-                      "ground", "obstacles", "self_collision", "collision_exclude"});
+  top.only_keys(
+      doc, {"name", "comment", "rig", "params", "control_points", "orientation_targets", "schedule",
+            "steps", "convergence", "initial_pose", "initial_velocity", "solve", "gravity",
+            "ground", "obstacles", "self_collision", "collision_exclude"});
   if (doc.contains("solve")) solve_options_from_json(doc["solve"], source);  // checked at load
   top.name_or(doc, "name", "");  // a label the run does not use, checked like every name
   Scene s;
@@ -544,6 +609,8 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
   s.steps = top.integer_or(doc, "steps", s.steps);
   if (s.steps < 1) top.fail("steps", "must be at least 1");
   read_control_points(top, doc, s);
+  read_orientation_targets(top, doc, s);
+  check_bone_targets_linearisation(s);
   read_schedule(top, doc, s);
   read_convergence(top, doc, s);
   read_initial_pose(top, doc, base_dir, s);
@@ -616,6 +683,27 @@ namespace {
 
 Json vec_json(const Vec3& v) {
   return {v.x(), v.y(), v.z()};
+}
+
+// what a turning target gives itself: its spring, k and cap (the rest follows the params), its name
+void add_turn_spring_json(const TurnSpring& t, const std::string& name, Json& j) {
+  if (t.spring) j["spring"] = to_string(*t.spring);
+  if (t.k) j["k"] = *t.k;
+  if (t.cap) j["cap"] = *t.cap;
+  if (!name.empty()) j["name"] = name;
+}
+
+// the orientation targets, only where the scene has them; each gives only what it
+// sets itself (the rest follows the params)
+void add_bone_targets_json(const Scene& s, Json& out) {
+  Json turns = Json::array();
+  for (const OrientationTarget& t : s.orientation_targets) {
+    const Quat& q = t.target_world;
+    Json j = {{"bone", s.rig.bone_name[t.bone]}, {"quaternion", {q.w(), q.x(), q.y(), q.z()}}};
+    add_turn_spring_json(t, t.name, j);
+    turns.push_back(j);
+  }
+  if (!turns.empty()) out["orientation_targets"] = turns;
 }
 
 // gravity and the contact settings, only where the scene has them (older scenes stay as written)
@@ -708,6 +796,7 @@ Json scene_to_json(const Scene& s, bool rig_inline, const std::string& written_t
       {"initial_pose", {{"root_head", {r.x(), r.y(), r.z()}}, {"rotation_deg", rot}}},
       {"initial_velocity",
        {s.initial_velocity_world.x(), s.initial_velocity_world.y(), s.initial_velocity_world.z()}}};
+  add_bone_targets_json(s, out);
   add_contacts_json(s, out);
   return out;
 }

@@ -36,6 +36,43 @@ struct ControlPoint {
   double cap_in(const EngineParams& p) const { return cap ? *cap : p.control_cap; }
 };
 
+// A rotational spring's law, k and cap, for the targets that turn a bone (an orientation, an aim).
+// Like a control point's, an unset law, k or cap is the params' at the time of use, turned into
+// rotation by the bone's length L: k = control_k L^2 (a turn of 1 rad at the tail's end is a
+// stretch of L, at control_k), c = control_cap / L.
+struct TurnSpring {
+  std::optional<SpringLaw> spring;  // unset: params.control_spring
+  std::optional<double> k;          // N m/rad; unset: params.control_k L^2
+  std::optional<double> cap;        // rad; unset: params.control_cap / L
+
+  SpringLaw spring_in(const EngineParams& p) const { return spring ? *spring : p.control_spring; }
+  double k_in(const EngineParams& p, double length) const {
+    return k ? *k : p.control_k * length * length;
+  }
+  double cap_in(const EngineParams& p, double length) const {
+    return cap ? *cap : p.control_cap / length;
+  }
+};
+
+// A bone turned toward a target orientation by a rotational spring (physik/engine/
+// orientation_springs.h), phi = log(q_target q^-1) the turn from the bone's frame to the target,
+// world axes:
+//   linear  tau = k phi
+//   capped  tau = k min(|phi|, c) phi/|phi|
+// Torques in N m, k in N m/rad, c in rad (TurnSpring).
+struct OrientationTarget : TurnSpring {
+  std::string name;                      // optional label
+  int bone = -1;                         // index into the rig
+  Quat target_world = Quat::Identity();  // world<-bone, as BoneFrames::orient_world (unit)
+
+  double k_in(const EngineParams& p, const Rig& rig) const {
+    return TurnSpring::k_in(p, rig.bone_length[bone]);
+  }
+  double cap_in(const EngineParams& p, const Rig& rig) const {
+    return TurnSpring::cap_in(p, rig.bone_length[bone]);
+  }
+};
+
 // At `step`, control point `control_point` gets a new target (interpolated per the params).
 struct TargetChange {
   int step = 0;
@@ -66,6 +103,7 @@ struct Scene {
   std::vector<std::string> params_given;  // the params keys the scene file or an override gave
                                           // (the rest are the preset's)
   std::vector<ControlPoint> control_points;
+  std::vector<OrientationTarget> orientation_targets;
   std::vector<TargetChange> schedule;  // sorted by step
   int steps = 200;
   ConvergenceParams convergence;
