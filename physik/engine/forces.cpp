@@ -2,6 +2,7 @@
 
 #include <iterator>
 
+#include "physik/engine/aim_springs.h"
 #include "physik/engine/contact_data.h"
 #include "physik/engine/control_springs.h"
 #include "physik/engine/damping.h"
@@ -25,6 +26,9 @@ void control_apply(const Scene& scene, SimState& s, const ForceStage&) {
 }
 void orientation_apply(const Scene& scene, SimState& s, const ForceStage&) {
   apply_orientation_springs(scene, s);
+}
+void aim_apply(const Scene& scene, SimState& s, const ForceStage&) {
+  apply_aim_springs(scene, s);
 }
 void torsion_apply(const Scene& scene, SimState& s, const ForceStage&) {
   apply_torsion_springs(scene.rig, scene.params, s);
@@ -91,6 +95,8 @@ const ForceElement kForces[] = {
      control_springs_mode_stiffness, MujocoSide::kApplied,         true,  false},
   {"orientation springs", orientation_apply, orientation_springs_potential, orientation_springs_rate, orientation_springs_augment,
      orientation_springs_mode_stiffness, MujocoSide::kApplied,     true,  false},
+  {"aim springs",     aim_apply,     aim_springs_potential,      aim_springs_rate,     aim_springs_augment,
+     aim_springs_mode_stiffness,     MujocoSide::kApplied,         true,  false},
   {"torsion springs", torsion_apply, torsion_springs_potential,  torsion_springs_rate, torsion_springs_augment,
      torsion_springs_mode_stiffness, MujocoSide::kSameForcesOnly,  false, false},
   {"gravity",         gravity_apply, gravity_state_potential,    nullptr,              nullptr,

@@ -184,13 +184,56 @@ void read_orientation_targets(const JsonContext& top, const Json& doc, Scene& s)
   }
 }
 
+// an aim's axis (unit, the bone's frame; default its own, head to tail) and point, which must not
+// lie on the bone's head at the start (the aim would have no direction)
+void read_aim_targets(const JsonContext& top, const Json& doc, Scene& s) {
+  if (!doc.contains("aim_targets")) return;
+  const Json& all = doc["aim_targets"];
+  if (!all.is_array()) top.fail("aim_targets", "expected an array");
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const JsonContext ctx{top.file, "aim_targets[" + std::to_string(i) + "]"};
+    const Json& c = all[i];
+    ctx.require_object(c, "");
+    ctx.only_keys(c, {"name", "bone", "point", "axis", "spring", "k", "cap", "comment"});
+    AimTarget t;
+    t.name = ctx.name_or(c, "name", "");
+    t.bone = target_bone(ctx, c, s);
+    t.point_world = bounded_vec3(ctx, c, "point");
+    if (c.contains("axis")) {
+      const Vec3 axis = ctx.vec3(c, "axis");
+      if (!(axis.norm() > 1e-9))
+        ctx.fail("axis", "must not be zero (a direction in the bone's frame)");
+      t.axis_bone = axis.normalized();
+    }
+    read_turn_spring(ctx, c, t);
+    s.aim_targets.push_back(t);
+  }
+}
+
+// after the initial pose: an aim point on its bone's head at the start has no direction
+void check_aim_points(const Scene& s) {
+  if (s.aim_targets.empty()) return;
+  const BoneFrames f = forward_kinematics(s.rig, s.initial_pose);
+  const double tol = 1e-9 * std::max(1.0, s.rig.reference_length());
+  for (std::size_t i = 0; i < s.aim_targets.size(); ++i) {
+    const AimTarget& t = s.aim_targets[i];
+    if ((t.point_world - f.head_world[t.bone]).norm() <= tol) {
+      throw_input_error(s.file, "aim_targets[" + std::to_string(i) + "]", "point",
+                        "lies on bone '" + s.rig.bone_name[t.bone] +
+                            "''s head at the start: the aim has no direction");
+    }
+  }
+}
+
 // the pose-terms step reads the control and torsion springs only (implicit_pose_terms.h)
 void check_bone_targets_linearisation(const Scene& s) {
   if (s.params.scheme != Scheme::kImplicit ||
       s.params.implicit_linearisation != ImplicitLinearisation::kFull) {
     return;
   }
-  const char* field = !s.orientation_targets.empty() ? "orientation_targets" : nullptr;
+  const char* field = !s.orientation_targets.empty() ? "orientation_targets"
+                      : !s.aim_targets.empty()       ? "aim_targets"
+                                                     : nullptr;
   if (field) {
     throw_input_error(s.file, field, "",
                       "implicit_linearisation full reads the control and torsion springs' pose "
@@ -594,9 +637,9 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
   const JsonContext top{source, ""};
   top.require_object(doc, "");
   top.only_keys(
-      doc, {"name", "comment", "rig", "params", "control_points", "orientation_targets", "schedule",
-            "steps", "convergence", "initial_pose", "initial_velocity", "solve", "gravity",
-            "ground", "obstacles", "self_collision", "collision_exclude"});
+      doc, {"name", "comment", "rig", "params", "control_points", "orientation_targets",
+            "aim_targets", "schedule", "steps", "convergence", "initial_pose", "initial_velocity",
+            "solve", "gravity", "ground", "obstacles", "self_collision", "collision_exclude"});
   if (doc.contains("solve")) solve_options_from_json(doc["solve"], source);  // checked at load
   top.name_or(doc, "name", "");  // a label the run does not use, checked like every name
   Scene s;
@@ -610,6 +653,7 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
   if (s.steps < 1) top.fail("steps", "must be at least 1");
   read_control_points(top, doc, s);
   read_orientation_targets(top, doc, s);
+  read_aim_targets(top, doc, s);
   check_bone_targets_linearisation(s);
   read_schedule(top, doc, s);
   read_convergence(top, doc, s);
@@ -617,6 +661,7 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
   if (doc.contains("initial_velocity")) {
     s.initial_velocity_world = bounded_vec3(top, doc, "initial_velocity");
   }
+  check_aim_points(s);
   check_scene_joints(s);
   return s;
 }
@@ -693,7 +738,7 @@ void add_turn_spring_json(const TurnSpring& t, const std::string& name, Json& j)
   if (!name.empty()) j["name"] = name;
 }
 
-// the orientation targets, only where the scene has them; each gives only what it
+// the orientation targets and aims, only where the scene has them; each gives only what it
 // sets itself (the rest follows the params)
 void add_bone_targets_json(const Scene& s, Json& out) {
   Json turns = Json::array();
@@ -703,7 +748,16 @@ void add_bone_targets_json(const Scene& s, Json& out) {
     add_turn_spring_json(t, t.name, j);
     turns.push_back(j);
   }
+  Json aims = Json::array();
+  for (const AimTarget& t : s.aim_targets) {
+    Json j = {{"bone", s.rig.bone_name[t.bone]},
+              {"point", vec_json(t.point_world)},
+              {"axis", vec_json(t.axis_bone)}};
+    add_turn_spring_json(t, t.name, j);
+    aims.push_back(j);
+  }
   if (!turns.empty()) out["orientation_targets"] = turns;
+  if (!aims.empty()) out["aim_targets"] = aims;
 }
 
 // gravity and the contact settings, only where the scene has them (older scenes stay as written)

@@ -73,6 +73,25 @@ struct OrientationTarget : TurnSpring {
   }
 };
 
+// A bone's axis turned toward a point seen from its head (physik/engine/aim_springs.h): with
+// theta the angle from the axis u to the direction d to the point and n = u x d / |u x d|,
+//   linear  tau = k theta n
+//   capped  tau = k min(theta, c) n
+// (TurnSpring), and a force at the head that goes with it. The bone's roll about d is free.
+struct AimTarget : TurnSpring {
+  std::string name;                 // optional label
+  int bone = -1;                    // index into the rig
+  Vec3 axis_bone = Vec3::UnitY();   // unit, the bone's frame (default: along it, head to tail)
+  Vec3 point_world = Vec3::Zero();  // rig units
+
+  double k_in(const EngineParams& p, const Rig& rig) const {
+    return TurnSpring::k_in(p, rig.bone_length[bone]);
+  }
+  double cap_in(const EngineParams& p, const Rig& rig) const {
+    return TurnSpring::cap_in(p, rig.bone_length[bone]);
+  }
+};
+
 // At `step`, control point `control_point` gets a new target (interpolated per the params).
 struct TargetChange {
   int step = 0;
@@ -104,6 +123,7 @@ struct Scene {
                                           // (the rest are the preset's)
   std::vector<ControlPoint> control_points;
   std::vector<OrientationTarget> orientation_targets;
+  std::vector<AimTarget> aim_targets;
   std::vector<TargetChange> schedule;  // sorted by step
   int steps = 200;
   ConvergenceParams convergence;
