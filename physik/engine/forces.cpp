@@ -10,6 +10,7 @@
 #include "physik/engine/ground_contacts.h"
 #include "physik/engine/newton_euler.h"
 #include "physik/engine/orientation_springs.h"
+#include "physik/engine/pins.h"
 #include "physik/engine/self_contacts.h"
 #include "physik/engine/torsion_springs.h"
 
@@ -29,6 +30,9 @@ void orientation_apply(const Scene& scene, SimState& s, const ForceStage&) {
 }
 void aim_apply(const Scene& scene, SimState& s, const ForceStage&) {
   apply_aim_springs(scene, s);
+}
+void pins_apply(const Scene& scene, SimState& s, const ForceStage&) {
+  apply_pins(scene, s);
 }
 void torsion_apply(const Scene& scene, SimState& s, const ForceStage&) {
   apply_torsion_springs(scene.rig, scene.params, s);
@@ -97,6 +101,8 @@ const ForceElement kForces[] = {
      orientation_springs_mode_stiffness, MujocoSide::kApplied,     true,  false},
   {"aim springs",     aim_apply,     aim_springs_potential,      aim_springs_rate,     aim_springs_augment,
      aim_springs_mode_stiffness,     MujocoSide::kApplied,         true,  false},
+  {"pins",            pins_apply,    pins_potential,             pins_rate,            pins_augment,
+     pins_mode_stiffness,            MujocoSide::kApplied,         true,  false},
   {"torsion springs", torsion_apply, torsion_springs_potential,  torsion_springs_rate, torsion_springs_augment,
      torsion_springs_mode_stiffness, MujocoSide::kSameForcesOnly,  false, false},
   {"gravity",         gravity_apply, gravity_state_potential,    nullptr,              nullptr,

@@ -210,6 +210,37 @@ void read_aim_targets(const JsonContext& top, const Json& doc, Scene& s) {
   }
 }
 
+// a pin's point: given, or (pin_at_start) where it is in the initial pose; a welded bone is
+// refused (its weld is the body to pin)
+void read_pins(const JsonContext& top, const Json& doc, Scene& s, std::vector<bool>& pin_at_start) {
+  if (!doc.contains("pins")) return;
+  const Json& all = doc["pins"];
+  if (!all.is_array()) top.fail("pins", "expected an array");
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const JsonContext ctx{top.file, "pins[" + std::to_string(i) + "]"};
+    const Json& c = all[i];
+    ctx.require_object(c, "");
+    ctx.only_keys(c, {"name", "bone", "alpha", "point", "k", "comment"});
+    Pin pin;
+    pin.name = ctx.name_or(c, "name", "");
+    pin.bone = target_bone(ctx, c, s);
+    const int weld = s.rig.bone_weld[pin.bone];
+    if (weld >= 0) {
+      ctx.fail("bone", "'" + s.rig.bone_name[pin.bone] + "' is welded to '" +
+                           s.rig.bone_name[weld] + "': pin the bone it is welded to");
+    }
+    pin.alpha = ctx.number_or(c, "alpha", 0.0);
+    if (pin.alpha < 0.0 || pin.alpha > 1.0)
+      ctx.fail("alpha", "must lie in [0, 1] (0 = head, 1 = tail)");
+    pin_at_start.push_back(!c.contains("point"));
+    if (c.contains("point")) pin.point_world = bounded_vec3(ctx, c, "point");
+    pin.k = param_from_json(ctx, c, "k", param_row("control_k"));
+    if (pin.k && *pin.k == 0.0)
+      ctx.fail("k", "must be above 0 (a pin of no stiffness holds nothing)");
+    s.pins.push_back(pin);
+  }
+}
+
 // after the initial pose: an aim point on its bone's head at the start has no direction
 void check_aim_points(const Scene& s) {
   if (s.aim_targets.empty()) return;
@@ -233,6 +264,7 @@ void check_bone_targets_linearisation(const Scene& s) {
   }
   const char* field = !s.orientation_targets.empty() ? "orientation_targets"
                       : !s.aim_targets.empty()       ? "aim_targets"
+                      : !s.pins.empty()              ? "pins"
                                                      : nullptr;
   if (field) {
     throw_input_error(s.file, field, "",
@@ -636,10 +668,10 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
                       const ParamOverrides& overrides) {
   const JsonContext top{source, ""};
   top.require_object(doc, "");
-  top.only_keys(
-      doc, {"name", "comment", "rig", "params", "control_points", "orientation_targets",
-            "aim_targets", "schedule", "steps", "convergence", "initial_pose", "initial_velocity",
-            "solve", "gravity", "ground", "obstacles", "self_collision", "collision_exclude"});
+  top.only_keys(doc, {"name", "comment", "rig", "params", "control_points", "orientation_targets",
+                      "aim_targets", "pins", "schedule", "steps", "convergence", "initial_pose",
+                      "initial_velocity", "solve", "gravity", "ground", "obstacles",
+                      "self_collision", "collision_exclude"});
   if (doc.contains("solve")) solve_options_from_json(doc["solve"], source);  // checked at load
   top.name_or(doc, "name", "");  // a label the run does not use, checked like every name
   Scene s;
@@ -654,6 +686,8 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
   read_control_points(top, doc, s);
   read_orientation_targets(top, doc, s);
   read_aim_targets(top, doc, s);
+  std::vector<bool> pin_at_start;
+  read_pins(top, doc, s, pin_at_start);
   check_bone_targets_linearisation(s);
   read_schedule(top, doc, s);
   read_convergence(top, doc, s);
@@ -662,6 +696,13 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
     s.initial_velocity_world = bounded_vec3(top, doc, "initial_velocity");
   }
   check_aim_points(s);
+  if (!s.pins.empty()) {
+    const BoneFrames f = forward_kinematics(s.rig, s.initial_pose);
+    for (std::size_t i = 0; i < s.pins.size(); ++i) {
+      if (pin_at_start[i])
+        s.pins[i].point_world = point_on_bone(f, s.pins[i].bone, s.pins[i].alpha);
+    }
+  }
   check_scene_joints(s);
   return s;
 }
@@ -738,7 +779,7 @@ void add_turn_spring_json(const TurnSpring& t, const std::string& name, Json& j)
   if (!name.empty()) j["name"] = name;
 }
 
-// the orientation targets and aims, only where the scene has them; each gives only what it
+// the orientation targets, aims and pins, only where the scene has them; each gives only what it
 // sets itself (the rest follows the params)
 void add_bone_targets_json(const Scene& s, Json& out) {
   Json turns = Json::array();
@@ -756,8 +797,18 @@ void add_bone_targets_json(const Scene& s, Json& out) {
     add_turn_spring_json(t, t.name, j);
     aims.push_back(j);
   }
+  Json pins = Json::array();
+  for (const Pin& pin : s.pins) {
+    Json j = {{"bone", s.rig.bone_name[pin.bone]},
+              {"alpha", pin.alpha},
+              {"point", vec_json(pin.point_world)}};
+    if (pin.k) j["k"] = *pin.k;
+    if (!pin.name.empty()) j["name"] = pin.name;
+    pins.push_back(j);
+  }
   if (!turns.empty()) out["orientation_targets"] = turns;
   if (!aims.empty()) out["aim_targets"] = aims;
+  if (!pins.empty()) out["pins"] = pins;
 }
 
 // gravity and the contact settings, only where the scene has them (older scenes stay as written)

@@ -92,6 +92,25 @@ struct AimTarget : TurnSpring {
   }
 };
 
+// A point a = head + alpha (tail - head) of a bone held at a world point p by a stiff linear
+// spring, F = k (p - a) (physik/engine/pins.h: a spring in every scheme, and why). F in N, k in
+// N/m, positions in rig units. An unset k is kPinStiffnessPerControlK times the params'
+// control_k at the time of use: the pin then gives way by at most 1/100 of what the control
+// springs pulling on it are stretched.
+inline constexpr double kPinStiffnessPerControlK = 100.0;
+struct Pin {
+  std::string name;                 // optional label
+  int bone = -1;                    // index into the rig
+  double alpha = 0.0;               // position along the bone: 0 = head (the default), 1 = tail
+  Vec3 point_world = Vec3::Zero();  // rig units (a scene file that gives none: where the point
+                                    // is in the initial pose)
+  std::optional<double> k;          // N/m; unset: kPinStiffnessPerControlK params.control_k
+
+  double k_in(const EngineParams& p) const {
+    return k ? *k : kPinStiffnessPerControlK * p.control_k;
+  }
+};
+
 // At `step`, control point `control_point` gets a new target (interpolated per the params).
 struct TargetChange {
   int step = 0;
@@ -124,6 +143,7 @@ struct Scene {
   std::vector<ControlPoint> control_points;
   std::vector<OrientationTarget> orientation_targets;
   std::vector<AimTarget> aim_targets;
+  std::vector<Pin> pins;
   std::vector<TargetChange> schedule;  // sorted by step
   int steps = 200;
   ConvergenceParams convergence;

@@ -131,7 +131,7 @@ TEST(ExactVsMujoco, WeldedAndAnchoredRigsAgree) {
 }
 
 // the bone targets, on a welded figure with a control spring: orientation targets
-// (orientation_springs.h) linear and capped and an aim; MuJoCo's reference applies the same
+// (orientation_springs.h) linear and capped, an aim and a pin; MuJoCo's reference applies the same
 // couples and forces through the force list
 TEST(ExactVsMujoco, BoneTargetsAgree) {
   const Rig rig = test::welded_figure();
@@ -151,7 +151,7 @@ TEST(ExactVsMujoco, BoneTargetsAgree) {
   add("shin.R", Vec3(0.8, 0.3, 0.0), SpringLaw::kLinear);
   add("pelvis", Vec3(0.0, 0.4, 0.2), SpringLaw::kCapped);
   add("hip.L", Vec3(-0.3, 0.0, 0.5), SpringLaw::kLinear);  // a welded bone: its group turns
-  // an aim (aim_springs.h: a couple and a force at the head)
+  // an aim (aim_springs.h: a couple and a force at the head) and a pin (pins.h)
   AimTarget aim;
   aim.bone = rig.find_bone("chest");
   aim.point_world = Vec3(0.8, -0.6, 1.9);
@@ -159,9 +159,15 @@ TEST(ExactVsMujoco, BoneTargetsAgree) {
   aim.spring = SpringLaw::kCapped;
   aim.cap = 0.4;
   s.aim_targets.push_back(aim);
+  Pin pin;
+  pin.bone = rig.find_bone("shin.L");
+  pin.alpha = 1.0;
+  pin.point_world = rig.bone_rest_tail_world[pin.bone] + Vec3(0.05, 0.0, 0.0);
+  pin.k = 200.0;
+  s.pins.push_back(pin);
   const Gap g = exact_vs_mujoco(s);
   ASSERT_TRUE(g.stable);
-  std::cout << "[exact vs MuJoCo] welded figure with orientation and aim targets: max gap "
+  std::cout << "[exact vs MuJoCo] welded figure with orientation, aim and pin targets: max gap "
             << g.max_gap << "\n";
   EXPECT_LE(g.max_gap, 1e-9);
   EXPECT_GT(g.travel, 0.1);
