@@ -200,12 +200,22 @@ check "contacts: dls refuses a ground" 2 "$bin" solve "$tmp/floor_cp.json" --sol
 expect_in "contacts: dls refusal names the field" "$tmp/err" "floor_cp.json: ground: the dls solver does not read it"
 check "contacts: a classic finish refuses a ground" 2 "$bin" solve "$tmp/floor_cp.json" --solver physik --finish dls --out "$tmp/x" --quiet
 expect_in "contacts: finish refusal names the field" "$tmp/err" "the dls finish does not read it"
+# ... and bone targets: an orientation, an aim or a pin is read by the engine alone
+for target in '"orientation_targets": [{"bone": "hand.L", "quaternion": [1, 0, 0, 0]}]' \
+              '"aim_targets": [{"bone": "head", "point": [0, -3, 2]}]' \
+              '"pins": [{"bone": "hand.R"}]'; do
+  field=${target%%\":*}; field=${field#\"}
+  printf '{"rig": "%s", %s, "control_points": [{"bone": "hand.L", "alpha": 1, "target": [0, 0, 1]}]}' "$src/models/rigs/pinhead.json" "$target" > "$tmp/targets_cp.json"
+  check "targets: dls refuses $field" 2 "$bin" solve "$tmp/targets_cp.json" --solver dls --out "$tmp/x" --quiet
+  expect_in "targets: dls refusal names $field" "$tmp/err" "targets_cp.json: $field: the dls solver does not read it"
+  check "targets: the solve mode takes $field" 0 "$bin" simulate "$tmp/targets_cp.json" --out "$tmp/x" --steps 20 --quiet
+done
 # (it runs: under gravity the hand stops short of its target, so it exits 4, not converged)
 check "contacts: the solve mode takes a ground" 4 "$bin" solve "$tmp/floor_cp.json" --solver physik --out "$tmp/x" --quiet
 expect_in "contacts: the solve mode ran" "$tmp/x/summary.json" '"solver": "physik"'
 printf '{"rig": "%s", "gravity": [0, 0, -9.81], "control_points": [{"bone": "hand.L", "alpha": 1, "target": [0, 0, 1]}]}' "$src/models/rigs/pinhead.json" > "$tmp/grav_cp.json"
 check "contacts: equilibrium refuses gravity" 2 "$bin" equilibrium "$tmp/grav_cp.json" --out "$tmp/eq.json"
-expect_in "contacts: equilibrium refusal names the field" "$tmp/err" "grav_cp.json: gravity: the exact equilibrium has the springs' potential only"
+expect_in "contacts: equilibrium refusal names the field" "$tmp/err" "grav_cp.json: gravity: the exact equilibrium has the control and torsion springs' potential only"
 
 # params: the parameter table, for people and for the report
 check "params help" 0 "$bin" params --help

@@ -190,8 +190,8 @@ void check_equilibrium_scene(const Scene& scene) {
   }
   if (const char* field = scene.world_field()) {
     throw_input_error(scene.file, field, "",
-                      "the exact equilibrium has the springs' potential only (no contacts or "
-                      "gravity): it would be the equilibrium of another scene");
+                      "the exact equilibrium has the control and torsion springs' potential "
+                      "only: it would be the equilibrium of another scene");
   }
 }
 

@@ -26,6 +26,9 @@ const char* Scene::world_field() const {
   if (collision.self_collision) return "self_collision";
   if (!collision.obstacles.empty()) return "obstacles";
   if (!gravity_world.isZero()) return "gravity";
+  if (!orientation_targets.empty()) return "orientation_targets";
+  if (!aim_targets.empty()) return "aim_targets";
+  if (!pins.empty()) return "pins";
   return nullptr;
 }
 

@@ -157,9 +157,9 @@ struct Scene {
   // the fixed bound before the energy rule (1e6 M h^2 unless given), still quoted by
   // experiments/hand_explodes.cpp's note; the run monitor uses it only when given
   double divergence_energy() const;
-  // the first of "ground", "self_collision", "obstacles", "gravity" that the scene sets, or
-  // nullptr: what a solver that knows only the rig (the classic IK solvers, the exact equilibrium)
-  // cannot read
+  // the first of "ground", "self_collision", "obstacles", "gravity", "orientation_targets",
+  // "aim_targets", "pins" that the scene sets, or nullptr: what a solver that knows only the rig
+  // and the control points (the classic IK solvers, the exact equilibrium) cannot read
   const char* world_field() const;
 };
 

@@ -15,9 +15,10 @@ bool engine_solver(const std::string& s) {
   return s == "physik" || s == "physik-explicit";
 }
 
-// The classic solvers, and the classic finish after the engine, know the rig's geometry and
-// limits only: a scene's ground, self-collision or gravity would be ignored by them, so such a
-// scene is refused rather than solved as if it had none
+// The classic solvers, and the classic finish after the engine, know the rig's geometry, its
+// limits and the control points only: a scene's ground, self-collision, gravity or bone targets
+// (orientations, aims, pins) would be ignored by them, so such a scene is refused rather than
+// solved as if it had none
 void refuse_unread_world(const Scene& scene, const SceneSolveOptions& o) {
   const bool classic = !engine_solver(o.solver);
   if (!classic && o.finish == "none") return;
@@ -26,8 +27,8 @@ void refuse_unread_world(const Scene& scene, const SceneSolveOptions& o) {
   const std::string who = classic ? "the " + o.solver + " solver" : "the " + o.finish + " finish";
   throw_input_error(scene.file, field, "",
                     who +
-                        " does not read it (no contacts or gravity): solve this scene with "
-                        "--solver physik and no --finish");
+                        " does not read it (only the rig and the control points): solve this "
+                        "scene with --solver physik and no --finish");
 }
 
 }  // namespace
