@@ -199,7 +199,7 @@ void BM_ImplicitStiffFloorAtRest(benchmark::State& state) {
   }
   state.counters["run_ms"] = 1e3 * r.timed.seconds * scene.steps / steps;
   state.counters["substeps"] = static_cast<double>(r.timed.substeps) / steps;
-  state.counters["retaken"] = static_cast<double>(s.implicit_retaken_steps) / scene.steps;
+  state.counters["retaken"] = static_cast<double>(s.implicit.retaken_steps) / scene.steps;
   state.counters["allocs_per_step"] = static_cast<double>(r.allocations) / steps;
 }
 

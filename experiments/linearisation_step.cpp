@@ -60,23 +60,23 @@ namespace {
 constexpr double kEps = 1e-6;  // central differences: rig units, rad, rig units/s, rad/s
 
 int nv(const SimState& s) {
-  return 3 + 3 * static_cast<int>(s.joint_vel_local.size());
+  return 3 + 3 * static_cast<int>(s.joint_space.joint_vel_local.size());
 }
 
 void set_joint_velocity(SimState& s, const VecX& v) {
-  s.root_vel_world = v.head<3>();
-  for (std::size_t i = 0; i < s.joint_vel_local.size(); ++i)
-    s.joint_vel_local[i] = v.segment<3>(3 + 3 * i);
+  s.joint_space.root_vel_world = v.head<3>();
+  for (std::size_t i = 0; i < s.joint_space.joint_vel_local.size(); ++i)
+    s.joint_space.joint_vel_local[i] = v.segment<3>(3 + 3 * i);
 }
 
 // q (+) e along dof k: the root's centre, or a quaternion turned about its local axis
 void perturb_position(SimState& s, int k, double e) {
   if (k < 3) {
-    s.root_com_world[k] += e;
+    s.joint_space.root_com_world[k] += e;
     return;
   }
   const int bone = (k - 3) / 3;
-  Quat& q = bone == 0 ? s.root_orient_world : s.pose.bone_local_rotation[bone];
+  Quat& q = bone == 0 ? s.joint_space.root_orient_world : s.pose.bone_local_rotation[bone];
   quat_integrate(q, e * Vec3::Unit((k - 3) % 3), 1.0);
 }
 
@@ -95,9 +95,9 @@ VecX exact_accelerations(const Scene& scene, const SimState& state) {
   apply_forces(scene, s);
   solve_articulated(scene.rig, scene.params, s);
   VecX a(nv(s));
-  a.head<3>() = s.articulated.root_accel_world;
+  a.head<3>() = s.joint_space.articulated.root_accel_world;
   for (int i = 0; i < scene.rig.nbone; ++i)
-    a.segment<3>(3 + 3 * i) = s.articulated.joint_accel_local[i];
+    a.segment<3>(3 + 3 * i) = s.joint_space.articulated.joint_accel_local[i];
   return a;
 }
 
@@ -129,9 +129,9 @@ VecX solve_with_force(const Scene& scene, const SimState& state, int k, bool imp
     solve_articulated(scene.rig, scene.params, s);
   }
   VecX a(nv(s));
-  a.head<3>() = s.articulated.root_accel_world;
+  a.head<3>() = s.joint_space.articulated.root_accel_world;
   for (int i = 0; i < scene.rig.nbone; ++i)
-    a.segment<3>(3 + 3 * i) = s.articulated.joint_accel_local[i];
+    a.segment<3>(3 + 3 * i) = s.joint_space.articulated.joint_accel_local[i];
   return a;
 }
 
@@ -179,9 +179,9 @@ MatX unit_force_response(const Scene& scene, const SimState& s, bool implicit, d
 
 VecX joint_velocity(const SimState& s) {
   VecX v(nv(s));
-  v.head<3>() = s.root_vel_world;
-  for (std::size_t i = 0; i < s.joint_vel_local.size(); ++i)
-    v.segment<3>(3 + 3 * i) = s.joint_vel_local[i];
+  v.head<3>() = s.joint_space.root_vel_world;
+  for (std::size_t i = 0; i < s.joint_space.joint_vel_local.size(); ++i)
+    v.segment<3>(3 + 3 * i) = s.joint_space.joint_vel_local[i];
   return v;
 }
 
@@ -341,9 +341,9 @@ void variant_step(const Scene& scene, SimState& s, double h, const void* context
     const MatX S = MatX::Identity(n, n) - h * A_v - h * h * A_q;
     next = S.partialPivLu().solve(a + h * (A_q * v));  // (L)
   }
-  s.articulated.root_accel_world = next.head<3>();
+  s.joint_space.articulated.root_accel_world = next.head<3>();
   for (int i = 0; i < scene.rig.nbone; ++i)
-    s.articulated.joint_accel_local[i] = next.segment<3>(3 + 3 * i);
+    s.joint_space.articulated.joint_accel_local[i] = next.segment<3>(3 + 3 * i);
   integrate_joint_space(scene.rig, h, s);
 }
 

@@ -53,10 +53,10 @@ TEST(ArticulatedBody, AccelerationsEqualADenseSolveOnRandomTrees) {
   for (int trial = 0; trial < 60; ++trial) {
     const int n = 1 + trial % 12;
     RandomTree t = random_tree(rng, n, true);
-    articulated_accelerations(t.rig, body_motion(t.s), t.s.articulated);
+    articulated_accelerations(t.rig, body_motion(t.s), t.s.joint_space.articulated);
     const MatX M = mass_matrix(t.rig, t.s);
     const VecX expected = M.ldlt().solve(generalised_force(t.rig, t.s));
-    const VecX got = aba_qacc(t.rig, t.s.articulated);
+    const VecX got = aba_qacc(t.rig, t.s.joint_space.articulated);
     const double err =
         (got - expected).cwiseAbs().maxCoeff() / std::max(1.0, expected.cwiseAbs().maxCoeff());
     worst = std::max(worst, err);
@@ -72,7 +72,7 @@ TEST(ArticulatedBody, BallPassKeepsTheInertiasExactlySymmetric) {
   std::mt19937 rng(17);
   for (int trial = 0; trial < 20; ++trial) {
     RandomTree t = random_tree(rng, 2 + trial % 10, true);
-    ArticulatedBodyData& d = t.s.articulated;
+    ArticulatedBodyData& d = t.s.joint_space.articulated;
     articulated_accelerations(t.rig, body_motion(t.s), d);
     for (int i = 0; i < t.rig.nbone; ++i) {
       EXPECT_EQ(d.inertia_com_world[i], d.inertia_com_world[i].transpose()) << i;
@@ -91,11 +91,11 @@ TEST(ArticulatedBody, RotationalDamperAndGyroscopicCancellationMatchTheDenseSolv
   std::mt19937 rng(13);
   for (int trial = 0; trial < 20; ++trial) {
     RandomTree t = random_tree(rng, 1 + trial % 9, true);
-    t.s.articulated.torque_per_omega = -10.0;
-    t.s.articulated.cancel_gyroscopic = trial % 2 == 0;
-    articulated_accelerations(t.rig, body_motion(t.s), t.s.articulated);
+    t.s.joint_space.articulated.torque_per_omega = -10.0;
+    t.s.joint_space.articulated.cancel_gyroscopic = trial % 2 == 0;
+    articulated_accelerations(t.rig, body_motion(t.s), t.s.joint_space.articulated);
     const VecX expected = mass_matrix(t.rig, t.s).ldlt().solve(generalised_force(t.rig, t.s));
-    const VecX got = aba_qacc(t.rig, t.s.articulated);
+    const VecX got = aba_qacc(t.rig, t.s.joint_space.articulated);
     EXPECT_LT((got - expected).cwiseAbs().maxCoeff(),
               1e-10 * std::max(1.0, expected.cwiseAbs().maxCoeff()));
   }
@@ -110,9 +110,9 @@ TEST(ArticulatedBody, VelocityProductsAloneMatchTheDenseSolve) {
       t.s.force_world[i].setZero();
       t.s.torque_world[i].setZero();
     }
-    articulated_accelerations(t.rig, body_motion(t.s), t.s.articulated);
+    articulated_accelerations(t.rig, body_motion(t.s), t.s.joint_space.articulated);
     const VecX expected = mass_matrix(t.rig, t.s).ldlt().solve(generalised_force(t.rig, t.s));
-    const VecX got = aba_qacc(t.rig, t.s.articulated);
+    const VecX got = aba_qacc(t.rig, t.s.joint_space.articulated);
     ASSERT_GT(expected.norm(), 1e-3);  // the velocities really act
     EXPECT_LT((got - expected).cwiseAbs().maxCoeff(), 1e-10 * std::max(1.0, expected.norm()));
   }
@@ -129,7 +129,7 @@ TEST(ArticulatedBody, ExtraBodyInertiaAndJointBlocksAddToTheMassMatrix) {
     const bool unsymmetric = trial % 2 == 1;
     RandomTree t = random_tree(rng, 2 + trial % 8, false);
     const Rig& rig = t.rig;
-    ArticulatedBodyData& d = t.s.articulated;
+    ArticulatedBodyData& d = t.s.joint_space.articulated;
     articulated_velocity_pass(rig, body_motion(t.s), d);
     MatX M = mass_matrix(rig, t.s);
     MatX Jw, Jv;

@@ -76,15 +76,18 @@ inline RandomTree random_tree(std::mt19937& rng, int n, bool moving) {
   s.omega_world.assign(n, Vec3::Zero());
   s.force_world.assign(n, Vec3::Zero());
   s.torque_world.assign(n, Vec3::Zero());
+  size_joint_space(t.rig, s.joint_space);
   init_joint_space(t.rig, s);
   for (int i = 1; i < n; ++i) {
     s.pose.bone_local_rotation[i] = Quat(Eigen::AngleAxisd(3.0 * u(rng), random_unit(rng)));
   }
-  s.root_com_world = 3.0 * Vec3(u(rng), u(rng), u(rng));
-  s.root_orient_world = Quat(Eigen::AngleAxisd(3.0 * u(rng), random_unit(rng)));
+  s.joint_space.root_com_world = 3.0 * Vec3(u(rng), u(rng), u(rng));
+  s.joint_space.root_orient_world = Quat(Eigen::AngleAxisd(3.0 * u(rng), random_unit(rng)));
   const double speed = moving ? 2.0 : 0.0;
-  s.root_vel_world = speed * Vec3(u(rng), u(rng), u(rng));
-  for (int i = 0; i < n; ++i) s.joint_vel_local[i] = speed * Vec3(u(rng), u(rng), u(rng));
+  s.joint_space.root_vel_world = speed * Vec3(u(rng), u(rng), u(rng));
+  for (int i = 0; i < n; ++i) {
+    s.joint_space.joint_vel_local[i] = speed * Vec3(u(rng), u(rng), u(rng));
+  }
   world_from_joint_space(t.rig, s);
   for (int i = 0; i < n; ++i) {
     s.force_world[i] = 5.0 * Vec3(u(rng), u(rng), u(rng));
@@ -126,8 +129,8 @@ inline void jacobians(const Rig& rig, const SimState& s, int b, MatX& Jw, MatX& 
 
 inline VecX qvel(const Rig& rig, const SimState& s) {
   VecX q(nv(rig));
-  q.head<3>() = s.root_vel_world;
-  for (int i = 0; i < rig.nbone; ++i) q.segment<3>(dof(i)) = s.joint_vel_local[i];
+  q.head<3>() = s.joint_space.root_vel_world;
+  for (int i = 0; i < rig.nbone; ++i) q.segment<3>(dof(i)) = s.joint_space.joint_vel_local[i];
   return q;
 }
 
@@ -173,9 +176,9 @@ inline VecX generalised_force(const Rig& rig, const SimState& s) {
     const Vec3& w = s.omega_world[b];
     const Vec3 F = s.force_world[b] - rig.bone_mass[b] * acc[b];
     // the external torque with the data's rotational damper and gyroscopic cancellation
-    Vec3 T = s.torque_world[b] + s.articulated.torque_per_omega * (I * w) - I * alpha[b] -
-             w.cross(I * w);
-    if (s.articulated.cancel_gyroscopic) T += w.cross(I * w);
+    Vec3 T = s.torque_world[b] + s.joint_space.articulated.torque_per_omega * (I * w) -
+             I * alpha[b] - w.cross(I * w);
+    if (s.joint_space.articulated.cancel_gyroscopic) T += w.cross(I * w);
     Q += Jv.transpose() * F + Jw.transpose() * T;
   }
   return Q;

@@ -79,7 +79,7 @@ TEST(EngineAllocations, ASplitImplicitStepAllocatesNothing) {
   for (int n = 0; n < 10; ++n) step(scene, s);
   g_counting = false;
   EXPECT_EQ(g_allocations.load(), 0);
-  EXPECT_GT(s.implicit_split_steps, 0) << "the case must split to test the split";
+  EXPECT_GT(s.implicit.split_steps, 0) << "the case must split to test the split";
 }
 
 // Contacts in every scheme: pinhead's feet in a floor and a foot on a block under gravity, its
@@ -165,7 +165,7 @@ TEST(EngineAllocations, SolveModeCallsAllocateNothing) {
       session.set_pose(scene.initial_pose);
       session.set_target(0, start + Vec3(0.4 * k, 0.0, -0.4 * k), true);
       session.solve(solve_mode_rule());
-      retakes += session.state().implicit_gauss_newton_steps;
+      retakes += session.state().implicit.gauss_newton_steps;
     }
     g_counting = false;
     EXPECT_EQ(g_allocations.load(), 0) << to_string(lin);

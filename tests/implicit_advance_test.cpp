@@ -139,7 +139,7 @@ TEST(ImplicitAdvance, ABoneAtRestOnAStiffFloorIsNeverSplit) {
 // pushed up by 10 rig units/s (on the 0.1x pinhead, 1.4 kg: 68 J, 30 times its energy)
 void pushed_step(const Scene& scene, SimState& s, double h, const void* /*context*/) {
   take_implicit_step(scene, s, h, nullptr);
-  s.root_vel_world += Vec3(0.0, 0.0, 10.0);
+  s.joint_space.root_vel_world += Vec3(0.0, 0.0, 10.0);
   world_from_joint_space(scene.rig, s);
 }
 
@@ -152,8 +152,8 @@ TEST(ImplicitAdvance, HalvingStopsWhereItNoLongerLowersTheEnergy) {
   init_state(s, st);
   update_targets(s, st);
   EXPECT_EQ(advance_implicit(s, st, s.params.dt, pushed_step), 1);
-  EXPECT_EQ(st.implicit_unresolved_steps, 1);
-  EXPECT_EQ(st.implicit_deepest_steps, 0);
+  EXPECT_EQ(st.implicit.unresolved_steps, 1);
+  EXPECT_EQ(st.implicit.deepest_steps, 0);
 }
 
 // the 0.1x pinhead at c = 100 (its bare first step gains 4.5x its energy) with one halving
@@ -199,10 +199,10 @@ TEST(ImplicitAdvance, LongStepsOnABentElbowConvergeWithEitherTorsionTorque) {
     rule.max_dt = 1000.0;
     const SolveResult r = session.solve(rule);
     std::cout << "bent elbow, torsion_torque " << to_string(torque) << ": " << r.steps << " steps, "
-              << session.state().implicit_split_steps << " split, residual " << r.residual << "\n";
+              << session.state().implicit.split_steps << " split, residual " << r.residual << "\n";
     EXPECT_TRUE(r.converged) << to_string(torque) << ": residual " << r.residual;
     EXPECT_LE(r.steps, 40) << to_string(torque);
-    EXPECT_LE(session.state().implicit_split_steps, 3) << to_string(torque);
+    EXPECT_LE(session.state().implicit.split_steps, 3) << to_string(torque);
   }
 }
 
@@ -260,7 +260,7 @@ TEST(ImplicitAdvance, TheStepsEnergyIsTheGuardsMeasureOfTheStateItEndsIn) {
               << measured << " of 40 measured by the guard\n";
     if (max_splits > 0) {
       EXPECT_GT(split, 0) << "the case needs split steps";
-      EXPECT_GE(measured, 40 - state.implicit_deepest_steps);
+      EXPECT_GE(measured, 40 - state.implicit.deepest_steps);
     } else {
       EXPECT_EQ(measured, 0) << "no check: the step measures the state itself";
     }

@@ -237,7 +237,7 @@ BlockCase block_case(bool elbow, TorsionTorque torque, const Vec3& theta) {
   c.sc.params.scheme = Scheme::kImplicit;
   c.sc.params.torsion_torque = torque;
   if (!elbow) c.sc.rig.bone_limit[1][2].limited = false;  // z free: only y locked
-  size_state(c.sc.rig, 0, c.s);
+  size_state(c.sc, c.s);
   c.s.pose = rest_pose(c.sc.rig);
   c.s.pose.bone_local_rotation[1] = quat_from_rotation_vector(theta);
   forward_kinematics(c.sc.rig, c.s.pose, c.s.frames);
@@ -345,17 +345,17 @@ Case random_case(std::mt19937& rng, int n, double h, double c, double f) {
         k % 2 ? SpringLaw::kCapped : SpringLaw::kLinear, 0.3));
   }
   SimState& s = out.s;
-  size_state(sc.rig, sc.control_points.size(), s);
+  size_state(sc, s);
   s.pose = rest_pose(sc.rig);
   forward_kinematics(sc.rig, s.pose, s.frames);
   init_joint_space(sc.rig, s);
   for (int i = 1; i < n; ++i) {
     s.pose.bone_local_rotation[i] = Quat(Eigen::AngleAxisd(1.5 * u(rng), dense::random_unit(rng)));
   }
-  s.root_com_world = Vec3(u(rng), u(rng), u(rng));
-  s.root_orient_world = Quat(Eigen::AngleAxisd(3.0 * u(rng), dense::random_unit(rng)));
-  s.root_vel_world = 2.0 * Vec3(u(rng), u(rng), u(rng));
-  for (int i = 0; i < n; ++i) s.joint_vel_local[i] = 2.0 * Vec3(u(rng), u(rng), u(rng));
+  s.joint_space.root_com_world = Vec3(u(rng), u(rng), u(rng));
+  s.joint_space.root_orient_world = Quat(Eigen::AngleAxisd(3.0 * u(rng), dense::random_unit(rng)));
+  s.joint_space.root_vel_world = 2.0 * Vec3(u(rng), u(rng), u(rng));
+  for (int i = 0; i < n; ++i) s.joint_space.joint_vel_local[i] = 2.0 * Vec3(u(rng), u(rng), u(rng));
   world_from_joint_space(sc.rig, s);
   for (std::size_t k = 0; k < sc.control_points.size(); ++k) {
     s.target_effective_world[k] = sc.control_points[k].target_world;
@@ -485,15 +485,16 @@ TEST(ImplicitStep, AugmentedInertiaRecursionEqualsADenseSolve) {
     SimState explicit_state = s;
     solve_articulated(rig, cs.scene.params, explicit_state);
     const MatX M = dense::mass_matrix(rig, s);
-    const VecX tau_minus_C = M * dense::aba_qacc(rig, explicit_state.articulated);
+    const VecX tau_minus_C = M * dense::aba_qacc(rig, explicit_state.joint_space.articulated);
     MatX K, D;
     dense_K_D(cs, K, D);
     const VecX v = dense::qvel(rig, s);
     const VecX expected = (M + h * D + h * h * K).partialPivLu().solve(tau_minus_C - h * K * v);
 
     solve_implicit(cs.scene, s);
-    for (int i = 1; i < rig.nbone; ++i) engaged_total += s.torsion_stiffness[i].count() > 0;
-    const VecX got = dense::aba_qacc(rig, s.articulated);
+    for (int i = 1; i < rig.nbone; ++i)
+      engaged_total += s.implicit.torsion_stiffness[i].count() > 0;
+    const VecX got = dense::aba_qacc(rig, s.joint_space.articulated);
     EXPECT_LT((got - expected).norm(), 1e-8 * (1.0 + expected.norm()))
         << "trial " << trial << " n " << rig.nbone << " h " << h << " c " << c << " f " << f
         << "\n got      " << got.transpose() << "\n expected " << expected.transpose();
@@ -528,7 +529,7 @@ TEST(ImplicitStep, EveryPivotKeepsAPositiveDefiniteSymmetricPart) {
   int clipped = 0, checked = 0;
   for (int trial = 0; trial < 300; ++trial) {
     SimState s0;
-    size_state(rig, 0, s0);
+    size_state(sc, s0);
     s0.pose = rest_pose(rig);
     forward_kinematics(rig, s0.pose, s0.frames);
     init_joint_space(rig, s0);
@@ -539,19 +540,19 @@ TEST(ImplicitStep, EveryPivotKeepsAPositiveDefiniteSymmetricPart) {
     world_from_joint_space(rig, s0);
     element_tangents(sc, s0);
     for (int i = 1; i < rig.nbone; ++i) {
-      if (s0.torsion_stiffness[i].isZero(0.0)) continue;
-      const Mat3& K = s0.torsion_block_world[i];
+      if (s0.implicit.torsion_stiffness[i].isZero(0.0)) continue;
+      const Mat3& K = s0.implicit.torsion_block_world[i];
       ASSERT_GE(min_sym_eigenvalue(K), -1e-12 * K.norm()) << "trial " << trial << " bone " << i;
       const Vec3 theta = rotation_vector(s0.pose.bone_local_rotation[i]);
-      const Mat3 tangent =
-          s0.torsion_stiffness[i].asDiagonal() * left_jacobian_inverse_transpose(theta).transpose();
+      const Mat3 tangent = s0.implicit.torsion_stiffness[i].asDiagonal() *
+                           left_jacobian_inverse_transpose(theta).transpose();
       clipped += min_sym_eigenvalue(tangent) < -1e-9 * tangent.norm();
     }
     for (double h = 1e-3; h < 1e4; h *= 3.0) {
       SimState s = s0;
       apply_forces(sc, s);
       solve_implicit(sc, s, h);
-      const ArticulatedBodyData& d = s.articulated;
+      const ArticulatedBodyData& d = s.joint_space.articulated;
       for (int i = 1; i < rig.nbone; ++i) {
         const Mat3 D = d.D_inv[i].inverse();
         ASSERT_GT(min_sym_eigenvalue(D), 0.0) << "trial " << trial << " h " << h << " bone " << i;

@@ -79,8 +79,8 @@ TEST(JointForces, SumToZeroAtEveryJointAndEqualiseAccelerations) {
         double scale = 0.0;
         const Rig& rig = scene.rig;
         for (int m = rig.joint_first_member[j]; m < rig.joint_first_member[j + 1]; ++m) {
-          sum += s.member_force_world[m];
-          scale = std::max(scale, s.member_force_world[m].norm());
+          sum += s.gauss_seidel.member_force_world[m];
+          scale = std::max(scale, s.gauss_seidel.member_force_world[m].norm());
         }
         EXPECT_LT(sum.norm(), 1e-12 * std::max(1.0, scale)) << "joint " << j;
       }

@@ -102,15 +102,15 @@ void aim_springs_rate(const Scene& scene, const ImplicitStage& stage, SimState& 
 }
 
 void aim_springs_augment(const Scene& scene, const ImplicitStage& stage, SimState& s) {
-  ArticulatedBodyData& d = s.articulated;
+  ArticulatedBodyData& d = s.joint_space.articulated;
   const double h2 = stage.h * stage.h;
   for (const AimTarget& t : scene.aim_targets) {
     const Aim a = aim_of(scene, s, t);
     const int b = t.bone;
-    add_couple_element(h2 * couple_stiffness(a), s.accel_bias[b], d.inertia_art[b],
+    add_couple_element(h2 * couple_stiffness(a), s.implicit.accel_bias[b], d.inertia_art[b],
                        d.bias_force[b]);
     add_point_element(h2 * head_stiffness(a), s.frames.head_world[b] - d.point_world[b],
-                      s.accel_bias[b], d.inertia_art[b], d.bias_force[b]);
+                      s.implicit.accel_bias[b], d.inertia_art[b], d.bias_force[b]);
   }
 }
 

@@ -57,8 +57,8 @@ void control_springs_tangents(const Scene& scene, SimState& s) {
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
     const ControlPoint& cp = scene.control_points[c];
     const Vec3 a = point_on_bone(s.frames, cp.bone, cp.alpha);
-    s.control_stiffness[c] = spring_step_stiffness(cp.spring_in(p), cp.k_in(p), cp.cap_in(p),
-                                                   s.target_effective_world[c] - a);
+    s.implicit.control_stiffness[c] = spring_step_stiffness(
+        cp.spring_in(p), cp.k_in(p), cp.cap_in(p), s.target_effective_world[c] - a);
   }
 }
 
@@ -68,17 +68,17 @@ void control_springs_rate(const Scene& scene, const ImplicitStage& stage, SimSta
     const ControlPoint& cp = scene.control_points[c];
     const Vec3 a = point_on_bone(s.frames, cp.bone, cp.alpha);
     const Vec3 v = point_velocity(s, cp.bone, a);
-    apply_force_at(s, cp.bone, -stage.h * (s.control_stiffness[c] * v), a);
+    apply_force_at(s, cp.bone, -stage.h * (s.implicit.control_stiffness[c] * v), a);
   }
 }
 
 void control_springs_augment(const Scene& scene, const ImplicitStage& stage, SimState& s) {
-  ArticulatedBodyData& d = s.articulated;
+  ArticulatedBodyData& d = s.joint_space.articulated;
   const double h = stage.h;
   for (std::size_t k = 0; k < scene.control_points.size(); ++k) {
     const ControlPoint& cp = scene.control_points[k];
     const Vec3 r = point_on_bone(s.frames, cp.bone, cp.alpha) - d.point_world[cp.bone];
-    add_point_element(h * h * s.control_stiffness[k], r, s.accel_bias[cp.bone],
+    add_point_element(h * h * s.implicit.control_stiffness[k], r, s.implicit.accel_bias[cp.bone],
                       d.inertia_art[cp.bone], d.bias_force[cp.bone]);
   }
 }

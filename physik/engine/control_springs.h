@@ -52,8 +52,9 @@ double control_spring_potential(SpringLaw law, double k, double cap, double dist
 void apply_control_springs(const Scene& scene, SimState& state);
 // U of the state's springs toward their effective targets, J.
 double control_springs_potential(const Scene& scene, const SimState& state);
-// The implicit step: the step stiffness of every spring (state.control_stiffness: tangents),
-// then -h K_c v at each point (rate); h^2 K_c into the bone's articulated inertia (augment).
+// The implicit step: the step stiffness of every spring (state.implicit.control_stiffness:
+// tangents), then -h K_c v at each point (rate); h^2 K_c into the bone's articulated inertia
+// (augment).
 void control_springs_tangents(const Scene& scene, SimState& state);
 void control_springs_rate(const Scene& scene, const ImplicitStage& stage, SimState& state);
 void control_springs_augment(const Scene& scene, const ImplicitStage& stage, SimState& state);

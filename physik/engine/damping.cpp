@@ -17,14 +17,14 @@ void apply_damping(const Rig& rig, const EngineParams& params, SimState& s) {
 
 void damping_augment(const Scene& scene, const ImplicitStage& stage, SimState& s) {
   const Rig& rig = scene.rig;
-  ArticulatedBodyData& d = s.articulated;
+  ArticulatedBodyData& d = s.joint_space.articulated;
   const double h = stage.h, c = step_damping(scene.params, s);
   // h D of the factor / I_com: the damper (1 - f) / dt I_com times h (1 - f at h = dt)
   const double rot = (1.0 - scene.params.angular_velocity_factor) * (h / scene.params.dt);
   const Mat3 damper = h * c * Mat3::Identity();
   for (int i = 0; i < rig.nbone; ++i) {
     const Vec3& o = d.point_world[i];
-    const Vec6& a0 = s.accel_bias[i];
+    const Vec6& a0 = s.implicit.accel_bias[i];
     SpatialInertia& I = d.inertia_art[i];
     Vec6& bias = d.bias_force[i];
     if (rot != 0.0) {

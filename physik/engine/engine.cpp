@@ -32,24 +32,11 @@ void set_pose(const Scene& scene, SimState& s, const Pose& pose, const Vec3& vel
 }
 
 void init_state(const Scene& scene, SimState& s) {
-  const Rig& rig = scene.rig;
   check_scene_joints(scene);
-  size_state(rig, scene.control_points.size(), s);
+  size_state(scene, s);
   set_pose(scene, s, scene.initial_pose, scene.initial_velocity_world);
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
     start_pull_from_attachment(scene, s, static_cast<int>(c), scene.control_points[c].target_world);
-  }
-  if (scene.params.scheme == Scheme::kImplicit) {
-    // the energy guard's snapshots, one per halving depth (implicit_advance.h)
-    s.implicit_snapshots.resize(static_cast<std::size_t>(scene.params.implicit_max_splits) + 1);
-    for (JointStateSnapshot& snap : s.implicit_snapshots) {
-      snap.joint_vel_local.assign(rig.nbone, Vec3::Zero());
-      snap.bone_local_rotation.assign(rig.nbone, Quat::Identity());
-    }
-  }
-  prepare_contact_data(scene, s.contact);
-  for (JointStateSnapshot& snap : s.implicit_snapshots) {
-    snap.friction_anchors.reserve(s.contact.anchors.capacity());
   }
   if (scene.params.damping_auto) update_auto_damping(scene, s);
 }

@@ -165,11 +165,11 @@ void ground_contacts_rate(const Scene&, double h, SimState& s) {
 }
 
 void ground_contacts_augment(const Scene&, double h, SimState& s) {
-  ArticulatedBodyData& d = s.articulated;
+  ArticulatedBodyData& d = s.joint_space.articulated;
   for (const ContactElement& e : s.contact.elements) {
     if (e.other_bone >= 0) continue;
     const Mat3 A = h * h * e.stiffness + h * e.damping;
-    add_point_element(A, e.point_world - d.point_world[e.bone], s.accel_bias[e.bone],
+    add_point_element(A, e.point_world - d.point_world[e.bone], s.implicit.accel_bias[e.bone],
                       d.inertia_art[e.bone], d.bias_force[e.bone]);
   }
 }

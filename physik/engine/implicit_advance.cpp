@@ -20,20 +20,22 @@ double mechanical_energy(const Scene& scene, SimState& s) {
 namespace {
 
 void save(const SimState& s, JointStateSnapshot& snap) {
-  snap.root_com_world = s.root_com_world;
-  snap.root_vel_world = s.root_vel_world;
-  snap.root_orient_world = s.root_orient_world;
-  std::copy(s.joint_vel_local.begin(), s.joint_vel_local.end(), snap.joint_vel_local.begin());
+  const JointSpaceState& js = s.joint_space;
+  snap.root_com_world = js.root_com_world;
+  snap.root_vel_world = js.root_vel_world;
+  snap.root_orient_world = js.root_orient_world;
+  std::copy(js.joint_vel_local.begin(), js.joint_vel_local.end(), snap.joint_vel_local.begin());
   std::copy(s.pose.bone_local_rotation.begin(), s.pose.bone_local_rotation.end(),
             snap.bone_local_rotation.begin());
   snap.friction_anchors = s.contact.anchors;  // keeps its capacity: no allocation once grown
 }
 
 void restore(const Rig& rig, const JointStateSnapshot& snap, SimState& s) {
-  s.root_com_world = snap.root_com_world;
-  s.root_vel_world = snap.root_vel_world;
-  s.root_orient_world = snap.root_orient_world;
-  std::copy(snap.joint_vel_local.begin(), snap.joint_vel_local.end(), s.joint_vel_local.begin());
+  JointSpaceState& js = s.joint_space;
+  js.root_com_world = snap.root_com_world;
+  js.root_vel_world = snap.root_vel_world;
+  js.root_orient_world = snap.root_orient_world;
+  std::copy(snap.joint_vel_local.begin(), snap.joint_vel_local.end(), js.joint_vel_local.begin());
   std::copy(snap.bone_local_rotation.begin(), snap.bone_local_rotation.end(),
             s.pose.bone_local_rotation.begin());
   s.contact.anchors = snap.friction_anchors;
@@ -44,7 +46,7 @@ void restore(const Rig& rig, const JointStateSnapshot& snap, SimState& s) {
 // w (their new velocities, which the step turned them by)
 double largest_rotation(const SimState& s, double h) {
   double w = 0.0;
-  for (const Vec3& u : s.joint_vel_local) w = std::max(w, u.squaredNorm());
+  for (const Vec3& u : s.joint_space.joint_vel_local) w = std::max(w, u.squaredNorm());
   return h * std::sqrt(w);
 }
 
@@ -149,11 +151,11 @@ bool attempt(const Scene& scene, SimState& s, double h, int depth, Guard& g, dou
   double growth = 0.0;
   bool held = step_holds(scene, s, h, e0, g, growth);
   if (!held && g.bare == take_implicit_step && scene.collision.any() && keep_reached_contacts(s)) {
-    restore(scene.rig, s.implicit_snapshots[depth], s);
+    restore(scene.rig, s.implicit.snapshots[depth], s);
     g.measured.known = false;
     take_step_with_reached(scene, s, h);
     held = step_holds(scene, s, h, e0, g, growth);
-    if (held) ++s.implicit_retaken_steps;
+    if (held) ++s.implicit.retaken_steps;
   }
   energy = e0 + growth;
   return held;
@@ -166,13 +168,14 @@ constexpr int kNoLower = -1;  // substep's answer: this half ends no lower than 
 // ends no lower than its whole step's (`whole_energy`, J) answers kNoLower: halving no longer
 // changes the outcome, and the whole step, retaken as it was, is kept.
 int substep(const Scene& scene, SimState& s, double h, int depth, Guard& g, double whole_energy) {
+  ImplicitWorkspace& im = s.implicit;
   if (depth >= g.max_depth) {  // the deepest split (or implicit_max_splits 0): taken unchecked
     g.deepest = g.max_depth > 0;
     g.measured.known = false;
     g.bare(scene, s, h, g.context);
     return 1;
   }
-  save(s, s.implicit_snapshots[depth]);
+  save(s, im.snapshots[depth]);
   // the second half of a split starts where its first half's check measured E
   const double e0 =
       g.measured.known ? g.measured.kinetic + g.measured.potential : mechanical_energy(scene, s);
@@ -180,7 +183,7 @@ int substep(const Scene& scene, SimState& s, double h, int depth, Guard& g, doub
   if (attempt(scene, s, h, depth, g, e0, energy)) return 1;
   const bool turned_too_far = largest_rotation(s, h) > kMaxStepRotation;
   if (!turned_too_far && energy >= whole_energy) return kNoLower;
-  restore(scene.rig, s.implicit_snapshots[depth], s);
+  restore(scene.rig, im.snapshots[depth], s);
   g.measured.known = false;
   int taken = substep(scene, s, 0.5 * h, depth + 1, g, energy);
   if (taken != kNoLower) {
@@ -189,9 +192,9 @@ int substep(const Scene& scene, SimState& s, double h, int depth, Guard& g, doub
   }
   if (taken != kNoLower) return taken;
   // halving does not lower the energy: this (sub)step as its attempt took it
-  restore(scene.rig, s.implicit_snapshots[depth], s);
+  restore(scene.rig, im.snapshots[depth], s);
   attempt(scene, s, h, depth, g, e0, energy);
-  ++s.implicit_unresolved_steps;
+  ++im.unresolved_steps;
   return 1;
 }
 
@@ -208,19 +211,19 @@ void take_implicit_step(const Scene& scene, SimState& s, double h, const void* /
 
 int advance_implicit(const Scene& scene, SimState& s, double h, BareStep bare, const void* context,
                      MeasuredEnergy* end) {
+  ImplicitWorkspace& im = s.implicit;
   const double v = scene.speed_tol();
-  // init_state sized one snapshot per depth; the bound guards a state sized for other params
-  Guard g{
-      bare,
-      context,
-      std::min(scene.params.implicit_max_splits, static_cast<int>(s.implicit_snapshots.size()) - 1),
-      0.5 * scene.rig.total_mass() * v * v,
-      false,
-      MeasuredEnergy{}};
+  // size_state sized one snapshot per depth; the bound guards a state sized for other params
+  Guard g{bare,
+          context,
+          std::min(scene.params.implicit_max_splits, static_cast<int>(im.snapshots.size()) - 1),
+          0.5 * scene.rig.total_mass() * v * v,
+          false,
+          MeasuredEnergy{}};
   const int substeps = substep(scene, s, h, 0, g, std::numeric_limits<double>::infinity());
-  if (substeps > 1) ++s.implicit_split_steps;
-  if (g.deepest) ++s.implicit_deepest_steps;
-  s.implicit_max_substeps = std::max(s.implicit_max_substeps, substeps);
+  if (substeps > 1) ++im.split_steps;
+  if (g.deepest) ++im.deepest_steps;
+  im.max_substeps = std::max(im.max_substeps, substeps);
   if (end) *end = g.measured;
   return substeps;
 }

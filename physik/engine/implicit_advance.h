@@ -49,7 +49,7 @@
 // implicit_unresolved_steps and implicit_deepest_steps.
 // The world view, the ball state and the velocities are undone from a snapshot of the joint
 // state (the joint-space state is the whole state: integrate_joint_space.h), held in
-// state.implicit_snapshots (one per depth, sized by init_state): no allocation per step.
+// state.implicit.snapshots (one per depth, sized by size_state): no allocation per step.
 // Units: s, J.
 #pragma once
 
@@ -80,7 +80,7 @@ struct MeasuredEnergy {
 
 // The step after update_targets: `bare` of length h, retaken and split as above (the retake only
 // with the shipped bare step). Returns the substeps taken (1 unless split); counts a split step in
-// state.implicit_split_steps, the most substeps of one step in state.implicit_max_substeps, and
+// state.implicit.split_steps, the most substeps of one step in state.implicit.max_substeps, and
 // the retaken, unresolved and deepest (sub)steps above. `end`, when given, gets the energy of the
 // state the step ended in as its last check measured it (the same values kinetic_energy and
 // potential_energy give; known false when that (sub)step went unchecked), so the step's measures

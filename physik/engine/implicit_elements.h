@@ -16,8 +16,8 @@ namespace physik {
 // Phi^T A Phi for a point element A at offset r from the body's point: adds to `inertia`
 void add_point_inertia(const Mat3& A, const Vec3& r, SpatialInertia& inertia);
 // A point element's whole share of the step : Phi^T A Phi into the
-// body's inertia, and -Phi^T A Phi a0 (its velocity-product share, a0 = state.accel_bias of the
-// body) into its bias force.
+// body's inertia, and -Phi^T A Phi a0 (its velocity-product share, a0 = state.implicit.accel_bias
+// of the body) into its bias force.
 void add_point_element(const Mat3& A, const Vec3& r, const Vec6& a0, SpatialInertia& inertia,
                        Vec6& bias);
 // A couple element (a torque on the body's own turn, an orientation spring's): A in N m s/rad (a

@@ -58,13 +58,13 @@ inline void add_body_stiffness(double h, const Mat3& dA, const Mat3& dB, const M
 
 // (2): each control spring's point moving under its held force, -G_p = [[-[f]x[r]x, [f]x]; 0]
 void add_spring_geometric_stiffness(const Scene& scene, double h, SimState& s) {
-  ArticulatedBodyData& d = s.articulated;
+  ArticulatedBodyData& d = s.joint_space.articulated;
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
     const ControlPoint& cp = scene.control_points[c];
     const int b = cp.bone;
     const Vec3 r = point_on_bone(s.frames, b, cp.alpha) - d.point_world[b];
     const Mat3 F = skew(s.control_force_world[c]);
-    const Vec6 y = h * body_twist(d, s, b) - h * h * s.accel_bias[b];
+    const Vec6 y = h * body_twist(d, s, b) - h * h * s.implicit.accel_bias[b];
     add_body_stiffness(h, -F * skew(r), F, Mat3::Zero(), y, b, d);
   }
 }
@@ -72,14 +72,15 @@ void add_spring_geometric_stiffness(const Scene& scene, double h, SimState& s) {
 // (3) and the d'Alembert wrenches: H(I_b a0_b) = [[-[n]x, -[g]x]; [-[g]x, 0]] per body (with
 // `turn`), and rest_wrench_b <- F_b - I_b a0_b (with `wrench`)
 void add_inertia_turn(const Rig& rig, double h, bool wrench, bool turn, SimState& s) {
-  ArticulatedBodyData& d = s.articulated;
-  const ArticulatedBodyData& r = s.articulated_rest;
+  ImplicitWorkspace& im = s.implicit;
+  ArticulatedBodyData& d = s.joint_space.articulated;
+  const ArticulatedBodyData& r = im.articulated_rest;
   for (int i = 0; i < rig.nbone; ++i) {
     const Vec6 w = rigid_times(rig, d, s, i, r.accel_spatial[i]);
-    if (wrench) s.rest_wrench[i] -= w;
+    if (wrench) im.rest_wrench[i] -= w;
     if (!turn) continue;
     const Mat3 N = skew(w.head<3>()), G = skew(w.tail<3>());
-    const Vec6 y = h * body_twist(d, s, i) - h * h * s.accel_bias[i];
+    const Vec6 y = h * body_twist(d, s, i) - h * h * im.accel_bias[i];
     add_body_stiffness(h, -N, -G, -G, y, i, d);
   }
 }
@@ -87,18 +88,19 @@ void add_inertia_turn(const Rig& rig, double h, bool wrench, bool turn, SimState
 // (1): W_j, the subtree's wrench, leaves to root; joint j's row G_j = h^2 [-[n]x, -[g]x] (the
 // top rows of H(W_j) about o_j) and its right-hand side G_j (h^2 a0_j - h V_j) / h^2
 void add_turning_axes(const Rig& rig, double h, SimState& s) {
-  ArticulatedBodyData& d = s.articulated;
+  ImplicitWorkspace& im = s.implicit;
+  ArticulatedBodyData& d = s.joint_space.articulated;
   for (int i = rig.nbone - 1; i > 0; --i) {
     const int p = rig.bone_parent[i];
-    s.rest_wrench[p] += shift_force(s.rest_wrench[i], d.point_world[i] - d.point_world[p]);
+    im.rest_wrench[p] += shift_force(im.rest_wrench[i], d.point_world[i] - d.point_world[p]);
   }
   // the root: its rotation rows only (its translation columns do not turn); with the d'Alembert
   // wrenches in, the whole tree's W_0 vanishes (a free root), up to round-off
   for (int j = 0; j < rig.nbone; ++j) {
-    const Vec3 n = s.rest_wrench[j].head<3>(), g = s.rest_wrench[j].tail<3>();
+    const Vec3 n = im.rest_wrench[j].head<3>(), g = im.rest_wrench[j].tail<3>();
     d.row_ang[j] = -h * h * skew(n);
     d.row_lin[j] = -h * h * skew(g);
-    const Vec6 y = h * h * s.accel_bias[j] - h * body_twist(d, s, j);
+    const Vec6 y = h * h * im.accel_bias[j] - h * body_twist(d, s, j);
     d.joint_torque[j] = -n.cross(y.head<3>()) - g.cross(y.tail<3>());
   }
 }
@@ -106,8 +108,9 @@ void add_turning_axes(const Rig& rig, double h, SimState& s) {
 // (4): I^Z = h^2 I_b (rigid), T_i from the parent's rest acceleration at o_i, and the rate
 // z(v) = sum A0_p(i) x S_i v_i, root to leaves, whose force -h I_b z_b(v) joins the bias
 void add_turning_accelerations(const Rig& rig, double h, SimState& s) {
-  ArticulatedBodyData& d = s.articulated;
-  const ArticulatedBodyData& r = s.articulated_rest;
+  ImplicitWorkspace& im = s.implicit;
+  ArticulatedBodyData& d = s.joint_space.articulated;
+  const ArticulatedBodyData& r = im.articulated_rest;
   for (int i = 0; i < rig.nbone; ++i) {
     const double m = rig.bone_mass[i];
     const Vec3 e = s.com_world[i] - d.point_world[i];
@@ -120,43 +123,44 @@ void add_turning_accelerations(const Rig& rig, double h, SimState& s) {
     const int p = rig.bone_parent[i];
     if (p < 0) {
       d.z_accel[i] << Vec3::Zero(), r.accel_spatial[i].tail<3>();  // the root's (0; a_com)
-      s.pose_rate[i] << Vec3::Zero(), d.z_accel[i].tail<3>().cross(s.omega_world[i]);
+      im.pose_rate[i] << Vec3::Zero(), d.z_accel[i].tail<3>().cross(s.omega_world[i]);
     } else {
       const Vec3 rr = d.point_world[i] - d.point_world[p];
       d.z_accel[i] = shift_motion(r.accel_spatial[p], rr);
       const Vec3 w_rel = s.omega_world[i] - s.omega_world[p];
-      s.pose_rate[i] = shift_motion(s.pose_rate[p], rr);
-      s.pose_rate[i].head<3>() += d.z_accel[i].head<3>().cross(w_rel);
-      s.pose_rate[i].tail<3>() += d.z_accel[i].tail<3>().cross(w_rel);
+      im.pose_rate[i] = shift_motion(im.pose_rate[p], rr);
+      im.pose_rate[i].head<3>() += d.z_accel[i].head<3>().cross(w_rel);
+      im.pose_rate[i].tail<3>() += d.z_accel[i].tail<3>().cross(w_rel);
     }
-    d.bias_force[i] += h * rigid_times(rig, d, s, i, s.pose_rate[i]);
+    d.bias_force[i] += h * rigid_times(rig, d, s, i, im.pose_rate[i]);
   }
 }
 
 }  // namespace
 
 void rest_accelerations(const Scene& scene, const PoseTermSelection& terms, SimState& s) {
+  ImplicitWorkspace& im = s.implicit;
   const Rig& rig = scene.rig;
-  const ArticulatedBodyData& d = s.articulated;
-  ArticulatedBodyData& r = s.articulated_rest;
+  const ArticulatedBodyData& d = s.joint_space.articulated;
+  ArticulatedBodyData& r = im.articulated_rest;
   for (int i = 0; i < rig.nbone; ++i) {
     r.inertia_art[i] = d.inertia_art[i];
     r.point_world[i] = d.point_world[i];
-    s.rest_wrench[i].setZero();
+    im.rest_wrench[i].setZero();
   }
   for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
     const ControlPoint& cp = scene.control_points[c];
     const Vec3& f = s.control_force_world[c];
     const Vec3 arm = point_on_bone(s.frames, cp.bone, cp.alpha) - d.point_world[cp.bone];
-    s.rest_wrench[cp.bone].head<3>() += arm.cross(f);
-    s.rest_wrench[cp.bone].tail<3>() += f;
+    im.rest_wrench[cp.bone].head<3>() += arm.cross(f);
+    im.rest_wrench[cp.bone].tail<3>() += f;
   }
   if (!terms.needs_rest()) return;  // a0 is not needed
   // the ABA's bias force is minus the external wrench; the torsion torques join it here but not
   // rest_wrench, which holds the world-held forces only (implicit_pose_terms.h, (1) and (5))
-  for (int i = 0; i < rig.nbone; ++i) r.bias_force[i] = -s.rest_wrench[i];
+  for (int i = 0; i < rig.nbone; ++i) r.bias_force[i] = -im.rest_wrench[i];
   for (int i = 1; i < rig.nbone; ++i) {
-    const Vec3& t = s.torsion_torque_world[i];
+    const Vec3& t = im.torsion_torque_world[i];
     r.bias_force[i].head<3>() -= t;
     r.bias_force[rig.bone_parent[i]].head<3>() += t;
   }
@@ -165,23 +169,24 @@ void rest_accelerations(const Scene& scene, const PoseTermSelection& terms, SimS
 }
 
 void add_pose_terms(const Scene& scene, const ImplicitStage& stage, SimState& s) {
+  ImplicitWorkspace& im = s.implicit;
   const double h = stage.h;
   const Rig& rig = scene.rig;
-  ArticulatedBodyData& d = s.articulated;
+  ArticulatedBodyData& d = s.joint_space.articulated;
   const PoseTermSelection& use = stage.terms;
   for (int i = 0; i < rig.nbone; ++i) d.inertia_lower[i] = d.inertia_art[i].B.transpose();
   if (use.forces) {
     add_spring_geometric_stiffness(scene, h, s);
   } else {
-    for (Vec6& w : s.rest_wrench) w.setZero();  // (1) without the forces' share
+    for (Vec6& w : im.rest_wrench) w.setZero();  // (1) without the forces' share
   }
   if (use.inertia_wrench || use.inertia_turn) {
     add_inertia_turn(rig, h, use.inertia_wrench, use.inertia_turn, s);
   }
   if (use.torsion_in_wrench) {  // the torsion torques in the transmitted wrench
     for (int i = 1; i < rig.nbone; ++i) {
-      s.rest_wrench[i].head<3>() += s.torsion_torque_world[i];
-      s.rest_wrench[rig.bone_parent[i]].head<3>() -= s.torsion_torque_world[i];
+      im.rest_wrench[i].head<3>() += im.torsion_torque_world[i];
+      im.rest_wrench[rig.bone_parent[i]].head<3>() -= im.torsion_torque_world[i];
     }
   }
   add_turning_axes(rig, h, s);

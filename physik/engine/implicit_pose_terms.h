@@ -44,7 +44,7 @@
 // (the secant beyond a cap, where the tangent has none) and the paper's torque's clipped block
 // (implicit_step.h); with linear springs, within the caps and no clip acting, the step is the
 // dense newton_at_rest step to round-off.
-// No allocation per step (state.articulated_rest and the buffers of state.h, sized once).
+// No allocation per step (state.implicit.articulated_rest and the buffers of state.h, sized once).
 // Units: s, kg, N, N m, rig units, rad.
 #pragma once
 
@@ -54,14 +54,16 @@
 
 namespace physik {
 
-// After articulated_velocity_pass (rigid inertias in state.articulated) and the force stages: the
-// rest accelerations a0 (state.articulated_rest.accel_spatial, about each o_i) under the control
-// springs' and the torsion springs' forces alone, by a second articulated-body solve with the rigid
-// inertias. Reads state.control_force_world and state.torsion_torque_world (element_tangents).
+// After articulated_velocity_pass (rigid inertias in state.joint_space.articulated) and the force
+// stages: the rest accelerations a0 (state.implicit.articulated_rest.accel_spatial, about each
+// o_i) under the control springs' and the torsion springs' forces alone, by a second
+// articulated-body solve with the rigid inertias. Reads state.control_force_world and
+// state.implicit.torsion_torque_world (element_tangents).
 void rest_accelerations(const Scene& scene, const PoseTermSelection& terms, SimState& state);
 
-// After augment_bodies (implicit_step.cpp): terms (1)-(4) above into state.articulated (its
-// inertias, their lower blocks, bias forces, the rows G, I^Z and T), and pose_terms on.
+// After augment_bodies (implicit_step.cpp): terms (1)-(4) above into
+// state.joint_space.articulated (its inertias, their lower blocks, bias forces, the rows G, I^Z
+// and T), and pose_terms on.
 void add_pose_terms(const Scene& scene, const ImplicitStage& stage, SimState& state);
 
 }  // namespace physik

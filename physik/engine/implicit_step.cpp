@@ -21,7 +21,7 @@ void element_tangents(const Scene& scene, SimState& s) {
 }
 
 Mat3 torsion_block_world(const Rig&, const SimState& s, int i) {
-  return s.torsion_block_world[i];
+  return s.implicit.torsion_block_world[i];
 }
 
 namespace {
@@ -43,11 +43,11 @@ void velocity_product_accels(const Rig& rig, const ArticulatedBodyData& d, std::
 void linearised_step(const Scene& scene, SimState& s, double h, bool full,
                      const PoseTermSelection& terms) {
   const Rig& rig = scene.rig;
-  ArticulatedBodyData& d = s.articulated;
+  ArticulatedBodyData& d = s.joint_space.articulated;
   const ImplicitStage stage{h, full, terms};
   implicit_rates(scene, stage, s);                    // tau - h K v, every element's (forces.h)
   articulated_velocity_pass(rig, body_motion(s), d);  // rigid inertias, bias forces
-  velocity_product_accels(rig, d, s.accel_bias);
+  velocity_product_accels(rig, d, s.implicit.accel_bias);
   if (full) rest_accelerations(scene, terms, s);  // a0 and W, for the pose terms
   implicit_augment(scene, stage, s);              // + h D + h^2 K, every element's
   d.pose_terms = false;
@@ -64,25 +64,26 @@ JointSolveStats solve_implicit(const Scene& scene, SimState& s) {
 
 JointSolveStats solve_implicit(const Scene& scene, SimState& s, double h,
                                const PoseTermSelection& terms) {
+  ImplicitWorkspace& im = s.implicit;
   const Rig& rig = scene.rig;
   const EngineParams& p = scene.params;
-  ArticulatedBodyData& d = s.articulated;
+  ArticulatedBodyData& d = s.joint_space.articulated;
   d.torque_per_omega = (p.angular_velocity_factor - 1.0) / p.dt;  // the explicit factor torque
   d.cancel_gyroscopic = !p.gyroscopic;
 
   const bool full = p.implicit_linearisation == ImplicitLinearisation::kFull;
   if (full && terms.gauss_newton_retake) {  // kept for a Gauss-Newton retake
-    std::copy(s.force_world.begin(), s.force_world.end(), s.step_force_world.begin());
-    std::copy(s.torque_world.begin(), s.torque_world.end(), s.step_torque_world.begin());
+    std::copy(s.force_world.begin(), s.force_world.end(), im.step_force_world.begin());
+    std::copy(s.torque_world.begin(), s.torque_world.end(), im.step_torque_world.begin());
   }
   linearised_step(scene, s, h, full, terms);
   if (full && terms.gauss_newton_retake && !d.pose_terms_positive) {
     // a pivot's symmetric part is not positive definite with the pose terms: the step is taken
     // again with the Gauss-Newton system, whose pivots' are (implicit_step.h)
-    std::copy(s.step_force_world.begin(), s.step_force_world.end(), s.force_world.begin());
-    std::copy(s.step_torque_world.begin(), s.step_torque_world.end(), s.torque_world.begin());
+    std::copy(im.step_force_world.begin(), im.step_force_world.end(), s.force_world.begin());
+    std::copy(im.step_torque_world.begin(), im.step_torque_world.end(), s.torque_world.begin());
     linearised_step(scene, s, h, false, terms);
-    ++s.implicit_gauss_newton_steps;
+    ++im.gauss_newton_steps;
   }
   articulated_joint_forces(rig, s);
 

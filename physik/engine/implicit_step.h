@@ -80,8 +80,8 @@
 // (a spring's geometric stiffness under load, the torque frame's turn, dM/dq), so a pivot can lose
 // its sign, and Newton's step can head for a saddle of the potential. A step whose recursion meets
 // a pivot, or a root 6x6, whose symmetric part is not positive definite is taken again with the
-// Gauss-Newton system (the forces restored from state.step_force_world), counted in
-// state.implicit_gauss_newton_steps; for a symmetric system, pivots positive definite is the
+// Gauss-Newton system (the forces restored from state.implicit.step_force_world), counted in
+// state.implicit.gauss_newton_steps; for a symmetric system, pivots positive definite is the
 // matrix positive definite. Without the retake a long full step can end non-finite, and a retake
 // only on a pivot of non-positive determinant can settle on a saddle; with this rule every
 // reachable target of ik_comparison is met (CHANGELOG.md has the measurements;
@@ -100,8 +100,9 @@
 
 namespace physik {
 
-// After the force stages (apply_forces): the implicit solve of (1). state.articulated then holds
-// the accelerations a for integrate_joint_space, as solve_articulated's would.
+// After the force stages (apply_forces): the implicit solve of (1).
+// state.joint_space.articulated then holds the accelerations a for integrate_joint_space, as
+// solve_articulated's would.
 JointSolveStats solve_implicit(const Scene& scene, SimState& state);
 // The same over a step h (s) other than params.dt, for the substeps of implicit_advance.h: the
 // ODE is the scene's (the factor's damper stays (1 - f) / dt I_com), only the step changes.
@@ -110,8 +111,8 @@ JointSolveStats solve_implicit(const Scene& scene, SimState& state, double h,
                                const PoseTermSelection& terms = {});
 
 // Pieces, exposed for the tests and the linear modes:
-// the stiffnesses of this step (each element's tangents): state.control_stiffness (per control
-// point) and state.torsion_stiffness (per bone, local axes)
+// the stiffnesses of this step (each element's tangents): state.implicit.control_stiffness (per
+// control point) and state.implicit.torsion_stiffness (per bone, local axes)
 void element_tangents(const Scene& scene, SimState& state);
 // K_j = R_pr B R_pr^T: bone i's torsion block on its world-axes relative rate, N m/rad
 // (B = torsion_step_block_local; element_tangents). Symmetric only for the gradient torque; its

@@ -36,12 +36,13 @@ namespace {
 // alpha dt; a welded bone takes its weld's w and its rest frame in its weld's; a free root's
 // centre moves with its body's acceleration at that point, a_c + alpha x r [+ w x (w x r)]
 void integrate_welded_bodies(const Rig& rig, const EngineParams& params, double dt, SimState& s) {
+  GaussSeidelWorkspace& gs = s.gauss_seidel;
   const double f = params.angular_velocity_factor;
   if (rig.root_joint == RootJoint::kFree) {
     const Vec3 alpha =
-        s.body_inertia_inv_world[0] * (s.body_torque_world[0] - s.body_gyro_world[0]);
-    const Vec3 r = s.com_world[0] - s.body_com_world[0];
-    Vec3 a = s.body_force_world[0] / s.body_mass[0] + alpha.cross(r);
+        gs.body_inertia_inv_world[0] * (gs.body_torque_world[0] - gs.body_gyro_world[0]);
+    const Vec3 r = s.com_world[0] - gs.body_com_world[0];
+    Vec3 a = gs.body_force_world[0] / gs.body_mass[0] + alpha.cross(r);
     if (params.centripetal) a += s.omega_world[0].cross(s.omega_world[0].cross(r));
     s.vel_world[0] += a * dt;
     s.com_world[0] += s.vel_world[0] * dt;
@@ -55,7 +56,7 @@ void integrate_welded_bodies(const Rig& rig, const EngineParams& params, double 
       continue;
     }
     const Vec3 alpha =
-        s.body_inertia_inv_world[i] * (s.body_torque_world[i] - s.body_gyro_world[i]);
+        gs.body_inertia_inv_world[i] * (gs.body_torque_world[i] - gs.body_gyro_world[i]);
     s.omega_world[i] = f * s.omega_world[i] + alpha * dt;
     s.frames.orient_world[i] = rotate_by(s.frames.orient_world[i], s.omega_world[i], dt);
   }
@@ -110,26 +111,27 @@ namespace {
 // keep their offsets from c, turned with it: c_i = c + dR (c_i - c), R_i = dR R_i,
 // v_i = v + w x (c_i - c)
 void integrate_free_bodies(const Rig& rig, const EngineParams& params, double dt, SimState& s) {
+  GaussSeidelWorkspace& gs = s.gauss_seidel;
   const double f = params.angular_velocity_factor;
   const int first = rig.root_joint == RootJoint::kFixed ? 1 : 0;
   // each body's new w and centre velocity, at its first bone
   for (int b = first; b < rig.nbone; ++b) {
     if (rig.bone_weld[b] >= 0) continue;
     const Vec3 w0 = s.omega_world[b];
-    s.body_vel_world[b] = s.vel_world[b] + w0.cross(Vec3(s.body_com_world[b] - s.com_world[b])) +
-                          s.body_force_world[b] / s.body_mass[b] * dt;
+    gs.body_vel_world[b] = s.vel_world[b] + w0.cross(Vec3(gs.body_com_world[b] - s.com_world[b])) +
+                           gs.body_force_world[b] / gs.body_mass[b] * dt;
     const Vec3 alpha =
-        s.body_inertia_inv_world[b] * (s.body_torque_world[b] - s.body_gyro_world[b]);
+        gs.body_inertia_inv_world[b] * (gs.body_torque_world[b] - gs.body_gyro_world[b]);
     s.omega_world[b] = f * w0 + alpha * dt;
   }
   // every bone with its body
   for (int i = first; i < rig.nbone; ++i) {
     const int b = rig.bone_body[i];
     const Vec3& w = s.omega_world[b];
-    const Vec3& v = s.body_vel_world[b];
+    const Vec3& v = gs.body_vel_world[b];
     const Quat turn = rotate_by(Quat::Identity(), w, dt);
-    const Vec3 r = turn * Vec3(s.com_world[i] - s.body_com_world[b]);
-    s.com_world[i] = s.body_com_world[b] + v * dt + r;
+    const Vec3 r = turn * Vec3(s.com_world[i] - gs.body_com_world[b]);
+    s.com_world[i] = gs.body_com_world[b] + v * dt + r;
     s.frames.orient_world[i] = (turn * s.frames.orient_world[i]).normalized();
     s.omega_world[i] = w;
     s.vel_world[i] = v + w.cross(r);

@@ -21,22 +21,24 @@ void quat_integrate(Quat& q, const Vec3& w, double h) {
 
 void init_joint_space(const Rig& rig, SimState& s) {
   const int n = rig.nbone;
-  resize_articulated_data(n, s.articulated);
-  s.joint_vel_local.assign(n, Vec3::Zero());
+  JointSpaceState& js = s.joint_space;
   if (n == 0) return;
-  s.root_com_world = s.com_world[0];
-  s.root_vel_world = s.vel_world[0];
-  s.root_orient_world = s.frames.orient_world[0];
+  js.root_com_world = s.com_world[0];
+  js.root_vel_world = s.vel_world[0];
+  js.root_orient_world = s.frames.orient_world[0];
   for (int i = 0; i < n; ++i) {
-    if (rig.bone_joint_type[i] == JointType::kWeld) continue;  // no joint velocity
+    if (rig.bone_joint_type[i] == JointType::kWeld) {  // no joint velocity
+      js.joint_vel_local[i].setZero();
+      continue;
+    }
     const int p = rig.bone_joint_parent[i];
     const Vec3 w_rel = s.omega_world[i] - (p < 0 ? Vec3::Zero() : s.omega_world[p]);
-    s.joint_vel_local[i] = s.frames.orient_world[i].conjugate() * w_rel;
+    js.joint_vel_local[i] = s.frames.orient_world[i].conjugate() * w_rel;
   }
 }
 
 void articulated_joint_forces(const Rig& rig, SimState& s) {
-  const ArticulatedBodyData& d = s.articulated;
+  const ArticulatedBodyData& d = s.joint_space.articulated;
   // what the bodies feel beyond the external wrench
   for (int i = 0; i < rig.nbone; ++i) {
     const Vec3 e = s.com_world[i] - d.point_world[i];
@@ -50,7 +52,7 @@ void articulated_joint_forces(const Rig& rig, SimState& s) {
 }
 
 JointSolveStats solve_articulated(const Rig& rig, const EngineParams& params, SimState& s) {
-  ArticulatedBodyData& d = s.articulated;
+  ArticulatedBodyData& d = s.joint_space.articulated;
   d.torque_per_omega = (params.angular_velocity_factor - 1.0) / params.dt;
   d.cancel_gyroscopic = !params.gyroscopic;
   articulated_accelerations(rig, body_motion(s), d);
@@ -66,25 +68,26 @@ namespace {
 
 // bone i's world view from its joint state and its parent's (already derived) world view
 inline void derive_body(const Rig& rig, SimState& s, int i) {
+  JointSpaceState& js = s.joint_space;
   BoneFrames& f = s.frames;
   const int p = rig.bone_parent[i];
   const double half_length = 0.5 * rig.bone_length[i];
   if (p < 0) {
-    f.orient_world[i] = s.root_orient_world.normalized();
+    f.orient_world[i] = js.root_orient_world.normalized();
     const Mat3 R = f.orient_world[i].toRotationMatrix();
     const Vec3 half = half_length * R.col(1);  // R (0, L/2, 0)
-    s.omega_world[i] = R * s.joint_vel_local[i];
+    s.omega_world[i] = R * js.joint_vel_local[i];
     if (rig.root_anchored()) {
       // the head stays at its rest position; the centre turns about it
       f.head_world[i] = rig.bone_rest_head_world[i];
-      s.root_com_world = f.head_world[i] + half;
-      s.root_vel_world = s.omega_world[i].cross(half);
+      js.root_com_world = f.head_world[i] + half;
+      js.root_vel_world = s.omega_world[i].cross(half);
     } else {
-      f.head_world[i] = s.root_com_world - half;
+      f.head_world[i] = js.root_com_world - half;
     }
-    s.com_world[i] = s.root_com_world;
-    f.tail_world[i] = s.root_com_world + half;
-    s.vel_world[i] = s.root_vel_world;
+    s.com_world[i] = js.root_com_world;
+    f.tail_world[i] = js.root_com_world + half;
+    s.vel_world[i] = js.root_vel_world;
     return;
   }
   // as mj_kinematics: the ball's quaternion normalised, the products not
@@ -103,7 +106,7 @@ inline void derive_body(const Rig& rig, SimState& s, int i) {
   const Vec3 half = half_length * R.col(1);
   s.com_world[i] = f.head_world[i] + half;
   f.tail_world[i] = s.com_world[i] + half;
-  if (w < 0) s.omega_world[i] = s.omega_world[p] + R * s.joint_vel_local[i];
+  if (w < 0) s.omega_world[i] = s.omega_world[p] + R * js.joint_vel_local[i];
   s.vel_world[i] = s.vel_world[p] + s.omega_world[p].cross(f.head_world[i] - s.com_world[p]) +
                    s.omega_world[i].cross(half);
 }
@@ -120,7 +123,8 @@ void pose_from_derived(const Rig& rig, SimState& s) {
 }  // namespace
 
 void integrate_joint_space(const Rig& rig, double h, SimState& s) {
-  const ArticulatedBodyData& d = s.articulated;
+  JointSpaceState& js = s.joint_space;
+  const ArticulatedBodyData& d = js.articulated;
   if (rig.nbone == 0) return;
   // per joint: velocity first (mj_advance), then position with the new velocity
   // (mj_integratePos); joints are independent, so one pass, parents first, also rebuilds the
@@ -128,14 +132,14 @@ void integrate_joint_space(const Rig& rig, double h, SimState& s) {
   // weld's coordinates stay zero.
   switch (rig.bone_joint_type[0]) {
     case JointType::kFree:
-      s.root_vel_world += h * d.root_accel_world;
-      s.joint_vel_local[0] += h * d.joint_accel_local[0];
-      s.root_com_world += h * s.root_vel_world;
-      quat_integrate(s.root_orient_world, s.joint_vel_local[0], h);
+      js.root_vel_world += h * d.root_accel_world;
+      js.joint_vel_local[0] += h * d.joint_accel_local[0];
+      js.root_com_world += h * js.root_vel_world;
+      quat_integrate(js.root_orient_world, js.joint_vel_local[0], h);
       break;
     case JointType::kBall:
-      s.joint_vel_local[0] += h * d.joint_accel_local[0];
-      quat_integrate(s.root_orient_world, s.joint_vel_local[0], h);
+      js.joint_vel_local[0] += h * d.joint_accel_local[0];
+      quat_integrate(js.root_orient_world, js.joint_vel_local[0], h);
       break;
     case JointType::kWeld:
       break;
@@ -143,8 +147,8 @@ void integrate_joint_space(const Rig& rig, double h, SimState& s) {
   derive_body(rig, s, 0);
   for (int i = 1; i < rig.nbone; ++i) {
     if (rig.bone_joint_type[i] == JointType::kBall) {
-      s.joint_vel_local[i] += h * d.joint_accel_local[i];
-      quat_integrate(s.pose.bone_local_rotation[i], s.joint_vel_local[i], h);
+      js.joint_vel_local[i] += h * d.joint_accel_local[i];
+      quat_integrate(s.pose.bone_local_rotation[i], js.joint_vel_local[i], h);
     }
     derive_body(rig, s, i);
   }

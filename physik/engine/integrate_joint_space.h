@@ -31,21 +31,23 @@
 
 namespace physik {
 
-// Size the workspace and take the joint-space state from the world view (frames, com, vel,
-// omega): root from bone 0, u_i = R_i^T (w_i - w_parent). The balls are s.pose's rotations.
+// Take the joint-space state from the world view (frames, com, vel, omega): root from bone 0,
+// u_i = R_i^T (w_i - w_parent). The balls are s.pose's rotations. The buffers are sized by
+// size_state (state.h).
 void init_joint_space(const Rig& rig, SimState& state);
 
 // The exact joint solve: the external wrench (force stages + the factor torque) into the
-// articulated-body algorithm; state.articulated then holds the joint accelerations. Also fills
-// joint_force_world/joint_torque_world with the inter-joint forces this implies (m a - F,
-// I alpha + w x I w - tau). force_world/torque_world are left as the force stages made them.
+// articulated-body algorithm; state.joint_space.articulated then holds the joint accelerations.
+// Also fills joint_force_world/joint_torque_world with the inter-joint forces this implies
+// (m a - F, I alpha + w x I w - tau). force_world/torque_world are left as the force stages made
+// them.
 JointSolveStats solve_articulated(const Rig& rig, const EngineParams& params, SimState& state);
 
-// joint_force_world/joint_torque_world from state.articulated's accelerations: m a - F and
-// I alpha + w x I w - tau (the implicit step's element forces of the step count among them)
+// joint_force_world/joint_torque_world from state.joint_space.articulated's accelerations: m a - F
+// and I alpha + w x I w - tau (the implicit step's element forces of the step count among them)
 void articulated_joint_forces(const Rig& rig, SimState& state);
 
-// MuJoCo's Euler step of length h (s) of the joint state with state.articulated's
+// MuJoCo's Euler step of length h (s) of the joint state with state.joint_space.articulated's
 // accelerations, then the world view (frames, com, vel, omega, the root's pose entry).
 void integrate_joint_space(const Rig& rig, double h, SimState& state);
 

@@ -20,12 +20,13 @@ struct SolveBodies {
 };
 
 SolveBodies solve_bodies(const Rig& rig, SimState& s) {
+  GaussSeidelWorkspace& gs = s.gauss_seidel;
   if (!rig.has_welds()) {
     return {rig.bone_mass.data(), s.com_world.data(),   s.inertia_inv_world.data(),
             s.gyro_world.data(),  s.force_world.data(), s.torque_world.data()};
   }
-  return {s.body_mass.data(),       s.body_com_world.data(),   s.body_inertia_inv_world.data(),
-          s.body_gyro_world.data(), s.body_force_world.data(), s.body_torque_world.data()};
+  return {gs.body_mass.data(),       gs.body_com_world.data(),   gs.body_inertia_inv_world.data(),
+          gs.body_gyro_world.data(), gs.body_force_world.data(), gs.body_torque_world.data()};
 }
 
 // the acceleration of the point at offset r from body b's centre (newton_euler.h, eq. 2); a
@@ -44,6 +45,7 @@ inline Vec3 body_point_accel(const SolveBodies& bodies, const SimState& s, int b
 }  // namespace
 
 void prepare_joint_solve(const Rig& rig, SimState& s) {
+  GaussSeidelWorkspace& gs = s.gauss_seidel;
   const SolveBodies bodies = solve_bodies(rig, s);
   const int njoint = static_cast<int>(rig.joints.size());
   for (int j = 0; j < njoint; ++j) {
@@ -52,33 +54,34 @@ void prepare_joint_solve(const Rig& rig, SimState& s) {
       const int b = rig.joint_member_bone[m], body = rig.joint_member_body[m];
       const Vec3& point =
           rig.joint_member_at_tail[m] ? s.frames.tail_world[b] : s.frames.head_world[b];
-      s.member_r_world[m] = point - bodies.com_world[body];
-      s.member_Minv[m] =
-          force_to_accel(bodies.mass[body], bodies.inertia_inv_world[body], s.member_r_world[m])
+      gs.member_r_world[m] = point - bodies.com_world[body];
+      gs.member_Minv[m] =
+          force_to_accel(bodies.mass[body], bodies.inertia_inv_world[body], gs.member_r_world[m])
               .inverse();
-      sum += s.member_Minv[m];
+      sum += gs.member_Minv[m];
     }
     // an anchored joint's point does not accelerate: v = 0, no average to take
-    s.joint_Sinv[j] = rig.joint_anchored[j] ? Mat3::Zero() : Mat3(sum.inverse());
+    gs.joint_Sinv[j] = rig.joint_anchored[j] ? Mat3::Zero() : Mat3(sum.inverse());
   }
 }
 
 namespace {
 
-// accelerations of joint j's points, into s.member_accel; returns their largest pairwise gap
-// and, in `size`, the largest of them
+// accelerations of joint j's points, into s.gauss_seidel.member_accel; returns their largest
+// pairwise gap and, in `size`, the largest of them
 double measure_joint(const Rig& rig, const EngineParams& params, const SolveBodies& bodies,
                      SimState& s, int j, double* size = nullptr) {
+  GaussSeidelWorkspace& gs = s.gauss_seidel;
   const int first = rig.joint_first_member[j], last = rig.joint_first_member[j + 1];
   for (int m = first; m < last; ++m) {
-    s.member_accel[m] = body_point_accel(bodies, s, rig.joint_member_body[m], s.member_r_world[m],
-                                         params.centripetal);
+    gs.member_accel[m] = body_point_accel(bodies, s, rig.joint_member_body[m], gs.member_r_world[m],
+                                          params.centripetal);
   }
   double gap = 0.0, largest = 0.0;
   for (int m = first; m < last; ++m) {
-    largest = std::max(largest, s.member_accel[m].norm());
+    largest = std::max(largest, gs.member_accel[m].norm());
     for (int n = m + 1; n < last; ++n) {
-      gap = std::max(gap, (s.member_accel[m] - s.member_accel[n]).norm());
+      gap = std::max(gap, (gs.member_accel[m] - gs.member_accel[n]).norm());
     }
   }
   // the world's point at an anchored joint does not accelerate
@@ -99,13 +102,14 @@ double joint_accel_mismatch(const Rig& rig, const EngineParams& params, SimState
 }
 
 JointSolveStats solve_joint_forces(const Rig& rig, const EngineParams& params, SimState& s) {
+  GaussSeidelWorkspace& gs = s.gauss_seidel;
   JointSolveStats stats;
   const int njoint = static_cast<int>(rig.joints.size());
   if (njoint == 0) return stats;
   prepare_joint_solve(rig, s);
   const SolveBodies bodies = solve_bodies(rig, s);
   const bool welds = rig.has_welds();
-  for (Vec3& f : s.member_force_world) f.setZero();
+  for (Vec3& f : gs.member_force_world) f.setZero();
   const int cap = params.passes_cap(rig.nbone);
   const double rel = params.joint_eps_relative, floor = 1e-9 * params.joint_eps;
   for (int pass = 0; pass < cap; ++pass) {
@@ -121,22 +125,22 @@ JointSolveStats solve_joint_forces(const Rig& rig, const EngineParams& params, S
       Vec3 v = Vec3::Zero();
       if (!rig.joint_anchored[j]) {
         Vec3 rhs = Vec3::Zero();
-        for (int m = first; m < last; ++m) rhs += s.member_Minv[m] * s.member_accel[m];
-        v = s.joint_Sinv[j] * rhs;
+        for (int m = first; m < last; ++m) rhs += gs.member_Minv[m] * gs.member_accel[m];
+        v = gs.joint_Sinv[j] * rhs;
       }
       // F_i = M_i^-1 (v - a_i), applied at the joint point; sum_i F_i = 0 up to round-off
       for (int m = first; m < last; ++m) {
         const int b = rig.joint_member_bone[m], body = rig.joint_member_body[m];
-        const Vec3 f = s.member_Minv[m] * (v - s.member_accel[m]);
-        const Vec3 tau = s.member_r_world[m].cross(f);
+        const Vec3 f = gs.member_Minv[m] * (v - gs.member_accel[m]);
+        const Vec3 tau = gs.member_r_world[m].cross(f);
         bodies.force_world[body] += f;
         bodies.torque_world[body] += tau;
         // the bone's own record: the force at the joint point, its torque about the bone's centre
         s.joint_force_world[b] += f;
         s.joint_torque_world[b] +=
-            welds ? Vec3((s.member_r_world[m] + bodies.com_world[body] - s.com_world[b]).cross(f))
+            welds ? Vec3((gs.member_r_world[m] + bodies.com_world[body] - s.com_world[b]).cross(f))
                   : tau;
-        s.member_force_world[m] += f;
+        gs.member_force_world[m] += f;
       }
     }
     stats.passes = pass + 1;
@@ -151,14 +155,14 @@ int unreached_joints(const Rig& rig, const SimState& s) {
   // the largest point acceleration of each joint lands in the first pass; the count in the second
   double largest = 0.0;
   for (int m = 0; m < static_cast<int>(rig.joint_member_bone.size()); ++m) {
-    largest = std::max(largest, s.member_accel[m].norm());
+    largest = std::max(largest, s.gauss_seidel.member_accel[m].norm());
   }
   if (!(largest > 0.0)) return 0;
   int count = 0;
   for (int j = 0; j < njoint; ++j) {
     double size = 0.0;
     for (int m = rig.joint_first_member[j]; m < rig.joint_first_member[j + 1]; ++m) {
-      size = std::max(size, s.member_accel[m].norm());
+      size = std::max(size, s.gauss_seidel.member_accel[m].norm());
     }
     if (size < kUnreachedFraction * largest) ++count;
   }

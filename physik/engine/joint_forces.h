@@ -57,7 +57,7 @@ double joint_accel_mismatch(const Rig& rig, const EngineParams& params, SimState
 JointSolveStats solve_joint_forces(const Rig& rig, const EngineParams& params, SimState& state);
 
 // Joints the last solve's forces did not reach (see kUnreachedFraction), from the joint-point
-// accelerations it left in state.member_accel.
+// accelerations it left in state.gauss_seidel.member_accel.
 int unreached_joints(const Rig& rig, const SimState& state);
 
 }  // namespace physik

@@ -30,40 +30,41 @@ void prepare_bodies(const Rig& rig, const EngineParams& params, SimState& s) {
 }
 
 void prepare_welded_bodies(const Rig& rig, const EngineParams& params, SimState& s) {
+  GaussSeidelWorkspace& gs = s.gauss_seidel;
   const int n = rig.nbone;
   // a body of one bone is the bone, copied
   for (int i = 0; i < n; ++i) {
-    s.body_mass[i] = rig.bone_mass[i];
-    s.body_com_world[i] = s.com_world[i];
-    s.body_force_world[i] = s.force_world[i];
-    s.body_torque_world[i] = s.torque_world[i];
-    s.body_inertia_inv_world[i] = s.inertia_inv_world[i];
-    s.body_gyro_world[i] = s.gyro_world[i];
+    gs.body_mass[i] = rig.bone_mass[i];
+    gs.body_com_world[i] = s.com_world[i];
+    gs.body_force_world[i] = s.force_world[i];
+    gs.body_torque_world[i] = s.torque_world[i];
+    gs.body_inertia_inv_world[i] = s.inertia_inv_world[i];
+    gs.body_gyro_world[i] = s.gyro_world[i];
   }
   // welded groups: mass and centre first, then the force, torque and inertia about that centre
-  std::vector<Mat3>& inertia = s.body_inertia_inv_world;  // the inertia first, inverted below
+  std::vector<Mat3>& inertia = gs.body_inertia_inv_world;  // the inertia first, inverted below
   for (int b = 0; b < n; ++b) {
     if (rig.body_nbone[b] < 2) continue;
-    s.body_com_world[b] = rig.bone_mass[b] * s.com_world[b];
-    s.body_force_world[b].setZero();
-    s.body_torque_world[b].setZero();
+    gs.body_com_world[b] = rig.bone_mass[b] * s.com_world[b];
+    gs.body_force_world[b].setZero();
+    gs.body_torque_world[b].setZero();
     inertia[b].setZero();
   }
   for (int i = 0; i < n; ++i) {
     const int b = rig.bone_body[i];
     if (b == i) continue;
-    s.body_mass[b] += rig.bone_mass[i];
-    s.body_com_world[b] += rig.bone_mass[i] * s.com_world[i];
+    gs.body_mass[b] += rig.bone_mass[i];
+    gs.body_com_world[b] += rig.bone_mass[i] * s.com_world[i];
   }
   for (int b = 0; b < n; ++b) {
-    if (rig.body_nbone[b] >= 2) s.body_com_world[b] /= s.body_mass[b];
+    if (rig.body_nbone[b] >= 2) gs.body_com_world[b] /= gs.body_mass[b];
   }
   for (int i = 0; i < n; ++i) {
     const int b = rig.bone_body[i];
     if (rig.body_nbone[b] < 2) continue;  // a body of one bone, copied above
-    const Vec3 r = s.com_world[i] - s.body_com_world[b];
-    s.body_force_world[b] += s.force_world[i];
-    s.body_torque_world[b] += s.torque_world[i] + r.cross(s.force_world[i]);
+    const Vec3 r = s.com_world[i] - gs.body_com_world[b];
+    gs.body_force_world[b] += s.force_world[i];
+    gs.body_torque_world[b] += s.torque_world[i] + r.cross(s.force_world[i]);
     inertia[b] += inertia_world(rig, s.frames.orient_world[i], i) +
                   rig.bone_mass[i] * (r.squaredNorm() * Mat3::Identity() - r * r.transpose());
   }
@@ -72,7 +73,7 @@ void prepare_welded_bodies(const Rig& rig, const EngineParams& params, SimState&
     const Mat3 I = inertia[b];
     inertia[b] = I.inverse();
     const Vec3& w = s.omega_world[b];
-    s.body_gyro_world[b] = params.gyroscopic ? Vec3(w.cross(I * w)) : Vec3::Zero();
+    gs.body_gyro_world[b] = params.gyroscopic ? Vec3(w.cross(I * w)) : Vec3::Zero();
   }
 }
 

@@ -50,11 +50,11 @@ void orientation_springs_rate(const Scene& scene, const ImplicitStage& stage, Si
 }
 
 void orientation_springs_augment(const Scene& scene, const ImplicitStage& stage, SimState& s) {
-  ArticulatedBodyData& d = s.articulated;
+  ArticulatedBodyData& d = s.joint_space.articulated;
   for (const OrientationTarget& t : scene.orientation_targets) {
     const Turn e = turn_of(scene, s, t);
     const Mat3 K = spring_step_stiffness(e.law, e.k, e.cap, e.phi);
-    add_couple_element(stage.h * stage.h * K, s.accel_bias[t.bone], d.inertia_art[t.bone],
+    add_couple_element(stage.h * stage.h * K, s.implicit.accel_bias[t.bone], d.inertia_art[t.bone],
                        d.bias_force[t.bone]);
   }
 }

@@ -30,11 +30,12 @@ void pins_rate(const Scene& scene, const ImplicitStage& stage, SimState& s) {
 }
 
 void pins_augment(const Scene& scene, const ImplicitStage& stage, SimState& s) {
-  ArticulatedBodyData& d = s.articulated;
+  ArticulatedBodyData& d = s.joint_space.articulated;
   for (const Pin& pin : scene.pins) {
     const Vec3 r = point_on_bone(s.frames, pin.bone, pin.alpha) - d.point_world[pin.bone];
     add_point_element(stage.h * stage.h * pin.k_in(scene.params) * Mat3::Identity(), r,
-                      s.accel_bias[pin.bone], d.inertia_art[pin.bone], d.bias_force[pin.bone]);
+                      s.implicit.accel_bias[pin.bone], d.inertia_art[pin.bone],
+                      d.bias_force[pin.bone]);
   }
 }
 

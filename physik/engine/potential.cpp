@@ -23,7 +23,7 @@ double potential_energy(const Scene& scene, SimState& s, PotentialOf which) {
 SimState state_at_pose(const Scene& scene, const Pose& pose,
                        const std::vector<Vec3>& targets_world) {
   SimState s;
-  size_state(scene.rig, scene.control_points.size(), s);
+  size_state(scene, s);
   s.pose = pose;
   s.frames = forward_kinematics(scene.rig, pose);
   for (int i = 0; i < scene.rig.nbone; ++i) {
@@ -32,7 +32,6 @@ SimState state_at_pose(const Scene& scene, const Pose& pose,
   for (std::size_t c = 0; c < targets_world.size() && c < s.target_effective_world.size(); ++c) {
     s.target_effective_world[c] = targets_world[c];
   }
-  prepare_contact_data(scene, s.contact);
   return s;
 }
 

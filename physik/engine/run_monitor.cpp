@@ -274,12 +274,12 @@ void fill_final_state(const Scene& scene, const SimState& s, RunSummary& out) {
   out.final_frames = s.frames;
   out.damping_auto_value = s.damping_auto_value;
   out.damping_auto_updates = s.damping_auto_updates;
-  out.implicit_split_steps = s.implicit_split_steps;
-  out.implicit_max_substeps = s.implicit_max_substeps;
-  out.implicit_retaken_steps = s.implicit_retaken_steps;
-  out.implicit_unresolved_steps = s.implicit_unresolved_steps;
-  out.implicit_deepest_steps = s.implicit_deepest_steps;
-  out.implicit_gauss_newton_steps = s.implicit_gauss_newton_steps;
+  out.implicit_split_steps = s.implicit.split_steps;
+  out.implicit_max_substeps = s.implicit.max_substeps;
+  out.implicit_retaken_steps = s.implicit.retaken_steps;
+  out.implicit_unresolved_steps = s.implicit.unresolved_steps;
+  out.implicit_deepest_steps = s.implicit.deepest_steps;
+  out.implicit_gauss_newton_steps = s.implicit.gauss_newton_steps;
 }
 
 namespace {

@@ -95,13 +95,13 @@ void self_contacts_rate(const Scene&, double h, SimState& s) {
 }
 
 void self_contacts_augment(const Scene&, double h, SimState& s) {
-  ArticulatedBodyData& d = s.articulated;
+  ArticulatedBodyData& d = s.joint_space.articulated;
   for (const ContactElement& e : s.contact.elements) {
     if (e.other_bone < 0) continue;
     const Mat3 A = 2.0 * (h * h * e.stiffness + h * e.damping);  // the split spring, twice
     for (const int b : {e.bone, e.other_bone}) {
-      add_point_element(A, e.point_world - d.point_world[b], s.accel_bias[b], d.inertia_art[b],
-                        d.bias_force[b]);
+      add_point_element(A, e.point_world - d.point_world[b], s.implicit.accel_bias[b],
+                        d.inertia_art[b], d.bias_force[b]);
     }
   }
 }

@@ -140,39 +140,40 @@ double torsion_springs_potential(const Scene& scene, const SimState& s) {
 }
 
 void torsion_springs_tangents(const Scene& scene, const ImplicitStage& stage, SimState& s) {
+  ImplicitWorkspace& im = s.implicit;
   const bool full = stage.full;
   const EngineParams& p = scene.params;
   const Rig& rig = scene.rig;
   for (int i = 0; i < rig.nbone; ++i) {
     const auto& limits = rig.bone_limit[i];
-    s.torsion_torque_world[i].setZero();
+    im.torsion_torque_world[i].setZero();
     if (!has_torsion_spring(rig, i) || p.torsion_k == 0.0) {
-      s.torsion_stiffness[i].setZero();
-      s.torsion_block_world[i].setZero();  // torsion_block_world() reads it without the stiffness
+      im.torsion_stiffness[i].setZero();
+      im.torsion_block_world[i].setZero();  // torsion_block_world() reads it without the stiffness
       continue;
     }
     const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[i]);
-    s.torsion_stiffness[i] = torsion_step_stiffness_local(limits, theta, p);
+    im.torsion_stiffness[i] = torsion_step_stiffness_local(limits, theta, p);
     const Mat3 R = (torsion_parent_orient(rig, s.frames, i) * rig.bone_rest_orient_parent[i])
                        .toRotationMatrix();  // R_pr
-    s.torsion_block_world[i] =
-        R * torsion_step_block_local(s.torsion_stiffness[i], theta, p.torsion_torque) *
+    im.torsion_block_world[i] =
+        R * torsion_step_block_local(im.torsion_stiffness[i], theta, p.torsion_torque) *
         R.transpose();
-    if (full && !s.torsion_stiffness[i].isZero(0.0)) {
+    if (full && !im.torsion_stiffness[i].isZero(0.0)) {
       // the torque the force stage applied, and its pose terms (implicit_pose_terms.h (5))
       const Vec3 tau_local = torsion_torque_local(limits, theta, p);
       const Vec3 tau_pr = p.torsion_torque == TorsionTorque::kGradient
                               ? Vec3(left_jacobian_inverse_transpose(theta) * tau_local)
                               : tau_local;
-      s.torsion_torque_world[i] = R * tau_pr;
+      im.torsion_torque_world[i] = R * tau_pr;
       const PoseTermSelection& use = stage.terms;
       if (use.forces) {
-        s.torsion_block_world[i] +=
-            torsion_pose_block(R, theta, tau_local, p.torsion_torque, s.torsion_torque_world[i]);
+        im.torsion_block_world[i] +=
+            torsion_pose_block(R, theta, tau_local, p.torsion_torque, im.torsion_torque_world[i]);
       }
       // torsion_pose_block's frame term, -[tau]x, taken back when not selected
       if (use.forces != use.torque_frame) {
-        s.torsion_block_world[i] += (use.forces ? 1.0 : -1.0) * skew(s.torsion_torque_world[i]);
+        im.torsion_block_world[i] += (use.forces ? 1.0 : -1.0) * skew(im.torsion_torque_world[i]);
       }
     }
   }
@@ -182,24 +183,24 @@ void torsion_springs_rate(const Scene& scene, const ImplicitStage& stage, SimSta
   torsion_springs_tangents(scene, stage, s);
   const Rig& rig = scene.rig;
   for (int i = 0; i < rig.nbone; ++i) {
-    if (s.torsion_stiffness[i].isZero(0.0)) continue;
+    if (s.implicit.torsion_stiffness[i].isZero(0.0)) continue;
     const int p = rig.bone_parent[i];
     const Vec3 w_rel = p < 0 ? s.omega_world[i] : Vec3(s.omega_world[i] - s.omega_world[p]);
-    const Vec3 tau = -stage.h * (s.torsion_block_world[i] * w_rel);
+    const Vec3 tau = -stage.h * (s.implicit.torsion_block_world[i] * w_rel);
     s.torque_world[i] += tau;
     if (p >= 0) s.torque_world[p] -= tau;
   }
 }
 
 void torsion_springs_augment(const Scene& scene, const ImplicitStage& stage, SimState& s) {
-  ArticulatedBodyData& d = s.articulated;
+  ArticulatedBodyData& d = s.joint_space.articulated;
   d.joint_blocks = false;
   for (int i = 0; i < scene.rig.nbone; ++i) {
-    if (s.torsion_stiffness[i].isZero(0.0)) {
+    if (s.implicit.torsion_stiffness[i].isZero(0.0)) {
       d.joint_block[i].setZero();
       continue;
     }
-    d.joint_block[i] = stage.h * stage.h * s.torsion_block_world[i];
+    d.joint_block[i] = stage.h * stage.h * s.implicit.torsion_block_world[i];
     d.joint_blocks = true;
   }
 }

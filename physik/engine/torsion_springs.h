@@ -40,7 +40,8 @@
 // The implicit step (implicit_step.h): a joint element, h^2 K_j on the ball's coordinates
 // (torsion_step_block_local below, in world axes), and the torque pair -h K_j (w_i - w_p) on the
 // right-hand side; with implicit_linearisation full also the torque's pose terms
-// (implicit_pose_terms.h (5)), whose step reads the torques left in state.torsion_torque_world.
+// (implicit_pose_terms.h (5)), whose step reads the torques left in
+// state.implicit.torsion_torque_world.
 // Damping auto's modes: the block T diag(k) T^T (torsion_torque_frame, the tangent stiffness).
 // MuJoCo's reference applies the same torques in same-forces mode; its own limits in
 // exact-constraints mode.
@@ -141,9 +142,9 @@ Mat3 torsion_pose_block(const Mat3& R_pr, const Vec3& theta, const Vec3& tau_loc
 void apply_torsion_springs(const Rig& rig, const EngineParams& params, SimState& state);
 
 // The element's stages (forces.h): U of the state's pose; the implicit step's blocks at the pose
-// (state.torsion_stiffness, state.torsion_block_world; with `full` the pose terms' share and
-// the torques, state.torsion_torque_world: tangents), then -h K_j (w_i - w_p) (rate); h^2 K_j as
-// the balls' joint blocks (augment); damping auto's blocks.
+// (state.implicit.torsion_stiffness, state.implicit.torsion_block_world; with `full` the pose
+// terms' share and the torques, state.implicit.torsion_torque_world: tangents), then
+// -h K_j (w_i - w_p) (rate); h^2 K_j as the balls' joint blocks (augment); damping auto's blocks.
 double torsion_springs_potential(const Scene& scene, const SimState& state);
 void torsion_springs_tangents(const Scene& scene, const ImplicitStage& stage, SimState& state);
 void torsion_springs_rate(const Scene& scene, const ImplicitStage& stage, SimState& state);

@@ -147,8 +147,8 @@ namespace {
 
 // the implicit step's counts (implicit_advance.h): a summary's are its solve's
 void reset_guard_counts(SimState& s) {
-  s.implicit_split_steps = s.implicit_max_substeps = s.implicit_gauss_newton_steps = 0;
-  s.implicit_retaken_steps = s.implicit_unresolved_steps = s.implicit_deepest_steps = 0;
+  s.implicit.split_steps = s.implicit.max_substeps = s.implicit.gauss_newton_steps = 0;
+  s.implicit.retaken_steps = s.implicit.unresolved_steps = s.implicit.deepest_steps = 0;
 }
 
 }  // namespace

@@ -50,7 +50,7 @@ SimState random_pose_at_rest(const Scene& sc, unsigned seed) {
   init_state(sc, s);
   for (int i = 1; i < sc.rig.nbone; ++i)
     s.pose.bone_local_rotation[i] = quat_from_rotation_vector(Vec3(u(rng), u(rng), u(rng)));
-  s.root_orient_world = quat_from_rotation_vector(Vec3(u(rng), u(rng), u(rng)));
+  s.joint_space.root_orient_world = quat_from_rotation_vector(Vec3(u(rng), u(rng), u(rng)));
   world_from_joint_space(sc.rig, s);
   return s;
 }
@@ -117,8 +117,8 @@ TEST(Linearisation, TheVelocityProductsDerivativeIsTheDenseRecursions) {
   const Scene sc = chain_scene(4, Vec3(1.0, 1.0, 2.0));
   const Rig& rig = sc.rig;
   SimState s = random_pose_at_rest(sc, 11);  // then moving
-  s.root_vel_world = 2.0 * Vec3(u(rng), u(rng), u(rng));
-  for (Vec3& w : s.joint_vel_local) w = 2.0 * Vec3(u(rng), u(rng), u(rng));
+  s.joint_space.root_vel_world = 2.0 * Vec3(u(rng), u(rng), u(rng));
+  for (Vec3& w : s.joint_space.joint_vel_local) w = 2.0 * Vec3(u(rng), u(rng), u(rng));
   world_from_joint_space(rig, s);
 
   Eigen::MatrixXd A_q, A_v_rest, A_v;
@@ -130,13 +130,13 @@ TEST(Linearisation, TheVelocityProductsDerivativeIsTheDenseRecursions) {
   SimState d = s;
   for (Vec3& f : d.force_world) f.setZero();
   for (Vec3& t : d.torque_world) t.setZero();
-  d.articulated.torque_per_omega = 0.0;
-  d.articulated.cancel_gyroscopic = false;
+  d.joint_space.articulated.torque_per_omega = 0.0;
+  d.joint_space.articulated.cancel_gyroscopic = false;
   const Eigen::VectorXd v = joint_velocity(d);
   const auto minus_c = [&](const Eigen::VectorXd& q) {
     SimState t = d;
-    t.root_vel_world = q.head<3>();
-    for (int i = 0; i < rig.nbone; ++i) t.joint_vel_local[i] = q.segment<3>(3 + 3 * i);
+    t.joint_space.root_vel_world = q.head<3>();
+    for (int i = 0; i < rig.nbone; ++i) t.joint_space.joint_vel_local[i] = q.segment<3>(3 + 3 * i);
     world_from_joint_space(rig, t);
     return dense::generalised_force(rig, t);
   };
@@ -233,8 +233,8 @@ TEST(Linearisation, ThePoseDerivativeFollowsTheEulerUpdate) {
   ASSERT_GT(expected.norm(), 1e-2);
   const double h = 1e-5;
   SimState t = s;
-  t.articulated.root_accel_world.setZero();
-  for (Vec3& a : t.articulated.joint_accel_local) a.setZero();
+  t.joint_space.articulated.root_accel_world.setZero();
+  for (Vec3& a : t.joint_space.articulated.joint_accel_local) a.setZero();
   integrate_joint_space(sc.rig, h, t);
   const Eigen::VectorXd moved = (accelerations(sc, t) - accelerations(sc, s)) / h;
   EXPECT_LT((moved - expected).norm(), 1e-3 * expected.norm())
@@ -281,11 +281,12 @@ TEST(Linearisation, ThePoseSplitAddsUpWithTheDenseInertiaTerm) {
       SimState t = rest;
       const double e = side == 0 ? eps : -eps;
       if (k < 3) {
-        t.root_com_world[k] += e;
+        t.joint_space.root_com_world[k] += e;
       } else {
         const int bone = (k - 3) / 3;
-        quat_integrate(bone == 0 ? t.root_orient_world : t.pose.bone_local_rotation[bone],
-                       e * Vec3::Unit((k - 3) % 3), 1.0);
+        quat_integrate(
+            bone == 0 ? t.joint_space.root_orient_world : t.pose.bone_local_rotation[bone],
+            e * Vec3::Unit((k - 3) % 3), 1.0);
       }
       world_from_joint_space(rig, t);
       Mk[side] = dense::mass_matrix(rig, t);

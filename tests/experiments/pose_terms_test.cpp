@@ -70,10 +70,10 @@ PoseCase random_pose_case(std::mt19937& rng, int n, TorsionTorque torque) {
   for (int i = 1; i < n; ++i) {
     s.pose.bone_local_rotation[i] = Quat(Eigen::AngleAxisd(1.5 * u(rng), dense::random_unit(rng)));
   }
-  s.root_com_world = Vec3(u(rng), u(rng), u(rng));
-  s.root_orient_world = Quat(Eigen::AngleAxisd(3.0 * u(rng), dense::random_unit(rng)));
-  s.root_vel_world = Vec3(u(rng), u(rng), u(rng));
-  for (int i = 0; i < n; ++i) s.joint_vel_local[i] = Vec3(u(rng), u(rng), u(rng));
+  s.joint_space.root_com_world = Vec3(u(rng), u(rng), u(rng));
+  s.joint_space.root_orient_world = Quat(Eigen::AngleAxisd(3.0 * u(rng), dense::random_unit(rng)));
+  s.joint_space.root_vel_world = Vec3(u(rng), u(rng), u(rng));
+  for (int i = 0; i < n; ++i) s.joint_space.joint_vel_local[i] = Vec3(u(rng), u(rng), u(rng));
   world_from_joint_space(sc.rig, s);
   return out;
 }
@@ -211,9 +211,9 @@ TEST(PoseTerms, APivotNotPositiveRetakesTheStepAsGaussNewton) {
       Scene gn = pc.scene;
       gn.params.implicit_linearisation = ImplicitLinearisation::kGaussNewton;
       step(gn, gauss_newton, h);
-      const bool positive = bare.articulated.pose_terms_positive;
+      const bool positive = bare.joint_space.articulated.pose_terms_positive;
       const SimState& expected = positive ? bare : gauss_newton;
-      EXPECT_EQ(shipped.implicit_gauss_newton_steps, positive ? 0 : 1);
+      EXPECT_EQ(shipped.implicit.gauss_newton_steps, positive ? 0 : 1);
       EXPECT_EQ(joint_velocity(shipped), joint_velocity(expected));
       EXPECT_NE(joint_velocity(bare), joint_velocity(gauss_newton));
       (positive ? kept : retaken) += 1;

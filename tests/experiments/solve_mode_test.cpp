@@ -44,7 +44,7 @@ TEST(SolveMode, EveryPinheadHandTargetConvergesWithEitherTorsionTorque) {
       const SolveResult r = session.solve(rule);
       converged += r.converged;
       most_steps = std::max(most_steps, r.steps);
-      splits += session.state().implicit_split_steps;
+      splits += session.state().implicit.split_steps;
       EXPECT_FALSE(r.diverged) << to_string(torque);
     }
     std::cout << "torsion_torque " << to_string(torque) << ": " << converged
