@@ -34,8 +34,8 @@
 // implicit step's blocks guarantee by keeping their symmetric parts positive semi-definite:
 // implicit_step.h.) A ball
 // (J = 0) passes on only the translational block C - E A^-1 B, exactly: computing the top blocks
-// as differences leaves round-off there that doubles with every link (measured: a 200-bone
-// chain's root inertia reached 1e24 and the run blew up), so they are products. Without joint
+// as differences leaves round-off there that doubles with every link (on a long chain it
+// swamps the root's inertia), so they are products. Without joint
 // blocks every I^A stays symmetric and the pass keeps only [A B; . C]; with them it carries E
 // (inertia_lower), as a non-symmetric block (the paper's torsion torque's tangent,
 // implicit_step.h) makes the articulated inertias of its ancestors general 6x6 matrices.

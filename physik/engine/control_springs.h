@@ -40,8 +40,8 @@ Mat3 spring_tangent(SpringLaw law, double k, double cap, const Vec3& d);
 // potential everywhere (it exceeds it by k c (|x| - |d|)^2 / (2 |d|) beyond the cap, by at least
 // that within it: a majoriser, as in iteratively reweighted least squares), so a step of any
 // size moves the point at most onto its target, never past it. With the tangent alone a long
-// step along the pull meets no stiffness and overshoots (measured: implicit steps of dt >= 1
-// diverge on a chain pulled far beyond its cap; tests/implicit_step_test.cpp).
+// step along the pull meets no stiffness and overshoots (tests/implicit_step_test.cpp: long
+// steps on a chain pulled far beyond its cap).
 Mat3 spring_step_stiffness(SpringLaw law, double k, double cap, const Vec3& d);
 
 // U of one spring at distance d (rig units), J; the equilibrium's residuals (tune/equilibrium.h)

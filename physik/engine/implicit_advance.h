@@ -5,10 +5,9 @@
 // solve_implicit (implicit_step.h) is one Newton step of backward Euler with the forces
 // linearised at the start of the step. On a linear spring and damper it never adds energy
 // (implicit_step.h: E+ - E = -h c v+^2 - ... <= 0, for every h, c, k). On the rig it is linear
-// only to first order in the step's rotations; measured on the tuning study's 0.1x rig at
-// c = 100 (dt 0.05): the first step spins the forearm 0.94 rad about its own (locked) axis, where
-// its inertia is tiny, and the rig's energy grows 4.5x in that one step (the exact dynamics,
-// dt = 1e-4, reach 0.28 rad and lose energy). So every step is checked. With the targets held
+// only to first order in the step's rotations: a step can spin a bone about an axis where its
+// inertia is tiny and gain energy the exact dynamics do not (tests/implicit_advance_test.cpp: the
+// tuning study's 0.1x rig at c = 100). So every step is checked. With the targets held
 // for the step, the mechanical energy
 //   E = KE + U_control(this step's targets) + U_torsion + U_gravity + U_contact
 //                                                   (J; potential.h potential_energy)
