@@ -200,15 +200,32 @@ check "contacts: dls refuses a ground" 2 "$bin" solve "$tmp/floor_cp.json" --sol
 expect_in "contacts: dls refusal names the field" "$tmp/err" "floor_cp.json: ground: the dls solver does not read it"
 check "contacts: a classic finish refuses a ground" 2 "$bin" solve "$tmp/floor_cp.json" --solver physik --finish dls --out "$tmp/x" --quiet
 expect_in "contacts: finish refusal names the field" "$tmp/err" "the dls finish does not read it"
-# ... and bone targets: an orientation, an aim or a pin is read by the engine alone
+# ... and bone targets: dls and jt take an orientation and a pin (orientation rows, a position
+# goal); an aim, and every bone target for the other classic solvers, is refused by name
 for target in '"orientation_targets": [{"bone": "hand.L", "quaternion": [1, 0, 0, 0]}]' \
               '"aim_targets": [{"bone": "head", "point": [0, -3, 2]}]' \
               '"pins": [{"bone": "hand.R"}]'; do
   field=${target%%\":*}; field=${field#\"}
+  words=$(echo "$field" | tr _ ' ')
   printf '{"rig": "%s", %s, "control_points": [{"bone": "hand.L", "alpha": 1, "target": [0, 0, 1]}]}' "$src/models/rigs/pinhead.json" "$target" > "$tmp/targets_cp.json"
-  check "targets: dls refuses $field" 2 "$bin" solve "$tmp/targets_cp.json" --solver dls --out "$tmp/x" --quiet
-  expect_in "targets: dls refusal names $field" "$tmp/err" "targets_cp.json: $field: the dls solver does not read it"
+  for solver in fabrik ccd mass-spring rotation; do
+    check "targets: $solver refuses $field" 2 "$bin" solve "$tmp/targets_cp.json" --solver $solver --out "$tmp/x" --quiet
+    expect_in "targets: $solver refusal names $field" "$tmp/err" "targets_cp.json: $field: the $solver solver does not support $words"
+  done
+  check "targets: a classic finish refuses $field" 2 "$bin" solve "$tmp/targets_cp.json" --solver physik --finish dls --out "$tmp/x" --quiet
+  expect_in "targets: finish refusal names $field" "$tmp/err" "targets_cp.json: $field: the dls finish does not support $words"
   check "targets: the solve mode takes $field" 0 "$bin" simulate "$tmp/targets_cp.json" --out "$tmp/x" --steps 20 --quiet
+done
+printf '{"rig": "%s", "aim_targets": [{"bone": "head", "point": [0, -3, 2]}], "control_points": [{"bone": "hand.L", "alpha": 1, "target": [0, 0, 1]}]}' "$src/models/rigs/pinhead.json" > "$tmp/aim_cp.json"
+check "targets: dls refuses aim_targets" 2 "$bin" solve "$tmp/aim_cp.json" --solver dls --out "$tmp/x" --quiet
+expect_in "targets: dls refusal names aim_targets" "$tmp/err" "aim_cp.json: aim_targets: the dls solver does not support aim targets"
+# dls and jt reach a control point, a pin and an orientation target together (the hand's frame
+# turned a quarter turn about x: the quaternion (cos 45, sin 45, 0, 0))
+printf '{"rig": "%s", "pins": [{"bone": "hand.R"}], "orientation_targets": [{"bone": "hand.L", "quaternion": [0.7071067811865476, 0.7071067811865476, 0, 0]}], "control_points": [{"bone": "hand.L", "alpha": 1, "target": [0.5, -0.3, 1.2]}]}' "$src/models/rigs/pinhead.json" > "$tmp/ori_cp.json"
+for solver in dls jt; do
+  check "targets: $solver takes an orientation and a pin" 0 "$bin" solve "$tmp/ori_cp.json" --solver $solver --max-iterations 5000 --out "$tmp/x" --quiet
+  expect_in "targets: $solver reports the orientation residual" "$tmp/x/summary.json" '"orientation_residual_rad"'
+  expect_in "targets: $solver reports the pin's residual" "$tmp/x/summary.json" '"pin_residuals"'
 done
 # (it runs: under gravity the hand stops short of its target, so it exits 4, not converged)
 check "contacts: the solve mode takes a ground" 4 "$bin" solve "$tmp/floor_cp.json" --solver physik --out "$tmp/x" --quiet

@@ -62,7 +62,23 @@ void goal_residuals(const BoneFrames& frames, const std::vector<IkGoal>& goals,
                     std::vector<double>& out) {
   out.resize(goals.size());
   for (std::size_t k = 0; k < goals.size(); ++k) {
-    out[k] = (point_on_bone(frames, goals[k].bone, goals[k].alpha) - goals[k].target_world).norm();
+    out[k] =
+        goals[k].has_position
+            ? (point_on_bone(frames, goals[k].bone, goals[k].alpha) - goals[k].target_world).norm()
+            : 0.0;
+  }
+}
+
+Vec3 goal_orientation_error(const BoneFrames& frames, const IkGoal& goal) {
+  // rotation_vector takes the short way round (|phi| <= pi)
+  return rotation_vector(goal.orientation_world * frames.orient_world[goal.bone].conjugate());
+}
+
+void goal_orientation_residuals(const BoneFrames& frames, const std::vector<IkGoal>& goals,
+                                std::vector<double>& out) {
+  out.resize(goals.size());
+  for (std::size_t k = 0; k < goals.size(); ++k) {
+    out[k] = goals[k].has_orientation ? goal_orientation_error(frames, goals[k]).norm() : 0.0;
   }
 }
 
@@ -172,7 +188,8 @@ void ik_dofs(const Rig& rig, const std::vector<char>& active, bool respect_limit
   dof_bone.clear();
   dof_axis.clear();
   for (int i = 0; i < rig.nbone; ++i) {
-    if (!active[i]) continue;
+    // a welded bone turns with the bone it is welded to (rig.h "Welds"): no axis of its own
+    if (!active[i] || rig.bone_weld[i] >= 0) continue;
     for (int k = 0; k < 3; ++k) {
       if (respect_limits && rig.bone_parent[i] >= 0 && rig.bone_limit[i][k].locked()) continue;
       dof_bone.push_back(i);
@@ -196,6 +213,57 @@ double max_of(const std::vector<double>& v) {
   return m;
 }
 
+// the report's residuals at the final pose; converged = position and orientation within theirs
+void finish_report(const IkProblem& pb, const Pose& pose, IkReport& rep) {
+  const BoneFrames frames = forward_kinematics(*pb.rig, pose);
+  goal_residuals(frames, pb.goals, rep.residuals);  // DFS order here; solve_ik maps back
+  goal_orientation_residuals(frames, pb.goals, rep.orientation_residuals);
+  rep.residual = max_of(rep.residuals);
+  rep.orientation_residual = max_of(rep.orientation_residuals);
+  rep.orientation_tolerance = pb.orientation_tolerance;
+  rep.orientation_length = pb.orientation_length;
+  rep.converged = rep.residual <= pb.tolerance &&
+                  (!pb.any_orientation || rep.orientation_residual <= pb.orientation_tolerance);
+}
+
+// the goals, pose and options solve_ik takes (InputError naming the goal and field otherwise)
+void check_ik_input(IkMethod method, const Rig& rig, const std::vector<IkGoal>& goals,
+                    const Pose& pose, const IkOptions& options) {
+  if (goals.empty()) throw_input_error("ik", "goals", "", "no goals to solve for");
+  for (std::size_t k = 0; k < goals.size(); ++k) {
+    const std::string el = "goals[" + std::to_string(k) + "]";
+    if (goals[k].bone < 0 || goals[k].bone >= rig.nbone) {
+      throw_input_error("ik", el, "bone", "index out of range");
+    }
+    if (!(goals[k].alpha >= 0.0 && goals[k].alpha <= 1.0)) {
+      throw_input_error("ik", el, "alpha", "must lie in [0, 1]");
+    }
+    if (goals[k].has_position && !goals[k].target_world.allFinite()) {
+      throw_input_error("ik", el, "target", "not a finite position");
+    }
+    if (!goals[k].has_position && !goals[k].has_orientation) {
+      throw_input_error("ik", el, "", "neither a position nor an orientation to reach");
+    }
+    if (goals[k].has_orientation) {
+      const Quat& q = goals[k].orientation_world;
+      if (!q.coeffs().allFinite() || std::abs(q.norm() - 1.0) > 1e-6) {
+        throw_input_error("ik", el, "orientation", "not a unit quaternion");
+      }
+      if (method != IkMethod::kDampedLeastSquares && method != IkMethod::kJacobianTranspose) {
+        throw_input_error("ik", el, "orientation",
+                          std::string("the ") + to_string(method) +
+                              " solver does not support orientation targets (dls and jt do)");
+      }
+    }
+  }
+  if (static_cast<int>(pose.bone_local_rotation.size()) != rig.nbone) {
+    throw_input_error("ik", "pose", "bone_local_rotation", "size differs from the rig's bones");
+  }
+  if (options.max_iterations < 0) {
+    throw_input_error("ik", "options", "max_iterations", "must not be negative");
+  }
+}
+
 }  // namespace
 
 IkReport run_ik_loop(const char* name, const IkProblem& pb, Pose& pose, const IkIterate& iterate) {
@@ -209,9 +277,18 @@ IkReport run_ik_loop(const char* name, const IkProblem& pb, Pose& pose, const Ik
 
   bump_colinear_joints(rig, pb.active, opt.colinear_bump, pose);
   BoneFrames frames = forward_kinematics(rig, pose);
-  std::vector<double> res;
-  goal_residuals(frames, pb.goals, res);
-  double r = max_of(res);
+  std::vector<double> res, ores;
+  // the loop's residual: the position residual, or with orientations the larger of it and the
+  // orientation residual scaled onto the position tolerance (below the tolerance = both are)
+  const double oscale =
+      pb.orientation_tolerance > 0.0 ? pb.tolerance / pb.orientation_tolerance : 0.0;
+  auto residual = [&]() {
+    goal_residuals(frames, pb.goals, res);
+    if (!pb.any_orientation) return max_of(res);
+    goal_orientation_residuals(frames, pb.goals, ores);
+    return std::max(max_of(res), oscale * max_of(ores));
+  };
+  double r = residual();
   Pose best = pose;
   double best_r = r;
   std::vector<double> history{r};
@@ -224,8 +301,7 @@ IkReport run_ik_loop(const char* name, const IkProblem& pb, Pose& pose, const Ik
       break;
     }
     forward_kinematics(rig, pose, frames);
-    goal_residuals(frames, pb.goals, res);
-    r = max_of(res);
+    r = residual();
     if (r < best_r) {  // kept only to replace a non-finite iterate
       best_r = r;
       best = pose;
@@ -238,37 +314,15 @@ IkReport run_ik_loop(const char* name, const IkProblem& pb, Pose& pose, const Ik
       break;
     }
   }
-  forward_kinematics(rig, pose, frames);
-  goal_residuals(frames, pb.goals, res);
   rep.iterations = it;
-  rep.residual = max_of(res);
-  rep.converged = rep.residual <= pb.tolerance;
-  rep.residuals = res;  // DFS order here; solve_ik maps back to the caller's order
+  finish_report(pb, pose, rep);
   rep.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep;
 }
 
 IkReport solve_ik(IkMethod method, const Rig& rig, const std::vector<IkGoal>& goals, Pose& pose,
                   const IkOptions& options) {
-  if (goals.empty()) throw_input_error("ik", "goals", "", "no goals to solve for");
-  for (std::size_t k = 0; k < goals.size(); ++k) {
-    const std::string el = "goals[" + std::to_string(k) + "]";
-    if (goals[k].bone < 0 || goals[k].bone >= rig.nbone) {
-      throw_input_error("ik", el, "bone", "index out of range");
-    }
-    if (!(goals[k].alpha >= 0.0 && goals[k].alpha <= 1.0)) {
-      throw_input_error("ik", el, "alpha", "must lie in [0, 1]");
-    }
-    if (!goals[k].target_world.allFinite()) {
-      throw_input_error("ik", el, "target", "not a finite position");
-    }
-  }
-  if (static_cast<int>(pose.bone_local_rotation.size()) != rig.nbone) {
-    throw_input_error("ik", "pose", "bone_local_rotation", "size differs from the rig's bones");
-  }
-  if (options.max_iterations < 0) {
-    throw_input_error("ik", "options", "max_iterations", "must not be negative");
-  }
+  check_ik_input(method, rig, goals, pose, options);
   IkProblem pb;
   pb.rig = &rig;
   pb.options = options;
@@ -278,6 +332,11 @@ IkReport solve_ik(IkMethod method, const Rig& rig, const std::vector<IkGoal>& go
   pb.reach = chain_reach(rig, goals);
   pb.tolerance =
       options.tolerance > 0.0 ? options.tolerance : options.tolerance_fraction * pb.reach;
+  pb.orientation_length = options.orientation_length > 0.0 ? options.orientation_length : pb.reach;
+  pb.orientation_tolerance = options.orientation_tolerance > 0.0
+                                 ? options.orientation_tolerance
+                                 : pb.tolerance / pb.orientation_length;
+  for (const IkGoal& g : goals) pb.any_orientation |= g.has_orientation;
   IkReport rep;
   switch (method) {
     case IkMethod::kFabrik:
@@ -300,9 +359,13 @@ IkReport solve_ik(IkMethod method, const Rig& rig, const std::vector<IkGoal>& go
       break;
   }
   // residuals back in the caller's goal order
-  std::vector<double> res(goals.size());
-  for (std::size_t k = 0; k < order.size(); ++k) res[order[k]] = rep.residuals[k];
+  std::vector<double> res(goals.size()), ores(goals.size());
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    res[order[k]] = rep.residuals[k];
+    ores[order[k]] = rep.orientation_residuals[k];
+  }
   rep.residuals = res;
+  rep.orientation_residuals = ores;
   return rep;
 }
 

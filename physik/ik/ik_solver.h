@@ -12,13 +12,20 @@
 //     (clamp_to_limits), locked axes never move.
 //
 // Goals (effectors): a point at fraction alpha along a bone (0 = head, 1 = tail) pulled onto a
-// world target. They are sorted into DFS order of their bones before solving, as the IK guide
-// (seed 001, "Advice") recommends, so effectors earlier in the hierarchy are served first.
+// world target, and/or the bone's frame turned onto a target orientation (world<-bone, as
+// BoneFrames::orient_world). They are sorted into DFS order of their bones before solving, as
+// the IK guide (seed 001, "Advice") recommends, so effectors earlier in the hierarchy are served
+// first. Only the Jacobian solvers (jacobian.cpp: DLS, the transpose) take orientations; the
+// others refuse a goal that carries one (InputError).
 //
 // Residual: the largest distance of any effector from its target (rig units). A solve converges
 // when it is below the tolerance, by default 1e-4 of the chain's reach (the longest
 // root-to-effector path over the goals). It stops early when the residual has stalled (an
 // unreachable target, a limit) and then reports converged = false.
+// Orientation residual: the largest angle |phi|, phi = log(q_target q^-1) (world axes, rad), of
+// any goal's frame from its target orientation. Its tolerance is the position tolerance over the
+// orientation length L (by default the reach): a turn of the whole chain by the tolerance in rad
+// moves its far end by the position tolerance. Converged = both under their tolerances.
 //
 // Degenerate states: a joint whose bone is colinear with its parent's bone is a degenerate state
 // for angle-adjusting solvers (guide, "Advice"); before solving, every such joint on an
@@ -37,6 +44,9 @@ struct IkGoal {
   int bone = -1;                     // bone index
   double alpha = 1.0;                // 0 = head, 1 = tail
   Vec3 target_world = Vec3::Zero();  // rig units
+  bool has_position = true;          // false: an orientation-only goal (alpha, target unread)
+  bool has_orientation = false;      // true: also turn the bone's frame onto orientation_world
+  Quat orientation_world = Quat::Identity();  // world<-bone, unit (as BoneFrames::orient_world)
 };
 
 enum class IkMethod {
@@ -79,6 +89,9 @@ struct IkOptions {
   int max_step_halvings = 8;        // backtracking line search on the squared goal error (0 = off)
   double max_error_fraction = 0.1;  // 1, each goal's error is clamped to this fraction of the
                                     //    reach before a Jacobian step (Buss's D_max)
+  double orientation_length = 0.0;  // rig units, L: orientation rows and errors are scaled by
+                                    //   it into rig units (0 = the chain's reach)
+  double orientation_tolerance = 0.0;  // rad; 0 = the position tolerance / L
 
   // mass-spring (mass_spring.cpp)
   Vec3 gravity_world = Vec3::Zero();  // rig units/s^2 (e.g. (0, 0, -9.81)); zero = off
@@ -99,8 +112,12 @@ struct IkOptions {
 struct IkReport {
   std::string solver;
   int iterations = 0;
-  double residual = 0.0;          // rig units, the largest effector distance at the end
-  std::vector<double> residuals;  // rig units, one per goal in the order given
+  double residual = 0.0;              // rig units, the largest effector distance at the end
+  std::vector<double> residuals;      // rig units, one per goal in the order given (0: no position)
+  double orientation_residual = 0.0;  // rad, the largest |phi| at the end
+  std::vector<double> orientation_residuals;  // rad, one per goal (0: no orientation)
+  double orientation_tolerance = 0.0;         // rad, the one used
+  double orientation_length = 0.0;            // rig units, L, the one used
   bool converged = false;
   bool stalled = false;    // stopped because the residual stopped improving
   double tolerance = 0.0;  // rig units, the one used
@@ -125,9 +142,16 @@ IkReport solve_ik(IkMethod method, const Rig& rig, const std::vector<IkGoal>& go
 double chain_reach(const Rig& rig, const std::vector<IkGoal>& goals);
 // The goals sorted by bone in DFS order (stable), with their original indices.
 std::vector<int> dfs_goal_order(const std::vector<IkGoal>& goals);
-// Distance of every goal's point from its target (rig units), in the order given.
+// Distance of every goal's point from its target (rig units), in the order given (0 for a goal
+// without a position).
 void goal_residuals(const BoneFrames& frames, const std::vector<IkGoal>& goals,
                     std::vector<double>& out);
+// The turn phi = log(q_target q^-1) (world axes, rad, |phi| <= pi) from a goal's frame to its
+// target orientation (the orientation targets' error, physik/engine/orientation_springs.h).
+Vec3 goal_orientation_error(const BoneFrames& frames, const IkGoal& goal);
+// |phi| of every goal (rad), in the order given (0 for a goal without an orientation).
+void goal_orientation_residuals(const BoneFrames& frames, const std::vector<IkGoal>& goals,
+                                std::vector<double>& out);
 // Bones on a root-to-effector path (ancestors of a goal's bone, and that bone): the only ones
 // the solvers move.
 std::vector<char> active_bones(const Rig& rig, const std::vector<IkGoal>& goals);
@@ -159,10 +183,13 @@ void aim_bones_at(const Rig& rig, const std::vector<char>& active,
 // recomputes FK). `goals` are DFS-sorted, `active` marks the bones on effector paths.
 struct IkProblem {
   const Rig* rig = nullptr;
-  std::vector<IkGoal> goals;  // DFS-sorted
-  std::vector<char> active;   // (nbone)
-  double reach = 0.0;         // rig units
-  double tolerance = 0.0;     // rig units
+  std::vector<IkGoal> goals;           // DFS-sorted
+  std::vector<char> active;            // (nbone)
+  double reach = 0.0;                  // rig units
+  double tolerance = 0.0;              // rig units
+  double orientation_length = 0.0;     // rig units, L (IkOptions)
+  double orientation_tolerance = 0.0;  // rad
+  bool any_orientation = false;        // some goal has an orientation
   IkOptions options;
 };
 IkReport solve_fabrik(const IkProblem& problem, Pose& pose);                 // fabrik.cpp
@@ -178,12 +205,14 @@ IkReport run_ik_loop(const char* name, const IkProblem& problem, Pose& pose,
                      const IkIterate& iterate);
 
 // The free rotation axes of the active bones (columns of the Jacobian): (bone, local axis),
-// locked axes left out when limits are respected.
+// locked axes left out when limits are respected, welded bones (no joint of their own) left out.
 void ik_dofs(const Rig& rig, const std::vector<char>& active, bool respect_limits,
              std::vector<int>& dof_bone, std::vector<int>& dof_axis);
 
-// The Jacobian of the stacked goal points (3 per goal, DFS-sorted goals of `pb`) with respect to
-// the listed rotation axes, analytic or by the guide's memoised finite difference (jacobian.cpp).
+// The Jacobian of the stacked goal points (3 per goal with a position, DFS-sorted goals of `pb`),
+// then of the goals' orientations (3 per goal with one, the angular rows scaled by L), with
+// respect to the listed rotation axes, analytic or by the guide's memoised finite difference
+// (jacobian.cpp).
 void goal_jacobian(const IkProblem& pb, const BoneFrames& frames, const std::vector<int>& dof_bone,
                    const std::vector<int>& dof_axis, JacobianKind kind, double fd_step,
                    Eigen::MatrixXd& J);

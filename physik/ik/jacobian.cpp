@@ -25,6 +25,20 @@
 //     vector (dtheta_x, dtheta_y, dtheta_z) in its rest frame; then clamped to the rig's limits
 //     (guide: "apply the adjustment and clamp to the joint limits").
 // lambda is in rig units (J has units of length per radian); default 0.02 of the reach.
+//
+// Orientation rows (a goal with a target orientation R_t, world<-bone): error phi = log(R_t R^T)
+// (world axes, rad; the orientation targets' error, physik/engine/orientation_springs.h), rows
+// the angular Jacobian: a turn theta about a = P_j e_k turns every bone below j, so
+//   d(orientation)/dtheta = a   if bone j is on the goal's path (itself included), else 0
+// (the finite difference gives the same column: log(exp(eps a)) / eps = a). phi changes by
+// -J_r^-1(phi) a, which is -a to first order in phi (Sola et al., arXiv:1812.01537): the usual
+// Gauss-Newton approximation of the rotation error, exact at the solution. Rows and error are
+// scaled by a length L (IkOptions::orientation_length, default the chain's reach) into rig
+// units, so a turn phi of the goal's frame weighs as the displacement L |phi| of the chain's far
+// end: position and orientation rows mix in one least-squares problem, and lambda, the error
+// clamp and the line search's squared error (sum |t - p|^2 + L^2 |phi|^2) read both alike.
+// Position rows come first (3 per goal with a position), then the orientation rows (3 per goal
+// with one): a position-only problem is the one above, bit for bit.
 #include <algorithm>
 #include <cmath>
 
@@ -40,31 +54,49 @@ void goal_jacobian(const IkProblem& pb, const BoneFrames& f, const std::vector<i
   const Rig& rig = *pb.rig;
   const int ng = static_cast<int>(pb.goals.size());
   const int nd = static_cast<int>(dof_bone.size());
-  J.setZero(3 * ng, nd);
+  int npos = 0, nori = 0;
+  for (const IkGoal& g : pb.goals) {
+    npos += g.has_position ? 1 : 0;
+    nori += g.has_orientation ? 1 : 0;
+  }
+  J.setZero(3 * (npos + nori), nd);
   for (int c = 0; c < nd; ++c) {
     const int j = dof_bone[c];
     const Vec3 a = rest_frame_world(rig, f, j) * Vec3::Unit(dof_axis[c]);
     const Vec3& h = f.head_world[j];
     const Quat step(Eigen::AngleAxisd(fd_step, a));
+    int prow = 0, orow = 3 * npos;
     for (int g = 0; g < ng; ++g) {
+      const IkGoal& goal = pb.goals[g];
+      const int p_at = goal.has_position ? prow : -1;
+      const int o_at = goal.has_orientation ? orow : -1;
+      prow += goal.has_position ? 3 : 0;
+      orow += goal.has_orientation ? 3 : 0;
       // bone j must be on goal g's root path
-      int b = pb.goals[g].bone;
+      int b = goal.bone;
       while (b > j) b = rig.bone_parent[b];
       if (b != j) continue;
-      const Vec3 r = point_on_bone(f, pb.goals[g].bone, pb.goals[g].alpha) - h;
-      J.block<3, 1>(3 * g, c) =
-          kind == JacobianKind::kAnalytic ? Vec3(a.cross(r)) : Vec3((step * r - r) / fd_step);
+      if (p_at >= 0) {
+        const Vec3 r = point_on_bone(f, goal.bone, goal.alpha) - h;
+        J.block<3, 1>(p_at, c) =
+            kind == JacobianKind::kAnalytic ? Vec3(a.cross(r)) : Vec3((step * r - r) / fd_step);
+      }
+      if (o_at >= 0) J.block<3, 1>(o_at, c) = pb.orientation_length * a;
     }
   }
 }
 
 namespace {
 
-// the goals' squared error at frames f (rig units^2)
+// the goals' squared error at frames f (rig units^2): positions, then L^2 |phi|^2
 double sq_error(const IkProblem& pb, const BoneFrames& f) {
   double s = 0.0;
   for (const IkGoal& g : pb.goals)
-    s += (g.target_world - point_on_bone(f, g.bone, g.alpha)).squaredNorm();
+    if (g.has_position) s += (g.target_world - point_on_bone(f, g.bone, g.alpha)).squaredNorm();
+  if (!pb.any_orientation) return s;
+  const double L2 = pb.orientation_length * pb.orientation_length;
+  for (const IkGoal& g : pb.goals)
+    if (g.has_orientation) s += L2 * goal_orientation_error(f, g).squaredNorm();
   return s;
 }
 
@@ -131,16 +163,29 @@ IkReport solve_jacobian(const IkProblem& pb, bool damped, Pose& pose) {
   const int ng = static_cast<int>(pb.goals.size());
   const int nd = static_cast<int>(dof_bone.size());
   const double lambda = opt.lambda > 0.0 ? opt.lambda : opt.lambda_fraction * pb.reach;
-  Eigen::MatrixXd J(3 * ng, nd);
-  Eigen::VectorXd e(3 * ng), dtheta(nd);
+  int nrow = 0;
+  for (const IkGoal& g : pb.goals)
+    nrow += 3 * ((g.has_position ? 1 : 0) + (g.has_orientation ? 1 : 0));
+  Eigen::MatrixXd J(nrow, nd);
+  Eigen::VectorXd e(nrow), dtheta(nd);
   std::vector<Vec3> turn(rig.nbone);
   BoneFrames trial;
   auto iterate = [&](Pose& p, BoneFrames& f) {
+    const double cap = opt.max_error_fraction * pb.reach;
+    int row = 0;
     for (int g = 0; g < ng; ++g) {
+      if (!pb.goals[g].has_position) continue;
       Vec3 err = pb.goals[g].target_world - point_on_bone(f, pb.goals[g].bone, pb.goals[g].alpha);
-      const double cap = opt.max_error_fraction * pb.reach;
       if (cap > 0.0 && err.norm() > cap) err *= cap / err.norm();  // Buss's error clamping
-      e.segment<3>(3 * g) = err;
+      e.segment<3>(row) = err;
+      row += 3;
+    }
+    for (int g = 0; g < ng; ++g) {  // L phi, clamped alike
+      if (!pb.goals[g].has_orientation) continue;
+      Vec3 err = pb.orientation_length * goal_orientation_error(f, pb.goals[g]);
+      if (cap > 0.0 && err.norm() > cap) err *= cap / err.norm();
+      e.segment<3>(row) = err;
+      row += 3;
     }
     goal_jacobian(pb, f, dof_bone, dof_axis, opt.jacobian, opt.fd_step, J);
     joint_step(J, e, damped, lambda, dtheta);

@@ -111,18 +111,27 @@ nlohmann::json engine_solve_json(const SceneSolveResult& r) {
 
 nlohmann::json classic_solve_json(const SceneSolveResult& r) {
   const IkReport& rep = r.classic;
-  return {{"scene", r.scene.file},
-          {"rig", r.scene.rig_file},
-          {"converged", rep.converged},
-          {"diverged", false},
-          {"stalled", rep.stalled},
-          {"iterations", rep.iterations},
-          {"final_residuals", rep.residuals},
-          {"residual", rep.residual},
-          {"residual_tol", rep.tolerance},
-          {"reach", rep.reach},
-          {"max_limit_violation_deg", rad2deg(max_limit_violation(r.scene.rig, r.pose))},
-          {"time_s", rep.time_s}};
+  nlohmann::json j = {
+      {"scene", r.scene.file},
+      {"rig", r.scene.rig_file},
+      {"converged", rep.converged},
+      {"diverged", false},
+      {"stalled", rep.stalled},
+      {"iterations", rep.iterations},
+      {"final_residuals", rep.residuals},
+      {"residual", rep.residual},
+      {"residual_tol", rep.tolerance},
+      {"reach", rep.reach},
+      {"max_limit_violation_deg", rad2deg(max_limit_violation(r.scene.rig, r.pose))},
+      {"time_s", rep.time_s}};
+  if (!r.scene.pins.empty()) j["pin_residuals"] = r.pin_residuals;
+  if (!r.scene.orientation_targets.empty()) {  // DLS and JT's orientation rows (jacobian.cpp)
+    j["orientation_residuals_rad"] = rep.orientation_residuals;
+    j["orientation_residual_rad"] = rep.orientation_residual;
+    j["orientation_tol_rad"] = rep.orientation_tolerance;
+    j["orientation_length"] = rep.orientation_length;
+  }
+  return j;
 }
 
 }  // namespace

@@ -15,16 +15,39 @@ bool engine_solver(const std::string& s) {
   return s == "physik" || s == "physik-explicit";
 }
 
+bool jacobian_solver(const std::string& s) {
+  return s == "dls" || s == "jt";
+}
+
 // The classic solvers, and the classic finish after the engine, know the rig's geometry, its
-// limits and the control points only: a scene's ground, self-collision, gravity or bone targets
-// (orientations, aims, pins) would be ignored by them, so such a scene is refused rather than
-// solved as if it had none
+// limits and the control points only: a scene's ground, self-collision, gravity or aim targets
+// would be ignored by them, so such a scene is refused rather than solved as if it had none.
+// DLS and the Jacobian transpose also take orientation targets (orientation rows) and pins (a
+// position goal each, classic_goals); the other classic solvers and the finish refuse them.
 void refuse_unread_world(const Scene& scene, const SceneSolveOptions& o) {
   const bool classic = !engine_solver(o.solver);
   if (!classic && o.finish == "none") return;
   const char* field = scene.world_field();
   if (!field) return;
+  const std::string f = field;
+  const bool bone_target = f == "orientation_targets" || f == "pins";
+  // world_field's order puts the ground, contacts and gravity first and aims between the two
+  if (classic && jacobian_solver(o.solver) && bone_target) {
+    if (scene.aim_targets.empty()) return;
+    field = "aim_targets";
+  }
   const std::string who = classic ? "the " + o.solver + " solver" : "the " + o.finish + " finish";
+  const std::string what = std::string(field) == "orientation_targets" ? "orientation targets"
+                           : std::string(field) == "aim_targets"       ? "aim targets"
+                           : std::string(field) == "pins"              ? "pins"
+                                                                       : "";
+  if (!what.empty()) {
+    const bool dls_takes = std::string(field) != "aim_targets";
+    throw_input_error(scene.file, field, "",
+                      who + " does not support " + what + " (" +
+                          (dls_takes && classic ? "--solver dls or jt takes them; " : "") +
+                          "the engine does: --solver physik and no --finish)");
+  }
   throw_input_error(scene.file, field, "",
                     who +
                         " does not read it (only the rig and the control points): solve this "
@@ -39,6 +62,19 @@ std::vector<IkGoal> scene_goals(const Scene& scene) {
     goals.push_back({c.bone, c.alpha, c.target_world});
   for (const TargetChange& ch : scene.schedule)
     goals[ch.control_point].target_world = ch.target_world;
+  return goals;
+}
+
+std::vector<IkGoal> classic_goals(const Scene& scene) {
+  std::vector<IkGoal> goals = scene_goals(scene);
+  for (const Pin& p : scene.pins) goals.push_back({p.bone, p.alpha, p.point_world});
+  for (const OrientationTarget& t : scene.orientation_targets) {
+    IkGoal g{t.bone, 1.0, Vec3::Zero()};
+    g.has_position = false;
+    g.has_orientation = true;
+    g.orientation_world = t.target_world;
+    goals.push_back(g);
+  }
   return goals;
 }
 
@@ -111,7 +147,14 @@ SceneSolveResult solve_classic(const Scene& scene, const SceneSolveOptions& o,
   SceneSolveResult r;
   r.scene = scene;
   r.pose = scene.initial_pose;
-  r.classic = solve_ik(method, scene.rig, goals, r.pose, opt);
+  r.classic = solve_ik(method, scene.rig, classic_goals(scene), r.pose, opt);
+  // the goals' residuals split: control points, pins (rig units), orientation targets (rad)
+  const std::size_t ncp = goals.size(), npin = scene.pins.size();
+  std::vector<double>& res = r.classic.residuals;
+  r.pin_residuals.assign(res.begin() + ncp, res.begin() + ncp + npin);
+  std::vector<double>& ores = r.classic.orientation_residuals;
+  ores.erase(ores.begin(), ores.begin() + ncp + npin);
+  res.resize(ncp);
   r.time_s = r.classic.time_s;
   r.frames = forward_kinematics(scene.rig, r.pose);
   return r;
@@ -126,10 +169,16 @@ std::string solve_shortfall(const SceneSolveResult& r) {
                                message_number(r.engine ? r.solve.tolerance : r.classic.tolerance);
   if (!r.engine) {
     if (r.classic.converged) return "";
+    const std::string orientation =
+        r.scene.orientation_targets.empty()
+            ? ""
+            : ", orientation residual " + message_number(r.classic.orientation_residual) +
+                  " rad (tolerance " + message_number(r.classic.orientation_tolerance) + ")";
     return r.solver +
            (r.classic.stalled ? " stalled (the residual stopped improving)"
                               : " used its iterations (max_iterations)") +
-           " after " + std::to_string(r.classic.iterations) + " iterations at " + residual;
+           " after " + std::to_string(r.classic.iterations) + " iterations at " + residual +
+           orientation;
   }
   if (r.diverged || r.solve.converged) return "";
   std::string why = r.solve.stalled ? "the physics stalled (the residual stopped improving)"

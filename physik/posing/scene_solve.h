@@ -30,6 +30,10 @@ namespace physik {
 
 // Every control point at its final target (the last scheduled change, if any).
 std::vector<IkGoal> scene_goals(const Scene& scene);
+// The goals of DLS and the Jacobian transpose: scene_goals, then every pin as a position goal
+// (its point onto its world point), then every orientation target as an orientation-only goal
+// (the solvers weigh every goal alike: a target's k, law and cap are the engine's alone).
+std::vector<IkGoal> classic_goals(const Scene& scene);
 
 struct SceneSolveResult {
   std::string solver;   // the options' solver
@@ -41,12 +45,15 @@ struct SceneSolveResult {
   RunSummary run;
   SolveResult solve;
   SolveRule rule;
-  // a classic solver's report
+  // a classic solver's report: residuals one per control point (rig units), the residual the
+  // largest over the control points and pins, orientation_residuals one per orientation target
+  // (rad)
   IkReport classic;
-  BoneFrames frames;      // the solved pose's frames
-  Pose pose;              // and its local rotations
-  bool diverged = false;  // the engine's run diverged (the CLI exits 3)
-  std::string warning;    // the engine's joint-solve warning (RunSummary::joint_solve_warning)
+  std::vector<double> pin_residuals;  // rig units, a classic solver's, one per pin
+  BoneFrames frames;                  // the solved pose's frames
+  Pose pose;                          // and its local rotations
+  bool diverged = false;              // the engine's run diverged (the CLI exits 3)
+  std::string warning;  // the engine's joint-solve warning (RunSummary::joint_solve_warning)
 };
 
 // Why a solve that did not diverge stopped short of its tolerance, in one line ("" when it

@@ -38,6 +38,7 @@ TEST(Experiments, EveryExpectedExperimentIsRegisteredInRunOrder) {
                                              "damping_sweep",
                                              "mujoco_gap",
                                              "ik_comparison",
+                                             "orientation_targets",
                                              "tracking",
                                              "linearisation",
                                              "tuning_study",
