@@ -38,6 +38,7 @@ struct SimulateOptions {
   std::string reference;         // "" or mujoco[:same-forces|:exact-constraints]
   std::string bvh;               // "" or the BVH/qBVH animation to record
   bool own_skeleton = false;     // --bvh on the rig's own skeleton, not its source's
+  BoneTargetOptions targets;     // --orientation-target, --aim, --pin
 };
 
 void add_options(CLI::App* cmd, SimulateOptions& o) {
@@ -56,6 +57,7 @@ void add_options(CLI::App* cmd, SimulateOptions& o) {
       "Override a scene parameter before the scene is read (control points that take their k, "
       "spring or cap from the params follow), e.g. --set damping=20 --set control_k=30; "
       "--set preset=paper swaps the base preset under the scene's own params");
+  add_bone_target_options(cmd, o.targets);
   cmd->add_flag("--quiet", o.quiet, "No progress output");
   cmd->add_option(
       "--reference", o.reference,
@@ -71,6 +73,7 @@ Scene prepare_scene(const SimulateOptions& o) {
   if (!o.reference.empty()) parse_reference_spec(o.reference);  // bad spec: exit 2 first
   if (!o.bvh.empty()) check_output_file(o.bvh, "--bvh");        // before the run, not after
   if (o.steps > 0) scene.steps = o.steps;
+  apply_bone_target_options(o.targets, scene);
   warn_start_contacts(scene);
   return scene;
 }

@@ -33,6 +33,7 @@ struct SolveOptions {
   std::string bvh;            // "" or the BVH/qBVH file of the final pose
   bool own_skeleton = false;  // --bvh on the rig's own skeleton, not its source's
   bool quiet = false;
+  BoneTargetOptions targets;  // --orientation-target, --aim, --pin
   // the solve options' flags as given (their table, physik/posing/solve_options.h), by name
   std::map<std::string, std::string> texts;
   std::map<std::string, std::vector<std::string>> vectors;  // three-number options
@@ -114,7 +115,8 @@ void run_solve(const SolveOptions& o, const CLI::App& cmd) {
   const ParamOverrides overrides = parse_param_overrides(
       options.solver == "physik" ? solve_mode_overrides(o.set) : o.set, "--set");
   check_solve_options(options);  // before the scene: a bad flag is reported first
-  const Scene scene = load_scene(o.scene, overrides);
+  Scene scene = load_scene(o.scene, overrides);
+  apply_bone_target_options(o.targets, scene);
   if (!o.bvh.empty()) check_output_file(o.bvh, "--bvh");  // before the solve, not after
   // the engine runs the contacts from the initial pose (start_contacts.h); a classic solver
   // refuses a ground or obstacles outright (scene_solve.h)
@@ -196,6 +198,7 @@ void add_solve_commands(CLI::App& app) {
   cmd->add_option("--out", opt->out, "Output folder")->capture_default_str();
   cmd->add_option("--set", opt->set,
                   "Override a scene parameter, as simulate's --set (the engine's solvers use it)");
+  add_bone_target_options(cmd, opt->targets);
   cmd->add_option("--bvh", opt->bvh,
                   "Also write the final pose as a one-frame BVH (qBVH if the name ends in .qbvh): "
                   "on the rig's source skeleton when it has one (a rig made by `rig from-bvh`)");

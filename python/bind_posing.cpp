@@ -6,10 +6,15 @@
 // reallocated; each view keeps the session alive). What the calls return (a dict of the step's
 // stats, a namedtuple of the solve's result) are Python objects. Exceptions to the rule are the
 // C++ class's own: a classic finish (its IK solver) and set_target under damping auto.
+#include <optional>
 #include <string>
 
+#include <pybind11/stl.h>
+
 #include "physik/io/json_fields.h"
+#include "physik/io/scene_io.h"
 #include "physik/io/summary_io.h"
+#include "physik/model/bone_targets.h"
 #include "physik/model/errors.h"
 #include "physik/posing/posing_session.h"
 #include "python/bind_common.h"
@@ -40,18 +45,19 @@ struct Session {
   std::vector<Vec3> angles, excess;  // scratch of the pose's joint angles
 };
 
-// Three finite-or-not numbers from any sequence (list, tuple, numpy array); no C++ allocation.
-Vec3 vec3_arg(py::handle v, const char* method, const char* field) {
+// n finite-or-not numbers from any sequence (list, tuple, numpy array) into `out`; no C++
+// allocation. `what` names them in the TypeError ("(x, y, z)").
+void numbers_arg(py::handle v, int n, const char* method, const char* field, const char* what,
+                 double* out) {
   const auto bad = [&] {
-    return py::type_error(std::string(method) + "(): " + field +
-                          " must be 3 numbers (x, y, z), got " + std::string(py::repr(v)));
+    return py::type_error(std::string(method) + "(): " + field + " must be " + std::to_string(n) +
+                          " numbers " + what + ", got " + std::string(py::repr(v)));
   };
-  if (!PySequence_Check(v.ptr()) || py::isinstance<py::str>(v) || PySequence_Size(v.ptr()) != 3) {
+  if (!PySequence_Check(v.ptr()) || py::isinstance<py::str>(v) || PySequence_Size(v.ptr()) != n) {
     PyErr_Clear();
     throw bad();
   }
-  Vec3 out;
-  for (int k = 0; k < 3; ++k) {
+  for (int k = 0; k < n; ++k) {
     const py::object item = py::reinterpret_steal<py::object>(PySequence_GetItem(v.ptr(), k));
     if (!item) throw py::error_already_set();
     out[k] = PyFloat_AsDouble(item.ptr());
@@ -60,6 +66,12 @@ Vec3 vec3_arg(py::handle v, const char* method, const char* field) {
       throw bad();
     }
   }
+}
+
+// Three finite-or-not numbers from any sequence; no C++ allocation.
+Vec3 vec3_arg(py::handle v, const char* method, const char* field) {
+  Vec3 out;
+  numbers_arg(v, 3, method, field, "(x, y, z)", out.data());
   return out;
 }
 
@@ -126,6 +138,8 @@ const SolveRule kDefaultRule{};
 }  // namespace
 
 void bind_posing_calls(py::class_<Session>& cls);
+void bind_posing_targets(py::class_<Session>& cls);
+void bind_posing_pins(py::class_<Session>& cls);
 void bind_posing_solve(py::class_<Session>& cls, py::object result_type);
 void bind_posing_state(py::class_<Session>& cls);
 
@@ -179,6 +193,8 @@ referenced. After construction set_target, set_pose, advance, solve and residual
 nothing in C++ (a classic finish, and set_target under damping auto, do, as in C++). Not
 thread-safe; advance and solve release the GIL while the engine runs.)doc");
   bind_posing_calls(cls);
+  bind_posing_targets(cls);
+  bind_posing_pins(cls);
   bind_posing_solve(cls, result_type);
   bind_posing_state(cls);
 }
@@ -220,6 +236,117 @@ InputError.)doc")
           R"doc(`steps` steps of the scene's engine (its integration, joint solve and dt); returns
 the last step's stats as a dict (passes, mismatch, kinetic_energy, max_residual,
 joint_separation). It does not watch for divergence: solve() does.)doc");
+}
+
+namespace {
+
+// a bone target's bone by name (InputError naming the method for an unknown one)
+int bone_arg(const Session& s, const std::string& bone, const char* method) {
+  return target_bone_index(s.session.scene(), bone, {method, ""});
+}
+
+}  // namespace
+
+// orientation targets and aims: set (add or replace, one per bone and kind)
+void bind_posing_targets(py::class_<Session>& cls) {
+  cls.def(
+         "set_orientation_target",
+         [](Session& s, const std::string& bone, py::object quaternion, std::optional<double> k,
+            std::optional<std::string> spring, std::optional<double> cap) {
+           const char* m = "set_orientation_target";
+           double q[4];
+           numbers_arg(quaternion, 4, m, "quaternion", "(w, x, y, z)", q);
+           OrientationTarget t;
+           t.bone = bone_arg(s, bone, m);
+           t.target_world = target_quaternion(q[0], q[1], q[2], q[3], {m, ""});
+           set_turn_spring(spring, k, cap, {m, ""}, t);
+           s.session.set_orientation_target(t);
+         },
+         py::arg("bone"), py::arg("quaternion"), py::kw_only(), py::arg("k") = py::none(),
+         py::arg("spring") = py::none(), py::arg("cap") = py::none(),
+         R"doc(Turn `bone` toward a target frame: quaternion [w, x, y, z], world<-bone (unit).
+
+As the scene file's "orientation_targets": k (N m/rad), spring ("linear" or "capped") and cap
+(rad) default to the params' control spring turned into rotation by the bone's length. Adds the
+bone's orientation target or replaces it. A zero or non-unit quaternion, an unknown bone, or a
+scene under implicit_linearisation full raises InputError.)doc")
+      .def(
+          "set_aim_target",
+          [](Session& s, const std::string& bone, py::object point, py::object axis,
+             std::optional<double> k, std::optional<std::string> spring,
+             std::optional<double> cap) {
+            const char* m = "set_aim_target";
+            AimTarget t;
+            t.bone = bone_arg(s, bone, m);
+            t.point_world = vec3_arg(point, m, "point");
+            if (!axis.is_none()) t.axis_bone = vec3_arg(axis, m, "axis");
+            set_turn_spring(spring, k, cap, {m, ""}, t);
+            s.session.set_aim_target(t);
+          },
+          py::arg("bone"), py::arg("point"), py::kw_only(), py::arg("axis") = py::none(),
+          py::arg("k") = py::none(), py::arg("spring") = py::none(), py::arg("cap") = py::none(),
+          R"doc(Turn `bone`'s axis toward `point` (world, rig units) seen from its head.
+
+axis: in the bone's frame (default [0, 1, 0], along the bone); k, spring and cap as
+set_orientation_target. Adds the bone's aim or replaces it. A point on the bone's head in the
+pose now, a zero axis or an unknown bone raises InputError.)doc");
+}
+
+// pins (set: add or replace), every bone target's clear, and the targets read back
+void bind_posing_pins(py::class_<Session>& cls) {
+  cls.def(
+         "set_pin",
+         [](Session& s, const std::string& bone, py::object point, double alpha,
+            std::optional<double> k) {
+           const char* m = "set_pin";
+           Pin pin;
+           pin.bone = bone_arg(s, bone, m);
+           pin.alpha = alpha;
+           pin.k = k;
+           check_pin(s.session.scene(), pin, {m, ""});  // alpha in range before it is used
+           pin.point_world = point.is_none()
+                                 ? point_on_bone(s.session.frames(), pin.bone, pin.alpha)
+                                 : vec3_arg(point, m, "point");
+           s.session.set_pin(pin);
+         },
+         py::arg("bone"), py::arg("point") = py::none(), py::kw_only(), py::arg("alpha") = 0.0,
+         py::arg("k") = py::none(),
+         R"doc(Hold the point `alpha` along `bone` (0 = head, 1 = tail) at `point` (world, rig units).
+
+point=None: where that point is in the pose now. k (N/m) defaults to 100 times the params'
+control_k. Adds the bone's pin or replaces it. A welded bone (pin the bone it is welded to), an
+alpha outside [0, 1], k <= 0 or an unknown bone raises InputError.)doc")
+      .def(
+          "clear_orientation_target",
+          [](Session& s, const std::string& bone) {
+            return s.session.clear_orientation_target(
+                bone_arg(s, bone, "clear_orientation_target"));
+          },
+          py::arg("bone"), "Remove `bone`'s orientation target; False when it had none.")
+      .def(
+          "clear_aim_target",
+          [](Session& s, const std::string& bone) {
+            return s.session.clear_aim_target(bone_arg(s, bone, "clear_aim_target"));
+          },
+          py::arg("bone"), "Remove `bone`'s aim target; False when it had none.")
+      .def(
+          "clear_pin",
+          [](Session& s, const std::string& bone) {
+            return s.session.clear_pin(bone_arg(s, bone, "clear_pin"));
+          },
+          py::arg("bone"), "Remove `bone`'s pin; False when it had none.")
+      .def_property_readonly(
+          "bone_targets",
+          [](const Session& s) {
+            const nlohmann::json j = scene_to_json(s.session.scene());
+            py::dict out;
+            for (const char* key : {"orientation_targets", "aim_targets", "pins"}) {
+              out[key] = j.contains(key) ? from_json(j[key]) : py::list();
+            }
+            return out;
+          },
+          R"doc({"orientation_targets": [...], "aim_targets": [...], "pins": [...]}: the session's
+bone targets now, in the scene file's format (a new dict; allocates).)doc");
 }
 
 // solve, with SolveRule's fields as keywords

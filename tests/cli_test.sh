@@ -99,6 +99,52 @@ expect_in "override each kind: max_passes" "$tmp/kinds/summary.json" '"max_passe
 expect_in "override each kind: centripetal" "$tmp/kinds/summary.json" '"centripetal": true'
 expect_in "override each kind: torsion_spring" "$tmp/kinds/summary.json" '"torsion_spring": "capped"'
 
+# bone targets on the command line (cli/bone_target_options.cpp): in the run's scene.json as given,
+# a pin without a point where its bone's head starts, an option replacing the file's target of
+# that bone; each bad value exits 2 naming the option, the value, the field and the reason
+pinhead_scene="$src/models/scenes/pinhead_two_hands.json"
+check "simulate bone targets help" 0 "$bin" simulate --help
+expect_in "simulate help: --orientation-target" "$tmp/out" "--orientation-target BONE=W,X,Y,Z"
+expect_in "simulate help: --aim" "$tmp/out" "--aim BONE=X,Y,Z"
+expect_in "simulate help: --pin" "$tmp/out" "--pin BONE[=X,Y,Z]"
+check "solve help: --pin" 0 "$bin" solve --help
+expect_in "solve help: --pin" "$tmp/out" "--pin BONE[=X,Y,Z]"
+check "simulate bone targets" 0 "$bin" simulate "$pinhead_scene" --out "$tmp/bt" --quiet --set preset=robust --steps 1000 \
+  --orientation-target forearm.L=0.7071068,0.7071068,0,0 --aim head=2,-3,2.5 --pin foot.R --pin hand.R=-1,-0.9,1.2 --pin hand.R
+check "bone targets in scene.json" 0 python3 -c "
+import json
+d = json.load(open('$tmp/bt/scene.json'))
+(o,) = d['orientation_targets']
+assert o['bone'] == 'forearm.L' and max(abs(a - b) for a, b in zip(o['quaternion'], [0.7071068, 0.7071068, 0, 0])) < 1e-6, o
+assert d['aim_targets'] == [{'bone': 'head', 'point': [2.0, -3.0, 2.5], 'axis': [0.0, 1.0, 0.0]}], d['aim_targets']
+pins = {p['bone']: p['point'] for p in d['pins']}
+assert sorted(pins) == ['foot.R', 'hand.R'], pins  # the second --pin hand.R replaced the first
+assert max(abs(a - b) for a, b in zip(pins['foot.R'], [-0.4347, 0, -2.1169])) < 1e-9, pins
+assert max(abs(a - b) for a, b in zip(pins['hand.R'], [-1.267, 0, -0.0311])) < 1e-9, pins
+s = json.load(open('$tmp/bt/summary.json'))
+assert not s['diverged'], s  # hand.R is pinned short of its control point's target
+"
+check "solve with a pin" 0 "$bin" solve "$pinhead_scene" --solver physik --out "$tmp/bt_solve" --quiet --pin forearm.L
+check "a classic solver without pins refuses one" 2 "$bin" solve "$pinhead_scene" --solver fabrik --out "$tmp/bt_fabrik" --quiet --pin forearm.L
+expect_in "classic refusal names pins" "$tmp/err" "pins: the fabrik solver does not support pins"
+for bad in "--orientation-target|hand.L=2,0,0,0|--orientation-target: 'hand.L=2,0,0,0': field 'quaternion': not a unit quaternion (norm 2.000000)" \
+    "--orientation-target|hand.L=0,0,0,0|field 'quaternion': zero quaternion" \
+    "--orientation-target|hand.L=1,0,0|field 'quaternion': expected 4 numbers w,x,y,z, got 3" \
+    "--orientation-target|hand.L=1,0,x,0|field 'quaternion': expected 4 numbers w,x,y,z, got '1,0,x,0'" \
+    "--orientation-target|hand.L|--orientation-target: 'hand.L': expected BONE=w,x,y,z" \
+    "--orientation-target|hand.X=1,0,0,0|field 'bone': unknown bone 'hand.X' in rig" \
+    "--aim|hand.L=1,2|--aim: 'hand.L=1,2': field 'point': expected 3 numbers x,y,z, got 2" \
+    "--aim|hand.L=1.2266,0,-0.0109|field 'point': lies on bone 'hand.L''s head" \
+    "--pin|nope|--pin: 'nope': field 'bone': unknown bone 'nope'" \
+    "--pin|hand.L=1,2,3,4|field 'point': expected 3 numbers x,y,z, got 4" \
+    "--pin|=1,2,3|field 'bone': no bone named before '='"; do
+  IFS='|' read -r opt value message <<< "$bad"
+  check "bad $opt $value" 2 "$bin" simulate "$pinhead_scene" --out "$tmp/bt_bad" --quiet "$opt" "$value"
+  expect_in "bad $opt $value message" "$tmp/err" "$message"
+done
+check "bone targets under full linearisation" 2 "$bin" solve "$pinhead_scene" --solver physik --set implicit_linearisation=full --out "$tmp/bt_full" --quiet --pin hand.L
+expect_in "full linearisation message" "$tmp/err" "--pin: 'hand.L': implicit_linearisation full reads the control and torsion springs' pose terms only"
+
 # contacts and gravity: each bad value exits 2 naming its field
 rig="$src/models/rigs/elbow.json"
 bad_contact() {  # bad_contact NAME JSON_FIELDS EXPECTED_TEXT

@@ -145,6 +145,44 @@ TEST(EngineAllocations, PosingSessionCallsAllocateNothing) {
   EXPECT_TRUE(r.converged);
 }
 
+// Bone targets set between steps (the scene's lists grow: allocations outside the step): the
+// steps after them, under every scheme, allocate nothing; moving a target to another place
+// (replaced in its list) allocates nothing either.
+TEST(EngineAllocations, PosingSessionStepsWithBoneTargetsAllocateNothing) {
+  for (Scheme scheme : {Scheme::kGaussSeidel, Scheme::kExact, Scheme::kImplicit}) {
+    Scene scene = load_scene(test::model_path("scenes/pinhead_two_hands.json"));
+    scene.params.scheme = scheme;
+    PosingSession session(scene);
+    const Rig& rig = session.scene().rig;
+    const int head = rig.find_bone("head"), elbow = rig.find_bone("forearm.L");
+    OrientationTarget turn;
+    turn.bone = head;
+    turn.target_world = session.frames().orient_world[head];
+    AimTarget aim;
+    aim.bone = rig.find_bone("hand.R");
+    aim.point_world = Vec3(-2.0, -1.0, 1.0);
+    Pin pin;
+    pin.bone = elbow;
+    pin.point_world = session.frames().head_world[elbow];
+    session.set_orientation_target(turn);
+    session.set_aim_target(aim);
+    session.set_pin(pin);
+    session.advance(1);  // warm up
+    g_allocations = 0;
+    g_counting = true;
+    for (int frame = 0; frame < 10; ++frame) {
+      pin.point_world.z() += 0.001;
+      session.set_pin(pin);
+      session.advance(3);
+    }
+    g_counting = false;
+    EXPECT_EQ(g_allocations.load(), 0) << to_string(scheme);
+    EXPECT_EQ(session.scene().pins.size(), 1u);
+    EXPECT_TRUE(session.clear_pin(elbow));
+    EXPECT_FALSE(session.clear_pin(elbow));
+  }
+}
+
 // The solve mode's calls as ik_comparison makes them: the pose reset, a target moved along the
 // interpolation, a lengthening implicit solve.
 // With implicit_linearisation full too, whose retakes as Gauss-Newton (implicit_step.h) must

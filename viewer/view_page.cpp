@@ -122,8 +122,30 @@ nlohmann::json summary_fields(const nlohmann::json& summary) {
   return out;
 }
 
-// the scene's ground plane and box obstacles, each only where the scene has it (the page draws
-// them; other runs' JSON stays as it was)
+// the scene's bone targets, only where it has some (they hold still through a run: a scene's
+// schedule moves control points only): "bone_targets" {"orientations": [{bone, quaternion x y z
+// w, world<-bone}], "aims": [{bone, point}], "pins": [{bone, alpha, point}]}, points world, rig
+// units; the page draws a triad at the bone's head, a line from its head, a marker
+void add_bone_targets(const Scene& s, nlohmann::json& out) {
+  if (s.orientation_targets.empty() && s.aim_targets.empty() && s.pins.empty()) return;
+  const auto vec = [](const Vec3& v) { return nlohmann::json{v.x(), v.y(), v.z()}; };
+  nlohmann::json turns = nlohmann::json::array(), aims = nlohmann::json::array(),
+                 pins = nlohmann::json::array();
+  for (const OrientationTarget& t : s.orientation_targets) {
+    const Quat q = t.target_world.normalized();
+    turns.push_back({{"bone", t.bone}, {"quaternion", {q.x(), q.y(), q.z(), q.w()}}});
+  }
+  for (const AimTarget& t : s.aim_targets) {
+    aims.push_back({{"bone", t.bone}, {"point", vec(t.point_world)}});
+  }
+  for (const Pin& p : s.pins) {
+    pins.push_back({{"bone", p.bone}, {"alpha", p.alpha}, {"point", vec(p.point_world)}});
+  }
+  out["bone_targets"] = {{"orientations", turns}, {"aims", aims}, {"pins", pins}};
+}
+
+// the scene's ground plane, box obstacles and bone targets, each only where the scene has it (the
+// page draws them; other runs' JSON stays as it was)
 void add_world(const Scene& s, nlohmann::json& out) {
   // the ground plane
   if (s.collision.ground) {
@@ -146,6 +168,7 @@ void add_world(const Scene& s, nlohmann::json& out) {
     }
     out["boxes"] = boxes;
   }
+  add_bone_targets(s, out);
 }
 
 nlohmann::json run_json(const ViewRun& r) {

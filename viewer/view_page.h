@@ -16,7 +16,9 @@
 // lengths, rest frames in their parents' (quaternion x y z w) and limits per local axis (rad, null
 // where free) for the axes and limit ranges the page draws. A run whose scene has a ground has
 // "ground" (height, normal), one with box obstacles has "boxes" (name, center, half_extents,
-// quaternion x y z w: scene.h BoxObstacle), one with contacts.csv has "contacts"; other runs have
+// quaternion x y z w: scene.h BoxObstacle), one with orientation targets, aims or pins has
+// "bone_targets" (orientations: bone, quaternion x y z w world<-bone; aims: bone, point; pins:
+// bone, alpha, point; world, rig units), one with contacts.csv has "contacts"; other runs have
 // none of these keys.
 #pragma once
 

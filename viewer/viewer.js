@@ -18,6 +18,12 @@
 //   carries from min to max, the range of a turn about that axis alone (limits are intervals on
 //   the rotation vector's components, rig.h);
 // - targets are drawn in TARGET_COLOR, whatever their run (the spring to each is the run's);
+// - a scene's bone targets (scene.h; they hold still through a run) are drawn with the targets
+//   and hidden with them: an orientation target as a triad at its bone's head in the target
+//   frame (x, y, z in AXIS_COLORS, TARGET_AXES_LENGTH of the bone's length, dashed: the bone's
+//   own axes are the solid ones), an aim as a line from its bone's head to the point, in the
+//   run's colour, with a TARGET_COLOR marker at the point, a pin as a TARGET_COLOR cube at its
+//   point; the camera frames the aims' and pins' points;
 // - a floor grid only where a run's scene has a ground, in the ground's plane;
 // - a run folder with contacts.csv gets its contacts drawn at each frame: a sphere at the
 //   contact point and a line along the normal, of a fixed length (a tenth of the scene's size:
@@ -43,6 +49,7 @@
   var TARGET_COLOR = '#000000';
   var AXIS_COLORS = ['#ff2a2a', '#1fbf1f', '#2a5cff'];  // local x, y, z
   var AXES_LENGTH = 0.3;  // of the bone's length
+  var TARGET_AXES_LENGTH = 0.6;  // an orientation target's triad, of its bone's length
   var ARC_SEGMENTS = 16;
   var CONTACT_COLOR = '#ff00ff';
   var BOX_COLOR = '#d4a017', BOX_EDGE_COLOR = '#8a6a0f', BOX_OPACITY = 0.5;
@@ -421,6 +428,53 @@
     v.scene.add(run.targetGroup);
     run.pathGroup = buildPaths(v, run);
     v.scene.add(run.pathGroup);
+    buildBoneTargets(v, run);
+  }
+
+  // the scene's bone targets, in the target group (the "targets" toggle hides them): the triads
+  // (3 segments each, coloured per axis, dashed) and the aims' lines (1 segment each) move with
+  // their bones' heads (placeBoneTargets); the aims' points and the pins are fixed markers
+  function buildBoneTargets(v, run) {
+    var bt = run.raw.bone_targets;
+    if (!bt) return;
+    var size = 0.02 * v.extent;
+    var basic = new THREE.MeshBasicMaterial({ color: TARGET_COLOR, depthTest: false });
+    function marker(geometry, point) {
+      var m = new THREE.Mesh(geometry, basic);
+      m.position.fromArray(point);
+      m.renderOrder = 1;
+      run.targetGroup.add(m);
+    }
+    bt.pins.forEach(function (p) { marker(new THREE.BoxBufferGeometry(size, size, size), p.point); });
+    bt.aims.forEach(function (a) { marker(new THREE.SphereBufferGeometry(0.5 * size, 8, 6), a.point); });
+    var ntriad = 3 * bt.orientations.length;
+    if (ntriad > 0) {
+      var geo = new THREE.BufferGeometry();
+      geo.setAttribute('position', new THREE.BufferAttribute(new Float32Array(6 * ntriad), 3));
+      var colors = new Float32Array(6 * ntriad), c = new THREE.Color();
+      for (var i = 0; i < ntriad; i++) {
+        c.set(AXIS_COLORS[i % 3]);
+        c.toArray(colors, 6 * i);
+        c.toArray(colors, 6 * i + 3);
+      }
+      geo.setAttribute('color', new THREE.BufferAttribute(colors, 3));
+      run.triads = new THREE.LineSegments(geo, new THREE.LineDashedMaterial({
+        vertexColors: THREE.VertexColors, depthTest: false, dashSize: 0.01 * v.extent,
+        gapSize: 0.006 * v.extent }));
+      run.triads.renderOrder = 3;
+      run.triads.frustumCulled = false;
+      run.targetGroup.add(run.triads);
+    }
+    if (bt.aims.length > 0) {
+      var aimGeo = new THREE.BufferGeometry();
+      aimGeo.setAttribute('position',
+                          new THREE.BufferAttribute(new Float32Array(6 * bt.aims.length), 3));
+      run.aimLines = new THREE.LineSegments(
+          aimGeo, new THREE.LineBasicMaterial({ color: run.color, depthTest: false }));
+      run.aimLines.renderOrder = 1;
+      run.aimLines.frustumCulled = false;
+      run.targetGroup.add(run.aimLines);
+    }
   }
 
   // each control point's target over the whole run, where it moves
@@ -466,6 +520,10 @@
       for (var i = 0; i + 2 < r.targets.length; i += 3) {
         p.fromArray(r.targets, i);
         if (isFinite(p.x) && isFinite(p.y) && isFinite(p.z)) box.expandByPoint(p);
+      }
+      var bt = r.raw.bone_targets;
+      if (bt) {
+        bt.aims.concat(bt.pins).forEach(function (t) { box.expandByPoint(p.fromArray(t.point)); });
       }
     });
     box.expandByScalar(maxRadius);
@@ -672,6 +730,36 @@
     springs.needsUpdate = true;
   }
 
+  // frame f's triads at the bones' heads and aim lines from them (buildBoneTargets's order)
+  function placeBoneTargets(run, f) {
+    var bt = run.raw.bone_targets, bones = run.raw.bones;
+    if (!bt) return;
+    if (run.triads) {
+      var pos = run.triads.geometry.attributes.position, n = 0;
+      bt.orientations.forEach(function (t) {
+        tmp.h.fromArray(run.positions, (f * run.nbone + t.bone) * 6);
+        ax.q.fromArray(t.quaternion);
+        var len = TARGET_AXES_LENGTH * bones.lengths[t.bone];
+        for (var k = 0; k < 3; k++) {
+          ax.e.copy(UNIT[k]).applyQuaternion(ax.q).multiplyScalar(len).add(tmp.h);
+          pos.setXYZ(n++, tmp.h.x, tmp.h.y, tmp.h.z);
+          pos.setXYZ(n++, ax.e.x, ax.e.y, ax.e.z);
+        }
+      });
+      pos.needsUpdate = true;
+      run.triads.computeLineDistances();
+    }
+    if (run.aimLines) {
+      var ends = run.aimLines.geometry.attributes.position;
+      bt.aims.forEach(function (a, i) {
+        tmp.h.fromArray(run.positions, (f * run.nbone + a.bone) * 6);
+        ends.setXYZ(2 * i, tmp.h.x, tmp.h.y, tmp.h.z);
+        ends.setXYZ(2 * i + 1, a.point[0], a.point[1], a.point[2]);
+      });
+      ends.needsUpdate = true;
+    }
+  }
+
   function placeContacts(run, f) {
     var c = run.contacts;
     if (c === null) return;
@@ -796,6 +884,7 @@
       placeBones(run, f, self.radiusScale);
       placeAxes(run, f);
       placeTargets(run, f);
+      placeBoneTargets(run, f);
       placeContacts(run, f);
       showReadout(run, f);
     });

@@ -6,7 +6,8 @@ An empty is a control point when it carries any of the first three custom proper
     physik_bone           the bone's name
     physik_alpha          where on the bone, 0 = head .. 1 = tail (default 1)
     physik_k, physik_spring, physik_cap   optional: N/m, "linear" | "capped", rig units
-and its world location is the target. The paper's own file uses the original add-on's
+and its world location is the target (an empty with `physik_target` is an orientation or aim
+target instead: bone_targets.py). The paper's own file uses the original add-on's
 properties (fwik_is_control_point, fwik_armature, fwik_bone_name, fwik_bone_alpha,
 fwik_spring_constant, fwik_active); those empties are read too (inactive ones are skipped).
 """
@@ -71,8 +72,9 @@ def add_control_point(context, arm, bone, alpha=1.0, target=None, k=None, spring
 
 
 def _is_physik(obj):
-    # the marker, or either of the two properties that only a control point has
-    return obj.type == 'EMPTY' and any(
+    # the marker, or either of the two properties that only a control point has among the
+    # empties that are not bone targets (bone_targets.py: those carry physik_target)
+    return obj.type == 'EMPTY' and "physik_target" not in obj and any(
         k in obj for k in ("physik_control_point", "physik_bone", "physik_armature"))
 
 

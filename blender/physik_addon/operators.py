@@ -9,7 +9,7 @@ import bpy
 from bpy.props import FloatProperty, IntProperty, StringProperty
 from bpy_extras.io_utils import ExportHelper, ImportHelper
 
-from . import armature_io, control_points, engine, rig_io, scene_dict
+from . import armature_io, bone_targets, control_points, engine, rig_io, scene_dict
 from .rig_format import InputError
 
 START_POSE = "physik_start_pose"  # object property: the pose before the last Solve/Simulate/Bake
@@ -89,6 +89,49 @@ class PHYSIK_OT_add_control_point(bpy.types.Operator):
                 raise InputError("armature '%s'" % arm.name, "", "bone",
                                  "no bone given and no active bone")
             control_points.add_control_point(context, arm, bone, self.alpha)
+        except InputError as e:
+            return _fail(self, e)
+        return {'FINISHED'}
+
+
+def _active_bone(self, arm):
+    bone = self.bone
+    if not bone and arm.data.bones.active is not None:
+        bone = arm.data.bones.active.name
+    if not bone:
+        raise InputError("armature '%s'" % arm.name, "", "bone", "no bone given and no active bone")
+    return bone
+
+
+class PHYSIK_OT_add_orientation_target(bpy.types.Operator):
+    """Add an empty at a bone's head whose rotation is the bone's target frame (default: the
+    active bone, its frame now): turn the empty (R) to turn the bone"""
+    bl_idname = "physik.add_orientation_target"
+    bl_label = "Add orientation target"
+    bl_options = {'REGISTER', 'UNDO'}
+    bone: StringProperty(name="Bone", description="bone name; empty = the active bone")
+
+    def execute(self, context):
+        try:
+            arm = scene_dict.active_armature(context)
+            bone_targets.add_orientation_target(context, arm, _active_bone(self, arm))
+        except InputError as e:
+            return _fail(self, e)
+        return {'FINISHED'}
+
+
+class PHYSIK_OT_add_aim_target(bpy.types.Operator):
+    """Add an empty that a bone's axis turns toward (default: the active bone; the empty one
+    bone length beyond its tail): move the empty (G) to aim the bone"""
+    bl_idname = "physik.add_aim_target"
+    bl_label = "Add aim target"
+    bl_options = {'REGISTER', 'UNDO'}
+    bone: StringProperty(name="Bone", description="bone name; empty = the active bone")
+
+    def execute(self, context):
+        try:
+            arm = scene_dict.active_armature(context)
+            bone_targets.add_aim_target(context, arm, _active_bone(self, arm))
         except InputError as e:
             return _fail(self, e)
         return {'FINISHED'}
@@ -258,4 +301,4 @@ class PHYSIK_OT_reset(bpy.types.Operator):
 
 
 CLASSES = (PHYSIK_OT_import_rig, PHYSIK_OT_export_rig, PHYSIK_OT_add_control_point,
-           PHYSIK_OT_solve, PHYSIK_OT_simulate, PHYSIK_OT_bake, PHYSIK_OT_reset)
+           PHYSIK_OT_add_orientation_target, PHYSIK_OT_add_aim_target, PHYSIK_OT_solve, PHYSIK_OT_simulate, PHYSIK_OT_bake, PHYSIK_OT_reset)

@@ -1,5 +1,6 @@
 """The Blender scene as a scene dict for the engine (models/README.md "Scenes"): the armature's
-rig inline, the panel's params, the control-point empties, the current pose as the start, and,
+rig inline, the panel's params, the control-point empties, the orientation- and aim-target
+empties (bone_targets.py), the current pose as the start, and,
 with the panel's Collide on, the contacts (collision_dict): a floor, self-collision, and the mesh
 objects of the collection "PhysIK Obstacles" as box obstacles (obstacle_box)."""
 import math
@@ -7,7 +8,7 @@ import math
 import bpy
 from mathutils import Vector
 
-from . import armature_io, control_points, rig_format, settings
+from . import armature_io, bone_targets, control_points, rig_format, settings
 from .rig_format import InputError
 
 
@@ -23,8 +24,8 @@ def active_armature(context):
 
 
 def build_scene(context, arm, solve=False):
-    """A scene dict for `arm`; raises InputError when the rig or a control point is bad, or when
-    there is no control point to pull with."""
+    """A scene dict for `arm`; raises InputError when the rig, a control point or a bone target
+    is bad, or when there is no control point to pull with."""
     context.view_layer.update()  # world matrices of just-moved empties
     rig = armature_io.armature_to_rig(arm)
     cps = control_points.read_control_points(context.scene, arm)
@@ -34,10 +35,16 @@ def build_scene(context, arm, solve=False):
     s = context.scene.physik
     scene = {"rig": rig, "params": settings.params_dict(s), "control_points": cps,
              "steps": s.max_steps, "initial_pose": armature_io.initial_pose_dict(arm)}
+    scene.update(bone_targets.read_bone_targets(context.scene, arm))
     if s.collide:
         scene.update(collision_dict(rig, obstacle_boxes(context)))
     if solve:
-        scene["convergence"] = {"stop_at_residual_tol": True}
+        # the engine's residual rule reads the control points only (physik/engine/run_monitor.h):
+        # with orientation or aim targets, a solve that stopped once the points are met would stop
+        # before those targets had turned their bones, so it runs to rest instead
+        turning = "orientation_targets" in scene or "aim_targets" in scene
+        scene["convergence"] = {"stop_when_converged": True} if turning else {
+            "stop_at_residual_tol": True}
     return scene
 
 

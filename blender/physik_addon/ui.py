@@ -19,11 +19,15 @@ class PHYSIK_PT_panel(bpy.types.Panel):
         row.operator("physik.import_rig", text="Import rig", icon='IMPORT')
         row.operator("physik.export_rig", text="Export rig", icon='EXPORT')
         layout.operator("physik.add_control_point", icon='EMPTY_SINGLE_ARROW')
+        row = layout.row(align=True)
+        row.operator("physik.add_orientation_target", text="Orientation", icon='EMPTY_ARROWS')
+        row.operator("physik.add_aim_target", text="Aim", icon='LIGHT_SPOT')
         obj = context.active_object
         if obj is not None and obj.type == 'ARMATURE':
-            n = sum(1 for o in context.scene.objects if o.type == 'EMPTY'
-                    and (o.get("physik_armature") == obj or o.get("fwik_armature") == obj))
-            layout.label(text="%d control point(s)" % n)
+            mine = [o for o in context.scene.objects if o.type == 'EMPTY'
+                    and (o.get("physik_armature") == obj or o.get("fwik_armature") == obj)]
+            n = sum(1 for o in mine if "physik_target" not in o)
+            layout.label(text="%d control point(s), %d bone target(s)" % (n, len(mine) - n))
         col = layout.column()
         if hasattr(s, "preset"):
             col.prop(s, "preset")

@@ -38,8 +38,8 @@ REPO = os.path.abspath(ARGS.repo)
 RIGS = os.path.join(REPO, "models", "rigs")
 MOD = enable_addon(REPO, "test_addon.py")
 
-from physik_addon import (armature_io, control_points, engine, operators,  # noqa: E402
-                          rig_format, scene_dict, settings)
+from physik_addon import (armature_io, bone_targets, control_points, engine,  # noqa: E402
+                          operators, rig_format, scene_dict, settings)
 
 POS_TOL = 1e-6    # rig units
 FRAME_TOL = 1e-6  # axis components
@@ -430,6 +430,94 @@ class TestControlPoints(Base):
         (c,) = control_points.read_control_points(bpy.context.scene, arm)
         self.assertEqual((c["bone"], c["alpha"]), ("forearm", 0.5))
         self.assertLess(max_diff(c["target"], (0.0, 0.0, 3.0)), POS_TOL)
+
+
+class TestBoneTargets(Base):
+    def test_orientation_and_aim_empties_are_in_the_scene(self):
+        _, arm = build("pinhead")
+        control_points.add_control_point(bpy.context, arm, "hand.L", 1.0, (1.5, -0.5, 1.2))
+        q = Quaternion((0.9, 0.1, 0.3, 0.2)).normalized()
+        bone_targets.add_orientation_target(bpy.context, arm, "hand.R", q, k=4.0,
+                                            spring="capped", cap=0.5)
+        bone_targets.add_aim_target(bpy.context, arm, "head", (1.0, -3.0, 2.0), axis=(0, 0, 1),
+                                    k=5.0)
+        bpy.context.view_layer.objects.active = arm
+        scene = json.loads(json.dumps(scene_dict.build_scene(bpy.context, arm)))
+        # the targets' empties are not control points
+        self.assertEqual([c["bone"] for c in scene["control_points"]], ["hand.L"])
+        (o,) = scene["orientation_targets"]
+        self.assertEqual((o["bone"], o["k"], o["spring"], o["cap"]), ("hand.R", 4.0, "capped", 0.5))
+        self.assertLess(angle_between(Quaternion(o["quaternion"]), q), 1e-6)
+        self.assertAlmostEqual(sum(c * c for c in o["quaternion"]), 1.0, delta=1e-12)
+        (a,) = scene["aim_targets"]
+        self.assertEqual((a["bone"], a["axis"], a["k"]), ("head", [0, 0, 1], 5.0))
+        self.assertLess(max_diff(a["point"], (1.0, -3.0, 2.0)), POS_TOL)
+
+    def test_the_default_orientation_is_the_bones_frame_now(self):
+        _, arm = build("pinhead")
+        arm.rotation_euler = (0.0, 0.0, 0.7)
+        head, rot = some_pose(arm)
+        armature_io.apply_pose(arm, head, rot)
+        bpy.context.view_layer.update()
+        empty = bone_targets.add_orientation_target(bpy.context, arm, "forearm.R")
+        bpy.context.view_layer.update()
+        pb = arm.pose.bones["forearm.R"]
+        want = (arm.matrix_world.to_3x3().normalized() @ pb.matrix.to_3x3()).to_quaternion()
+        (o,) = bone_targets.read_bone_targets(bpy.context.scene, arm)["orientation_targets"]
+        self.assertLess(angle_between(Quaternion(o["quaternion"]), want), 1e-6)
+        self.assertLess((empty.matrix_world.translation - arm.matrix_world @ pb.head).length,
+                        POS_TOL)
+
+    def test_a_parented_empty_gives_its_world_rotation_and_the_aims_default_point(self):
+        _, arm = build("elbow")
+        empty = bone_targets.add_orientation_target(bpy.context, arm, "forearm", Quaternion())
+        holder = bpy.data.objects.new("holder", None)
+        bpy.context.scene.collection.objects.link(holder)
+        holder.rotation_euler = (0.5, 0.0, 0.0)
+        empty.parent = holder
+        bone_targets.add_aim_target(bpy.context, arm, "forearm")  # one length beyond the tail
+        bpy.context.view_layer.update()
+        got = bone_targets.read_bone_targets(bpy.context.scene, arm)
+        want = Quaternion((1, 0, 0), 0.5)
+        self.assertLess(angle_between(Quaternion(got["orientation_targets"][0]["quaternion"]),
+                                      want), 1e-6)
+        self.assertLess(max_diff(got["aim_targets"][0]["point"], (0, 0, 6)), POS_TOL)
+        self.assertNotIn("axis", got["aim_targets"][0])
+
+    def test_the_operators_use_the_active_bone(self):
+        _, arm = build("elbow")
+        arm.data.bones.active = arm.data.bones["forearm"]
+        bpy.context.view_layer.objects.active = arm
+        self.assertIsNone(run_op(bpy.ops.physik.add_orientation_target))
+        self.assertIsNone(run_op(bpy.ops.physik.add_aim_target))
+        got = bone_targets.read_bone_targets(bpy.context.scene, arm)
+        self.assertEqual([t["bone"] for t in got["orientation_targets"]], ["forearm"])
+        self.assertEqual([t["bone"] for t in got["aim_targets"]], ["forearm"])
+        self.assertEqual(control_points.read_control_points(bpy.context.scene, arm), [])
+
+    def test_bad_bone_targets_are_one_error_naming_the_empty(self):
+        _, arm = build("elbow")
+        with self.assertRaises(rig_format.InputError) as e:
+            bone_targets.add_aim_target(bpy.context, arm, "wrist")
+        self.assertIn("unknown bone 'wrist'", str(e.exception))
+        empty = bone_targets.add_orientation_target(bpy.context, arm, "forearm")
+        for key, value, words in (("physik_target", "roll", "unknown target 'roll'"),
+                                  ("physik_bone", "wrist", "unknown bone 'wrist'"),
+                                  ("physik_spring", "stiff", "unknown law 'stiff'")):
+            saved = empty.get(key)
+            empty[key] = value
+            with self.assertRaises(rig_format.InputError) as e:
+                bone_targets.read_bone_targets(bpy.context.scene, arm)
+            self.assertIn("empty '%s'" % empty.name, str(e.exception))
+            self.assertIn(words, str(e.exception))
+            if saved is None:
+                del empty[key]
+            else:
+                empty[key] = saved
+        del empty["physik_armature"]
+        with self.assertRaises(rig_format.InputError) as e:
+            bone_targets.read_bone_targets(bpy.context.scene, arm)
+        self.assertIn("physik_armature", str(e.exception))
 
 
 def some_pose(obj, seed=3):

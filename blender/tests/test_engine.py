@@ -31,6 +31,7 @@ The add-on reaches `import physik` (on --pythonpath). What is checked:
 """
 import csv
 import json
+import math
 import os
 import subprocess
 import sys
@@ -38,7 +39,7 @@ import tempfile
 import unittest
 
 import bpy
-from mathutils import Vector
+from mathutils import Quaternion, Vector
 
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -50,8 +51,8 @@ ARGS = script_args(
 REPO = os.path.abspath(ARGS.repo)
 enable_addon(REPO, "test_engine.py", ARGS.pythonpath)
 
-from physik_addon import (armature_io, control_points, engine, operators,  # noqa: E402
-                          rig_format, scene_dict, settings)
+from physik_addon import (armature_io, bone_targets, control_points, engine,  # noqa: E402
+                          operators, rig_format, scene_dict, settings)
 
 ENGINE_TOL = 1e-9  # rig units: the engine's arrays against the CLI's final_pose.csv
 POSED_TOL = 1e-5   # rig units: Blender's single-precision posed bones against the engine
@@ -215,6 +216,54 @@ class TestSolve(Base):
         # the hand reached its target (the scene's residual tolerance: 1e-3 x height)
         hand = posed["hand.R"][1]
         self.assertLess((hand - Vector((-2.4, -0.6, 1.5))).length, summary["residual_tol"])
+
+
+class TestBoneTargets(Base):
+    def elbow(self):
+        """elbow (upright from the origin) with its root head held at the origin."""
+        rig = rig_format.load_rig(os.path.join(REPO, "models", "rigs", "elbow.json"))
+        arm = armature_io.rig_to_armature(rig, bpy.context)
+        control_points.add_control_point(bpy.context, arm, "upper_arm", 0.0, (0, 0, 0))
+        bpy.context.view_layer.objects.active = arm
+        bpy.context.scene.physik.preset = "robust"
+        bpy.context.scene.physik.max_steps = 2000
+        return arm
+
+    def test_the_empty_frame_is_the_engines_bone_frame(self):
+        # an orientation target made at the bone's frame now is the engine's frame of that bone
+        # at the start: Blender's bone matrix and the rig's bone frame are one convention
+        arm = self.elbow()
+        armature_io.apply_pose(arm, (0.0, 0.0, 0.0),
+                               {"forearm": Quaternion(Vector((1, 2, 0.5)).normalized(), 0.7)})
+        bone_targets.add_orientation_target(bpy.context, arm, "forearm")
+        scene = scene_dict.build_scene(bpy.context, arm)
+        physik = engine.module()
+        sim = physik.Simulation(physik.Scene.from_dict(scene))
+        x, y, z, w = sim.pose.orientations[1]
+        (o,) = scene["orientation_targets"]
+        # q and -q are one rotation
+        dot = abs(sum(a * b for a, b in zip(o["quaternion"], (w, x, y, z))))
+        self.assertLess(2.0 * math.acos(min(1.0, dot)), 1e-5, (o["quaternion"], (w, x, y, z)))
+
+    def test_a_turned_empty_turns_its_bone_and_an_aim_empty_aims_it(self):
+        arm = self.elbow()
+        target = bone_targets.add_orientation_target(
+            bpy.context, arm, "forearm", Quaternion((1, 0, 0), math.radians(60)), k=50.0)
+        scene = scene_dict.build_scene(bpy.context, arm, solve=True)
+        self.assertIsNone(run_op(bpy.ops.physik.solve))
+        # the forearm's +Y (head to tail) turned to the empty's +Y: 60 deg from upright at start
+        posed = posed_world(arm)
+        h, t = posed["forearm"]
+        want = target.matrix_world.to_3x3() @ Vector((0, 1, 0))
+        angle = math.degrees((t - h).angle(want))
+        self.assertLess(angle, 5.0, (angle, scene["orientation_targets"]))
+        # the empty moved off: an aim empty at (0, 3, 2) turns it there instead
+        bpy.data.objects.remove(target)
+        bone_targets.add_aim_target(bpy.context, arm, "forearm", (0.0, 3.0, 2.0), k=50.0)
+        self.assertIsNone(run_op(bpy.ops.physik.solve))
+        h, t = posed_world(arm)["forearm"]
+        angle = math.degrees((t - h).angle(Vector((0.0, 3.0, 2.0)) - h))
+        self.assertLess(angle, 5.0, angle)
 
 
 class TestCollide(Base):

@@ -89,6 +89,11 @@ bool applies(const ForceElement& e, const ForceStage& stage) {
 //                    no modes: contacts come and go between the target changes at which damping
 //                    auto chooses c; a contact's own damper damps its normal motion
 //                    (ground_contacts.h, self_contacts.h)
+//   orientation springs, aim springs, pins
+//                    not toward targets in the ledger's sense: their targets hold still through
+//                    a run (a schedule moves control points only), so their potential at the
+//                    start is energy the rig was given, as the torsion springs' is (a posing
+//                    session that moves one restarts the ledger from its state at each solve)
 // clang-format off
 const ForceElement kForces[] = {
   // name              apply          potential                   rate                  augment
@@ -98,11 +103,11 @@ const ForceElement kForces[] = {
   {"control springs", control_apply, control_springs_potential,  control_springs_rate, control_springs_augment,
      control_springs_mode_stiffness, MujocoSide::kApplied,         true,  false},
   {"orientation springs", orientation_apply, orientation_springs_potential, orientation_springs_rate, orientation_springs_augment,
-     orientation_springs_mode_stiffness, MujocoSide::kApplied,     true,  false},
+     orientation_springs_mode_stiffness, MujocoSide::kApplied,     false, false},
   {"aim springs",     aim_apply,     aim_springs_potential,      aim_springs_rate,     aim_springs_augment,
-     aim_springs_mode_stiffness,     MujocoSide::kApplied,         true,  false},
+     aim_springs_mode_stiffness,     MujocoSide::kApplied,         false, false},
   {"pins",            pins_apply,    pins_potential,             pins_rate,            pins_augment,
-     pins_mode_stiffness,            MujocoSide::kApplied,         true,  false},
+     pins_mode_stiffness,            MujocoSide::kApplied,         false, false},
   {"torsion springs", torsion_apply, torsion_springs_potential,  torsion_springs_rate, torsion_springs_augment,
      torsion_springs_mode_stiffness, MujocoSide::kSameForcesOnly,  false, false},
   {"gravity",         gravity_apply, gravity_state_potential,    nullptr,              nullptr,

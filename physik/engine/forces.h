@@ -38,8 +38,9 @@ struct ForceElement {
   void (*mode_stiffness)(const Scene&, const SimState&, const std::vector<Vec3>& targets,
                          ModeStiffness&);  // null: none
   MujocoSide mujoco;
-  bool toward_targets;  // a spring toward targets that move (a schedule, a posing session): the
-                        // run monitor's ledger leaves its potential out (potential.h)
+  bool toward_targets;  // a spring toward targets that move during a run (the control points'
+                        // schedule): the run monitor's ledger leaves its potential out and counts
+                        // the targets' work instead (potential.h)
   bool rate_first;      // implicit_rates takes this element's rate before the others' (forces.cpp)
 };
 

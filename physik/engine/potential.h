@@ -13,8 +13,9 @@
 namespace physik {
 
 // Which elements' potentials: all, or all but the springs toward targets (forces.h
-// toward_targets: the control springs and the bone targets, whose energy the run monitor's ledger
-// counts as the targets' work instead: run_monitor.h).
+// toward_targets: the control springs, whose energy the run monitor's ledger counts as the
+// targets' work instead: run_monitor.h; the bone targets hold still through a run, so their
+// potential at the start is counted as the rig's, as the torsion springs' is).
 enum class PotentialOf { kAll, kAllButTargetSprings };
 
 // U of the state: its control springs toward their effective targets, its torsion springs,

@@ -105,7 +105,8 @@ StepObservation observe_step(const Scene& scene, SimState& state, const StepStat
 
 // E_0 = KE_0 + U_0 of the scene's initial state (init_state): the rigid initial velocity, and
 // the force list's potential of the initial pose (potential.h initial_potential_energy; the
-// control springs start at their attachments).
+// control springs start at their attachments; the bone targets' springs, whose targets hold still,
+// count from where they start).
 double initial_energy(const Scene& scene);
 
 class RunMonitor {

@@ -9,6 +9,7 @@
 #include "physik/engine/interpolation.h"
 #include "physik/engine/linear_modes.h"
 #include "physik/engine/run_monitor.h"
+#include "physik/model/bone_targets.h"
 #include "physik/model/errors.h"
 
 namespace physik {
@@ -86,6 +87,62 @@ void PosingSession::set_target(int c, const Vec3& target_world, bool interpolate
   }
   // as take_step does when the schedule moves a target (engine.cpp)
   if (scene_.params.damping_auto) update_auto_damping(scene_, state_);
+}
+
+void PosingSession::check_target_bone(int bone, const char* method) const {
+  if (bone < 0 || bone >= scene_.rig.nbone) {
+    throw_input_error(method, "", "bone",
+                      "no bone " + std::to_string(bone) + " (the rig has " +
+                          std::to_string(scene_.rig.nbone) + ")");
+  }
+  check_bone_targets_allowed(scene_.params, {method, ""});
+}
+
+// as set_target: the damping of damping auto follows the forces
+void PosingSession::targets_changed() {
+  if (scene_.params.damping_auto) update_auto_damping(scene_, state_);
+}
+
+void PosingSession::set_orientation_target(const OrientationTarget& target) {
+  check_target_bone(target.bone, "set_orientation_target");
+  OrientationTarget t = target;
+  const Quat& q = t.target_world;
+  t.target_world = target_quaternion(q.w(), q.x(), q.y(), q.z(), {"set_orientation_target", ""});
+  set_bone_target(scene_.orientation_targets, t);
+  targets_changed();
+}
+
+void PosingSession::set_aim_target(const AimTarget& target) {
+  check_target_bone(target.bone, "set_aim_target");
+  AimTarget t = target;
+  check_aim_target(scene_, state_.frames, t, {"set_aim_target", ""});
+  set_bone_target(scene_.aim_targets, t);
+  targets_changed();
+}
+
+void PosingSession::set_pin(const Pin& pin) {
+  check_target_bone(pin.bone, "set_pin");
+  check_pin(scene_, pin, {"set_pin", ""});
+  set_bone_target(scene_.pins, pin);
+  targets_changed();
+}
+
+bool PosingSession::clear_orientation_target(int bone) {
+  const bool had = clear_bone_target(scene_.orientation_targets, bone);
+  if (had) targets_changed();
+  return had;
+}
+
+bool PosingSession::clear_aim_target(int bone) {
+  const bool had = clear_bone_target(scene_.aim_targets, bone);
+  if (had) targets_changed();
+  return had;
+}
+
+bool PosingSession::clear_pin(int bone) {
+  const bool had = clear_bone_target(scene_.pins, bone);
+  if (had) targets_changed();
+  return had;
 }
 
 StepStats PosingSession::advance(int steps) {

@@ -121,6 +121,21 @@ class PosingSession {
   // schedule moves one (allocates). Throws InputError for a bad index or a non-finite target.
   void set_target(int c, const Vec3& target_world, bool interpolate = false);
 
+  // Bone targets (scene.h OrientationTarget, AimTarget, Pin), at most one of each kind per bone:
+  // set adds the bone's target or replaces it, clear removes it (false when it had none). The
+  // engine reads them from the session's scene at every step, so a change between steps is
+  // the next step's. Checked as a scene file's (physik/model/bone_targets.h, InputError naming
+  // the method): the bone in the rig, a unit quaternion, an aim point off its bone's head in the
+  // pose now, no pin on a welded bone, not under implicit_linearisation full. Under damping auto
+  // the damping is chosen again, as set_target does. They allocate (the scene's lists); the step
+  // does not. A solve's residual and convergence stay the control points'.
+  void set_orientation_target(const OrientationTarget& target);
+  void set_aim_target(const AimTarget& target);
+  void set_pin(const Pin& pin);
+  bool clear_orientation_target(int bone);
+  bool clear_aim_target(int bone);
+  bool clear_pin(int bone);
+
   // `steps` steps of the scene's engine (its integration, joint solve and dt).
   StepStats advance(int steps = 1);
 
@@ -152,6 +167,8 @@ class PosingSession {
 
  private:
   bool finish_with(const SolveRule& rule, double tolerance, SolveResult& out);
+  void check_target_bone(int bone, const char* method) const;
+  void targets_changed();
 
   Scene scene_;
   SimState state_;

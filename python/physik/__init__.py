@@ -341,7 +341,10 @@ def _wrap_the_api():
     args.wrap_class(Scene, ["load", "from_dict", "to_dict", "update", "copy"])
     args.wrap_class(_core.Simulation, ["step"])
     args.wrap_class(Simulation, ["__init__", "run"])
-    args.wrap_class(_core.PosingSession, ["set_target", "advance", "solve", "residual", "summary"])
+    args.wrap_class(_core.PosingSession, ["set_target", "advance", "solve", "residual", "summary",
+                                          "set_orientation_target", "set_aim_target", "set_pin",
+                                          "clear_orientation_target", "clear_aim_target",
+                                          "clear_pin"])
     args.wrap_class(PosingSession, ["__init__", "set_pose"])
     args.wrap_class(Pose, ["__init__", "as_blender"])
 

@@ -161,6 +161,14 @@ FRAME_ARRAYS = {"steps": "i", "times": "d", "kinetic_energy": "f", "max_residual
 CONTACT_ARRAYS = {"start": "i", "bones": "i", "values": "f"}
 
 
+# bone targets given to chain_scene's run on the command line (cli/bone_target_options.cpp): b2
+# turned toward the frame 90 deg about world x (w x y z), b1 aimed at a point, b0's head pinned
+# where it starts (the origin)
+TARGET_Q = (math.sqrt(0.5), math.sqrt(0.5), 0.0, 0.0)
+BONE_TARGET_ARGS = ("--orientation-target", "b2=%r,%r,%r,%r" % TARGET_Q, "--aim", "b1=2,0,1",
+                    "--pin", "b0")
+
+
 def decoded(b64, code):
     """A base64 typed array of the page as a tuple of numbers."""
     raw = base64.b64decode(b64)
@@ -386,6 +394,31 @@ class ViewCommandTest(unittest.TestCase):
             self.assertEqual(physik("view", plain, "--out", page)[0], 0)
             self.assertNotIn("boxes", page_data(page)["runs"][0])
 
+    def test_bone_targets_are_in_the_page_only_where_the_scene_has_them(self):
+        run_dir = simulate(chain_scene(os.path.join(self.tmp, "s_targets"), chain_rig(), 1.5),
+                           os.path.join(self.tmp, "targets"), "--steps", "60", *BONE_TARGET_ARGS)
+        # the run folder carries them: its scene.json is the scene as run
+        with open(os.path.join(run_dir, "scene.json")) as f:
+            scene = json.load(f)
+        self.assertEqual([t["bone"] for t in scene["orientation_targets"]], ["b2"])
+        self.assertEqual(scene["aim_targets"][0]["point"], [2, 0, 1])
+        self.assertEqual(scene["pins"][0]["point"], [0, 0, 0])
+        out = os.path.join(self.tmp, "targets.html")
+        self.assertEqual(physik("view", run_dir, "--out", out)[0], 0)
+        run = page_data(out)["runs"][0]
+        bt = run["bone_targets"]
+        self.assertEqual(len(bt["orientations"]), 1)
+        self.assertEqual(bt["orientations"][0]["bone"], 2)
+        w, x, y, z = TARGET_Q
+        for got, want in zip(bt["orientations"][0]["quaternion"], (x, y, z, w)):  # x y z w
+            self.assertAlmostEqual(got, want, delta=1e-12)
+        self.assertEqual(bt["aims"], [{"bone": 1, "point": [2.0, 0.0, 1.0]}])
+        self.assertEqual(bt["pins"], [{"bone": 0, "alpha": 0.0, "point": [0.0, 0.0, 0.0]}])
+        self.assert_all_finite(run)
+        page = os.path.join(self.tmp, "no_targets.html")
+        self.assertEqual(physik("view", self.run_dir, "--out", page)[0], 0)
+        self.assertNotIn("bone_targets", page_data(page)["runs"][0])
+
     def test_a_contact_of_a_bone_the_rig_has_not(self):
         drop = simulate(drop_scene(os.path.join(self.tmp, "d2")), os.path.join(self.tmp, "bad"),
                         "--every", "5")
@@ -543,12 +576,16 @@ class BrowserTest(unittest.TestCase):
                              "dls", "--out", solved, "--quiet")
         if status != 0:
             raise RuntimeError("physik solve: " + err)
+        targeted = simulate(chain_scene(t + "/s8", chain_rig(), 1.5), t + "/targeted", "--every",
+                            "2", *BONE_TARGET_ARGS)
         cls.pages = {"single": t + "/single.html", "overlay": t + "/overlay.html",
+                     "targeted": t + "/targeted.html",
                      "solved": t + "/solved.html",
                      "hostile": t + "/hostile.html", "drop": t + "/drop.html",
                      "seated": t + "/seated.html", "limited": t + "/limited.html"}
         for args in ([right, "--out", cls.pages["single"]], [drop, "--out", cls.pages["drop"]],
                      [solved, "--out", cls.pages["solved"]],
+                     [targeted, "--out", cls.pages["targeted"]],
                      [seated, "--out", cls.pages["seated"]],
                      [limited, "--out", cls.pages["limited"]],
                      [right, left, "--out", cls.pages["overlay"]],
@@ -715,6 +752,39 @@ class BrowserTest(unittest.TestCase):
         for dist in geometry[0][:17]:
             self.assertAlmostEqual(dist, 0.4, places=4)  # on the arc, 0.4 x length 1
         self.assertAlmostEqual(geometry[1], 90.0, places=3)  # the min's and max's radii
+        self.assertEqual(self.errors(), [])
+
+    def test_bone_targets_are_drawn_at_their_bones(self):
+        canvas = self.load("targeted", "?frame=last")
+        shown = self.settled_canvas(canvas)
+        # the triad at b2's head along the target frame's axes (0.6 of its length, 1), the aim's
+        # line from b1's head to its point, the pin's marker at the origin
+        got = self.js(
+            "var v = window.physikViewers[0], r = v.runs[0], f = r.frameAt[v.frame];"
+            "var head = function (b) { var o = (f * r.nbone + b) * 6;"
+            "  return [r.positions[o], r.positions[o + 1], r.positions[o + 2]]; };"
+            "return [Array.from(r.triads.geometry.attributes.position.array), head(2),"
+            "        Array.from(r.aimLines.geometry.attributes.position.array), head(1),"
+            "        r.targetGroup.children.filter(function (c) { return c.isMesh; })"
+            "          .map(function (c) { return [c.geometry.type, c.position.toArray()]; })];")
+        triad, head2, aim, head1, marks = got
+        w, x, y, z = TARGET_Q
+        # the target frame's columns (world<-bone): 90 deg about x takes y to z and z to -y
+        axes = ((1, 0, 0), (0, 0, 1), (0, -1, 0))
+        for k, axis in enumerate(axes):
+            start, end = triad[6 * k:6 * k + 3], triad[6 * k + 3:6 * k + 6]
+            for c in range(3):
+                self.assertAlmostEqual(start[c], head2[c], places=5)
+                self.assertAlmostEqual(end[c] - start[c], 0.6 * axis[c], places=5)
+        self.assertEqual([round(c, 5) for c in aim[:3]], [round(c, 5) for c in head1])
+        self.assertEqual(aim[3:], [2, 0, 1])
+        self.assertIn(["BoxBufferGeometry", [0, 0, 0]], marks)  # the pin
+        self.assertIn(["SphereBufferGeometry", [2, 0, 1]], marks)  # the aim's point
+        for values in (triad, aim):
+            self.assertTrue(all(math.isfinite(c) for c in values))
+        self.shot("bone_targets")
+        self.js("window.physikViewers[0].setTargetsShown(false);")
+        self.assertNotEqual(self.settled_canvas(canvas), shown)
         self.assertEqual(self.errors(), [])
 
     def test_a_floor_grid_only_where_the_scene_has_a_ground(self):

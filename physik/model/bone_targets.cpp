@@ -1,0 +1,105 @@
+// Bone targets given outside a scene file: see bone_targets.h (the scene file's own checks are
+// physik/io/scene_io.cpp's; the messages are the same).
+#include "physik/model/bone_targets.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "physik/model/errors.h"
+#include "physik/model/params.h"
+
+namespace physik {
+
+namespace {
+
+[[noreturn]] void fail(const TargetSource& at, const std::string& field,
+                       const std::string& reason) {
+  throw_input_error(at.source, at.element, field, reason);
+}
+
+// a value checked against a parameter row's range (the control springs' k and cap)
+double in_row_range(const char* row, double v, const char* field, const TargetSource& at) {
+  if (!std::isfinite(v)) fail(at, field, "not finite");
+  const std::string why = range_violation(param_row(row), v);
+  if (!why.empty()) fail(at, field, why);
+  return v;
+}
+
+}  // namespace
+
+int target_bone_index(const Scene& scene, const std::string& bone, const TargetSource& at) {
+  const int b = scene.rig.find_bone(bone);
+  if (b < 0) {
+    fail(at, "bone",
+         "unknown bone '" + bone + "' in rig " +
+             (scene.rig_file.empty() ? scene.rig.name : scene.rig_file));
+  }
+  return b;
+}
+
+Quat target_quaternion(double w, double x, double y, double z, const TargetSource& at) {
+  const Eigen::Vector4d q(w, x, y, z);
+  if (!q.allFinite()) fail(at, "quaternion", "not finite");
+  if (q.norm() == 0.0) fail(at, "quaternion", "zero quaternion: give a unit [w, x, y, z]");
+  if (std::abs(q.norm() - 1.0) > 1e-6) {
+    fail(at, "quaternion",
+         "not a unit quaternion (norm " + std::to_string(q.norm()) +
+             "); give [w, x, y, z] with w^2 + x^2 + y^2 + z^2 = 1");
+  }
+  return Quat(w, x, y, z).normalized();
+}
+
+void set_turn_spring(const std::optional<std::string>& spring, std::optional<double> k,
+                     std::optional<double> cap, const TargetSource& at, TurnSpring& out) {
+  out.spring.reset();
+  if (spring) {
+    const std::vector<std::string>& names = choice_names(SpringLaw{});
+    const auto it = std::find(names.begin(), names.end(), *spring);
+    if (it == names.end())
+      fail(at, "spring", "unknown spring law '" + *spring + "' (linear|capped)");
+    out.spring = static_cast<SpringLaw>(it - names.begin());
+  }
+  out.k = k ? std::optional<double>(in_row_range("control_k", *k, "k", at)) : std::nullopt;
+  out.cap =
+      cap ? std::optional<double>(in_row_range("control_cap", *cap, "cap", at)) : std::nullopt;
+}
+
+void check_aim_target(const Scene& scene, const BoneFrames& frames, AimTarget& aim,
+                      const TargetSource& at) {
+  if (!aim.point_world.allFinite()) fail(at, "point", "not finite");
+  if (!aim.axis_bone.allFinite() || !(aim.axis_bone.norm() > 1e-9))
+    fail(at, "axis", "must not be zero (a direction in the bone's frame)");
+  aim.axis_bone.normalize();
+  const double tol = 1e-9 * std::max(1.0, scene.rig.reference_length());
+  if ((aim.point_world - frames.head_world[aim.bone]).norm() <= tol) {
+    fail(at, "point",
+         "lies on bone '" + scene.rig.bone_name[aim.bone] + "''s head: the aim has no direction");
+  }
+}
+
+void check_pin(const Scene& scene, const Pin& pin, const TargetSource& at) {
+  const int weld = scene.rig.bone_weld[pin.bone];
+  if (weld >= 0) {
+    fail(at, "bone",
+         "'" + scene.rig.bone_name[pin.bone] + "' is welded to '" + scene.rig.bone_name[weld] +
+             "': pin the bone it is welded to");
+  }
+  if (!(pin.alpha >= 0.0 && pin.alpha <= 1.0))
+    fail(at, "alpha", "must lie in [0, 1] (0 = head, 1 = tail)");
+  if (!pin.point_world.allFinite()) fail(at, "point", "not finite");
+  if (pin.k) {
+    in_row_range("control_k", *pin.k, "k", at);
+    if (*pin.k == 0.0) fail(at, "k", "must be above 0 (a pin of no stiffness holds nothing)");
+  }
+}
+
+void check_bone_targets_allowed(const EngineParams& params, const TargetSource& at) {
+  if (params.scheme == Scheme::kImplicit &&
+      params.implicit_linearisation == ImplicitLinearisation::kFull) {
+    fail(at, "",
+         "implicit_linearisation full reads the control and torsion springs' pose terms only; "
+         "gauss-newton takes the bone targets");
+  }
+}
+
+}  // namespace physik

@@ -1,0 +1,73 @@
+// Bone targets given outside a scene file (PosingSession, the command line's
+// --orientation-target, --aim and --pin): the same checks and messages as the scene file's
+// "orientation_targets", "aim_targets" and "pins" (physik/io/scene_io.cpp), each failure an
+// InputError naming `source` (a method or an option), `element`, the field and the reason.
+//
+// Frames and units: quaternions are world<-bone, [w, x, y, z], unit within 1e-6; points world,
+// rig units; an aim's axis in the bone's frame (normalised here); k in N m/rad (turning targets)
+// or N/m (pins), cap in rad, as scene.h states.
+#pragma once
+
+#include <algorithm>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "physik/model/kinematics.h"
+#include "physik/model/scene.h"
+
+namespace physik {
+
+// Where an error is reported: "<source>: <element>: field '<field>': <reason>".
+struct TargetSource {
+  std::string source;   // the method or option ("set_pin", "--pin")
+  std::string element;  // the element within it ("" or "'hand=1,0,0,0'")
+};
+
+// The rig's index of `bone`; unknown bone otherwise.
+int target_bone_index(const Scene& scene, const std::string& bone, const TargetSource& at);
+
+// A unit quaternion from [w, x, y, z]; zero, non-finite or non-unit (beyond 1e-6) otherwise.
+Quat target_quaternion(double w, double x, double y, double z, const TargetSource& at);
+
+// A turning target's optional spring law ("linear" or "capped"), k and cap, range-checked as the
+// control springs' rows.
+void set_turn_spring(const std::optional<std::string>& spring, std::optional<double> k,
+                     std::optional<double> cap, const TargetSource& at, TurnSpring& out);
+
+// An aim's point must not lie on its bone's head in `frames` (the aim would have no direction);
+// its axis is nonzero (normalised by this call).
+void check_aim_target(const Scene& scene, const BoneFrames& frames, AimTarget& aim,
+                      const TargetSource& at);
+
+// A pin on a welded bone is refused (pin the bone it is welded to); alpha in [0, 1], k > 0 when
+// given, a finite point.
+void check_pin(const Scene& scene, const Pin& pin, const TargetSource& at);
+
+// The pose-terms step reads the control and torsion springs only: a bone target for a scene
+// under scheme implicit with implicit_linearisation full is refused.
+void check_bone_targets_allowed(const EngineParams& params, const TargetSource& at);
+
+// At most one target of a kind per bone: `t` replaces the list's entry for its bone, or is added.
+template <class Target>
+void set_bone_target(std::vector<Target>& list, const Target& t) {
+  for (Target& e : list) {
+    if (e.bone == t.bone) {
+      e = t;
+      return;
+    }
+  }
+  list.push_back(t);
+}
+
+// The list's entry for `bone` removed; false when there was none.
+template <class Target>
+bool clear_bone_target(std::vector<Target>& list, int bone) {
+  const auto it =
+      std::find_if(list.begin(), list.end(), [&](const Target& e) { return e.bone == bone; });
+  if (it == list.end()) return false;
+  list.erase(it);
+  return true;
+}
+
+}  // namespace physik
