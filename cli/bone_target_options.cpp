@@ -95,7 +95,6 @@ void apply_bone_target_options(const BoneTargetOptions& o, Scene& scene) {
   };
   for (const std::string& text : o.orientation) {
     const TargetSource src = at("--orientation-target", text);
-    check_bone_targets_allowed(scene.params, src);
     const Given g = parse_given(text, 4, "w,x,y,z", false, src);
     OrientationTarget t;
     t.bone = target_bone_index(scene, g.bone, src);
@@ -104,7 +103,6 @@ void apply_bone_target_options(const BoneTargetOptions& o, Scene& scene) {
   }
   for (const std::string& text : o.aim) {
     const TargetSource src = at("--aim", text);
-    check_bone_targets_allowed(scene.params, src);
     const Given g = parse_given(text, 3, "x,y,z", false, src);
     AimTarget t;
     t.bone = target_bone_index(scene, g.bone, src);
@@ -114,7 +112,6 @@ void apply_bone_target_options(const BoneTargetOptions& o, Scene& scene) {
   }
   for (const std::string& text : o.pin) {
     const TargetSource src = at("--pin", text);
-    check_bone_targets_allowed(scene.params, src);
     const Given g = parse_given(text, 3, "x,y,z", true, src);
     Pin pin;
     pin.bone = target_bone_index(scene, g.bone, src);

@@ -268,8 +268,8 @@ void bind_posing_targets(py::class_<Session>& cls) {
 
 As the scene file's "orientation_targets": k (N m/rad), spring ("linear" or "capped") and cap
 (rad) default to the params' control spring turned into rotation by the bone's length. Adds the
-bone's orientation target or replaces it. A zero or non-unit quaternion, an unknown bone, or a
-scene under implicit_linearisation full raises InputError.)doc")
+bone's orientation target or replaces it. A zero or non-unit quaternion or an unknown bone
+raises InputError.)doc")
       .def(
           "set_aim_target",
           [](Session& s, const std::string& bone, py::object point, py::object axis,

@@ -145,9 +145,6 @@ TEST(AimSprings, SceneFieldsRoundTripAndBadInputIsNamed) {
   expect_error(R"({"bone": "forearm", "point": [1, 0, 0], "axis": [0, 0, 0]})", {"'axis'", "zero"});
   expect_error(R"({"bone": "forearm"})", {"'point'"});
   expect_error(R"({"bone": "forearm", "point": [1, 0, 0], "cap": -1})", {"'cap'"});
-  expect_error(R"({"bone": "forearm", "point": [1, 0, 0]})",
-               {"aim_targets", "implicit_linearisation full"},
-               R"(, "params": {"scheme": "implicit", "implicit_linearisation": "full"})");
 }
 
 }  // namespace

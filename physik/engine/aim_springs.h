@@ -19,8 +19,7 @@
 // U's Hessian in (turn, head) at theta = 0 without their coupling. The turn's block bounds its
 // Hessian above (curvature 1 along n, theta cot theta across u and n, 0 about u). Damping auto's
 // modes: the same couple and point. MuJoCo's reference applies the same couple and force. The
-// pose-terms step (implicit_linearisation full) does not read it: a scene with aim targets and
-// full is refused (scene_io.h).
+// pose-terms step (implicit_linearisation full) leaves the aim out: forces.cpp says why.
 #pragma once
 
 #include <vector>

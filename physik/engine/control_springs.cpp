@@ -94,4 +94,11 @@ void control_springs_mode_stiffness(const Scene& scene, const SimState& s,
   }
 }
 
+void control_springs_pose_forces(const Scene& scene, const SimState& s, PoseForces& out) {
+  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
+    const ControlPoint& cp = scene.control_points[c];
+    out.point(cp.bone, point_on_bone(s.frames, cp.bone, cp.alpha), s.control_force_world[c]);
+  }
+}
+
 }  // namespace physik

@@ -61,5 +61,8 @@ void control_springs_augment(const Scene& scene, const ImplicitStage& stage, Sim
 // Damping auto: the tangent toward `targets` at each point.
 void control_springs_mode_stiffness(const Scene& scene, const SimState& state,
                                     const std::vector<Vec3>& targets, ModeStiffness& out);
+// The pose-terms step (implicit_pose_terms.h): each spring's force at its point, as the force
+// stage left it (state.control_force_world).
+void control_springs_pose_forces(const Scene& scene, const SimState& state, PoseForces& out);
 
 }  // namespace physik

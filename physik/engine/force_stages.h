@@ -50,6 +50,24 @@ struct ImplicitStage {
   PoseTermSelection terms;  // with full: which of them (all, unless a study says otherwise)
 };
 
+// The forces an element applies at the state's pose with the rig at rest, as the pose-terms step
+// reads them (implicit_linearisation full; implicit_pose_terms.h): each held in the world while
+// the pose moves (how a force follows the pose is its element's own step stiffness, its augment)
+// except a joint's torque, held in the joint's parent frame. A reader overrides what it reads.
+class PoseForces {
+ public:
+  // a force at a point moving with the bone (N at a point in rig units, world)
+  virtual void point(int /*bone*/, const Vec3& /*at_world*/, const Vec3& /*force_world*/) {}
+  // a couple on the bone (N m, world axes)
+  virtual void couple(int /*bone*/, const Vec3& /*torque_world*/) {}
+  // a torque on the child bone and its opposite on the parent, turning with the parent (a torsion
+  // spring's; implicit_pose_terms.h (5))
+  virtual void joint(int /*child*/, const Vec3& /*torque_world*/) {}
+
+ protected:
+  ~PoseForces() = default;
+};
+
 // The stiffness damping auto's modes see at a pose (linear_modes.h): point elements K at points
 // of bodies, couples K on bodies' own turns, and 3x3 blocks on balls' relative turns.
 struct ModeStiffness {

@@ -83,12 +83,23 @@ bool applies(const ForceElement& e, const ForceStage& stage) {
 // a null entry a stage it leaves out:
 //   damping          no potential (a damper only removes energy); in the modes its end dampers'
 //                    unit matrix D1 and the angular-velocity factor's Dr are damping auto's own
-//                    (mode_operators.h, linear_modes_dense.h), not a stiffness
-//   gravity          a constant force at each centre of mass: no stiffness, no damping
+//                    (mode_operators.h, linear_modes_dense.h), not a stiffness; no pose forces
+//                    (the pose terms are taken at rest, where a damper pulls nothing)
+//   gravity          a constant force at each centre of mass: no stiffness, no damping; no pose
+//                    forces: implicit_linearisation full takes a free root only, and a uniform
+//                    field moves a free rig's every body alike, so its share of the rest
+//                    accelerations does not change with the pose (tests/experiments/
+//                    pose_terms_test.cpp checks the step with gravity against the dense one)
 //   ground contacts, self contacts
 //                    no modes: contacts come and go between the target changes at which damping
 //                    auto chooses c; a contact's own damper damps its normal motion
-//                    (ground_contacts.h, self_contacts.h)
+//                    (ground_contacts.h, self_contacts.h); no pose forces: a contact's point
+//                    slides over its capsule as the pose moves, and contacts come and go within a
+//                    step, so under full a contact keeps its Gauss-Newton element (augment) only
+//   aim springs      no pose forces: its step stiffness is not its tangent (the turn-head
+//                    coupling of its Hessian is left out, aim_springs.h), and with its couple and
+//                    head force in the pose terms the full step measured further from the dense
+//                    Newton step than without them (tests/experiments/pose_terms_test.cpp)
 //   orientation springs, aim springs, pins
 //                    not toward targets in the ledger's sense: their targets hold still through
 //                    a run (a schedule moves control points only), so their potential at the
@@ -97,25 +108,35 @@ bool applies(const ForceElement& e, const ForceStage& stage) {
 // clang-format off
 const ForceElement kForces[] = {
   // name              apply          potential                   rate                  augment
-  //   modes (K)                        MuJoCo                        toward targets, rate first
+  //   modes (K)                        pose forces
+  //   MuJoCo                         toward targets, rate first
   {"damping",         damping_apply, nullptr,                    nullptr,              damping_augment,
-     nullptr,                        MujocoSide::kApplied,         false, false},
+     nullptr,                        nullptr,
+     MujocoSide::kApplied,           false, false},
   {"control springs", control_apply, control_springs_potential,  control_springs_rate, control_springs_augment,
-     control_springs_mode_stiffness, MujocoSide::kApplied,         true,  false},
+     control_springs_mode_stiffness, control_springs_pose_forces,
+     MujocoSide::kApplied,           true,  false},
   {"orientation springs", orientation_apply, orientation_springs_potential, orientation_springs_rate, orientation_springs_augment,
-     orientation_springs_mode_stiffness, MujocoSide::kApplied,     false, false},
+     orientation_springs_mode_stiffness, orientation_springs_pose_forces,
+     MujocoSide::kApplied,           false, false},
   {"aim springs",     aim_apply,     aim_springs_potential,      aim_springs_rate,     aim_springs_augment,
-     aim_springs_mode_stiffness,     MujocoSide::kApplied,         false, false},
+     aim_springs_mode_stiffness,     nullptr,
+     MujocoSide::kApplied,           false, false},
   {"pins",            pins_apply,    pins_potential,             pins_rate,            pins_augment,
-     pins_mode_stiffness,            MujocoSide::kApplied,         false, false},
+     pins_mode_stiffness,            pins_pose_forces,
+     MujocoSide::kApplied,           false, false},
   {"torsion springs", torsion_apply, torsion_springs_potential,  torsion_springs_rate, torsion_springs_augment,
-     torsion_springs_mode_stiffness, MujocoSide::kSameForcesOnly,  false, false},
+     torsion_springs_mode_stiffness, torsion_springs_pose_forces,
+     MujocoSide::kSameForcesOnly,    false, false},
   {"gravity",         gravity_apply, gravity_state_potential,    nullptr,              nullptr,
-     nullptr,                        MujocoSide::kMujocosOwn,      false, false},
+     nullptr,                        nullptr,
+     MujocoSide::kMujocosOwn,        false, false},
   {"ground contacts", ground_apply,  ground_contacts_potential,  ground_rate,          ground_augment,
-     nullptr,                        MujocoSide::kMujocosOwn,      false, true},
+     nullptr,                        nullptr,
+     MujocoSide::kMujocosOwn,        false, true},
   {"self contacts",   self_apply,    self_contacts_potential,    self_rate,            self_augment,
-     nullptr,                        MujocoSide::kMujocosOwn,      false, true},
+     nullptr,                        nullptr,
+     MujocoSide::kMujocosOwn,        false, true},
 };
 // clang-format on
 
@@ -132,6 +153,12 @@ void apply_forces(const Scene& scene, SimState& s, const ForceStage& stage) {
   if (contacts) detect_step_contacts(scene, s.frames, s.contact);
   for (const ForceElement& e : force_elements()) {
     if (applies(e, stage)) e.apply(scene, s, stage);
+  }
+}
+
+void pose_forces(const Scene& scene, const SimState& s, PoseForces& out) {
+  for (const ForceElement& e : force_elements()) {
+    if (e.pose_forces) e.pose_forces(scene, s, out);
   }
 }
 

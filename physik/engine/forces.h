@@ -7,12 +7,11 @@
 //   the implicit step      the elements' -h K v (rate) and h D + h^2 K (augment): implicit_step.h
 //   damping auto's modes   the elements' stiffness K (mode_stiffness): linear_modes.h, dense and
 //                          O(n)
+//   the pose terms         the elements' forces at rest, held while the pose moves (pose_forces):
+//                          implicit_pose_terms.h, under implicit_linearisation full
 // A force that leaves a stage out has a null entry there, and its header says why.
 //
 // The list and what each element supplies: forces.cpp, one row each.
-//
-// The pose-terms step (implicit_linearisation full, implicit_pose_terms.h) takes the control
-// springs' forces and the torsion springs' torques their stages leave in the state.
 //
 // Adding a force: one file with its stage functions and its row in the list (forces.cpp), then
 // the docs (docs/DESIGN.md "Adding things").
@@ -36,7 +35,8 @@ struct ForceElement {
   void (*rate)(const Scene&, const ImplicitStage&, SimState&);     // null: none
   void (*augment)(const Scene&, const ImplicitStage&, SimState&);  // null: none
   void (*mode_stiffness)(const Scene&, const SimState&, const std::vector<Vec3>& targets,
-                         ModeStiffness&);  // null: none
+                         ModeStiffness&);                           // null: none
+  void (*pose_forces)(const Scene&, const SimState&, PoseForces&);  // null: no pose terms
   MujocoSide mujoco;
   bool toward_targets;  // a spring toward targets that move during a run (the control points'
                         // schedule): the run monitor's ledger leaves its potential out and counts
@@ -59,6 +59,10 @@ ForceList force_elements();
 // The force stage: the bodies' accumulators cleared (prepare_bodies), the contacts at the state
 // detected (contact_data.h) when the scene has any, then every element's force that `stage` is for.
 void apply_forces(const Scene& scene, SimState& state, const ForceStage& stage = {});
+
+// The pose-terms step's forces of every element (implicit_pose_terms.h), into `out`, in the
+// list's order.
+void pose_forces(const Scene& scene, const SimState& state, PoseForces& out);
 
 // The implicit step's terms of every element: -h K v into the state's forces (before the
 // recursion's velocity pass), h D + h^2 K into its augmented inertias and joint blocks (after).

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "physik/engine/articulated_body.h"
-#include "physik/engine/torsion_springs.h"
+#include "physik/engine/forces.h"
 
 namespace physik {
 
@@ -56,18 +56,57 @@ inline void add_body_stiffness(double h, const Mat3& dA, const Mat3& dB, const M
   d.bias_force[i].tail<3>() += dE * y.head<3>();
 }
 
-// (2): each control spring's point moving under its held force, -G_p = [[-[f]x[r]x, [f]x]; 0]
-void add_spring_geometric_stiffness(const Scene& scene, double h, SimState& s) {
-  ArticulatedBodyData& d = s.joint_space.articulated;
-  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
-    const ControlPoint& cp = scene.control_points[c];
-    const int b = cp.bone;
-    const Vec3 r = point_on_bone(s.frames, b, cp.alpha) - d.point_world[b];
-    const Mat3 F = skew(s.control_force_world[c]);
-    const Vec6 y = h * body_twist(d, s, b) - h * h * s.implicit.accel_bias[b];
-    add_body_stiffness(h, -F * skew(r), F, Mat3::Zero(), y, b, d);
+// The world-held wrenches about each o_b (rest_wrench: the pose forces' points and couples,
+// implicit_pose_terms.h W's F_b)
+class RestWrenches final : public PoseForces {
+ public:
+  RestWrenches(const ArticulatedBodyData& d, std::vector<Vec6>& w) : d_(d), w_(w) {}
+  void point(int b, const Vec3& at, const Vec3& f) override {
+    const Vec3 arm = at - d_.point_world[b];
+    w_[b].head<3>() += arm.cross(f);
+    w_[b].tail<3>() += f;
   }
-}
+  void couple(int b, const Vec3& tau) override { w_[b].head<3>() += tau; }
+
+ private:
+  const ArticulatedBodyData& d_;
+  std::vector<Vec6>& w_;
+};
+
+// the joints' torques, on the child and minus on the parent, into per-body wrenches `w` times
+// `sign`: the rest solve's bias force (sign -1, the ABA's bias is minus the external wrench) or
+// the sketch's transmitted wrench (sign +1)
+class JointTorques final : public PoseForces {
+ public:
+  JointTorques(const Rig& rig, double sign, std::vector<Vec6>& w) : rig_(rig), sign_(sign), w_(w) {}
+  void joint(int i, const Vec3& t) override {
+    w_[i].head<3>() += sign_ * t;
+    w_[rig_.bone_parent[i]].head<3>() -= sign_ * t;
+  }
+
+ private:
+  const Rig& rig_;
+  double sign_;
+  std::vector<Vec6>& w_;
+};
+
+// (2): each point force's point moving under its held force, -G_p = [[-[f]x[r]x, [f]x]; 0] (a
+// couple held in the world does not move with its body: no term)
+class PointsMoving final : public PoseForces {
+ public:
+  PointsMoving(double h, SimState& s) : h_(h), s_(s) {}
+  void point(int b, const Vec3& at, const Vec3& f) override {
+    ArticulatedBodyData& d = s_.joint_space.articulated;
+    const Vec3 r = at - d.point_world[b];
+    const Mat3 F = skew(f);
+    const Vec6 y = h_ * body_twist(d, s_, b) - h_ * h_ * s_.implicit.accel_bias[b];
+    add_body_stiffness(h_, -F * skew(r), F, Mat3::Zero(), y, b, d);
+  }
+
+ private:
+  double h_;
+  SimState& s_;
+};
 
 // (3) and the d'Alembert wrenches: H(I_b a0_b) = [[-[n]x, -[g]x]; [-[g]x, 0]] per body (with
 // `turn`), and rest_wrench_b <- F_b - I_b a0_b (with `wrench`)
@@ -148,22 +187,14 @@ void rest_accelerations(const Scene& scene, const PoseTermSelection& terms, SimS
     r.point_world[i] = d.point_world[i];
     im.rest_wrench[i].setZero();
   }
-  for (std::size_t c = 0; c < scene.control_points.size(); ++c) {
-    const ControlPoint& cp = scene.control_points[c];
-    const Vec3& f = s.control_force_world[c];
-    const Vec3 arm = point_on_bone(s.frames, cp.bone, cp.alpha) - d.point_world[cp.bone];
-    im.rest_wrench[cp.bone].head<3>() += arm.cross(f);
-    im.rest_wrench[cp.bone].tail<3>() += f;
-  }
+  RestWrenches world_held(d, im.rest_wrench);
+  pose_forces(scene, s, world_held);
   if (!terms.needs_rest()) return;  // a0 is not needed
-  // the ABA's bias force is minus the external wrench; the torsion torques join it here but not
+  // the ABA's bias force is minus the external wrench; the joints' torques join it here but not
   // rest_wrench, which holds the world-held forces only (implicit_pose_terms.h, (1) and (5))
   for (int i = 0; i < rig.nbone; ++i) r.bias_force[i] = -im.rest_wrench[i];
-  for (int i = 1; i < rig.nbone; ++i) {
-    const Vec3& t = im.torsion_torque_world[i];
-    r.bias_force[i].head<3>() -= t;
-    r.bias_force[rig.bone_parent[i]].head<3>() += t;
-  }
+  JointTorques on_bias(rig, -1.0, r.bias_force);
+  pose_forces(scene, s, on_bias);
   articulated_backward_pass(rig, r);
   articulated_forward_pass(rig, body_motion(s), r);
 }
@@ -176,18 +207,17 @@ void add_pose_terms(const Scene& scene, const ImplicitStage& stage, SimState& s)
   const PoseTermSelection& use = stage.terms;
   for (int i = 0; i < rig.nbone; ++i) d.inertia_lower[i] = d.inertia_art[i].B.transpose();
   if (use.forces) {
-    add_spring_geometric_stiffness(scene, h, s);
+    PointsMoving moving(h, s);
+    pose_forces(scene, s, moving);
   } else {
     for (Vec6& w : im.rest_wrench) w.setZero();  // (1) without the forces' share
   }
   if (use.inertia_wrench || use.inertia_turn) {
     add_inertia_turn(rig, h, use.inertia_wrench, use.inertia_turn, s);
   }
-  if (use.torsion_in_wrench) {  // the torsion torques in the transmitted wrench
-    for (int i = 1; i < rig.nbone; ++i) {
-      im.rest_wrench[i].head<3>() += im.torsion_torque_world[i];
-      im.rest_wrench[rig.bone_parent[i]].head<3>() -= im.torsion_torque_world[i];
-    }
+  if (use.torsion_in_wrench) {  // the joints' torques in the transmitted wrench
+    JointTorques in_wrench(rig, 1.0, im.rest_wrench);
+    pose_forces(scene, s, in_wrench);
   }
   add_turning_axes(rig, h, s);
   if (use.turning_accelerations) {

@@ -13,10 +13,10 @@
 // vanish at v = 0), which is exactly the linearisation experiment's newton_at_rest step:
 // M A_q(q, 0) = -K. Write R_j(q) = S_j^T W_j + Q_t,j(q_j), the generalised force of joint j at
 // fixed qdd = a0, with W_j = sum over the bodies b of j's subtree of (F_b - I_b A_b) (F_b the
-// world-held point forces, the control springs; I_b A_b the d'Alembert wrench at a0) and Q_t the
-// torsion springs (a joint's own, a function of its own rotation only). Moving dof i (a twist
-// xi = S_i dq of the subtree of i; a ball turns about its own local axes, so its own S turns too;
-// the root's translation columns are world-fixed) gives, with H(W) xi = xi x* W:
+// world-held forces: the force list's pose forces, forces.h; I_b A_b the d'Alembert wrench at a0)
+// and Q_t the torsion springs (a joint's own, a function of its own rotation only). Moving dof i (a
+// twist xi = S_i dq of the subtree of i; a ball turns about its own local axes, so its own S turns
+// too; the root's translation columns are world-fixed) gives, with H(W) xi = xi x* W:
 //   (1) the axes of S_j turn for i at or above j:   +S_j^T H(W_j) S_i   (joint j's row only)
 //   (2) a spring's point moves, its force held:     +S_j^T (-G_p) S_i,
 //       G_p = [[f]x[r]x, -[f]x; 0, 0],
@@ -40,10 +40,15 @@
 // strict ancestors; without them, (1) reaches joint j itself and (5) follows), and (3) and (4)
 // are needed beside the d'Alembert part of (1): tests/experiments/pose_terms_test.cpp.
 //
-// Left as the shipped step keeps them: the control springs' and torsion springs' step stiffness
-// (the secant beyond a cap, where the tangent has none) and the paper's torque's clipped block
-// (implicit_step.h); with linear springs, within the caps and no clip acting, the step is the
-// dense newton_at_rest step to round-off.
+// Which forces. Every element of the force list says what it applies at rest (forces.h
+// pose_forces): a point force (the control springs, the pins), a couple held in the world (the
+// orientation targets: in W, with no (2)), or a joint's torque (the torsion springs: in a0, and
+// (5)). Gravity, the dampers, the aims and the contacts supply none (forces.cpp says why). Left as
+// the shipped step keeps them: each element's step stiffness (the secant beyond a cap, where the
+// tangent has none; an orientation target's is its tangent under full, orientation_springs.cpp)
+// and the paper's torque's clipped block (implicit_step.h). So with linear control springs,
+// pins, orientation targets and gravity, within the caps and no clip acting, the step is the
+// dense newton_at_rest step to round-off (tests/experiments/pose_terms_test.cpp).
 // No allocation per step (state.implicit.articulated_rest and the buffers of state.h, sized once).
 // Units: s, kg, N, N m, rig units, rad.
 #pragma once
@@ -56,9 +61,9 @@ namespace physik {
 
 // After articulated_velocity_pass (rigid inertias in state.joint_space.articulated) and the force
 // stages: the rest accelerations a0 (state.implicit.articulated_rest.accel_spatial, about each
-// o_i) under the control springs' and the torsion springs' forces alone, by a second
-// articulated-body solve with the rigid inertias. Reads state.control_force_world and
-// state.implicit.torsion_torque_world (element_tangents).
+// o_i) under the force list's pose forces alone (forces.h), by a second articulated-body solve
+// with the rigid inertias, and their world-held wrenches (state.implicit.rest_wrench). Reads what
+// the force stage and element_tangents left in the state.
 void rest_accelerations(const Scene& scene, const PoseTermSelection& terms, SimState& state);
 
 // After augment_bodies (implicit_step.cpp): terms (1)-(4) above into

@@ -17,8 +17,9 @@
 // of U in the turn is k (sym J_r^-1) = k (1 along phi, (theta/2) cot(theta/2) <= 1 across), so
 // k 1 bounds it above and the quadratic model majorises U as the control springs' does. Damping
 // auto's modes: a couple K = the control springs' tangent on phi (k 1 within the cap).
-// MuJoCo's reference applies the same torque. The pose-terms step (implicit_linearisation full)
-// does not read it: a scene with orientation targets and full is refused (scene_io.h).
+// MuJoCo's reference applies the same torque. The pose-terms step (implicit_linearisation full,
+// implicit_pose_terms.h): the couple, held in the world, and under full within the cap the
+// couple's tangent k J_l^-T(phi) as its step stiffness instead of k 1 (their Newton step).
 #pragma once
 
 #include <vector>
@@ -43,5 +44,7 @@ void orientation_springs_augment(const Scene& scene, const ImplicitStage& stage,
 // Damping auto: a couple per target, the tangent at the state's pose.
 void orientation_springs_mode_stiffness(const Scene& scene, const SimState& state,
                                         const std::vector<Vec3>& targets, ModeStiffness& out);
+// The pose-terms step: each target's couple.
+void orientation_springs_pose_forces(const Scene& scene, const SimState& state, PoseForces& out);
 
 }  // namespace physik

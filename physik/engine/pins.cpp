@@ -47,4 +47,11 @@ void pins_mode_stiffness(const Scene& scene, const SimState& s, const std::vecto
   }
 }
 
+void pins_pose_forces(const Scene& scene, const SimState& s, PoseForces& out) {
+  for (const Pin& pin : scene.pins) {
+    const Vec3 a = point_on_bone(s.frames, pin.bone, pin.alpha);
+    out.point(pin.bone, a, pin.k_in(scene.params) * (pin.point_world - a));
+  }
+}
+
 }  // namespace physik

@@ -10,8 +10,8 @@
 // Potential U = k |p - a|^2 / 2, J. Implicit step (implicit_step.h): a point element at a,
 // A = h^2 k 1, and -h k v_a on the right-hand side (the control springs' linear law,
 // control_springs.h). Damping auto's modes: a point element k 1 at a. MuJoCo's reference applies
-// the same force. The pose-terms step (implicit_linearisation full) does not read it: a scene
-// with pins and full is refused (scene_io.h).
+// the same force. The pose-terms step (implicit_linearisation full, implicit_pose_terms.h): the
+// force at a, held in the world.
 #pragma once
 
 #include <vector>
@@ -33,5 +33,7 @@ void pins_augment(const Scene& scene, const ImplicitStage& stage, SimState& stat
 // Damping auto: a point element k 1 at each pin's point.
 void pins_mode_stiffness(const Scene& scene, const SimState& state,
                          const std::vector<Vec3>& targets, ModeStiffness& out);
+// The pose-terms step: each pin's force at its point.
+void pins_pose_forces(const Scene& scene, const SimState& state, PoseForces& out);
 
 }  // namespace physik

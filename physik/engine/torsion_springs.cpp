@@ -252,4 +252,8 @@ Mat3 torsion_pose_block(const Mat3& R_pr, const Vec3& theta, const Vec3& tau_loc
   return out;
 }
 
+void torsion_springs_pose_forces(const Scene& scene, const SimState& s, PoseForces& out) {
+  for (int i = 1; i < scene.rig.nbone; ++i) out.joint(i, s.implicit.torsion_torque_world[i]);
+}
+
 }  // namespace physik

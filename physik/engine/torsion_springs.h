@@ -151,5 +151,8 @@ void torsion_springs_rate(const Scene& scene, const ImplicitStage& stage, SimSta
 void torsion_springs_augment(const Scene& scene, const ImplicitStage& stage, SimState& state);
 void torsion_springs_mode_stiffness(const Scene& scene, const SimState& state,
                                     const std::vector<Vec3>& targets, ModeStiffness& out);
+// The pose-terms step (implicit_pose_terms.h): each joint's torque, as torsion_springs_tangents
+// left it (state.implicit.torsion_torque_world, world axes, turning with the parent).
+void torsion_springs_pose_forces(const Scene& scene, const SimState& state, PoseForces& out);
 
 }  // namespace physik

@@ -256,23 +256,6 @@ void check_aim_points(const Scene& s) {
   }
 }
 
-// the pose-terms step reads the control and torsion springs only (implicit_pose_terms.h)
-void check_bone_targets_linearisation(const Scene& s) {
-  if (s.params.scheme != Scheme::kImplicit ||
-      s.params.implicit_linearisation != ImplicitLinearisation::kFull) {
-    return;
-  }
-  const char* field = !s.orientation_targets.empty() ? "orientation_targets"
-                      : !s.aim_targets.empty()       ? "aim_targets"
-                      : !s.pins.empty()              ? "pins"
-                                                     : nullptr;
-  if (field) {
-    throw_input_error(s.file, field, "",
-                      "implicit_linearisation full reads the control and torsion springs' pose "
-                      "terms only; gauss-newton takes the bone targets");
-  }
-}
-
 // schedule of target changes, sorted by step
 void read_schedule(const JsonContext& top, const Json& doc, Scene& s) {
   if (!doc.contains("schedule")) return;
@@ -688,7 +671,6 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
   read_aim_targets(top, doc, s);
   std::vector<bool> pin_at_start;
   read_pins(top, doc, s, pin_at_start);
-  check_bone_targets_linearisation(s);
   read_schedule(top, doc, s);
   read_convergence(top, doc, s);
   read_initial_pose(top, doc, base_dir, s);

@@ -93,13 +93,4 @@ void check_pin(const Scene& scene, const Pin& pin, const TargetSource& at) {
   }
 }
 
-void check_bone_targets_allowed(const EngineParams& params, const TargetSource& at) {
-  if (params.scheme == Scheme::kImplicit &&
-      params.implicit_linearisation == ImplicitLinearisation::kFull) {
-    fail(at, "",
-         "implicit_linearisation full reads the control and torsion springs' pose terms only; "
-         "gauss-newton takes the bone targets");
-  }
-}
-
 }  // namespace physik

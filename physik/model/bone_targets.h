@@ -44,10 +44,6 @@ void check_aim_target(const Scene& scene, const BoneFrames& frames, AimTarget& a
 // given, a finite point.
 void check_pin(const Scene& scene, const Pin& pin, const TargetSource& at);
 
-// The pose-terms step reads the control and torsion springs only: a bone target for a scene
-// under scheme implicit with implicit_linearisation full is refused.
-void check_bone_targets_allowed(const EngineParams& params, const TargetSource& at);
-
 // At most one target of a kind per bone: `t` replaces the list's entry for its bone, or is added.
 template <class Target>
 void set_bone_target(std::vector<Target>& list, const Target& t) {

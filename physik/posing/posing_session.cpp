@@ -95,7 +95,6 @@ void PosingSession::check_target_bone(int bone, const char* method) const {
                       "no bone " + std::to_string(bone) + " (the rig has " +
                           std::to_string(scene_.rig.nbone) + ")");
   }
-  check_bone_targets_allowed(scene_.params, {method, ""});
 }
 
 // as set_target: the damping of damping auto follows the forces

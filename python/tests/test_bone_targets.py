@@ -142,11 +142,22 @@ def test_bad_bone_targets_are_input_errors():
     assert raises_input_error(w.set_pin, "chest") == \
         "set_pin: field 'bone': 'chest' is welded to 'spine': pin the bone it is welded to"
     w.set_pin("spine")
-    # the pose-terms step does not read the bone targets
+
+
+def test_a_pin_holds_under_the_full_linearisation():
+    # the pose-terms step reads the bone targets through the force list (forces.h pose_forces):
+    # the pin of test_a_pin_holds_under_a_pull, with implicit_linearisation full, holds as well
     doc = pinhead().to_dict()
     doc["params"] = {"scheme": "implicit", "implicit_linearisation": "full"}
     full = physik.PosingSession(physik.Scene.from_dict(doc))
-    assert "implicit_linearisation full" in raises_input_error(full.set_pin, "hand.L")
+    b = full.scene.rig.find_bone("hand.L")
+    start = full.pose.heads[b].copy()
+    full.set_pin("hand.L")
+    full.advance(400)
+    stretch = full.residual()
+    moved = np.linalg.norm(full.pose.heads[b] - start)
+    assert stretch > 0.1 * full.scene.rig.height
+    assert 0.0 < moved <= 1.001 * stretch / 100.0, (moved, stretch)
 
 
 def test_the_scene_level_solve_takes_bone_targets():

@@ -8,6 +8,7 @@
 #include <iostream>
 #include <ostream>
 #include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -18,6 +19,7 @@
 #include "physik/engine/implicit_step.h"
 #include "physik/engine/integrate_joint_space.h"
 #include "physik/engine/interpolation.h"
+#include "physik/engine/newton_euler.h"
 #include "physik/engine/torsion_springs.h"
 #include "physik/model/params.h"
 #include "tests/dense_dynamics.h"
@@ -92,6 +94,52 @@ bool clip_acts(const Scene& sc, const SimState& s) {
   return false;
 }
 
+// The list's world-held forces whose step stiffness is their tangent, beside the springs: gravity
+// and two stiff pins on random bones, each a little off its point
+void add_gravity_and_pins(std::mt19937& rng, PoseCase& pc) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Scene& sc = pc.scene;
+  sc.gravity_world = Vec3(0.0, 0.0, -9.81);
+  for (int k = 0; k < 2; ++k) {
+    Pin pin;
+    pin.bone = std::uniform_int_distribution<int>(0, sc.rig.nbone - 1)(rng);
+    pin.alpha = 0.5 + 0.5 * u(rng);
+    pin.point_world =
+        point_on_bone(pc.s.frames, pin.bone, pin.alpha) + 0.3 * Vec3(u(rng), u(rng), u(rng));
+    pin.k = 30.0 + 20.0 * std::abs(u(rng));
+    sc.pins.push_back(pin);
+  }
+}
+
+// an orientation target, linear, on a random bone, `kMilliradians` from its bone's frame, pulling
+// hard (k 40 N m/rad)
+template <int kMilliradians>
+void add_orientation_target(std::mt19937& rng, PoseCase& pc) {
+  OrientationTarget o;
+  o.bone = std::uniform_int_distribution<int>(0, pc.scene.rig.nbone - 1)(rng);
+  o.target_world = Quat(Eigen::AngleAxisd(1e-3 * kMilliradians, dense::random_unit(rng))) *
+                   pc.s.frames.orient_world[o.bone];
+  o.spring = SpringLaw::kLinear;
+  o.k = 40.0;
+  pc.scene.orientation_targets.push_back(o);
+}
+
+// an aim, linear, on a random bone, its point `kMilliradians` off the bone's axis seen from its
+// head, 2 rig units away, pulling as hard
+template <int kMilliradians>
+void add_aim_target(std::mt19937& rng, PoseCase& pc) {
+  const BoneFrames& f = pc.s.frames;
+  AimTarget a;
+  a.bone = std::uniform_int_distribution<int>(0, pc.scene.rig.nbone - 1)(rng);
+  const Vec3 axis = f.orient_world[a.bone] * a.axis_bone;
+  const Vec3 across = axis.cross(dense::random_unit(rng)).normalized();
+  a.point_world =
+      f.head_world[a.bone] + 2.0 * (Eigen::AngleAxisd(1e-3 * kMilliradians, across) * axis);
+  a.spring = SpringLaw::kLinear;
+  a.k = 40.0;
+  pc.scene.aim_targets.push_back(a);
+}
+
 // The O(n) variant's accelerations against the dense variant's linear system
 // (1 - h A_v - h^2 A_q) a = a_explicit + h A_q v (linearisation.h (L)), at h = 0.05, 1 and 20 s:
 //   - the normwise backward error of the O(n) accelerations in the dense system, every h;
@@ -126,13 +174,18 @@ void recursive_step(const Scene& scene, SimState& s, double h, const PoseTermSel
   s.time += h;
 }
 
-Worst compare_with_dense(PoseTermSelection use, Variant dense_variant, unsigned seed) {
+// more forces of the list on a case (none by default)
+using Extras = void (*)(std::mt19937&, PoseCase&);
+
+Worst compare_with_dense(PoseTermSelection use, Variant dense_variant, unsigned seed,
+                         Extras extras = nullptr) {
   use.gauss_newton_retake = false;  // the bare recursion: the dense step has no retake
   std::mt19937 rng(seed);
   Worst w;
   for (int trial = 0; trial < 24; ++trial) {
     const TorsionTorque torque = trial % 2 ? TorsionTorque::kAxes : TorsionTorque::kGradient;
     PoseCase pc = random_pose_case(rng, 2 + trial % 7, torque);
+    if (extras) extras(rng, pc);
     if (clip_acts(pc.scene, pc.s)) continue;
     const Eigen::MatrixXd M_inv = unit_force_response(pc.scene, pc.s, false, 0.05);
     const Eigen::VectorXd v = joint_velocity(pc.s);
@@ -168,8 +221,9 @@ std::ostream& operator<<(std::ostream& o, const Worst& w) {
            << ", accelerations at h = dt " << w.solution;
 }
 
-void expect_equal(const char* name, const PoseTermSelection& use, Variant dense_variant) {
-  const Worst w = compare_with_dense(use, dense_variant, 5);
+void expect_equal(const char* name, const PoseTermSelection& use, Variant dense_variant,
+                  Extras extras = nullptr) {
+  const Worst w = compare_with_dense(use, dense_variant, 5, extras);
   EXPECT_GT(w.compared, 30);
   EXPECT_LT(w.backward, 1e-8);
   EXPECT_LT(w.system, 1e-8);
@@ -179,6 +233,14 @@ void expect_equal(const char* name, const PoseTermSelection& use, Variant dense_
 
 TEST(PoseTerms, TheFullStepIsTheDenseNewtonAtRestStep) {
   expect_equal("every pose term", PoseTermSelection{}, Variant::kNewtonAtRest);
+}
+
+// The pose terms take every element's forces from the force list (forces.h pose_forces): with
+// gravity and pins in, the step is still the dense step (a pin's step stiffness is its tangent;
+// gravity supplies none, and none is needed: forces.cpp)
+TEST(PoseTerms, WithGravityAndPinsTheFullStepIsTheDenseNewtonAtRestStep) {
+  expect_equal("with gravity and pins", PoseTermSelection{}, Variant::kNewtonAtRest,
+               add_gravity_and_pins);
 }
 
 TEST(PoseTerms, TheForcesTermsAloneAreTheDensePoseForcesStep) {
@@ -254,6 +316,117 @@ TEST(PoseTerms, EachTermAndTheSketchMatter) {
   const Worst t = compare_with_dense(sketch, Variant::kNewtonAtRest, 5);
   EXPECT_GT(t.backward, 1e-4);
   std::cout << "the sketch's torsion handling with (3) and (4): " << t << "\n";
+}
+
+// An orientation target's couple under the pose terms: its step stiffness is its tangent k J_l^-T
+// (orientation_springs.cpp) and its couple is in the transmitted wrench, so the step is the dense
+// step, at a small turn and a wide one
+TEST(PoseTerms, WithOrientationTargetsTheFullStepIsTheDenseNewtonAtRestStep) {
+  expect_equal("with an orientation target 0.05 rad off", PoseTermSelection{},
+               Variant::kNewtonAtRest, add_orientation_target<50>);
+  expect_equal("with an orientation target 0.6 rad off", PoseTermSelection{},
+               Variant::kNewtonAtRest, add_orientation_target<600>);
+}
+
+// An aim keeps its step stiffness under the pose terms: the two diagonal blocks of its Hessian at
+// theta = 0, without their coupling (aim_springs.h), so neither step is the dense one, and it
+// supplies no pose forces (forces.cpp). The other elements' pose terms still bring the step's
+// accelerations closer to the dense step's than the Gauss-Newton step's, on random trees with an
+// aim 0.3 rad off
+TEST(PoseTerms, WithAnAimTheFullStepIsCloserToTheDenseStepThanGaussNewton) {
+  std::mt19937 rng(23);
+  double full_worst = 0.0, gn_worst = 0.0, full_sum = 0.0, gn_sum = 0.0;
+  int compared = 0;
+  for (int trial = 0; trial < 24; ++trial) {
+    PoseCase pc = random_pose_case(rng, 2 + trial % 7, TorsionTorque::kGradient);
+    add_aim_target<300>(rng, pc);
+    if (clip_acts(pc.scene, pc.s)) continue;
+    const double h = 0.05;
+    const Eigen::VectorXd v = joint_velocity(pc.s);
+    SimState full = pc.s, dense_step = pc.s, gauss_newton = pc.s;
+    PoseTermSelection bare_terms;
+    bare_terms.gauss_newton_retake = false;
+    recursive_step(pc.scene, full, h, bare_terms);
+    bare_step(pc.scene, dense_step, h, Variant::kNewtonAtRest);
+    Scene gn = pc.scene;
+    gn.params.implicit_linearisation = ImplicitLinearisation::kGaussNewton;
+    gn.params.implicit_max_splits = 0;
+    update_targets(gn, gauss_newton);
+    advance_implicit(gn, gauss_newton, h, selected_step, &bare_terms);
+    const Eigen::VectorXd a_dense = joint_velocity(dense_step) - v;
+    const double e_full = (joint_velocity(full) - v - a_dense).norm() / a_dense.norm();
+    const double e_gn = (joint_velocity(gauss_newton) - v - a_dense).norm() / a_dense.norm();
+    full_worst = std::max(full_worst, e_full);
+    gn_worst = std::max(gn_worst, e_gn);
+    full_sum += e_full;
+    gn_sum += e_gn;
+    ++compared;
+  }
+  EXPECT_GT(compared, 12);
+  EXPECT_LT(full_sum, gn_sum);
+  std::cout << "with an aim, the step's accelerations from the dense step's: full mean "
+            << full_sum / compared << " worst " << full_worst << "; gauss-newton mean "
+            << gn_sum / compared << " worst " << gn_worst << "\n";
+}
+
+// Every element's pose forces (forces.h) are the force its stage applies at rest: their
+// resultants on each body, force and torque about its centre, against the stage's, element by
+// element, on random poses with every kind of target on
+TEST(PoseTerms, EachElementsPoseForcesAreTheForceItApplies) {
+  class Resultants final : public PoseForces {
+   public:
+    Resultants(const Rig& rig, const SimState& s)
+        : rig_(rig), s_(s), force(rig.nbone, Vec3::Zero()), torque(rig.nbone, Vec3::Zero()) {}
+    void point(int b, const Vec3& at, const Vec3& f) override {
+      force[b] += f;
+      torque[b] += (at - s_.com_world[b]).cross(f);
+    }
+    void couple(int b, const Vec3& t) override { torque[b] += t; }
+    void joint(int i, const Vec3& t) override {
+      torque[i] += t;
+      torque[rig_.bone_parent[i]] -= t;
+    }
+
+   private:
+    const Rig& rig_;
+    const SimState& s_;
+
+   public:
+    std::vector<Vec3> force, torque;
+  };
+  std::mt19937 rng(17);
+  int checked = 0;
+  for (int trial = 0; trial < 12; ++trial) {
+    PoseCase pc = random_pose_case(rng, 2 + trial % 7,
+                                   trial % 2 ? TorsionTorque::kAxes : TorsionTorque::kGradient);
+    add_gravity_and_pins(rng, pc);
+    add_orientation_target<300>(rng, pc);
+    add_aim_target<300>(rng, pc);
+    const Scene& sc = pc.scene;
+    SimState& s = pc.s;
+    for (int i = 0; i < sc.rig.nbone; ++i) s.joint_space.joint_vel_local[i].setZero();
+    s.joint_space.root_vel_world.setZero();
+    world_from_joint_space(sc.rig, s);
+    element_tangents(sc, s);  // the torsion torques the pose terms read
+    for (const ForceElement& e : force_elements()) {
+      if (!e.pose_forces) continue;
+      prepare_bodies(sc.rig, sc.params, s);
+      e.apply(sc, s, ForceStage{});
+      Resultants r(sc.rig, s);
+      e.pose_forces(sc, s, r);
+      double scale = 1e-12;
+      for (int b = 0; b < sc.rig.nbone; ++b) {
+        scale = std::max({scale, s.force_world[b].norm(), s.torque_world[b].norm()});
+      }
+      for (int b = 0; b < sc.rig.nbone; ++b) {
+        SCOPED_TRACE(testing::Message() << e.name << " trial " << trial << " bone " << b);
+        EXPECT_LT((r.force[b] - s.force_world[b]).norm(), 1e-12 * scale);
+        EXPECT_LT((r.torque[b] - s.torque_world[b]).norm(), 1e-12 * scale);
+      }
+      checked += scale > 1e-9;
+    }
+  }
+  EXPECT_GT(checked, 12 * 3);  // control, orientation and pins pull in every trial
 }
 
 }  // namespace
