@@ -19,7 +19,10 @@
 // U's Hessian in (turn, head) at theta = 0 without their coupling. The turn's block bounds its
 // Hessian above (curvature 1 along n, theta cot theta across u and n, 0 about u). Damping auto's
 // modes: the same couple and point. MuJoCo's reference applies the same couple and force. The
-// pose-terms step (implicit_linearisation full) leaves the aim out: forces.cpp says why.
+// pose-terms step (implicit_linearisation full, implicit_pose_terms.h): the couple and the head's
+// force, held in the world; under full the step stiffness is U's whole Hessian in (turn, head),
+// its tangent, coupling included (aim_springs.cpp), where it exists (the linear law or within the
+// cap, u not within 2.6 degrees of opposite d; elsewhere the bound above).
 #pragma once
 
 #include <vector>
@@ -51,5 +54,7 @@ void aim_springs_augment(const Scene& scene, const ImplicitStage& stage, SimStat
 // Damping auto: the couple and the head's point element at the state's pose.
 void aim_springs_mode_stiffness(const Scene& scene, const SimState& state,
                                 const std::vector<Vec3>& targets, ModeStiffness& out);
+// The pose-terms step: each aim's couple and its head's force.
+void aim_springs_pose_forces(const Scene& scene, const SimState& state, PoseForces& out);
 
 }  // namespace physik

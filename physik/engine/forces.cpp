@@ -96,10 +96,6 @@ bool applies(const ForceElement& e, const ForceStage& stage) {
 //                    (ground_contacts.h, self_contacts.h); no pose forces: a contact's point
 //                    slides over its capsule as the pose moves, and contacts come and go within a
 //                    step, so under full a contact keeps its Gauss-Newton element (augment) only
-//   aim springs      no pose forces: its step stiffness is not its tangent (the turn-head
-//                    coupling of its Hessian is left out, aim_springs.h), and with its couple and
-//                    head force in the pose terms the full step measured further from the dense
-//                    Newton step than without them (tests/experiments/pose_terms_test.cpp)
 //   orientation springs, aim springs, pins
 //                    not toward targets in the ledger's sense: their targets hold still through
 //                    a run (a schedule moves control points only), so their potential at the
@@ -120,7 +116,7 @@ const ForceElement kForces[] = {
      orientation_springs_mode_stiffness, orientation_springs_pose_forces,
      MujocoSide::kApplied,           false, false},
   {"aim springs",     aim_apply,     aim_springs_potential,      aim_springs_rate,     aim_springs_augment,
-     aim_springs_mode_stiffness,     nullptr,
+     aim_springs_mode_stiffness,     aim_springs_pose_forces,
      MujocoSide::kApplied,           false, false},
   {"pins",            pins_apply,    pins_potential,             pins_rate,            pins_augment,
      pins_mode_stiffness,            pins_pose_forces,

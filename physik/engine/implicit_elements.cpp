@@ -23,4 +23,15 @@ void add_couple_element(const Mat3& A, const Vec6& a0, SpatialInertia& inertia, 
   bias.head<3>() -= A * a0.head<3>();
 }
 
+void add_couple_point_element(const Mat3& A, const Vec3& r, const Vec6& a0, SpatialInertia& inertia,
+                              Vec6& bias) {
+  // [[-A [r]x + [r]x A^T, A]; [A^T, 0]]
+  inertia.A += skew(r) * A.transpose() - A * skew(r);
+  inertia.B += A;
+  const Vec3 point_a0 = a0.tail<3>() + a0.head<3>().cross(r);  // Phi a0
+  const Vec3 f = A.transpose() * a0.head<3>();
+  bias.head<3>() -= A * point_a0 + r.cross(f);
+  bias.tail<3>() -= f;
+}
+
 }  // namespace physik

@@ -24,5 +24,11 @@ void add_point_element(const Mat3& A, const Vec3& r, const Vec6& a0, SpatialIner
 // rotational damper) or N m s^2/rad (h^2 K), its map [1 0], so A joins the inertia's angular
 // block alone, and -A w0 (w0 the angular part of a0) its bias force, whatever the body's point.
 void add_couple_element(const Mat3& A, const Vec6& a0, SpatialInertia& inertia, Vec6& bias);
+// The coupling of a couple element and a point element at offset r on the same body (an aim's,
+// whose potential couples the bone's turn and its head): A the block of the couple's rows and the
+// point's columns, A^T its mirror, so c^T A Phi + Phi^T A^T c (c = [1 0] the couple's map), a
+// symmetric 6x6, joins the inertia, and minus it times a0 the bias force.
+void add_couple_point_element(const Mat3& A, const Vec3& r, const Vec6& a0, SpatialInertia& inertia,
+                              Vec6& bias);
 
 }  // namespace physik

@@ -41,14 +41,15 @@
 // are needed beside the d'Alembert part of (1): tests/experiments/pose_terms_test.cpp.
 //
 // Which forces. Every element of the force list says what it applies at rest (forces.h
-// pose_forces): a point force (the control springs, the pins), a couple held in the world (the
-// orientation targets: in W, with no (2)), or a joint's torque (the torsion springs: in a0, and
-// (5)). Gravity, the dampers, the aims and the contacts supply none (forces.cpp says why). Left as
-// the shipped step keeps them: each element's step stiffness (the secant beyond a cap, where the
-// tangent has none; an orientation target's is its tangent under full, orientation_springs.cpp)
-// and the paper's torque's clipped block (implicit_step.h). So with linear control springs,
-// pins, orientation targets and gravity, within the caps and no clip acting, the step is the
-// dense newton_at_rest step to round-off (tests/experiments/pose_terms_test.cpp).
+// pose_forces): a point force (the control springs, the pins, an aim's head), a couple held in the
+// world (the orientation and aim targets: in W, with no (2)), or a joint's torque (the torsion
+// springs: in a0, and (5)). Gravity, the dampers and the contacts supply none (forces.cpp says
+// why). Left as the shipped step keeps them: each element's step stiffness (the secant beyond a
+// cap, where the tangent has none; the orientation and aim targets' is their tangent under full,
+// orientation_springs.cpp, aim_springs.cpp) and the paper's torque's clipped block
+// (implicit_step.h). So with linear control springs, pins, orientation and aim targets and
+// gravity, within the caps and no clip acting, the step is the dense newton_at_rest step to
+// round-off (tests/experiments/pose_terms_test.cpp).
 // No allocation per step (state.implicit.articulated_rest and the buffers of state.h, sized once).
 // Units: s, kg, N, N m, rig units, rad.
 #pragma once
