@@ -7,6 +7,7 @@
 
 #include "physik/io/bvh.h"
 #include "physik/io/rig_io.h"
+#include "physik/model/bone_targets.h"
 #include "physik/model/errors.h"
 #include "physik/model/names.h"
 
@@ -134,125 +135,102 @@ void read_control_points(const JsonContext& top, const Json& doc, Scene& s) {
   }
 }
 
-// a bone a target names, in the rig
-int target_bone(const JsonContext& ctx, const Json& obj, const Scene& s) {
-  const std::string bone = ctx.name(obj, "bone");
-  const int b = s.rig.find_bone(bone);
-  if (b < 0) ctx.fail("bone", "unknown bone '" + bone + "' in rig " + s.rig_file);
-  return b;
-}
+// The bone targets: the JSON's shapes here, their values checked by physik/model/bone_targets.h
+// as PosingSession's and the command line's are (the same messages), each error naming the file
+// and the element.
 
-// "quaternion": [w, x, y, z], world<-bone, unit within 1e-6 (a rotation, not a scaled one)
-Quat unit_quaternion(const JsonContext& ctx, const Json& obj, const std::string& key) {
-  const Json& v = ctx.require(obj, key);
-  if (!v.is_array() || v.size() != 4) ctx.fail(key, "expected [w, x, y, z]");
-  const Eigen::Vector4d q(ctx.number_value(v[0], key), ctx.number_value(v[1], key),
-                          ctx.number_value(v[2], key), ctx.number_value(v[3], key));
-  if (std::abs(q.norm() - 1.0) > 1e-6) {
-    ctx.fail(key, "not a unit quaternion (norm " + std::to_string(q.norm()) +
-                      "); give [w, x, y, z] with w^2 + x^2 + y^2 + z^2 = 1");
-  }
-  return Quat(q[0], q[1], q[2], q[3]).normalized();
+// a bone a target names, in the rig
+int target_bone(const JsonContext& ctx, const Json& obj, const Scene& s, const TargetSource& at) {
+  return target_bone_index(s, ctx.name(obj, "bone"), at);
 }
 
 // a turning target's own spring, k and cap: k in N m/rad and cap in rad, checked against the
 // control spring's rows' ranges
-void read_turn_spring(const JsonContext& ctx, const Json& c, TurnSpring& t) {
-  if (const auto v = param_from_json(ctx, c, "spring", param_row("control_spring"))) {
-    t.spring = static_cast<SpringLaw>(static_cast<int>(*v));
-  }
-  t.k = param_from_json(ctx, c, "k", param_row("control_k"));
-  t.cap = param_from_json(ctx, c, "cap", param_row("control_cap"));
+void read_turn_spring(const JsonContext& ctx, const Json& c, const TargetSource& at,
+                      TurnSpring& t) {
+  std::optional<std::string> spring;
+  std::optional<double> k, cap;
+  if (c.contains("spring")) spring = ctx.string(c, "spring");
+  if (c.contains("k")) k = ctx.number(c, "k");
+  if (c.contains("cap")) cap = ctx.number(c, "cap");
+  set_turn_spring(spring, k, cap, at, t);
 }
 
-// an orientation target: a bone and its target frame
+// an orientation target: a bone and its target frame, "quaternion": [w, x, y, z], world<-bone
 void read_orientation_targets(const JsonContext& top, const Json& doc, Scene& s) {
   if (!doc.contains("orientation_targets")) return;
   const Json& all = doc["orientation_targets"];
   if (!all.is_array()) top.fail("orientation_targets", "expected an array");
   for (std::size_t i = 0; i < all.size(); ++i) {
     const JsonContext ctx{top.file, "orientation_targets[" + std::to_string(i) + "]"};
+    const TargetSource at{ctx.file, ctx.element};
     const Json& c = all[i];
     ctx.require_object(c, "");
     ctx.only_keys(c, {"name", "bone", "quaternion", "spring", "k", "cap", "comment"});
     OrientationTarget t;
     t.name = ctx.name_or(c, "name", "");
-    t.bone = target_bone(ctx, c, s);
-    t.target_world = unit_quaternion(ctx, c, "quaternion");
-    read_turn_spring(ctx, c, t);
+    t.bone = target_bone(ctx, c, s, at);
+    const Json& q = ctx.require(c, "quaternion");
+    if (!q.is_array() || q.size() != 4) ctx.fail("quaternion", "expected [w, x, y, z]");
+    t.target_world = target_quaternion(
+        ctx.number_value(q[0], "quaternion"), ctx.number_value(q[1], "quaternion"),
+        ctx.number_value(q[2], "quaternion"), ctx.number_value(q[3], "quaternion"), at);
+    read_turn_spring(ctx, c, at, t);
     s.orientation_targets.push_back(t);
   }
 }
 
-// an aim's axis (unit, the bone's frame; default its own, head to tail) and point, which must not
-// lie on the bone's head at the start (the aim would have no direction)
+// an aim's axis (the bone's frame; default its own, head to tail) and point; the point is checked
+// against the bone's head once the initial pose is read (check_aim_points)
 void read_aim_targets(const JsonContext& top, const Json& doc, Scene& s) {
   if (!doc.contains("aim_targets")) return;
   const Json& all = doc["aim_targets"];
   if (!all.is_array()) top.fail("aim_targets", "expected an array");
   for (std::size_t i = 0; i < all.size(); ++i) {
     const JsonContext ctx{top.file, "aim_targets[" + std::to_string(i) + "]"};
+    const TargetSource at{ctx.file, ctx.element};
     const Json& c = all[i];
     ctx.require_object(c, "");
     ctx.only_keys(c, {"name", "bone", "point", "axis", "spring", "k", "cap", "comment"});
     AimTarget t;
     t.name = ctx.name_or(c, "name", "");
-    t.bone = target_bone(ctx, c, s);
+    t.bone = target_bone(ctx, c, s, at);
     t.point_world = bounded_vec3(ctx, c, "point");
-    if (c.contains("axis")) {
-      const Vec3 axis = ctx.vec3(c, "axis");
-      if (!(axis.norm() > 1e-9))
-        ctx.fail("axis", "must not be zero (a direction in the bone's frame)");
-      t.axis_bone = axis.normalized();
-    }
-    read_turn_spring(ctx, c, t);
+    if (c.contains("axis")) t.axis_bone = ctx.vec3(c, "axis");
+    read_turn_spring(ctx, c, at, t);
     s.aim_targets.push_back(t);
   }
 }
 
-// a pin's point: given, or (pin_at_start) where it is in the initial pose; a welded bone is
-// refused (its weld is the body to pin)
+// a pin's point: given, or (pin_at_start) where it is in the initial pose
 void read_pins(const JsonContext& top, const Json& doc, Scene& s, std::vector<bool>& pin_at_start) {
   if (!doc.contains("pins")) return;
   const Json& all = doc["pins"];
   if (!all.is_array()) top.fail("pins", "expected an array");
   for (std::size_t i = 0; i < all.size(); ++i) {
     const JsonContext ctx{top.file, "pins[" + std::to_string(i) + "]"};
+    const TargetSource at{ctx.file, ctx.element};
     const Json& c = all[i];
     ctx.require_object(c, "");
     ctx.only_keys(c, {"name", "bone", "alpha", "point", "k", "comment"});
     Pin pin;
     pin.name = ctx.name_or(c, "name", "");
-    pin.bone = target_bone(ctx, c, s);
-    const int weld = s.rig.bone_weld[pin.bone];
-    if (weld >= 0) {
-      ctx.fail("bone", "'" + s.rig.bone_name[pin.bone] + "' is welded to '" +
-                           s.rig.bone_name[weld] + "': pin the bone it is welded to");
-    }
+    pin.bone = target_bone(ctx, c, s, at);
     pin.alpha = ctx.number_or(c, "alpha", 0.0);
-    if (pin.alpha < 0.0 || pin.alpha > 1.0)
-      ctx.fail("alpha", "must lie in [0, 1] (0 = head, 1 = tail)");
     pin_at_start.push_back(!c.contains("point"));
     if (c.contains("point")) pin.point_world = bounded_vec3(ctx, c, "point");
-    pin.k = param_from_json(ctx, c, "k", param_row("control_k"));
-    if (pin.k && *pin.k == 0.0)
-      ctx.fail("k", "must be above 0 (a pin of no stiffness holds nothing)");
+    if (c.contains("k")) pin.k = ctx.number(c, "k");
+    check_pin(s, pin, at);
     s.pins.push_back(pin);
   }
 }
 
-// after the initial pose: an aim point on its bone's head at the start has no direction
-void check_aim_points(const Scene& s) {
+// after the initial pose: each aim's axis, and its point off its bone's head at the start
+void check_aim_points(Scene& s) {
   if (s.aim_targets.empty()) return;
   const BoneFrames f = forward_kinematics(s.rig, s.initial_pose);
-  const double tol = 1e-9 * std::max(1.0, s.rig.reference_length());
   for (std::size_t i = 0; i < s.aim_targets.size(); ++i) {
-    const AimTarget& t = s.aim_targets[i];
-    if ((t.point_world - f.head_world[t.bone]).norm() <= tol) {
-      throw_input_error(s.file, "aim_targets[" + std::to_string(i) + "]", "point",
-                        "lies on bone '" + s.rig.bone_name[t.bone] +
-                            "''s head at the start: the aim has no direction");
-    }
+    check_aim_target(s, f, s.aim_targets[i], {s.file, "aim_targets[" + std::to_string(i) + "]"});
   }
 }
 

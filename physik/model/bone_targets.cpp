@@ -1,5 +1,4 @@
-// Bone targets given outside a scene file: see bone_targets.h (the scene file's own checks are
-// physik/io/scene_io.cpp's; the messages are the same).
+// The bone targets' checks: see bone_targets.h.
 #include "physik/model/bone_targets.h"
 
 #include <algorithm>

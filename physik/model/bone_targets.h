@@ -1,7 +1,8 @@
-// Bone targets given outside a scene file (PosingSession, the command line's
-// --orientation-target, --aim and --pin): the same checks and messages as the scene file's
-// "orientation_targets", "aim_targets" and "pins" (physik/io/scene_io.cpp), each failure an
-// InputError naming `source` (a method or an option), `element`, the field and the reason.
+// The checks of a bone target's values, wherever it is given: the scene file's
+// "orientation_targets", "aim_targets" and "pins" (physik/io/scene_io.cpp reads their JSON and
+// calls these), PosingSession and the command line's --orientation-target, --aim and --pin. Each
+// failure is an InputError naming `source` (a file, a method or an option), `element`, the field
+// and the reason.
 //
 // Frames and units: quaternions are world<-bone, [w, x, y, z], unit within 1e-6; points world,
 // rig units; an aim's axis in the bone's frame (normalised here); k in N m/rad (turning targets)
@@ -20,7 +21,7 @@ namespace physik {
 
 // Where an error is reported: "<source>: <element>: field '<field>': <reason>".
 struct TargetSource {
-  std::string source;   // the method or option ("set_pin", "--pin")
+  std::string source;   // the file, method or option ("scene.json", "set_pin", "--pin")
   std::string element;  // the element within it ("" or "'hand=1,0,0,0'")
 };
 
