@@ -153,11 +153,12 @@ void bind_posing(py::module_& m) {
   result_type.attr("__module__") = "physik";
   result_type.attr("__doc__") = R"doc(PosingSession.solve's result (physik::SolveResult).
 
-converged: every control point within the tolerance at the end; diverged: the physics diverged
+converged: every control point, orientation target and aim within the tolerance at the end (the
+turning targets as arcs: their turn times their bone's length); diverged: the physics diverged
 (the session is back where the solve started); stalled: the residual stopped improving short of
 the tolerance; out_of_steps: max_steps reached short of it, still improving; steps: physics steps
-taken; finish_iterations: the classic finish's iterations (0 = none ran); residual: the largest
-control-point distance at the end, rig units; final_dt: the last step's length, s; tolerance:
+taken; finish_iterations: the classic finish's iterations (0 = none ran); residual: the goal
+residual at the end (PosingSession.residual), rig units; final_dt: the last step's length, s; tolerance:
 the one used, rig units.)doc";
   m.attr("PosingSolveResult") = result_type;
   m.def(
@@ -402,7 +403,8 @@ InputError.)doc");
 void bind_posing_state(py::class_<Session>& cls) {
   cls.def(
          "residual", [](const Session& s) { return s.session.residual(); },
-         "Largest distance of any control point from its target now, rig units.")
+         "Largest distance of any control point from its target now, or arc of an orientation "
+         "target or aim (its turn times its bone's length), rig units: what solve() stops on.")
       .def_property_readonly(
           "num_control_points", [](const Session& s) { return s.session.num_control_points(); },
           "Number of control points.")

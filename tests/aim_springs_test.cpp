@@ -99,10 +99,10 @@ TEST(AimSprings, RestIsTheAlignedAxis) {
     scene.aim_targets = {aim_of(0, Vec3(2.0, 1.0, 0.5), 2.0, SpringLaw::kCapped, 0.5)};
     SimState s;
     init_state(scene, s);
-    const double start = aim_turn(s, scene.aim_targets[0]).turn.norm();
+    const double start = aim_turn(s.frames, scene.aim_targets[0]).turn.norm();
     ASSERT_GT(start, 1.0);
     for (int n = 0; n < 4000; ++n) step(scene, s);
-    const AimTurn at = aim_turn(s, scene.aim_targets[0]);
+    const AimTurn at = aim_turn(s.frames, scene.aim_targets[0]);
     EXPECT_LT(at.turn.norm(), 1e-3 * start) << to_string(scheme);
     EXPECT_GT(at.axis_world.dot(at.direction_world), 1.0 - 1e-6) << to_string(scheme);
   }

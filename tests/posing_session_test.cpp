@@ -275,7 +275,7 @@ TEST(PosingSession, BadInputIsAnInputError) {
   rule_error([](SolveRule& r) { r.max_steps = -1; }, "max_steps");
   Scene none = test::scene_for(make_chain_rig(2), EngineParams());
   PosingSession empty(none);
-  expect_input_error([&] { empty.solve(); }, "a solve needs a control point");
+  expect_input_error([&] { empty.solve(); }, "a solve needs a goal");
   Scene bad = test::scene_for(make_chain_rig(2), EngineParams());
   bad.control_points.push_back(test::control(5, 1.0, Vec3::Zero(), 10.0));
   expect_input_error([&] { PosingSession s(bad); }, "no such bone");

@@ -41,8 +41,8 @@ def cpp_functions(text):
         if j == len(lines) or "{" not in lines[j] or ";" in lines[j].split("{")[0]:
             i = j + 1
             continue
-        if lines[j].rstrip().endswith("}") and lines[j].count("{") == lines[j].count("}"):
-            i = j + 1  # a one-line body
+        if lines[j].count("{") == lines[j].count("}") and lines[j].rstrip()[-1:] in ("}", ";"):
+            i = j + 1  # a one-line body, or a declaration with a braced default ("= {});")
             continue
         k = j + 1
         while k < len(lines) and not lines[k].startswith("}"):
@@ -102,6 +102,10 @@ class Detector(unittest.TestCase):
         text = ("int g(int x);\nint h() { return 1; }\nconst char* k = R\"(\n{\n)\";\nstruct S {\n  int m() {\n    return 2;\n"
                 "  }\n};\n")
         self.assertEqual(cpp_functions(text), [])
+
+    def test_skips_a_declaration_with_a_braced_default(self):
+        text = "int f(int x,\n      const Options& o = {});\nint g() {\n  return 1;\n}\n"
+        self.assertEqual(cpp_functions(text), [(3, 3, "int g() {")])
 
     def test_counts_a_gtest_body(self):
         text = "TEST(Suite, Name) {\n  EXPECT_EQ(1, 1);\n}\n"

@@ -39,12 +39,10 @@ def build_scene(context, arm, solve=False):
     if s.collide:
         scene.update(collision_dict(rig, obstacle_boxes(context)))
     if solve:
-        # the engine's residual rule reads the control points only (physik/engine/run_monitor.h):
-        # with orientation or aim targets, a solve that stopped once the points are met would stop
-        # before those targets had turned their bones, so it runs to rest instead
-        turning = "orientation_targets" in scene or "aim_targets" in scene
-        scene["convergence"] = {"stop_when_converged": True} if turning else {
-            "stop_at_residual_tol": True}
+        # the engine's residual rule reads the control points and the orientation and aim
+        # targets' arcs (physik/engine/measures.h, the goal residual): a Solve stops once all
+        # are met
+        scene["convergence"] = {"stop_at_residual_tol": True}
     return scene
 
 

@@ -8,10 +8,10 @@
 
 namespace physik {
 
-AimTurn aim_turn(const SimState& s, const AimTarget& t) {
+AimTurn aim_turn(const BoneFrames& f, const AimTarget& t) {
   AimTurn out;
-  out.axis_world = s.frames.orient_world[t.bone] * t.axis_bone;
-  const Vec3 to = t.point_world - s.frames.head_world[t.bone];
+  out.axis_world = f.orient_world[t.bone] * t.axis_bone;
+  const Vec3 to = t.point_world - f.head_world[t.bone];
   out.distance = to.norm();
   if (!(out.distance > 0.0)) return out;  // the head on the point: no direction, no pull
   out.direction_world = to / out.distance;
@@ -39,7 +39,7 @@ struct Aim {
 };
 
 Aim aim_of(const Scene& scene, const SimState& s, const AimTarget& t) {
-  return {aim_turn(s, t), t.spring_in(scene.params), t.k_in(scene.params, scene.rig),
+  return {aim_turn(s.frames, t), t.spring_in(scene.params), t.k_in(scene.params, scene.rig),
           t.cap_in(scene.params, scene.rig)};
 }
 

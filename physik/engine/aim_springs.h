@@ -41,7 +41,7 @@ struct AimTurn {
   Vec3 direction_world = Vec3::UnitY();
   double distance = 0.0;
 };
-AimTurn aim_turn(const SimState& state, const AimTarget& target);
+AimTurn aim_turn(const BoneFrames& frames, const AimTarget& target);
 
 // The force stage: every aim's couple and head force (state.force_world, state.torque_world).
 void apply_aim_springs(const Scene& scene, SimState& state);

@@ -133,7 +133,7 @@ StepStats take_step(const Scene& scene, SimState& s, double h) {
   s.step += 1;
   s.time += h;
   if (!st.energy_measured) st.kinetic_energy = kinetic_energy(scene.rig, s);
-  st.max_residual = max_control_residual(scene, s);
+  st.max_residual = max_goal_residual(scene, s);
   st.joint_separation = max_joint_separation(scene.rig, s.frames);
   return st;
 }

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cstring>
 
+#include "physik/engine/aim_springs.h"
 #include "physik/engine/newton_euler.h"
+#include "physik/engine/orientation_springs.h"
 
 namespace physik {
 
@@ -49,10 +51,36 @@ double max_control_residual(const Scene& scene, const SimState& s) {
   return r;
 }
 
+double max_goal_residual(const Scene& scene, const SimState& s) {
+  double r = max_control_residual(scene, s);
+  const auto take = [&r](double d) {
+    if (!(d <= r)) r = d;  // NaN stays
+  };
+  for (const OrientationTarget& t : scene.orientation_targets) {
+    take(orientation_residual(s.frames, t) * scene.rig.bone_length[t.bone]);
+  }
+  for (const AimTarget& t : scene.aim_targets) {
+    take(aim_residual(s.frames, t) * scene.rig.bone_length[t.bone]);
+  }
+  return r;
+}
+
+double orientation_residual(const BoneFrames& f, const OrientationTarget& t) {
+  return orientation_error(f.orient_world[t.bone], t.target_world).norm();
+}
+
+double aim_residual(const BoneFrames& f, const AimTarget& t) {
+  return aim_turn(f, t).turn.norm();
+}
+
+double pin_residual(const BoneFrames& f, const Pin& pin) {
+  return (point_on_bone(f, pin.bone, pin.alpha) - pin.point_world).norm();
+}
+
 StepStats initial_stats(const Scene& scene, const SimState& s) {
   StepStats st;
   st.kinetic_energy = kinetic_energy(scene.rig, s);
-  st.max_residual = max_control_residual(scene, s);
+  st.max_residual = max_goal_residual(scene, s);
   st.joint_separation = max_joint_separation(scene.rig, s.frames);
   return st;
 }

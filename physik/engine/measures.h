@@ -6,6 +6,11 @@
 //                       of mass, I_b the world inertia about it)
 //   control residual    r_c = |a_c - g_c|: control point c's attachment a_c (a point on its bone,
 //                       world) to its goal target g_c (not the interpolated one), rig units
+//   goal residual       the largest of the control residuals and the turning targets' arcs: an
+//                       orientation target's |phi| and an aim's theta times the bone's length L
+//                       (how far the turn leaves the bone's tail from where the target would lay
+//                       it), rig units; pins hold a point rather than reach for one (a loaded pin
+//                       gives way by |F| / k by design) and have none
 //   joint separation    max over joints of |head_child - (head_parent + R_parent h_child)|: how far
 //                       a child's head is from its joint on the parent, and an anchored root's
 //                       head from its rest position, rig units (0 unless the scheme integrates
@@ -32,6 +37,15 @@ double control_residual(const Scene& scene, const SimState& state, int c);
 void control_residuals(const Scene& scene, const SimState& state, std::vector<double>& out);
 // max_c r_c; 0 without control points; NaN when any residual is NaN.
 double max_control_residual(const Scene& scene, const SimState& state);
+// The goal residual: max_control_residual and every orientation target's and aim's arc (the
+// step's max_residual, which the IK stop rule reads); NaN when any is NaN.
+double max_goal_residual(const Scene& scene, const SimState& state);
+
+// The bone targets' residuals at `frames`: an orientation target's turn |phi| and an aim's theta
+// (rad), a pin's point from its world point (rig units).
+double orientation_residual(const BoneFrames& frames, const OrientationTarget& target);
+double aim_residual(const BoneFrames& frames, const AimTarget& target);
+double pin_residual(const BoneFrames& frames, const Pin& pin);
 
 // A bone's centre of mass: its midpoint.
 inline Vec3 bone_centre_world(const BoneFrames& frames, int bone) {

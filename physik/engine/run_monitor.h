@@ -65,7 +65,8 @@ struct RunRules {
   int settle_steps = 10;  // consecutive steps at rest to call the run converged
   bool stop_when_converged = false;
   // IK use (scene convergence.stop_at_residual_tol): converged means every control point within
-  // residual_tol of its goal; the run stops there, or when it stalls short of it (then not
+  // residual_tol of its goal, and every orientation target and aim within it as an arc
+  // (measures.h, the goal residual); the run stops there, or when it stalls short of it (then not
   // converged): the largest residual has not improved by stall_fraction of itself over
   // stall_steps steps (the classic solvers' stall window; speed alone is no test here, since an
   // exponentially settling rig slows down long before its residual is small)
@@ -88,7 +89,7 @@ struct StepObservation {
   double joint_separation = 0.0;    // rig units, largest parent-tail to child-head gap
   double limit_violation = 0.0;     // rad, largest joint-limit violation of the pose
   bool target_moving = false;       // some target still interpolating toward its goal
-  double max_residual = 0.0;        // rig units, largest control-point distance to its goal
+  double max_residual = 0.0;        // rig units, the goal residual (measures.h)
   double potential_energy = 0.0;    // J, U after the step: control springs toward this step's
                                     //    targets, torsion springs of the pose
   double target_work = 0.0;         // J, W of this step's target change (used when state is null)

@@ -19,7 +19,8 @@ struct StepStats {
   bool energy_measured = false;   // the step measured kinetic_energy and U after the step itself
                                   // (the implicit step's energy guard)
   double potential_energy = 0.0;  // J, U after the step (potential.h), when energy_measured
-  double max_residual = 0.0;      // rig units, largest control-point distance to its goal target
+  double max_residual = 0.0;      // rig units, the goal residual (measures.h): the largest
+                                  // control-point distance to its goal, or turning target's arc
   double joint_separation = 0.0;  // rig units, largest parent-tail to child-head gap
   double joint_solve_s = 0.0;     // s, wall time of the inter-joint force solve (profiling)
 

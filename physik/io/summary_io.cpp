@@ -34,6 +34,28 @@ void add_implicit_fields(const Scene& scene, const RunSummary& s, nlohmann::json
   }
 }
 
+// the bone targets at the final pose (measures.h), each list only where the scene has them: pins
+// (rig units), orientation targets and aims (rad)
+void add_bone_target_fields(const Scene& scene, const RunSummary& s, nlohmann::json& out) {
+  const BoneFrames& f = s.final_frames;
+  if (!scene.pins.empty()) {
+    nlohmann::json r = nlohmann::json::array();
+    for (const Pin& p : scene.pins) r.push_back(pin_residual(f, p));
+    out["pin_residuals"] = r;
+  }
+  if (!scene.orientation_targets.empty()) {
+    nlohmann::json r = nlohmann::json::array();
+    for (const OrientationTarget& t : scene.orientation_targets)
+      r.push_back(orientation_residual(f, t));
+    out["orientation_residuals_rad"] = r;
+  }
+  if (!scene.aim_targets.empty()) {
+    nlohmann::json r = nlohmann::json::array();
+    for (const AimTarget& t : scene.aim_targets) r.push_back(aim_residual(f, t));
+    out["aim_residuals_rad"] = r;
+  }
+}
+
 }  // namespace
 
 nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s) {
@@ -85,6 +107,7 @@ nlohmann::json summary_to_json(const Scene& scene, const RunSummary& s) {
   }
   add_contact_fields(scene, s, out);
   add_implicit_fields(scene, s, out);
+  add_bone_target_fields(scene, s, out);
   return out;
 }
 

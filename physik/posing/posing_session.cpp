@@ -49,6 +49,18 @@ SolveRule solve_mode_rule() {
   return rule;
 }
 
+double goals_reach(const Scene& scene) {
+  const Rig& rig = scene.rig;
+  double r = 0.0;
+  for (const ControlPoint& c : scene.control_points)
+    r = std::max(r, chain_length(rig, c.bone, c.alpha));
+  for (const OrientationTarget& t : scene.orientation_targets)
+    r = std::max(r, chain_length(rig, t.bone, 1.0));
+  for (const AimTarget& t : scene.aim_targets) r = std::max(r, chain_length(rig, t.bone, 1.0));
+  for (const Pin& p : scene.pins) r = std::max(r, chain_length(rig, p.bone, p.alpha));
+  return r;
+}
+
 PosingSession::PosingSession(const Scene& scene) : scene_(scene) {
   for (std::size_t c = 0; c < scene_.control_points.size(); ++c) {
     const ControlPoint& cp = scene_.control_points[c];
@@ -60,7 +72,6 @@ PosingSession::PosingSession(const Scene& scene) : scene_(scene) {
   }
   init_state(scene_, state_);
   residuals_.resize(goals_.size());
-  reach_ = goals_.empty() ? 0.0 : chain_reach(scene_.rig, goals_);
   start_pose_ = state_.pose;
   start_goal_world_ = state_.target_goal_world;  // sized once: a solve copies without allocating
   start_effective_world_ = state_.target_effective_world;
@@ -173,12 +184,21 @@ void PosingSession::set_pose(const Pose& pose) {
 }
 
 double PosingSession::residual() const {
-  return max_control_residual(scene_, state_);
+  return max_goal_residual(scene_, state_);
 }
 
 namespace {
 
 // a rule out of range is the caller's bad input (physik solve checks its own flags first)
+// a solve pulls toward something: a control point, an orientation target or an aim
+void check_has_goal(const Scene& s) {
+  if (s.control_points.empty() && s.orientation_targets.empty() && s.aim_targets.empty()) {
+    throw_input_error(s.file, "control_points", "",
+                      "a solve needs a goal: a control point, an orientation target or an aim "
+                      "(pins hold, they do not pull)");
+  }
+}
+
 void check_rule(const SolveRule& r) {
   const auto bad = [](const char* field, const std::string& why) {
     throw_input_error("SolveRule", "", field, why);
@@ -210,8 +230,7 @@ void reset_guard_counts(SimState& s) {
 }  // namespace
 
 SolveResult PosingSession::solve(const SolveRule& rule, const StepObserver& observer) {
-  if (goals_.empty())
-    throw_input_error(scene_.file, "control_points", "", "a solve needs a control point");
+  check_has_goal(scene_);
   check_rule(rule);
   const bool grow = rule.dt_growth > 1.0;
   if (grow && scene_.params.scheme != Scheme::kImplicit) {
@@ -228,7 +247,8 @@ SolveResult PosingSession::solve(const SolveRule& rule, const StepObserver& obse
   start_damping_auto_ = state_.damping_auto_value;
   // the summary's are this solve's
   reset_guard_counts(state_);
-  out.tolerance = rule.tolerance > 0.0 ? rule.tolerance : rule.tolerance_fraction * reach_;
+  out.tolerance =
+      rule.tolerance > 0.0 ? rule.tolerance : rule.tolerance_fraction * goals_reach(scene_);
   RunRules rules = scene_rules_;
   rules.stop_at_residual = true;
   rules.residual_tol = out.tolerance;

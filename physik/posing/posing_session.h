@@ -44,9 +44,14 @@ enum class SolveFinish {
 constexpr double kSolveDtGrowth = 2.0;  // 1, per settling step
 constexpr double kSolveMaxDt = 1000.0;  // s
 
+// The reach of a scene's goals (physik/ik chain_reach), rig units: the longest chain from the root
+// to a control point's attachment, or to the tail of a bone with an orientation target, an aim or
+// (at its point) a pin.
+double goals_reach(const Scene& scene);
+
 struct SolveRule {
-  double tolerance = 0.0;            // rig units; 0 = tolerance_fraction * reach
-  double tolerance_fraction = 1e-4;  // 1, of the chain's reach (as the classic solvers)
+  double tolerance = 0.0;            // rig units; 0 = tolerance_fraction * goals_reach
+  double tolerance_fraction = 1e-4;  // 1, of the goals' reach (as the classic solvers)
   int max_steps = 2000;              // physics steps at most
   int stall_steps = 50;              // steps; the residual stalled when it improved by less than
   double stall_fraction = 0.01;      //   stall_fraction of itself over stall_steps steps
@@ -151,7 +156,9 @@ class PosingSession {
   // Throws InputError for a pose of the wrong size or a non-unit rotation.
   void set_pose(const Pose& pose);
 
-  // Largest distance of any control point from its target, rig units.
+  // The goal residual (physik/engine/measures.h), rig units: the largest distance of any control
+  // point from its target, or arc of an orientation target or aim (its turn times its bone's
+  // length); what solve() stops on.
   double residual() const;
 
   // The run monitor's summary of the last solve (its steps, energy ledger, limit violation, the
@@ -174,7 +181,6 @@ class PosingSession {
   SimState state_;
   std::vector<IkGoal> goals_;      // (ncontrol) the control points as IK goals
   std::vector<double> residuals_;  // (ncontrol) scratch, rig units
-  double reach_ = 0.0;             // rig units, chain_reach of the goals
   // where the current solve started (a divergence returns there): the pose, the state's step,
   // and the targets with their interpolation (a schedule may move them during the solve)
   Pose start_pose_;

@@ -85,11 +85,11 @@ IkOptions classic_options(const SceneSolveOptions& o);
 // the engine in a posing session (physik/posing/posing_session.h): the solve mode (physik) or the
 // scene's engine at its dt (physik-explicit); see scene_solve.h
 SceneSolveResult solve_with_engine(Scene& scene, const SceneSolveOptions& o,
-                                   const std::vector<IkGoal>& goals, const StepObserver& observer) {
+                                   const StepObserver& observer) {
   const bool mode = o.solver == "physik";
   if (mode) use_solve_mode(scene);
   SolveRule rule;
-  rule.tolerance = o.tol > 0.0 ? o.tol : 1e-4 * chain_reach(scene.rig, goals);
+  rule.tolerance = o.tol > 0.0 ? o.tol : 1e-4 * goals_reach(scene);
   rule.max_steps = scene.steps;
   rule.dt_growth = mode ? o.dt_growth : 1.0;
   rule.max_dt = o.max_dt;
@@ -194,13 +194,15 @@ std::string solve_shortfall(const SceneSolveResult& r) {
 SceneSolveResult solve_scene(Scene scene, const SceneSolveOptions& o, OptionSpelling spelling,
                              const StepObserver& observer) {
   check_solve_options(o, spelling);
-  if (scene.control_points.empty()) {
-    throw_input_error(scene.file, "control_points", "", "a solve needs at least one control point");
+  if (scene.control_points.empty() && scene.orientation_targets.empty() &&
+      scene.aim_targets.empty()) {
+    throw_input_error(scene.file, "control_points", "",
+                      "a solve needs a goal: a control point, an orientation target or an aim "
+                      "(pins hold, they do not pull)");
   }
   refuse_unread_world(scene, o);
-  const std::vector<IkGoal> goals = scene_goals(scene);
-  SceneSolveResult r = engine_solver(o.solver) ? solve_with_engine(scene, o, goals, observer)
-                                               : solve_classic(scene, o, goals);
+  SceneSolveResult r = engine_solver(o.solver) ? solve_with_engine(scene, o, observer)
+                                               : solve_classic(scene, o, scene_goals(scene));
   r.solver = o.solver;
   return r;
 }

@@ -171,3 +171,33 @@ def test_the_scene_level_solve_takes_bone_targets():
     free = physik.solve(pinhead(), "physik")
     moved_free = np.linalg.norm(free.pose.heads[scene.rig.find_bone("forearm.L")] - start)
     assert moved < 0.05 * moved_free, (moved, moved_free)
+
+
+def test_a_solve_waits_for_its_turning_targets():
+    # The solve stops on the goal residual (measures.h): the control points and the orientation
+    # targets' and aims' arcs (turn times bone length). A scene whose only goal is a head turned
+    # 0.5 rad about world z converges with the head turned onto it; a scene whose control points
+    # are already met does not stop before its orientation target is
+    doc = pinhead().to_dict()
+    session = physik.PosingSession(physik.Scene.from_dict(doc))
+    b = session.scene.rig.find_bone("head")
+    length = session.scene.rig.bone_lengths[b]
+    target = turned(session.pose.orientations[b], [0, 0, 1], 0.5)
+    only = dict(doc, control_points=[],
+                orientation_targets=[{"bone": "head", "quaternion": list(target)}])
+    result = physik.solve(physik.Scene.from_dict(only), "physik")
+    tol = result.summary["residual_tol"]
+    assert result.summary["converged"]
+    [turn] = result.summary["orientation_residuals_rad"]
+    assert turn * length < tol and turn < 1e-2, (turn, length, tol)
+    # the hands' tips' targets where the tips start (met at step 0), the head's turn still to make
+    rig = session.scene.rig
+    tips = [session.pose.tails[rig.find_bone(cp["bone"])] for cp in doc["control_points"]]
+    assert all(cp["alpha"] == 1.0 for cp in doc["control_points"])
+    both = dict(only, control_points=[dict(cp, target=list(t))
+                                      for cp, t in zip(doc["control_points"], tips)])
+    with_turn = physik.solve(physik.Scene.from_dict(both), "physik")
+    assert with_turn.summary["converged"] and with_turn.summary["iterations"] > 1
+    [turn] = with_turn.summary["orientation_residuals_rad"]
+    assert turn * length < with_turn.summary["residual_tol"], turn
+    assert max(with_turn.summary["final_residuals"]) < with_turn.summary["residual_tol"]

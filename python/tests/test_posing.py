@@ -202,7 +202,7 @@ def test_bad_input_is_input_error():
         "set_pose: field 'root_head': not finite"
     assert s.step_count == 0 and s.residual() > 0.1  # nothing changed by the refused calls
     free = physik.Scene.from_dict({"rig": scene.rig.to_dict()})
-    assert "a solve needs a control point" in raises_input_error(physik.PosingSession(free).solve)
+    assert "a solve needs a goal" in raises_input_error(physik.PosingSession(free).solve)
 
 
 ALLOC_PROBE = textwrap.dedent("""
