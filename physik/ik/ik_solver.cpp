@@ -40,15 +40,9 @@ bool ik_method_from_string(const std::string& name, IkMethod& out) {
   return false;
 }
 
-double chain_length(const Rig& rig, int bone, double alpha) {
-  double r = alpha * rig.bone_length[bone];
-  for (int b = rig.bone_parent[bone]; b >= 0; b = rig.bone_parent[b]) r += rig.bone_length[b];
-  return r;
-}
-
 double chain_reach(const Rig& rig, const std::vector<IkGoal>& goals) {
   double best = 0.0;
-  for (const IkGoal& g : goals) best = std::max(best, chain_length(rig, g.bone, g.alpha));
+  for (const IkGoal& g : goals) best = std::max(best, rig.chain_length(g.bone, g.alpha));
   return best;
 }
 

@@ -138,10 +138,8 @@ IkReport solve_ik(IkMethod method, const Rig& rig, const std::vector<IkGoal>& go
 // --- helpers shared by the solvers ------------------------------------------------------------
 
 // Longest root-to-effector path length over the goals (rig units): sum of the bone lengths above
-// the effector's bone plus alpha times its own length (chain_length).
+// the effector's bone plus alpha times its own length (Rig::chain_length).
 double chain_reach(const Rig& rig, const std::vector<IkGoal>& goals);
-// The path length from the root to the point alpha along `bone` (rig units).
-double chain_length(const Rig& rig, int bone, double alpha);
 // The goals sorted by bone in DFS order (stable), with their original indices.
 std::vector<int> dfs_goal_order(const std::vector<IkGoal>& goals);
 // Distance of every goal's point from its target (rig units), in the order given (0 for a goal

@@ -107,6 +107,12 @@ double Rig::reference_length() const {
   return std::max(height(), length_scale());
 }
 
+double Rig::chain_length(int bone, double alpha) const {
+  double r = alpha * bone_length[bone];
+  for (int b = bone_parent[bone]; b >= 0; b = bone_parent[b]) r += bone_length[b];
+  return r;
+}
+
 bool Rig::bones_share_joint(int a, int b) const {
   const int pa = bone_parent[a], pb = bone_parent[b];
   return pa == b || pb == a || (pa >= 0 && pa == pb) || bone_body[a] == bone_body[b];

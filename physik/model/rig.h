@@ -176,6 +176,9 @@ struct Rig {
   // x has a height of 6e-17, round-off) would otherwise divide by nothing; an upright rig's
   // height is longer than its mean bone.
   double reference_length() const;
+  // the path length from the root's head to the point `alpha` along `bone` (0 = head, 1 = tail):
+  // the lengths of the bones above it and alpha of its own, rig units (its chain's reach)
+  double chain_length(int bone, double alpha) const;
   // two bones meet at one joint (parent and child, or two children of one parent) or belong to
   // one rigid body (welded together): their collision capsules never collide
   bool bones_share_joint(int a, int b) const;

@@ -53,11 +53,11 @@ double goals_reach(const Scene& scene) {
   const Rig& rig = scene.rig;
   double r = 0.0;
   for (const ControlPoint& c : scene.control_points)
-    r = std::max(r, chain_length(rig, c.bone, c.alpha));
+    r = std::max(r, rig.chain_length(c.bone, c.alpha));
   for (const OrientationTarget& t : scene.orientation_targets)
-    r = std::max(r, chain_length(rig, t.bone, 1.0));
-  for (const AimTarget& t : scene.aim_targets) r = std::max(r, chain_length(rig, t.bone, 1.0));
-  for (const Pin& p : scene.pins) r = std::max(r, chain_length(rig, p.bone, p.alpha));
+    r = std::max(r, rig.chain_length(t.bone, 1.0));
+  for (const AimTarget& t : scene.aim_targets) r = std::max(r, rig.chain_length(t.bone, 1.0));
+  for (const Pin& p : scene.pins) r = std::max(r, rig.chain_length(p.bone, p.alpha));
   return r;
 }
 
