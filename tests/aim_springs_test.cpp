@@ -144,6 +144,11 @@ TEST(AimSprings, SceneFieldsRoundTripAndBadInputIsNamed) {
   expect_error(R"({"bone": "wing", "point": [1, 0, 0]})", {"'bone'", "unknown bone 'wing'"});
   expect_error(R"({"bone": "forearm", "point": [1, 0, 0], "axis": [0, 0, 0]})", {"'axis'", "zero"});
   expect_error(R"({"bone": "forearm"})", {"'point'"});
+  expect_error(
+      R"({"bone": "forearm", "point": [1, 0, 0]}, {"bone": "forearm", "point": [0, 1, 0]})",
+      {"aim_targets[1]", "a second target for bone 'forearm'"});
+  expect_error(R"({"bone": "forearm", "point": [1e10, 0, 0]})",
+               {"aim_targets[0]", "'point'", "beyond +-1e9"});
   expect_error(R"({"bone": "forearm", "point": [1, 0, 0], "cap": -1})", {"'cap'"});
 }
 

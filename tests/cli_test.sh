@@ -134,10 +134,12 @@ for bad in "--orientation-target|hand.L=2,0,0,0|--orientation-target: 'hand.L=2,
     "--orientation-target|hand.L|--orientation-target: 'hand.L': expected BONE=w,x,y,z" \
     "--orientation-target|hand.X=1,0,0,0|field 'bone': unknown bone 'hand.X' in rig" \
     "--aim|hand.L=1,2|--aim: 'hand.L=1,2': field 'point': expected 3 numbers x,y,z, got 2" \
-    "--aim|hand.L=1.2266,0,-0.0109|field 'point': lies on bone 'hand.L''s head" \
+    "--aim|hand.L=1.2266,0,-0.0109|field 'point': lies on the head of bone 'hand.L'" \
     "--pin|nope|--pin: 'nope': field 'bone': unknown bone 'nope'" \
     "--pin|hand.L=1,2,3,4|field 'point': expected 3 numbers x,y,z, got 4" \
-    "--pin|=1,2,3|field 'bone': no bone named before '='"; do
+    "--pin|=1,2,3|field 'bone': no bone named before '='" \
+    "--pin|hand.L=1e10,0,0|--pin: 'hand.L=1e10,0,0': field 'point': a coordinate beyond +-1e9" \
+    "--aim|head=1e300,0,1|--aim: 'head=1e300,0,1': field 'point': a coordinate beyond +-1e9"; do
   IFS='|' read -r opt value message <<< "$bad"
   check "bad $opt $value" 2 "$bin" simulate "$pinhead_scene" --out "$tmp/bt_bad" --quiet "$opt" "$value"
   expect_in "bad $opt $value message" "$tmp/err" "$message"

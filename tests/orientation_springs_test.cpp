@@ -244,6 +244,10 @@ TEST(OrientationSprings, SceneFieldsRoundTripAndBadInputIsNamed) {
                {"'quaternion'", "not a unit quaternion"});
   expect_error(R"({"bone": "forearm", "quaternion": [1, 0, 0]})", {"'quaternion'", "[w, x, y, z]"});
   expect_error(R"({"bone": "forearm"})", {"'quaternion'"});
+  expect_error(R"({"bone": "forearm", "quaternion": [1, 0, 0, 0]},
+                  {"bone": "forearm", "quaternion": [0, 1, 0, 0]})",
+               {"orientation_targets[1]", "'bone'", "a second target for bone 'forearm'",
+                "one of a kind per bone"});
   expect_error(R"({"bone": "forearm", "quaternion": [1, 0, 0, 0], "k": -1})", {"'k'"});
   expect_error(R"({"bone": "forearm", "quaternion": [1, 0, 0, 0], "axis": [1, 0, 0]})", {"axis"});
 }

@@ -123,6 +123,8 @@ TEST(Pins, SceneFieldsRoundTripAndBadInputIsNamed) {
       (std::filesystem::temp_directory_path() / "physik_pins_test_welded.json").string();
   std::ofstream(welded) << rig_to_json(test::welded_figure()).dump();
   expect_error(R"({"bone": "hip.L"})", {"'bone'", "'hip.L' is welded to 'spine'"}, welded);
+  expect_error(R"({"bone": "forearm"}, {"bone": "forearm", "alpha": 1})",
+               {"pins[1]", "a second target for bone 'forearm'"});
   EXPECT_EQ(parse(R"({"bone": "spine"})", welded).pins.size(), 1u);
 }
 

@@ -51,18 +51,23 @@ double max_control_residual(const Scene& scene, const SimState& s) {
   return r;
 }
 
-double max_goal_residual(const Scene& scene, const SimState& s) {
-  double r = max_control_residual(scene, s);
+double max_turning_arc(const Scene& scene, const BoneFrames& f) {
+  double r = 0.0;
   const auto take = [&r](double d) {
     if (!(d <= r)) r = d;  // NaN stays
   };
   for (const OrientationTarget& t : scene.orientation_targets) {
-    take(orientation_residual(s.frames, t) * scene.rig.bone_length[t.bone]);
+    take(orientation_residual(f, t) * scene.rig.bone_length[t.bone]);
   }
   for (const AimTarget& t : scene.aim_targets) {
-    take(aim_residual(s.frames, t) * scene.rig.bone_length[t.bone]);
+    take(aim_residual(f, t) * scene.rig.bone_length[t.bone]);
   }
   return r;
+}
+
+double max_goal_residual(const Scene& scene, const SimState& s) {
+  const double r = max_control_residual(scene, s), arc = max_turning_arc(scene, s.frames);
+  return arc <= r ? r : arc;  // NaN stays
 }
 
 double orientation_residual(const BoneFrames& f, const OrientationTarget& t) {

@@ -40,6 +40,8 @@ double max_control_residual(const Scene& scene, const SimState& state);
 // The goal residual: max_control_residual and every orientation target's and aim's arc (the
 // step's max_residual, which the IK stop rule reads); NaN when any is NaN.
 double max_goal_residual(const Scene& scene, const SimState& state);
+// The orientation targets' and aims' largest arc at `frames`, rig units (0 without them).
+double max_turning_arc(const Scene& scene, const BoneFrames& frames);
 
 // The bone targets' residuals at `frames`: an orientation target's turn |phi| and an aim's theta
 // (rad), a pin's point from its world point (rig units).

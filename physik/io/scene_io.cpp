@@ -225,6 +225,20 @@ void read_pins(const JsonContext& top, const Json& doc, Scene& s, std::vector<bo
   }
 }
 
+// one target of a kind per bone (as PosingSession and the command line keep them)
+template <class Target>
+void check_one_per_bone(const Scene& s, const std::vector<Target>& list, const char* kind) {
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      if (list[j].bone != list[i].bone) continue;
+      throw_input_error(s.file, std::string(kind) + "[" + std::to_string(i) + "]", "bone",
+                        "a second target for bone '" + s.rig.bone_name[list[i].bone] + "' (" +
+                            kind + "[" + std::to_string(j) +
+                            "] is the first): one of a kind per bone");
+    }
+  }
+}
+
 // after the initial pose: each aim's axis, and its point off its bone's head at the start
 void check_aim_points(Scene& s) {
   if (s.aim_targets.empty()) return;
@@ -646,9 +660,12 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
   if (s.steps < 1) top.fail("steps", "must be at least 1");
   read_control_points(top, doc, s);
   read_orientation_targets(top, doc, s);
+  check_one_per_bone(s, s.orientation_targets, "orientation_targets");
   read_aim_targets(top, doc, s);
+  check_one_per_bone(s, s.aim_targets, "aim_targets");
   std::vector<bool> pin_at_start;
   read_pins(top, doc, s, pin_at_start);
+  check_one_per_bone(s, s.pins, "pins");
   read_schedule(top, doc, s);
   read_convergence(top, doc, s);
   read_initial_pose(top, doc, base_dir, s);

@@ -24,6 +24,14 @@ double in_row_range(const char* row, double v, const char* field, const TargetSo
   return v;
 }
 
+// a target's point: finite, and within the coordinates a rig may have
+void check_point(const Vec3& p, const TargetSource& at) {
+  if (!p.allFinite()) fail(at, "point", "not finite");
+  static_assert(kMaxCoordinate == 1e9, "the message below quotes it");
+  if (p.cwiseAbs().maxCoeff() > kMaxCoordinate)
+    fail(at, "point", "a coordinate beyond +-1e9 (rig.h kMaxCoordinate)");
+}
+
 }  // namespace
 
 int target_bone_index(const Scene& scene, const std::string& bone, const TargetSource& at) {
@@ -65,14 +73,15 @@ void set_turn_spring(const std::optional<std::string>& spring, std::optional<dou
 
 void check_aim_target(const Scene& scene, const BoneFrames& frames, AimTarget& aim,
                       const TargetSource& at) {
-  if (!aim.point_world.allFinite()) fail(at, "point", "not finite");
+  check_point(aim.point_world, at);
   if (!aim.axis_bone.allFinite() || !(aim.axis_bone.norm() > 1e-9))
     fail(at, "axis", "must not be zero (a direction in the bone's frame)");
   aim.axis_bone.normalize();
   const double tol = 1e-9 * std::max(1.0, scene.rig.reference_length());
   if ((aim.point_world - frames.head_world[aim.bone]).norm() <= tol) {
     fail(at, "point",
-         "lies on bone '" + scene.rig.bone_name[aim.bone] + "''s head: the aim has no direction");
+         "lies on the head of bone '" + scene.rig.bone_name[aim.bone] +
+             "': the aim has no direction");
   }
 }
 
@@ -85,7 +94,7 @@ void check_pin(const Scene& scene, const Pin& pin, const TargetSource& at) {
   }
   if (!(pin.alpha >= 0.0 && pin.alpha <= 1.0))
     fail(at, "alpha", "must lie in [0, 1] (0 = head, 1 = tail)");
-  if (!pin.point_world.allFinite()) fail(at, "point", "not finite");
+  check_point(pin.point_world, at);
   if (pin.k) {
     in_row_range("control_k", *pin.k, "k", at);
     if (*pin.k == 0.0) fail(at, "k", "must be above 0 (a pin of no stiffness holds nothing)");

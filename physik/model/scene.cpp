@@ -38,7 +38,8 @@ void check_scene_joints(const Scene& s) {
       s.params.implicit_linearisation == ImplicitLinearisation::kFull &&
       (rig.has_welds() || rig.root_anchored())) {
     throw_input_error(s.file, "params", "implicit_linearisation",
-                      "full needs a rig with a free root and no welds (rig '" + rig.name +
+                      "full needs a rig with a free root and no welds (rig '" +
+                          (rig.name.empty() ? s.rig_file : rig.name) +
                           "'); gauss-newton takes any rig");
   }
   if (!rig.root_anchored() || rig.nbone == 0) return;

@@ -124,7 +124,7 @@ def test_bad_bone_targets_are_input_errors():
         s.set_orientation_target, "hand.L", [1, 0, 0, 0], spring="stiff")
     assert "field 'k'" in raises_input_error(s.set_orientation_target, "hand.L", [1, 0, 0, 0], k=-1)
     head = s.pose.heads[s.scene.rig.find_bone("hand.L")]
-    assert "lies on bone 'hand.L''s head" in raises_input_error(s.set_aim_target, "hand.L", head)
+    assert "lies on the head of bone 'hand.L'" in raises_input_error(s.set_aim_target, "hand.L", head)
     assert "field 'axis'" in raises_input_error(s.set_aim_target, "hand.L", [0, 0, 9],
                                                 axis=[0, 0, 0])
     assert "field 'alpha'" in raises_input_error(s.set_pin, "hand.L", alpha=2)
