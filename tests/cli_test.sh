@@ -62,7 +62,7 @@ check "simulate" 0 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" -
 expect_in "simulate short of convergence" "$tmp/err" "physik: not converged: $src/models/scenes/pinhead_two_hands.json: the run ended after 50 steps short of convergence; try more steps (--steps 100, twice this run's)"
 expect_in "simulate short of convergence: the preset" "$tmp/err" "or --set preset=robust"
 check "simulate short of convergence, robust" 0 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --set preset=robust --out "$tmp/sim_robust" --steps 5 --quiet
-expect_in "simulate short of convergence, robust: damping" "$tmp/err" "or a fixed damping above damping auto's choice"
+expect_in "simulate short of convergence, robust: damping" "$tmp/err" "or a fixed damping in place of damping auto's choice"
 # an old key keeps its meaning: joint_solve exact without integration is the exact scheme
 printf '{"rig": "%s", "steps": 5, "params": {"joint_solve": "exact"}, "control_points": [{"bone": "forearm", "target": [0, 1, 3]}]}' "$src/models/rigs/elbow.json" > "$tmp/old_keys.json"
 check "old key joint_solve exact" 0 "$bin" simulate "$tmp/old_keys.json" --out "$tmp/old_keys" --quiet

@@ -277,8 +277,9 @@ TEST(EnergyRule, ARunShortOfConvergenceSaysWhatToTry) {
                             parse_param_overrides({"preset=robust"}, "--set"));
   run.damping_auto_value = 2.5;
   EXPECT_NE(not_converged_hint(robust, run)
-                .find("or a fixed damping above damping auto's choice (2.5 N s/m), e.g. "
-                      "--set damping=5"),
+                .find("or a fixed damping in place of damping auto's choice (2.5 N s/m): above "
+                      "it if the rig still swings (e.g. --set damping=5), below it if it creeps "
+                      "toward its targets (e.g. --set damping=1.25)"),
             std::string::npos)
       << not_converged_hint(robust, run);
   robust.params.damping_auto = false;

@@ -340,9 +340,13 @@ std::string not_converged_hint(const Scene& scene, const RunSummary& run) {
                      ", twice this run's)";
   if (p.damping_auto) {
     if (run.damping_auto_value > 0.0) {
-      hint += ", or a fixed damping above damping auto's choice (" +
-              message_number(run.damping_auto_value) +
-              " N s/m), e.g. --set damping=" + message_number(2.0 * run.damping_auto_value);
+      // damping auto damps the slowest mode critically; a stiff element elsewhere (a pin) can
+      // leave the reach creeping instead of swinging, so both ways are named
+      const double c = run.damping_auto_value;
+      hint += ", or a fixed damping in place of damping auto's choice (" + message_number(c) +
+              " N s/m): above it if the rig still swings (e.g. --set damping=" +
+              message_number(2.0 * c) + "), below it if it creeps toward its targets (e.g. " +
+              "--set damping=" + message_number(0.5 * c) + ")";
     }
   } else if (p.scheme == Scheme::kImplicit) {
     hint += ", more damping (now " + message_number(p.damping) + " N s/m" +
