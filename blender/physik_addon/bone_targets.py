@@ -20,7 +20,7 @@ import math
 import bpy
 from mathutils import Vector
 
-from .control_points import SPRINGS, _check_bone, _number
+from .control_points import SPRINGS, _check_bone, _number, spring_fields
 from .rig_format import InputError
 
 KINDS = ("orientation", "aim")
@@ -98,19 +98,6 @@ def is_bone_target(obj):
     return obj.type == 'EMPTY' and "physik_target" in obj
 
 
-def _turn_spring(obj, source, out):
-    if "physik_k" in obj:
-        out["k"] = _number(obj["physik_k"], source, "physik_k", 0.0)
-    if "physik_spring" in obj:
-        if obj["physik_spring"] not in SPRINGS:
-            raise InputError(source, "", "physik_spring",
-                             "unknown law %r (linear|capped)" % (obj["physik_spring"],))
-        out["spring"] = obj["physik_spring"]
-    if "physik_cap" in obj:
-        out["cap"] = _number(obj["physik_cap"], source, "physik_cap", 0.0)
-    return out
-
-
 def _read(obj, arm):
     source = "empty '%s'" % obj.name
     kind = obj["physik_target"]
@@ -138,7 +125,7 @@ def _read(obj, arm):
             if len(a) != 3 or not any(a):
                 raise InputError(source, "", "physik_axis", "must be 3 numbers, not all zero")
             out["axis"] = a
-    return kind, _turn_spring(obj, source, out)
+    return kind, spring_fields(obj, source, out)
 
 
 def read_bone_targets(scene, arm):

@@ -92,16 +92,23 @@ def _read_physik(obj, arm):
     cp = {"name": obj.name, "bone": bone,
           "alpha": _number(obj.get("physik_alpha", 1.0), source, "physik_alpha", 0.0, 1.0),
           "target": list(obj.matrix_world.translation)}
+    return spring_fields(obj, source, cp)
+
+
+def spring_fields(obj, source, out):
+    """An empty's own spring, if it gives one (custom properties physik_k, physik_spring,
+    physik_cap), into `out` as the scene's "k", "spring" and "cap": a control point's, or a bone
+    target's (bone_targets.py)."""
     if "physik_k" in obj:
-        cp["k"] = _number(obj["physik_k"], source, "physik_k", 0.0)
+        out["k"] = _number(obj["physik_k"], source, "physik_k", 0.0)
     if "physik_spring" in obj:
         if obj["physik_spring"] not in SPRINGS:
             raise InputError(source, "", "physik_spring",
                              "unknown law %r (linear|capped)" % (obj["physik_spring"],))
-        cp["spring"] = obj["physik_spring"]
+        out["spring"] = obj["physik_spring"]
     if "physik_cap" in obj:
-        cp["cap"] = _number(obj["physik_cap"], source, "physik_cap", 0.0)
-    return cp
+        out["cap"] = _number(obj["physik_cap"], source, "physik_cap", 0.0)
+    return out
 
 
 def _read_legacy(obj, arm):

@@ -138,7 +138,7 @@ class PHYSIK_OT_add_aim_target(bpy.types.Operator):
 
 
 class PHYSIK_OT_solve(bpy.types.Operator):
-    """Run PhysIK on the active armature until the control points are met"""
+    """Run PhysIK on the active armature until its control points and bone targets are met"""
     bl_idname = "physik.solve"
     bl_label = "Solve"
     bl_options = {'REGISTER', 'UNDO'}
