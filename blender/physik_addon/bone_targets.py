@@ -20,7 +20,7 @@ import math
 import bpy
 from mathutils import Vector
 
-from .control_points import SPRINGS, _check_bone, _number, spring_fields
+from .control_points import _check_bone, _number, set_spring_properties, spring_fields
 from .rig_format import InputError
 
 KINDS = ("orientation", "aim")
@@ -45,17 +45,6 @@ def _new_empty(context, arm, bone, kind, name, display):
     return empty
 
 
-def _spring_properties(empty, source, k, spring, cap):
-    if k is not None:
-        empty["physik_k"] = _number(k, source, "k", 0.0)
-    if spring is not None:
-        if spring not in SPRINGS:
-            raise InputError(source, "", "spring", "unknown law '%s' (linear|capped)" % spring)
-        empty["physik_spring"] = spring
-    if cap is not None:
-        empty["physik_cap"] = _number(cap, source, "cap", 0.0)
-
-
 def add_orientation_target(context, arm, bone, rotation=None, k=None, spring=None, cap=None,
                            name=None):
     """A new empty at `bone`'s head whose world rotation is the bone's target frame: `rotation`
@@ -65,7 +54,7 @@ def add_orientation_target(context, arm, bone, rotation=None, k=None, spring=Non
     _check_bone(arm, bone, source, "bone")
     frame = bone_world_matrix(context, arm, bone)
     empty = _new_empty(context, arm, bone, "orientation", name, 'ARROWS')
-    _spring_properties(empty, source, k, spring, cap)
+    set_spring_properties(empty, source, k, spring, cap)
     empty.rotation_mode = 'QUATERNION'
     q = frame.to_3x3().normalized().to_quaternion() if rotation is None else rotation
     empty.rotation_quaternion = q
@@ -80,7 +69,7 @@ def add_aim_target(context, arm, bone, point=None, axis=None, k=None, spring=Non
     source = "aim target on armature '%s'" % arm.name
     _check_bone(arm, bone, source, "bone")
     empty = _new_empty(context, arm, bone, "aim", name, 'SPHERE')
-    _spring_properties(empty, source, k, spring, cap)
+    set_spring_properties(empty, source, k, spring, cap)
     if axis is not None:
         a = [_number(x, source, "axis") for x in axis]
         if len(a) != 3 or not any(a):

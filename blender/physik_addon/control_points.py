@@ -58,14 +58,7 @@ def add_control_point(context, arm, bone, alpha=1.0, target=None, k=None, spring
     empty["physik_armature"] = arm
     empty["physik_bone"] = bone
     empty["physik_alpha"] = alpha
-    if k is not None:
-        empty["physik_k"] = _number(k, source, "k", 0.0)
-    if spring is not None:
-        if spring not in SPRINGS:
-            raise InputError(source, "", "spring", "unknown law '%s' (linear|capped)" % spring)
-        empty["physik_spring"] = spring
-    if cap is not None:
-        empty["physik_cap"] = _number(cap, source, "cap", 0.0)
+    set_spring_properties(empty, source, k, spring, cap)
     empty.location = Vector(target) if target is not None else attachment_point(arm, bone, alpha)
     (context.collection or context.scene.collection).objects.link(empty)
     return empty
@@ -93,6 +86,19 @@ def _read_physik(obj, arm):
           "alpha": _number(obj.get("physik_alpha", 1.0), source, "physik_alpha", 0.0, 1.0),
           "target": list(obj.matrix_world.translation)}
     return spring_fields(obj, source, cp)
+
+
+def set_spring_properties(empty, source, k, spring, cap):
+    """An empty's own spring, where given, as its custom properties (spring_fields reads them
+    back); a bad k, law or cap raises InputError naming `source`."""
+    if k is not None:
+        empty["physik_k"] = _number(k, source, "k", 0.0)
+    if spring is not None:
+        if spring not in SPRINGS:
+            raise InputError(source, "", "spring", "unknown law '%s' (linear|capped)" % spring)
+        empty["physik_spring"] = spring
+    if cap is not None:
+        empty["physik_cap"] = _number(cap, source, "cap", 0.0)
 
 
 def spring_fields(obj, source, out):
