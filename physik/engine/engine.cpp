@@ -77,6 +77,7 @@ void step_gauss_seidel(const Scene& scene, SimState& s, double h, StepStats& st)
   const Rig& rig = scene.rig;
   const auto t0 = Clock::now();
   apply_forces(scene, s);
+  if (scene.params.factor_in_joint_solve) apply_factor_torque(rig, scene.params, s);
   if (rig.has_welds()) prepare_welded_bodies(rig, scene.params, s);  // welded groups as bodies
   const JointSolveStats js = solve_joint_forces(rig, scene.params, s);
   st.joint_solve_s = seconds_since(t0);

@@ -4,6 +4,10 @@
 
 namespace physik {
 
+double integrated_factor(const EngineParams& params) {
+  return params.factor_in_joint_solve ? 1.0 : params.angular_velocity_factor;
+}
+
 Quat rotate_by(const Quat& q, const Vec3& w, double dt) {
   const double angle = w.norm() * dt;
   if (angle == 0.0) return q;
@@ -13,7 +17,7 @@ Quat rotate_by(const Quat& q, const Vec3& w, double dt) {
 namespace {
 
 void update_angular(const Rig& rig, const EngineParams& params, double dt, SimState& s) {
-  const double f = params.angular_velocity_factor;
+  const double f = integrated_factor(params);
   // a fixed root never turns
   for (int i = rig.root_joint == RootJoint::kFixed ? 1 : 0; i < rig.nbone; ++i) {
     s.omega_world[i] = f * s.omega_world[i] + angular_accel(s, i) * dt;
@@ -33,19 +37,21 @@ void place_from_com(const Rig& rig, SimState& s, int i) {
 namespace {
 
 // With welds: every body (at its first bone) turns by its own composite Newton-Euler, w <- f w +
-// alpha dt; a welded bone takes its weld's w and its rest frame in its weld's; a free root's
-// centre moves with its body's acceleration at that point, a_c + alpha x r [+ w x (w x r)]
+// alpha dt; a welded bone takes its weld's w and its rest frame in its weld's. A free root's body
+// moves its centre of mass c and turns about it, as a root rod does (docs/engine.md "Two
+// integration choices"): v_c <- v_c + F / m dt, c <- c + v_c dt, and the root bone's centre rides
+// on the body, c_0 = c + dR (c_0 - c), v_0 = v_c + w x (c_0 - c) (integrate_free_bodies does the
+// same for every body)
 void integrate_welded_bodies(const Rig& rig, const EngineParams& params, double dt, SimState& s) {
   GaussSeidelWorkspace& gs = s.gauss_seidel;
-  const double f = params.angular_velocity_factor;
-  if (rig.root_joint == RootJoint::kFree) {
-    const Vec3 alpha =
-        gs.body_inertia_inv_world[0] * (gs.body_torque_world[0] - gs.body_gyro_world[0]);
-    const Vec3 r = s.com_world[0] - gs.body_com_world[0];
-    Vec3 a = gs.body_force_world[0] / gs.body_mass[0] + alpha.cross(r);
-    if (params.centripetal) a += s.omega_world[0].cross(s.omega_world[0].cross(r));
-    s.vel_world[0] += a * dt;
-    s.com_world[0] += s.vel_world[0] * dt;
+  const double f = integrated_factor(params);
+  const bool free_root = rig.root_joint == RootJoint::kFree;
+  // the root body's centre velocity, from the root bone's and the start-of-step w
+  Vec3 v_centre = Vec3::Zero();
+  if (free_root) {
+    v_centre = s.vel_world[0] -
+               s.omega_world[0].cross(Vec3(s.com_world[0] - gs.body_com_world[0])) +
+               gs.body_force_world[0] / gs.body_mass[0] * dt;
   }
   for (int i = rig.root_joint == RootJoint::kFixed ? 1 : 0; i < rig.nbone; ++i) {
     const int w = rig.bone_weld[i];
@@ -59,6 +65,12 @@ void integrate_welded_bodies(const Rig& rig, const EngineParams& params, double 
         gs.body_inertia_inv_world[i] * (gs.body_torque_world[i] - gs.body_gyro_world[i]);
     s.omega_world[i] = f * s.omega_world[i] + alpha * dt;
     s.frames.orient_world[i] = rotate_by(s.frames.orient_world[i], s.omega_world[i], dt);
+  }
+  if (free_root) {
+    const Vec3& w = s.omega_world[0];
+    const Vec3 r = rotate_by(Quat::Identity(), w, dt) * Vec3(s.com_world[0] - gs.body_com_world[0]);
+    s.com_world[0] = gs.body_com_world[0] + v_centre * dt + r;
+    s.vel_world[0] = v_centre + w.cross(r);
   }
 }
 
@@ -112,7 +124,7 @@ namespace {
 // v_i = v + w x (c_i - c)
 void integrate_free_bodies(const Rig& rig, const EngineParams& params, double dt, SimState& s) {
   GaussSeidelWorkspace& gs = s.gauss_seidel;
-  const double f = params.angular_velocity_factor;
+  const double f = integrated_factor(params);
   const int first = rig.root_joint == RootJoint::kFixed ? 1 : 0;
   // each body's new w and centre velocity, at its first bone
   for (int b = first; b < rig.nbone; ++b) {

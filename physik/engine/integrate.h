@@ -18,7 +18,10 @@
 //     apart, and the drift is measured (engine.h: joint separation).
 // Welded groups (rig.h "Welds") move as one body each (prepare_welded_bodies, newton_euler.h): its
 // composite w <- f w + alpha dt turns its first bone, the others keep their rest frames in their
-// welds'; free rods move every body as a rigid body of its own.
+// welds'; a free root's body moves its centre of mass by F / m and turns about it, as a root rod
+// does, its bones riding on it; free rods move every body as a rigid body of its own.
+// With params.factor_in_joint_solve the joint solve took the factor as a torque
+// (apply_factor_torque, newton_euler.h), and the integration takes f = 1.
 // An anchored root (rig.h: pinned or fixed) does not translate: a pinned root turns about its
 // head, held at its rest position, a fixed one not at all.
 // Two choices the paper does not state (docs/engine.md "The paper's scheme"): the root moves its
@@ -37,6 +40,10 @@ namespace physik {
 // One step of length h (s; the scheme's step is params.dt: the factor f is per step).
 void integrate_articulated(const Rig& rig, const EngineParams& params, double h, SimState& state);
 void integrate_free_rods(const Rig& rig, const EngineParams& params, double h, SimState& state);
+
+// The factor f the integration applies: params.angular_velocity_factor, or 1 where the joint
+// solve already took it as a torque (params.factor_in_joint_solve, newton_euler.h).
+double integrated_factor(const EngineParams& params);
 
 // Rotate an orientation by a world angular velocity over dt.
 Quat rotate_by(const Quat& orient_world, const Vec3& omega_world, double dt);

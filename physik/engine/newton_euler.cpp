@@ -29,6 +29,14 @@ void prepare_bodies(const Rig& rig, const EngineParams& params, SimState& s) {
   }
 }
 
+void apply_factor_torque(const Rig& rig, const EngineParams& params, SimState& s) {
+  const double per_w = (params.angular_velocity_factor - 1.0) / params.dt;  // 1/s
+  for (int i = 0; i < rig.nbone; ++i) {
+    s.torque_world[i] +=
+        inertia_world(rig, s.frames.orient_world[i], i) * (per_w * s.omega_world[i]);
+  }
+}
+
 void prepare_welded_bodies(const Rig& rig, const EngineParams& params, SimState& s) {
   GaussSeidelWorkspace& gs = s.gauss_seidel;
   const int n = rig.nbone;

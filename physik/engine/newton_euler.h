@@ -21,6 +21,16 @@ namespace physik {
 // the exact and implicit schemes only the clearing: nothing reads the other two).
 void prepare_bodies(const Rig& rig, const EngineParams& params, SimState& state);
 
+// With params.factor_in_joint_solve, the angular-velocity factor f as a torque on every bone,
+// after the force stages and before the joint solve:
+//   tau_i += I_i (f - 1) w_i / dt          (I_i the bone's own inertia about its centre, world)
+// as the exact scheme and the MuJoCo reference apply it (articulated_body.h), so the joint forces
+// carry it and the integration then takes f = 1 (integrate.h). On a rod alone it is the same
+// w <- f w; on a chain it is no longer each body's w halved on its own, after the joint forces:
+// a welded group's sum of its rods' torques, about its centre. (docs/engine.md "Welded bones and
+// anchored roots" measures what that changes.)
+void apply_factor_torque(const Rig& rig, const EngineParams& params, SimState& state);
+
 // On a rig with welds (rig.h "Welds"), the scheme gauss-seidel's bodies after the force stages:
 // per welded group (at its first bone's index) its mass, centre of mass, the net force, the
 // torque about that centre (sum tau_i + (c_i - c) x F_i), the inverse of its world inertia

@@ -260,6 +260,12 @@ std::vector<ParamRow> joint_solve_rows() {
                                "add w x (w x r) to joint-point accelerations (eq. 2 omits it)"),
           gauss_seidel_only),
       row<&E::gyroscopic>("gyroscopic", "", {true, true, true}, kAny, "the -w x I w term of eq. 1"),
+      conflicts(omitted_at_default(row<&E::factor_in_joint_solve>(
+                    "factor_in_joint_solve", "", {false, false, false}, kAny,
+                    "the angular-velocity factor as the torque I (f - 1) w / dt on each bone "
+                    "before the joint passes, so the joint forces carry it (as the exact scheme "
+                    "and MuJoCo apply it); false: w <- f w after them (the paper's)")),
+                gauss_seidel_only),
   };
 }
 

@@ -76,6 +76,10 @@ struct EngineParams {
   int max_passes;                  // passes per step; 0 = 5 n^2 (the original's cap)
   bool centripetal;                // add w x (w x r) to joint-point accelerations (eq. 2 omits it)
   bool gyroscopic;                 // the -w x I w term of eq. 1
+  bool factor_in_joint_solve;      // gauss-seidel: the factor f as the torque I (f - 1) w / dt on
+                                   // each bone before the joint passes (as the exact scheme and
+                                   // MuJoCo's reference apply it); false: w <- f w after them
+                                   // (the paper's and the original's)
   double control_k;                // N/m, stiffness of control points that give none
   SpringLaw control_spring;        // law of control points that give none
   double control_cap;              // rig units, cap c of capped springs (original: 1)
