@@ -141,7 +141,8 @@ Result kdl_lma(const RigCase& rc, const Target& t) {
     chain.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::None),
                                   KDL::Frame(kdl_rotation(rig.bone_rest_orient_parent[i]),
                                              KDL::Vector(head.x(), head.y(), head.z()))));
-    if (rig.bone_weld[i] >= 0) continue;  // welded to its parent (rig_case): no joint
+    // welded to its parent (rig_case), or a fixed root: no joint
+    if (rig.bone_joint_type[i] == JointType::kWeld) continue;
     chain.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::RotX)));
     chain.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::RotY)));
     chain.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::RotZ)));
@@ -164,7 +165,7 @@ Result kdl_lma(const RigCase& rc, const Target& t) {
   r.pose = rest_pose(rig);
   int j = 0;
   for (int b : rc.chain) {
-    if (rig.bone_weld[b] >= 0) continue;
+    if (rig.bone_joint_type[b] == JointType::kWeld) continue;
     r.pose.bone_local_rotation[b] =
         Quat(Eigen::AngleAxisd(q(j), Vec3::UnitX()) * Eigen::AngleAxisd(q(j + 1), Vec3::UnitY()) *
              Eigen::AngleAxisd(q(j + 2), Vec3::UnitZ()));

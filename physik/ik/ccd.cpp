@@ -46,7 +46,7 @@ IkReport solve_ccd(const IkProblem& pb, Pose& pose) {
       const Quat P = rest_frame_world(rig, f, i);
       const Vec3& h = f.head_world[i];
       for (int axis = 0; axis < 3; ++axis) {
-        const bool limited = pb.options.respect_limits && par >= 0;
+        const bool limited = pb.options.respect_limits;  // the root's limits too
         if (limited && rig.bone_limit[i][axis].locked()) continue;
         const Vec3 a = P * Vec3::Unit(axis);
         double s = 0.0, c = 0.0;

@@ -83,7 +83,19 @@ std::vector<char> active_bones(const Rig& rig, const std::vector<IkGoal>& goals)
   for (const IkGoal& g : goals) {
     for (int b = g.bone; b >= 0 && !active[b]; b = rig.bone_parent[b]) active[b] = 1;
   }
+  // a fixed root and the bones welded into its body never move (rig.h: the root's joint)
+  for (int i = 0; i < rig.nbone; ++i) {
+    if (held_by_world(rig, i)) active[i] = 0;
+  }
   return active;
+}
+
+bool held_by_world(const Rig& rig, int bone) {
+  // a weld (or a fixed root's joint, a weld to the world) down to the world from this bone
+  for (int b = bone; b >= 0; b = rig.bone_joint_parent[b]) {
+    if (rig.bone_joint_type[b] != JointType::kWeld) return false;
+  }
+  return rig.root_joint == RootJoint::kFixed;
 }
 
 Quat quat_from_rotation_vector(const Vec3& v) {
@@ -93,7 +105,8 @@ Quat quat_from_rotation_vector(const Vec3& v) {
 }
 
 Quat clamp_to_limits(const Rig& rig, int bone, const Quat& q) {
-  if (rig.bone_parent[bone] < 0) return q;  // the root is free (as in max_limit_violation)
+  // the root's too: a pinned root's limits hold against its rest frame in the world (a free or
+  // fixed root has none)
   const auto& lim = rig.bone_limit[bone];
   if (!lim[0].limited && !lim[1].limited && !lim[2].limited) return q;
   Vec3 v = rotation_vector(q);
@@ -187,7 +200,7 @@ void ik_dofs(const Rig& rig, const std::vector<char>& active, bool respect_limit
     // a welded bone turns with the bone it is welded to (rig.h "Welds"): no axis of its own
     if (!active[i] || rig.bone_weld[i] >= 0) continue;
     for (int k = 0; k < 3; ++k) {
-      if (respect_limits && rig.bone_parent[i] >= 0 && rig.bone_limit[i][k].locked()) continue;
+      if (respect_limits && rig.bone_limit[i][k].locked()) continue;  // the root's too
       dof_bone.push_back(i);
       dof_axis.push_back(k);
     }

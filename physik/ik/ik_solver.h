@@ -1,8 +1,11 @@
 // The common interface of the classic IK solvers (the baselines PhysIK is measured against).
 //
 // Every solver works on the same Rig and Pose as the engine (physik/kinematics.h):
-//   - the root's head is an anchor (it does not translate); the root's rotation is three free
-//     rotational DOF, every other bone rotates relative to its parent;
+//   - the root's head is an anchor (it does not translate); the root's rotation is three
+//     rotational DOF, every other bone rotates relative to its parent; a pinned root's limits
+//     (against its rest frame in the world: two locked axes make a hinge) are respected like any
+//     bone's, and a fixed root, with the bones welded into its body, never turns
+//     (held_by_world);
 //   - a bone's rotation q_i (rest-relative, in the bone's rest frame) is changed by rotations
 //     about the axes of that rest frame, i.e. q_i <- exp(theta e_k) q_i. In the world this is a
 //     rotation by theta about a_k = R_parent R_rest_in_parent e_k through the bone's head. For a
@@ -153,11 +156,14 @@ Vec3 goal_orientation_error(const BoneFrames& frames, const IkGoal& goal);
 void goal_orientation_residuals(const BoneFrames& frames, const std::vector<IkGoal>& goals,
                                 std::vector<double>& out);
 // Bones on a root-to-effector path (ancestors of a goal's bone, and that bone): the only ones
-// the solvers move.
+// the solvers move; a bone the world holds (held_by_world) is never among them.
 std::vector<char> active_bones(const Rig& rig, const std::vector<IkGoal>& goals);
+// The bone cannot move: a fixed root, or a bone welded into a fixed root's body (rig.h).
+bool held_by_world(const Rig& rig, int bone);
 // Unit quaternion of a rotation vector (exp map; inverse of rotation_vector).
 Quat quat_from_rotation_vector(const Vec3& v);
-// Project q onto the bone's box limits: clamp the rotation vector component-wise.
+// Project q onto the bone's box limits: clamp the rotation vector component-wise (the root's
+// too: a pinned root's limits; a free or fixed root has none).
 Quat clamp_to_limits(const Rig& rig, int bone, const Quat& q);
 // World orientation of bone i's rest frame under its parent's current orientation:
 // P_i = R_parent R_rest_in_parent (root: R_rest). Rotation axes of bone i are P_i e_k.

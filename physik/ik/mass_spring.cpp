@@ -6,7 +6,8 @@
 // World frame, rig units, s, kg.
 //
 // Nodes: the root's head (the anchor, infinite mass) and the tail of every active bone, with the
-// lumped rod mass m_node = m_i / 2 + sum over children c of m_c / 2 (kg).
+// lumped rod mass m_node = m_i / 2 + sum over children c of m_c / 2 (kg); the tail of a bone the
+// world holds (a fixed root's body, ik_solver.h held_by_world) is an anchor too.
 // Per iteration (one Verlet frame):
 //   Verlet:   x_new = x + k_v (x - x_prev) + g dt^2          (k_v = velocity_keep, a damping;
 //             the guide writes 0.5 g dt^2 into its prev buffer; plain Verlet is g dt^2)
@@ -53,7 +54,9 @@ void project(const IkProblem& pb, const std::vector<double>& node_mass, const Ve
   const int n = rig.nbone;
   for (const IkGoal& g : pb.goals) {
     const int b = g.bone;
-    const bool head_free = rig.bone_parent[b] >= 0;
+    if (!pb.active[b]) continue;  // held by the world (a fixed root's body): nothing moves
+    // the head's node moves unless it is the anchor or the tail of a bone the world holds
+    const bool head_free = rig.bone_parent[b] >= 0 && pb.active[rig.bone_parent[b]];
     const double wh = head_free ? 1.0 / node_mass[rig.bone_parent[b]] : 0.0;
     const double wt = 1.0 / node_mass[b];
     const double a = g.alpha;
@@ -70,9 +73,10 @@ void project(const IkProblem& pb, const std::vector<double>& node_mass, const Ve
     if (!pb.active[i]) continue;
     const double L = rig.bone_length[i];
     const int par = rig.bone_parent[i];
-    if (par < 0) {
-      const Vec3 d = x[i] - anchor;
-      if (d.norm() > 1e-12) x[i] = anchor + d.normalized() * L;
+    if (par < 0 || !pb.active[par]) {  // its head fixed: the anchor, or a held bone's tail
+      const Vec3 head = par < 0 ? anchor : x[par];
+      const Vec3 d = x[i] - head;
+      if (d.norm() > 1e-12) x[i] = head + d.normalized() * L;
       continue;
     }
     mass_weighted_length(x[par], x[i], node_mass[par], node_mass[i], L);

@@ -36,7 +36,7 @@
 namespace physik {
 
 Quat clamp_to_cone(const Rig& rig, int bone, const Quat& q, ConeShape shape) {
-  if (shape == ConeShape::kNone || rig.bone_parent[bone] < 0) return q;
+  if (shape == ConeShape::kNone) return q;
   const AxisLimit& lx = rig.bone_limit[bone][0];
   const AxisLimit& ly = rig.bone_limit[bone][1];
   const AxisLimit& lz = rig.bone_limit[bone][2];
@@ -176,9 +176,9 @@ IkReport solve_rotation_method(const IkProblem& pb, Pose& pose) {
   std::vector<std::vector<int>> free_axes(rig.nbone);
   for (int i = 0; i < rig.nbone; ++i) {
     for (int k = 0; k < 3; ++k) {
-      const bool locked =
-          opt.respect_limits && rig.bone_parent[i] >= 0 && rig.bone_limit[i][k].locked();
-      if (!locked) free_axes[i].push_back(k);
+      // a bone the world holds has none; the root's limits count like any bone's
+      const bool locked = opt.respect_limits && rig.bone_limit[i][k].locked();
+      if (!locked && pb.active[i]) free_axes[i].push_back(k);
     }
   }
   auto iterate = [&](Pose& p, BoneFrames& f) {

@@ -10,7 +10,6 @@ void joint_angles_and_excess(const Rig& rig, const Pose& pose, std::vector<Vec3>
   for (int i = 0; i < rig.nbone; ++i) {
     angles[i] = joint_angles(pose, i);
     excess[i].setZero();
-    if (rig.bone_parent[i] < 0) continue;  // the root is free (as in max_limit_violation)
     for (int k = 0; k < 3; ++k) excess[i][k] = limit_excess(rig.bone_limit[i][k], angles[i][k]);
   }
 }

@@ -7,8 +7,9 @@
 //                in the bone's rest frame; |angle_i| <= pi), rad: component k is the angle about
 //                local axis k that the rig's limit on axis k bounds (joint_angles, kinematics.h)
 //   excess_ik  = angle_ik - max  above the max,  angle_ik - min (< 0) below the min,  else 0
-//                (within the limits, on a free axis, and on the root, which the engine never
-//                limits), rad
+//                (within the limits and on a free axis), rad; the root's too: a pinned root's
+//                limits hold against its rest frame in the world (a free or fixed root has
+//                none)
 // The excess is signed so that it says which limit is passed: a linear torsion spring with no
 // engage band (torsion_tolerance 0) pulls with -torsion_k * excess, and the largest |excess| of
 // a pose is its max_limit_violation.

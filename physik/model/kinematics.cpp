@@ -80,7 +80,9 @@ Vec3 rotation_vector(const Quat& q_in) {
 
 double max_limit_violation(const Rig& rig, const Pose& pose) {
   double worst = 0.0;
-  for (int i = 1; i < rig.nbone; ++i) {
+  // the root too: a pinned root's limits hold against its rest frame in the world (a free or
+  // fixed root has none)
+  for (int i = 0; i < rig.nbone; ++i) {
     const Vec3 a = joint_angles(pose, i);
     for (int k = 0; k < 3; ++k) {
       const AxisLimit& l = rig.bone_limit[i][k];

@@ -54,8 +54,9 @@ class Pose:
                         component k is the angle about the bone's rest axis k that the rig's
                         limit on axis k bounds, as the torsion springs measure it (|angle| <= pi)
     limit_excess        (nbone, 3) how far each angle is past its limit, rad, signed: angle - max
-                        above the max, angle - min (negative) below the min, 0 within the limits,
-                        on a free axis and on the root; its largest |value| is the pose's limit
+                        above the max, angle - min (negative) below the min, 0 within the limits
+                        and on a free axis; the root's too (a pinned root's limits hold against
+                        its rest frame in the world); its largest |value| is the pose's limit
                         violation (what the summaries' max_limit_violation_deg give in degrees)
 
     From Simulation.pose and PosingSession.pose the arrays are read-only views of the live state:

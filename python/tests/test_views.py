@@ -150,9 +150,8 @@ def log_map(quaternions):
 def limit_excess(rig, angles):
     """Each angle's signed excess past the rig's limit on its axis (rig.to_dict's limits_deg)."""
     out = np.zeros_like(angles)
+    # the root's too: only a pinned root has limits (a free or fixed root has none)
     for i, bone in enumerate(rig.to_dict()["bones"]):
-        if bone["parent"] is None:
-            continue  # the root is never limited
         for k, axis in enumerate("xyz"):
             if axis in bone.get("limits_deg", {}):
                 lo, hi = np.radians(bone["limits_deg"][axis])
