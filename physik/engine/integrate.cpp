@@ -38,10 +38,10 @@ namespace {
 
 // With welds: every body (at its first bone) turns by its own composite Newton-Euler, w <- f w +
 // alpha dt; a welded bone takes its weld's w and its rest frame in its weld's. A free root's body
-// moves its centre of mass c and turns about it, as a root rod does (docs/engine.md "Two
-// integration choices"): v_c <- v_c + F / m dt, c <- c + v_c dt, and the root bone's centre rides
-// on the body, c_0 = c + dR (c_0 - c), v_0 = v_c + w x (c_0 - c) (integrate_free_bodies does the
-// same for every body)
+// moves its centre of mass c and turns about it, as a root rod does (docs/engine.md "The paper's
+// scheme (gauss-seidel)", its two integration choices): v_c <- v_c + F / m dt, c <- c + v_c dt,
+// and the root bone's centre rides on the body, c_0 = c + dR (c_0 - c), v_0 = v_c + w x (c_0 - c)
+// (integrate_free_bodies does the same for every body)
 void integrate_welded_bodies(const Rig& rig, const EngineParams& params, double dt, SimState& s) {
   GaussSeidelWorkspace& gs = s.gauss_seidel;
   const double f = integrated_factor(params);
