@@ -9,7 +9,9 @@
 
 #include <gtest/gtest.h>
 
+#include "physik/ik/ik_solver.h"
 #include "physik/model/errors.h"
+#include "physik/model/kinematics.h"
 
 namespace physik {
 namespace {
@@ -332,6 +334,36 @@ TEST(MjcfImport, ARootHingedToTheWorldStaysHinged) {
   EXPECT_EQ(mr.report.root_joint, "pinned");
   EXPECT_EQ(rig.bone_dof(0), 1);
   EXPECT_LE((rig.bone_rest_head_world[0] - Vec3::Zero()).norm(), 1e-12);  // the shoulder
+}
+
+// The same arm pulled out of its plane (DLS used to "converge" with the shoulder 33 and 66
+// degrees past its locked axes, and every summary said 0 degrees of violation): every classic
+// solver keeps the shoulder a hinge, and the measure counts the root. The hinges turn about z, so
+// the target (0.6, 0.4, 0.5) is 0.5 from the arm's plane z = 0: no pose within the limits
+// reaches it.
+TEST(MjcfImport, ClassicSolversKeepArm26sShoulderAHinge) {
+  const std::string path = "/usr/share/mujoco/model/tendon_arm/arm26.xml";
+  if (!std::ifstream(path)) GTEST_SKIP() << path << " not installed (libmujoco-samples)";
+  const Rig rig = load_mjcf(path).rig();
+  ASSERT_EQ(rig.root_joint, RootJoint::kPinned);
+  const Vec3 normal = rig.bone_rest_orient_world[0] * Vec3::UnitX();  // the shoulder's axis
+  ASSERT_NEAR(std::abs(normal.z()), 1.0, 1e-9);
+  // the measure: the shoulder turned 0.2 rad about a locked axis reads 0.2 rad
+  Pose off = rest_pose(rig);
+  off.bone_local_rotation[0] = Quat(Eigen::AngleAxisd(0.2, Vec3::UnitZ()));
+  EXPECT_NEAR(max_limit_violation(rig, off), 0.2, 1e-12);
+  const int hand = rig.find_bone("body2");
+  const Vec3 target(0.6, 0.4, 0.5);
+  for (const IkMethod m :
+       {IkMethod::kDampedLeastSquares, IkMethod::kJacobianTranspose, IkMethod::kCcd,
+        IkMethod::kFabrik, IkMethod::kMassSpring, IkMethod::kRotation}) {
+    SCOPED_TRACE(to_string(m));
+    Pose pose = rest_pose(rig);
+    const IkReport rep = solve_ik(m, rig, {{hand, 1.0, target}}, pose);
+    EXPECT_LE(max_limit_violation(rig, pose), 1e-9);
+    EXPECT_FALSE(rep.converged);
+    EXPECT_GE(rep.residual, 0.5 - 1e-9);
+  }
 }
 
 }  // namespace
