@@ -87,7 +87,8 @@ void print(const char* name, const Outcome& o) {
 
 // The trace of a welded body's inertia about its centre over the sum of its bones' own inertias
 // about theirs, at rest: how much more the paper's w <- f w damps the body's turn than it damps
-// the same bones unwelded (docs/engine.md "What is left: the factor on a composite body").
+// the same bones unwelded (docs/engine.md "Welded bones and anchored roots", its paragraph "What
+// is left: the factor on a composite body").
 double composite_over_own_inertia(const Rig& rig, int body) {
   const BoneFrames f = forward_kinematics(rig, rest_pose(rig));
   const auto centre = [&](int i) {
