@@ -587,9 +587,9 @@ MjModelPtr compile_rig_mjcf(const Rig& rig, const MjcfOptions& o,
         << " constraint rows (njmax; at most " << kMjcfConstraintBytes << " bytes): " << rig.nbone
         << " bones, " << c.obstacles.size() << " boxes, up to "
         << boxes_touching_at_once(rig, c.obstacles)
-        << " of them within a bone's reach of each other (fewer need fewer rows), or more "
-           "memory; "
-        << e.what();
+        << " of them within a bone's reach of each other: fewer boxes that close together need "
+           "fewer rows, or give the process more memory ("
+        << e.what() << ")";
     throw_input_error(o.contacts_source.empty() ? o.source : o.contacts_source, "", field,
                       why.str());
   }
