@@ -511,6 +511,37 @@ printf 'HIERARCHY\nROOT A\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Zrotation Xrotation Y
 check "bvh position channels off the offset" 0 "$bin" rig from-bvh "$tmp/slide.bvh" --out "$tmp/slide.json"
 expect_in "bvh position channels named by joint and bone" "$tmp/err" "from-bvh: warning: joint 'B' (line 6, bone 'A'): its position channels move it off its OFFSET"
 
+# rig info tells the rig's story (issue 56 part 4, issue 58): welds, pinned and fixed roots
+printf '{"root": "pinned", "bones": [{"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,1], "limits_deg": {"x": [0, 0], "y": [-30, 60]}}, {"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2]}, {"name": "c", "parent": "a", "head": [0,0,1], "tail": [1,0,1], "weld": "b"}]}' > "$tmp/pinned.json"
+check "rig info pinned root" 0 "$bin" rig info "$tmp/pinned.json"
+expect_in "rig info pinned root says so" "$tmp/out" "root 'a': pinned: a ball at its head, held in place, 2 DOF; limits against its rest frame in the world: x locked at 0  y [-30, 60]  z free"
+expect_in "rig info the world's joint" "$tmp/out" "[0] world -> a(2)"
+expect_in "rig info welded bone" "$tmp/out" "welded to b (0 DOF)"
+check "rig info pinned root json" 0 "$bin" rig info --json "$tmp/pinned.json"
+cp "$tmp/out" "$tmp/pinned_info.json"
+check "rig info json dof agrees with the joint list" 0 python3 - "$tmp/pinned_info.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+bones = {b["name"]: b for b in r["bone_list"]}
+assert r["root"] == "pinned" and bones["a"]["dof"] == 2 and bones["a"]["joint"] == "pinned"
+assert bones["c"]["dof"] == 0 and bones["c"]["welded_to"] == "b", bones["c"]
+assert sum(j["dof"] for j in r["joint_list"]) == sum(b["dof"] for b in r["bone_list"]) == r["dof"] == 5
+assert r["joint_list"][0]["parent"] is None and r["joint_list"][0]["world"]
+PY
+sed 's/"pinned"/"fixed"/; s/, "limits_deg": {"x": \[0, 0\], "y": \[-30, 60\]}//' "$tmp/pinned.json" > "$tmp/fixed.json"
+check "rig info fixed root" 0 "$bin" rig info "$tmp/fixed.json"
+expect_in "rig info fixed root says so" "$tmp/out" "root 'a': fixed to the world: 0 DOF"
+if [ -f /usr/share/mujoco/model/adhesion/active_adhesion.xml ]; then
+  check "from-mjcf adhesion" 0 "$bin" rig from-mjcf /usr/share/mujoco/model/adhesion/active_adhesion.xml --out "$tmp/adhesion.json"
+  check "rig info --json adhesion" 0 "$bin" rig info --json "$tmp/adhesion.json"
+  check "rig info adhesion" 0 "$bin" rig info "$tmp/adhesion.json"
+fi
+if [ -f /usr/share/mujoco/model/tendon_arm/arm26.xml ]; then
+  check "from-mjcf arm26" 0 "$bin" rig from-mjcf /usr/share/mujoco/model/tendon_arm/arm26.xml --out "$tmp/arm26.json"
+  check "rig info arm26" 0 "$bin" rig info "$tmp/arm26.json"
+  expect_in "rig info arm26 pinned root" "$tmp/out" "(pinned: a ball at its head"
+fi
+
 # the rig's collision_exclude, and what rig info says about the rest pose
 printf '{"bones": [{"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,1]}, {"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2]}], "collision_exclude": [["a", "b"], ["b", "b"]]}' > "$tmp/twice.json"
 check "rig exclusion naming one bone twice" 2 "$bin" rig info "$tmp/twice.json"
