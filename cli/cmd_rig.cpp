@@ -135,6 +135,30 @@ void add_rest_checks_json(const Rig& rig, const RestChecks& checks, nlohmann::js
   out["rest_inside_torsion_band"] = bands;
 }
 
+// the joint list: each joint's parent bone (or the world), position at rest, children and DOF
+nlohmann::json joint_list_json(const Rig& rig) {
+  nlohmann::json joints = nlohmann::json::array();
+  for (const Joint& j : rig.joints) {
+    nlohmann::json children = nlohmann::json::array();
+    int dof = 0;
+    for (int c : j.children) {
+      children.push_back({{"bone", rig.bone_name[c]}, {"dof", info_dof(rig, c)}});
+      dof += info_dof(rig, c);
+    }
+    const Vec3 at = j.parent >= 0 ? rig.bone_rest_tail_world[j.parent]
+                                  : rig.bone_rest_head_world[j.children.at(0)];
+    joints.push_back({{"parent", j.parent >= 0 ? nlohmann::json(rig.bone_name[j.parent])
+                                               : nlohmann::json(nullptr)},
+                      {"world", j.parent < 0},
+                      {"anchored", j.anchored},
+                      {"position", vec_json(at)},
+                      {"children", children},
+                      {"nbone", j.nbone()},
+                      {"dof", dof}});
+  }
+  return joints;
+}
+
 nlohmann::json rig_info_json(const Rig& rig, const std::string& path) {
   const RestChecks checks = rest_checks(rig);
   nlohmann::json bones = nlohmann::json::array();
@@ -165,25 +189,6 @@ nlohmann::json rig_info_json(const Rig& rig, const std::string& path) {
          {"dof", info_dof(rig, i)},
          {"limits_deg", limits}});
   }
-  nlohmann::json joints = nlohmann::json::array();
-  for (const Joint& j : rig.joints) {
-    nlohmann::json children = nlohmann::json::array();
-    int dof = 0;
-    for (int c : j.children) {
-      children.push_back({{"bone", rig.bone_name[c]}, {"dof", info_dof(rig, c)}});
-      dof += info_dof(rig, c);
-    }
-    const Vec3 at = j.parent >= 0 ? rig.bone_rest_tail_world[j.parent]
-                                  : rig.bone_rest_head_world[j.children.at(0)];
-    joints.push_back({{"parent", j.parent >= 0 ? nlohmann::json(rig.bone_name[j.parent])
-                                               : nlohmann::json(nullptr)},
-                      {"world", j.parent < 0},
-                      {"anchored", j.anchored},
-                      {"position", vec_json(at)},
-                      {"children", children},
-                      {"nbone", j.nbone()},
-                      {"dof", dof}});
-  }
   nlohmann::json out = {{"file", path},
                         {"name", rig.name},
                         {"source", rig.source},
@@ -196,7 +201,7 @@ nlohmann::json rig_info_json(const Rig& rig, const std::string& path) {
                         {"total_mass", rig.total_mass()},
                         {"height", rig.height()},
                         {"bone_list", bones},
-                        {"joint_list", joints}};
+                        {"joint_list", joint_list_json(rig)}};
   add_rest_checks_json(rig, checks, out);
   return out;
 }
