@@ -89,6 +89,7 @@ void run_follow(const FollowCliOptions& c) {
     BvhExportOptions bo;
     bo.source_skeleton = !c.own_skeleton;
     bvh = std::make_unique<BvhRecorder>(scene.rig, scene.params.dt * c.every, 1, bo);
+    bvh->hold_source_row(clip.frames[fo.first]);
     bvh->record(scene.initial_pose);
   }
   clear_run_folder(c.out, "--out");
@@ -96,6 +97,8 @@ void run_follow(const FollowCliOptions& c) {
   const RunSummary sum =
       simulate_into_folder(scene, c.out, c.every, [&](const SimState& s, const StepStats& st) {
         if (bvh && s.step % c.every == 0 && std::isfinite(st.kinetic_energy)) {
+          // what the rig cannot hold comes from the clip frame the step follows
+          bvh->hold_source_row(clip.frames[followed_clip_frame(scene, clip, fo, s.step)]);
           bvh->record(s.frames);
         }
         if (!c.quiet && s.step % report_every == 0) {

@@ -117,4 +117,11 @@ Scene follow_scene(const Rig& rig, const BvhFile& clip, EngineParams params,
   return s;
 }
 
+int followed_clip_frame(const Scene& scene, const BvhFile& clip, const FollowOptions& o, int step) {
+  const int last = o.last < 0 ? static_cast<int>(clip.frames.size()) - 1 : o.last;
+  const int per_frame = std::max(1, scene.params.interpolation_steps);
+  const long f = o.first + std::lround(static_cast<double>(step) / per_frame);
+  return static_cast<int>(std::clamp<long>(f, o.first, std::max(o.first, last)));
+}
+
 }  // namespace physik

@@ -57,4 +57,11 @@ std::vector<std::vector<Vec3>> clip_targets(const Rig& rig, const BvhFile& clip,
 Scene follow_scene(const Rig& rig, const BvhFile& clip, EngineParams params,
                    const FollowOptions& options);
 
+// The clip frame that step `step` of `scene` (follow_scene's) follows: the nearest on its
+// schedule, first + round(step / interpolation_steps), within first..last. A pose of the run
+// written back on the source skeleton keeps from that frame what the rig cannot hold (bvh.h
+// SourceFrames).
+int followed_clip_frame(const Scene& scene, const BvhFile& clip, const FollowOptions& options,
+                        int step);
+
 }  // namespace physik
