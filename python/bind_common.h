@@ -55,5 +55,8 @@ void bind_reference(py::module_& m);   // export_mjcf, compare_mujoco
 void bind_tune(py::module_& m);        // tune, equilibrium
 void bind_posing(py::module_& m);      // PosingSession
 void bind_view(py::module_& m);        // view (the page of `physik view`)
+void bind_clip(py::module_& m);        // Clip, the write-back, follow scenes
+// Rig.from_bvh, rig.source_skeleton, source_notes, root (bind_clip.cpp), called by bind_rig
+void bind_rig_source(py::class_<Rig>& cls);
 
 }  // namespace physik::python
