@@ -33,16 +33,6 @@ py::array matrix(const std::vector<std::vector<double>>& rows, py::ssize_t cols)
   return a;
 }
 
-// a (n, 3) array of points
-py::array points(const std::vector<Vec3>& v) {
-  py::array_t<double> a({static_cast<py::ssize_t>(v.size()), py::ssize_t(3)});
-  auto m = a.mutable_unchecked<2>();
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    for (int k = 0; k < 3; ++k) m(i, k) = v[i][k];
-  }
-  return a;
-}
-
 // clip.frames = array: (nframe, nchannel) numbers, checked as a file's frames are
 void set_frames(BvhFile& clip, py::object value) {
   const py::array_t<double, py::array::c_style | py::array::forcecast> a(value);
@@ -245,14 +235,14 @@ Clip.of_poses(rig, poses, ...) the other way.)doc")
           [](const BvhFile& c) {
             std::vector<Vec3> out;
             for (const BvhJoint& j : c.joints) out.push_back(j.offset);
-            return points(out);
+            return vec3_array(out);
           },
           "(njoint, 3) OFFSETs, file units, in each parent's frame.")
       .def_property_readonly(
           "end_sites",
           [](const BvhFile& c) {
             py::list out;
-            for (const BvhJoint& j : c.joints) out.append(points(j.end_sites));
+            for (const BvhJoint& j : c.joints) out.append(vec3_array(j.end_sites));
             return out;
           },
           "Per joint, its End Sites as a (k, 3) array, file units.")

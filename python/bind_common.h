@@ -22,6 +22,9 @@ nlohmann::json to_json(py::handle value, const std::string& what);
 // JSON as plain Python values (dict, list, str, int, float, bool, None).
 py::object from_json(const nlohmann::json& value);
 
+// (n, 3) doubles, a new array (a copy of the points)
+py::array vec3_array(const std::vector<Vec3>& v);
+
 // A read-only numpy view of `rows` x `cols` doubles at `data`, `row_stride` bytes apart, kept
 // alive by `owner` (no copy).
 py::array readonly_view(const double* data, py::ssize_t rows, py::ssize_t cols,

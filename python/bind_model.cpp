@@ -17,8 +17,6 @@
 
 namespace physik::python {
 
-namespace {
-
 py::array vec3_array(const std::vector<Vec3>& v) {
   py::array_t<double> a({static_cast<py::ssize_t>(v.size()), py::ssize_t(3)});
   auto m = a.mutable_unchecked<2>();
@@ -27,6 +25,8 @@ py::array vec3_array(const std::vector<Vec3>& v) {
   }
   return a;
 }
+
+namespace {
 
 nlohmann::json vec_json(const Vec3& v) {
   return {v.x(), v.y(), v.z()};

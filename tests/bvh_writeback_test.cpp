@@ -9,6 +9,7 @@
 #include <cmath>
 #include <functional>
 #include <iomanip>
+#include <iostream>
 #include <random>
 #include <sstream>
 
@@ -304,8 +305,10 @@ TEST(BvhWriteBack, EveryChannelOfEveryFrameComesBack) {
     const Rig rig = through_file(anim.rig());
     BvhWriteReport report;
     const BvhFile out = written(rig, anim.poses, SourceFrames::of_clip(in), &report);
-    EXPECT_LT(largest_channel_difference(in, out), 1e-6) << s.name;
+    const double worst = largest_channel_difference(in, out);
+    EXPECT_LT(worst, 1e-6) << s.name;
     EXPECT_TRUE(report.warnings.empty()) << s.name << ": " << report.warnings.at(0);
+    std::cout << "[ measured ] " << s.name << ": largest channel difference " << worst << "\n";
   }
 }
 
