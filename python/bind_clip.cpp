@@ -165,16 +165,11 @@ void bind_clip(py::module_& m) {
       py::arg("clip"), py::arg("rig"), py::arg("points"), py::arg("first"), py::arg("last"),
       py::arg("ground").none(true), py::arg("gravity"), py::arg("params").none(true),
       "follow_scene's C++ half.");
-  m.def(
-      "_followed_clip_frame",
-      [](const Scene& scene, const BvhFile& clip, int first, int last, int step) {
-        FollowOptions o;
-        o.first = first;
-        o.last = last;
-        return followed_clip_frame(scene, clip, o, step);
-      },
-      py::arg("scene"), py::arg("clip"), py::arg("first"), py::arg("last"), py::arg("step"),
-      "The clip frame a follow scene's step follows (clip_follow.h followed_clip_frame).");
+  m.def("_followed_frame", &followed_frame, py::arg("scene"), py::arg("step"),
+        "The clip frame (from the first followed) that a follow scene's state after `step` steps "
+        "stands for, -1 between them (clip_follow.h followed_frame).");
+  m.def("_follow_frame_time", &follow_frame_time, py::arg("scene"),
+        "The engine's time per clip frame of a follow scene, s (clip_follow.h).");
 }
 
 namespace {

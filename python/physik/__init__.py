@@ -375,8 +375,8 @@ Clip.of_poses = staticmethod(_clip_of_poses)
 
 FollowRun = namedtuple("FollowRun", ["summary", "clip", "scene"])
 FollowRun.__doc__ = """follow()'s result: summary (`physik follow`'s summary.json as a dict), clip
-(the run on the rig's source skeleton, a Clip: one frame per `every` steps, at dt x every s per
-frame) and scene (the follow scene that ran)."""
+(the run on the rig's source skeleton, a Clip: one frame per followed clip frame, at the engine's
+time per clip frame, as `physik follow --bvh` writes it) and scene (the follow scene that ran)."""
 
 
 def _follow_options(clip, frames):
@@ -399,37 +399,36 @@ def follow_scene(clip, rig, *, points=None, frames=None, ground=0.0, gravity=Fal
 
 
 def follow(clip, rig, *, points=None, frames=None, ground=0.0, gravity=False, params=None,
-           every=1, raise_on_divergence=False):
+           raise_on_divergence=False):
     """Follow a clip with the PhysIK engine: `physik follow CLIP --rig RIG --bvh OUT`.
 
-    The keywords are follow_scene's, and every: a frame of the returned clip every N steps.
-    Returns FollowRun(summary, clip, scene): the run's summary, the run on the rig's source
-    skeleton as a Clip (clip.write(path) writes it; what the rig cannot hold, the rotation of a
-    joint with no bone and a stretch channel, comes from the clip frame each step follows), and
-    the scene. A diverged run is the summary's flag, or DivergedError with raise_on_divergence."""
+    The keywords are follow_scene's. Returns FollowRun(summary, clip, scene): the run's summary,
+    the run on the rig's source skeleton as a Clip with one frame per followed clip frame at the
+    engine's time per clip frame, as `--bvh` writes it (clip.write(path) writes it; what the rig
+    cannot hold, the rotation of a joint with no bone and a stretch channel, comes from the clip
+    frame each state stands for), and the scene. A diverged run is the summary's flag, or
+    DivergedError with raise_on_divergence."""
     import numpy
-    if int(every) < 1:
-        raise InputError("every: must be at least 1")
     scene = follow_scene(clip, rig, points=points, frames=frames, ground=ground, gravity=gravity,
                          params=params)
-    first, last = _follow_options(clip, frames)
+    first, _ = _follow_options(clip, frames)
     sim = Simulation(scene)
     poses, followed = [], []
 
-    def keep():
+    def keep(frame):
         pose = sim.pose
         if numpy.all(numpy.isfinite(pose.local_rotations)) and numpy.all(
                 numpy.isfinite(pose.root_head)):
             poses.append((numpy.array(pose.local_rotations), numpy.array(pose.root_head)))
-            followed.append(_core._followed_clip_frame(scene, clip, first, last, sim.step_count))
+            followed.append(first + frame)
 
-    keep()
+    keep(0)
     while not sim.stopped and sim.step_count < scene.steps:
-        sim.step(min(int(every), scene.steps - sim.step_count),
-                 raise_on_divergence=raise_on_divergence)
-        if sim.step_count % int(every) == 0 and not sim.diverged:
-            keep()
-    out = _clip_of_poses(rig, poses, scene.params["dt"] * int(every), source=clip,
+        sim.step(1, raise_on_divergence=raise_on_divergence)
+        frame = _core._followed_frame(scene, sim.step_count)
+        if frame > 0 and not sim.diverged:
+            keep(frame)
+    out = _clip_of_poses(rig, poses, _core._follow_frame_time(scene), source=clip,
                          source_frames=followed)
     return FollowRun(sim.summary, out, scene)
 
