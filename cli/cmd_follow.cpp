@@ -103,13 +103,17 @@ void run_follow(const FollowCliOptions& c) {
     BvhExportOptions bo;
     bo.source_skeleton = !c.own_skeleton;
     bvh = std::make_unique<BvhRecorder>(scene.rig, follow_frame_time(scene), 1, bo);
+    bvh->hold_source_row(clip.frames[fo.first]);
     bvh->record(scene.initial_pose);
   }
   clear_run_folder(c.out, "--out");
   const int report_every = std::max(1, scene.steps / 10);
   const RunSummary sum =
       simulate_into_folder(scene, c.out, c.every, [&](const SimState& s, const StepStats& st) {
-        if (bvh && followed_frame(scene, s.step) > 0 && std::isfinite(st.kinetic_energy)) {
+        const int followed = followed_frame(scene, s.step);
+        if (bvh && followed > 0 && std::isfinite(st.kinetic_energy)) {
+          // what the rig cannot hold comes from the clip frame the state stands for
+          bvh->hold_source_row(clip.frames[fo.first + followed]);
           bvh->record(s.frames);
         }
         if (!c.quiet && s.step % report_every == 0) {

@@ -77,7 +77,7 @@ void add_axes_option(CLI::App* cmd, std::string& axes) {
 // physik rig from-bvh
 void add_from_bvh(CLI::App* rig) {
   struct FromBvh {
-    std::string path, out, axes = "y-up";
+    std::string path, out, axes = "y-up", root;
     double scale = 1.0;
     SizingOptions sizing;
   };
@@ -90,10 +90,18 @@ void add_from_bvh(CLI::App* rig) {
   from_bvh->add_option("--scale", fb->scale, "Rig units per file unit (e.g. 0.01 for cm)")
       ->capture_default_str();
   add_sizing_options(from_bvh, fb->sizing, "0.14 x the bone's length");
+  from_bvh->add_option("--root", fb->root,
+                       "The root's joint to the world: free or pinned (turns in place); default: "
+                       "pinned when the file's root has no position channels, else free");
   from_bvh->callback([fb] {
     check_scale_option(fb->scale);
     check_sizing_options(fb->sizing);
     BvhImportOptions o;
+    if (fb->root == "free" || fb->root == "pinned") {
+      o.root = fb->root == "free" ? RootJoint::kFree : RootJoint::kPinned;
+    } else if (!fb->root.empty()) {
+      throw_input_error("--root", "", "", "expected free or pinned, got '" + fb->root + "'");
+    }
     o.axes = parse_axes(fb->axes);
     o.scale = fb->scale;
     o.sizing = fb->sizing;
@@ -111,11 +119,8 @@ void add_from_bvh(CLI::App* rig) {
                 << " (rig units are read as metres): convert it with --scale "
                 << suggested * fb->scale << "\n";
     }
+    for (const std::string& n : anim.notes) std::cerr << "from-bvh: note: " << n << "\n";
     for (const std::string& w : anim.warnings) std::cerr << "from-bvh: warning: " << w << "\n";
-    if (anim.max_position_error > 1e-6 * std::max(1.0, rig.height())) {
-      std::cerr << "from-bvh: warning: position channels on non-root joints move them along "
-                   "their bones; the rig keeps fixed lengths\n";
-    }
     std::vector<std::string> pairs;
     for (const BoneOverlap& p : anim.rest_overlaps) {
       pairs.push_back(rig.bone_name[p.a] + "/" + rig.bone_name[p.b]);
@@ -268,14 +273,23 @@ void add_bvh_convert(CLI::App& app) {
     if (!co->order.empty()) check_order_option(co->order);
     BvhImportOptions io;
     io.axes = parse_axes(co->axes);
-    const BvhAnimation anim = load_bvh(co->in, io);
+    // the rig is written back at once: its collision exclusions (quadratic in the bones piled at
+    // one point) are never read
+    io.exclude_rest_overlaps = false;
+    const BvhFile file = read_bvh_file(co->in);
+    const BvhAnimation anim = bvh_to_rig(file, co->in, io);
     BvhExportOptions o;
     o.axes = io.axes;
     o.euler_order = co->order;
     o.frame_time = anim.frame_time;
     o.quaternion = is_qbvh_path(co->out);
     o.source_skeleton = !co->own;
-    print_bvh_report(co->out, save_bvh(co->out, anim.rig(), anim.poses, o));
+    // the own skeleton is the rig's: what the conversion could not keep is lost there
+    if (co->own) {
+      for (const std::string& w : anim.warnings) std::cerr << "bvh convert: warning: " << w << "\n";
+    }
+    print_bvh_report(co->out, save_bvh(co->out, anim.rig(), anim.poses, o,
+                                       co->own ? SourceFrames{} : SourceFrames::of_clip(file)));
     std::cerr << "bvh convert: " << anim.rig().nbone << " bones, " << anim.poses.size()
               << " frames -> " << co->out << "\n";
   });

@@ -53,6 +53,60 @@ std::string limit_text(const AxisLimit& l) {
   return s.str();
 }
 
+// a bone's degrees of freedom as rig info counts them: a free root's 6, else Rig::bone_dof (3
+// minus locked axes for a ball, a pinned root's included; 0 for a weld or a fixed root)
+int info_dof(const Rig& rig, int bone) {
+  return bone == 0 && rig.root_joint == RootJoint::kFree ? 6 : rig.bone_dof(bone);
+}
+
+int total_dof(const Rig& rig) {
+  int n = 0;
+  for (int b = 0; b < rig.nbone; ++b) n += info_dof(rig, b);
+  return n;
+}
+
+// how a bone hangs: "free" (the root's 6 DOF), "pinned", "fixed", "ball" or "weld"
+const char* attachment(const Rig& rig, int bone) {
+  if (bone == 0) return to_string(rig.root_joint);
+  return rig.welded(bone) ? "weld" : "ball";
+}
+
+// "[-90, 0]" per limited axis of a bone ("x free  y [-90, 0]  z locked at 0")
+std::string limits_text(const Rig& rig, int bone) {
+  std::string out;
+  for (int a = 0; a < 3; ++a) {
+    out += std::string(a ? "  " : "") + kAxisName[a] + " " + limit_text(rig.bone_limit[bone][a]);
+  }
+  return out;
+}
+
+// the root's joint to the world, e.g. "pinned: a ball at its head, held in place, 2 DOF; limits
+// against its rest frame in the world: x locked at 0  y [-30, 60]  z free"
+std::string root_text(const Rig& rig) {
+  switch (rig.root_joint) {
+    case RootJoint::kPinned:
+      return "pinned: a ball at its head, held in place, " + std::to_string(rig.bone_dof(0)) +
+             " DOF; limits against its rest frame in the world: " + limits_text(rig, 0);
+    case RootJoint::kFixed:
+      return "fixed to the world: 0 DOF";
+    case RootJoint::kFree:
+      break;
+  }
+  return "free: 6 DOF, no limits";
+}
+
+// what rig info says of a bone's joint: the root's to the world, a weld, or a ball's limits
+std::string joint_text(const Rig& rig, int bone) {
+  if (bone == 0) return "root (" + root_text(rig) + ")";
+  if (rig.welded(bone)) return "welded to " + rig.bone_name[rig.bone_weld[bone]] + " (0 DOF)";
+  return limits_text(rig, bone);
+}
+
+// a joint's parent: a bone, or the world (a pinned root's head)
+std::string joint_parent_name(const Rig& rig, const Joint& j) {
+  return j.parent >= 0 ? rig.bone_name[j.parent] : std::string("world");
+}
+
 // the rig's exclusions, its capsule pairs overlapping at rest and its limits whose torsion band
 // holds the rest angle (with the converters' fix)
 void add_rest_checks_json(const Rig& rig, const RestChecks& checks, nlohmann::json& out) {
@@ -81,6 +135,30 @@ void add_rest_checks_json(const Rig& rig, const RestChecks& checks, nlohmann::js
   out["rest_inside_torsion_band"] = bands;
 }
 
+// the joint list: each joint's parent bone (or the world), position at rest, children and DOF
+nlohmann::json joint_list_json(const Rig& rig) {
+  nlohmann::json joints = nlohmann::json::array();
+  for (const Joint& j : rig.joints) {
+    nlohmann::json children = nlohmann::json::array();
+    int dof = 0;
+    for (int c : j.children) {
+      children.push_back({{"bone", rig.bone_name[c]}, {"dof", info_dof(rig, c)}});
+      dof += info_dof(rig, c);
+    }
+    const Vec3 at = j.parent >= 0 ? rig.bone_rest_tail_world[j.parent]
+                                  : rig.bone_rest_head_world[j.children.at(0)];
+    joints.push_back({{"parent", j.parent >= 0 ? nlohmann::json(rig.bone_name[j.parent])
+                                               : nlohmann::json(nullptr)},
+                      {"world", j.parent < 0},
+                      {"anchored", j.anchored},
+                      {"position", vec_json(at)},
+                      {"children", children},
+                      {"nbone", j.nbone()},
+                      {"dof", dof}});
+  }
+  return joints;
+}
+
 nlohmann::json rig_info_json(const Rig& rig, const std::string& path) {
   const RestChecks checks = rest_checks(rig);
   nlohmann::json bones = nlohmann::json::array();
@@ -105,34 +183,25 @@ nlohmann::json rig_info_json(const Rig& rig, const std::string& path) {
          {"collision_radius", rig.bone_collision_radius[i]},
          {"mass", rig.bone_mass[i]},
          {"inertia_local", vec_json(rig.bone_inertia_local[i])},
-         {"dof", rig.bone_parent[i] < 0 ? 6 : rig.bone_dof(i)},
+         {"joint", attachment(rig, i)},
+         {"welded_to", rig.welded(i) ? nlohmann::json(rig.bone_name[rig.bone_weld[i]])
+                                     : nlohmann::json(nullptr)},
+         {"dof", info_dof(rig, i)},
          {"limits_deg", limits}});
-  }
-  nlohmann::json joints = nlohmann::json::array();
-  for (const Joint& j : rig.joints) {
-    nlohmann::json children = nlohmann::json::array();
-    int dof = 0;
-    for (int c : j.children) {
-      children.push_back({{"bone", rig.bone_name[c]}, {"dof", rig.bone_dof(c)}});
-      dof += rig.bone_dof(c);
-    }
-    joints.push_back({{"parent", rig.bone_name[j.parent]},
-                      {"position", vec_json(rig.bone_rest_tail_world[j.parent])},
-                      {"children", children},
-                      {"nbone", j.nbone()},
-                      {"dof", dof}});
   }
   nlohmann::json out = {{"file", path},
                         {"name", rig.name},
                         {"source", rig.source},
                         {"units", rig.units},
+                        {"root", to_string(rig.root_joint)},
                         {"bones", rig.nbone},
+                        {"dof", total_dof(rig)},
                         {"joints", static_cast<int>(rig.joints.size())},
                         {"max_bones_per_joint", rig.max_bones_per_joint()},
                         {"total_mass", rig.total_mass()},
                         {"height", rig.height()},
                         {"bone_list", bones},
-                        {"joint_list", joints}};
+                        {"joint_list", joint_list_json(rig)}};
   add_rest_checks_json(rig, checks, out);
   return out;
 }
@@ -150,12 +219,7 @@ void print_bone_frames(const Rig& rig) {
     for (int a = 0; a < 3; ++a) {
       s << "  " << kAxisName[a] << " (" << f(0, a) << ", " << f(1, a) << ", " << f(2, a) << ")";
     }
-    if (rig.bone_parent[i] < 0) {
-      s << "  root (free)";
-    } else {
-      for (int a = 0; a < 3; ++a)
-        s << "  " << kAxisName[a] << " " << limit_text(rig.bone_limit[i][a]);
-    }
+    s << "  " << joint_text(rig, i);
     std::cout << s.str() << "\n";
   }
 }
@@ -188,18 +252,22 @@ void print_rig_info(const Rig& rig, const std::string& path) {
             << "  bones: " << rig.nbone << "\n"
             << "  joints: " << rig.joints.size() << "\n"
             << "  max bones at one joint: " << rig.max_bones_per_joint() << "\n"
+            << "  degrees of freedom: " << total_dof(rig) << " (every bone's, the root's to the "
+            << "world included)\n"
             << std::setprecision(4) << "  total mass: " << rig.total_mass() << " kg\n"
             << "  height: " << rig.height() << " rig units\n"
-            << "  joints (at the parent's tail; DOF of each child relative to the parent):\n";
+            << "  root '" << rig.bone_name[0] << "': " << root_text(rig) << "\n"
+            << "  joints (at the parent's tail, or the world's at a pinned root's head; DOF of "
+               "each child relative to the parent):\n";
   for (std::size_t k = 0; k < rig.joints.size(); ++k) {
     const Joint& j = rig.joints[k];
     int dof = 0;
     std::ostringstream kids;
     for (int c : j.children) {
-      kids << " " << rig.bone_name[c] << "(" << rig.bone_dof(c) << ")";
-      dof += rig.bone_dof(c);
+      kids << " " << rig.bone_name[c] << "(" << info_dof(rig, c) << ")";
+      dof += info_dof(rig, c);
     }
-    std::cout << "    [" << k << "] " << rig.bone_name[j.parent] << " ->" << kids.str() << "  "
+    std::cout << "    [" << k << "] " << joint_parent_name(rig, j) << " ->" << kids.str() << "  "
               << j.nbone() << " bones, " << dof << " DOF\n";
   }
   print_bone_frames(rig);
@@ -215,8 +283,9 @@ void add_info(CLI::App* rig) {
   auto info_opt = std::make_shared<InfoOptions>();
   auto* info = rig->add_subcommand(
       "info",
-      "Bones, joints, DOF per joint and total mass of a rig; each bone's local axes in world at "
-      "rest and its limits per axis; the bone pairs whose capsules overlap at rest and the "
+      "Bones, joints, DOF per joint and total mass of a rig; the root's joint to the world (free, "
+      "pinned with its limits, fixed); each bone's local axes in world at rest and its limits per "
+      "axis, or the bone it is welded to; the bone pairs whose capsules overlap at rest and the "
       "limits whose torsion band holds the rest angle");
   info->add_option("RIG", info_opt->path, "Rig file (JSON)")->required();
   info->add_flag("--json", info_opt->json, "Print JSON instead of text");

@@ -147,6 +147,7 @@ void run_simulate(const SimulateOptions& o) {
     BvhExportOptions bo;
     bo.source_skeleton = !o.own_skeleton;
     bvh = std::make_unique<BvhRecorder>(scene.rig, scene.params.dt * o.every, 1, bo);
+    bvh->hold_source_row(scene.initial_source_row);  // every pose came from the initial one
     bvh->record(scene.initial_pose);
   }
   // the run folder (physik/io/run_folder.h): scene.json, both tables, summary.json, final_pose.csv;

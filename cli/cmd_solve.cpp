@@ -58,14 +58,19 @@ void write_solution(const Scene& scene, const SceneSolveResult& r, const nlohman
   write_json(summary, out + "/summary.json");
 }
 
-// --bvh: the final pose as a one-frame animation, on the rig's source skeleton when it has one
+// --bvh: the final pose as a one-frame animation, on the rig's source skeleton when it has one,
+// keeping what the rig cannot hold from the clip frame the initial pose came from (if it did),
+// at the source file's frame time (the step's when the rig does not know it)
 void write_solution_bvh(const Scene& scene, const SceneSolveResult& r, const SolveOptions& o) {
   const Pose& pose = r.pose;
   BvhExportOptions bo;
   bo.source_skeleton = !o.own_skeleton;
   bo.quaternion = is_qbvh_path(o.bvh);
-  bo.frame_time = scene.params.dt;
-  print_bvh_report(o.bvh, save_bvh(o.bvh, scene.rig, {pose}, bo));
+  const double source_frame_time = scene.rig.source_skeleton.frame_time;
+  bo.frame_time = source_frame_time > 0.0 ? source_frame_time : scene.params.dt;
+  SourceFrames source;
+  if (!scene.initial_source_row.empty()) source = {{scene.initial_source_row}, {0}};
+  print_bvh_report(o.bvh, save_bvh(o.bvh, scene.rig, {pose}, bo, source));
 }
 
 // the scene's "solve" object, then the flags given on top

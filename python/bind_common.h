@@ -22,6 +22,9 @@ nlohmann::json to_json(py::handle value, const std::string& what);
 // JSON as plain Python values (dict, list, str, int, float, bool, None).
 py::object from_json(const nlohmann::json& value);
 
+// (n, 3) doubles, a new array (a copy of the points)
+py::array vec3_array(const std::vector<Vec3>& v);
+
 // A read-only numpy view of `rows` x `cols` doubles at `data`, `row_stride` bytes apart, kept
 // alive by `owner` (no copy).
 py::array readonly_view(const double* data, py::ssize_t rows, py::ssize_t cols,
@@ -55,5 +58,8 @@ void bind_reference(py::module_& m);   // export_mjcf, compare_mujoco
 void bind_tune(py::module_& m);        // tune, equilibrium
 void bind_posing(py::module_& m);      // PosingSession
 void bind_view(py::module_& m);        // view (the page of `physik view`)
+void bind_clip(py::module_& m);        // Clip, the write-back, follow scenes
+// Rig.from_bvh, rig.source_skeleton, source_notes, root (bind_clip.cpp), called by bind_rig
+void bind_rig_source(py::class_<Rig>& cls);
 
 }  // namespace physik::python

@@ -17,8 +17,6 @@
 
 namespace physik::python {
 
-namespace {
-
 py::array vec3_array(const std::vector<Vec3>& v) {
   py::array_t<double> a({static_cast<py::ssize_t>(v.size()), py::ssize_t(3)});
   auto m = a.mutable_unchecked<2>();
@@ -27,6 +25,8 @@ py::array vec3_array(const std::vector<Vec3>& v) {
   }
   return a;
 }
+
+namespace {
 
 nlohmann::json vec_json(const Vec3& v) {
   return {v.x(), v.y(), v.z()};
@@ -101,14 +101,14 @@ void update_scene(Scene& s, py::object params, py::object convergence, py::objec
 }
 
 void bind_rig(py::module_& m) {
-  py::class_<Rig>(m, "Rig",
-                  R"doc(A rig: bones in DFS order (parents first), rest pose, limits, masses.
+  py::class_<Rig> cls(m, "Rig",
+                      R"doc(A rig: bones in DFS order (parents first), rest pose, limits, masses.
 
 Constant: a Simulation never changes it. Build one with Rig.load, Rig.chain or Rig.from_dict.
-Arrays are copies, per bone in DFS order; positions in rig units, world frame (Z up).)doc")
-      .def_static("load", &load_rig, py::arg("path"),
-                  "Load a rig file (models/README.md). Bad input raises InputError with the CLI's "
-                  "message (file, element, field).")
+Arrays are copies, per bone in DFS order; positions in rig units, world frame (Z up).)doc");
+  cls.def_static("load", &load_rig, py::arg("path"),
+                 "Load a rig file (models/README.md). Bad input raises InputError with the CLI's "
+                 "message (file, element, field).")
       .def_static("chain", &make_chain_rig, py::arg("n"), py::arg("bone_length") = 1.0,
                   py::arg("radius") = 0.5,
                   "A straight chain of n free bones along +Z from the origin (`physik rig chain`).")
@@ -141,6 +141,7 @@ Arrays are copies, per bone in DFS order; positions in rig units, world frame (Z
       .def("__repr__", [](const Rig& r) {
         return "<physik.Rig '" + r.name + "' with " + std::to_string(r.nbone) + " bones>";
       });
+  bind_rig_source(cls);
 }
 
 void bind_scene_reading(py::class_<Scene>& cls);

@@ -16,4 +16,5 @@ PYBIND11_MODULE(_core, m) {
   physik::python::bind_tune(m);
   physik::python::bind_posing(m);
   physik::python::bind_view(m);
+  physik::python::bind_clip(m);
 }

@@ -530,11 +530,189 @@ check "bvh channels on an End Site" 2 "$bin" rig from-bvh "$tmp/endch.bvh"
 expect_in "bvh End Site channels message" "$tmp/err" "endch.bvh: line 9: field 'CHANNELS': an End Site has no channels"
 printf 'HIERARCHY\nROOT A\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n  JOINT B\n  {\n    OFFSET 0 0 0\n    CHANNELS 3 Zrotation Xrotation Yrotation\n    End Site\n    {\n      OFFSET 0 1 0\n    }\n  }\n  JOINT C\n  {\n    OFFSET 0 0 0\n    CHANNELS 3 Zrotation Xrotation Yrotation\n    End Site\n    {\n      OFFSET 1 0 0\n    }\n  }\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n0 0 0 10 20 30 0 0 0\n' > "$tmp/zero.bvh"
 check "bvh zero offsets to several children" 0 "$bin" rig from-bvh "$tmp/zero.bvh" --out "$tmp/zero.json"
-expect_in "bvh zero offsets named" "$tmp/err" "from-bvh: warning: joint 'A' (line 2) has 2 children at its own position (zero OFFSET: B, C)"
+expect_in "bvh a joint with no bone named" "$tmp/err" "from-bvh: warning: joint 'A' (line 2) has no bone of its own (its children B, C sit at its position)"
+expect_in "bvh a root without position channels is pinned" "$tmp/err" "from-bvh: note: root joint 'A' (line 2) has no position channels, so it never moves: its joint is pinned where it is"
 check "bvh zero offsets no nan" 1 grep -qi nan "$tmp/zero.json"
 printf 'HIERARCHY\nROOT A\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n  JOINT B\n  {\n    OFFSET 0 1 0\n    CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n    End Site\n    {\n      OFFSET 0 1 0\n    }\n  }\n}\nMOTION\nFrames: 2\nFrame Time: 0.1\n0 0 0 0 1 0 0 0 0\n0 0 0 0 1.5 0 0 0 0\n' > "$tmp/slide.bvh"
 check "bvh position channels off the offset" 0 "$bin" rig from-bvh "$tmp/slide.bvh" --out "$tmp/slide.json"
-expect_in "bvh position channels named by joint and bone" "$tmp/err" "from-bvh: warning: joint 'B' (line 6, bone 'A'): its position channels move it off its OFFSET"
+expect_in "bvh position channels named by joint, bone and size" "$tmp/err" "from-bvh: warning: joint 'B' (line 6, bone 'A'): its position channels move it up to 0.5 file units off its OFFSET"
+
+# the write-back (issue 56): a CMU-like clip (Spine1 and the hand: children at their origin; a
+# joint with no child), angles on either branch, a stretch; every channel comes back
+cat > "$tmp/cmu.bvh" <<'BVH'
+HIERARCHY
+ROOT Hips
+{
+  OFFSET 0 17 0
+  CHANNELS 6 Xposition Yposition Zposition Zrotation Yrotation Xrotation
+  JOINT LowerBack
+  {
+    OFFSET 0 0 0
+    CHANNELS 3 Zrotation Yrotation Xrotation
+    JOINT Spine1
+    {
+      OFFSET 0 2 0
+      CHANNELS 3 Zrotation Yrotation Xrotation
+      JOINT Neck
+      {
+        OFFSET 0 0 0
+        CHANNELS 3 Zrotation Yrotation Xrotation
+        JOINT Head
+        {
+          OFFSET 0 1.6 0
+          CHANNELS 6 Xposition Yposition Zposition Zrotation Yrotation Xrotation
+          JOINT HeadTop
+          {
+            OFFSET 0 1.8 0
+            CHANNELS 3 Zrotation Yrotation Xrotation
+          }
+        }
+      }
+      JOINT LeftShoulder
+      {
+        OFFSET 0 0 0
+        CHANNELS 3 Zrotation Yrotation Xrotation
+        JOINT LeftHand
+        {
+          OFFSET 3.5 0 0
+          CHANNELS 3 Zrotation Yrotation Xrotation
+          JOINT LThumb
+          {
+            OFFSET 0 0 0
+            CHANNELS 3 Zrotation Yrotation Xrotation
+            End Site
+            {
+              OFFSET 0.6 0 0.6
+            }
+          }
+          JOINT LeftFingerBase
+          {
+            OFFSET 0 0 0
+            CHANNELS 3 Zrotation Yrotation Xrotation
+            End Site
+            {
+              OFFSET 1.2 0 0
+            }
+          }
+        }
+      }
+    }
+  }
+}
+MOTION
+Frames: 2
+Frame Time: 0.0083333
+0 17 0 0 0 0 0 0 0 0 0 0 0 0 0 0 1.6 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0
+1.5 16.5 -2 154.4 -36.8 -111.4 12 -150 40 -5 3 170 20 10 -30 0.1 1.7 -0.05 90 -45 10 -120 60 100 30 -20 10 -10 160 -100 25 35 -15 -60 -80 120
+BVH
+check "bvh convert cmu-like" 0 "$bin" bvh convert "$tmp/cmu.bvh" "$tmp/cmu_back.bvh"
+check "bvh convert: no warnings" 1 grep -q "warning" "$tmp/err"
+check "bvh convert: every channel as it was" 0 python3 - "$tmp/cmu.bvh" "$tmp/cmu_back.bvh" <<'PY'
+import sys
+def rows(path):
+    lines = open(path).read().split("MOTION")[1].strip().splitlines()[2:]
+    return [[float(v) for v in l.split()] for l in lines]
+a, b = rows(sys.argv[1]), rows(sys.argv[2])
+worst = max(abs(x - y) for ra, rb in zip(a, b) for x, y in zip(ra, rb))
+assert len(a) == len(b) and worst < 1e-6, worst
+PY
+check "bvh convert cmu-like to qbvh and back" 0 "$bin" bvh convert "$tmp/cmu_back.bvh" "$tmp/cmu.qbvh"
+check "qbvh back to bvh" 0 "$bin" bvh convert "$tmp/cmu.qbvh" "$tmp/cmu_q.qbvh"
+check "qbvh convert: every quaternion as it was" 0 python3 - "$tmp/cmu.qbvh" "$tmp/cmu_q.qbvh" <<'PY'
+import sys
+def rows(path):
+    lines = open(path).read().split("MOTION")[1].strip().splitlines()[2:]
+    return [[float(v) for v in l.split()] for l in lines]
+a, b = rows(sys.argv[1]), rows(sys.argv[2])
+assert max(abs(x - y) for ra, rb in zip(a, b) for x, y in zip(ra, rb)) < 1e-9
+PY
+# a solve from a frame of the clip: the held joints keep that frame's rotation, one frame at the
+# source's frame time
+check "from-bvh cmu-like" 0 "$bin" rig from-bvh "$tmp/cmu.bvh" --scale 0.056 --out "$tmp/cmu.json"
+expect_in "from-bvh names the joints with no bone" "$tmp/err" "joint 'Spine1' (line 10) has no bone of its own (its children Neck, LeftShoulder sit at its position)"
+expect_in "from-bvh names the joint with no child" "$tmp/err" "joint 'HeadTop' (line 22) has no bone of its own (no child, no End Site)"
+expect_in "from-bvh names the stretch and its size" "$tmp/err" "joint 'Head' (line 18, bone 'Neck'): its position channels move it up to 0.15 file units off its OFFSET"
+printf '{"rig": "cmu.json", "steps": 5, "control_points": [{"bone": "LeftFingerBase", "target": [0.2, -0.1, 1.1]}], "initial_pose": {"bvh": "cmu.bvh", "frame": 1}}\n' > "$tmp/cmu_scene.json"
+check "solve --bvh from a clip frame" 0 "$bin" solve "$tmp/cmu_scene.json" --solver dls --out "$tmp/cmu_solve" --bvh "$tmp/cmu_solve.bvh" --quiet
+expect_in "solve --bvh at the source's frame time" "$tmp/cmu_solve.bvh" "Frame Time: 0.0083333"
+check "solve --bvh: Spine1 and the stretch as the frame had them" 0 python3 - "$tmp/cmu.bvh" "$tmp/cmu_solve.bvh" <<'PY'
+import sys
+def last(path):
+    return [float(v) for v in open(path).read().split("MOTION")[1].strip().splitlines()[-1].split()]
+a, b = last(sys.argv[1]), last(sys.argv[2])
+# Spine1's channels (columns 9-11) and Head's position channels (18-20)
+assert max(abs(a[k] - b[k]) for k in list(range(9, 12)) + list(range(18, 21))) < 1e-6, (a, b)
+PY
+# a root with no position channels (three.js's pirouette) is pinned: a solve cannot move it
+printf 'HIERARCHY\nROOT hip\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Zrotation Yrotation Xrotation\n  JOINT abdomen\n  {\n    OFFSET 0 20 -1\n    CHANNELS 3 Zrotation Yrotation Xrotation\n    End Site\n    {\n      OFFSET 0 30 0\n    }\n  }\n  JOINT lthigh\n  {\n    OFFSET 9 -2 0\n    CHANNELS 3 Zrotation Yrotation Xrotation\n    End Site\n    {\n      OFFSET 0 -80 0\n    }\n  }\n}\nMOTION\nFrames: 1\nFrame Time: 0.0083333\n0 0 0 0 0 0 0 0 0\n' > "$tmp/pirouette.bvh"
+check "from-bvh pirouette-like" 0 "$bin" rig from-bvh "$tmp/pirouette.bvh" --scale 0.01 --out "$tmp/pir.json"
+check "pirouette-like root held" 0 python3 -c "import json; r=json.load(open('$tmp/pir.json')); assert r['root'] in ('pinned', 'fixed'), r.get('root')"
+printf '{"rig": "pir.json", "steps": 200, "control_points": [{"bone": "abdomen", "target": [0.2, 0.2, 0.3]}]}\n' > "$tmp/pir_scene.json"
+check "solve pirouette-like" 0 "$bin" solve "$tmp/pir_scene.json" --solver physik --out "$tmp/pir_solve" --bvh "$tmp/pir_solve.bvh" --quiet
+check "pirouette-like: no root move to leave out" 1 grep -q "has no .position channel" "$tmp/err"
+check "from-bvh --root free" 0 "$bin" rig from-bvh "$tmp/pirouette.bvh" --scale 0.01 --root free --out "$tmp/pir_free.json"
+check "from-bvh --root bad" 2 "$bin" rig from-bvh "$tmp/pirouette.bvh" --root hovering
+expect_in "from-bvh --root message" "$tmp/err" "physik: error: --root: expected free or pinned, got 'hovering'"
+# whatever physik writes, physik reads: a scale that puts the rig past +-1e9 is refused
+check "to-bvh past 1e9" 2 "$bin" rig to-bvh "$src/models/rigs/pinhead.json" --own-skeleton --scale 1e9 --out "$tmp/big.bvh"
+expect_in "to-bvh past 1e9 message" "$tmp/err" "beyond +-1e9 file units"
+check "to-bvh past 1e9 writes nothing" 1 test -e "$tmp/big.bvh"
+# a joint with 10,000 siblings converts in linear memory (it took 2.3 GB and minutes: the rest
+# overlaps' broad phase over bones piled at one joint, which bvh convert never reads)
+python3 - "$tmp/wide.bvh" <<'PY'
+import random, sys
+random.seed(1)
+n = 10000
+s = "HIERARCHY\nROOT r\n{\nOFFSET 0 0 0\nCHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\nEnd Site\n{\nOFFSET 0 1 0\n}\n"
+for i in range(n):
+    s += "JOINT s%d\n{\nOFFSET %g %g %g\nCHANNELS 3 Zrotation Xrotation Yrotation\nEnd Site\n{\nOFFSET 0 1 0\n}\n}\n" % (
+        i, random.uniform(-1, 1), random.uniform(-1, 1), random.uniform(-1, 1))
+s += "}\nMOTION\nFrames: 1\nFrame Time: 0.1\n" + " ".join(["0"] * (6 + 3 * n)) + "\n"
+open(sys.argv[1], "w").write(s)
+PY
+check "bvh convert of 10,000 siblings within 400 MB" 0 bash -c "ulimit -v 400000; '$bin' bvh convert '$tmp/wide.bvh' '$tmp/wide_back.bvh'"
+# a source skeleton listed parents first but not depth first: refused, naming the field
+check "source skeleton not depth-first" 0 python3 - "$tmp/cmu.json" "$tmp/cmu_bfs.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+j = r["source_skeleton"]["joints"]
+names = [x["name"] for x in j]
+j[names.index("LeftHand")]["parent"] = names.index("Neck")  # Neck's subtree closed before it
+json.dump(r, open(sys.argv[2], "w"))
+PY
+check "rig with a skeleton not depth-first" 2 "$bin" rig to-bvh "$tmp/cmu_bfs.json"
+expect_in "rig with a skeleton not depth-first message" "$tmp/err" "source_skeleton.joints[7]: field 'parent': joint 3 is not the joint before nor one of its ancestors"
+
+# rig info tells the rig's story (issue 56 part 4, issue 58): welds, pinned and fixed roots
+printf '{"root": "pinned", "bones": [{"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,1], "limits_deg": {"x": [0, 0], "y": [-30, 60]}}, {"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2]}, {"name": "c", "parent": "a", "head": [0,0,1], "tail": [1,0,1], "weld": "b"}]}' > "$tmp/pinned.json"
+check "rig info pinned root" 0 "$bin" rig info "$tmp/pinned.json"
+expect_in "rig info pinned root says so" "$tmp/out" "root 'a': pinned: a ball at its head, held in place, 2 DOF; limits against its rest frame in the world: x locked at 0  y [-30, 60]  z free"
+expect_in "rig info the world's joint" "$tmp/out" "[0] world -> a(2)"
+expect_in "rig info welded bone" "$tmp/out" "welded to b (0 DOF)"
+check "rig info pinned root json" 0 "$bin" rig info --json "$tmp/pinned.json"
+cp "$tmp/out" "$tmp/pinned_info.json"
+check "rig info json dof agrees with the joint list" 0 python3 - "$tmp/pinned_info.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+bones = {b["name"]: b for b in r["bone_list"]}
+assert r["root"] == "pinned" and bones["a"]["dof"] == 2 and bones["a"]["joint"] == "pinned"
+assert bones["c"]["dof"] == 0 and bones["c"]["welded_to"] == "b", bones["c"]
+assert sum(j["dof"] for j in r["joint_list"]) == sum(b["dof"] for b in r["bone_list"]) == r["dof"] == 5
+assert r["joint_list"][0]["parent"] is None and r["joint_list"][0]["world"]
+PY
+sed 's/"pinned"/"fixed"/; s/, "limits_deg": {"x": \[0, 0\], "y": \[-30, 60\]}//' "$tmp/pinned.json" > "$tmp/fixed.json"
+check "rig info fixed root" 0 "$bin" rig info "$tmp/fixed.json"
+expect_in "rig info fixed root says so" "$tmp/out" "root 'a': fixed to the world: 0 DOF"
+if [ -f /usr/share/mujoco/model/adhesion/active_adhesion.xml ]; then
+  check "from-mjcf adhesion" 0 "$bin" rig from-mjcf /usr/share/mujoco/model/adhesion/active_adhesion.xml --out "$tmp/adhesion.json"
+  check "rig info --json adhesion" 0 "$bin" rig info --json "$tmp/adhesion.json"
+  check "rig info adhesion" 0 "$bin" rig info "$tmp/adhesion.json"
+fi
+if [ -f /usr/share/mujoco/model/tendon_arm/arm26.xml ]; then
+  check "from-mjcf arm26" 0 "$bin" rig from-mjcf /usr/share/mujoco/model/tendon_arm/arm26.xml --out "$tmp/arm26.json"
+  check "rig info arm26" 0 "$bin" rig info "$tmp/arm26.json"
+  expect_in "rig info arm26 pinned root" "$tmp/out" "(pinned: a ball at its head"
+fi
 
 # the rig's collision_exclude, and what rig info says about the rest pose
 printf '{"bones": [{"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,1]}, {"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2]}], "collision_exclude": [["a", "b"], ["b", "b"]]}' > "$tmp/twice.json"

@@ -21,6 +21,11 @@
 // --radius), its mass a rod of density 1000 kg/m^3 (or mass_per_length x L), all after the scale;
 // the pairs of bones whose capsules overlap at rest are added to the rig's collision_exclude.
 //
+// A root with no position channels never moves: by default its joint is pinned where it is
+// (pivot_rig.h 3c.: the root bone pinned at its head, or a synthetic root a fixed handle with
+// the root joint's bones on a ball at its tail), with a note in the rig's source;
+// BvhImportOptions::root chooses.
+//
 // BVH -> rig (pivot_rig.h): every BVH joint is a pivot; its children and End Sites give bones from
 // the joint to each distinct child offset. A joint with one such offset gives one bone named after
 // the joint (Blender's convention: bone "LeftArm" starts at joint LeftArm and carries its
@@ -47,15 +52,29 @@
 // were (names, hierarchy, channel order, file units), so the pose goes back onto the character it
 // came from. Per frame (source_pose.h): each joint's world rotation from rest in file axes,
 // Rf_J = A^-1 R_J A; its rotation channels hold L_J = Rf_parent^-1 Rf_J decomposed in the
-// joint's own channel order (closest to the previous frame's angles; qBVH: its quaternion, in
-// one hemisphere from frame to frame); the root's position channels hold the root joint's
-// position, A^-1 p_root / scale; a non-root joint's position channels its OFFSET (a rig's bone
-// keeps its length). What the file cannot hold is said (BvhWriteReport): a root that moved along
-// an axis it has no position channel for, a turn about an axis a joint has no rotation channel
-// for (a joint with fewer than three: the decomposition in its order followed by the missing
-// axes, their angles left out). Options: `quaternion` writes every rotating joint's rotation
-// channels as the four quaternion channels, `euler_order` every three-angle joint's in that
-// order, the rest kept; the file's axes and scale are the source's (the options' are not read).
+// joint's own channel order; the root's position channels hold the root joint's position,
+// A^-1 p_root / scale. A pose may come with the source frame it came from (SourceFrames: a row
+// of a clip of the source skeleton); what the rig cannot hold is then taken from that row:
+//   - a joint with no bone of its own keeps that row's local rotation (source_pose.h), its
+//     children's channels absorb whatever a solve changed;
+//   - a non-root joint's position channels keep that row's values (a stretch of its bone, which
+//     the rig's fixed lengths leave out); with no row, its OFFSET;
+//   - each joint's Euler angles are the equivalent triple nearest that row's values for its
+//     channels (the other branch (a + pi, pi - b, c + pi) and 2 pi turns; at gimbal lock the
+//     row's third angle); with no row, or channels other than the row's, nearest the previous
+//     frame's; a quaternion takes that row's hemisphere, else the previous frame's.
+// So writing a frame that nothing moved gives every channel of that row back (within 1e-6:
+// round-off and the 15 digits written; a qBVH row's quaternion normalised, within the reader's
+// 1e-3). What the file cannot hold is said (BvhWriteReport): a root that moved along an axis it
+// has no position channel for, a turn about an axis a joint has no rotation channel for (a joint
+// with fewer than three: the decomposition in its order followed by the missing axes, their
+// angles left out). Options: `quaternion` writes every rotating joint's rotation channels as the
+// four quaternion channels, `euler_order` every three-angle joint's in that order, the rest kept;
+// the file's axes and scale are the source's (the options' are not read).
+//
+// Whatever is written reads back (parse_bvh, and bvh_to_rig at scale 1): an OFFSET, End Site or
+// position channel beyond +-kMaxCoordinate, or a joint or End Site that the OFFSETs put beyond it
+// at rest, is refused (InputError naming the target) before anything is written.
 //
 // Axes: BvhAxes::kYUp (default) treats the file as Y up (the BVH habit; Blender's importer default
 // axis_forward=-Z, axis_up=Y) and maps file (x, y, z) -> rig (x, -z, y) (+90 deg about X);
@@ -63,6 +82,7 @@
 #pragma once
 
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -103,6 +123,12 @@ struct BvhFile {
 BvhFile parse_bvh(const std::string& text, const std::string& source);
 BvhFile read_bvh_file(const std::string& path);
 
+// The frames of `bvh` checked as parse_bvh checks a file's (for frames made elsewhere, e.g. set
+// from Python): one value per channel, finite, position channels within +-kMaxCoordinate, each
+// joint's quaternion of norm within 1e-3 of 1; a positive finite frame time. InputError naming
+// `source`, "frame f" and the joint. Sets the joints' channel_start and nchannel.
+void check_bvh_frames(BvhFile& bvh, const std::string& source);
+
 // Local rotation L_J and translation t_J of joint j in a frame row (file axes; degrees -> rad).
 Quat bvh_local_rotation(const BvhJoint& joint, const std::vector<double>& row);
 Vec3 bvh_local_translation(const BvhJoint& joint, const std::vector<double>& row);
@@ -123,6 +149,9 @@ struct BvhImportOptions {
   // add the bone pairs whose capsules overlap at rest to the rig's collision_exclude
   // (bone_overlaps.h); its cost grows with the pairs of bones piled at one point
   bool exclude_rest_overlaps = true;
+  // the root's joint to the world: free, or pinned (the root joint turns in place: pivot_rig.h
+  // 3c.); unset: pinned when the file's root has no position channel (it never moves), else free
+  std::optional<RootJoint> root;
 };
 
 struct BvhAnimation {
@@ -134,6 +163,9 @@ struct BvhAnimation {
   // what the file asks that the rig cannot quite be, by joint: "joint 'Hips' has 2 children at
   // its own position (zero OFFSET: Spine, Hip2)..."
   std::vector<std::string> warnings;
+  // what the conversion chose that the file did not say, e.g. a root pinned for want of position
+  // channels
+  std::vector<std::string> notes;
   const Rig& rig() const { return pivots.rig; }
 };
 
@@ -180,7 +212,9 @@ bool bvh_channel_from_name(const std::string& name, BvhChannel& out);
 // A BvhFile as text: HIERARCHY (iteratively: any depth; indentation stops deepening at 32
 // levels) and MOTION with `frame_time`; the joints' channel_start and the file's nchannel are
 // not read (each row holds every joint's channels in order). Throws InputError naming `target`
-// for a value that is not finite.
+// for a value that is not finite, and, before anything is written, for a file physik's reader
+// would refuse: an OFFSET, End Site or position channel beyond +-kMaxCoordinate, or a joint or
+// End Site that the OFFSETs put beyond it at rest (bvh_to_rig's check at scale 1).
 void write_bvh_file(const BvhFile& bvh, const std::string& target, std::ostream& out);
 
 // The source skeleton as a BvhFile (no frames): its joints, offsets, channels and End Sites.
@@ -212,14 +246,42 @@ bool is_qbvh_path(const std::string& path);
 // angle in [-pi/2, pi/2]. Used by the writer; exposed for tests.
 Vec3 euler_from_rotation(const Quat& q, const std::string& order);
 Quat rotation_from_euler(const Vec3& angles, const std::string& order);
+// The Euler angles (rad) of `q` in `order` nearest `reference` ("Rig -> its source skeleton"):
+// the equivalent triple closest to it (the other branch and 2 pi turns); near gimbal lock
+// (|cos| of the middle angle below 1e-3, where the first and third angles are ill-conditioned
+// apart) the third angle is the reference's and the first two follow from q R_k(-ref_2), each
+// well-conditioned. A triple that gives q is returned as it was (to round-off).
+Vec3 nearest_euler(const Quat& q, const std::string& order, const Vec3& reference);
 
-// Writes a rig and its poses (rest pose only when `poses` is empty). Throws InputError naming
+// The frames of a clip of the rig's source skeleton that written poses came from ("Rig -> its
+// source skeleton" above): pose i came from rows[frame_of_pose[i]], or from none where that is -1
+// or i is past its end. A row has one value per channel of the source skeleton, in the columns of
+// source_skeleton_bvh (a clip's frame as parse_bvh reads it).
+struct SourceFrames {
+  std::vector<std::vector<double>> rows;  // (nrow x nchannel) degrees, file units, quaternions
+  std::vector<int> frame_of_pose;         // (npose) index into rows, -1 for none
+  // the row pose `i` came from, nullptr for none
+  const std::vector<double>* row(std::size_t pose) const;
+  // every frame of `clip` as the source of the pose of the same index
+  static SourceFrames of_clip(const BvhFile& clip);
+};
+
+// Writes a rig and its poses (rest pose only when `poses` is empty), on the source skeleton with
+// the frames the poses came from where `source` gives them. Throws InputError naming
 // options.target (save_bvh: the path) for a bad Euler order, a scale or frame time that is not
-// positive and finite, or a value that the scale pushes past double range.
+// positive and finite, a value that the scale pushes past double range or that the reader would
+// refuse (beyond +-kMaxCoordinate), a source row of the wrong length.
 BvhWriteReport write_bvh(const Rig& rig, const std::vector<Pose>& poses,
-                         const BvhExportOptions& options, std::ostream& out);
+                         const BvhExportOptions& options, std::ostream& out,
+                         const SourceFrames& source = {});
 BvhWriteReport save_bvh(const std::string& path, const Rig& rig, const std::vector<Pose>& poses,
-                        const BvhExportOptions& options);
+                        const BvhExportOptions& options, const SourceFrames& source = {});
+
+// The source skeleton's clip of `poses` (the file write_bvh writes for a rig with a source
+// skeleton, before it is text), and what it could not hold in `report`.
+BvhFile source_clip_of_poses(const Rig& rig, const std::vector<Pose>& poses,
+                             const BvhExportOptions& options, const SourceFrames& source,
+                             BvhWriteReport& report);
 
 // Records a run as an animation: keeps the 1st, (every+1)th, ... call of record(); writes the file
 // with frame_time = dt * every. For `physik simulate --bvh OUT [--every N]`.
@@ -229,6 +291,9 @@ class BvhRecorder {
   BvhRecorder(const Rig& rig, double dt, int every = 1, BvhExportOptions options = {});
   void record(const Pose& pose);
   void record(const BoneFrames& frames);  // world frames, as the engine holds them
+  // the source frame (a row of a clip of the rig's source skeleton) the poses recorded from now
+  // on came from (SourceFrames); an empty row: none
+  void hold_source_row(const std::vector<double>& row);
   int recorded() const { return static_cast<int>(poses_.size()); }
   // qBVH if the path ends in .qbvh; folders are created. Throws InputError if it cannot write.
   BvhWriteReport save(const std::string& path) const;
@@ -240,6 +305,8 @@ class BvhRecorder {
   long calls_ = 0;
   BvhExportOptions options_;
   std::vector<Pose> poses_;
+  SourceFrames source_;  // the held rows, one index per recorded pose
+  int held_ = -1;        // the row the next recorded pose came from
 };
 
 }  // namespace physik

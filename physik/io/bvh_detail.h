@@ -81,6 +81,12 @@ Vec3 closest_euler(const Vec3& e, const Vec3& prev);
 
 // write_bvh for a rig with a source skeleton: that skeleton and its channels (bvh_source.cpp)
 BvhWriteReport write_source_bvh(const Rig& rig, const std::vector<Pose>& poses,
-                                const BvhExportOptions& options, std::ostream& out);
+                                const BvhExportOptions& options, const SourceFrames& source,
+                                std::ostream& out);
+
+// refuses (InputError naming `target`) a file that physik's reader would refuse: an OFFSET, End
+// Site or position channel beyond +-kMaxCoordinate, or a joint or End Site that the OFFSETs put
+// beyond it at rest (bvh_to_rig at scale 1); each row holds every joint's channels in order
+void check_readable(const BvhFile& bvh, const std::string& target);
 
 }  // namespace physik::bvh_detail

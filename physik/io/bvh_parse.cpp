@@ -441,4 +441,44 @@ BvhFile read_bvh_file(const std::string& path) {
   return parse_bvh(s.str(), path);
 }
 
+void check_bvh_frames(BvhFile& bvh, const std::string& source) {
+  int col = 0;
+  for (BvhJoint& j : bvh.joints) {
+    j.channel_start = col;
+    col += static_cast<int>(j.channels.size());
+  }
+  bvh.nchannel = col;
+  if (!(bvh.frame_time > 0.0) || !std::isfinite(bvh.frame_time)) {
+    throw_input_error(source, "", "frame_time", "must be a positive finite number (s)");
+  }
+  for (std::size_t f = 0; f < bvh.frames.size(); ++f) {
+    const std::vector<double>& row = bvh.frames[f];
+    const std::string el = "frame " + std::to_string(f);
+    if (static_cast<int>(row.size()) != col) {
+      throw_input_error(source, el, "values",
+                        std::to_string(row.size()) + " values, the hierarchy has " +
+                            std::to_string(col) + " channels");
+    }
+    for (const BvhJoint& j : bvh.joints) {
+      double n2 = 0.0;
+      bool quat = false;
+      for (std::size_t c = 0; c < j.channels.size(); ++c) {
+        const double v = row[j.channel_start + c];
+        const bool position = bvh_detail::is_position(j.channels[c]);
+        if (!std::isfinite(v) || (position && std::abs(v) > kMaxCoordinate)) {
+          throw_input_error(
+              source, el, std::string("joint '") + j.name + "' " + bvh_channel_name(j.channels[c]),
+              position ? "not a finite coordinate within +-1e9" : "not finite");
+        }
+        quat = quat || is_quaternion(j.channels[c]);
+        if (is_quaternion(j.channels[c])) n2 += v * v;
+      }
+      if (quat && std::abs(std::sqrt(n2) - 1.0) > 1e-3) {
+        throw_input_error(source, el, "joint '" + j.name + "' quaternion",
+                          "norm " + std::to_string(std::sqrt(n2)) + " is not 1 (within 1e-3)");
+      }
+    }
+  }
+}
+
 }  // namespace physik

@@ -110,49 +110,60 @@ Quat bvh_axes_to_rig(BvhAxes axes) {
 
 namespace {
 
-// joints with several children at their own position: those children have no bone of their
-// own (pivot_rig.h, 2.), each one's rotation drives the bones below it
-void zero_offset_warnings(const BvhFile& bvh, const std::vector<PivotNode>& nodes,
-                          BvhAnimation& anim) {
-  std::vector<std::vector<int>> at_joint(nodes.size());
-  for (std::size_t c = 1; c < nodes.size(); ++c) {
-    const int p = nodes[c].parent;
-    if ((nodes[c].rest_world - nodes[p].rest_world).norm() <=
-        1e-9 * std::max(1.0, nodes[p].rest_world.norm())) {
-      at_joint[p].push_back(static_cast<int>(c));
-    }
+// joints with no bone of its own (pivot_rig.h, 2.: every child at its own position, or no child
+// and no End Site): the rig cannot turn one apart from its children (source_pose.h), so a
+// write-back keeps its rotation from the frame a pose came from; named when the file turns it
+void held_joint_warnings(const BvhFile& bvh, const PivotBones& bones, BvhAnimation& anim) {
+  std::vector<std::vector<int>> children(bvh.joints.size());
+  for (std::size_t c = 1; c < bvh.joints.size(); ++c) {
+    children[bvh.joints[c].parent].push_back(static_cast<int>(c));
   }
-  for (std::size_t j = 0; j < nodes.size(); ++j) {
-    if (at_joint[j].size() < 2) continue;
+  std::vector<char> has_bone(bvh.joints.size(), 0);  // a bone follows the joint (spec_node)
+  for (int node : bones.spec_node) {
+    if (node >= 0) has_bone[node] = 1;
+  }
+  for (std::size_t j = 0; j < bvh.joints.size(); ++j) {
+    const BvhJoint& joint = bvh.joints[j];
+    if (has_bone[j]) continue;
+    const bool turns = std::any_of(joint.channels.begin(), joint.channels.end(), [](BvhChannel c) {
+      return bvh_detail::is_rotation(c) || bvh_detail::is_quaternion(c);
+    });
+    if (!turns) continue;
     std::string names;
-    for (int c : at_joint[j]) names += (names.empty() ? "" : ", ") + nodes[c].name;
+    for (int c : children[j]) names += (names.empty() ? "" : ", ") + bvh.joints[c].name;
     anim.warnings.push_back(
-        "joint '" + nodes[j].name + "' (line " + std::to_string(bvh.joints[j].line) + ") has " +
-        std::to_string(at_joint[j].size()) +
-        " children at its own position (zero OFFSET: " + names +
-        "): they get no bone of their own, and each one's rotation turns the bones below it "
-        "about that point");
+        "joint '" + joint.name + "' (line " + std::to_string(joint.line) +
+        ") has no bone of its own (" +
+        (names.empty() ? std::string("no child, no End Site")
+                       : "its children " + names + " sit at its position") +
+        "): the rig turns its children's bones by its rotation and theirs together; written back, "
+        "it keeps the rotation of the frame a pose came from (rest for a pose from none) and its "
+        "children's channels take the rest");
   }
 }
 
-// non-root joints whose position channels move them off their OFFSET: the rig keeps its bones'
-// lengths, so that motion is dropped (max_position_error measures it); named with the bone that
-// ends at the joint
+// non-root joints whose position channels move them off their OFFSET (a stretch): the rig keeps
+// its bones' lengths, so that motion is left out of the rig (max_position_error measures it);
+// named with the bone that ends at the joint and the largest move
 void position_channel_warnings(const BvhFile& bvh, const PivotBones& bones, BvhAnimation& anim) {
   for (std::size_t j = 1; j < bvh.joints.size(); ++j) {
     const BvhJoint& joint = bvh.joints[j];
     const double tol = 1e-9 * std::max(1.0, joint.offset.norm());
-    const bool moved = std::any_of(bvh.frames.begin(), bvh.frames.end(), [&](const auto& row) {
-      return (bvh_local_translation(joint, row) - joint.offset).norm() > tol;
-    });
-    if (!moved) continue;
+    double moved = 0.0;
+    for (const auto& row : bvh.frames) {
+      moved = std::max(moved, (bvh_local_translation(joint, row) - joint.offset).norm());
+    }
+    if (!(moved > tol)) continue;
     // the bone that ends at the joint is the one whose length the channels would change
     const int incoming = bones.node_incoming[j];
     const std::string names = incoming >= 0 ? "'" + bones.specs[incoming].name + "'" : "none";
-    anim.warnings.push_back("joint '" + joint.name + "' (line " + std::to_string(joint.line) +
-                            ", bone " + names +
-                            "): its position channels move it off its OFFSET, which the rig "
-                            "drops (its bones keep their lengths)");
+    std::ostringstream w;
+    w << "joint '" << joint.name << "' (line " << joint.line << ", bone " << names
+      << "): its position channels move it up to " << moved
+      << " file units off its OFFSET, which the rig leaves out (its bones keep their lengths); "
+         "written back on the source skeleton, they keep the values of the frame a pose came "
+         "from (the OFFSET for a pose from none)";
+    anim.warnings.push_back(w.str());
   }
 }
 
@@ -185,6 +196,7 @@ void write_bvh_notes(const std::string& source, const BvhImportOptions& options,
   }
   if (z.total_mass > 0.0) s << ", scaled to " << z.total_mass << " kg in all (--total-mass)";
   rig.source.push_back(s.str());
+  for (const std::string& n : anim.notes) rig.source.push_back(n);
   for (const std::string& w : anim.warnings) rig.source.push_back("warning: " + w);
   if (!anim.rest_overlaps.empty()) {
     std::string names;
@@ -228,6 +240,37 @@ std::vector<PivotNode> bvh_pivots(const BvhFile& bvh, const std::string& source,
   return nodes;
 }
 
+// the root's joint: the option's, else pinned for a root with no position channel (bvh.h)
+RootJoint bvh_root_joint(const BvhFile& bvh, const std::string& source,
+                         const BvhImportOptions& options) {
+  if (options.root) {
+    if (*options.root == RootJoint::kFixed) {
+      throw_input_error(source, "", "root",
+                        "a BVH root is free or pinned (fixed would not turn it)");
+    }
+    return *options.root;
+  }
+  const auto& ch = bvh.joints.at(0).channels;
+  return std::any_of(ch.begin(), ch.end(), bvh_detail::is_position) ? RootJoint::kFree
+                                                                    : RootJoint::kPinned;
+}
+
+// why the root is pinned, in the notes (and so in the rig's source)
+void root_pinned_note(const BvhFile& bvh, BvhAnimation& anim) {
+  const Rig& rig = anim.rig();
+  std::string how = "the rig's root bone '" + rig.bone_name[0] + "' is pinned at its head";
+  if (rig.root_joint == RootJoint::kFixed) {
+    how = "the rig's root '" + rig.bone_name[0] +
+          "' is a fixed handle below it, and the bones that start at the joint turn about its "
+          "tail";
+  }
+  anim.notes.push_back("root joint '" + bvh.joints[0].name + "' (line " +
+                       std::to_string(bvh.joints[0].line) +
+                       ") has no position channels, so it never moves: its joint is pinned "
+                       "where it is (" +
+                       how + "); --root free frees it");
+}
+
 // the file's skeleton, kept in the rig (source_skeleton.h): its joints as the file gave them and
 // the bones that turn with each (pivot_rig.h bone_node; ascending, so a joint's first bone is the
 // one that carries it)
@@ -236,6 +279,7 @@ void keep_source_skeleton(const BvhFile& bvh, const BvhImportOptions& options, P
   s.format = "bvh";
   s.axes = options.axes;
   s.scale = options.scale;
+  s.frame_time = bvh.frame_time;
   s.joints.resize(bvh.joints.size());
   for (std::size_t i = 0; i < bvh.joints.size(); ++i) {
     const BvhJoint& j = bvh.joints[i];
@@ -246,7 +290,9 @@ void keep_source_skeleton(const BvhFile& bvh, const BvhImportOptions& options, P
     out.end_sites = j.end_sites;
     for (BvhChannel c : j.channels) out.channels.push_back(bvh_channel_name(c));
   }
-  for (int b = 0; b < pr.rig.nbone; ++b) s.joints[pr.bone_node[b]].bones.push_back(b);
+  for (int b = 0; b < pr.rig.nbone; ++b) {
+    if (pr.bone_node[b] >= 0) s.joints[pr.bone_node[b]].bones.push_back(b);
+  }
 }
 
 }  // namespace
@@ -261,6 +307,8 @@ BvhAnimation bvh_to_rig(const BvhFile& bvh, const std::string& source,
   const std::vector<PivotNode> nodes = bvh_pivots(bvh, source, options);
   check_sizing_options(options.sizing);
   PivotBones bones = pivot_bones(nodes, source);
+  const RootJoint root = bvh_root_joint(bvh, source, options);
+  if (root == RootJoint::kPinned) pin_root_pivot(bones);
   for (BoneSpec& b : bones.specs) {
     b.radius = fitted_radius(options.sizing, (b.tail_world - b.head_world).norm());
     b.collision_radius = b.radius;
@@ -270,8 +318,9 @@ BvhAnimation bvh_to_rig(const BvhFile& bvh, const std::string& source,
   anim.pivots = finish_pivot_rig(nodes, bones, source, "");
   keep_source_skeleton(bvh, options, anim.pivots);
   anim.frame_time = bvh.frame_time;
+  if (root == RootJoint::kPinned && !options.root) root_pinned_note(bvh, anim);
   if (options.exclude_rest_overlaps) anim.rest_overlaps = exclude_rest_overlaps(anim.pivots.rig);
-  zero_offset_warnings(bvh, nodes, anim);
+  held_joint_warnings(bvh, bones, anim);
   position_channel_warnings(bvh, bones, anim);
   write_bvh_notes(source, options, anim);
 

@@ -6,7 +6,10 @@
 //   L_J  = Rf_parent^-1 Rf_J               its rotation channels (the root: Rf_J)
 //   p    = A^-1 p_root / s                 the root's position channels, file units
 // and back (source_clip_pose): R_J = A Rf_J A^-1, p_root = s A p, Rf_J from the clip's channels
-// by the BVH forward kinematics (bvh_world).
+// by the BVH forward kinematics (bvh_world). A pose written with the source frame it came from
+// takes from that row what the rig cannot hold (bvh.h "Rig -> its source skeleton"): the local
+// rotation H_J = A L_J A^-1 of a held joint (source_pose.h), a non-root joint's position
+// channels, the Euler branch and the quaternion hemisphere.
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -115,6 +118,7 @@ bool writes_source_skeleton(const Rig& rig, const BvhExportOptions& options) {
 }
 
 void write_bvh_file(const BvhFile& bvh, const std::string& target, std::ostream& out) {
+  bvh_detail::check_readable(bvh, target);
   auto indent = [](int depth) { return std::string(2 * std::min(depth, 32), ' '); };
   const int n = static_cast<int>(bvh.joints.size());
   std::vector<int> depth(n, 0);
@@ -246,41 +250,77 @@ namespace {
 
 // The source skeleton's frames, one row per pose, and what the file could not hold.
 struct SourceWriter {
-  BvhFile bvh;
+  BvhFile bvh;                      // the written skeleton: its channels under the options
+  BvhFile src;                      // the source skeleton as it is: a held row's columns
   std::vector<std::string> order;   // (njoint) rotation channels' axes, then the missing ones
   std::vector<int> nrot;            // (njoint) Euler rotation channels
+  std::vector<char> same_rotation;  // (njoint) written rotation channels are the source's
   std::vector<Quat> prev_q;         // (njoint) last frame's quaternion (hemisphere)
   std::vector<Vec3> prev_e;         // (njoint) last frame's angles (branch), rad
   std::vector<double> dropped_deg;  // (njoint) largest turn about an axis without a channel
   Vec3 root_shift = Vec3::Zero();   // largest root move along an axis without a channel
 
-  SourceWriter(const SourceSkeleton& s, const BvhExportOptions& o) : bvh(source_skeleton_bvh(s)) {
+  SourceWriter(const SourceSkeleton& s, const BvhExportOptions& o)
+      : bvh(source_skeleton_bvh(s)), src(bvh) {
     bvh.frame_time = o.frame_time;
     const std::size_t nj = bvh.joints.size();
     order.resize(nj);
     nrot.resize(nj);
+    same_rotation.resize(nj);
     prev_q.assign(nj, Quat::Identity());
     prev_e.assign(nj, Vec3::Zero());
     dropped_deg.assign(nj, 0.0);
     for (std::size_t j = 0; j < nj; ++j) {
       bvh.joints[j].channels = written_channels(bvh.joints[j].channels, o);
       order[j] = full_order(bvh.joints[j].channels, nrot[j]);
+      same_rotation[j] = bvh.joints[j].channels == src.joints[j].channels;
     }
   }
 
-  // joint j's channels for its rotation `local` (file axes) and the root at `p` (file units)
-  void joint_row(int j, Quat local, const Vec3& p, std::vector<double>& row) {
+  // the angles joint j's are chosen nearest (rad, in order): the held row's for its channels, or
+  // the previous frame's
+  Vec3 euler_reference(int j, const std::vector<double>* row) const {
+    if (!row || !same_rotation[j]) return prev_e[j];
+    const BvhJoint& joint = src.joints[j];
+    Vec3 ref = Vec3::Zero();
+    int n = 0;
+    for (std::size_t c = 0; c < joint.channels.size(); ++c) {
+      if (is_rotation(joint.channels[c])) ref[n++] = deg2rad((*row)[joint.channel_start + c]);
+    }
+    return ref;
+  }
+
+  // the quaternion whose hemisphere joint j's takes: the held row's (qBVH), or the previous one
+  Quat quaternion_reference(int j, const std::vector<double>* row) const {
+    const BvhJoint& joint = src.joints[j];
+    if (!row || !std::any_of(joint.channels.begin(), joint.channels.end(), is_quaternion)) {
+      return prev_q[j];
+    }
+    return bvh_local_rotation(joint, *row);
+  }
+
+  // a non-root joint's position channel: the held row's value (a stretch), else its OFFSET
+  double position(int j, int axis, const Vec3& root, const std::vector<double>* row) const {
+    const BvhJoint& joint = src.joints[j];
+    if (joint.parent < 0) return root[axis];
+    return row ? bvh_local_translation(joint, *row)[axis] : joint.offset[axis];
+  }
+
+  // joint j's channels for its rotation `local` (file axes), the root at `root` (file units) and
+  // the held source row (or none)
+  void joint_row(int j, Quat local, const Vec3& root, const std::vector<double>* held,
+                 std::vector<double>& row) {
     const BvhJoint& joint = bvh.joints[j];
     Vec3 e = Vec3::Zero();
     if (nrot[j] > 0) {
-      e = bvh_detail::closest_euler(euler_from_rotation(local, order[j]), prev_e[j]);
+      e = nearest_euler(local, order[j], euler_reference(j, held));
       prev_e[j] = e;
       for (int k = nrot[j]; k < 3; ++k) {
         dropped_deg[j] = std::max(dropped_deg[j], std::abs(rad2deg(e[k])));
       }
     }
     if (std::any_of(joint.channels.begin(), joint.channels.end(), is_quaternion)) {
-      if (local.coeffs().dot(prev_q[j].coeffs()) < 0.0) local.coeffs() *= -1.0;
+      if (local.coeffs().dot(quaternion_reference(j, held).coeffs()) < 0.0) local.coeffs() *= -1.0;
       prev_q[j] = local;
     } else if (nrot[j] == 0) {
       const double angle = rad2deg(2.0 * std::atan2(local.vec().norm(), std::abs(local.w())));
@@ -292,7 +332,7 @@ struct SourceWriter {
       const int axis = bvh_detail::axis_index(axis_letter(c));
       if (is_position(c)) {
         has_pos[axis] = true;
-        row.push_back(joint.parent >= 0 ? joint.offset[axis] : p[axis]);
+        row.push_back(position(j, axis, root, held));
       } else if (is_rotation(c)) {
         row.push_back(rad2deg(e[next_rot++]));
       } else {
@@ -301,7 +341,20 @@ struct SourceWriter {
     }
     if (joint.parent >= 0) return;
     for (int k = 0; k < 3; ++k) {
-      if (!has_pos[k]) root_shift[k] = std::max(root_shift[k], std::abs(p[k] - joint.offset[k]));
+      if (!has_pos[k]) root_shift[k] = std::max(root_shift[k], std::abs(root[k] - joint.offset[k]));
+    }
+  }
+
+  // the local rotations (rig world axes) of the held joints (source_pose.h): the held row's, or
+  // none (rest)
+  void held_rotations(const Rig& rig, const std::vector<double>* row, std::vector<Quat>& held) {
+    held.clear();
+    if (!row) return;
+    const Quat a = source_axes_to_rig(rig.source_skeleton.axes);
+    held.assign(src.joints.size(), Quat::Identity());
+    for (std::size_t j = 0; j < src.joints.size(); ++j) {
+      if (!source_joint_held(rig, static_cast<int>(j))) continue;
+      held[j] = (a * bvh_local_rotation(src.joints[j], *row) * a.conjugate()).normalized();
     }
   }
 
@@ -330,11 +383,38 @@ struct SourceWriter {
   }
 };
 
+// the held row of pose f, checked against the source skeleton's channel count
+const std::vector<double>* held_row(const SourceFrames& source, std::size_t f, const BvhFile& src,
+                                    const std::string& target) {
+  const std::vector<double>* row = source.row(f);
+  if (row && static_cast<int>(row->size()) != src.nchannel) {
+    throw_input_error(target, "frame " + std::to_string(f), "source frame",
+                      "the row has " + std::to_string(row->size()) +
+                          " values, the source skeleton " + std::to_string(src.nchannel) +
+                          " channels");
+  }
+  return row;
+}
+
 }  // namespace
 
-// the source skeleton's frames: every joint's channels from the rig's pose (bvh.h)
-BvhWriteReport bvh_detail::write_source_bvh(const Rig& rig, const std::vector<Pose>& poses,
-                                            const BvhExportOptions& o, std::ostream& out) {
+const std::vector<double>* SourceFrames::row(std::size_t pose) const {
+  if (pose >= frame_of_pose.size()) return nullptr;
+  const int f = frame_of_pose[pose];
+  return f >= 0 && f < static_cast<int>(rows.size()) ? &rows[f] : nullptr;
+}
+
+SourceFrames SourceFrames::of_clip(const BvhFile& clip) {
+  SourceFrames s;
+  s.rows = clip.frames;
+  for (std::size_t f = 0; f < clip.frames.size(); ++f)
+    s.frame_of_pose.push_back(static_cast<int>(f));
+  return s;
+}
+
+BvhFile source_clip_of_poses(const Rig& rig, const std::vector<Pose>& poses,
+                             const BvhExportOptions& o, const SourceFrames& source,
+                             BvhWriteReport& report) {
   const std::string target = o.target.empty() ? std::string("<bvh output>") : o.target;
   const SourceSkeleton& s = rig.source_skeleton;
   SourceWriter w(s, o);
@@ -342,13 +422,15 @@ BvhWriteReport bvh_detail::write_source_bvh(const Rig& rig, const std::vector<Po
   const Quat a = source_axes_to_rig(s.axes);
   const Quat ainv = a.conjugate();
   BoneFrames fk;
-  std::vector<Quat> rw, rf(nj);
+  std::vector<Quat> rw, rf(nj), held;
   Vec3 root;
   for (std::size_t f = 0; f < poses.size(); ++f) {
+    const std::vector<double>* row = held_row(source, f, w.src, target);
     forward_kinematics(rig, poses[f], fk);
-    source_from_frames(rig, fk, rw, root);
+    w.held_rotations(rig, row, held);
+    source_from_frames(rig, fk, held, rw, root);
     const Vec3 p = ainv * root / s.scale;
-    std::vector<double> row;
+    std::vector<double> out;
     for (int j = 0; j < nj; ++j) {
       const int parent = w.bvh.joints[j].parent;
       rf[j] = (ainv * rw[j] * a).normalized();
@@ -357,12 +439,57 @@ BvhWriteReport bvh_detail::write_source_bvh(const Rig& rig, const std::vector<Po
         throw_input_error(target, "frame " + std::to_string(f), "pose",
                           "joint '" + w.bvh.joints[j].name + "': rotation not finite");
       }
-      w.joint_row(j, local, p, row);
+      w.joint_row(j, local, p, row, out);
     }
-    w.bvh.frames.push_back(std::move(row));
+    w.bvh.frames.push_back(std::move(out));
   }
-  write_bvh_file(w.bvh, target, out);
-  return w.report();
+  report = w.report();
+  return std::move(w.bvh);
+}
+
+// the source skeleton's frames: every joint's channels from the rig's pose (bvh.h)
+BvhWriteReport bvh_detail::write_source_bvh(const Rig& rig, const std::vector<Pose>& poses,
+                                            const BvhExportOptions& o, const SourceFrames& source,
+                                            std::ostream& out) {
+  const std::string target = o.target.empty() ? std::string("<bvh output>") : o.target;
+  BvhWriteReport report;
+  const BvhFile clip = source_clip_of_poses(rig, poses, o, source, report);
+  write_bvh_file(clip, target, out);
+  return report;
+}
+
+// bvh_to_rig's rest check at scale 1 and parse_bvh's value check, before a byte is written
+void bvh_detail::check_readable(const BvhFile& bvh, const std::string& target) {
+  const auto inside = [](const Vec3& v) { return v.cwiseAbs().maxCoeff() <= kMaxCoordinate; };
+  const auto refuse = [&](const BvhJoint& j, const std::string& field, const std::string& what) {
+    throw_input_error(target, "joint '" + j.name + "'", field,
+                      what +
+                          " beyond +-1e9 (rig.h kMaxCoordinate), which a BVH reader (physik's "
+                          "own) refuses: nothing is written");
+  };
+  std::vector<Vec3> rest(bvh.joints.size());
+  for (std::size_t i = 0; i < bvh.joints.size(); ++i) {
+    const BvhJoint& j = bvh.joints[i];
+    if (!inside(j.offset)) refuse(j, "OFFSET", "a value");
+    rest[i] = j.parent < 0 ? j.offset : Vec3(rest[j.parent] + j.offset);
+    if (!inside(rest[i])) refuse(j, "OFFSET", "the OFFSETs put the joint at rest");
+    for (const Vec3& e : j.end_sites) {
+      if (!inside(e)) refuse(j, "End Site", "a value");
+      if (!inside(rest[i] + e)) refuse(j, "End Site", "the OFFSETs put the End Site at rest");
+    }
+  }
+  for (std::size_t f = 0; f < bvh.frames.size(); ++f) {
+    std::size_t col = 0;
+    for (const BvhJoint& j : bvh.joints) {
+      for (BvhChannel c : j.channels) {
+        if (col < bvh.frames[f].size() && is_position(c) &&
+            !(std::abs(bvh.frames[f][col]) <= kMaxCoordinate)) {
+          refuse(j, "frame " + std::to_string(f), std::string(bvh_channel_name(c)) + " is");
+        }
+        ++col;
+      }
+    }
+  }
 }
 
 }  // namespace physik

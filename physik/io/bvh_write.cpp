@@ -123,6 +123,37 @@ void write_hierarchy(const Rig& rig, const std::vector<std::string>& names,
   }
 }
 
+// stage 2b: the own skeleton as physik's reader reads it back (bvh.h): every OFFSET and End
+// Site, every rest head and tail (the sums of OFFSETs bvh_to_rig checks at scale 1) and the
+// root's head in every frame within +-kMaxCoordinate file units
+void check_own_skeleton_readable(const Rig& rig, const std::vector<Pose>& poses,
+                                 const BvhExportOptions& o) {
+  const Quat ainv = bvh_axes_to_rig(o.axes).conjugate();
+  const auto inside = [&](const Vec3& v_rig) {
+    return (o.scale * (ainv * v_rig)).cwiseAbs().maxCoeff() <= kMaxCoordinate;
+  };
+  const auto refuse = [&](const std::string& el, const std::string& what) {
+    throw_input_error(target_name(o), el, "scale",
+                      what + " beyond +-1e9 file units at scale " + fmt(o.scale) +
+                          " (rig.h kMaxCoordinate), which a BVH reader (physik's own) refuses; "
+                          "nothing is written");
+  };
+  for (int b = 0; b < rig.nbone; ++b) {
+    const Vec3& head = rig.bone_rest_head_world[b];
+    const Vec3& tail = rig.bone_rest_tail_world[b];
+    const int p = rig.bone_parent[b];
+    const std::string el = "bone '" + rig.bone_name[b] + "'";
+    if (!inside(head) || !inside(tail)) refuse(el, "its rest head or tail lies");
+    if (p >= 0 && !inside(head - rig.bone_rest_head_world[p])) refuse(el, "its OFFSET is");
+    if (rig.bone_children[b].empty() && !inside(tail - head)) refuse(el, "its End Site is");
+  }
+  BoneFrames fk;
+  for (std::size_t f = 0; f < poses.size(); ++f) {
+    forward_kinematics(rig, poses[f], fk);
+    if (!inside(fk.head_world[0])) refuse("frame " + std::to_string(f), "the root's head lies");
+  }
+}
+
 // per-bone continuity across frames: Euler branch and quaternion hemisphere
 struct FrameMemory {
   std::vector<Quat> rw;          // (nbone) world rotation from rest, this frame
@@ -167,13 +198,15 @@ void write_frame(const Rig& rig, const Pose& pose, std::size_t f, const std::str
 }  // namespace
 
 BvhWriteReport write_bvh(const Rig& rig, const std::vector<Pose>& poses_in,
-                         const BvhExportOptions& options, std::ostream& out) {
+                         const BvhExportOptions& options, std::ostream& out,
+                         const SourceFrames& source) {
   check_export_options(options);
   const std::vector<Pose> rest{rest_pose(rig)};
   const std::vector<Pose>& poses = poses_in.empty() ? rest : poses_in;
   if (writes_source_skeleton(rig, options)) {
-    return bvh_detail::write_source_bvh(rig, poses, options, out);
+    return bvh_detail::write_source_bvh(rig, poses, options, source, out);
   }
+  check_own_skeleton_readable(rig, poses, options);
   const std::string order = options.euler_order.empty() ? "ZXY" : upper(options.euler_order);
 
   UniqueNames used;
@@ -200,12 +233,15 @@ BvhWriteReport write_bvh(const Rig& rig, const std::vector<Pose>& poses_in,
 }
 
 BvhWriteReport save_bvh(const std::string& path, const Rig& rig, const std::vector<Pose>& poses,
-                        const BvhExportOptions& options) {
+                        const BvhExportOptions& options, const SourceFrames& source) {
   BvhExportOptions o = options;
   o.target = path;
   check_export_options(o);  // before a file is created
+  // the text first: a refusal (a value the reader would refuse) leaves no file behind
+  std::ostringstream text;
+  BvhWriteReport report = write_bvh(rig, poses, o, text, source);
   std::ofstream out = open_output_file(path, "");
-  BvhWriteReport report = write_bvh(rig, poses, o, out);
+  out << text.str();
   if (!out) throw_input_error(path, "", "", "write failed");
   return report;
 }

@@ -320,6 +320,7 @@ void read_initial_pose_bvh(const JsonContext& ctx, const Json& ip, const std::st
   }
   BoneFrames scratch;
   checked_clip_pose(s.rig, clip, frame, ctx.file, ctx.element, scratch, s.initial_pose);
+  s.initial_source_row = clip.frames[frame];
 }
 
 // initial pose: rest, optionally with a root position and per-bone rotation vectors (deg), or a

@@ -59,12 +59,16 @@ void read_source_skeleton(const Json& doc, const std::string& source, Rig& rig) 
   const Json& s = doc["source_skeleton"];
   JsonContext ctx{source, "source_skeleton"};
   ctx.require_object(s, "source_skeleton");
-  ctx.only_keys(s, {"format", "axes", "scale", "joints"});
+  ctx.only_keys(s, {"format", "axes", "scale", "frame_time", "joints"});
   SourceSkeleton out;
   out.format = ctx.string(s, "format");
   const std::string axes = ctx.choice_or(s, "axes", {"y-up", "z-up"}, "y-up");
   out.axes = axes == "z-up" ? SourceAxes::kZUp : SourceAxes::kYUp;
   out.scale = ctx.number(s, "scale");
+  out.frame_time = ctx.number_or(s, "frame_time", 0.0);
+  if (s.contains("frame_time") && !(out.frame_time > 0.0)) {
+    ctx.fail("frame_time", "must be a positive finite number (s)");
+  }
   const Json& joints = ctx.require(s, "joints");
   if (!joints.is_array()) ctx.fail("joints", "expected an array of joints");
   for (std::size_t i = 0; i < joints.size(); ++i) {
@@ -94,8 +98,10 @@ Json source_skeleton_to_json(const Rig& rig) {
     }
     joints.push_back(o);
   }
-  return Json{
-      {"format", s.format}, {"axes", to_string(s.axes)}, {"scale", s.scale}, {"joints", joints}};
+  Json out{{"format", s.format}, {"axes", to_string(s.axes)}, {"scale", s.scale}};
+  if (s.frame_time > 0.0) out["frame_time"] = s.frame_time;
+  out["joints"] = joints;
+  return out;
 }
 
 }  // namespace physik

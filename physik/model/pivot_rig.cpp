@@ -285,6 +285,20 @@ PivotBones pivot_bones(const std::vector<PivotNode>& nodes, const std::string& s
   return out;
 }
 
+void pin_root_pivot(PivotBones& bones) {
+  if (!bones.synthetic_root) {
+    bones.root_joint = RootJoint::kPinned;
+    return;
+  }
+  // the handle stays; the root pivot's segments turn on a ball at its tail (pivot_rig.h, 3c.)
+  bones.root_joint = RootJoint::kFixed;
+  bones.spec_node[0] = -1;
+  const std::vector<int>& own = bones.node_specs.at(0);
+  for (std::size_t k = 0; k < own.size(); ++k) {
+    bones.specs[own[k]].weld = k == 0 ? std::string() : bones.specs[own[0]].name;
+  }
+}
+
 PivotRig finish_pivot_rig(const std::vector<PivotNode>& nodes, const PivotBones& bones,
                           const std::string& source, const std::string& name) {
   PivotRig pr;
@@ -311,12 +325,15 @@ void pivot_pose(const PivotRig& pr, const std::vector<Quat>& node_rotation_world
                 const Vec3& root_pivot_world, BoneFrames& scratch, Pose& out) {
   const Rig& rig = pr.rig;
   scratch.resize(rig.nbone);
+  // a bone that follows no pivot (a pinned root's handle) keeps its rest orientation
+  const auto turn = [&](int b) {
+    return pr.bone_node[b] >= 0 ? node_rotation_world[pr.bone_node[b]] : Quat::Identity();
+  };
   for (int b = 0; b < rig.nbone; ++b) {
-    scratch.orient_world[b] =
-        (node_rotation_world[pr.bone_node[b]] * rig.bone_rest_orient_world[b]).normalized();
+    scratch.orient_world[b] = (turn(b) * rig.bone_rest_orient_world[b]).normalized();
   }
-  scratch.head_world[0] = root_pivot_world + node_rotation_world[0] * (rig.bone_rest_head_world[0] -
-                                                                       pr.nodes[0].rest_world);
+  scratch.head_world[0] =
+      root_pivot_world + turn(0) * (rig.bone_rest_head_world[0] - pr.nodes[0].rest_world);
   local_rotations_from_world(rig, scratch, out);
 }
 
@@ -329,9 +346,9 @@ void pivot_bone_targets(const PivotRig& pr, const std::vector<Vec3>& node_pos_wo
   for (int b = 0; b < rig.nbone; ++b) {
     const int j = pr.bone_node[b];
     if (b == 0 && pr.synthetic_root) {
+      const Quat turn = j >= 0 ? node_rotation_world[0] : Quat::Identity();
       tail[b] = node_pos_world[0];
-      head[b] = node_pos_world[0] +
-                node_rotation_world[0] * (rig.bone_rest_head_world[0] - pr.nodes[0].rest_world);
+      head[b] = node_pos_world[0] + turn * (rig.bone_rest_head_world[0] - pr.nodes[0].rest_world);
       continue;
     }
     head[b] = node_pos_world[j];

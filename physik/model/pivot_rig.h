@@ -18,6 +18,12 @@
 //   3b. welds (rig.h "Welds"): a pivot's segments turn together, one rigid body: its first segment
 //      carries the pivot's joint, the others are welded to it (siblings); below a synthetic root
 //      the root pivot's segments are welded to it (their parent), which follows the same pivot.
+//   3c. a pinned root pivot (a BVH root with no position channels: it turns in place): a rig
+//      whose root bone starts at the root pivot pins it there (RootJoint::kPinned); a synthetic
+//      root, whose head lies below the pivot, would swing the pivot about that head, so it
+//      becomes a fixed handle that follows no pivot (bone_node -1, RootJoint::kFixed), and the
+//      root pivot's own segments turn on a ball at the handle's tail, the pivot: the first a ball,
+//      the others welded to it (pin_root_pivot).
 //   4. names: a bone is named after its pivot when the pivot has one segment, otherwise
 //      "<pivot>><first child pivot>" (or "<pivot>>end", "<pivot>>end2", ... for end points); the
 //      synthetic root takes the root pivot's name (or "<root>_root" if that is taken).
@@ -43,7 +49,8 @@ struct PivotNode {
 // The bones before build_rig, so a caller can set masses, frames and limits first.
 struct PivotBones {
   std::vector<BoneSpec> specs;      // in DFS order
-  std::vector<int> spec_node;       // (nspec) the pivot whose rotation the bone follows
+  std::vector<int> spec_node;       // (nspec) the pivot whose rotation the bone follows; -1: none
+                                    // (a pinned root's fixed handle, 3c.)
   std::vector<int> spec_parent;     // (nspec) parent spec, -1 for the root
   std::vector<int> spec_tail_node;  // (nspec) child pivot at the tail, or -1
   std::vector<int> spec_tail_end;   // (nspec) index into the pivot's ends_world at the tail, or -1
@@ -58,10 +65,14 @@ struct PivotBones {
 PivotBones pivot_bones(const std::vector<PivotNode>& nodes, const std::string& source,
                        double mass_per_length = 1.0, double radius = 0.5);
 
+// Holds the root pivot in place while it turns (3c.): pins the root bone, or makes a synthetic
+// root a fixed handle with the root pivot's segments on a ball at its tail.
+void pin_root_pivot(PivotBones& bones);
+
 struct PivotRig {
   Rig rig;
   std::vector<PivotNode> nodes;
-  std::vector<int> bone_node;       // (nbone) pivot whose rotation the bone follows
+  std::vector<int> bone_node;       // (nbone) pivot whose rotation the bone follows, -1: none
   std::vector<int> bone_tail_node;  // (nbone) child pivot at the tail, or -1
   std::vector<int> bone_tail_end;   // (nbone) end point of bone_node at the tail, or -1
   bool synthetic_root = false;      // bone 0 ends at the root pivot and follows it

@@ -148,6 +148,11 @@ struct Scene {
   int steps = 200;
   ConvergenceParams convergence;
   Pose initial_pose;
+  // the frame of a clip of the rig's source skeleton that the initial pose came from
+  // (initial_pose {"bvh", "frame"}): its channel values, one per channel of the source skeleton
+  // (physik/io/bvh.h SourceFrames), so that a pose written back on the source skeleton keeps
+  // what the rig cannot hold (a joint with no bone, a stretch); empty for none
+  std::vector<double> initial_source_row;
   Vec3 initial_velocity_world = Vec3::Zero();  // rig units/s, a rigid translation of every bone
   Vec3 gravity_world = Vec3::Zero();  // rig units/s^2, on every bone's mass; zero as in the paper
   ContactModel collision;             // what the bones touch (contact_model.h; none by default)

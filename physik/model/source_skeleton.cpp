@@ -91,8 +91,12 @@ void check_source_skeleton(const SourceSkeleton& s, int nbone, const std::string
                       "must be a positive finite number (rig units per "
                       "file unit)");
   }
+  if (!(s.frame_time >= 0.0) || !std::isfinite(s.frame_time)) {
+    throw_input_error(source, top, "frame_time", "must be a positive finite number (s)");
+  }
   if (s.joints.empty()) throw_input_error(source, top, "joints", "no joints");
   std::vector<int> listed(nbone, -1);
+  std::vector<int> path;  // the joint before this one and its ancestors, root first
   for (std::size_t i = 0; i < s.joints.size(); ++i) {
     const SourceJoint& j = s.joints[i];
     const std::string el = top + ".joints[" + std::to_string(i) + "]";
@@ -102,6 +106,16 @@ void check_source_skeleton(const SourceSkeleton& s, int nbone, const std::string
                         i == 0 ? "the first joint is the root (no parent)"
                                : "must be an earlier joint's index (parents before children)");
     }
+    // depth-first: the parent is on the path to the joint before (a BVH file nests so)
+    while (!path.empty() && path.back() != j.parent) path.pop_back();
+    if (i > 0 && path.empty()) {
+      throw_input_error(source, el, "parent",
+                        "joint " + std::to_string(j.parent) +
+                            " is not the joint before nor one of its ancestors: the joints must "
+                            "be listed depth-first, as a BVH file nests them (a joint's subtree "
+                            "right after it)");
+    }
+    path.push_back(static_cast<int>(i));
     if (!(j.offset.cwiseAbs().maxCoeff() <= kMaxCoordinate)) {
       throw_input_error(source, el, "offset", "not a finite coordinate within +-1e9");
     }

@@ -45,7 +45,8 @@ struct SourceJoint {
 struct SourceSkeleton {
   std::string format;  // "bvh"; empty: the rig has no source skeleton
   SourceAxes axes = SourceAxes::kYUp;
-  double scale = 1.0;  // rig units per file unit
+  double scale = 1.0;       // rig units per file unit
+  double frame_time = 0.0;  // s, the source file's Frame Time; 0: not known (older rig files)
   std::vector<SourceJoint> joints;
   bool empty() const { return joints.empty(); }
 };
@@ -53,8 +54,10 @@ struct SourceSkeleton {
 // The joint every bone turns with (-1 for a bone no joint lists), from the joints' bone lists.
 std::vector<int> source_bone_joints(const SourceSkeleton& skeleton, int nbone);
 
-// Checks a skeleton against a rig of `nbone` bones: a format, a positive finite scale, at least
-// one joint, parents before children (the first joint the only root), finite offsets and End
+// Checks a skeleton against a rig of `nbone` bones: a format, a positive finite scale, a frame
+// time that is 0 or positive and finite, at least one joint, listed depth-first as a BVH file
+// lists them (parents before children, the first joint the only root, and each joint's parent
+// the joint before it or one of that joint's ancestors: a file's hierarchy), finite offsets and End
 // Sites, known channel names (at most one of each), no Euler rotation beside quaternion
 // channels and all four quaternion channels or none, names that are valid UTF-8 without control
 // characters, bone indices in range and each bone listed by one joint at most. InputError

@@ -19,6 +19,10 @@ Names (each has its own docstring):
   export_mjcf(rig), compare_mujoco(scene, mode)             the MuJoCo reference
   tune(scene, params, objective), equilibrium(scene)        Ceres
   view(runs, path)                                          `physik view`: run folders in 3D
+  Clip.load(path), clip.frames, clip.write(path)            BVH/qBVH clips as numpy arrays
+  Rig.from_bvh(path or clip), rig.source_skeleton           `physik rig from-bvh`
+  clip.pose(rig, frame), Clip.of_poses(rig, poses, ...)     a clip's frame as a pose, and back
+  follow(clip, rig, ...), follow_scene(clip, rig, ...)      `physik follow`
   InputError (a ValueError), DivergedError                  errors
   StartContactWarning                                       a rig started into the ground or a box
   __version__                                               `physik --version`
@@ -30,15 +34,16 @@ scipy.spatial.transform.Rotation.from_quat reads them); Pose.as_blender() gives 
 """
 from collections import namedtuple
 
-from .errors import DivergedError, InputError, StartContactWarning
+from .errors import DivergedError, InputError, StartContactWarning, WriteBackWarning
 from . import _core
-from ._core import (PosingSolveResult, Rig, Scene, __version__, compare_mujoco, export_mjcf,
+from ._core import (Clip, PosingSolveResult, Rig, Scene, __version__, compare_mujoco, export_mjcf,
                     param_table, scaled_scene, solve_mode_rule)
 
 __all__ = ["Rig", "Scene", "param_table", "Simulation", "Pose", "Trajectory", "RunResult",
            "PosingSession", "PosingSolveResult", "solve_mode_rule", "SolveResult", "solve",
            "export_mjcf", "compare_mujoco", "scaled_scene", "tune", "equilibrium", "view", "View",
-           "InputError", "DivergedError", "StartContactWarning", "__version__"]
+           "Clip", "follow", "follow_scene", "FollowRun", "InputError", "DivergedError",
+           "StartContactWarning", "WriteBackWarning", "__version__"]
 
 
 class Pose:
@@ -329,6 +334,106 @@ def view(runs, path=None, *, title=None, labels=None, max_frames=10000):
     return View(os.fspath(path), size)
 
 
+def _clip_pose(self, rig, frame):
+    """The rig's pose of frame `frame` (from 0) of this clip, a clip of the rig's source skeleton
+    (its joint names, parents, channels, OFFSETs): a Pose of copies. `physik follow`'s and an
+    initial_pose {"bvh", "frame"}'s reading of a clip. A clip of another skeleton or a frame
+    outside the clip raises InputError."""
+    return _pose_from_arrays(self._pose(rig, frame), rig.bone_names)
+
+
+def _clip_of_poses(rig, poses, frame_time=1.0 / 30.0, *, source=None, source_frames=None,
+                   quaternion=False, euler_order="", own_skeleton=False):
+    """A clip of `rig`'s poses on its source skeleton (the write-back of `physik bvh convert`,
+    `solve --bvh`, `follow --bvh`): the source's joint names, hierarchy, channels, units, axes.
+
+    poses: a list of Pose (or of (local_rotations (nbone, 4) (x, y, z, w), root_head (3,)));
+    frame_time: seconds per frame; source: the clip the poses came from (a Clip of the source
+    skeleton) and source_frames the frame each pose came from (default: pose i from frame i;
+    -1 for none): what the rig cannot hold comes from that frame (the rotation of a joint with no
+    bone, a stretch channel, the Euler branch), so a frame nothing moved comes back as it was;
+    quaternion: qBVH channels; euler_order: every three-angle joint's order; own_skeleton: the
+    rig's own skeleton (one joint per bone) instead. What the file cannot hold warns with
+    WriteBackWarning."""
+    import warnings
+    import numpy
+    rotations = numpy.array([p.local_rotations if isinstance(p, Pose) else p[0] for p in poses],
+                            dtype=float).reshape(len(poses), rig.nbone, 4)
+    roots = numpy.array([p.root_head if isinstance(p, Pose) else p[1] for p in poses],
+                        dtype=float).reshape(len(poses), 3)
+    if source is not None and source_frames is None:
+        source_frames = list(range(len(poses)))
+    clip, messages = _core._clip_of_poses(rig, rotations, roots, frame_time, source,
+                                          list(source_frames or []), quaternion, euler_order,
+                                          own_skeleton)
+    for m in messages:
+        warnings.warn(m, WriteBackWarning, stacklevel=2)
+    return clip
+
+
+Clip.pose = _clip_pose
+Clip.of_poses = staticmethod(_clip_of_poses)
+
+FollowRun = namedtuple("FollowRun", ["summary", "clip", "scene"])
+FollowRun.__doc__ = """follow()'s result: summary (`physik follow`'s summary.json as a dict), clip
+(the run on the rig's source skeleton, a Clip: one frame per followed clip frame, at the engine's
+time per clip frame, as `physik follow --bvh` writes it) and scene (the follow scene that ran)."""
+
+
+def _follow_options(clip, frames):
+    first, last = (0, -1) if frames is None else frames
+    return int(first), (-1 if last is None else int(last))
+
+
+def follow_scene(clip, rig, *, points=None, frames=None, ground=0.0, gravity=False, params=None):
+    """The scene `physik follow` runs: control points on chosen bones track the clip's joints
+    frame by frame, starting at rest in the first frame's pose (physik/io/clip_follow.h).
+
+    clip: a Clip of the rig's source skeleton; rig: a Rig made from it (Rig.from_bvh); points:
+    bone names, or (bone, alpha) pairs (0 head, 1 tail; default: the root bone's tail and every
+    leaf bone's tail); frames: (first, last) clip frames from 0 (None: all); ground: the floor's
+    height (None: no floor); gravity: -9.81 along Z; params: {param: value} as `--set`. Bad input
+    raises InputError naming the field."""
+    first, last = _follow_options(clip, frames)
+    pts = [(p, 1.0) if isinstance(p, str) else (str(p[0]), float(p[1])) for p in (points or [])]
+    return _core._follow_scene(clip, rig, pts, first, last, ground, gravity, params)
+
+
+def follow(clip, rig, *, points=None, frames=None, ground=0.0, gravity=False, params=None,
+           raise_on_divergence=False):
+    """Follow a clip with the PhysIK engine: `physik follow CLIP --rig RIG --bvh OUT`.
+
+    The keywords are follow_scene's. Returns FollowRun(summary, clip, scene): the run's summary,
+    the run on the rig's source skeleton as a Clip with one frame per followed clip frame at the
+    engine's time per clip frame, as `--bvh` writes it (clip.write(path) writes it; what the rig
+    cannot hold, the rotation of a joint with no bone and a stretch channel, comes from the clip
+    frame each state stands for), and the scene. A diverged run is the summary's flag, or
+    DivergedError with raise_on_divergence."""
+    import numpy
+    scene = follow_scene(clip, rig, points=points, frames=frames, ground=ground, gravity=gravity,
+                         params=params)
+    first, _ = _follow_options(clip, frames)
+    sim = Simulation(scene)
+    poses, followed = [], []
+
+    def keep(frame):
+        pose = sim.pose
+        if numpy.all(numpy.isfinite(pose.local_rotations)) and numpy.all(
+                numpy.isfinite(pose.root_head)):
+            poses.append((numpy.array(pose.local_rotations), numpy.array(pose.root_head)))
+            followed.append(first + frame)
+
+    keep(0)
+    while not sim.stopped and sim.step_count < scene.steps:
+        sim.step(1, raise_on_divergence=raise_on_divergence)
+        frame = _core._followed_frame(scene, sim.step_count)
+        if frame > 0 and not sim.diverged:
+            keep(frame)
+    out = _clip_of_poses(rig, poses, _core._follow_frame_time(scene), source=clip,
+                         source_frames=followed)
+    return FollowRun(sim.summary, out, scene)
+
+
 def _wrap_the_api():
     """Bad arguments to any public name raise a one-line TypeError naming the valid keywords
     (physik/_arguments.py)."""
@@ -336,9 +441,10 @@ def _wrap_the_api():
     names = globals()
     for name in ("param_table", "export_mjcf", "compare_mujoco", "solve_mode_rule", "scaled_scene"):
         names[name] = args.compiled(getattr(_core, name), name)
-    for name in ("solve", "tune", "equilibrium", "view"):
+    for name in ("solve", "tune", "equilibrium", "view", "follow", "follow_scene"):
         names[name] = args.python(names[name], name)
-    args.wrap_class(Rig, ["load", "chain", "from_dict", "to_dict", "find_bone"])
+    args.wrap_class(Rig, ["load", "chain", "from_dict", "to_dict", "find_bone", "from_bvh"])
+    args.wrap_class(Clip, ["load", "parse", "write", "copy", "pose", "of_poses"])
     args.wrap_class(Scene, ["load", "from_dict", "to_dict", "update", "copy"])
     args.wrap_class(_core.Simulation, ["step"])
     args.wrap_class(Simulation, ["__init__", "run"])

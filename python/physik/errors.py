@@ -35,3 +35,10 @@ class StartContactWarning(UserWarning):
     bone started past the surface (deeper than its radius) is an InputError instead, as the CLI's
     exit 2.
     """
+
+
+class WriteBackWarning(UserWarning):
+    """What a clip written from a rig's poses cannot hold (Clip.of_poses, follow()): a root moved
+    along an axis it has no position channel for, a turn about an axis a joint has no rotation
+    channel for. str(warning) is the CLI's warning text after "physik: warning: <file>: ".
+    """
