@@ -20,6 +20,10 @@
 // Sizes (rig_sizing.h): every bone's radius and collision radius 0.14 x its length (or
 // --radius), its mass a rod of density 1000 kg/m^3 (or mass_per_length x L), all after the scale;
 // the pairs of bones whose capsules overlap at rest are added to the rig's collision_exclude.
+// With BvhImportOptions::body human (or auto, when the joint names make a human: `rig from-bvh`'s
+// default) the bones get a human's body instead (bvh_body.h: de Leva's masses and inertias, AAOS
+// joint ranges in anatomical bone frames, a welded pelvis, forward axes); --height and
+// --weld-constant are bvh_body.h's too.
 //
 // BVH -> rig (pivot_rig.h): every BVH joint is a pivot; its children and End Sites give bones from
 // the joint to each distinct child offset. A joint with one such offset gives one bone named after
@@ -67,6 +71,7 @@
 #include <vector>
 
 #include "physik/engine/bone_overlaps.h"
+#include "physik/io/bvh_body.h"
 #include "physik/model/kinematics.h"
 #include "physik/model/pivot_rig.h"
 #include "physik/model/rig.h"
@@ -123,6 +128,12 @@ struct BvhImportOptions {
   // add the bone pairs whose capsules overlap at rest to the rig's collision_exclude
   // (bone_overlaps.h); its cost grows with the pairs of bones piled at one point
   bool exclude_rest_overlaps = true;
+  // the body inside (bvh_body.h): generic rods, a human's (masses, inertias, limits, welds from
+  // the human template), or human when the joint names make one
+  BodyKind body = BodyKind::kGeneric;
+  std::string mapping;         // a joint-name file (skeleton_names.h); "": the compiled-in table
+  double height = 0.0;         // m; > 0: the scale that makes the figure this tall (not `scale`)
+  bool weld_constant = false;  // weld the joints constant at rest over the clip
 };
 
 struct BvhAnimation {
@@ -134,6 +145,7 @@ struct BvhAnimation {
   // what the file asks that the rig cannot quite be, by joint: "joint 'Hips' has 2 children at
   // its own position (zero OFFSET: Spine, Hip2)..."
   std::vector<std::string> warnings;
+  BvhBody body;  // what the body is: human or generic, the names' match, the unit rule, welds
   const Rig& rig() const { return pivots.rig; }
 };
 
