@@ -124,6 +124,75 @@ TEST(SkeletonNames, EachShapeIsRecognisedByItsConvention) {
   EXPECT_EQ(human(hs::shapes()[3]).body.match.prefix, "Skeleton1_");
 }
 
+// the joint names the conventions publish, the root first (only names: match_skeleton reads no
+// hierarchy); each is recognised by its own convention and names its knee and its upper arm
+TEST(SkeletonNames, EachConventionsPublishedNamesAreRecognised) {
+  struct Names {
+    std::string convention;
+    std::vector<std::string> joints;
+    std::string knee, upper_arm;  // the left shank's and upper arm's joints
+  };
+  const std::vector<Names> all = {
+      // SMPL's 24 joints (SMPL's J_regressor order)
+      {"SMPL",
+       {"Pelvis",  "L_Hip",    "R_Hip",    "Spine1",  "L_Knee",     "R_Knee",
+        "Spine2",  "L_Ankle",  "R_Ankle",  "Spine3",  "L_Foot",     "R_Foot",
+        "Neck",    "L_Collar", "R_Collar", "Head",    "L_Shoulder", "R_Shoulder",
+        "L_Elbow", "R_Elbow",  "L_Wrist",  "R_Wrist", "L_Hand",     "R_Hand"},
+       "L_Knee",
+       "L_Shoulder"},
+      // three.js's pirouette.bvh (Poser's names)
+      {"three.js / Poser / DAZ",
+       {"hip",     "abdomen",  "chest",    "neck",    "head",    "leftEye",  "rightEye",
+        "rCollar", "rShldr",   "rForeArm", "rHand",   "rThumb1", "rIndex1",  "lCollar",
+        "lShldr",  "lForeArm", "lHand",    "lThumb1", "lIndex1", "rButtock", "rThigh",
+        "rShin",   "rFoot",    "lButtock", "lThigh",  "lShin",   "lFoot"},
+       "lShin",
+       "lShldr"},
+      // Biovision's BVH example
+      {"Biovision",
+       {"Hips", "LeftUpLeg", "LeftLowLeg", "LeftFoot", "RightUpLeg", "RightLowLeg", "RightFoot",
+        "Chest", "LeftCollar", "LeftUpArm", "LeftLowArm", "LeftHand", "RightCollar", "RightUpArm",
+        "RightLowArm", "RightHand", "Neck", "Head"},
+       "LeftLowLeg",
+       "LeftUpArm"},
+      // Vicon Plug-in Gait's segments, with a subject prefix
+      {"Vicon Plug-in Gait",
+       {"Sub01:Pelvis", "Sub01:LFemur", "Sub01:LTibia", "Sub01:LFoot", "Sub01:RFemur",
+        "Sub01:RTibia", "Sub01:RFoot", "Sub01:Thorax", "Sub01:Head", "Sub01:LClavicle",
+        "Sub01:LHumerus", "Sub01:LRadius", "Sub01:LHand", "Sub01:RClavicle", "Sub01:RHumerus",
+        "Sub01:RRadius", "Sub01:RHand"},
+       "Sub01:LTibia",
+       "Sub01:LHumerus"},
+      // Mixamo's, in its namespace
+      {"Mixamo / HumanIK",
+       {"mixamorig:Hips",         "mixamorig:Spine",         "mixamorig:Spine1",
+        "mixamorig:Spine2",       "mixamorig:Neck",          "mixamorig:Head",
+        "mixamorig:LeftShoulder", "mixamorig:LeftArm",       "mixamorig:LeftForeArm",
+        "mixamorig:LeftHand",     "mixamorig:RightShoulder", "mixamorig:RightArm",
+        "mixamorig:RightForeArm", "mixamorig:RightHand",     "mixamorig:LeftUpLeg",
+        "mixamorig:LeftLeg",      "mixamorig:LeftFoot",      "mixamorig:RightUpLeg",
+        "mixamorig:RightLeg",     "mixamorig:RightFoot"},
+       "mixamorig:LeftLeg",
+       "mixamorig:LeftArm"},
+  };
+  for (const Names& n : all) {
+    const SkeletonMatch m = match_skeleton(n.joints, default_name_table());
+    EXPECT_TRUE(m.human) << n.convention;
+    EXPECT_EQ(m.convention, n.convention);
+    const auto segment_of = [&](const std::string& joint) {
+      for (std::size_t j = 0; j < n.joints.size(); ++j) {
+        if (n.joints[j] == joint && m.node_segment[j] >= 0) {
+          return human_segments()[m.node_segment[j]].name;
+        }
+      }
+      return std::string("(none)");
+    };
+    EXPECT_EQ(segment_of(n.knee), "shank.L") << n.convention;
+    EXPECT_EQ(segment_of(n.upper_arm), "upper_arm.L") << n.convention;
+  }
+}
+
 TEST(SkeletonNames, AnotherSkeletonKeepsTodaysRig) {
   const BvhFile file = parse_bvh(
       "HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n"

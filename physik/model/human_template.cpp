@@ -2,6 +2,7 @@
 #include "physik/model/human_template.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace physik {
 
@@ -28,30 +29,30 @@ const LevaRow kLeva[] = {
 using Range = std::array<std::array<double, 2>, 3>;
 const Range kNoRange = {{{0, 0}, {0, 0}, {0, 0}}};
 
-TemplateSegment central(const char* name, LevaSegment leva, JointKind kind, const Range& r,
-                        const char* region) {
+// a segment of the table: its name, side (+1 left, 0 central), row, kind, frame and ranges
+TemplateSegment segment(std::string name, int side, LevaSegment leva, JointKind kind,
+                        const Vec3& d0, const Vec3& x0, const Range& r) {
   TemplateSegment s;
-  s.name = name;
-  s.side = 0;
+  s.name = std::move(name);
+  s.side = side;
   s.leva = leva;
   s.kind = kind;
-  s.d0 = kU;
-  s.x0 = kL;
+  s.d0 = d0;
+  s.x0 = x0;
   s.range_deg = r;
+  return s;
+}
+
+TemplateSegment central(const char* name, LevaSegment leva, JointKind kind, const Range& r,
+                        const char* region) {
+  TemplateSegment s = segment(name, 0, leva, kind, kU, kL, r);
   s.shared_region = region;
   return s;
 }
 
 TemplateSegment left(const char* name, LevaSegment leva, JointKind kind, const Vec3& d0,
                      const Vec3& x0, const Range& r, bool offset_by_rest = false) {
-  TemplateSegment s;
-  s.name = std::string(name) + ".L";
-  s.side = 1;
-  s.leva = leva;
-  s.kind = kind;
-  s.d0 = d0;
-  s.x0 = x0;
-  s.range_deg = r;
+  TemplateSegment s = segment(std::string(name) + ".L", 1, leva, kind, d0, x0, r);
   s.offset_by_rest = offset_by_rest;
   return s;
 }
@@ -64,7 +65,8 @@ TemplateSegment mirrored(const TemplateSegment& l) {
   r.side = -1;
   r.d0.y() = -l.d0.y();
   r.x0.y() = -l.x0.y();
-  for (int a = 0; a < 2; ++a) r.range_deg[a] = {-l.range_deg[a][1], -l.range_deg[a][0]};
+  for (int a = 0; a < 2; ++a)
+    r.range_deg[a] = {0.0 - l.range_deg[a][1], 0.0 - l.range_deg[a][0]};  // 0 - x: no -0
   return r;
 }
 
