@@ -267,40 +267,44 @@ ShapeRun run_shape(const hs::Shape& shape) {
   return r;
 }
 
+// the shapes table's columns, one row per skeleton
+std::vector<Column> shapes_columns() {
+  return {text("shape", "the skeleton (experiments/human_skeletons.h)"),
+          text("convention", "the joint-name convention the table found").in_quotes(),
+          integer("joints", "", "the file's joints"),
+          integer("named", "", "joints the convention names"),
+          integer("bones", "", "the rig's bones"),
+          integer("welded", "", "welded bones"),
+          real("height", "m", "feet to head along the body's up axis"),
+          real("mass", "kg", "the rig's total mass"),
+          real("unit_scale", "1", "the --scale the unit rule names for the file as it is"),
+          flag("axes_hint", "read with the other --axes, the hint names the file's own"),
+          flag("solve_converged",
+               "the solve with the feet pinned and the face turned toward a "
+               "point ahead converged"),
+          real("aim_deg", "deg", "the face's angle to its point ahead after the solve"),
+          real("aim_deg_behind", "deg",
+               "the face's angle to a point behind (out of its joints' reach) after the solve"),
+          real("hip_width", "m", "the thighs' heads apart at rest"),
+          real("hip_change_solve", "m", "the hip width's largest change through the solves"),
+          real("hip_change_follow", "m", "... through the follow under gravity"),
+          real("girdle_change_solve", "m", "the clavicles' heads' distance, its change (solve)"),
+          real("girdle_change_follow", "m", "... (follow)"),
+          real("shoulder_width", "m", "the upper arms' heads apart at rest"),
+          real("shoulder_change_solve", "m", "the shoulder width's largest change (solve)"),
+          real("shoulder_change_follow", "m", "... (follow)"),
+          real("free_excess_deg", "deg", "the largest turn past a free axis's range (solves)"),
+          real("free_excess_band", "1", "the largest such excess over its torsion band"),
+          text("free_excess_where", "the bone and axis of the largest ratio").in_quotes(),
+          real("locked_excess_deg", "deg", "the largest turn about a locked axis (solves)"),
+          flag("follow_diverged", "the follow diverged"),
+          real("round_trip", "deg or file units",
+               "the largest channel difference of the clip written back on the source skeleton "
+               "from the poses it came in as")};
+}
+
 Table shapes_table(const std::vector<ShapeRun>& runs) {
-  Table t("shapes", "human_body_shapes.csv",
-          {text("shape", "the skeleton (experiments/human_skeletons.h)"),
-           text("convention", "the joint-name convention the table found").in_quotes(),
-           integer("joints", "", "the file's joints"),
-           integer("named", "", "joints the convention names"),
-           integer("bones", "", "the rig's bones"),
-           integer("welded", "", "welded bones"),
-           real("height", "m", "feet to head along the body's up axis"),
-           real("mass", "kg", "the rig's total mass"),
-           real("unit_scale", "1", "the --scale the unit rule names for the file as it is"),
-           flag("axes_hint", "read with the other --axes, the hint names the file's own"),
-           flag("solve_converged",
-                "the solve with the feet pinned and the face turned toward a "
-                "point ahead converged"),
-           real("aim_deg", "deg", "the face's angle to its point ahead after the solve"),
-           real("aim_deg_behind", "deg",
-                "the face's angle to a point behind (out of its joints' reach) after the solve"),
-           real("hip_width", "m", "the thighs' heads apart at rest"),
-           real("hip_change_solve", "m", "the hip width's largest change through the solves"),
-           real("hip_change_follow", "m", "... through the follow under gravity"),
-           real("girdle_change_solve", "m", "the clavicles' heads' distance, its change (solve)"),
-           real("girdle_change_follow", "m", "... (follow)"),
-           real("shoulder_width", "m", "the upper arms' heads apart at rest"),
-           real("shoulder_change_solve", "m", "the shoulder width's largest change (solve)"),
-           real("shoulder_change_follow", "m", "... (follow)"),
-           real("free_excess_deg", "deg", "the largest turn past a free axis's range (solves)"),
-           real("free_excess_band", "1", "the largest such excess over its torsion band"),
-           text("free_excess_where", "the bone and axis of the largest ratio").in_quotes(),
-           real("locked_excess_deg", "deg", "the largest turn about a locked axis (solves)"),
-           flag("follow_diverged", "the follow diverged"),
-           real("round_trip", "deg or file units",
-                "the largest channel difference of the clip written back on the source skeleton "
-                "from the poses it came in as")});
+  Table t("shapes", "human_body_shapes.csv", shapes_columns());
   for (const ShapeRun& r : runs) {
     const Widths solve = larger(r.ahead.change, r.behind.change);
     const Excess excess = worse(r.ahead.excess, r.behind.excess);

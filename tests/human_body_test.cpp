@@ -126,13 +126,14 @@ TEST(SkeletonNames, EachShapeIsRecognisedByItsConvention) {
 
 // the joint names the conventions publish, the root first (only names: match_skeleton reads no
 // hierarchy); each is recognised by its own convention and names its knee and its upper arm
-TEST(SkeletonNames, EachConventionsPublishedNamesAreRecognised) {
-  struct Names {
-    std::string convention;
-    std::vector<std::string> joints;
-    std::string knee, upper_arm;  // the left shank's and upper arm's joints
-  };
-  const std::vector<Names> all = {
+struct PublishedNames {
+  std::string convention;
+  std::vector<std::string> joints;
+  std::string knee, upper_arm;  // the left shank's and upper arm's joints
+};
+
+std::vector<PublishedNames> published_names() {
+  return {
       // SMPL's 24 joints (SMPL's J_regressor order)
       {"SMPL",
        {"Pelvis",  "L_Hip",    "R_Hip",    "Spine1",  "L_Knee",     "R_Knee",
@@ -176,7 +177,10 @@ TEST(SkeletonNames, EachConventionsPublishedNamesAreRecognised) {
        "mixamorig:LeftLeg",
        "mixamorig:LeftArm"},
   };
-  for (const Names& n : all) {
+}
+
+TEST(SkeletonNames, EachConventionsPublishedNamesAreRecognised) {
+  for (const PublishedNames& n : published_names()) {
     const SkeletonMatch m = match_skeleton(n.joints, default_name_table());
     EXPECT_TRUE(m.human) << n.convention;
     EXPECT_EQ(m.convention, n.convention);
