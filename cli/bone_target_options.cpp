@@ -3,6 +3,8 @@
 // scene file's "orientation_targets", "aim_targets" and "pins"). Each names a bone and its value:
 //   --orientation-target BONE=w,x,y,z   the bone's target frame, world<-bone (unit quaternion)
 //   --aim BONE=x,y,z                    the point its axis (+Y, head to tail) turns toward
+//   --look-at BONE=x,y,z                the point its forward axis (the human template's face,
+//                                       palm: Rig::bone_forward_local) turns toward
 //   --pin BONE[=x,y,z]                  its head held at the point (default: where it starts)
 // world frame, rig units; the spring, k and cap are the params' (--set control_k=... reaches
 // them). One target of a kind per bone: an option replaces the scene's target of that bone.
@@ -70,6 +72,19 @@ Vec3 vec3_of(const Given& g) {
   return {g.numbers[0], g.numbers[1], g.numbers[2]};
 }
 
+// --aim (the bone's +Y) or --look-at (its forward axis)
+void add_aim(const std::string& text, const char* option, bool forward, const BoneFrames& frames,
+             Scene& scene) {
+  const TargetSource src{option, "'" + text + "'"};
+  const Given g = parse_given(text, 3, "x,y,z", false, src);
+  AimTarget t;
+  t.bone = target_bone_index(scene, g.bone, src);
+  t.point_world = vec3_of(g);
+  if (forward) t.axis_bone = look_at_axis(scene.rig, t.bone, src);
+  check_aim_target(scene, frames, t, src);
+  set_bone_target(scene.aim_targets, t);
+}
+
 }  // namespace
 
 void add_bone_target_options(CLI::App* cmd, BoneTargetOptions& o) {
@@ -81,6 +96,11 @@ void add_bone_target_options(CLI::App* cmd, BoneTargetOptions& o) {
                   "A bone's axis (its +Y, head to tail) turned toward a world point, BONE=x,y,z "
                   "(rig units; repeat for more bones)")
       ->type_name("BONE=X,Y,Z");
+  cmd->add_option("--look-at", o.look_at,
+                  "A bone's forward axis (the face, a palm: the human body of a rig converted "
+                  "from a human skeleton) turned toward a world point, BONE=x,y,z (rig units; "
+                  "repeat for more bones; one aim per bone, as --aim)")
+      ->type_name("BONE=X,Y,Z");
   cmd->add_option("--pin", o.pin,
                   "A bone's head held at a world point, BONE=x,y,z, or BONE alone: where it is in "
                   "the initial pose (a stiff spring, 100 control_k; repeat for more bones)")
@@ -88,7 +108,7 @@ void add_bone_target_options(CLI::App* cmd, BoneTargetOptions& o) {
 }
 
 void apply_bone_target_options(const BoneTargetOptions& o, Scene& scene) {
-  if (o.orientation.empty() && o.aim.empty() && o.pin.empty()) return;
+  if (o.orientation.empty() && o.aim.empty() && o.pin.empty() && o.look_at.empty()) return;
   const BoneFrames frames = forward_kinematics(scene.rig, scene.initial_pose);
   const auto at = [](const char* option, const std::string& text) {
     return TargetSource{option, "'" + text + "'"};
@@ -101,15 +121,8 @@ void apply_bone_target_options(const BoneTargetOptions& o, Scene& scene) {
     t.target_world = target_quaternion(g.numbers[0], g.numbers[1], g.numbers[2], g.numbers[3], src);
     set_bone_target(scene.orientation_targets, t);
   }
-  for (const std::string& text : o.aim) {
-    const TargetSource src = at("--aim", text);
-    const Given g = parse_given(text, 3, "x,y,z", false, src);
-    AimTarget t;
-    t.bone = target_bone_index(scene, g.bone, src);
-    t.point_world = vec3_of(g);
-    check_aim_target(scene, frames, t, src);
-    set_bone_target(scene.aim_targets, t);
-  }
+  for (const std::string& text : o.aim) add_aim(text, "--aim", false, frames, scene);
+  for (const std::string& text : o.look_at) add_aim(text, "--look-at", true, frames, scene);
   for (const std::string& text : o.pin) {
     const TargetSource src = at("--pin", text);
     const Given g = parse_given(text, 3, "x,y,z", true, src);

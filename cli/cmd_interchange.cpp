@@ -15,6 +15,7 @@
 #include "physik/io/json_fields.h"
 #include "physik/io/rig_io.h"
 #include "physik/model/errors.h"
+#include "physik/model/message_number.h"
 #include "physik/model/rig_sizing.h"
 #include "reference/mjcf_import.h"
 
@@ -44,18 +45,46 @@ void check_scale_option(double scale) {
   }
 }
 
-// --radius, --mass-per-length, --total-mass (rig_sizing.h); checked by the converters
-void add_sizing_options(CLI::App* cmd, SizingOptions& z, const char* default_radius) {
-  cmd->add_option("--radius", z.radius,
-                  std::string("Every bone's radius and collision radius, rig units (after "
-                              "--scale); default: ") +
-                      default_radius);
-  cmd->add_option("--mass-per-length", z.mass_per_length,
-                  "Every bone's mass per rig unit of its length (kg per rig unit); default: a "
-                  "rod of the bone's radius at 1000 kg per cubic rig unit (BVH), the model's "
-                  "masses (MJCF)");
-  cmd->add_option("--total-mass", z.total_mass,
-                  "Scale every bone's mass so that the rig weighs this (kg)");
+// --radius, --mass-per-length, --total-mass (rig_sizing.h); checked by the converters. Each one
+// given must be positive: 0 (or -0) is what the options are when left out, so a given 0 would
+// silently mean "the default" (check_sizing_given says so instead)
+struct SizingGiven {
+  CLI::Option* radius = nullptr;
+  CLI::Option* mass_per_length = nullptr;
+  CLI::Option* total_mass = nullptr;
+};
+
+SizingGiven add_sizing_options(CLI::App* cmd, SizingOptions& z, const char* default_radius,
+                               const char* default_mass) {
+  SizingGiven given;
+  given.radius = cmd->add_option("--radius", z.radius,
+                                 std::string("Every bone's radius and collision radius, rig units "
+                                             "(after --scale; positive); default: ") +
+                                     default_radius);
+  given.mass_per_length = cmd->add_option(
+      "--mass-per-length", z.mass_per_length,
+      "Every bone's mass per rig unit of its length (kg per rig unit, positive); default: a "
+      "rod of the bone's radius at 1000 kg per cubic rig unit (BVH), the model's masses "
+      "(MJCF)");
+  given.total_mass = cmd->add_option(
+      "--total-mass", z.total_mass,
+      std::string("Scale every bone's mass so that the rig weighs this (kg, positive); default: ") +
+          default_mass);
+  return given;
+}
+
+void check_sizing_given(const SizingGiven& given, const SizingOptions& z) {
+  const auto check = [](const CLI::Option* o, double v, const char* unit) {
+    if (o->count() > 0 && !(v > 0.0)) {
+      throw_input_error(o->get_name(), "", "",
+                        std::string("must be a positive finite number (") + unit + "), got " +
+                            message_number(v) + " (leave the option out for the default)");
+    }
+  };
+  check(given.radius, z.radius, "rig units");
+  check(given.mass_per_length, z.mass_per_length, "kg per rig unit");
+  check(given.total_mass, z.total_mass, "kg");
+  check_sizing_options(z);
 }
 
 // a list of names on stderr, one line: "<heading> (n): a; b; c"
@@ -74,53 +103,128 @@ void add_axes_option(CLI::App* cmd, std::string& axes) {
       ->capture_default_str();
 }
 
+// physik rig from-bvh's options
+struct FromBvh {
+  std::string path, out, axes = "y-up", body = "auto", mapping, root;
+  double scale = 1.0;
+  double height = 0.0;  // m; 0: not given
+  bool weld_constant = false;
+  SizingOptions sizing;
+  SizingGiven given;
+  CLI::Option* scale_option = nullptr;
+  CLI::Option* height_option = nullptr;
+};
+
+BodyKind parse_body(const std::string& s) {
+  if (s == "auto") return BodyKind::kAuto;
+  if (s == "human") return BodyKind::kHuman;
+  if (s == "generic") return BodyKind::kGeneric;
+  throw_input_error("--body", "", "", "expected auto, human or generic, got '" + s + "'");
+}
+
+// the options checked before the file is read, so their messages name the option
+BvhImportOptions from_bvh_options(const FromBvh& fb) {
+  check_scale_option(fb.scale);
+  check_sizing_given(fb.given, fb.sizing);
+  BvhImportOptions o;
+  o.axes = parse_axes(fb.axes);
+  o.scale = fb.scale;
+  o.sizing = fb.sizing;
+  o.body = parse_body(fb.body);
+  o.mapping = fb.mapping;
+  o.weld_constant = fb.weld_constant;
+  if (fb.root == "free" || fb.root == "pinned") {
+    o.root = fb.root == "free" ? RootJoint::kFree : RootJoint::kPinned;
+  } else if (!fb.root.empty()) {
+    throw_input_error("--root", "", "", "expected free or pinned, got '" + fb.root + "'");
+  }
+  if (fb.height_option->count() > 0) {
+    if (!(fb.height > 0.0) || !std::isfinite(fb.height)) {
+      throw_input_error(
+          "--height", "", "",
+          "must be a positive finite number (metres), got " + message_number(fb.height));
+    }
+    if (fb.scale_option->count() > 0) {
+      throw_input_error("--height", "", "",
+                        "give --height (the figure's height in metres) or --scale (rig units per "
+                        "file unit), not both");
+    }
+    o.height = fb.height;
+  }
+  if (!fb.mapping.empty() && o.body == BodyKind::kGeneric) {
+    throw_input_error("--mapping", "", "",
+                      "names the joints' segments of a human body: --body generic has none");
+  }
+  return o;
+}
+
+// what the body is, its units and axes, on stderr
+void report_body(const BvhAnimation& anim, double scale) {
+  const Rig& rig = anim.rig();
+  const BvhBody& body = anim.body;
+  const std::vector<std::string> notes = bvh_body_notes(body);
+  for (const std::string& note : notes) std::cerr << "from-bvh: " << note << "\n";
+  if (body.human) return;
+  double suggested = 0.0;
+  const std::string unit = guess_bvh_units(rig.height(), suggested);
+  if (!unit.empty()) {
+    std::cerr << "from-bvh: warning: a figure " << rig.height()
+              << " rig units tall looks like a file in " << unit
+              << " (rig units are read as metres): convert it with --scale " << suggested * scale
+              << "\n";
+  }
+}
+
 // physik rig from-bvh
 void add_from_bvh(CLI::App* rig) {
-  struct FromBvh {
-    std::string path, out, axes = "y-up", root;
-    double scale = 1.0;
-    SizingOptions sizing;
-  };
   auto fb = std::make_shared<FromBvh>();
   auto* from_bvh = rig->add_subcommand(
-      "from-bvh", "Rig of a BVH/qBVH file (bones from offsets, End Sites as tails); prints JSON");
+      "from-bvh",
+      "Rig of a BVH/qBVH file (bones from offsets, End Sites as tails); a skeleton whose joint "
+      "names make a human gets a human body (de Leva's masses, AAOS joint ranges, welded "
+      "pelvis); prints JSON");
   from_bvh->add_option("FILE", fb->path, "BVH or qBVH file")->required();
   from_bvh->add_option("--out", fb->out, "Write the rig JSON here instead of stdout");
   add_axes_option(from_bvh, fb->axes);
-  from_bvh->add_option("--scale", fb->scale, "Rig units per file unit (e.g. 0.01 for cm)")
+  fb->scale_option =
+      from_bvh->add_option("--scale", fb->scale, "Rig units per file unit (e.g. 0.01 for cm)")
+          ->capture_default_str();
+  fb->height_option = from_bvh->add_option(
+      "--height", fb->height,
+      "Scale the figure to this height (m: its feet to its head along its up axis for a human, "
+      "its extent along the rig's Z otherwise) instead of --scale");
+  from_bvh
+      ->add_option("--body", fb->body,
+                   "auto: a human body when the joint names make one (models/human/"
+                   "joint_names.json), else generic; human: insist (exit 2 if the names do "
+                   "not make one); generic: rods, no limits")
       ->capture_default_str();
-  add_sizing_options(from_bvh, fb->sizing, "0.14 x the bone's length");
   from_bvh->add_option("--root", fb->root,
                        "The root's joint to the world: free or pinned (turns in place); default: "
                        "pinned when the file's root has no position channels, else free");
+  from_bvh->add_option("--mapping", fb->mapping,
+                       "Joint-name file naming each joint's segment (the form of models/human/"
+                       "joint_names.json) instead of the built-in table");
+  from_bvh->add_flag("--weld-constant", fb->weld_constant,
+                     "Weld every joint whose channels stay at rest over the whole clip");
+  fb->given = add_sizing_options(from_bvh, fb->sizing, "0.14 x the bone's length",
+                                 "none (rods); 73 kg for a human body");
   from_bvh->callback([fb] {
-    check_scale_option(fb->scale);
-    check_sizing_options(fb->sizing);
-    BvhImportOptions o;
-    if (fb->root == "free" || fb->root == "pinned") {
-      o.root = fb->root == "free" ? RootJoint::kFree : RootJoint::kPinned;
-    } else if (!fb->root.empty()) {
-      throw_input_error("--root", "", "", "expected free or pinned, got '" + fb->root + "'");
-    }
-    o.axes = parse_axes(fb->axes);
-    o.scale = fb->scale;
-    o.sizing = fb->sizing;
+    const BvhImportOptions o = from_bvh_options(*fb);
     const BvhAnimation anim = load_bvh(fb->path, o);
     const Rig& rig = anim.rig();
     std::cerr << "from-bvh: " << rig.nbone << " bones, " << anim.poses.size()
               << " frames, max |FK - BVH| = " << anim.max_position_error << " rig units\n";
     std::cerr << "from-bvh: height " << rig.height() << " rig units, mass " << rig.total_mass()
               << " kg\n";
-    double suggested = 0.0;
-    const std::string unit = guess_bvh_units(rig.height(), suggested);
-    if (!unit.empty()) {
-      std::cerr << "from-bvh: warning: a figure " << rig.height()
-                << " rig units tall looks like a file in " << unit
-                << " (rig units are read as metres): convert it with --scale "
-                << suggested * fb->scale << "\n";
-    }
+    report_body(anim, anim.body.scale);
     for (const std::string& n : anim.notes) std::cerr << "from-bvh: note: " << n << "\n";
     for (const std::string& w : anim.warnings) std::cerr << "from-bvh: warning: " << w << "\n";
+    if (anim.max_position_error > 1e-6 * std::max(1.0, rig.height())) {
+      std::cerr << "from-bvh: warning: the rig puts joints up to " << anim.max_position_error
+                << " rig units from where the file does (the joints named above: position "
+                   "channels on non-root joints, welded joints that turn)\n";
+    }
     std::vector<std::string> pairs;
     for (const BoneOverlap& p : anim.rest_overlaps) {
       pairs.push_back(rig.bone_name[p.a] + "/" + rig.bone_name[p.b]);
@@ -206,10 +310,11 @@ void add_from_mjcf(CLI::App* rig) {
   from_mjcf->add_option("--out", fm->out, "Write the rig JSON here instead of stdout");
   from_mjcf->add_option("--body", fm->body,
                         "Body whose subtree becomes the rig (default: the largest top-level one)");
-  add_sizing_options(from_mjcf, fm->sizing,
-                     "the body's capsule or sphere geom, else 0.14 x the bone's length");
-  from_mjcf->callback([fm] {
-    check_sizing_options(fm->sizing);
+  const SizingGiven given = add_sizing_options(
+      from_mjcf, fm->sizing, "the body's capsule or sphere geom, else 0.14 x the bone's length",
+      "the model's");
+  from_mjcf->callback([fm, given] {
+    check_sizing_given(given, fm->sizing);
     MjcfImportOptions o;
     o.root_body = fm->body;
     o.sizing = fm->sizing;

@@ -1,4 +1,5 @@
 // physik rig info | chain | tree: inspect rigs and generate chains and balanced trees.
+#include <algorithm>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -188,6 +189,11 @@ nlohmann::json rig_info_json(const Rig& rig, const std::string& path) {
                                      : nlohmann::json(nullptr)},
          {"dof", info_dof(rig, i)},
          {"limits_deg", limits}});
+    // the human template's segment and forward axis (bone frame), where the rig has them
+    if (!rig.bone_segment[i].empty()) bones.back()["segment"] = rig.bone_segment[i];
+    if (!rig.bone_forward_local[i].isZero()) {
+      bones.back()["forward"] = vec_json(rig.bone_forward_local[i]);
+    }
   }
   nlohmann::json out = {{"file", path},
                         {"name", rig.name},
@@ -206,6 +212,36 @@ nlohmann::json rig_info_json(const Rig& rig, const std::string& path) {
   return out;
 }
 
+// the bone's human-template segment and forward axis (bone frame), where the rig has them
+void print_body_of_bone(const Rig& rig, int i, std::ostringstream& s) {
+  if (!rig.bone_segment[i].empty()) s << "  segment " << rig.bone_segment[i];
+  const Vec3& f = rig.bone_forward_local[i];
+  if (!f.isZero()) s << "  forward (" << f.x() << ", " << f.y() << ", " << f.z() << ")";
+}
+
+// the human template's segments and how many bones each has (rig info's "body" line)
+std::string body_summary(const Rig& rig) {
+  std::vector<std::string> order;
+  std::vector<int> count;
+  for (int i = 0; i < rig.nbone; ++i) {
+    const std::string& seg = rig.bone_segment[i];
+    if (seg.empty()) continue;
+    const auto it = std::find(order.begin(), order.end(), seg);
+    if (it == order.end()) {
+      order.push_back(seg);
+      count.push_back(1);
+    } else {
+      ++count[it - order.begin()];
+    }
+  }
+  if (order.empty()) return "";
+  std::string out;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    out += (k ? ", " : "") + order[k] + (count[k] > 1 ? " x" + std::to_string(count[k]) : "");
+  }
+  return out;
+}
+
 // each bone's local axes in world at rest, and its limits per local axis (deg)
 void print_bone_frames(const Rig& rig) {
   std::cout << "  bones (local axes in world at rest; limits per local axis, deg, on the "
@@ -220,6 +256,7 @@ void print_bone_frames(const Rig& rig) {
       s << "  " << kAxisName[a] << " (" << f(0, a) << ", " << f(1, a) << ", " << f(2, a) << ")";
     }
     s << "  " << joint_text(rig, i);
+    print_body_of_bone(rig, i, s);
     std::cout << s.str() << "\n";
   }
 }
@@ -257,6 +294,10 @@ void print_rig_info(const Rig& rig, const std::string& path) {
             << std::setprecision(4) << "  total mass: " << rig.total_mass() << " kg\n"
             << "  height: " << rig.height() << " rig units\n"
             << "  root '" << rig.bone_name[0] << "': " << root_text(rig) << "\n"
+            << (body_summary(rig).empty()
+                    ? std::string()
+                    : "  body: human template (models/README.md \"A human body\"), segments: " +
+                          body_summary(rig) + "\n")
             << "  joints (at the parent's tail, or the world's at a pinned root's head; DOF of "
                "each child relative to the parent):\n";
   for (std::size_t k = 0; k < rig.joints.size(); ++k) {

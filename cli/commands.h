@@ -54,12 +54,13 @@ inline constexpr const char* kTuneExitStatusHelp =
     "converges later than the scene's (stderr: \"converged later\") or never (\"not "
     "converged\"); --out still holds the tuned values: 0 only when the tuned run converges no "
     "later than the scene's.";
-// --orientation-target BONE=w,x,y,z, --aim BONE=x,y,z and --pin BONE[=x,y,z], repeated, as
+// --orientation-target BONE=w,x,y,z, --aim BONE=x,y,z, --look-at BONE=x,y,z (an aim of the
+// bone's forward axis: the face, a palm) and --pin BONE[=x,y,z], repeated, as
 // simulate and solve take them: added to the scene after it is read, checked as the scene file's
 // bone targets (InputError naming the option, the value, the field and the reason). Defined in
 // bone_target_options.cpp.
 struct BoneTargetOptions {
-  std::vector<std::string> orientation, aim, pin;
+  std::vector<std::string> orientation, aim, pin, look_at;
 };
 void add_bone_target_options(CLI::App* cmd, BoneTargetOptions& o);
 void apply_bone_target_options(const BoneTargetOptions& o, Scene& scene);

@@ -280,7 +280,8 @@ raises InputError.)doc")
             AimTarget t;
             t.bone = bone_arg(s, bone, m);
             t.point_world = vec3_arg(point, m, "point");
-            if (!axis.is_none()) t.axis_bone = vec3_arg(axis, m, "axis");
+            t.axis_bone = axis.is_none() ? default_aim_axis(s.session.scene().rig, t.bone)
+                                         : vec3_arg(axis, m, "axis");
             set_turn_spring(spring, k, cap, {m, ""}, t);
             s.session.set_aim_target(t);
           },
@@ -288,7 +289,8 @@ raises InputError.)doc")
           py::arg("k") = py::none(), py::arg("spring") = py::none(), py::arg("cap") = py::none(),
           R"doc(Turn `bone`'s axis toward `point` (world, rig units) seen from its head.
 
-axis: in the bone's frame (default [0, 1, 0], along the bone); k, spring and cap as
+axis: in the bone's frame (default: the bone's forward axis where the rig's human template gives
+it one, the face or a palm; else [0, 1, 0], along the bone); k, spring and cap as
 set_orientation_target. Adds the bone's aim or replaces it. A point on the bone's head in the
 pose now, a zero axis or an unknown bone raises InputError.)doc");
 }

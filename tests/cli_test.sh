@@ -714,6 +714,83 @@ if [ -f /usr/share/mujoco/model/tendon_arm/arm26.xml ]; then
   expect_in "rig info arm26 pinned root" "$tmp/out" "(pinned: a ball at its head"
 fi
 
+# a human skeleton (Mixamo's names, centimetres): a human body, the unit rule, --height, --body,
+# --mapping, --weld-constant, --look-at; each bad value exits 2 naming the option
+human_joint() {  # human_joint NAME "X Y Z" INNER
+  printf 'JOINT %s\n{\nOFFSET %s\nCHANNELS 3 Zrotation Xrotation Yrotation\n%s}\n' "$1" "$2" "$3"
+}
+human_end() { printf 'End Site\n{\nOFFSET %s\n}\n' "$1"; }
+human_arm() {  # human_arm SIDE SIGN
+  human_joint "$1Shoulder" "${2}6 11 0" "$(human_joint "$1Arm" "${2}11 0 0" "$(human_joint "$1ForeArm" "${2}28 0 0" "$(human_joint "$1Hand" "${2}25 0 0" "$(human_end "${2}18 0 0")")")")"
+}
+human_leg() {  # human_leg SIDE SIGN
+  human_joint "$1UpLeg" "${2}9 -6 0" "$(human_joint "$1Leg" "0 -42 0" "$(human_joint "$1Foot" "0 -42 0" "$(human_end "0 -6 14")")")"
+}
+{
+  printf 'HIERARCHY\nROOT Hips\n{\nOFFSET 0 0 0\nCHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n'
+  human_joint Spine "0 10 0" "$(human_joint Spine1 "0 25 0" "$(human_joint Neck "0 22 0" "$(human_joint Head "0 9 2" "$(human_end "0 20 0")")"; human_arm Left ""; human_arm Right "-")")"
+  human_leg Left ""; human_leg Right "-"
+  printf '}\nMOTION\nFrames: 2\nFrame Time: 0.0333333\n'
+  for f in 0 1; do printf '0 100 %s' "$f"; for j in $(seq 1 19); do printf ' 0 %s 0' "$f"; done; printf '\n'; done
+} > "$tmp/human.bvh"
+check "from-bvh human" 0 "$bin" rig from-bvh "$tmp/human.bvh" --out "$tmp/human_cm.json"
+expect_in "from-bvh human: the body" "$tmp/err" "from-bvh: body: human (joint names of the Mixamo / HumanIK convention, 19 of 19 joints named)"
+expect_in "from-bvh human: the unit rule" "$tmp/err" "looks like a file in centimetres: --scale 0.01 makes it"
+check "from-bvh human in metres" 0 "$bin" rig from-bvh "$tmp/human.bvh" --scale 0.01 --total-mass 80 --out "$tmp/human.json"
+check "from-bvh human in metres: no unit warning" 1 grep -q "looks like a file" "$tmp/err"
+check "from-bvh human: 80 kg, segments, a knee hinge" 0 python3 -c "
+import json
+r = json.load(open('$tmp/human.json'))
+bones = {b['name']: b for b in r['bones']}
+assert abs(sum(b['mass'] for b in r['bones']) - 80) < 1e-9
+assert bones['LeftUpLeg']['segment'] == 'thigh.L' and bones['Head']['forward'] == [0.0, 0.0, 1.0], bones['Head']
+knee = bones['LeftLeg']['limits_deg']
+assert knee['y'] == [0, 0] and knee['z'] == [0, 0] and knee['x'][1] == 135, knee
+"
+check "rig info human" 0 "$bin" rig info "$tmp/human.json"
+expect_in "rig info: the body line" "$tmp/out" "body: human template"
+expect_in "rig info: a bone's segment" "$tmp/out" "segment thigh.L"
+check "from-bvh --height" 0 "$bin" rig from-bvh "$tmp/human.bvh" --height 1.8 --out "$tmp/human18.json"
+expect_in "from-bvh --height: 1.8 m" "$tmp/err" "height 1.8 rig units"
+for bad in "--height|0|--height: must be a positive finite number (metres), got 0" \
+    "--height|-1|--height: must be a positive finite number (metres), got -1" \
+    "--height|inf|--height: must be a positive finite number (metres), got inf" \
+    "--total-mass|0|--total-mass: must be a positive finite number (kg), got 0 (leave the option out for the default)" \
+    "--total-mass|-0|--total-mass: must be a positive finite number (kg), got -0" \
+    "--radius|0|--radius: must be a positive finite number (rig units), got 0" \
+    "--mass-per-length|-0|--mass-per-length: must be a positive finite number (kg per rig unit), got -0" \
+    "--body|robot|--body: expected auto, human or generic, got 'robot'"; do
+  IFS='|' read -r opt value text <<< "$bad"
+  check "from-bvh $opt $value" 2 "$bin" rig from-bvh "$tmp/human.bvh" $opt "$value"
+  expect_in "from-bvh $opt $value message" "$tmp/err" "physik: error: $text"
+done
+check "from-mjcf --total-mass 0" 2 "$bin" rig from-mjcf "$tmp/capsules.xml" --total-mass 0
+expect_in "from-mjcf --total-mass 0 message" "$tmp/err" "physik: error: --total-mass: must be a positive finite number (kg), got 0"
+check "from-bvh --height with --scale" 2 "$bin" rig from-bvh "$tmp/human.bvh" --height 1.8 --scale 0.01
+expect_in "from-bvh --height with --scale message" "$tmp/err" "--height: give --height (the figure's height in metres) or --scale"
+check "from-bvh --mass-per-length on a human" 2 "$bin" rig from-bvh "$tmp/human.bvh" --mass-per-length 2
+expect_in "from-bvh --mass-per-length on a human message" "$tmp/err" "--mass-per-length: a human body's masses come from de Leva's table"
+check "from-bvh --body generic" 0 "$bin" rig from-bvh "$tmp/human.bvh" --body generic --mass-per-length 2 --out "$tmp/human_generic.json"
+check "from-bvh --body human on another skeleton" 2 "$bin" rig from-bvh "$tmp/cm.bvh" --body human
+expect_in "from-bvh --body human message" "$tmp/err" "--body: human: $tmp/cm.bvh is not a human skeleton by its joint names"
+printf '{"joints": {"Hips": "pelvis", "LeftUpLeg": "thigh.l"}}' > "$tmp/badmap.json"
+check "from-bvh --mapping unknown segment" 2 "$bin" rig from-bvh "$tmp/human.bvh" --mapping "$tmp/badmap.json"
+expect_in "from-bvh --mapping unknown segment message" "$tmp/err" "badmap.json: joints 'LeftUpLeg': unknown segment 'thigh.l' (did you mean 'thigh.L'?)"
+printf '{"joints": {"Hips": "pelvis", "LeftUpLg": "thigh.L"}}' > "$tmp/badjoint.json"
+check "from-bvh --mapping unknown joint" 2 "$bin" rig from-bvh "$tmp/human.bvh" --mapping "$tmp/badjoint.json"
+expect_in "from-bvh --mapping unknown joint message" "$tmp/err" "badjoint.json: joints 'LeftUpLg': no joint of the skeleton has this name (did you mean 'LeftUpLeg'?)"
+check "from-bvh --mapping with --body generic" 2 "$bin" rig from-bvh "$tmp/human.bvh" --body generic --mapping "$tmp/badmap.json"
+check "from-bvh --weld-constant" 0 "$bin" rig from-bvh "$tmp/human.bvh" --scale 0.01 --weld-constant --out "$tmp/human_wc.json"
+printf '{"rig": "human.json", "steps": 5, "pins": [{"bone": "LeftFoot"}, {"bone": "RightFoot"}]}\n' > "$tmp/look.json"
+check "simulate --look-at" 0 "$bin" simulate "$tmp/look.json" --out "$tmp/look" --quiet --look-at Head=1,-2,1.7
+check "simulate --look-at: the face's axis" 0 python3 -c "
+import json
+(a,) = json.load(open('$tmp/look/scene.json'))['aim_targets']
+assert a['bone'] == 'Head' and a['axis'] == [0.0, 0.0, 1.0], a
+"
+check "--look-at a bone without a forward axis" 2 "$bin" simulate "$pinhead_scene" --out "$tmp/x" --quiet --look-at head=0,-3,2
+expect_in "--look-at message" "$tmp/err" "--look-at: 'head=0,-3,2': field 'bone': 'head' has no forward axis"
+
 # the rig's collision_exclude, and what rig info says about the rest pose
 printf '{"bones": [{"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,1]}, {"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2]}], "collision_exclude": [["a", "b"], ["b", "b"]]}' > "$tmp/twice.json"
 check "rig exclusion naming one bone twice" 2 "$bin" rig info "$tmp/twice.json"

@@ -20,6 +20,10 @@
 // Sizes (rig_sizing.h): every bone's radius and collision radius 0.14 x its length (or
 // --radius), its mass a rod of density 1000 kg/m^3 (or mass_per_length x L), all after the scale;
 // the pairs of bones whose capsules overlap at rest are added to the rig's collision_exclude.
+// With BvhImportOptions::body human (or auto, when the joint names make a human: `rig from-bvh`'s
+// default) the bones get a human's body instead (bvh_body.h: de Leva's masses and inertias, AAOS
+// joint ranges in anatomical bone frames, a welded pelvis, forward axes); --height and
+// --weld-constant are bvh_body.h's too.
 //
 // A root with no position channels never moves: by default its joint is pinned where it is
 // (pivot_rig.h 3c.: the root bone pinned at its head, or a synthetic root a fixed handle with
@@ -87,6 +91,7 @@
 #include <vector>
 
 #include "physik/engine/bone_overlaps.h"
+#include "physik/io/bvh_body.h"
 #include "physik/model/kinematics.h"
 #include "physik/model/pivot_rig.h"
 #include "physik/model/rig.h"
@@ -152,6 +157,12 @@ struct BvhImportOptions {
   // the root's joint to the world: free, or pinned (the root joint turns in place: pivot_rig.h
   // 3c.); unset: pinned when the file's root has no position channel (it never moves), else free
   std::optional<RootJoint> root;
+  // the body inside (bvh_body.h): generic rods, a human's (masses, inertias, limits, welds from
+  // the human template), or human when the joint names make one
+  BodyKind body = BodyKind::kGeneric;
+  std::string mapping;         // a joint-name file (skeleton_names.h); "": the compiled-in table
+  double height = 0.0;         // m; > 0: the scale that makes the figure this tall (not `scale`)
+  bool weld_constant = false;  // weld the joints constant at rest over the clip
 };
 
 struct BvhAnimation {
@@ -166,6 +177,7 @@ struct BvhAnimation {
   // what the conversion chose that the file did not say, e.g. a root pinned for want of position
   // channels
   std::vector<std::string> notes;
+  BvhBody body;  // what the body is: human or generic, the names' match, the unit rule, welds
   const Rig& rig() const { return pivots.rig; }
 };
 

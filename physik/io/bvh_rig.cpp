@@ -178,7 +178,9 @@ void write_bvh_notes(const std::string& source, const BvhImportOptions& options,
     << options.scale << " rig units per file unit; height " << rig.height() << " rig units";
   double suggested = 0.0;
   const std::string unit = guess_bvh_units(rig.height(), suggested);
-  if (!unit.empty()) s << " (looks like " << unit << ": --scale " << suggested << " makes metres)";
+  if (!unit.empty() && !anim.body.human) {
+    s << " (looks like " << unit << ": --scale " << suggested << " makes metres)";
+  }
   rig.source.push_back(s.str());
   s.str("");
   const SizingOptions& z = options.sizing;
@@ -189,14 +191,19 @@ void write_bvh_notes(const std::string& source, const BvhImportOptions& options,
     s << kRadiusPerLength << " x each bone's length";
   }
   s << "; mass ";
-  if (z.mass_per_length > 0.0) {
+  if (anim.body.human) {
+    s << "and inertia the human template's (below)";
+  } else if (z.mass_per_length > 0.0) {
     s << z.mass_per_length << " kg per rig unit (--mass-per-length)";
   } else {
     s << "a rod of density " << kBodyDensity << " kg per cubic rig unit";
   }
-  if (z.total_mass > 0.0) s << ", scaled to " << z.total_mass << " kg in all (--total-mass)";
+  if (z.total_mass > 0.0 && !anim.body.human) {
+    s << ", scaled to " << z.total_mass << " kg in all (--total-mass)";
+  }
   rig.source.push_back(s.str());
   for (const std::string& n : anim.notes) rig.source.push_back(n);
+  for (const std::string& note : bvh_body_notes(anim.body)) rig.source.push_back(note);
   for (const std::string& w : anim.warnings) rig.source.push_back("warning: " + w);
   if (!anim.rest_overlaps.empty()) {
     std::string names;
@@ -298,14 +305,17 @@ void keep_source_skeleton(const BvhFile& bvh, const BvhImportOptions& options, P
 }  // namespace
 
 BvhAnimation bvh_to_rig(const BvhFile& bvh, const std::string& source,
-                        const BvhImportOptions& options) {
-  if (!(options.scale > 0.0) || !std::isfinite(options.scale)) {
+                        const BvhImportOptions& given) {
+  if (!(given.scale > 0.0) || !std::isfinite(given.scale)) {
     throw_input_error(source, "", "scale", "must be a positive number");
   }
+  check_sizing_options(given.sizing);
+  BvhBody body = plan_bvh_body(bvh, source, given);
+  BvhImportOptions options = given;
+  options.scale = body.scale;  // --height's
   const Quat a = bvh_axes_to_rig(options.axes);
   const double s = options.scale;
   const std::vector<PivotNode> nodes = bvh_pivots(bvh, source, options);
-  check_sizing_options(options.sizing);
   PivotBones bones = pivot_bones(nodes, source);
   const RootJoint root = bvh_root_joint(bvh, source, options);
   if (root == RootJoint::kPinned) pin_root_pivot(bones);
@@ -313,8 +323,14 @@ BvhAnimation bvh_to_rig(const BvhFile& bvh, const std::string& source,
     b.radius = fitted_radius(options.sizing, (b.tail_world - b.head_world).norm());
     b.collision_radius = b.radius;
   }
-  fit_masses(bones.specs, options.sizing);
+  if (options.weld_constant) weld_constant_joints(bvh, bones, body);
+  if (body.human) {
+    fit_bvh_human(nodes, options, bones, body);
+  } else {
+    fit_masses(bones.specs, options.sizing);
+  }
   BvhAnimation anim;
+  anim.body = body;
   anim.pivots = finish_pivot_rig(nodes, bones, source, "");
   keep_source_skeleton(bvh, options, anim.pivots);
   anim.frame_time = bvh.frame_time;
@@ -322,6 +338,7 @@ BvhAnimation bvh_to_rig(const BvhFile& bvh, const std::string& source,
   if (options.exclude_rest_overlaps) anim.rest_overlaps = exclude_rest_overlaps(anim.pivots.rig);
   held_joint_warnings(bvh, bones, anim);
   position_channel_warnings(bvh, bones, anim);
+  weld_turn_warnings(bvh, anim.pivots, anim.warnings);
   write_bvh_notes(source, options, anim);
 
   // per frame: every pivot's rotation and position in rig axes -> pose; check FK against BVH

@@ -58,13 +58,16 @@ void apply_joint_limits(Rig& rig, const JointLimits& limits) {
   for (const BoneLimits& b : limits.bones) {
     const int i = rig.find_bone(b.bone);
     if (i < 0) {
-      std::string known;
-      for (int k = 0; k < rig.nbone && k < 8; ++k) known += (k ? ", " : "") + rig.bone_name[k];
-      if (rig.nbone > 8) known += ", ...";
+      // the nearest name when one is close, else the first bones
+      std::string known = did_you_mean(b.bone, rig.bone_name);
+      if (known.empty()) {
+        for (int k = 0; k < rig.nbone && k < 8; ++k) known += (k ? ", " : "") + rig.bone_name[k];
+        known = " (its bones: " + known + (rig.nbone > 8 ? ", ...)" : ")");
+      }
       throw_input_error(limits.source, "limits_deg '" + b.bone + "'", "",
                         "unknown bone: the rig " +
                             (rig.name.empty() ? std::string() : "'" + rig.name + "' ") +
-                            "has no bone of that name (its bones: " + known + ")");
+                            "has no bone of that name" + known);
     }
     const auto& l = b.limit;
     const bool limited = l[0].limited || l[1].limited || l[2].limited;

@@ -35,7 +35,7 @@ BoneSpec bone_from_json(const Json& b, const JsonContext& ctx, const BoneDefault
   ctx.require_object(b, "");
   ctx.only_keys(b, {"name", "parent", "head", "tail", "rest_frame", "roll_deg", "limits_deg",
                     "mass_per_length", "mass", "radius", "inertia_local", "collision_radius",
-                    "weld", "comment"});
+                    "weld", "segment", "forward", "comment"});
   BoneSpec s;
   s.name = ctx.string(b, "name");  // checked by build_rig, which names the bone by its index
   const Json& parent = ctx.require(b, "parent");
@@ -77,6 +77,12 @@ BoneSpec bone_from_json(const Json& b, const JsonContext& ctx, const BoneDefault
   }
   read_mass(b, ctx, d, s);
   s.collision_radius = read_collision_radius(b, ctx, d.collision_radius);
+  // the human template's segment and forward axis (checked by build_rig)
+  s.segment = ctx.string_or(b, "segment", "");
+  if (b.contains("forward")) {
+    s.forward_local = ctx.vec3(b, "forward");
+    if (!(s.forward_local.norm() > 1e-9)) ctx.fail("forward", "must be a nonzero vector");
+  }
   return s;
 }
 
@@ -260,6 +266,9 @@ Json rig_to_json(const Rig& rig) {
     }
     if (!lim.empty()) b["limits_deg"] = lim;
     if (rig.bone_weld[i] >= 0) b["weld"] = rig.bone_name[rig.bone_weld[i]];
+    if (!rig.bone_segment[i].empty()) b["segment"] = rig.bone_segment[i];
+    const Vec3& fw = rig.bone_forward_local[i];
+    if (!fw.isZero()) b["forward"] = {fw.x(), fw.y(), fw.z()};
     b["mass"] = rig.bone_mass[i];
     if (rig.bone_radius[i] != d.radius) b["radius"] = rig.bone_radius[i];
     // explicit moments only where they are not the cylinder's

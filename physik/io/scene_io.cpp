@@ -196,7 +196,8 @@ void read_aim_targets(const JsonContext& top, const Json& doc, Scene& s) {
     t.name = ctx.name_or(c, "name", "");
     t.bone = target_bone(ctx, c, s, at);
     t.point_world = bounded_vec3(ctx, c, "point");
-    if (c.contains("axis")) t.axis_bone = ctx.vec3(c, "axis");
+    // no axis: the bone's forward axis where the rig's human template gives it one, else +Y
+    t.axis_bone = c.contains("axis") ? ctx.vec3(c, "axis") : default_aim_axis(s.rig, t.bone);
     read_turn_spring(ctx, c, at, t);
     s.aim_targets.push_back(t);
   }

@@ -71,6 +71,28 @@ void set_turn_spring(const std::optional<std::string>& spring, std::optional<dou
       cap ? std::optional<double>(in_row_range("control_cap", *cap, "cap", at)) : std::nullopt;
 }
 
+Vec3 default_aim_axis(const Rig& rig, int bone) {
+  const Vec3& forward = rig.bone_forward_local[bone];
+  return forward.isZero() ? Vec3::UnitY() : forward;
+}
+
+Vec3 look_at_axis(const Rig& rig, int bone, const TargetSource& at) {
+  const Vec3& forward = rig.bone_forward_local[bone];
+  if (!forward.isZero()) return forward;
+  std::string with;
+  int count = 0;
+  for (int b = 0; b < rig.nbone; ++b) {
+    if (rig.bone_forward_local[b].isZero()) continue;
+    if (++count <= 6) with += (with.empty() ? "" : ", ") + rig.bone_name[b];
+  }
+  fail(at, "bone",
+       "'" + rig.bone_name[bone] + "' has no forward axis (a face, a palm): " +
+           (count == 0 ? std::string("this rig has none (a rig converted from a human skeleton, "
+                                     "`rig from-bvh --body human`, gives every bone one); use "
+                                     "--aim to turn the bone itself")
+                       : "the rig's bones with one: " + with + (count > 6 ? ", ..." : "")));
+}
+
 void check_aim_target(const Scene& scene, const BoneFrames& frames, AimTarget& aim,
                       const TargetSource& at) {
   check_point(aim.point_world, at);

@@ -36,6 +36,15 @@ Quat target_quaternion(double w, double x, double y, double z, const TargetSourc
 void set_turn_spring(const std::optional<std::string>& spring, std::optional<double> k,
                      std::optional<double> cap, const TargetSource& at, TurnSpring& out);
 
+// The axis an aim turns toward its point when it names none: the bone's forward axis in the
+// human template (Rig::bone_forward_local: the face, a palm; human_body.h) where the rig gives it
+// one, else +Y (along the bone, head to tail). Bone frame, unit.
+Vec3 default_aim_axis(const Rig& rig, int bone);
+
+// A look-at (`--look-at BONE=x,y,z`): an aim of the bone's forward axis; a bone without one is an
+// InputError naming `at`, the field "bone" and the bones that have one.
+Vec3 look_at_axis(const Rig& rig, int bone, const TargetSource& at);
+
 // An aim's point must not lie on its bone's head in `frames` (the aim would have no direction);
 // its axis is nonzero (normalised by this call).
 void check_aim_target(const Scene& scene, const BoneFrames& frames, AimTarget& aim,

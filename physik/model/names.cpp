@@ -1,5 +1,6 @@
 #include "physik/model/names.h"
 
+#include <algorithm>
 #include <cstdio>
 
 namespace physik {
@@ -64,6 +65,41 @@ std::string name_problem(const std::string& name) {
     i += n;
   }
   return "";
+}
+
+namespace {
+
+// Levenshtein distance between two short names
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] != b[j - 1])});
+    }
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+}  // namespace
+
+std::string nearest_name(const std::string& name, const std::vector<std::string>& known) {
+  std::string best;
+  std::size_t best_d = std::string::npos;
+  for (const std::string& k : known) {
+    const std::size_t d = edit_distance(name, k);
+    if (d < best_d) best_d = d, best = k;
+  }
+  // close: a typo (a third of the name's letters at most, two at least)
+  if (best_d <= std::max<std::size_t>(2, best.size() / 3)) return best;
+  return "";
+}
+
+std::string did_you_mean(const std::string& name, const std::vector<std::string>& known) {
+  const std::string best = nearest_name(name, known);
+  return best.empty() ? "" : " (did you mean '" + best + "'?)";
 }
 
 }  // namespace physik

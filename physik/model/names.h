@@ -7,6 +7,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace physik {
 
@@ -15,5 +16,13 @@ std::string name_problem(const std::string& name);
 
 // True when `text` is valid UTF-8 (control characters allowed).
 bool valid_utf8(const std::string& text);
+
+// The name of `known` nearest to `name` by edit distance (Levenshtein, case-sensitive) when it is
+// close enough to be a typo (at most a third of its letters, two at least), else "": the "did you
+// mean" of a message. Ties go to the first in `known`.
+std::string nearest_name(const std::string& name, const std::vector<std::string>& known);
+
+// " (did you mean 'x'?)" for nearest_name's answer, or "" when none is close.
+std::string did_you_mean(const std::string& name, const std::vector<std::string>& known);
 
 }  // namespace physik

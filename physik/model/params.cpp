@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "physik/model/errors.h"
+#include "physik/model/names.h"
 
 namespace physik {
 
@@ -440,33 +441,11 @@ std::errc parse_whole(const std::string& text, T& out) {
   return ec;
 }
 
-// Levenshtein distance between two short names
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    cur[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] != b[j - 1])});
-    }
-    std::swap(prev, cur);
-  }
-  return prev[b.size()];
-}
-
 }  // namespace
 
 std::string unknown_param_reason(const std::string& key) {
-  std::string best;
-  std::size_t best_d = std::string::npos;
-  for (const std::string& k : param_keys()) {
-    const std::size_t d = edit_distance(key, k);
-    if (d < best_d) best_d = d, best = k;
-  }
-  // close: a typo (a third of the name's letters at most, two at least)
-  if (best_d <= std::max<std::size_t>(2, best.size() / 3)) {
-    return "unknown parameter '" + key + "' (did you mean '" + best + "'?)";
-  }
+  const std::string close = did_you_mean(key, param_keys());
+  if (!close.empty()) return "unknown parameter '" + key + "'" + close;
   std::string all;
   for (const std::string& k : param_keys()) all += (all.empty() ? "" : ", ") + k;
   return "unknown parameter '" + key + "' (known: " + all + ")";

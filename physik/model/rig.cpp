@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "physik/model/errors.h"
+#include "physik/model/human_template.h"
 #include "physik/model/names.h"
 
 namespace physik {
@@ -394,6 +395,22 @@ void check_mass(const BoneSpec& b, const std::string& source, const std::string&
   }
 }
 
+// stage 4d: a bone's place in the human template: a known segment, a finite nonzero forward axis
+void check_body(const BoneSpec& b, const std::string& source, const std::string& el) {
+  if (!b.segment.empty() && human_segment_index(b.segment) < 0) {
+    throw_input_error(source, el, "segment",
+                      "unknown segment '" + b.segment + "'" +
+                          did_you_mean(b.segment, human_segment_names()) +
+                          " (human_template.h: pelvis, lumbar, thorax, neck, head, and clavicle, "
+                          "upper_arm, forearm, hand, fingers, thigh, shank, foot, toes with .L "
+                          "or .R)");
+  }
+  if (!b.forward_local.allFinite() ||
+      (!b.forward_local.isZero() && !(b.forward_local.norm() > 1e-9))) {
+    throw_input_error(source, el, "forward", "must be a finite nonzero vector");
+  }
+}
+
 // stage 5: the per-bone arrays in DFS order; a child's head must meet its parent's tail (within
 // 1e-3 of the parent's length) and is snapped onto it to remove the file's rounding
 void fill_bones(const std::vector<BoneSpec>& specs, const std::vector<std::size_t>& order,
@@ -432,6 +449,9 @@ void fill_bones(const std::vector<BoneSpec>& specs, const std::vector<std::size_
     rig.bone_inertia_local.push_back(
         b.inertia_local.isZero() ? cylinder_inertia(b.mass, b.radius, len) : b.inertia_local);
     rig.bone_limit.push_back(b.limit);
+    rig.bone_segment.push_back(b.segment);
+    rig.bone_forward_local.push_back(b.forward_local.isZero() ? b.forward_local
+                                                              : b.forward_local.normalized());
     rig.bone_weld.push_back(b.weld.empty() ? -1 : new_index[index_of.at(b.weld)]);
   }
 }
@@ -593,6 +613,7 @@ Rig build_rig(const std::vector<BoneSpec>& specs, const std::string& source,
     check_geometry(specs[i], source, el);
     check_limits(specs[i], source, el);
     check_mass(specs[i], source, el);
+    check_body(specs[i], source, el);
   }
   Rig rig;
   rig.name = name;

@@ -92,6 +92,10 @@ struct BoneSpec {
   double collision_radius = 0.0;
   // the bone this one is welded to (its parent, or a sibling listed before it); empty: not welded
   std::string weld;
+  // the human template's segment it belongs to ("thigh.L"; human_template.h), "" for none
+  std::string segment;
+  // unit, bone frame: the template's forward axis (the face, a palm); zero for none
+  Vec3 forward_local = Vec3::Zero();
 };
 
 struct Joint {
@@ -127,8 +131,13 @@ struct Rig {
   std::vector<Vec3> bone_inertia_local;         // (nbone) principal moments about the centre of
                                                 //         mass, bone-local x, y, z (kg m^2)
   std::vector<std::array<AxisLimit, 3>> bone_limit;  // (nbone) per local axis
-  std::vector<int> bone_joint_at_tail;               // (nbone) joint index at the tail, or -1
-  std::vector<int> bone_joint_at_head;  // (nbone) joint index at the head, or -1 (root)
+  // the human template's segment of each bone ("" for none) and its forward axis (unit, bone
+  // frame: the face, a palm; zero for none): what an aim without an axis turns toward its point
+  // (human_body.h; a rig converted from a skeleton recognised as human has them)
+  std::vector<std::string> bone_segment;  // (nbone)
+  std::vector<Vec3> bone_forward_local;   // (nbone)
+  std::vector<int> bone_joint_at_tail;    // (nbone) joint index at the tail, or -1
+  std::vector<int> bone_joint_at_head;    // (nbone) joint index at the head, or -1 (root)
 
   // the joint model of the exact and implicit schemes (and MuJoCo's): per bone its joint's type,
   // the bone across it, and where its velocity coordinates start

@@ -19,6 +19,8 @@ std::vector<BoneSpec> scaled_bones(const Rig& rig, double s, std::optional<doubl
     b.limit = rig.bone_limit[i];
     b.mass = density ? *density * (b.tail_world - b.head_world).norm() : rig.bone_mass[i];
     b.radius = rig.bone_radius[i] * s;
+    b.segment = rig.bone_segment[i];
+    b.forward_local = rig.bone_forward_local[i];
   }
   return specs;
 }

@@ -2,6 +2,8 @@
 scene file's targets (the same steps, bit for bit), they turn and hold the bones they name, and
 their bad input is the scene file's InputError; the scene-level solve and Simulation take scenes
 that carry them."""
+import json
+
 import numpy as np
 import pytest
 
@@ -201,3 +203,23 @@ def test_a_solve_waits_for_its_turning_targets():
     [turn] = with_turn.summary["orientation_residuals_rad"]
     assert turn * length < with_turn.summary["residual_tol"], turn
     assert max(with_turn.summary["final_residuals"]) < with_turn.summary["residual_tol"]
+
+
+def test_an_aim_without_an_axis_turns_the_bones_forward_axis(tmp_path):
+    """A rig whose bone has a forward axis (rig file `bones[].forward`, as `rig from-bvh` gives a
+    human skeleton's face and palms): set_aim_target without an axis takes it, with one keeps the
+    given axis; a bone without one aims along itself (+Y)."""
+    rig = {"bones": [
+        {"name": "neck", "parent": None, "head": [0, 0, 0], "tail": [0, 0, 0.1]},
+        {"name": "head", "parent": "neck", "head": [0, 0, 0.1], "tail": [0, 0, 0.3],
+         "forward": [0, 0, 2]}]}
+    (tmp_path / "rig.json").write_text(json.dumps(rig))
+    (tmp_path / "scene.json").write_text('{"rig": "rig.json", "steps": 10}')
+    s = physik.PosingSession(physik.Scene.load(str(tmp_path / "scene.json")))
+    s.set_aim_target("head", [1.0, 0.0, 0.2])
+    s.set_aim_target("neck", [1.0, 0.0, 0.0])
+    axes = {a["bone"]: a["axis"] for a in s.bone_targets["aim_targets"]}
+    assert axes == {"head": [0.0, 0.0, 1.0], "neck": [0.0, 1.0, 0.0]}, axes
+    s.set_aim_target("head", [1.0, 0.0, 0.2], axis=[1.0, 0.0, 0.0])
+    axes = {a["bone"]: a["axis"] for a in s.bone_targets["aim_targets"]}
+    assert axes["head"] == [1.0, 0.0, 0.0], axes
