@@ -46,8 +46,8 @@ enum class SolveFinish {
   kDls,   // physics for the transient, then damped least squares
 };
 
-// The solve mode's defaults (physik solve --solver physik, ik_comparison's physik rows): chosen on
-// the ik_comparison targets (docs/ik.md "The solve mode")
+// The time-stepping solve mode's defaults (physik solve --solver physik-steps): chosen on
+// the ik_comparison targets (docs/ik.md "The time-stepping solve mode")
 constexpr double kSolveDtGrowth = 2.0;  // 1, per settling step
 constexpr double kSolveMaxDt = 1000.0;  // s
 
