@@ -130,7 +130,7 @@ Case make_case(const std::string& models, const std::string& rig, int n, unsigne
     if (!std::filesystem::exists(xml)) {
       throw physik::InputError("--rig humanoid: " + xml + " is missing (libmujoco-samples)");
     }
-    return figure_case(rig, physik::load_mjcf(xml).rig(), "hand_left", {"foot_left", "foot_right"},
+    return figure_case(rig, physik::load_mjcf(xml).rig(), "left_hand", {"left_foot", "right_foot"},
                        n, seed);
   }
   if (rig == "figure75") {
