@@ -9,8 +9,8 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import physik_plot as pp  # noqa: E402
 
-COLORS = {"physik-solve": "tab:red", "physik-explicit": "tab:orange", "dls": "tab:blue",
-          "kdl-lma": "tab:green"}
+COLORS = {"physik": "tab:red", "physik-steps": "tab:purple", "physik-explicit": "tab:orange",
+          "dls": "tab:blue", "kdl": "tab:green", "kdl-nr": "tab:olive"}
 FLOOR = 1e-12  # log-scale floor for exact zeros
 
 

@@ -117,15 +117,16 @@ void run_solve(const SolveOptions& o, const CLI::App& cmd) {
   if (!std::filesystem::exists(o.scene))
     throw_input_error(o.scene, "", "", "scene file does not exist");
   const SceneSolveOptions options = solve_options(o, cmd);
-  const ParamOverrides overrides = parse_param_overrides(
-      options.solver == "physik" ? solve_mode_overrides(o.set) : o.set, "--set");
+  const bool solve_mode = options.solver == "physik" || options.solver == "physik-steps";
+  const ParamOverrides overrides =
+      parse_param_overrides(solve_mode ? solve_mode_overrides(o.set) : o.set, "--set");
   check_solve_options(options);  // before the scene: a bad flag is reported first
   Scene scene = load_scene(o.scene, overrides);
   apply_bone_target_options(o.targets, scene);
   if (!o.bvh.empty()) check_output_file(o.bvh, "--bvh");  // before the solve, not after
   // the engine runs the contacts from the initial pose (start_contacts.h); a classic solver
   // refuses a ground or obstacles outright (scene_solve.h)
-  if (options.solver == "physik" || options.solver == "physik-explicit") {
+  if (solve_mode || options.solver == "physik-explicit") {
     warn_start_contacts(scene);
   }
   create_output_dir(o.out, "--out");
@@ -189,14 +190,18 @@ void add_solve_commands(CLI::App& app) {
   auto opt = std::make_shared<SolveOptions>();
   auto* cmd = app.add_subcommand(
       "solve",
-      "Solve a scene's control points (at their final targets) as IK goals with a classic solver "
-      "or the PhysIK engine (physik: the implicit step, lengthening from the scene's dt into a "
-      "quasi-static solve; physik-explicit: the scene's own engine at its dt): writes "
+      "Solve a scene's goals (control points at their final targets, orientation targets, aims) "
+      "with a classic solver, Orocos KDL or the PhysIK engine (physik: the equilibrium solve, "
+      "the rest pose by a trust region of implicit steps at rest; physik-steps: the implicit "
+      "step lengthening from the scene's dt into a quasi-static solve; physik-explicit: the "
+      "scene's own engine at its dt). Position goals are met within --tol (rig units), "
+      "orientation targets and aims within --tol-angle (rad). Writes "
       "<out>/final_pose.csv and <out>/summary.json, and, unless it diverged, the rest of a pose "
       "folder (scene.json, a one-row trajectory.csv and targets_and_limits.csv: `physik view "
       "<out>` shows the solved pose). The scene's \"solve\" object gives options "
-      "the flags do not. A solve that stops short of its tolerance (stalled, or out of "
-      "iterations or steps) writes both, says why and exits 4.");
+      "the flags do not. A solve that stops short of a goal's tolerance (out of reach, against "
+      "a limit, stalled, or out of iterations or steps) writes both, names each goal short and "
+      "by how much, and exits 4.");
   cmd->footer(kSolveExitStatusHelp);
   cmd->add_option("SCENE", opt->scene, "Scene file (JSON, see models/README.md)")->required();
   add_solve_options(cmd, *opt);

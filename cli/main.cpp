@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
+#include "kdl/kdl_solve.h"
 #include "physik/model/errors.h"
 #include "physik/model/version.h"
 
@@ -23,6 +24,7 @@ int main(int argc, char** argv) {
   physik::cli::add_simulate_commands(app);
   physik::cli::add_reference_commands(app);
   physik::cli::add_tune_commands(app);
+  physik::kdl::register_solvers();  // --solver kdl | kdl-nr (kdl/kdl_solve.h)
   physik::cli::add_solve_commands(app);
   physik::cli::add_follow_commands(app);
   physik::cli::add_params_commands(app);

@@ -15,8 +15,8 @@ int main(int argc, char** argv) {
     session.advance(3);
     std::printf("frame %d lag %.4f\n", frame, session.residual());
   }
-  const physik::SolveResult r = session.solve();  // run on to the residual tolerance
-  std::printf("solve: %s in %d steps, residual %.2e\n", r.converged ? "converged" : "not converged",
-              r.steps, r.residual);
+  const physik::SolveResult r = session.solve();  // the rest pose: the equilibrium solve
+  std::printf("solve: %s in %d iterations, residual %.2e\n",
+              r.converged ? "converged" : "not converged", r.steps, r.residual);
   return r.converged ? 0 : 1;
 }

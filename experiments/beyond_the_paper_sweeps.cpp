@@ -461,8 +461,9 @@ ReachSweep sweep_reach(const Context& ctx, const Scene& s, const tune::Equilibri
   return out;
 }
 
-// the solve mode (physik/posing): from the physical dt, lengthening as the motion settles; the
-// elbow's three points are met exactly at its equilibrium, so it runs to a residual of 1e-10
+// the time-stepping solve mode (physik/posing): from the physical dt, lengthening as the motion
+// settles; the elbow's three points are met exactly at its equilibrium, so it runs to a residual of
+// 1e-10
 struct SolveMode {
   SolveResult solved;
   double distance = 0.0;  // rig units, to the Ceres pose
@@ -471,9 +472,9 @@ struct SolveMode {
 
 SolveMode solve_mode_on(const Scene& s, const tune::EquilibriumResult& e) {
   Scene solve_scene = s;
-  use_solve_mode(solve_scene.params);  // as physik solve --solver physik
+  use_solve_mode(solve_scene.params);  // as physik solve --solver physik-steps
   PosingSession session(solve_scene);
-  SolveRule rule = solve_mode_rule();
+  SolveRule rule = steps_mode_rule();
   rule.tolerance = 1e-10;
   rule.max_steps = 400;
   SolveMode out;

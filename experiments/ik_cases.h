@@ -26,6 +26,16 @@ struct RigCase {
 // chain3, chain10, chain50 (unless without_chain50) and pinhead (from models_dir/rigs)
 std::vector<RigCase> make_ik_rigs(const std::string& models_dir, bool without_chain50);
 
+// A standing human figure of 75 bones with fingers, for the solve-cost comparison on a rig of a
+// motion-capture file's size (MakeHuman's walk has 75 joints): hips (the root), seven spine
+// bones, three neck bones, the head, a jaw and two eyes; per side a clavicle, an upper arm, a
+// forearm in two (a twist bone), a hand and five fingers of a metacarpal and three phalanges; per
+// side a pelvis bone, a thigh, a shin, a foot and a toe. Z up, facing -Y, .L on +X, 1.85 rig units
+// tall, masses by length (1 per unit, as the original), the limits of a person in round numbers:
+// hinges (elbows, knees, finger joints, toes, jaw: two axes locked), wrists and ankles with the
+// twist locked, shoulders and hips free within a wide range, a small range per spine and neck bone.
+Rig make_figure_rig();
+
 // A rig's targets, drawn from one fixed seed: reachable, unreachable, and the continuity moves.
 struct Targets {
   std::vector<Vec3> reach, unreach, moves;  // rig units, world frame

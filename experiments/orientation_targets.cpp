@@ -1,26 +1,29 @@
 // Study: a hand with a position target and an orientation target, on pinhead and on MuJoCo's
 // humanoid (humanoid/humanoid.xml converted as `physik rig from-mjcf`, reference/mjcf_import.h,
-// the outside_rigs path): PhysIK's solve mode and its explicit engine against damped least
-// squares with orientation rows (physik/ik/jacobian.cpp) and Orocos KDL's ChainIkSolverPos_LMA
-// with orientation weights, on the same targets.
+// the outside_rigs path): PhysIK's solve modes and its explicit engine against damped least
+// squares with orientation rows (physik/ik/jacobian.cpp) and Orocos KDL's LMA and NR_JL with
+// orientation rows, on the same targets.
 //
 // Targets (seed 49, reachable by construction): the hand's tail and frame (world<-bone) in a
 // random legal pose (common.h random_legal_pose) of the hand and its three parents, every other
 // bone at rest. Every solve starts from the rest pose.
 // Solvers:
-//   physik-solve     solve_scene with --solver physik (scene_solve.h): effector_scene's control
-//                    point on the hand's tail and one holding the root's head (PhysIK's root is
-//                    free), and an orientation target on the hand (its default k = control_k L^2,
-//                    L the hand's length, scene.h TurnSpring); at most kSteps steps
+//   physik           solve_scene with --solver physik (scene_solve.h), the equilibrium solve:
+//                    effector_scene's control point on the hand's tail and one holding the root's
+//                    head (PhysIK's root is free), and an orientation target on the hand (its
+//                    default k = control_k L^2, L the hand's length, scene.h TurnSpring)
+//   physik-steps     the same scene, --solver physik-steps (the time-stepping solve mode), at
+//                    most kSteps steps
 //   physik-explicit  the same scene in the paper's scheme (preset original, Gauss-Seidel) as a
 //                    plain run at its dt (--solver physik-explicit)
 //   dls              solve_ik with one goal: position and orientation (orientation rows weighted
 //                    by the chain's reach, ik_solver.h), the rig's limits respected
-//   kdl-lma          KDL's LMA on the root-to-hand chain: per bone a fixed segment (its head in
-//                    its parent, its rest orientation), then revolute joints about x, y, z (the
-//                    local rotation Rx Ry Rz), and the hand's tail; weights L = [1, 1, 1, w, w, w],
-//                    w = the reach (the same length as DLS's orientation rows); no joint limits
-//                    (KDL's LMA has none), eps 1e-4 of the reach on the weighted error
+//   kdl, kdl-nr      Orocos KDL through --solver kdl|kdl-nr (kdl/kdl_solve.h) on the root-to-hand
+//                    chain: per bone a fixed segment (its head in its parent, its rest
+//                    orientation), then revolute joints about x, y, z, and the hand's tail; LMA
+//                    with weights [1, 1, 1, w, w, w], w = tol / tol_angle (the reach), no joint
+//                    limits; NR_JL with the rig's limits on its joints
+// The engine's and KDL's tolerances are the success rule's over ten: 1e-4 of the reach, 1e-4 rad.
 // Measured per solve: the position error of the hand's tail (rig units), the orientation error
 // |log(q_target q^-1)| of its frame (rad), wall time, the largest joint-limit violation, and the
 // secondary motion: the mean displacement (rig units) of the tails of the bones off the
@@ -32,13 +35,10 @@
 #include <filesystem>
 #include <random>
 
-#include <kdl/chain.hpp>
-#include <kdl/chainfksolverpos_recursive.hpp>
-#include <kdl/chainiksolverpos_lma.hpp>
-
 #include "experiments/common.h"
 #include "experiments/outside_rigs.h"
 #include "experiments/table.h"
+#include "kdl/kdl_solve.h"
 #include "physik/ik/ik_solver.h"
 #include "physik/io/rig_io.h"
 #include "physik/posing/scene_solve.h"
@@ -105,10 +105,23 @@ Scene target_scene(const RigCase& rc, const Target& t, bool solve_mode) {
   return sc;
 }
 
-Result engine(const RigCase& rc, const Target& t, bool solve_mode) {
+// the engine (physik, physik-steps, physik-explicit) or KDL (kdl, kdl-nr) through solve_scene,
+// the position and angle tolerances the success rule's over ten (1e-4 of the reach, 1e-4 rad)
+Result by_scene_solve(const RigCase& rc, const Target& t, const std::string& solver) {
   SceneSolveOptions o;
-  o.solver = solve_mode ? "physik" : "physik-explicit";
-  const SceneSolveResult r = solve_scene(target_scene(rc, t, solve_mode), o);
+  o.solver = solver;
+  o.tol = 0.1 * kPosTol * rc.reach;
+  o.tol_angle = 0.1 * kOriTol;
+  const bool kdl = solver.rfind("kdl", 0) == 0;
+  const Scene scene = target_scene(rc, t, solver != "physik-explicit");
+  if (kdl) {
+    const SceneSolveResult r = kdl::solve_scene_kdl(scene, o);
+    return {r.pose, r.time_s, r.classic.converged,
+            r.classic.converged ? "converged"
+            : r.classic.stalled ? "stalled"
+                                : "out_of_steps"};
+  }
+  const SceneSolveResult r = solve_scene(scene, o);
   const std::string outcome = r.diverged          ? "diverged"
                               : r.solve.converged ? "converged"
                               : r.solve.stalled   ? "stalled"
@@ -126,52 +139,6 @@ Result dls(const RigCase& rc, const Target& t) {
           rep.converged ? "converged"
           : rep.stalled ? "stalled"
                         : "out_of_steps"};
-}
-
-KDL::Rotation kdl_rotation(const Quat& q) {
-  return KDL::Rotation::Quaternion(q.x(), q.y(), q.z(), q.w());
-}
-
-Result kdl_lma(const RigCase& rc, const Target& t) {
-  const Rig& rig = rc.rig;
-  KDL::Chain chain;
-  for (int i : rc.chain) {
-    const int p = rig.bone_parent[i];
-    const Vec3 head = p < 0 ? rig.bone_rest_head_world[0] : rig.bone_head_in_parent[i];
-    chain.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::None),
-                                  KDL::Frame(kdl_rotation(rig.bone_rest_orient_parent[i]),
-                                             KDL::Vector(head.x(), head.y(), head.z()))));
-    // welded to its parent (rig_case), or a fixed root: no joint
-    if (rig.bone_joint_type[i] == JointType::kWeld) continue;
-    chain.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::RotX)));
-    chain.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::RotY)));
-    chain.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::RotZ)));
-  }
-  chain.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::None),
-                                KDL::Frame(KDL::Vector(0, rig.bone_length[rc.hand], 0))));
-  const double w = rc.reach;
-  Eigen::Matrix<double, 6, 1> weights;
-  weights << 1, 1, 1, w, w, w;
-  KDL::ChainIkSolverPos_LMA lma(chain, weights, 1e-4 * rc.reach, 1000, 1e-15);
-  KDL::JntArray q0(chain.getNrOfJoints()), q(chain.getNrOfJoints());
-  const KDL::Frame goal(kdl_rotation(t.orientation),
-                        KDL::Vector(t.position.x(), t.position.y(), t.position.z()));
-  const auto t0 = std::chrono::steady_clock::now();
-  const int status = lma.CartToJnt(q0, goal, q);
-  Result r;
-  r.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  r.solver_converged = status >= 0;
-  r.outcome = status >= 0 ? "converged" : "status " + std::to_string(status);
-  r.pose = rest_pose(rig);
-  int j = 0;
-  for (int b : rc.chain) {
-    if (rig.bone_joint_type[b] == JointType::kWeld) continue;
-    r.pose.bone_local_rotation[b] =
-        Quat(Eigen::AngleAxisd(q(j), Vec3::UnitX()) * Eigen::AngleAxisd(q(j + 1), Vec3::UnitY()) *
-             Eigen::AngleAxisd(q(j + 2), Vec3::UnitZ()));
-    j += 3;
-  }
-  return r;
 }
 
 // The hand: the first bone whose name holds "hand" and "left" (pinhead's hand.L has "hand" and
@@ -210,7 +177,8 @@ Table solves_table() {
   return Table(
       "solves", "solves.csv",
       {text("rig", "pinhead or humanoid (MuJoCo's humanoid/humanoid.xml)"),
-       text("hand", "the hand bone"), text("solver", "physik-solve, physik-explicit, dls, kdl-lma"),
+       text("hand", "the hand bone"),
+       text("solver", "physik, physik-steps, physik-explicit, dls, kdl, kdl-nr"),
        integer("target", "", "the target's index (seed 49)"),
        flag("success", "position error <= 1e-3 of the reach and orientation error <= 1e-3 rad"),
        flag("solver_converged", "the solver's own verdict"),
@@ -251,7 +219,8 @@ std::string count(const Tally& t) {
 // (key: the solver, and solver@rig).
 void measure(const std::vector<RigCase>& rigs, int ntarget, Table& solves,
              std::map<std::string, Tally>& tally) {
-  const std::vector<std::string> solvers = {"physik-solve", "physik-explicit", "dls", "kdl-lma"};
+  const std::vector<std::string> solvers = {"physik", "physik-steps", "physik-explicit",
+                                            "dls",    "kdl",          "kdl-nr"};
   for (const RigCase& rc : rigs) {
     const BoneFrames start = forward_kinematics(rc.rig, rest_pose(rc.rig));
     std::vector<char> on_chain(rc.rig.nbone, 0);
@@ -259,10 +228,7 @@ void measure(const std::vector<RigCase>& rigs, int ntarget, Table& solves,
     const std::vector<Target> targets = make_targets(rc, ntarget);
     for (std::size_t t = 0; t < targets.size(); ++t) {
       for (const std::string& s : solvers) {
-        const Result r = s == "physik-solve"      ? engine(rc, targets[t], true)
-                         : s == "physik-explicit" ? engine(rc, targets[t], false)
-                         : s == "dls"             ? dls(rc, targets[t])
-                                                  : kdl_lma(rc, targets[t]);
+        const Result r = s == "dls" ? dls(rc, targets[t]) : by_scene_solve(rc, targets[t], s);
         const BoneFrames f = forward_kinematics(rc.rig, r.pose);
         const double pos = (f.tail_world[rc.hand] - targets[t].position).norm();
         const double ori =
@@ -293,8 +259,9 @@ void measure(const std::vector<RigCase>& rigs, int ntarget, Table& solves,
   }
 }
 
-void add_claims(Report& report, const std::vector<RigCase>& rigs,
-                std::map<std::string, Tally>& tally) {
+// whether each solver reaches both the position and the orientation on every target
+void add_reach_claims(Report& report, const std::vector<RigCase>& rigs,
+                      std::map<std::string, Tally>& tally) {
   auto per_rig = [&](const std::string& s) {
     std::string m;
     for (const RigCase& rc : rigs) {
@@ -311,22 +278,39 @@ void add_claims(Report& report, const std::vector<RigCase>& rigs,
           per_rig("dls"), verdict_every(tally["dls"]))
       .named("dls-reaches");
   report
-      .claim("KDL's LMA with orientation weights reaches both on every target", per_rig("kdl-lma"),
-             verdict_every(tally["kdl-lma"]))
+      .claim("KDL's LMA with orientation weights reaches both on every target", per_rig("kdl"),
+             verdict_every(tally["kdl"]))
       .named("kdl-reaches");
   report
-      .claim("PhysIK's solve mode reaches both on every target (partly: on at least half)",
-             per_rig("physik-solve"), verdict_every(tally["physik-solve"]))
+      .claim(
+          "KDL's joint-limited Newton-Raphson with orientation rows reaches both on every "
+          "target (partly: on at least half)",
+          per_rig("kdl-nr"), verdict_every(tally["kdl-nr"]))
+      .named("kdl-nr-reaches");
+  report
+      .claim("PhysIK's solve mode (the equilibrium solve) reaches both on every target",
+             per_rig("physik"), verdict_every(tally["physik"]))
       .named("physik-solve-reaches");
+  report
+      .claim(
+          "PhysIK's time-stepping solve mode reaches both on every target (partly: on at "
+          "least half)",
+          per_rig("physik-steps"), verdict_every(tally["physik-steps"]))
+      .named("physik-steps-reaches");
   report
       .claim("PhysIK's explicit engine reaches both on every target (partly: on at least half)",
              per_rig("physik-explicit"), verdict_every(tally["physik-explicit"]))
       .named("physik-explicit-reaches");
+}
+
+void add_claims(Report& report, const std::vector<RigCase>& rigs,
+                std::map<std::string, Tally>& tally) {
+  add_reach_claims(report, rigs, tally);
   {
-    const double gap = median(tally["physik-solve"].ori) - median(tally["dls"].ori);
+    const double gap = median(tally["physik"].ori) - median(tally["dls"].ori);
     report
         .claim("PhysIK's solve mode's median orientation error is within 1 deg of DLS's",
-               "physik-solve " + num(median(tally["physik-solve"].ori)) + " rad, dls " +
+               "physik " + num(median(tally["physik"].ori)) + " rad, dls " +
                    num(median(tally["dls"].ori)) + " rad (difference " + num(gap) + " rad)",
                !std::isfinite(gap)         ? "no (not finite)"
                : std::abs(gap) <= kVisible ? "yes"
@@ -336,16 +320,17 @@ void add_claims(Report& report, const std::vector<RigCase>& rigs,
   {
     // DLS and KDL turn the root (it is on their chain), so the whole body turns with it: their
     // off-chain motion is that turn; PhysIK's is the body following the pull
-    const double ph = median(tally["physik-solve"].second);
+    const double ph = median(tally["physik"].second);
     const double dl = median(tally["dls"].second);
-    const double kd = median(tally["kdl-lma"].second);
+    const double kd = median(tally["kdl"].second);
     report
         .claim(
             "PhysIK's solve mode moves the bones off the hand's chain (secondary motion, "
             "median above 1e-3 of the reach)",
-            "mean off-chain tail displacement / reach, median: physik-solve " + num(ph) +
+            "mean off-chain tail displacement / reach, median: physik " + num(ph) +
+                ", physik-steps " + num(median(tally["physik-steps"].second)) +
                 ", physik-explicit " + num(median(tally["physik-explicit"].second)) + "; dls " +
-                num(dl) + " and kdl-lma " + num(kd) +
+                num(dl) + " and kdl " + num(kd) +
                 " (they turn the root, on their chain, and the body with it)",
             ph > kPosTol ? "yes" : "no")
         .named("secondary-motion");
@@ -386,11 +371,14 @@ void run(const Context& ctx) {
       "Targets: the hand's tail and frame in a random legal pose of the hand and its three "
       "parents (seed 49), reachable by construction; every solve from the rest pose. PhysIK: "
       "effector_scene (the hand's tail, the root's head held) with an orientation target on the "
-      "hand at its default k (control_k L^2); physik-solve through solve_scene --solver physik, "
-      "physik-explicit the paper's scheme (preset original) at its dt, at most 2000 steps. DLS: "
-      "one goal with position and orientation rows weighted by the reach. KDL: LMA on the "
-      "root-to-hand chain, weights [1, 1, 1, reach, reach, reach], no joint limits. Success: "
-      "position error <= 1e-3 of the reach and orientation error <= 1e-3 rad.");
+      "hand at its default k (control_k L^2), through solve_scene: physik (the equilibrium "
+      "solve), physik-steps (the time-stepping solve mode), physik-explicit the paper's scheme "
+      "(preset original) at its dt, at most 2000 steps; tolerances 1e-4 of the reach and 1e-4 "
+      "rad. DLS: one goal with position and orientation rows weighted by the reach. KDL "
+      "(kdl/kdl_solve.h, `--solver kdl|kdl-nr`): on the root-to-hand chain, LMA (weights [1, 1, "
+      "1, w, w, w], w = tol / tol_angle = the reach; no joint limits) and NR_JL (joint-limited "
+      "Newton-Raphson). Success: position error <= 1e-3 of the reach and orientation error <= "
+      "1e-3 rad.");
   if (!skipped.empty()) report.note(skipped);
   report.figures({"orientation_targets.png"});
   nlohmann::json rig_rows = nlohmann::json::array();

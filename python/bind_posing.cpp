@@ -135,6 +135,17 @@ py::dict step_stats_dict(const StepStats& st) {
 
 const SolveRule kDefaultRule{};
 
+const char* method_name(SolveMethod m) {
+  return m == SolveMethod::kEquilibrium ? "equilibrium" : "steps";
+}
+
+SolveMethod method_from(const std::string& name) {
+  if (name == "equilibrium") return SolveMethod::kEquilibrium;
+  if (name == "steps") return SolveMethod::kSteps;
+  throw_input_error("solve", "", "method",
+                    "unknown method '" + name + "' (expected equilibrium|steps)");
+}
+
 }  // namespace
 
 void bind_posing_calls(py::class_<Session>& cls);
@@ -143,51 +154,71 @@ void bind_posing_pins(py::class_<Session>& cls);
 void bind_posing_solve(py::class_<Session>& cls, py::object result_type);
 void bind_posing_state(py::class_<Session>& cls);
 
+// physik.solve_mode_rule() and physik.steps_mode_rule(): the two solve modes' rules as keywords
+void bind_solve_rules(py::module_& m) {
+  const auto rule_dict = [](const SolveRule& r) {
+    py::dict d;
+    d["method"] = method_name(r.method);
+    d["tolerance"] = r.tolerance;
+    d["tolerance_fraction"] = r.tolerance_fraction;
+    d["tolerance_angle"] = r.tolerance_angle;
+    d["max_steps"] = r.max_steps;
+    d["stall_steps"] = r.stall_steps;
+    d["stall_fraction"] = r.stall_fraction;
+    d["initial_step"] = r.initial_step;
+    d["armature"] = r.armature;
+    d["dt_growth"] = r.dt_growth;
+    d["max_dt"] = r.max_dt;
+    return d;
+  };
+  m.def(
+      "solve_mode_rule", [rule_dict] { return rule_dict(solve_mode_rule()); },
+      R"doc(The solve mode's rule (physik::solve_mode_rule) as PosingSession.solve's keywords:
+the equilibrium solve (SolveRule's defaults). session.solve(**physik.solve_mode_rule()) is
+`physik solve --solver physik`'s solve (which also sets max_steps to --max-iterations).)doc");
+  m.def(
+      "steps_mode_rule", [rule_dict] { return rule_dict(steps_mode_rule()); },
+      R"doc(The time-stepping solve mode's rule (physik::steps_mode_rule) as PosingSession.solve's
+keywords: method "steps", the step growing by dt_growth per settling step up to max_dt. With a
+session made with solve_mode=True, session.solve(**physik.steps_mode_rule()) is `physik solve
+--solver physik-steps`'s solve (which also sets max_steps to the scene's step count).)doc");
+}
+
 void bind_posing(py::module_& m) {
   py::object result_type =
       py::module_::import("collections")
           .attr("namedtuple")(
               "PosingSolveResult",
               py::make_tuple("converged", "diverged", "stalled", "out_of_steps", "steps",
-                             "finish_iterations", "residual", "final_dt", "tolerance"));
+                             "finish_iterations", "residual", "final_dt", "tolerance", "method",
+                             "stationary", "refused", "tolerance_angle"));
   result_type.attr("__module__") = "physik";
   result_type.attr("__doc__") = R"doc(PosingSession.solve's result (physik::SolveResult).
 
-converged: every control point, orientation target and aim within the tolerance at the end (the
-turning targets as arcs: their turn times their bone's length); diverged: the physics diverged
-(the session is back where the solve started); stalled: the residual stopped improving short of
-the tolerance; out_of_steps: max_steps reached short of it, still improving; steps: physics steps
-taken; finish_iterations: the classic finish's iterations (0 = none ran); residual: the goal
-residual at the end (PosingSession.residual), rig units; final_dt: the last step's length, s; tolerance:
-the one used, rig units.)doc";
+converged: every goal within its own tolerance at the end (control points within tolerance, rig
+units; orientation targets and aims within tolerance_angle, rad); diverged: the physics diverged
+(the time-stepping method only; the session is back where the solve started); stalled: no goal
+short of its tolerance improved (the stall rule, per goal); out_of_steps: max_steps reached short
+of it, still improving; steps: physics steps, or the equilibrium solve's iterations; finish_iterations:
+the classic finish's iterations (0 = none ran); residual: the goal residual at the end
+(PosingSession.residual), rig units; final_dt: the last step's length (the equilibrium's trust
+region's h), s; tolerance: the one used, rig units; method: "equilibrium" or "steps";
+stationary: the equilibrium solve ended at a rest pose short of a goal (out of reach, against a
+limit); refused: the equilibrium's trials its trust region refused; tolerance_angle: the one
+used, rad.)doc";
   m.attr("PosingSolveResult") = result_type;
-  m.def(
-      "solve_mode_rule",
-      [] {
-        const SolveRule r = solve_mode_rule();
-        py::dict d;
-        d["tolerance"] = r.tolerance;
-        d["tolerance_fraction"] = r.tolerance_fraction;
-        d["max_steps"] = r.max_steps;
-        d["stall_steps"] = r.stall_steps;
-        d["stall_fraction"] = r.stall_fraction;
-        d["dt_growth"] = r.dt_growth;
-        d["max_dt"] = r.max_dt;
-        return d;
-      },
-      R"doc(The solve mode's rule (physik::solve_mode_rule) as PosingSession.solve's keywords:
-the step growing by dt_growth per settling step up to max_dt. With a session made with
-solve_mode=True, session.solve(**physik.solve_mode_rule()) is `physik solve --solver physik`'s
-solve (which also sets max_steps to the scene's step count).)doc");
+  bind_solve_rules(m);
   py::class_<Session> cls(m, "PosingSession", R"doc(PhysIK embedded in a tool: a scene held open.
 
 PosingSession(scene, solve_mode=False) copies the scene and puts its initial pose in. Move the
 control points' targets with set_target (once a frame, as a user drags), then either advance(k)
-steps of the scene's engine (live, with its secondary motion) or solve() the pose: the physics
-runs until every control point is within the tolerance, or until the residual stops improving,
-then hands over to CCD or DLS if finish says so. solve_mode=True gives the scene the solve
-mode's engine settings (scheme implicit, torsion_torque gradient), as `physik solve
---solver physik`; solve it with solve(**physik.solve_mode_rule()).
+steps of the scene's engine (live, with its secondary motion) or solve() the pose: by default the
+equilibrium solve (the rest pose as a minimisation of the potential, a trust region of implicit
+steps at rest; in the solve mode's engine settings whatever the session's), or with
+method="steps" the physics run until every goal is within its tolerance or no goal improves;
+then CCD or DLS if finish says so. solve_mode=True gives the scene the solve mode's engine
+settings (scheme implicit, torsion_torque gradient), as `physik solve --solver physik`;
+physik.steps_mode_rule() gives the time-stepping solve mode's rule (`--solver physik-steps`).
 
 .pose gives read-only numpy views of the session's state (no copy), valid as long as they are
 referenced. After construction set_target, set_pose, advance, solve and residual allocate
@@ -352,16 +383,41 @@ alpha outside [0, 1], k <= 0 or an unknown bone raises InputError.)doc")
 bone targets now, in the scene file's format (a new dict; allocates).)doc");
 }
 
+// PosingSession.solve's docstring
+constexpr const char* kSolveDoc =
+    R"doc(Solve to the rule; the session continues from the result.
+
+The keywords are physik::SolveRule's, with its defaults: method ("equilibrium": the rest pose by
+a trust region of implicit steps at rest; "steps": the scene's engine stepping), tolerance (rig
+units, the control points'; 0 = tolerance_fraction of the goals' reach), tolerance_angle (rad,
+the orientation targets' and aims'; 0 = tolerance over the reach), max_steps (steps, or the
+equilibrium's iterations), the stall rule (stopped when no goal short of its tolerance improved
+by stall_fraction of itself over stall_steps steps or iterations; 0 = the method's: 50 steps, 6
+iterations), initial_step (s, the equilibrium's first trial step), armature (the equilibrium's
+joint armature, a fraction of the rig's inertia about its root), dt_growth and max_dt (steps:
+the step lengthening by dt_growth each settling step up to max_dt, s; 1 = off; needs scheme
+implicit), finish ("none", "ccd" or "dls": the classic solver that closes the rest after a
+stall) and finish_options ({"max_iterations", "lambda", "respect_limits", "jacobian"} for the
+finish, as physik solve's flags). physik.solve_mode_rule() and physik.steps_mode_rule() give
+the two solve modes'. Returns a PosingSolveResult. A rule out of range, or a scene without a
+goal, raises InputError.)doc";
+
 // solve, with SolveRule's fields as keywords
 void bind_posing_solve(py::class_<Session>& cls, py::object result_type) {
   cls.def(
       "solve",
-      [result_type](Session& s, double tolerance, double tolerance_fraction, int max_steps,
-                    int stall_steps, double stall_fraction, double dt_growth, double max_dt,
-                    const std::string& finish, py::object options) {
+      [result_type](Session& s, const std::string& method, double tolerance,
+                    double tolerance_fraction, double tolerance_angle, int max_steps,
+                    int stall_steps, double stall_fraction, double initial_step, double armature,
+                    double dt_growth, double max_dt, const std::string& finish,
+                    py::object options) {
         SolveRule rule;
+        rule.method = method_from(method);
         rule.tolerance = tolerance;
         rule.tolerance_fraction = tolerance_fraction;
+        rule.tolerance_angle = tolerance_angle;
+        rule.initial_step = initial_step;
+        rule.armature = armature;
         rule.max_steps = max_steps;
         rule.stall_steps = stall_steps;
         rule.stall_fraction = stall_fraction;
@@ -379,26 +435,20 @@ void bind_posing_solve(py::class_<Session>& cls, py::object result_type) {
         s.solved = true;
         const SolveResult& r = s.last;
         return result_type(r.converged, r.diverged, r.stalled, r.out_of_steps, r.steps,
-                           r.finish_iterations, r.residual, r.final_dt, r.tolerance);
+                           r.finish_iterations, r.residual, r.final_dt, r.tolerance,
+                           method_name(r.method), r.stationary, r.refused, r.tolerance_angle);
       },
-      py::kw_only(), py::arg("tolerance") = kDefaultRule.tolerance,
+      py::kw_only(), py::arg("method") = method_name(kDefaultRule.method),
+      py::arg("tolerance") = kDefaultRule.tolerance,
       py::arg("tolerance_fraction") = kDefaultRule.tolerance_fraction,
+      py::arg("tolerance_angle") = kDefaultRule.tolerance_angle,
       py::arg("max_steps") = kDefaultRule.max_steps,
       py::arg("stall_steps") = kDefaultRule.stall_steps,
       py::arg("stall_fraction") = kDefaultRule.stall_fraction,
-      py::arg("dt_growth") = kDefaultRule.dt_growth, py::arg("max_dt") = kDefaultRule.max_dt,
-      py::arg("finish") = "none", py::arg("finish_options") = py::none(),
-      R"doc(Run the physics to the rule; the session continues from the result.
-
-The keywords are physik::SolveRule's, with its defaults: tolerance (rig units; 0 =
-tolerance_fraction of the chain's reach), max_steps, the stall rule (stopped when the residual
-improved by less than stall_fraction of itself over stall_steps steps), dt_growth and max_dt
-(the step lengthening by dt_growth each settling step up to max_dt, s; 1 = off; needs
-scheme implicit), finish ("none", "ccd" or "dls": the classic solver that closes the rest
-after a stall) and finish_options ({"max_iterations", "lambda", "respect_limits", "jacobian"}
-for the finish, as physik solve's flags). physik.solve_mode_rule() gives the solve mode's.
-Returns a PosingSolveResult. A rule out of range, or a scene without control points, raises
-InputError.)doc");
+      py::arg("initial_step") = kDefaultRule.initial_step,
+      py::arg("armature") = kDefaultRule.armature, py::arg("dt_growth") = kDefaultRule.dt_growth,
+      py::arg("max_dt") = kDefaultRule.max_dt, py::arg("finish") = "none",
+      py::arg("finish_options") = py::none(), kSolveDoc);
 }
 
 // what the session holds: its pose as views, the residual, the last solve's summary
@@ -406,7 +456,8 @@ void bind_posing_state(py::class_<Session>& cls) {
   cls.def(
          "residual", [](const Session& s) { return s.session.residual(); },
          "Largest distance of any control point from its target now, or arc of an orientation "
-         "target or aim (its turn times its bone's length), rig units: what solve() stops on.")
+         "target or aim (its turn times its bone's length), rig units (solve() judges each goal "
+         "by its own measure: rig units or rad).")
       .def_property_readonly(
           "num_control_points", [](const Session& s) { return s.session.num_control_points(); },
           "Number of control points.")

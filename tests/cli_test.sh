@@ -832,7 +832,42 @@ if [ "$rows" -eq 18 ]; then pass=$((pass+1)); else
 # the same scene in the solve mode (the implicit step): the paper's damping poses it
 check "solve mode at the paper's damping" 0 "$bin" solve "$tmp/s4.json" --solver physik --out "$tmp/solve_mode" --quiet
 expect_in "solve mode converged" "$tmp/solve_mode/summary.json" '"converged": true'
-expect_in "solve mode growth" "$tmp/solve_mode/summary.json" '"dt_growth"'
+expect_in "solve mode is the equilibrium solve" "$tmp/solve_mode/summary.json" '"method": "equilibrium"'
+expect_in "solve mode goals" "$tmp/solve_mode/summary.json" '"short_goals": []'
+# the time-stepping solve mode keeps its name and its growing step
+check "physik-steps at the paper's damping" 0 "$bin" solve "$tmp/s4.json" --solver physik-steps --out "$tmp/solve_steps" --quiet
+expect_in "physik-steps growth" "$tmp/solve_steps/summary.json" '"dt_growth"'
+expect_in "physik-steps method" "$tmp/solve_steps/summary.json" '"method": "steps"'
+# --tol-angle: an angle, positive and finite
+for bad in 0 -1e-3 nan inf; do
+  check "solve --tol-angle $bad" 2 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" --solver physik --tol-angle "$bad" --out "$tmp/x" --quiet
+  expect_in "solve --tol-angle $bad message" "$tmp/err" "--tol-angle: must be a positive finite number"
+done
+# a goal out of reach: the equilibrium solve exits 4 naming it and by how much (never 3)
+# (the upper arm's head held at the origin: the elbow's root is free, and would follow the pull)
+printf '{"rig": "%s/models/rigs/elbow.json", "control_points": [{"bone": "forearm", "alpha": 1, "target": [0, 0, 40]}, {"bone": "upper_arm", "alpha": 0, "target": [0, 0, 0]}]}' "$src" > "$tmp/far_eq.json"
+check "equilibrium out of reach" 4 "$bin" solve "$tmp/far_eq.json" --solver physik --out "$tmp/solve_far_eq" --quiet
+expect_in "equilibrium out of reach names the goal" "$tmp/err" "short: control point 0 on 'forearm'"
+expect_in "equilibrium out of reach in the summary" "$tmp/solve_far_eq/summary.json" '"met": false'
+# an aim the elbow's limit keeps short (the forearm aimed to bend the way it cannot, the upper
+# arm held by two springs, which give way a little to the aim's pull): named by its angle (rad)
+printf '{"rig": "%s/models/rigs/elbow.json", "aim_targets": [{"bone": "forearm", "point": [0, -3, 2]}], "control_points": [{"bone": "upper_arm", "alpha": 0, "target": [0, 0, 0]}, {"bone": "upper_arm", "alpha": 1, "target": [0, 0, 2]}]}' "$src" > "$tmp/aim_back.json"
+check "equilibrium aim short" 4 "$bin" solve "$tmp/aim_back.json" --solver physik --out "$tmp/solve_aim" --quiet
+expect_in "equilibrium aim short names the aim" "$tmp/err" "aim of 'forearm' 0."
+expect_in "equilibrium aim short in rad" "$tmp/solve_aim/summary.json" '"unit": "rad"'
+# KDL from the command line: one chain with orientation rows; what it cannot take exits 2
+printf '{"rig": "%s/models/rigs/pinhead.json", "orientation_targets": [{"bone": "hand.L", "quaternion": [0.7071067811865476, 0.7071067811865476, 0, 0]}], "control_points": [{"bone": "hand.L", "alpha": 1, "target": [0.5, -0.3, 1.2]}]}' "$src" > "$tmp/kdl_cp.json"
+for solver in kdl kdl-nr; do
+  check "solve $solver" 0 "$bin" solve "$tmp/kdl_cp.json" --solver $solver --out "$tmp/solve_$solver" --quiet
+  expect_in "solve $solver summary" "$tmp/solve_$solver/summary.json" "\"solver\": \"$solver\""
+  expect_in "solve $solver orientation" "$tmp/solve_$solver/summary.json" '"orientation_residual_rad"'
+  check "$solver refuses an aim" 2 "$bin" solve "$tmp/aim_cp.json" --solver $solver --out "$tmp/x" --quiet
+  expect_in "$solver aim refusal" "$tmp/err" "aim_cp.json: aim_targets: --solver kdl and kdl-nr take no aims"
+  check "$solver refuses two goal bones" 2 "$bin" solve "$src/models/scenes/pinhead_two_hands.json" --solver $solver --out "$tmp/x" --quiet
+  expect_in "$solver two bones refusal" "$tmp/err" "solve one chain: their goals must be on one bone"
+  check "$solver refuses a ground" 2 "$bin" solve "$tmp/floor_cp.json" --solver $solver --out "$tmp/x" --quiet
+  expect_in "$solver ground refusal" "$tmp/err" "floor_cp.json: ground: --solver kdl and kdl-nr solve the rig's geometry"
+done
 # the solve mode's step with the pose terms: an implicit-only --set is the run's on a scene of
 # another scheme, the summary counts the Gauss-Newton retakes; a solver that runs the scene's
 # scheme refuses it

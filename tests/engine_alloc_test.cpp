@@ -183,34 +183,37 @@ TEST(EngineAllocations, PosingSessionStepsWithBoneTargetsAllocateNothing) {
   }
 }
 
-// The solve mode's calls as ik_comparison makes them: the pose reset, a target moved along the
-// interpolation, a lengthening implicit solve.
-// With implicit_linearisation full too, whose retakes as Gauss-Newton (implicit_step.h) must
-// happen in the counted solves.
+// The solve modes' calls as ik_comparison makes them: the pose reset, a target moved along the
+// interpolation, then the equilibrium solve (physik) or a lengthening implicit solve
+// (physik-steps). With implicit_linearisation full too, whose retakes as Gauss-Newton
+// (implicit_step.h) must happen in the counted time-stepping solves.
 TEST(EngineAllocations, SolveModeCallsAllocateNothing) {
-  for (ImplicitLinearisation lin :
-       {ImplicitLinearisation::kGaussNewton, ImplicitLinearisation::kFull}) {
-    Scene scene = load_scene(test::model_path("scenes/pinhead_two_hands.json"));
-    use_solve_mode(scene.params);
-    scene.params.implicit_linearisation = lin;
-    PosingSession session(scene);
-    const Vec3 start = session.state().target_goal_world[0];
-    session.solve(solve_mode_rule());  // warm up
-    int retakes = 0;
-    g_allocations = 0;
-    g_counting = true;
-    for (int k = 1; k <= 5; ++k) {
-      session.set_pose(scene.initial_pose);
-      session.set_target(0, start + Vec3(0.4 * k, 0.0, -0.4 * k), true);
-      session.solve(solve_mode_rule());
-      retakes += session.state().implicit.gauss_newton_steps;
+  for (const SolveRule& rule : {solve_mode_rule(), steps_mode_rule()}) {
+    for (ImplicitLinearisation lin :
+         {ImplicitLinearisation::kGaussNewton, ImplicitLinearisation::kFull}) {
+      Scene scene = load_scene(test::model_path("scenes/pinhead_two_hands.json"));
+      use_solve_mode(scene.params);
+      scene.params.implicit_linearisation = lin;
+      PosingSession session(scene);
+      const Vec3 start = session.state().target_goal_world[0];
+      session.solve(rule);  // warm up
+      int retakes = 0;
+      g_allocations = 0;
+      g_counting = true;
+      for (int k = 1; k <= 5; ++k) {
+        session.set_pose(scene.initial_pose);
+        session.set_target(0, start + Vec3(0.4 * k, 0.0, -0.4 * k), true);
+        session.solve(rule);
+        retakes += session.state().implicit.gauss_newton_steps;
+      }
+      g_counting = false;
+      const bool steps = rule.method == SolveMethod::kSteps;
+      EXPECT_EQ(g_allocations.load(), 0) << to_string(lin) << (steps ? " steps" : "");
+      if (steps && lin == ImplicitLinearisation::kFull) {
+        EXPECT_GT(retakes, 0) << "the retake must be tested";
+      }
+      EXPECT_TRUE(session.solve(rule).converged) << to_string(lin) << (steps ? " steps" : "");
     }
-    g_counting = false;
-    EXPECT_EQ(g_allocations.load(), 0) << to_string(lin);
-    if (lin == ImplicitLinearisation::kFull) {
-      EXPECT_GT(retakes, 0) << "the retake must be tested";
-    }
-    EXPECT_TRUE(session.solve(solve_mode_rule()).converged) << to_string(lin);
   }
 }
 

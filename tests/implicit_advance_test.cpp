@@ -232,7 +232,7 @@ TEST(ImplicitAdvance, LongStepsOnABentElbowConvergeWithEitherTorsionTorque) {
     s.control_points = {test::control(hand, 1.0, Vec3(0.1273, -0.7426, 2.7041), 10.0),
                         test::control(0, 0.0, rig.bone_rest_head_world[0], 10.0)};
     PosingSession session(s);
-    SolveRule rule;
+    SolveRule rule = steps_mode_rule();
     rule.dt_growth = 2.0;
     rule.max_dt = 1000.0;
     const SolveResult r = session.solve(rule);

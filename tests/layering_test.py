@@ -4,6 +4,7 @@
     physik/model  <-  physik/engine, physik/ik  <-  physik/posing  <-  physik/io  <-  reference  <-  tune
     <-  experiments  <-  cli (and bench)
     physik/io  <-  viewer  <-  cli, python      (run folders into an HTML page; MuJoCo-free)
+    physik/io  <-  kdl  <-  experiments, cli, python, bench   (Orocos KDL's solvers on a scene)
 
 A file may include its own layer and the layers below it, never one above or beside it. Besides:
   - the core (physik/) includes neither MuJoCo nor Ceres;
@@ -35,11 +36,15 @@ CORE = set(ALLOWED)
 UPPER_ORDER = ["reference", "tune", "experiments", "cli"]
 for k, layer in enumerate(UPPER_ORDER):
     ALLOWED[layer] = CORE | set(UPPER_ORDER[: k + 1])
-ALLOWED["bench"] = CORE | set(UPPER_ORDER[:3]) | {"bench"}
-ALLOWED["python"] = CORE | set(UPPER_ORDER[:3]) | {"python", "viewer"}
+ALLOWED["bench"] = CORE | set(UPPER_ORDER[:3]) | {"bench", "kdl"}
+ALLOWED["python"] = CORE | set(UPPER_ORDER[:3]) | {"python", "viewer", "kdl"}
 # the viewer reads run folders with the core's io alone; the CLI and the Python module use it
 ALLOWED["viewer"] = CORE | {"viewer"}
-ALLOWED["cli"] = ALLOWED["cli"] | {"viewer"}
+ALLOWED["cli"] = ALLOWED["cli"] | {"viewer", "kdl"}
+# Orocos KDL's solvers on a scene's goals sit on the core alone; the experiments, the CLI, the
+# Python module and the benchmarks use them
+ALLOWED["kdl"] = CORE | {"kdl"}
+ALLOWED["experiments"] = ALLOWED["experiments"] | {"kdl"}
 JSON_FREE = {"physik/model", "physik/engine", "physik/ik", "physik/posing"}
 FORBIDDEN_IN_CORE = ("mujoco/", "ceres/")
 FCL = "fcl/"

@@ -27,12 +27,20 @@ void expect_input_error(F f, const std::string& text) {
   }
 }
 
-// solve() is the engine's run to the residual tolerance: the same steps, bit for bit, as
-// run_scene with the scene's stop_at_residual_tol (what `physik solve --solver physik` runs).
+// the time-stepping solve (physik-steps, physik-explicit)
+SolveRule by_steps() {
+  SolveRule rule;
+  rule.method = SolveMethod::kSteps;
+  return rule;
+}
+
+// solve() by steps is the engine's run to the residual tolerance: the same steps, bit for bit,
+// as run_scene with the scene's stop_at_residual_tol (what `physik solve --solver
+// physik-explicit` runs).
 TEST(PosingSession, SolveIsTheEnginesRunToTheResidualTolerance) {
   Scene scene = two_hands();
   PosingSession session(scene);
-  const SolveResult r = session.solve();
+  const SolveResult r = session.solve(by_steps());
   ASSERT_TRUE(r.converged);
   EXPECT_LT(r.residual, r.tolerance);
   EXPECT_EQ(r.finish_iterations, 0);
@@ -44,24 +52,38 @@ TEST(PosingSession, SolveIsTheEnginesRunToTheResidualTolerance) {
   EXPECT_EQ(state_hash(s.final_frames), state_hash(session.frames()));
 }
 
-// A target the schedule still has to move is waited for: the solve goes on toward the moved
-// target and stops where run_scene does (the same steps, verdict and state).
+// A target the schedule still has to move is waited for: the solve by steps goes on toward the
+// moved target; its per-goal stall rule counts from the step the targets stop moving, so it meets
+// the moved target, where run_scene's rule, whose best residual is the one met before the move,
+// stalls 61 steps after it. The same steps as run_scene up to there. The equilibrium solve plays
+// the schedule at once (pull_at_goals) and meets the moved target too.
 TEST(PosingSession, SolveWaitsForAScheduledTargetChange) {
   Scene scene = two_hands();
   const Vec3 moved = scene.control_points[0].target_world + Vec3(0.0, 0.0, 0.3);
   scene.schedule.push_back({120, 0, moved});
   PosingSession session(scene);
-  const SolveResult r = session.solve();
+  const SolveResult r = session.solve(by_steps());
   EXPECT_GT(r.steps, 120);  // not stopped at the first target, met by step ~90
+  EXPECT_TRUE(r.converged);
   const ControlPoint& cp = scene.control_points[0];
-  const Vec3 tip = point_on_bone(session.frames(), cp.bone, cp.alpha);
-  EXPECT_LT((tip - moved).norm(), 0.1 * (tip - cp.target_world).norm());
+  EXPECT_LT((point_on_bone(session.frames(), cp.bone, cp.alpha) - moved).norm(), r.tolerance);
   scene.convergence.stop_at_residual_tol = true;
   scene.convergence.residual_tol = r.tolerance;
-  const RunSummary engine = run_scene(scene);
-  EXPECT_EQ(engine.steps_run, r.steps);
-  EXPECT_EQ(engine.converged, r.converged);
-  EXPECT_EQ(state_hash(engine.final_frames), state_hash(session.frames()));
+  SimState at;
+  const RunSummary engine = run_scene(scene, [&](const SimState& st, const StepStats&) {
+    if (st.step == 181) at = st;  // where run_scene stalls
+  });
+  EXPECT_FALSE(engine.converged);
+  EXPECT_EQ(engine.steps_run, 181);
+  PosingSession again(scene);
+  SolveRule cut = by_steps();
+  cut.max_steps = 181;
+  again.solve(cut);
+  EXPECT_EQ(state_hash(at.frames), state_hash(again.frames()));
+  PosingSession eq(scene);
+  const SolveResult e = eq.solve();
+  EXPECT_TRUE(e.converged);
+  EXPECT_LT((point_on_bone(eq.frames(), cp.bone, cp.alpha) - moved).norm(), e.tolerance);
 }
 
 // A dragged point: each jump of the target is followed, the residual shrinks while advancing,
@@ -87,7 +109,7 @@ TEST(PosingSession, FollowsADraggedTarget) {
 
 // The hybrid: physics for 15 steps, then DLS closes the rest; the physics alone is short.
 TEST(PosingSession, DlsFinishClosesWhatThePhysicsLeft) {
-  SolveRule rule;
+  SolveRule rule = by_steps();
   rule.max_steps = 15;
   PosingSession physics_only(two_hands());
   const SolveResult a = physics_only.solve(rule);
@@ -119,8 +141,8 @@ TEST(PosingSession, ALengtheningImplicitStepSolvesInFewerSteps) {
   Scene scene = two_hands();
   scene.params.scheme = Scheme::kImplicit;
   PosingSession fixed(scene), lengthening(scene);
-  const SolveResult a = fixed.solve();
-  SolveRule rule;
+  const SolveResult a = fixed.solve(by_steps());
+  SolveRule rule = by_steps();
   rule.dt_growth = 1.5;
   const SolveResult b = lengthening.solve(rule);
   ASSERT_TRUE(a.converged);
@@ -144,7 +166,7 @@ TEST(PosingSession, SetPoseRestartsTheImplicitStepFromThatPose) {
   Scene scene = two_hands();
   scene.params.scheme = Scheme::kImplicit;
   scene.params.interpolation = Interpolation::kNone;  // both sessions start with targets in place
-  SolveRule rule;
+  SolveRule rule = by_steps();
   rule.dt_growth = 2.0;
   rule.max_dt = 100.0;
   const Vec3 other = scene.control_points[0].target_world + Vec3(-0.4, 0.2, 0.3);
@@ -166,11 +188,14 @@ TEST(PosingSession, SetPoseRestartsTheImplicitStepFromThatPose) {
 // through set_pose solves as a fresh one: each pull starts again from the point on the new pose,
 // not from the previous solve's target; and the summary is this solve's, not the session's.
 TEST(PosingSession, AReusedSessionSolvesAsAFreshOne) {
-  for (bool implicit : {false, true}) {
+  for (int method = 0; method < 3; ++method) {
+    const bool implicit = method > 0;
     Scene scene = two_hands();
     ASSERT_NE(scene.params.interpolation, Interpolation::kNone);
     if (implicit) use_solve_mode(scene.params);
-    const SolveRule rule = implicit ? solve_mode_rule() : SolveRule{};
+    const SolveRule rule = method == 2 ? solve_mode_rule()
+                           : implicit  ? steps_mode_rule()
+                                       : by_steps();
     const Vec3 first = scene.control_points[0].target_world + Vec3(0.3, -0.2, 0.1);
     const Vec3 other = scene.control_points[0].target_world + Vec3(-0.4, 0.2, 0.3);
     PosingSession reused(scene), fresh(scene);
@@ -182,7 +207,7 @@ TEST(PosingSession, AReusedSessionSolvesAsAFreshOne) {
     fresh.set_target(0, other, true);
     const SolveResult b = fresh.solve(rule);
     ASSERT_TRUE(b.converged);
-    EXPECT_EQ(a.steps, b.steps) << (implicit ? "implicit" : "explicit");
+    EXPECT_EQ(a.steps, b.steps) << "method " << method;
     EXPECT_EQ(state_hash(reused.frames()), state_hash(fresh.frames()));
     const RunSummary sa = reused.summary(a), sb = fresh.summary(b);
     EXPECT_EQ(sa.steps_run, a.steps);
@@ -196,7 +221,7 @@ TEST(PosingSession, AReusedSessionSolvesAsAFreshOne) {
 // The stall rule ends a solve as stalled, not out of steps (DlsFinishClosesWhatThePhysicsLeft
 // has the step cap).
 TEST(PosingSession, StalledIsTheStallRuleNotTheStepCap) {
-  SolveRule impatient;  // improve by 99% every step or stall
+  SolveRule impatient = by_steps();  // improve by 99% every step or stall
   impatient.stall_steps = 1;
   impatient.stall_fraction = 0.99;
   PosingSession b(two_hands());
@@ -216,7 +241,7 @@ TEST(PosingSession, ADivergedSolveReturnsToItsStart) {
   PosingSession session(scene);
   const BoneFrames start = session.frames();
   const SimState before = session.state();
-  const SolveResult r = session.solve();
+  const SolveResult r = session.solve(by_steps());
   EXPECT_TRUE(r.diverged);
   EXPECT_FALSE(r.converged);
   EXPECT_FALSE(r.stalled);
@@ -228,9 +253,15 @@ TEST(PosingSession, ADivergedSolveReturnsToItsStart) {
     EXPECT_EQ(session.state().target_effective_world[c], before.target_effective_world[c]);
     EXPECT_EQ(session.state().target_goal_world[c], before.target_goal_world[c]);
   }
-  const SolveResult again = session.solve();
+  const SolveResult again = session.solve(by_steps());
   EXPECT_TRUE(again.diverged);
   EXPECT_EQ(again.steps, r.steps);
+  // the equilibrium solve takes the same scene to its rest pose: a minimisation does not diverge
+  const SolveResult e = session.solve();
+  EXPECT_FALSE(e.diverged);
+  EXPECT_TRUE(e.converged) << "residual " << e.residual;
+  EXPECT_EQ(session.scene().params.damping, 20.0);  // the session's settings are back
+  EXPECT_EQ(session.scene().params.scheme, scene.params.scheme);
 }
 
 // damping auto: a target moved through the session chooses the damping again at the current
@@ -267,7 +298,10 @@ TEST(PosingSession, BadInputIsAnInputError) {
     edit(rule);
     expect_input_error([&] { session.solve(rule); }, text);
   };
-  rule_error([](SolveRule& r) { r.stall_steps = 0; }, "stall_steps");
+  rule_error([](SolveRule& r) { r.stall_steps = -1; }, "stall_steps");
+  rule_error([](SolveRule& r) { r.tolerance_angle = -1e-3; }, "tolerance_angle");
+  rule_error([](SolveRule& r) { r.tolerance_angle = std::nan(""); }, "tolerance_angle");
+  rule_error([](SolveRule& r) { r.initial_step = 0.0; }, "initial_step");
   rule_error([](SolveRule& r) { r.max_dt = std::nan(""); }, "max_dt");
   rule_error([](SolveRule& r) { r.dt_growth = 0.5; }, "dt_growth");
   rule_error([](SolveRule& r) { r.tolerance = -1.0; }, "tolerance");

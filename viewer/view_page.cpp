@@ -116,7 +116,7 @@ nlohmann::json summary_fields(const nlohmann::json& summary) {
   if (!summary.is_object()) return out;
   for (const char* key :
        {"scene", "kind", "solver", "engine", "mode", "converged", "diverged", "divergence_reason",
-        "steps_run", "steps_to_converge", "max_limit_violation_deg"}) {
+        "steps_run", "steps_to_converge", "max_limit_violation_deg", "short_goals"}) {
     if (summary.contains(key)) out[key] = summary[key];
   }
   return out;

@@ -132,6 +132,12 @@
     if (sum.engine) parts.push(sum.engine + (sum.mode ? ' ' + sum.mode : ''));
     if (sum.kind === 'pose') {
       parts.push('one pose' + (sum.solver ? ' (' + sum.solver + ')' : ''));
+      if (sum.converged === false && !sum.diverged) parts.push('not converged');
+      // a solve's goals short of their tolerance, each by how much (its summary's short_goals)
+      (sum.short_goals || []).forEach(function (g) {
+        parts.push('short: ' + g.goal + ' ' + Number(g.residual).toPrecision(3) + ' ' + g.unit +
+                   ' (tolerance ' + Number(g.tolerance).toPrecision(3) + ')');
+      });
     } else {
       parts.push(run.nframe + ' frames');
       if (sum.diverged) parts.push('diverged');

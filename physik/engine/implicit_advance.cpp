@@ -17,9 +17,7 @@ double mechanical_energy(const Scene& scene, SimState& s) {
   return kinetic_energy(scene.rig, s) + potential_energy(scene, s);
 }
 
-namespace {
-
-void save(const SimState& s, JointStateSnapshot& snap) {
+void save_joint_state(const SimState& s, JointStateSnapshot& snap) {
   const JointSpaceState& js = s.joint_space;
   snap.root_com_world = js.root_com_world;
   snap.root_vel_world = js.root_vel_world;
@@ -30,7 +28,7 @@ void save(const SimState& s, JointStateSnapshot& snap) {
   snap.friction_anchors = s.contact.anchors;  // keeps its capacity: no allocation once grown
 }
 
-void restore(const Rig& rig, const JointStateSnapshot& snap, SimState& s) {
+void restore_joint_state(const Rig& rig, const JointStateSnapshot& snap, SimState& s) {
   JointSpaceState& js = s.joint_space;
   js.root_com_world = snap.root_com_world;
   js.root_vel_world = snap.root_vel_world;
@@ -41,6 +39,8 @@ void restore(const Rig& rig, const JointStateSnapshot& snap, SimState& s) {
   s.contact.anchors = snap.friction_anchors;
   world_from_joint_space(rig, s);
 }
+
+namespace {
 
 // the largest joint rotation of a step of h just taken, rad: h |u| of every ball and of the root's
 // w (their new velocities, which the step turned them by)
@@ -151,7 +151,7 @@ bool attempt(const Scene& scene, SimState& s, double h, int depth, Guard& g, dou
   double growth = 0.0;
   bool held = step_holds(scene, s, h, e0, g, growth);
   if (!held && g.bare == take_implicit_step && scene.collision.any() && keep_reached_contacts(s)) {
-    restore(scene.rig, s.implicit.snapshots[depth], s);
+    restore_joint_state(scene.rig, s.implicit.snapshots[depth], s);
     g.measured.known = false;
     take_step_with_reached(scene, s, h);
     held = step_holds(scene, s, h, e0, g, growth);
@@ -185,7 +185,7 @@ int substep(const Scene& scene, SimState& s, double h, int depth, Guard& g, Reje
     g.bare(scene, s, h, g.context);
     return 1;
   }
-  save(s, im.snapshots[depth]);
+  save_joint_state(s, im.snapshots[depth]);
   // the second half of a split starts where its first half's check measured E
   const double e0 =
       g.measured.known ? g.measured.kinetic + g.measured.potential : mechanical_energy(scene, s);
@@ -200,7 +200,7 @@ int substep(const Scene& scene, SimState& s, double h, int depth, Guard& g, Reje
   if (rotation > kMaxStepRotation ? rotation >= whole.rotation : energy >= whole.energy) {
     return kNoLower;
   }
-  restore(scene.rig, im.snapshots[depth], s);
+  restore_joint_state(scene.rig, im.snapshots[depth], s);
   g.measured.known = false;
   int taken = substep(scene, s, 0.5 * h, depth + 1, g, {energy, rotation});
   if (taken != kNoLower) {
@@ -209,7 +209,7 @@ int substep(const Scene& scene, SimState& s, double h, int depth, Guard& g, Reje
   }
   if (taken != kNoLower) return taken;
   // halving does not lower the energy: this (sub)step as its attempt took it
-  restore(scene.rig, im.snapshots[depth], s);
+  restore_joint_state(scene.rig, im.snapshots[depth], s);
   attempt(scene, s, h, depth, g, e0, energy);
   ++im.unresolved_steps;
   return 1;

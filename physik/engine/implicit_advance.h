@@ -96,6 +96,12 @@ int advance_implicit(const Scene& scene, SimState& state, double h,
                      BareStep bare = take_implicit_step, const void* context = nullptr,
                      MeasuredEnergy* end = nullptr);
 
+// The joint-space state (the whole state: integrate_joint_space.h) into a snapshot sized for the
+// rig (size_joint_snapshot, implicit_workspace.h), and back with the world view rebuilt from it;
+// the guard's undo, and the equilibrium solve's (equilibrium_solve.h). No allocation.
+void save_joint_state(const SimState& state, JointStateSnapshot& snapshot);
+void restore_joint_state(const Rig& rig, const JointStateSnapshot& snapshot, SimState& state);
+
 // The mechanical energy the guard holds: KE + potential_energy (J; springs, gravity, contacts).
 double mechanical_energy(const Scene& scene, SimState& state);
 

@@ -39,17 +39,27 @@ void velocity_product_accels(const Rig& rig, const ArticulatedBodyData& d, std::
   }
 }
 
+// a joint armature: `armature` I on every ball's joint block (the joint's D_i = A_i + J_i)
+void add_armature(const Rig& rig, double armature, ArticulatedBodyData& d) {
+  for (int i = 0; i < rig.nbone; ++i) {
+    if (rig.bone_joint_type[i] != JointType::kBall) continue;
+    d.joint_block[i] += armature * Mat3::Identity();
+    d.joint_blocks = true;
+  }
+}
+
 // one linearised step of h with or without the pose terms; the forces are the step's input
 void linearised_step(const Scene& scene, SimState& s, double h, bool full,
-                     const PoseTermSelection& terms) {
+                     const PoseTermSelection& terms, double armature) {
   const Rig& rig = scene.rig;
   ArticulatedBodyData& d = s.joint_space.articulated;
   const ImplicitStage stage{h, full, terms};
   implicit_rates(scene, stage, s);                    // tau - h K v, every element's (forces.h)
   articulated_velocity_pass(rig, body_motion(s), d);  // rigid inertias, bias forces
   velocity_product_accels(rig, d, s.implicit.accel_bias);
-  if (full) rest_accelerations(scene, terms, s);  // a0 and W, for the pose terms
-  implicit_augment(scene, stage, s);              // + h D + h^2 K, every element's
+  if (full) rest_accelerations(scene, terms, s);       // a0 and W, for the pose terms
+  implicit_augment(scene, stage, s);                   // + h D + h^2 K, every element's
+  if (armature > 0.0) add_armature(rig, armature, d);  // + the joints' armature on M
   d.pose_terms = false;
   if (full) add_pose_terms(scene, stage, s);  // + h^2 K's pose terms
   articulated_backward_pass(rig, d);
@@ -63,7 +73,7 @@ JointSolveStats solve_implicit(const Scene& scene, SimState& s) {
 }
 
 JointSolveStats solve_implicit(const Scene& scene, SimState& s, double h,
-                               const PoseTermSelection& terms) {
+                               const PoseTermSelection& terms, double armature) {
   ImplicitWorkspace& im = s.implicit;
   const Rig& rig = scene.rig;
   const EngineParams& p = scene.params;
@@ -76,13 +86,13 @@ JointSolveStats solve_implicit(const Scene& scene, SimState& s, double h,
     std::copy(s.force_world.begin(), s.force_world.end(), im.step_force_world.begin());
     std::copy(s.torque_world.begin(), s.torque_world.end(), im.step_torque_world.begin());
   }
-  linearised_step(scene, s, h, full, terms);
+  linearised_step(scene, s, h, full, terms, armature);
   if (full && terms.gauss_newton_retake && !d.pose_terms_positive) {
     // a pivot's symmetric part is not positive definite with the pose terms: the step is taken
     // again with the Gauss-Newton system, whose pivots' are (implicit_step.h)
     std::copy(im.step_force_world.begin(), im.step_force_world.end(), s.force_world.begin());
     std::copy(im.step_torque_world.begin(), im.step_torque_world.end(), s.torque_world.begin());
-    linearised_step(scene, s, h, false, terms);
+    linearised_step(scene, s, h, false, terms, armature);
     ++im.gauss_newton_steps;
   }
   articulated_joint_forces(rig, s);

@@ -107,8 +107,11 @@ JointSolveStats solve_implicit(const Scene& scene, SimState& state);
 // The same over a step h (s) other than params.dt, for the substeps of implicit_advance.h: the
 // ODE is the scene's (the factor's damper stays (1 - f) / dt I_com), only the step changes.
 // `terms`: which pose terms implicit_linearisation full keeps (all; a study drops some).
+// `armature` (kg m^2, 0: none) adds that inertia about every axis of every ball joint (MuJoCo's
+// dof armature: a rotor's inertia on the joint's own coordinate) to M: the equilibrium solve's
+// metric (equilibrium_solve.h).
 JointSolveStats solve_implicit(const Scene& scene, SimState& state, double h,
-                               const PoseTermSelection& terms = {});
+                               const PoseTermSelection& terms = {}, double armature = 0.0);
 
 // Pieces, exposed for the tests and the linear modes:
 // the stiffnesses of this step (each element's tangents): state.implicit.control_stiffness (per

@@ -2,6 +2,12 @@
 
 namespace physik {
 
+void size_joint_snapshot(int n, std::size_t anchor_capacity, JointStateSnapshot& snap) {
+  snap.joint_vel_local.assign(n, Vec3::Zero());
+  snap.bone_local_rotation.assign(n, Quat::Identity());
+  snap.friction_anchors.reserve(anchor_capacity);
+}
+
 void size_implicit(const Scene& scene, std::size_t anchor_capacity, ImplicitWorkspace& ws) {
   const Rig& rig = scene.rig;
   const int n = rig.nbone;
@@ -19,11 +25,7 @@ void size_implicit(const Scene& scene, std::size_t anchor_capacity, ImplicitWork
   ws.snapshots.clear();
   if (scene.params.scheme == Scheme::kImplicit) {
     ws.snapshots.resize(static_cast<std::size_t>(scene.params.implicit_max_splits) + 1);
-    for (JointStateSnapshot& snap : ws.snapshots) {
-      snap.joint_vel_local.assign(n, Vec3::Zero());
-      snap.bone_local_rotation.assign(n, Quat::Identity());
-      snap.friction_anchors.reserve(anchor_capacity);
-    }
+    for (JointStateSnapshot& snap : ws.snapshots) size_joint_snapshot(n, anchor_capacity, snap);
   }
   ws.gauss_newton_steps = 0;
   ws.split_steps = 0;

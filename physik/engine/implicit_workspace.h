@@ -55,6 +55,9 @@ struct ImplicitWorkspace {
   int deepest_steps = 0;     // steps split to implicit_max_splits (taken unchecked)
 };
 
+// A snapshot sized for `nbone` bones, with room for `anchor_capacity` friction anchors.
+void size_joint_snapshot(int nbone, std::size_t anchor_capacity, JointStateSnapshot& snapshot);
+
 // Size every buffer for a scene, zeroed, the counts at 0 (size_state, state.h): the snapshots
 // only for scheme implicit, each with room for `anchor_capacity` friction anchors (the contact
 // data's, contact_data.h prepare_contact_data), so that a step allocates nothing.

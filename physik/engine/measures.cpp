@@ -1,7 +1,10 @@
 #include "physik/engine/measures.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <limits>
+#include <string>
 
 #include "physik/engine/aim_springs.h"
 #include "physik/engine/newton_euler.h"
@@ -80,6 +83,103 @@ double aim_residual(const BoneFrames& f, const AimTarget& t) {
 
 double pin_residual(const BoneFrames& f, const Pin& pin) {
   return (point_on_bone(f, pin.bone, pin.alpha) - pin.point_world).norm();
+}
+
+int goal_count(const Scene& scene) {
+  return static_cast<int>(scene.control_points.size() + scene.orientation_targets.size() +
+                          scene.aim_targets.size());
+}
+
+GoalRef goal_ref(const Scene& scene, int g) {
+  const int ncp = static_cast<int>(scene.control_points.size());
+  const int nori = static_cast<int>(scene.orientation_targets.size());
+  if (g < ncp) return {GoalKind::kControlPoint, g};
+  if (g < ncp + nori) return {GoalKind::kOrientation, g - ncp};
+  return {GoalKind::kAim, g - ncp - nori};
+}
+
+double goal_residual(const Scene& scene, const SimState& s, int g) {
+  return goal_residual(scene, s.frames, s.target_goal_world, g);
+}
+
+double goal_residual(const Scene& scene, const BoneFrames& f, const std::vector<Vec3>& targets,
+                     int g) {
+  const GoalRef r = goal_ref(scene, g);
+  switch (r.kind) {
+    case GoalKind::kControlPoint: {
+      const ControlPoint& cp = scene.control_points[r.index];
+      return (point_on_bone(f, cp.bone, cp.alpha) - targets[r.index]).norm();
+    }
+    case GoalKind::kOrientation:
+      return orientation_residual(f, scene.orientation_targets[r.index]);
+    case GoalKind::kAim:
+      return aim_residual(f, scene.aim_targets[r.index]);
+  }
+  return 0.0;
+}
+
+std::string goal_label(const Scene& scene, int g) {
+  const GoalRef r = goal_ref(scene, g);
+  const auto named = [&](const char* what, const std::string& name, int bone) {
+    std::string out = std::string(what) + " ";
+    if (!name.empty()) out += "'" + name + "' ";
+    return out + (r.kind == GoalKind::kAim ? "of '" : "on '") + scene.rig.bone_name[bone] + "'";
+  };
+  switch (r.kind) {
+    case GoalKind::kControlPoint: {
+      const ControlPoint& c = scene.control_points[r.index];
+      return named(("control point " + std::to_string(r.index)).c_str(), c.name, c.bone);
+    }
+    case GoalKind::kOrientation: {
+      const OrientationTarget& t = scene.orientation_targets[r.index];
+      return named("orientation target", t.name, t.bone);
+    }
+    case GoalKind::kAim: {
+      const AimTarget& t = scene.aim_targets[r.index];
+      return named("aim", t.name, t.bone);
+    }
+  }
+  return "";
+}
+
+const char* goal_unit(GoalKind kind) {
+  return kind == GoalKind::kControlPoint ? "rig units" : "rad";
+}
+
+bool goals_met(const Scene& scene, const SimState& s, const GoalTolerance& tol) {
+  const int n = goal_count(scene);
+  for (int g = 0; g < n; ++g) {
+    if (!(goal_residual(scene, s, g) < tol.of(goal_ref(scene, g).kind))) return false;
+  }
+  return true;
+}
+
+void GoalProgress::restart(const Scene& scene, int now, int window, double fraction) {
+  const std::size_t n = static_cast<std::size_t>(goal_count(scene));
+  best_.assign(n, std::numeric_limits<double>::infinity());
+  improved_.assign(n, now);
+  window_ = window;
+  fraction_ = fraction;
+}
+
+bool GoalProgress::observe(const Scene& scene, const SimState& s, const GoalTolerance& tol,
+                           int now) {
+  int last = -1;  // the latest improvement of a goal still short
+  for (std::size_t g = 0; g < best_.size(); ++g) {
+    const int gi = static_cast<int>(g);
+    const double excess = goal_residual(scene, s, gi) / tol.of(goal_ref(scene, gi).kind);
+    if (excess < 1.0) {  // met: a goal that falls short again counts from then
+      best_[g] = std::numeric_limits<double>::infinity();
+      improved_[g] = now;
+      continue;
+    }
+    if (excess < (1.0 - fraction_) * best_[g]) {  // the first finite one always
+      best_[g] = excess;
+      improved_[g] = now;
+    }
+    last = std::max(last, improved_[g]);
+  }
+  return last >= 0 && now - last >= window_;
 }
 
 StepStats initial_stats(const Scene& scene, const SimState& s) {

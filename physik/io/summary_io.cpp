@@ -115,17 +115,25 @@ namespace {
 
 nlohmann::json engine_solve_json(const SceneSolveResult& r) {
   nlohmann::json j = summary_to_json(r.scene, r.run);
+  const bool equilibrium = r.solve.method == SolveMethod::kEquilibrium;
+  j["method"] = equilibrium ? "equilibrium" : "steps";
   j["iterations"] = r.solve.steps;
   j["time_s"] = r.time_s;
   j["residual"] = r.solve.residual;
   j["residual_tol"] = r.solve.tolerance;
+  j["residual_tol_angle"] = r.solve.tolerance_angle;
   j["stalled"] = r.solve.stalled;
   j["out_of_steps"] = r.solve.out_of_steps;
+  if (equilibrium) {  // the trust region's (physik/engine/equilibrium_solve.h)
+    j["stationary"] = r.solve.stationary;
+    j["refused_iterations"] = r.solve.refused;
+    j["final_step"] = r.solve.final_dt;
+  }
   j["finish"] = r.rule.finish == SolveFinish::kCcd   ? "ccd"
                 : r.rule.finish == SolveFinish::kDls ? "dls"
                                                      : "none";
   j["finish_iterations"] = r.solve.finish_iterations;
-  if (r.solver == "physik") {  // the solve mode
+  if (r.solver == "physik-steps") {  // the time-stepping solve mode
     j["dt_growth"] = r.rule.dt_growth;
     j["max_dt"] = r.rule.max_dt;
   }
@@ -163,6 +171,19 @@ nlohmann::json solve_summary_to_json(const SceneSolveResult& r) {
   nlohmann::json j = r.engine ? engine_solve_json(r) : classic_solve_json(r);
   j["solver"] = r.solver;
   j["not_converged_reason"] = solve_shortfall(r);  // "" when it converged (or diverged)
+  // every goal by its own measure, and those short of their tolerance (scene_solve.h)
+  nlohmann::json goals = nlohmann::json::array(), short_goals = nlohmann::json::array();
+  for (const GoalReport& g : goal_reports(r)) {
+    const nlohmann::json row = {{"goal", g.goal},
+                                {"residual", g.residual},
+                                {"tolerance", g.tolerance},
+                                {"unit", goal_unit(g.kind)},
+                                {"met", g.met()}};
+    goals.push_back(row);
+    if (!g.met() && !r.diverged) short_goals.push_back(row);
+  }
+  j["goals"] = goals;
+  j["short_goals"] = short_goals;
   return j;
 }
 

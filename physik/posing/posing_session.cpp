@@ -6,6 +6,7 @@
 #include <string>
 
 #include "physik/engine/engine.h"
+#include "physik/engine/integrate_joint_space.h"
 #include "physik/engine/interpolation.h"
 #include "physik/engine/linear_modes.h"
 #include "physik/engine/run_monitor.h"
@@ -42,11 +43,16 @@ double StepLength::next(double h, bool split, double ke, double previous_ke) con
   return h;
 }
 
-SolveRule solve_mode_rule() {
+SolveRule steps_mode_rule() {
   SolveRule rule;
+  rule.method = SolveMethod::kSteps;
   rule.dt_growth = kSolveDtGrowth;
   rule.max_dt = kSolveMaxDt;
   return rule;
+}
+
+SolveRule solve_mode_rule() {
+  return SolveRule{};
 }
 
 double goals_reach(const Scene& scene) {
@@ -72,6 +78,8 @@ PosingSession::PosingSession(const Scene& scene) : scene_(scene) {
   }
   init_state(scene_, state_);
   residuals_.resize(goals_.size());
+  size_equilibrium(scene_, state_.contact.anchors.capacity(), equilibrium_);
+  progress_.restart(scene_, 0, 1, 0.0);
   start_pose_ = state_.pose;
   start_goal_world_ = state_.target_goal_world;  // sized once: a solve copies without allocating
   start_effective_world_ = state_.target_effective_world;
@@ -209,12 +217,18 @@ void check_rule(const SolveRule& r) {
     bad("tolerance_fraction", "must be finite and > 0");
   }
   if (r.max_steps < 0) bad("max_steps", "must not be negative");
-  if (r.stall_steps < 1) bad("stall_steps", "must be at least 1");
+  if (r.stall_steps < 0) bad("stall_steps", "must not be negative (0: the method's)");
   if (!(r.stall_fraction >= 0.0 && r.stall_fraction < 1.0))
     bad("stall_fraction", "must be in [0, 1)");
   if (!(r.dt_growth >= 1.0) || !std::isfinite(r.dt_growth))
     bad("dt_growth", "must be finite and >= 1");
   if (!(r.max_dt > 0.0) || !std::isfinite(r.max_dt)) bad("max_dt", "must be finite and > 0");
+  if (!(r.tolerance_angle >= 0.0) || !std::isfinite(r.tolerance_angle))
+    bad("tolerance_angle", "must be finite and >= 0");
+  if (!(r.initial_step > 0.0) || !std::isfinite(r.initial_step))
+    bad("initial_step", "must be finite and > 0");
+  if (!(r.armature >= 0.0) || !std::isfinite(r.armature))
+    bad("armature", "must be finite and >= 0");
 }
 
 }  // namespace
@@ -232,12 +246,13 @@ void reset_guard_counts(SimState& s) {
 SolveResult PosingSession::solve(const SolveRule& rule, const StepObserver& observer) {
   check_has_goal(scene_);
   check_rule(rule);
-  const bool grow = rule.dt_growth > 1.0;
+  const bool grow = rule.method == SolveMethod::kSteps && rule.dt_growth > 1.0;
   if (grow && scene_.params.scheme != Scheme::kImplicit) {
     throw_input_error(scene_.file, "params", "scheme",
                       "a lengthening step (dt_growth > 1) needs scheme implicit");
   }
   SolveResult out;
+  out.method = rule.method;
   // where the solve starts, for a divergence to return to (same sizes: no allocation)
   start_pose_ = state_.pose;
   start_step_ = state_.step;
@@ -247,15 +262,34 @@ SolveResult PosingSession::solve(const SolveRule& rule, const StepObserver& obse
   start_damping_auto_ = state_.damping_auto_value;
   // the summary's are this solve's
   reset_guard_counts(state_);
-  out.tolerance =
-      rule.tolerance > 0.0 ? rule.tolerance : rule.tolerance_fraction * goals_reach(scene_);
+  const double reach = goals_reach(scene_);
+  out.tolerance = rule.tolerance > 0.0 ? rule.tolerance : rule.tolerance_fraction * reach;
+  out.tolerance_angle = rule.tolerance_angle > 0.0 ? rule.tolerance_angle
+                        : reach > 0.0              ? out.tolerance / reach
+                                                   : rule.tolerance_fraction;
+  if (rule.method == SolveMethod::kEquilibrium) {
+    solve_by_equilibrium(rule, observer, out);
+  } else {
+    solve_by_steps(rule, observer, out);
+  }
+  out.residual = residual();
+  if (!out.converged && !out.diverged && rule.finish != SolveFinish::kNone) {
+    finish_with(rule, out.tolerance, out);
+  }
+  return out;
+}
+
+// The time-stepping solve: the scene's engine (implicit lengthening by dt_growth, or at its dt),
+// its divergence judged by the run monitor, its goals by their own measure (measures.h).
+void PosingSession::solve_by_steps(const SolveRule& rule, const StepObserver& observer,
+                                   SolveResult& out) {
+  const bool grow = rule.dt_growth > 1.0;
   RunRules rules = scene_rules_;
-  rules.stop_at_residual = true;
-  rules.residual_tol = out.tolerance;
-  rules.stall_steps = rule.stall_steps;
-  rules.stall_fraction = rule.stall_fraction;
-  // rules.last_event stays the scene's: a target the schedule still has to move is waited for
+  rules.stop_at_residual = false;           // the goals' stop rule is below
   monitor_.restart(scene_, state_, rules);  // energy ledger from the state as it is now
+  const GoalTolerance tol = out.goal_tolerance();
+  const int window = rule.stall_steps > 0 ? rule.stall_steps : kStallSteps;
+  progress_.restart(scene_, state_.step, window, rule.stall_fraction);
   // the step h: the scene's dt at first; longer by dt_growth after a step whose kinetic energy
   // fell, shorter by it (not below dt) after one the energy guard had to split
   const StepLength length{scene_.params.dt, rule.max_dt, rule.dt_growth};
@@ -269,6 +303,16 @@ SolveResult PosingSession::solve(const SolveRule& rule, const StepObserver& obse
     stop = monitor_.observe(observe_step(scene_, state_, st));
     if (grow) h = length.next(h, st.substeps > 1, st.kinetic_energy, previous_ke);
     previous_ke = st.kinetic_energy;
+    if (stop) break;
+    // a target the schedule or the interpolation still moves is waited for
+    bool moving = state_.step <= scene_rules_.last_event;
+    for (int left : state_.interp_steps_left) moving = moving || left > 0;
+    if (moving) {
+      progress_.restart(scene_, state_.step, window, rule.stall_fraction);
+      continue;
+    }
+    out.converged = goals_met(scene_, state_, tol);
+    stop = out.converged || progress_.observe(scene_, state_, tol, state_.step);
   }
   out.diverged = monitor_.diverged();
   if (out.diverged) {
@@ -278,21 +322,54 @@ SolveResult PosingSession::solve(const SolveRule& rule, const StepObserver& obse
     state_.target_effective_world = start_effective_world_;
     state_.interp_steps_left = start_interp_left_;
     state_.damping_auto_value = start_damping_auto_;
+    out.converged = false;
   }
-  out.converged = monitor_.converged();
   out.out_of_steps = !out.converged && !out.diverged && !stop;
   out.stalled = !out.converged && !out.diverged && stop;  // the stall rule stopped it
-  out.residual = residual();
-  if (!out.converged && !out.diverged && rule.finish != SolveFinish::kNone) {
-    finish_with(rule, out.tolerance, out);
-  }
-  return out;
+}
+
+// The equilibrium solve in the solve mode's engine settings (the scheme implicit's joint-space
+// state, the gradient torsion torque), the session's put back after.
+void PosingSession::solve_by_equilibrium(const SolveRule& rule, const StepObserver& observer,
+                                         SolveResult& out) {
+  EngineParams& p = scene_.params;
+  const Scheme scheme = p.scheme;
+  const TorsionTorque torque = p.torsion_torque;
+  p.scheme = Scheme::kImplicit;
+  p.torsion_torque = TorsionTorque::kGradient;
+  if (scheme == Scheme::kGaussSeidel) init_joint_space(scene_.rig, state_);
+  monitor_.restart(scene_, state_, scene_rules_);  // the summary's counts: this solve's
+  EquilibriumRule er;
+  er.tolerance = out.goal_tolerance();
+  er.max_iterations = rule.max_steps;
+  er.stall_iterations = rule.stall_steps > 0 ? rule.stall_steps : kStallIterations;
+  er.stall_fraction = rule.stall_fraction;
+  er.initial_step = rule.initial_step;
+  er.armature = rule.armature;
+  const EquilibriumResult r = equilibrium_solve(scene_, state_, equilibrium_, er, observer);
+  p.scheme = scheme;
+  p.torsion_torque = torque;
+  state_.step += r.iterations;
+  out.steps = r.iterations;
+  out.refused = r.refused;
+  out.final_dt = r.step;
+  out.converged = r.converged;
+  out.stalled = r.stalled;
+  out.stationary = r.stationary;
+  out.out_of_steps = r.out_of_iterations;
 }
 
 RunSummary PosingSession::summary(const SolveResult& result) const {
   RunSummary out = monitor_.summary();
   monitor_.fill_final(scene_, state_, out);
   out.converged = result.converged;
+  if (result.method == SolveMethod::kEquilibrium) {
+    out.steps_run = result.steps;
+    out.steps_to_converge = result.converged ? result.steps : -1;
+    out.mean_passes_per_step = result.steps > 0 ? 1.0 : 0.0;
+    out.max_passes_in_a_step = result.steps > 0 ? 1 : 0;
+    out.max_limit_violation_deg = rad2deg(max_limit_violation(scene_.rig, state_.pose));
+  }
   return out;
 }
 

@@ -8,13 +8,18 @@
 //   session.advance(k);                           // k steps of the scene's engine; no allocation
 //   SolveResult r = session.solve(rule);          // until the residual rule says stop
 //
-// solve() is the paper's run-to-convergence used as an IK solver (Choi 2019, Sec. 6: "it may be
-// beneficial to pair the physical simulation with CCD or some other fast IK solver. The challenge
-// here would be figuring out when to stop the physical simulation and switch over"): the physics
-// runs until every control point is within the tolerance of its target, or until the residual
-// stops improving (the run monitor's stall rule, physik/engine/run_monitor.h), and then, when the
-// rule names a finish, hands the pose to CCD or DLS (physik/ik/ik_solver.h) to close the rest.
-// The switch-over rule is therefore the stall rule: "the residual stopped improving by
+// solve() has two methods (SolveRule::method). The equilibrium solve (the default, and `physik
+// solve --solver physik`) minimises the potential with a trust region whose steps are implicit
+// steps at rest (physik/engine/equilibrium_solve.h): the rest pose, in about as many O(n)
+// recursions as DLS takes iterations, never diverging. The time-stepping solve (`--solver
+// physik-steps`, and the scene's own engine at its dt, `physik-explicit`) runs the physics:
+// solve() by time steps is the paper's run-to-convergence used as an IK solver (Choi 2019, Sec. 6:
+// "it may be beneficial to pair the physical simulation with CCD or some other fast IK solver. The
+// challenge here would be figuring out when to stop the physical simulation and switch over"): the
+// physics runs until every control point is within the tolerance of its target, or until the
+// residual stops improving (the run monitor's stall rule, physik/engine/run_monitor.h), and then,
+// when the rule names a finish, hands the pose to CCD or DLS (physik/ik/ik_solver.h) to close the
+// rest. The switch-over rule is therefore the stall rule: "the residual stopped improving by
 // stall_fraction of itself over stall_steps steps".
 //
 // Frames and units: targets and poses are world frame, rig units; the state is the engine's
@@ -26,6 +31,8 @@
 
 #include <vector>
 
+#include "physik/engine/equilibrium_solve.h"
+#include "physik/engine/measures.h"
 #include "physik/engine/run_monitor.h"
 #include "physik/engine/run_summary.h"
 #include "physik/engine/state.h"
@@ -39,8 +46,8 @@ enum class SolveFinish {
   kDls,   // physics for the transient, then damped least squares
 };
 
-// The solve mode's defaults (physik solve --solver physik, ik_comparison's physik rows): chosen on
-// the ik_comparison targets (docs/ik.md "The solve mode")
+// The time-stepping solve mode's defaults (physik solve --solver physik-steps): chosen on
+// the ik_comparison targets (docs/ik.md "The time-stepping solve mode")
 constexpr double kSolveDtGrowth = 2.0;  // 1, per settling step
 constexpr double kSolveMaxDt = 1000.0;  // s
 
@@ -49,13 +56,31 @@ constexpr double kSolveMaxDt = 1000.0;  // s
 // (at its point) a pin.
 double goals_reach(const Scene& scene);
 
+enum class SolveMethod {
+  kEquilibrium,  // the equilibrium solve (physik/engine/equilibrium_solve.h): `--solver physik`
+  kSteps,        // time steps of the scene's engine (`physik-steps` with dt_growth,
+                 // `physik-explicit` at the scene's dt)
+};
+
 struct SolveRule {
-  double tolerance = 0.0;            // rig units; 0 = tolerance_fraction * goals_reach
+  SolveMethod method = SolveMethod::kEquilibrium;
+  double tolerance = 0.0;            // rig units, the position goals'; 0 = tolerance_fraction *
+                                     // goals_reach
   double tolerance_fraction = 1e-4;  // 1, of the goals' reach (as the classic solvers)
-  int max_steps = 2000;              // physics steps at most
-  int stall_steps = 50;              // steps; the residual stalled when it improved by less than
-  double stall_fraction = 0.01;      //   stall_fraction of itself over stall_steps steps
-  // The solve mode on the implicit step: the step starts at the scene's dt, so the
+  double tolerance_angle = 0.0;      // rad, the orientation targets' and aims'; 0 = the position
+                                     // tolerance over the goals' reach (as DLS's orientation rows)
+  int max_steps = 2000;              // physics steps, or the equilibrium's iterations, at most
+  int stall_steps = 0;               // steps or iterations; 0 = the method's (kStallSteps,
+                                     // kStallIterations): stalled when no goal short of its
+                                     // tolerance improved by stall_fraction of itself over them
+  double stall_fraction = 0.01;      // 1
+  // The equilibrium solve's first trial step, s (its trust region lengthens and shortens it),
+  // and its joints' armature, a fraction of the rig's inertia about its root (equilibrium_solve.h:
+  // 0 = the rig's own inertia and dampers as the metric; more moves the joints more alike, as DLS
+  // does, fewer iterations on long chains and less secondary motion).
+  double initial_step = 1.0;
+  double armature = kArmature;
+  // The time-stepping solve mode on the implicit step: the step starts at the scene's dt, so the
   // body follows with its secondary motion, and lengthens by dt_growth each step the kinetic
   // energy falls, up to max_dt, carrying the dynamics into a quasi-static solve (a large implicit
   // step is a Gauss-Newton step on the spring and torsion potential, damped by the rig's own
@@ -64,28 +89,39 @@ struct SolveRule {
   // region, as Levenberg-Marquardt's damping. The equations of motion stay the scene's (its
   // dampers are set by its dt: physik::step(scene, state, h)); only the step changes. 1 = off.
   // InputError unless implicit. solve() throws InputError for a rule out of range (tolerances
-  // negative or not finite, max_steps < 0, stall_steps < 1, stall_fraction outside [0, 1),
-  // dt_growth < 1, max_dt not positive, any NaN).
+  // negative or not finite, max_steps < 0, stall_steps < 0, stall_fraction outside [0, 1),
+  // dt_growth < 1, max_dt or initial_step not positive, armature negative, any NaN).
   double dt_growth = 1.0;  // 1, per settling step
   double max_dt = 1.0;     // s
   SolveFinish finish = SolveFinish::kNone;
   IkOptions finish_options;  // the classic finish's options (its tolerance is ours)
 };
 
+// The stall windows of the two methods when the rule gives none.
+constexpr int kStallSteps = 50;      // time steps
+constexpr int kStallIterations = 6;  // equilibrium iterations
+
 struct SolveResult {
-  bool converged = false;     // every control point within the tolerance at the end
-  bool diverged = false;      // the physics diverged; the session is back where the solve
-                              // started: its pose at rest, step count, targets and their
-                              // interpolation (a retry is the same solve)
-  bool stalled = false;       // the physics stopped improving short of the tolerance (the stall
-                              // rule stopped it)
-  bool out_of_steps = false;  // the physics reached rule.max_steps short of the tolerance, still
-                              // improving (a classic finish may then have converged)
-  int steps = 0;              // physics steps taken by this solve
-  int finish_iterations = 0;  // iterations of the classic finish (0 = none ran)
-  double residual = 0.0;      // rig units, the largest control-point distance at the end
-  double final_dt = 0.0;      // s, the length of the last step taken
-  double tolerance = 0.0;     // rig units, the one used
+  SolveMethod method = SolveMethod::kEquilibrium;
+  bool converged = false;        // every goal within its tolerance at the end (measures.h: by its
+                                 // own measure)
+  bool diverged = false;         // the physics diverged; the session is back where the solve
+                                 // started: its pose at rest, step count, targets and their
+                                 // interpolation (a retry is the same solve)
+  bool stalled = false;          // the physics stopped improving short of the tolerance (the stall
+                                 // rule stopped it)
+  bool out_of_steps = false;     // the physics reached rule.max_steps short of the tolerance, still
+                                 // improving (a classic finish may then have converged)
+  bool stationary = false;       // the equilibrium solve stopped at a stationary point of the
+                                 // potential short of a goal (out of reach, against a limit)
+  int steps = 0;                 // physics steps, or equilibrium iterations (trials), of this solve
+  int refused = 0;               // the equilibrium's trials its trust region refused (of steps)
+  int finish_iterations = 0;     // iterations of the classic finish (0 = none ran)
+  double residual = 0.0;         // rig units, the goal residual at the end (measures.h)
+  double final_dt = 0.0;         // s, the length of the last step taken (equilibrium: its h)
+  double tolerance = 0.0;        // rig units, the one used
+  double tolerance_angle = 0.0;  // rad, the one used
+  GoalTolerance goal_tolerance() const { return {tolerance, tolerance_angle}; }
 };
 
 // The solve mode's step length, a trust region as Levenberg-Marquardt's damping: after a step
@@ -109,7 +145,10 @@ void use_solve_mode(EngineParams& params);
 // other than implicit (the solve mode is the implicit step).
 void use_solve_mode(Scene& scene);
 
-// The solve rule of the solve mode: the step growing by kSolveDtGrowth up to kSolveMaxDt.
+// The rule of the time-stepping solve mode (physik-steps): method kSteps, the step growing by
+// kSolveDtGrowth up to kSolveMaxDt.
+SolveRule steps_mode_rule();
+// The rule of the solve mode (physik): the equilibrium solve, SolveRule's defaults.
 SolveRule solve_mode_rule();
 
 class PosingSession {
@@ -144,7 +183,9 @@ class PosingSession {
   // `steps` steps of the scene's engine (its integration, joint solve and dt).
   StepStats advance(int steps = 1);
 
-  // Run to the rule (see the top of this file). The session continues from the result.
+  // Run to the rule (see the top of this file). The session continues from the result (the
+  // equilibrium solve leaves it at rest). The equilibrium solve runs in the solve mode's engine
+  // settings (use_solve_mode) whatever the session's, and puts the session's back after.
   // `observer`, when given, sees the state after every physics step of the solve (as
   // run_scene's; not the classic finish). Throws InputError when the scene has no control point.
   SolveResult solve(const SolveRule& rule = {}, const StepObserver& observer = nullptr);
@@ -174,6 +215,8 @@ class PosingSession {
 
  private:
   bool finish_with(const SolveRule& rule, double tolerance, SolveResult& out);
+  void solve_by_steps(const SolveRule& rule, const StepObserver& observer, SolveResult& out);
+  void solve_by_equilibrium(const SolveRule& rule, const StepObserver& observer, SolveResult& out);
   void check_target_bone(int bone, const char* method) const;
   void targets_changed();
 
@@ -188,8 +231,10 @@ class PosingSession {
   std::vector<Vec3> start_goal_world_, start_effective_world_;  // (ncontrol) rig units
   std::vector<int> start_interp_left_;                          // (ncontrol) steps
   double start_damping_auto_ = 0.0;                             // N s/m
-  RunMonitor monitor_{RunRules{}};  // the solve's verdicts, restarted from the state each solve
-  RunRules scene_rules_;            // run_rules(scene_), taken once (its start energy allocates)
+  RunMonitor monitor_{RunRules{}};    // the solve's verdicts, restarted from the state each solve
+  GoalProgress progress_;             // the time-stepping solve's stall rule, per goal
+  EquilibriumWorkspace equilibrium_;  // the equilibrium solve's, sized once
+  RunRules scene_rules_;              // run_rules(scene_), taken once (its start energy allocates)
 };
 
 }  // namespace physik

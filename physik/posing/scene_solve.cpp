@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "physik/engine/engine.h"
+#include "physik/engine/measures.h"
 #include "physik/model/errors.h"
 #include "physik/model/message_number.h"
 
@@ -11,8 +12,25 @@ namespace physik {
 
 namespace {
 
+// the outside solvers registered (register_outside_solver), by name
+std::vector<std::pair<std::string, OutsideSolver>>& outside_solvers() {
+  static std::vector<std::pair<std::string, OutsideSolver>> solvers;
+  return solvers;
+}
+
+OutsideSolver find_outside_solver(const std::string& name) {
+  for (const auto& [n, f] : outside_solvers()) {
+    if (n == name) return f;
+  }
+  return nullptr;
+}
+
+bool outside_solver(const std::string& s) {
+  return s == "kdl" || s == "kdl-nr";
+}
+
 bool engine_solver(const std::string& s) {
-  return s == "physik" || s == "physik-explicit";
+  return s == "physik" || s == "physik-steps" || s == "physik-explicit";
 }
 
 bool jacobian_solver(const std::string& s) {
@@ -86,13 +104,18 @@ IkOptions classic_options(const SceneSolveOptions& o);
 // scene's engine at its dt (physik-explicit); see scene_solve.h
 SceneSolveResult solve_with_engine(Scene& scene, const SceneSolveOptions& o,
                                    const StepObserver& observer) {
-  const bool mode = o.solver == "physik";
-  if (mode) use_solve_mode(scene);
+  const bool equilibrium = o.solver == "physik", steps_mode = o.solver == "physik-steps";
+  if (equilibrium || steps_mode) use_solve_mode(scene);
   SolveRule rule;
+  rule.method = equilibrium ? SolveMethod::kEquilibrium : SolveMethod::kSteps;
   rule.tolerance = o.tol > 0.0 ? o.tol : 1e-4 * goals_reach(scene);
-  rule.max_steps = scene.steps;
-  rule.dt_growth = mode ? o.dt_growth : 1.0;
+  rule.tolerance_angle = o.tol_angle;
+  // the equilibrium's iterations are the classic solvers' (max_iterations); the physics' steps
+  // are the scene's
+  rule.max_steps = equilibrium ? o.max_iterations : scene.steps;
+  rule.dt_growth = steps_mode ? o.dt_growth : 1.0;
   rule.max_dt = o.max_dt;
+  rule.armature = o.armature;
   rule.finish = o.finish == "ccd"   ? SolveFinish::kCcd
                 : o.finish == "dls" ? SolveFinish::kDls
                                     : SolveFinish::kNone;
@@ -162,6 +185,39 @@ SceneSolveResult solve_classic(const Scene& scene, const SceneSolveOptions& o,
 
 }  // namespace
 
+std::vector<GoalReport> goal_reports(const SceneSolveResult& r) {
+  const Scene& scene = r.scene;
+  std::vector<Vec3> targets;
+  for (const IkGoal& g : scene_goals(scene)) targets.push_back(g.target_world);
+  const GoalTolerance tol =
+      r.engine ? r.solve.goal_tolerance()
+               : GoalTolerance{r.classic.tolerance, r.classic.orientation_tolerance > 0.0
+                                                        ? r.classic.orientation_tolerance
+                                                        : kDefaultTolAngle};
+  std::vector<GoalReport> out;
+  for (int g = 0; g < goal_count(scene); ++g) {
+    const GoalKind kind = goal_ref(scene, g).kind;
+    out.push_back(
+        {goal_label(scene, g), kind, goal_residual(scene, r.frames, targets, g), tol.of(kind)});
+  }
+  return out;
+}
+
+namespace {
+
+// "; short: control point 0 on 'hand' 0.1 rig units (tolerance 0.0001), ..." or ""
+std::string short_goals_text(const SceneSolveResult& r) {
+  std::string out;
+  for (const GoalReport& g : goal_reports(r)) {
+    if (g.met()) continue;
+    out += (out.empty() ? "; short: " : ", ") + g.goal + " " + message_number(g.residual) + " " +
+           goal_unit(g.kind) + " (tolerance " + message_number(g.tolerance) + ")";
+  }
+  return out;
+}
+
+}  // namespace
+
 std::string solve_shortfall(const SceneSolveResult& r) {
   const std::string residual = "residual " +
                                message_number(r.engine ? r.solve.residual : r.classic.residual) +
@@ -178,17 +234,36 @@ std::string solve_shortfall(const SceneSolveResult& r) {
            (r.classic.stalled ? " stalled (the residual stopped improving)"
                               : " used its iterations (max_iterations)") +
            " after " + std::to_string(r.classic.iterations) + " iterations at " + residual +
-           orientation;
+           orientation + short_goals_text(r);
   }
   if (r.diverged || r.solve.converged) return "";
-  std::string why = r.solve.stalled ? "the physics stalled (the residual stopped improving)"
-                                    : "the physics used the scene's steps";
-  why += " after " + std::to_string(r.solve.steps) + " steps";
+  std::string why;
+  if (r.solve.method == SolveMethod::kEquilibrium) {
+    why = r.solve.stationary
+              ? "the equilibrium solve reached a rest pose (a stationary point of the potential)"
+          : r.solve.stalled ? "the equilibrium solve stalled (no goal improved)"
+                            : "the equilibrium solve used its iterations (max_iterations)";
+    why += " after " + std::to_string(r.solve.steps) + " iterations";
+  } else {
+    why = r.solve.stalled ? "the physics stalled (no goal improved)"
+                          : "the physics used the scene's steps";
+    why += " after " + std::to_string(r.solve.steps) + " steps";
+  }
   if (r.solve.finish_iterations > 0) {
     why += ", then the " + std::string(r.rule.finish == SolveFinish::kCcd ? "ccd" : "dls") +
            " finish " + std::to_string(r.solve.finish_iterations) + " iterations";
   }
-  return why + ", at " + residual;
+  return why + ", at " + residual + short_goals_text(r);
+}
+
+void register_outside_solver(const std::string& name, OutsideSolver solver) {
+  for (auto& entry : outside_solvers()) {
+    if (entry.first == name) {
+      entry.second = solver;
+      return;
+    }
+  }
+  outside_solvers().emplace_back(name, solver);
 }
 
 SceneSolveResult solve_scene(Scene scene, const SceneSolveOptions& o, OptionSpelling spelling,
@@ -199,6 +274,17 @@ SceneSolveResult solve_scene(Scene scene, const SceneSolveOptions& o, OptionSpel
     throw_input_error(scene.file, "control_points", "",
                       "a solve needs a goal: a control point, an orientation target or an aim "
                       "(pins hold, they do not pull)");
+  }
+  if (outside_solver(o.solver)) {
+    const OutsideSolver solve = find_outside_solver(o.solver);
+    if (!solve) {
+      throw_input_error(option_label("solver", spelling), "", o.solver,
+                        "not in this program (its layer, kdl/, registers it: the physik command "
+                        "and the Python module have it)");
+    }
+    SceneSolveResult r = solve(scene, o);  // it refuses what it cannot take (InputError)
+    r.solver = o.solver;
+    return r;
   }
   refuse_unread_world(scene, o);
   SceneSolveResult r = engine_solver(o.solver) ? solve_with_engine(scene, o, observer)

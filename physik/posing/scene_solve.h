@@ -56,12 +56,33 @@ struct SceneSolveResult {
   std::string warning;  // the engine's joint-solve warning (RunSummary::joint_solve_warning)
 };
 
+// A goal of the solved scene by its own measure (physik/engine/measures.h): its label, residual
+// and tolerance (rig units for a control point, rad for an orientation target or an aim).
+struct GoalReport {
+  std::string goal;  // goal_label: "control point 0 on 'hand.L'", "aim of 'head'", ...
+  GoalKind kind = GoalKind::kControlPoint;
+  double residual = 0.0;   // rig units or rad
+  double tolerance = 0.0;  // the same unit
+  bool met() const { return residual < tolerance; }
+};
+// Every goal of the solve at its final pose, against the solve's tolerances (the engine's, or a
+// classic solver's position and orientation tolerances).
+std::vector<GoalReport> goal_reports(const SceneSolveResult& result);
+
 // Why a solve that did not diverge stopped short of its tolerance, in one line ("" when it
 // converged or diverged): the classic solver stalled or used its iterations, or the engine's
 // physics stalled or used the scene's steps (and what a classic finish then left), with the
-// residual and the tolerance (rig units). `physik solve` prints it and exits 4; the summary
-// gives it as "not_converged_reason".
+// residual and the tolerance (rig units), then every goal short of its tolerance and by how much
+// ("short: aim of 'head' 0.012 rad (tolerance 0.0001 rad)"). `physik solve` prints it and exits
+// 4; the summary gives it as "not_converged_reason", and the goals as "goals" and "short_goals".
 std::string solve_shortfall(const SceneSolveResult& result);
+
+// Solvers that live above the core (kdl/: Orocos KDL, `--solver kdl|kdl-nr`), registered by their
+// layer (the CLI's and the Python module's start call kdl::register_solvers): the core never
+// sees their libraries. InputError from solve_scene for a solver of kSceneSolvers that this
+// program has not registered.
+using OutsideSolver = SceneSolveResult (*)(const Scene& scene, const SceneSolveOptions& options);
+void register_outside_solver(const std::string& name, OutsideSolver solver);
 
 // Solve `scene` (taken by value: the engine's run changes its convergence settings).
 // `observer`, when given, sees the engine's state after every physics step of its solve

@@ -10,7 +10,8 @@
 
 namespace physik {
 
-const char* const kSceneSolvers = "fabrik|ccd|jt|dls|mass-spring|rotation|physik|physik-explicit";
+const char* const kSceneSolvers =
+    "fabrik|ccd|jt|dls|mass-spring|rotation|kdl|kdl-nr|physik|physik-steps|physik-explicit";
 
 namespace {
 
@@ -109,13 +110,19 @@ std::vector<SolveOptionRow> build_table() {
   return {
       choice_row<&O::solver>(
           "solver", kSceneSolvers,
-          "the classic solvers, or the engine: physik (the solve mode, the "
-          "implicit step lengthening from the scene's dt) or physik-explicit (the "
-          "scene's own engine at its dt)"),
+          "the classic solvers, Orocos KDL (kdl: its Levenberg-Marquardt; kdl-nr: its "
+          "joint-limited Newton-Raphson), or the engine: physik (the equilibrium solve: the "
+          "rest pose by a trust region of implicit steps at rest), physik-steps (the "
+          "time-stepping solve mode: the implicit step lengthening from the scene's dt) or "
+          "physik-explicit (the scene's own engine at its dt)"),
       number_row<&O::tol>("tol", K::kReal, "rig units", finite_non_negative,
-                          "residual tolerance; 0 = 1e-4 of the reach"),
-      number_row<&O::max_iterations>("max_iterations", K::kInteger, "iterations",
-                                     non_negative_integer, "iteration cap of the classic solvers"),
+                          "position goals' tolerance; 0 = 1e-4 of the reach"),
+      number_row<&O::tol_angle>("tol_angle", K::kReal, "rad", positive,
+                                "orientation targets' and aims' tolerance, an angle (--tol is the "
+                                "position goals')"),
+      number_row<&O::max_iterations>(
+          "max_iterations", K::kInteger, "iterations", non_negative_integer,
+          "iteration cap of the classic solvers, KDL and the equilibrium solve (physik)"),
       number_row<&O::lambda>("lambda", K::kReal, "rig units", finite_non_negative,
                              "DLS damping; 0 = 0.02 of the reach"),
       choice_row<&O::jacobian>("jacobian", "analytic|fd", "jt/dls Jacobian"),
@@ -127,13 +134,17 @@ std::vector<SolveOptionRow> build_table() {
       choice_row<&O::cone>("cone", "none|circular|elliptical", "rotation method cone limits"),
       number_row<&O::no_limits>("no_limits", K::kBoolean, "", nullptr,
                                 "classic solvers ignore the rig's joint limits"),
+      number_row<&O::armature>("armature", K::kReal, "1", finite_non_negative,
+                               "physik: the joints' armature in the equilibrium solve's metric, a "
+                               "fraction of the rig's inertia about its root (0: the rig's inertia "
+                               "and dampers alone)"),
       number_row<&O::dt_growth>("dt_growth", K::kReal, "1", at_least_one,
-                                "physik: the implicit step lengthens by this factor every step the "
-                                "kinetic energy falls (1 = the scene's dt throughout)"),
-      number_row<&O::max_dt>("max_dt", K::kReal, "s", positive, "physik: the longest step"),
+                                "physik-steps: the implicit step lengthens by this factor every "
+                                "step the kinetic energy falls (1 = the scene's dt throughout)"),
+      number_row<&O::max_dt>("max_dt", K::kReal, "s", positive, "physik-steps: the longest step"),
       choice_row<&O::finish>("finish", "none|ccd|dls",
-                             "physik, physik-explicit: when the residual stops improving, finish "
-                             "with ccd or dls (the paper's hybrid)"),
+                             "physik, physik-steps, physik-explicit: when the goals stop "
+                             "improving, finish with ccd or dls (the paper's hybrid)"),
   };
 }
 

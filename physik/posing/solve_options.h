@@ -12,21 +12,28 @@
 
 namespace physik {
 
-// The solver and its settings. Units: rig units, s.
+// The orientation targets' and aims' tolerance unless --tol-angle: DLS's orientation tolerance at
+// the default --tol (1e-4 of the reach over the reach: ik_solver.h)
+constexpr double kDefaultTolAngle = 1e-4;  // rad
+
+// The solver and its settings. Units: rig units, s, rad.
 struct SceneSolveOptions {
-  std::string solver;         // fabrik|ccd|jt|dls|mass-spring|rotation|physik|physik-explicit
-  double tol = 0.0;           // rig units; 0 = 1e-4 of the reach
-  int max_iterations = 1000;  // classic solvers
-  double lambda = 0.0;        // rig units, DLS damping; 0 = 0.02 of the reach
-  std::string jacobian = "analytic";  // analytic | fd
-  std::vector<double> gravity;        // rig units/s^2, empty or three components (mass-spring)
-  double rotation_damping = 0.8;      // rotation method, in [0, 1]
-  std::string socket = "twist-bend";  // twist-bend | virtual-bone
-  std::string cone = "elliptical";    // none | circular | elliptical
-  bool no_limits = false;             // classic solvers ignore the rig's limits
-  // the engine's solvers (physik, physik-explicit)
-  double dt_growth = kSolveDtGrowth;  // 1, physik: the step's growth per settling step
-  double max_dt = kSolveMaxDt;        // s, physik: the longest step
+  std::string solver;  // fabrik|ccd|jt|dls|mass-spring|rotation|kdl|kdl-nr|physik|physik-steps|
+                       // physik-explicit
+  double tol = 0.0;    // rig units, the position goals'; 0 = 1e-4 of the reach
+  double tol_angle = kDefaultTolAngle;  // rad, the orientation targets' and aims' (positive)
+  int max_iterations = 1000;            // classic solvers and the equilibrium solve (physik)
+  double lambda = 0.0;                  // rig units, DLS damping; 0 = 0.02 of the reach
+  std::string jacobian = "analytic";    // analytic | fd
+  std::vector<double> gravity;          // rig units/s^2, empty or three components (mass-spring)
+  double rotation_damping = 0.8;        // rotation method, in [0, 1]
+  std::string socket = "twist-bend";    // twist-bend | virtual-bone
+  std::string cone = "elliptical";      // none | circular | elliptical
+  bool no_limits = false;               // classic solvers ignore the rig's limits
+  // the engine's solvers (physik, physik-steps, physik-explicit)
+  double armature = kArmature;        // 1, physik: the joints' armature (SolveRule::armature)
+  double dt_growth = kSolveDtGrowth;  // 1, physik-steps: the step's growth per settling step
+  double max_dt = kSolveMaxDt;        // s, physik-steps: the longest step
   std::string finish = "none";        // none | ccd | dls: the classic finish after a stall
 };
 
@@ -73,6 +80,6 @@ std::string solve_option_default_text(const SolveOptionRow& row);
 void check_solve_options(const SceneSolveOptions& options,
                          OptionSpelling spelling = OptionSpelling::kFlag);
 
-extern const char* const kSceneSolvers;  // "fabrik|...|rotation|physik|physik-explicit"
+extern const char* const kSceneSolvers;  // "fabrik|...|rotation|kdl|...|physik-explicit"
 
 }  // namespace physik

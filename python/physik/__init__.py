@@ -37,10 +37,11 @@ from collections import namedtuple
 from .errors import DivergedError, InputError, StartContactWarning, WriteBackWarning
 from . import _core
 from ._core import (Clip, PosingSolveResult, Rig, Scene, __version__, compare_mujoco, export_mjcf,
-                    param_table, scaled_scene, solve_mode_rule)
+                    param_table, scaled_scene, solve_mode_rule, steps_mode_rule)
 
 __all__ = ["Rig", "Scene", "param_table", "Simulation", "Pose", "Trajectory", "RunResult",
-           "PosingSession", "PosingSolveResult", "solve_mode_rule", "SolveResult", "solve",
+           "PosingSession", "PosingSolveResult", "solve_mode_rule", "steps_mode_rule", "SolveResult",
+           "solve",
            "export_mjcf", "compare_mujoco", "scaled_scene", "tune", "equilibrium", "view", "View",
            "Clip", "follow", "follow_scene", "FollowRun", "InputError", "DivergedError",
            "StartContactWarning", "WriteBackWarning", "__version__"]
@@ -253,7 +254,8 @@ def _make_solve():
     solve.__signature__ = signature
     solve.__name__ = solve.__qualname__ = "solve"
     solve.__doc__ = (
-        "Solve the scene's control points (at their final targets) as IK goals: `physik solve`.\n\n"
+        "Solve the scene's goals (control points at their final targets, orientation targets, "
+        "aims): `physik solve`.\n\n"
         "The keywords are the solve options, `physik solve`'s flags and a scene's \"solve\" keys "
         "(one table):\n" + "\n".join(lines) + "\n\n"
         "A bad option raises InputError naming the keyword. Returns SolveResult(summary, pose). The "
@@ -439,7 +441,8 @@ def _wrap_the_api():
     (physik/_arguments.py)."""
     from . import _arguments as args
     names = globals()
-    for name in ("param_table", "export_mjcf", "compare_mujoco", "solve_mode_rule", "scaled_scene"):
+    for name in ("param_table", "export_mjcf", "compare_mujoco", "solve_mode_rule", "steps_mode_rule",
+                 "scaled_scene"):
         names[name] = args.compiled(getattr(_core, name), name)
     for name in ("solve", "tune", "equilibrium", "view", "follow", "follow_scene"):
         names[name] = args.python(names[name], name)

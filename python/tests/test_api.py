@@ -223,7 +223,7 @@ def read_bones_csv(path):
 
 
 @pytest.mark.parametrize("solver", ["fabrik", "ccd", "jt", "dls", "mass-spring", "rotation", "physik",
-                                    "physik-explicit"])
+                                    "physik-steps", "physik-explicit"])
 def test_solve_equals_the_cli(solver, tmp):
     path = scene_path("pinhead_two_hands")
     status, _, err = cli("solve", path, "--solver", solver, "--out", tmp, "--quiet")

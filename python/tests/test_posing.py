@@ -16,24 +16,34 @@ from conftest import cli, read_json, scene_path, without
 # the keys `physik solve` adds to the session's summary (physik/posing/scene_solve.cpp)
 SOLVE_KEYS = ("solver", "iterations", "time_s", "residual", "residual_tol", "stalled",
               "out_of_steps", "finish", "finish_iterations", "dt_growth", "max_dt", "wall_time_s",
-              "not_converged_reason")
+              "not_converged_reason", "method", "residual_tol_angle", "stationary",
+              "refused_iterations", "final_step", "goals", "short_goals")
 
 
 def solve_like_the_cli(scene, solver, finish, finish_options):
-    """A session driven as physik/posing/scene_solve.cpp drives it for --solver physik or
-    physik-explicit."""
-    mode = solver == "physik"
+    """A session driven as physik/posing/scene_solve.cpp drives it for --solver physik,
+    physik-steps or physik-explicit."""
+    mode = solver in ("physik", "physik-steps")
     session = physik.PosingSession(scene, solve_mode=mode)
-    rule = physik.solve_mode_rule() if mode else {}
-    rule.update(max_steps=scene.steps, finish=finish, finish_options=finish_options)
+    if solver == "physik":  # the equilibrium solve: --max-iterations (1000; the CLI's flag is
+        # also the finish's max_iterations), --tol-angle 1e-4
+        rule = physik.solve_mode_rule()
+        rule.update(max_steps=(finish_options or {}).get("max_iterations", 1000),
+                    tolerance_angle=1e-4)
+    else:
+        rule = physik.steps_mode_rule() if mode else {"method": "steps"}
+        rule.update(max_steps=scene.steps, tolerance_angle=1e-4)
+    rule.update(finish=finish, finish_options=finish_options)
     return session, session.solve(**rule)
 
 
 # (scene, solver, finish, finish_options, the CLI's flags for those options); hand_tight's
 # physics stalls, so its finish runs
 CASES = [("pinhead_two_hands", "physik", "none", None, []),
+         ("pinhead_two_hands", "physik-steps", "none", None, []),
          ("fig9_outstretched", "physik-explicit", "none", None, []),
          ("fig11_sit", "physik", "none", None, []),
+         ("fig11_sit", "physik-steps", "none", None, []),
          ("hand_tight", "physik", "dls", None, []),
          ("hand_tight", "physik", "ccd", {"max_iterations": 7, "respect_limits": False},
           ["--max-iterations", "7", "--no-limits"]),
@@ -69,20 +79,27 @@ def test_solve_equals_physik_solve(name, solver, finish, options, flags, tmp):
         assert np.array_equal(getattr(session.pose, field), getattr(pose, field)), field
 
 
-def test_rule_defaults_and_the_solve_mode_rule():
+def test_rule_defaults_and_the_solve_mode_rules():
     rule = physik.solve_mode_rule()
-    assert rule["dt_growth"] == physik._core._SOLVE_DT_GROWTH > 1
-    assert rule["max_dt"] == physik._core._SOLVE_MAX_DT
-    # the other fields are SolveRule's defaults, which solve() takes when not given
+    assert rule["method"] == "equilibrium"
+    steps = physik.steps_mode_rule()
+    assert steps["method"] == "steps"
+    assert steps["dt_growth"] == physik._core._SOLVE_DT_GROWTH > 1
+    assert steps["max_dt"] == physik._core._SOLVE_MAX_DT
+    # the solve mode's rule is SolveRule's defaults, which solve() takes when not given
     scene = physik.Scene.load(scene_path("pinhead_two_hands"))
     a = physik.PosingSession(scene, solve_mode=True)
     b = physik.PosingSession(scene, solve_mode=True)
-    growth = {k: rule[k] for k in ("dt_growth", "max_dt")}
-    assert a.solve(**growth) == b.solve(**rule)
+    assert a.solve() == b.solve(**rule)
+    assert a.solve().method == "equilibrium"
     assert np.array_equal(a.pose.heads, b.pose.heads)
-    # without its growth the solve mode's rule is a different solve (the keywords are used)
+    # the time-stepping rule's growth is its own (the keywords are used)
     c = physik.PosingSession(scene, solve_mode=True)
-    assert c.solve().steps != physik.PosingSession(scene, solve_mode=True).solve(**rule).steps
+    growth = {k: steps[k] for k in ("method", "dt_growth", "max_dt")}
+    d = physik.PosingSession(scene, solve_mode=True)
+    assert c.solve(**growth) == d.solve(**steps)
+    e = physik.PosingSession(scene, solve_mode=True)
+    assert e.solve(method="steps").steps != c.solve(**steps).steps
 
 
 def test_advance_and_set_target_are_the_engines_steps_and_schedule():
@@ -181,9 +198,13 @@ def test_bad_input_is_input_error():
     assert raises_input_error(s.advance, -1) == "advance: field 'steps': must not be negative"
     assert raises_input_error(s.solve, tolerance=-1) == \
         "SolveRule: field 'tolerance': must be finite and >= 0"
-    assert raises_input_error(s.solve, stall_steps=0) == \
-        "SolveRule: field 'stall_steps': must be at least 1"
-    assert "needs scheme implicit" in raises_input_error(s.solve, dt_growth=2)
+    assert raises_input_error(s.solve, stall_steps=-1) == \
+        "SolveRule: field 'stall_steps': must not be negative (0: the method's)"
+    assert raises_input_error(s.solve, tolerance_angle=float("nan")) == \
+        "SolveRule: field 'tolerance_angle': must be finite and >= 0"
+    assert raises_input_error(s.solve, method="newton") == \
+        "solve: field 'method': unknown method 'newton' (expected equilibrium|steps)"
+    assert "needs scheme implicit" in raises_input_error(s.solve, method="steps", dt_growth=2)
     assert raises_input_error(s.solve, finish="newton") == \
         "solve: field 'finish': unknown finish 'newton' (expected none|ccd|dls)"
     assert "unknown field" in raises_input_error(s.solve, finish="dls", finish_options={"lamda": 1})

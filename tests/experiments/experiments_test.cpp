@@ -39,6 +39,7 @@ TEST(Experiments, EveryExpectedExperimentIsRegisteredInRunOrder) {
                                              "mujoco_gap",
                                              "ik_comparison",
                                              "orientation_targets",
+                                             "equilibrium_solve",
                                              "tracking",
                                              "linearisation",
                                              "tuning_study",

@@ -82,7 +82,7 @@ TEST(Linearisation, TheStudysRuleAroundTheShippedStepIsPosingSessionSolve) {
     const SolveCount study = solve(sc, s, tol, 2000, Variant::kShipped);
 
     PosingSession session(sc);
-    SolveRule rule = solve_mode_rule();
+    SolveRule rule = steps_mode_rule();
     rule.tolerance = tol;
     rule.max_steps = 2000;
     const SolveResult r = session.solve(rule);

@@ -39,7 +39,7 @@ TEST(SolveMode, EveryPinheadHandTargetConvergesWithEitherTorsionTorque) {
       session.set_pose(rest_pose(rig));
       session.set_target(0, t);
       session.set_target(1, rig.bone_rest_head_world[0]);
-      SolveRule rule = solve_mode_rule();
+      SolveRule rule = steps_mode_rule();
       rule.tolerance = 1e-4 * reach;
       const SolveResult r = session.solve(rule);
       converged += r.converged;
