@@ -29,6 +29,11 @@ def collect(results):
             continue
         summary = json.load(open(path))
         rep = summary.get("report", {})
+        for c in rep.get("claims", []):
+            if not is_verdict(c.get("holds", "")):
+                raise SystemExit("%s: claim '%s': holds '%s' is not a verdict (yes, no, partly or "
+                                 "n/a, with a reason in parentheses); the reason belongs in "
+                                 "measured" % (path, c.get("claim", "")[:80], c.get("holds")))
         sections.append((name, summary, rep))
     order = summary_order(results)
     sections.sort(key=lambda s: order.get(s[0], 1000))
@@ -202,6 +207,16 @@ def shorten_claim(text, limit):
         return shorten(text, limit)
     tail = text[k:]
     return shorten(text[:k].rstrip(), limit - len(tail) - 1) + " " + tail
+
+
+VERDICTS = ("yes", "no", "partly", "n/a")
+
+
+def is_verdict(holds):
+    """A holds cell is a verdict word, alone or with a reason in parentheses (experiments/report.h
+    check_verdict): "no (a run diverged)", never a sentence."""
+    word, paren, rest = holds.partition(" (")
+    return word in VERDICTS and (not paren or (len(rest) > 1 and rest.endswith(")")))
 
 
 def verdict(holds):

@@ -15,7 +15,7 @@
 // scaling experiment's scenario (experiments/scaling.h). Targets:
 // <= 0.5 us per bone per step at 10,000 bones; cost exponent <= 1.1 (fit us_per_step vs N).
 // BM_Implicit: the same scenario with scheme implicit (target: <= 1 us per bone
-// per step at 10,000 bones).
+// per step at 10,000 bones). BM_ExactIeee, BM_ImplicitIeee: the same with flush_subnormals off.
 // mj_step grows ~N^2.7 on chains (dense ancestor blocks of M), so it is run only up to 1000 bones.
 #include <algorithm>
 #include <string>
@@ -75,6 +75,21 @@ void BM_Implicit(benchmark::State& state, const std::string& kind) {
   physik::Scene scene = scaling_scene(kind, n);
   scene.params.scheme = physik::Scheme::kImplicit;
   time_physik(state, scene, steps_for(n));
+}
+
+// the same two with IEEE gradual underflow (flush_subnormals false; docs/engine.md "Subnormal
+// numbers"): beside BM_Exact and BM_Implicit, the flush's effect on the time per bone
+void BM_ExactIeee(benchmark::State& state, const std::string& kind) {
+  physik::Scene scene = scaling_scene(kind, static_cast<int>(state.range(0)));
+  scene.params.flush_subnormals = false;
+  time_physik(state, scene, steps_for(scene.rig.nbone));
+}
+
+void BM_ImplicitIeee(benchmark::State& state, const std::string& kind) {
+  physik::Scene scene = scaling_scene(kind, static_cast<int>(state.range(0)));
+  scene.params.scheme = physik::Scheme::kImplicit;
+  scene.params.flush_subnormals = false;
+  time_physik(state, scene, steps_for(scene.rig.nbone));
 }
 
 void BM_MjStep(benchmark::State& state, const std::string& kind) {
@@ -159,6 +174,14 @@ BENCHMARK_CAPTURE(BM_Implicit, chain, std::string("chain"))
 BENCHMARK_CAPTURE(BM_Implicit, tree2, std::string("tree2"))
     ->RangeMultiplier(10)
     ->Range(10, 10000)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_ExactIeee, chain, std::string("chain"))
+    ->Arg(100)
+    ->Arg(10000)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_ImplicitIeee, chain, std::string("chain"))
+    ->Arg(100)
+    ->Arg(10000)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_MjStep, chain, std::string("chain"))
     ->RangeMultiplier(10)

@@ -3,7 +3,9 @@
 // --flush_subnormals (a measurement, never the default): the whole process runs with the SSE
 // control bits flush-to-zero and denormals-are-zero, so an arithmetic result or operand below
 // 2.2e-308 is 0. It shows how much of a time is the processor's slow path for subnormal numbers
-// (a long pulled chain's far end, docs/DESIGN.md "Benchmarks"); it changes results there.
+// (a long pulled chain's far end, docs/DESIGN.md "Benchmarks"); it changes results there. The
+// engine's own step sets the same bits for its duration (flush_subnormals, on by default); this
+// flag covers the rest of the process too (mj_step, DART).
 #include <atomic>
 #include <cstdlib>
 #include <cstring>

@@ -63,6 +63,18 @@ void parse_frames(const std::string& text, FollowOptions& o) {
   o.last = number(text.substr(colon + 1), -1);
 }
 
+// a --set dt that does not divide the clip's frame time plays the clip at another speed: say so
+void warn_clip_speed(const BvhFile& clip, const Scene& scene) {
+  const double t = follow_frame_time(scene);
+  if (std::abs(t - clip.frame_time) <= 1e-6 * clip.frame_time) return;
+  const int n = follow_steps_per_frame(scene);
+  std::cerr << "physik: warning: follow: a clip frame takes " << t << " s (" << n
+            << (n == 1 ? " step" : " steps") << " of dt " << scene.params.dt
+            << " s) against the clip's " << clip.frame_time
+            << " s: the run (and --bvh) plays the clip at " << clip.frame_time / t
+            << " times its speed\n";
+}
+
 void run_follow(const FollowCliOptions& c) {
   if (c.every < 1) throw_input_error("--every", "", "", "must be at least 1");
   FollowOptions fo;
@@ -71,31 +83,33 @@ void run_follow(const FollowCliOptions& c) {
   for (const std::string& p : c.points) fo.points.push_back(parse_point(p));
   if (!c.no_ground) fo.ground = c.ground;
   fo.gravity = c.gravity;
-  const EngineParams params =
-      params_from_json(nlohmann::json(nullptr), "--set", parse_param_overrides(c.set, "--set"));
+  const ParamOverrides overrides = parse_param_overrides(c.set, "--set");
   if (!c.bvh.empty()) check_output_file(c.bvh, "--bvh");
   const Rig rig = load_rig(c.rig);
   const BvhFile clip = read_bvh_file(c.clip);
-  Scene scene = follow_scene(rig, clip, params, fo);
+  Scene scene = follow_scene(rig, clip, follow_params(rig, clip, fo, overrides), fo);
   scene.rig_file = c.rig;
   warn_start_contacts(scene);
   if (!c.quiet) {
     std::cerr << "follow: " << scene.control_points.size() << " points over "
               << scene.schedule.size() / std::max<std::size_t>(1, scene.control_points.size()) + 1
-              << " clip frames, " << scene.steps << " steps of " << scene.params.dt << " s\n";
+              << " clip frames, " << scene.steps << " steps of " << scene.params.dt
+              << " s, control_k " << scene.params.control_k << " N/m\n";
   }
+  warn_clip_speed(clip, scene);
+  // one BVH frame per clip frame (followed_frame), at the engine's time per clip frame
   std::unique_ptr<BvhRecorder> bvh;
   if (!c.bvh.empty()) {
     BvhExportOptions bo;
     bo.source_skeleton = !c.own_skeleton;
-    bvh = std::make_unique<BvhRecorder>(scene.rig, scene.params.dt * c.every, 1, bo);
+    bvh = std::make_unique<BvhRecorder>(scene.rig, follow_frame_time(scene), 1, bo);
     bvh->record(scene.initial_pose);
   }
   clear_run_folder(c.out, "--out");
   const int report_every = std::max(1, scene.steps / 10);
   const RunSummary sum =
       simulate_into_folder(scene, c.out, c.every, [&](const SimState& s, const StepStats& st) {
-        if (bvh && s.step % c.every == 0 && std::isfinite(st.kinetic_energy)) {
+        if (bvh && followed_frame(scene, s.step) > 0 && std::isfinite(st.kinetic_energy)) {
           bvh->record(s.frames);
         }
         if (!c.quiet && s.step % report_every == 0) {
@@ -133,11 +147,14 @@ void add_follow_commands(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--no-ground", c->no_ground, "No floor");
   cmd->add_flag("--gravity", c->gravity, "Gravity, -9.81 rig units/s^2 along Z");
-  cmd->add_option("--set", c->set, "Override an engine parameter, as simulate's --set");
-  cmd->add_option("--every", c->every, "Write a CSV row (and a --bvh frame) every N steps")
-      ->capture_default_str();
+  cmd->add_option("--set", c->set,
+                  "Override an engine parameter, as simulate's --set (defaults: dt the clip's "
+                  "frame time, split into steps of at most 1/120 s; control_k = M g / (n x 0.01): "
+                  "the n followed points holding the rig's weight would sag 0.01 rig units)");
+  cmd->add_option("--every", c->every, "Write a CSV row every N steps")->capture_default_str();
   cmd->add_option("--bvh", c->bvh,
-                  "Also record the run as a BVH animation (on the rig's source skeleton)");
+                  "Also record the run as a BVH animation (on the rig's source skeleton): one "
+                  "frame per clip frame, at the clip's frame time");
   cmd->add_flag("--own-skeleton", c->own_skeleton, kOwnSkeletonHelp);
   cmd->add_flag("--quiet", c->quiet, "No progress output");
   cmd->callback([c] { run_follow(*c); });

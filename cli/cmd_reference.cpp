@@ -71,7 +71,7 @@ void add_reference_commands(CLI::App& app) {
     const bool to_stdout = opt->out.empty() || opt->out == "-";
     const std::filesystem::path out(to_stdout ? "physik_rig.xml" : opt->out);
     const std::vector<MjcfFile> files = rig_to_mjcf_files(rig, o, out.filename().string());
-    compile_mjcf(files);  // throws with MuJoCo's message if it does not load
+    compile_rig_mjcf(rig, o, files);  // throws with MuJoCo's message if it does not load
     if (to_stdout) {
       if (files.size() > 1) {
         throw_input_error(opt->rig, "", "--out",

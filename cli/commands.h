@@ -50,9 +50,10 @@ inline constexpr const char* kEquilibriumExitStatusHelp =
 // is written; stderr says both measures).
 inline constexpr const char* kTuneExitStatusHelp =
     "Exit status: 0 success, 1 an unexpected failure, 2 bad input, 3 a diverged run (every "
-    "candidate, the tuned run, or the mujoco objective's MuJoCo reference), 4 not converged (the "
-    "tuned run converges later than the scene's, or never; --out still holds the tuned values): "
-    "0 only when the tuned run converges no later than the scene's.";
+    "candidate, the tuned run, or the mujoco objective's MuJoCo reference), 4 the tuned run "
+    "converges later than the scene's (stderr: \"converged later\") or never (\"not "
+    "converged\"); --out still holds the tuned values: 0 only when the tuned run converges no "
+    "later than the scene's.";
 // --orientation-target BONE=w,x,y,z, --aim BONE=x,y,z and --pin BONE[=x,y,z], repeated, as
 // simulate and solve take them: added to the scene after it is read, checked as the scene file's
 // bone targets (InputError naming the option, the value, the field and the reason). Defined in

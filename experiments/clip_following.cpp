@@ -19,9 +19,9 @@
 // The rig: `rig from-bvh` of the clip at scale 0.01 (metres, default sizes). The floor: at the
 // clip's lowest capsule bottom (the lowest point of any bone's capsule in any frame), so the clip
 // itself does not penetrate. Runs (the scene follow_scene builds: the root joint and every leaf
-// bone's tail followed, hips, head, hands, toes; the default preset at dt = 1/120 s, 4 steps per
-// clip frame, and every point's spring k = M g / (n * 1 cm): the n points holding the body's
-// weight M g in equal shares would sag 1 cm):
+// bone's tail followed, hips, head, hands, toes; physik follow's defaults, follow_params: the
+// default preset at dt = 1/120 s, 4 steps per clip frame, and every point's spring
+// k = M g / (n * 1 cm): the n points holding the body's weight M g in equal shares would sag 1 cm):
 //   floor:     the floor and gravity (-9.81 m/s^2)
 //   no floor:  gravity alone, to see what the floor does
 // Measured per clip frame f (the engine's state when the targets have reached frame f):
@@ -53,9 +53,6 @@ constexpr double kDuty = 0.6;                  // stance fraction
 constexpr double kThigh = 42.0, kShin = 42.0;  // cm
 constexpr double kAnkleHeight = 6.0;           // cm, the flat foot's ankle over its toe
 constexpr double kLift = 8.0;                  // cm
-constexpr int kStepsPerFrame = 4;              // engine steps per clip frame
-constexpr double kGravity = 9.81;              // m/s^2
-constexpr double kSag = 0.01;                  // m: the followed points' share of the weight
 
 // the walk skeleton (no frames): Hips, spine to head, two arms, two legs; ZXY rotations
 BvhFile walk_skeleton() {
@@ -210,15 +207,12 @@ struct RunResult {
   std::string reason;
 };
 
-RunResult follow(const std::string& name, const Scene& scene, int per_frame, int nframe) {
+RunResult follow(const std::string& name, const Scene& scene, int nframe) {
   RunResult r{name, Track(nframe), false, ""};
   r.track[0] = forward_kinematics(scene.rig, scene.initial_pose);
   const RunSummary sum = run_scene(scene, [&](const SimState& s, const StepStats&) {
-    // the targets reach clip frame f at step f * per_frame + per_frame (clip_follow.h)
-    if (s.step % per_frame == 0) {
-      const int f = s.step / per_frame - 1;
-      if (f >= 1 && f < nframe) r.track[f] = s.frames;
-    }
+    const int f = followed_frame(scene, s.step);  // where the targets have reached frame f
+    if (f >= 1 && f < nframe) r.track[f] = s.frames;
   });
   r.diverged = sum.diverged;
   r.reason = sum.divergence_reason;
@@ -324,16 +318,6 @@ Table frames_table(const Rig& rig, const std::vector<RunResult>& runs, const Wal
   return t;
 }
 
-// the default preset at kStepsPerFrame steps per clip frame; each followed point's spring
-// carries an equal share of the body's weight `mass` with a sag of kSag: k = M g / (n kSag)
-EngineParams follow_params(const Rig& rig, double mass) {
-  EngineParams params = preset_params(kDefaultPreset);
-  params.dt = kFrameTime / kStepsPerFrame;
-  const int npoint = static_cast<int>(default_follow_points(rig).size());
-  params.control_k = mass * kGravity / (npoint * kSag);
-  return params;
-}
-
 // the measures of each run, as summary rows
 nlohmann::json measure_rows(const Context& ctx, const Rig& rig, const std::vector<RunResult>& runs,
                             const Walk& w, const std::vector<FollowPoint>& points, double floor,
@@ -415,22 +399,20 @@ void run(const Context& ctx) {
   const Track clip_frames = clip_track(rig, clip);
   const double floor = lowest_capsule(rig, clip_frames);
 
-  double mass = 0.0;
-  for (double m : rig.bone_mass) mass += m;
-  const EngineParams params = follow_params(rig, mass);
-  const int per_frame = kStepsPerFrame;
   FollowOptions fo;
   fo.source = clip_path;
   fo.gravity = true;
   fo.ground = floor;
+  // physik follow's defaults: dt 1/120 s (4 steps a clip frame), control_k = M g / (n 1 cm)
+  const EngineParams params = follow_params(rig, clip, fo);
   const Scene with_floor = follow_scene(rig, clip, params, fo);
   fo.ground.reset();
   const Scene no_floor = follow_scene(rig, clip, params, fo);
   const std::vector<FollowPoint> points = default_follow_points(rig);
 
   std::vector<RunResult> runs{{"clip", clip_frames, false, ""}};
-  runs.push_back(follow("floor", with_floor, per_frame, nframe));
-  runs.push_back(follow("no floor", no_floor, per_frame, nframe));
+  runs.push_back(follow("floor", with_floor, nframe));
+  runs.push_back(follow("no floor", no_floor, nframe));
   std::vector<Measures> ms;
   const nlohmann::json rows = measure_rows(ctx, rig, runs, w, points, floor, ms);
   const Table frames = frames_table(rig, runs, w, points);
@@ -440,10 +422,11 @@ void run(const Context& ctx) {
   Report report("Clip following: a walk clip followed on a floor under gravity");
   add_claims(report, ms, runs[1].diverged || runs[2].diverged);
   report
-      .settings(settings_json(with_floor, {{"steps_per_clip_frame", per_frame},
-                                           {"rig_mass_kg", mass},
-                                           {"floor_height", floor},
-                                           {"clip_frames", nframe}}))
+      .settings(
+          settings_json(with_floor, {{"steps_per_clip_frame", follow_steps_per_frame(with_floor)},
+                                     {"rig_mass_kg", rig.total_mass()},
+                                     {"floor_height", floor},
+                                     {"clip_frames", nframe}}))
       .note(
           "A walk written here (walk.bvh: 19 joints, cm, Y up, 90 cm/s, 1.1 s gait, 30 fps), "
           "made a rig by rig from-bvh at scale 0.01 and followed by physik follow's scene "

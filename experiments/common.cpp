@@ -83,6 +83,7 @@ nlohmann::json settings_json(const Scene& scene, const nlohmann::json& extra) {
 
 nlohmann::json claim(const std::string& text, const std::string& measured,
                      const std::string& holds) {
+  check_verdict(holds);
   return {{"claim", text}, {"measured", measured}, {"holds", holds}};
 }
 

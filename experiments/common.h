@@ -56,7 +56,7 @@ nlohmann::json settings_json(const Scene& scene,
 std::string num(double v, int digits = 3);
 
 // A claim row as JSON {claim, measured, holds} (for reports assembled by hand; Report::claim
-// builds the same row).
+// builds the same row); `holds` a verdict (report.h check_verdict).
 nlohmann::json claim(const std::string& text, const std::string& measured,
                      const std::string& holds);
 

@@ -7,6 +7,21 @@
 
 namespace physik::experiments {
 
+void check_verdict(const std::string& holds) {
+  for (const char* word : {"yes", "no", "partly", "n/a"}) {
+    const std::string w = word;
+    if (holds == w) return;
+    // the word, then " (reason)" closing the cell
+    if (holds.size() > w.size() + 3 && holds.compare(0, w.size() + 2, w + " (") == 0 &&
+        holds.back() == ')') {
+      return;
+    }
+  }
+  throw std::logic_error("report: a claim's verdict '" + holds +
+                         "' is not yes, no, partly or n/a (with a reason in parentheses); the "
+                         "reason belongs in \"measured\"");
+}
+
 Report& Report::section(const std::string& name) {
   section_ = name;
   return *this;
@@ -14,6 +29,7 @@ Report& Report::section(const std::string& name) {
 
 Report& Report::claim(const std::string& text, const std::string& measured,
                       const std::string& holds) {
+  check_verdict(holds);
   claims_.push_back({{"claim", text}, {"measured", measured}, {"holds", holds}});
   return *this;
 }

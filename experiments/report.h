@@ -22,13 +22,19 @@
 
 namespace physik::experiments {
 
+// A claim's "holds" cell is a verdict: yes, no, partly or n/a, optionally followed by a short
+// reason in parentheses ("no (a run diverged)"); REPORT.md's summary table shows the word alone.
+// Throws std::logic_error (an experiment's bug, not a user's input) for anything else, such as a
+// sentence where the word belongs ("no: a resting pose that ...").
+void check_verdict(const std::string& holds);
+
 class Report {
  public:
   explicit Report(std::string title) : title_(std::move(title)) {}
 
   Report& section(const std::string& name);
-  // One claim row: the claim, what was measured, and whether it holds (yes, no, partly, n/a, or
-  // one of those with a reason in parentheses).
+  // One claim row: the claim, what was measured, and whether it holds: a verdict
+  // (check_verdict). The reason for a verdict belongs in `measured`.
   Report& claim(const std::string& text, const std::string& measured, const std::string& holds);
   // Names the last claim, so that prose can cite it as claim `experiment/name` (lower case,
   // digits and '-'; unique within the experiment). The doc test checks every citation.

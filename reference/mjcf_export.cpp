@@ -414,12 +414,38 @@ std::string write_main(const MjcfWriter& w) {
 
 }  // namespace
 
+namespace {
+
+// The most boxes one bone's capsule can touch at once (mjcf_export.h MjcfSize): boxes it touches
+// together lie within its extent D = L + 2 r of each other, so at most the largest count of boxes
+// within D of one box (itself among them), each box taken as its bounding sphere (which only
+// counts more). O(nbox^2).
+long boxes_touching_at_once(const Rig& rig, const std::vector<BoxObstacle>& boxes) {
+  double extent = 0.0;  // rig units, the longest capsule's length plus its diameter
+  for (int b = 0; b < rig.nbone; ++b) {
+    extent = std::max(extent, rig.bone_length[b] + 2.0 * rig.bone_collision_radius[b]);
+  }
+  long most = 0;
+  for (const BoxObstacle& a : boxes) {
+    long near = 0;
+    for (const BoxObstacle& b : boxes) {
+      const double gap =
+          (a.center_world - b.center_world).norm() - a.half_extents.norm() - b.half_extents.norm();
+      near += gap <= extent ? 1 : 0;
+    }
+    most = std::max(most, near);
+  }
+  return most;
+}
+
+}  // namespace
+
 MjcfSize mjcf_size(const Rig& rig, const MjcfOptions& o) {
   const ContactModel& c = o.collision;
   const long n = rig.nbone;
   long contacts = 0;
   if (c.ground) contacts += 2 * n;
-  contacts += 2 * n * static_cast<long>(c.obstacles.size());
+  contacts += 2 * n * boxes_touching_at_once(rig, c.obstacles);
   if (c.self_collision) {
     // candidate pairs: every pair but those sharing a joint and the excluded ones
     long sharing = 0;
@@ -482,6 +508,7 @@ MjcfOptions mjcf_contacts(const Scene& scene, MjcfOptions o) {
   o.gravity = scene.gravity_world;
   o.collision = scene.collision;
   o.friction = scene.params.friction;
+  o.contacts_source = scene.file;
   return o;
 }
 
@@ -536,12 +563,40 @@ MjModelPtr compile_mjcf(const std::vector<MjcfFile>& files) {
   const std::string main = std::filesystem::path(files[0].name).filename().string();
   mjModel* m = mj_loadXML(main.c_str(), vfs.get(), error, sizeof(error));
   mj_deleteVFS(vfs.get());
+  if (!m && std::strstr(error, "Could not allocate memory")) {
+    throw MjcfAllocationError(std::string("MuJoCo could not allocate the model: ") + error);
+  }
   if (!m) throw std::runtime_error(std::string("MuJoCo rejected the MJCF: ") + error);
   return MjModelPtr(m);
 }
 
+MjModelPtr compile_rig_mjcf(const Rig& rig, const MjcfOptions& o,
+                            const std::vector<MjcfFile>& files) {
+  try {
+    return compile_mjcf(files);
+  } catch (const MjcfAllocationError& e) {
+    const MjcfSize size = mjcf_size(rig, o);
+    const ContactModel& c = o.collision;
+    const std::string field = !c.obstacles.empty() ? "obstacles"
+                              : c.self_collision   ? "self_collision"
+                              : c.ground           ? "ground"
+                                                   : "bones";
+    std::ostringstream why;
+    why << "MuJoCo ran out of memory making the buffers for the contacts the rig can meet at once, "
+        << size.nconmax << " contacts (nconmax) and " << size.njmax
+        << " constraint rows (njmax; at most " << kMjcfConstraintBytes << " bytes): " << rig.nbone
+        << " bones, " << c.obstacles.size() << " boxes, up to "
+        << boxes_touching_at_once(rig, c.obstacles)
+        << " of them within a bone's reach of each other: fewer boxes that close together need "
+           "fewer rows, or give the process more memory ("
+        << e.what() << ")";
+    throw_input_error(o.contacts_source.empty() ? o.source : o.contacts_source, "", field,
+                      why.str());
+  }
+}
+
 MjModelPtr rig_to_mjmodel(const Rig& rig, const MjcfOptions& options) {
-  return compile_mjcf(rig_to_mjcf_files(rig, options));
+  return compile_rig_mjcf(rig, options, rig_to_mjcf_files(rig, options));
 }
 
 }  // namespace physik

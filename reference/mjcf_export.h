@@ -53,6 +53,7 @@
 #pragma once
 
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -67,8 +68,9 @@ enum class JointModel { kRigJoints, kBallJoints };
 
 struct MjcfOptions {
   JointModel joints = JointModel::kRigJoints;
-  double dt = 0.05;    // s, <option timestep>
-  std::string source;  // the rig's file, for error messages ("" = the rig's name)
+  double dt = 0.05;             // s, <option timestep>
+  std::string source;           // the rig's file, for error messages ("" = the rig's name)
+  std::string contacts_source;  // the scene whose contacts these are (mjcf_contacts), or ""
   // contacts and gravity (none by default: the MJCF of a rig as it has always been written)
   Vec3 gravity = Vec3::Zero();  // rig units/s^2
   ContactModel collision;       // the ground and self-collision
@@ -86,7 +88,10 @@ constexpr int kMaxMjcfDepth = 5000;
 // MuJoCo 2.2's buffers for the model, written as <size nconmax njmax> (MuJoCo's defaults, 100
 // contacts and 500 constraint rows, drop contacts on the 1,000-bone coil, and MuJoCo only warns):
 //   contacts  2 per bone on the ground (a capsule on a plane touches at its two end spheres),
-//             2 per bone and box, and with self-collision 2 per bone pair (parallel capsules touch
+//             2 per bone and box it can touch at once (boxes a capsule touches together lie within
+//             its length and diameter of each other: at most the most boxes within the longest
+//             capsule's extent of one box, by their bounding spheres; boxes far apart count one),
+//             and with self-collision 2 per bone pair (parallel capsules touch
 //             at two points) for the candidate pairs (bones sharing a joint and the excluded
 //             pairs left out) up to one pair per bone;
 //   rows      4 per contact (condim 3 in MuJoCo's pyramidal friction cone: 2 (condim - 1)) and
@@ -158,12 +163,25 @@ using MjModelPtr = std::unique_ptr<mjModel, MjModelDeleter>;
 using MjDataPtr = std::unique_ptr<mjData, MjDataDeleter>;
 
 // Compile MJCF text from memory (mjVFS on the heap). Throws std::runtime_error with MuJoCo's
-// message if the compiler rejects it.
+// message if the compiler rejects it (MjcfAllocationError where it runs out of memory).
 MjModelPtr compile_mjcf(const std::string& xml);
 // Compile a main file and its include files (rig_to_mjcf_files), all through the VFS.
 MjModelPtr compile_mjcf(const std::vector<MjcfFile>& files);
 
-// rig_to_mjcf_files + compile_mjcf (any depth).
+// compile_mjcf's error when MuJoCo cannot allocate the model's buffers ("Could not allocate
+// memory": its compiler makes an mjData of nconmax contacts and njmax constraint rows).
+class MjcfAllocationError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// compile_mjcf of the rig's MJCF files (rig_to_mjcf_files with `options`): where MuJoCo cannot
+// allocate the buffers, an InputError naming the contacts' scene (options.contacts_source, else
+// the rig's file), the field that sized them and the sizes asked for.
+MjModelPtr compile_rig_mjcf(const Rig& rig, const MjcfOptions& options,
+                            const std::vector<MjcfFile>& files);
+
+// rig_to_mjcf_files + compile_rig_mjcf (any depth).
 MjModelPtr rig_to_mjmodel(const Rig& rig, const MjcfOptions& options);
 
 }  // namespace physik

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -153,6 +154,43 @@ TEST(ImplicitAdvance, HalvingStopsWhereItNoLongerLowersTheEnergy) {
   update_targets(s, st);
   EXPECT_EQ(advance_implicit(s, st, s.params.dt, pushed_step), 1);
   EXPECT_EQ(st.implicit.unresolved_steps, 1);
+  EXPECT_EQ(st.implicit.deepest_steps, 0);
+}
+
+// Six bones of a chain folded back and forth, each 0.02 above the one before with collision
+// radius 0.1, so every bone overlaps the ones two to five along by up to 0.16 (the fuzzer's seed
+// 9001 case): under self-collision at contact_k 1e20 every step, whatever its length, pushes the
+// overlaps out at once, turning the bones by about 2.4 rad. Halving stops helping within a few
+// levels and the step is kept as taken; the old guard split every step that turned too far, all
+// 20 levels deep (about 2^20 substeps, most from a state gone non-finite: 3.7 s for one step).
+TEST(ImplicitAdvance, HalvingStopsWhereAHalfTurnsAsFarAsItsWhole) {
+  std::vector<BoneSpec> bones;
+  double x = 0.0;
+  for (int i = 0; i < 6; ++i) {
+    BoneSpec b;
+    b.name = "b" + std::to_string(i);
+    b.parent = i ? "b" + std::to_string(i - 1) : "";
+    b.head_world = Vec3(x, 0.0, 0.02 * i);
+    b.tail_world = Vec3(1.0 - x, 0.0, 0.02 * (i + 1));
+    b.rest_frame_world = rest_frame_from_roll(b.head_world, b.tail_world, 0.0);
+    b.mass = 1.0;
+    b.radius = 0.1;
+    b.collision_radius = 0.1;
+    bones.push_back(b);
+    x = 1.0 - x;
+  }
+  Scene s = test::scene_for(build_rig(bones, "<test>", "zigzag"), preset_params("robust"), 1);
+  s.collision.self_collision = true;
+  s.params.contact_k = 1e20;
+  s.params.implicit_max_splits = 20;
+  SimState st;
+  init_state(s, st);
+  update_targets(s, st);
+  const int substeps = advance_implicit(s, st, s.params.dt);
+  std::cout << "overlapping zigzag at contact_k 1e20: " << substeps << " substeps, "
+            << st.implicit.unresolved_steps << " unresolved\n";
+  EXPECT_LE(substeps, 64);  // a few halvings deep, not 2^20
+  EXPECT_GE(st.implicit.unresolved_steps, 1);
   EXPECT_EQ(st.implicit.deepest_steps, 0);
 }
 

@@ -162,6 +162,12 @@ TEST(ParamTable, RowsOutOfTheSchemeAreWrittenOnlyWhereTheyCount) {
   EXPECT_EQ(params_to_json(p)["implicit_linearisation"], "full");
   EXPECT_EQ(params_from_json(params_to_json(p), "rt.json").implicit_linearisation,
             ImplicitLinearisation::kFull);
+  // flush_subnormals: written only when off, so runs from before it was added read the same
+  EXPECT_FALSE(params_to_json(p).contains("flush_subnormals"));
+  p.flush_subnormals = false;
+  EXPECT_EQ(params_to_json(p)["flush_subnormals"], false);
+  EXPECT_FALSE(params_from_json(params_to_json(p), "rt.json").flush_subnormals);
+  EXPECT_TRUE(params_from_json(Json::object(), "rt.json").flush_subnormals);
   for (const ParamRow& row : param_table()) {
     // the contact rows too: a scene without contacts never gives them
     const bool contact = row.name == "contact_k" || row.name == "contact_damping" ||
@@ -169,7 +175,7 @@ TEST(ParamTable, RowsOutOfTheSchemeAreWrittenOnlyWhereTheyCount) {
                          row.name == "friction_stiffness";
     if (row.name != "free_rods" && row.name != "damping_auto" &&
         row.name != "implicit_max_splits" && row.name != "torsion_torque" &&
-        row.name != "implicit_linearisation" && !contact) {
+        row.name != "implicit_linearisation" && row.name != "flush_subnormals" && !contact) {
       EXPECT_TRUE(row.written_at_default) << row.name;
     }
   }

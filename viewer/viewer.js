@@ -839,7 +839,7 @@
     this.renders = 0;  // frames drawn: the tests and benchmarks read it
     root.appendChild(el('h1', 'title', data.title));
     root.appendChild(buildLegend(this));
-    var stage = root.appendChild(el('div', 'stage'));
+    var stage = this.stage = root.appendChild(el('div', 'stage'));
     this.renderer = new THREE.WebGLRenderer({ antialias: true });
     this.renderer.setPixelRatio(window.devicePixelRatio || 1);
     stage.appendChild(this.renderer.domElement);
@@ -873,10 +873,15 @@
     return out;
   }
 
+  // The canvas fills its stage's inner width (the stylesheet's width: 100%, never wider: the
+  // stage's border and a scrollbar that appears once the canvas is tall both fit), and the
+  // drawing buffer is that width; the page keeps the scrollbar's room (scrollbar-gutter), so the
+  // width the canvas was sized for stays the width it has.
   Viewer.prototype.resize = function () {
-    var width = Math.max(200, this.root.clientWidth || 800);
+    var width = Math.max(200, this.stage.clientWidth || 800);
     var height = Math.round(Math.min(width * 0.6, Math.max(240, window.innerHeight * 0.7)));
-    this.renderer.setSize(width, height, true);
+    this.renderer.setSize(width, height, false);
+    this.renderer.domElement.style.height = height + 'px';
     this.camera.aspect = width / height;
     this.camera.updateProjectionMatrix();
     this.requestRender();

@@ -92,6 +92,24 @@ class ReportTest(unittest.TestCase):
             self.assertIn("which this run did not report",
                           report.render(report.collect(d), None, readme))
 
+    def test_a_sentence_in_the_holds_cell_is_refused(self):
+        # the contacts experiment once wrote "no: a resting pose that moves ..." as a verdict,
+        # which the summary table showed whole where every other row says one word
+        for ok in ("yes", "no", "partly", "n/a", "no (a run diverged)", "n/a (quick run)"):
+            self.assertTrue(report.is_verdict(ok), ok)
+        for bad in ("no: a resting pose that moves by more than 2%", "maybe", "yes because",
+                    "no (", "no ()", "partly (unclosed", ""):
+            self.assertFalse(report.is_verdict(bad), bad)
+        with tempfile.TemporaryDirectory() as d:
+            os.makedirs(os.path.join(d, "exp"))
+            write(os.path.join(d, "exp"), "summary.json", json.dumps({"report": {
+                "title": "X", "claims": [{"claim": "c", "measured": "m",
+                                          "holds": "no: a resting pose that moves"}]}}))
+            with self.assertRaises(SystemExit) as e:
+                report.collect(d)
+            self.assertIn("summary.json: claim 'c': holds 'no: a resting pose that moves' is not "
+                          "a verdict", str(e.exception))
+
     def test_no_line_is_longer_than_600_characters(self):
         # details as one bullet made lines of 1,265 characters: long measured phrases, notes,
         # settings, a headline and a table with a long cell all fit in lines of at most 600, and

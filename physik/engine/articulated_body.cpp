@@ -337,8 +337,8 @@ void forward_pass_pose_terms(const Rig& rig, const BodyMotion& s, ArticulatedBod
   Vec6 rhs = -d.bias_force[0];
   rhs.head<3>() += d.joint_torque[0];
   if (!symmetric_part_positive(M0)) d.pose_terms_positive = false;
-  d.root_lu.compute(M0);
-  d.accel_spatial[0] = d.root_lu.solve(rhs);
+  const Eigen::PartialPivLU<Mat6> lu(M0);  // fixed size: on the stack
+  d.accel_spatial[0] = lu.solve(rhs);
   const Vec3 alpha0 = d.accel_spatial[0].head<3>();
   d.z_spatial[0] << alpha_z.cross(alpha0), a_z.cross(alpha0);
   d.root_accel_world = d.accel_spatial[0].tail<3>() + s.omega_world[0].cross(s.vel_world[0]);
@@ -408,11 +408,11 @@ void root_acceleration(const Rig& rig, ArticulatedBodyData& d) {
       if (d.joint_blocks) {
         Mat6 M0;
         M0 << I0.A, I0.B, d.inertia_lower[0], I0.C;
-        d.root_lu.compute(M0);
-        d.accel_spatial[0] = d.root_lu.solve(-d.bias_force[0]);
+        const Eigen::PartialPivLU<Mat6> lu(M0);  // fixed size: on the stack
+        d.accel_spatial[0] = lu.solve(-d.bias_force[0]);
       } else {
-        d.root_ldlt.compute(I0.matrix());
-        d.accel_spatial[0] = d.root_ldlt.solve(-d.bias_force[0]);
+        const Eigen::LDLT<Mat6> ldlt(I0.matrix());
+        d.accel_spatial[0] = ldlt.solve(-d.bias_force[0]);
       }
       return;
     case JointType::kBall: {

@@ -121,12 +121,6 @@ struct ArticulatedBodyData {
   std::vector<Vec3> u;              // (nbone) -S'^T p^A
   std::vector<Mat3> inertia_lower;  // (nbone) E, I^A's lower-left block, kg m; written only
                                     //         with joint_blocks (else E = B^T)
-  // I^A_0 factorised in pass 3 (LDL^T, or LU with joint blocks); constructed factorised (of 1)
-  // so that a copy made before the first step never reads Eigen's uninitialised ComputationInfo
-  // (UndefinedBehaviorSanitizer)
-  Eigen::LDLT<Mat6> root_ldlt{Mat6::Identity()};
-  Eigen::PartialPivLU<Mat6> root_lu{Mat6::Identity()};
-
   // --- the implicit step's pose terms (implicit_linearisation full; implicit_pose_terms.h) ---
   // With pose_terms the backward and forward passes solve, per joint i (S' = [1; 0]),
   //   S'^T (I^A_i a_i + I^Z_i z_i + p^A_i) + G_i a_i + J_i qdd'_i = joint_torque_i

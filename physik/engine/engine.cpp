@@ -12,6 +12,7 @@
 #include "physik/engine/linear_modes.h"
 #include "physik/engine/newton_euler.h"
 #include "physik/engine/run_monitor.h"
+#include "physik/engine/subnormals.h"
 #include "physik/model/errors.h"
 
 namespace physik {
@@ -140,7 +141,9 @@ StepStats take_step(const Scene& scene, SimState& s, double h) {
 
 }  // namespace
 
+// each step with subnormals flushed (flush_subnormals, subnormals.h), the caller's modes restored
 StepStats step(const Scene& scene, SimState& s) {
+  const FlushSubnormals flushed(scene.params.flush_subnormals);
   return take_step(scene, s, scene.params.dt);
 }
 
@@ -152,6 +155,7 @@ StepStats step(const Scene& scene, SimState& s, double h) {
   if (!(h > 0.0) || !std::isfinite(h)) {
     throw_input_error(scene.file, "step", "h", "the step length must be positive and finite");
   }
+  const FlushSubnormals flushed(scene.params.flush_subnormals);
   return take_step(scene, s, h);
 }
 

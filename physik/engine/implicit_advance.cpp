@@ -161,13 +161,23 @@ bool attempt(const Scene& scene, SimState& s, double h, int depth, Guard& g, dou
   return held;
 }
 
-constexpr int kNoLower = -1;  // substep's answer: this half ends no lower than its whole step
+constexpr int kNoLower = -1;  // substep's answer: halving did not help this half
+
+// What a rejected attempt ended in, the measure a half of it is held to.
+struct Rejected {
+  double energy;    // J, E at its end
+  double rotation;  // rad, its largest joint rotation
+};
 
 // One substep of h at `depth`; returns the substeps taken, or kNoLower. A substep the check
-// rejects (attempt) is split in two, each checked in turn, below max_depth. A half whose energy
-// ends no lower than its whole step's (`whole_energy`, J) answers kNoLower: halving no longer
-// changes the outcome, and the whole step, retaken as it was, is kept.
-int substep(const Scene& scene, SimState& s, double h, int depth, Guard& g, double whole_energy) {
+// rejects (attempt) is split in two, each checked in turn, below max_depth. A half that halving
+// did not help answers kNoLower, and the whole step, retaken as it was, is kept: one whose energy
+// ends no lower than its whole step's (`whole.energy`), or that turns a joint too far and at
+// least as far as its whole step did (`whole.rotation`: a contact so stiff that every step
+// pushes the overlap out at once turns the bones as far at any step length). A substep that
+// starts from a state that is not finite is taken as it is: no step length helps it, and the run
+// monitor ends the run.
+int substep(const Scene& scene, SimState& s, double h, int depth, Guard& g, Rejected whole) {
   ImplicitWorkspace& im = s.implicit;
   if (depth >= g.max_depth) {  // the deepest split (or implicit_max_splits 0): taken unchecked
     g.deepest = g.max_depth > 0;
@@ -179,15 +189,22 @@ int substep(const Scene& scene, SimState& s, double h, int depth, Guard& g, doub
   // the second half of a split starts where its first half's check measured E
   const double e0 =
       g.measured.known ? g.measured.kinetic + g.measured.potential : mechanical_energy(scene, s);
+  if (!std::isfinite(e0)) {
+    g.measured.known = false;
+    g.bare(scene, s, h, g.context);
+    return 1;
+  }
   double energy = 0.0;
   if (attempt(scene, s, h, depth, g, e0, energy)) return 1;
-  const bool turned_too_far = largest_rotation(s, h) > kMaxStepRotation;
-  if (!turned_too_far && energy >= whole_energy) return kNoLower;
+  const double rotation = largest_rotation(s, h);
+  if (rotation > kMaxStepRotation ? rotation >= whole.rotation : energy >= whole.energy) {
+    return kNoLower;
+  }
   restore_joint_state(scene.rig, im.snapshots[depth], s);
   g.measured.known = false;
-  int taken = substep(scene, s, 0.5 * h, depth + 1, g, energy);
+  int taken = substep(scene, s, 0.5 * h, depth + 1, g, {energy, rotation});
   if (taken != kNoLower) {
-    const int second = substep(scene, s, 0.5 * h, depth + 1, g, energy);
+    const int second = substep(scene, s, 0.5 * h, depth + 1, g, {energy, rotation});
     taken = second == kNoLower ? kNoLower : taken + second;
   }
   if (taken != kNoLower) return taken;
@@ -220,7 +237,8 @@ int advance_implicit(const Scene& scene, SimState& s, double h, BareStep bare, c
           0.5 * scene.rig.total_mass() * v * v,
           false,
           MeasuredEnergy{}};
-  const int substeps = substep(scene, s, h, 0, g, std::numeric_limits<double>::infinity());
+  const double inf = std::numeric_limits<double>::infinity();
+  const int substeps = substep(scene, s, h, 0, g, {inf, inf});
   if (substeps > 1) ++im.split_steps;
   if (g.deepest) ++im.deepest_steps;
   im.max_substeps = std::max(im.max_substeps, substeps);

@@ -35,11 +35,17 @@
 //   2. otherwise taken as two half steps, each checked in turn, at most
 //      params.implicit_max_splits halvings deep (default 8: a substep of dt / 256 is accepted as
 //      it is, and the step counts in implicit_deepest_steps, which the run reports once; 0: the
-//      bare linearised step, never split). A half step whose energy grows by at least half of
-//      what its whole step's grew is kept as it is (implicit_unresolved_steps): the two halves
-//      would end no lower than the whole, so halving no longer changes the outcome (a contact so
-//      stiff that no step the guard can take resolves it); the run monitor then judges the
-//      energy (run_monitor.h). The substeps
+//      bare linearised step, never split). Where halving does not help, the whole step is kept
+//      as it was taken (implicit_unresolved_steps) and the run monitor judges the energy
+//      (run_monitor.h): a half whose energy ends no lower than its whole step's, or a half that
+//      turns a joint too far and at least as far as its whole step did. Both are contacts so
+//      stiff that no step the guard can take resolves them: bones overlapping at the start
+//      under contact_k 1e20 are pushed apart by a whole overlap in every step, whatever its
+//      length, so a half turns them as far as its whole (2.4 rad at every length from 1e-4 to
+//      6e-6 s); the old guard split every step that turned too far, and took 2^20 substeps of
+//      one step, most of them from a state gone non-finite, before the run diverged. A substep
+//      whose start is not finite is taken as it is (no step length helps it; the run monitor
+//      ends the run). The substeps
 // integrate the same equations of motion (damping c, the factor's damper (1 - f) / dt I_com,
 // every spring); as h -> 0 the step tends to the exact dynamics, which add no energy with the
 // targets held, so the halving ends. On every shipped scene no step is split (their largest

@@ -51,7 +51,7 @@ struct ImplicitWorkspace {
   int split_steps = 0;                        // steps the energy guard split (implicit_advance.h)
   int max_substeps = 0;                       // the most substeps one step took
   int retaken_steps = 0;                      // (sub)steps retaken with the contacts they reached
-  int unresolved_steps = 0;  // (sub)steps kept where halving did not lower the energy
+  int unresolved_steps = 0;  // (sub)steps kept where halving did not help (implicit_advance.h)
   int deepest_steps = 0;     // steps split to implicit_max_splits (taken unchecked)
 };
 

@@ -329,7 +329,8 @@ std::string energy_guard_warning(const Scene& scene, const RunSummary& run) {
   }
   if (run.implicit_unresolved_steps > 0) {
     out += " " + std::to_string(run.implicit_unresolved_steps) +
-           " (sub)steps kept as they were where halving did not lower their energy;";
+           " (sub)steps kept as they were where halving did not help (a half ending no lower, or "
+           "turning a joint as far as its whole step);";
   }
   return out + " " + divergence_hint(scene);
 }

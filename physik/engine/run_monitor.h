@@ -187,7 +187,7 @@ std::string divergence_hint(const Scene& scene);
 
 // What the implicit step's energy guard could not hold in a run (implicit_advance.h), in one line
 // for the user, or "": the steps split implicit_max_splits deep (taken unchecked there) and those
-// kept where halving did not lower the energy, and what to try (a smaller dt, and more
+// kept where halving did not help (implicit_advance.h), and what to try (a smaller dt, and more
 // implicit_max_splits only while its range has more).
 std::string energy_guard_warning(const Scene& scene, const RunSummary& run);
 

@@ -198,6 +198,13 @@ std::string source_skeleton_mismatch(const SourceSkeleton& skeleton, const BvhFi
 void source_clip_pose(const Rig& rig, const BvhFile& clip, int frame, BoneFrames& scratch,
                       Pose& out);
 
+// source_clip_pose for a frame that a scene or a run will start from or aim at: InputError
+// "<source>: <element>: field 'frame': ..." naming the frame when it puts the rig's root head past
+// +-kMaxCoordinate (rig.h), the bound every coordinate of a scene keeps (a root position channel
+// within the file's bound times a large source_skeleton scale).
+void checked_clip_pose(const Rig& rig, const BvhFile& clip, int frame, const std::string& source,
+                       const std::string& element, BoneFrames& scratch, Pose& out);
+
 // true for paths ending in ".qbvh" (case-insensitive)
 bool is_qbvh_path(const std::string& path);
 

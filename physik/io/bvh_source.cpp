@@ -228,6 +228,20 @@ void source_clip_pose(const Rig& rig, const BvhFile& clip, int frame, BoneFrames
   pose_from_source(rig, rot, s.scale * (a * pos[0]), scratch, out);
 }
 
+void checked_clip_pose(const Rig& rig, const BvhFile& clip, int frame, const std::string& source,
+                       const std::string& element, BoneFrames& scratch, Pose& out) {
+  source_clip_pose(rig, clip, frame, scratch, out);
+  const Vec3& r = out.root_head_world;
+  if (r.cwiseAbs().maxCoeff() <= kMaxCoordinate) return;  // false for NaN too
+  std::ostringstream why;
+  why << std::setprecision(6) << "frame " << frame << " puts the rig's root "
+      << r.cwiseAbs().maxCoeff() << " rig units out along an axis, past +-" << kMaxCoordinate
+      << " (rig.h kMaxCoordinate): the clip's root position times the rig's source_skeleton "
+         "scale "
+      << rig.source_skeleton.scale;
+  throw_input_error(source, element, "frame", why.str());
+}
+
 namespace {
 
 // The source skeleton's frames, one row per pose, and what the file could not hold.

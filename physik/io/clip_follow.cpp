@@ -3,7 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
 
+#include "physik/io/scene_io.h"
 #include "physik/model/errors.h"
 
 namespace physik {
@@ -18,12 +22,12 @@ std::vector<FollowPoint> default_follow_points(const Rig& rig) {
 
 std::vector<std::vector<Vec3>> clip_targets(const Rig& rig, const BvhFile& clip,
                                             const std::vector<FollowPoint>& points, int first,
-                                            int last) {
+                                            int last, const std::string& source) {
   std::vector<std::vector<Vec3>> out;
   BoneFrames scratch, fk;
   Pose pose;
   for (int f = first; f <= last; ++f) {
-    source_clip_pose(rig, clip, f, scratch, pose);
+    checked_clip_pose(rig, clip, f, source, "", scratch, pose);
     forward_kinematics(rig, pose, fk);
     std::vector<Vec3> row;
     for (const FollowPoint& p : points) {
@@ -36,6 +40,11 @@ std::vector<std::vector<Vec3>> clip_targets(const Rig& rig, const BvhFile& clip,
 }
 
 namespace {
+
+// the rig's mass (kg) and the followed points' count: control_k's default (clip_follow.h)
+double default_control_k(const Rig& rig, std::size_t npoint) {
+  return rig.total_mass() * kFollowGravity / (static_cast<double>(npoint) * kFollowSag);
+}
 
 // the clip, the frames and the points checked (InputError as follow_scene says); the last frame
 int checked_last_frame(const Rig& rig, const BvhFile& clip, const FollowOptions& o,
@@ -62,6 +71,11 @@ int checked_last_frame(const Rig& rig, const BvhFile& clip, const FollowOptions&
                       std::to_string(last) + " is outside frames " + std::to_string(o.first) +
                           " to " + std::to_string(nframe - 1));
   }
+  if (o.ground && !(std::abs(*o.ground) <= kMaxCoordinate)) {  // false for NaN too
+    throw_input_error("--ground", "", "",
+                      "the floor's height must be a finite number within +-1e9 rig units (rig.h "
+                      "kMaxCoordinate)");
+  }
   for (std::size_t i = 0; i < points.size(); ++i) {
     const FollowPoint& p = points[i];
     const std::string field = "points[" + std::to_string(i) + "]";
@@ -75,7 +89,54 @@ int checked_last_frame(const Rig& rig, const BvhFile& clip, const FollowOptions&
   return last;
 }
 
+// the steps per clip frame at dt (at least 1) and the run's steps, checked to fit an int
+// (InputError naming the clip's Frame Time)
+int checked_steps_per_frame(const BvhFile& clip, double dt, int nframe, const std::string& src) {
+  const double per_frame = std::max(1.0, std::round(clip.frame_time / dt));
+  const double steps = per_frame * nframe;
+  if (!(steps <= static_cast<double>(std::numeric_limits<int>::max()))) {
+    std::ostringstream why;
+    why << std::setprecision(6) << clip.frame_time << " s a frame at dt " << dt << " s is "
+        << per_frame << " steps a frame, " << steps << " steps for " << nframe
+        << " frames: more than a run counts (" << std::numeric_limits<int>::max()
+        << "); check the clip's frame time, or follow fewer frames (--frames)";
+    throw_input_error(src, "", "Frame Time", why.str());
+  }
+  return static_cast<int>(per_frame);
+}
+
 }  // namespace
+
+EngineParams follow_params(const Rig& rig, const BvhFile& clip, const FollowOptions& o,
+                           const ParamOverrides& overrides) {
+  EngineParams p = params_from_json(nlohmann::json(nullptr), overrides.source, overrides);
+  if (!overrides.has("dt")) {
+    // the ratio's round-off (1/30 written with 12 digits is 3.99999999999 frames of 1/120) is
+    // not a step more
+    const double ratio = clip.frame_time / kFollowMaxDt;
+    p.dt = clip.frame_time / std::max(1.0, std::ceil(ratio * (1.0 - 1e-9)));
+  }
+  if (!overrides.has("control_k")) {
+    const std::size_t n = o.points.empty() ? default_follow_points(rig).size() : o.points.size();
+    p.control_k = default_control_k(rig, n);
+  }
+  return p;
+}
+
+int follow_steps_per_frame(const Scene& follow) {
+  return follow.params.interpolation_steps;
+}
+
+double follow_frame_time(const Scene& follow) {
+  return follow_steps_per_frame(follow) * follow.params.dt;
+}
+
+int followed_frame(const Scene& follow, int step) {
+  const int s = follow_steps_per_frame(follow);
+  if (step == 0) return 0;
+  if (step % s != 0 || step < 2 * s) return -1;
+  return step / s - 1;
+}
 
 Scene follow_scene(const Rig& rig, const BvhFile& clip, EngineParams params,
                    const FollowOptions& o) {
@@ -84,12 +145,12 @@ Scene follow_scene(const Rig& rig, const BvhFile& clip, EngineParams params,
   Scene s;
   s.file = o.source;
   s.rig = rig;
-  const int per_frame = std::max(1, static_cast<int>(std::lround(clip.frame_time / params.dt)));
+  const int per_frame = checked_steps_per_frame(clip, params.dt, last - o.first + 1, o.source);
   params.interpolation_steps = per_frame;
   s.params = params;
-  const auto targets = clip_targets(rig, clip, points, o.first, last);
+  const auto targets = clip_targets(rig, clip, points, o.first, last, o.source);
   BoneFrames scratch;
-  source_clip_pose(rig, clip, o.first, scratch, s.initial_pose);
+  source_clip_pose(rig, clip, o.first, scratch, s.initial_pose);  // checked with the targets
   for (std::size_t i = 0; i < points.size(); ++i) {
     ControlPoint c;
     c.name = points[i].bone + (points[i].alpha == 1.0   ? ":tail"

@@ -319,7 +319,7 @@ void read_initial_pose_bvh(const JsonContext& ctx, const Json& ip, const std::st
                           ")");
   }
   BoneFrames scratch;
-  source_clip_pose(s.rig, clip, frame, scratch, s.initial_pose);
+  checked_clip_pose(s.rig, clip, frame, ctx.file, ctx.element, scratch, s.initial_pose);
 }
 
 // initial pose: rest, optionally with a root position and per-bone rotation vectors (deg), or a

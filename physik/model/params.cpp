@@ -235,6 +235,11 @@ std::vector<ParamRow> step_rows() {
       tuned(row<&E::angular_velocity_factor>("angular_velocity_factor", "1", {0.5, 0.5, 0.5},
                                              closed(0.0, 1.0), "w <- f w + alpha dt every step"),
             0.01, 1.0),
+      omitted_at_default(row<&E::flush_subnormals>(
+          "flush_subnormals", "", {true, true, true}, kAny,
+          "each step computes with numbers below 2.2e-308 (subnormals) as 0, the processor's "
+          "flush-to-zero modes, set for the step and restored after: no slow arithmetic where a "
+          "long chain's motion decays to nothing; false: IEEE gradual underflow")),
   };
 }
 

@@ -69,6 +69,8 @@ struct EngineParams {
                                    // linearised mode (linear_modes.h) at the start pose
                                    // and whenever the targets change
   double angular_velocity_factor;  // 1, every bone's angular velocity is scaled by it each step
+  bool flush_subnormals;           // each step computes with numbers below 2.2e-308 as 0 (the
+                                   // processor's flush modes, physik/engine/subnormals.h)
   double joint_eps;                // rig units/s^2, stop the joint passes below this mismatch
   double joint_eps_relative;       // 1; > 0: the passes also go on until every joint's
                                    //    mismatch is below this fraction of its accelerations

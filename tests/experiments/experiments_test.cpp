@@ -109,6 +109,25 @@ TEST(Report, NamesTheLastClaimAndRefusesBadOrRepeatedNames) {
   EXPECT_EQ(r.to_json()["claims"][1]["name"], "second");
 }
 
+// A claim's holds cell is a verdict word, alone or with a reason in parentheses; a sentence
+// there (the contacts experiment's "no: a resting pose that moves ...") is refused, by Report
+// and by the hand-assembled rows alike, so REPORT.md's summary column stays one word a row.
+TEST(Report, RefusesAVerdictThatIsNotYesNoPartlyOrNa) {
+  Report r("T");
+  for (const char* ok : {"yes", "no", "partly", "n/a", "no (a run diverged)", "n/a (quick run)",
+                         "partly (on the seat; 2 feet off the floor)"}) {
+    EXPECT_NO_THROW(r.claim("c", "m", ok)) << ok;
+    EXPECT_NO_THROW(claim("c", "m", ok)) << ok;
+  }
+  for (const char* bad : {"no: a resting pose that moves by more than 2% when its engine halves "
+                          "the step is picked by the path",
+                          "", "maybe", "Yes", "yes.", "no ()", "partly (unclosed", "no(x)"}) {
+    EXPECT_THROW(r.claim("c", "m", bad), std::logic_error) << bad;
+    EXPECT_THROW(claim("c", "m", bad), std::logic_error) << bad;
+  }
+  EXPECT_EQ(r.to_json()["claims"].size(), 7u);  // the refused rows are not kept
+}
+
 // fig5_running (quick): its summary carries the report, and its trajectory table is the bytes a
 // recorder writes with the experiments' rule (a row every 10 steps and at step 1)
 TEST(Experiments, Fig5WritesItsReportAndTheRecordersTable) {

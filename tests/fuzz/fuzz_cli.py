@@ -2,16 +2,22 @@
 """A seeded mutation fuzzer over the real `physik` binary.
 
 Seeds: the shipped rigs and scenes, BVH/qBVH files and MJCF written by the binary itself
-(`rig to-bvh`, `export-mjcf`), and joint-limit files made from each rig's bone names. Each case
-mutates one seed (bytes, numbers, JSON values, BVH structure) and runs one command on it:
-`rig info`, `simulate` (short runs), `solve`, `equilibrium`, `export-mjcf`, `rig from-bvh`,
-`rig to-bvh`, `bvh convert`, `rig limits`. Every case must hold:
+(`rig to-bvh`, `export-mjcf`), and joint-limit files made from each rig's bone names. Generated
+seeds (gen_* below) cover the input kinds the shipped files do not: scenes with bone targets
+(orientation targets, aims, pins) and the command line's bone-target options; rigs with welds,
+pinned, fixed and free roots, and collision_exclude, and scenes on them with self-collision and
+their own exclusions; clips (a BVH clip and the rig `rig from-bvh` makes of its skeleton) with
+`follow`, a scene whose initial pose is a clip's frame, and write-back onto the source skeleton
+(`follow --bvh`, `simulate --bvh`, `solve --bvh`, `rig to-bvh`). Each case mutates one seed
+(bytes, numbers, JSON values, BVH structure; for a clip, the clip or its rig) and runs one command
+on it: `rig info`, `simulate` (short runs), `solve`, `equilibrium`, `export-mjcf`, `rig
+from-bvh`, `rig to-bvh`, `bvh convert`, `rig limits`, `follow`. Every case must hold:
 
   no crash (signal), no hang (timeout), exit 0, 2 or 3 only (and 4 from `solve`: a solve short of
-  its tolerance; never 3 from `solve --solver physik`, the equilibrium solve, or KDL's), an exit-2
-  message that names the file at fault, and no non-finite number (nan,
-  inf, or null where the seed's output has a number) in the files or JSON an exit-0 run (or an
-  exit-4 solve) writes.
+  its tolerance, never 3 from `solve --solver physik`, the equilibrium solve, or KDL's; and from
+  `equilibrium`: Ceres stopped short), an exit-2 message that names the file at fault, and no
+  non-finite number (nan, inf, or null where the seed's output has a number) in the files or JSON
+  an exit-0 run (or an exit-4 solve or equilibrium) writes.
 
 A case that breaks a rule is a failure (its input is kept with --keep).
 The corpus (tests/fuzz/corpus) holds the robustness reproducers as regression cases with their
@@ -46,11 +52,15 @@ ODD_NAMES = ["a\"b", "x<y", "a&b", "tab\tname", "new\nline", "\u00e9t\u00e9", "\
 
 # ---------------------------------------------------------------- seeds
 
-def run(cmd, timeout, cwd=None):
-    """(returncode or 'timeout', stdout, stderr) as text; returncode < 0 is a signal."""
+def run(cmd, timeout, cwd=None, address_space=None):
+    """(returncode or 'timeout', stdout, stderr) as text; returncode < 0 is a signal.
+    address_space: a cap on the process's address space (bytes, RLIMIT_AS), as `ulimit -v`."""
+    def cap():
+        import resource
+        resource.setrlimit(resource.RLIMIT_AS, (int(address_space), int(address_space)))
     try:
         p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, timeout=timeout,
-                           cwd=cwd)
+                           cwd=cwd, preexec_fn=cap if address_space else None)
         return p.returncode, p.stdout.decode("utf-8", "replace"), p.stderr.decode("utf-8", "replace")
     except subprocess.TimeoutExpired as e:
         return "timeout", (e.stdout or b"").decode("utf-8", "replace"), (e.stderr or b"").decode("utf-8", "replace")
@@ -87,6 +97,155 @@ def make_seeds(physik, src, work):
     for f in sorted(os.listdir(scenes_dir)):
         seeds["scene"].append((f, open(os.path.join(scenes_dir, f), "rb").read()))
     return seeds
+
+
+# ---------------------------------------------------------------- generated seeds
+
+def gen_welded_rig(root):
+    """A small figure whose hips' joint holds a spine and two pelvis halves welded to it, a
+    chest welded to its parent, and the root `root` (pinned: a hinge, two locked axes); its
+    thighs never collide (collision_exclude)."""
+    def bone(name, parent, head, tail, **extra):
+        return dict({"name": name, "parent": parent, "head": head, "tail": tail}, **extra)
+    bones = [bone("hips", None, [0, 0, 1], [0, 0, 1.1]),
+             bone("spine", "hips", [0, 0, 1.1], [0, 0, 1.6]),
+             bone("pelvis.L", "hips", [0, 0, 1.1], [0.15, 0, 1.05], weld="spine"),
+             bone("pelvis.R", "hips", [0, 0, 1.1], [-0.15, 0, 1.05], weld="spine"),
+             bone("chest", "spine", [0, 0, 1.6], [0, 0, 1.9], weld="spine"),
+             bone("arm.L", "chest", [0, 0, 1.9], [0.5, 0, 1.9], limits_deg={"x": [-90, 90]}),
+             bone("arm.R", "chest", [0, 0, 1.9], [-0.5, 0, 1.9]),
+             bone("thigh.L", "pelvis.L", [0.15, 0, 1.05], [0.15, 0, 0.55]),
+             bone("shin.L", "thigh.L", [0.15, 0, 0.55], [0.15, 0, 0.1],
+                  limits_deg={"x": [0, 120], "y": [0, 0], "z": [0, 0]}),
+             bone("thigh.R", "pelvis.R", [-0.15, 0, 1.05], [-0.15, 0, 0.55]),
+             bone("shin.R", "thigh.R", [-0.15, 0, 0.55], [-0.15, 0, 0.1])]
+    if root == "pinned":
+        bones[0]["limits_deg"] = {"x": [-45, 45], "y": [0, 0], "z": [0, 0]}
+    return {"name": "fuzz_welded_" + root, "root": root, "defaults": {"collision_radius": 0.05},
+            "collision_exclude": [["thigh.L", "thigh.R"]], "bones": bones}
+
+
+def gen_bone_target_scene():
+    """The pinhead with an orientation target, an aim and a pin beside two control points."""
+    return {"rig": "../rigs/pinhead.json", "steps": 20, "params": {"preset": "robust"},
+            "control_points": [{"bone": "hand.L", "target": [1.2, -0.6, 1.4]},
+                               {"bone": "hand.R", "target": [-1.2, -0.6, 1.4], "spring": "capped"}],
+            "orientation_targets": [{"bone": "forearm.L", "quaternion": [0.7071068, 0.7071068, 0, 0],
+                                     "spring": "capped"}],
+            "aim_targets": [{"bone": "head", "point": [2, -3, 2.5], "axis": [0, 1, 0]}],
+            "pins": [{"bone": "foot.R"}, {"bone": "foot.L", "alpha": 1, "point": [0.3, 0, 0]}]}
+
+
+def gen_welded_scene(root):
+    """A scene on gen_welded_rig(root): self-collision with its own exclusion, a ground, gravity,
+    a control point, an aim and a pin."""
+    return {"rig": "../rigs/fuzz_welded_%s.json" % root, "steps": 20,
+            "params": {"preset": "robust", "dt": 0.02},
+            "gravity": [0, 0, -9.81], "ground": {"height": 0},
+            "self_collision": True, "collision_exclude": [["arm.L", "spine"]],
+            "control_points": [{"bone": "arm.R", "target": [-0.4, -0.3, 2.0]}],
+            "aim_targets": [{"bone": "arm.L", "point": [1, 0, 2.5]}],
+            "pins": [{"bone": "shin.R", "alpha": 1}]}
+
+
+def gen_clip(frames=12, frame_time=1.0 / 30.0):
+    """A walking-ish clip of a 12-joint figure in centimetres, Y up (its root with position
+    channels and three children), `frames` frames of sine rotations."""
+    import math
+    rot = "CHANNELS 3 Zrotation Xrotation Yrotation"
+    joints = []  # (name, depth, offset, end site or None)
+
+    def add(name, depth, offset, end=None):
+        joints.append((name, depth, offset, end))
+    add("Hips", 0, "0 95 0")
+    add("Spine", 1, "0 10 0")
+    add("Chest", 2, "0 25 0")
+    add("Head", 3, "0 25 0", "0 20 0")
+    for side, sx in (("Left", 1), ("Right", -1)):
+        add(side + "Arm", 3, "%d 20 0" % (18 * sx))
+        add(side + "ForeArm", 4, "%d 0 0" % (28 * sx), "%d 0 0" % (26 * sx))
+    for side, sx in (("Left", 1), ("Right", -1)):
+        add(side + "UpLeg", 1, "%d -5 0" % (9 * sx))
+        add(side + "Leg", 2, "0 -42 0", "0 -42 0")
+    out = ["HIERARCHY"]
+    stack = []
+    for k, (name, depth, offset, end) in enumerate(joints):
+        while len(stack) > depth:
+            out.append("}")
+            stack.pop()
+        out += ["%s %s" % ("ROOT" if depth == 0 else "JOINT", name), "{", "OFFSET " + offset,
+                ("CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation"
+                 if depth == 0 else rot)]
+        if end:
+            out += ["End Site", "{", "OFFSET " + end, "}"]
+        stack.append(name)
+    out += ["}"] * len(stack)
+    out += ["MOTION", "Frames: %d" % frames, "Frame Time: %.12g" % frame_time]
+    step = 90.0 * min(frame_time, 0.1)  # cm a frame: 90 cm/s, slower for slower clips
+    for f in range(frames):
+        t = f * frame_time
+        row = [0.0, 95.0 + math.sin(4 * t), step * f]
+        for k in range(len(joints)):
+            row += [5 * math.sin(2 * t + k), 20 * math.sin(6 * t + k), 3 * math.cos(3 * t + k)]
+        out.append(" ".join("%.6g" % v for v in row))
+    return ("\n".join(out) + "\n").encode()
+
+
+def clip_seeds(physik, work):
+    """[(clip name, clip bytes, rig bytes)]: clips at 30 and 120 fps, a qBVH one, and the rigs
+    `rig from-bvh` makes of them (metres: --scale 0.01)."""
+    out = []
+    for name, data in (("walk30.bvh", gen_clip()), ("walk120.bvh", gen_clip(16, 1.0 / 120.0))):
+        clip = os.path.join(work, "seed_" + name)
+        with open(clip, "wb") as f:
+            f.write(data)
+        rig = clip[:-4] + "_rig.json"
+        if run([physik, "rig", "from-bvh", clip, "--scale", "0.01", "--out", rig], 60)[0] == 0:
+            out.append((name, data, open(rig, "rb").read()))
+        # the qBVH's own rig: its source skeleton has quaternion channels
+        q, qrig = clip[:-4] + ".qbvh", clip[:-4] + "_q_rig.json"
+        if (run([physik, "bvh", "convert", clip, q], 60)[0] == 0 and
+                run([physik, "rig", "from-bvh", q, "--scale", "0.01", "--out", qrig], 60)[0] == 0):
+            out.append((name[:-4] + ".qbvh", open(q, "rb").read(), open(qrig, "rb").read()))
+    return out
+
+
+def add_generated_seeds(physik, work, seeds):
+    """The generated seeds into `seeds` (the welded rigs also into work/rigs, where the scenes
+    on them find them). The pinned rig seeds scenes only until `rig info` reads a pinned root (it
+    reads the root's joint at bone index -1, a crash: fixed on another branch); then it joins the
+    rig seeds as the others."""
+    for root in ("pinned", "fixed", "free"):
+        rig = json.dumps(gen_welded_rig(root), indent=1).encode()
+        if root != "pinned":
+            seeds["rig"].append(("fuzz_welded_%s.json" % root, rig))
+        with open(os.path.join(work, "rigs", "fuzz_welded_%s.json" % root), "wb") as f:
+            f.write(rig)
+        seeds["scene"].append(("welded_%s_scene.json" % root,
+                               json.dumps(gen_welded_scene(root), indent=1).encode()))
+    seeds["scene"].append(("bone_targets_scene.json",
+                           json.dumps(gen_bone_target_scene(), indent=1).encode()))
+    seeds["clip"] = clip_seeds(physik, work)
+
+
+# the command line's bone targets (simulate, solve): an option and an odd value for it
+BONE_TARGET_VALUES = {
+    "--orientation-target": ["forearm.L=0.7071,0.7071,0,0", "forearm.L=2,0,0,0", "forearm.L=0,0,0,0",
+                             "forearm.L=nan,0,0,1", "forarm.L=1,0,0,0", "forearm.L=1,0,0",
+                             "hand.L=1e155,1e155,0,0", "=1,0,0,0", "forearm.L"],
+    "--aim": ["head=2,-3,2.5", "head=0,0,0", "head=1e155,0,0", "head=inf,0,0", "hed=1,1,1",
+              "head=1,2", "head=", "head=1e9,1e9,1e9", "head=1e10,0,0"],
+    "--pin": ["foot.R", "foot.R=0,0,0", "foot.R=nan,0,0", "foot.R=1e10,0,0", "feet=0,0,0",
+              "foot.R=1,2", "torso", "head=1e-320,0,0"],
+}
+
+
+def bone_target_option(rng):
+    """[] or [option, value]: one of the command line's bone targets, often odd"""
+    if rng.random() < 0.6:
+        return []
+    opt = rng.choice(sorted(BONE_TARGET_VALUES))
+    return [opt, rng.choice(BONE_TARGET_VALUES[opt])]
 
 
 # ---------------------------------------------------------------- mutations
@@ -267,16 +426,22 @@ def command_for(rng, kind, path, aux, work, case_dir):
         return ["rig", "info", "--json", path], [path], ["-"], None
     if kind == "scene":
         r = rng.randrange(10)
+        extra = bone_target_option(rng)
+        option = extra[0] if extra else None
         if r < 5:
             steps = str(rng.choice([5, 20, 40]))
-            return (["simulate", path, "--steps", steps, "--quiet", "--out", out], [path],
-                    [out + "/summary.json", out + "/trajectory.csv", out + "/final_pose.csv"], None)
+            return (["simulate", path, "--steps", steps, "--quiet", "--out", out] + extra, [path],
+                    [out + "/summary.json", out + "/trajectory.csv", out + "/final_pose.csv"],
+                    option)
         if r < 8:
             solver = rng.choice(["fabrik", "ccd", "jt", "dls", "mass-spring", "rotation", "physik",
                                  "physik-steps", "kdl", "kdl-nr"])
             return (["solve", path, "--solver", solver, "--max-iterations", "50", "--quiet",
-                     "--out", out], [path], [out + "/summary.json", out + "/final_pose.csv"], None)
+                     "--out", out] + extra, [path],
+                    [out + "/summary.json", out + "/final_pose.csv"], option)
         return (["equilibrium", path, "--out", out + ".json"], [path], [out + ".json"], None)
+    if kind == "clip":
+        return clip_command(rng, path, aux, case_dir, out)
     if kind == "bvh":
         r = rng.randrange(4)
         if r <= 1:
@@ -289,6 +454,50 @@ def command_for(rng, kind, path, aux, work, case_dir):
     if kind == "mjcf":
         return ["rig", "from-mjcf", path, "--out", out + ".json"], [path], [out + ".json"], None
     raise ValueError(kind)
+
+
+FOLLOW_OPTIONS = [["--ground", "0"], ["--ground", "-0.05"], ["--ground", "nan"],
+                  ["--ground", "-inf"], ["--ground", "-1e10"], ["--no-ground"], ["--gravity"],
+                  ["--frames", "2:5"], ["--frames", "3:"], ["--frames", "0:99"],
+                  ["--point", "LeftLeg"], ["--point", "Head:head"], ["--point", "Nose"],
+                  ["--set", "dt=0.05"], ["--set", "dt=1e-4"], ["--set", "control_k=1e12"],
+                  ["--every", "3"], ["--own-skeleton", "--bvh", "@OUT@_own.bvh"]]
+
+
+def clip_command(rng, clip, aux, case_dir, out):
+    """A command on a clip and its rig (aux["rig"]): follow (with options, and write-back with
+    --bvh), a scene starting at a clip frame (simulate or solve, with --bvh), rig to-bvh of the
+    rig's source skeleton, or bvh convert."""
+    rig = aux["rig"]
+    r = rng.randrange(10)
+    if r < 5:
+        argv = ["follow", clip, "--rig", rig, "--out", out, "--quiet"]
+        outputs = [out + "/summary.json", out + "/trajectory.csv"]
+        option = None
+        for extra in rng.sample(FOLLOW_OPTIONS, rng.choice([0, 1, 2])):
+            if extra[0] in argv:  # an option given twice is CLI11's usage error, not a case
+                continue
+            argv += [a.replace("@OUT@", out) for a in extra]
+            option = option or extra[0]
+        if rng.random() < 0.5 and "--bvh" not in argv:
+            argv += ["--bvh", out + ".bvh"]
+            outputs.append(out + ".bvh")
+        return argv, [clip, rig], outputs, option
+    if r < 8:
+        scene = os.path.join(case_dir, "clip_scene.json")
+        leaf = rng.choice(["LeftForeArm", "RightLeg", "Head", "Nope"])
+        with open(scene, "w") as f:
+            json.dump({"rig": os.path.basename(rig), "steps": 10,
+                       "initial_pose": {"bvh": os.path.basename(clip),
+                                        "frame": rng.choice([0, 3, 11, 12, -1])},
+                       "control_points": [{"bone": leaf, "target": [0.3, -0.2, 1.2]}]}, f)
+        cmd = (["simulate", scene, "--steps", "10"] if r < 7 else
+               ["solve", scene, "--solver", rng.choice(["physik", "dls"]), "--max-iterations", "20"])
+        return (cmd + ["--quiet", "--out", out, "--bvh", out + ".bvh"], [scene, clip, rig],
+                [out + "/summary.json", out + ".bvh"], None)
+    if r < 9:
+        return (["rig", "to-bvh", rig, "--out", out + ".bvh"], [rig], [out + ".bvh"], None)
+    return ["bvh", "convert", clip, out + ".qbvh"], [clip], [out + ".qbvh"], None
 
 
 # ---------------------------------------------------------------- checks
@@ -344,7 +553,9 @@ def classify(case, rc, out, err, schema):
         return "hang", "no exit within the timeout"
     if rc < 0:
         return "crash", "signal %d" % -rc
-    allowed = (0, 2, 3, 4) if case["cmd"] == "solve" else (0, 2, 3)  # 4: a solve short of its tol
+    # 4: a solve short of its tolerance, an equilibrium whose Ceres stopped short (both write
+    # their last iterate, as their --help says)
+    allowed = (0, 2, 3, 4) if case["cmd"] in ("solve", "equilibrium") else (0, 2, 3)
     if case["cmd"] == "solve" and "--solver" in case["argv"]:
         # the equilibrium solve and KDL never diverge: a valid scene exits 0 or 4, never 3
         if case["argv"][case["argv"].index("--solver") + 1] in ("physik", "kdl", "kdl-nr"):
@@ -400,6 +611,10 @@ def run_case(args, physik, spec):
             aux["limits"] = os.path.join(args.work, "limits", "pinhead_limits.json")
     if spec["kind"] == "limits":
         aux["rig"] = os.path.join(args.src, "models", "rigs", spec["aux_rig"] + ".json")
+    if spec["kind"] == "clip":  # the clip's rig beside it (one of the two mutated)
+        aux["rig"] = os.path.join(case_dir, spec["name"].rsplit(".", 1)[0] + "_rig.json")
+        with open(aux["rig"], "wb") as f:
+            f.write(spec["aux_data"])
     argv, reads, outputs, option = command_for(rng, spec["kind"], path, aux, args.work, case_dir)
     rc, out, err = run([physik] + argv, args.timeout)
     case = {"index": spec["index"], "kind": spec["kind"], "seed": spec["name"], "cmd": argv[0] if
@@ -412,9 +627,34 @@ def run_case(args, physik, spec):
     if case["rule"]:
         keep = os.path.join(args.failures, "case%05d_%s" % (spec["index"], spec["name"]))
         shutil.copy(path, keep)
+        if "rig" in aux and spec["kind"] == "clip":
+            shutil.copy(aux["rig"], keep.rsplit(".", 1)[0] + "_rig.json")
     else:
         shutil.rmtree(case_dir, ignore_errors=True)
     return case
+
+
+def schema_commands(args, kind, item, d, path):
+    """the commands whose outputs on the unmutated seed `item` (written at `path` in folder `d`)
+    give build_schema its number paths"""
+    name = item[0]
+    if kind == "scene":
+        return [["simulate", path, "--steps", "5", "--quiet", "--out", d + "/sim"],
+                ["solve", path, "--solver", "dls", "--max-iterations", "5", "--quiet",
+                 "--out", d + "/solve"],
+                ["equilibrium", path, "--out", d + "/eq.json"]]
+    if kind == "rig":
+        return [["rig", "info", "--json", path],
+                ["rig", "from-bvh", os.path.join(args.work, "seed_" + name[:-5] + ".bvh"),
+                 "--out", d + "/fb.json"],
+                ["rig", "limits", path, os.path.join(args.work, "limits", name[:-5] + "_limits.json"),
+                 "--out", d + "/lim.json"]]
+    if kind == "clip":
+        rig = os.path.join(d, "rig.json")
+        with open(rig, "wb") as f:
+            f.write(item[2])
+        return [["follow", path, "--rig", rig, "--out", d + "/fol", "--quiet"]]
+    return []
 
 
 def build_schema(args, physik, seeds):
@@ -429,18 +669,7 @@ def build_schema(args, physik, seeds):
             path = os.path.join(d, name)
             with open(path, "wb") as f:
                 f.write(data.replace(b"../rigs/", (rigs + "/").encode()) if kind == "scene" else data)
-            cmds = []
-            if kind == "scene":
-                cmds = [["simulate", path, "--steps", "5", "--quiet", "--out", d + "/sim"],
-                        ["solve", path, "--solver", "dls", "--max-iterations", "5", "--quiet",
-                         "--out", d + "/solve"],
-                        ["equilibrium", path, "--out", d + "/eq.json"]]
-            elif kind == "rig":
-                cmds = [["rig", "info", "--json", path],
-                        ["rig", "from-bvh", os.path.join(args.work, "seed_" + name[:-5] + ".bvh"),
-                         "--out", d + "/fb.json"],
-                        ["rig", "limits", path, os.path.join(args.work, "limits", name[:-5] + "_limits.json"),
-                         "--out", d + "/lim.json"]]
+            cmds = schema_commands(args, kind, item, d, path)
             for argv in cmds:
                 rc, out, _ = run([physik] + argv, 120)
                 if rc != 0 and not (argv[0] == "solve" and rc == 4):  # 4: written, short of tol
@@ -453,6 +682,8 @@ def build_schema(args, physik, seeds):
                     files = [d + "/solve/summary.json"]
                 elif argv[0] == "equilibrium":
                     files = [d + "/eq.json"]
+                elif argv[0] == "follow":
+                    files = [d + "/fol/summary.json"]
                 elif "--out" in argv:
                     files = [argv[argv.index("--out") + 1]]
                 for fpath in files:
@@ -476,6 +707,44 @@ def build_schema(args, physik, seeds):
 
 # ---------------------------------------------------------------- the corpus
 
+def corpus_case(args, physik, entry, d):
+    """A corpus entry's files in its folder `d` (copied, generated or inline; then made by its
+    "before" commands and changed by its "edit"s), and its argv with every name expanded."""
+    files = {}
+    for key, spec in entry.get("files", {}).items():
+        p = os.path.join(d, spec.get("as") or os.path.basename(spec.get("copy", key)))
+        if "copy" in spec:
+            data = open(os.path.join(args.corpus, spec["copy"]), "rb").read()
+        elif "generate" in spec:
+            data = generate(spec["generate"])
+        else:
+            data = spec["text"].encode("latin-1")
+        data = data.replace(b"@SRC@", args.src.encode())
+        with open(p, "wb") as f:
+            f.write(data)
+        files[key] = p
+
+    def expand(argv):
+        argv = [a.replace("@SRC@", args.src).replace("@OUT@", d + "/out").replace("@DIR@", d)
+                for a in argv]
+        return [files.get(a[1:-1], a) if a.startswith("{") and a.endswith("}") else a
+                for a in argv]
+    # commands that make the case's further files (a rig from a generated clip), then edits of
+    # JSON files ({"file": key, "path": [...], "value": v})
+    for before in entry.get("before", []):
+        brc, _, berr = run([physik] + expand(before), 120)
+        if brc != 0:
+            raise RuntimeError("corpus %s: physik %s: %s" % (entry["name"], before, berr))
+    for key, path in entry.get("made", {}).items():
+        files[key] = expand([path])[0]
+    for edit in entry.get("edit", []):
+        doc = json.load(open(files[edit["file"]]))
+        set_path(doc, tuple(edit["path"]), edit["value"])
+        with open(files[edit["file"]], "w") as f:
+            json.dump(doc, f)
+    return expand(entry["argv"])
+
+
 def run_corpus(args, physik):
     """the robustness reproducers: (name, ok, detail) per entry"""
     manifest = json.load(open(os.path.join(args.corpus, "manifest.json")))
@@ -483,23 +752,9 @@ def run_corpus(args, physik):
     for entry in manifest["cases"]:
         d = os.path.join(args.work, "corpus_" + entry["name"])
         os.makedirs(d, exist_ok=True)
-        files = {}
-        for key, spec in entry.get("files", {}).items():
-            p = os.path.join(d, spec.get("as") or os.path.basename(spec.get("copy", key)))
-            if "copy" in spec:
-                data = open(os.path.join(args.corpus, spec["copy"]), "rb").read()
-            elif "generate" in spec:
-                data = generate(spec["generate"])
-            else:
-                data = spec["text"].encode("latin-1")
-            data = data.replace(b"@SRC@", args.src.encode())
-            with open(p, "wb") as f:
-                f.write(data)
-            files[key] = p
-        argv = [a.replace("@SRC@", args.src).replace("@OUT@", d + "/out").replace("@DIR@", d)
-                for a in entry["argv"]]
-        argv = [files.get(a[1:-1], a) if a.startswith("{") and a.endswith("}") else a for a in argv]
-        rc, out, err = run([physik] + argv, entry.get("timeout", args.timeout))
+        argv = corpus_case(args, physik, entry, d)
+        rc, out, err = run([physik] + argv, entry.get("timeout", args.timeout),
+                           address_space=entry.get("address_space"))
         ok = rc in entry["exit"]
         detail = "exit %s" % rc
         for text in entry.get("stderr", []):
@@ -552,9 +807,44 @@ def nonfinite_in_page(path):
     return None
 
 
+def overlapping_zigzag(spec):
+    """A scene: a chain of `bones` bones of length 1 folded back and forth along x, each `dz`
+    above the one before, collision radius 0.1, so every bone overlaps the ones two (and, with
+    dz 0.02, four) along; under self-collision with `params` (the fuzzer's: contact_k 1e20,
+    implicit_max_splits 20)."""
+    bones, x, dz = [], 0.0, spec.get("dz", 0.08)
+    for i in range(spec["bones"]):
+        x2 = 1.0 - x
+        bones.append({"name": "b%d" % i, "parent": "b%d" % (i - 1) if i else None,
+                      "head": [x, 0, dz * i], "tail": [x2, 0, dz * (i + 1)]})
+        x = x2
+    return json.dumps({"rig": {"name": "zigzag", "defaults": {"collision_radius": 0.1},
+                               "bones": bones},
+                       "steps": spec.get("steps", 1), "self_collision": True,
+                       "params": spec["params"]}).encode()
+
+
+def many_boxes(spec):
+    """A scene on a shipped rig ("rig", default elbow) with `boxes` boxes of half extent 0.5: all
+    at one place ("spacing": 0) or on a line `spacing` apart."""
+    boxes = [{"name": "box%d" % i, "box": {"center": [3 + spec["spacing"] * i, 0, 0],
+                                          "half_extents": [0.5, 0.5, 0.5]}}
+             for i in range(spec["boxes"])]
+    return json.dumps({"rig": "@SRC@/models/rigs/%s.json" % spec.get("rig", "elbow"), "steps": 5,
+                       "ground": {"height": -5}, "obstacles": boxes}).encode()
+
+
 def generate(spec):
     """big reproducers are generated, not stored"""
     kind = spec["kind"]
+    if kind == "clip":
+        return gen_clip(spec.get("frames", 12), spec.get("frame_time", 1.0 / 30.0))
+    if kind == "welded_rig":
+        return json.dumps(gen_welded_rig(spec["root"])).encode()
+    if kind == "overlapping_zigzag":
+        return overlapping_zigzag(spec)
+    if kind == "many_boxes":
+        return many_boxes(spec)
     if kind == "bvh_deep":
         return deep_bvh(spec["depth"])
     if kind == "bvh_siblings":
@@ -606,20 +896,24 @@ def main():
 def fuzz(args, physik):
     shutil.copytree(os.path.join(args.src, "models", "rigs"), os.path.join(args.work, "rigs"))
     seeds = make_seeds(physik, args.src, args.work)
+    add_generated_seeds(physik, args.work, seeds)
     os.makedirs(os.path.join(args.work, "limits"))
     for name, data, _ in seeds["limits"]:
         with open(os.path.join(args.work, "limits", name), "wb") as f:
             f.write(data)
     args.schema = build_schema(args, physik, seeds)
     rng = random.Random(args.seed)
-    weights = {"rig": 3, "scene": 4, "bvh": 3, "limits": 1, "mjcf": 1}
+    weights = {"rig": 3, "scene": 4, "bvh": 2, "limits": 1, "mjcf": 1, "clip": 2}
     kinds = [k for k in weights for _ in range(weights[k]) if seeds.get(k)]
     specs = []
     for i in range(args.cases):
         kind = rng.choice(kinds)
         item = rng.choice(seeds[kind])
         name, data = item[0], item[1]
-        if kind == "bvh":
+        aux_data = item[2] if kind == "clip" else None
+        if kind == "clip" and rng.random() < 0.35:  # the clip's rig (its source skeleton)
+            aux_data = mutate_json(rng, aux_data, "rig")
+        elif kind in ("bvh", "clip"):
             data = mutate_bvh(rng, data)
         elif kind == "mjcf":
             data = mutate_bytes(rng, data)
@@ -627,7 +921,7 @@ def fuzz(args, physik):
             data = mutate_json(rng, data, kind) if rng.random() < 0.7 else mutate_bytes(rng, data)
         specs.append({"index": i, "kind": kind, "name": name, "data": data,
                       "rng_seed": rng.randrange(1 << 30),
-                      "aux_rig": item[2] if kind == "limits" else None})
+                      "aux_rig": item[2] if kind == "limits" else None, "aux_data": aux_data})
     counts = collections.Counter()
     by_exit = collections.Counter()
     failures = []

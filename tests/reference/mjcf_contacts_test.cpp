@@ -4,6 +4,7 @@
 // excluded pairs by <exclude>, the ground plane and the static boxes where PhysIK has them, and
 // the scene's gravity.
 #include <algorithm>
+#include <cmath>
 #include <set>
 #include <utility>
 
@@ -111,6 +112,39 @@ TEST(MjcfContacts, WithoutContactsTheModelIsAsBefore) {
   EXPECT_NE(plain.find("<flag contact=\"disable\"/>"), std::string::npos);
   EXPECT_NE(plain.find("gravity=\"0 0 0\""), std::string::npos);
   EXPECT_EQ(plain.find("plane"), std::string::npos);
+}
+
+// MuJoCo's buffers count the boxes a bone can touch at once (mjcf_export.h MjcfSize), not every
+// box: a two-bone arm of 1 m bones over 100 boxes of half extent 0.5 in a row 10 apart touches
+// one at a time (16 contact rows, where every box counted gave 1,600: njmax 1,617 for the elbow
+// and 11,133 for the pinhead, which MuJoCo could not allocate under a 6 GB address space); the
+// same boxes at one place, all 100.
+TEST(MjcfContacts, BuffersCountTheBoxesABoneCanTouchAtOnce) {
+  const Rig rig = build_rig(
+      {bone("a", "", Vec3(0, 0, 0), Vec3(0, 0, 1)), bone("b", "a", Vec3(0, 0, 1), Vec3(0, 0, 2))},
+      "arm", "arm");
+  const auto boxes = [](double spacing, int cluster) {
+    MjcfOptions o;
+    for (int i = 0; i < 100; ++i) {
+      BoxObstacle b;
+      b.name = "box" + std::to_string(i);
+      b.center_world = Vec3(3.0 + spacing * (i / cluster), 0.0, 0.0);
+      b.half_extents = Vec3::Constant(0.5);
+      o.collision.obstacles.push_back(b);
+    }
+    o.joints = JointModel::kBallJoints;
+    return o;
+  };
+  const int n = rig.nbone;
+  EXPECT_EQ(mjcf_size(rig, boxes(10.0, 1)).rows_needed, 4 * 2 * n * 1);
+  EXPECT_EQ(mjcf_size(rig, boxes(10.0, 10)).rows_needed, 4 * 2 * n * 10);  // 10 piles of 10
+  EXPECT_EQ(mjcf_size(rig, boxes(0.0, 1)).rows_needed, 4 * 2 * n * 100);
+  // 2 apart: a box's bounding sphere (radius 0.87) reaches its neighbours' within the bones'
+  // extent (a bone's length and diameter) on both sides: 2 K + 1 at once, itself among them
+  const double extent = 1.0 + 2.0 * rig.bone_collision_radius[0];
+  const int k = static_cast<int>((extent + 2.0 * std::sqrt(0.75)) / 2.0);
+  ASSERT_GE(k, 1);
+  EXPECT_EQ(mjcf_size(rig, boxes(2.0, 1)).rows_needed, 4 * 2 * n * (2 * k + 1));
 }
 
 }  // namespace

@@ -13,6 +13,8 @@ page loads nothing (no src or href, a content policy that forbids every load).
 
 BrowserTest, in headless Chromium (Debian's chromium, chromium-driver and python3-selenium;
 SwiftShader renders WebGL): the page loads from file:// with no console error and a canvas;
+at 1200 px wide, for window heights around where the canvas makes the page scroll, no horizontal
+scrollbar and the canvas within its stage;
 moving the slider changes the rendered pixels and a paused frame stays the same; Play
 advances; an overlay of two runs draws both colours; a rig bent past a locked joint is drawn
 in the highlight colour; a rod dropped on the floor (a run with contacts.csv) shows no contact
@@ -637,6 +639,30 @@ class BrowserTest(unittest.TestCase):
         self.assertGreater(canvas.size["width"], 100)
         self.assertEqual(self.errors(), [])
         self.shot("single_frame0")
+
+    def test_no_horizontal_scrollbar_at_1200_pixels(self):
+        # The canvas was sized to the page's width before it had a vertical scrollbar; where the
+        # canvas itself then made the page taller than the window (at 1200 px wide, windows about
+        # 990 px high for the two-run page), the scrollbar took 15 px from a canvas already that
+        # wide: a horizontal scrollbar. Nor may the canvas stick out of its stage (its border).
+        try:
+            for height in range(940, 1061, 6):
+                self.driver.set_window_size(1200, height)
+                self.load("overlay")
+                m = self.js(
+                    "var e = document.documentElement, c = document.querySelector("
+                    "'.physik-viewer canvas'), s = c.parentNode;"
+                    "return {scroll: e.scrollWidth, client: e.clientWidth, inner: innerHeight,"
+                    "  canvas: c.getBoundingClientRect().right,"
+                    "  stage: s.getBoundingClientRect().left + s.clientLeft + s.clientWidth,"
+                    "  buffer: c.width / devicePixelRatio, shown: c.clientWidth};")
+                what = "window 1200 x %d: %s" % (height, m)
+                self.assertLessEqual(m["scroll"], m["client"], what)
+                self.assertLessEqual(m["canvas"], m["stage"] + 0.5, what)
+                self.assertEqual(m["buffer"], m["shown"], what)  # drawn at the size shown
+        finally:
+            self.driver.set_window_size(1000, 1000)  # headless_chromium.start's, for the others
+        self.assertEqual(self.errors(), [])
 
     def test_slider_changes_pixels_and_a_paused_frame_stays(self):
         from selenium.webdriver.common.keys import Keys
