@@ -14,10 +14,10 @@ on it: `rig info`, `simulate` (short runs), `solve`, `equilibrium`, `export-mjcf
 from-bvh`, `rig to-bvh`, `bvh convert`, `rig limits`, `follow`. Every case must hold:
 
   no crash (signal), no hang (timeout), exit 0, 2 or 3 only (and 4 from `solve`: a solve short of
-  its tolerance, and from `equilibrium`: Ceres stopped short; never 3 from `solve --solver
-  physik`, the equilibrium solve, or KDL's), an exit-2 message that names the file at fault, and
-  no non-finite number (nan, inf, or null where the seed's output has a number) in the files or
-  JSON an exit-0 run (or an exit-4 solve or equilibrium) writes.
+  its tolerance, never 3 from `solve --solver physik`, the equilibrium solve, or KDL's; and from
+  `equilibrium`: Ceres stopped short), an exit-2 message that names the file at fault, and no
+  non-finite number (nan, inf, or null where the seed's output has a number) in the files or JSON
+  an exit-0 run (or an exit-4 solve or equilibrium) writes.
 
 A case that breaks a rule is a failure (its input is kept with --keep).
 The corpus (tests/fuzz/corpus) holds the robustness reproducers as regression cases with their
