@@ -208,7 +208,7 @@ double round_trip_difference(const BvhAnimation& a, const BvhFile& clip) {
   BvhExportOptions o;
   o.frame_time = clip.frame_time;
   std::ostringstream text;
-  write_bvh(a.rig(), a.poses, o, text);
+  write_bvh(a.rig(), a.poses, o, text, SourceFrames::of_clip(clip));
   const BvhFile back = parse_bvh(text.str(), "round trip");
   double worst = 0.0;
   for (std::size_t f = 0; f < clip.frames.size() && f < back.frames.size(); ++f) {
@@ -475,7 +475,7 @@ void limit_claim(const std::vector<ShapeRun>& runs, Report& report) {
 }
 
 // the clip's round trip today: a note (its claim belongs to the write-back)
-void round_trip_note(const std::vector<ShapeRun>& runs, Report& report) {
+void round_trip_claim(const std::vector<ShapeRun>& runs, Report& report) {
   double trip = 0.0;
   std::string each;
   for (const ShapeRun& r : runs) {
@@ -484,12 +484,14 @@ void round_trip_note(const std::vector<ShapeRun>& runs, Report& report) {
         std::isnan(r.round_trip) || std::isnan(trip) ? std::nan("") : std::max(trip, r.round_trip);
     each += (each.empty() ? "" : ", ") + r.name + " " + fmt(r.round_trip);
   }
-  report.note(
-      "The clip written back on each source skeleton from the poses it came in as, today: the "
-      "largest channel difference is " +
-      fmt(trip) + " (degrees or file units; " + each +
-      "); the claim of a round trip within 1e-6 on every channel belongs to the write-back of "
-      "joints with no bone of their own and of the Euler branch nearest the source's.");
+  report
+      .claim(
+          "the clip written back on each source skeleton from the poses it came in as (the "
+          "frames as their sources, as bvh convert writes) gives every channel value within "
+          "1e-6, joints with no bone of their own and welded joints included",
+          "largest channel difference " + fmt(trip) + " (degrees or file units; " + each + ")",
+          yes_no(trip <= 1e-6))
+      .named("round-trip");
 }
 
 void run(const Context& ctx) {
@@ -506,7 +508,7 @@ void run(const Context& ctx) {
   mass_claim(runs, report);
   width_claims(runs, report);
   limit_claim(runs, report);
-  round_trip_note(runs, report);
+  round_trip_claim(runs, report);
   shapes.add_to_report(report, "The four skeletons",
                        {{"shape", "shape"},
                         {"convention", "convention"},

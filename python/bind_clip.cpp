@@ -110,6 +110,20 @@ void bind_clip_class(py::module_& m);
 
 }  // namespace
 
+// a {param: value} dict as `--set key=value` overrides (follow_params: the defaults from the clip
+// and the rig where the dict gives neither dt nor control_k, as the command line's follow)
+ParamOverrides params_overrides(const py::object& params) {
+  std::vector<std::string> assignments;
+  if (!params.is_none()) {
+    const nlohmann::json given = to_json(params, "params");
+    for (const auto& [key, value] : given.items()) {
+      assignments.push_back(key + "=" +
+                            (value.is_string() ? value.get<std::string>() : value.dump()));
+    }
+  }
+  return parse_param_overrides(assignments, "params");
+}
+
 void bind_clip(py::module_& m) {
   bind_clip_class(m);
   m.def(
@@ -159,8 +173,7 @@ void bind_clip(py::module_& m) {
         o.gravity = gravity;
         o.source = "follow";
         if (first < 0) throw_input_error("frames", "", "", "frame numbers start at 0");
-        const EngineParams p = params_from_json(to_json(params, "params"), "params");
-        return follow_scene(rig, clip, p, o);
+        return follow_scene(rig, clip, follow_params(rig, clip, o, params_overrides(params)), o);
       },
       py::arg("clip"), py::arg("rig"), py::arg("points"), py::arg("first"), py::arg("last"),
       py::arg("ground").none(true), py::arg("gravity"), py::arg("params").none(true),
@@ -174,49 +187,16 @@ void bind_clip(py::module_& m) {
 
 namespace {
 
-void bind_clip_class(py::module_& m) {
-  py::class_<BvhFile>(m, "Clip", R"doc(A BVH or qBVH animation: a skeleton and its frames.
-
-Clip.load(path) reads a file as the CLI does (bad input raises InputError naming the file and
-line); clip.frames is a (nframe, nchannel) array (a copy; assign a new array to change them,
-checked as a file's frames are), one column per channel in file order (clip.columns names
-them): degrees, file units, quaternions (w, x, y, z). clip.write(path) writes it as it is.
-clip.pose(rig, frame) is the rig's pose of a frame (a clip of the rig's source skeleton);
-Clip.of_poses(rig, poses, ...) the other way.)doc")
-      .def_static("load", &read_bvh_file, py::arg("path"), "Read a BVH or qBVH file.")
-      .def_static(
-          "parse",
-          [](const std::string& text, const std::string& source) {
-            return parse_bvh(text, source);
-          },
-          py::arg("text"), py::arg("source") = "<text>",
-          "A clip from BVH text; `source` names it in error messages.")
-      .def("write", &write_clip, py::arg("path"),
-           "Write the clip to `path` as it is (its own channels; folders are created). A value "
-           "physik's reader would refuse (beyond +-1e9) raises InputError and writes nothing.")
-      .def_property(
-          "frames", [](const BvhFile& c) { return matrix(c.frames, c.nchannel); }, &set_frames,
-          "(nframe, nchannel) channel values, a copy; assigning an array replaces them (checked).")
-      .def_property(
-          "frame_time", [](const BvhFile& c) { return c.frame_time; },
-          [](BvhFile& c, double t) {
-            if (!(t > 0.0) || !std::isfinite(t)) {
-              throw_input_error("frame_time", "", "", "must be a positive finite number (s)");
-            }
-            c.frame_time = t;
-          },
-          "Seconds per frame.")
-      .def_property_readonly(
-          "nframe", [](const BvhFile& c) { return c.frames.size(); }, "Number of frames.")
-      .def_readonly("nchannel", &BvhFile::nchannel, "Number of channels (columns of frames).")
-      .def_property_readonly(
-          "joint_names",
-          [](const BvhFile& c) {
-            std::vector<std::string> out;
-            for (const BvhJoint& j : c.joints) out.push_back(j.name);
-            return out;
-          },
-          "Joint names, in file order (parents first).")
+// the clip's skeleton, read only
+void bind_clip_skeleton(py::class_<BvhFile>& cls) {
+  cls.def_property_readonly(
+         "joint_names",
+         [](const BvhFile& c) {
+           std::vector<std::string> out;
+           for (const BvhJoint& j : c.joints) out.push_back(j.name);
+           return out;
+         },
+         "Joint names, in file order (parents first).")
       .def_property_readonly(
           "joint_parents",
           [](const BvhFile& c) {
@@ -261,22 +241,26 @@ Clip.of_poses(rig, poses, ...) the other way.)doc")
             }
             return out;
           },
-          "The name of every column of frames, \"joint:Channel\".")
-      .def(
-          "_pose",
-          [](const BvhFile& c, const Rig& rig, int frame) {
-            check_source_clip(rig, c, "Clip.pose");
-            if (frame < 0 || frame >= static_cast<int>(c.frames.size())) {
-              throw_input_error("Clip.pose", "", "frame",
-                                "frame " + std::to_string(frame) + " is outside 0.." +
-                                    std::to_string(static_cast<int>(c.frames.size()) - 1));
-            }
-            BoneFrames scratch;
-            Pose pose;
-            source_clip_pose(rig, c, frame, scratch, pose);
-            return pose_arrays(rig, forward_kinematics(rig, pose), pose);
-          },
-          py::arg("rig"), py::arg("frame"), "Clip.pose's C++ half: the pose's arrays.")
+          "The name of every column of frames, \"joint:Channel\".");
+}
+
+// a frame as the rig's pose, and the Python protocol
+void bind_clip_poses(py::class_<BvhFile>& cls) {
+  cls.def(
+         "_pose",
+         [](const BvhFile& c, const Rig& rig, int frame) {
+           check_source_clip(rig, c, "Clip.pose");
+           if (frame < 0 || frame >= static_cast<int>(c.frames.size())) {
+             throw_input_error("Clip.pose", "", "frame",
+                               "frame " + std::to_string(frame) + " is outside 0.." +
+                                   std::to_string(static_cast<int>(c.frames.size()) - 1));
+           }
+           BoneFrames scratch;
+           Pose pose;
+           source_clip_pose(rig, c, frame, scratch, pose);
+           return pose_arrays(rig, forward_kinematics(rig, pose), pose);
+         },
+         py::arg("rig"), py::arg("frame"), "Clip.pose's C++ half: the pose's arrays.")
       .def(
           "copy", [](const BvhFile& c) { return BvhFile(c); }, "An independent copy.")
       .def("__len__", [](const BvhFile& c) { return c.frames.size(); })
@@ -284,6 +268,45 @@ Clip.of_poses(rig, poses, ...) the other way.)doc")
         return "<physik.Clip of " + std::to_string(c.joints.size()) + " joints, " +
                std::to_string(c.frames.size()) + " frames>";
       });
+}
+
+void bind_clip_class(py::module_& m) {
+  py::class_<BvhFile> cls(m, "Clip", R"doc(A BVH or qBVH animation: a skeleton and its frames.
+
+Clip.load(path) reads a file as the CLI does (bad input raises InputError naming the file and
+line); clip.frames is a (nframe, nchannel) array (a copy; assign a new array to change them,
+checked as a file's frames are), one column per channel in file order (clip.columns names
+them): degrees, file units, quaternions (w, x, y, z). clip.write(path) writes it as it is.
+clip.pose(rig, frame) is the rig's pose of a frame (a clip of the rig's source skeleton);
+Clip.of_poses(rig, poses, ...) the other way.)doc");
+  cls.def_static("load", &read_bvh_file, py::arg("path"), "Read a BVH or qBVH file.")
+      .def_static(
+          "parse",
+          [](const std::string& text, const std::string& source) {
+            return parse_bvh(text, source);
+          },
+          py::arg("text"), py::arg("source") = "<text>",
+          "A clip from BVH text; `source` names it in error messages.")
+      .def("write", &write_clip, py::arg("path"),
+           "Write the clip to `path` as it is (its own channels; folders are created). A value "
+           "physik's reader would refuse (beyond +-1e9) raises InputError and writes nothing.")
+      .def_property(
+          "frames", [](const BvhFile& c) { return matrix(c.frames, c.nchannel); }, &set_frames,
+          "(nframe, nchannel) channel values, a copy; assigning an array replaces them (checked).")
+      .def_property(
+          "frame_time", [](const BvhFile& c) { return c.frame_time; },
+          [](BvhFile& c, double t) {
+            if (!(t > 0.0) || !std::isfinite(t)) {
+              throw_input_error("frame_time", "", "", "must be a positive finite number (s)");
+            }
+            c.frame_time = t;
+          },
+          "Seconds per frame.")
+      .def_property_readonly(
+          "nframe", [](const BvhFile& c) { return c.frames.size(); }, "Number of frames.")
+      .def_readonly("nchannel", &BvhFile::nchannel, "Number of channels (columns of frames).");
+  bind_clip_skeleton(cls);
+  bind_clip_poses(cls);
 }
 
 // Rig.from_bvh: `physik rig from-bvh FILE --scale S --axes A --root R`, of a path or a Clip

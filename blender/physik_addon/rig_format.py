@@ -29,7 +29,7 @@ TOP_KEYS = ("name", "comment", "source", "units", "root", "defaults", "bones",
             "collision_exclude", "source_skeleton")
 BONE_KEYS = ("name", "parent", "head", "tail", "rest_frame", "roll_deg", "limits_deg",
              "mass_per_length", "mass", "radius", "inertia_local", "collision_radius", "weld",
-             "comment")
+             "segment", "forward", "comment")
 ROOT_JOINTS = ("free", "pinned", "fixed")  # rig.h RootJoint
 DEFAULT_MASS_PER_LENGTH = 1.0  # kg per rig unit, the original code's
 DEFAULT_RADIUS = 0.5           # rig units, the original code's

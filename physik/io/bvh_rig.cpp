@@ -302,6 +302,22 @@ void keep_source_skeleton(const BvhFile& bvh, const BvhImportOptions& options, P
   }
 }
 
+// every bone's radius, then its mass and inertia: a human's (bvh_body.h) or a rod's; the welds
+// of --weld-constant
+void fit_bodies(const BvhFile& bvh, const std::vector<PivotNode>& nodes,
+                const BvhImportOptions& options, PivotBones& bones, BvhBody& body) {
+  for (BoneSpec& b : bones.specs) {
+    b.radius = fitted_radius(options.sizing, (b.tail_world - b.head_world).norm());
+    b.collision_radius = b.radius;
+  }
+  if (options.weld_constant) weld_constant_joints(bvh, bones, body);
+  if (body.human) {
+    fit_bvh_human(nodes, options, bones, body);
+  } else {
+    fit_masses(bones.specs, options.sizing);
+  }
+}
+
 }  // namespace
 
 BvhAnimation bvh_to_rig(const BvhFile& bvh, const std::string& source,
@@ -319,16 +335,7 @@ BvhAnimation bvh_to_rig(const BvhFile& bvh, const std::string& source,
   PivotBones bones = pivot_bones(nodes, source);
   const RootJoint root = bvh_root_joint(bvh, source, options);
   if (root == RootJoint::kPinned) pin_root_pivot(bones);
-  for (BoneSpec& b : bones.specs) {
-    b.radius = fitted_radius(options.sizing, (b.tail_world - b.head_world).norm());
-    b.collision_radius = b.radius;
-  }
-  if (options.weld_constant) weld_constant_joints(bvh, bones, body);
-  if (body.human) {
-    fit_bvh_human(nodes, options, bones, body);
-  } else {
-    fit_masses(bones.specs, options.sizing);
-  }
+  fit_bodies(bvh, nodes, options, bones, body);
   BvhAnimation anim;
   anim.body = body;
   anim.pivots = finish_pivot_rig(nodes, bones, source, "");

@@ -1,4 +1,4 @@
-"""BVH clips from Python (issue 58): Clip.load / parse / write, frames as numpy arrays, the rig of a
+"""BVH clips from Python: Clip.load / parse / write, frames as numpy arrays, the rig of a
 clip and its source skeleton, a frame as a pose and poses back as a clip (every channel as it
 was), and physik.follow, which gives what `physik follow --bvh` writes."""
 import json

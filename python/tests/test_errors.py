@@ -280,13 +280,13 @@ def test_sweep_help():
     assert p.returncode == 0 and "--scheduler" in p.stdout and "--serial" in p.stdout
 
 
-SESSION_RULE = ("tolerance, tolerance_fraction, max_steps, stall_steps, stall_fraction, dt_growth, "
-                "max_dt, finish, finish_options")
+SESSION_RULE = ("method, tolerance, tolerance_fraction, tolerance_angle, max_steps, stall_steps, "
+                "stall_fraction, initial_step, armature, dt_growth, max_dt, finish, finish_options")
 # (a call with a misspelt keyword, its name, the misspelt key, the valid keywords)
 UNKNOWN_KEYWORDS = [
     (lambda s: physik.solve(s, tole=1), "solve", "tole",
-     "scene, solver, tol, max_iterations, lambda_, jacobian, gravity, rotation_damping, socket, "
-     "cone, no_limits, dt_growth, max_dt, finish, raise_on_divergence"),
+     "scene, solver, tol, tol_angle, max_iterations, lambda_, jacobian, gravity, rotation_damping, "
+     "socket, cone, no_limits, armature, dt_growth, max_dt, finish, raise_on_divergence"),
     (lambda s: physik.Scene.load(s.file, overides={}), "Scene.load", "overides",
      "path, overrides, steps"),
     (lambda s: s.update(param={}), "Scene.update", "param", "params, convergence, steps"),

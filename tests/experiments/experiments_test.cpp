@@ -46,6 +46,7 @@ TEST(Experiments, EveryExpectedExperimentIsRegisteredInRunOrder) {
                                              "scaling",
                                              "beyond_the_paper",
                                              "outside_rigs",
+                                             "human_body",
                                              "contacts",
                                              "contacts_cost",
                                              "clip_following"};
