@@ -225,6 +225,15 @@ int run_kdl(const Scene& scene, const SceneSolveOptions& o, const KdlChain& kc, 
     return lma.lastNrOfIter;
   }
   const unsigned nj = kc.chain.getNrOfJoints();
+  // KDL's weighted-damped velocity solver (ChainIkSolverVel_wdls) takes blocks of its 6 x nj
+  // Jacobian's SVD that do not exist below 6 joint axes (an Eigen assertion, an abort): a goal
+  // near the root (pinhead's torso: 5 axes) is refused rather than crashed on
+  if (nj < 6) {
+    throw_input_error(scene.file, "solver", "",
+                      "--solver kdl-nr needs at least 6 joint axes from the root to the goal's "
+                      "bone (KDL's wdls velocity solver); this chain has " +
+                          std::to_string(nj) + ": use --solver kdl (Levenberg-Marquardt) or dls");
+  }
   KDL::JntArray q_min(nj), q_max(nj);
   for (unsigned j = 0; j < nj; ++j) {
     const AxisLimit& l = scene.rig.bone_limit[kc.joints[j].bone][kc.joints[j].axis];

@@ -868,6 +868,9 @@ for solver in kdl kdl-nr; do
   check "$solver refuses a ground" 2 "$bin" solve "$tmp/floor_cp.json" --solver $solver --out "$tmp/x" --quiet
   expect_in "$solver ground refusal" "$tmp/err" "floor_cp.json: ground: --solver kdl and kdl-nr solve the rig's geometry"
 done
+# a goal on the torso: a chain of 5 axes, below what KDL's wdls solver takes (it aborted)
+check "kdl-nr refuses a 5-axis chain" 2 "$bin" solve "$src/models/scenes/fig7_cannon_capped.json" --solver kdl-nr --out "$tmp/x" --quiet
+expect_in "kdl-nr 5-axis refusal" "$tmp/err" "fig7_cannon_capped.json: solver: --solver kdl-nr needs at least 6 joint axes"
 # the solve mode's step with the pose terms: an implicit-only --set is the run's on a scene of
 # another scheme, the summary counts the Gauss-Newton retakes; a solver that runs the scene's
 # scheme refuses it
