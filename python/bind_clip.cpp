@@ -7,6 +7,8 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <tuple>
+#include <utility>
 
 #include <pybind11/stl.h>
 
@@ -110,20 +112,6 @@ void bind_clip_class(py::module_& m);
 
 }  // namespace
 
-// a {param: value} dict as `--set key=value` overrides (follow_params: the defaults from the clip
-// and the rig where the dict gives neither dt nor control_k, as the command line's follow)
-ParamOverrides params_overrides(const py::object& params) {
-  std::vector<std::string> assignments;
-  if (!params.is_none()) {
-    const nlohmann::json given = to_json(params, "params");
-    for (const auto& [key, value] : given.items()) {
-      assignments.push_back(key + "=" +
-                            (value.is_string() ? value.get<std::string>() : value.dump()));
-    }
-  }
-  return parse_param_overrides(assignments, "params");
-}
-
 void bind_clip(py::module_& m) {
   bind_clip_class(m);
   m.def(
@@ -164,8 +152,7 @@ void bind_clip(py::module_& m) {
          int first, int last, std::optional<double> ground, bool gravity, py::object params) {
         FollowOptions o;
         for (const auto& [bone, alpha] : pts) o.points.push_back({bone, alpha});
-        o.first = first;
-        o.last = last;
+        std::tie(o.first, o.last) = std::make_pair(first, last);
         if (ground && !(std::isfinite(*ground) && std::abs(*ground) <= kMaxCoordinate)) {
           throw_input_error("ground", "", "", "must be a finite height within +-1e9 rig units");
         }
@@ -173,7 +160,8 @@ void bind_clip(py::module_& m) {
         o.gravity = gravity;
         o.source = "follow";
         if (first < 0) throw_input_error("frames", "", "", "frame numbers start at 0");
-        return follow_scene(rig, clip, follow_params(rig, clip, o, params_overrides(params)), o);
+        const ParamOverrides given = param_overrides(params, "params");
+        return follow_scene(rig, clip, follow_params(rig, clip, o, given), o);
       },
       py::arg("clip"), py::arg("rig"), py::arg("points"), py::arg("first"), py::arg("last"),
       py::arg("ground").none(true), py::arg("gravity"), py::arg("params").none(true),

@@ -61,5 +61,8 @@ void bind_view(py::module_& m);        // view (the page of `physik view`)
 void bind_clip(py::module_& m);        // Clip, the write-back, follow scenes
 // Rig.from_bvh, rig.source_skeleton, source_notes, root (bind_clip.cpp), called by bind_rig
 void bind_rig_source(py::class_<Rig>& cls);
+// a {param: value} dict (or a list of "key=value") as `--set` overrides, `source` naming them in
+// messages (bind_model.cpp): Scene.load's overrides, follow's params
+ParamOverrides param_overrides(const py::object& values, const std::string& source);
 
 }  // namespace physik::python

@@ -158,22 +158,30 @@ file's format (models/README.md "Scenes"); Scene.update changes them with the fi
   bind_scene_views(cls);
 }
 
-// Scene.load: exactly `physik simulate PATH --set key=value... --steps N`: the same parsing,
-// checks and messages, with the keyword, "overrides", as their source
-Scene load_scene_from_python(const std::string& path, py::object overrides, int steps) {
+}  // namespace
+
+ParamOverrides param_overrides(const py::object& values, const std::string& source) {
   std::vector<std::string> assignments;
-  if (py::isinstance<py::dict>(overrides)) {
-    for (const auto& kv : overrides.cast<py::dict>()) {
-      const nlohmann::json v = to_json(kv.second, "overrides");
+  if (py::isinstance<py::dict>(values)) {
+    for (const auto& kv : values.cast<py::dict>()) {
+      const nlohmann::json v = to_json(kv.second, source);
       // the value as --set's text: a string as it is, a number or a boolean as JSON writes it
       // (shortest text that reads back to the same double)
       assignments.push_back(py::str(kv.first).cast<std::string>() + "=" +
                             (v.is_string() ? v.get<std::string>() : v.dump()));
     }
-  } else if (!overrides.is_none()) {
-    assignments = overrides.cast<std::vector<std::string>>();
+  } else if (!values.is_none()) {
+    assignments = values.cast<std::vector<std::string>>();
   }
-  Scene s = load_scene(path, parse_param_overrides(assignments, "overrides"));
+  return parse_param_overrides(assignments, source);
+}
+
+namespace {
+
+// Scene.load: exactly `physik simulate PATH --set key=value... --steps N`: the same parsing,
+// checks and messages, with the keyword, "overrides", as their source
+Scene load_scene_from_python(const std::string& path, py::object overrides, int steps) {
+  Scene s = load_scene(path, param_overrides(overrides, "overrides"));
   // as `simulate --steps N`: negative is bad input, 0 keeps the scene's
   if (steps < 0) throw_input_error("steps", "", "", "must not be negative");
   if (steps > 0) s.steps = steps;
