@@ -670,7 +670,13 @@ for i in range(n):
 s += "}\nMOTION\nFrames: 1\nFrame Time: 0.1\n" + " ".join(["0"] * (6 + 3 * n)) + "\n"
 open(sys.argv[1], "w").write(s)
 PY
-check "bvh convert of 10,000 siblings within 400 MB" 0 bash -c "ulimit -v 400000; '$bin' bvh convert '$tmp/wide.bvh' '$tmp/wide_back.bvh'"
+# (a sanitized binary cannot run under an address-space cap: its shadow memory reserves terabytes)
+if [ "${PHYSIK_SANITIZED:-0}" = 1 ]; then
+  echo "skipped in the sanitizer build: bvh convert of 10,000 siblings within 400 MB"
+  check "bvh convert of 10,000 siblings" 0 "$bin" bvh convert "$tmp/wide.bvh" "$tmp/wide_back.bvh"
+else
+  check "bvh convert of 10,000 siblings within 400 MB" 0 bash -c "ulimit -v 400000; '$bin' bvh convert '$tmp/wide.bvh' '$tmp/wide_back.bvh'"
+fi
 # a source skeleton listed parents first but not depth first: refused, naming the field
 check "source skeleton not depth-first" 0 python3 - "$tmp/cmu.json" "$tmp/cmu_bfs.json" <<'PY'
 import json, sys
