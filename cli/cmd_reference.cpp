@@ -19,7 +19,7 @@ namespace {
 struct ExportMjcfOptions {
   std::string rig;
   std::string out;             // "" or "-" = stdout
-  std::string joints = "rig";  // rig | ball
+  std::string joints = "rig";  // rig | hinge | ball
   double dt = 0.05;            // s
   std::string contacts;        // a scene file whose gravity, ground and self-collision to write
 };
@@ -50,9 +50,11 @@ void add_reference_commands(CLI::App& app) {
           std::to_string(kMjcfBodiesPerFile) +
           " bodies also gets include files STEM.partK.xml beside it (STEM = FILE without .xml)");
   cmd->add_option("--joints", opt->joints,
-                  "rig: joint types and limits from the rig (exact-constraints mode); ball: a "
-                  "ball at every bone, no limits (same-forces mode)")
-      ->check(CLI::IsMember({"rig", "ball"}))
+                  "rig: joint types and limits from the rig (exact-constraints mode); hinge: the "
+                  "exact and implicit schemes' joints, a hinge or two where the rig locks axes, "
+                  "no limits (their same-forces mode); ball: a ball at every bone, no limits "
+                  "(the gauss-seidel scheme's same-forces mode)")
+      ->check(CLI::IsMember({"rig", "hinge", "ball"}))
       ->capture_default_str();
   cmd->add_option("--dt", opt->dt, "Time step, s")->capture_default_str();
   cmd->add_option("--contacts", opt->contacts,
@@ -63,7 +65,9 @@ void add_reference_commands(CLI::App& app) {
     check_mjcf_timestep(opt->dt, "--dt");
     const Rig rig = load_rig(opt->rig);
     MjcfOptions o;
-    o.joints = opt->joints == "ball" ? JointModel::kBallJoints : JointModel::kRigJoints;
+    o.joints = opt->joints == "ball"    ? JointModel::kBallJoints
+               : opt->joints == "hinge" ? JointModel::kHingeJoints
+                                        : JointModel::kRigJoints;
     o.dt = opt->dt;
     o.source = opt->rig;
     if (!opt->contacts.empty()) o = with_scene_contacts(*opt, rig, o);

@@ -15,10 +15,10 @@
 // update as the shipped step):
 //   a+ ~ a + A_q h (v + h a+) + A_v h a+   =>   (1 - h A_v - h^2 A_q) a+ = a + h A_q v     (L)
 // A_q = da/dq, A_v = da/dv by central differences (eps 1e-6) in MuJoCo's qvel layout: root
-// v_com world and w local, each ball's u local; a position perturbation turns a quaternion by
-// its local axis (quat_integrate), as the Euler update does. Dense, O(n^3), allocating: a
-// measuring instrument, not an engine (the core stays O(n)).
-// Variants of (L):
+// v_com world and w local, each ball's u local, each hinge's or universal's angle rates (the
+// rig's joint model, rig.h "Locked axes"); a position perturbation turns a quaternion by its
+// local axis (quat_integrate), as the Euler update does, or moves a hinge's angle. Dense, O(n^3),
+// allocating: a measuring instrument, not an engine (the core stays O(n)). Variants of (L):
 //   newton            A_q, A_v at the state: every term (velocity products, M(q), the springs'
 //                     and the torsion's full tangents, the dampers)
 //   newton_at_rest    A_q, A_v at the same pose with v = 0: the velocity products' derivatives
@@ -85,8 +85,9 @@ enum class Variant {
 bool is_recursive(Variant v);
 const char* variant_name(Variant v);
 
-// qvel (root v_com world, root w local, ball u local): 3 + 3 nbone entries
-Eigen::VectorXd joint_velocity(const SimState& state);
+// qvel (root v_com world, root w local, ball u local, a hinge's or universal's angle rates):
+// Rig::nv entries (the rig's joint model, rig.h "Locked axes")
+Eigen::VectorXd joint_velocity(const Rig& rig, const SimState& state);
 // A_q and A_v of (L) for a dense variant (every one but kShipped and kShippedDcdv), at the state
 // (h: the step; the variants built on the shipped step's K take its P^-1 at h)
 void derivatives(const Scene& scene, const SimState& state, Variant v, Eigen::MatrixXd& A_q,

@@ -11,6 +11,7 @@
 #include "physik/engine/implicit_step.h"
 #include "physik/engine/integrate_joint_space.h"
 #include "physik/engine/run_monitor.h"
+#include "physik/model/joint_coordinates.h"
 #include "physik/posing/posing_session.h"
 
 namespace physik::experiments::linearisation {
@@ -59,25 +60,86 @@ namespace {
 
 constexpr double kEps = 1e-6;  // central differences: rig units, rad, rig units/s, rad/s
 
-int nv(const SimState& s) {
-  return 3 + 3 * static_cast<int>(s.joint_space.joint_vel_local.size());
+// The study's coordinates: MuJoCo's qvel layout of the rig's joint model (rig.h "Locked axes";
+// the study's rigs have a free root): the root's centre velocity (world) and w (local), then per
+// bone from Rig::bone_dofadr its joint's coordinates: a ball's u (local), a hinge's or
+// universal's angle rates (joint_coordinates.h); a weld none. A joint's entries are the first
+// rotational_coordinates of its joint_vel_local and joint_accel_local.
+int nv(const Rig& rig) {
+  return rig.nv;
+}
+int first_dof(const Rig& rig, int bone) {
+  return rig.bone_dofadr[bone] + (bone == 0 ? 3 : 0);  // the free root's rotation after its centre
+}
+int coordinates(const Rig& rig, int bone) {
+  return rotational_coordinates(rig.bone_joint_type[bone]);
 }
 
-void set_joint_velocity(SimState& s, const VecX& v) {
+// the bone whose joint owns coordinate k >= 3, and its index there
+std::pair<int, int> dof_of(const Rig& rig, int k) {
+  for (int i = rig.nbone - 1; i >= 0; --i) {
+    const int first = first_dof(rig, i);
+    if (k >= first && k < first + coordinates(rig, i)) return {i, k - first};
+  }
+  throw std::invalid_argument("linearisation: no coordinate " + std::to_string(k));
+}
+
+// the world axis a unit rate of bone i's coordinate c turns the bone about: its local axis c (a
+// ball, the root), a hinge's or universal's s_c
+Vec3 dof_axis_world(const Rig& rig, const SimState& s, int i, int c) {
+  const JointType type = rig.bone_joint_type[i];
+  if (type == JointType::kBall || type == JointType::kFree) {
+    return s.frames.orient_world[i] * Vec3::Unit(c);
+  }
+  const int p = rig.bone_parent[i];
+  Vec3 s0, s1;
+  hinge_axes_world(rig, i, p < 0 ? Quat::Identity() : s.frames.orient_world[p],
+                   s.frames.orient_world[i], s0, s1);
+  return c == 0 ? s0 : s1;
+}
+
+// the joints' coordinates of per-bone vectors (joint_vel_local, joint_accel_local) into v after
+// its first three entries, or back
+void gather(const Rig& rig, const std::vector<Vec3>& per_bone, VecX& v) {
+  for (int i = 0; i < rig.nbone; ++i) {
+    for (int c = 0; c < coordinates(rig, i); ++c) v[first_dof(rig, i) + c] = per_bone[i][c];
+  }
+}
+void scatter(const Rig& rig, const VecX& v, std::vector<Vec3>& per_bone) {
+  for (int i = 0; i < rig.nbone; ++i) {
+    for (int c = 0; c < coordinates(rig, i); ++c) per_bone[i][c] = v[first_dof(rig, i) + c];
+  }
+}
+
+void set_joint_velocity(const Rig& rig, SimState& s, const VecX& v) {
   s.joint_space.root_vel_world = v.head<3>();
-  for (std::size_t i = 0; i < s.joint_space.joint_vel_local.size(); ++i)
-    s.joint_space.joint_vel_local[i] = v.segment<3>(3 + 3 * i);
+  scatter(rig, v, s.joint_space.joint_vel_local);
 }
 
-// q (+) e along dof k: the root's centre, or a quaternion turned about its local axis
-void perturb_position(SimState& s, int k, double e) {
+// q (+) e along dof k: the root's centre, a quaternion turned about its local axis, or a hinge's
+// angle
+void perturb_position(const Rig& rig, SimState& s, int k, double e) {
   if (k < 3) {
     s.joint_space.root_com_world[k] += e;
     return;
   }
-  const int bone = (k - 3) / 3;
+  const auto [bone, c] = dof_of(rig, k);
+  const JointType type = rig.bone_joint_type[bone];
+  if (type == JointType::kHinge || type == JointType::kUniversal) {
+    s.joint_space.hinge_angle[bone][c] += e;
+    s.pose.bone_local_rotation[bone] = hinge_rotation(rig, bone, s.joint_space.hinge_angle[bone]);
+    return;
+  }
   Quat& q = bone == 0 ? s.joint_space.root_orient_world : s.pose.bone_local_rotation[bone];
-  quat_integrate(q, e * Vec3::Unit((k - 3) % 3), 1.0);
+  quat_integrate(q, e * Vec3::Unit(c), 1.0);
+}
+
+// the accelerations of the state's last solve, in the study's coordinates
+VecX joint_accelerations(const Rig& rig, const SimState& s) {
+  VecX a(nv(rig));
+  a.head<3>() = s.joint_space.articulated.root_accel_world;
+  gather(rig, s.joint_space.articulated.joint_accel_local, a);
+  return a;
 }
 
 // a scratch copy of a state: assigning into one that has the same sizes reuses its buffers (the
@@ -94,23 +156,19 @@ VecX exact_accelerations(const Scene& scene, const SimState& state) {
   world_from_joint_space(scene.rig, s);
   apply_forces(scene, s);
   solve_articulated(scene.rig, scene.params, s);
-  VecX a(nv(s));
-  a.head<3>() = s.joint_space.articulated.root_accel_world;
-  for (int i = 0; i < scene.rig.nbone; ++i)
-    a.segment<3>(3 + 3 * i) = s.joint_space.articulated.joint_accel_local[i];
-  return a;
+  return joint_accelerations(scene.rig, s);
 }
 
 // a unit generalised force on dof k (qvel layout) added to the state's wrench: a force at the
-// root's centre, a torque about the root's local axis, or a torque pair about a ball's local axis
-// (+ on the bone, - on its parent: its virtual power is the ball's rate u_k)
+// root's centre, a torque about the root's local axis, or a torque pair about a joint's axis
+// (+ on the bone, - on its parent: its virtual power is the joint's rate)
 void add_unit_force(const Rig& rig, SimState& s, int k) {
   if (k < 3) {
     s.force_world[0][k] += 1.0;
     return;
   }
-  const int bone = (k - 3) / 3;
-  const Vec3 t = s.frames.orient_world[bone] * Vec3::Unit((k - 3) % 3);
+  const auto [bone, c] = dof_of(rig, k);
+  const Vec3 t = dof_axis_world(rig, s, bone, c);
   s.torque_world[bone] += t;
   if (bone > 0) s.torque_world[rig.bone_parent[bone]] -= t;
 }
@@ -128,25 +186,21 @@ VecX solve_with_force(const Scene& scene, const SimState& state, int k, bool imp
   } else {
     solve_articulated(scene.rig, scene.params, s);
   }
-  VecX a(nv(s));
-  a.head<3>() = s.joint_space.articulated.root_accel_world;
-  for (int i = 0; i < scene.rig.nbone; ++i)
-    a.segment<3>(3 + 3 * i) = s.joint_space.articulated.joint_accel_local[i];
-  return a;
+  return joint_accelerations(scene.rig, s);
 }
 
 // A_v = da/dv at the state, by central differences
 MatX rate_derivative(const Scene& scene, const SimState& base) {
-  const int n = nv(base);
-  const VecX v0 = joint_velocity(base);
+  const int n = nv(scene.rig);
+  const VecX v0 = joint_velocity(scene.rig, base);
   MatX A_v(n, n);
   SimState plus = base, minus = base;
   for (int k = 0; k < n; ++k) {
     VecX vp = v0, vm = v0;
     vp[k] += kEps;
     vm[k] -= kEps;
-    set_joint_velocity(plus, vp);
-    set_joint_velocity(minus, vm);
+    set_joint_velocity(scene.rig, plus, vp);
+    set_joint_velocity(scene.rig, minus, vm);
     A_v.col(k) =
         (exact_accelerations(scene, plus) - exact_accelerations(scene, minus)) / (2.0 * kEps);
   }
@@ -157,9 +211,9 @@ MatX rate_derivative(const Scene& scene, const SimState& base) {
 VecX shipped_with_dcdv(const Scene& given, const SimState& s, double h) {
   Scene scene = given;  // the shipped (Gauss-Newton) step, whatever the scene's linearisation
   scene.params.implicit_linearisation = ImplicitLinearisation::kGaussNewton;
-  const int n = nv(s);
+  const int n = nv(scene.rig);
   SimState at_rest = s;
-  set_joint_velocity(at_rest, VecX::Zero(n));
+  set_joint_velocity(scene.rig, at_rest, VecX::Zero(n));
   const MatX Minv_Cv = rate_derivative(scene, at_rest) - rate_derivative(scene, s);
   const MatX M = unit_force_response(scene, s, false, h).inverse();
   const MatX S = MatX::Identity(n, n) + h * unit_force_response(scene, s, true, h) * M * Minv_Cv;
@@ -170,18 +224,17 @@ VecX shipped_with_dcdv(const Scene& given, const SimState& s, double h) {
 
 MatX unit_force_response(const Scene& scene, const SimState& s, bool implicit, double h,
                          const PoseTermSelection& terms) {
-  const int n = nv(s);
+  const int n = nv(scene.rig);
   const VecX base = solve_with_force(scene, s, -1, implicit, h, terms);
   MatX out(n, n);
   for (int k = 0; k < n; ++k) out.col(k) = solve_with_force(scene, s, k, implicit, h, terms) - base;
   return out;
 }
 
-VecX joint_velocity(const SimState& s) {
-  VecX v(nv(s));
+VecX joint_velocity(const Rig& rig, const SimState& s) {
+  VecX v(nv(rig));
   v.head<3>() = s.joint_space.root_vel_world;
-  for (std::size_t i = 0; i < s.joint_space.joint_vel_local.size(); ++i)
-    v.segment<3>(3 + 3 * i) = s.joint_space.joint_vel_local[i];
+  gather(rig, s.joint_space.joint_vel_local, v);
   return v;
 }
 
@@ -197,7 +250,7 @@ VecX applied_generalised_force(const Scene& scene, const SimState& state) {
   const int n = rig.nbone;
   // each bone's subtree wrench about its point o_i (head; the root's centre), leaves to root
   // (parents come first); a ball's (or the root's) rate u_k turns that subtree about o_i, about
-  // the world axis R_i e_k, so its generalised force is R_i e_k . moment_i
+  // the world axis R_i e_k (a hinge's about s_k), so its generalised force is that axis . moment_i
   std::vector<Vec3> force(n), moment(n);
   const auto point = [&](int i) { return i == 0 ? s.com_world[0] : s.frames.head_world[i]; };
   for (int i = 0; i < n; ++i) {
@@ -209,11 +262,11 @@ VecX applied_generalised_force(const Scene& scene, const SimState& state) {
     force[p] += force[i];
     moment[p] += moment[i] + (point(i) - point(p)).cross(force[i]);
   }
-  VecX Q(nv(s));
+  VecX Q(nv(rig));
   Q.head<3>() = force[0];
   for (int i = 0; i < n; ++i) {
-    for (int k = 0; k < 3; ++k)
-      Q[3 + 3 * i + k] = (s.frames.orient_world[i] * Vec3::Unit(k)).dot(moment[i]);
+    for (int c = 0; c < coordinates(rig, i); ++c)
+      Q[first_dof(rig, i) + c] = dof_axis_world(rig, s, i, c).dot(moment[i]);
   }
   return Q;
 }
@@ -222,15 +275,15 @@ namespace {
 
 // d/dq of `f` at the state, by central differences on the joint manifold
 template <typename F>
-MatX pose_derivative(const SimState& base, F f) {
-  const int n = nv(base);
+MatX pose_derivative(const Rig& rig, const SimState& base, F f) {
+  const int n = nv(rig);
   MatX out(n, n);
   SimState plus = base, minus = base;
   for (int k = 0; k < n; ++k) {
     plus = base;
     minus = base;
-    perturb_position(plus, k, kEps);
-    perturb_position(minus, k, -kEps);
+    perturb_position(rig, plus, k, kEps);
+    perturb_position(rig, minus, k, -kEps);
     out.col(k) = (f(plus) - f(minus)) / (2.0 * kEps);
   }
   return out;
@@ -243,12 +296,12 @@ void derivatives(const Scene& scene, const SimState& state, Variant variant, Mat
   if (is_recursive(variant) || variant == Variant::kShippedDcdv) {
     throw std::invalid_argument("derivatives: only the dense variants have dense derivatives");
   }
-  const int n = nv(state);
+  const int n = nv(scene.rig);
   SimState at_rest = state;
-  set_joint_velocity(at_rest, VecX::Zero(n));
+  set_joint_velocity(scene.rig, at_rest, VecX::Zero(n));
   const auto accel = [&](const SimState& x) { return exact_accelerations(scene, x); };
   if (variant == Variant::kNewton || variant == Variant::kNewtonNoGyro) {
-    A_q = pose_derivative(state, accel);
+    A_q = pose_derivative(scene.rig, state, accel);
     if (variant == Variant::kNewton) {
       A_v = rate_derivative(scene, state);
     } else {
@@ -260,12 +313,12 @@ void derivatives(const Scene& scene, const SimState& state, Variant variant, Mat
   }
   A_v = rate_derivative(scene, at_rest);
   if (variant == Variant::kNewtonAtRest) {
-    A_q = pose_derivative(at_rest, accel);
+    A_q = pose_derivative(scene.rig, at_rest, accel);
     return;
   }
   const MatX M_inv = unit_force_response(scene, at_rest, false, h);
   const auto force = [&](const SimState& x) { return applied_generalised_force(scene, x); };
-  const MatX pose_forces = M_inv * pose_derivative(at_rest, force);  // M^-1 dtau/dq
+  const MatX pose_forces = M_inv * pose_derivative(scene.rig, at_rest, force);  // M^-1 dtau/dq
   if (variant == Variant::kPoseForces) {
     A_q = pose_forces;
     return;
@@ -276,7 +329,8 @@ void derivatives(const Scene& scene, const SimState& state, Variant variant, Mat
   gauss_newton.params.implicit_linearisation = ImplicitLinearisation::kGaussNewton;
   const MatX P = unit_force_response(gauss_newton, at_rest, true, h).inverse();
   A_q = -(M_inv * P - MatX::Identity(n, n) + h * A_v) / (h * h);
-  if (variant == Variant::kPoseInertia) A_q += pose_derivative(at_rest, accel) - pose_forces;
+  if (variant == Variant::kPoseInertia)
+    A_q += pose_derivative(scene.rig, at_rest, accel) - pose_forces;
 }
 
 namespace {
@@ -336,14 +390,13 @@ void variant_step(const Scene& scene, SimState& s, double h, const void* context
   } else {
     MatX A_q, A_v;
     derivatives(scene, s, c.variant, A_q, A_v, h);
-    const int n = nv(s);
-    const VecX a = exact_accelerations(scene, s), v = joint_velocity(s);
+    const int n = nv(scene.rig);
+    const VecX a = exact_accelerations(scene, s), v = joint_velocity(scene.rig, s);
     const MatX S = MatX::Identity(n, n) - h * A_v - h * h * A_q;
     next = S.partialPivLu().solve(a + h * (A_q * v));  // (L)
   }
   s.joint_space.articulated.root_accel_world = next.head<3>();
-  for (int i = 0; i < scene.rig.nbone; ++i)
-    s.joint_space.articulated.joint_accel_local[i] = next.segment<3>(3 + 3 * i);
+  scatter(scene.rig, next, s.joint_space.articulated.joint_accel_local);
   integrate_joint_space(scene.rig, h, s);
 }
 

@@ -75,16 +75,6 @@ std::string num(double x) {
   return s.str();
 }
 
-// the fixed rotation of a bone's locked axes (identity when none is locked away from zero)
-Quat locked_rotation(const std::array<AxisLimit, 3>& limit) {
-  Vec3 v = Vec3::Zero();
-  for (int k = 0; k < 3; ++k) {
-    if (limit[k].locked()) v[k] = limit[k].min;
-  }
-  const double angle = v.norm();
-  return angle > 0.0 ? Quat(Eigen::AngleAxisd(angle, v / angle)) : Quat::Identity();
-}
-
 void write_hinge(std::ostringstream& x, const std::string& bone, int axis, const AxisLimit& l,
                  double half_length, const std::string& pad) {
   x << pad << "<joint name=\"" << xml_attr(bone) << ":" << kAxisName[axis]
@@ -98,29 +88,52 @@ void write_hinge(std::ostringstream& x, const std::string& bone, int axis, const
   x << "/>\n";
 }
 
+// a joint is written as one ball (no limit) in `model`
+bool written_as_ball(const Rig& rig, int i, JointModel model) {
+  const auto& limit = rig.bone_limit[i];
+  const bool any_limited = limit[0].limited || limit[1].limited || limit[2].limited;
+  switch (model) {
+    case JointModel::kBallJoints:
+      return rig.joint_type(i, LockedAxes::kSprings) == JointType::kBall;
+    case JointModel::kHingeJoints:
+      return rig.bone_joint_type[i] == JointType::kBall;
+    case JointModel::kRigJoints:
+      return rig.bone_joint_type[i] == JointType::kBall && !any_limited;
+  }
+  return false;
+}
+
+// a bone's joint type in `model`: the balls of kBallJoints, else the rig's (rig.h)
+JointType model_type(const Rig& rig, int i, JointModel model) {
+  return rig.joint_type(
+      i, model == JointModel::kBallJoints ? LockedAxes::kSprings : LockedAxes::kRemoved);
+}
+
 void write_joints(std::ostringstream& x, const Rig& rig, int i, const std::string& name,
                   JointModel model, const std::string& pad) {
   const double half = 0.5 * rig.bone_length[i];
-  switch (rig.bone_joint_type[i]) {
+  switch (model_type(rig, i, model)) {
     case JointType::kFree:
       x << pad << "<joint name=\"" << xml_attr(name) << ":free\" type=\"free\"/>\n";
       return;
-    case JointType::kWeld:  // welded into its group's body, or a fixed root: no joint
+    case JointType::kWeld:  // welded into its group's body, locked, or a fixed root: no joint
       return;
     case JointType::kBall:  // below: a ball at the head (a pinned root's, to the world)
+    case JointType::kHinge:
+    case JointType::kUniversal:
       break;
   }
-  const auto& limit = rig.bone_limit[i];
-  const int dof = rig.bone_dof(i);
-  const bool any_limited = limit[0].limited || limit[1].limited || limit[2].limited;
-  if (model == JointModel::kBallJoints || (dof == 3 && !any_limited)) {
+  if (written_as_ball(rig, i, model)) {
     x << pad << "<joint name=\"" << xml_attr(name) << ":ball\" type=\"ball\" pos=\"0 " << num(-half)
       << " 0\" limited=\"false\"/>\n";
     return;
   }
-  // 1, 2 or limited 3 DOF: one hinge per axis that is not locked; 0 DOF: welded
+  // one hinge per axis that is not locked, in x, y, z order: limited by the rig's limits in
+  // exact-constraints mode, free in kHingeJoints (the torsion springs are forces there)
+  const auto& limit = rig.bone_limit[i];
   for (int k = 0; k < 3; ++k) {
-    if (!limit[k].locked()) write_hinge(x, name, k, limit[k], half, pad);
+    if (limit[k].locked()) continue;
+    write_hinge(x, name, k, model == JointModel::kRigJoints ? limit[k] : AxisLimit{}, half, pad);
   }
 }
 
@@ -250,8 +263,7 @@ void write_body(std::ostringstream& x, const MjcfWriter& w, int i, int depth, in
   Quat q;
   if (i == rig.root()) {
     // world frame: the rest centre of mass and orientation (the free joint's qpos0)
-    q = rig.bone_rest_orient_world[i];
-    if (rig.bone_joint_type[i] == JointType::kBall) q = q * mjcf_joint_offset(rig, i, o.joints);
+    q = rig.bone_rest_orient_world[i] * mjcf_joint_offset(rig, i, o.joints);
     pos = 0.5 * (rig.bone_rest_head_world[i] + rig.bone_rest_tail_world[i]);
   } else {
     // in its parent bone's frame, then in the frame of the body that bone belongs to
@@ -344,14 +356,11 @@ void write_exclusions(std::ostringstream& x, const Rig& rig, const ContactModel&
 int velocity_count(const Rig& rig, JointModel model) {
   int nv = 0;
   for (int i = 0; i < rig.nbone; ++i) {
-    const auto& limit = rig.bone_limit[i];
-    const bool any_limited = limit[0].limited || limit[1].limited || limit[2].limited;
-    if (i == rig.root()) {
+    const JointType type = model_type(rig, i, model);
+    if (type == JointType::kFree) {
       nv += 6;
-    } else if (model == JointModel::kBallJoints || (rig.bone_dof(i) == 3 && !any_limited)) {
-      nv += 3;
-    } else {
-      nv += rig.bone_dof(i);
+    } else if (type != JointType::kWeld) {
+      nv += written_as_ball(rig, i, model) ? 3 : rig.bone_dof(i);
     }
   }
   return nv;
@@ -461,10 +470,12 @@ MjcfSize mjcf_size(const Rig& rig, const MjcfOptions& o) {
   long rows = 4 * contacts;
   if (o.joints == JointModel::kRigJoints) {  // a limited hinge's row (write_joints)
     for (int i = 0; i < rig.nbone; ++i) {
-      const auto& limit = rig.bone_limit[i];
-      const bool any_limited = limit[0].limited || limit[1].limited || limit[2].limited;
-      if (i == rig.root() || (rig.bone_dof(i) == 3 && !any_limited)) continue;
-      for (const AxisLimit& l : limit) rows += l.limited && !l.locked() ? 1 : 0;
+      const JointType type = rig.bone_joint_type[i];
+      if (type == JointType::kFree || type == JointType::kWeld ||
+          written_as_ball(rig, i, o.joints)) {
+        continue;
+      }
+      for (const AxisLimit& l : rig.bone_limit[i]) rows += l.limited && !l.locked() ? 1 : 0;
     }
   }
   // njmax x njmax (efc_AR, doubles and ints) and two njmax x nv Jacobians (doubles and ints),
@@ -485,10 +496,9 @@ std::vector<std::string> mjcf_bone_names(const Rig& rig) {
 }
 
 Quat mjcf_joint_offset(const Rig& rig, int bone, JointModel joints) {
-  if (rig.bone_joint_type[bone] != JointType::kBall || joints == JointModel::kBallJoints) {
-    return Quat::Identity();
-  }
-  return locked_rotation(rig.bone_limit[bone]);
+  if (joints == JointModel::kBallJoints || rig.welded(bone)) return Quat::Identity();
+  if (bone == 0 && rig.root_joint != RootJoint::kPinned) return Quat::Identity();
+  return rig.bone_joint_lock[bone];
 }
 
 MjcfBodyOffset mjcf_body_offset(const Rig& rig, int bone) {

@@ -32,8 +32,16 @@
 //                              about t1 t2 / 2 rad (second order), which max_limit_violation sees.
 //     1 DOF                    one hinge about the free axis, range = the limit (rad)
 //     0 DOF                    no joint: welded at its locked angles
-//   kBallJoints (same-forces mode): a ball at every non-root bone and no limits, i.e. exactly the
-//     freedom of PhysIK's bones, whose limits are torsion springs applied as forces.
+//   kHingeJoints (same-forces mode of the exact and implicit schemes): the joints of the rig's
+//     joint model (rig.h "Locked axes"), no limits: a ball where no axis is locked, one hinge
+//     (two locked axes), two hinges in x, y, z order (one locked axis: MuJoCo has no universal
+//     joint, and its hinges in one body turn in sequence, the second's axis with the first, the
+//     engine's universal joint), no joint (three locked), the body turned by the lock rotation L
+//     as above; exactly the engine's coordinates, whose limits on free axes are torsion springs
+//     applied as forces.
+//   kBallJoints (same-forces mode of the gauss-seidel scheme): a ball at every non-root bone that
+//     is not welded and no limits, i.e. exactly the freedom of the paper's bones, whose limits,
+//     locked axes included, are torsion springs applied as forces.
 // Physics: the Euler integrator, timestep = the scene's dt. Geoms are the bones' collision
 // capsules (rig.h bone_collision_radius, by default 0.06 x the length) and carry no mass
 // (inertiafromgeom="false"). By default (MjcfOptions without contacts) no gravity, contacts
@@ -64,7 +72,7 @@
 
 namespace physik {
 
-enum class JointModel { kRigJoints, kBallJoints };
+enum class JointModel { kRigJoints, kHingeJoints, kBallJoints };
 
 struct MjcfOptions {
   JointModel joints = JointModel::kRigJoints;
@@ -137,8 +145,9 @@ void check_mjcf_timestep(double dt, const std::string& option);
 std::vector<MjcfFile> rig_to_mjcf_files(const Rig& rig, const MjcfOptions& options,
                                         const std::string& main_name = "physik_rig.xml");
 
-// The fixed rotation between bone i's rest frame and its body frame at zero joint angles:
-// exp(locked angles) for rig joints, identity for a free or fixed root, welds and ball joints.
+// The fixed rotation between bone i's rest frame and its body frame at zero joint angles: the
+// lock rotation L (Rig::bone_joint_lock) for rig and hinge joints, identity for a free or fixed
+// root, welds, ball joints and every bone of kBallJoints.
 Quat mjcf_joint_offset(const Rig& rig, int bone, JointModel joints);
 
 // The name of each bone's body and geom in the MJCF: the bone's, but "world" (MuJoCo's world

@@ -9,6 +9,7 @@
 #include "physik/engine/interpolation.h"
 #include "physik/engine/newton_euler.h"
 #include "physik/engine/run_monitor.h"
+#include "physik/model/joint_coordinates.h"
 #include "physik/model/message_number.h"
 
 namespace physik {
@@ -54,6 +55,47 @@ void set_mujoco_state(const Rig& rig, const SimState& s, const mjModel* m, mjDat
   set_mujoco_state(rig, s, m, d, MjcfBodyMap(rig, m));
 }
 
+namespace {
+
+// the angles and rates of a body's hinges (joints j0 .. j0 + count - 1, each about a local axis,
+// in order) from bone i's local rotation q and relative angular velocity w_rel (world): the
+// angles of L^-1 q in the hinges' order (joint_coordinates.h), the rates the solution of
+// S^T S t' = S^T w_rel on the hinges' world axes s_k = R_p R_rest L R_1 .. R_{k-1} a_k
+void set_hinges(const Rig& rig, const SimState& s, int i, const mjModel* m, mjData* d, int j0,
+                int count) {
+  int axis[3] = {0, 0, 0};
+  for (int k = 0; k < count; ++k) {
+    const Vec3 a = vec_at(m->jnt_axis + 3 * (j0 + k));
+    a.cwiseAbs().maxCoeff(&axis[k]);
+  }
+  const Quat L = mjcf_joint_offset(rig, i, JointModel::kRigJoints);
+  const Quat q = (L.conjugate() * s.pose.bone_local_rotation[i]).normalized();
+  Vec3 t = Vec3::Zero();
+  if (count == 1) {
+    const Quat h = q.w() < 0.0 ? Quat(-q.w(), -q.x(), -q.y(), -q.z()) : q;
+    t[0] = 2.0 * std::atan2(h.vec()[axis[0]], h.w());
+  } else {
+    const int third = count == 3 ? axis[2] : 3 - axis[0] - axis[1];
+    t = intrinsic_euler(q.toRotationMatrix(), axis[0], axis[1], third);
+  }
+  const int p = rig.bone_parent[i];
+  const Quat parent = p < 0 ? Quat::Identity() : s.frames.orient_world[p];
+  Quat frame = parent * rig.bone_rest_orient_parent[i] * L;
+  Eigen::Matrix<double, 3, Eigen::Dynamic> S(3, count);
+  for (int k = 0; k < count; ++k) {
+    S.col(k) = frame * Vec3::Unit(axis[k]);
+    frame = frame * Quat(Eigen::AngleAxisd(t[k], Vec3::Unit(axis[k])));
+  }
+  const Vec3 w_rel = s.omega_world[i] - (p < 0 ? Vec3::Zero() : s.omega_world[p]);
+  const Eigen::VectorXd rate = (S.transpose() * S).ldlt().solve(S.transpose() * w_rel);
+  for (int k = 0; k < count; ++k) {
+    d->qpos[m->jnt_qposadr[j0 + k]] = t[k];
+    d->qvel[m->jnt_dofadr[j0 + k]] = rate[k];
+  }
+}
+
+}  // namespace
+
 void set_mujoco_state(const Rig& rig, const SimState& s, const mjModel* m, mjData* d,
                       const MjcfBodyMap& bodies) {
   mj_resetData(m, d);
@@ -65,7 +107,12 @@ void set_mujoco_state(const Rig& rig, const SimState& s, const mjModel* m, mjDat
     // angular velocity relative to the parent, in the bone's own frame
     const Vec3 w_rel_local =
         R.conjugate() * (s.omega_world[i] - (p < 0 ? Vec3::Zero() : s.omega_world[p]));
-    for (int j = m->body_jntadr[b]; j < m->body_jntadr[b] + m->body_jntnum[b]; ++j) {
+    const int j0 = m->body_jntadr[b], jn = j0 + m->body_jntnum[b];
+    if (jn > j0 && m->jnt_type[j0] == mjJNT_HINGE) {
+      set_hinges(rig, s, i, m, d, j0, jn - j0);
+      continue;
+    }
+    for (int j = j0; j < jn; ++j) {
       mjtNum* qpos = d->qpos + m->jnt_qposadr[j];
       mjtNum* qvel = d->qvel + m->jnt_dofadr[j];
       if (m->jnt_type[j] == mjJNT_FREE) {
@@ -73,18 +120,10 @@ void set_mujoco_state(const Rig& rig, const SimState& s, const mjModel* m, mjDat
         qpos[3] = R.w(), qpos[4] = R.x(), qpos[5] = R.y(), qpos[6] = R.z();
         put(qvel, s.vel_world[i]);
         put(qvel + 3, R.conjugate() * s.omega_world[i]);
-        continue;
-      }
-      const Quat offset = mjcf_joint_offset(
-          rig, i, m->jnt_type[j] == mjJNT_BALL ? JointModel::kBallJoints : JointModel::kRigJoints);
-      const Quat q = (offset.conjugate() * s.pose.bone_local_rotation[i]).normalized();
-      if (m->jnt_type[j] == mjJNT_BALL) {
+      } else if (m->jnt_type[j] == mjJNT_BALL) {
+        const Quat q = s.pose.bone_local_rotation[i].normalized();  // a ball has no lock
         qpos[0] = q.w(), qpos[1] = q.x(), qpos[2] = q.y(), qpos[3] = q.z();
         put(qvel, w_rel_local);
-      } else if (m->jnt_type[j] == mjJNT_HINGE) {
-        const Vec3 axis = vec_at(m->jnt_axis + 3 * j);
-        qpos[0] = rotation_vector(q).dot(axis);
-        qvel[0] = w_rel_local.dot(axis);
       }
     }
   }
@@ -129,7 +168,7 @@ void read_mujoco_state(const Rig& rig, const mjModel* m, const mjData* d, SimSta
 MujocoReference::MujocoReference(const Scene& scene, ReferenceMode mode)
     : scene_(scene), mode_(mode), residuals_(scene.control_points.size()) {
   MjcfOptions o;
-  o.joints = joint_model(mode);
+  o.joints = joint_model(mode, scene.params);
   o.dt = scene.params.dt;
   o.source = scene.rig_file;
   m_ = rig_to_mjmodel(scene.rig, mjcf_contacts(scene, o));  // MuJoCo's own gravity and contacts

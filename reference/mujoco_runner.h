@@ -24,8 +24,11 @@
 //      torque about it, world axes (a welded group's bones' summed at the body's centre of mass,
 //      xipos); then mj_step2 (constraint solve, Euler integration) and mj_step1 for the new state.
 // Modes:
-//   same-forces:        ball joints everywhere, no limits, torsion springs applied as torques;
-//                       only PhysIK's joint-force heuristic differs from MuJoCo's exact dynamics.
+//   same-forces:        the scheme's joints (balls everywhere for gauss-seidel; hinges where the
+//                       rig locks axes for exact and implicit: mjcf_export.h kHingeJoints), no
+//                       limits, torsion springs applied as torques; for gauss-seidel only
+//                       PhysIK's joint-force heuristic differs from MuJoCo's exact dynamics, for
+//                       exact nothing does.
 //   exact-constraints:  the rig's joint types and limits (mjcf_export.h), no torsion springs.
 // MuJoCo's limits are soft (solref 0.02 s raised to 2 dt by its refsafe rule, solimp 0.9 0.95
 // 0.001): at rest under a load that would accelerate the joint by a0 (rad/s^2) without the limit,
@@ -46,9 +49,13 @@ namespace physik {
 enum class ReferenceMode { kSameForces, kExactConstraints };
 const char* to_string(ReferenceMode mode);
 
-// The joint model each mode uses.
-inline JointModel joint_model(ReferenceMode mode) {
-  return mode == ReferenceMode::kSameForces ? JointModel::kBallJoints : JointModel::kRigJoints;
+// The joint model each mode uses: same forces, the scheme's own (its locked axes removed in the
+// exact and implicit schemes, springs in the gauss-seidel scheme: rig.h "Locked axes"); exact
+// constraints, the rig's joints and limits.
+inline JointModel joint_model(ReferenceMode mode, const EngineParams& params) {
+  if (mode == ReferenceMode::kExactConstraints) return JointModel::kRigJoints;
+  return params.locked_axes() == LockedAxes::kRemoved ? JointModel::kHingeJoints
+                                                      : JointModel::kBallJoints;
 }
 
 // Where each bone lives in a model built by rig_to_mjcf: its body's id (the body named after the
@@ -62,10 +69,11 @@ struct MjcfBodyMap {
 };
 
 // Set qpos/qvel of a model built by rig_to_mjcf from a PhysIK state (positions, velocities and
-// local rotations in state.pose). Ball joints take the local rotation exactly; hinges take the
-// component of its rotation vector along their axis (exact for one hinge, first order for
-// two or three); welded bones keep their locked angles. Non-root joint velocities are set from the
-// relative angular velocity R_i^T (w_i - w_parent) the same way.
+// local rotations in state.pose). Ball joints take the local rotation exactly; a body's hinges
+// take the angles of L^-1 q in their order (joint_coordinates.h: a hinge's twist, two hinges'
+// first two intrinsic Euler angles, three hinges' three: exact on the joints' set, a projection
+// off it), their rates the relative angular velocity w_i - w_parent on their world axes
+// (solved: three hinges' axes are not orthogonal); welded bones keep their locked angles.
 void set_mujoco_state(const Rig& rig, const SimState& state, const mjModel* m, mjData* d);
 void set_mujoco_state(const Rig& rig, const SimState& state, const mjModel* m, mjData* d,
                       const MjcfBodyMap& bodies);

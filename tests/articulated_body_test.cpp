@@ -65,6 +65,88 @@ TEST(ArticulatedBody, AccelerationsEqualADenseSolveOnRandomTrees) {
   RecordProperty("worst_relative_error", std::to_string(worst));
 }
 
+// rig.h "Locked axes": hinges, universal joints (two hinges in sequence) and welds by locks, with
+// locks at zero and away from it, in the recursion (the P of articulated_body.h) and in the dense
+// reference (their axes' columns, the universal's first axis turning with the parent)
+TEST(ArticulatedBody, HingesAndUniversalJointsEqualADenseSolveOnRandomTrees) {
+  std::mt19937 rng(23);
+  double worst = 0.0;
+  int hinges = 0, universals = 0, welds = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const int n = 2 + trial % 12;
+    RandomTree t = random_tree(rng, n, true, true);
+    for (int i = 1; i < n; ++i) {
+      hinges += t.rig.bone_joint_type[i] == JointType::kHinge;
+      universals += t.rig.bone_joint_type[i] == JointType::kUniversal;
+      welds += t.rig.bone_joint_type[i] == JointType::kWeld;
+    }
+    t.s.joint_space.articulated.torque_per_omega = trial % 3 == 0 ? -5.0 : 0.0;
+    articulated_accelerations(t.rig, body_motion(t.s), t.s.joint_space.articulated);
+    const MatX M = mass_matrix(t.rig, t.s);
+    const VecX expected = M.ldlt().solve(generalised_force(t.rig, t.s));
+    const VecX got = aba_qacc(t.rig, t.s.joint_space.articulated);
+    const double err =
+        (got - expected).cwiseAbs().maxCoeff() / std::max(1.0, expected.cwiseAbs().maxCoeff());
+    worst = std::max(worst, err);
+    EXPECT_LT(err, 1e-10) << "bones " << n << " trial " << trial;
+  }
+  EXPECT_GT(hinges, 50);
+  EXPECT_GT(universals, 50);
+  EXPECT_GT(welds, 50);
+  RecordProperty("worst_relative_error", std::to_string(worst));
+}
+
+TEST(ArticulatedBody, HingedWorldViewEqualsForwardKinematicsAndJacobianVelocities) {
+  std::mt19937 rng(29);
+  for (int trial = 0; trial < 20; ++trial) {
+    RandomTree t = random_tree(rng, 2 + trial % 9, true, true);
+    const Rig& rig = t.rig;
+    const SimState& s = t.s;
+    Pose pose = s.pose;
+    pose.root_head_world = s.frames.head_world[0];
+    const BoneFrames fk = forward_kinematics(rig, pose);
+    const VecX qd = qvel(rig, s);
+    MatX Jw, Jv;
+    for (int i = 0; i < rig.nbone; ++i) {
+      EXPECT_TRUE(test::near(s.frames.tail_world[i], fk.tail_world[i], 1e-12));
+      EXPECT_LT(test::angle_between(s.frames.orient_world[i], fk.orient_world[i]), 1e-12);
+      jacobians(rig, s, i, Jw, Jv);
+      EXPECT_TRUE(test::near(s.omega_world[i], Jw * qd, 1e-12));
+      EXPECT_TRUE(test::near(s.vel_world[i], Jv * qd, 1e-12));
+    }
+  }
+}
+
+// a joint block K (world, on the relative rate) adds S^T K S to a hinge's own coordinates
+TEST(ArticulatedBody, JointBlocksOnHingesAddTheirProjection) {
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    RandomTree t = random_tree(rng, 3 + trial % 8, false, true);
+    const Rig& rig = t.rig;
+    ArticulatedBodyData& d = t.s.joint_space.articulated;
+    articulated_velocity_pass(rig, body_motion(t.s), d);
+    MatX M = mass_matrix(rig, t.s);
+    for (int b = 1; b < rig.nbone; ++b) {
+      Mat3 B = Mat3::Random();
+      Mat3 K = B * B.transpose() + 0.1 * Mat3::Identity();
+      if (trial % 2) K += skew(Vec3(u(rng), u(rng), u(rng)));
+      d.joint_block[b] = K;
+      d.joint_blocks = true;
+      const int k = coordinates(rig, b);
+      const MatX S = joint_axes(rig, t.s, b).leftCols(k);
+      M.block(dof(rig, b), dof(rig, b), k, k) += S.transpose() * K * S;
+    }
+    articulated_backward_pass(rig, d);
+    articulated_forward_pass(rig, body_motion(t.s), d);
+    const VecX expected = M.partialPivLu().solve(generalised_force(rig, t.s));
+    const VecX got = aba_qacc(rig, d);
+    EXPECT_LT((got - expected).cwiseAbs().maxCoeff(),
+              1e-10 * std::max(1.0, expected.cwiseAbs().maxCoeff()))
+        << "trial " << trial;
+  }
+}
+
 TEST(ArticulatedBody, BallPassKeepsTheInertiasExactlySymmetric) {
   // without joint blocks the pass builds A, C, D^-1 (and the rigid R diag(I) R^T) as symmetric
   // matrices, upper triangle mirrored: every articulated inertia's A and C, every pivot's
@@ -152,7 +234,7 @@ TEST(ArticulatedBody, ExtraBodyInertiaAndJointBlocksAddToTheMassMatrix) {
       d.joint_block[b] = K;
       d.joint_blocks = true;
       const Mat3 R = t.s.frames.orient_world[b].toRotationMatrix();
-      M.block<3, 3>(dof(b), dof(b)) += R.transpose() * K * R;
+      M.block<3, 3>(dof(rig, b), dof(rig, b)) += R.transpose() * K * R;
     }
     articulated_backward_pass(rig, d);
     articulated_forward_pass(rig, body_motion(t.s), d);

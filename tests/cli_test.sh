@@ -316,7 +316,12 @@ fi
 check "export-mjcf deep to stdout" 2 "$bin" export-mjcf "$tmp/c150.json"
 expect_in "export-mjcf deep message" "$tmp/err" "give --out FILE"
 check "export-mjcf bad rig" 2 "$bin" export-mjcf "$tmp/zero.json"
-check "export-mjcf bad joints" 2 "$bin" export-mjcf "$src/models/rigs/pinhead.json" --joints hinge
+check "export-mjcf bad joints" 2 "$bin" export-mjcf "$src/models/rigs/pinhead.json" --joints hinges
+# the exact and implicit schemes' same-forces joints: pinhead's elbows and knees one hinge, its
+# torso two (a universal joint), its hips and collarbones none (welds by locks)
+check "export-mjcf hinge joints" 0 "$bin" export-mjcf "$src/models/rigs/pinhead.json" --joints hinge --out "$tmp/pinhead_hinge.xml"
+expect_in "export-mjcf hinge elbow" "$tmp/pinhead_hinge.xml" '<joint name="forearm.L:z" type="hinge"'
+expect_in "export-mjcf hinge torso" "$tmp/pinhead_hinge.xml" '<joint name="torso:z" type="hinge"'
 check "simulate bad reference" 2 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --reference bullet --out "$tmp/ref"
 check "simulate reference" 0 "$bin" simulate "$src/models/scenes/pinhead_two_hands.json" --steps 20 --quiet --reference mujoco:exact-constraints --out "$tmp/ref"
 expect_in "comparison.json" "$tmp/ref/comparison.json" '"final_pose_gap"'

@@ -1,7 +1,8 @@
 // Dense joint-space dynamics for the tests, assembled independently of the articulated-body
-// recursion: random trees, body and point Jacobians (MuJoCo's qvel layout: root v_com world,
-// root w local, ball u local), M = sum_b J_b^T diag(I_b, m_b) J_b, and tau - C from a classical
-// Newton-Euler recursion of the velocity-product accelerations.
+// recursion: random trees, body and point Jacobians (MuJoCo's qvel layout of the rig's joint
+// model, rig.h "Locked axes": root v_com world, root w local, ball u local, a hinge's or
+// universal's angle rates about their world axes, a weld none), M = sum_b J_b^T diag(I_b, m_b)
+// J_b, and tau - C from a classical Newton-Euler recursion of the velocity-product accelerations.
 // (The helpers of tests/articulated_body_test.cpp, shared with tests/implicit_step_test.cpp.)
 #pragma once
 
@@ -11,6 +12,7 @@
 
 #include "physik/engine/integrate_joint_space.h"
 #include "physik/engine/state.h"
+#include "physik/model/joint_coordinates.h"
 
 namespace physik::dense {
 
@@ -63,11 +65,28 @@ inline Rig random_limited_rig(std::mt19937& rng, int n) {
   return rig;
 }
 
+// random_rig with locked axes: bone i > 0 a ball, a hinge, a universal joint or a weld by locks
+// (i % 4), its free axes and lock values (0 or not) random
+inline Rig random_hinged_rig(std::mt19937& rng, int n) {
+  Rig rig = random_rig(rng, n);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_int_distribution<int> axis(0, 2);
+  for (int i = 1; i < n; ++i) {
+    const int locks = i % 4, first = axis(rng);
+    for (int k = 0; k < locks; ++k) {
+      const double v = (i + k) % 2 == 0 ? 0.0 : 0.6 * u(rng);
+      rig.bone_limit[i][(first + k) % 3] = AxisLimit{true, v, v};
+    }
+  }
+  refresh_joint_model(rig);
+  return rig;
+}
+
 // random joint state (poses, velocities) and forces; the world view from the joint state
-inline RandomTree random_tree(std::mt19937& rng, int n, bool moving) {
+inline RandomTree random_tree(std::mt19937& rng, int n, bool moving, bool hinged = false) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   RandomTree t;
-  t.rig = random_rig(rng, n);
+  t.rig = hinged ? random_hinged_rig(rng, n) : random_rig(rng, n);
   SimState& s = t.s;
   s.pose = rest_pose(t.rig);
   forward_kinematics(t.rig, s.pose, s.frames);
@@ -78,15 +97,24 @@ inline RandomTree random_tree(std::mt19937& rng, int n, bool moving) {
   s.torque_world.assign(n, Vec3::Zero());
   size_joint_space(t.rig, s.joint_space);
   init_joint_space(t.rig, s);
+  const double speed = moving ? 2.0 : 0.0;
   for (int i = 1; i < n; ++i) {
-    s.pose.bone_local_rotation[i] = Quat(Eigen::AngleAxisd(3.0 * u(rng), random_unit(rng)));
+    const JointType type = t.rig.bone_joint_type[i];
+    if (type == JointType::kBall) {
+      s.pose.bone_local_rotation[i] = Quat(Eigen::AngleAxisd(3.0 * u(rng), random_unit(rng)));
+    } else {
+      Vec2& angle = s.joint_space.hinge_angle[i];
+      angle = type == JointType::kWeld ? Vec2::Zero() : Vec2(3.0 * u(rng), 1.4 * u(rng));
+      if (type == JointType::kHinge) angle[1] = 0.0;
+      s.pose.bone_local_rotation[i] = hinge_rotation(t.rig, i, angle);
+    }
   }
   s.joint_space.root_com_world = 3.0 * Vec3(u(rng), u(rng), u(rng));
   s.joint_space.root_orient_world = Quat(Eigen::AngleAxisd(3.0 * u(rng), random_unit(rng)));
-  const double speed = moving ? 2.0 : 0.0;
   s.joint_space.root_vel_world = speed * Vec3(u(rng), u(rng), u(rng));
   for (int i = 0; i < n; ++i) {
-    s.joint_space.joint_vel_local[i] = speed * Vec3(u(rng), u(rng), u(rng));
+    const int k = rotational_coordinates(t.rig.bone_joint_type[i]);
+    for (int c = 0; c < 3; ++c) s.joint_space.joint_vel_local[i][c] = c < k ? speed * u(rng) : 0.0;
   }
   world_from_joint_space(t.rig, s);
   for (int i = 0; i < n; ++i) {
@@ -97,11 +125,28 @@ inline RandomTree random_tree(std::mt19937& rng, int n, bool moving) {
 }
 
 inline int nv(const Rig& rig) {
-  return 6 + 3 * (rig.nbone - 1);
+  return rig.nv;  // the random trees' roots are free: 6 + each joint's coordinates
 }
-inline int dof(int bone) {
-  return bone == 0 ? 3 : 3 + 3 * bone;
-}  // first rotational dof of a bone
+// the first rotational coordinate of a bone's joint (after the free root's translation)
+inline int dof(const Rig& rig, int bone) {
+  return rig.bone_dofadr[bone] + (bone == 0 ? 3 : 0);
+}
+inline int coordinates(const Rig& rig, int bone) {
+  return rotational_coordinates(rig.bone_joint_type[bone]);
+}
+
+// the world axes of bone j's rotational coordinates (columns): a ball's (the root's) local axes,
+// a hinge's or universal's s0, s1 (joint_coordinates.h: s0 fixed in the parent, s1 in the bone)
+inline Mat3 joint_axes(const Rig& rig, const SimState& s, int j) {
+  if (coordinates(rig, j) == 3) return s.frames.orient_world[j].toRotationMatrix();
+  const int p = rig.bone_parent[j];
+  Vec3 s0, s1;
+  hinge_axes_world(rig, j, p < 0 ? Quat::Identity() : s.frames.orient_world[p],
+                   s.frames.orient_world[j], s0, s1);
+  Mat3 out;
+  out << s0, s1, Vec3::Zero();
+  return out;
+}
 
 inline bool in_subtree(const Rig& rig, int bone, int root) {
   for (int b = bone; b >= 0; b = rig.bone_parent[b]) {
@@ -119,18 +164,27 @@ inline void jacobians(const Rig& rig, const SimState& s, int b, MatX& Jw, MatX& 
   for (int j = 0; j < rig.nbone; ++j) {
     if (!in_subtree(rig, b, j)) continue;
     const Vec3 pivot = j == 0 ? s.com_world[0] : s.frames.head_world[j];
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 axis = s.frames.orient_world[j] * Vec3::Unit(k);
-      Jw.col(dof(j) + k) = axis;
-      Jv.col(dof(j) + k) = axis.cross(s.com_world[b] - pivot);
+    const Mat3 axes = joint_axes(rig, s, j);
+    for (int k = 0; k < coordinates(rig, j); ++k) {
+      const Vec3 axis = axes.col(k);
+      Jw.col(dof(rig, j) + k) = axis;
+      Jv.col(dof(rig, j) + k) = axis.cross(s.com_world[b] - pivot);
     }
+  }
+}
+
+// per-bone joint vectors (joint_vel_local, joint_accel_local: a joint's first `coordinates`
+// entries) after the root's translation entries
+inline void gather(const Rig& rig, const std::vector<Vec3>& per_bone, VecX& q) {
+  for (int i = 0; i < rig.nbone; ++i) {
+    for (int k = 0; k < coordinates(rig, i); ++k) q[dof(rig, i) + k] = per_bone[i][k];
   }
 }
 
 inline VecX qvel(const Rig& rig, const SimState& s) {
   VecX q(nv(rig));
   q.head<3>() = s.joint_space.root_vel_world;
-  for (int i = 0; i < rig.nbone; ++i) q.segment<3>(dof(i)) = s.joint_space.joint_vel_local[i];
+  gather(rig, s.joint_space.joint_vel_local, q);
   return q;
 }
 
@@ -152,7 +206,10 @@ inline MatX mass_matrix(const Rig& rig, const SimState& s) {
 
 // tau - C: the external wrench minus the velocity products, as generalised forces. The
 // accelerations with qdd = 0 come from a classical recursion (world axes, centres of mass):
-//   alpha_i = alpha_p + w_i x w_rel,   a_head = a_p + alpha_p x d + w_p x (w_p x d),
+//   alpha_i = alpha_p + d/dt (w_i - w_p) at qdd = 0: a ball's axes turn with the bone,
+//             w_i x w_rel; a hinge's or universal's s0 with the parent, s1 with the bone:
+//             w_p x s0 t0' + w_i x s1 t1'
+//   a_head = a_p + alpha_p x d + w_p x (w_p x d),
 //   a_i = a_head + alpha_i x e + w_i x (w_i x e)        d = head_i - com_p,  e = com_i - head_i
 inline VecX generalised_force(const Rig& rig, const SimState& s) {
   const int n = rig.nbone;
@@ -160,7 +217,15 @@ inline VecX generalised_force(const Rig& rig, const SimState& s) {
   for (int i = 1; i < n; ++i) {
     const int p = rig.bone_parent[i];
     const Vec3 w_rel = s.omega_world[i] - s.omega_world[p];
-    alpha[i] = alpha[p] + s.omega_world[i].cross(w_rel);
+    const int k = coordinates(rig, i);
+    if (k == 3) {
+      alpha[i] = alpha[p] + s.omega_world[i].cross(w_rel);
+    } else {
+      const Mat3 axes = joint_axes(rig, s, i);
+      const Vec3& rate = s.joint_space.joint_vel_local[i];
+      alpha[i] = alpha[p] + s.omega_world[p].cross(Vec3(axes.col(0))) * rate[0] +
+                 s.omega_world[i].cross(Vec3(axes.col(1))) * rate[1];
+    }
     const Vec3 d = s.frames.head_world[i] - s.com_world[p];
     const Vec3 e = s.com_world[i] - s.frames.head_world[i];
     const Vec3& wp = s.omega_world[p];
@@ -187,7 +252,7 @@ inline VecX generalised_force(const Rig& rig, const SimState& s) {
 inline VecX aba_qacc(const Rig& rig, const ArticulatedBodyData& d) {
   VecX q(nv(rig));
   q.head<3>() = d.root_accel_world;
-  for (int i = 0; i < rig.nbone; ++i) q.segment<3>(dof(i)) = d.joint_accel_local[i];
+  gather(rig, d.joint_accel_local, q);
   return q;
 }
 

@@ -61,6 +61,54 @@ inline Rig welded_figure(RootJoint root = RootJoint::kFree) {
   return build_rig(bones, "welded_figure", "welded_figure", root);
 }
 
+// A human-like figure whose joints lock axes (rig.h "Locked axes"), Z up, facing -Y, .L at +X:
+// a pelvis (the root), a spine (a ball with ranges), a head, and per side an upper arm and a
+// thigh (balls), an elbow and a knee (hinges about x, y and z locked at 0), a wrist and an ankle
+// (universal joints: x then z, the twist about the bone's y locked; the left wrist's at 0.2 rad,
+// off zero), a collarbone locked on every axis at (0.1, 0, -0.15) rad and a hip at zero (welds
+// by locks). 19 bones. With `root` pinned the pelvis is a hinge to the world about its local x.
+inline Rig hinged_figure(RootJoint root = RootJoint::kFree) {
+  std::vector<BoneSpec> bones;
+  const auto add = [&](const std::string& name, const std::string& parent, const Vec3& head,
+                       const Vec3& tail) -> BoneSpec& {
+    BoneSpec b;
+    b.name = name;
+    b.parent = parent;
+    b.head_world = head;
+    b.tail_world = tail;
+    b.rest_frame_world = rest_frame_from_roll(head, tail, 0.0);
+    b.mass = 8.0 * (tail - head).norm();
+    b.radius = 0.06;
+    bones.push_back(b);
+    return bones.back();
+  };
+  const AxisLimit zero{true, 0.0, 0.0};
+  add("pelvis", "", Vec3(0, 0, 1.0), Vec3(0, 0, 1.1));
+  add("spine", "pelvis", Vec3(0, 0, 1.1), Vec3(0, 0.01, 1.5)).limit = {
+      AxisLimit{true, -0.4, 0.6}, AxisLimit{true, -0.3, 0.3}, AxisLimit{true, -0.3, 0.3}};
+  add("head", "spine", Vec3(0, 0.01, 1.5), Vec3(0, 0.0, 1.75));
+  for (const char* side : {"L", "R"}) {
+    const std::string s(side);
+    const double x = s == "L" ? 1.0 : -1.0;
+    add("collar." + s, "spine", Vec3(0, 0.01, 1.5), Vec3(0.18 * x, 0.02, 1.45)).limit = {
+        AxisLimit{true, 0.1, 0.1}, zero, AxisLimit{true, -0.15, -0.15}};
+    add("upper_arm." + s, "collar." + s, Vec3(0.18 * x, 0.02, 1.45), Vec3(0.45 * x, 0.02, 1.4));
+    add("forearm." + s, "upper_arm." + s, Vec3(0.45 * x, 0.02, 1.4), Vec3(0.7 * x, -0.03, 1.38))
+        .limit = {AxisLimit{true, -0.1, 2.4}, zero, zero};
+    add("hand." + s, "forearm." + s, Vec3(0.7 * x, -0.03, 1.38), Vec3(0.82 * x, -0.05, 1.37))
+        .limit = {AxisLimit{true, -1.0, 1.2}, s == "L" ? AxisLimit{true, 0.2, 0.2} : zero,
+                  AxisLimit{true, -0.3, 0.5}};
+    add("hip." + s, "pelvis", Vec3(0, 0, 1.1), Vec3(0.1 * x, 0, 1.0)).limit = {zero, zero, zero};
+    add("thigh." + s, "hip." + s, Vec3(0.1 * x, 0, 1.0), Vec3(0.1 * x, 0.01, 0.55));
+    add("shin." + s, "thigh." + s, Vec3(0.1 * x, 0.01, 0.55), Vec3(0.1 * x, 0.03, 0.1)).limit = {
+        AxisLimit{true, -2.4, 0.05}, zero, zero};
+    add("foot." + s, "shin." + s, Vec3(0.1 * x, 0.03, 0.1), Vec3(0.1 * x, -0.12, 0.02)).limit = {
+        AxisLimit{true, -0.6, 0.4}, zero, AxisLimit{true, -0.3, 0.3}};
+  }
+  if (root == RootJoint::kPinned) bones[0].limit = {AxisLimit{true, -1.0, 1.0}, zero, zero};
+  return build_rig(bones, "hinged_figure", "hinged_figure", root);
+}
+
 inline Scene scene_for(const Rig& rig, const EngineParams& params, int steps = 100) {
   Scene s;
   s.file = "<test>";

@@ -10,8 +10,10 @@
 #include <filesystem>
 #include <random>
 #include <string>
+#include <utility>
 
 #include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
 
 #include "physik/engine/engine.h"
 #include "physik/engine/linear_modes_dense.h"
@@ -60,17 +62,24 @@ std::vector<Vec3> scene_targets(const Scene& scene) {
   return t;
 }
 
+// every shipped scene in its own scheme and in the implicit scheme: pinhead's joints are balls with
+// locked axes as torsion springs in the paper's scheme, hinges, a universal joint and welds by
+// locks in the implicit one (rig.h "Locked axes"), and both paths count the same coordinates
 TEST(LinearModes, IterativeEqualsDenseOnEveryShippedScene) {
   int scenes = 0;
   for (const auto& entry : std::filesystem::directory_iterator(test::model_path("scenes"))) {
     if (entry.path().extension() != ".json") continue;
-    const Scene scene = load_scene(entry.path().string());
-    SimState st;
-    init_state(scene, st);
-    for (const std::vector<Vec3>& targets : {at_points(scene, st), scene_targets(scene)}) {
-      const LinearModes ref = linear_modes_dense(scene, st, targets).modes;
-      const LinearModes it = linear_modes(scene, st, targets);
-      expect_same_modes(it, ref, 1e-6, entry.path().filename().string());
+    for (const bool implicit : {false, true}) {
+      Scene scene = load_scene(entry.path().string());
+      if (implicit) scene.params.scheme = Scheme::kImplicit;
+      SimState st;
+      init_state(scene, st);
+      for (const std::vector<Vec3>& targets : {at_points(scene, st), scene_targets(scene)}) {
+        const LinearModes ref = linear_modes_dense(scene, st, targets).modes;
+        const LinearModes it = linear_modes(scene, st, targets);
+        expect_same_modes(it, ref, 1e-6,
+                          entry.path().filename().string() + (implicit ? " implicit" : ""));
+      }
     }
     ++scenes;
   }
@@ -80,16 +89,19 @@ TEST(LinearModes, IterativeEqualsDenseOnEveryShippedScene) {
 // a random tree with control springs on random bones (some capped, some far), on half the
 // trees torsion springs (random limits, engaged at the random pose, either torque), and a
 // velocity factor below 1
-Scene random_mode_scene(std::mt19937& rng, int n, SimState& st) {
+// (hinged: hinges, universal joints and welds by locks in the implicit scheme's joint model, their
+// free axes limited)
+Scene random_mode_scene(std::mt19937& rng, int n, SimState& st, bool hinged = false) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  dense::RandomTree t = dense::random_tree(rng, n, false);
+  dense::RandomTree t = dense::random_tree(rng, n, false, hinged);
   EngineParams p = test::bare_params(0.02 + 0.1 * u(rng));
+  if (hinged) p.scheme = Scheme::kImplicit;
   p.angular_velocity_factor = 0.5 + 0.5 * u(rng);
   p.torsion_k = u(rng) < 0.5 ? 0.0 : 5.0 * u(rng);
   p.torsion_torque = u(rng) < 0.5 ? TorsionTorque::kAxes : TorsionTorque::kGradient;
   for (int b = 1; b < n && p.torsion_k > 0.0; ++b) {
     for (AxisLimit& a : t.rig.bone_limit[b]) {
-      if (u(rng) < 0.3) continue;
+      if (u(rng) < 0.3 || a.locked()) continue;
       a.limited = true;
       a.min = -1.5 * u(rng);
       a.max = 1.5 * u(rng);
@@ -131,6 +143,81 @@ TEST(LinearModes, IterativeEqualsDenseOnRandomTreesUpTo400Bones) {
     }
   }
   EXPECT_GT(torsion, 100);  // engaged torsion springs in K (a test of them, not only of springs)
+}
+
+// The O(n) products and solve against the dense matrices: x_opn = T x_dense, T the rotation of
+// each ball's (and the free root's turn's) local axes to world axes, identity elsewhere (a
+// hinge's angle rates are both paths' coordinates), so A_opn = T A_dense T^T
+TEST(LinearModes, OperatorsAreTheDenseMatricesOnHingedTrees) {
+  std::mt19937 rng(43);
+  for (int trial = 0; trial < 12; ++trial) {
+    SimState st;
+    const Scene scene = random_mode_scene(rng, 2 + trial % 9, st, trial % 3 != 0);
+    const Rig& rig = scene.rig;
+    const int nv = rig.velocity_count(scene.params.locked_axes());
+    const DenseModeMatrices dm = dense_mode_matrices(scene, st, scene_targets(scene));
+    Eigen::MatrixXd T = Eigen::MatrixXd::Identity(nv, nv);
+    for (int i = 0; i < rig.nbone; ++i) {
+      const JointType type = rig.joint_type(i, scene.params.locked_axes());
+      if (type != JointType::kBall && type != JointType::kFree) continue;
+      const int a = rig.dofadr(i, scene.params.locked_axes()) + (type == JointType::kFree ? 3 : 0);
+      T.block<3, 3>(a, a) = st.frames.orient_world[i].toRotationMatrix();
+    }
+    ModeWorkspace ws;
+    ModeOperators ops(scene, st, scene_targets(scene), ws);
+    ASSERT_EQ(ops.size(), nv);
+    const std::pair<ModeOperators::Matrix, const Eigen::MatrixXd*> pairs[] = {
+        {ModeOperators::Matrix::kMass, &dm.M},
+        {ModeOperators::Matrix::kStiffness, &dm.K},
+        {ModeOperators::Matrix::kEndDampers, &dm.D1},
+        {ModeOperators::Matrix::kFactorDamper, &dm.Dr}};
+    for (const auto& [which, dense] : pairs) {
+      const Eigen::MatrixXd expected = T * (*dense) * T.transpose();
+      VecX x(nv), y;
+      for (int c = 0; c < nv; ++c) {
+        x.setZero();
+        x[c] = 1.0;
+        ops.multiply(which, x, y);
+        EXPECT_LT((y - expected.col(c)).norm(), 1e-9 * std::max(1.0, expected.norm()))
+            << "trial " << trial << " matrix " << static_cast<int>(which) << " column " << c;
+      }
+    }
+    // (K + s M)^-1 b
+    ops.set_shift(0.7);
+    const Eigen::MatrixXd H = T * (dm.K + 0.7 * dm.M) * T.transpose();
+    const VecX b = VecX::Random(nv);
+    VecX x;
+    ops.solve(b, x);
+    EXPECT_LT((H * x - b).norm(), 1e-9 * b.norm() * std::max(1.0, H.norm())) << "trial " << trial;
+    // the pivots' count of the modes below sigma (Sylvester) against the dense eigenvalues
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(dm.K, dm.M);
+    for (int k = 0; k < nv; ++k) {
+      const double w2 = eig.eigenvalues()[k];
+      if (w2 <= 1e-6 * std::max(1.0, eig.eigenvalues().maxCoeff())) continue;
+      EXPECT_EQ(ops.count_below(w2 * (1.0 + 1e-7)), k + 1) << "trial " << trial << " mode " << k;
+      EXPECT_EQ(ops.count_below(w2 * (1.0 - 1e-7)), k) << "trial " << trial << " mode " << k;
+    }
+  }
+}
+
+TEST(LinearModes, IterativeEqualsDenseOnHingedRandomTrees) {
+  std::mt19937 rng(41);
+  int torsion = 0;
+  for (int n : {2, 3, 5, 8, 13, 30, 60}) {
+    for (int trial = 0; trial < 6; ++trial) {
+      SimState st;
+      const Scene scene = random_mode_scene(rng, n, st, true);
+      ModeWorkspace ws;
+      torsion += ModeOperators(scene, st, scene_targets(scene), ws).workspace().torsion.size();
+      for (const std::vector<Vec3>& targets : {at_points(scene, st), scene_targets(scene)}) {
+        const LinearModes ref = linear_modes_dense(scene, st, targets).modes;
+        const LinearModes it = linear_modes(scene, st, targets);
+        expect_same_modes(it, ref, 1e-6,
+                          "hinged n " + std::to_string(n) + " trial " + std::to_string(trial));
+      }
+    }
+  }
+  EXPECT_GT(torsion, 30);
 }
 
 // A straight chain of n unit rods pulled at its tail by one spring k: its slowest constrained mode

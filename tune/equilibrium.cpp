@@ -6,7 +6,9 @@
 
 #include <ceres/ceres.h>
 
+#include "physik/engine/torsion_springs.h"
 #include "physik/model/errors.h"
+#include "physik/model/joint_coordinates.h"
 
 namespace physik::tune {
 
@@ -45,6 +47,27 @@ T torsion_residual(SpringLaw law, double k, double c, const T& d) {
   return d < T(0) ? -r : r;
 }
 
+// a joint whose block holds its angles (t0, t1, 0, 0) instead of a quaternion: a hinge or a
+// universal joint of the scene's scheme (rig.h "Locked axes"; the gauss-seidel scheme's are balls)
+inline bool angle_block(const Rig& rig, LockedAxes locked, int i) {
+  const JointType t = rig.joint_type(i, locked);
+  return t == JointType::kHinge || t == JointType::kUniversal;
+}
+
+// q(t) = L exp(t0 e_a) exp(t1 e_b) (joint_coordinates.h), for Ceres' Jets
+template <typename T>
+Q<T> hinge_rotation_t(const Rig& rig, int i, const T* t) {
+  const auto axis_turn = [](int axis, const T& angle) {
+    Q<T> q(cos(angle / T(2)), T(0), T(0), T(0));
+    q.vec()[axis] = sin(angle / T(2));
+    return q;
+  };
+  const auto& axes = rig.bone_joint_axes[i];
+  Q<T> q = rig.bone_joint_lock[i].cast<T>() * axis_turn(axes[0], t[0]);
+  if (axes[1] >= 0) q = q * axis_turn(axes[1], t[1]);
+  return q;
+}
+
 struct PotentialResiduals {
   const Scene* scene;
   std::vector<Vec3> targets;       // (ncontrol) goal targets
@@ -54,16 +77,19 @@ struct PotentialResiduals {
     return 3 * static_cast<int>(scene->control_points.size() + limited_bones.size());
   }
 
-  // params[0] = root head (3), params[1 + i] = bone i's local rotation (x, y, z, w)
+  // params[0] = root head (3), params[1 + i] = bone i's local rotation (x, y, z, w), or a hinge's
+  // or universal joint's angles (t0, t1, 0, 0)
   template <typename T>
   bool operator()(T const* const* params, T* r) const {
     const Rig& rig = scene->rig;
     const EngineParams& ep = scene->params;
+    const LockedAxes locked = ep.locked_axes();
     std::vector<Q<T>> orient(rig.nbone), local(rig.nbone);
     std::vector<V3<T>> head(rig.nbone), tail(rig.nbone);
     for (int i = 0; i < rig.nbone; ++i) {
       const T* q = params[1 + i];
-      local[i] = Q<T>(q[3], q[0], q[1], q[2]).normalized();
+      local[i] = angle_block(rig, locked, i) ? hinge_rotation_t(rig, i, q)
+                                             : Q<T>(q[3], q[0], q[1], q[2]).normalized();
       const Q<T> rest = rig.bone_rest_orient_parent[i].cast<T>();
       const int p = rig.bone_parent[i];
       const int w = rig.bone_weld[i];
@@ -93,7 +119,15 @@ struct PotentialResiduals {
       for (int k = 0; k < 3; ++k) r[at++] = sqrt(cp.k_in(ep)) * s * d[k];
     }
     for (int i : limited_bones) {
-      const V3<T> theta = rotation_vector_t(local[i]);
+      V3<T> theta;
+      if (angle_block(rig, locked, i)) {  // the angles at their axes, the locks at their values
+        const auto& axes = rig.bone_joint_axes[i];
+        for (int k = 0; k < 3; ++k) theta[k] = T(rig.bone_limit[i][k].min);
+        theta[axes[0]] = params[1 + i][0];
+        if (axes[1] >= 0) theta[axes[1]] = params[1 + i][1];
+      } else {
+        theta = rotation_vector_t(local[i]);
+      }
       for (int k = 0; k < 3; ++k) {
         const AxisLimit& l = rig.bone_limit[i][k];
         r[at++] = l.limited ? torsion_residual(ep.torsion_spring, ep.torsion_k, ep.torsion_cap,
@@ -105,10 +139,19 @@ struct PotentialResiduals {
   }
 };
 
-// the engine's excess (physik/engine/potential.h) of one bone of a pose
+// the engine's excess (physik/engine/potential.h) of one bone of a pose, on the angles its
+// torsion springs measure in the scene's scheme (torsion_springs.h torsion_angles)
 Vec3 torsion_excess_of(const Scene& scene, const Pose& pose, int bone) {
-  return torsion_excess(scene.rig.bone_limit[bone], scene.params.torsion_tolerance,
-                        pose.bone_local_rotation[bone]);
+  const Rig& rig = scene.rig;
+  const TorsionKind kind = torsion_kind(rig, scene.params.locked_axes(), bone);
+  const Vec3 theta = torsion_angles(rig, kind, bone, pose.bone_local_rotation[bone]);
+  Vec3 e = Vec3::Zero();
+  if (kind == TorsionKind::kNone) return e;
+  for (int k = 0; k < 3; ++k) {
+    const AxisLimit& l = rig.bone_limit[bone][k];
+    if (l.limited) e[k] = torsion_excess(l, scene.params.torsion_tolerance, theta[k]);
+  }
+  return e;
 }
 
 }  // namespace
@@ -169,15 +212,20 @@ void measure_result(const Scene& scene, const std::vector<int>& limited_bones,
   out.potential = potential_energy(scene, at);
 }
 
-// The pose of the parameter blocks: root head, then one quaternion (x, y, z, w) per bone.
-Pose pose_from_blocks(const std::vector<double>& root,
+// The pose of the parameter blocks: root head, then one quaternion (x, y, z, w) per bone, or a
+// hinge's or universal joint's angles.
+Pose pose_from_blocks(const Scene& scene, const std::vector<double>& root,
                       const std::vector<std::array<double, 4>>& quats) {
+  const Rig& rig = scene.rig;
   Pose pose;
   pose.root_head_world = Vec3(root[0], root[1], root[2]);
   pose.bone_local_rotation.resize(quats.size());
   for (std::size_t i = 0; i < quats.size(); ++i) {
+    const int b = static_cast<int>(i);
     pose.bone_local_rotation[i] =
-        Quat(quats[i][3], quats[i][0], quats[i][1], quats[i][2]).normalized();
+        angle_block(rig, scene.params.locked_axes(), b)
+            ? hinge_rotation(rig, b, Vec2(quats[i][0], quats[i][1]))
+            : Quat(quats[i][3], quats[i][0], quats[i][1], quats[i][2]).normalized();
   }
   return pose;
 }
@@ -195,17 +243,49 @@ void check_equilibrium_scene(const Scene& scene) {
   }
 }
 
-// every rotation on its manifold; the blocks with nothing to solve for held: a weld's rotation
-// (its weld's), a fixed root's, an anchored root's head
-void hold_joints(const Rig& rig, std::vector<double>& root,
+// every rotation on its manifold, a hinge's angles in their own (its unused entries held); the
+// blocks with nothing to solve for held: a weld's rotation (its weld's), a fixed root's, a weld
+// by locks (at its lock rotation L) in the exact and implicit schemes, an anchored root's head
+void hold_joints(const Scene& scene, std::vector<double>& root,
                  std::vector<std::array<double, 4>>& quats, ceres::Problem& problem) {
+  const Rig& rig = scene.rig;
+  const LockedAxes locked = scene.params.locked_axes();
   for (int i = 0; i < rig.nbone; ++i) {
+    if (angle_block(rig, locked, i)) {
+      const bool hinge = rig.joint_type(i, locked) == JointType::kHinge;
+      problem.SetManifold(
+          quats[i].data(),
+          new ceres::SubsetManifold(4, hinge ? std::vector<int>{1, 2, 3} : std::vector<int>{2, 3}));
+      continue;
+    }
     problem.SetManifold(quats[i].data(), new ceres::EigenQuaternionManifold);
-    if (rig.welded(i) || (i == 0 && rig.root_joint == RootJoint::kFixed)) {
+    if (rig.joint_type(i, locked) == JointType::kWeld) {
       problem.SetParameterBlockConstant(quats[i].data());
     }
   }
   if (rig.root_anchored()) problem.SetParameterBlockConstant(root.data());
+}
+
+// the bones' blocks at the start pose: a quaternion (x, y, z, w) per bone, a hinge's or universal
+// joint's angles put on its set (init_state's rule), a weld by locks at its locks
+std::vector<std::array<double, 4>> start_blocks(const Scene& scene, const Pose& start) {
+  const Rig& rig = scene.rig;
+  std::vector<std::array<double, 4>> quats(rig.nbone);
+  const LockedAxes locked = scene.params.locked_axes();
+  for (int i = 0; i < rig.nbone; ++i) {
+    Quat q = start.bone_local_rotation[i].normalized();
+    if (angle_block(rig, locked, i)) {
+      const Vec2 t = hinge_coordinates(rig, i, q);
+      quats[i] = {t[0], t[1], 0.0, 0.0};
+      continue;
+    }
+    if (locked == LockedAxes::kRemoved && rig.joint_type(i, locked) == JointType::kWeld &&
+        !rig.welded(i) && !(i == 0 && rig.root_joint == RootJoint::kFixed)) {
+      q = rig.bone_joint_lock[i];
+    }
+    quats[i] = {q.x(), q.y(), q.z(), q.w()};
+  }
+  return quats;
 }
 
 }  // namespace
@@ -230,11 +310,7 @@ EquilibriumResult solve_equilibrium(const Scene& scene, const EquilibriumOptions
 
   // parameter blocks: root head, then one quaternion (x, y, z, w) per bone
   std::vector<double> root(start.root_head_world.data(), start.root_head_world.data() + 3);
-  std::vector<std::array<double, 4>> quats(rig.nbone);
-  for (int i = 0; i < rig.nbone; ++i) {
-    const Quat q = start.bone_local_rotation[i].normalized();
-    quats[i] = {q.x(), q.y(), q.z(), q.w()};
-  }
+  std::vector<std::array<double, 4>> quats = start_blocks(scene, start);
   auto* cost = new ceres::DynamicAutoDiffCostFunction<PotentialResiduals, 4>(functor);
   std::vector<double*> blocks;
   cost->AddParameterBlock(3);
@@ -247,12 +323,12 @@ EquilibriumResult solve_equilibrium(const Scene& scene, const EquilibriumOptions
 
   ceres::Problem problem;
   problem.AddResidualBlock(cost, nullptr, blocks);
-  hold_joints(rig, root, quats, problem);
+  hold_joints(scene, root, quats, problem);
   ceres::Solver::Summary summary;
   ceres::Solve(solver_options(opt), &problem, &summary);
 
   EquilibriumResult out;
-  out.pose = pose_from_blocks(root, quats);
+  out.pose = pose_from_blocks(scene, root, quats);
   // a welded bone's rotation follows its weld's (kinematics.h)
   welded_local_rotations(rig, forward_kinematics(rig, out.pose), out.pose);
   measure_result(scene, limited_bones, out);

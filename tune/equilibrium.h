@@ -2,7 +2,11 @@
 // potential over the rig's configuration, found with Ceres, to measure PhysIK's final-pose error.
 //
 // Unknowns: the root head position x_0 (world, rig units) and every bone's local rotation q_i
-// (unit quaternion, rest-relative, bone frame; Ceres' EigenQuaternionManifold keeps it unit).
+// (unit quaternion, rest-relative, bone frame; Ceres' EigenQuaternionManifold keeps it unit), in
+// the joint model of the scene's scheme (rig.h "Locked axes"): for exact and implicit a hinge's
+// or universal joint's angles instead (q_i = L exp(t0 e_a) exp(t1 e_b), joint_coordinates.h; its
+// springs on the angles, torsion_springs.h) and a weld by locks held at L; for gauss-seidel every
+// bone a ball, its locked axes springs.
 // Forward kinematics as physik/kinematics.h. The potential (J) is
 //
 //   U = sum_c U_c(|a_c - t_c|) + sum_{i>0} sum_{k in x,y,z, limited} U_t(d_ik)

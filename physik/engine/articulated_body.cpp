@@ -1,10 +1,14 @@
 #include "physik/engine/articulated_body.h"
 
+#include "physik/model/joint_coordinates.h"
+
 namespace physik {
 
 void resize_articulated_data(int n, ArticulatedBodyData& d) {
   d.joint_block.assign(n, Mat3::Zero());
   d.inertia_com_world.assign(n, Mat3::Zero());
+  d.axis0_world.assign(n, Vec3::Zero());
+  d.axis1_world.assign(n, Vec3::Zero());
   d.point_world.assign(n, Vec3::Zero());
   d.bias_accel.assign(n, Vec6::Zero());
   d.inertia_art.assign(n, SpatialInertia{});
@@ -22,6 +26,7 @@ void resize_articulated_data(int n, ArticulatedBodyData& d) {
   d.row_lin.assign(n, Mat3::Zero());
   d.joint_torque.assign(n, Vec3::Zero());
   d.z_accel.assign(n, Vec6::Zero());
+  d.z_axis_turn.assign(n, Vec3::Zero());
   d.z_spatial.assign(n, Vec6::Zero());
 }
 
@@ -91,7 +96,33 @@ inline void symmetric_inverse(const Mat3& S, Mat3& out) {
   out << i00, i01, i02, i01, i11, i12, i02, i12, i22;
 }
 
+// a hinge's or universal's world axes (joint_coordinates.h) into d, and a universal's share of
+// its bias acceleration: s0 turns with the parent, so c.ang = w_p x s0 t0' + w_i x s1 t1'
+// = w_i x w_rel + t0' t1' s0 x s1 (t_k' = s_k . w_rel)
+void hinge_axes_and_bias(const Rig& rig, const BodyMotion& s, int i, const Vec3& w_rel,
+                         ArticulatedBodyData& d) {
+  const int p = rig.bone_parent[i];
+  hinge_axes_world(rig, i, p < 0 ? Quat::Identity() : s.frames.orient_world[p],
+                   s.frames.orient_world[i], d.axis0_world[i], d.axis1_world[i]);
+  if (rig.bone_joint_type[i] != JointType::kUniversal) return;
+  const Vec3& s0 = d.axis0_world[i];
+  const Vec3& s1 = d.axis1_world[i];
+  d.bias_accel[i].head<3>() += (s0.dot(w_rel) * s1.dot(w_rel)) * s0.cross(s1);
+}
+
 }  // namespace
+
+Mat3 axis_projector(const Mat3& M, const Vec3& s0, const Vec3& s1, bool one) {
+  const Vec3 Ms0 = M * s0;
+  const double d00 = s0.dot(Ms0);
+  if (one) return (1.0 / d00) * (s0 * s0.transpose());
+  // S (S^T M S)^-1 S^T with the 2x2 inverse [d11 -d01; -d10 d00] / det
+  const Vec3 Ms1 = M * s1;
+  const double d01 = s0.dot(Ms1), d10 = s1.dot(Ms0), d11 = s1.dot(Ms1);
+  const double k = 1.0 / (d00 * d11 - d01 * d10);
+  return k * (d11 * s0 * s0.transpose() - d01 * s0 * s1.transpose() - d10 * s1 * s0.transpose() +
+              d00 * s1 * s1.transpose());
+}
 
 void articulated_velocity_pass(const Rig& rig, const BodyMotion& s, ArticulatedBodyData& d) {
   for (int i = 0; i < rig.nbone; ++i) {
@@ -103,7 +134,7 @@ void articulated_velocity_pass(const Rig& rig, const BodyMotion& s, ArticulatedB
     const Vec3& w = s.omega_world[i];
     const Vec3& v_com = s.vel_world[i];
     const int p = rig.bone_joint_parent[i];
-    const JointType type = rig.bone_joint_type[i];
+    const JointType type = rig.joint_type(i, d.locked_axes);
     // the joint's point: a free root's centre of mass, else the head (an anchored root's too)
     const Vec3 o = type == JointType::kFree ? c : s.frames.head_world[i];
     const Vec3 e = c - o;
@@ -118,6 +149,7 @@ void articulated_velocity_pass(const Rig& rig, const BodyMotion& s, ArticulatedB
     } else {
       const Vec3 w_rel = p < 0 ? w : Vec3(w - s.omega_world[p]);
       d.bias_accel[i] << w.cross(w_rel), (v_com - w.cross(e)).cross(w_rel);
+      if (type != JointType::kBall) hinge_axes_and_bias(rig, s, i, w_rel, d);
     }
 
     // the external wrench; rigid inertia about o; the bias force V x* I V - f_ext about o
@@ -247,6 +279,39 @@ void general_to_parent(ArticulatedBodyData& d, int i, int p, const Vec3& r, cons
   add_shifted(Aa, Ba, Ea, Ca, r, IP.A, IP.B, d.inertia_lower[p], IP.C);
 }
 
+// A hinge's or universal's (articulated_body.h): D = S^T (A + J) S, D_inv = P = S D^-1 S^T,
+//   I^a = I^A - [A; E] P [A B],  p^a = p^A + I^a c + [A; E] P u
+// with E = B^T and I^a symmetric unless `general` (joint blocks); handed to the parent as a
+// weld's is. The locked directions keep their share of A: I^a's angular blocks are not zero.
+void hinge_to_parent(const Rig& rig, ArticulatedBodyData& d, int i, int p, const Vec3& r,
+                     const Vec3& u, bool general) {
+  const SpatialInertia& IA = d.inertia_art[i];
+  const Mat3& A = IA.A;
+  const Mat3& B = IA.B;
+  const Mat3 E = general ? d.inertia_lower[i] : Mat3(B.transpose());
+  const Mat3 AJ = general ? Mat3(A + d.joint_block[i]) : A;
+  d.D_inv[i] = axis_projector(AJ, d.axis0_world[i], d.axis1_world[i],
+                              rig.bone_joint_type[i] == JointType::kHinge);
+  const Mat3& P = d.D_inv[i];
+  Mat3 AP, EP;
+  AP.noalias() = A * P;
+  EP.noalias() = E * P;
+  Mat3 Aa = A, Ba = B, Ea = E, Ca = IA.C;
+  Aa.noalias() -= AP * A;
+  Ba.noalias() -= AP * B;
+  Ea.noalias() -= EP * A;
+  Ca.noalias() -= EP * B;
+  const Vec6& c = d.bias_accel[i];
+  const Vec3 Pu = P * u;
+  const Vec3 pa_ang = d.bias_force[i].head<3>() + A * Pu + Aa * c.head<3>() + Ba * c.tail<3>();
+  const Vec3 pa_lin = d.bias_force[i].tail<3>() + E * Pu + Ea * c.head<3>() + Ca * c.tail<3>();
+  SpatialInertia& IP = d.inertia_art[p];
+  Mat3 unused_lower;
+  add_shifted(Aa, Ba, Ea, Ca, r, IP.A, IP.B, general ? d.inertia_lower[p] : unused_lower, IP.C);
+  d.bias_force[p].head<3>() += pa_ang + r.cross(pa_lin);
+  d.bias_force[p].tail<3>() += pa_lin;
+}
+
 // is the symmetric part (A + A^T) / 2 positive definite (its Cholesky factor exists)
 template <typename M>
 bool symmetric_part_positive(const M& A) {
@@ -264,62 +329,129 @@ bool symmetric_part_positive(const M& A) {
 //   I^za = [(G_A + J) D^-1 Z_A, (G_A + J) D^-1 Z_B; Z_E - (E + PE) D^-1 Z_A,
 //           Z_C - (E + PE) D^-1 Z_B]
 //   p^a  = p^A + I^a c + U D^-1 u,   u = joint_torque - S'^T p^A
+// joint i's T (the turn of the joint accelerations below it, implicit_pose_terms.h (4)) on its
+// world-axes rate: [[alpha]x; [a]x] of z_accel[i], a universal's angular block plus
+// z_axis_turn[i] s1^T (its second axis turns after its first hinge's rest acceleration)
+inline void turn_blocks(const Rig& rig, const ArticulatedBodyData& d, int i, JointType type,
+                        Mat3& Ta, Mat3& Tl) {
+  const Vec6& za = d.z_accel[i];
+  Ta = skew(za.head<3>());
+  Tl = skew(za.tail<3>());
+  if (type == JointType::kUniversal)
+    Ta.noalias() += d.z_axis_turn[i] * d.axis1_world[i].transpose();
+  (void)rig;
+}
+
+// a weld under the pose terms: its inertias (I^A and I^Z, general) and bias handed to its joint
+// parent whole (no coordinate to eliminate; its c is 0)
+void weld_pose_terms(ArticulatedBodyData& d, int i, int p, const Vec3& r) {
+  const SpatialInertia& IA = d.inertia_art[i];
+  const SpatialInertia& IZ = d.inertia_z[i];
+  add_shifted(IA.A, IA.B, d.inertia_lower[i], IA.C, r, d.inertia_art[p].A, d.inertia_art[p].B,
+              d.inertia_lower[p], d.inertia_art[p].C);
+  add_shifted(IZ.A, IZ.B, d.inertia_z_lower[i], IZ.C, r, d.inertia_z[p].A, d.inertia_z[p].B,
+              d.inertia_z_lower[p], d.inertia_z[p].C);
+  const Vec6& pa = d.bias_force[i];
+  d.bias_force[p].head<3>() += pa.head<3>() + r.cross(Vec3(pa.tail<3>()));
+  d.bias_force[p].tail<3>() += pa.tail<3>();
+}
+
+// the pivot D's inverse (a ball's) or its projector on the joint's axes (a hinge's, a
+// universal's: S (S^T D S)^-1 S^T); false when the symmetric part of D (of S^T D S) is not
+// positive definite
+bool pose_pivot(const ArticulatedBodyData& d, int i, JointType type, const Mat3& D, Mat3& Dinv) {
+  if (type == JointType::kBall) {
+    Dinv = D.inverse();
+    return symmetric_part_positive(D);
+  }
+  const Vec3& s0 = d.axis0_world[i];
+  const Vec3& s1 = d.axis1_world[i];
+  const bool one = type == JointType::kHinge;
+  Dinv = axis_projector(D, s0, s1, one);
+  if (one) return s0.dot(D * s0) > 0.0;
+  Eigen::Matrix2d Dk;
+  Dk << s0.dot(D * s0), s0.dot(D * s1), s1.dot(D * s0), s1.dot(D * s1);
+  return symmetric_part_positive(Dk);
+}
+
+// joint i's pose-terms elimination (backward_pass_pose_terms below), its pivot inverse Dinv (or
+// projector) given: I^a, I^za and p^a handed to the parent p. A ball's blocks are the products of
+// the comment below (D^-1 a true inverse); a hinge's are the differences I^A - U P row, I^Z - U P
+// [Z_A Z_B] (its P is no inverse of D, and its angular blocks are not near zero anyway).
+void pose_terms_to_parent(ArticulatedBodyData& d, int i, int p, JointType type, const Mat3& P,
+                          const Mat3& PE, const Mat3& GJ, const Mat3& PJ) {
+  const SpatialInertia& IA = d.inertia_art[i];
+  const SpatialInertia& IZ = d.inertia_z[i];
+  const Mat3& E = d.inertia_lower[i];
+  const Mat3& ZE = d.inertia_z_lower[i];
+  const Mat3& GA = d.row_ang[i];
+  const Mat3& GB = d.row_lin[i];
+  const Mat3& Dinv = d.D_inv[i];
+  const Mat3 UA = IA.A + P, UE = E + PE, BG = IA.B + GB;
+  Mat3 UADinv, UEDinv;
+  UADinv.noalias() = UA * Dinv;
+  UEDinv.noalias() = UE * Dinv;
+  Mat3 Aa, Ba, Ea, Ca = IA.C, ZAa, ZBa, ZEa = ZE, ZCa = IZ.C;
+  if (type == JointType::kBall) {
+    Mat3 GJDinv;
+    GJDinv.noalias() = GJ * Dinv;
+    Aa = -P, Ba = -GB, Ea = -PE;
+    Aa.noalias() += UADinv * PJ;
+    Ba.noalias() += GJDinv * BG;
+    Ea.noalias() += UEDinv * PJ;
+    ZAa.noalias() = GJDinv * IZ.A;
+    ZBa.noalias() = GJDinv * IZ.B;
+  } else {
+    const Mat3 AG = IA.A + GA;
+    Aa = IA.A, Ba = IA.B, Ea = E, ZAa = IZ.A, ZBa = IZ.B;
+    Aa.noalias() -= UADinv * AG;
+    Ba.noalias() -= UADinv * BG;
+    Ea.noalias() -= UEDinv * AG;
+    ZAa.noalias() -= UADinv * IZ.A;
+    ZBa.noalias() -= UADinv * IZ.B;
+  }
+  Ca.noalias() -= UEDinv * BG;
+  ZEa.noalias() -= UEDinv * IZ.A;
+  ZCa.noalias() -= UEDinv * IZ.B;
+  const Vec6& c = d.bias_accel[i];
+  const Vec3 Dinv_u = Dinv * d.u[i];
+  const Vec3 pa_ang = d.bias_force[i].head<3>() + Aa * c.head<3>() + Ba * c.tail<3>() + UA * Dinv_u;
+  const Vec3 pa_lin = d.bias_force[i].tail<3>() + Ea * c.head<3>() + Ca * c.tail<3>() + UE * Dinv_u;
+  const Vec3 r = d.point_world[i] - d.point_world[p];
+  SpatialInertia& IP = d.inertia_art[p];
+  add_shifted(Aa, Ba, Ea, Ca, r, IP.A, IP.B, d.inertia_lower[p], IP.C);
+  SpatialInertia& ZP = d.inertia_z[p];
+  add_shifted(ZAa, ZBa, ZEa, ZCa, r, ZP.A, ZP.B, d.inertia_z_lower[p], ZP.C);
+  d.bias_force[p].head<3>() += pa_ang + r.cross(pa_lin);
+  d.bias_force[p].tail<3>() += pa_lin;
+}
+
 void backward_pass_pose_terms(const Rig& rig, ArticulatedBodyData& d) {
   d.pose_terms_positive = true;
   for (int i = rig.nbone - 1; i > 0; --i) {
-    const int p = rig.bone_parent[i];
-    const SpatialInertia& IA = d.inertia_art[i];
+    const int p = rig.bone_joint_parent[i];
+    const JointType type = rig.joint_type(i, d.locked_axes);
+    if (type == JointType::kWeld) {
+      weld_pose_terms(d, i, p, d.point_world[i] - d.point_world[p]);
+      continue;
+    }
     const SpatialInertia& IZ = d.inertia_z[i];
-    const Mat3& E = d.inertia_lower[i];
-    const Mat3& ZE = d.inertia_z_lower[i];
-    const Mat3& GA = d.row_ang[i];
-    const Mat3& GB = d.row_lin[i];
-    const Vec6& za = d.z_accel[i];
-    const Mat3 Ta = skew(za.head<3>()), Tl = skew(za.tail<3>());
+    Mat3 Ta, Tl;
+    turn_blocks(rig, d, i, type, Ta, Tl);
     Mat3 P, PE;
     P.noalias() = IZ.A * Ta;
     P.noalias() += IZ.B * Tl;
-    PE.noalias() = ZE * Ta;
+    PE.noalias() = d.inertia_z_lower[i] * Ta;
     PE.noalias() += IZ.C * Tl;
-    Mat3 PJ = P, GJ = GA;
+    Mat3 PJ = P, GJ = d.row_ang[i];
     if (d.joint_blocks) {
       PJ += d.joint_block[i];
       GJ += d.joint_block[i];
     }
-    const Mat3 D = IA.A + GA + PJ;
-    if (!symmetric_part_positive(D)) d.pose_terms_positive = false;
-    d.D_inv[i] = D.inverse();
-    const Mat3& Dinv = d.D_inv[i];
-    const Mat3 UA = IA.A + P, UE = E + PE, BG = IA.B + GB;
-    Mat3 UADinv, UEDinv, GJDinv;
-    UADinv.noalias() = UA * Dinv;
-    UEDinv.noalias() = UE * Dinv;
-    GJDinv.noalias() = GJ * Dinv;
-    Mat3 Aa = -P, Ba = -GB, Ea = -PE, Ca = IA.C;
-    Aa.noalias() += UADinv * PJ;
-    Ba.noalias() += GJDinv * BG;
-    Ea.noalias() += UEDinv * PJ;
-    Ca.noalias() -= UEDinv * BG;
-    Mat3 ZAa, ZBa, ZEa = ZE, ZCa = IZ.C;
-    ZAa.noalias() = GJDinv * IZ.A;
-    ZBa.noalias() = GJDinv * IZ.B;
-    ZEa.noalias() -= UEDinv * IZ.A;
-    ZCa.noalias() -= UEDinv * IZ.B;
-    const Vec6& c = d.bias_accel[i];
-    const Vec3 u = d.joint_torque[i] - d.bias_force[i].head<3>();
-    d.u[i] = u;
-    const Vec3 Dinv_u = Dinv * u;
-    const Vec3 pa_ang =
-        d.bias_force[i].head<3>() + Aa * c.head<3>() + Ba * c.tail<3>() + UA * Dinv_u;
-    const Vec3 pa_lin =
-        d.bias_force[i].tail<3>() + Ea * c.head<3>() + Ca * c.tail<3>() + UE * Dinv_u;
-    const Vec3 r = d.point_world[i] - d.point_world[p];
-    SpatialInertia& IP = d.inertia_art[p];
-    add_shifted(Aa, Ba, Ea, Ca, r, IP.A, IP.B, d.inertia_lower[p], IP.C);
-    SpatialInertia& ZP = d.inertia_z[p];
-    add_shifted(ZAa, ZBa, ZEa, ZCa, r, ZP.A, ZP.B, d.inertia_z_lower[p], ZP.C);
-    d.bias_force[p].head<3>() += pa_ang + r.cross(pa_lin);
-    d.bias_force[p].tail<3>() += pa_lin;
+    const Mat3 D = d.inertia_art[i].A + d.row_ang[i] + PJ;
+    if (!pose_pivot(d, i, type, D, d.D_inv[i])) d.pose_terms_positive = false;
+    d.u[i] = d.joint_torque[i] - d.bias_force[i].head<3>();
+    pose_terms_to_parent(d, i, p, type, P, PE, GJ, PJ);
   }
 }
 
@@ -345,7 +477,8 @@ void forward_pass_pose_terms(const Rig& rig, const BodyMotion& s, ArticulatedBod
   d.joint_accel_local[0] = s.frames.orient_world[0].conjugate() * alpha0;
 
   for (int i = 1; i < rig.nbone; ++i) {
-    const int p = rig.bone_parent[i];
+    const int p = rig.bone_joint_parent[i];
+    const JointType type = rig.joint_type(i, d.locked_axes);
     const Vec3 r = d.point_world[i] - d.point_world[p];
     const Vec6& ap = d.accel_spatial[p];
     const Vec6& zp = d.z_spatial[p];
@@ -353,6 +486,12 @@ void forward_pass_pose_terms(const Rig& rig, const BodyMotion& s, ArticulatedBod
     const Vec3 lin = ap.tail<3>() - r.cross(ap.head<3>()) + d.bias_accel[i].tail<3>();
     const Vec3 z_ang = zp.head<3>();
     const Vec3 z_lin = zp.tail<3>() - r.cross(zp.head<3>());
+    if (type == JointType::kWeld) {  // moves with its joint parent
+      d.accel_spatial[i] << alpha, lin;
+      d.z_spatial[i] << z_ang, z_lin;
+      d.joint_accel_local[i].setZero();
+      continue;
+    }
     const SpatialInertia& IA = d.inertia_art[i];
     const SpatialInertia& IZ = d.inertia_z[i];
     const Vec3 qdd = d.D_inv[i] * (d.u[i] - (IA.A + d.row_ang[i]) * alpha -
@@ -360,7 +499,14 @@ void forward_pass_pose_terms(const Rig& rig, const BodyMotion& s, ArticulatedBod
     d.accel_spatial[i] << alpha + qdd, lin;
     const Vec6& za = d.z_accel[i];
     d.z_spatial[i] << z_ang + za.head<3>().cross(qdd), z_lin + za.tail<3>().cross(qdd);
-    d.joint_accel_local[i] = s.frames.orient_world[i].conjugate() * qdd;
+    if (type == JointType::kBall) {
+      d.joint_accel_local[i] = s.frames.orient_world[i].conjugate() * qdd;
+      continue;
+    }
+    if (type == JointType::kUniversal) {  // turn_blocks' share: z_axis_turn (s1 . qdd)
+      d.z_spatial[i].head<3>() += d.z_axis_turn[i] * d.axis1_world[i].dot(qdd);
+    }
+    d.joint_accel_local[i] << d.axis0_world[i].dot(qdd), d.axis1_world[i].dot(qdd), 0.0;
   }
 }
 
@@ -379,12 +525,17 @@ void articulated_backward_pass(const Rig& rig, ArticulatedBodyData& d) {
   for (int i = rig.nbone - 1; i > 0; --i) {
     const int p = rig.bone_joint_parent[i];
     const Vec3 r = d.point_world[i] - d.point_world[p];  // to the parent's point
-    if (rig.bone_joint_type[i] == JointType::kWeld) {
+    const JointType type = rig.joint_type(i, d.locked_axes);
+    if (type == JointType::kWeld) {
       weld_to_parent(d, i, p, r, !ball);
       continue;
     }
     const Vec3 u = -d.bias_force[i].head<3>();
     d.u[i] = u;
+    if (type != JointType::kBall) {
+      hinge_to_parent(rig, d, i, p, r, u, !ball);
+      continue;
+    }
     if (ball) {
       ball_to_parent(d, i, p, r);
       continue;
@@ -400,10 +551,11 @@ namespace {
 
 // the root's spatial acceleration a_0 about o_0 by its joint to the world: a free root's
 // I^A a = -p^A (LDL^T; LU with joint blocks); a pinned root's ball, qdd = D^-1 (u - S'^T I^A c),
-// D = A (+ J); a fixed root's none
+// D = A (+ J), its hinge or universal joint the same with P for D^-1; a fixed root's none
 void root_acceleration(const Rig& rig, ArticulatedBodyData& d) {
   const SpatialInertia& I0 = d.inertia_art[0];
-  switch (rig.bone_joint_type[0]) {
+  const JointType type = rig.joint_type(0, d.locked_axes);
+  switch (type) {
     case JointType::kFree:
       if (d.joint_blocks) {
         Mat6 M0;
@@ -415,9 +567,14 @@ void root_acceleration(const Rig& rig, ArticulatedBodyData& d) {
         d.accel_spatial[0] = ldlt.solve(-d.bias_force[0]);
       }
       return;
-    case JointType::kBall: {
+    case JointType::kBall:
+    case JointType::kHinge:
+    case JointType::kUniversal: {
       const Vec6& c = d.bias_accel[0];
-      d.D_inv[0] = d.joint_blocks ? Mat3(I0.A + d.joint_block[0]).inverse() : I0.A.inverse();
+      const Mat3 AJ = d.joint_blocks ? Mat3(I0.A + d.joint_block[0]) : I0.A;
+      d.D_inv[0] = type == JointType::kBall ? Mat3(AJ.inverse())
+                                            : axis_projector(AJ, d.axis0_world[0], d.axis1_world[0],
+                                                             type == JointType::kHinge);
       d.u[0] = -d.bias_force[0].head<3>();
       const Vec3 qdd = d.D_inv[0] * (d.u[0] - I0.A * c.head<3>() - I0.B * c.tail<3>());
       d.accel_spatial[0] << c.head<3>() + qdd, c.tail<3>();
@@ -445,7 +602,13 @@ void articulated_forward_pass(const Rig& rig, const BodyMotion& s, ArticulatedBo
   if (rig.bone_joint_type[0] != JointType::kFree) {
     d.root_accel_world += alpha0.cross(Vec3(s.com_world[0] - d.point_world[0]));
   }
-  d.joint_accel_local[0] = s.frames.orient_world[0].conjugate() * alpha0;
+  const JointType root = rig.joint_type(0, d.locked_axes);
+  if (root == JointType::kHinge || root == JointType::kUniversal) {
+    const Vec3 qdd = alpha0 - d.bias_accel[0].head<3>();
+    d.joint_accel_local[0] << d.axis0_world[0].dot(qdd), d.axis1_world[0].dot(qdd), 0.0;
+  } else {
+    d.joint_accel_local[0] = s.frames.orient_world[0].conjugate() * alpha0;
+  }
 
   for (int i = 1; i < rig.nbone; ++i) {
     const int p = rig.bone_joint_parent[i];
@@ -453,16 +616,21 @@ void articulated_forward_pass(const Rig& rig, const BodyMotion& s, ArticulatedBo
     const Vec6& ap = d.accel_spatial[p];
     const Vec3 alpha = ap.head<3>() + d.bias_accel[i].head<3>();
     const Vec3 lin = ap.tail<3>() - r.cross(ap.head<3>()) + d.bias_accel[i].tail<3>();
-    if (rig.bone_joint_type[i] == JointType::kWeld) {  // moves with its joint parent
+    const JointType type = rig.joint_type(i, d.locked_axes);
+    if (type == JointType::kWeld) {  // moves with its joint parent
       d.accel_spatial[i] << alpha, lin;
       d.joint_accel_local[i].setZero();
       continue;
     }
-    // qdd' = D^-1 (u - S'^T I^A a'),  S'^T I^A a' = A alpha + B lin
+    // qdd' = D^-1 (u - S'^T I^A a'),  S'^T I^A a' = A alpha + B lin (a hinge's: P for D^-1)
     const SpatialInertia& IA = d.inertia_art[i];
     const Vec3 qdd = d.D_inv[i] * (d.u[i] - IA.A * alpha - IA.B * lin);  // world axes
     d.accel_spatial[i] << alpha + qdd, lin;
-    d.joint_accel_local[i] = s.frames.orient_world[i].conjugate() * qdd;
+    if (type == JointType::kBall) {
+      d.joint_accel_local[i] = s.frames.orient_world[i].conjugate() * qdd;
+    } else {  // qdd = S t'': the angles' accelerations
+      d.joint_accel_local[i] << d.axis0_world[i].dot(qdd), d.axis1_world[i].dot(qdd), 0.0;
+    }
   }
 }
 

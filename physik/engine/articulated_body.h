@@ -3,11 +3,14 @@
 // multi-DOF form of eq. 7.36-7.43); spatial algebra of ch. 2.
 //
 // Tree (docs/engine.md "The exact scheme"): the rig's bones, a free root (6 DOF at its
-// centre of mass, as MuJoCo's free joint) and a ball joint (3 DOF) at every other bone's head:
-// exactly the reference's ball-joint MuJoCo model (reference/mjcf_export.h), in MuJoCo's
-// coordinates:
+// centre of mass, as MuJoCo's free joint) and at every other bone's head a ball joint (3 DOF), a
+// hinge (1), a universal joint (2: two hinges in sequence) or a weld (0), as the rig's locked
+// axes say (rig.h "Locked axes"; or balls throughout with LockedAxes::kSprings): exactly the
+// reference's MuJoCo model (reference/mjcf_export.h), in MuJoCo's coordinates:
 //   root   qvel = (v_com world, w local),  qacc = (a_com world, d/dt w_local = R^T alpha)
 //   ball i qvel = u_i = R_i^T (w_i - w_parent)  (relative angular velocity in the child's frame)
+//   hinge, universal i  qvel = (t0', t1'), the hinge angles' rates (joint_coordinates.h), and
+//          w_i - w_parent = S t' with S = [s0 s1] the joints' world axes (orthonormal)
 //
 // Frames. Every spatial quantity of body i is in world-aligned axes about a point o_i that moves
 // with the body: its joint point (the head) for i > 0, its centre of mass for the root. Motion
@@ -17,12 +20,18 @@
 //   motion  X (w; v) = (w; v - r x w),    force  X* (n; f) = (n + r x f; f)   (child -> parent)
 // With the joint at o_i, a ball's motion subspace is S = [R_i; 0] (u in the child's frame), so
 // with S' = [1; 0] everything below is in world axes and u_dot = R_i^T qdd' at the end.
+// A hinge or universal joint's is S' = [S; 0]: where a ball's pass has D^-1 (D = S'^T I^A S' + J
+// below), it has the projector P = S (S^T (A + J) S)^-1 S^T (3x3, rank 1 or 2; D_inv holds it),
+// so qdd' = P (...) is S t'' and t''_k = s_k . qdd' at the end; every formula is the ball's with
+// D^-1 replaced by P, and I^a keeps the torque the locked directions carry
+// (I^a = I^A - [A; E] P [A B], computed as that difference: its angular blocks are not zero).
 //
 // Pass 1, velocities and bias (any order):
 //   I_i  = [I_c + m [e]x [e]x^T, m [e]x; m [e]x^T, m 1]      e = com_i - o_i, rigid inertia about
 //   o_i p_i  = V_i x* I_i V_i - f_ext_i                          V_i = (w_i; v_o), f_ext about o_i
 //        = (w x I_c w + e x (m w x v_com); m w x v_com) - (n_com + e x F; F)
 //   c_i  = V_i x (S u) = (w_i x w_rel; v_o x w_rel)          w_rel = w_i - w_parent   (ball)
+//        = the same + (t0' t1' s0 x s1; 0)    (universal: s0 turns with the parent, not the bone)
 //   c_0  = (0; -w x v_com)                                   (root, spatial vs classical accel.)
 // Pass 2, leaves to root (articulated inertia I^A = [A B; E C], E = B^T while every joint block
 // is symmetric; bias p^A; J_i an optional 3x3 joint block, world axes, not necessarily symmetric):
@@ -43,7 +52,7 @@
 //   root:  a_0 = -(I^A_0)^-1 p^A_0 (LDL^T; LU with joint blocks),  alpha = a_0.ang,
 //          a_com = a_0.lin + w x v_com
 //   ball:  a' = X a_parent + c,  qdd' = D^-1 (u - S'^T I^A a'),  a_i = a' + S' qdd',  u_dot = R^T
-//   qdd'
+//   qdd'   (hinge, universal: P for D^-1, t''_k = s_k . qdd')
 // A spatial acceleration a about o is Featherstone's (the derivative of the velocity field at the
 // fixed point o); the classical acceleration of the centre is a.lin + alpha x e + w x v_com.
 //
@@ -100,6 +109,9 @@ struct SpatialInertia {
 
 struct ArticulatedBodyData {
   // --- inputs besides the state ---
+  // the joint model: the rig's locked axes removed (the exact and implicit schemes) or every
+  // bone that is not welded a ball (the gauss-seidel scheme's, for damping auto's modes)
+  LockedAxes locked_axes = LockedAxes::kRemoved;
   double torque_per_omega = 0.0;   // 1/s: torque torque_per_omega * I w on every body
   bool cancel_gyroscopic = false;  // add +w x I w on every body (gyroscopic term off)
   bool joint_blocks = false;       // add joint_block[i] to D_i (the implicit step's K)
@@ -108,6 +120,8 @@ struct ArticulatedBodyData {
 
   // --- pass 1 (velocity pass) ---
   std::vector<Mat3> inertia_com_world;  // (nbone) R diag(I_local) R^T, kg m^2
+  std::vector<Vec3> axis0_world;        // (nbone) a hinge's or universal's s0, world
+  std::vector<Vec3> axis1_world;        // (nbone) a universal's s1 (joint_coordinates.h)
   std::vector<Vec3> point_world;  // (nbone) o_i: head (i > 0) or centre of mass (root), rig units
   std::vector<Vec6> bias_accel;   // (nbone) c_i, rad/s^2; rig units/s^2
   std::vector<SpatialInertia> inertia_art;  // (nbone) I^A_i about o_i; rigid after pass 1
@@ -116,7 +130,8 @@ struct ArticulatedBodyData {
                                             //         (torque_world + the damper [+ w x I w])
 
   // --- pass 2 (backward pass) ---
-  std::vector<Mat3> D_inv;          // (nbone) (S'^T I^A S' + J)^-1; the forward pass reads
+  std::vector<Mat3> D_inv;          // (nbone) (S'^T I^A S' + J)^-1, a hinge's or universal's
+                                    //         projector P; the forward pass reads
                                     //         the row S'^T I^A = [A B] from inertia_art
   std::vector<Vec3> u;              // (nbone) -S'^T p^A
   std::vector<Mat3> inertia_lower;  // (nbone) E, I^A's lower-left block, kg m; written only
@@ -143,12 +158,15 @@ struct ArticulatedBodyData {
   std::vector<Mat3> row_ang, row_lin;     // (nbone) G_i = [row_ang row_lin], N m; N m/(rig unit)
   std::vector<Vec3> joint_torque;         // (nbone) world axes, N m
   std::vector<Vec6> z_accel;              // (nbone) (alpha; a) of T_i, rad/s^2; rig units/s^2
+  std::vector<Vec3> z_axis_turn;          // (nbone) a universal joint's T_i angular block adds
+                                          //   z_axis_turn s1^T (implicit_pose_terms.h), rad/s^2
   std::vector<Vec6> z_spatial;            // (nbone) z_i (forward pass), same units
 
   // --- pass 3 (forward pass): MuJoCo's qacc layout ---
   std::vector<Vec6> accel_spatial;       // (nbone) a_i about o_i
   Vec3 root_accel_world = Vec3::Zero();  // classical acceleration of the root's centre of mass
-  std::vector<Vec3> joint_accel_local;   // (nbone) root: R^T alpha; ball: u_dot, rad/s^2
+  std::vector<Vec3> joint_accel_local;   // (nbone) root: R^T alpha; ball: u_dot; hinge,
+                                         //   universal: (t0'', t1'', 0), rad/s^2
 };
 
 void resize_articulated_data(int nbone, ArticulatedBodyData& data);
@@ -168,6 +186,10 @@ inline void articulated_accelerations(const Rig& rig, const BodyMotion& state,
   articulated_backward_pass(rig, data);
   articulated_forward_pass(rig, state, data);
 }
+
+// P = S (S^T M S)^-1 S^T for a joint's world axes s0 (and s1 unless `one`), M = A (+ J) (3x3):
+// the hinge's or universal's D^-1 (above); M's quadratic form on the axes must be invertible.
+Mat3 axis_projector(const Mat3& M, const Vec3& s0, const Vec3& s1, bool one);
 
 // Rigid-body spatial inertia about a point o, world axes; e = com - o.
 SpatialInertia spatial_inertia(double mass, const Mat3& inertia_com_world, const Vec3& e);

@@ -23,6 +23,7 @@ void save_joint_state(const SimState& s, JointStateSnapshot& snap) {
   snap.root_vel_world = js.root_vel_world;
   snap.root_orient_world = js.root_orient_world;
   std::copy(js.joint_vel_local.begin(), js.joint_vel_local.end(), snap.joint_vel_local.begin());
+  std::copy(js.hinge_angle.begin(), js.hinge_angle.end(), snap.hinge_angle.begin());
   std::copy(s.pose.bone_local_rotation.begin(), s.pose.bone_local_rotation.end(),
             snap.bone_local_rotation.begin());
   snap.friction_anchors = s.contact.anchors;  // keeps its capacity: no allocation once grown
@@ -34,6 +35,7 @@ void restore_joint_state(const Rig& rig, const JointStateSnapshot& snap, SimStat
   js.root_vel_world = snap.root_vel_world;
   js.root_orient_world = snap.root_orient_world;
   std::copy(snap.joint_vel_local.begin(), snap.joint_vel_local.end(), js.joint_vel_local.begin());
+  std::copy(snap.hinge_angle.begin(), snap.hinge_angle.end(), js.hinge_angle.begin());
   std::copy(snap.bone_local_rotation.begin(), snap.bone_local_rotation.end(),
             s.pose.bone_local_rotation.begin());
   s.contact.anchors = snap.friction_anchors;
@@ -43,7 +45,8 @@ void restore_joint_state(const Rig& rig, const JointStateSnapshot& snap, SimStat
 namespace {
 
 // the largest joint rotation of a step of h just taken, rad: h |u| of every ball and of the root's
-// w (their new velocities, which the step turned them by)
+// w (their new velocities, which the step turned them by); a hinge's or universal's |t'| is its
+// relative turn's rate too (its axes are orthonormal)
 double largest_rotation(const SimState& s, double h) {
   double w = 0.0;
   for (const Vec3& u : s.joint_space.joint_vel_local) w = std::max(w, u.squaredNorm());

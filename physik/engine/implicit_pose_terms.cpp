@@ -124,6 +124,21 @@ void add_inertia_turn(const Rig& rig, double h, bool wrench, bool turn, SimState
   }
 }
 
+// (1) on a universal joint j (joint_coordinates.h): its first axis s0 is fixed in the parent, so
+// its own second coordinate does not turn it, while the row G_j a_j counts every own column as a
+// ball's (whose three axes all turn with the bone). Taken back: the entry g01 = s0^T G_A s1 from
+// its pivot (a joint block -s0 g01 s1^T, which S^T . S turns into the (0, 1) entry alone), and
+// its rate's share from the right-hand side (G_j's -h V_j / h^2 part along s1: +s0 g01 t1' / h)
+void first_axis_holds(SimState& s, double h, int j) {
+  ArticulatedBodyData& d = s.joint_space.articulated;
+  const Vec3& s0 = d.axis0_world[j];
+  const Vec3& s1 = d.axis1_world[j];
+  const double g01 = s0.dot(d.row_ang[j] * s1);
+  d.joint_block[j].noalias() -= (g01 * s0) * s1.transpose();
+  d.joint_blocks = true;
+  d.joint_torque[j] += s0 * (g01 * s.joint_space.joint_vel_local[j][1] / h);
+}
+
 // (1): W_j, the subtree's wrench, leaves to root; joint j's row G_j = h^2 [-[n]x, -[g]x] (the
 // top rows of H(W_j) about o_j) and its right-hand side G_j (h^2 a0_j - h V_j) / h^2
 void add_turning_axes(const Rig& rig, double h, SimState& s) {
@@ -141,6 +156,7 @@ void add_turning_axes(const Rig& rig, double h, SimState& s) {
     d.row_lin[j] = -h * h * skew(g);
     const Vec6 y = h * h * im.accel_bias[j] - h * body_twist(d, s, j);
     d.joint_torque[j] = -n.cross(y.head<3>()) - g.cross(y.tail<3>());
+    if (rig.bone_joint_type[j] == JointType::kUniversal) first_axis_holds(s, h, j);
   }
 }
 
@@ -170,6 +186,13 @@ void add_turning_accelerations(const Rig& rig, double h, SimState& s) {
       im.pose_rate[i] = shift_motion(im.pose_rate[p], rr);
       im.pose_rate[i].head<3>() += d.z_accel[i].head<3>().cross(w_rel);
       im.pose_rate[i].tail<3>() += d.z_accel[i].tail<3>().cross(w_rel);
+      // a universal joint's second axis turns after its first hinge's rest acceleration
+      // s0 t0''_rest: its T's angular block gains (t0''_rest s0 x s1) s1^T
+      d.z_axis_turn[i].setZero();
+      if (rig.bone_joint_type[i] == JointType::kUniversal) {
+        d.z_axis_turn[i] = r.joint_accel_local[i][0] * d.axis0_world[i].cross(d.axis1_world[i]);
+        im.pose_rate[i].head<3>() += d.z_axis_turn[i] * d.axis1_world[i].dot(w_rel);
+      }
     }
     d.bias_force[i] += h * rigid_times(rig, d, s, i, im.pose_rate[i]);
   }
@@ -185,6 +208,8 @@ void rest_accelerations(const Scene& scene, const PoseTermSelection& terms, SimS
   for (int i = 0; i < rig.nbone; ++i) {
     r.inertia_art[i] = d.inertia_art[i];
     r.point_world[i] = d.point_world[i];
+    r.axis0_world[i] = d.axis0_world[i];  // a hinge's or universal's axes (joint_coordinates.h)
+    r.axis1_world[i] = d.axis1_world[i];
     im.rest_wrench[i].setZero();
   }
   RestWrenches world_held(d, im.rest_wrench);
@@ -227,6 +252,7 @@ void add_pose_terms(const Scene& scene, const ImplicitStage& stage, SimState& s)
       d.inertia_z[i] = SpatialInertia{};
       d.inertia_z_lower[i].setZero();
       d.z_accel[i].setZero();
+      d.z_axis_turn[i].setZero();
     }
   }
   d.pose_terms = true;

@@ -34,6 +34,23 @@
 // term stays O(n): the recursion carries a second inertia I^Z (h^2 I_b at each body) beside I^A.
 // The right-hand side gets -h K v the same way (each term applied to the velocities).
 //
+// Joints with locked axes (rig.h "Locked axes", joint_coordinates.h). A hinge's columns are its
+// world axes S = [s0 (s1)] and the pass eliminates them with the projector S (S^T D S)^-1 S^T in
+// place of D^-1 (articulated_body.h). A hinge's axis is fixed in its parent: its own coordinate
+// turns nothing in (1) and (4) (s x s = 0), so every term is the ball's on its axis. A universal
+// joint's s0 is fixed in the parent and s1 in the bone, so two of the ball's own-joint terms
+// change, each because t1 does not turn s0:
+//   (1) the row G_j a_j counts s0^T G s1 t1'' (and its rate share, G_j's -h V_j along s1) as a
+//       ball would: taken back, -s0 g01 s1^T into the pivot (g01 = s0^T G_A s1) and
+//       +s0 g01 t1' / h into the right-hand side;
+//   (4) the accelerations below s1 turn about s1 as it stands after the first hinge's rest
+//       acceleration: T's angular block on s1 uses alpha + s0 t0''_rest, i.e. gains
+//       (t0''_rest s0 x s1) s1^T (ArticulatedBodyData::z_axis_turn), its rate likewise.
+// (5) does not arise on the angles: a hinge's torsion torque S Q(t) gives S^T S Q = Q at every
+// pose. A weld by locks hands I^A, I^Z and its bias to its parent whole. Checked against the
+// dense step on random trees of hinges, universal joints and welds by locks
+// (tests/experiments/pose_terms_test.cpp).
+//
 // The shared DESIGN.md sketch takes (1) over strict ancestors with the whole transmitted wrench,
 // torsion torques included, and no (5). Measured against the dense step, that differs (the
 // torsion torques turn with their parent: with them in W, (1) needs their own turning term for

@@ -4,6 +4,7 @@ namespace physik {
 
 void size_joint_snapshot(int n, std::size_t anchor_capacity, JointStateSnapshot& snap) {
   snap.joint_vel_local.assign(n, Vec3::Zero());
+  snap.hinge_angle.assign(n, Vec2::Zero());
   snap.bone_local_rotation.assign(n, Quat::Identity());
   snap.friction_anchors.reserve(anchor_capacity);
 }

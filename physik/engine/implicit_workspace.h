@@ -20,6 +20,7 @@ struct JointStateSnapshot {
   Vec3 root_vel_world = Vec3::Zero();
   Quat root_orient_world = Quat::Identity();
   std::vector<Vec3> joint_vel_local;      // (nbone)
+  std::vector<Vec2> hinge_angle;          // (nbone)
   std::vector<Quat> bone_local_rotation;  // (nbone)
   std::vector<FrictionAnchor>
       friction_anchors;  // the contacts' static friction (ground_contacts.h)

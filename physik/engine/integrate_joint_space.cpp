@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "physik/model/joint_coordinates.h"
+
 namespace physik {
 
 void quat_integrate(Quat& q, const Vec3& w, double h) {
@@ -19,6 +21,58 @@ void quat_integrate(Quat& q, const Vec3& w, double h) {
   q = n < kMinVal ? Quat::Identity() : Quat(out.coeffs() * (1.0 / n));
 }
 
+namespace {
+
+inline bool hinged(JointType type) {
+  return type == JointType::kHinge || type == JointType::kUniversal;
+}
+
+inline Quat parent_orient(const Rig& rig, const BoneFrames& f, int i) {
+  const int p = rig.bone_parent[i];
+  return p < 0 ? Quat::Identity() : f.orient_world[p];
+}
+
+// w_i - w_parent of a hinge or universal, world: s0 t0' + s1 t1' (joint_coordinates.h)
+inline Vec3 hinge_rate_world(const Rig& rig, int i, const Quat& parent_orient_world,
+                             const Quat& orient_world, const Vec3& rate) {
+  Vec3 s0, s1;
+  hinge_axes_world(rig, i, parent_orient_world, orient_world, s0, s1);
+  return s0 * rate[0] + s1 * rate[1];
+}
+
+// a joint with locked axes removed (rig.h "Locked axes"): its coordinates from the pose's rotation
+// and the world view's relative turn, and the pose's rotation put on the joint's set (a weld by
+// locks at L)
+void project_joint(const Rig& rig, SimState& s, int i) {
+  JointSpaceState& js = s.joint_space;
+  Quat& q = s.pose.bone_local_rotation[i];
+  js.joint_vel_local[i].setZero();
+  js.hinge_angle[i].setZero();
+  if (rig.bone_joint_type[i] == JointType::kWeld) {
+    q = hinge_rotation(rig, i, Vec2::Zero());
+  } else {
+    const int p = rig.bone_parent[i];
+    const Vec3 w_rel = s.omega_world[i] - (p < 0 ? Vec3::Zero() : s.omega_world[p]);
+    Vec3 s0, s1;
+    hinge_axes_world(rig, i, parent_orient(rig, s.frames, i), s.frames.orient_world[i], s0, s1);
+    js.joint_vel_local[i] << s0.dot(w_rel), s1.dot(w_rel), 0.0;
+    js.hinge_angle[i] = hinge_coordinates(rig, i, q);
+    q = hinge_rotation(rig, i, js.hinge_angle[i]);
+  }
+  if (i == 0) js.root_orient_world = (rig.bone_rest_orient_parent[0] * q).normalized();
+}
+
+// a joint whose locked axes are removed and that is not welded by the rig (a weld to a bone, a
+// fixed root): a hinge, a universal joint or a weld by locks
+inline bool locks_removed(const Rig& rig, int i) {
+  const JointType t = rig.bone_joint_type[i];
+  if (hinged(t)) return true;
+  return t == JointType::kWeld && rig.bone_weld[i] < 0 &&
+         !(i == 0 && rig.root_joint == RootJoint::kFixed);
+}
+
+}  // namespace
+
 void init_joint_space(const Rig& rig, SimState& s) {
   const int n = rig.nbone;
   JointSpaceState& js = s.joint_space;
@@ -26,7 +80,12 @@ void init_joint_space(const Rig& rig, SimState& s) {
   js.root_com_world = s.com_world[0];
   js.root_vel_world = s.vel_world[0];
   js.root_orient_world = s.frames.orient_world[0];
+  const bool locked = rig.has_locked_joints();
   for (int i = 0; i < n; ++i) {
+    if (locked && locks_removed(rig, i)) {
+      project_joint(rig, s, i);
+      continue;
+    }
     if (rig.bone_joint_type[i] == JointType::kWeld) {  // no joint velocity
       js.joint_vel_local[i].setZero();
       continue;
@@ -35,6 +94,8 @@ void init_joint_space(const Rig& rig, SimState& s) {
     const Vec3 w_rel = s.omega_world[i] - (p < 0 ? Vec3::Zero() : s.omega_world[p]);
     js.joint_vel_local[i] = s.frames.orient_world[i].conjugate() * w_rel;
   }
+  // the pose was put on the joints' sets: the world view follows it
+  if (locked) world_from_joint_space(rig, s);
 }
 
 void articulated_joint_forces(const Rig& rig, SimState& s) {
@@ -76,7 +137,10 @@ inline void derive_body(const Rig& rig, SimState& s, int i) {
     f.orient_world[i] = js.root_orient_world.normalized();
     const Mat3 R = f.orient_world[i].toRotationMatrix();
     const Vec3 half = half_length * R.col(1);  // R (0, L/2, 0)
-    s.omega_world[i] = R * js.joint_vel_local[i];
+    s.omega_world[i] =
+        hinged(rig.bone_joint_type[i])
+            ? hinge_rate_world(rig, i, Quat::Identity(), f.orient_world[i], js.joint_vel_local[i])
+            : Vec3(R * js.joint_vel_local[i]);
     if (rig.root_anchored()) {
       // the head stays at its rest position; the centre turns about it
       f.head_world[i] = rig.bone_rest_head_world[i];
@@ -106,7 +170,13 @@ inline void derive_body(const Rig& rig, SimState& s, int i) {
   const Vec3 half = half_length * R.col(1);
   s.com_world[i] = f.head_world[i] + half;
   f.tail_world[i] = s.com_world[i] + half;
-  if (w < 0) s.omega_world[i] = s.omega_world[p] + R * js.joint_vel_local[i];
+  if (w < 0) {
+    s.omega_world[i] =
+        s.omega_world[p] +
+        (hinged(rig.bone_joint_type[i])
+             ? hinge_rate_world(rig, i, q_parent, f.orient_world[i], js.joint_vel_local[i])
+             : Vec3(R * js.joint_vel_local[i]));
+  }
   s.vel_world[i] = s.vel_world[p] + s.omega_world[p].cross(f.head_world[i] - s.com_world[p]) +
                    s.omega_world[i].cross(half);
 }
@@ -118,6 +188,15 @@ void pose_from_derived(const Rig& rig, SimState& s) {
   s.pose.bone_local_rotation[0] =
       (rig.bone_rest_orient_parent[0].conjugate() * s.frames.orient_world[0]).normalized();
   welded_local_rotations(rig, s.frames, s.pose);
+}
+
+// a hinge's or universal's angles as MuJoCo's hinge qpos (mj_advance, mj_integratePos): the
+// rates first, then the angles with the new rates; the pose's rotation q(t) (joint_coordinates.h)
+inline void integrate_hinge(const Rig& rig, double h, SimState& s, int i) {
+  JointSpaceState& js = s.joint_space;
+  js.joint_vel_local[i].head<2>() += h * js.articulated.joint_accel_local[i].head<2>();
+  js.hinge_angle[i] += h * js.joint_vel_local[i].head<2>();
+  s.pose.bone_local_rotation[i] = hinge_rotation(rig, i, js.hinge_angle[i]);
 }
 
 }  // namespace
@@ -141,14 +220,22 @@ void integrate_joint_space(const Rig& rig, double h, SimState& s) {
       js.joint_vel_local[0] += h * d.joint_accel_local[0];
       quat_integrate(js.root_orient_world, js.joint_vel_local[0], h);
       break;
+    case JointType::kHinge:
+    case JointType::kUniversal:
+      integrate_hinge(rig, h, s, 0);
+      js.root_orient_world = rig.bone_rest_orient_parent[0] * s.pose.bone_local_rotation[0];
+      break;
     case JointType::kWeld:
       break;
   }
   derive_body(rig, s, 0);
   for (int i = 1; i < rig.nbone; ++i) {
-    if (rig.bone_joint_type[i] == JointType::kBall) {
+    const JointType type = rig.bone_joint_type[i];
+    if (type == JointType::kBall) {
       js.joint_vel_local[i] += h * d.joint_accel_local[i];
       quat_integrate(s.pose.bone_local_rotation[i], js.joint_vel_local[i], h);
+    } else if (hinged(type)) {
+      integrate_hinge(rig, h, s, i);
     }
     derive_body(rig, s, i);
   }

@@ -1,9 +1,10 @@
 // The joint-space state of the exact and implicit schemes (integrate_joint_space.h,
 // implicit_step.h), owned by the state (SimState::joint_space): MuJoCo's qpos/qvel of the
-// ball-joint model, the root's free joint and per bone the ball's relative angular velocity,
-// with the articulated-body algorithm's workspace. Every ball's quaternion is the state's
-// pose.bone_local_rotation[i]; the world view (frames, com, vel, omega) is derived from these
-// after every step. Units: rig units, s, rad.
+// rig's joint model (rig.h "Locked axes"), the root's free joint and per bone its joint's
+// velocity coordinates, with the articulated-body algorithm's workspace. Every ball's quaternion
+// is the state's pose.bone_local_rotation[i]; a hinge's or universal's angles are hinge_angle[i]
+// and its pose entry is derived from them (joint_coordinates.h); the world view (frames, com,
+// vel, omega) is derived from these after every step. Units: rig units, s, rad.
 #pragma once
 
 #include <vector>
@@ -18,7 +19,11 @@ struct JointSpaceState {
   Vec3 root_vel_world = Vec3::Zero();         // rig units/s, of the root's centre of mass
   Quat root_orient_world = Quat::Identity();  // world<-root bone
   std::vector<Vec3> joint_vel_local;          // (nbone) rad/s; [0] the root's w in its own frame,
-                                              //   [i] R_i^T (w_i - w_parent), in bone i's frame
+                                              //   [i] R_i^T (w_i - w_parent), in bone i's frame;
+                                              //   a hinge's or universal's (t0', t1', 0) (a
+                                              //   pinned root's too), a weld's 0
+  std::vector<Vec2> hinge_angle;              // (nbone) rad; a hinge's or universal's (t0, t1),
+                                              //   MuJoCo's hinge qpos; 0 for other joints
   ArticulatedBodyData articulated;            // the articulated-body algorithm's workspace
 };
 

@@ -7,11 +7,13 @@
 // articulated-body algorithm), and the products J^T A J x as one outward velocity pass and one
 // inward force pass (ch. 5, the recursive Newton-Euler algorithm's two passes).
 //
-// Coordinates x (nv = 6 + 3 (n - 1)): the root's centre-of-mass velocity (world) and angular
-// velocity (world axes), then every ball's relative angular velocity w_i - w_parent (world
-// axes). They differ from the dense path's (linear_modes_dense.h: local axes) by a rotation per
-// joint, which leaves the modes' w^2 and the quadratic forms phi^T D phi of M-normalised modes
-// unchanged (the same orthogonal change of coordinates on M, K, D1 and Dr).
+// Coordinates x (Rig::velocity_count of the scheme's joint model, rig.h "Locked axes"): the
+// root's centre-of-mass velocity (world) and angular velocity (world axes), then every ball's
+// relative angular velocity w_i - w_parent (world axes), every hinge's or universal's angle
+// rates (joint_coordinates.h: w_i - w_parent = S t'). A ball's differ from the dense path's
+// (linear_modes_dense.h: local axes) by a rotation per joint, which leaves the modes' w^2 and the
+// quadratic forms phi^T D phi of M-normalised modes unchanged (the same orthogonal change of
+// coordinates on M, K, D1 and Dr); a hinge's are the dense path's.
 //
 // Every matrix is J^T E J over bodies, E_i a symmetric 6x6 element about the body's point o_i
 // (head, or the root's centre of mass), plus, for K, a 3x3 block per ball:
@@ -90,12 +92,20 @@ class ModeOperators {
 
  private:
   void element_wrenches(Matrix which);
+  // joint i's relative angular velocity (world) from its coordinates in x: a ball's three, a
+  // hinge's or universal's angle rates along their axes (joint_coordinates.h); 0 for a weld
+  Vec3 rate(int i, const VecX& x) const;
+  // S^T torque into joint i's coordinates of y (added, or set)
+  void put_torque(int i, const Vec3& torque, bool add, VecX& y) const;
+  // the negative eigenvalues of joint i's pivot from its symmetric inverse (count_below)
+  int negative_pivots(JointType type, int i, const Mat3& inverse) const;
   void load_inertias();
   void compute_end_damper_scale();
 
   const Rig& rig_;
   const SimState& state_;
   ModeWorkspace& ws_;
+  LockedAxes locked_;  // the scheme's joint model (rig.h "Locked axes")
   int nv_ = 0;
   double shift_ = 1.0;
   double factor_damper_ = 0.0;  // (1 - f) / dt, 1/s

@@ -5,6 +5,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "physik/model/joint_coordinates.h"
+
 namespace physik {
 
 double torsion_spring_potential(SpringLaw law, double k, double cap, double excess) {
@@ -23,12 +25,50 @@ Vec3 torsion_excess(const std::array<AxisLimit, 3>& limits, double tolerance, co
   return e;
 }
 
+TorsionKind torsion_kind(const Rig& rig, LockedAxes locked, int i) {
+  if (!has_torsion_spring(rig, i)) return TorsionKind::kNone;
+  switch (rig.joint_type(i, locked)) {
+    case JointType::kBall:
+      return TorsionKind::kRotationVector;
+    case JointType::kHinge:
+    case JointType::kUniversal: {
+      const auto& l = rig.bone_limit[i];
+      const auto& axes = rig.bone_joint_axes[i];
+      const bool limited = l[axes[0]].limited || (axes[1] >= 0 && l[axes[1]].limited);
+      return limited ? TorsionKind::kHingeAngles : TorsionKind::kNone;
+    }
+    case JointType::kFree:
+    case JointType::kWeld:
+      break;
+  }
+  return TorsionKind::kNone;
+}
+
+Vec3 torsion_angles(const Rig& rig, TorsionKind kind, int i, const Quat& q) {
+  if (kind != TorsionKind::kHingeAngles) return rotation_vector(q);
+  Vec3 theta;
+  for (int k = 0; k < 3; ++k)
+    theta[k] = rig.bone_limit[i][k].locked() ? rig.bone_limit[i][k].min : 0.0;
+  const Vec2 t = hinge_coordinates(rig, i, q);
+  const auto& axes = rig.bone_joint_axes[i];
+  theta[axes[0]] = t[0];
+  if (axes[1] >= 0) theta[axes[1]] = t[1];
+  return theta;
+}
+
 double torsion_potential(const Rig& rig, const EngineParams& params, const Pose& pose) {
   if (params.torsion_k == 0.0) return 0.0;
   double u = 0.0;
+  const LockedAxes locked = params.locked_axes();
   for (int i = 0; i < rig.nbone; ++i) {
-    const Vec3 e =
-        torsion_excess(rig.bone_limit[i], params.torsion_tolerance, pose.bone_local_rotation[i]);
+    const TorsionKind kind = torsion_kind(rig, locked, i);
+    if (kind == TorsionKind::kNone) continue;
+    const Vec3 theta = torsion_angles(rig, kind, i, pose.bone_local_rotation[i]);
+    Vec3 e = Vec3::Zero();
+    for (int k = 0; k < 3; ++k) {
+      const AxisLimit& l = rig.bone_limit[i][k];
+      if (l.limited) e[k] = torsion_excess(l, params.torsion_tolerance, theta[k]);
+    }
     for (int k = 0; k < 3; ++k) {
       if (e[k] != 0.0) {
         u += torsion_spring_potential(params.torsion_spring, params.torsion_k, params.torsion_cap,
@@ -117,19 +157,51 @@ Mat3 torsion_step_block_local(const Vec3& k, const Vec3& theta, TorsionTorque to
          0.5 * (tangent - tangent.transpose());
 }
 
+namespace {
+
+// a hinge's or universal's world axes at the state's frames (joint_coordinates.h)
+void axes_world(const Rig& rig, const BoneFrames& f, int i, Vec3& s0, Vec3& s1) {
+  hinge_axes_world(rig, i, torsion_parent_orient(rig, f, i), f.orient_world[i], s0, s1);
+}
+
+// a local per-axis vector v (torque or stiffness) on a hinge's or universal's angles, the axes
+// s0, s1 carrying its free axes' entries: S diag(v) S^T or S v
+Mat3 hinge_block(const Rig& rig, int i, const Vec3& v, const Vec3& s0, const Vec3& s1) {
+  const auto& axes = rig.bone_joint_axes[i];
+  Mat3 out = v[axes[0]] * (s0 * s0.transpose());
+  if (axes[1] >= 0) out += v[axes[1]] * (s1 * s1.transpose());
+  return out;
+}
+
+Vec3 hinge_torque(const Rig& rig, int i, const Vec3& tau_local, const Vec3& s0, const Vec3& s1) {
+  const auto& axes = rig.bone_joint_axes[i];
+  return tau_local[axes[0]] * s0 + (axes[1] >= 0 ? tau_local[axes[1]] : 0.0) * s1;
+}
+
+}  // namespace
+
 void apply_torsion_springs(const Rig& rig, const EngineParams& params, SimState& s) {
   if (params.torsion_k == 0.0) return;
   const bool gradient = params.torsion_torque == TorsionTorque::kGradient;
+  const LockedAxes locked = params.locked_axes();
   for (int i = 0; i < rig.nbone; ++i) {
-    if (!has_torsion_spring(rig, i)) continue;
+    const TorsionKind kind = torsion_kind(rig, locked, i);
+    if (kind == TorsionKind::kNone) continue;
     const auto& limits = rig.bone_limit[i];
-    const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[i]);
+    const Vec3 theta = torsion_angles(rig, kind, i, s.pose.bone_local_rotation[i]);
     Vec3 tau_local = torsion_torque_local(limits, theta, params);
     if (tau_local.isZero(0.0)) continue;
-    if (gradient) tau_local = left_jacobian_inverse_transpose(theta) * tau_local;  // tau_pr
     const int p = rig.bone_parent[i];
-    const Vec3 tau_world =
-        torsion_parent_orient(rig, s.frames, i) * (rig.bone_rest_orient_parent[i] * tau_local);
+    Vec3 tau_world;
+    if (kind == TorsionKind::kHingeAngles) {  // generalised forces on the angles
+      Vec3 s0, s1;
+      axes_world(rig, s.frames, i, s0, s1);
+      tau_world = hinge_torque(rig, i, tau_local, s0, s1);
+    } else {
+      if (gradient) tau_local = left_jacobian_inverse_transpose(theta) * tau_local;  // tau_pr
+      tau_world =
+          torsion_parent_orient(rig, s.frames, i) * (rig.bone_rest_orient_parent[i] * tau_local);
+    }
     s.torque_world[i] += tau_world;
     if (p >= 0) s.torque_world[p] -= tau_world;
   }
@@ -144,16 +216,30 @@ void torsion_springs_tangents(const Scene& scene, const ImplicitStage& stage, Si
   const bool full = stage.full;
   const EngineParams& p = scene.params;
   const Rig& rig = scene.rig;
+  const LockedAxes locked = p.locked_axes();
   for (int i = 0; i < rig.nbone; ++i) {
     const auto& limits = rig.bone_limit[i];
     im.torsion_torque_world[i].setZero();
-    if (!has_torsion_spring(rig, i) || p.torsion_k == 0.0) {
+    const TorsionKind kind = torsion_kind(rig, locked, i);
+    if (kind == TorsionKind::kNone || p.torsion_k == 0.0) {
       im.torsion_stiffness[i].setZero();
       im.torsion_block_world[i].setZero();  // torsion_block_world() reads it without the stiffness
       continue;
     }
-    const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[i]);
+    const Vec3 theta = torsion_angles(rig, kind, i, s.pose.bone_local_rotation[i]);
     im.torsion_stiffness[i] = torsion_step_stiffness_local(limits, theta, p);
+    if (kind == TorsionKind::kHingeAngles) {
+      // diag(k) on the angles: S diag(k) S^T on the relative rate; the generalised force Q(t)
+      // is the angles' own, so no pose term (the torque S Q turns with the axes it acts on)
+      Vec3 s0, s1;
+      axes_world(rig, s.frames, i, s0, s1);
+      im.torsion_block_world[i] = hinge_block(rig, i, im.torsion_stiffness[i], s0, s1);
+      if (full) {
+        im.torsion_torque_world[i] =
+            hinge_torque(rig, i, torsion_torque_local(limits, theta, p), s0, s1);
+      }
+      continue;
+    }
     const Mat3 R = (torsion_parent_orient(rig, s.frames, i) * rig.bone_rest_orient_parent[i])
                        .toRotationMatrix();  // R_pr
     im.torsion_block_world[i] =
@@ -209,11 +295,19 @@ void torsion_springs_mode_stiffness(const Scene& scene, const SimState& s,
                                     const std::vector<Vec3>& /*targets*/, ModeStiffness& out) {
   const EngineParams& p = scene.params;
   const Rig& rig = scene.rig;
+  const LockedAxes locked = p.locked_axes();
   for (int b = 0; b < rig.nbone && p.torsion_k != 0.0; ++b) {
-    if (!has_torsion_spring(rig, b)) continue;
-    const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[b]);
+    const TorsionKind kind = torsion_kind(rig, locked, b);
+    if (kind == TorsionKind::kNone) continue;
+    const Vec3 theta = torsion_angles(rig, kind, b, s.pose.bone_local_rotation[b]);
     const Vec3 k = torsion_stiffness_local(rig.bone_limit[b], theta, p);
     if (k.isZero(0.0)) continue;
+    if (kind == TorsionKind::kHingeAngles) {
+      Vec3 s0, s1;
+      axes_world(rig, s.frames, b, s0, s1);
+      out.blocks.push_back({b, hinge_block(rig, b, k, s0, s1)});
+      continue;
+    }
     const Mat3 T = torsion_torque_frame(rig, p, torsion_parent_orient(rig, s.frames, b), b, theta);
     out.blocks.push_back({b, T * k.asDiagonal() * T.transpose()});
   }

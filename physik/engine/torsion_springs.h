@@ -13,6 +13,19 @@
 // (its parent frame is the world's, its opposite torque goes nowhere).
 // A welded bone (rig.h "Welds") has no torsion spring: every scheme moves its group as one body.
 //
+// Locked axes (rig.h "Locked axes"). The above is the gauss-seidel scheme's (LockedAxes::kSprings:
+// a locked axis is a spring pulling toward its value). The exact and implicit schemes remove the
+// locked axes from a joint's coordinates (LockedAxes::kRemoved): a hinge or universal joint
+// (joint_coordinates.h) has springs on its limited free axes only, on its angles t_k (the
+// coordinates, read from q by hinge_coordinates), with the same dead zone and law:
+//   Q_k = k d(t_k) (capped: k min(|d|, c) sign(d)),   U = sum_k U_t(d(t_k))
+// a generalised force on coordinate k, applied as the torque tau = s0 Q_0 + s1 Q_1 on the bone
+// and -tau on its parent (s_k its world axes: s_k . tau = Q_k, the axes being orthonormal). On
+// the angles both torsion_torque variants are this one (-dU/dt exactly: no J_l). A weld by locks
+// has none. A ball's springs (no locked axis) are as above. Its implicit block is
+// S diag(k) S^T (world, on the relative rate: S^T of it is diag(k) on the angles), its modes'
+// block the same.
+//
 // torsion_torque (params): `axes` is the above, the paper's (seed 000 Sec. 3.4, the original
 // fwik.py). It is -dU/dtheta, the gradient in the rotation vector, not in the rotation: the
 // relative angular velocity in the parent-rest frame w_pr = R_pr^T (w_i - w_p) turns theta at
@@ -121,6 +134,17 @@ inline bool has_torsion_spring(const Rig& rig, int bone) {
   const auto& l = rig.bone_limit[bone];
   return l[0].limited || l[1].limited || l[2].limited;
 }
+
+// How a bone's torsion spring acts in a joint model (LockedAxes): on the rotation vector (every
+// limited axis under kSprings, a ball's under kRemoved), on a hinge's or universal's limited
+// free angles (kRemoved), or not at all (no limited axis left: a weld, a free root).
+enum class TorsionKind { kNone, kRotationVector, kHingeAngles };
+TorsionKind torsion_kind(const Rig& rig, LockedAxes locked, int bone);
+
+// The angles a bone's springs measure (rad, per local axis x, y, z) at local rotation q: the
+// rotation vector of q, or for kHingeAngles the joint's angles on its free axes
+// (hinge_coordinates) and the locked values on its locked axes, which are never engaged.
+Vec3 torsion_angles(const Rig& rig, TorsionKind kind, int bone, const Quat& q);
 
 // The world orientation a bone's torsion spring holds against: its parent's, the world's for the
 // root.

@@ -25,6 +25,8 @@
 #include <utility>
 #include <vector>
 
+#include "physik/model/types.h"
+
 namespace physik {
 
 enum class SpringLaw { kLinear, kCapped };
@@ -116,6 +118,10 @@ struct EngineParams {
   int passes_cap(int nbone) const { return max_passes > 0 ? max_passes : 5 * nbone * nbone; }
   // the state is the joint-space one of the articulated-body recursion (exact and implicit)
   bool joint_space() const { return scheme != Scheme::kGaussSeidel; }
+  // the scheme's joint model: locked axes removed (exact, implicit) or held by torsion springs
+  LockedAxes locked_axes() const {
+    return joint_space() ? LockedAxes::kRemoved : LockedAxes::kSprings;
+  }
 };
 
 // --- the parameter table ---------------------------------------------------------------------

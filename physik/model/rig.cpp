@@ -76,6 +76,33 @@ const char* to_string(RootJoint root) {
   return "?";
 }
 
+const char* to_string(JointType type) {
+  switch (type) {
+    case JointType::kFree:
+      return "free";
+    case JointType::kBall:
+      return "ball";
+    case JointType::kHinge:
+      return "hinge";
+    case JointType::kUniversal:
+      return "universal";
+    case JointType::kWeld:
+      return "weld";
+  }
+  return "?";
+}
+
+bool Rig::has_locked_joints() const {
+  for (int i = 0; i < nbone; ++i) {
+    const JointType t = bone_joint_type[i];
+    if (t == JointType::kHinge || t == JointType::kUniversal) return true;
+    if (t == JointType::kWeld && bone_weld[i] < 0 && !(i == 0 && root_joint == RootJoint::kFixed)) {
+      return true;
+    }
+  }
+  return false;
+}
+
 bool Rig::has_welds() const {
   return std::any_of(bone_weld.begin(), bone_weld.end(), [](int w) { return w >= 0; });
 }
@@ -484,31 +511,86 @@ void derive_rest_frames(Rig& rig) {
   }
 }
 
-// stage 6b: the joint model: each bone's joint type, joint parent and velocity coordinates, its
-// rest frame in the frame of the bone it is welded to, and its rigid body
+// the lock rotation L = exp(sum over locked axes of min e_k) (rig.h "Locked axes")
+Quat lock_rotation(const std::array<AxisLimit, 3>& limit) {
+  Vec3 v = Vec3::Zero();
+  for (int k = 0; k < 3; ++k) {
+    if (limit[k].locked()) v[k] = limit[k].min;
+  }
+  const double angle = v.norm();
+  return angle > 0.0 ? Quat(Eigen::AngleAxisd(angle, v / angle)) : Quat::Identity();
+}
+
+// a joint's type by its locked axes, its free axes in x, y, z order into `axes`
+JointType type_by_locks(const std::array<AxisLimit, 3>& limit, std::array<int, 2>& axes) {
+  int nfree = 0;
+  axes = {-1, -1};
+  for (int k = 0; k < 3; ++k) {
+    if (limit[k].locked()) continue;
+    if (nfree < 2) axes[nfree] = k;
+    ++nfree;
+  }
+  if (nfree == 3) axes = {-1, -1};
+  switch (nfree) {
+    case 0:
+      return JointType::kWeld;
+    case 1:
+      return JointType::kHinge;
+    case 2:
+      return JointType::kUniversal;
+    default:
+      return JointType::kBall;
+  }
+}
+
+int coordinates(JointType type) {
+  switch (type) {
+    case JointType::kFree:
+      return 6;
+    case JointType::kBall:
+      return 3;
+    case JointType::kUniversal:
+      return 2;
+    case JointType::kHinge:
+      return 1;
+    case JointType::kWeld:
+      return 0;
+  }
+  return 0;
+}
+
+// stage 6b: the joint model: each bone's joint type (its locked axes removed: rig.h "Locked
+// axes"), joint parent and velocity coordinates, its rest frame in the frame of the bone it is
+// welded to, and its rigid body; and the coordinates of the gauss-seidel scheme's balls
 void derive_joint_model(Rig& rig, RootJoint root) {
   const int n = rig.nbone;
   rig.root_joint = root;
   rig.bone_joint_type.assign(n, JointType::kBall);
   rig.bone_joint_parent.assign(n, -1);
   rig.bone_dofadr.assign(n, 0);
+  rig.bone_dofadr_springs.assign(n, 0);
+  rig.bone_joint_axes.assign(n, {-1, -1});
+  rig.bone_joint_lock.assign(n, Quat::Identity());
   rig.bone_rest_orient_weld.assign(n, Quat::Identity());
   rig.bone_body.assign(n, 0);
   rig.body_nbone.assign(n, 0);
-  int nv = 0;
+  int nv = 0, nv_springs = 0;
   for (int i = 0; i < n; ++i) {
     const int w = rig.bone_weld[i];
     JointType& type = rig.bone_joint_type[i];
-    if (i == 0) {
-      type = root == RootJoint::kFree     ? JointType::kFree
-             : root == RootJoint::kPinned ? JointType::kBall
-                                          : JointType::kWeld;
+    if (i == 0 && root != RootJoint::kPinned) {
+      type = root == RootJoint::kFree ? JointType::kFree : JointType::kWeld;
     } else if (w >= 0) {
       type = JointType::kWeld;
+    } else {
+      type = type_by_locks(rig.bone_limit[i], rig.bone_joint_axes[i]);
+      if (type != JointType::kBall) rig.bone_joint_lock[i] = lock_rotation(rig.bone_limit[i]);
     }
     rig.bone_joint_parent[i] = w >= 0 ? w : rig.bone_parent[i];
     rig.bone_dofadr[i] = nv;
-    nv += type == JointType::kFree ? 6 : type == JointType::kBall ? 3 : 0;
+    nv += coordinates(type);
+    rig.bone_dofadr_springs[i] = nv_springs;
+    nv_springs += coordinates(rig.joint_type(i, LockedAxes::kSprings));
     if (w >= 0) {
       rig.bone_rest_orient_weld[i] =
           (rig.bone_rest_orient_world[w].conjugate() * rig.bone_rest_orient_world[i]).normalized();
@@ -517,6 +599,7 @@ void derive_joint_model(Rig& rig, RootJoint root) {
     ++rig.body_nbone[rig.bone_body[i]];
   }
   rig.nv = nv;
+  rig.nv_springs = nv_springs;
 }
 
 // stage 7: one joint per bone with children, and the members flattened for the joint solve
@@ -623,6 +706,10 @@ Rig build_rig(const std::vector<BoneSpec>& specs, const std::string& source,
   derive_joint_model(rig, root_joint);
   derive_joints(rig);
   return rig;
+}
+
+void refresh_joint_model(Rig& rig) {
+  derive_joint_model(rig, rig.root_joint);
 }
 
 }  // namespace physik

@@ -27,6 +27,20 @@
 // its rest position: 3 DOF, its limits relative to its rest frame in the world, so that two
 // locked axes make a hinge to the world) or fixed (0 DOF, it never moves).
 //
+// Locked axes (docs/engine.md "Hinges and two-axis joints"). The exact and implicit schemes (and
+// MuJoCo's model of them) give a joint only its free coordinates, as MuJoCo does: with L the
+// joint's lock rotation exp(sum over locked axes k of min_k e_k) (identity when every locked
+// axis is locked at zero), a bone's local rotation is
+//   2 locked axes  hinge      q = L exp(t e_a)                     1 coordinate t
+//   1 locked axis  universal  q = L exp(t1 e_a) exp(t2 e_b)        2 coordinates (t1, t2)
+//   3 locked axes  weld       q = L                                0 coordinates
+// with e_a, e_b the free local axes in x, y, z order: two hinges in sequence, as MuJoCo writes
+// two hinges in one body (its second axis turns with the first). The coordinates are holonomic:
+// the pose never leaves this set, so a locked axis never turns. A limit on a free axis bounds its
+// coordinate t (a hinge's angle exactly where its locked axes are at zero, the rotation vector's
+// component to first order elsewhere). The gauss-seidel scheme (the paper's) keeps every bone
+// that is not welded a ball, its locked axes held by torsion springs (LockedAxes::kSprings).
+//
 // Arrays are indexed by bone in DFS order: every parent comes before its children.
 //
 // Sizes and magnitudes (checked by build_rig, so every product the engine forms stays finite:
@@ -55,13 +69,16 @@ constexpr double kMaxScale = 1e9;       // largest mass (kg) or radius (rig unit
 // MuJoCo reference collide the same shapes, and it scales with each rig's own units
 constexpr double kCollisionRadiusPerLength = 0.06;
 
-// How a bone is attached across its joint (MuJoCo's mjtJoint, less slide and hinge: a hinge is a
-// ball with two locked axes, held by its torsion springs)
+// How a bone is attached across its joint (MuJoCo's mjtJoint, less slide; a universal joint is
+// two of MuJoCo's hinges in one body)
 enum class JointType {
-  kFree,  // the root only: 6 DOF, velocity (v_com world, w local)
-  kBall,  // 3 DOF at the bone's head: a ball to its parent, or a pinned root's to the world
-  kWeld,  // 0 DOF: welded to its joint parent, or a fixed root to the world
+  kFree,       // the root only: 6 DOF, velocity (v_com world, w local)
+  kBall,       // 3 DOF at the bone's head: a ball to its parent, or a pinned root's to the world
+  kHinge,      // 1 DOF at the head: two locked axes (a pinned root's too)
+  kUniversal,  // 2 DOF at the head: one locked axis, two hinges in sequence
+  kWeld,       // 0 DOF: welded to its joint parent, every axis locked, or a fixed root
 };
+const char* to_string(JointType type);
 
 // The root's attachment to the world, as a rig file names it ("root").
 enum class RootJoint { kFree, kPinned, kFixed };
@@ -111,7 +128,10 @@ struct Rig {
   std::string name;  // from the file, or generated
   int nbone = 0;
   RootJoint root_joint = RootJoint::kFree;
-  int nv = 0;  // velocity coordinates: 6, 3 or 0 for the root, 3 per ball, 0 per weld
+  int nv = 0;          // velocity coordinates: 6, 3, 2, 1 or 0 for the root, 3 per ball, 2 per
+                       // universal joint, 1 per hinge, 0 per weld (LockedAxes::kRemoved)
+  int nv_springs = 0;  // the same with LockedAxes::kSprings: 6, 3 or 0 for the root, 3 per bone
+                       // that is not welded
 
   // per bone, DFS order
   std::vector<std::string> bone_name;           // (nbone)
@@ -141,11 +161,20 @@ struct Rig {
 
   // the joint model of the exact and implicit schemes (and MuJoCo's): per bone its joint's type,
   // the bone across it, and where its velocity coordinates start
-  std::vector<JointType> bone_joint_type;   // (nbone) root: free, ball (pinned) or weld (fixed)
-  std::vector<int> bone_joint_parent;       // (nbone) the bone it is welded to, else its parent;
-                                            //         -1 for the root (the world)
-  std::vector<int> bone_dofadr;             // (nbone) its first coordinate in (nv)
-  std::vector<int> bone_weld;               // (nbone) the bone it is welded to, or -1
+  std::vector<JointType> bone_joint_type;  // (nbone) root: free, ball, hinge, universal
+                                           //         (pinned) or weld (fixed, or pinned and
+                                           //         locked on every axis)
+  std::vector<int> bone_joint_parent;      // (nbone) the bone it is welded to, else its parent;
+                                           //         -1 for the root (the world)
+  std::vector<int> bone_dofadr;            // (nbone) its first coordinate in (nv)
+  std::vector<std::array<int, 2>> bone_joint_axes;  // (nbone) a hinge's free local axis [0], a
+                                                    //   universal's [0] then [1] (0, 1, 2 = x,
+                                                    //   y, z); -1 where unused
+  std::vector<Quat> bone_joint_lock;     // (nbone) L = exp(locked angles): a hinge's, universal's
+                                         //         or locked weld's frame in the bone's rest frame
+                                         //         (identity where no axis is locked away from 0)
+  std::vector<int> bone_dofadr_springs;  // (nbone) its first coordinate in (nv_springs)
+  std::vector<int> bone_weld;            // (nbone) the bone it is welded to, or -1
   std::vector<Quat> bone_rest_orient_weld;  // (nbone) a welded bone's rest frame in the frame of
                                             //         the bone it is welded to (else identity)
   std::vector<int> bone_body;   // (nbone) the first bone of its rigid body: a bone that is not
@@ -171,6 +200,24 @@ struct Rig {
   // welded bone (the root's: its limits' relative to the world for a pinned root, 0 for a fixed
   // one; a free root's 6 are not counted here)
   int bone_dof(int bone) const;
+  // its joint's type in either joint model (LockedAxes): kRemoved is bone_joint_type; kSprings
+  // turns every hinge, universal joint and weld by locks into a ball
+  JointType joint_type(int bone, LockedAxes locked) const {
+    const JointType t = bone_joint_type[bone];
+    if (locked == LockedAxes::kRemoved || t == JointType::kFree || t == JointType::kBall) return t;
+    if (bone_weld[bone] >= 0 || (bone == 0 && root_joint == RootJoint::kFixed)) {
+      return JointType::kWeld;
+    }
+    return JointType::kBall;
+  }
+  int dofadr(int bone, LockedAxes locked) const {
+    return locked == LockedAxes::kRemoved ? bone_dofadr[bone] : bone_dofadr_springs[bone];
+  }
+  int velocity_count(LockedAxes locked) const {
+    return locked == LockedAxes::kRemoved ? nv : nv_springs;
+  }
+  // some joint has locked axes removed: a hinge, a universal joint, or a weld by locks
+  bool has_locked_joints() const;
   bool welded(int bone) const { return bone_weld[bone] >= 0; }
   bool has_welds() const;
   // the root's head never moves (pinned or fixed)
@@ -223,6 +270,10 @@ Vec3 cylinder_inertia(double mass, double radius, double length);
 // the file in error messages. Throws InputError.
 Rig build_rig(const std::vector<BoneSpec>& specs, const std::string& source,
               const std::string& name = "", RootJoint root = RootJoint::kFree);
+
+// The joint model (bone_joint_type and the arrays beside it, nv) from the rig's welds, root and
+// limits again, after bone_limit was edited (a limits file: joint_limits.h); build_rig calls it.
+void refresh_joint_model(Rig& rig);
 
 // Blender's rest frame from head, tail and roll: the minimal rotation taking +Y to the bone
 // direction, followed by a roll about the bone's own Y (rad). Columns are bone x, y, z in world.

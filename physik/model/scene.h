@@ -170,7 +170,8 @@ struct Scene {
 
 // A scene's start fits its rig's joints (rig.h): an anchored root starts at its rest head and
 // does not move (initial_pose.root_head, initial_velocity), a fixed root unturned
-// (initial_pose.rotation_deg); implicit_linearisation full needs a free root and no welds.
+// (initial_pose.rotation_deg); implicit_linearisation full needs a free root and no welds (its
+// joints balls, hinges, universal joints or welds by locks: rig.h "Locked axes").
 // InputError naming the scene's file and field.
 void check_scene_joints(const Scene& scene);
 

@@ -14,6 +14,7 @@
 
 namespace physik {
 
+using Vec2 = Eigen::Vector2d;
 using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
 using Quat = Eigen::Quaterniond;
@@ -25,6 +26,12 @@ constexpr double deg2rad(double deg) {
 constexpr double rad2deg(double rad) {
   return rad * 180.0 / kPi;
 }
+
+// Which joint model a computation follows (rig.h "Locked axes"): the exact and implicit
+// schemes' (locked axes removed from the coordinates: hinges, universal joints, welds) or the
+// gauss-seidel scheme's (every bone that is not welded a ball, its locked axes held by torsion
+// springs, as the paper's).
+enum class LockedAxes { kRemoved, kSprings };
 
 // skew-symmetric matrix [v]x with [v]x w = v x w
 inline Mat3 skew(const Vec3& v) {

@@ -132,7 +132,7 @@ TEST(Linearisation, TheVelocityProductsDerivativeIsTheDenseRecursions) {
   for (Vec3& t : d.torque_world) t.setZero();
   d.joint_space.articulated.torque_per_omega = 0.0;
   d.joint_space.articulated.cancel_gyroscopic = false;
-  const Eigen::VectorXd v = joint_velocity(d);
+  const Eigen::VectorXd v = joint_velocity(rig, d);
   const auto minus_c = [&](const Eigen::VectorXd& q) {
     SimState t = d;
     t.joint_space.root_vel_world = q.head<3>();
@@ -209,9 +209,9 @@ TEST(Linearisation, TheShippedStepRebuiltDenselyIsTheShippedStep) {
     SimState a = moving, b = moving;
     bare_step(sc, a, h, Variant::kShipped);
     bare_step(sc, b, h, Variant::kShippedDense);
-    const Eigen::VectorXd dv = joint_velocity(a) - joint_velocity(moving);
+    const Eigen::VectorXd dv = joint_velocity(sc.rig, a) - joint_velocity(sc.rig, moving);
     ASSERT_GT(dv.norm(), 1e-3);
-    EXPECT_LT((joint_velocity(a) - joint_velocity(b)).norm(), 1e-7 * dv.norm());
+    EXPECT_LT((joint_velocity(sc.rig, a) - joint_velocity(sc.rig, b)).norm(), 1e-7 * dv.norm());
   }
 }
 
@@ -229,7 +229,7 @@ TEST(Linearisation, ThePoseDerivativeFollowsTheEulerUpdate) {
   const SimState s = moving_chain(sc, 9);
   Eigen::MatrixXd A_q, A_v;
   derivatives(sc, s, Variant::kNewton, A_q, A_v);
-  const Eigen::VectorXd expected = A_q * joint_velocity(s);
+  const Eigen::VectorXd expected = A_q * joint_velocity(sc.rig, s);
   ASSERT_GT(expected.norm(), 1e-2);
   const double h = 1e-5;
   SimState t = s;
@@ -253,13 +253,13 @@ TEST(Linearisation, TheShippedStepWithDcdvIsThatDenseSystem) {
     derivatives(sc, s, Variant::kNewton, A_q_full, A_v, h);
     ASSERT_GT((A_v - A_v_rest).norm(), 1e-3);  // moving: dC/dv is there
     const int n = static_cast<int>(A_q.rows());
-    const Eigen::VectorXd v = joint_velocity(s);
+    const Eigen::VectorXd v = joint_velocity(sc.rig, s);
     const Eigen::MatrixXd S = Eigen::MatrixXd::Identity(n, n) - h * A_v - h * h * A_q;
     const Eigen::VectorXd expected =
         v + h * S.partialPivLu().solve(accelerations(sc, s) + h * (A_q * v));
     SimState t = s;
     bare_step(sc, t, h, Variant::kShippedDcdv);
-    EXPECT_LT((joint_velocity(t) - expected).norm(), 1e-6 * (expected - v).norm());
+    EXPECT_LT((joint_velocity(sc.rig, t) - expected).norm(), 1e-6 * (expected - v).norm());
   }
 }
 

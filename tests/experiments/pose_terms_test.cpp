@@ -21,6 +21,7 @@
 #include "physik/engine/interpolation.h"
 #include "physik/engine/newton_euler.h"
 #include "physik/engine/torsion_springs.h"
+#include "physik/model/joint_coordinates.h"
 #include "physik/model/params.h"
 #include "tests/dense_dynamics.h"
 
@@ -40,14 +41,29 @@ struct PoseCase {
   SimState s;
 };
 
+// random_hinged_rig (tests/dense_dynamics.h: hinges, universal joints, welds by locks) with
+// narrow limits on some free axes
+Rig hinged_limited_rig(std::mt19937& rng, int n) {
+  Rig rig = dense::random_hinged_rig(rng, n);
+  for (int i = 1; i < n; ++i) {
+    for (int a = 0; a < 3; ++a) {
+      if ((i + a) % 2 == 0 && !rig.bone_limit[i][a].locked())
+        rig.bone_limit[i][a] = {true, -0.2, 0.1 + 0.1 * a};
+    }
+  }
+  refresh_joint_model(rig);
+  return rig;
+}
+
 // a random tree of n bones: limits on some axes (violated at random poses: engaged torsion
-// springs), linear control springs on random bones toward random targets, moving
-PoseCase random_pose_case(std::mt19937& rng, int n, TorsionTorque torque) {
+// springs), linear control springs on random bones toward random targets, moving; `hinged`:
+// locked axes too (rig.h "Locked axes"), the joints' angles and rates random
+PoseCase random_pose_case(std::mt19937& rng, int n, TorsionTorque torque, bool hinged = false) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   PoseCase out;
   Scene& sc = out.scene;
   sc.file = "<random>";
-  sc.rig = dense::random_limited_rig(rng, n);
+  sc.rig = hinged ? hinged_limited_rig(rng, n) : dense::random_limited_rig(rng, n);
   sc.params = preset_params("original");
   sc.params.scheme = Scheme::kImplicit;
   sc.params.implicit_linearisation = ImplicitLinearisation::kFull;
@@ -70,12 +86,22 @@ PoseCase random_pose_case(std::mt19937& rng, int n, TorsionTorque torque) {
   init_state(sc, out.s);
   SimState& s = out.s;
   for (int i = 1; i < n; ++i) {
-    s.pose.bone_local_rotation[i] = Quat(Eigen::AngleAxisd(1.5 * u(rng), dense::random_unit(rng)));
+    const JointType type = sc.rig.bone_joint_type[i];
+    if (type == JointType::kBall) {
+      s.pose.bone_local_rotation[i] =
+          Quat(Eigen::AngleAxisd(1.5 * u(rng), dense::random_unit(rng)));
+    } else if (type != JointType::kWeld) {
+      s.joint_space.hinge_angle[i] = Vec2(1.5 * u(rng), type == JointType::kHinge ? 0.0 : u(rng));
+      s.pose.bone_local_rotation[i] = hinge_rotation(sc.rig, i, s.joint_space.hinge_angle[i]);
+    }
   }
   s.joint_space.root_com_world = Vec3(u(rng), u(rng), u(rng));
   s.joint_space.root_orient_world = Quat(Eigen::AngleAxisd(3.0 * u(rng), dense::random_unit(rng)));
   s.joint_space.root_vel_world = Vec3(u(rng), u(rng), u(rng));
-  for (int i = 0; i < n; ++i) s.joint_space.joint_vel_local[i] = Vec3(u(rng), u(rng), u(rng));
+  for (int i = 0; i < n; ++i) {
+    const int k = rotational_coordinates(sc.rig.bone_joint_type[i]);
+    for (int c = 0; c < 3; ++c) s.joint_space.joint_vel_local[i][c] = c < k ? u(rng) : 0.0;
+  }
   world_from_joint_space(sc.rig, s);
   return out;
 }
@@ -85,6 +111,8 @@ PoseCase random_pose_case(std::mt19937& rng, int n, TorsionTorque torque) {
 bool clip_acts(const Scene& sc, const SimState& s) {
   if (sc.params.torsion_torque != TorsionTorque::kAxes) return false;
   for (int i = 1; i < sc.rig.nbone; ++i) {
+    // a hinge's springs act on its angles: no clip there (torsion_springs.h)
+    if (torsion_kind(sc.rig, LockedAxes::kRemoved, i) != TorsionKind::kRotationVector) continue;
     const Vec3 theta = rotation_vector(s.pose.bone_local_rotation[i]);
     const Vec3 k = torsion_step_stiffness_local(sc.rig.bone_limit[i], theta, sc.params);
     const Mat3 tangent = k.asDiagonal() * left_jacobian_inverse_transpose(theta).transpose();
@@ -178,17 +206,17 @@ void recursive_step(const Scene& scene, SimState& s, double h, const PoseTermSel
 using Extras = void (*)(std::mt19937&, PoseCase&);
 
 Worst compare_with_dense(PoseTermSelection use, Variant dense_variant, unsigned seed,
-                         Extras extras = nullptr) {
+                         Extras extras = nullptr, bool hinged = false) {
   use.gauss_newton_retake = false;  // the bare recursion: the dense step has no retake
   std::mt19937 rng(seed);
   Worst w;
   for (int trial = 0; trial < 24; ++trial) {
     const TorsionTorque torque = trial % 2 ? TorsionTorque::kAxes : TorsionTorque::kGradient;
-    PoseCase pc = random_pose_case(rng, 2 + trial % 7, torque);
+    PoseCase pc = random_pose_case(rng, 2 + trial % 7, torque, hinged);
     if (extras) extras(rng, pc);
     if (clip_acts(pc.scene, pc.s)) continue;
     const Eigen::MatrixXd M_inv = unit_force_response(pc.scene, pc.s, false, 0.05);
-    const Eigen::VectorXd v = joint_velocity(pc.s);
+    const Eigen::VectorXd v = joint_velocity(pc.scene.rig, pc.s);
     for (double h : {0.05, 1.0, 20.0}) {
       SCOPED_TRACE(testing::Message() << "trial " << trial << " n " << pc.scene.rig.nbone << " h "
                                       << h << " torque " << to_string(torque));
@@ -199,8 +227,8 @@ Worst compare_with_dense(PoseTermSelection use, Variant dense_variant, unsigned 
       SimState a = pc.s, b = pc.s;
       recursive_step(pc.scene, a, h, use);
       bare_step(pc.scene, b, h, dense_variant);
-      const Eigen::VectorXd acc = (joint_velocity(a) - v) / h,
-                            acc_dense = (joint_velocity(b) - v) / h;
+      const Eigen::VectorXd acc = (joint_velocity(pc.scene.rig, a) - v) / h,
+                            acc_dense = (joint_velocity(pc.scene.rig, b) - v) / h;
       const Eigen::VectorXd rhs = accelerations(pc.scene, pc.s) + h * (A_q * v);
       w.backward =
           std::max(w.backward, (S * acc - rhs).norm() / (S.norm() * acc.norm() + rhs.norm()));
@@ -222,8 +250,8 @@ std::ostream& operator<<(std::ostream& o, const Worst& w) {
 }
 
 void expect_equal(const char* name, const PoseTermSelection& use, Variant dense_variant,
-                  Extras extras = nullptr) {
-  const Worst w = compare_with_dense(use, dense_variant, 5, extras);
+                  Extras extras = nullptr, bool hinged = false) {
+  const Worst w = compare_with_dense(use, dense_variant, 5, extras, hinged);
   EXPECT_GT(w.compared, 30);
   EXPECT_LT(w.backward, 1e-8);
   EXPECT_LT(w.system, 1e-8);
@@ -241,6 +269,15 @@ TEST(PoseTerms, TheFullStepIsTheDenseNewtonAtRestStep) {
 TEST(PoseTerms, WithGravityAndPinsTheFullStepIsTheDenseNewtonAtRestStep) {
   expect_equal("with gravity and pins", PoseTermSelection{}, Variant::kNewtonAtRest,
                add_gravity_and_pins);
+}
+
+// rig.h "Locked axes": hinges, universal joints and welds by locks (implicit_pose_terms.h: a
+// hinge's terms are a ball's on its axis, a universal's take two corrections), with engaged
+// torsion springs on their angles, gravity and pins
+TEST(PoseTerms, OnHingedTreesTheFullStepIsTheDenseNewtonAtRestStep) {
+  expect_equal("hinged trees", PoseTermSelection{}, Variant::kNewtonAtRest, nullptr, true);
+  expect_equal("hinged trees with gravity and pins", PoseTermSelection{}, Variant::kNewtonAtRest,
+               add_gravity_and_pins, true);
 }
 
 TEST(PoseTerms, TheForcesTermsAloneAreTheDensePoseForcesStep) {
@@ -276,8 +313,8 @@ TEST(PoseTerms, APivotNotPositiveRetakesTheStepAsGaussNewton) {
       const bool positive = bare.joint_space.articulated.pose_terms_positive;
       const SimState& expected = positive ? bare : gauss_newton;
       EXPECT_EQ(shipped.implicit.gauss_newton_steps, positive ? 0 : 1);
-      EXPECT_EQ(joint_velocity(shipped), joint_velocity(expected));
-      EXPECT_NE(joint_velocity(bare), joint_velocity(gauss_newton));
+      EXPECT_EQ(joint_velocity(pc.scene.rig, shipped), joint_velocity(pc.scene.rig, expected));
+      EXPECT_NE(joint_velocity(pc.scene.rig, bare), joint_velocity(pc.scene.rig, gauss_newton));
       (positive ? kept : retaken) += 1;
     }
   }

@@ -1,7 +1,9 @@
 // The exact joint solve (scheme exact: the articulated-body algorithm and MuJoCo's Euler in
-// joint space, physik/engine/integrate_joint_space.h) against MuJoCo's same-forces run (ball
-// joints, PhysIK's forces, reference/mujoco_runner.h): on every scene in models/scenes where both
-// are stable, the largest head/tail gap over all bones and 400 steps is at most 1e-9 rig units.
+// joint space, physik/engine/integrate_joint_space.h) against MuJoCo's same-forces run (the
+// rig's joints, hinges where it locks axes, PhysIK's forces, reference/mujoco_runner.h): on every
+// scene in models/scenes where both are stable (pinhead's elbows and knees are hinges, its torso
+// a universal joint, its hips and collarbones welds by locks), the largest head/tail gap over all
+// bones and 400 steps is at most 1e-9 rig units.
 // A scene where either run diverges is named and skipped (its explicit Euler is unstable in both).
 #include <algorithm>
 #include <cmath>
@@ -123,6 +125,43 @@ TEST(ExactVsMujoco, WeldedAndAnchoredRigsAgree) {
       const Gap g = exact_vs_mujoco(s);
       ASSERT_TRUE(g.stable) << to_string(root);
       std::cout << "[exact vs MuJoCo] welded figure, root " << to_string(root)
+                << (gyroscopic ? "" : ", gyroscopic off") << ": max gap " << g.max_gap << "\n";
+      EXPECT_LE(g.max_gap, 1e-9) << to_string(root);
+      EXPECT_GT(g.travel, 0.1) << to_string(root);
+    }
+  }
+}
+
+// rig.h "Locked axes": hinges (elbows, knees), universal joints (wrists, ankles; one with its
+// lock away from zero), welds by locks (collarbones, hips) and a pinned root that is a hinge to
+// the world, with engaged limits on free axes (the torsion springs on the angles): MuJoCo's
+// same-forces model writes them as hinges (mjcf_export.h kHingeJoints), and the exact step equals
+// its run; also with the gyroscopic term off and the paper's torque
+TEST(ExactVsMujoco, HingedFigureAgrees) {
+  for (const RootJoint root : {RootJoint::kFree, RootJoint::kPinned}) {
+    Rig rig = test::hinged_figure(root);
+    for (int i = 0; i < rig.nbone; ++i) {  // stout rods: explicit Euler's torsion bound holds
+      rig.bone_radius[i] = 0.3;
+      rig.bone_inertia_local[i] = cylinder_inertia(rig.bone_mass[i], 0.3, rig.bone_length[i]);
+    }
+    Scene s = test::scene_for(rig, preset_params("original"), kSteps);
+    using test::control;
+    s.control_points = {
+        control(rig.find_bone("hand.L"), 1.0, Vec3(-0.3, -0.5, 1.9), 10.0, SpringLaw::kCapped),
+        control(rig.find_bone("hand.R"), 1.0, Vec3(0.4, 0.6, 0.8), 10.0),
+        control(rig.find_bone("foot.L"), 1.0, Vec3(-0.4, 0.5, 0.4), 10.0),
+        control(rig.find_bone("foot.R"), 1.0, Vec3(0.5, -0.6, 0.2), 10.0, SpringLaw::kCapped)};
+    // the start bends the knees and elbows past their limits, off their joints' sets (init_state
+    // puts them on), so the torsion springs on the angles engage from the first step
+    s.initial_pose.bone_local_rotation[rig.find_bone("shin.L")] =
+        Quat(Eigen::AngleAxisd(0.3, Vec3(1, 0.2, 0).normalized()));
+    s.initial_pose.bone_local_rotation[rig.find_bone("forearm.R")] =
+        Quat(Eigen::AngleAxisd(-0.5, Vec3::UnitX()));
+    for (const bool gyroscopic : {true, false}) {
+      s.params.gyroscopic = gyroscopic;
+      const Gap g = exact_vs_mujoco(s);
+      ASSERT_TRUE(g.stable) << to_string(root);
+      std::cout << "[exact vs MuJoCo] hinged figure, root " << to_string(root)
                 << (gyroscopic ? "" : ", gyroscopic off") << ": max gap " << g.max_gap << "\n";
       EXPECT_LE(g.max_gap, 1e-9) << to_string(root);
       EXPECT_GT(g.travel, 0.1) << to_string(root);
