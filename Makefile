@@ -69,7 +69,7 @@ test: configure
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 reproduce: build-cli
-	@PHYSIK=$(BUILD)/physik PYTHON=$(PYTHON) bash scripts/reproduce.sh
+	@PHYSIK=$(BUILD)/physik PYTHON=$(PYTHON) JOBS=$(JOBS) bash scripts/reproduce.sh
 
 bench: configure
 	$(call build_beside_deps,physik_bench physik_python,$(BUILD),run)

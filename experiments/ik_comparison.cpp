@@ -16,8 +16,8 @@
 // control point pinning the root's head (PhysIK's root is free), in a PosingSession per rig
 // (physik/posing; the time is the solve alone), stopped like the classic solvers: at the residual
 // tolerance (1e-4 of the reach), or when no goal improves short of it (not converged), at most
-// 2000 steps or iterations; the explicit rows on fewer targets. Rows: physik, the solve mode
-// (the equilibrium solve: physik solve --solver physik); physik-full, the same with
+// 2000 steps or iterations; the explicit rows and KDL's NR_JL on fewer targets. Rows: physik, the
+// solve mode (the equilibrium solve: physik solve --solver physik); physik-full, the same with
 // implicit_linearisation full; physik-steps, the time-stepping solve mode (scheme implicit, the
 // potential's torsion torque, the step from the physical dt lengthening as the motion settles:
 // --solver physik-steps), and physik-steps+dls with a DLS finish once the residual stops
@@ -172,7 +172,8 @@ struct Stats {
       unreach_excess, violation, rotation, offpath, offpath_rotation, jump;
 };
 
-// How many targets per rig (the explicit PhysIK engine gets fewer: it is slow on long chains)
+// How many targets per rig (the explicit PhysIK engine and KDL's NR_JL get fewer: they are slow
+// on long chains)
 struct Budget {
   int n_reach, n_unreach, n_cont, physik_reach, physik_unreach, physik_cont;
 };
@@ -334,12 +335,14 @@ nlohmann::json stats_row(const RigCase& rc, const std::string& solver, int nr, i
 nlohmann::json run_solver(const Context& ctx, const SolveCase& sc, const Solver& solve,
                           const Targets& targets, const Budget& b, Tables& tables,
                           std::vector<Outcome>& reach_out) {
-  // the explicit engine is slow (hundreds of steps a solve): it gets fewer targets; the solve
-  // mode gets the classic solvers' counts, so its p95 jump ratio stands on as many pairs as DLS's
-  const bool is_explicit = sc.solver.rfind("physik-explicit", 0) == 0;
-  const int nr = is_explicit ? std::min(b.physik_reach, b.n_reach) : b.n_reach;
-  const int nu = is_explicit ? std::min(b.physik_unreach, b.n_unreach) : b.n_unreach;
-  const int nc = is_explicit ? std::min(b.physik_cont, b.n_cont) : b.n_cont;
+  // the explicit engine is slow (hundreds of steps a solve), and so is KDL's NR_JL on long chains
+  // (an SVD of the 6 x 3n Jacobian per iteration, to its 2000 iterations on every unreachable
+  // target: 10 minutes on the 50-bone chain): they get fewer targets; the solve mode gets the
+  // classic solvers' counts, so its p95 jump ratio stands on as many pairs as DLS's
+  const bool few = sc.solver.rfind("physik-explicit", 0) == 0 || sc.solver == "kdl-nr";
+  const int nr = few ? std::min(b.physik_reach, b.n_reach) : b.n_reach;
+  const int nu = few ? std::min(b.physik_unreach, b.n_unreach) : b.n_unreach;
+  const int nc = few ? std::min(b.physik_cont, b.n_cont) : b.n_cont;
   if (ctx.log)
     *ctx.log << "  " << sc.rc.name << " / " << sc.solver << ": " << nr << " + " << nu
              << " targets\n";

@@ -13,6 +13,7 @@
 #include "physik/engine/implicit_step.h"
 #include "physik/engine/integrate_joint_space.h"
 #include "physik/engine/potential.h"
+#include "physik/engine/subnormals.h"
 
 namespace physik {
 
@@ -181,6 +182,7 @@ void observe(const Scene& scene, const SimState& s, double u, const StepObserver
 
 EquilibriumResult equilibrium_solve(const Scene& scene, SimState& s, EquilibriumWorkspace& ws,
                                     const EquilibriumRule& rule, const StepObserver& observer) {
+  const FlushSubnormals flushed(scene.params.flush_subnormals);  // as every step (subnormals.h)
   EquilibriumResult out;
   ws.armature = rule.armature * ws.inertia_scale;
   pull_at_goals(scene, s);
