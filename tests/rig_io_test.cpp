@@ -47,6 +47,8 @@ TEST(RigInput, AllBonesHaveParentsIsACycle) {
 TEST(RigInput, UnknownParent) {
   expect_error(rig_with(R"({"name": "b", "parent": "nobody", "head": [0,0,1], "tail": [0,0,2]})"),
                {"'b'", "parent", "unknown bone 'nobody'"});
+  expect_error(rig_with(R"({"name": "b", "parent": "aa", "head": [0,0,1], "tail": [0,0,2]})"),
+               {"'b'", "parent", "unknown bone 'aa' (did you mean 'a'?)"});
 }
 
 TEST(RigInput, DuplicateName) {
@@ -292,6 +294,8 @@ TEST(RigInput, BadWeldsNameTheBoneAndField) {
                         R"("name": "a", "parent": "r", "weld": "b",)"),
                {"'a'", "weld", "must come before"});
   expect_error(weld_rig(R"(, "weld": "nobody")"), {"'b'", "weld", "unknown bone 'nobody'"});
+  expect_error(weld_rig(R"(, "weld": "rr")"),
+               {"'b'", "weld", "unknown bone 'rr' (did you mean 'r'?)"});
   expect_error(weld_rig(R"(, "weld": "b")"), {"'b'", "weld", "itself"});
   expect_error(weld_rig(R"(, "weld": "")"), {"'b'", "weld", "empty"});
 }
