@@ -167,19 +167,7 @@ constexpr int kNoLower = -1;  // substep's answer: halving did not help this hal
 struct Rejected {
   double energy;    // J, E at its end
   double rotation;  // rad, its largest joint rotation
-  int unhelped;     // the halvings in a row, down to it, that turned a joint no less far
 };
-
-// Halvings in a row that must each turn a joint too far and nearly as far as the step they halve
-// (more than kHelpingFall of it) before halving counts as no help. One is not enough: a stiff
-// contact met in the middle of a step can turn a half as far as its whole and still be resolved two
-// levels down (the contacts experiment's 1000-bone coil dropped on the floor diverged at step 110
-// when one was taken as enough); bones overlapping at the start under contact_k 1e20 turn every
-// half as far at every length (ImplicitAdvance.HalvingStopsWhereAHalfTurnsAsFarAsItsWhole).
-constexpr int kHalvingsWithoutHelp = 3;
-// A halving helps where its half turns a joint at most this share of its whole step's turn (a
-// smooth motion's turn halves with the step; a stiff contact's stays)
-constexpr double kHelpingFall = 0.75;
 
 // One substep of h at `depth`; returns the substeps taken, or kNoLower. A substep the check
 // rejects (attempt) is split in two, each checked in turn, below max_depth. A half that halving
@@ -209,15 +197,14 @@ int substep(const Scene& scene, SimState& s, double h, int depth, Guard& g, Reje
   double energy = 0.0;
   if (attempt(scene, s, h, depth, g, e0, energy)) return 1;
   const double rotation = largest_rotation(s, h);
-  const bool too_far = rotation > kMaxStepRotation;
-  const int unhelped = too_far && rotation > kHelpingFall * whole.rotation ? whole.unhelped + 1 : 0;
-  if (too_far ? unhelped >= kHalvingsWithoutHelp : energy >= whole.energy) return kNoLower;
+  if (rotation > kMaxStepRotation ? rotation >= whole.rotation : energy >= whole.energy) {
+    return kNoLower;
+  }
   restore_joint_state(scene.rig, im.snapshots[depth], s);
   g.measured.known = false;
-  const Rejected self{energy, rotation, unhelped};
-  int taken = substep(scene, s, 0.5 * h, depth + 1, g, self);
+  int taken = substep(scene, s, 0.5 * h, depth + 1, g, {energy, rotation});
   if (taken != kNoLower) {
-    const int second = substep(scene, s, 0.5 * h, depth + 1, g, self);
+    const int second = substep(scene, s, 0.5 * h, depth + 1, g, {energy, rotation});
     taken = second == kNoLower ? kNoLower : taken + second;
   }
   if (taken != kNoLower) return taken;
@@ -251,7 +238,7 @@ int advance_implicit(const Scene& scene, SimState& s, double h, BareStep bare, c
           false,
           MeasuredEnergy{}};
   const double inf = std::numeric_limits<double>::infinity();
-  const int substeps = substep(scene, s, h, 0, g, {inf, inf, 0});
+  const int substeps = substep(scene, s, h, 0, g, {inf, inf});
   if (substeps > 1) ++im.split_steps;
   if (g.deepest) ++im.deepest_steps;
   im.max_substeps = std::max(im.max_substeps, substeps);

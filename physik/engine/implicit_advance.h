@@ -37,18 +37,15 @@
 //      it is, and the step counts in implicit_deepest_steps, which the run reports once; 0: the
 //      bare linearised step, never split). Where halving does not help, the whole step is kept
 //      as it was taken (implicit_unresolved_steps) and the run monitor judges the energy
-//      (run_monitor.h): a half whose energy ends no lower than its whole step's, or three
-//      halvings in a row that each turn a joint too far and more than 3/4 as far as the step
-//      they halve.
-//      Both are contacts so stiff that no step the guard can take resolves them: bones
-//      overlapping at the start under contact_k 1e20 are pushed apart by a whole overlap in
-//      every step, whatever its length, so a half turns them as far as its whole (2.4 rad at
-//      every length from 1e-4 to 6e-6 s), while a contact met in mid-step may turn one half as
-//      far as its whole and be resolved further down (the contacts experiment's dropped coil); the
-//      old guard split every step that turned too far, and took 2^20 substeps of one step, most of
-//      them from a state gone non-finite, before the run diverged. A substep whose start is not
-//      finite is taken as it is (no step length helps it; the run monitor ends the run). The
-//      substeps
+//      (run_monitor.h): a half whose energy ends no lower than its whole step's, or a half that
+//      turns a joint too far and at least as far as its whole step did. Both are contacts so
+//      stiff that no step the guard can take resolves them: bones overlapping at the start
+//      under contact_k 1e20 are pushed apart by a whole overlap in every step, whatever its
+//      length, so a half turns them as far as its whole (2.4 rad at every length from 1e-4 to
+//      6e-6 s); the old guard split every step that turned too far, and took 2^20 substeps of
+//      one step, most of them from a state gone non-finite, before the run diverged. A substep
+//      whose start is not finite is taken as it is (no step length helps it; the run monitor
+//      ends the run). The substeps
 // integrate the same equations of motion (damping c, the factor's damper (1 - f) / dt I_com,
 // every spring); as h -> 0 the step tends to the exact dynamics, which add no energy with the
 // targets held, so the halving ends. On every shipped scene no step is split (their largest
