@@ -89,6 +89,16 @@ TEST(RigInput, LimitOutsidePlusMinus180FailsAtLoad) {
   EXPECT_DOUBLE_EQ(rig.bone_limit[1][1].max, kPi);
 }
 
+// a forward axis whose square overflows ([0, 1e155, 0]) is +Y, not the zero vector that its
+// plain normalisation gave (an aim without an axis and --look-at then did nothing)
+TEST(RigInput, AForwardAxisTooLargeToSquareIsItsDirection) {
+  const Rig rig = rig_from_json_text(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1],
+      "tail": [0,0,2], "forward": [0, 1e155, 0]})"),
+                                     "ok.json");
+  EXPECT_TRUE(test::near(rig.bone_forward_local[1], Vec3(0, 1, 0), 1e-15))
+      << rig.bone_forward_local[1].transpose();
+}
+
 TEST(RigInput, LimitEntryChecksMatchTheLimitFile) {
   expect_error(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2],
                             "limits_deg": {"w": [0, 1]}})"),

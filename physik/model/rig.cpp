@@ -416,7 +416,7 @@ void check_body(const BoneSpec& b, const std::string& source, const std::string&
                           "or .R)");
   }
   if (!b.forward_local.allFinite() ||
-      (!b.forward_local.isZero() && !(b.forward_local.norm() > 1e-9))) {
+      (!b.forward_local.isZero() && !(b.forward_local.stableNorm() > 1e-9))) {
     throw_input_error(source, el, "forward", "must be a finite nonzero vector");
   }
 }
@@ -461,7 +461,7 @@ void fill_bones(const std::vector<BoneSpec>& specs, const std::vector<std::size_
     rig.bone_limit.push_back(b.limit);
     rig.bone_segment.push_back(b.segment);
     rig.bone_forward_local.push_back(b.forward_local.isZero() ? b.forward_local
-                                                              : b.forward_local.normalized());
+                                                              : b.forward_local.stableNormalized());
     rig.bone_weld.push_back(b.weld.empty() ? -1 : new_index[index_of.at(b.weld)]);
   }
 }
