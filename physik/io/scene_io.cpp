@@ -64,12 +64,12 @@ Vec3 bounded_vec3(const JsonContext& ctx, const Json& obj, const std::string& ke
 }
 
 // a rotation vector in degrees (rotation_deg) within +-kMaxAngleDeg per component, so its
-// length and the turn's sine and cosine are exact enough (rig.h)
+// length and the turn's sine and cosine are exact enough (input_bounds.h)
 static_assert(kMaxAngleDeg == 1e6, "the message below quotes it");
 Vec3 bounded_angles(const JsonContext& ctx, const Json& v, const std::string& field) {
   const Vec3 r = ctx.vec3_value(v, field);
   if (!(r.cwiseAbs().maxCoeff() <= kMaxAngleDeg)) {
-    ctx.fail(field, "beyond +-1e6 degrees (rig.h kMaxAngleDeg)");
+    ctx.fail(field, "beyond +-1e6 degrees (input_bounds.h kMaxAngleDeg)");
   }
   return r;
 }
