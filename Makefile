@@ -16,6 +16,11 @@ JOBS ?= 2
 PYTHON ?= /usr/bin/python3
 DEPS_LOG = $(BUILD)/deps-background.log
 
+# PCH=ON or OFF: precompiled headers (CMakeLists.txt PHYSIK_PCH; docs/DESIGN.md "The build"), passed
+# to a build folder's configure; empty keeps the folder's setting (a new folder: CMakeLists' default)
+PCH ?=
+pch_arg = $(if $(PCH),-DPHYSIK_PCH=$(PCH))
+
 SANITIZE_BUILD ?= build-sanitize
 SANITIZE_FUZZ_CASES ?= 600
 # -O1 -g1 (line tables): the sanitized build compiles in about half the time of -O2 -g (measured
@@ -51,7 +56,7 @@ deps:
 
 configure:
 	@bash scripts/install-deps.sh build
-	@cmake -S . -B $(BUILD) $(call generator,$(BUILD)) -DCMAKE_BUILD_TYPE=Release \
+	@cmake -S . -B $(BUILD) $(call generator,$(BUILD)) -DCMAKE_BUILD_TYPE=Release $(pch_arg) \
 		-DPython3_EXECUTABLE=$(PYTHON) > /dev/null
 
 build: configure
@@ -69,7 +74,7 @@ test: configure
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 reproduce: build-cli
-	@PHYSIK=$(BUILD)/physik PYTHON=$(PYTHON) bash scripts/reproduce.sh
+	@PHYSIK=$(BUILD)/physik PYTHON=$(PYTHON) JOBS=$(JOBS) bash scripts/reproduce.sh
 
 bench: configure
 	$(call build_beside_deps,physik_bench physik_python,$(BUILD),run)
@@ -93,7 +98,7 @@ sanitize:
 	@cmake -S . -B $(SANITIZE_BUILD) $(call generator,$(SANITIZE_BUILD)) \
 		-DCMAKE_BUILD_TYPE=RelWithDebInfo -DPHYSIK_SANITIZE=ON \
 		-DCMAKE_CXX_FLAGS_RELWITHDEBINFO="$(SANITIZE_CXX_FLAGS)" \
-		-DPHYSIK_CORE_SUITE_ONLY=ON \
+		-DPHYSIK_CORE_SUITE_ONLY=ON $(pch_arg) \
 		-DPHYSIK_FUZZ_CASES=$(SANITIZE_FUZZ_CASES) -DPython3_EXECUTABLE=$(PYTHON) > /dev/null
 	$(call build_beside_deps,,$(SANITIZE_BUILD),run)
 	@cd $(SANITIZE_BUILD) && $(SANITIZE_ENV) ctest --output-on-failure -j $(JOBS)

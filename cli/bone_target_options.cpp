@@ -9,6 +9,7 @@
 // world frame, rig units; the spring, k and cap are the params' (--set control_k=... reaches
 // them). One target of a kind per bone: an option replaces the scene's target of that bone.
 #include <cstdlib>
+#include <iostream>
 #include <string>
 #include <vector>
 
@@ -118,7 +119,10 @@ void apply_bone_target_options(const BoneTargetOptions& o, Scene& scene) {
     const Given g = parse_given(text, 4, "w,x,y,z", false, src);
     OrientationTarget t;
     t.bone = target_bone_index(scene, g.bone, src);
-    t.target_world = target_quaternion(g.numbers[0], g.numbers[1], g.numbers[2], g.numbers[3], src);
+    std::vector<std::string> warnings;  // a norm within 1e-3 of 1, normalised: said once
+    t.target_world =
+        target_quaternion(g.numbers[0], g.numbers[1], g.numbers[2], g.numbers[3], src, warnings);
+    for (const std::string& w : warnings) std::cerr << "physik: warning: " << w << "\n";
     set_bone_target(scene.orientation_targets, t);
   }
   for (const std::string& text : o.aim) add_aim(text, "--aim", false, frames, scene);

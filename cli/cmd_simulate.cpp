@@ -21,6 +21,7 @@
 #include "physik/io/output_files.h"
 #include "physik/io/run_folder.h"
 #include "physik/io/scene_io.h"
+#include "physik/io/scene_warnings.h"
 #include "physik/model/errors.h"
 #include "physik/model/scene.h"
 #include "reference/compare.h"
@@ -68,7 +69,9 @@ void add_options(CLI::App* cmd, SimulateOptions& o) {
 }
 
 Scene prepare_scene(const SimulateOptions& o) {
-  Scene scene = load_scene(o.scene, parse_param_overrides(o.set, "--set"));
+  std::vector<std::string> warnings;
+  Scene scene = load_scene(o.scene, parse_param_overrides(o.set, "--set"), warnings);
+  for (const std::string& w : warnings) std::cerr << "physik: warning: " << w << "\n";
   if (o.steps < 0) throw_input_error("--steps", "", "", "must not be negative");
   if (o.every < 1) throw_input_error("--every", "", "", "must be at least 1");
   if (!o.reference.empty()) parse_reference_spec(o.reference);  // bad spec: exit 2 first

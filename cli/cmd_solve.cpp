@@ -17,6 +17,7 @@
 #include "physik/io/pose_io.h"
 #include "physik/io/run_folder.h"
 #include "physik/io/scene_io.h"
+#include "physik/io/scene_warnings.h"
 #include "physik/io/summary_io.h"
 #include "physik/model/errors.h"
 #include "physik/model/scene.h"
@@ -121,7 +122,9 @@ void run_solve(const SolveOptions& o, const CLI::App& cmd) {
   const ParamOverrides overrides =
       parse_param_overrides(solve_mode ? solve_mode_overrides(o.set) : o.set, "--set");
   check_solve_options(options);  // before the scene: a bad flag is reported first
-  Scene scene = load_scene(o.scene, overrides);
+  std::vector<std::string> warnings;
+  Scene scene = load_scene(o.scene, overrides, warnings);
+  for (const std::string& w : warnings) std::cerr << "physik: warning: " << w << "\n";
   apply_bone_target_options(o.targets, scene);
   if (!o.bvh.empty()) check_output_file(o.bvh, "--bvh");  // before the solve, not after
   // the engine runs the contacts from the initial pose (start_contacts.h); a classic solver

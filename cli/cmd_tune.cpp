@@ -14,6 +14,7 @@
 #include "physik/io/output_files.h"
 #include "physik/io/pose_io.h"
 #include "physik/io/scene_io.h"
+#include "physik/io/scene_warnings.h"
 #include "physik/io/summary_io.h"
 #include "physik/model/errors.h"
 #include "physik/model/scene.h"
@@ -53,7 +54,10 @@ struct EquilibriumCliOptions {
 Scene load_existing_scene(const std::string& path, const std::vector<std::string>& set) {
   const ParamOverrides overrides = parse_param_overrides(set, "--set");
   if (!std::filesystem::exists(path)) throw_input_error(path, "", "", "scene file does not exist");
-  return load_scene(path, overrides);
+  std::vector<std::string> warnings;
+  Scene scene = load_scene(path, overrides, warnings);
+  for (const std::string& w : warnings) std::cerr << "physik: warning: " << w << "\n";
+  return scene;
 }
 
 const char* const kSetHelp =

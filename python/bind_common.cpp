@@ -181,6 +181,15 @@ void check_start(const Scene& scene) {
   if (PyErr_WarnEx(warning_class, text.c_str(), 1) < 0) throw py::error_already_set();
 }
 
+void warn_input(const std::vector<std::string>& warnings) {
+  if (warnings.empty()) return;
+  static PyObject* warning_class =
+      py::object(py::module_::import("physik.errors").attr("InputWarning")).release().ptr();
+  for (const std::string& w : warnings) {
+    if (PyErr_WarnEx(warning_class, w.c_str(), 1) < 0) throw py::error_already_set();
+  }
+}
+
 void register_errors(py::module_& m) {
   // the classes live in pure Python (physik/errors.py); leaked on purpose: they must outlive
   // every translation, including those during interpreter shutdown

@@ -50,6 +50,9 @@ void register_errors(py::module_& m);
 // issues physik.errors.StartContactWarning with the CLI's warning text (an error when the
 // warnings filter makes it one).
 void check_start(const Scene& scene);
+// Each of `warnings` (what a reader changed of a value the user gave: physik/io/scene_warnings.h,
+// bone_targets.h target_quaternion) issued as physik.errors.InputWarning.
+void warn_input(const std::vector<std::string>& warnings);
 
 void bind_model(py::module_& m);       // Rig, Scene
 void bind_simulation(py::module_& m);  // Simulation

@@ -10,6 +10,7 @@
 #include "physik/io/json_fields.h"
 #include "physik/io/rig_io.h"
 #include "physik/io/scene_io.h"
+#include "physik/io/scene_warnings.h"
 #include "physik/model/errors.h"
 #include "physik/model/rig_generators.h"
 #include "physik/model/scaled_scene.h"
@@ -181,7 +182,9 @@ namespace {
 // Scene.load: exactly `physik simulate PATH --set key=value... --steps N`: the same parsing,
 // checks and messages, with the keyword, "overrides", as their source
 Scene load_scene_from_python(const std::string& path, py::object overrides, int steps) {
-  Scene s = load_scene(path, param_overrides(overrides, "overrides"));
+  std::vector<std::string> warnings;
+  Scene s = load_scene(path, param_overrides(overrides, "overrides"), warnings);
+  warn_input(warnings);
   // as `simulate --steps N`: negative is bad input, 0 keeps the scene's
   if (steps < 0) throw_input_error("steps", "", "", "must not be negative");
   if (steps > 0) s.steps = steps;
@@ -197,11 +200,15 @@ void bind_scene_reading(py::class_<Scene>& cls) {
 overrides: a dict {param: value} or a list of "key=value" strings: `--set`, merged into the file's
 params before the scene is read (control points that take their k, spring or cap from the params
 follow; "preset" swaps the base preset); an unknown key raises InputError naming overrides.
-steps: replaces the scene's step count (0 keeps it, as --steps). Relative rig paths resolve against the scene's folder.)doc")
+steps: replaces the scene's step count (0 keeps it, as --steps). Relative rig paths resolve against the scene's folder.
+A quaternion within 1e-3 of unit is normalised with an InputWarning; farther, InputError.)doc")
       .def_static(
           "from_dict",
           [](py::object d, const std::string& base_dir, const std::string& source) {
-            return scene_from_json(to_json(d, "scene"), source, base_dir);
+            std::vector<std::string> warnings;
+            Scene s = scene_from_json(to_json(d, "scene"), source, base_dir, {}, warnings);
+            warn_input(warnings);
+            return s;
           },
           py::arg("d"), py::arg("base_dir") = ".", py::arg("source") = "<scene dict>",
           R"doc(A scene from a dict in the scene file format.

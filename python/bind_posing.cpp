@@ -290,7 +290,9 @@ void bind_posing_targets(py::class_<Session>& cls) {
            numbers_arg(quaternion, 4, m, "quaternion", "(w, x, y, z)", q);
            OrientationTarget t;
            t.bone = bone_arg(s, bone, m);
-           t.target_world = target_quaternion(q[0], q[1], q[2], q[3], {m, ""});
+           std::vector<std::string> warnings;
+           t.target_world = target_quaternion(q[0], q[1], q[2], q[3], {m, ""}, warnings);
+           warn_input(warnings);
            set_turn_spring(spring, k, cap, {m, ""}, t);
            s.session.set_orientation_target(t);
          },
@@ -300,8 +302,9 @@ void bind_posing_targets(py::class_<Session>& cls) {
 
 As the scene file's "orientation_targets": k (N m/rad), spring ("linear" or "capped") and cap
 (rad) default to the params' control spring turned into rotation by the bone's length. Adds the
-bone's orientation target or replaces it. A zero or non-unit quaternion or an unknown bone
-raises InputError.)doc")
+bone's orientation target or replaces it. A quaternion whose norm is within 1e-3 of 1 is
+normalised with an InputWarning; a zero one, one farther from unit or an unknown bone (with a
+"did you mean") raises InputError.)doc")
       .def(
           "set_aim_target",
           [](Session& s, const std::string& bone, py::object point, py::object axis,

@@ -12,8 +12,26 @@ start=$(date +%s)
 mkdir -p "$RESULTS"
 "$PHYSIK" experiment list | cut -f1 > "$RESULTS/order.txt"
 "$PHYSIK" params --json > "$RESULTS/params.json"  # the report's settings table reads it
-echo "== experiments ($(wc -l < "$RESULTS/order.txt")) =="
-"$PHYSIK" experiment run --out "$RESULTS" --models models
+# the experiments, JOBS at a time (each is one process on one core: ik_comparison and
+# linearisation take about six minutes each), each logging to $RESULTS/logs/<name>.log; a failed
+# experiment's log is printed and the run stops with its exit status
+JOBS=${JOBS:-2}
+mkdir -p "$RESULTS/logs"
+echo "== experiments ($(wc -l < "$RESULTS/order.txt"), $JOBS at a time) =="
+run_experiment() {
+  local name=$1 t0 rc=0
+  t0=$(date +%s)
+  "$PHYSIK" experiment run "$name" --out "$RESULTS" --models models > "$RESULTS/logs/$name.log" 2>&1 || rc=$?
+  if [ "$rc" -ne 0 ]; then
+    echo "[$name] FAILED (exit $rc); its log, $RESULTS/logs/$name.log:" >&2
+    cat "$RESULTS/logs/$name.log" >&2
+    return 255  # xargs stops at once
+  fi
+  echo "[$name] done in $(( $(date +%s) - t0 )) s"
+}
+export -f run_experiment
+export PHYSIK RESULTS
+xargs -P "$JOBS" -n 1 bash -c 'run_experiment "$0"' < "$RESULTS/order.txt"
 echo "== figures =="
 while read -r name; do
   script="analysis/plot_${name}.py"

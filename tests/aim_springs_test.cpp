@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <random>
+#include <sstream>
 
 #include <gtest/gtest.h>
 
@@ -11,6 +12,7 @@
 #include "physik/engine/potential.h"
 #include "physik/io/json_fields.h"
 #include "physik/io/scene_io.h"
+#include "physik/model/bone_targets.h"
 #include "physik/model/errors.h"
 #include "tests/engine_test_util.h"
 #include "tests/test_util.h"
@@ -150,6 +152,45 @@ TEST(AimSprings, SceneFieldsRoundTripAndBadInputIsNamed) {
   expect_error(R"({"bone": "forearm", "point": [1e10, 0, 0]})",
                {"aim_targets[0]", "'point'", "beyond +-1e9"});
   expect_error(R"({"bone": "forearm", "point": [1, 0, 0], "cap": -1})", {"'cap'"});
+  expect_error(R"({"bone": "forarm", "point": [1, 0, 0]})",
+               {"'bone'", "unknown bone 'forarm' (did you mean 'forearm'?)"});
+}
+
+// an axis whose squared norm overflows (1e155^2 = inf) or underflows (1e-170^2 = 0) is still a
+// direction: normalised after scaling, it is the unit axis, and the aim turns the bone toward it
+TEST(AimSprings, AxisOfExtremeScaleIsNormalisedNotZeroed) {
+  for (const char* axis : {"[0, 1e155, 0]", "[0, 0, -1e300]", "[1e-170, 0, 0]"}) {
+    const Scene s =
+        parse(std::string(R"({"bone": "forearm", "point": [1, 2, 3], "axis": )") + axis + "}");
+    const Vec3 a = s.aim_targets[0].axis_bone;
+    EXPECT_NEAR(a.norm(), 1.0, 1e-15) << axis;
+    EXPECT_EQ(a.cwiseAbs().maxCoeff(), 1.0) << axis;  // the one nonzero component, +-1
+    SimState st;
+    init_state(s, st);
+    EXPECT_GT(aim_turn(st.frames, s.aim_targets[0]).turn.norm(), 1e-3) << axis;  // it pulls
+  }
+}
+
+// a point nearer the head than kAimMinDistancePerLength of the bone's length is refused, with
+// the distance and the minimum; just past the minimum it is accepted
+TEST(AimSprings, PointNearerTheHeadThanATenthOfTheBoneIsRefused) {
+  const Scene s = parse(R"({"bone": "forearm", "point": [1, 2, 3]})");
+  const int forearm = s.rig.find_bone("forearm");
+  const Vec3 head = s.rig.bone_rest_head_world[forearm];
+  const double least = kAimMinDistancePerLength * s.rig.bone_length[forearm];
+  const auto at = [&](double d) {
+    const Vec3 p = head + Vec3(0, 0, d);
+    std::ostringstream o;
+    o.precision(17);
+    o << R"({"bone": "forearm", "point": [)" << p.x() << ", " << p.y() << ", " << p.z() << "]}";
+    return o.str();
+  };
+  expect_error(at(1e-5), {"aim_targets[0]", "'point'",
+                          "lies 1e-05 rig units from the head of "
+                          "bone 'forearm'",
+                          "at least 0.1 of its bone's length"});
+  expect_error(at(0.99 * least), {"'point'", "at least 0.1 of its bone's length"});
+  EXPECT_EQ(parse(at(1.01 * least)).aim_targets.size(), 1u);
 }
 
 }  // namespace

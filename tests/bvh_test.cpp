@@ -371,6 +371,11 @@ std::vector<Bad> value_cases() {
        "'inf' is not a finite number"},
       {"overflow in MOTION", kHead + kSite + "}\n" + kMotion1 + "1 1e999 3\n",
        "'1e999' is not a finite number"},
+      // finite, but a turn of 1e308 degrees overflows in radians (the fuzzer's seed 9001 case)
+      {"angle beyond +-1e6 degrees", kHead + kSite + "}\n" + kMotion1 + "1 1e308 3\n",
+       "line 14: field 'MOTION': frame 0: joint 'A': Xrotation '1e308' is beyond +-1e6 degrees"},
+      {"angle just beyond +-1e6 degrees", kHead + kSite + "}\n" + kMotion1 + "-1000000.5 0 3\n",
+       "joint 'A': Zrotation '-1000000.5' is beyond +-1e6 degrees"},
       {"NaN frame time", kHead + kSite + "}\nMOTION\nFrames: 1\nFrame Time: NaN\n1 2 3\n",
        "line 13: field 'Frame Time'"},
       {"negative frame time", kHead + kSite + "}\nMOTION\nFrames: 1\nFrame Time: -1\n1 2 3\n",

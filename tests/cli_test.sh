@@ -127,15 +127,20 @@ assert not s['diverged'], s  # hand.R is pinned short of its control point's tar
 check "solve with a pin" 0 "$bin" solve "$pinhead_scene" --solver physik --out "$tmp/bt_solve" --quiet --pin forearm.L
 check "a classic solver without pins refuses one" 2 "$bin" solve "$pinhead_scene" --solver fabrik --out "$tmp/bt_fabrik" --quiet --pin forearm.L
 expect_in "classic refusal names pins" "$tmp/err" "pins: the fabrik solver does not support pins"
-for bad in "--orientation-target|hand.L=2,0,0,0|--orientation-target: 'hand.L=2,0,0,0': field 'quaternion': not a unit quaternion (norm 2.000000)" \
+for bad in "--orientation-target|hand.L=2,0,0,0|--orientation-target: 'hand.L=2,0,0,0': field 'quaternion': not a unit quaternion (norm 2, more than 1e-3 from 1)" \
+    "--orientation-target|hand.L=1.0011,0,0,0|field 'quaternion': not a unit quaternion (norm 1.0011, more than 1e-3 from 1)" \
     "--orientation-target|hand.L=0,0,0,0|field 'quaternion': zero quaternion" \
     "--orientation-target|hand.L=1,0,0|field 'quaternion': expected 4 numbers w,x,y,z, got 3" \
     "--orientation-target|hand.L=1,0,x,0|field 'quaternion': expected 4 numbers w,x,y,z, got '1,0,x,0'" \
     "--orientation-target|hand.L|--orientation-target: 'hand.L': expected BONE=w,x,y,z" \
-    "--orientation-target|hand.X=1,0,0,0|field 'bone': unknown bone 'hand.X' in rig" \
+    "--orientation-target|hand.X=1,0,0,0|field 'bone': unknown bone 'hand.X' (did you mean 'hand.L'?) in rig" \
+    "--aim|hadn.L=0,-5,1|--aim: 'hadn.L=0,-5,1': field 'bone': unknown bone 'hadn.L' (did you mean 'hand.L'?)" \
+    "--look-at|haed=0,-5,1|field 'bone': unknown bone 'haed' (did you mean 'head'?)" \
     "--aim|hand.L=1,2|--aim: 'hand.L=1,2': field 'point': expected 3 numbers x,y,z, got 2" \
-    "--aim|hand.L=1.2266,0,-0.0109|field 'point': lies on the head of bone 'hand.L'" \
+    "--aim|hand.L=1.2266,0,-0.0109|rig units from the head of bone 'hand.L': an aim's point must be at least 0.1 of its bone's length (0.0287)" \
+    "--aim|hand.L=1.22661,0,-0.0109|--aim: 'hand.L=1.22661,0,-0.0109': field 'point': lies 1e-05 rig units from the head of bone 'hand.L'" \
     "--pin|nope|--pin: 'nope': field 'bone': unknown bone 'nope'" \
+    "--pin|foot.r|--pin: 'foot.r': field 'bone': unknown bone 'foot.r' (did you mean 'foot.R'?)" \
     "--pin|hand.L=1,2,3,4|field 'point': expected 3 numbers x,y,z, got 4" \
     "--pin|=1,2,3|field 'bone': no bone named before '='" \
     "--pin|hand.L=1e10,0,0|--pin: 'hand.L=1e10,0,0': field 'point': a coordinate beyond +-1e9" \
@@ -144,6 +149,39 @@ for bad in "--orientation-target|hand.L=2,0,0,0|--orientation-target: 'hand.L=2,
   check "bad $opt $value" 2 "$bin" simulate "$pinhead_scene" --out "$tmp/bt_bad" --quiet "$opt" "$value"
   expect_in "bad $opt $value message" "$tmp/err" "$message"
 done
+# a quaternion as a person types it (norm 0.99999) is normalised, and said once naming the
+# option, the value, the field and the norm; the same in a scene file
+check "typed quaternion normalised" 0 "$bin" simulate "$pinhead_scene" --out "$tmp/bt_typed" --quiet --steps 2 --orientation-target hand.L=0.7071,0.7071,0,0
+expect_in "typed quaternion warning" "$tmp/err" "physik: warning: --orientation-target: 'hand.L=0.7071,0.7071,0,0': field 'quaternion': norm 0.99999041 (within 1e-3 of 1): normalised to unit"
+check "typed quaternion said once" 0 test "$(grep -c 'normalised to unit' "$tmp/err")" -eq 1
+python3 -c "
+import json
+d = json.load(open('$pinhead_scene'))
+d['rig'] = '$src/models/rigs/pinhead.json'
+d['orientation_targets'] = [{'bone': 'hand.R', 'quaternion': [0.7071, 0, 0.7071, 0]}]
+json.dump(d, open('$tmp/typed_q.json', 'w'))
+"
+check "typed quaternion in a scene" 0 "$bin" simulate "$tmp/typed_q.json" --out "$tmp/bt_typed2" --quiet --steps 2
+expect_in "typed quaternion in a scene: warning" "$tmp/err" "physik: warning: $tmp/typed_q.json: orientation_targets[0]: field 'quaternion': norm 0.99999041 (within 1e-3 of 1): normalised to unit"
+check "typed quaternion in a scene: solve warns too" 0 "$bin" solve "$tmp/typed_q.json" --solver physik --out "$tmp/bt_typed3" --quiet
+expect_in "typed quaternion in a scene: solve's warning" "$tmp/err" "orientation_targets[0]: field 'quaternion': norm 0.99999041"
+# an aim axis whose squared norm overflows is a direction (+X here), not zero: the aim turns
+python3 -c "
+import json
+d = json.load(open('$pinhead_scene'))
+d['rig'] = '$src/models/rigs/pinhead.json'
+d['aim_targets'] = [{'bone': 'head', 'point': [2, -3, 2.5], 'axis': [1e155, 0, 0]}]
+json.dump(d, open('$tmp/big_axis.json', 'w'))
+"
+check "aim axis 1e155" 0 "$bin" simulate "$tmp/big_axis.json" --out "$tmp/bt_axis" --quiet --steps 2 --set preset=robust
+check "aim axis 1e155: normalised in the run's scene" 0 python3 -c "
+import json
+a = json.load(open('$tmp/bt_axis/scene.json'))['aim_targets'][0]['axis']
+assert a == [1.0, 0.0, 0.0], a
+s = json.load(open('$tmp/bt_axis/summary.json'))
+assert s['aim_residuals_rad'][0] > 0.1, s['aim_residuals_rad']  # it has a direction to turn
+"
+check "aim axis 1e155: view reads the run" 0 "$bin" view "$tmp/bt_axis" --out "$tmp/bt_axis.html"
 # the pose-terms step reads the bone targets too (forces.h pose_forces)
 check "bone targets under full linearisation" 0 "$bin" simulate "$pinhead_scene" --set scheme=implicit --set implicit_linearisation=full --out "$tmp/bt_full" --quiet --pin hand.L --orientation-target hand.R=1,0,0,0 --aim head=0,-5,1.5
 expect_in "full linearisation's pin in its scene" "$tmp/bt_full/scene.json" '"pins"'
@@ -383,6 +421,22 @@ check "from-bvh qbvh" 0 "$bin" rig from-bvh "$tmp/p.qbvh"
 printf 'HIERARCHY\nROOT A\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n  End Site\n  {\n    OFFSET 0 1 0\n  }\n' > "$tmp/open.bvh"
 check "bvh unbalanced braces" 2 "$bin" rig from-bvh "$tmp/open.bvh"
 expect_in "bvh unbalanced message" "$tmp/err" "open.bvh: line 9: field '}': unbalanced braces"
+# a rotation of 1e308 degrees (finite; infinite in radians): the input's line, frame, joint and
+# channel are named, not the output (the fuzzer's seed 9001 case, a mutated hand.bvh)
+python3 - "$tmp/p.bvh" "$tmp/huge_angle.bvh" <<'PY'
+import sys
+lines = open(sys.argv[1]).read().split("\n")
+last = max(i for i, l in enumerate(lines) if l.strip())
+row = lines[last].split()
+row[-1] = "1e308"
+lines[last] = " ".join(row)
+open(sys.argv[2], "w").write("\n".join(lines))
+PY
+check "bvh convert: a rotation beyond 1e6 degrees" 2 "$bin" bvh convert "$tmp/huge_angle.bvh" "$tmp/huge_angle.qbvh"
+expect_in "bvh convert: the input is named" "$tmp/err" "huge_angle.bvh: line"
+expect_in "bvh convert: frame, joint and channel" "$tmp/err" "field 'MOTION': frame 0: joint '"
+expect_in "bvh convert: the bound" "$tmp/err" "rotation '1e308' is beyond +-1e6 degrees"
+check "bvh convert: nothing written" 1 test -e "$tmp/huge_angle.qbvh"
 printf 'HIERARCHY\nROOT A\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n}\nMOTION\nFrames: 2\nFrame Time: 0.1\n1 2 3\n' > "$tmp/frames.bvh"
 check "bvh frame count" 2 "$bin" rig from-bvh "$tmp/frames.bvh"
 expect_in "bvh frame count message" "$tmp/err" "frames.bvh: line 8: field 'Frames'"

@@ -15,6 +15,7 @@
 #include "physik/engine/run_monitor.h"
 #include "physik/io/json_fields.h"
 #include "physik/io/scene_io.h"
+#include "physik/io/scene_warnings.h"
 #include "physik/model/errors.h"
 #include "tests/engine_test_util.h"
 #include "tests/test_util.h"
@@ -241,7 +242,10 @@ TEST(OrientationSprings, SceneFieldsRoundTripAndBadInputIsNamed) {
   expect_error(R"({"bone": "forearm", "quaternion": [0, 0, 0, 0]})",
                {"'quaternion'", "zero quaternion"});
   expect_error(R"({"bone": "forearm", "quaternion": [1, 0.1, 0, 0]})",
-               {"'quaternion'", "not a unit quaternion"});
+               {"orientation_targets[0]", "'quaternion'", "not a unit quaternion (norm 1.0049876",
+                "more than 1e-3 from 1"});
+  expect_error(R"({"bone": "forarm", "quaternion": [1, 0, 0, 0]})",
+               {"unknown bone 'forarm' (did you mean 'forearm'?)"});
   expect_error(R"({"bone": "forearm", "quaternion": [1, 0, 0]})", {"'quaternion'", "[w, x, y, z]"});
   expect_error(R"({"bone": "forearm"})", {"'quaternion'"});
   expect_error(R"({"bone": "forearm", "quaternion": [1, 0, 0, 0]},
@@ -250,6 +254,32 @@ TEST(OrientationSprings, SceneFieldsRoundTripAndBadInputIsNamed) {
                 "one of a kind per bone"});
   expect_error(R"({"bone": "forearm", "quaternion": [1, 0, 0, 0], "k": -1})", {"'k'"});
   expect_error(R"({"bone": "forearm", "quaternion": [1, 0, 0, 0], "axis": [1, 0, 0]})", {"axis"});
+}
+
+// a quaternion a person types (norm 0.99999) is normalised, with one warning naming the file,
+// the element, the field and the norm; 1e-3 from unit is the edge (a qBVH file's), past it refused
+TEST(OrientationSprings, TypedQuaternionWithinATenthOfAPercentIsNormalisedWithAWarning) {
+  const std::string text =
+      R"({"rig": "elbow.json", "orientation_targets": [{"bone": "forearm",
+          "quaternion": [0.7071, 0.7071, 0, 0]}, {"bone": "upper_arm", "quaternion": [1, 0, 0, 0]}]})";
+  std::vector<std::string> warnings;
+  const Scene s = scene_from_json(parse_json_text(text, "typed.json"), "typed.json",
+                                  test::model_path("rigs"), {}, warnings);
+  const Quat q = s.orientation_targets[0].target_world;
+  EXPECT_NEAR(q.norm(), 1.0, 1e-15);
+  EXPECT_NEAR(q.w(), std::sqrt(0.5), 1e-15);  // the typed direction, exactly unit
+  EXPECT_NEAR(q.x(), std::sqrt(0.5), 1e-15);
+  ASSERT_EQ(warnings.size(), 1u);  // the unit one says nothing
+  EXPECT_EQ(warnings[0],
+            "typed.json: orientation_targets[0]: field 'quaternion': norm 0.99999041 (within "
+            "1e-3 of 1): normalised to unit");
+  EXPECT_EQ(
+      parse(R"({"bone": "forearm", "quaternion": [1.000999, 0, 0, 0]})").orientation_targets.size(),
+      1u);
+  expect_error(R"({"bone": "forearm", "quaternion": [1.001001, 0, 0, 0]})",
+               {"not a unit quaternion (norm 1.001001, more than 1e-3 from 1)"});
+  expect_error(R"({"bone": "forearm", "quaternion": [0.998, 0, 0, 0]})",
+               {"not a unit quaternion (norm 0.998, more than 1e-3 from 1)"});
 }
 
 }  // namespace

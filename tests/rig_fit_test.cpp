@@ -141,7 +141,7 @@ TEST(RigCollisionExclude, BadPairsNameFileFieldAndBone) {
             "bad.json: field 'collision_exclude[1]': bone 'b' is paired with itself (an "
             "exclusion names two different bones)");
   EXPECT_EQ(error_of(base + R"([["a", "zz"]]})"),
-            "bad.json: field 'collision_exclude[0]': unknown bone 'zz'");
+            "bad.json: field 'collision_exclude[0]': unknown bone 'zz' (did you mean 'a'?)");
   EXPECT_EQ(error_of(base + R"([["a"]]})"),
             "bad.json: field 'collision_exclude[0]': expected a pair of bone names [\"a\", \"b\"]");
   EXPECT_EQ(error_of(base + "5}"),

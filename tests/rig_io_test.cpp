@@ -47,6 +47,8 @@ TEST(RigInput, AllBonesHaveParentsIsACycle) {
 TEST(RigInput, UnknownParent) {
   expect_error(rig_with(R"({"name": "b", "parent": "nobody", "head": [0,0,1], "tail": [0,0,2]})"),
                {"'b'", "parent", "unknown bone 'nobody'"});
+  expect_error(rig_with(R"({"name": "b", "parent": "aa", "head": [0,0,1], "tail": [0,0,2]})"),
+               {"'b'", "parent", "unknown bone 'aa' (did you mean 'a'?)"});
 }
 
 TEST(RigInput, DuplicateName) {
@@ -85,6 +87,16 @@ TEST(RigInput, LimitOutsidePlusMinus180FailsAtLoad) {
                                      "ok.json");
   EXPECT_DOUBLE_EQ(rig.bone_limit[1][1].min, -kPi);
   EXPECT_DOUBLE_EQ(rig.bone_limit[1][1].max, kPi);
+}
+
+// a forward axis whose square overflows ([0, 1e155, 0]) is +Y, not the zero vector that its
+// plain normalisation gave (an aim without an axis and --look-at then did nothing)
+TEST(RigInput, AForwardAxisTooLargeToSquareIsItsDirection) {
+  const Rig rig = rig_from_json_text(rig_with(R"({"name": "b", "parent": "a", "head": [0,0,1],
+      "tail": [0,0,2], "forward": [0, 1e155, 0]})"),
+                                     "ok.json");
+  EXPECT_TRUE(test::near(rig.bone_forward_local[1], Vec3(0, 1, 0), 1e-15))
+      << rig.bone_forward_local[1].transpose();
 }
 
 TEST(RigInput, LimitEntryChecksMatchTheLimitFile) {
@@ -292,6 +304,8 @@ TEST(RigInput, BadWeldsNameTheBoneAndField) {
                         R"("name": "a", "parent": "r", "weld": "b",)"),
                {"'a'", "weld", "must come before"});
   expect_error(weld_rig(R"(, "weld": "nobody")"), {"'b'", "weld", "unknown bone 'nobody'"});
+  expect_error(weld_rig(R"(, "weld": "rr")"),
+               {"'b'", "weld", "unknown bone 'rr' (did you mean 'r'?)"});
   expect_error(weld_rig(R"(, "weld": "b")"), {"'b'", "weld", "itself"});
   expect_error(weld_rig(R"(, "weld": "")"), {"'b'", "weld", "empty"});
 }

@@ -228,6 +228,15 @@ TEST(SceneInput, Schedule) {
 TEST(SceneInput, InitialPoseUnknownBone) {
   expect_error(R"({"rig": "elbow.json", "initial_pose": {"rotation_deg": {"knee": [0, 0, 10]}}})",
                {"initial_pose", "rotation_deg.knee", "unknown bone"});
+  expect_error(R"({"rig": "elbow.json", "initial_pose": {"rotation_deg": {"forarm": [0, 0, 1]}}})",
+               {"rotation_deg.forarm", "unknown bone 'forarm' (did you mean 'forearm'?)"});
+  // a rotation vector whose length overflows (1e200 degrees): refused, not a NaN pose
+  expect_error(
+      R"({"rig": "elbow.json", "initial_pose": {"rotation_deg": {"forearm": [1e200, 0, 0]}}})",
+      {"initial_pose", "rotation_deg.forearm", "beyond +-1e6 degrees"});
+  expect_error(
+      R"({"rig": "elbow.json", "control_points": [{"bone": "uper_arm", "target": [0, 0, 0]}]})",
+      {"control_points[0]", "unknown bone 'uper_arm' (did you mean 'upper_arm'?)"});
 }
 
 // every name a scene carries, and every name it refers to, is refused with a control character

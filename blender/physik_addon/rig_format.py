@@ -58,6 +58,31 @@ class InputError(ValueError):
         return err
 
 
+
+def _edit_distance(a, b):
+    """Levenshtein distance between two short names (names.cpp edit_distance)"""
+    prev = list(range(len(b) + 1))
+    for i in range(1, len(a) + 1):
+        cur = [i] + [0] * len(b)
+        for j in range(1, len(b) + 1):
+            cur[j] = min(prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] != b[j - 1]))
+        prev = cur
+    return prev[len(b)]
+
+
+def _unknown_bone(name, known):
+    """The engine's message for a bone name that is not in `known` (names.cpp unknown_bone): the
+    nearest known name, the first of the closest, when it is a typo (at most a third of its
+    letters, two at least)"""
+    best, best_d = "", None
+    for k in known:
+        d = _edit_distance(name, k)
+        if best_d is None or d < best_d:
+            best, best_d = k, d
+    hint = " (did you mean '%s'?)" % best if best_d is not None and best_d <= max(
+        2, len(best) // 3) else ""
+    return "unknown bone '%s'%s" % (name, hint)
+
 def bone_name_problem(name):
     """Why `name` cannot be a bone name here, or None.
 
@@ -400,7 +425,8 @@ def _dfs_order(bones, source):
         elif b["parent"] == b["name"]:
             raise InputError(source, el, "parent", "a bone cannot be its own parent")
         elif b["parent"] not in index:
-            raise InputError(source, el, "parent", "unknown bone '%s'" % b["parent"])
+            raise InputError(source, el, "parent",
+                             _unknown_bone(b["parent"], [x["name"] for x in bones]))
         else:
             children[index[b["parent"]]].append(i)
     if root is None:
@@ -440,7 +466,8 @@ def _check_welds(bones, source, root_joint):
         if weld == b["name"]:
             raise InputError(source, el, "weld", "a bone cannot weld to itself")
         if weld not in index:
-            raise InputError(source, el, "weld", "unknown bone '%s'" % weld)
+            raise InputError(source, el, "weld",
+                             _unknown_bone(weld, [x["name"] for x in bones]))
         if weld != b["parent"] and bones[index[weld]]["parent"] != b["parent"]:
             raise InputError(source, el, "weld", "'%s' is neither this bone's parent '%s' nor a "
                              "sibling of it (a bone welds to its parent, or to a bone with the "
@@ -575,7 +602,8 @@ def _parse_collision_exclude(doc, names, source):
     for i, e in enumerate(pairs):
         for n in e:
             if n not in names:
-                raise InputError(source, "", "collision_exclude[%d]" % i, "unknown bone '%s'" % n)
+                raise InputError(source, "", "collision_exclude[%d]" % i,
+                                 _unknown_bone(n, list(names)))
         if e[0] == e[1]:
             raise InputError(source, "", "collision_exclude[%d]" % i, "bone '%s' is paired with "
                              "itself (an exclusion names two different bones)" % e[0])

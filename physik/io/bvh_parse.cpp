@@ -15,6 +15,7 @@
 
 #include "physik/io/bvh_detail.h"
 #include "physik/model/errors.h"
+#include "physik/model/input_bounds.h"
 #include "physik/model/names.h"
 
 namespace physik {
@@ -373,12 +374,20 @@ class Parser {
             ch == BvhChannel::kXpos || ch == BvhChannel::kYpos || ch == BvhChannel::kZpos;
         row[k] = position ? coordinate(Token{w[k], line}, "MOTION")
                           : number(Token{w[k], line}, "MOTION");
+        if (!position && !is_quaternion(ch) && !(std::abs(row[k]) <= kMaxAngleDeg)) {
+          static_assert(kMaxAngleDeg == 1e6, "the message below quotes it");
+          fail(line, "MOTION",
+               "frame " + std::to_string(bvh_.frames.size()) + ": joint '" + j.name +
+                   "': " + bvh_channel_name(ch) + " '" + w[k] +
+                   "' is beyond +-1e6 degrees (input_bounds.h kMaxAngleDeg)");
+        }
         if (is_quaternion(ch)) {
           quat = true;
           n2 += row[k] * row[k];
         }
       }
-      if (quat && std::abs(std::sqrt(n2) - 1.0) > 1e-3) {
+      static_assert(kQuaternionNormTol == 1e-3, "bvh.h quotes it");
+      if (quat && std::abs(std::sqrt(n2) - 1.0) > kQuaternionNormTol) {
         fail(line, "MOTION",
              "joint '" + j.name + "': quaternion norm " + std::to_string(std::sqrt(n2)) +
                  " is not 1");

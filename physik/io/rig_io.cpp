@@ -81,7 +81,8 @@ BoneSpec bone_from_json(const Json& b, const JsonContext& ctx, const BoneDefault
   s.segment = ctx.string_or(b, "segment", "");
   if (b.contains("forward")) {
     s.forward_local = ctx.vec3(b, "forward");
-    if (!(s.forward_local.norm() > 1e-9)) ctx.fail("forward", "must be a nonzero vector");
+    // (stableNorm: [0, 1e155, 0] squares past the largest double, and normalizes to zero)
+    if (!(s.forward_local.stableNorm() > 1e-9)) ctx.fail("forward", "must be a nonzero vector");
   }
   return s;
 }

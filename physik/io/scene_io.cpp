@@ -7,8 +7,10 @@
 
 #include "physik/io/bvh.h"
 #include "physik/io/rig_io.h"
+#include "physik/io/scene_warnings.h"
 #include "physik/model/bone_targets.h"
 #include "physik/model/errors.h"
+#include "physik/model/input_bounds.h"
 #include "physik/model/names.h"
 
 namespace physik {
@@ -59,6 +61,24 @@ Vec3 bounded_vec3(const JsonContext& ctx, const Json& obj, const std::string& ke
     ctx.fail(key, "a coordinate beyond +-1e9 (rig.h kMaxCoordinate)");
   }
   return v;
+}
+
+// a rotation vector in degrees (rotation_deg) within +-kMaxAngleDeg per component, so its
+// length and the turn's sine and cosine are exact enough (input_bounds.h)
+static_assert(kMaxAngleDeg == 1e6, "the message below quotes it");
+Vec3 bounded_angles(const JsonContext& ctx, const Json& v, const std::string& field) {
+  const Vec3 r = ctx.vec3_value(v, field);
+  if (!(r.cwiseAbs().maxCoeff() <= kMaxAngleDeg)) {
+    ctx.fail(field, "beyond +-1e6 degrees (input_bounds.h kMaxAngleDeg)");
+  }
+  return r;
+}
+
+// a rotation vector in degrees (its direction the axis, its length the angle) as a quaternion
+Quat rotation_from_deg(const Vec3& v_deg) {
+  const Vec3 v = v_deg * (kPi / 180.0);
+  const double angle = v.norm();
+  return angle > 0.0 ? Quat(Eigen::AngleAxisd(angle, v / angle)) : Quat::Identity();
 }
 
 int control_point_ref(const JsonContext& ctx, const Json& v, const std::vector<ControlPoint>& cps) {
@@ -112,7 +132,7 @@ ControlPoint control_point_from_json(const JsonContext& ctx, const Json& c, cons
   cp.name = ctx.name_or(c, "name", "");
   const std::string bone = ctx.name(c, "bone");
   cp.bone = s.rig.find_bone(bone);
-  if (cp.bone < 0) ctx.fail("bone", "unknown bone '" + bone + "' in rig " + s.rig_file);
+  if (cp.bone < 0) ctx.fail("bone", unknown_bone(bone, s.rig.bone_name) + " in rig " + s.rig_file);
   cp.alpha = ctx.number_or(c, "alpha", 1.0);
   if (cp.alpha < 0.0 || cp.alpha > 1.0)
     ctx.fail("alpha", "must lie in [0, 1] (0 = head, 1 = tail)");
@@ -157,7 +177,8 @@ void read_turn_spring(const JsonContext& ctx, const Json& c, const TargetSource&
 }
 
 // an orientation target: a bone and its target frame, "quaternion": [w, x, y, z], world<-bone
-void read_orientation_targets(const JsonContext& top, const Json& doc, Scene& s) {
+void read_orientation_targets(const JsonContext& top, const Json& doc, Scene& s,
+                              std::vector<std::string>& warnings) {
   if (!doc.contains("orientation_targets")) return;
   const Json& all = doc["orientation_targets"];
   if (!all.is_array()) top.fail("orientation_targets", "expected an array");
@@ -174,7 +195,7 @@ void read_orientation_targets(const JsonContext& top, const Json& doc, Scene& s)
     if (!q.is_array() || q.size() != 4) ctx.fail("quaternion", "expected [w, x, y, z]");
     t.target_world = target_quaternion(
         ctx.number_value(q[0], "quaternion"), ctx.number_value(q[1], "quaternion"),
-        ctx.number_value(q[2], "quaternion"), ctx.number_value(q[3], "quaternion"), at);
+        ctx.number_value(q[2], "quaternion"), ctx.number_value(q[3], "quaternion"), at, warnings);
     read_turn_spring(ctx, c, at, t);
     s.orientation_targets.push_back(t);
   }
@@ -346,11 +367,9 @@ void read_initial_pose(const JsonContext& top, const Json& doc, const std::strin
     const std::string bad = name_problem(it.key());
     if (!bad.empty()) ctx.fail("rotation_deg", "a bone name: " + bad);
     const int b = s.rig.find_bone(it.key());
-    if (b < 0) ctx.fail("rotation_deg." + it.key(), "unknown bone");
-    const Vec3 v = ctx.vec3_value(*it, "rotation_deg." + it.key()) * (kPi / 180.0);
-    const double angle = v.norm();
+    if (b < 0) ctx.fail("rotation_deg." + it.key(), unknown_bone(it.key(), s.rig.bone_name));
     s.initial_pose.bone_local_rotation[b] =
-        angle > 0.0 ? Quat(Eigen::AngleAxisd(angle, v / angle)) : Quat::Identity();
+        rotation_from_deg(bounded_angles(ctx, *it, "rotation_deg." + it.key()));
   }
 }
 
@@ -376,13 +395,6 @@ void read_ground(const JsonContext& top, const Json& doc, Scene& s) {
   s.collision.ground = plane;
 }
 
-// a rotation vector in degrees (its direction the axis, its length the angle) as a quaternion
-Quat rotation_from_deg(const Vec3& v_deg) {
-  const Vec3 v = v_deg * (kPi / 180.0);
-  const double angle = v.norm();
-  return angle > 0.0 ? Quat(Eigen::AngleAxisd(angle, v / angle)) : Quat::Identity();
-}
-
 // a box: centre (rig units, world), half extents (rig units, each > 0), an optional rotation
 void read_box(const JsonContext& ctx, const Json& b, BoxObstacle& box) {
   ctx.require_object(b, "box");
@@ -393,9 +405,7 @@ void read_box(const JsonContext& ctx, const Json& b, BoxObstacle& box) {
     ctx.fail("half_extents", "each must be positive (rig units, half the box's side)");
   }
   if (b.contains("rotation_deg")) {
-    const Vec3 r = ctx.vec3(b, "rotation_deg");
-    if (!(r.cwiseAbs().maxCoeff() <= 1e6)) ctx.fail("rotation_deg", "beyond +-1e6 degrees");
-    box.orient_world = rotation_from_deg(r);
+    box.orient_world = rotation_from_deg(bounded_angles(ctx, b["rotation_deg"], "rotation_deg"));
   }
 }
 
@@ -435,7 +445,7 @@ std::pair<int, int> excluded_pair(const JsonContext& top, const Json& e, const s
     const std::string name = e[k].get<std::string>();
     top.check_name(name, field);
     b[k] = rig.find_bone(name);
-    if (b[k] < 0) top.fail(field, "unknown bone '" + name + "'");
+    if (b[k] < 0) top.fail(field, unknown_bone(name, rig.bone_name));
   }
   if (b[0] == b[1]) {
     top.fail(field, "bone '" + rig.bone_name[b[0]] +
@@ -643,6 +653,12 @@ Json param_table_json() {
 
 Scene scene_from_json(const Json& doc, const std::string& source, const std::string& base_dir,
                       const ParamOverrides& overrides) {
+  std::vector<std::string> warnings;  // dropped: this reader's caller takes none
+  return scene_from_json(doc, source, base_dir, overrides, warnings);
+}
+
+Scene scene_from_json(const Json& doc, const std::string& source, const std::string& base_dir,
+                      const ParamOverrides& overrides, std::vector<std::string>& warnings) {
   const JsonContext top{source, ""};
   top.require_object(doc, "");
   top.only_keys(doc, {"name", "comment", "rig", "params", "control_points", "orientation_targets",
@@ -661,7 +677,7 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
   s.steps = top.integer_or(doc, "steps", s.steps);
   if (s.steps < 1) top.fail("steps", "must be at least 1");
   read_control_points(top, doc, s);
-  read_orientation_targets(top, doc, s);
+  read_orientation_targets(top, doc, s, warnings);
   check_one_per_bone(s, s.orientation_targets, "orientation_targets");
   read_aim_targets(top, doc, s);
   check_one_per_bone(s, s.aim_targets, "aim_targets");
@@ -739,9 +755,15 @@ Scene load_scene(const std::string& path) {
 }
 
 Scene load_scene(const std::string& path, const ParamOverrides& overrides) {
+  std::vector<std::string> warnings;
+  return load_scene(path, overrides, warnings);
+}
+
+Scene load_scene(const std::string& path, const ParamOverrides& overrides,
+                 std::vector<std::string>& warnings) {
   const Json doc = read_json_file(path);
   const std::string base = std::filesystem::path(path).parent_path().string();
-  return scene_from_json(doc, path, base.empty() ? "." : base, overrides);
+  return scene_from_json(doc, path, base.empty() ? "." : base, overrides, warnings);
 }
 
 namespace {

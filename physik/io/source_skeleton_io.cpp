@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "physik/model/errors.h"
+#include "physik/model/names.h"
 
 namespace physik {
 
@@ -41,8 +42,9 @@ SourceJoint joint_from_json(const Json& j, const JsonContext& ctx, const Rig& ri
     for (std::size_t i = 0; i < bones.size(); ++i) {
       const std::string field = "bones[" + std::to_string(i) + "]";
       if (!bones[i].is_string()) ctx.fail(field, "expected a bone name");
-      const int b = rig.find_bone(bones[i].get<std::string>());
-      if (b < 0) ctx.fail(field, "no bone '" + bones[i].get<std::string>() + "' in the rig");
+      const std::string name = bones[i].get<std::string>();
+      const int b = rig.find_bone(name);
+      if (b < 0) ctx.fail(field, unknown_bone(name, rig.bone_name) + " in the rig");
       if (!out.bones.empty() && b <= out.bones.back()) {
         ctx.fail(field, "bones are listed in the rig's order, each once");
       }

@@ -3,8 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "physik/model/errors.h"
+#include "physik/model/message_number.h"
+#include "physik/model/names.h"
 #include "physik/model/params.h"
 
 namespace physik {
@@ -32,28 +35,45 @@ void check_point(const Vec3& p, const TargetSource& at) {
     fail(at, "point", "a coordinate beyond +-1e9 (rig.h kMaxCoordinate)");
 }
 
+// a quaternion's norm with the digits that show how far it is from 1 (0.99999, 1.0011)
+std::string norm_text(double n) {
+  std::ostringstream o;
+  o.precision(8);
+  o << n;
+  return o.str();
+}
+
 }  // namespace
 
 int target_bone_index(const Scene& scene, const std::string& bone, const TargetSource& at) {
   const int b = scene.rig.find_bone(bone);
   if (b < 0) {
     fail(at, "bone",
-         "unknown bone '" + bone + "' in rig " +
+         unknown_bone(bone, scene.rig.bone_name) + " in rig " +
              (scene.rig_file.empty() ? scene.rig.name : scene.rig_file));
   }
   return b;
 }
 
-Quat target_quaternion(double w, double x, double y, double z, const TargetSource& at) {
+Quat target_quaternion(double w, double x, double y, double z, const TargetSource& at,
+                       std::vector<std::string>& warnings) {
   const Eigen::Vector4d q(w, x, y, z);
   if (!q.allFinite()) fail(at, "quaternion", "not finite");
-  if (q.norm() == 0.0) fail(at, "quaternion", "zero quaternion: give a unit [w, x, y, z]");
-  if (std::abs(q.norm() - 1.0) > 1e-6) {
+  // scaled by its largest component first: a norm near 1 is what matters, and no square overflows
+  const double norm = q.stableNorm();
+  if (norm == 0.0) fail(at, "quaternion", "zero quaternion: give a unit [w, x, y, z]");
+  static_assert(kQuaternionNormTol == 1e-3, "the messages below quote it");
+  if (!(std::abs(norm - 1.0) <= kQuaternionNormTol)) {
     fail(at, "quaternion",
-         "not a unit quaternion (norm " + std::to_string(q.norm()) +
-             "); give [w, x, y, z] with w^2 + x^2 + y^2 + z^2 = 1");
+         "not a unit quaternion (norm " + norm_text(norm) +
+             ", more than 1e-3 from 1); give [w, x, y, z] with w^2 + x^2 + y^2 + z^2 = 1");
   }
-  return Quat(w, x, y, z).normalized();
+  if (norm != 1.0) {
+    warnings.push_back(
+        input_error_message(at.source, at.element, "quaternion",
+                            "norm " + norm_text(norm) + " (within 1e-3 of 1): normalised to unit"));
+  }
+  return Quat(w / norm, x / norm, y / norm, z / norm).normalized();
 }
 
 void set_turn_spring(const std::optional<std::string>& spring, std::optional<double> k,
@@ -96,14 +116,24 @@ Vec3 look_at_axis(const Rig& rig, int bone, const TargetSource& at) {
 void check_aim_target(const Scene& scene, const BoneFrames& frames, AimTarget& aim,
                       const TargetSource& at) {
   check_point(aim.point_world, at);
-  if (!aim.axis_bone.allFinite() || !(aim.axis_bone.norm() > 1e-9))
+  if (!aim.axis_bone.allFinite()) fail(at, "axis", "not finite");
+  if (aim.axis_bone.isZero(0.0))
     fail(at, "axis", "must not be zero (a direction in the bone's frame)");
-  aim.axis_bone.normalize();
+  // scaled first: [0, 1e155, 0]'s squared norm overflows, and normalize() would make it zero
+  aim.axis_bone.stableNormalize();
+  const double length = scene.rig.bone_length[aim.bone];
+  const double least = kAimMinDistancePerLength * length;
+  const double d = (aim.point_world - frames.head_world[aim.bone]).norm();
   const double tol = 1e-9 * std::max(1.0, scene.rig.reference_length());
-  if ((aim.point_world - frames.head_world[aim.bone]).norm() <= tol) {
+  static_assert(kAimMinDistancePerLength == 0.1, "the message below quotes it");
+  if (!(d >= least) || d <= tol) {
     fail(at, "point",
-         "lies on the head of bone '" + scene.rig.bone_name[aim.bone] +
-             "': the aim has no direction");
+         "lies " + message_number(d) + " rig units from the head of bone '" +
+             scene.rig.bone_name[aim.bone] +
+             "': an aim's point must be at least 0.1 of its "
+             "bone's length (" +
+             message_number(least) +
+             ") from the head, or its direction swings with every move of the head");
   }
 }
 

@@ -102,4 +102,8 @@ std::string did_you_mean(const std::string& name, const std::vector<std::string>
   return best.empty() ? "" : " (did you mean '" + best + "'?)";
 }
 
+std::string unknown_bone(const std::string& name, const std::vector<std::string>& bones) {
+  return "unknown bone '" + name + "'" + did_you_mean(name, bones);
+}
+
 }  // namespace physik

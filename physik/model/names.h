@@ -25,4 +25,8 @@ std::string nearest_name(const std::string& name, const std::vector<std::string>
 // " (did you mean 'x'?)" for nearest_name's answer, or "" when none is close.
 std::string did_you_mean(const std::string& name, const std::vector<std::string>& known);
 
+// "unknown bone 'x'" with did_you_mean's hint among `bones` (a rig's bone_name): the reason every
+// message gives for a bone name the rig does not have.
+std::string unknown_bone(const std::string& name, const std::vector<std::string>& bones);
+
 }  // namespace physik

@@ -19,6 +19,14 @@ std::string bone_element(const BoneSpec& b, std::size_t index) {
   return s.str();
 }
 
+// the specs' names in file order (the did-you-mean of an unknown parent or weld)
+std::vector<std::string> spec_names(const std::vector<BoneSpec>& specs) {
+  std::vector<std::string> names;
+  names.reserve(specs.size());
+  for (const BoneSpec& b : specs) names.push_back(b.name);
+  return names;
+}
+
 std::string fmt(double v) {
   std::ostringstream s;
   s.precision(6);
@@ -164,7 +172,8 @@ void set_collision_exclude(Rig& rig, const std::vector<std::pair<std::string, st
     for (int k = 0; k < 2; ++k) {
       const std::string& name = k == 0 ? pairs[i].first : pairs[i].second;
       auto it = index_of.find(name);
-      if (it == index_of.end()) throw_input_error(source, "", field, "unknown bone '" + name + "'");
+      if (it == index_of.end())
+        throw_input_error(source, "", field, unknown_bone(name, rig.bone_name));
       b[k] = it->second;
     }
     if (b[0] == b[1]) {
@@ -227,7 +236,8 @@ std::size_t link_parents(const std::vector<BoneSpec>& specs,
     }
     auto it = index_of.find(b.parent);
     if (it == index_of.end()) {
-      throw_input_error(source, bone_element(b, i), "parent", "unknown bone '" + b.parent + "'");
+      throw_input_error(source, bone_element(b, i), "parent",
+                        unknown_bone(b.parent, spec_names(specs)));
     }
     children[it->second].push_back(i);
   }
@@ -257,7 +267,7 @@ void check_welds(const std::vector<BoneSpec>& specs,
     if (b.weld == b.name) throw_input_error(source, el, "weld", "a bone cannot weld to itself");
     auto it = index_of.find(b.weld);
     if (it == index_of.end()) {
-      throw_input_error(source, el, "weld", "unknown bone '" + b.weld + "'");
+      throw_input_error(source, el, "weld", unknown_bone(b.weld, spec_names(specs)));
     }
     const BoneSpec& w = specs[it->second];
     if (b.weld != b.parent && w.parent != b.parent) {
@@ -433,7 +443,7 @@ void check_body(const BoneSpec& b, const std::string& source, const std::string&
                           "or .R)");
   }
   if (!b.forward_local.allFinite() ||
-      (!b.forward_local.isZero() && !(b.forward_local.norm() > 1e-9))) {
+      (!b.forward_local.isZero() && !(b.forward_local.stableNorm() > 1e-9))) {
     throw_input_error(source, el, "forward", "must be a finite nonzero vector");
   }
 }
@@ -478,7 +488,7 @@ void fill_bones(const std::vector<BoneSpec>& specs, const std::vector<std::size_
     rig.bone_limit.push_back(b.limit);
     rig.bone_segment.push_back(b.segment);
     rig.bone_forward_local.push_back(b.forward_local.isZero() ? b.forward_local
-                                                              : b.forward_local.normalized());
+                                                              : b.forward_local.stableNormalized());
     rig.bone_weld.push_back(b.weld.empty() ? -1 : new_index[index_of.at(b.weld)]);
   }
 }

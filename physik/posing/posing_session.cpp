@@ -125,7 +125,10 @@ void PosingSession::set_orientation_target(const OrientationTarget& target) {
   check_target_bone(target.bone, "set_orientation_target");
   OrientationTarget t = target;
   const Quat& q = t.target_world;
-  t.target_world = target_quaternion(q.w(), q.x(), q.y(), q.z(), {"set_orientation_target", ""});
+  // normalised within the tolerance; Python's binding has read the user's value and said so
+  std::vector<std::string> warnings;
+  t.target_world =
+      target_quaternion(q.w(), q.x(), q.y(), q.z(), {"set_orientation_target", ""}, warnings);
   set_bone_target(scene_.orientation_targets, t);
   targets_changed();
 }

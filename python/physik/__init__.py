@@ -25,6 +25,7 @@ Names (each has its own docstring):
   follow(clip, rig, ...), follow_scene(clip, rig, ...)      `physik follow`
   InputError (a ValueError), DivergedError                  errors
   StartContactWarning                                       a rig started into the ground or a box
+  InputWarning                                              a value normalised (a quaternion)
   __version__                                               `physik --version`
   physik.sweep                                              grids of runs on Dask (python3 -m physik.sweep)
 
@@ -34,7 +35,7 @@ scipy.spatial.transform.Rotation.from_quat reads them); Pose.as_blender() gives 
 """
 from collections import namedtuple
 
-from .errors import DivergedError, InputError, StartContactWarning, WriteBackWarning
+from .errors import DivergedError, InputError, InputWarning, StartContactWarning, WriteBackWarning
 from . import _core
 from ._core import (Clip, PosingSolveResult, Rig, Scene, __version__, compare_mujoco, export_mjcf,
                     param_table, scaled_scene, solve_mode_rule, steps_mode_rule)
@@ -44,7 +45,7 @@ __all__ = ["Rig", "Scene", "param_table", "Simulation", "Pose", "Trajectory", "R
            "solve",
            "export_mjcf", "compare_mujoco", "scaled_scene", "tune", "equilibrium", "view", "View",
            "Clip", "follow", "follow_scene", "FollowRun", "InputError", "DivergedError",
-           "StartContactWarning", "WriteBackWarning", "__version__"]
+           "InputWarning", "StartContactWarning", "WriteBackWarning", "__version__"]
 
 
 class Pose:

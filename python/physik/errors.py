@@ -2,7 +2,8 @@
 
 The C++ core's errors arrive as these classes (python/bind_common.cpp translates them):
 bad input is InputError, a run that diverged (when asked to raise) is DivergedError. A run that
-starts with a bone into the ground or a box warns with StartContactWarning.
+starts with a bone into the ground or a box warns with StartContactWarning; a value normalised
+rather than refused (a quaternion within 1e-3 of unit) with InputWarning.
 """
 
 
@@ -34,6 +35,14 @@ class StartContactWarning(UserWarning):
     pushing the bone out. str(warning) is the CLI's warning text after "physik: warning: ". A
     bone started past the surface (deeper than its radius) is an InputError instead, as the CLI's
     exit 2.
+    """
+
+
+class InputWarning(UserWarning):
+    """A value the reader changed rather than refused: a quaternion whose norm is within 1e-3 of
+    1 (a value a person types, (0.7071, 0.7071, 0, 0)), normalised (Scene.load, Scene.from_dict,
+    PosingSession.set_orientation_target). str(warning) is the CLI's warning text after
+    "physik: warning: ", naming the file or method, the element and the field.
     """
 
 

@@ -118,15 +118,19 @@ def test_bad_bone_targets_are_input_errors():
     assert isinstance(physik.InputError("x"), ValueError)
     assert raises_input_error(s.set_orientation_target, "hand.L", [0, 0, 0, 0]) == \
         "set_orientation_target: field 'quaternion': zero quaternion: give a unit [w, x, y, z]"
-    assert "not a unit quaternion (norm 2" in raises_input_error(
+    assert "not a unit quaternion (norm 2, more than 1e-3 from 1)" in raises_input_error(
         s.set_orientation_target, "hand.L", [2, 0, 0, 0])
     assert raises_input_error(s.set_orientation_target, "hand.X", [1, 0, 0, 0]).startswith(
-        "set_orientation_target: field 'bone': unknown bone 'hand.X'")
+        "set_orientation_target: field 'bone': unknown bone 'hand.X' (did you mean 'hand.L'?)")
     assert "'spring': unknown spring law 'stiff'" in raises_input_error(
         s.set_orientation_target, "hand.L", [1, 0, 0, 0], spring="stiff")
     assert "field 'k'" in raises_input_error(s.set_orientation_target, "hand.L", [1, 0, 0, 0], k=-1)
     head = s.pose.heads[s.scene.rig.find_bone("hand.L")]
-    assert "lies on the head of bone 'hand.L'" in raises_input_error(s.set_aim_target, "hand.L", head)
+    assert "rig units from the head of bone 'hand.L'" in raises_input_error(
+        s.set_aim_target, "hand.L", head)
+    near = [head[0] + 1e-5, head[1], head[2]]  # 1e-5 off the head: no direction to speak of
+    assert "lies 1e-05 rig units from the head of bone 'hand.L': an aim's point must be at least " \
+        "0.1 of its bone's length" in raises_input_error(s.set_aim_target, "hand.L", near)
     assert "field 'axis'" in raises_input_error(s.set_aim_target, "hand.L", [0, 0, 9],
                                                 axis=[0, 0, 0])
     assert "field 'alpha'" in raises_input_error(s.set_pin, "hand.L", alpha=2)
@@ -225,3 +229,26 @@ def test_an_aim_without_an_axis_turns_the_bones_forward_axis(tmp_path):
     s.set_aim_target("head", [1.0, 0.0, 0.2], axis=[1.0, 0.0, 0.0])
     axes = {a["bone"]: a["axis"] for a in s.bone_targets["aim_targets"]}
     assert axes["head"] == [1.0, 0.0, 0.0], axes
+
+
+def test_typed_quaternion_is_normalised_with_one_warning():
+    """(0.7071, 0.7071, 0, 0), norm 0.99999, as a person types it: normalised, and said once as
+    an InputWarning naming the method and the norm; 1e-3 from unit and beyond: InputError."""
+    s = physik.PosingSession(pinhead())
+    with pytest.warns(physik.InputWarning) as record:
+        s.set_orientation_target("hand.L", [0.7071, 0.7071, 0, 0])
+    assert [str(w.message) for w in record] == [
+        "set_orientation_target: field 'quaternion': norm 0.99999041 (within 1e-3 of 1): "
+        "normalised to unit"]
+    q = s.bone_targets["orientation_targets"][0]["quaternion"]
+    assert abs(np.linalg.norm(q) - 1.0) < 1e-15 and abs(q[0] - q[1]) < 1e-15, q
+    assert "norm 1.0011, more than 1e-3 from 1" in raises_input_error(
+        s.set_orientation_target, "hand.L", [1.0011, 0, 0, 0])
+    # the scene's reader says it as the CLI does, naming the dict and the element
+    d = pinhead().to_dict()
+    d["orientation_targets"] = [{"bone": "hand.R", "quaternion": [0.7071, 0, 0.7071, 0]}]
+    with pytest.warns(physik.InputWarning, match=r"<scene dict>: orientation_targets\[0\]: "
+                      r"field 'quaternion': norm 0.99999041"):
+        physik.Scene.from_dict(d)
+    assert "unknown bone 'hnad.R' (did you mean 'hand.R'?)" in raises_input_error(
+        s.set_aim_target, "hnad.R", [0, -5, 1])

@@ -211,14 +211,11 @@ def clip_seeds(physik, work):
 
 
 def add_generated_seeds(physik, work, seeds):
-    """The generated seeds into `seeds` (the welded rigs also into work/rigs, where the scenes
-    on them find them). The pinned rig seeds scenes only until `rig info` reads a pinned root (it
-    reads the root's joint at bone index -1, a crash: fixed on another branch); then it joins the
-    rig seeds as the others."""
+    """The generated seeds into `seeds` (the welded rigs, pinned, fixed and free roots, also
+    into work/rigs, where the scenes on them find them)."""
     for root in ("pinned", "fixed", "free"):
         rig = json.dumps(gen_welded_rig(root), indent=1).encode()
-        if root != "pinned":
-            seeds["rig"].append(("fuzz_welded_%s.json" % root, rig))
+        seeds["rig"].append(("fuzz_welded_%s.json" % root, rig))
         with open(os.path.join(work, "rigs", "fuzz_welded_%s.json" % root), "wb") as f:
             f.write(rig)
         seeds["scene"].append(("welded_%s_scene.json" % root,
