@@ -232,7 +232,8 @@ struct BlockCase {
 BlockCase block_case(bool elbow, TorsionTorque torque, const Vec3& theta) {
   BlockCase c;
   c.sc.file = "<elbow>";
-  c.sc.rig = load_rig(test::model_path("rigs/elbow.json"));
+  // the forearm's locked axes held by springs (its hinge has no locked axis to engage)
+  c.sc.rig = test::with_spring_locks(load_rig(test::model_path("rigs/elbow.json")));
   c.sc.params = preset_params("original");
   c.sc.params.scheme = Scheme::kImplicit;
   c.sc.params.torsion_torque = torque;
@@ -511,13 +512,14 @@ TEST(ImplicitStep, AugmentedInertiaRecursionEqualsADenseSolve) {
 // Schur complement the recursion forms (its D_i and the root's 6x6). With the tangents unclipped, a
 // pivot's determinant turned negative in 27 of 1000 such poses from h ~ 1 s, and the whole matrix
 // went singular in 4 (a review's scratch program, implicit_step.h); the clip is exercised here
-// (more than 10 tangents with an indefinite symmetric part).
+// (more than 10 tangents with an indefinite symmetric part). Every joint a ball, its locks held by
+// springs (test::with_spring_locks), since the poses turn every axis.
 TEST(ImplicitStep, EveryPivotKeepsAPositiveDefiniteSymmetricPart) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   Scene sc;
   sc.file = "<pinhead>";
-  sc.rig = load_rig(test::model_path("rigs/pinhead.json"));
+  sc.rig = test::with_spring_locks(load_rig(test::model_path("rigs/pinhead.json")));
   sc.params = preset_params("original");
   sc.params.scheme = Scheme::kImplicit;
   sc.initial_pose = rest_pose(sc.rig);

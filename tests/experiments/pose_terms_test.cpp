@@ -179,6 +179,7 @@ void add_aim_target(std::mt19937& rng, PoseCase& pc) {
 // Returns the worst of each.
 struct Worst {
   double backward = 0.0, system = 0.0, solution = 0.0;
+  double system_cond = 1.0;  // the condition number of the step's response where `system` is worst
   int compared = 0;
 };
 
@@ -233,9 +234,15 @@ Worst compare_with_dense(PoseTermSelection use, Variant dense_variant, unsigned 
       w.backward =
           std::max(w.backward, (S * acc - rhs).norm() / (S.norm() * acc.norm() + rhs.norm()));
       if (h <= 1.0) {
-        const Eigen::MatrixXd S_step =
-            M_inv * unit_force_response(pc.scene, pc.s, true, h, use).inverse();
-        w.system = std::max(w.system, (S_step - S).norm() / S.norm());
+        const Eigen::MatrixXd response = unit_force_response(pc.scene, pc.s, true, h, use);
+        const Eigen::MatrixXd S_step = M_inv * response.inverse();
+        const double system = (S_step - S).norm() / S.norm();
+        if (system > w.system) {
+          const Eigen::JacobiSVD<Eigen::MatrixXd> svd(response);
+          const auto& sv = svd.singularValues();
+          w.system_cond = sv(0) / sv(sv.size() - 1);
+          w.system = system;
+        }
       }
       if (h == 0.05) w.solution = std::max(w.solution, (acc - acc_dense).norm() / acc_dense.norm());
       ++w.compared;
@@ -246,7 +253,8 @@ Worst compare_with_dense(PoseTermSelection use, Variant dense_variant, unsigned 
 
 std::ostream& operator<<(std::ostream& o, const Worst& w) {
   return o << "backward error " << w.backward << ", system " << w.system
-           << ", accelerations at h = dt " << w.solution;
+           << " (response's condition " << w.system_cond << "), accelerations at h = dt "
+           << w.solution;
 }
 
 void expect_equal(const char* name, const PoseTermSelection& use, Variant dense_variant,
