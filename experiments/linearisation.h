@@ -14,7 +14,7 @@
 // linearised about the start of the step, with q+ = q (+) h v+ and v+ = v + h a+ (the same Euler
 // update as the shipped step):
 //   a+ ~ a + A_q h (v + h a+) + A_v h a+   =>   (1 - h A_v - h^2 A_q) a+ = a + h A_q v     (L)
-// A_q = da/dq, A_v = da/dv by central differences (eps 1e-6) in MuJoCo's qvel layout: root
+// A_q = da/dq, A_v = da/dv by central differences (eps 1e-5) in MuJoCo's qvel layout: root
 // v_com world and w local, each ball's u local, each hinge's or universal's angle rates (the
 // rig's joint model, rig.h "Locked axes"); a position perturbation turns a quaternion by its
 // local axis (quat_integrate), as the Euler update does, or moves a hinge's angle. Dense, O(n^3),
