@@ -7,6 +7,7 @@
 
 #include "physik/model/errors.h"
 #include "physik/model/human_template.h"
+#include "physik/model/joint_coordinates.h"
 #include "physik/model/names.h"
 
 namespace physik {
@@ -554,19 +555,7 @@ JointType type_by_locks(const std::array<AxisLimit, 3>& limit, std::array<int, 2
 }
 
 int coordinates(JointType type) {
-  switch (type) {
-    case JointType::kFree:
-      return 6;
-    case JointType::kBall:
-      return 3;
-    case JointType::kUniversal:
-      return 2;
-    case JointType::kHinge:
-      return 1;
-    case JointType::kWeld:
-      return 0;
-  }
-  return 0;
+  return type == JointType::kFree ? 6 : rotational_coordinates(type);
 }
 
 // stage 6b: the joint model: each bone's joint type (its locked axes removed: rig.h "Locked
