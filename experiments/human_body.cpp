@@ -13,7 +13,8 @@
 //            the hip width (the thighs' heads), the shoulder girdle's base (the clavicles' heads)
 //            and the shoulder width (the upper arms' heads) before and after; every limited axis
 //            of every bone against its range, past it by at most its torsion band
-//            (torsion_tolerance x (max - min)) on the free axes, and the locked axes' excess
+//            (torsion_tolerance x (max - min)) on the free axes, and each hinge's, two-axis
+//            joint's and weld by locks' turn off its joint's set (its locked axes)
 //   follow   the clip followed under gravity on a floor at the feet (physik/io/clip_follow.h,
 //            the clip_following experiment's settings): the same widths at every clip frame
 // Claims (each can say no): every shape recognised; the unit rule names each file's unit (CMU's
@@ -35,6 +36,7 @@
 #include "physik/io/clip_follow.h"
 #include "physik/io/rig_io.h"
 #include "physik/io/scene_io.h"
+#include "physik/model/joint_coordinates.h"
 #include "physik/model/params.h"
 #include "physik/posing/scene_solve.h"
 
@@ -89,23 +91,34 @@ Widths width_change(const Rig& rig, const Widths& rest, const std::vector<BoneFr
 struct Excess {
   double free_deg = 0.0;    // deg, the largest excess past a free axis's range
   double free_band = 0.0;   // 1, that excess over its torsion band (the largest ratio)
-  double locked_deg = 0.0;  // deg, the largest turn about a locked axis
+  double locked_deg = 0.0;  // deg, the largest turn off a joint's set (its locked axes)
   std::string worst;        // "<bone> <axis>" of the largest free ratio
 };
+
+// the turn (deg) from a joint's set to bone b's rotation in `pose`: from q to the rotation of its
+// own coordinates (joint_coordinates.h), 0 where its locked axes hold; for a hinge, a universal
+// joint or a weld by locks (a rotation vector's component is no measure of it: on a hinge locked
+// away from zero it moves with the hinge's angle)
+double off_joint_set_deg(const Rig& rig, const Pose& pose, int b) {
+  const Quat& q = pose.bone_local_rotation[b];
+  const Quat on = hinge_rotation(rig, b, hinge_coordinates(rig, b, q));
+  return rad2deg(2.0 * std::asin(std::min(1.0, (on.conjugate() * q).vec().norm())));
+}
 
 // every limited axis against its range in `pose` (the root and welded bones have none)
 Excess limit_excess(const Rig& rig, const Pose& pose, double tolerance) {
   Excess e;
   for (int b = 1; b < rig.nbone; ++b) {
+    const JointType type = rig.bone_joint_type[b];
+    if (type == JointType::kHinge || type == JointType::kUniversal ||
+        (type == JointType::kWeld && !rig.welded(b))) {
+      e.locked_deg = std::max(e.locked_deg, off_joint_set_deg(rig, pose, b));
+    }
     const Vec3 angles = joint_angles(pose, b);
     for (int a = 0; a < 3; ++a) {
       const AxisLimit& l = rig.bone_limit[b][a];
-      if (!l.limited) continue;
+      if (!l.limited || l.locked()) continue;
       const double past = std::max({0.0, angles[a] - l.max, l.min - angles[a]});
-      if (l.locked()) {
-        e.locked_deg = std::max(e.locked_deg, rad2deg(past));
-        continue;
-      }
       const double ratio = past / (tolerance * (l.max - l.min));
       if (ratio > e.free_band) {
         e.free_band = ratio;
@@ -468,9 +481,9 @@ void limit_claim(const std::vector<ShapeRun>& runs, Report& report) {
           yes_no(most.free_band <= 1.0))
       .named("limits");
   report.note(
-      "Locked axes (a knee's and an elbow's two, a wrist's twist) are held by torsion springs in "
-      "every scheme until they become coordinates of their own: after the solves the largest "
-      "turn about one is " +
+      "Locked axes (a knee's and an elbow's two, a wrist's twist) are no coordinates of the "
+      "exact and implicit schemes (rig.h \"Locked axes\"): after the solves the largest turn "
+      "of a hinge, a two-axis joint or a weld by locks off its joint's set is " +
       fmt(most.locked_deg) + " deg.");
 }
 
