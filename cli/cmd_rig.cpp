@@ -67,9 +67,29 @@ int total_dof(const Rig& rig) {
 }
 
 // how a bone hangs: "free" (the root's 6 DOF), "pinned", "fixed", "ball" or "weld"
+// (rig.h "Locked axes": the exact and implicit schemes' joint, "hinge" or "universal" where
+// locked axes leave 1 or 2, "weld" where all 3 are locked; the paper's scheme holds those axes
+// with torsion springs instead)
 const char* attachment(const Rig& rig, int bone) {
   if (bone == 0) return to_string(rig.root_joint);
-  return rig.welded(bone) ? "weld" : "ball";
+  return to_string(rig.bone_joint_type[bone]);
+}
+
+// "a hinge: ", "two hinges in sequence (a universal joint): ", "welded by its locks (0 DOF): "
+// before a bone's limits, or "" for a ball
+std::string joint_kind_text(const Rig& rig, int bone) {
+  switch (rig.bone_joint_type[bone]) {
+    case JointType::kHinge:
+      return "hinge, 1 DOF: ";
+    case JointType::kUniversal:
+      return "universal (two hinges), 2 DOF: ";
+    case JointType::kWeld:
+      return "welded by its locks, 0 DOF: ";
+    case JointType::kBall:
+    case JointType::kFree:
+      break;
+  }
+  return "";
 }
 
 // "[-90, 0]" per limited axis of a bone ("x free  y [-90, 0]  z locked at 0")
@@ -86,7 +106,8 @@ std::string limits_text(const Rig& rig, int bone) {
 std::string root_text(const Rig& rig) {
   switch (rig.root_joint) {
     case RootJoint::kPinned:
-      return "pinned: a ball at its head, held in place, " + std::to_string(rig.bone_dof(0)) +
+      return std::string("pinned: a ") + to_string(rig.bone_joint_type[0]) +
+             " at its head, held in place, " + std::to_string(rig.bone_dof(0)) +
              " DOF; limits against its rest frame in the world: " + limits_text(rig, 0);
     case RootJoint::kFixed:
       return "fixed to the world: 0 DOF";
@@ -100,7 +121,7 @@ std::string root_text(const Rig& rig) {
 std::string joint_text(const Rig& rig, int bone) {
   if (bone == 0) return "root (" + root_text(rig) + ")";
   if (rig.welded(bone)) return "welded to " + rig.bone_name[rig.bone_weld[bone]] + " (0 DOF)";
-  return limits_text(rig, bone);
+  return joint_kind_text(rig, bone) + limits_text(rig, bone);
 }
 
 // a joint's parent: a bone, or the world (a pinned root's head)

@@ -95,25 +95,13 @@ struct Excess {
   std::string worst;        // "<bone> <axis>" of the largest free ratio
 };
 
-// the turn (deg) from a joint's set to bone b's rotation in `pose`: from q to the rotation of its
-// own coordinates (joint_coordinates.h), 0 where its locked axes hold; for a hinge, a universal
-// joint or a weld by locks (a rotation vector's component is no measure of it: on a hinge locked
-// away from zero it moves with the hinge's angle)
-double off_joint_set_deg(const Rig& rig, const Pose& pose, int b) {
-  const Quat& q = pose.bone_local_rotation[b];
-  const Quat on = hinge_rotation(rig, b, hinge_coordinates(rig, b, q));
-  return rad2deg(2.0 * std::asin(std::min(1.0, (on.conjugate() * q).vec().norm())));
-}
-
 // every limited axis against its range in `pose` (the root and welded bones have none)
 Excess limit_excess(const Rig& rig, const Pose& pose, double tolerance) {
   Excess e;
   for (int b = 1; b < rig.nbone; ++b) {
-    const JointType type = rig.bone_joint_type[b];
-    if (type == JointType::kHinge || type == JointType::kUniversal ||
-        (type == JointType::kWeld && !rig.welded(b))) {
-      e.locked_deg = std::max(e.locked_deg, off_joint_set_deg(rig, pose, b));
-    }
+    // a locked joint's turn off its set (joint_coordinates.h off_joint_set; 0 for a ball)
+    e.locked_deg =
+        std::max(e.locked_deg, rad2deg(off_joint_set(rig, b, pose.bone_local_rotation[b])));
     const Vec3 angles = joint_angles(pose, b);
     for (int a = 0; a < 3; ++a) {
       const AxisLimit& l = rig.bone_limit[b][a];

@@ -752,7 +752,7 @@ expect_in "rig with a skeleton not depth-first message" "$tmp/err" "source_skele
 # rig info tells the rig's story (issue 56 part 4, issue 58): welds, pinned and fixed roots
 printf '{"root": "pinned", "bones": [{"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,1], "limits_deg": {"x": [0, 0], "y": [-30, 60]}}, {"name": "b", "parent": "a", "head": [0,0,1], "tail": [0,0,2]}, {"name": "c", "parent": "a", "head": [0,0,1], "tail": [1,0,1], "weld": "b"}]}' > "$tmp/pinned.json"
 check "rig info pinned root" 0 "$bin" rig info "$tmp/pinned.json"
-expect_in "rig info pinned root says so" "$tmp/out" "root 'a': pinned: a ball at its head, held in place, 2 DOF; limits against its rest frame in the world: x locked at 0  y [-30, 60]  z free"
+expect_in "rig info pinned root says so" "$tmp/out" "root 'a': pinned: a universal at its head, held in place, 2 DOF; limits against its rest frame in the world: x locked at 0  y [-30, 60]  z free"
 expect_in "rig info the world's joint" "$tmp/out" "[0] world -> a(2)"
 expect_in "rig info welded bone" "$tmp/out" "welded to b (0 DOF)"
 check "rig info pinned root json" 0 "$bin" rig info --json "$tmp/pinned.json"
@@ -763,9 +763,23 @@ r = json.load(open(sys.argv[1]))
 bones = {b["name"]: b for b in r["bone_list"]}
 assert r["root"] == "pinned" and bones["a"]["dof"] == 2 and bones["a"]["joint"] == "pinned"
 assert bones["c"]["dof"] == 0 and bones["c"]["welded_to"] == "b", bones["c"]
+assert bones["b"]["joint"] == "ball" and bones["c"]["joint"] == "weld", bones
 assert sum(j["dof"] for j in r["joint_list"]) == sum(b["dof"] for b in r["bone_list"]) == r["dof"] == 5
 assert r["joint_list"][0]["parent"] is None and r["joint_list"][0]["world"]
 PY
+printf '{"bones": [{"name": "a", "parent": null, "head": [0,0,0], "tail": [0,0,1]}, {"name": "knee", "parent": "a", "head": [0,0,1], "tail": [0,0,2], "limits_deg": {"x": [0, 135], "y": [0, 0], "z": [0, 0]}}, {"name": "wrist", "parent": "a", "head": [0,0,1], "tail": [1,0,1], "limits_deg": {"x": [-70, 80], "y": [0, 0], "z": [-20, 30]}}]}' > "$tmp/hinged.json"
+check "rig info hinges" 0 "$bin" rig info "$tmp/hinged.json"
+expect_in "rig info names a hinge" "$tmp/out" "hinge, 1 DOF: x [0, 135]  y locked at 0  z locked at 0"
+expect_in "rig info names a universal joint" "$tmp/out" "universal (two hinges), 2 DOF: x [-70, 80]  y locked at 0  z [-20, 30]"
+check "rig info hinges json" 0 "$bin" rig info --json "$tmp/hinged.json"
+expect_in "rig info json hinge" "$tmp/out" '"joint": "hinge"'
+expect_in "rig info json universal" "$tmp/out" '"joint": "universal"'
+# a start pose off a hinge is put on it by the exact and implicit schemes, and one warning says so
+printf '{"rig": "hinged.json", "steps": 2, "initial_pose": {"rotation_deg": {"knee": [30, 20, 0]}}}' > "$tmp/offhinge.json"
+check "a start off its hinge" 0 "$bin" simulate "$tmp/offhinge.json" --quiet --out "$tmp/offhinge"
+expect_in "a start off its hinge is said" "$tmp/err" "initial_pose: 1 joint(s) start off their locked axes' set, which the implicit scheme keeps; the start is the nearest pose on it: knee 19.8 deg off its hinge"
+check "the paper's scheme keeps it" 0 "$bin" simulate "$tmp/offhinge.json" --quiet --set preset=original --out "$tmp/offhinge_gs"
+expect_absent "the paper's scheme says nothing" "$tmp/err" "locked axes' set"
 sed 's/"pinned"/"fixed"/; s/, "limits_deg": {"x": \[0, 0\], "y": \[-30, 60\]}//' "$tmp/pinned.json" > "$tmp/fixed.json"
 check "rig info fixed root" 0 "$bin" rig info "$tmp/fixed.json"
 expect_in "rig info fixed root says so" "$tmp/out" "root 'a': fixed to the world: 0 DOF"
@@ -777,7 +791,7 @@ fi
 if [ -f /usr/share/mujoco/model/tendon_arm/arm26.xml ]; then
   check "from-mjcf arm26" 0 "$bin" rig from-mjcf /usr/share/mujoco/model/tendon_arm/arm26.xml --out "$tmp/arm26.json"
   check "rig info arm26" 0 "$bin" rig info "$tmp/arm26.json"
-  expect_in "rig info arm26 pinned root" "$tmp/out" "(pinned: a ball at its head"
+  expect_in "rig info arm26 pinned root" "$tmp/out" "(pinned: a hinge at its head"
 fi
 
 # a human skeleton (Mixamo's names, centimetres): a human body, the unit rule, --height, --body,

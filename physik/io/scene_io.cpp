@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iomanip>
 #include <optional>
+#include <sstream>
 
 #include "physik/io/bvh.h"
 #include "physik/io/rig_io.h"
@@ -11,6 +13,7 @@
 #include "physik/model/bone_targets.h"
 #include "physik/model/errors.h"
 #include "physik/model/input_bounds.h"
+#include "physik/model/joint_coordinates.h"
 #include "physik/model/names.h"
 
 namespace physik {
@@ -347,6 +350,36 @@ void read_initial_pose_bvh(const JsonContext& ctx, const Json& ip, const std::st
 
 // initial pose: rest, optionally with a root position and per-bone rotation vectors (deg), or a
 // frame of a clip
+// The exact and implicit schemes start a locked joint on its set (rig.h "Locked axes": a hinge,
+// a two-axis joint, a weld by its locks): an initial pose that turns one off it (a clip's elbow
+// 15 deg out of its hinge's plane) is moved onto it by init_state, which one warning says, with
+// each such joint and its angle (off by more than kOffSetWarnDeg: a file's own rounding is less)
+constexpr double kOffSetWarnDeg = 0.1;
+
+void warn_off_joint_sets(const Scene& s, std::vector<std::string>& warnings) {
+  if (!s.params.joint_space()) return;  // the paper's scheme holds its locks by springs
+  std::string off;
+  int count = 0;
+  for (int b = 0; b < s.rig.nbone; ++b) {
+    const double deg = rad2deg(off_joint_set(s.rig, b, s.initial_pose.bone_local_rotation[b]));
+    if (deg <= kOffSetWarnDeg) continue;
+    if (++count <= 8) {
+      std::ostringstream o;
+      o << (count > 1 ? ", " : "") << s.rig.bone_name[b] << " " << std::setprecision(3) << deg
+        << " deg off its " << to_string(s.rig.bone_joint_type[b]);
+      off += o.str();
+    }
+  }
+  if (count == 0) return;
+  if (count > 8) off += " and " + std::to_string(count - 8) + " more";
+  warnings.push_back(s.file + ": initial_pose: " + std::to_string(count) +
+                     " joint(s) start off their locked axes' set, which the " +
+                     to_string(s.params.scheme) +
+                     " scheme keeps; the start is the nearest pose on it: " + off +
+                     " (the paper's scheme, preset original, keeps such a start and holds the "
+                     "locks by torsion springs)");
+}
+
 void read_initial_pose(const JsonContext& top, const Json& doc, const std::string& base_dir,
                        Scene& s) {
   s.initial_pose = rest_pose(s.rig);
@@ -687,6 +720,7 @@ Scene scene_from_json(const Json& doc, const std::string& source, const std::str
   read_schedule(top, doc, s);
   read_convergence(top, doc, s);
   read_initial_pose(top, doc, base_dir, s);
+  warn_off_joint_sets(s, warnings);
   if (doc.contains("initial_velocity")) {
     s.initial_velocity_world = bounded_vec3(top, doc, "initial_velocity");
   }

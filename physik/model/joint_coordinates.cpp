@@ -80,4 +80,13 @@ void hinge_axes_world(const Rig& rig, int i, const Quat& parent_orient_world,
   }
 }
 
+double off_joint_set(const Rig& rig, int i, const Quat& q) {
+  const JointType t = rig.bone_joint_type[i];
+  if (t == JointType::kBall || t == JointType::kFree || rig.welded(i)) return 0.0;
+  if (i == 0 && rig.root_joint == RootJoint::kFixed) return 0.0;
+  const Quat on = hinge_rotation(rig, i, hinge_coordinates(rig, i, q));
+  const Quat d = (on.conjugate() * q).normalized();
+  return 2.0 * std::atan2(d.vec().norm(), std::abs(d.w()));
+}
+
 }  // namespace physik

@@ -36,6 +36,12 @@ Quat hinge_rotation(const Rig& rig, int bone, const Vec2& t);
 // without them.
 Vec2 hinge_coordinates(const Rig& rig, int bone, const Quat& q);
 
+// How far (rad) a local rotation q of bone i lies off its joint's set: the angle from the
+// rotation of its projected coordinates, hinge_rotation(hinge_coordinates(q)), to q. 0 on the
+// set, and for a ball or a free root (every rotation is on theirs). A rotation vector's locked
+// component is no measure of it: on a joint locked away from zero it moves with the free angles.
+double off_joint_set(const Rig& rig, int bone, const Quat& q);
+
 // The world axes s0, s1 of bone i's coordinates (s1 zero for a hinge), from its parent's world
 // orientation (the identity for the root) and its own.
 void hinge_axes_world(const Rig& rig, int bone, const Quat& parent_orient_world,
