@@ -45,6 +45,25 @@ std::vector<double> upward_crossings(const std::vector<double>& x, double dt) {
   return out;
 }
 
+// A fixed base of length `base` above the origin and a bone of length L hanging from it down -Z,
+// each of mass m and radius r: the rig of the child joint tests below (its limits set by each)
+std::vector<BoneSpec> hanging_pair(double base, double L, double m, double r) {
+  std::vector<BoneSpec> bones(2);
+  bones[0].name = "base";
+  bones[0].head_world = Vec3(0, 0, base);
+  bones[0].tail_world = Vec3(0, 0, 0);
+  bones[1].name = "arm";
+  bones[1].parent = "base";
+  bones[1].head_world = Vec3(0, 0, 0);
+  bones[1].tail_world = Vec3(0, 0, -L);
+  for (BoneSpec& b : bones) {
+    b.rest_frame_world = rest_frame_from_roll(b.head_world, b.tail_world, 0.0);
+    b.mass = m;
+    b.radius = r;
+  }
+  return bones;
+}
+
 // A physical pendulum on a hinge through the rod's head: T = 2 pi sqrt(I_head / (m g L/2)),
 // I_head = m (3 r^2 + L^2) / 12 + m (L/2)^2 about the hinge (rig.h's rod). Small amplitude
 // (0.02 rad: the period's amplitude correction theta^2 / 16 = 2.5e-5) and dt 1e-3 (semi-implicit
@@ -82,19 +101,7 @@ TEST(HingeJoints, HingePendulumSmallOscillationPeriod) {
 // error (w h)^2 / 3 < 1e-5)
 TEST(HingeJoints, ChildHingeWithAnOffsetLockSwingsWithTheSamePeriod) {
   const double L = 1.0, m = 1.5, r = 0.04, g = 9.81, dt = 1e-3;
-  std::vector<BoneSpec> bones(2);
-  bones[0].name = "base";
-  bones[0].head_world = Vec3(0, 0, 0.5);
-  bones[0].tail_world = Vec3(0, 0, 0);
-  bones[1].name = "arm";
-  bones[1].parent = "base";
-  bones[1].head_world = Vec3(0, 0, 0);
-  bones[1].tail_world = Vec3(0, 0, -L);
-  for (BoneSpec& b : bones) {
-    b.rest_frame_world = rest_frame_from_roll(b.head_world, b.tail_world, 0.0);
-    b.mass = m;
-    b.radius = r;
-  }
+  std::vector<BoneSpec> bones = hanging_pair(0.5, L, m, r);
   // the hinge about local x of the frame turned about the bone's own axis y: still horizontal
   bones[1].limit = {AxisLimit{}, AxisLimit{true, 0.4, 0.4}, AxisLimit{true, 0.0, 0.0}};
   const Rig rig = build_rig(bones, "<child_hinge>", "child_hinge", RootJoint::kFixed);
@@ -132,18 +139,8 @@ TEST(HingeJoints, ChildHingeWithAnOffsetLockSwingsWithTheSamePeriod) {
 // energy stays within semi-implicit Euler's O(w h) band of its start.
 TEST(HingeJoints, UniversalJointKeepsItsTwistAtZeroAndConservesEnergy) {
   const double L = 0.8, m = 1.0, r = 0.06, g = 9.81, dt = 2e-4;
-  std::vector<BoneSpec> bones(2);
-  bones[0].name = "base";
-  bones[0].head_world = Vec3(0, 0, 0.3);
-  bones[0].tail_world = Vec3(0, 0, 0);
-  bones[1].name = "link";
-  bones[1].parent = "base";
-  bones[1].head_world = Vec3(0, 0, 0);
-  bones[1].tail_world = Vec3(0, 0, -L);
+  std::vector<BoneSpec> bones = hanging_pair(0.3, L, m, r);
   for (BoneSpec& b : bones) {
-    b.rest_frame_world = rest_frame_from_roll(b.head_world, b.tail_world, 0.0);
-    b.mass = m;
-    b.radius = r;
     b.inertia_local = Vec3(0.06, 0.01, 0.05);  // unequal: a ball would precess and twist
   }
   bones[1].limit = {AxisLimit{}, AxisLimit{true, 0.0, 0.0}, AxisLimit{}};
