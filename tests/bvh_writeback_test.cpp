@@ -18,6 +18,7 @@
 #include "physik/io/bvh.h"
 #include "physik/io/rig_io.h"
 #include "physik/model/errors.h"
+#include "physik/model/names.h"
 #include "physik/model/source_pose.h"
 #include "test_util.h"
 
@@ -335,6 +336,36 @@ TEST(BvhWriteBack, JointsWithNoBoneKeepTheirOwnRotation) {
       EXPECT_LT((pin[j] - pout[j]).norm(), 1e-9) << in.joints[j].name << " frame " << f;
     }
   }
+}
+
+// a scene naming a joint with no bone of its own (CMU's RightHand) as a bone gets no typo hint
+// (no bone is close) but the bones that stand at it: the one ending at its origin, at alpha 1,
+// and those that start there
+TEST(BvhWriteBack, AJointWithNoBoneIsNamedWithTheBonesAtIt) {
+  const Skeleton s = cmu_like();
+  const BvhAnimation anim = bvh_to_rig(clip_of(s), s.name, options_of(s));
+  const Rig& rig = anim.rig();
+  ASSERT_LT(rig.find_bone("RightHand"), 0);
+  const std::string m = unknown_bone("RightHand", rig);
+  EXPECT_NE(m.find("'RightHand' is a joint of the rig's source skeleton without a bone of its own"),
+            std::string::npos)
+      << m;
+  const std::size_t at = m.find("its point is bone '");
+  ASSERT_NE(at, std::string::npos) << m;
+  const std::size_t from = at + std::string("its point is bone '").size();
+  const int ends = rig.find_bone(m.substr(from, m.find('\'', from) - from));
+  ASSERT_GE(ends, 0) << m;
+  const std::size_t st = m.find("the bones that start there: '");
+  ASSERT_NE(st, std::string::npos) << m;
+  const std::size_t sfrom = st + std::string("the bones that start there: '").size();
+  const int starts = rig.find_bone(m.substr(sfrom, m.find('\'', sfrom) - sfrom));
+  ASSERT_GE(starts, 0) << m;
+  // the hand's origin: where the forearm ends and the fingers begin
+  EXPECT_LT((rig.bone_rest_tail_world[ends] - rig.bone_rest_head_world[starts]).norm(), 1e-12);
+  // a typo of a bone still gets its hint, and a name that is nothing gets neither
+  EXPECT_NE(unknown_bone("RightForArm", rig).find("did you mean 'RightForeArm'"), std::string::npos)
+      << unknown_bone("RightForArm", rig);
+  EXPECT_EQ(unknown_bone("Tail", rig), "unknown bone 'Tail'");
 }
 
 // a joint whose bone is welded to another joint's (a girdle a human cannot move on its own, as

@@ -81,7 +81,7 @@ int checked_last_frame(const Rig& rig, const BvhFile& clip, const FollowOptions&
     const FollowPoint& p = points[i];
     const std::string field = "points[" + std::to_string(i) + "]";
     if (rig.find_bone(p.bone) < 0) {
-      throw_input_error(src, field, "bone", unknown_bone(p.bone, rig.bone_name));
+      throw_input_error(src, field, "bone", unknown_bone(p.bone, rig));
     }
     if (!(p.alpha >= 0.0 && p.alpha <= 1.0)) {
       throw_input_error(src, field, "alpha", "must be within [0, 1] (0 head, 1 tail)");

@@ -135,7 +135,7 @@ ControlPoint control_point_from_json(const JsonContext& ctx, const Json& c, cons
   cp.name = ctx.name_or(c, "name", "");
   const std::string bone = ctx.name(c, "bone");
   cp.bone = s.rig.find_bone(bone);
-  if (cp.bone < 0) ctx.fail("bone", unknown_bone(bone, s.rig.bone_name) + " in rig " + s.rig_file);
+  if (cp.bone < 0) ctx.fail("bone", unknown_bone(bone, s.rig) + " in rig " + s.rig_file);
   cp.alpha = ctx.number_or(c, "alpha", 1.0);
   if (cp.alpha < 0.0 || cp.alpha > 1.0)
     ctx.fail("alpha", "must lie in [0, 1] (0 = head, 1 = tail)");
@@ -400,7 +400,7 @@ void read_initial_pose(const JsonContext& top, const Json& doc, const std::strin
     const std::string bad = name_problem(it.key());
     if (!bad.empty()) ctx.fail("rotation_deg", "a bone name: " + bad);
     const int b = s.rig.find_bone(it.key());
-    if (b < 0) ctx.fail("rotation_deg." + it.key(), unknown_bone(it.key(), s.rig.bone_name));
+    if (b < 0) ctx.fail("rotation_deg." + it.key(), unknown_bone(it.key(), s.rig));
     s.initial_pose.bone_local_rotation[b] =
         rotation_from_deg(bounded_angles(ctx, *it, "rotation_deg." + it.key()));
   }
@@ -478,7 +478,7 @@ std::pair<int, int> excluded_pair(const JsonContext& top, const Json& e, const s
     const std::string name = e[k].get<std::string>();
     top.check_name(name, field);
     b[k] = rig.find_bone(name);
-    if (b[k] < 0) top.fail(field, unknown_bone(name, rig.bone_name));
+    if (b[k] < 0) top.fail(field, unknown_bone(name, rig));
   }
   if (b[0] == b[1]) {
     top.fail(field, "bone '" + rig.bone_name[b[0]] +

@@ -44,7 +44,7 @@ SourceJoint joint_from_json(const Json& j, const JsonContext& ctx, const Rig& ri
       if (!bones[i].is_string()) ctx.fail(field, "expected a bone name");
       const std::string name = bones[i].get<std::string>();
       const int b = rig.find_bone(name);
-      if (b < 0) ctx.fail(field, unknown_bone(name, rig.bone_name) + " in the rig");
+      if (b < 0) ctx.fail(field, unknown_bone(name, rig) + " in the rig");
       if (!out.bones.empty() && b <= out.bones.back()) {
         ctx.fail(field, "bones are listed in the rig's order, each once");
       }

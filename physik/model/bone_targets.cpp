@@ -49,7 +49,7 @@ int target_bone_index(const Scene& scene, const std::string& bone, const TargetS
   const int b = scene.rig.find_bone(bone);
   if (b < 0) {
     fail(at, "bone",
-         unknown_bone(bone, scene.rig.bone_name) + " in rig " +
+         unknown_bone(bone, scene.rig) + " in rig " +
              (scene.rig_file.empty() ? scene.rig.name : scene.rig_file));
   }
   return b;

@@ -11,6 +11,8 @@
 
 namespace physik {
 
+struct Rig;
+
 // "" when `name` is acceptable, else the reason, e.g. "byte 0xff at offset 3 is not UTF-8".
 std::string name_problem(const std::string& name);
 
@@ -28,5 +30,11 @@ std::string did_you_mean(const std::string& name, const std::vector<std::string>
 // "unknown bone 'x'" with did_you_mean's hint among `bones` (a rig's bone_name): the reason every
 // message gives for a bone name the rig does not have.
 std::string unknown_bone(const std::string& name, const std::vector<std::string>& bones);
+
+// The same for a name `rig` has no bone of, with a typo's "did you mean" among its bones; for a
+// joint of its source skeleton that has no bone of its own (its children all sit at its origin,
+// source_skeleton.h), which bones stand at that joint instead: the bone whose tail is its origin
+// (alpha 1) and the bones that start there. (Defined in rig.cpp.)
+std::string unknown_bone(const std::string& name, const Rig& rig);
 
 }  // namespace physik

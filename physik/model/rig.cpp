@@ -173,8 +173,7 @@ void set_collision_exclude(Rig& rig, const std::vector<std::pair<std::string, st
     for (int k = 0; k < 2; ++k) {
       const std::string& name = k == 0 ? pairs[i].first : pairs[i].second;
       auto it = index_of.find(name);
-      if (it == index_of.end())
-        throw_input_error(source, "", field, unknown_bone(name, rig.bone_name));
+      if (it == index_of.end()) throw_input_error(source, "", field, unknown_bone(name, rig));
       b[k] = it->second;
     }
     if (b[0] == b[1]) {
@@ -709,6 +708,41 @@ Rig build_rig(const std::vector<BoneSpec>& specs, const std::string& source,
 
 void refresh_joint_model(Rig& rig) {
   derive_joint_model(rig, rig.root_joint);
+}
+
+std::string unknown_bone(const std::string& name, const Rig& rig) {
+  const std::vector<SourceJoint>& joints = rig.source_skeleton.joints;
+  int j = -1;
+  for (int k = 0; k < static_cast<int>(joints.size()); ++k) {
+    if (joints[k].name == name && joints[k].bones.empty()) j = k;
+  }
+  if (j < 0) return unknown_bone(name, rig.bone_name);
+  // the bone that ends at the joint: one of its nearest ancestor's with bones, along its offset
+  const Quat axes = source_axes_to_rig(rig.source_skeleton.axes);
+  Vec3 reach = Vec3::Zero();  // rig units, from that ancestor's origin
+  int a = j;
+  std::string ends;
+  while (a >= 0 && (a == j || joints[a].bones.empty())) {
+    reach += rig.source_skeleton.scale * (axes * joints[a].offset);
+    a = joints[a].parent;
+  }
+  if (a >= 0) {
+    for (int b : joints[a].bones) {
+      const Vec3 d = rig.bone_rest_tail_world[b] - rig.bone_rest_head_world[b];
+      if ((d - reach).norm() <= 1e-9 * std::max(1.0, reach.norm())) ends = rig.bone_name[b];
+    }
+  }
+  std::string starts;
+  for (const SourceJoint& c : joints) {
+    if (c.parent != j || c.bones.empty()) continue;
+    starts += (starts.empty() ? "'" : ", '") + rig.bone_name[c.bones.front()] + "'";
+  }
+  std::string s = "'" + name +
+                  "' is a joint of the rig's source skeleton without a bone of its own (its "
+                  "children sit at its origin)";
+  if (!ends.empty()) s += "; its point is bone '" + ends + "' at alpha 1";
+  if (!starts.empty()) s += "; the bones that start there: " + starts;
+  return s;
 }
 
 }  // namespace physik
