@@ -23,6 +23,7 @@
 #include "experiments/common.h"
 #include "physik/engine/linear_modes.h"
 #include "physik/io/json_fields.h"
+#include "physik/model/joint_angles.h"
 #include "tune/equilibrium.h"
 
 namespace physik::experiments {
@@ -135,12 +136,13 @@ std::vector<HandRun> measure_hand(const Context& ctx) {
     base.params.dt = 0.05;
     base.params.torsion_k = k;
     const tune::EquilibriumResult eq = tune::solve_equilibrium(base);
-    const double eq_deg = rad2deg(max_limit_violation(base.rig, eq.pose));
+    const double eq_deg =
+        rad2deg(max_limit_violation(base.rig, base.params.locked_axes(), eq.pose));
     for (int scheme = 0; scheme < 3; ++scheme) {
       Scene s = with_scheme(base, scheme > 0);
       if (scheme == 2) s.params.torsion_torque = TorsionTorque::kGradient;
       HandRun h{k, eq_deg, band_deg(base), 0.0, scheme, run(s)};
-      h.final_deg = rad2deg(max_limit_violation(s.rig, h.o.run.final_pose));
+      h.final_deg = rad2deg(max_limit_violation(s.rig, s.params.locked_axes(), h.o.run.final_pose));
       out.push_back(h);
     }
   }

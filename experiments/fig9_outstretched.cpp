@@ -23,7 +23,8 @@
 //   off_reach_rotation  the same over bones not on the reaching hand's chain to the root, rad
 //   limit_excess_deg    largest amount by which any limited axis is outside its range, in the
 //                       project's convention (rotation vector of the rest-relative rotation;
-//                       physik/model/kinematics.h max_limit_violation), deg
+//                       physik/model/joint_angles.h max_limit_violation, in the scheme's joints),
+//                       deg
 // Every row is measured by the same functions from world frames: iTaSC's from the forward
 // kinematics of the pose it wrote (rolls included), checked against the bones it posed.
 // The IK solvers anchor the root bone's head; pinhead's root is the head bone, so the DLS pose
@@ -39,6 +40,7 @@
 #include "physik/io/pose_io.h"
 #include "physik/io/summary_io.h"
 #include "physik/model/errors.h"
+#include "physik/model/joint_angles.h"
 #include "reference/mujoco_runner.h"
 
 namespace physik::experiments {
@@ -94,7 +96,7 @@ Measures measure(const Scene& scene, const BoneFrames& rest, const BoneFrames& f
   }
   Pose local;
   local_rotations_from_world(rig, f, local);
-  m.limit_excess_deg = kDeg * max_limit_violation(rig, local);
+  m.limit_excess_deg = kDeg * max_limit_violation(rig, scene.params.locked_axes(), local);
   return m;
 }
 

@@ -24,6 +24,7 @@
 #include "experiments/columns.h"
 #include "experiments/common.h"
 #include "physik/model/errors.h"
+#include "physik/model/joint_angles.h"
 
 namespace physik::experiments {
 
@@ -72,7 +73,8 @@ HandRun run_hand(const Scene& base, double torsion_k, double damping,
   std::vector<double> res;
   r.run = record_run(scene, ro, [&](const SimState& s, const StepStats& st) {
     r.ke.push_back(st.kinetic_energy);
-    r.limit_deg.push_back(max_limit_violation(scene.rig, s.pose) * 180.0 / 3.14159265358979323846);
+    r.limit_deg.push_back(
+        rad2deg(max_limit_violation(scene.rig, scene.params.locked_axes(), s.pose)));
     control_residuals(scene, s, res);
     r.max_residual.push_back(res.empty() ? 0.0 : *std::max_element(res.begin(), res.end()));
   });

@@ -36,6 +36,7 @@
 #include "physik/io/clip_follow.h"
 #include "physik/io/rig_io.h"
 #include "physik/io/scene_io.h"
+#include "physik/model/joint_angles.h"
 #include "physik/model/joint_coordinates.h"
 #include "physik/model/params.h"
 #include "physik/posing/scene_solve.h"
@@ -102,7 +103,7 @@ Excess limit_excess(const Rig& rig, const Pose& pose, double tolerance) {
     // a locked joint's turn off its set (joint_coordinates.h off_joint_set; 0 for a ball)
     e.locked_deg =
         std::max(e.locked_deg, rad2deg(off_joint_set(rig, b, pose.bone_local_rotation[b])));
-    const Vec3 angles = joint_angles(pose, b);
+    const Vec3 angles = joint_angles(rig, LockedAxes::kRemoved, b, pose.bone_local_rotation[b]);
     for (int a = 0; a < 3; ++a) {
       const AxisLimit& l = rig.bone_limit[b][a];
       if (!l.limited || l.locked()) continue;

@@ -15,6 +15,11 @@
 
 namespace physik::experiments {
 
+// Every solver's pose is measured against the limits by one ruler: the rig's joints as the exact
+// and implicit schemes (and MuJoCo) have them, hinges and universal joints by their own angles
+// (physik/model/joint_angles.h), whichever solver made the pose.
+constexpr LockedAxes kMeasuredJoints = LockedAxes::kRemoved;
+
 struct RigCase {
   std::string name;
   Rig rig;

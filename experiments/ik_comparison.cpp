@@ -7,13 +7,13 @@
 // times the reach in a uniform direction. Every solve starts from the rest pose with the root's
 // head anchored. Per solve: residual (rig units), success (residual < 1e-3 of the reach),
 // iterations (PhysIK: the equilibrium solve's recursions, or the time-stepping modes' steps; the
-// hybrids: steps + DLS iterations), wall time, the largest joint-limit violation, secondary motion
-// (sum over bones of the rotation angle relative to the start; on pinhead also the mean
-// displacement of bones off the root-to-hand path), and continuity: the same start solved for
-// the target and for the target moved by 1% of the reach; jump = largest bone-tail displacement
-// between the two solutions over the target move (1 = the pose follows the target rigidly).
-// PhysIK: the default preset with its default control spring on the effector and a second
-// control point pinning the root's head (PhysIK's root is free), in a PosingSession per rig
+// hybrids: steps + DLS iterations), wall time, the largest joint-limit violation (ik_cases.h
+// kMeasuredJoints), secondary motion (sum over bones of the rotation angle relative to the start;
+// on pinhead also the mean displacement of bones off the root-to-hand path), and continuity: the
+// same start solved for the target and for the target moved by 1% of the reach; jump = largest
+// bone-tail displacement between the two solutions over the target move (1 = the pose follows the
+// target rigidly). PhysIK: the default preset with its default control spring on the effector and a
+// second control point pinning the root's head (PhysIK's root is free), in a PosingSession per rig
 // (physik/posing; the time is the solve alone), stopped like the classic solvers: at the residual
 // tolerance (1e-4 of the reach), or when no goal improves short of it (not converged), at most
 // 2000 steps or iterations; the explicit rows and KDL's NR_JL on fewer targets. Rows: physik, the
@@ -41,6 +41,7 @@
 #include "kdl/kdl_solve.h"
 #include "physik/engine/engine.h"
 #include "physik/ik/ik_solver.h"
+#include "physik/model/joint_angles.h"
 #include "physik/posing/posing_session.h"
 
 namespace physik::experiments {
@@ -71,7 +72,7 @@ Outcome classic(IkMethod m, const RigCase& rc, const Vec3& target) {
           rep.iterations,
           rep.time_s,
           rep.converged,
-          rad2deg(max_limit_violation(rc.rig, pose))};
+          rad2deg(max_limit_violation(rc.rig, kMeasuredJoints, pose))};
 }
 
 // The engine as an IK solver (physik/posing/posing_session.h), as a tool embeds it: one session
@@ -126,7 +127,7 @@ Solver engine_solver(EngineRow row) {
     o.residual = (point_on_bone(session->frames(), cp.bone, cp.alpha) - target).norm();
     o.iterations = r.steps + r.finish_iterations;  // the hybrids: physics steps + DLS iterations
     o.converged = r.converged && !r.diverged;
-    o.limit_violation_deg = rad2deg(max_limit_violation(rc.rig, session->pose()));
+    o.limit_violation_deg = rad2deg(max_limit_violation(rc.rig, kMeasuredJoints, session->pose()));
     return o;
   };
 }
@@ -150,7 +151,7 @@ Solver kdl_solver(const std::string& name) {
     out.local = r.pose.bone_local_rotation;
     out.residual = (r.frames.tail_world[rc.bone] - target).norm();
     out.converged = r.classic.converged;
-    out.limit_violation_deg = rad2deg(max_limit_violation(rc.rig, r.pose));
+    out.limit_violation_deg = rad2deg(max_limit_violation(rc.rig, kMeasuredJoints, r.pose));
     return out;
   };
 }

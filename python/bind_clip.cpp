@@ -246,7 +246,9 @@ void bind_clip_poses(py::class_<BvhFile>& cls) {
            BoneFrames scratch;
            Pose pose;
            source_clip_pose(rig, c, frame, scratch, pose);
-           return pose_arrays(rig, forward_kinematics(rig, pose), pose);
+           // a clip's pose has no scene: its angles in the default scheme's joints (implicit)
+           return pose_arrays(rig, EngineParams{}.locked_axes(), forward_kinematics(rig, pose),
+                              pose);
          },
          py::arg("rig"), py::arg("frame"), "Clip.pose's C++ half: the pose's arrays.")
       .def(

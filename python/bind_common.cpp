@@ -135,13 +135,14 @@ const double* quat_data(const Quat& q) {
 
 }  // namespace
 
-py::tuple joint_angle_arrays(const Rig& rig, const Pose& pose, std::vector<Vec3>& angles,
-                             std::vector<Vec3>& excess) {
-  joint_angles_and_excess(rig, pose, angles, excess);
+py::tuple joint_angle_arrays(const Rig& rig, LockedAxes locked, const Pose& pose,
+                             std::vector<Vec3>& angles, std::vector<Vec3>& excess) {
+  joint_angles_and_excess(rig, locked, pose, angles, excess);
   return py::make_tuple(rows_copy<Vec3, 3>(angles, vec_data), rows_copy<Vec3, 3>(excess, vec_data));
 }
 
-py::dict pose_arrays(const Rig& rig, const BoneFrames& frames, const Pose& pose) {
+py::dict pose_arrays(const Rig& rig, LockedAxes locked, const BoneFrames& frames,
+                     const Pose& pose) {
   py::dict d;
   d["heads"] = rows_copy<Vec3, 3>(frames.head_world, vec_data);
   d["tails"] = rows_copy<Vec3, 3>(frames.tail_world, vec_data);
@@ -149,7 +150,7 @@ py::dict pose_arrays(const Rig& rig, const BoneFrames& frames, const Pose& pose)
   d["local_rotations"] = rows_copy<Quat, 4>(pose.bone_local_rotation, quat_data);
   d["root_head"] = py::array_t<double>(3, pose.root_head_world.data());
   std::vector<Vec3> angles, excess;
-  const py::tuple a = joint_angle_arrays(rig, pose, angles, excess);
+  const py::tuple a = joint_angle_arrays(rig, locked, pose, angles, excess);
   d["joint_angles"] = a[0];
   d["limit_excess"] = a[1];
   return d;

@@ -35,12 +35,14 @@ py::array readonly_view(const double* data, py::ssize_t n, py::handle owner);
 // A pose as numpy copies: {"heads": (n,3), "tails": (n,3), "orientations": (n,4) world<-bone,
 // "local_rotations": (n,4) rest-relative in the bone frame, both (x, y, z, w), "root_head": (3,),
 // "joint_angles": (n,3), "limit_excess": (n,3) (physik/model/joint_angles.h)}.
-py::dict pose_arrays(const Rig& rig, const BoneFrames& frames, const Pose& pose);
+// The angles are those of the joint model `locked` (the scene's scheme's,
+// EngineParams::locked_axes()).
+py::dict pose_arrays(const Rig& rig, LockedAxes locked, const BoneFrames& frames, const Pose& pose);
 
 // (joint_angles, limit_excess) of `pose` as new (nbone, 3) arrays, rad (joint_angles.h),
 // computed in the caller's scratch vectors (no C++ allocation once they are sized).
-py::tuple joint_angle_arrays(const Rig& rig, const Pose& pose, std::vector<Vec3>& angles,
-                             std::vector<Vec3>& excess);
+py::tuple joint_angle_arrays(const Rig& rig, LockedAxes locked, const Pose& pose,
+                             std::vector<Vec3>& angles, std::vector<Vec3>& excess);
 
 // C++ errors as the package's Python exceptions (physik.errors): InputError, DivergedError.
 void register_errors(py::module_& m);

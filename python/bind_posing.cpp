@@ -509,7 +509,8 @@ its steps, energy ledger, limit violation and final_state_hash of the session's 
       .def(
           "_joint_angles",
           [](Session& s) {
-            return joint_angle_arrays(s.session.scene().rig, s.session.pose(), s.angles, s.excess);
+            return joint_angle_arrays(s.session.scene().rig, s.session.scene().params.locked_axes(),
+                                      s.session.pose(), s.angles, s.excess);
           },
           "(joint_angles, limit_excess) of the session's pose now, as new (nbone, 3) arrays.");
 }

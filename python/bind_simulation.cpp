@@ -274,7 +274,8 @@ void bind_simulation_views(py::class_<Simulation>& cls) {
       .def(
           "_joint_angles",
           [](Simulation& s) {
-            return joint_angle_arrays(s.scene.rig, s.state.pose, s.angles, s.excess);
+            return joint_angle_arrays(s.scene.rig, s.scene.params.locked_axes(), s.state.pose,
+                                      s.angles, s.excess);
           },
           "(joint_angles, limit_excess) of the state's pose now, as new (nbone, 3) arrays.");
 }

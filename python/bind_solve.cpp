@@ -122,7 +122,9 @@ void bind_solve(py::module_& m) {
         if (raise_on_divergence && r.diverged) {
           throw DivergedRun(summary.value("divergence_reason", std::string("diverged")));
         }
-        return py::make_tuple(from_json(summary), pose_arrays(scene.rig, r.frames, r.pose));
+        return py::make_tuple(
+            from_json(summary),
+            pose_arrays(r.scene.rig, r.scene.params.locked_axes(), r.frames, r.pose));
       },
       py::arg("scene"), py::arg("options"), py::arg("raise_on_divergence"),
       "physik.solve's C++ half: (summary dict, pose arrays).");

@@ -86,7 +86,8 @@ void bind_tune(py::module_& m) {
           rep = tune::equilibrium_report(scene, start, compare);
         }
         py::dict doc = from_json(rep.doc);
-        return py::make_tuple(doc, pose_arrays(scene.rig, rep.result.frames, rep.result.pose));
+        return py::make_tuple(doc, pose_arrays(scene.rig, scene.params.locked_axes(),
+                                               rep.result.frames, rep.result.pose));
       },
       py::arg("scene"), py::arg("start"), py::arg("compare"), "physik.equilibrium's C++ half.");
 }

@@ -1,7 +1,9 @@
 // Joint angles and their excess past the limits (physik/model/joint_angles.h): analytic cases on
 // the elbow, and on random poses of the pinhead rig the torsion springs' own measure (the torque
 // each bone's spring applies, recovered from apply_torsion_springs' world torques, is
-// -k * excess with no engage band) and the run monitor's max_limit_violation.
+// -k * excess with no engage band) and the run monitor's max_limit_violation; in the exact and
+// implicit schemes' joints (LockedAxes::kRemoved) a hinge's and a universal joint's own angles,
+// where the rotation vector reads a locked axis wrong.
 #include "physik/model/joint_angles.h"
 
 #include <cmath>
@@ -13,6 +15,7 @@
 #include "physik/engine/newton_euler.h"
 #include "physik/engine/torsion_springs.h"
 #include "physik/io/rig_io.h"
+#include "physik/model/joint_coordinates.h"
 #include "tests/engine_test_util.h"
 #include "tests/test_util.h"
 
@@ -49,7 +52,7 @@ TEST(JointAngles, AnalyticOnTheElbow) {
     pose.bone_local_rotation[0] = about(70, Vec3(1, 2, 3));  // the root: measured, never limited
     pose.bone_local_rotation[1] = c.rotation;
     std::vector<Vec3> angles, excess;
-    joint_angles_and_excess(rig, pose, angles, excess);
+    joint_angles_and_excess(rig, LockedAxes::kSprings, pose, angles, excess);
     ASSERT_EQ(angles.size(), 2u);
     ASSERT_EQ(excess.size(), 2u);
     EXPECT_TRUE(test::near(angles[0], deg2rad(70) * Vec3(1, 2, 3).normalized(), 1e-12));
@@ -70,6 +73,57 @@ TEST(JointAngles, LimitExcessPerAxis) {
   EXPECT_DOUBLE_EQ(limit_excess(range, -1.5), -1.0);
   EXPECT_DOUBLE_EQ(limit_excess(locked, 0.4), 0.3);
   EXPECT_DOUBLE_EQ(limit_excess(locked, -0.4), -0.5);
+}
+
+// The elbow's forearm is a hinge about x in the exact and implicit schemes: its angle is the
+// hinge's, and a turn off the hinge (about y) is read on the locked axis it turns, as a ball's
+// rotation vector reads it.
+TEST(JointAngles, AHingeReadsItsAngleAndItsTurnOffTheHinge) {
+  const Rig rig = load_rig(test::model_path("rigs/elbow.json"));
+  ASSERT_EQ(rig.bone_joint_type[1], JointType::kHinge);
+  Pose pose = rest_pose(rig);
+  std::vector<Vec3> angles, excess;
+  pose.bone_local_rotation[1] = about(-120, Vec3::UnitX());
+  joint_angles_and_excess(rig, LockedAxes::kRemoved, pose, angles, excess);
+  EXPECT_TRUE(test::near(angles[1], deg2rad(1.0) * Vec3(-120, 0, 0), 1e-12));
+  EXPECT_TRUE(test::near(excess[1], deg2rad(1.0) * Vec3(-30, 0, 0), 1e-12));
+  // bent 45 deg, then turned 15 deg about its own y: 15 deg past the locked y
+  pose.bone_local_rotation[1] = about(-45, Vec3::UnitX()) * about(15, Vec3::UnitY());
+  joint_angles_and_excess(rig, LockedAxes::kRemoved, pose, angles, excess);
+  EXPECT_TRUE(test::near(angles[1], deg2rad(1.0) * Vec3(-45, 15, 0), 1e-12));
+  EXPECT_NEAR(rad2deg(max_limit_violation(rig, LockedAxes::kRemoved, pose)), 15.0, 1e-9);
+  EXPECT_NEAR(max_limit_violation(rig, LockedAxes::kRemoved, pose),
+              off_joint_set(rig, 1, pose.bone_local_rotation[1]), 1e-12);
+}
+
+// A wrist: a universal joint (x then y free, z locked at 0). Bent and turned on its own two axes
+// it is on its set, and its angles are its coordinates, with no excess on the locked z; the
+// rotation vector of the same rotation has a z component of several degrees, which the paper's
+// scheme's springs (kSprings, a ball) do read and pull on. Turned off its set about its own z
+// by c, the locked axis reads c.
+TEST(JointAngles, AUniversalJointIsOnItsSetWhereTheRotationVectorSaysNot) {
+  Rig rig = load_rig(test::model_path("rigs/elbow.json"));
+  rig.bone_limit[1][1] = AxisLimit{true, deg2rad(-60), deg2rad(60)};
+  refresh_joint_model(rig);
+  ASSERT_EQ(rig.bone_joint_type[1], JointType::kUniversal);
+  const auto& axes = rig.bone_joint_axes[1];
+  Vec3 e[3] = {Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()};
+  const Vec3 expected(-50, 40, 0);  // deg, x within [-90, 0], y within [-60, 60]
+  const double t0 = expected[axes[0]], t1 = expected[axes[1]];
+  Pose pose = rest_pose(rig);
+  pose.bone_local_rotation[1] = about(t0, e[axes[0]]) * about(t1, e[axes[1]]);
+  std::vector<Vec3> angles, excess;
+  joint_angles_and_excess(rig, LockedAxes::kRemoved, pose, angles, excess);
+  EXPECT_TRUE(test::near(angles[1], deg2rad(1.0) * expected, 1e-12)) << angles[1].transpose();
+  EXPECT_EQ(max_limit_violation(rig, LockedAxes::kRemoved, pose), 0.0);
+  EXPECT_GT(rad2deg(max_limit_violation(rig, LockedAxes::kSprings, pose)), 5.0);
+  for (const double c : {-7.0, 3.0}) {
+    pose.bone_local_rotation[1] = about(t0, e[axes[0]]) * about(t1, e[axes[1]]) * about(c, e[2]);
+    joint_angles_and_excess(rig, LockedAxes::kRemoved, pose, angles, excess);
+    EXPECT_TRUE(test::near(angles[1], deg2rad(1.0) * Vec3(expected.x(), expected.y(), c), 1e-12))
+        << angles[1].transpose();
+    EXPECT_NEAR(excess[1].z(), deg2rad(c), 1e-12);
+  }
 }
 
 // A random pose: every bone turned about a random axis by up to 2.5 rad.
@@ -116,7 +170,7 @@ TEST(JointAngles, ExcessIsWhatTheTorsionSpringsMeasure) {
     apply_torsion_springs(rig, params, s);
     const std::vector<Vec3> tau = spring_torques_local(rig, s);
     std::vector<Vec3> angles, excess;
-    joint_angles_and_excess(rig, s.pose, angles, excess);
+    joint_angles_and_excess(rig, params.locked_axes(), s.pose, angles, excess);
     double largest = 0.0;
     for (int i = 0; i < rig.nbone; ++i) {
       EXPECT_TRUE(test::near(tau[i], -params.torsion_k * excess[i], 1e-9)) << "bone " << i;
@@ -124,7 +178,7 @@ TEST(JointAngles, ExcessIsWhatTheTorsionSpringsMeasure) {
       largest = std::max(largest, excess[i].cwiseAbs().maxCoeff());
       outside += excess[i] != Vec3::Zero();
     }
-    EXPECT_EQ(largest, max_limit_violation(rig, s.pose));
+    EXPECT_EQ(largest, max_limit_violation(rig, params.locked_axes(), s.pose));
   }
   EXPECT_GT(outside, 100);  // the random poses do pass limits (the comparison is not all zeros)
 }

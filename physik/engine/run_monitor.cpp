@@ -9,6 +9,7 @@
 #include "physik/engine/joint_forces.h"
 #include "physik/engine/measures.h"
 #include "physik/engine/potential.h"
+#include "physik/model/joint_angles.h"
 #include "physik/model/kinematics.h"
 #include "physik/model/message_number.h"
 
@@ -66,7 +67,7 @@ StepObservation observe_step(const Scene& scene, SimState& s, const StepStats& s
   o.state_finite = state_finite(s);
   o.passes = st.iterations();
   o.joint_separation = st.joint_separation;
-  o.limit_violation = max_limit_violation(scene.rig, s.pose);
+  o.limit_violation = max_limit_violation(scene.rig, scene.params.locked_axes(), s.pose);
   for (int left : s.interp_steps_left) o.target_moving = o.target_moving || left > 0;
   o.max_residual = st.max_residual;
   // U toward this step's targets: the targets are the state's, the attachments its frames'

@@ -6,6 +6,7 @@
 #include "physik/engine/measures.h"
 #include "physik/engine/run_monitor.h"
 #include "physik/io/scene_io.h"
+#include "physik/model/joint_angles.h"
 
 namespace physik {
 
@@ -153,7 +154,8 @@ nlohmann::json classic_solve_json(const SceneSolveResult& r) {
       {"residual", rep.residual},
       {"residual_tol", rep.tolerance},
       {"reach", rep.reach},
-      {"max_limit_violation_deg", rad2deg(max_limit_violation(r.scene.rig, r.pose))},
+      {"max_limit_violation_deg",
+       rad2deg(max_limit_violation(r.scene.rig, r.scene.params.locked_axes(), r.pose))},
       {"time_s", rep.time_s}};
   if (!r.scene.pins.empty()) j["pin_residuals"] = r.pin_residuals;
   if (!r.scene.orientation_targets.empty()) {  // DLS and JT's orientation rows (jacobian.cpp)

@@ -42,7 +42,7 @@ TargetsLimitsCsv::TargetsLimitsCsv(const Scene& scene, std::ostream& out)
 }
 
 bool TargetsLimitsCsv::write_row(const SimState& s) {
-  joint_angles_and_excess(scene_.rig, s.pose, angles_, excess_);
+  joint_angles_and_excess(scene_.rig, scene_.params.locked_axes(), s.pose, angles_, excess_);
   const auto finite = [](const Vec3& v) { return v.allFinite(); };
   for (const Vec3& t : s.target_effective_world) {
     if (!finite(t)) return false;

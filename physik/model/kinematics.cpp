@@ -78,21 +78,6 @@ Vec3 rotation_vector(const Quat& q_in) {
   return v * (angle / s);
 }
 
-double max_limit_violation(const Rig& rig, const Pose& pose) {
-  double worst = 0.0;
-  // the root too: a pinned root's limits hold against its rest frame in the world (a free or
-  // fixed root has none)
-  for (int i = 0; i < rig.nbone; ++i) {
-    const Vec3 a = joint_angles(pose, i);
-    for (int k = 0; k < 3; ++k) {
-      const AxisLimit& l = rig.bone_limit[i][k];
-      if (!l.limited) continue;
-      worst = std::max({worst, l.min - a[k], a[k] - l.max});
-    }
-  }
-  return worst;
-}
-
 Vec3 center_of_mass(const Rig& rig, const BoneFrames& frames) {
   Vec3 c = Vec3::Zero();
   double m = 0.0;

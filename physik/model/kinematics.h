@@ -60,9 +60,6 @@ inline Vec3 joint_angles(const Pose& pose, int bone) {
   return rotation_vector(pose.bone_local_rotation[bone]);
 }
 
-// Largest amount (rad) by which any limited axis of any non-root bone is outside its range.
-double max_limit_violation(const Rig& rig, const Pose& pose);
-
 // Distance (rig units) from a bone-attached point at fraction alpha along bone (0 = head,
 // 1 = tail), in world coordinates.
 inline Vec3 point_on_bone(const BoneFrames& f, int bone, double alpha) {

@@ -12,6 +12,7 @@
 #include "physik/engine/run_monitor.h"
 #include "physik/model/bone_targets.h"
 #include "physik/model/errors.h"
+#include "physik/model/joint_angles.h"
 
 namespace physik {
 
@@ -371,7 +372,8 @@ RunSummary PosingSession::summary(const SolveResult& result) const {
     out.steps_to_converge = result.converged ? result.steps : -1;
     out.mean_passes_per_step = result.steps > 0 ? 1.0 : 0.0;
     out.max_passes_in_a_step = result.steps > 0 ? 1 : 0;
-    out.max_limit_violation_deg = rad2deg(max_limit_violation(scene_.rig, state_.pose));
+    out.max_limit_violation_deg =
+        rad2deg(max_limit_violation(scene_.rig, scene_.params.locked_axes(), state_.pose));
   }
   return out;
 }

@@ -57,9 +57,13 @@ class Pose:
                         engine's Pose, Blender's pose-bone rotation), quaternions (x, y, z, w)
     root_head           (3,) the root bone's head, world, rig units
     bone_names          the rig's bone names, same order
-    joint_angles        (nbone, 3) each local rotation's rotation vector (its log map), rad:
-                        component k is the angle about the bone's rest axis k that the rig's
-                        limit on axis k bounds, as the torsion springs measure it (|angle| <= pi)
+    joint_angles        (nbone, 3) each joint's angles, rad: component k is the angle about
+                        the bone's rest axis k that the rig's limit on axis k bounds, as the
+                        scene's scheme measures it (physik/model/joint_angles.h): the local
+                        rotation's rotation vector (its log map, |angle| <= pi) for a ball and
+                        for every joint in the paper's scheme; in the exact and implicit schemes
+                        a hinge's or universal joint's own angles on its free axes, and on a
+                        locked axis its value plus the turn off the joint there
     limit_excess        (nbone, 3) how far each angle is past its limit, rad, signed: angle - max
                         above the max, angle - min (negative) below the min, 0 within the limits
                         and on a free axis; the root's too (a pinned root's limits hold against
