@@ -49,7 +49,11 @@ Vec2 hinge_coordinates(const Rig& rig, int i, const Quat& q) {
     case JointType::kUniversal: {
       const int c = 3 - axes[0] - axes[1];
       const Vec3 a = intrinsic_euler(r.toRotationMatrix(), axes[0], axes[1], c);
-      return Vec2(a[0], a[1]);
+      // the other branch, (a0 + pi, pi - a1, a2 + pi), where it lies nearer the joint's set
+      // (|a2| > pi / 2): a joint bent past 90 deg on its second axis has a2 = pi on Euler's
+      if (std::abs(a[2]) <= 0.5 * kPi) return Vec2(a[0], a[1]);
+      const auto turn = [](double x) { return x > 0.0 ? x - kPi : x + kPi; };
+      return Vec2(turn(a[0]), (a[1] >= 0.0 ? kPi : -kPi) - a[1]);
     }
     case JointType::kFree:
     case JointType::kBall:

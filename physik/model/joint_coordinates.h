@@ -18,9 +18,12 @@
 //   hinge      t0 = 2 atan2(q'_a, q'_w) (q' in the w >= 0 hemisphere): the twist of q' about
 //              e_a, the hinge rotation nearest q' (it maximises |<q', exp(t e_a)>|)
 //   universal  (t0, t1) = the first two intrinsic Euler angles of q' in the axis order a, b, c
-//              (c the locked axis): q' = exp(t0 e_a) exp(t1 e_b) exp(t2 e_c), t2 dropped
+//              (c the locked axis): q' = exp(t0 e_a) exp(t1 e_b) exp(t2 e_c), t2 dropped, on
+//              the branch nearer the joint's set: Tait-Bryan's (|t1| <= pi / 2) where
+//              |t2| <= pi / 2, else the other, (t0 + pi, pi - t1, t2 + pi) wrapped to (-pi, pi]
+//              (a joint bent past 90 deg on its second axis reads t2 = pi on Tait-Bryan's)
 // Both are exact on the joint's set: q(project(q(t))) = q(t) (|t0| < pi; a universal's
-// |t1| < pi / 2, Tait-Bryan's own singularity).
+// |t1| < pi, |t1| = pi / 2 being Tait-Bryan's own singularity).
 // Units: rad, rad/s.
 #pragma once
 
