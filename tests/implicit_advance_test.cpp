@@ -164,10 +164,11 @@ TEST(ImplicitAdvance, HalvingStopsWhereItNoLongerLowersTheEnergy) {
 // Six bones of a chain folded back and forth, each 0.02 above the one before with collision
 // radius 0.1, so every bone overlaps the ones two to five along by up to 0.16 (the fuzzer's seed
 // 9001 case): under self-collision at contact_k 1e20 every step, whatever its length, pushes the
-// overlaps out at once, turning the bones by about 2.4 rad. Halving stops helping within a few
-// levels and the step is kept as taken; the old guard split every step that turned too far, all
-// 20 levels deep (about 2^20 substeps, most from a state gone non-finite: 3.7 s for one step).
-TEST(ImplicitAdvance, HalvingStopsWhereAHalfTurnsAsFarAsItsWhole) {
+// overlaps out at once (energies of 1e9 to 1e19 J at every level). No step length resolves it,
+// and the guard stops at its checks per step (kImplicitMaxChecks, a whole tree of 8 halvings):
+// the old guard split every step that turned too far, all 20 levels deep (about 2^20 substeps,
+// most from a state gone non-finite: 3.7 s for one step).
+TEST(ImplicitAdvance, AStepChecksNoMoreThanATreeOfEightHalvings) {
   std::vector<BoneSpec> bones;
   double x = 0.0;
   for (int i = 0; i < 6; ++i) {
@@ -192,10 +193,11 @@ TEST(ImplicitAdvance, HalvingStopsWhereAHalfTurnsAsFarAsItsWhole) {
   update_targets(s, st);
   const int substeps = advance_implicit(s, st, s.params.dt);
   std::cout << "overlapping zigzag at contact_k 1e20: " << substeps << " substeps, "
-            << st.implicit.unresolved_steps << " unresolved\n";
-  EXPECT_LE(substeps, 64);  // a few halvings deep, not 2^20
-  EXPECT_GE(st.implicit.unresolved_steps, 1);
-  EXPECT_EQ(st.implicit.deepest_steps, 0);
+            << st.implicit.unresolved_steps << " unresolved, " << st.implicit.deepest_steps
+            << " taken unchecked\n";
+  EXPECT_LE(substeps, kImplicitMaxChecks + 1);  // at most a tree of 8 halvings, not 2^20
+  EXPECT_GT(substeps, 1);
+  EXPECT_EQ(st.implicit.deepest_steps, 1);  // the rest taken unchecked, and said so
 }
 
 // the 0.1x pinhead at c = 100 (its bare first step gains 4.5x its energy) with one halving
@@ -215,6 +217,11 @@ TEST(ImplicitAdvance, AStepSplitToTheDeepestLevelIsSaidOnce) {
   EXPECT_NE(said.find("more implicit_max_splits (now 1, at most 20)"), std::string::npos) << said;
   s.params.implicit_max_splits = 20;  // at the range's end: never suggested past it
   EXPECT_EQ(energy_guard_warning(s, r).find("more implicit_max_splits"), std::string::npos);
+  // deeper than 8 halvings the step's checks may run out first, and the warning says so
+  EXPECT_NE(energy_guard_warning(s, r).find("or past the guard's 511 checks in one step"),
+            std::string::npos)
+      << energy_guard_warning(s, r);
+  EXPECT_EQ(said.find("checks in one step"), std::string::npos) << said;
   EXPECT_EQ(divergence_hint(s).find("implicit_max_splits"), std::string::npos);
   EXPECT_EQ(energy_guard_warning(s, RunSummary{}), "");
 }

@@ -6,6 +6,7 @@
 #include <limits>
 #include <utility>
 
+#include "physik/engine/implicit_advance.h"
 #include "physik/engine/joint_forces.h"
 #include "physik/engine/measures.h"
 #include "physik/engine/potential.h"
@@ -326,7 +327,11 @@ std::string energy_guard_warning(const Scene& scene, const RunSummary& run) {
   if (run.implicit_deepest_steps > 0) {
     out += " " + std::to_string(run.implicit_deepest_steps) + " split to implicit_max_splits (" +
            std::to_string(splits) + ": substeps of dt / " +
-           message_number(std::ldexp(1.0, splits)) + "), taken unchecked there;";
+           message_number(std::ldexp(1.0, splits)) + ")" +
+           (splits > 8 ? " or past the guard's " + std::to_string(kImplicitMaxChecks) +
+                             " checks in one step"
+                       : std::string()) +
+           ", taken unchecked there;";
   }
   if (run.implicit_unresolved_steps > 0) {
     out += " " + std::to_string(run.implicit_unresolved_steps) +
