@@ -701,7 +701,9 @@ void add_notes(Report& report, const Budget& b, const nlohmann::json& table) {
       "The pin is a spring too, so toward unreachable targets PhysIK's root is dragged along "
       "(negative "
       "excess: the hand gets closer than |t| - reach), and its joint limits are torsion springs "
-      "(soft), hence the limit violation; classic solvers clamp and never violate.");
+      "(soft), hence the limit violation; classic solvers clamp their rotation vectors, which on a "
+      "hinge locked away from zero or a two-axis joint is not the same as staying on the joint "
+      "(every solver is measured in the exact and implicit schemes' joints, kMeasuredJoints).");
   report.note(
       "PhysIK stops like the classic solvers: when every control point is within 1e-4 of the "
       "reach (scene convergence.stop_at_residual_tol), or when its residual stalls short of it "

@@ -165,7 +165,7 @@ TEST(ImplicitAdvance, HalvingStopsWhereItNoLongerLowersTheEnergy) {
 // radius 0.1, so every bone overlaps the ones two to five along by up to 0.16 (the fuzzer's seed
 // 9001 case): under self-collision at contact_k 1e20 every step, whatever its length, pushes the
 // overlaps out at once (energies of 1e9 to 1e19 J at every level). No step length resolves it,
-// and the guard stops at its checks per step (kImplicitMaxChecks, a whole tree of 8 halvings):
+// and the guard stops at its checks per step (kImplicitMaxChecks, a whole tree's at 8 halvings):
 // the old guard split every step that turned too far, all 20 levels deep (about 2^20 substeps,
 // most from a state gone non-finite: 3.7 s for one step).
 TEST(ImplicitAdvance, AStepChecksNoMoreThanATreeOfEightHalvings) {
@@ -195,7 +195,7 @@ TEST(ImplicitAdvance, AStepChecksNoMoreThanATreeOfEightHalvings) {
   std::cout << "overlapping zigzag at contact_k 1e20: " << substeps << " substeps, "
             << st.implicit.unresolved_steps << " unresolved, " << st.implicit.deepest_steps
             << " taken unchecked\n";
-  EXPECT_LE(substeps, kImplicitMaxChecks + 1);  // at most a tree of 8 halvings, not 2^20
+  EXPECT_LE(substeps, kImplicitMaxChecks + 1);  // about a tree of 8 halvings, not 2^20
   EXPECT_GT(substeps, 1);
   EXPECT_EQ(st.implicit.deepest_steps, 1);  // the rest taken unchecked, and said so
 }
@@ -218,7 +218,7 @@ TEST(ImplicitAdvance, AStepSplitToTheDeepestLevelIsSaidOnce) {
   s.params.implicit_max_splits = 20;  // at the range's end: never suggested past it
   EXPECT_EQ(energy_guard_warning(s, r).find("more implicit_max_splits"), std::string::npos);
   // deeper than 8 halvings the step's checks may run out first, and the warning says so
-  EXPECT_NE(energy_guard_warning(s, r).find("or past the guard's 511 checks in one step"),
+  EXPECT_NE(energy_guard_warning(s, r).find("or past the guard's 255 checks in one step"),
             std::string::npos)
       << energy_guard_warning(s, r);
   EXPECT_EQ(said.find("checks in one step"), std::string::npos) << said;

@@ -223,6 +223,7 @@ int substep(const Scene& scene, SimState& s, double h, int depth, Guard& g, Reje
   }
   if (taken != kNoLower) return taken;
   // halving does not lower the energy: this (sub)step as its attempt took it
+  --g.checks_left;
   restore_joint_state(scene.rig, im.snapshots[depth], s);
   attempt(scene, s, h, depth, g, e0, energy);
   ++im.unresolved_steps;

@@ -46,9 +46,10 @@
 //      helps it: it is judged as a step of its own (held to the whole's measures, the contacts
 //      experiment's dropped coil diverged where a bone met in a second half turned it 2.85 rad
 //      against its whole's 2.72, and halving it further resolved it). A step checks at most
-//      kImplicitMaxChecks attempts (a whole tree of 8 halvings, the default
-//      implicit_max_splits', so only a deeper setting meets it); past that every substep is
-//      taken unchecked and the step counts in implicit_deepest_steps: bones overlapping under a
+//      kImplicitMaxChecks attempts (the retake of a whole step kept included; as many as a
+//      whole tree checks at the default implicit_max_splits 8, so only a deeper setting meets
+//      it); past that every substep still to take is taken unchecked, at the length it has
+//      then, and the step counts in implicit_deepest_steps: bones overlapping under a
 //      contact too stiff for any step length are otherwise halved to 2^implicit_max_splits
 //      substeps of one step (2^20, 3.7 s, at implicit_max_splits 20). A substep
 //      whose start is not finite is taken as it is (no step length helps it; the run monitor
@@ -70,8 +71,9 @@
 
 namespace physik {
 
-// The checked attempts one implicit step may take (above): 2^9 - 1, a whole tree of 8 halvings.
-constexpr int kImplicitMaxChecks = 511;
+// The checked attempts one implicit step may take (above): 2^8 - 1, the checks of a whole tree
+// at the default implicit_max_splits 8 (whose substeps at depth 8 are taken unchecked).
+constexpr int kImplicitMaxChecks = 255;
 
 constexpr double kEnergyGrowthTolerance = 1e-6;  // 1, of E + E_floor
 constexpr double kRoundoffGrowth = 64.0;         // 1, of eps (|E| + M |g| R): E_round

@@ -329,13 +329,14 @@ std::string energy_guard_warning(const Scene& scene, const RunSummary& run) {
            std::to_string(splits) + ": substeps of dt / " +
            message_number(std::ldexp(1.0, splits)) + ")" +
            (splits > 8 ? " or past the guard's " + std::to_string(kImplicitMaxChecks) +
-                             " checks in one step"
+                             " checks in one step, at the length each had then"
                        : std::string()) +
            ", taken unchecked there;";
   }
   if (run.implicit_unresolved_steps > 0) {
     out += " " + std::to_string(run.implicit_unresolved_steps) +
-           " (sub)steps kept as they were where halving did not help (a half ending no lower, or "
+           " (sub)steps kept as they were where halving did not help (a first half ending no "
+           "lower, or "
            "turning a joint as far as its whole step);";
   }
   return out + " " + divergence_hint(scene);

@@ -52,8 +52,9 @@ void joint_angles_and_excess(const Rig& rig, LockedAxes locked, const Pose& pose
 
 // The largest |excess| of any limited axis of any bone in `pose` (rad), the root's too (a pinned
 // root's limits hold against its rest frame in the world; a free or fixed root has none), in the
-// joint model `locked`: a run's or solve's violation is measured in its scheme's
-// (EngineParams::locked_axes()), a classic solver's own in kSprings'.
+// joint model `locked`: a run's or solve's violation is measured in the joints of the scheme it
+// ran or solved in (EngineParams::locked_axes()), a classic solver's pose in its scene's; the
+// classic solvers' own clamping is of the rotation vector, kSprings'.
 double max_limit_violation(const Rig& rig, LockedAxes locked, const Pose& pose);
 
 }  // namespace physik

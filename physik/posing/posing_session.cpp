@@ -372,8 +372,10 @@ RunSummary PosingSession::summary(const SolveResult& result) const {
     out.steps_to_converge = result.converged ? result.steps : -1;
     out.mean_passes_per_step = result.steps > 0 ? 1.0 : 0.0;
     out.max_passes_in_a_step = result.steps > 0 ? 1 : 0;
+    // in the joints it solved in: the equilibrium solve runs the implicit scheme's whatever the
+    // session's own scheme (solve_by_equilibrium)
     out.max_limit_violation_deg =
-        rad2deg(max_limit_violation(scene_.rig, scene_.params.locked_axes(), state_.pose));
+        rad2deg(max_limit_violation(scene_.rig, LockedAxes::kRemoved, state_.pose));
   }
   return out;
 }

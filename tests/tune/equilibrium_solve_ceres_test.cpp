@@ -29,7 +29,7 @@ double distance_to_ceres(const Scene& scene, const char* name) {
   rule.max_steps = 1000;
   const SolveResult r = session.solve(rule);
   EXPECT_FALSE(r.diverged);
-  Scene gradient = scene;
+  Scene gradient = solve;  // Ceres in the joints the solve solved in (the implicit scheme's)
   gradient.params.torsion_torque = TorsionTorque::kGradient;
   const EquilibriumResult e = solve_equilibrium(gradient);
   EXPECT_TRUE(e.converged) << name << ": " << e.ceres_brief;
