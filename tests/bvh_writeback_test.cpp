@@ -347,8 +347,10 @@ TEST(BvhWriteBack, AJointWithNoBoneIsNamedWithTheBonesAtIt) {
   const Rig& rig = anim.rig();
   ASSERT_LT(rig.find_bone("RightHand"), 0);
   const std::string m = unknown_bone("RightHand", rig);
-  EXPECT_NE(m.find("'RightHand' is a joint of the rig's source skeleton without a bone of its own"),
-            std::string::npos)
+  EXPECT_NE(
+      m.find("unknown bone 'RightHand': a joint of the rig's source skeleton without a bone of "
+             "its own"),
+      std::string::npos)
       << m;
   const std::size_t at = m.find("its point is bone '");
   ASSERT_NE(at, std::string::npos) << m;

@@ -737,8 +737,8 @@ std::string unknown_bone(const std::string& name, const Rig& rig) {
     if (c.parent != j || c.bones.empty()) continue;
     starts += (starts.empty() ? "'" : ", '") + rig.bone_name[c.bones.front()] + "'";
   }
-  std::string s = "'" + name +
-                  "' is a joint of the rig's source skeleton without a bone of its own (its "
+  std::string s = "unknown bone '" + name +
+                  "': a joint of the rig's source skeleton without a bone of its own (its "
                   "children sit at its origin)";
   if (!ends.empty()) s += "; its point is bone '" + ends + "' at alpha 1";
   if (!starts.empty()) s += "; the bones that start there: " + starts;
