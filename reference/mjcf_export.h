@@ -28,8 +28,10 @@
 //                              which cannot express per-axis intervals)
 //     2 DOF (one axis locked)  two hinges about the free local axes, in x, y, z order, with their
 //                              ranges. Their composition exp(t1 a1) exp(t2 a2) has rotation-vector
-//                              components (t1, t2) only to first order: the locked axis picks up
-//                              about t1 t2 / 2 rad (second order), which max_limit_violation sees.
+//                              components (t1, t2) only to first order: the rotation vector puts
+//                              about t1 t2 / 2 rad (second order) on the locked axis. They are
+//                              the engine's universal joint, and the violation is measured in its
+//                              coordinates (joint_angles.h, LockedAxes::kRemoved), which read 0.
 //     1 DOF                    one hinge about the free axis, range = the limit (rad)
 //     0 DOF                    no joint: welded at its locked angles
 //   kHingeJoints (same-forces mode of the exact and implicit schemes): the joints of the rig's

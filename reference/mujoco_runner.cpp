@@ -9,6 +9,7 @@
 #include "physik/engine/interpolation.h"
 #include "physik/engine/newton_euler.h"
 #include "physik/engine/run_monitor.h"
+#include "physik/model/joint_angles.h"
 #include "physik/model/joint_coordinates.h"
 #include "physik/model/message_number.h"
 
@@ -296,10 +297,19 @@ RunSummary run_mujoco(const Scene& scene, ReferenceMode mode, const StepObserver
   if (observer && observe_initial) observer(ref.state(), initial_stats(scene, ref.state()));
   // the same rules as run_scene; MuJoCo's bad qacc/qvel/qpos warning counts as non-finite
   RunMonitor monitor(scene, "MuJoCo: ");
+  // the violation in MuJoCo's own joints: hinges wherever an axis is locked (exact-constraints
+  // mode, and same-forces mode of the joint-space schemes) read as the engine's hinge and
+  // universal joints (kRemoved); balls (same-forces mode of the paper's scheme) by the rotation
+  // vector. The scene's scheme alone would read a gauss-seidel scene's hinges as balls.
+  const LockedAxes joints = joint_model(mode, scene.params) == JointModel::kBallJoints
+                                ? LockedAxes::kSprings
+                                : LockedAxes::kRemoved;
   std::string warning;  // mujoco_warning, with its step
   for (int k = 0; k < scene.steps; ++k) {
     const StepStats st = ref.step();
     StepObservation obs = observe_step(scene, ref.state(), st);
+    if (joints != scene.params.locked_axes())
+      obs.limit_violation = max_limit_violation(scene.rig, joints, ref.state().pose);
     obs.engine_non_finite = ref.bad_acceleration();
     const bool stop = monitor.observe(obs);
     if (observer) observer(ref.state(), st);

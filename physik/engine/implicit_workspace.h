@@ -53,7 +53,7 @@ struct ImplicitWorkspace {
   int max_substeps = 0;                       // the most substeps one step took
   int retaken_steps = 0;                      // (sub)steps retaken with the contacts they reached
   int unresolved_steps = 0;  // (sub)steps kept where halving did not help (implicit_advance.h)
-  int deepest_steps = 0;     // steps split to implicit_max_splits (taken unchecked)
+  int deepest_steps = 0;     // steps with substeps taken unchecked (max depth or max checks)
 };
 
 // A snapshot sized for `nbone` bones, with room for `anchor_capacity` friction anchors.

@@ -62,7 +62,7 @@ struct RunSummary {
   int implicit_max_substeps = 0;    //   halves, and the most substeps of one (implicit_advance.h);
   int implicit_retaken_steps = 0;   //   (sub)steps retaken with the contacts they reached, kept
   int implicit_unresolved_steps = 0;    //   where halving did not help, and steps
-  int implicit_deepest_steps = 0;       //   split implicit_max_splits deep (taken unchecked there)
+  int implicit_deepest_steps = 0;       //   with substeps taken unchecked (depth or check cap)
   int implicit_gauss_newton_steps = 0;  // implicit_linearisation full: (sub)steps retaken as
                                         //   Gauss-Newton (implicit_step.h)
   Pose final_pose;
