@@ -66,7 +66,7 @@ MjStepReplay record_mj_step_replay(const Scene& scene, int steps) {
   r.compile_s = thread_seconds() - t0;
   const mjModel* m = ref.model();
   r.model.reset(mj_copyModel(nullptr, m));
-  r.start.reset(mj_makeData(m));
+  r.start = make_mjdata(m);
   mj_copyData(r.start.get(), m, ref.data());
   r.xfrc.resize(steps);
   for (int k = 0; k < steps; ++k) {
@@ -74,7 +74,7 @@ MjStepReplay record_mj_step_replay(const Scene& scene, int steps) {
     r.xfrc[k].assign(ref.data()->xfrc_applied, ref.data()->xfrc_applied + 6 * m->nbody);
   }
   r.final_frames = ref.state().frames;
-  r.data.reset(mj_makeData(m));
+  r.data = make_mjdata(m);
   return r;
 }
 

@@ -81,7 +81,7 @@ int free_endpoint_dof(const Scene& scene, const BoneFrames& frames) {
   o.dt = scene.params.dt;
   o.source = scene.rig_file;
   const MjModelPtr m = rig_to_mjmodel(rig, o);
-  const MjDataPtr d(mj_makeData(m.get()));
+  const MjDataPtr d = make_rig_mjdata(rig, o, m.get());
   SimState s;
   init_state(scene, s);
   s.frames = frames;

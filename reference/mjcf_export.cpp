@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csetjmp>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <iomanip>
@@ -580,28 +582,71 @@ MjModelPtr compile_mjcf(const std::vector<MjcfFile>& files) {
   return MjModelPtr(m);
 }
 
+namespace {
+
+// make_mjdata's target for MuJoCo's error handler (one per thread: a handler that finds none
+// is not installed)
+thread_local std::jmp_buf* mujoco_error_target = nullptr;
+thread_local char mujoco_error_message[1000];
+
+void jump_to_target(const char* message) {
+  std::snprintf(mujoco_error_message, sizeof(mujoco_error_message), "%s", message);
+  std::longjmp(*mujoco_error_target, 1);
+}
+
+// the error of a rig's MuJoCo model or data that MuJoCo could not allocate, as an InputError
+[[noreturn]] void throw_allocation_error(const Rig& rig, const MjcfOptions& o,
+                                         const MjcfAllocationError& e) {
+  const MjcfSize size = mjcf_size(rig, o);
+  const ContactModel& c = o.collision;
+  const std::string field = !c.obstacles.empty() ? "obstacles"
+                            : c.self_collision   ? "self_collision"
+                            : c.ground           ? "ground"
+                                                 : "bones";
+  std::ostringstream why;
+  why << "MuJoCo ran out of memory making the buffers for the contacts the rig can meet at once, "
+      << size.nconmax << " contacts (nconmax) and " << size.njmax
+      << " constraint rows (njmax; at most " << kMjcfConstraintBytes << " bytes): " << rig.nbone
+      << " bones, " << c.obstacles.size() << " boxes, up to "
+      << boxes_touching_at_once(rig, c.obstacles)
+      << " of them within a bone's reach of each other: fewer boxes that close together need "
+         "fewer rows, or give the process more memory ("
+      << e.what() << ")";
+  throw_input_error(o.contacts_source.empty() ? o.source : o.contacts_source, "", field, why.str());
+}
+
+}  // namespace
+
 MjModelPtr compile_rig_mjcf(const Rig& rig, const MjcfOptions& o,
                             const std::vector<MjcfFile>& files) {
   try {
     return compile_mjcf(files);
   } catch (const MjcfAllocationError& e) {
-    const MjcfSize size = mjcf_size(rig, o);
-    const ContactModel& c = o.collision;
-    const std::string field = !c.obstacles.empty() ? "obstacles"
-                              : c.self_collision   ? "self_collision"
-                              : c.ground           ? "ground"
-                                                   : "bones";
-    std::ostringstream why;
-    why << "MuJoCo ran out of memory making the buffers for the contacts the rig can meet at once, "
-        << size.nconmax << " contacts (nconmax) and " << size.njmax
-        << " constraint rows (njmax; at most " << kMjcfConstraintBytes << " bytes): " << rig.nbone
-        << " bones, " << c.obstacles.size() << " boxes, up to "
-        << boxes_touching_at_once(rig, c.obstacles)
-        << " of them within a bone's reach of each other: fewer boxes that close together need "
-           "fewer rows, or give the process more memory ("
-        << e.what() << ")";
-    throw_input_error(o.contacts_source.empty() ? o.source : o.contacts_source, "", field,
-                      why.str());
+    throw_allocation_error(rig, o, e);
+  }
+}
+
+MjDataPtr make_mjdata(const mjModel* m) {
+  std::jmp_buf target;
+  void (*const previous)(const char*) = mju_user_error;
+  mjData* volatile d = nullptr;
+  mujoco_error_target = &target;
+  mju_user_error = jump_to_target;
+  if (setjmp(target) == 0) d = mj_makeData(m);
+  mju_user_error = previous;
+  mujoco_error_target = nullptr;
+  if (!d) {
+    throw MjcfAllocationError(std::string("MuJoCo could not allocate the model's data: ") +
+                              mujoco_error_message);
+  }
+  return MjDataPtr(d);
+}
+
+MjDataPtr make_rig_mjdata(const Rig& rig, const MjcfOptions& options, const mjModel* m) {
+  try {
+    return make_mjdata(m);
+  } catch (const MjcfAllocationError& e) {
+    throw_allocation_error(rig, options, e);
   }
 }
 

@@ -195,4 +195,14 @@ MjModelPtr compile_rig_mjcf(const Rig& rig, const MjcfOptions& options,
 // rig_to_mjcf_files + compile_rig_mjcf (any depth).
 MjModelPtr rig_to_mjmodel(const Rig& rig, const MjcfOptions& options);
 
+// mj_makeData, with MuJoCo's error when it cannot allocate the data (mju_error "Could not
+// allocate memory", whose default handler ends the process with status 1) thrown as
+// MjcfAllocationError: the handler is MuJoCo's own pattern for its Python bindings, a longjmp
+// back to this call (no C++ frame lies between, so nothing is skipped that needs unwinding),
+// installed for the call alone. What MuJoCo had allocated before the error is not freed.
+MjDataPtr make_mjdata(const mjModel* m);
+// make_mjdata of a model rig_to_mjmodel made: where MuJoCo cannot allocate the data, the
+// InputError compile_rig_mjcf gives when it cannot allocate the model.
+MjDataPtr make_rig_mjdata(const Rig& rig, const MjcfOptions& options, const mjModel* m);
+
 }  // namespace physik

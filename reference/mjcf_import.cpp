@@ -548,13 +548,26 @@ void write_mjcf_notes(const std::string& source, const MjcfImportOptions& option
 
 }  // namespace
 
+namespace {
+
+// the model's data, or an InputError naming the file where MuJoCo cannot allocate it
+MjDataPtr import_data(const mjModel* m, const std::string& source) {
+  try {
+    return make_mjdata(m);
+  } catch (const MjcfAllocationError& e) {
+    throw_input_error(source, "", "size", e.what());
+  }
+}
+
+}  // namespace
+
 MjcfRig import_mjcf_model(const mjModel* m, const std::string& source,
                           const MjcfImportOptions& options) {
   MjcfRig out;
   MjcfImportReport& rep = out.report;
   rep.nbody_model = m->nbody - 1;
   if (m->nbody < 2) throw_input_error(source, "", "worldbody", "the model has no body");
-  MjDataPtr data(mj_makeData(m));
+  const MjDataPtr data = import_data(m, source);
   mjData* d = data.get();
   mj_resetData(m, d);  // qpos = qpos0
   mj_kinematics(m, d);

@@ -172,8 +172,9 @@ MujocoReference::MujocoReference(const Scene& scene, ReferenceMode mode)
   o.joints = joint_model(mode, scene.params);
   o.dt = scene.params.dt;
   o.source = scene.rig_file;
-  m_ = rig_to_mjmodel(scene.rig, mjcf_contacts(scene, o));  // MuJoCo's own gravity and contacts
-  d_.reset(mj_makeData(m_.get()));
+  const MjcfOptions options = mjcf_contacts(scene, o);  // MuJoCo's own gravity and contacts
+  m_ = rig_to_mjmodel(scene.rig, options);
+  d_ = make_rig_mjdata(scene.rig, options, m_.get());
   bodies_ = std::make_unique<MjcfBodyMap>(scene.rig, m_.get());
   reset();
 }

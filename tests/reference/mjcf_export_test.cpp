@@ -5,12 +5,18 @@
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <limits>
 #include <stdexcept>
+
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
 #include "physik/io/rig_io.h"
+#include "physik/model/errors.h"
 #include "physik/model/rig_generators.h"
 #include "reference/mujoco_runner.h"
 #include "tests/engine_test_util.h"
@@ -330,6 +336,54 @@ TEST(MjcfExport, BadMjcfIsReportedWithMujocosMessage) {
           "<mujoco><worldbody><body><joint type=\"nonsense\"/></body></worldbody></mujoco>"),
       std::runtime_error);
   EXPECT_THROW(compile_mjcf("not xml"), std::runtime_error);
+}
+
+// The bytes of this process's address space (/proc/self/statm: its first field, in pages).
+long address_space_bytes() {
+  std::ifstream statm("/proc/self/statm");
+  long pages = 0;
+  statm >> pages;
+  return pages * sysconf(_SC_PAGESIZE);
+}
+
+// MuJoCo's error when it cannot allocate a model's data (mju_error, whose default handler ends the
+// process with status 1) comes back from make_mjdata as MjcfAllocationError, and from
+// make_rig_mjdata as the InputError a model it cannot allocate gives: the stack is sized at 16 GiB
+// with the address space capped 1 GiB above what the process holds. Afterwards MuJoCo's own
+// handler is back and a data that fits is made.
+TEST(MjcfExport, DataMujocoCannotAllocateIsAnErrorNotAnExit) {
+  if (PHYSIK_SANITIZED)
+    GTEST_SKIP() << "a sanitized process reserves more address space than a cap";
+  const Rig rig = load_rig(test::model_path("rigs/elbow.json"));
+  const MjcfOptions o = options(JointModel::kRigJoints, 0.01);
+  const MjModelPtr m = rig_to_mjmodel(rig, o);
+  const int nstack = m->nstack;
+  m->nstack = std::numeric_limits<int>::max();
+  rlimit old{};
+  ASSERT_EQ(getrlimit(RLIMIT_AS, &old), 0);
+  rlimit cap = old;
+  cap.rlim_cur = static_cast<rlim_t>(address_space_bytes()) + (rlim_t{1} << 30);
+  ASSERT_TRUE(old.rlim_cur == RLIM_INFINITY || cap.rlim_cur < old.rlim_cur);
+  ASSERT_EQ(setrlimit(RLIMIT_AS, &cap), 0);
+  std::string plain, input;
+  try {
+    make_mjdata(m.get());
+  } catch (const MjcfAllocationError& e) {
+    plain = e.what();
+  }
+  try {
+    make_rig_mjdata(rig, o, m.get());
+  } catch (const InputError& e) {
+    input = e.what();
+  }
+  ASSERT_EQ(setrlimit(RLIMIT_AS, &old), 0);
+  EXPECT_NE(plain.find("MuJoCo could not allocate the model's data: "), std::string::npos) << plain;
+  EXPECT_NE(plain.find("allocate memory"), std::string::npos) << plain;  // MuJoCo's own words
+  EXPECT_NE(input.find("MuJoCo ran out of memory"), std::string::npos) << input;
+  EXPECT_NE(input.find(plain), std::string::npos) << input;
+  EXPECT_EQ(mju_user_error, nullptr);
+  m->nstack = nstack;
+  EXPECT_NE(make_mjdata(m.get()), nullptr);
 }
 
 }  // namespace
