@@ -109,7 +109,7 @@ Skeleton mixamo_like() {
   const int chest = s.add("mixamorig:Spine1", spine, {0, 11.6, 0}, r);
   const int neck = s.add("mixamorig:Neck", chest, {0, 30, 0}, r);
   s.add("mixamorig:Head", neck, {0, 9.6, 1.5}, r, {{0, 18, 0}});
-  for (int side : {1, -1}) {
+  for (double side : {1.0, -1.0}) {
     const std::string Left = side > 0 ? "Left" : "Right";
     const int up = s.add("mixamorig:" + Left + "UpLeg", hips, {side * 9.1, -6.6, -0.6}, r);
     const int leg = s.add("mixamorig:" + Left + "Leg", up, {0, -42, 0.3}, r);
