@@ -470,7 +470,7 @@ void limit_claim(const std::vector<ShapeRun>& runs, Report& report) {
           yes_no(most.free_band <= 1.0))
       .named("limits");
   report.note(
-      "Locked axes (a knee's and an elbow's two, a wrist's twist) are no coordinates of the "
+      "Locked axes (a knee's two, an elbow's and a wrist's one) are no coordinates of the "
       "exact and implicit schemes (rig.h \"Locked axes\"): after the solves the largest turn "
       "of a hinge, a two-axis joint or a weld by locks off its joint's set is " +
       fmt(most.locked_deg) + " deg.");

@@ -87,7 +87,7 @@ std::vector<TemplateSegment> make_segments() {
       left("clavicle", L::kUpperTrunk, K::kBall, kL, kU, {{{-15, 15}, {-15, 15}, {-15, 15}}}),
       left("upper_arm", L::kUpperArm, K::kBall, -kU, kL, {{{-180, 60}, {-90, 70}, {-180, 30}}},
            true),
-      left("forearm", L::kForearm, K::kHinge, -kU, kL, {{{-150, 0}, {0, 0}, {0, 0}}}),
+      left("forearm", L::kForearm, K::kTwoAxis, -kU, kL, {{{-150, 0}, {-80, 80}, {0, 0}}}),
       left("hand", L::kHand, K::kTwoAxis, -kU, kL, {{{-80, 70}, {0, 0}, {-20, 30}}}),
       left("fingers", L::kHand, K::kTwoAxis, -kU, kL, {{{-90, 45}, {0, 0}, {-20, 20}}}),
       left("thigh", L::kThigh, K::kBall, -kU, kL, {{{-120, 30}, {-45, 45}, {-45, 30}}}, true),

@@ -34,9 +34,11 @@
 //   cervical spine       flexion 45, extension 45, lateral bending 45, rotation 60
 //   shoulder             flexion 180, extension 60, abduction 180, internal rotation 70,
 //                        external rotation 90 (adduction: 30, our choice; the table gives none)
-//   elbow                flexion 150 (a hinge)
+//   elbow and forearm    flexion 150; pronation and supination 80 each (two axes: a skeleton's
+//                        forearm bone carries the radius's turn about the ulna, along its own
+//                        length, y; a hinge there held motion capture's forearms off their pose)
 //   wrist                flexion 80, extension 70, radial deviation 20, ulnar deviation 30 (two
-//                        axes; pronation and supination, 80 each in the table, have no axis here)
+//                        axes)
 //   fingers (MCP)        flexion 90, hyperextension 45 (abduction 20 each way, our choice)
 //   hip                  flexion 120, extension 30, abduction 45, adduction 30, internal and
 //                        external rotation 45
@@ -97,7 +99,7 @@ enum class JointKind {
   kRoot,    // the pelvis: the rig's root or welded to it
   kBall,    // three axes, each with its range
   kHinge,   // one axis (x), the other two locked
-  kTwoAxis  // two axes (x and z, or x and y for the ankle), the third locked
+  kTwoAxis  // two axes (x and z, or x and y for the forearm and ankle), the third locked
 };
 
 // A body axis in the anatomical position, as a signed unit vector in (F, L, U) coordinates
